@@ -1,0 +1,855 @@
+"""Scene files (SPEC section 4): TOML, or JSON with the same structure, validated into
+pydantic models and turned into a :class:`solver.problem.Problem`.
+
+Validation happens in three stages, all before any assembly, and every error names the
+file, the key path and the offending value (``scene.toml: bodies[1].material = "stel":
+unknown material (known: steel)``):
+
+1. structure and values (pydantic): unknown keys, types, E > 0, -1 < nu < 0.5, sizes > 0,
+   "free" displacement components, refinement levels and radii, friction, output probes/lines;
+2. references: unique names, known materials, bodies and edges, one essential condition per
+   edge, contacts between two distinct bodies, ``around = "contact"`` only with a contact;
+3. geometry: each shape built into an exact profile, the grid not coarser than the body,
+   probes inside a body, and no body left with rigid-body motion (:func:`rigid_body_modes`).
+
+The public entry points are :func:`load_scene` (a path) and :func:`scene_from_dict`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+import numpy as np
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+from pydantic_core import PydanticCustomError
+
+from solver import problem as pb
+
+__all__ = [
+    "SceneError",
+    "SceneSpec",
+    "Scene",
+    "OutputSpec",
+    "LineSpec",
+    "load_scene",
+    "scene_from_dict",
+    "rigid_body_modes",
+    "MAX_REFINEMENT_LEVELS",
+    "COARSE_GRID_RATIO",
+]
+
+#: refinement deeper than this (cells 2**12 = 4096 times finer) is almost surely a typo
+MAX_REFINEMENT_LEVELS = 12
+#: element_size may be at most this fraction of the body's smallest bounding-box dimension
+COARSE_GRID_RATIO = 0.5
+
+
+class SceneError(ValueError):
+    """A scene that cannot be solved. ``str(err)`` is one line per problem found, each
+    ``FILE: KEY.PATH = VALUE: what is wrong``."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = list(problems)
+        super().__init__("\n".join(self.problems))
+
+
+# ---------------------------------------------------------------------------------------
+# pydantic models of the file (SPEC section 4)
+# ---------------------------------------------------------------------------------------
+
+
+class _Strict(BaseModel):
+    """Unknown keys are errors that list the known ones; no NaN or infinity anywhere."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_keys(cls, data: Any) -> Any:
+        if isinstance(data, dict):
+            known = list(cls.model_fields)
+            for key in data:
+                if key not in cls.model_fields:
+                    raise PydanticCustomError(
+                        "unknown_key",
+                        "unknown key (known: {known})",
+                        {"key": str(key), "value": data[key], "known": ", ".join(known)},
+                    )
+        return data
+
+
+def _component(v: Any) -> Any:
+    """A displacement component: a number or the string "free" (-> None)."""
+    if isinstance(v, str):
+        if v.strip().lower() == "free":
+            return None
+        raise PydanticCustomError("free_or_number", 'must be a number or "free"')
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise PydanticCustomError("free_or_number", 'must be a number or "free"')
+    return v
+
+
+def _number(v: Any) -> Any:
+    if isinstance(v, bool):  # TOML true is not 1.0
+        raise PydanticCustomError("number", "must be a number")
+    return v
+
+
+Num = Annotated[float, BeforeValidator(_number)]
+Vec2 = tuple[Num, Num]
+Component = Annotated[Union[float, None], BeforeValidator(_component)]
+
+
+class SolverSpec(_Strict):
+    load_steps: int = Field(10, ge=1)
+    tolerance: float = Field(1e-10, gt=0.0, lt=1.0)
+    max_iterations: int = Field(100, ge=1)
+    exact_geometry: bool = True
+
+
+class MaterialSpec(_Strict):
+    name: str = Field(min_length=1)
+    youngs_modulus: Num
+    poissons_ratio: Num
+
+    @field_validator("youngs_modulus")
+    @classmethod
+    def _e_positive(cls, v: float) -> float:
+        if not v > 0.0:
+            raise PydanticCustomError("modulus", "must be positive (Pa)")
+        return v
+
+    @field_validator("poissons_ratio")
+    @classmethod
+    def _nu_range(cls, v: float) -> float:
+        if not -1.0 < v < 0.5:
+            raise PydanticCustomError(
+                "poisson", "must lie in (-1, 0.5): 0.5 is incompressible, outside is not elastic"
+            )
+        return v
+
+
+def _around(v: Any) -> Any:
+    """``"contact"`` or a point [x, y]."""
+    if isinstance(v, str):
+        if v == "contact":
+            return v
+    elif isinstance(v, (list, tuple)) and len(v) == 2 and all(
+        isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v
+    ):
+        return (float(v[0]), float(v[1]))
+    raise PydanticCustomError("around", 'must be "contact" or a point [x, y]')
+
+
+class RefinementSpec(_Strict):
+    levels: int = Field(ge=1, le=MAX_REFINEMENT_LEVELS)
+    around: Annotated[Union[Literal["contact"], tuple[float, float]], BeforeValidator(_around)]
+    radius: Num = Field(gt=0.0)
+
+
+class BodySpec(_Strict):
+    name: str = Field(min_length=1)
+    material: str
+    element_size: Num = Field(gt=0.0)
+    refinement: list[RefinementSpec] = []
+    shape: dict[str, Any]
+
+    @field_validator("refinement", mode="before")
+    @classmethod
+    def _one_or_many(cls, v: Any) -> Any:
+        return [v] if isinstance(v, dict) else v
+
+    @field_validator("shape")
+    @classmethod
+    def _shape_type(cls, v: dict[str, Any]) -> dict[str, Any]:
+        if "type" not in v:
+            raise PydanticCustomError("shape_type", "missing key 'type'")
+        return v
+
+
+class FixedSpec(_Strict):
+    type: Literal["fixed"]
+    body: str
+    edge: str
+
+
+class DisplacementSpec(_Strict):
+    type: Literal["displacement"]
+    body: str
+    edge: str
+    value: tuple[Component, Component]
+
+    @field_validator("value")
+    @classmethod
+    def _not_all_free(cls, v: tuple) -> tuple:
+        if v[0] is None and v[1] is None:
+            raise PydanticCustomError("all_free", "both components free: nothing is prescribed")
+        return v
+
+
+class SlidingSpec(_Strict):
+    type: Literal["sliding"]
+    body: str
+    edge: str
+    normal_displacement: Num = 0.0
+
+
+class TractionSpec(_Strict):
+    type: Literal["traction"]
+    body: str
+    edge: str
+    value: Vec2
+
+
+class PressureSpec(_Strict):
+    type: Literal["pressure"]
+    body: str
+    edge: str
+    value: Num
+
+
+class BodyForceSpec(_Strict):
+    type: Literal["body_force"]
+    body: str
+    value: Vec2
+
+
+BoundaryConditionSpec = Annotated[
+    Union[FixedSpec, DisplacementSpec, SlidingSpec, TractionSpec, PressureSpec, BodyForceSpec],
+    Field(discriminator="type"),
+]
+_BC_TYPES = ("fixed", "displacement", "sliding", "traction", "pressure", "body_force")
+_ESSENTIAL = (FixedSpec, DisplacementSpec, SlidingSpec)
+
+
+class ContactSpec(_Strict):
+    bodies: tuple[str, str]
+    type: Literal["tied", "frictionless", "frictional"]
+    friction: Num = Field(0.0, ge=0.0, validate_default=True)
+    point: Vec2 | None = None
+
+    @field_validator("friction")
+    @classmethod
+    def _friction_fits_type(cls, v: float, info: ValidationInfo) -> float:
+        kind = info.data.get("type")
+        if kind == "frictional" and not v > 0.0:
+            raise PydanticCustomError("friction", 'type = "frictional" needs friction > 0')
+        if kind in ("tied", "frictionless") and v != 0.0:
+            raise PydanticCustomError(
+                "friction", 'only used by type = "frictional" (this contact is "{type}")', {"type": kind}
+            )
+        return v
+
+
+class LineSpec(_Strict):
+    name: str = Field(min_length=1)
+    start: Vec2
+    end: Vec2
+    n: int = Field(100, ge=2, le=100_000)
+
+    @field_validator("end")
+    @classmethod
+    def _not_degenerate(cls, v: tuple, info: ValidationInfo) -> tuple:
+        if info.data.get("start") == v:
+            raise PydanticCustomError("line", "start and end coincide")
+        return v
+
+
+class OutputSpec(_Strict):
+    vtk: bool = True
+    plots: bool = False
+    probes: list[Vec2] = []
+    lines: list[LineSpec] = []
+
+    @field_validator("lines")
+    @classmethod
+    def _unique_lines(cls, v: list[LineSpec]) -> list[LineSpec]:
+        names = [ln.name for ln in v]
+        for name in names:
+            if names.count(name) > 1:
+                raise PydanticCustomError("duplicate", 'line name "{name}" used twice', {"name": name})
+        return v
+
+
+class SceneSpec(_Strict):
+    name: str | None = None
+    description: str = ""
+    model: Literal["plane_strain", "plane_stress"] = "plane_strain"
+    thickness: Num = Field(1.0, gt=0.0)
+    solver: SolverSpec = SolverSpec()
+    materials: list[MaterialSpec] = Field(min_length=1)
+    bodies: list[BodySpec] = Field(min_length=1)
+    boundary_conditions: list[BoundaryConditionSpec] = []
+    contacts: list[ContactSpec] = []
+    output: OutputSpec = OutputSpec()
+
+
+# ---------------------------------------------------------------------------------------
+# the loaded scene
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: the file's models, the solver's :class:`Problem`, and notes
+    (suspicious but legal values, e.g. a modulus that looks like GPa)."""
+
+    path: Path | None
+    spec: SceneSpec
+    problem: pb.Problem
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def output(self) -> OutputSpec:
+        return self.spec.output
+
+    @property
+    def name(self) -> str:
+        return self.problem.name
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a TOML (or JSON, by extension ``.json``) scene file."""
+    path = Path(path)
+    label = path.name
+    try:
+        raw = path.read_bytes()
+    except OSError as err:
+        raise SceneError([f"{path}: cannot read scene file ({err.strerror or err})"]) from None
+    try:
+        if path.suffix.lower() == ".json":
+            data = json.loads(raw.decode("utf-8"))
+        else:
+            data = tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError:
+        raise SceneError([f"{label}: not a UTF-8 text file"]) from None
+    except tomllib.TOMLDecodeError as err:
+        raise SceneError([f"{label}: invalid TOML: {err}"]) from None
+    except json.JSONDecodeError as err:
+        raise SceneError([f"{label}: invalid JSON: {err.msg} (line {err.lineno}, column {err.colno})"]) from None
+    return scene_from_dict(data, label=label, base_dir=path.parent, path=path)
+
+
+def scene_from_dict(
+    data: Any, label: str = "scene", base_dir: str | Path = ".", path: Path | None = None
+) -> Scene:
+    """Validate a scene given as plain data (the parsed file). ``label`` names the file in
+    errors; relative paths in the scene (``onshape`` shapes) are taken from ``base_dir``."""
+    if not isinstance(data, dict):
+        raise SceneError([f"{label}: the scene must be a table/object, got {type(data).__name__}"])
+    try:
+        spec = SceneSpec.model_validate(data)
+    except ValidationError as err:
+        raise SceneError(_format_errors(err, data, label)) from None
+    _check_references(spec, label)
+    profiles = _build_profiles(spec, label, Path(base_dir))
+    problem = _problem(spec, profiles, label if path is None else path.stem)
+    _check_geometry(spec, problem, label)
+    return Scene(path=path, spec=spec, problem=problem, warnings=tuple(_notes(spec, label)))
+
+
+# ---------------------------------------------------------------------------------------
+# error messages
+# ---------------------------------------------------------------------------------------
+
+
+def _show(value: Any, limit: int = 80) -> str:
+    try:
+        text = json.dumps(value, default=str, allow_nan=True)
+    except (TypeError, ValueError):
+        text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _key_path(loc: tuple) -> str:
+    out = ""
+    for item in loc:
+        if isinstance(item, int):
+            out += f"[{item}]"
+        else:
+            out += ("." if out else "") + str(item)
+    return out
+
+
+def _lookup(data: Any, loc: tuple) -> tuple[bool, Any]:
+    for item in loc:
+        if item == 0 and isinstance(data, dict):  # a single table given where a list is allowed
+            continue
+        try:
+            data = data[item]
+        except (KeyError, IndexError, TypeError):
+            return False, None
+    return True, data
+
+
+def _clean_loc(loc: tuple) -> tuple:
+    """Drop pydantic's union tags (``boundary_conditions[0].fixed.edge`` ->
+    ``boundary_conditions[0].edge``) and its internal step names."""
+    out: list = []
+    for i, item in enumerate(loc):
+        if isinstance(item, str) and i >= 2 and loc[i - 2] == "boundary_conditions" and isinstance(loc[i - 1], int):
+            if item in _BC_TYPES:
+                continue
+        if isinstance(item, str) and (item.startswith("function-") or item in ("literal['contact']",)):
+            continue
+        out.append(item)
+    return tuple(out)
+
+
+def _format_errors(err: ValidationError, data: Any, label: str) -> list[str]:
+    problems: list[str] = []
+    for e in err.errors(include_url=False):
+        loc = _clean_loc(tuple(e["loc"]))
+        kind = e["type"]
+        ctx = e.get("ctx") or {}
+        msg = e["msg"]
+        if kind == "unknown_key":
+            loc = loc + (ctx["key"],)
+            msg = f"unknown key (known: {ctx['known']})"
+        elif kind == "missing" and loc and isinstance(loc[-1], int):
+            found, value = _lookup(data, loc[:-1])
+            problems.append(f"{label}: {_key_path(loc[:-1])} = {_show(value)}: too few components")
+            continue
+        elif kind == "missing":
+            problems.append(f"{label}: {_key_path(loc)}: missing required key")
+            continue
+        elif kind == "union_tag_invalid":
+            loc = loc + ("type",)
+            msg = f"unknown type (known: {', '.join(_BC_TYPES)})"
+        elif kind == "union_tag_not_found":
+            problems.append(f"{label}: {_key_path(loc)}: missing key 'type' (one of: {', '.join(_BC_TYPES)})")
+            continue
+        elif kind.startswith("value_error") and msg.startswith("Value error, "):
+            msg = msg[len("Value error, "):]
+        found, value = _lookup(data, loc)
+        where = _key_path(loc) or "(top level)"
+        if found:
+            problems.append(f"{label}: {where} = {_show(value)}: {_lower(msg)}")
+        else:
+            problems.append(f"{label}: {where}: {_lower(msg)}")
+    # a union of "contact" | [x, y] reports both alternatives; keep one line per key path
+    seen: set[str] = set()
+    unique = []
+    for p in problems:
+        head = p.split(": ")[1] if ": " in p else p
+        if head not in seen:
+            seen.add(head)
+            unique.append(p)
+    return unique
+
+
+def _lower(msg: str) -> str:
+    return msg[:1].lower() + msg[1:] if msg[:2] != msg[:2].upper() else msg
+
+
+# ---------------------------------------------------------------------------------------
+# references between sections
+# ---------------------------------------------------------------------------------------
+
+
+def _check_references(spec: SceneSpec, label: str) -> None:
+    problems: list[str] = []
+
+    def duplicates(items: list[str], where: str) -> None:
+        seen: dict[str, int] = {}
+        for i, name in enumerate(items):
+            if name in seen:
+                problems.append(
+                    f'{label}: {where}[{i}].name = {_show(name)}: duplicate name (also {where}[{seen[name]}])'
+                )
+            seen.setdefault(name, i)
+
+    duplicates([m.name for m in spec.materials], "materials")
+    duplicates([b.name for b in spec.bodies], "bodies")
+    materials = [m.name for m in spec.materials]
+    bodies = [b.name for b in spec.bodies]
+    for i, b in enumerate(spec.bodies):
+        if b.material not in materials:
+            problems.append(
+                f"{label}: bodies[{i}].material = {_show(b.material)}: unknown material (known: {', '.join(materials)})"
+            )
+    for i, bc in enumerate(spec.boundary_conditions):
+        if bc.body not in bodies:
+            problems.append(
+                f"{label}: boundary_conditions[{i}].body = {_show(bc.body)}: unknown body (known: {', '.join(bodies)})"
+            )
+    essential: dict[tuple[str, str], int] = {}
+    for i, bc in enumerate(spec.boundary_conditions):
+        if isinstance(bc, _ESSENTIAL):
+            key = (bc.body, bc.edge)
+            if key in essential:
+                j = essential[key]
+                problems.append(
+                    f"{label}: boundary_conditions[{i}].edge = {_show(bc.edge)}: edge {bc.body}/{bc.edge} already has "
+                    f"an essential condition (boundary_conditions[{j}]); combine them into one"
+                )
+            essential.setdefault(key, i)
+    pairs: dict[frozenset, int] = {}
+    for i, c in enumerate(spec.contacts):
+        for k, name in enumerate(c.bodies):
+            if name not in bodies:
+                problems.append(
+                    f"{label}: contacts[{i}].bodies[{k}] = {_show(name)}: unknown body (known: {', '.join(bodies)})"
+                )
+        if c.bodies[0] == c.bodies[1]:
+            problems.append(f"{label}: contacts[{i}].bodies = {_show(list(c.bodies))}: a contact needs two different bodies")
+        pair = frozenset(c.bodies)
+        if pair in pairs:
+            problems.append(
+                f"{label}: contacts[{i}].bodies = {_show(list(c.bodies))}: this pair already has a contact (contacts[{pairs[pair]}])"
+            )
+        pairs.setdefault(pair, i)
+    in_contact = {name for c in spec.contacts for name in c.bodies}
+    for i, b in enumerate(spec.bodies):
+        for k, r in enumerate(b.refinement):
+            if r.around == "contact" and b.name not in in_contact:
+                problems.append(
+                    f'{label}: bodies[{i}].refinement[{k}].around = "contact": body "{b.name}" has no contact; '
+                    "give a point [x, y] instead"
+                )
+    if problems:
+        raise SceneError(problems)
+
+
+# ---------------------------------------------------------------------------------------
+# geometry
+# ---------------------------------------------------------------------------------------
+
+
+def _build_profiles(spec: SceneSpec, label: str, base_dir: Path) -> dict[str, Any]:
+    problems: list[str] = []
+    profiles: dict[str, Any] = {}
+    for i, b in enumerate(spec.bodies):
+        where = f"{label}: bodies[{i}].shape"
+        try:
+            profiles[b.name] = _profile(dict(b.shape), base_dir)
+        except SceneError as err:
+            problems.extend(f"{where}: {p}" for p in err.problems)
+        except (ValueError, KeyError, TypeError) as err:
+            text = err.args[0] if isinstance(err, KeyError) and err.args else str(err)
+            problems.append(f"{where} (type {_show(b.shape.get('type'))}): {text}")
+    if problems:
+        raise SceneError(problems)
+    return profiles
+
+
+def _profile(shape: dict[str, Any], base_dir: Path) -> Any:
+    """Shape dict -> exact ``geometry`` profile. ``onshape`` shapes are built by the importer
+    (imported only then); their ``path`` is relative to the scene file."""
+    if str(shape.get("type", "")).lower() == "onshape":
+        try:
+            from importers.onshape import profile as onshape_profile
+        except ImportError as err:
+            raise ValueError(f"onshape shapes need the Onshape importer (importers.onshape.profile): {err}") from None
+        if "path" in shape:
+            p = Path(str(shape["path"]))
+            shape["path"] = str(p if p.is_absolute() else (base_dir / p))
+        build = getattr(onshape_profile, "profile_from_shape", None)
+        if build is None:
+            raise ValueError("importers.onshape.profile has no profile_from_shape(shape) function")
+        return build(shape)
+    from geometry.shapes import profile_from_shape
+
+    return profile_from_shape(shape)
+
+
+def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str) -> pb.Problem:
+    materials = {
+        m.name: pb.Material(name=m.name, youngs_modulus=m.youngs_modulus, poissons_ratio=m.poissons_ratio)
+        for m in spec.materials
+    }
+    bodies = []
+    for b in spec.bodies:
+        refinements = tuple(
+            pb.Refinement(
+                levels=r.levels,
+                radius=r.radius,
+                center=None if r.around == "contact" else _frozen(np.asarray(r.around, dtype=float)),
+            )
+            for r in b.refinement
+        )
+        bodies.append(
+            pb.BodyModel(
+                name=b.name,
+                profile=profiles[b.name],
+                material=materials[b.material],
+                element_size=b.element_size,
+                refinements=refinements,
+            )
+        )
+    conditions: list[pb.BoundaryCondition] = []
+    for bc in spec.boundary_conditions:
+        if isinstance(bc, FixedSpec):
+            conditions.append(pb.Fixed(body=bc.body, edge=bc.edge))
+        elif isinstance(bc, DisplacementSpec):
+            conditions.append(pb.Displacement(body=bc.body, edge=bc.edge, value=(bc.value[0], bc.value[1])))
+        elif isinstance(bc, SlidingSpec):
+            conditions.append(pb.Sliding(body=bc.body, edge=bc.edge, normal_displacement=bc.normal_displacement))
+        elif isinstance(bc, TractionSpec):
+            conditions.append(pb.Traction(body=bc.body, edge=bc.edge, value=(bc.value[0], bc.value[1])))
+        elif isinstance(bc, PressureSpec):
+            conditions.append(pb.Pressure(body=bc.body, edge=bc.edge, value=bc.value))
+        else:
+            conditions.append(pb.BodyForce(body=bc.body, value=(bc.value[0], bc.value[1])))
+    contacts = tuple(
+        pb.ContactModel(
+            bodies=(c.bodies[0], c.bodies[1]),
+            type=c.type,
+            friction=c.friction,
+            point=None if c.point is None else _frozen(np.asarray(c.point, dtype=float)),
+        )
+        for c in spec.contacts
+    )
+    options = pb.SolverOptions(
+        load_steps=spec.solver.load_steps,
+        tolerance=spec.solver.tolerance,
+        max_iterations=spec.solver.max_iterations,
+        exact_geometry=spec.solver.exact_geometry,
+    )
+    return pb.Problem(
+        name=spec.name if spec.name else default_name,
+        model=spec.model,
+        thickness=spec.thickness,
+        bodies=tuple(bodies),
+        boundary_conditions=tuple(conditions),
+        contacts=contacts,
+        options=options,
+    )
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
+    problems: list[str] = []
+    body_index = {b.name: i for i, b in enumerate(spec.bodies)}
+    for i, body in enumerate(problem.bodies):
+        lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
+        smallest = float(np.min(hi - lo))
+        if body.element_size > COARSE_GRID_RATIO * smallest:
+            problems.append(
+                f"{label}: bodies[{i}].element_size = {_show(body.element_size)}: grid coarser than the body "
+                f"(its smallest bounding-box dimension is {smallest:.6g}; element_size must be at most "
+                f"{COARSE_GRID_RATIO:g} of it)"
+            )
+    for i, bc in enumerate(spec.boundary_conditions):
+        if isinstance(bc, BodyForceSpec) or bc.body not in body_index:
+            continue
+        names = list(problem.body(bc.body).profile.edge_names)
+        if bc.edge not in names:
+            problems.append(
+                f'{label}: boundary_conditions[{i}].edge = {_show(bc.edge)}: body "{bc.body}" has no such edge '
+                f"(known: {', '.join(names)})"
+            )
+    if problems:
+        raise SceneError(problems)
+
+    for k, p in enumerate(spec.output.probes):
+        point = np.asarray(p, dtype=float)[None, :]
+        inside = False
+        for body in problem.bodies:
+            lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
+            tol = 1e-9 * float(np.max(hi - lo))
+            if float(body.profile.signed_distance(point)[0]) >= -tol:
+                inside = True
+                break
+        if not inside:
+            problems.append(f"{label}: output.probes[{k}] = {_show(list(p))}: outside every body")
+
+    contact_frames = [_contact_frame(problem, c) for c in problem.contacts]
+    modes = rigid_body_modes(problem, contact_frames)
+    for name, description in modes.items():
+        i = body_index[name]
+        problems.append(
+            f"{label}: bodies[{i}].name = {_show(name)}: rigid-body motion not prevented ({description}); "
+            "add fixed, displacement or sliding conditions, or a contact with a supported body"
+        )
+    if problems:
+        raise SceneError(problems)
+
+
+def _notes(spec: SceneSpec, label: str) -> list[str]:
+    notes = []
+    for i, m in enumerate(spec.materials):
+        if m.youngs_modulus < 1e6:
+            notes.append(
+                f"{label}: materials[{i}].youngs_modulus = {_show(m.youngs_modulus)}: very small for Pa "
+                "(units are SI: steel is 2.0e11)"
+            )
+    return notes
+
+
+# ---------------------------------------------------------------------------------------
+# rigid-body motion
+# ---------------------------------------------------------------------------------------
+
+#: points sampled along each essential edge for the rigid-body check
+_EDGE_SAMPLES = 17
+
+
+def _edge_samples(profile: Any, edge: str) -> tuple[np.ndarray, np.ndarray]:
+    """Points (m, 2) and outward unit normals (m, 2) spread along an edge of a profile."""
+    curve = profile.edges[edge]
+    t = np.linspace(curve.t_start, curve.t_end, _EDGE_SAMPLES)
+    return np.asarray(curve.evaluate(t), dtype=float), np.asarray(curve.normal(t), dtype=float)
+
+
+def _support_rows(problem: pb.Problem, body: pb.BodyModel) -> tuple[np.ndarray, np.ndarray]:
+    """Points and directions along which an essential condition holds the body."""
+    points, dirs = [], []
+    ex, ey = np.array([1.0, 0.0]), np.array([0.0, 1.0])
+    for bc in problem.boundary_conditions:
+        if getattr(bc, "body", None) != body.name or not isinstance(bc, (pb.Fixed, pb.Displacement, pb.Sliding)):
+            continue
+        x, n = _edge_samples(body.profile, bc.edge)
+        if isinstance(bc, pb.Sliding):
+            points.append(x)
+            dirs.append(n)
+            continue
+        held = (True, True) if isinstance(bc, pb.Fixed) else (bc.value[0] is not None, bc.value[1] is not None)
+        for keep, d in zip(held, (ex, ey)):
+            if keep:
+                points.append(x)
+                dirs.append(np.broadcast_to(d, x.shape))
+    if not points:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    return np.concatenate(points), np.concatenate(dirs)
+
+
+def _motion_rows(points: np.ndarray, dirs: np.ndarray, origin: np.ndarray, scale: float) -> np.ndarray:
+    """Rows d . (t + omega e_z x (x - x0)) of a constraint on the rigid motion (tx, ty, omega*scale)."""
+    r = (points - origin) / scale
+    return np.column_stack([dirs[:, 0], dirs[:, 1], dirs[:, 1] * r[:, 0] - dirs[:, 0] * r[:, 1]])
+
+
+def _contact_frame(problem: pb.Problem, contact: pb.ContactModel) -> tuple[np.ndarray, np.ndarray]:
+    """Contact point and the outward unit normal of the second body there. Without a
+    given point: the closest points of the two exact boundaries (tessellations give a start,
+    two rounds of exact projection refine it)."""
+    first, second = problem.body(contact.bodies[0]).profile, problem.body(contact.bodies[1]).profile
+    if contact.point is not None:
+        point = np.asarray(contact.point, dtype=float)
+    else:
+        from scipy.spatial import cKDTree
+
+        size = min(problem.body(n).element_size for n in contact.bodies)
+        pa = np.concatenate([pts for pts, _ in first.tessellate(0.05 * size)])
+        pbnd = np.concatenate([pts for pts, _ in second.tessellate(0.05 * size)])
+        dist, idx = cKDTree(pbnd).query(pa)
+        k = int(np.argmin(dist))
+        xa, xb = pa[k], pbnd[idx[k]]
+        for _ in range(3):
+            xb = np.asarray(second.project(xa[None, :]).points[0], dtype=float)
+            xa = np.asarray(first.project(xb[None, :]).points[0], dtype=float)
+        point = 0.5 * (xa + xb)
+    normal = np.asarray(second.project(point[None, :]).normals[0], dtype=float)
+    return point, normal / np.linalg.norm(normal)
+
+
+def rigid_body_modes(
+    problem: pb.Problem, contact_frames: list[tuple[np.ndarray, np.ndarray]] | None = None
+) -> dict[str, str]:
+    """Bodies whose rigid motions (tx, ty, omega) are not all prevented, with a description
+    of a free motion. Empty when every body is held.
+
+    Rule: each essential condition contributes rows d . (t + omega e_z x (x - x0)) = 0 sampled
+    along its edge (fixed: x and y; displacement: the prescribed components; sliding: the
+    exact local normal). Contacts couple the motions of their two bodies at the contact
+    point: frictionless in the normal direction, frictional in the normal and tangential
+    directions (a stick zone forms under load), tied in both directions at the point and at
+    two points a cell size either side along the tangent (a tied patch also resists relative
+    rotation). Bodies linked by contacts are checked together: the stacked rows of a group of
+    k bodies must have rank 3k. A unilateral contact is treated as holding, so a body
+    pressed only through a frictionless contact passes (the solver checks the contact set).
+    """
+    bodies = list(problem.bodies)
+    index = {b.name: i for i, b in enumerate(bodies)}
+    if contact_frames is None:
+        contact_frames = [_contact_frame(problem, c) for c in problem.contacts]
+    lo = np.min([np.asarray(b.profile.bounds[0], dtype=float) for b in bodies], axis=0)
+    hi = np.max([np.asarray(b.profile.bounds[1], dtype=float) for b in bodies], axis=0)
+    origin, scale = 0.5 * (lo + hi), max(float(np.max(hi - lo)), 1e-300)
+
+    # groups of bodies joined by contacts (union-find over a handful of bodies)
+    parent = list(range(len(bodies)))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    for c in problem.contacts:
+        a, b = index[c.bodies[0]], index[c.bodies[1]]
+        parent[root(a)] = root(b)
+    groups: dict[int, list[int]] = {}
+    for i in range(len(bodies)):
+        groups.setdefault(root(i), []).append(i)
+
+    free: dict[str, str] = {}
+    for members in groups.values():
+        slot = {m: k for k, m in enumerate(members)}
+        blocks = []
+        for m in members:
+            x, d = _support_rows(problem, bodies[m])
+            rows = np.zeros((len(x), 3 * len(members)))
+            rows[:, 3 * slot[m] : 3 * slot[m] + 3] = _motion_rows(x, d, origin, scale)
+            blocks.append(rows)
+        for c, (point, normal) in zip(problem.contacts, contact_frames):
+            a, b = index[c.bodies[0]], index[c.bodies[1]]
+            if a not in slot:
+                continue
+            tangent = np.array([-normal[1], normal[0]])
+            if c.type == "frictionless":
+                pts, dirs = point[None, :], normal[None, :]
+            elif c.type == "frictional":
+                pts, dirs = np.array([point, point]), np.array([normal, tangent])
+            else:
+                h = min(bodies[a].element_size, bodies[b].element_size)
+                pts = np.repeat(np.array([point, point + h * tangent, point - h * tangent]), 2, axis=0)
+                dirs = np.tile(np.array([normal, tangent]), (3, 1))
+            coupling = _motion_rows(pts, dirs, origin, scale)
+            rows = np.zeros((len(pts), 3 * len(members)))
+            rows[:, 3 * slot[a] : 3 * slot[a] + 3] = coupling
+            rows[:, 3 * slot[b] : 3 * slot[b] + 3] = -coupling
+            blocks.append(rows)
+        A = np.concatenate(blocks) if blocks else np.zeros((0, 3 * len(members)))
+        # null space by SVD: a 3k-column matrix with a few hundred rows
+        if A.shape[0]:
+            _, s, vt = np.linalg.svd(A, full_matrices=True)
+            rank = int(np.sum(s > 1e-9 * max(s[0], 1e-300)))
+        else:
+            vt, rank = np.eye(A.shape[1]), 0
+        null = vt[rank:]
+        for m in members:
+            block = null[:, 3 * slot[m] : 3 * slot[m] + 3]
+            if block.size and np.max(np.abs(block)) > 1e-6:
+                k = int(np.argmax(np.linalg.norm(block, axis=1)))
+                free[bodies[m].name] = _describe(block[k], origin, scale, len(members) > 1)
+    return free
+
+
+def _describe(mode: np.ndarray, origin: np.ndarray, scale: float, grouped: bool) -> str:
+    t, omega = mode[:2], mode[2] / scale
+    via = " (together with the bodies it touches)" if grouped else ""
+    if abs(mode[2]) < 1e-6 * max(np.max(np.abs(mode)), 1e-300):
+        d = t / np.linalg.norm(t)
+        return f"free translation along [{d[0]:.3g}, {d[1]:.3g}]{via}"
+    centre = origin + np.array([-t[1], t[0]]) / omega
+    return f"free rotation about [{centre[0]:.4g}, {centre[1]:.4g}]{via}"

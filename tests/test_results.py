@@ -1,0 +1,152 @@
+"""Result writers against a stand-in Solution whose fields are known in closed form
+(tests/_scene_standins.py): every number written must be the field at the right point, in
+the right body, with NaN -> null; VTU files read back with the same field."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from _scene_standins import E, NU, FieldBody, FieldSolution, plane_strain_stress
+from solver import problem as pb
+from solver import results
+
+STEEL = pb.Material("steel", E, NU)
+UPPER = FieldBody("upper", (0.0, 0.0), (1.0, 1.0), a=1e-4, b=-2e-4)
+LOWER = FieldBody("lower", (0.0, -1.0), (1.0, 0.0), a=3e-4, b=5e-5, c=1e-3, d=-2e-3)
+
+
+def make_problem(model="plane_strain"):
+    bodies = tuple(pb.BodyModel(name=b.name, profile=None, material=STEEL, element_size=0.25) for b in (UPPER, LOWER))
+    return pb.Problem(name="two blocks", model=model, thickness=1.0, bodies=bodies)
+
+
+def make_solution(**kw):
+    return FieldSolution(bodies=[UPPER, LOWER], **kw)
+
+
+def vm_reference(s, nu=NU):
+    """Von Mises from the principal stresses (an independent route from the component formula)."""
+    sxx, syy, sxy = s
+    c, r = 0.5 * (sxx + syy), math.hypot(0.5 * (sxx - syy), sxy)
+    s1, s2, s3 = c + r, c - r, nu * (sxx + syy)
+    return math.sqrt(0.5 * ((s1 - s2) ** 2 + (s2 - s3) ** 2 + (s3 - s1) ** 2))
+
+
+def test_von_mises_matches_principal_stress_form():
+    rng = np.random.default_rng(1)
+    s = rng.normal(size=(50, 3)) * 1e8
+    got = results.von_mises(s, "plane_strain", NU)
+    assert np.allclose(got, [vm_reference(x) for x in s], rtol=1e-12)
+    got_ps = results.von_mises(s, "plane_stress", NU)
+    assert np.allclose(got_ps, [vm_reference(x, nu=0.0) for x in s], rtol=1e-12)
+    # uniaxial tension in plane stress: von Mises equals the stress
+    assert results.von_mises(np.array([5.0, 0, 0]), "plane_stress", NU) == pytest.approx(5.0)
+
+
+def test_summary_has_exactly_the_spec_keys_and_values(tmp_path):
+    problem = make_problem()
+    reactions = {"upper/top": np.array([1.5, -2.0]), "lower/bottom": np.array([-1.5, 2.0])}
+    solution = make_solution(reactions=reactions)
+    probes = [[0.25, 0.5], [0.75, -0.25], [3.0, 3.0]]
+    lines = [{"name": "down", "start": [0.5, 0.9], "end": [0.5, -0.9], "n": 37}]
+    written = results.write_results(tmp_path, problem, solution, probes=probes, lines=lines, vtk=False, total_s=1.5)
+    data = json.loads((tmp_path / "summary.json").read_text())
+    spec_keys = {"name", "converged", "model", "bodies", "reactions", "contacts", "probes", "lines", "iterations", "timings"}
+    assert spec_keys <= set(data)
+    assert set(data) - spec_keys == {"files"}  # the one documented extension at top level
+    assert data == json.loads(json.dumps(results.json_safe(written)))
+    assert data["name"] == "two blocks" and data["converged"] is True and data["model"] == "plane_strain"
+    assert data["bodies"]["upper"] == {"elements": 8, "dofs": 30, "element_size": 0.25, "min_element_size": 0.125}
+    assert data["reactions"] == {"upper/top": [1.5, -2.0], "lower/bottom": [-1.5, 2.0]}
+    assert data["iterations"] == {"total": 3, "per_step": [1, 2]}
+    assert data["timings"]["total_s"] == 1.5 and data["timings"]["solve_s"] == 0.25
+
+    # probes: the closed-form field of the body containing each point
+    p0, p1, p2 = data["probes"]
+    x0, x1 = np.array([probes[0]]), np.array([probes[1]])
+    assert p0["body"] == "upper" and p1["body"] == "lower"
+    assert np.allclose(p0["displacement"], [1e-4 * 0.25**2, -2e-4 * 0.25 * 0.5], rtol=1e-14)
+    assert np.allclose(p1["displacement"], [3e-4 * 0.75**2 + 1e-3, 5e-5 * 0.75 * -0.25 - 2e-3], rtol=1e-14)
+    assert np.allclose(p0["stress"], UPPER.stress(x0)[0], rtol=1e-14)
+    assert np.allclose(p1["stress"], LOWER.stress(x1)[0], rtol=1e-14)
+    assert p1["von_mises"] == pytest.approx(vm_reference(LOWER.stress(x1)[0]), rel=1e-12)
+    # outside every body: nulls, not NaN (valid JSON)
+    assert p2 == {"point": [3.0, 3.0], "body": None, "displacement": [None, None],
+                  "stress": [None, None, None], "von_mises": None}
+
+    # line: points from start to end, each sampled in its own body
+    line = data["lines"]["down"]
+    pts = np.array(line["points"])
+    assert pts.shape == (37, 2) and np.allclose(pts[0], [0.5, 0.9]) and np.allclose(pts[-1], [0.5, -0.9])
+    assert np.allclose(np.diff(line["s"]), 1.8 / 36)
+    stress = np.array(line["stress"], dtype=float)
+    upper = pts[:, 1] >= 0  # the interface y = 0 belongs to the first body (body_at order)
+    assert np.allclose(stress[upper], UPPER.stress(pts[upper]), rtol=1e-14)
+    assert np.allclose(stress[~upper], LOWER.stress(pts[~upper]), rtol=1e-14)
+    disp = np.array(line["displacement"])
+    assert np.allclose(disp[~upper], LOWER.displacement(pts[~upper]), rtol=1e-14)
+    assert line["body"] == ["upper" if u else "lower" for u in upper]
+    assert np.allclose(line["von_mises"], [vm_reference(s) for s in stress], rtol=1e-12)
+
+
+def test_non_converged_history_kept_and_json_strict(tmp_path):
+    history = {"total": 100, "per_step": [100], "residual": [1.0, 0.5, float("nan")], "status": "max_iterations"}
+    solution = make_solution(converged=False, iterations=history)
+    results.write_results(tmp_path, make_problem(), solution, vtk=False)
+    text = (tmp_path / "summary.json").read_text()
+    assert "NaN" not in text and "Infinity" not in text
+    data = json.loads(text)
+    assert data["converged"] is False
+    assert data["iterations"] == {"total": 100, "per_step": [100], "residual": [1.0, 0.5, None], "status": "max_iterations"}
+    assert data["probes"] == [] and data["lines"] == {}
+
+
+def test_contacts_pass_through_json_safe(tmp_path):
+    block = {"bodies": ["upper", "lower"], "type": "frictionless", "friction": 0.0, "point": np.array([0.5, 0.0]),
+             "normal": np.array([0.0, 1.0]), "tangent": [-1.0, 0.0], "half_width": np.float64(0.01),
+             "stick_half_width": 0.0, "normal_force": 12.0, "tangential_force": 0.0,
+             "pressure": {"s": np.linspace(-0.01, 0.01, 5), "value": np.ones(5)}, "shear": {"s": [], "value": []}}
+    results.write_results(tmp_path, make_problem(), make_solution(contacts=[block]), vtk=False, plots=True)
+    data = json.loads((tmp_path / "summary.json").read_text())
+    c = data["contacts"][0]
+    assert c["point"] == [0.5, 0.0] and c["half_width"] == 0.01 and c["pressure"]["value"] == [1.0] * 5
+    assert "contact_0.png" in data["files"]
+
+
+def test_vtu_files_hold_the_field(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    problem = make_problem()
+    summary = results.write_results(tmp_path, problem, make_solution(), vtk=True)
+    assert summary["files"] == ["lower.vtu", "upper.vtu"]
+    for body in (UPPER, LOWER):
+        grid = pv.read(tmp_path / f"{body.name}.vtu")
+        assert grid.n_cells == 8 and grid.n_points == 15
+        pts = np.asarray(grid.points)[:, :2]
+        assert np.allclose(np.asarray(grid.point_data["displacement"])[:, :2], body.displacement(pts), rtol=1e-14)
+        assert np.allclose(np.asarray(grid.point_data["displacement"])[:, 2], 0.0)
+        centres = np.asarray(grid.cell_centers().points)[:, :2]
+        expected = plane_strain_stress(body.strain(centres))
+        assert np.allclose(np.asarray(grid.cell_data["stress"]), expected, rtol=1e-12)
+        assert np.allclose(np.asarray(grid.cell_data["syy"]), expected[:, 1], rtol=1e-12)
+        assert np.allclose(grid.cell_data["von_mises"], [vm_reference(s) for s in expected], rtol=1e-12)
+        # the cells tile the body: total area = the rectangle's
+        areas = grid.compute_cell_sizes(length=False, volume=False)["Area"]
+        assert np.sum(areas) == pytest.approx((body.hi[0] - body.lo[0]) * (body.hi[1] - body.lo[1]))
+
+
+def test_plots_are_png_images(tmp_path):
+    lines = [{"name": "across body", "start": [0.0, 0.5], "end": [1.0, 0.5], "n": 20}]
+    summary = results.write_results(tmp_path, make_problem(), make_solution(), lines=lines, vtk=False, plots=True)
+    assert summary["files"] == ["fields.png", "line_across_body.png"]
+    for name in summary["files"]:
+        head = (tmp_path / name).read_bytes()[:8]
+        assert head == b"\x89PNG\r\n\x1a\n" and (tmp_path / name).stat().st_size > 5000
+
+
+def test_json_safe_rejects_unknown_objects():
+    with pytest.raises(TypeError, match="not JSON-serialisable"):
+        results.json_safe({"x": object()})
+    assert results.json_safe({"a": np.array([1.0, np.inf]), "b": np.int64(3), "c": np.bool_(True)}) == {
+        "a": [1.0, None], "b": 3, "c": True}
