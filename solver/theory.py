@@ -1,0 +1,361 @@
+"""Analytical references for 2D (line) contact: Hertz, Cattaneo-Mindlin and McEwen.
+
+Pure numpy, vectorised over points; every function validates its scalar inputs and raises a
+``ValueError`` naming the argument. Sign conventions (used throughout):
+
+* pressure ``p`` is compression positive; stresses are tension positive;
+* the half-space occupies ``z >= 0`` (``z`` is the depth below the contact point, measured
+  along the inward normal of the lower body), ``x`` runs along the contact tangent;
+* the tangential traction ``q(x)`` is the x-component of the traction *applied to* the
+  half-space's surface, so on the surface ``szz(x, 0) = -p(x)`` and ``sxz(x, 0) = -q(x)``
+  (the surface's outward normal is -z).
+
+Sources (formulas only; numbers quoted are the published ones):
+
+* K. L. Johnson, *Contact Mechanics*, Cambridge University Press, 1985: ch. 2 (Flamant line
+  loads, eqs. 2.15-2.16), ch. 4 section 4.2 (2D Hertz, eqs. 4.43-4.45 area; the subsurface field
+  and its on-axis values, eqs. 4.47-4.52 area), ch. 7 section 7.1 (tangential loading of
+  cylinders, the Cattaneo-Mindlin line contact, eqs. 7.2-7.11 area).
+* E. McEwen, "Stresses in elastic cylinders in contact along a generatrix (including the effect
+  of tangential friction)", Phil. Mag. 40 (1949) 454-459: closed-form field for a Hertz
+  pressure plus a proportional tangential traction q = f p, in terms of the functions m, n.
+* C. Cattaneo (1938), R. D. Mindlin (1949): the stick/slip solution; thesis eqs. 2-25 to 2-29.
+* The thesis (``shared/seed/thesis.txt``), eqs. 2-19 to 2-23 (Hertz) and 6-1/6-2 (ellipse
+  curvature; eq. 6-1 there is misprinted with sin^2 twice, the correct form is used here).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import optimize
+
+__all__ = [
+    "effective_modulus",
+    "plane_strain_modulus",
+    "effective_radius",
+    "ellipse_radius_of_curvature",
+    "hertz_half_width",
+    "hertz_peak_pressure",
+    "hertz_pressure",
+    "load_for_half_width",
+    "cattaneo_mindlin_stick_ratio",
+    "cattaneo_mindlin_shear",
+    "partial_slip_tractions",
+    "mcewen_stress",
+    "von_mises_plane_strain",
+    "max_shear_stress",
+    "axis_peak",
+    "axis_compression",
+    "approach_estimate",
+    "load_for_approach",
+]
+
+
+# --------------------------------------------------------------------------- validation helpers
+
+
+def _positive(name: str, value) -> float:
+    v = float(value)
+    if not math.isfinite(v) or v <= 0.0:
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return v
+
+
+def _poisson(name: str, value) -> float:
+    v = float(value)
+    if not (-1.0 < v < 0.5):
+        raise ValueError(f"{name} must lie in (-1, 0.5), got {value!r}")
+    return v
+
+
+def _non_negative(name: str, value) -> float:
+    v = float(value)
+    if not math.isfinite(v) or v < 0.0:
+        raise ValueError(f"{name} must be a non-negative finite number, got {value!r}")
+    return v
+
+
+# --------------------------------------------------------------------------- composite values
+
+
+def plane_strain_modulus(youngs_modulus: float, poissons_ratio: float) -> float:
+    """E' = E / (1 - nu^2), the modulus of one body in plane strain."""
+    E = _positive("youngs_modulus", youngs_modulus)
+    nu = _poisson("poissons_ratio", poissons_ratio)
+    return E / (1.0 - nu * nu)
+
+
+def effective_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
+    """Contact modulus E* with 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (thesis eq. 2-21,
+    Johnson eq. 4.? for line contact in plane strain). Steel on steel (2e11, 0.3): 1.0989e11."""
+    return 1.0 / (1.0 / plane_strain_modulus(E1, nu1) + 1.0 / plane_strain_modulus(E2, nu2))
+
+
+def effective_radius(R1: float, R2: float = math.inf) -> float:
+    """Composite radius R* with 1/R* = 1/R1 + 1/R2 (thesis eq. 2-22). A flat is ``inf``, a
+    concave surface has a negative radius; the pair must be non-conforming (1/R* > 0)."""
+    curvatures = []
+    for name, R in (("R1", R1), ("R2", R2)):
+        r = float(R)
+        if r == 0.0 or math.isnan(r):
+            raise ValueError(f"{name} must be a non-zero radius (inf for a flat), got {R!r}")
+        curvatures.append(0.0 if math.isinf(r) else 1.0 / r)
+    k = curvatures[0] + curvatures[1]
+    if k <= 0.0:
+        raise ValueError(
+            f"R1={R1!r}, R2={R2!r}: the surfaces are conforming or diverging (1/R1 + 1/R2 = {k!r}"
+            " <= 0); Hertz line contact needs 1/R1 + 1/R2 > 0"
+        )
+    return 1.0 / k
+
+
+def ellipse_radius_of_curvature(semi_axis_x: float, semi_axis_y: float, theta) -> np.ndarray:
+    """Radius of curvature of the ellipse (ax cos t, ay sin t) at parametric angle ``theta``
+    (radians): R = (ax^2 sin^2 t + ay^2 cos^2 t)^(3/2) / (ax ay) (thesis eqs. 6-1, 6-2 with
+    the misprint corrected). At t = +-pi/2 (the ends of the y semi-axis) R = ax^2 / ay."""
+    ax = _positive("semi_axis_x", semi_axis_x)
+    ay = _positive("semi_axis_y", semi_axis_y)
+    t = np.asarray(theta, dtype=float)
+    return (ax**2 * np.sin(t) ** 2 + ay**2 * np.cos(t) ** 2) ** 1.5 / (ax * ay)
+
+
+# --------------------------------------------------------------------------- Hertz line contact
+
+
+def hertz_half_width(N: float, R_eff: float, E_eff: float) -> float:
+    """Half-width a = sqrt(4 N R* / (pi E*)) (thesis eq. 2-23, Johnson eq. 4.43);
+    N is the normal force per unit length (N/m)."""
+    N = _non_negative("N", N)
+    R = _positive("R_eff", R_eff)
+    E = _positive("E_eff", E_eff)
+    return math.sqrt(4.0 * N * R / (math.pi * E))
+
+
+def load_for_half_width(a: float, R_eff: float, E_eff: float) -> float:
+    """Inverse of :func:`hertz_half_width`: N = pi E* a^2 / (4 R*)."""
+    a = _non_negative("a", a)
+    R = _positive("R_eff", R_eff)
+    E = _positive("E_eff", E_eff)
+    return math.pi * E * a * a / (4.0 * R)
+
+
+def hertz_peak_pressure(N: float, a: float) -> float:
+    """Peak pressure p0 = 2 N / (pi a) (thesis eq. 2-20)."""
+    N = _non_negative("N", N)
+    a = _positive("a", a)
+    return 2.0 * N / (math.pi * a)
+
+
+def hertz_pressure(x, a: float, p0: float) -> np.ndarray:
+    """p(x) = p0 sqrt(1 - x^2/a^2) inside |x| < a, 0 outside (compression positive)."""
+    a = _positive("a", a)
+    p0 = _non_negative("p0", p0)
+    xi = np.asarray(x, dtype=float) / a
+    return p0 * np.sqrt(np.clip(1.0 - xi * xi, 0.0, None))
+
+
+# --------------------------------------------------------------------------- Cattaneo-Mindlin
+
+
+def cattaneo_mindlin_stick_ratio(Q, N, mu: float, allow_gross_slip: bool = False):
+    """c/a = sqrt(1 - |Q| / (mu N)) (thesis eq. 2-29, Johnson eq. 7.? for cylinders).
+
+    Gross slip (|Q| >= mu N) raises ``ValueError`` unless ``allow_gross_slip``, in which case
+    c/a = 0 is returned there. Scalars in, float out; arrays broadcast."""
+    mu = _positive("mu", mu)
+    Q_arr = np.asarray(Q, dtype=float)
+    N_arr = np.asarray(N, dtype=float)
+    if np.any(~np.isfinite(N_arr)) or np.any(N_arr <= 0.0):
+        raise ValueError(f"N must be positive and finite, got {N!r}")
+    if np.any(~np.isfinite(Q_arr)):
+        raise ValueError(f"Q must be finite, got {Q!r}")
+    ratio = np.abs(Q_arr) / (mu * N_arr)
+    if not allow_gross_slip and np.any(ratio >= 1.0):
+        raise ValueError(
+            f"gross slip: |Q|/(mu N) = {np.max(ratio):.6g} >= 1 (Q={Q!r}, N={N!r}, mu={mu!r}); "
+            "no stick zone exists"
+        )
+    c_over_a = np.sqrt(np.clip(1.0 - ratio, 0.0, None))
+    return float(c_over_a) if c_over_a.ndim == 0 else c_over_a
+
+
+def cattaneo_mindlin_shear(x, a: float, c: float, mu: float, p0: float, sign: float = 1.0):
+    """Tangential traction of the Cattaneo-Mindlin line contact (thesis eqs. 2-25, 2-26):
+
+    q(x) = sign mu p0 [sqrt(1 - x^2/a^2) - (c/a) sqrt(1 - x^2/c^2)]  for |x| < c (stick),
+    q(x) = sign mu p0 sqrt(1 - x^2/a^2)                                for c <= |x| < a (slip),
+    0 outside; ``sign`` is the sign of the transmitted tangential force Q. Integrates to
+    Q = sign mu p0 pi (a^2 - c^2) / (2 a) (thesis eq. 2-28)."""
+    a = _positive("a", a)
+    c = _non_negative("c", c)
+    if c > a:
+        raise ValueError(f"c must not exceed a, got c={c!r} > a={a!r}")
+    mu = _non_negative("mu", mu)
+    p0 = _non_negative("p0", p0)
+    s = float(np.sign(sign))
+    if s == 0.0:
+        raise ValueError(f"sign must be non-zero, got {sign!r}")
+    x = np.asarray(x, dtype=float)
+    q = np.sqrt(np.clip(1.0 - (x / a) ** 2, 0.0, None))
+    if c > 0.0:
+        q = q - (c / a) * np.sqrt(np.clip(1.0 - (x / c) ** 2, 0.0, None))
+    return s * mu * p0 * q
+
+
+def partial_slip_tractions(x, N: float, Q: float, mu: float, R_eff: float, E_eff: float):
+    """Hertz pressure and Cattaneo-Mindlin shear for transmitted forces N and Q.
+
+    Returns ``(p, q, a, c)``: p(x), q(x) (signed by Q), the half-width and the stick half-width.
+    Raises ``ValueError`` on gross slip."""
+    a = hertz_half_width(N, R_eff, E_eff)
+    p0 = hertz_peak_pressure(N, a)
+    if Q == 0.0:
+        x = np.asarray(x, dtype=float)
+        return hertz_pressure(x, a, p0), np.zeros_like(x), a, a
+    c = a * cattaneo_mindlin_stick_ratio(Q, N, mu)
+    return hertz_pressure(x, a, p0), cattaneo_mindlin_shear(x, a, c, mu, p0, np.sign(Q)), a, c
+
+
+# --------------------------------------------------------------------------- McEwen's field
+
+
+def mcewen_stress(x, z, a: float, p0: float, q0: float = 0.0):
+    """Stress field in a half-space z >= 0 under the Hertz pressure p = p0 sqrt(1 - x^2/a^2)
+    and the proportional tangential traction q = (q0/p0) p (McEwen 1949; Johnson sections 4.2
+    and 7.1).
+
+    With (signs of m and n those of z and x)
+        m^2 = [sqrt((a^2 - x^2 + z^2)^2 + 4 x^2 z^2) + (a^2 - x^2 + z^2)] / 2,
+        n^2 = [sqrt((a^2 - x^2 + z^2)^2 + 4 x^2 z^2) - (a^2 - x^2 + z^2)] / 2,
+    the normal pressure gives
+        sxx = -(p0/a) [m (1 + (z^2 + n^2)/(m^2 + n^2)) - 2 z],
+        szz = -(p0/a) m (1 - (z^2 + n^2)/(m^2 + n^2)),
+        sxz = -(p0/a) n (m^2 - z^2)/(m^2 + n^2),
+    and the tangential traction (q in +x on the half-space)
+        sxx =  (q0/a) [n (2 + (m^2 - z^2)/(m^2 + n^2)) - 2 x],
+        szz = -(q0/a) n (m^2 - z^2)/(m^2 + n^2),
+        sxz = -(q0/a) [m (1 + (z^2 + n^2)/(m^2 + n^2)) - 2 z].
+    The overall signs differ from Johnson's printed ones where his tangential traction and
+    shear-stress conventions differ from the ones stated in this module; the signs here are
+    those of the superposition of Flamant line loads (Johnson eqs. 2.15, 2.16) with the forces
+    acting *on* the half-space, checked against that superposition in tests/test_theory.py.
+    (The Flamant kernels show the x <-> z symmetry used: the tangential szz equals the normal
+    sxz, and the tangential sxz the normal sxx, with p0 -> q0.)
+
+    Returns (sxx, szz, sxz) broadcast over x and z; tension positive."""
+    a = _positive("a", a)
+    p0 = float(p0)
+    q0 = float(q0)
+    if not (math.isfinite(p0) and math.isfinite(q0)):
+        raise ValueError(f"p0 and q0 must be finite, got p0={p0!r}, q0={q0!r}")
+    x, z = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(z, dtype=float))
+    if np.any(z < 0.0):
+        raise ValueError("z must be >= 0 (depth below the surface)")
+    b = a * a - x * x + z * z
+    root = np.sqrt(b * b + 4.0 * x * x * z * z)
+    m = np.sqrt(np.clip(0.5 * (root + b), 0.0, None))  # z >= 0, so m >= 0
+    n = np.sign(x) * np.sqrt(np.clip(0.5 * (root - b), 0.0, None))
+    r2 = m * m + n * n  # equals root; zero only at the contact edges x = +-a, z = 0
+    safe = np.where(r2 > 0.0, r2, 1.0)
+    A = np.where(r2 > 0.0, (z * z + n * n) / safe, 0.0)
+    B = np.where(r2 > 0.0, (m * m - z * z) / safe, 0.0)
+    sxx = -(p0 / a) * (m * (1.0 + A) - 2.0 * z)
+    szz = -(p0 / a) * m * (1.0 - A)
+    sxz = -(p0 / a) * n * B
+    if q0 != 0.0:
+        sxx = sxx + (q0 / a) * (n * (2.0 + B) - 2.0 * x)
+        szz = szz - (q0 / a) * n * B
+        sxz = sxz - (q0 / a) * (m * (1.0 + A) - 2.0 * z)
+    return sxx, szz, sxz
+
+
+def von_mises_plane_strain(sxx, szz, sxz, nu: float):
+    """Von Mises stress in plane strain, the out-of-plane stress being syy = nu (sxx + szz)."""
+    nu = _poisson("nu", nu)
+    sxx, szz, sxz = (np.asarray(s, dtype=float) for s in (sxx, szz, sxz))
+    syy = nu * (sxx + szz)
+    return np.sqrt(
+        0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * sxz**2
+    )
+
+
+def max_shear_stress(sxx, szz, sxz):
+    """In-plane principal shear stress tau_1 = sqrt(((sxx - szz)/2)^2 + sxz^2)."""
+    sxx, szz, sxz = (np.asarray(s, dtype=float) for s in (sxx, szz, sxz))
+    return np.sqrt(0.25 * (sxx - szz) ** 2 + sxz**2)
+
+
+def axis_peak(nu: float = 0.3, measure: str = "von_mises") -> tuple[float, float]:
+    """Peak of the frictionless Hertz field on the load axis x = 0, in units of p0 and a:
+    returns (peak / p0, depth / a). ``measure`` is "von_mises" (plane strain with ``nu``) or
+    "max_shear". Published: von Mises 0.5575 p0 at 0.704 a for nu = 0.3 (thesis: 0.558 p0 at
+    0.703 a), max shear 0.300 p0 at 0.786 a (Johnson section 4.2)."""
+    nu = _poisson("nu", nu)
+    if measure not in ("von_mises", "max_shear"):
+        raise ValueError(f"measure must be 'von_mises' or 'max_shear', got {measure!r}")
+
+    def negative_measure(zeta: float) -> float:
+        s = mcewen_stress(0.0, zeta, 1.0, 1.0)
+        v = von_mises_plane_strain(*s, nu) if measure == "von_mises" else max_shear_stress(*s)
+        return -float(v)
+
+    # scipy's bounded Brent search: the on-axis measure is unimodal on (0, 3a)
+    res = optimize.minimize_scalar(negative_measure, bounds=(1e-6, 3.0), method="bounded",
+                                   options={"xatol": 1e-10})
+    return -float(res.fun), float(res.x)
+
+
+# --------------------------------------------------------------------------- approach (estimate)
+
+
+def axis_compression(N: float, a: float, youngs_modulus: float, poissons_ratio: float,
+                     depth: float) -> float:
+    """Shortening of the load axis from the surface to ``depth`` in a plane-strain half-space
+    under the Hertz pressure of force N and half-width a: the integral of -ezz along x = 0 with
+    the on-axis stresses (Johnson section 4.2)
+        szz = -p0 a / sqrt(a^2 + z^2),  sxx = -(p0/a) [(a^2 + 2 z^2)/sqrt(a^2 + z^2) - 2 z],
+    which integrates in closed form to
+        delta = (2N / (pi E)) [(1 - nu^2) asinh(d/a) - nu (1 + nu) (d sqrt(a^2 + d^2) - d^2)/a^2].
+
+    In 2D the approach grows like ln(depth/a): it depends on the bodies' sizes and supports, so
+    this is only an *estimate* of a finite body's compliance (good to tens of percent in N).
+    Prefer choosing scenes by their force N; use this to turn N into a trial displacement."""
+    N = _non_negative("N", N)
+    a = _positive("a", a)
+    E = _positive("youngs_modulus", youngs_modulus)
+    nu = _poisson("poissons_ratio", poissons_ratio)
+    d = _positive("depth", depth)
+    # d sqrt(a^2 + d^2) - d^2 = d a^2 / (sqrt(a^2 + d^2) + d): the stable form for d >> a
+    tail = d / (math.sqrt(a * a + d * d) + d)
+    return 2.0 * N / (math.pi * E) * ((1.0 - nu * nu) * math.asinh(d / a) - nu * (1.0 + nu) * tail)
+
+
+def approach_estimate(N: float, R_eff: float, E1: float, nu1: float, E2: float, nu2: float,
+                      depth1: float, depth2: float) -> float:
+    """Estimated approach of two loaded boundaries, at ``depth1`` / ``depth2`` from the contact
+    in bodies 1 / 2, for normal force N: the sum of the two bodies' :func:`axis_compression`
+    with the Hertz half-width. An estimate (see :func:`axis_compression`)."""
+    a = hertz_half_width(N, R_eff, effective_modulus(E1, nu1, E2, nu2))
+    if a == 0.0:
+        return 0.0
+    return axis_compression(N, a, E1, nu1, depth1) + axis_compression(N, a, E2, nu2, depth2)
+
+
+def load_for_approach(delta: float, R_eff: float, E1: float, nu1: float, E2: float, nu2: float,
+                      depth1: float, depth2: float) -> float:
+    """Inverse of :func:`approach_estimate` (the approach increases monotonically with N while
+    the half-width stays below the depths): the normal force N giving approach ``delta``."""
+    delta = _positive("delta", delta)
+
+    def residual(log_N: float) -> float:
+        return approach_estimate(math.exp(log_N), R_eff, E1, nu1, E2, nu2, depth1, depth2) - delta
+
+    # bracket in log N: from a vanishing force up to one whose half-width reaches the depths
+    E_eff = effective_modulus(E1, nu1, E2, nu2)
+    hi = math.log(load_for_half_width(0.5 * min(depth1, depth2), R_eff, E_eff))
+    lo = hi - 60.0
+    if residual(hi) < 0.0:
+        raise ValueError(f"delta={delta!r} is too large for a small-strain Hertz estimate")
+    return math.exp(optimize.brentq(residual, lo, hi, xtol=1e-12, rtol=1e-12))
