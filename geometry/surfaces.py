@@ -1,1 +1,374 @@
-__all__: list[str] = []
+"""Closed-form surfaces: plane, sphere, cylinder, cone, torus (thesis 4.2.1, 4.2.2, 4.2.4-4.2.6).
+
+Every projection works in the primitive's local frame (e1, e2, axis) and reduces to a problem
+in the meridian half-plane (rho >= 0, t) of the query point, where rho is the distance from the
+axis: for any surface point X at (rho', angle', t'),
+``|p - X|^2 >= (rho - rho')^2 + (t - t')^2``, with equality when X is in p's half-plane, so the
+closest point of a surface of revolution lies in that half-plane (thesis: "the plane m").
+
+Normals point away from the centre or axis (sphere, cylinder, cone: away from the axis;
+torus: away from the core circle) and along the given normal for the plane;
+``distances = (p - closest) . normal``, negative inside.
+
+Degenerate points get deterministic answers with a valid unit normal: the sphere's centre
+(closest point origin + radius e_z), points on an axis (the meridian half-plane of e1, the first
+axis of ``orthonormal_frame(axis)``), the torus's core circle (normal away from the axis), the
+cone's apex region (see ``Cone``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ._base import (
+    Projection,
+    Surface,
+    as_points,
+    finite,
+    orthonormal_frame,
+    positive,
+    register_primitive,
+    unit_vector,
+    vector,
+)
+from .curves import blocks, check_fields, frame_matrix, frozen, set_fields, to_global, to_local, unit_radial
+
+__all__ = ["Plane", "Sphere", "Cylinder", "Cone", "Torus"]
+
+
+def _axis_frame(axis: np.ndarray, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    e1, e2 = orthonormal_frame(axis)
+    frame = frame_matrix(e1, e2, axis)
+    return frame, frozen(frame @ origin)
+
+
+# ---------------------------------------------------------------------------------------
+# plane
+# ---------------------------------------------------------------------------------------
+
+
+@register_primitive
+@dataclass(frozen=True)
+class Plane(Surface):
+    """Plane through ``origin`` with unit ``normal``; parameters (u, v) are the coordinates
+    along e1, e2 of ``orthonormal_frame(normal)`` measured from the origin."""
+
+    origin: tuple[float, ...]
+    normal: tuple[float, ...]
+    type: ClassVar[str] = "plane"
+
+    def __post_init__(self) -> None:
+        o = vector(self.origin, "origin", "plane")
+        nrm = unit_vector(self.normal, "normal", "plane")
+        frame, o_local = _axis_frame(nrm, o)
+        set_fields(self, origin=tuple(map(float, o)), normal=tuple(map(float, nrm)))
+        set_fields(self, _o=o, _n=nrm, _frame=frame, _o_local=o_local)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> "Plane":
+        f = check_fields(d, "plane", ("origin", "normal"))
+        return cls(origin=f["origin"], normal=f["normal"])
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "plane", "origin": list(self.origin), "normal": list(self.normal)}
+
+    def project(self, points: Any) -> Projection:
+        pts, _ = as_points(points)
+        n = len(pts)
+        nrm = self._n
+        closest = np.empty((n, 3))
+        dist = np.empty(n)
+        uv = np.empty((n, 2))
+        for s in blocks(n):
+            u, v, h = to_local(pts[s], self._frame, self._o_local)
+            np.multiply(h[:, None], nrm, out=closest[s])
+            np.subtract(pts[s], closest[s], out=closest[s])
+            dist[s] = h
+            uv[s, 0] = u
+            uv[s, 1] = v
+        normals = np.empty((n, 3))
+        normals[:] = nrm
+        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
+
+
+# ---------------------------------------------------------------------------------------
+# sphere
+# ---------------------------------------------------------------------------------------
+
+
+@register_primitive
+@dataclass(frozen=True)
+class Sphere(Surface):
+    """Sphere of ``radius`` about ``origin``; parameters (longitude, latitude) about the global
+    z axis. The centre projects to origin + radius e_z."""
+
+    origin: tuple[float, ...]
+    radius: float
+    type: ClassVar[str] = "sphere"
+
+    def __post_init__(self) -> None:
+        o = vector(self.origin, "origin", "sphere")
+        r = positive(self.radius, "radius", "sphere")
+        set_fields(self, origin=tuple(map(float, o)), radius=r)
+        set_fields(self, _o=o)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> "Sphere":
+        f = check_fields(d, "sphere", ("origin", "radius"))
+        return cls(origin=f["origin"], radius=f["radius"])
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "sphere", "origin": list(self.origin), "radius": self.radius}
+
+    def project(self, points: Any) -> Projection:
+        pts, _ = as_points(points)
+        n = len(pts)
+        R = self.radius
+        closest = np.empty((n, 3))
+        normals = np.empty((n, 3))
+        dist = np.empty(n)
+        uv = np.empty((n, 2))
+        for s in blocks(n):
+            r = pts[s] - self._o
+            rho = np.sqrt(np.einsum("ij,ij->i", r, r))
+            nb = normals[s]
+            with np.errstate(invalid="ignore", divide="ignore"):
+                np.divide(r, rho[:, None], out=nb)
+            zero = rho == 0.0
+            if zero.any():
+                nb[zero] = (0.0, 0.0, 1.0)
+            np.multiply(nb, R, out=closest[s])
+            closest[s] += self._o
+            np.subtract(rho, R, out=dist[s])
+            uv[s, 0] = np.arctan2(nb[:, 1], nb[:, 0])
+            uv[s, 1] = np.arctan2(nb[:, 2], np.hypot(nb[:, 0], nb[:, 1]))
+        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
+
+
+# ---------------------------------------------------------------------------------------
+# cylinder
+# ---------------------------------------------------------------------------------------
+
+
+@register_primitive
+@dataclass(frozen=True)
+class Cylinder(Surface):
+    """Infinite circular cylinder of ``radius`` about the line through ``origin`` along
+    ``axis``; parameters (angle about the axis from e1, axial coordinate from the origin)."""
+
+    origin: tuple[float, ...]
+    axis: tuple[float, ...]
+    radius: float
+    type: ClassVar[str] = "cylinder"
+
+    def __post_init__(self) -> None:
+        o = vector(self.origin, "origin", "cylinder")
+        ax = unit_vector(self.axis, "axis", "cylinder")
+        r = positive(self.radius, "radius", "cylinder")
+        frame, o_local = _axis_frame(ax, o)
+        set_fields(self, origin=tuple(map(float, o)), axis=tuple(map(float, ax)), radius=r)
+        set_fields(self, _o=o, _frame=frame, _o_local=o_local)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> "Cylinder":
+        f = check_fields(d, "cylinder", ("origin", "axis", "radius"))
+        return cls(origin=f["origin"], axis=f["axis"], radius=f["radius"])
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "cylinder", "origin": list(self.origin), "axis": list(self.axis), "radius": self.radius}
+
+    def project(self, points: Any) -> Projection:
+        pts, _ = as_points(points)
+        n = len(pts)
+        R = self.radius
+        frame = self._frame
+        closest = np.empty((n, 3))
+        normals = np.empty((n, 3))
+        dist = np.empty(n)
+        uv = np.empty((n, 2))
+        for s in blocks(n):
+            x, y, t = to_local(pts[s], frame, self._o_local)
+            rho, cx, cy = unit_radial(x, y)
+            to_global(cx, cy, 0, frame, None, normals[s])
+            to_global(R * cx, R * cy, t, frame, self._o, closest[s])
+            np.subtract(rho, R, out=dist[s])
+            uv[s, 0] = np.arctan2(cy, cx)
+            uv[s, 1] = t
+        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
+
+
+# ---------------------------------------------------------------------------------------
+# cone
+# ---------------------------------------------------------------------------------------
+
+
+@register_primitive
+@dataclass(frozen=True)
+class Cone(Surface):
+    """Cone about the line through ``origin`` along ``axis``: radius ``radius`` (>= 0) at the
+    origin, growing along +axis as radius + t tan(half_angle), 0 < half_angle < pi/2. Only the
+    nappe that carries the surface (radius >= 0, i.e. t >= t_apex = -radius / tan(half_angle))
+    exists.
+
+    In the meridian half-plane the surface is the ray from the apex A along
+    g = (sin a, cos a) (rho, t) and its outward normal is m = (cos a, -sin a). A query point q
+    with (q - A) . g > 0 projects onto the ray; otherwise the apex itself is the closest point,
+    with normal (p - A)/|p - A| (a unit vector in the apex's normal cone, continuous with m on
+    the boundary of that region; for p = A it is m in the e1 half-plane). Parameters: (angle
+    about the axis from e1, axial coordinate t of the closest point).
+    """
+
+    origin: tuple[float, ...]
+    axis: tuple[float, ...]
+    radius: float
+    half_angle: float
+    type: ClassVar[str] = "cone"
+
+    def __post_init__(self) -> None:
+        o = vector(self.origin, "origin", "cone")
+        ax = unit_vector(self.axis, "axis", "cone")
+        r = finite(self.radius, "radius", "cone")
+        if r < 0.0:
+            raise ValueError(f"cone: field 'radius' must be >= 0, got {self.radius!r}")
+        alpha = finite(self.half_angle, "half_angle", "cone")
+        if not 0.0 < alpha < math.pi / 2:
+            raise ValueError(f"cone: field 'half_angle' must be in (0, pi/2) radians, got {self.half_angle!r}")
+        frame, o_local = _axis_frame(ax, o)
+        set_fields(self, origin=tuple(map(float, o)), axis=tuple(map(float, ax)), radius=r, half_angle=alpha)
+        t_apex = -r / math.tan(alpha)
+        set_fields(self, _o=o, _frame=frame, _o_local=o_local, _sin=math.sin(alpha), _cos=math.cos(alpha))
+        set_fields(self, _t_apex=t_apex, _apex=frozen(o + t_apex * ax))
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> "Cone":
+        f = check_fields(d, "cone", ("origin", "axis", "radius", "half_angle"))
+        return cls(origin=f["origin"], axis=f["axis"], radius=f["radius"], half_angle=f["half_angle"])
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "type": "cone",
+            "origin": list(self.origin),
+            "axis": list(self.axis),
+            "radius": self.radius,
+            "half_angle": self.half_angle,
+        }
+
+    @property
+    def apex(self) -> np.ndarray:
+        return self._apex
+
+    def project(self, points: Any) -> Projection:
+        pts, _ = as_points(points)
+        n = len(pts)
+        R, sa, ca, ta = self.radius, self._sin, self._cos, self._t_apex
+        frame = self._frame
+        closest = np.empty((n, 3))
+        normals = np.empty((n, 3))
+        dist = np.empty(n)
+        uv = np.empty((n, 2))
+        for s in blocks(n):
+            x, y, t = to_local(pts[s], frame, self._o_local)
+            rho, cx, cy = unit_radial(x, y)
+            # signed distance to the generator line, written without the apex coordinate so that
+            # small half-angles (apex far away) keep full accuracy near the surface
+            dg = rho * ca - t * sa - R * ca
+            # closest point on the generator line: q - dg m
+            rc = rho - dg * ca
+            tc = t + dg * sa
+            nr = np.full_like(rho, ca)  # meridian normal (rho, t) components
+            nt = np.full_like(rho, -sa)
+            apex = rc <= 0.0  # foot at or behind the apex: the apex is the closest point
+            if apex.any():
+                ra = rho[apex]
+                ha = t[apex] - ta
+                da = np.hypot(ra, ha)
+                pos = da > 0.0
+                nr_a = np.full_like(ra, ca)
+                nt_a = np.full_like(ra, -sa)
+                nr_a[pos] = ra[pos] / da[pos]
+                nt_a[pos] = ha[pos] / da[pos]
+                nr[apex] = nr_a
+                nt[apex] = nt_a
+                dg[apex] = da
+                rc[apex] = 0.0
+                tc[apex] = ta
+            to_global(nr * cx, nr * cy, nt, frame, None, normals[s])
+            to_global(rc * cx, rc * cy, tc, frame, self._o, closest[s])
+            dist[s] = dg
+            uv[s, 0] = np.arctan2(cy, cx)
+            uv[s, 1] = tc
+        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
+
+
+# ---------------------------------------------------------------------------------------
+# torus
+# ---------------------------------------------------------------------------------------
+
+
+@register_primitive
+@dataclass(frozen=True)
+class Torus(Surface):
+    """Torus about ``origin`` and ``axis``: core circle of ``major_radius`` in the plane normal to
+    the axis, tube of ``minor_radius`` (0 < minor_radius <= major_radius). Normals point away from
+    the core circle. Parameters: (angle about the axis from e1, angle about the core circle from
+    the outward radial direction toward +axis)."""
+
+    origin: tuple[float, ...]
+    axis: tuple[float, ...]
+    major_radius: float
+    minor_radius: float
+    type: ClassVar[str] = "torus"
+
+    def __post_init__(self) -> None:
+        o = vector(self.origin, "origin", "torus")
+        ax = unit_vector(self.axis, "axis", "torus")
+        R = positive(self.major_radius, "major_radius", "torus")
+        r = positive(self.minor_radius, "minor_radius", "torus")
+        if r > R:
+            raise ValueError(
+                f"torus: field 'minor_radius' = {r!r} must not exceed field 'major_radius' = {R!r}"
+                " (self-intersecting spindle tori are not supported)"
+            )
+        frame, o_local = _axis_frame(ax, o)
+        set_fields(self, origin=tuple(map(float, o)), axis=tuple(map(float, ax)), major_radius=R, minor_radius=r)
+        set_fields(self, _o=o, _frame=frame, _o_local=o_local)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> "Torus":
+        f = check_fields(d, "torus", ("origin", "axis", "major_radius", "minor_radius"))
+        return cls(origin=f["origin"], axis=f["axis"], major_radius=f["major_radius"], minor_radius=f["minor_radius"])
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "type": "torus",
+            "origin": list(self.origin),
+            "axis": list(self.axis),
+            "major_radius": self.major_radius,
+            "minor_radius": self.minor_radius,
+        }
+
+    def project(self, points: Any) -> Projection:
+        pts, _ = as_points(points)
+        n = len(pts)
+        R, r = self.major_radius, self.minor_radius
+        frame = self._frame
+        closest = np.empty((n, 3))
+        normals = np.empty((n, 3))
+        dist = np.empty(n)
+        uv = np.empty((n, 2))
+        for s in blocks(n):
+            x, y, h = to_local(pts[s], frame, self._o_local)
+            rho, cx, cy = unit_radial(x, y)
+            dq, nr, nh = unit_radial(rho - R, h)  # on the core circle: (1, 0), away from the axis
+            rc = nr * r
+            rc += R
+            to_global(nr * cx, nr * cy, nh, frame, None, normals[s])
+            to_global(rc * cx, rc * cy, r * nh, frame, self._o, closest[s])
+            np.subtract(dq, r, out=dist[s])
+            uv[s, 0] = np.arctan2(cy, cx)
+            uv[s, 1] = np.arctan2(nh, nr)
+        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
