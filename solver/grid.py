@@ -1,0 +1,513 @@
+"""Background grid of one body: a balanced quadtree of square cells over the body's bounds.
+
+Choice (documented in docs/formulation.md): local refinement by a quadtree. Around each
+refinement centre, cells of level l (size h0 / 2^l) are split while their box is closer than
+R_l = radius + 2 * sum_{k=l+1}^{levels-1} h_k to the centre. Each level's zone reaches at least
+sqrt(2) h_{l+1} beyond the next one, which makes the tree 2:1 balanced by construction (no
+balancing pass): a cell never meets a neighbour more than one level finer, so every hanging
+node sits at the midpoint of a coarser cell's side and is tied to that side's end nodes,
+u_hang = (u_a + u_b) / 2. The constraint matrix T (nodes x free nodes) gives u = T u_free;
+chains (a hanging node's parent itself hanging) are resolved by composing T. Every cell keeps
+the exact square stiffness of its size.
+
+Cells are classified with the exact boundary curves, not only corner values: each curve is cut
+at its exact crossings with the grid lines of the cells near the boundary, so every piece of the
+boundary lies in exactly one leaf. A leaf holding a piece is a cut cell (slivers and bulges
+through one side included); a piece running along a grid line is given to the cell on the
+material side (its midpoint nudged inward). Other cells are inside or outside by the sign of
+the signed distance at their centre (they are farther than their half diagonal from the
+boundary, or hold no piece of it). Outside cells are dropped.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Protocol
+
+import numpy as np
+import scipy.sparse as sp
+
+from .integration import (
+    Polyline,
+    curve_gauss,
+    full_cell_moments,
+    piece_moments,
+    polygon_contains,
+    vertical_side_moments,
+)
+
+__all__ = [
+    "INSIDE",
+    "CUT",
+    "RefinementZone",
+    "Boundary",
+    "Pieces",
+    "Grid",
+    "build_grid",
+    "refinement_radii",
+]
+
+INSIDE = 1
+CUT = 2
+
+# Transition width per level in cells of that level (>= sqrt(2) keeps the tree 2:1 balanced).
+GRADING_CELLS = 2.0
+
+
+@dataclass(frozen=True)
+class RefinementZone:
+    levels: int
+    radius: float
+    center: np.ndarray
+
+
+class Curve(Protocol):  # the part of geometry.bounded.BoundedCurve the grid needs
+    name: str
+    t_start: float
+    t_end: float
+
+    def evaluate(self, t): ...
+    def derivative(self, t): ...
+    def axis_crossings(self, axis: int, value: float): ...
+
+
+@dataclass
+class Boundary:
+    """The boundary a grid is cut by: named oriented curves (material on their left, normals
+    outward), the signed distance (positive inside) and, for a tessellated boundary, the
+    polygon loops used for inside tests (the curves then deviate from the signed distance's
+    zero set by up to ``tolerance``)."""
+
+    curves: dict[str, Curve]
+    signed_distance: Callable[[np.ndarray], np.ndarray]
+    bounds: tuple[np.ndarray, np.ndarray]
+    tolerance: float = 0.0
+    polygon_loops: list[np.ndarray] | None = None
+
+    @property
+    def exact(self) -> bool:
+        return self.polygon_loops is None
+
+    def inside(self, points: np.ndarray, phi: np.ndarray | None = None) -> np.ndarray:
+        """Inside test consistent with the curves (exact: phi > 0; tessellated: the polygon)."""
+        if phi is None:
+            phi = self.signed_distance(points)
+        if self.polygon_loops is None:
+            return phi > 0.0
+        result = phi > 0.0
+        near = np.abs(phi) <= 2.0 * self.tolerance
+        if near.any():
+            result[near] = polygon_contains(points[near], self.polygon_loops)
+        return result
+
+
+@dataclass
+class Pieces:
+    """Pieces of the boundary curves, each inside one leaf cell: curve name per piece (via
+    ``curve_names[curve]``), parameter interval [t0, t1], and the cell holding it."""
+
+    curve_names: list[str]
+    curve: np.ndarray
+    t0: np.ndarray
+    t1: np.ndarray
+    cell: np.ndarray
+
+    def of(self, name: str) -> np.ndarray:
+        """Indices of the pieces of one curve."""
+        if name not in self.curve_names:
+            raise KeyError(name)
+        return np.nonzero(self.curve == self.curve_names.index(name))[0]
+
+
+@dataclass
+class Grid:
+    origin: np.ndarray
+    h0: float
+    shape: tuple[int, int]
+    max_level: int
+    level: np.ndarray  # (m,) leaf levels
+    index: np.ndarray  # (m, 2) leaf (i, j) at their level
+    status: np.ndarray  # (m,) INSIDE or CUT
+    moments: np.ndarray  # (m, 3, 3) local moments of the inside part
+    pieces: Pieces
+    nodes: np.ndarray = field(repr=False, default=None)  # (N, 2)
+    cells: np.ndarray = field(repr=False, default=None)  # (m, 4) CCW node indices
+    constraint: sp.csr_matrix = field(repr=False, default=None)  # (N, Nf): u_nodes = T u_free
+    free_nodes: np.ndarray = field(repr=False, default=None)
+
+    @property
+    def size(self) -> np.ndarray:
+        return self.h0 / 2.0 ** self.level
+
+    @property
+    def lower(self) -> np.ndarray:
+        return self.origin + self.index * self.size[:, None]
+
+    @property
+    def center(self) -> np.ndarray:
+        return self.lower + 0.5 * self.size[:, None]
+
+    @property
+    def inside_fraction(self) -> np.ndarray:
+        return self.moments[:, 0, 0] / 4.0
+
+    @property
+    def min_size(self) -> float:
+        return float(self.size.min())
+
+    @property
+    def n_hanging(self) -> int:
+        return len(self.nodes) - len(self.free_nodes)
+
+    def locate(self, points: np.ndarray) -> np.ndarray:
+        """Leaf index of each point (n,), -1 where no active cell holds it. Points on a shared
+        side go to the cell above/right; points on the grid's upper/right border are found by
+        retrying with a tiny downward/leftward nudge."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        cell = self._locate(points)
+        eps = 1e-9 * self.min_size
+        for shift in ((-eps, 0.0), (0.0, -eps), (-eps, -eps)):
+            miss = cell < 0
+            if not miss.any():
+                break
+            cell[miss] = self._locate(points[miss] + np.array(shift))
+        return cell
+
+    def _locate(self, points: np.ndarray) -> np.ndarray:
+        cell = np.full(len(points), -1, dtype=np.int64)
+        for lv, (keys, order, ny_l, nx_l) in self._level_tables().items():
+            h = self.h0 / 2.0**lv
+            ij = np.floor((points - self.origin) / h).astype(np.int64)
+            ok = (ij[:, 0] >= 0) & (ij[:, 1] >= 0) & (ij[:, 0] < nx_l) & (ij[:, 1] < ny_l)
+            key = ij[:, 0] * ny_l + ij[:, 1]
+            pos = np.searchsorted(keys, key)
+            pos = np.minimum(pos, len(keys) - 1)
+            hit = ok & (keys[pos] == key)
+            cell[hit] = order[pos[hit]]
+        return cell
+
+    def _level_tables(self):
+        if getattr(self, "_tables", None) is None:
+            tables = {}
+            for lv in np.unique(self.level):
+                idx = np.nonzero(self.level == lv)[0]
+                ny_l = self.shape[1] * 2 ** int(lv)
+                nx_l = self.shape[0] * 2 ** int(lv)
+                keys = self.index[idx, 0].astype(np.int64) * ny_l + self.index[idx, 1]
+                o = np.argsort(keys)
+                tables[int(lv)] = (keys[o], idx[o], ny_l, nx_l)
+            self._tables = tables
+        return self._tables
+
+    def local_coordinates(self, points: np.ndarray, cell: np.ndarray) -> np.ndarray:
+        """(xi, eta) in [-1, 1]^2 of points in their cells."""
+        return 2.0 * (points - self.center[cell]) / self.size[cell, None]
+
+
+def refinement_radii(zone: RefinementZone, h0: float) -> np.ndarray:
+    """R_l for l = 0..levels-1: cells of level l closer than R_l to the centre are split."""
+    h = h0 / 2.0 ** np.arange(zone.levels + 1)
+    radii = np.empty(zone.levels)
+    for lv in range(zone.levels):
+        radii[lv] = zone.radius + GRADING_CELLS * h[lv + 1 : zone.levels].sum()
+    return radii
+
+
+def _box_distance(lower, size, center):
+    d = np.maximum(np.maximum(lower - center, 0.0), center - (lower + size[:, None]))
+    return np.hypot(d[:, 0], d[:, 1])
+
+
+def build_grid(
+    boundary: Boundary,
+    element_size: float,
+    refinements: tuple[RefinementZone, ...] = (),
+    offset: tuple[float, float] = (0.0, 0.0),
+    curve_order: int = 8,
+) -> Grid:
+    """Quadtree grid of spacing ``element_size`` over the boundary's bounds, refined around
+    the zones, classified and with the cut cells' moments on the given boundary.
+
+    ``offset`` shifts the grid origin down/left by a fraction of ``element_size`` (grid
+    placement studies); ``curve_order`` is the Gauss order on each boundary piece.
+    """
+    h0 = float(element_size)
+    if not (h0 > 0.0 and math.isfinite(h0)):
+        raise ValueError(f"element_size must be a positive number, got {element_size!r}")
+    for z in refinements:
+        if int(z.levels) != z.levels or z.levels < 0:
+            raise ValueError(f"refinement levels must be a non-negative integer, got {z.levels!r}")
+        if not (z.radius >= 0.0):
+            raise ValueError(f"refinement radius must be >= 0, got {z.radius!r}")
+    bmin, bmax = (np.asarray(b, dtype=float) for b in boundary.bounds)
+    origin = bmin - np.asarray(offset, dtype=float) * h0
+    shape = np.maximum(np.ceil((bmax - origin) / h0 - 1e-9).astype(int), 1)
+    max_level = max([int(z.levels) for z in refinements], default=0)
+    tol = boundary.tolerance
+
+    def keep(lower, size):
+        c = lower + 0.5 * size[:, None]
+        phi = boundary.signed_distance(c)
+        return phi > -(size * (0.5 * math.sqrt(2.0) * (1 + 1e-9)) + tol + 1e-12 * h0), phi
+
+    ii, jj = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
+    index = np.stack([ii.ravel(), jj.ravel()], axis=1)
+    level = np.zeros(len(index), dtype=np.int64)
+    size0 = np.full(len(index), h0)
+    k, phi = keep(origin + index * h0, size0)
+    index, level, phi = index[k], level[k], phi[k]
+
+    zones = [(z, refinement_radii(z, h0)) for z in refinements]
+    for lv in range(max_level):
+        at = level == lv
+        split = np.zeros(len(level), dtype=bool)
+        idx = np.nonzero(at)[0]
+        h = h0 / 2.0**lv
+        lower = origin + index[idx] * h
+        for z, radii in zones:
+            if z.levels > lv:
+                split[idx] |= _box_distance(lower, np.full(len(idx), h), np.asarray(z.center, float)) < radii[lv]
+        if not split.any():
+            continue
+        parents = index[split]
+        child = (2 * parents[:, None, :] + np.array([[0, 0], [1, 0], [0, 1], [1, 1]])[None]).reshape(-1, 2)
+        hc = h / 2.0
+        kc, phic = keep(origin + child * hc, np.full(len(child), hc))
+        index = np.concatenate([index[~split], child[kc]])
+        level = np.concatenate([level[~split], np.full(kc.sum(), lv + 1)])
+        phi = np.concatenate([phi[~split], phic[kc]])
+
+    grid = Grid(
+        origin=origin,
+        h0=h0,
+        shape=(int(shape[0]), int(shape[1])),
+        max_level=max_level,
+        level=level,
+        index=index,
+        status=np.zeros(len(level), dtype=np.int8),
+        moments=np.zeros((len(level), 3, 3)),
+        pieces=None,
+    )
+    size = grid.size
+    candidate = np.abs(phi) <= size * (0.5 * math.sqrt(2.0) * (1 + 1e-9)) + tol + 1e-12 * h0
+    pieces = _cut_pieces(grid, boundary, candidate)
+    has_piece = np.zeros(len(level), dtype=bool)
+    has_piece[pieces.cell] = True
+    inside = phi > 0.0
+    amb = candidate & ~has_piece
+    if amb.any():
+        inside[amb] = boundary.inside(grid.center[amb], phi[amb])
+    active = has_piece | inside
+    # drop outside cells and renumber
+    new_id = np.cumsum(active) - 1
+    grid.level, grid.index = level[active], index[active]
+    grid.status = np.where(has_piece[active], CUT, INSIDE).astype(np.int8)
+    pieces.cell = new_id[pieces.cell]
+    grid.pieces = pieces
+    grid._tables = None
+    grid.moments = np.broadcast_to(full_cell_moments(), (len(grid.level), 3, 3)).copy()
+    _cut_moments(grid, boundary, curve_order)
+    _nodes_and_constraints(grid)
+    return grid
+
+
+def _curve_bbox(curve, pad):
+    t = np.linspace(curve.t_start, curve.t_end, 257)
+    p = np.asarray(curve.evaluate(t), dtype=float)
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    span = float(np.max(hi - lo))
+    return lo - pad - 1e-3 * span, hi + pad + 1e-3 * span
+
+
+def _kinks(curve) -> np.ndarray:
+    """Parameters where the curve may not be smooth (polyline vertices, spline knots): pieces
+    are split there so the Gauss rule on each piece sees a smooth integrand."""
+    f = getattr(curve, "breakpoints", None) or getattr(curve, "_breakpoints", None)
+    return np.asarray(f(), dtype=float).ravel() if f is not None else np.zeros(0)
+
+
+def _crossings(curve, axis: int, values: np.ndarray) -> np.ndarray:
+    """Parameters of the curve's crossings with lines coordinate[axis] = value. One call per
+    grid line (the BoundedCurve API takes one value): O(sqrt(cells)) calls, not per cell."""
+    out = []
+    for v in values:
+        t = np.asarray(curve.axis_crossings(axis, float(v)), dtype=float).ravel()
+        if t.size:
+            out.append(t)
+    return np.concatenate(out) if out else np.zeros(0)
+
+
+def _cut_pieces(grid: Grid, boundary: Boundary, candidate: np.ndarray) -> Pieces:
+    lower = grid.lower[candidate]
+    size = grid.size[candidate]
+    xs = np.unique(np.round(np.concatenate([lower[:, 0], lower[:, 0] + size]), 12))
+    ys = np.unique(np.round(np.concatenate([lower[:, 1], lower[:, 1] + size]), 12))
+    h_min = grid.h0 / 2.0**grid.max_level
+    names = list(boundary.curves)
+    cid, t0s, t1s, cells = [], [], [], []
+    for k, name in enumerate(names):
+        curve = boundary.curves[name]
+        lo, hi = _curve_bbox(curve, grid.h0)
+        tx = _crossings(curve, 0, xs[(xs >= lo[0]) & (xs <= hi[0])])
+        ty = _crossings(curve, 1, ys[(ys >= lo[1]) & (ys <= hi[1])])
+        ta, tb = float(curve.t_start), float(curve.t_end)
+        kinks = _kinks(curve)
+        t = np.concatenate([[ta, tb], tx, ty, kinks])
+        t = t[np.isfinite(t) & (t >= min(ta, tb)) & (t <= max(ta, tb))]
+        t = np.unique(t)
+        if tb < ta:
+            t = t[::-1]
+        t0, t1 = t[:-1], t[1:]
+        # drop pieces shorter than round-off (double crossings at corners)
+        p0 = np.asarray(curve.evaluate(t0), float).reshape(-1, 2)
+        p1 = np.asarray(curve.evaluate(t1), float).reshape(-1, 2)
+        tm = 0.5 * (t0 + t1)
+        pm = np.asarray(curve.evaluate(tm), float).reshape(-1, 2)
+        extent = np.maximum(np.hypot(*(p1 - p0).T), np.hypot(*(pm - p0).T))
+        ok = extent > 1e-12 * h_min
+        t0, t1, tm, pm = t0[ok], t1[ok], tm[ok], pm[ok]
+        d = np.asarray(curve.derivative(tm), float).reshape(-1, 2)
+        n = np.stack([d[:, 1], -d[:, 0]], axis=1) / np.hypot(d[:, 0], d[:, 1])[:, None]
+        cell = grid.locate(pm - 1e-7 * h_min * n)
+        if (cell < 0).any():
+            bad = pm[cell < 0][0]
+            raise RuntimeError(f"boundary piece of {name!r} near {bad.tolist()} lies in no grid cell")
+        cid.append(np.full(len(t0), k))
+        t0s.append(t0)
+        t1s.append(t1)
+        cells.append(cell)
+    cat = lambda a, dt: np.concatenate(a).astype(dt) if a else np.zeros(0, dt)  # noqa: E731
+    return Pieces(names, cat(cid, np.int64), cat(t0s, float), cat(t1s, float), cat(cells, np.int64))
+
+
+def _cut_moments(grid: Grid, boundary: Boundary, order: int) -> None:
+    cut = np.nonzero(grid.status == CUT)[0]
+    if len(cut) == 0:
+        return
+    mom = np.zeros((len(grid.level), 3, 3))
+    center, size = grid.center, grid.size
+    pc = grid.pieces
+    ends = []  # (cell, point) of piece end points
+    for k, name in enumerate(pc.curve_names):
+        sel = np.nonzero(pc.curve == k)[0]
+        if len(sel) == 0:
+            continue
+        curve = boundary.curves[name]
+        cell = pc.cell[sel]
+        pts, w, nrm, _ = curve_gauss(curve, pc.t0[sel], pc.t1[sel], order)
+        contrib = piece_moments(pts, w, nrm, center[cell], size[cell])
+        np.add.at(mom, cell, contrib)
+        ends.append((cell, np.asarray(curve.evaluate(pc.t0[sel]), float).reshape(-1, 2)))
+        ends.append((cell, np.asarray(curve.evaluate(pc.t1[sel]), float).reshape(-1, 2)))
+    # vertical sides: breakpoints = side ends + piece end points lying on the side
+    lower = grid.lower
+    rec_cell, rec_side, rec_y = [], [], []
+    for side, xoff in ((-1, 0.0), (1, 1.0)):
+        rec_cell += [cut, cut]
+        rec_side += [np.full(len(cut), side)] * 2
+        rec_y += [lower[cut, 1], lower[cut, 1] + size[cut]]
+        for cell, p in ends:
+            xs = lower[cell, 0] + xoff * size[cell]
+            on = np.abs(p[:, 0] - xs) <= 1e-9 * size[cell]
+            rec_cell.append(cell[on])
+            rec_side.append(np.full(on.sum(), side))
+            rec_y.append(np.clip(p[on, 1], lower[cell[on], 1], lower[cell[on], 1] + size[cell[on]]))
+    c = np.concatenate(rec_cell)
+    s = np.concatenate(rec_side)
+    y = np.concatenate(rec_y)
+    o = np.lexsort((y, s, c))
+    c, s, y = c[o], s[o], y[o]
+    same = (c[1:] == c[:-1]) & (s[1:] == s[:-1])
+    y0, y1, c, s = y[:-1][same], y[1:][same], c[:-1][same], s[:-1][same]
+    long_enough = (y1 - y0) > 1e-12 * size[c]
+    y0, y1, c, s = y0[long_enough], y1[long_enough], c[long_enough], s[long_enough]
+    x = lower[c, 0] + (s > 0) * size[c]
+    mid = np.stack([x, 0.5 * (y0 + y1)], axis=1)
+    phi = boundary.signed_distance(mid)
+    on_boundary = np.abs(phi) <= 1e-9 * size[c]
+    ins = boundary.inside(mid, phi) & ~on_boundary
+    c, s, y0, y1 = c[ins], s[ins], y0[ins], y1[ins]
+    eta0 = 2.0 * (y0 - center[c, 1]) / size[c]
+    eta1 = 2.0 * (y1 - center[c, 1]) / size[c]
+    np.add.at(mom, c, vertical_side_moments(eta0, eta1, s))
+    grid.moments[cut] = mom[cut]
+
+
+def _nodes_and_constraints(grid: Grid) -> None:
+    L = grid.max_level
+    s = (2 ** (L - grid.level)).astype(np.int64)
+    i0, j0 = grid.index[:, 0] * s, grid.index[:, 1] * s
+    ny_f = grid.shape[1] * 2**L + 1
+    cx = np.stack([i0, i0 + s, i0 + s, i0], axis=1)
+    cy = np.stack([j0, j0, j0 + s, j0 + s], axis=1)
+    keys = cx * ny_f + cy
+    node_keys, inverse = np.unique(keys.ravel(), return_inverse=True)
+    grid.cells = inverse.reshape(-1, 4)
+    h_f = grid.h0 / 2.0**L
+    grid.nodes = grid.origin + h_f * np.stack([node_keys // ny_f, node_keys % ny_f], axis=1)
+    n = len(node_keys)
+    # side midpoints of cells bigger than the finest: a node there hangs on the side's ends
+    big = np.nonzero(s >= 2)[0]
+    half = s[big] // 2
+    mx = np.stack([i0[big] + half, i0[big] + s[big], i0[big] + half, i0[big]], axis=1)
+    my = np.stack([j0[big], j0[big] + half, j0[big] + s[big], j0[big] + half], axis=1)
+    mkey = (mx * ny_f + my).ravel()
+    pos = np.minimum(np.searchsorted(node_keys, mkey), n - 1)
+    hit = node_keys[pos] == mkey
+    corners = grid.cells[big]
+    pa = corners[:, [0, 1, 2, 3]].ravel()
+    pb = corners[:, [1, 2, 3, 0]].ravel()
+    hang, first = np.unique(pos[hit], return_index=True)
+    a, b = pa[hit][first], pb[hit][first]
+    free = np.ones(n, dtype=bool)
+    free[hang] = False
+    rows = np.concatenate([np.nonzero(free)[0], hang, hang])
+    cols = np.concatenate([np.nonzero(free)[0], a, b])
+    vals = np.concatenate([np.ones(free.sum()), np.full(len(hang), 0.5), np.full(len(hang), 0.5)])
+    p = sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+    t = p
+    for _ in range(64):  # resolve chains: hanging parents of hanging nodes
+        if not t[:, hang].count_nonzero():
+            break
+        t = (t @ p).tocsr()
+    else:  # pragma: no cover - impossible for a balanced tree
+        raise RuntimeError("hanging-node constraints do not resolve")
+    grid.free_nodes = np.nonzero(free)[0]
+    grid.constraint = t[:, grid.free_nodes].tocsr()
+
+
+def polyline_boundary(loops: list[dict[str, np.ndarray]], signed_distance=None, tolerance: float = 0.0) -> Boundary:
+    """Boundary made of polylines: ``loops`` is a list of {edge name: vertices} in loop order
+    (material on the left). Used for the tessellated variant and for geometry-free tests; the
+    signed distance defaults to the exact distance to the polygon."""
+    curves = {}
+    polys = []
+    for loop in loops:
+        verts = []
+        for name, v in loop.items():
+            curves[name] = Polyline(name, np.asarray(v, dtype=float))
+            verts.append(np.asarray(v, dtype=float)[:-1])
+        polys.append(np.concatenate(verts))
+    allv = np.concatenate(polys)
+    bounds = (allv.min(axis=0), allv.max(axis=0))
+
+    if signed_distance is None:
+
+        def signed_distance(points):
+            points = np.asarray(points, dtype=float).reshape(-1, 2)
+            a = np.concatenate(polys)
+            b = np.concatenate([np.roll(lp, -1, axis=0) for lp in polys])
+            d = np.full(len(points), np.inf)
+            step = max(1, 2_000_000 // len(a))
+            for s0 in range(0, len(points), step):
+                p = points[s0 : s0 + step, None, :]
+                ab = b - a
+                t = np.clip(np.einsum("pkd,kd->pk", p - a, ab) / np.einsum("kd,kd->k", ab, ab), 0, 1)
+                q = a + t[..., None] * ab
+                d[s0 : s0 + step] = np.min(np.hypot(*(p - q).transpose(2, 0, 1)), axis=1)
+            sign = np.where(polygon_contains(points, polys), 1.0, -1.0)
+            return sign * d
+
+        return Boundary(curves, signed_distance, bounds, 0.0, None)
+    return Boundary(curves, signed_distance, bounds, tolerance, polys)

@@ -1,0 +1,549 @@
+"""Immersed-boundary finite elements on structured grids: ``solve(problem) -> Solution``.
+
+Each body gets its own quadtree grid (solver.grid), bilinear cells with the exact square
+stiffness inside and moment-exact cut cells on the boundary (solver.integration), essential
+conditions by the thin-band step boundary method (solver.step_boundary), natural conditions and
+body forces on the exact boundary and cut cells. Dofs of all bodies live in one global vector
+(body after body); per-body assembly, point operators and boundary terms are kept separate so
+the contact band of the next issues can couple two grids with the same machinery.
+See docs/formulation.md for the equations.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .grid import CUT, Boundary, Grid, RefinementZone, build_grid
+from .integration import (
+    Polyline,
+    body_force_vectors,
+    cell_stiffness,
+    curve_gauss,
+    full_cell_moments,
+    monomial_stiffness,
+    shape_functions,
+    strain_matrix,
+)
+from .problem import BodyForce, Displacement, Fixed, Pressure, Sliding, Traction
+from .step_boundary import (
+    DEFAULT_BAND_FRACTION,
+    THESIS_CONSISTENCY,
+    BoundaryPoints,
+    projector,
+    thin_band_terms,
+    thin_band_traction,
+)
+
+__all__ = [
+    "Settings",
+    "BodyDiscretisation",
+    "discretise_body",
+    "exact_boundary",
+    "tessellated_boundary",
+    "IBFEMSolution",
+    "solve",
+    "von_mises",
+]
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Numerical choices (defaults documented and measured in docs/formulation.md)."""
+
+    band_fraction: float = DEFAULT_BAND_FRACTION  # delta = band_fraction * local cell size
+    consistency: float = THESIS_CONSISTENCY  # 1/2 thesis (band limit), 1 symmetric Nitsche
+    fictitious_stiffness: float = 1e-9  # cut cells get alpha * full-cell stiffness (conditioning)
+    boundary_order: int = 5  # Gauss points per boundary piece for boundary conditions
+    curve_order: int = 8  # Gauss points per boundary piece for cut-cell moments
+    chord_fraction: float = 0.1  # exact_geometry false: chord tolerance / element_size
+    grid_offset: tuple[float, float] = (0.0, 0.0)  # grid origin shift (fraction of element_size)
+
+    def __post_init__(self):
+        if not self.band_fraction > 0:
+            raise ValueError(f"band_fraction must be positive, got {self.band_fraction!r}")
+        if self.consistency < 0:
+            raise ValueError(f"consistency must be >= 0, got {self.consistency!r}")
+        if not self.fictitious_stiffness >= 0:
+            raise ValueError(f"fictitious_stiffness must be >= 0, got {self.fictitious_stiffness!r}")
+
+
+# ---------------------------------------------------------------------------------- boundaries
+
+
+def exact_boundary(profile) -> Boundary:
+    """The profile's exact curves and signed distance."""
+    return Boundary(dict(profile.edges), profile.signed_distance, profile.bounds, 0.0, None)
+
+
+def tessellated_boundary(profile, chord_tolerance: float) -> Boundary:
+    """The thesis's boundary: every edge replaced by its tessellation (polyline), polygon
+    inside tests; volume and boundary integrals then see only the polygon."""
+    curves = {}
+    loops = []
+    for lp in profile.loops:
+        verts = []
+        for c in lp:
+            pts, _ = c.tessellate(chord_tolerance)
+            pts = np.asarray(pts, dtype=float).copy()
+            pts[0], pts[-1] = c.start, c.end
+            curves[c.name] = Polyline(c.name, pts)
+            verts.append(pts[:-1])
+        loops.append(np.concatenate(verts))
+    return Boundary(curves, profile.signed_distance, profile.bounds, float(chord_tolerance), loops)
+
+
+# ---------------------------------------------------------------------------------- one body
+
+
+@dataclass
+class BodyDiscretisation:
+    """One body on its grid, with its block of the global dof vector."""
+
+    name: str
+    index: int
+    grid: Grid
+    boundary: Boundary
+    profile: object
+    lam: float
+    mu: float
+    elasticity: np.ndarray
+    model: str
+    poissons_ratio: float
+    dof_offset: int = 0
+    n_total: int = 0  # size of the global dof vector
+    element_size: float = 0.0
+
+    @property
+    def n_dofs(self) -> int:
+        return 2 * len(self.grid.free_nodes)
+
+    @property
+    def node_dof_map(self) -> sp.csr_matrix:
+        """(2 N_nodes, n_total): nodal displacements [x0, y0, x1, ...] from the global vector."""
+        if getattr(self, "_dof_map", None) is None:
+            t = sp.kron(self.grid.constraint, sp.identity(2), format="coo")
+            self._dof_map = sp.csr_matrix(
+                (t.data, (t.row, t.col + self.dof_offset)), shape=(t.shape[0], self.n_total)
+            )
+        return self._dof_map
+
+    def cell_dofs(self, cells: np.ndarray) -> np.ndarray:
+        """(m, 8) node-dof indices (before constraints) of cells."""
+        nodes = self.grid.cells[cells]
+        return (2 * nodes[:, :, None] + np.arange(2)).reshape(-1, 8)
+
+    def shape(self, points: np.ndarray, cells: np.ndarray):
+        """N (q, 4) and grad N (q, 4, 2) in physical units at points in their cells."""
+        loc = self.grid.local_coordinates(points, cells)
+        n, dn = shape_functions(loc[:, 0], loc[:, 1])
+        return n, dn * (2.0 / self.grid.size[cells])[:, None, None]
+
+    def _point_matrix(self, values: np.ndarray, cells: np.ndarray) -> sp.csr_matrix:
+        """Sparse (rows, n_total) from per-point blocks values (q, r, 8) over cell dofs."""
+        q, r, _ = values.shape
+        rows = np.broadcast_to(np.arange(q * r).reshape(q, r, 1), values.shape)
+        cols = np.broadcast_to(self.cell_dofs(cells)[:, None, :], values.shape)
+        m = sp.csr_matrix((values.ravel(), (rows.ravel(), cols.ravel())), shape=(q * r, 2 * len(self.grid.nodes)))
+        return (m @ self.node_dof_map).tocsr()
+
+    def displacement_operator(self, points, cells) -> sp.csr_matrix:
+        n, _ = self.shape(points, cells)
+        v = np.zeros((len(points), 2, 8))
+        v[:, 0, 0::2] = n
+        v[:, 1, 1::2] = n
+        return self._point_matrix(v, cells)
+
+    def stress_operator(self, points, cells) -> sp.csr_matrix:
+        """(3q, n_total): [sxx, syy, sxy] at the points."""
+        _, g = self.shape(points, cells)
+        return self._point_matrix(self.elasticity @ strain_matrix(g), cells)
+
+    def traction_operator(self, points, cells, normals) -> sp.csr_matrix:
+        """(2q, n_total): sigma(u_h) n at the points."""
+        _, g = self.shape(points, cells)
+        s = self.elasticity @ strain_matrix(g)  # (q, 3, 8)
+        nx, ny = normals[:, 0, None], normals[:, 1, None]
+        t = np.stack([nx * s[:, 0] + ny * s[:, 2], nx * s[:, 2] + ny * s[:, 1]], axis=1)
+        return self._point_matrix(t, cells)
+
+    def stiffness(self, alpha: float) -> sp.csr_matrix:
+        """Volume stiffness (n_dofs, n_dofs) of the body's free dofs (COO over all cells)."""
+        g = self.grid
+        km = monomial_stiffness(self.elasticity)
+        k_full = cell_stiffness(full_cell_moments(), km)
+        cut = np.nonzero(g.status == CUT)[0]
+        inner = np.nonzero(g.status != CUT)[0]
+        k_cut = cell_stiffness(g.moments[cut], km) + alpha * k_full
+        cells = np.concatenate([inner, cut])
+        data = np.concatenate([np.broadcast_to(k_full.ravel(), (len(inner), 64)).ravel(), k_cut.ravel()])
+        dofs = self.cell_dofs(cells).astype(np.int64)
+        rows = np.repeat(dofs, 8, axis=1).ravel()
+        cols = np.tile(dofs, (1, 8)).ravel()
+        n = 2 * len(g.nodes)
+        k = sp.csr_matrix((data, (rows, cols)), shape=(n, n))
+        if g.n_hanging:
+            t = sp.kron(g.constraint, sp.identity(2), format="csr")
+            k = (t.T @ k @ t).tocsr()
+        return k
+
+    def body_force(self, value) -> np.ndarray:
+        """Consistent load (n_total,) of a uniform body force over the inside parts of cells."""
+        g = self.grid
+        f = body_force_vectors(g.moments, g.size, np.asarray(value, dtype=float))
+        nodal = np.bincount(self.cell_dofs(np.arange(len(g.level))).ravel(), f.ravel(), minlength=2 * len(g.nodes))
+        return self.node_dof_map.T @ nodal
+
+    def edge_points(self, edge: str, order: int) -> BoundaryPoints:
+        """Gauss points on every piece of an edge (exact curve, or polyline when tessellated)."""
+        pc = self.grid.pieces
+        if edge not in pc.curve_names:
+            raise ValueError(f"body {self.name!r} has no edge {edge!r}; edges: {', '.join(pc.curve_names)}")
+        sel = pc.of(edge)
+        curve = self.boundary.curves[edge]
+        pts, w, nrm, _ = curve_gauss(curve, pc.t0[sel], pc.t1[sel], order)
+        cells = np.repeat(pc.cell[sel], order)
+        pts, w, nrm = pts.reshape(-1, 2), w.ravel(), nrm.reshape(-1, 2)
+        return BoundaryPoints(
+            points=pts,
+            weights=w,
+            normals=nrm,
+            cell_size=self.grid.size[cells],
+            displacement=self.displacement_operator(pts, cells),
+            traction=self.traction_operator(pts, cells, nrm),
+        )
+
+    def contains(self, points: np.ndarray) -> np.ndarray:
+        """Inside or on the boundary (to round-off of the element size)."""
+        phi = self.boundary.signed_distance(points)
+        tol = 1e-9 * self.element_size
+        if self.boundary.exact:
+            return phi >= -tol
+        return self.boundary.inside(points, phi) | (np.abs(phi) <= tol)
+
+
+def _zones(body, h0) -> tuple[RefinementZone, ...]:
+    zones = []
+    for k, r in enumerate(body.refinements):
+        if r.center is None:
+            raise ValueError(
+                f"bodies[{body.name}].refinement[{k}].around is 'contact' but no contact point was resolved"
+            )
+        if int(r.levels) != r.levels or r.levels < 0:
+            raise ValueError(f"bodies[{body.name}].refinement[{k}].levels must be an integer >= 0, got {r.levels!r}")
+        if not (r.radius > 0):
+            raise ValueError(f"bodies[{body.name}].refinement[{k}].radius must be positive, got {r.radius!r}")
+        zones.append(RefinementZone(int(r.levels), float(r.radius), np.asarray(r.center, dtype=float)))
+    return tuple(zones)
+
+
+def discretise_body(body, index: int, model: str, exact_geometry: bool, settings: Settings) -> BodyDiscretisation:
+    """Grid, classification and cut-cell moments of one body."""
+    h0 = float(body.element_size)
+    if not (h0 > 0 and math.isfinite(h0)):
+        raise ValueError(f"bodies[{body.name}].element_size must be positive, got {body.element_size!r}")
+    E, nu = body.material.youngs_modulus, body.material.poissons_ratio
+    if not E > 0:
+        raise ValueError(f"materials[{body.material.name}].youngs_modulus must be positive, got {E!r}")
+    if not (-1.0 < nu < 0.5):
+        raise ValueError(f"materials[{body.material.name}].poissons_ratio must be in (-1, 0.5), got {nu!r}")
+    if exact_geometry:
+        boundary = exact_boundary(body.profile)
+    else:
+        boundary = tessellated_boundary(body.profile, settings.chord_fraction * h0)
+    grid = build_grid(boundary, h0, _zones(body, h0), settings.grid_offset, settings.curve_order)
+    lam, mu = body.material.lame(model)
+    return BodyDiscretisation(
+        name=body.name,
+        index=index,
+        grid=grid,
+        boundary=boundary,
+        profile=body.profile,
+        lam=lam,
+        mu=mu,
+        elasticity=body.material.elasticity_matrix(model),
+        model=model,
+        poissons_ratio=nu,
+        element_size=h0,
+    )
+
+
+# ---------------------------------------------------------------------------------- results
+
+
+def von_mises(stress: np.ndarray, model: str, poissons_ratio: float) -> np.ndarray:
+    """von Mises of [sxx, syy, sxy] (n, 3); plane strain adds szz = nu (sxx + syy)."""
+    sxx, syy, sxy = stress[:, 0], stress[:, 1], stress[:, 2]
+    szz = poissons_ratio * (sxx + syy) if model == "plane_strain" else np.zeros_like(sxx)
+    return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3.0 * sxy**2)
+
+
+@dataclass
+class IBFEMSolution:
+    """The solved problem: fields are evaluated lazily at the points asked for."""
+
+    problem: object
+    bodies: list[BodyDiscretisation]
+    u: np.ndarray
+    converged: bool
+    body_info: dict[str, dict[str, float]]
+    reactions: dict[str, np.ndarray]
+    iterations: dict
+    timings: dict[str, float]
+    contacts: list[dict] = field(default_factory=list)
+    settings: Settings = field(default_factory=Settings)
+    boundary_tractions: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=dict)
+
+    def _body(self, body: str | None) -> list[BodyDiscretisation]:
+        if body is None:
+            return self.bodies
+        for b in self.bodies:
+            if b.name == body:
+                return [b]
+        raise ValueError(f"no body named {body!r}; bodies: {', '.join(b.name for b in self.bodies)}")
+
+    @staticmethod
+    def _points(points) -> np.ndarray:
+        p = np.asarray(points, dtype=float)
+        if p.ndim == 1 and p.shape == (2,):
+            p = p[None]
+        if p.ndim != 2 or p.shape[1] != 2:
+            raise ValueError(f"points must be an (n, 2) array, got shape {p.shape}")
+        return p
+
+    def body_at(self, points: np.ndarray) -> np.ndarray:
+        p = self._points(points)
+        out = np.full(len(p), -1, dtype=np.int64)
+        for b in self.bodies:
+            todo = out < 0
+            if todo.any():
+                hit = b.contains(p[todo]) & (b.grid.locate(p[todo]) >= 0)
+                out[np.nonzero(todo)[0][hit]] = b.index
+        return out
+
+    def _evaluate(self, points, body, kind: str, width: int) -> np.ndarray:
+        p = self._points(points)
+        out = np.full((len(p), width), np.nan)
+        owner = self.body_at(p) if body is None else None
+        for b in self._body(body):
+            if owner is None:
+                sel = np.nonzero(b.contains(p))[0]
+            else:
+                sel = np.nonzero(owner == b.index)[0]
+            if len(sel) == 0:
+                continue
+            cells = b.grid.locate(p[sel])
+            ok = cells >= 0
+            sel, cells = sel[ok], cells[ok]
+            if kind == "displacement":
+                op = b.displacement_operator(p[sel], cells)
+            else:
+                op = b.stress_operator(p[sel], cells)
+            out[sel] = (op @ self.u).reshape(-1, width)
+        return out
+
+    def displacement(self, points: np.ndarray, body: str | None = None) -> np.ndarray:
+        return self._evaluate(points, body, "displacement", 2)
+
+    def stress(self, points: np.ndarray, body: str | None = None) -> np.ndarray:
+        return self._evaluate(points, body, "stress", 3)
+
+    def von_mises(self, points: np.ndarray, body: str | None = None) -> np.ndarray:
+        p = self._points(points)
+        s = self.stress(p, body)
+        out = np.full(len(p), np.nan)
+        owner = self.body_at(p) if body is None else None
+        for b in self._body(body):
+            sel = np.nonzero(owner == b.index)[0] if owner is not None else np.arange(len(p))
+            out[sel] = von_mises(s[sel], b.model, b.poissons_ratio)
+        return out
+
+    def mesh(self, body: str) -> dict[str, np.ndarray]:
+        (b,) = self._body(body)
+        g = b.grid
+        disp = (b.node_dof_map @ self.u).reshape(-1, 2)
+        m = g.moments
+        with np.errstate(invalid="ignore", divide="ignore"):
+            loc = np.stack([m[:, 1, 0] / m[:, 0, 0], m[:, 0, 1] / m[:, 0, 0]], axis=1)
+        loc = np.nan_to_num(loc)
+        centroid = g.center + 0.5 * g.size[:, None] * loc
+        cells = np.arange(len(g.level))
+        stress = (b.stress_operator(centroid, cells) @ self.u).reshape(-1, 3)
+        return {
+            "nodes": g.nodes.copy(),
+            "cells": g.cells.copy(),
+            "displacement": disp,
+            "cell_stress": stress,
+            "cell_inside_fraction": g.inside_fraction.copy(),
+        }
+
+
+# ---------------------------------------------------------------------------------- solve
+
+
+def _essential(bc, names):
+    """(kind, free, target) of an essential condition, or None for natural ones."""
+    if isinstance(bc, Fixed):
+        return "fixed", (False, False), lambda n: np.zeros_like(n)
+    if isinstance(bc, Displacement):
+        if len(bc.value) != 2:
+            raise ValueError(f"boundary condition {bc.body}/{bc.edge}: value must have 2 components, got {bc.value!r}")
+        free = tuple(v is None for v in bc.value)
+        if all(free):
+            raise ValueError(f"boundary condition {bc.body}/{bc.edge}: both displacement components are free")
+        a = np.array([0.0 if v is None else float(v) for v in bc.value])
+        return "displacement", free, lambda n: np.broadcast_to(a, n.shape).copy()
+    if isinstance(bc, Sliding):
+        an = float(bc.normal_displacement)
+        return "sliding", (False, False), lambda n: an * n
+    return None
+
+
+def _rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> None:
+    """Raise ValueError when a body can move rigidly (R^T K R singular for its rigid modes)."""
+    diag = np.abs(k.diagonal())
+    for b in bodies:
+        g = b.grid
+        nodes = g.nodes[g.free_nodes]
+        c = nodes.mean(axis=0)
+        r = np.zeros((b.n_total, 3))
+        sl = slice(b.dof_offset, b.dof_offset + b.n_dofs)
+        r[sl, 0] = np.tile([1.0, 0.0], len(nodes))
+        r[sl, 1] = np.tile([0.0, 1.0], len(nodes))
+        rot = np.stack([-(nodes[:, 1] - c[1]), nodes[:, 0] - c[0]], axis=1)
+        r[sl, 2] = rot.ravel() / max(np.abs(rot).max(), 1e-300)
+        m = r.T @ (k @ r)
+        m = 0.5 * (m + m.T)
+        scale = diag[sl].mean() * len(nodes)
+        ev, vec = np.linalg.eigh(m)
+        small = np.abs(ev) < 1e-10 * scale
+        if small.any():
+            v = vec[:, np.argmin(np.abs(ev))]
+            what = ["x translation", "y translation", "rotation"]
+            motion = " + ".join(f"{x:.2g} {w}" for x, w in zip(v, what) if abs(x) > 1e-3)
+            raise ValueError(
+                f"body {b.name!r} is not held against rigid-body motion ({motion}); add essential boundary conditions"
+            )
+
+
+def solve(problem, progress: Callable[[str, float], None] | None = None, settings: Settings | None = None) -> IBFEMSolution:
+    """Solve a linear elastic :class:`solver.problem.Problem` (no contact) with IBFEM.
+
+    ``progress(stage, fraction)`` is called between stages when given.
+    """
+    settings = settings or Settings()
+    t_start = time.perf_counter()
+    report = progress or (lambda stage, fraction: None)
+    timings: dict[str, float] = {}
+    if problem.model not in ("plane_strain", "plane_stress"):
+        raise ValueError(f"model must be 'plane_strain' or 'plane_stress', got {problem.model!r}")
+    if not problem.bodies:
+        raise ValueError("the problem has no bodies")
+    if problem.contacts:
+        raise ValueError("contacts are not supported by this solver yet (issue 5)")
+    names = [b.name for b in problem.bodies]
+
+    t = time.perf_counter()
+    bodies = []
+    for i, body in enumerate(problem.bodies):
+        report(f"grid {body.name}", i / (2 * len(problem.bodies)))
+        bodies.append(discretise_body(body, i, problem.model, problem.options.exact_geometry, settings))
+    offset = 0
+    for b in bodies:
+        b.dof_offset = offset
+        offset += b.n_dofs
+    for b in bodies:
+        b.n_total = offset
+    n = offset
+    timings["grid_s"] = time.perf_counter() - t
+
+    report("assembly", 0.5)
+    t = time.perf_counter()
+    k = sp.block_diag([b.stiffness(settings.fictitious_stiffness) for b in bodies], format="csr")
+    f = np.zeros(n)
+    by_name = {b.name: b for b in bodies}
+    essentials = []
+    for j, bc in enumerate(problem.boundary_conditions):
+        if bc.body not in by_name:
+            raise ValueError(f"boundary_conditions[{j}].body: unknown body {bc.body!r}; bodies: {', '.join(names)}")
+        b = by_name[bc.body]
+        if isinstance(bc, BodyForce):
+            f += b.body_force(bc.value)
+            continue
+        bp = b.edge_points(bc.edge, settings.boundary_order)
+        ess = _essential(bc, names)
+        if ess is not None:
+            ekind, free, target_of = ess
+            proj = projector(ekind, bp.normals, free)
+            target = target_of(bp.normals)
+            kb, fa = thin_band_terms(bp, proj, target, b.lam, b.mu, settings.band_fraction, settings.consistency)
+            k = k + kb
+            f += fa
+            essentials.append((f"{bc.body}/{bc.edge}", b, bp, proj, target))
+        elif isinstance(bc, Traction):
+            tr = np.broadcast_to(np.asarray(bc.value, dtype=float), bp.normals.shape)
+            f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
+        elif isinstance(bc, Pressure):
+            tr = -float(bc.value) * bp.normals
+            f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
+        else:
+            raise ValueError(f"boundary_conditions[{j}]: unsupported condition type {type(bc).__name__}")
+    k = k.tocsr()
+    timings["assembly_s"] = time.perf_counter() - t
+
+    _rigid_modes_check(k, bodies)
+    report("solve", 0.7)
+    t = time.perf_counter()
+    u = _linear_solve(k, f)
+    timings["solve_s"] = time.perf_counter() - t
+    residual = float(np.linalg.norm(k @ u - f) / max(np.linalg.norm(f), 1e-300))
+
+    reactions: dict[str, np.ndarray] = {}
+    tractions = {}
+    for key, b, bp, proj, target in essentials:
+        tr = thin_band_traction(bp, proj, target, b.lam, b.mu, u, settings.band_fraction, settings.consistency)
+        force = (tr * bp.weights[:, None]).sum(axis=0)
+        reactions[key] = reactions.get(key, np.zeros(2)) + force
+        tractions[key] = (bp.points, bp.weights, tr)
+    timings["total_s"] = time.perf_counter() - t_start
+    report("done", 1.0)
+    info = {
+        b.name: {
+            "elements": int(len(b.grid.level)),
+            "dofs": int(b.n_dofs),
+            "element_size": float(b.element_size),
+            "min_element_size": float(b.grid.min_size),
+        }
+        for b in bodies
+    }
+    return IBFEMSolution(
+        problem=problem,
+        bodies=bodies,
+        u=u,
+        converged=bool(np.isfinite(u).all() and residual < 1e-6),
+        body_info=info,
+        reactions=reactions,
+        iterations={"total": 1, "per_step": [1], "linear_residual": residual},
+        timings=timings,
+        contacts=[],
+        settings=settings,
+        boundary_tractions=tractions,
+    )
+
+
+def _linear_solve(k: sp.csr_matrix, f: np.ndarray) -> np.ndarray:
+    """Sparse direct solve (SuperLU; CHOLMOD is not available). The matrix is symmetric, so
+    the symmetric-mode ordering of A + A^T is used."""
+    lu = spla.splu(
+        k.tocsc(),
+        permc_spec="MMD_AT_PLUS_A",
+        diag_pivot_thresh=0.0,
+        options={"SymmetricMode": True},
+    )
+    return lu.solve(f)
