@@ -1,16 +1,105 @@
-"""``ibfem run``: registered here, implemented with the scene and results modules."""
+"""``ibfem run SCENE [--out DIR]``: load and validate a scene, solve it, write the results.
+
+Exit codes: 0 solved and converged; 1 solved but not converged (``summary.json`` is still
+written, with ``converged`` false and the iteration history); 2 the scene is invalid (one
+line per problem on stderr, no traceback); 3 the solver core is not available.
+"""
 
 from __future__ import annotations
 
 import argparse
+import re
+import sys
+import time
+from pathlib import Path
 
 
 def register(sub: "argparse._SubParsersAction") -> None:
-    p = sub.add_parser("run", help="solve a scene file (TOML or JSON) and write results")
-    p.add_argument("scene", help="scene file, SPEC section 4")
-    p.add_argument("--out", default=None, help="output directory (default: out/<scene name>)")
+    p = sub.add_parser(
+        "run",
+        help="solve a scene file (TOML or JSON) and write results",
+        description="Solve a scene (SPEC section 4, docs/scene-format.md) and write summary.json, "
+        "one VTU file per body and, when the scene asks, PNG plots.",
+    )
+    p.add_argument("scene", help="scene file (.toml, or .json with the same structure)")
+    p.add_argument("--out", default=None, help="output directory (default: out/<scene file name>)")
+    p.add_argument("--quiet", action="store_true", help="no progress display")
+    p.add_argument("--check", action="store_true", help="validate the scene only, solve nothing")
+    p.add_argument("--traceback", action="store_true", help="show tracebacks of solver errors")
     p.set_defaults(handler=_run)
 
 
+def _err(text: str) -> None:
+    for line in str(text).splitlines() or [""]:
+        print(f"ibfem run: {line}", file=sys.stderr)
+
+
+def default_out_dir(scene_path: str | Path) -> Path:
+    stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", Path(scene_path).stem).strip("_") or "scene"
+    return Path("out") / stem
+
+
 def _run(args: argparse.Namespace) -> int:
-    raise SystemExit("ibfem run: not implemented yet")
+    t0 = time.perf_counter()
+    from solver.scene import SceneError, load_scene
+
+    try:
+        scene = load_scene(args.scene)
+    except SceneError as err:
+        _err(str(err))
+        return 2
+    for note in scene.warnings:
+        _err(f"warning: {note}")
+    if args.check:
+        print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies)")
+        return 0
+    try:
+        from solver.ibfem import solve
+    except ImportError as err:
+        _err(f"the solver core (solver.ibfem.solve) is not available: {err}")
+        return 3
+
+    from solver.progress import ProgressReporter, silent
+    from solver.results import write_results
+
+    progress = silent if args.quiet else ProgressReporter()
+    label = Path(args.scene).name
+    try:
+        solution = solve(scene.problem, progress=progress)
+    except ValueError as err:  # the solver's own checks on the input: a scene problem
+        if args.traceback:
+            raise
+        _err(f"{label}: {err}")
+        return 2
+    finally:
+        if not args.quiet:
+            progress.close()
+
+    out = Path(args.out) if args.out else default_out_dir(args.scene)
+    output = scene.output
+    extra = {"scene": str(Path(args.scene))}
+    if scene.warnings:
+        extra["warnings"] = list(scene.warnings)
+    summary = write_results(
+        out,
+        scene.problem,
+        solution,
+        probes=output.probes,
+        lines=output.lines,
+        vtk=output.vtk,
+        plots=output.plots,
+        total_s=time.perf_counter() - t0,
+        extra=extra,
+    )
+    iterations = summary["iterations"]["total"]
+    if not summary["converged"]:
+        _err(
+            f"{label}: not converged after {iterations} iterations; the iteration history is in "
+            f"{out / 'summary.json'}"
+        )
+        return 1
+    print(
+        f"{scene.name}: converged in {iterations} iterations, {summary['timings']['total_s']:.2f} s; "
+        f"results in {out}/"
+    )
+    return 0

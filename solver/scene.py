@@ -357,7 +357,7 @@ def scene_from_dict(
         raise SceneError(_format_errors(err, data, label)) from None
     _check_references(spec, label)
     profiles = _build_profiles(spec, label, Path(base_dir))
-    problem = _problem(spec, profiles, label if path is None else path.stem)
+    problem = _problem(spec, profiles, Path(label).stem if path is None else path.stem)
     _check_geometry(spec, problem, label)
     return Scene(path=path, spec=spec, problem=problem, warnings=tuple(_notes(spec, label)))
 
@@ -541,7 +541,12 @@ def _build_profiles(spec: SceneSpec, label: str, base_dir: Path) -> dict[str, An
             problems.extend(f"{where}: {p}" for p in err.problems)
         except (ValueError, KeyError, TypeError) as err:
             text = err.args[0] if isinstance(err, KeyError) and err.args else str(err)
-            problems.append(f"{where} (type {_show(b.shape.get('type'))}): {text}")
+            text = text.replace("shape.type must be one of ", "shape.type must be one of onshape, ")
+            if text.startswith("shape.") or text.startswith("shape:") or text.startswith("shape "):
+                # geometry names the key as shape.<key>: put it under the body's key path
+                problems.append(f"{label}: bodies[{i}].{text}")
+            else:
+                problems.append(f"{where} (type {_show(b.shape.get('type'))}): {text}")
     if problems:
         raise SceneError(problems)
     return profiles
@@ -702,6 +707,9 @@ def _notes(spec: SceneSpec, label: str) -> list[str]:
 
 #: points sampled along each essential edge for the rigid-body check
 _EDGE_SAMPLES = 17
+#: singular values below this fraction of the largest count as zero (rows are O(1): unit
+#: directions and positions scaled by the scene size)
+_RANK_TOLERANCE = 1e-6
 
 
 def _edge_samples(profile: Any, edge: str) -> tuple[np.ndarray, np.ndarray]:
@@ -740,27 +748,64 @@ def _motion_rows(points: np.ndarray, dirs: np.ndarray, origin: np.ndarray, scale
 
 
 def _contact_frame(problem: pb.Problem, contact: pb.ContactModel) -> tuple[np.ndarray, np.ndarray]:
-    """Contact point and the outward unit normal of the second body there. Without a
-    given point: the closest points of the two exact boundaries (tessellations give a start,
-    two rounds of exact projection refine it)."""
+    """Contact point and the outward unit normal of the second body there. Without a given
+    point: the closest points of the two exact boundaries (or the deepest point when they
+    overlap), the midpoint of the pair."""
     first, second = problem.body(contact.bodies[0]).profile, problem.body(contact.bodies[1]).profile
     if contact.point is not None:
         point = np.asarray(contact.point, dtype=float)
     else:
-        from scipy.spatial import cKDTree
-
         size = min(problem.body(n).element_size for n in contact.bodies)
-        pa = np.concatenate([pts for pts, _ in first.tessellate(0.05 * size)])
-        pbnd = np.concatenate([pts for pts, _ in second.tessellate(0.05 * size)])
-        dist, idx = cKDTree(pbnd).query(pa)
-        k = int(np.argmin(dist))
-        xa, xb = pa[k], pbnd[idx[k]]
-        for _ in range(3):
-            xb = np.asarray(second.project(xa[None, :]).points[0], dtype=float)
-            xa = np.asarray(first.project(xb[None, :]).points[0], dtype=float)
+        xa = closest_boundary_point(first, second, 0.05 * size)
+        xb = np.asarray(second.project(xa[None, :]).points[0], dtype=float)
         point = 0.5 * (xa + xb)
     normal = np.asarray(second.project(point[None, :]).normals[0], dtype=float)
     return point, normal / np.linalg.norm(normal)
+
+
+def closest_boundary_point(first: Any, second: Any, chord_tolerance: float) -> np.ndarray:
+    """The point of ``first``'s boundary that maximises ``second``'s signed distance phi
+    (positive inside): the point closest to ``second`` when they are apart, the deepest one
+    when they overlap. A KD-tree on the two tessellations gives the start; a bounded scalar
+    search in the exact edge parameter between the neighbouring tessellation points refines it."""
+    from scipy.optimize import minimize_scalar
+    from scipy.spatial import cKDTree
+
+    loops_a = [pts for pts, _ in first.tessellate(chord_tolerance)]
+    pa = np.concatenate(loops_a)
+    pb_ = np.concatenate([pts for pts, _ in second.tessellate(chord_tolerance)])
+    phi = np.asarray(second.signed_distance(pa), dtype=float)
+    if np.max(phi) > 0.0:  # overlap: start from the deepest tessellation point
+        k = int(np.argmax(phi))
+    else:
+        dist, _ = cKDTree(pb_).query(pa)
+        k = int(np.argmin(dist))
+    # neighbours of k on its own loop bound the search
+    start = 0
+    for pts in loops_a:
+        if k < start + len(pts):
+            loop, j = pts, k - start
+            break
+        start += len(pts)
+    neighbours = np.array([loop[max(j - 1, 0)], loop[j], loop[min(j + 1, len(loop) - 1)]])
+    proj = first.project(neighbours)
+    edge = int(proj.edge_index[1])
+    curve = first.edges[first.edge_names[edge]]
+    t = np.asarray(proj.parameters, dtype=float)
+    lo_t, hi_t = sorted((curve.t_start, curve.t_end))
+    lo, hi = t[1], t[1]
+    for e, tt in zip(proj.edge_index, t):
+        if int(e) == edge:
+            lo, hi = min(lo, tt), max(hi, tt)
+    if hi - lo <= 1e-14 * max(abs(hi_t - lo_t), 1.0):
+        lo, hi = lo_t, hi_t
+    res = minimize_scalar(
+        lambda s: -float(second.signed_distance(curve.evaluate(np.array([s])))[0]),
+        bounds=(max(lo, lo_t), min(hi, hi_t)),
+        method="bounded",
+        options={"xatol": 1e-13 * max(abs(hi_t - lo_t), 1.0)},
+    )
+    return np.asarray(curve.evaluate(np.array([res.x]))[0], dtype=float)
 
 
 def rigid_body_modes(
@@ -833,7 +878,7 @@ def rigid_body_modes(
         # null space by SVD: a 3k-column matrix with a few hundred rows
         if A.shape[0]:
             _, s, vt = np.linalg.svd(A, full_matrices=True)
-            rank = int(np.sum(s > 1e-9 * max(s[0], 1e-300)))
+            rank = int(np.sum(s > _RANK_TOLERANCE * max(s[0], 1e-300)))
         else:
             vt, rank = np.eye(A.shape[1]), 0
         null = vt[rank:]
