@@ -147,7 +147,7 @@ def _bisect(func, lo: np.ndarray, hi: np.ndarray, flo: np.ndarray, iterations: i
         lo = np.where(left, mid, lo)
         flo = np.where(left, fm, flo)
         hi = np.where(left, hi, mid)
-        if np.all(hi - lo <= 4e-16 * np.maximum(np.abs(lo), np.abs(hi)) + 1e-300):
+        if np.all(np.abs(hi - lo) <= 4e-16 * np.maximum(np.abs(lo), np.abs(hi)) + 1e-300):
             break
     return 0.5 * (lo + hi)
 
@@ -509,6 +509,8 @@ class BoundedCurve(ABC):
         X = self.evaluate(grid)
         D = np.hypot(X[:, 0] - origin[0], X[:, 1] - origin[1])
         f = D[None, :] - chord[:, None]
+        # distances within round-off of the chord count as hits (origin on the curve, chord 0)
+        f = np.where(np.abs(f) <= 1e-14 * (D.max() + np.abs(chord[:, None])), 0.0, f)
         hit = (f[:, :-1] == 0.0) | (f[:, :-1] * f[:, 1:] < 0.0)
         last = f[:, -1] == 0.0
         found = hit.any(axis=1)
@@ -971,7 +973,9 @@ class EllipticArc(BoundedCurve):
         return np.mod(self.sense * (theta - self.start_angle), _TWO_PI)
 
     def _local(self, v: np.ndarray) -> np.ndarray:
-        return v @ self._R.T
+        # elementwise (not a matmul) so one point and many points round identically
+        R = self._R
+        return np.stack([R[0, 0] * v[:, 0] + R[0, 1] * v[:, 1], R[1, 0] * v[:, 0] + R[1, 1] * v[:, 1]], axis=1)
 
     def evaluate(self, t: Any) -> np.ndarray:
         th = self._theta(t)

@@ -261,8 +261,9 @@ class Profile:
             pseudo[at_end] = self._n_end[edge[at_end]] + self._n_start[self._next[edge[at_end]]]
             pseudo[at_start] = self._n_start[edge[at_start]] + self._n_end[self._prev[edge[at_start]]]
             vtx = at_end | at_start
-            v = np.where(at_end[:, None], self._p_end[edge], self._p_start[edge])
-            s = np.einsum("ij,ij->i", P - v, pseudo)
+            # (p - c), not (p - vertex): where c is interior but within round-off of the
+            # vertex, p - c is along that edge's normal n1 and (p - c).(n1 + n2) keeps its sign
+            s = np.einsum("ij,ij->i", P - c, pseudo)
             usable = vtx & (np.linalg.norm(pseudo, axis=1) > 1e-6)
             sign = np.where(usable & (s != 0.0), np.sign(s), sign)
         # outward normal at the closest point; phi positive inside
