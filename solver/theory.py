@@ -44,9 +44,11 @@ __all__ = [
     "cattaneo_mindlin_shear",
     "partial_slip_tractions",
     "mcewen_stress",
+    "cattaneo_mindlin_stress",
     "von_mises_plane_strain",
     "max_shear_stress",
     "axis_peak",
+    "field_peak",
     "axis_compression",
     "approach_estimate",
     "load_for_approach",
@@ -271,6 +273,28 @@ def mcewen_stress(x, z, a: float, p0: float, q0: float = 0.0):
     return sxx, szz, sxz
 
 
+def cattaneo_mindlin_stress(x, z, a: float, c: float, mu: float, p0: float, sign: float = 1.0):
+    """Subsurface stress of the Cattaneo-Mindlin partial-slip line contact, by superposition
+    (linear elasticity, the normal and tangential problems uncoupled for similar materials):
+    McEwen's field for the Hertz pressure with the full-slip traction q = sign mu p, plus
+    McEwen's tangential field of the stick correction q' = -sign mu p0 (c/a) sqrt(1 - x^2/c^2),
+    a traction of Hertz shape over the half-width c (thesis eqs. 2-25, 2-26; Johnson section 7.1).
+    Returns (sxx, szz, sxz); on the surface sxz = -q(x) of :func:`cattaneo_mindlin_shear`."""
+    a = _positive("a", a)
+    c = _non_negative("c", c)
+    if c > a:
+        raise ValueError(f"c must not exceed a, got c={c!r} > a={a!r}")
+    mu = _non_negative("mu", mu)
+    s = float(np.sign(sign))
+    if s == 0.0:
+        raise ValueError(f"sign must be non-zero, got {sign!r}")
+    sxx, szz, sxz = mcewen_stress(x, z, a, p0, s * mu * p0)
+    if c > 0.0:
+        dxx, dzz, dxz = mcewen_stress(x, z, c, 0.0, -s * mu * p0 * c / a)
+        sxx, szz, sxz = sxx + dxx, szz + dzz, sxz + dxz
+    return sxx, szz, sxz
+
+
 def von_mises_plane_strain(sxx, szz, sxz, nu: float):
     """Von Mises stress in plane strain, the out-of-plane stress being syy = nu (sxx + szz)."""
     nu = _poisson("nu", nu)
@@ -305,6 +329,33 @@ def axis_peak(nu: float = 0.3, measure: str = "von_mises") -> tuple[float, float
     res = optimize.minimize_scalar(negative_measure, bounds=(1e-6, 3.0), method="bounded",
                                    options={"xatol": 1e-10})
     return -float(res.fun), float(res.x)
+
+
+def field_peak(stress, nu: float = 0.3, extent: float = 2.0, n: int = 161):
+    """Largest plane-strain von Mises stress of a field ``stress(x, z) -> (sxx, szz, sxz)``
+    over the region |x| <= extent, 0 <= z <= extent (lengths as the field's): a dense grid
+    (brute force, vectorised) then a Nelder-Mead polish from the best grid point (scipy).
+    Returns (peak, x, z). With partial slip the peak leaves the load axis: the tilt of the
+    thesis's figure 6-17."""
+    nu = _poisson("nu", nu)
+    extent = _positive("extent", extent)
+    xs = np.linspace(-extent, extent, 2 * n - 1)
+    zs = np.linspace(0.0, extent, n)
+    X, Z = np.meshgrid(xs, zs)
+    vm = von_mises_plane_strain(*stress(X, Z), nu)
+    k = np.unravel_index(int(np.argmax(vm)), vm.shape)
+
+    def negative(v: np.ndarray) -> float:
+        return -float(von_mises_plane_strain(*stress(v[0], max(v[1], 0.0)), nu))
+
+    step = xs[1] - xs[0]
+    res = optimize.minimize(negative, np.array([X[k], Z[k]]), method="Nelder-Mead",
+                            options={"xatol": 1e-6 * step, "fatol": 1e-14})
+    x_best, z_best = float(res.x[0]), max(float(res.x[1]), 0.0)
+    peak = -float(res.fun)
+    if peak < float(vm[k]):  # the polish never makes it worse than the grid
+        return float(vm[k]), float(X[k]), float(Z[k])
+    return peak, x_best, z_best
 
 
 # --------------------------------------------------------------------------- approach (estimate)

@@ -233,6 +233,51 @@ def test_published_subsurface_peaks():
     assert field[k] == pytest.approx(vm, abs=1e-4)
 
 
+def _cm_flamant(x, z, a, c, mu, p0, sign, n=400):
+    """Cattaneo-Mindlin field by Flamant superposition of the two Hertz-shaped tractions."""
+    full = _flamant_superposition(x, z, a, p0, sign * mu * p0, n)
+    corr = _flamant_superposition(x, z, c, 0.0, -sign * mu * p0 * c / a, n)
+    return tuple(f + g for f, g in zip(full, corr))
+
+
+def test_cattaneo_mindlin_stress_tractions_limits_and_superposition():
+    a, p0, mu = 0.04, 1.2e9, 0.3
+    c = a * th.cattaneo_mindlin_stick_ratio(0.1, 1.0, mu)
+    x = np.linspace(-1.5 * a, 1.5 * a, 601)
+    for sign in (1.0, -1.0):
+        sxx, szz, sxz = th.cattaneo_mindlin_stress(x, 0.0, a, c, mu, p0, sign)
+        np.testing.assert_allclose(szz, -th.hertz_pressure(x, a, p0), atol=1e-9 * p0)
+        np.testing.assert_allclose(sxz, -th.cattaneo_mindlin_shear(x, a, c, mu, p0, sign), atol=1e-9 * p0)
+    rng = np.random.default_rng(11)
+    xi, zi = rng.uniform(-2 * a, 2 * a, 80), rng.uniform(0.3 * a, 2 * a, 80)
+    for g, r in zip(th.cattaneo_mindlin_stress(xi, zi, a, c, mu, p0, -1.0),
+                    _cm_flamant(xi, zi, a, c, mu, p0, -1.0)):
+        np.testing.assert_allclose(g, r, atol=1e-9 * p0)
+    # c = a: no tangential traction at all; c = 0: full slip, q = mu p
+    for g, r in zip(th.cattaneo_mindlin_stress(xi, zi, a, a, mu, p0), th.mcewen_stress(xi, zi, a, p0)):
+        np.testing.assert_allclose(g, r, atol=1e-9 * p0)
+    for g, r in zip(th.cattaneo_mindlin_stress(xi, zi, a, 0.0, mu, p0), th.mcewen_stress(xi, zi, a, p0, mu * p0)):
+        np.testing.assert_allclose(g, r, atol=1e-9 * p0)
+
+
+def test_partial_slip_peak_leaves_the_axis():
+    """The thesis's figure 6-17: with a tangential load the von Mises peak tilts towards the
+    direction of the traction and grows; it returns to McEwen's axis peak as Q/N -> 0."""
+    mu = 0.3
+    frictionless = th.field_peak(lambda x, z: th.mcewen_stress(x, z, 1.0, 1.0))
+    assert frictionless[0] == pytest.approx(th.axis_peak(0.3)[0], rel=1e-9)
+    assert abs(frictionless[1]) < 1e-6
+    previous = frictionless
+    for beta in (0.04, 0.1, 0.12):
+        c = th.cattaneo_mindlin_stick_ratio(beta, 1.0, mu)
+        peak = th.field_peak(lambda x, z: th.cattaneo_mindlin_stress(x, z, 1.0, c, mu, 1.0, 1.0))
+        mirrored = th.field_peak(lambda x, z: th.cattaneo_mindlin_stress(x, z, 1.0, c, mu, 1.0, -1.0))
+        assert peak[0] > previous[0] and peak[1] > previous[1] > -1e-9 and peak[2] < previous[2]
+        assert mirrored[0] == pytest.approx(peak[0], rel=1e-7)
+        assert mirrored[1] == pytest.approx(-peak[1], abs=1e-4) and mirrored[2] == pytest.approx(peak[2], abs=1e-4)
+        previous = peak
+
+
 def test_von_mises_plane_strain_invariants():
     # equal in-plane normal stresses s: deviatoric part only from syy = 2 nu s
     assert th.von_mises_plane_strain(-1.0, -1.0, 0.0, 0.3) == pytest.approx(1.0 - 2 * 0.3)
