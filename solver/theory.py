@@ -13,9 +13,9 @@ Pure numpy, vectorised over points; every function validates its scalar inputs a
 Sources (formulas only; numbers quoted are the published ones):
 
 * K. L. Johnson, *Contact Mechanics*, Cambridge University Press, 1985: ch. 2 (Flamant line
-  loads, eqs. 2.15-2.16), ch. 4 section 4.2 (2D Hertz, eqs. 4.43-4.45 area; the subsurface field
-  and its on-axis values, eqs. 4.47-4.52 area), ch. 7 section 7.1 (tangential loading of
-  cylinders, the Cattaneo-Mindlin line contact, eqs. 7.2-7.11 area).
+  loads, eqs. 2.15-2.16), ch. 4 section 4.2 (2D Hertz contact of cylinders: half-width, pressure,
+  the subsurface field and its on-axis values), ch. 7 section 7.1 (tangential loading of
+  cylinders: McEwen's field, the Cattaneo-Mindlin line contact).
 * E. McEwen, "Stresses in elastic cylinders in contact along a generatrix (including the effect
   of tangential friction)", Phil. Mag. 40 (1949) 454-459: closed-form field for a Hertz
   pressure plus a proportional tangential traction q = f p, in terms of the functions m, n.
@@ -91,7 +91,7 @@ def plane_strain_modulus(youngs_modulus: float, poissons_ratio: float) -> float:
 
 def effective_modulus(E1: float, nu1: float, E2: float, nu2: float) -> float:
     """Contact modulus E* with 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (thesis eq. 2-21,
-    Johnson eq. 4.? for line contact in plane strain). Steel on steel (2e11, 0.3): 1.0989e11."""
+    Johnson section 4.2 for line contact in plane strain). Steel on steel (2e11, 0.3): 1.0989e11."""
     return 1.0 / (1.0 / plane_strain_modulus(E1, nu1) + 1.0 / plane_strain_modulus(E2, nu2))
 
 
@@ -162,7 +162,7 @@ def hertz_pressure(x, a: float, p0: float) -> np.ndarray:
 
 
 def cattaneo_mindlin_stick_ratio(Q, N, mu: float, allow_gross_slip: bool = False):
-    """c/a = sqrt(1 - |Q| / (mu N)) (thesis eq. 2-29, Johnson eq. 7.? for cylinders).
+    """c/a = sqrt(1 - |Q| / (mu N)) (thesis eq. 2-29, Johnson section 7.1 for cylinders).
 
     Gross slip (|Q| >= mu N) raises ``ValueError`` unless ``allow_gross_slip``, in which case
     c/a = 0 is returned there. Scalars in, float out; arrays broadcast."""
