@@ -10,7 +10,6 @@ import json
 import math
 import os
 import re
-import tempfile
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
@@ -134,8 +133,8 @@ def build_summary(
 
     timings = {k: float(v) for k, v in dict(solution.timings).items()}
     if total_s is not None:
-        if "total_s" in timings and "solve_s" not in timings:
-            timings["solve_s"] = timings["total_s"]
+        if "total_s" in timings:
+            timings["solver_total_s"] = timings["total_s"]
         timings["total_s"] = float(total_s)
     timings.setdefault("total_s", float("nan"))
     timings = {"total_s": timings.pop("total_s"), **timings}
@@ -184,13 +183,12 @@ def write_summary(path: str | Path, summary: Mapping[str, Any]) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     text = json.dumps(json_safe(summary), indent=1, allow_nan=False)
-    fd, tmp = tempfile.mkstemp(prefix=".summary-", suffix=".json", dir=path.parent)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text + "\n")
+        tmp.write_text(text + "\n", encoding="utf-8")
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        tmp.unlink(missing_ok=True)
         raise
     return path
 
@@ -238,6 +236,23 @@ def write_vtu(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution) -
     return written
 
 
+def _outline_path(body: pb.BodyModel) -> Any:
+    """The body's boundary (outer loop and holes) as a matplotlib compound path, or None."""
+    tessellate = getattr(body.profile, "tessellate", None)
+    if tessellate is None:
+        return None
+    from matplotlib.path import Path as MplPath
+
+    verts, codes = [], []
+    for points, _ in tessellate(1e-3 * body.element_size):  # sagitta: smooth to the eye
+        pts = np.asarray(points, dtype=float)
+        verts.append(np.vstack([pts, pts[:1]]))
+        c = np.full(len(pts) + 1, MplPath.LINETO, dtype=np.uint8)
+        c[0], c[-1] = MplPath.MOVETO, MplPath.CLOSEPOLY
+        codes.append(c)
+    return MplPath(np.concatenate(verts), np.concatenate(codes)) if verts else None
+
+
 def write_plots(
     out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]
 ) -> list[Path]:
@@ -248,6 +263,7 @@ def write_plots(
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
+    from matplotlib.patches import PathPatch
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -271,10 +287,15 @@ def write_plots(
         vmin, vmax = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
         if vmax <= vmin:
             vmax = vmin + max(abs(vmin), 1.0) * 1e-12 + 1e-300
-        for m, v in zip(meshes, values):
+        for body, m, v in zip(problem.bodies, meshes, values):
             poly = PolyCollection(m["nodes"][m["cells"]], array=v, cmap="viridis", edgecolors="none")
             poly.set_clim(vmin, vmax)
             ax.add_collection(poly)
+            outline = _outline_path(body)
+            if outline is not None:  # cut cells drawn only inside the exact boundary
+                patch = PathPatch(outline, facecolor="none", edgecolor="k", lw=0.6)
+                ax.add_patch(patch)
+                poly.set_clip_path(patch)
         if meshes:
             allnodes = np.concatenate([m["nodes"] for m in meshes])
             ax.set_xlim(allnodes[:, 0].min(), allnodes[:, 0].max())
