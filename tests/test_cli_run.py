@@ -1,0 +1,205 @@
+"""``ibfem run``: exit codes, one-line scene errors without tracebacks, the summary kept on
+non-convergence, the progress display, and one end-to-end run of the Lame scene checked
+against the closed form."""
+
+import io
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from _scene_standins import FieldBody, FieldSolution
+from solver.cli import main
+from solver.progress import ProgressReporter
+
+ROOT = Path(__file__).resolve().parents[1]
+LAME = ROOT / "examples" / "single_body" / "lame_quarter_annulus.toml"
+
+PLATE = """
+name = "plate"
+[[materials]]
+name = "steel"
+youngs_modulus = 2.0e11
+poissons_ratio = 0.3
+[[bodies]]
+name = "plate"
+material = "{material}"
+element_size = 0.1
+shape = {{ type = "rectangle", min = [0.0, 0.0], max = [1.0, 1.0] }}
+[[boundary_conditions]]
+body = "plate"
+edge = "bottom"
+type = "fixed"
+[output]
+vtk = false
+probes = [[0.5, 0.5]]
+"""
+
+
+def write_plate(tmp_path, material="steel"):
+    path = tmp_path / "plate.toml"
+    path.write_text(PLATE.format(material=material))
+    return path
+
+
+def test_scene_error_is_one_line_per_problem_and_exit_code_2(tmp_path, capsys):
+    path = write_plate(tmp_path, material="stel")
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ['ibfem run: plate.toml: bodies[0].material = "stel": unknown material (known: steel)']
+    assert not (tmp_path / "out").exists()
+
+
+def test_scene_error_through_the_console_script_has_no_traceback(tmp_path):
+    path = write_plate(tmp_path, material="stel")
+    r = subprocess.run([sys.executable, "-m", "solver.cli", "run", str(path)], capture_output=True, text=True, cwd=tmp_path)
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr and r.stderr.count("\n") == 1 and "bodies[0].material" in r.stderr
+
+
+def test_missing_file(tmp_path, capsys):
+    assert main(["run", str(tmp_path / "nope.toml")]) == 2
+    assert "cannot read scene file" in capsys.readouterr().err
+
+
+def test_check_only(tmp_path, capsys):
+    assert main(["run", str(write_plate(tmp_path)), "--check"]) == 0
+    assert "valid scene 'plate'" in capsys.readouterr().out
+
+
+def fake_solution(converged):
+    body = FieldBody("plate", (0.0, 0.0), (1.0, 1.0), a=1e-4, b=0.0)
+    history = {"total": 7, "per_step": [3, 4], "residual": [1.0, 1e-3, 2e-5]}
+    return FieldSolution(bodies=[body], converged=converged, iterations=history,
+                         reactions={"plate/bottom": np.array([0.0, -5.0])})
+
+
+def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypatch):
+    import solver.ibfem
+
+    calls = []
+
+    def fake_solve(problem, progress=None):
+        calls.append(problem)
+        progress("load step", 0.5)
+        return fake_solution(converged=False)
+
+    monkeypatch.setattr(solver.ibfem, "solve", fake_solve)
+    out = tmp_path / "out"
+    assert main(["run", str(write_plate(tmp_path)), "--out", str(out), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert "not converged after 7 iterations" in err and "Traceback" not in err
+    data = json.loads((out / "summary.json").read_text())
+    assert data["converged"] is False
+    assert data["iterations"] == {"total": 7, "per_step": [3, 4], "residual": [1.0, 1e-3, 2e-5]}
+    assert data["reactions"] == {"plate/bottom": [0.0, -5.0]}
+    # the probe is the stand-in's closed-form field at (0.5, 0.5)
+    assert data["probes"][0]["displacement"] == pytest.approx([1e-4 * 0.25, 0.0])
+    assert calls[0].name == "plate" and data["scene"].endswith("plate.toml")
+
+
+def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypatch):
+    import solver.ibfem
+
+    monkeypatch.setattr(solver.ibfem, "solve", lambda problem, progress=None: fake_solution(converged=True))
+    path = write_plate(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", str(path), "--quiet"]) == 0
+    assert "plate: converged in 7 iterations" in capsys.readouterr().out
+    assert json.loads((tmp_path / "out" / "plate" / "summary.json").read_text())["converged"] is True
+
+
+def test_solver_value_error_is_a_one_line_scene_error(tmp_path, capsys, monkeypatch):
+    import solver.ibfem
+
+    def refuse(problem, progress=None):
+        raise ValueError("body 'plate' is not held against rigid-body motion")
+
+    monkeypatch.setattr(solver.ibfem, "solve", refuse)
+    assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 2
+    assert capsys.readouterr().err == "ibfem run: plate.toml: body 'plate' is not held against rigid-body motion\n"
+
+
+def test_missing_solver_core(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "solver.ibfem", None)
+    assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 3
+    assert "solver core" in capsys.readouterr().err
+
+
+class FakeClock:
+    def __init__(self):
+        self.t = 0.0
+
+    def __call__(self):
+        return self.t
+
+
+def test_progress_is_quiet_on_short_runs_and_throttled_on_long_ones():
+    clock, stream = FakeClock(), io.StringIO()
+    rep = ProgressReporter(stream=stream, delay=1.0, interval=5.0, clock=clock)
+    rep("grid", 0.1)
+    clock.t = 0.5
+    rep("assembly", 0.3)
+    assert stream.getvalue() == ""  # nothing during the first second
+    clock.t = 1.5
+    rep("solve", 0.6)
+    clock.t = 2.0
+    rep("stress", 0.8)  # within the interval: held back
+    assert stream.getvalue() == "[    1.5 s] solve (60 %)\n"
+    clock.t = 7.0
+    rep("load step", fraction=0.9, step=3)
+    assert stream.getvalue().splitlines()[-1] == "[    7.0 s] load step step=3 (90 %)"
+    clock.t = 7.5
+    rep("done", 1.0)
+    rep.close()  # the last message is shown at the end
+    assert stream.getvalue().splitlines()[-1] == "[    7.5 s] done (100 %)"
+    short = io.StringIO()
+    quick = ProgressReporter(stream=short, delay=1.0, clock=FakeClock())
+    quick("done", 1.0)
+    quick.close()
+    assert short.getvalue() == ""
+
+
+def lame(r, p=1e8, a=1.0, b=2.0, E=2e11, nu=0.3):
+    """Thick cylinder under internal pressure, plane strain (Timoshenko & Goodier)."""
+    k = p * a * a / (b * b - a * a)
+    return (k * (1 - b * b / r**2), k * (1 + b * b / r**2),
+            k * (1 + nu) / E * ((1 - 2 * nu) * r + b * b / r))
+
+
+def test_end_to_end_lame_quarter_annulus(tmp_path):
+    """The example scene on a coarser grid (0.04) through the console entry point; compared
+    with the closed form. Tolerances sized for h = 0.04; the 0.02 acceptance run is the
+    solver's validation."""
+    pytest.importorskip("pyvista")
+    scene = LAME.read_text().replace("element_size = 0.02", "element_size = 0.04").replace("plots = true", "plots = false")
+    path = tmp_path / "lame.toml"
+    path.write_text(scene)
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "solver.cli", "run", str(path), "--out", str(out)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    data = json.loads((out / "summary.json").read_text())
+    assert data["converged"] is True and data["model"] == "plane_strain"
+    assert data["bodies"]["ring"]["element_size"] == 0.04 and data["bodies"]["ring"]["dofs"] > 0
+    # each symmetry edge carries p * a = 1e8 N/m, normal to it
+    assert np.allclose(data["reactions"]["ring/x_symmetry"], [0.0, -1e8], atol=0.02e8)
+    assert np.allclose(data["reactions"]["ring/y_symmetry"], [-1e8, 0.0], atol=0.02e8)
+    (probe,) = data["probes"]
+    x = np.array(probe["point"])
+    r_, th = np.hypot(*x), math.atan2(x[1], x[0])
+    sr, st, ur = lame(r_)
+    c, s = math.cos(th), math.sin(th)
+    exact = [sr * c * c + st * s * s, sr * s * s + st * c * c, (sr - st) * s * c]
+    assert np.allclose(probe["stress"], exact, atol=0.05 * 1e8)
+    assert np.dot(probe["displacement"], [c, s]) == pytest.approx(ur, rel=0.01)
+    line = data["lines"]["radial_45"]
+    pts = np.array(line["points"])
+    radius = np.hypot(pts[:, 0], pts[:, 1])
+    u_r = np.einsum("ij,ij->i", np.array(line["displacement"]), pts / radius[:, None])
+    assert np.allclose(u_r, lame(radius)[2], rtol=0.01)
+    assert (out / "ring.vtu").stat().st_size > 1000 and data["files"] == ["ring.vtu"]
