@@ -131,6 +131,7 @@ class Grid:
     status: np.ndarray  # (m,) INSIDE or CUT
     moments: np.ndarray  # (m, 3, 3) local moments of the inside part
     pieces: Pieces
+    boundary_length: np.ndarray = field(repr=False, default=None)  # (m,) boundary length inside each cell
     nodes: np.ndarray = field(repr=False, default=None)  # (N, 2)
     cells: np.ndarray = field(repr=False, default=None)  # (m, 4) CCW node indices
     constraint: sp.csr_matrix = field(repr=False, default=None)  # (N, Nf): u_nodes = T u_free
@@ -151,6 +152,19 @@ class Grid:
     @property
     def inside_fraction(self) -> np.ndarray:
         return self.moments[:, 0, 0] / 4.0
+
+    @property
+    def inside_area(self) -> np.ndarray:
+        return self.moments[:, 0, 0] * (0.5 * self.size) ** 2
+
+    @property
+    def material_thickness(self) -> np.ndarray:
+        """Local size available to a boundary band: min(h, 2 A / L) with A the inside area and L
+        the boundary length in the cell (h for a cell cut in half by a straight line, the
+        sliver's width for a sliver)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(self.boundary_length > 0, 2.0 * self.inside_area / self.boundary_length, np.inf)
+        return np.minimum(self.size, t)
 
     @property
     def min_size(self) -> float:
@@ -242,7 +256,9 @@ def build_grid(
             raise ValueError(f"refinement radius must be >= 0, got {z.radius!r}")
     bmin, bmax = (np.asarray(b, dtype=float) for b in boundary.bounds)
     origin = bmin - np.asarray(offset, dtype=float) * h0
-    shape = np.maximum(np.ceil((bmax - origin) / h0 - 1e-9).astype(int), 1)
+    # floor + 1: the grid covers the bounds strictly, whatever the round-off (a column of cells
+    # beyond an edge lying on a grid line holds no material and is dropped)
+    shape = np.floor((bmax - origin) / h0).astype(int) + 1
     max_level = max([int(z.levels) for z in refinements], default=0)
     tol = boundary.tolerance
 
@@ -307,6 +323,7 @@ def build_grid(
     grid.pieces = pieces
     grid._tables = None
     grid.moments = np.broadcast_to(full_cell_moments(), (len(grid.level), 3, 3)).copy()
+    grid.boundary_length = np.zeros(len(grid.level))
     _cut_moments(grid, boundary, curve_order)
     _nodes_and_constraints(grid)
     return grid
@@ -369,7 +386,7 @@ def _cut_pieces(grid: Grid, boundary: Boundary, candidate: np.ndarray) -> Pieces
         t0, t1, tm, pm = t0[ok], t1[ok], tm[ok], pm[ok]
         d = np.asarray(curve.derivative(tm), float).reshape(-1, 2)
         n = np.stack([d[:, 1], -d[:, 0]], axis=1) / np.hypot(d[:, 0], d[:, 1])[:, None]
-        cell = grid.locate(pm - 1e-7 * h_min * n)
+        cell = _assign_to_material_side(grid, pm, -n)
         if (cell < 0).any():
             bad = pm[cell < 0][0]
             raise RuntimeError(f"boundary piece of {name!r} near {bad.tolist()} lies in no grid cell")
@@ -379,6 +396,30 @@ def _cut_pieces(grid: Grid, boundary: Boundary, candidate: np.ndarray) -> Pieces
         cells.append(cell)
     cat = lambda a, dt: np.concatenate(a).astype(dt) if a else np.zeros(0, dt)  # noqa: E731
     return Pieces(names, cat(cid, np.int64), cat(t0s, float), cat(t1s, float), cat(cells, np.int64))
+
+
+# Relative distance (in local cell coordinates) below which a point counts as lying on a side.
+ON_SIDE = 1e-11
+
+
+def _assign_to_material_side(grid: Grid, points: np.ndarray, inward: np.ndarray) -> np.ndarray:
+    """Cell holding each piece midpoint; a midpoint on a cell side (a piece along a grid line)
+    goes to the cell on the material side (``inward`` direction)."""
+    cell = grid.locate(points)
+    if (cell < 0).any():
+        return cell
+    lower, size = grid.lower[cell], grid.size[cell]
+    loc = 2.0 * (points - lower) / size[:, None] - 1.0
+    moved = points.copy()
+    for axis in (0, 1):
+        down = (loc[:, axis] <= -1.0 + ON_SIDE) & (inward[:, axis] < -1e-6)
+        up = (loc[:, axis] >= 1.0 - ON_SIDE) & (inward[:, axis] > 1e-6)
+        moved[down, axis] = lower[down, axis] - 1e-9 * size[down]
+        moved[up, axis] = lower[up, axis] + size[up] * (1.0 + 1e-9)
+    change = np.any(moved != points, axis=1)
+    if change.any():
+        cell[change] = grid.locate(moved[change])
+    return cell
 
 
 def _cut_moments(grid: Grid, boundary: Boundary, order: int) -> None:
@@ -398,6 +439,7 @@ def _cut_moments(grid: Grid, boundary: Boundary, order: int) -> None:
         pts, w, nrm, _ = curve_gauss(curve, pc.t0[sel], pc.t1[sel], order)
         contrib = piece_moments(pts, w, nrm, center[cell], size[cell])
         np.add.at(mom, cell, contrib)
+        np.add.at(grid.boundary_length, cell, w.sum(axis=1))
         ends.append((cell, np.asarray(curve.evaluate(pc.t0[sel]), float).reshape(-1, 2)))
         ends.append((cell, np.asarray(curve.evaluate(pc.t1[sel]), float).reshape(-1, 2)))
     # vertical sides: breakpoints = side ends + piece end points lying on the side
@@ -409,7 +451,7 @@ def _cut_moments(grid: Grid, boundary: Boundary, order: int) -> None:
         rec_y += [lower[cut, 1], lower[cut, 1] + size[cut]]
         for cell, p in ends:
             xs = lower[cell, 0] + xoff * size[cell]
-            on = np.abs(p[:, 0] - xs) <= 1e-9 * size[cell]
+            on = np.abs(p[:, 0] - xs) <= 1e-6 * size[cell]  # generous: extra breakpoints are harmless
             rec_cell.append(cell[on])
             rec_side.append(np.full(on.sum(), side))
             rec_y.append(np.clip(p[on, 1], lower[cell[on], 1], lower[cell[on], 1] + size[cell[on]]))
@@ -425,7 +467,7 @@ def _cut_moments(grid: Grid, boundary: Boundary, order: int) -> None:
     x = lower[c, 0] + (s > 0) * size[c]
     mid = np.stack([x, 0.5 * (y0 + y1)], axis=1)
     phi = boundary.signed_distance(mid)
-    on_boundary = np.abs(phi) <= 1e-9 * size[c]
+    on_boundary = np.abs(phi) <= 0.5 * ON_SIDE * size[c]
     ins = boundary.inside(mid, phi) & ~on_boundary
     c, s, y0, y1 = c[ins], s[ins], y0[ins], y1[ins]
     eta0 = 2.0 * (y0 - center[c, 1]) / size[c]

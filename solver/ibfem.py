@@ -34,7 +34,7 @@ from .integration import (
 from .problem import BodyForce, Displacement, Fixed, Pressure, Sliding, Traction
 from .step_boundary import (
     DEFAULT_BAND_FRACTION,
-    THESIS_CONSISTENCY,
+    DEFAULT_CONSISTENCY,
     BoundaryPoints,
     projector,
     thin_band_terms,
@@ -58,7 +58,7 @@ class Settings:
     """Numerical choices (defaults documented and measured in docs/formulation.md)."""
 
     band_fraction: float = DEFAULT_BAND_FRACTION  # delta = band_fraction * local cell size
-    consistency: float = THESIS_CONSISTENCY  # 1/2 thesis (band limit), 1 symmetric Nitsche
+    consistency: float = DEFAULT_CONSISTENCY  # 1 symmetric Nitsche (default), 1/2 thesis band limit
     fictitious_stiffness: float = 1e-9  # cut cells get alpha * full-cell stiffness (conditioning)
     boundary_order: int = 5  # Gauss points per boundary piece for boundary conditions
     curve_order: int = 8  # Gauss points per boundary piece for cut-cell moments
@@ -214,7 +214,7 @@ class BodyDiscretisation:
             points=pts,
             weights=w,
             normals=nrm,
-            cell_size=self.grid.size[cells],
+            cell_size=np.maximum(self.grid.material_thickness[cells], 1e-6 * self.grid.size[cells]),
             displacement=self.displacement_operator(pts, cells),
             traction=self.traction_operator(pts, cells, nrm),
         )
