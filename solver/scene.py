@@ -17,9 +17,11 @@ The public entry points are :func:`load_scene` (a path) and :func:`scene_from_di
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import tomllib
+import typing
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
@@ -32,6 +34,7 @@ from pydantic import (
     Field,
     ValidationError,
     ValidationInfo,
+    create_model,
     field_validator,
     model_validator,
 )
@@ -119,6 +122,23 @@ class SolverSpec(_Strict):
     tolerance: float = Field(1e-10, gt=0.0, lt=1.0)
     max_iterations: int = Field(100, ge=1)
     exact_geometry: bool = True
+
+
+def _with_solver_extensions(base: type[SolverSpec]) -> type[SolverSpec]:
+    """Accept in ``[solver]`` every further field ``SolverOptions`` defines (with its type
+    and default), so options the solver adds need no change here."""
+    hints = typing.get_type_hints(pb.SolverOptions)
+    extra = {
+        f.name: (hints[f.name], f.default)
+        for f in dataclasses.fields(pb.SolverOptions)
+        if f.name not in base.model_fields and f.default is not dataclasses.MISSING
+    }
+    if not extra:
+        return base
+    return create_model("SolverSpec", __base__=base, **extra)
+
+
+SolverSpec = _with_solver_extensions(SolverSpec)
 
 
 class MaterialSpec(_Strict):
@@ -620,10 +640,7 @@ def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str) -> pb
         for c in spec.contacts
     )
     options = pb.SolverOptions(
-        load_steps=spec.solver.load_steps,
-        tolerance=spec.solver.tolerance,
-        max_iterations=spec.solver.max_iterations,
-        exact_geometry=spec.solver.exact_geometry,
+        **{f.name: getattr(spec.solver, f.name) for f in dataclasses.fields(pb.SolverOptions) if f.name in type(spec.solver).model_fields}
     )
     return pb.Problem(
         name=spec.name if spec.name else default_name,

@@ -386,3 +386,27 @@ def test_examples_load():
     for path in sorted((ROOT / "examples" / "single_body").glob("*.toml")):
         scene = load_scene(path)
         assert scene.problem.bodies and scene.warnings == ()
+
+
+def test_solver_section_accepts_options_the_solver_adds(monkeypatch):
+    import dataclasses
+
+    from solver import scene as sc
+
+    @dataclasses.dataclass(frozen=True)
+    class Options(pb.SolverOptions):
+        band_fraction: float = 0.25
+
+    monkeypatch.setattr(pb, "SolverOptions", Options)
+    spec_cls = sc._with_solver_extensions(sc.SolverSpec)
+    assert spec_cls.model_validate({"band_fraction": 0.1}).band_fraction == 0.1
+    assert spec_cls.model_validate({}).band_fraction == 0.25 and spec_cls.model_validate({}).load_steps == 10
+    with pytest.raises(Exception, match="band_fraction"):
+        spec_cls.model_validate({"band_fraction": "wide"})
+
+
+def test_modulus_that_looks_like_gpa_is_a_warning_not_an_error():
+    data = plate()
+    data["materials"][0]["youngs_modulus"] = 200.0
+    scene = scene_from_dict(data, label="scene.toml")
+    assert scene.warnings == ("scene.toml: materials[0].youngs_modulus = 200.0: very small for Pa (units are SI: steel is 2.0e11)",)
