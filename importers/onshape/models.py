@@ -51,6 +51,15 @@ def _int(value: Any) -> int:
 
 def _vec3(value: Any) -> tuple[float, float, float]:
     """``[x, y, z]`` (format B) or ``{"x", "y", "z"}`` (format A, ``btType`` ignored)."""
+    # fast path for the tens of thousands of well-formed tessellation vectors
+    if type(value) is dict and len(value) <= 4:
+        x, y, z = value.get("x"), value.get("y"), value.get("z")
+    elif type(value) is list and len(value) == 3:
+        x, y, z = value
+    else:
+        x = y = z = None
+    if type(x) is float and type(y) is float and type(z) is float and math.isfinite(x + y + z):
+        return (x, y, z)
     if isinstance(value, dict):
         missing = [k for k in "xyz" if k not in value]
         if missing:
