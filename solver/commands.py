@@ -2,7 +2,8 @@
 
 Exit codes: 0 solved and converged; 1 solved but not converged (``summary.json`` is still
 written, with ``converged`` false and the iteration history); 2 the scene is invalid (one
-line per problem on stderr, no traceback); 3 the solver core is not available.
+line per problem on stderr, no traceback); 3 the solver core is not available; 4 the
+results could not be written.
 """
 
 from __future__ import annotations
@@ -80,17 +81,23 @@ def _run(args: argparse.Namespace) -> int:
     extra = {"scene": str(Path(args.scene))}
     if scene.warnings:
         extra["warnings"] = list(scene.warnings)
-    summary = write_results(
-        out,
-        scene.problem,
-        solution,
-        probes=output.probes,
-        lines=output.lines,
-        vtk=output.vtk,
-        plots=output.plots,
-        total_s=time.perf_counter() - t0,
-        extra=extra,
-    )
+    try:
+        summary = write_results(
+            out,
+            scene.problem,
+            solution,
+            probes=output.probes,
+            lines=output.lines,
+            vtk=output.vtk,
+            plots=output.plots,
+            total_s=time.perf_counter() - t0,
+            extra=extra,
+        )
+    except OSError as err:
+        _err(f"cannot write results to {out}: {err.strerror or err}")
+        return 4
+    for note in summary.get("warnings", [])[len(scene.warnings):]:
+        _err(f"warning: {note}")
     iterations = summary["iterations"]["total"]
     if not summary["converged"]:
         _err(

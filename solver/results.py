@@ -366,10 +366,20 @@ def write_results(
     out_dir.mkdir(parents=True, exist_ok=True)
     summary = build_summary(problem, solution, probes, lines, total_s=total_s, extra=extra)
     files: list[Path] = []
+    missing: list[str] = []
+    # a missing optional library costs its files, not the summary
     if vtk:
-        files += write_vtu(out_dir, problem, solution)
+        try:
+            files += write_vtu(out_dir, problem, solution)
+        except ImportError as err:
+            missing.append(f"VTU files not written: pyvista is not installed ({err}); pip install 'ibfem[pictures]'")
     if plots:
-        files += write_plots(out_dir, problem, solution, summary)
+        try:
+            files += write_plots(out_dir, problem, solution, summary)
+        except ImportError as err:
+            missing.append(f"plots not written: matplotlib is not installed ({err}); pip install 'ibfem[pictures]'")
+    if missing:
+        summary["warnings"] = list(summary.get("warnings", [])) + missing
     summary["files"] = sorted(str(p.relative_to(out_dir)) for p in files)
     write_summary(out_dir / "summary.json", summary)
     return summary

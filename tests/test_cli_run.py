@@ -203,3 +203,27 @@ def test_end_to_end_lame_quarter_annulus(tmp_path):
     u_r = np.einsum("ij,ij->i", np.array(line["displacement"]), pts / radius[:, None])
     assert np.allclose(u_r, lame(radius)[2], rtol=0.01)
     assert (out / "ring.vtu").stat().st_size > 1000 and data["files"] == ["ring.vtu"]
+
+
+def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
+    import solver.ibfem
+
+    monkeypatch.setattr(solver.ibfem, "solve", lambda problem, progress=None: fake_solution(converged=True))
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    assert main(["run", str(write_plate(tmp_path)), "--quiet", "--out", str(blocker / "out")]) == 4
+    err = capsys.readouterr().err
+    assert err.startswith("ibfem run: cannot write results to") and err.count("\n") == 1
+
+
+def test_missing_pyvista_skips_the_vtu_files_with_a_warning(tmp_path, capsys, monkeypatch):
+    import solver.ibfem
+
+    monkeypatch.setattr(solver.ibfem, "solve", lambda problem, progress=None: fake_solution(converged=True))
+    monkeypatch.setitem(sys.modules, "pyvista", None)
+    path = tmp_path / "plate.toml"
+    path.write_text(PLATE.format(material="steel").replace("vtk = false", "vtk = true"))
+    assert main(["run", str(path), "--quiet", "--out", str(tmp_path / "out")]) == 0
+    assert "warning: VTU files not written: pyvista is not installed" in capsys.readouterr().err
+    data = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert data["files"] == [] and "pyvista" in data["warnings"][0]
