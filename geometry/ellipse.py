@@ -51,7 +51,7 @@ from ._base import (
     unit_vector,
     vector,
 )
-from .curves import blocks, check_fields, frame_matrix, frozen, require_planar_z0, set_fields, to_global, to_local
+from .curves import blocks, check_fields, frame_matrix, frozen, require_planar_z0, set_fields, to_global3, to_local
 
 __all__ = ["Ellipse", "ellipse_closest_point_2d"]
 
@@ -98,7 +98,7 @@ def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) 
         np.fmin(ub, c0 / np.sqrt(1.0 - u1 * u1) - d, out=ub)
         ub[~np.isfinite(ub)] = 0.0
         # guess from the point of the ellipse on the ray through the centre: t = (p - q).g / |g|^2
-        rad = np.hypot(z0, z1)
+        rad = np.sqrt(z0 * z0 + z1 * z1)  # a guess only: under- or overflow is caught below
         q0 = z0 / rad
         q1 = z1 / rad
         g0 = q0 / e0
@@ -255,11 +255,11 @@ class Ellipse(Curve):
             cy = np.copysign(b * u1, y)
             # outward normal along (cx/a^2, cy/b^2), i.e. along ((b/a)^2 cx, cy)
             nx = k * cx
-            norm = np.hypot(nx, cy)
+            norm = np.sqrt(nx * nx + cy * cy)
             nx /= norm
             ny = cy / norm
-            to_global(cx, cy, 0, frame, self._o, closest[s])
-            to_global(nx, ny, 0, frame, None, normals[s])
+            to_global3(cx, cy, 0, frame, self._o, closest[s])
+            to_global3(nx, ny, 0, frame, None, normals[s])
             dd = (x - cx) * nx
             dd += (y - cy) * ny
             dist[s] = dd

@@ -35,7 +35,7 @@ from ._base import (
     unit_vector,
     vector,
 )
-from .curves import blocks, check_fields, frame_matrix, frozen, set_fields, to_global, to_local, unit_radial
+from .curves import blocks, check_fields, frame_matrix, frozen, set_fields, to_global, to_global3, to_local, unit_radial
 
 __all__ = ["Plane", "Sphere", "Cylinder", "Cone", "Torus"]
 
@@ -132,20 +132,35 @@ class Sphere(Surface):
         normals = np.empty((n, 3))
         dist = np.empty(n)
         uv = np.empty((n, 2))
+        eye = np.eye(3)
         for s in blocks(n):
-            r = pts[s] - self._o
-            rho = np.sqrt(np.einsum("ij,ij->i", r, r))
-            nb = normals[s]
+            c = pts[s].T - self._o[:, None]  # (3, m), rows contiguous
+            x, y, z = c
+            rxy = x * x
+            rxy += y * y
+            rho = rxy + z * z
+            np.sqrt(rho, out=rho)
             with np.errstate(invalid="ignore", divide="ignore"):
-                np.divide(r, rho[:, None], out=nb)
-            zero = rho == 0.0
-            if zero.any():
-                nb[zero] = (0.0, 0.0, 1.0)
-            np.multiply(nb, R, out=closest[s])
-            closest[s] += self._o
+                c /= rho
+            tiny = rho < 1e-150
+            if tiny.any():
+                # squares underflow here: rescale by a power of two (exact) first
+                ct = (pts[s][tiny] - self._o).T * 2.0**600
+                rt = np.sqrt(np.einsum("ij,ij->j", ct, ct))
+                zero = rt == 0.0
+                ct[:, zero] = np.array([[0.0], [0.0], [1.0]])  # the centre: fixed direction e_z
+                rt[zero] = 1.0
+                c[:, tiny] = ct / rt
+                rho[tiny] = np.where(zero, 0.0, rt * 2.0**-600)
             np.subtract(rho, R, out=dist[s])
-            uv[s, 0] = np.arctan2(nb[:, 1], nb[:, 0])
-            uv[s, 1] = np.arctan2(nb[:, 2], np.hypot(nb[:, 0], nb[:, 1]))
+            uv[s, 0] = np.arctan2(y, x)
+            np.multiply(x, x, out=rxy)
+            rxy += y * y
+            np.sqrt(rxy, out=rxy)
+            uv[s, 1] = np.arctan2(z, rxy)
+            to_global(c, eye, None, normals[s])
+            c *= R
+            to_global(c, eye, self._o, closest[s])
         return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
 
 
@@ -193,8 +208,8 @@ class Cylinder(Surface):
         for s in blocks(n):
             x, y, t = to_local(pts[s], frame, self._o_local)
             rho, cx, cy = unit_radial(x, y)
-            to_global(cx, cy, 0, frame, None, normals[s])
-            to_global(R * cx, R * cy, t, frame, self._o, closest[s])
+            to_global3(cx, cy, 0, frame, None, normals[s])
+            to_global3(R * cx, R * cy, t, frame, self._o, closest[s])
             np.subtract(rho, R, out=dist[s])
             uv[s, 0] = np.arctan2(cy, cx)
             uv[s, 1] = t
@@ -296,8 +311,8 @@ class Cone(Surface):
                 dg[apex] = da
                 rc[apex] = 0.0
                 tc[apex] = ta
-            to_global(nr * cx, nr * cy, nt, frame, None, normals[s])
-            to_global(rc * cx, rc * cy, tc, frame, self._o, closest[s])
+            to_global3(nr * cx, nr * cy, nt, frame, None, normals[s])
+            to_global3(rc * cx, rc * cy, tc, frame, self._o, closest[s])
             dist[s] = dg
             uv[s, 0] = np.arctan2(cy, cx)
             uv[s, 1] = tc
@@ -366,8 +381,8 @@ class Torus(Surface):
             dq, nr, nh = unit_radial(rho - R, h)  # on the core circle: (1, 0), away from the axis
             rc = nr * r
             rc += R
-            to_global(nr * cx, nr * cy, nh, frame, None, normals[s])
-            to_global(rc * cx, rc * cy, r * nh, frame, self._o, closest[s])
+            to_global3(nr * cx, nr * cy, nh, frame, None, normals[s])
+            to_global3(rc * cx, rc * cy, r * nh, frame, self._o, closest[s])
             np.subtract(dq, r, out=dist[s])
             uv[s, 0] = np.arctan2(cy, cx)
             uv[s, 1] = np.arctan2(nh, nr)
