@@ -683,17 +683,15 @@ def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
     if problems:
         raise SceneError(problems)
 
-    for k, p in enumerate(spec.output.probes):
-        point = np.asarray(p, dtype=float)[None, :]
-        inside = False
-        for body in problem.bodies:
+    if spec.output.probes:
+        points = np.asarray(spec.output.probes, dtype=float).reshape(-1, 2)
+        inside = np.zeros(len(points), dtype=bool)
+        for body in problem.bodies:  # points on a boundary count as inside
             lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
             tol = 1e-9 * float(np.max(hi - lo))
-            if float(body.profile.signed_distance(point)[0]) >= -tol:
-                inside = True
-                break
-        if not inside:
-            problems.append(f"{label}: output.probes[{k}] = {_show(list(p))}: outside every body")
+            inside |= np.asarray(body.profile.signed_distance(points), dtype=float) >= -tol
+        for k in np.flatnonzero(~inside):
+            problems.append(f"{label}: output.probes[{k}] = {_show(list(spec.output.probes[k]))}: outside every body")
 
     contact_frames = [_contact_frame(problem, c) for c in problem.contacts]
     modes = rigid_body_modes(problem, contact_frames)
