@@ -18,6 +18,7 @@ The public entry points are :func:`load_scene` (a path) and :func:`scene_from_di
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import json
 import math
 import tomllib
@@ -556,14 +557,15 @@ def _build_profiles(spec: SceneSpec, label: str, base_dir: Path) -> dict[str, An
     for i, b in enumerate(spec.bodies):
         where = f"{label}: bodies[{i}].shape"
         try:
-            profiles[b.name] = _profile(dict(b.shape), base_dir)
+            profiles[b.name] = _profile(dict(b.shape), base_dir, where=f"bodies[{i}].shape")
         except SceneError as err:
             problems.extend(f"{where}: {p}" for p in err.problems)
         except (ValueError, KeyError, TypeError) as err:
             text = err.args[0] if isinstance(err, KeyError) and err.args else str(err)
             text = text.replace("shape.type must be one of ", "shape.type must be one of onshape, ")
-            if text.startswith("shape.") or text.startswith("shape:") or text.startswith("shape "):
-                # geometry names the key as shape.<key>: put it under the body's key path
+            if text.startswith(f"bodies[{i}].shape"):  # the builder named the key path itself
+                problems.append(f"{label}: {text}")
+            elif text.startswith("shape.") or text.startswith("shape:") or text.startswith("shape "):
                 problems.append(f"{label}: bodies[{i}].{text}")
             else:
                 problems.append(f"{where} (type {_show(b.shape.get('type'))}): {text}")
@@ -572,9 +574,10 @@ def _build_profiles(spec: SceneSpec, label: str, base_dir: Path) -> dict[str, An
     return profiles
 
 
-def _profile(shape: dict[str, Any], base_dir: Path) -> Any:
+def _profile(shape: dict[str, Any], base_dir: Path, where: str = "shape") -> Any:
     """Shape dict -> exact ``geometry`` profile. ``onshape`` shapes are built by the importer
-    (imported only then); their ``path`` is relative to the scene file."""
+    (imported only then); their ``path`` is relative to the scene file. ``where`` is the key
+    path the builders put in their error messages."""
     if str(shape.get("type", "")).lower() == "onshape":
         try:
             from importers.onshape import profile as onshape_profile
@@ -586,10 +589,12 @@ def _profile(shape: dict[str, Any], base_dir: Path) -> Any:
         build = getattr(onshape_profile, "profile_from_shape", None)
         if build is None:
             raise ValueError("importers.onshape.profile has no profile_from_shape(shape) function")
+        if "where" in inspect.signature(build).parameters:
+            return build(shape, where=where)
         return build(shape)
     from geometry.shapes import profile_from_shape
 
-    return profile_from_shape(shape)
+    return profile_from_shape(shape, where=where)
 
 
 def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str) -> pb.Problem:
