@@ -127,8 +127,8 @@ def _unit(v: np.ndarray) -> np.ndarray:
 
 def _signed_euclidean(p: np.ndarray, c: np.ndarray, n: np.ndarray) -> np.ndarray:
     d = p - c
-    dist = np.hypot(d[:, 0], d[:, 1])
-    side = np.einsum("ij,ij->i", d, n)
+    dist = np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1])
+    side = d[:, 0] * n[:, 0] + d[:, 1] * n[:, 1]
     return np.where(side < 0.0, -dist, dist)
 
 
@@ -184,6 +184,7 @@ class BoundedCurve(ABC):
 
     name: str
     type: str = ""
+    cost: int = 1  # relative projection cost: profiles project cheap edges first
 
     # -- what every curve provides -------------------------------------------------------
 
@@ -368,66 +369,80 @@ class BoundedCurve(ABC):
     def _sample_grid(self) -> np.ndarray:
         return np.linspace(self.t_start, self.t_end, 65)
 
-    def _project_sampled(self, P: np.ndarray, extra_t: np.ndarray | None = None) -> np.ndarray:
-        """Parameters of the closest points: dense sampling, the two best local minima refined
-        by safeguarded Newton on g(t) = X'(t).(X(t) - p), clamped to the curve. ``extra_t``
-        (n,) are further candidates (e.g. an exact foot point) compared at the end."""
+    def _project_sampled(self, P: np.ndarray) -> np.ndarray:
+        """Parameters of the closest points: dense sampling, the best local minimum of the
+        sampled distance refined by safeguarded Newton on g(t) = X'(t).(X(t) - p) within its
+        neighbouring samples (clamped to the curve), and the second-best local minimum too
+        where it could still win (its sampled distance is within one sample spacing of the
+        best one). The end points are candidates as well."""
         grid = self._sample_grid()
         S = self.evaluate(grid)
         M = len(grid)
+        spacing = float(np.max(np.sqrt(np.sum(np.diff(S, axis=0) ** 2, axis=1))))
         n = len(P)
         best_t = np.empty(n)
-        chunk = max(1, 2_000_000 // M)
+        chunk = max(1, 4_000_000 // M)
         for i0 in range(0, n, chunk):  # blocks of points bound the (n, M) work array
             p = P[i0 : i0 + chunk]
-            d2 = (p[:, 0, None] - S[None, :, 0]) ** 2 + (p[:, 1, None] - S[None, :, 1]) ** 2
-            local = np.ones_like(d2, dtype=bool)
+            m = len(p)
+            rows = np.arange(m)
+            d2 = (p[:, 0, None] - S[None, :, 0]) ** 2
+            d2 += (p[:, 1, None] - S[None, :, 1]) ** 2
+            local = np.ones(d2.shape, dtype=bool)
             local[:, 1:] &= d2[:, 1:] <= d2[:, :-1]
             local[:, :-1] &= d2[:, :-1] <= d2[:, 1:]
             masked = np.where(local, d2, np.inf)
-            if M > 2:
-                cand = np.argpartition(masked, 1, axis=1)[:, :2]
-            else:
-                cand = np.argsort(masked, axis=1)[:, :2]
-            cands = []
-            for j in range(cand.shape[1]):
-                idx = cand[:, j]
-                valid = np.isfinite(masked[np.arange(len(p)), idx])
-                idx = np.where(valid, idx, cand[:, 0])
-                lo = grid[np.maximum(idx - 1, 0)]
-                hi = grid[np.minimum(idx + 1, M - 1)]
-                cands.append(self._newton_closest(p, grid[idx], lo, hi))
-            cands.append(np.full(len(p), self.t_start))
-            cands.append(np.full(len(p), self.t_end))
-            if extra_t is not None:
-                cands.append(extra_t[i0 : i0 + chunk])
+            i1 = np.argmin(masked, axis=1)
+            d1 = masked[rows, i1]
+            masked[rows, i1] = np.inf
+            i2 = np.argmin(masked, axis=1)
+            dsec = masked[rows, i2]
+            cands = [self._refine(p, grid, i1)]
+            second = np.flatnonzero(np.sqrt(dsec) < np.sqrt(d1) + spacing)
+            t2 = cands[0].copy()
+            if second.size:
+                t2[second] = self._refine(p[second], grid, i2[second])
+            cands += [t2, np.full(m, self.t_start), np.full(m, self.t_end)]
             T = np.stack(cands, axis=1)
             X = self.evaluate(T.ravel()).reshape(T.shape + (2,))
             dd = (X[..., 0] - p[:, 0, None]) ** 2 + (X[..., 1] - p[:, 1, None]) ** 2
-            dd = np.where(np.isfinite(T), dd, np.inf)
-            best_t[i0 : i0 + chunk] = T[np.arange(len(p)), np.argmin(dd, axis=1)]
+            best_t[i0 : i0 + chunk] = T[rows, np.argmin(dd, axis=1)]
         return best_t
 
+    def _refine(self, p: np.ndarray, grid: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        M = len(grid)
+        lo = grid[np.maximum(idx - 1, 0)]
+        hi = grid[np.minimum(idx + 1, M - 1)]
+        return self._newton_closest(p, grid[idx], lo, hi)
+
     def _newton_closest(self, p: np.ndarray, t: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        lo, hi, t = lo.copy(), hi.copy(), t.copy()
-        scale = abs(self.t_end - self.t_start)
+        """Safeguarded Newton for a zero of g(t) = X'(t).(X(t) - p) in [lo, hi]; a Newton step
+        leaving the bracket is replaced by bisection. Converged points drop out of the work set."""
+        t = t.copy()
+        lo = lo.copy()
+        hi = hi.copy()
+        tol = 1e-15 * (abs(self.t_end - self.t_start) + abs(self.t_start) + abs(self.t_end))
+        active = np.arange(len(t))
         for _ in range(60):
-            X = self.evaluate(t)
-            d1 = self.derivative(t)
-            d2 = self.second_derivative(t)
-            r = X - p
-            g = np.einsum("ij,ij->i", d1, r)
-            gp = np.einsum("ij,ij->i", d2, r) + np.einsum("ij,ij->i", d1, d1)
-            hi = np.where(g > 0.0, t, hi)
-            lo = np.where(g < 0.0, t, lo)
-            t_new = t - g / np.where(gp > 0.0, gp, 1.0)
-            bad = (gp <= 0.0) | ~((t_new >= lo) & (t_new <= hi))
-            t_new = np.where(bad, 0.5 * (lo + hi), t_new)
-            t_new = np.where(g == 0.0, t, t_new)
-            step = np.max(np.abs(t_new - t)) if t.size else 0.0
-            t = t_new
-            if step <= 1e-15 * scale:
+            if active.size == 0:
                 break
+            ta, la, ha, pa = t[active], lo[active], hi[active], p[active]
+            X = self.evaluate(ta)
+            d1 = self.derivative(ta)
+            d2 = self.second_derivative(ta)
+            rx = X[:, 0] - pa[:, 0]
+            ry = X[:, 1] - pa[:, 1]
+            g = d1[:, 0] * rx + d1[:, 1] * ry
+            gp = d2[:, 0] * rx + d2[:, 1] * ry + d1[:, 0] ** 2 + d1[:, 1] ** 2
+            ha = np.where(g > 0.0, ta, ha)
+            la = np.where(g < 0.0, ta, la)
+            t_new = ta - g / np.where(gp > 0.0, gp, 1.0)
+            bad = (gp <= 0.0) | ~((t_new >= la) & (t_new <= ha))
+            t_new = np.where(bad, 0.5 * (la + ha), t_new)
+            t_new = np.where(g == 0.0, ta, t_new)
+            done = (np.abs(t_new - ta) <= tol) | (ha - la <= tol)
+            t[active], lo[active], hi[active] = t_new, la, ha
+            active = active[~done]
         return t
 
     def _projection_at(self, P: np.ndarray, t: np.ndarray) -> BoundedProjection:
@@ -576,6 +591,7 @@ class Segment(BoundedCurve):
     p1: np.ndarray
     name: str = ""
     type = "line"
+    cost = 1
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "p0", _vec2(self.p0, f"segment {self.name!r}: start"))
@@ -646,10 +662,25 @@ class Segment(BoundedCurve):
     def project(self, points: Any) -> BoundedProjection:
         P = _points2(points)
         L, u = self._frame
-        t = np.clip((P - self.p0) @ u, 0.0, L)
-        c = self.evaluate(t)
-        n = np.broadcast_to(np.array([u[1], -u[0]]), P.shape).copy()
-        return BoundedProjection(points=c, normals=n, distances=_signed_euclidean(P, c, n), parameters=t)
+        (x0, y0), (x1, y1) = self.p0, self.p1
+        ux, uy = float(u[0]), float(u[1])
+        dx = P[:, 0] - x0
+        dy = P[:, 1] - y0
+        t = dx * ux
+        t += dy * uy
+        np.clip(t, 0.0, L, out=t)
+        f = t / L
+        cx = x0 + f * (x1 - x0)
+        cy = y0 + f * (y1 - y0)
+        rx = P[:, 0] - cx
+        ry = P[:, 1] - cy
+        dist = np.sqrt(rx * rx + ry * ry)
+        side = rx * uy - ry * ux
+        dist = np.where(side < 0.0, -dist, dist)
+        n = np.empty((len(P), 2))
+        n[:, 0] = uy
+        n[:, 1] = -ux
+        return BoundedProjection(points=np.stack([cx, cy], axis=1), normals=n, distances=dist, parameters=t)
 
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
         axis = _axis(axis)
@@ -736,6 +767,7 @@ class Arc(BoundedCurve):
     end_angle: float
     name: str = ""
     type = "arc"
+    cost = 1
 
     def __post_init__(self) -> None:
         owner = f"arc {self.name!r}"
@@ -925,6 +957,7 @@ class EllipticArc(BoundedCurve):
     end_angle: float
     name: str = ""
     type = "elliptic_arc"
+    cost = 4
 
     def __post_init__(self) -> None:
         owner = f"elliptic_arc {self.name!r}"
@@ -1012,18 +1045,35 @@ class EllipticArc(BoundedCurve):
         return np.concatenate(pieces + [[self.sweep]])
 
     def project(self, points: Any) -> BoundedProjection:
+        """Exact foot on the full ellipse (geometry.ellipse's kernel) where it lies on the arc.
+        Elsewhere the nearest point is an end point, except for points inside the evolute
+        (four normals to the ellipse), which may have an interior local minimum on the arc:
+        those go through sampling and safeguarded Newton."""
         P = _points2(points)
-        extra = None
         kernel = _ellipse_kernel()
-        if kernel is not None:
-            # the exact foot on the full ellipse, used when it lies on the arc
-            q = (P - self.center) @ self._R  # local coordinates
-            a, b = self.semi_axes
-            cx, cy = kernel(a, b, q[:, 0], q[:, 1])
-            theta = np.arctan2(np.asarray(cy) / b, np.asarray(cx) / a)
-            t = self._t_of_angle(theta)
-            extra = np.where(t <= self.sweep, t, np.nan) if not self.is_closed else t
-        t = self._project_sampled(P, extra)
+        if kernel is None:
+            return self._projection_at(P, self._project_sampled(P))
+        a, b = self.semi_axes
+        R = self._R
+        dx = P[:, 0] - self.center[0]
+        dy = P[:, 1] - self.center[1]
+        qx = R[0, 0] * dx + R[1, 0] * dy  # local coordinates R^T (p - c)
+        qy = R[0, 1] * dx + R[1, 1] * dy
+        cx, cy = kernel(a, b, qx, qy)
+        t = self._t_of_angle(np.arctan2(np.asarray(cy) / b, np.asarray(cx) / a))
+        if not self.is_closed:
+            off = np.flatnonzero(t > self.sweep)
+            if off.size:
+                Po = P[off]
+                ds = np.sum((Po - self.start) ** 2, axis=1)
+                de = np.sum((Po - self.end) ** 2, axis=1)
+                t_off = np.where(ds <= de, 0.0, self.sweep)
+                # inside the evolute: (a x)^(2/3) + (b y)^(2/3) < |a^2 - b^2|^(2/3) (with margin)
+                ev = np.cbrt((a * qx[off]) ** 2) + np.cbrt((b * qy[off]) ** 2)
+                inner = np.flatnonzero(ev <= np.cbrt((a * a - b * b) ** 2) * (1.0 + 1e-6))
+                if inner.size:
+                    t_off[inner] = self._project_sampled(Po[inner])
+                t[off] = t_off
         return self._projection_at(P, t)
 
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
@@ -1087,6 +1137,7 @@ class BSplineArc(BoundedCurve):
     weights: np.ndarray | None = None
     name: str = ""
     type = "bspline"
+    cost = 8
 
     def __post_init__(self) -> None:
         owner = f"bspline {self.name!r}"

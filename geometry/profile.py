@@ -20,7 +20,7 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
-from .bounded import BoundedCurve, _points2
+from .bounded import BoundedCurve, BSplineArc, _points2
 
 __all__ = ["Profile", "ProfileProjection", "UnknownEdgeError"]
 
@@ -182,6 +182,20 @@ class Profile:
         self._prev = np.array(prev)
         self._next = np.array(nxt)
         self.edge_loop = np.array(loop_of)
+        self._t_start = np.array([c.t_start for c in edges])
+        self._t_end = np.array([c.t_end for c in edges])
+        # tight bounding boxes (ends and axis-extreme points) for culling in _nearest
+        boxes = [_curve_box(c) for c in edges]
+        self._box_lo = np.array([b[0] for b in boxes])
+        self._box_hi = np.array([b[1] for b in boxes])
+        # culling boxes must contain the curve for sure: B-splines use their control points
+        # (convex hull property, positive weights); a small margin covers round-off
+        cull = [(c.control_points.min(axis=0), c.control_points.max(axis=0)) if isinstance(c, BSplineArc) else b for c, b in zip(edges, boxes)]
+        margin = 1e-12 * size
+        self._cull_lo = np.array([b[0] for b in cull]) - margin
+        self._cull_hi = np.array([b[1] for b in cull]) + margin
+        self._expensive = np.array([getattr(c, "cost", 1) > 1 for c in edges])
+        self._order = sorted(range(len(edges)), key=lambda k: getattr(edges[k], "cost", 1))
         self._n_start = np.vstack([c.normal(c.t_start) for c in edges])
         self._n_end = np.vstack([c.normal(c.t_end) for c in edges])
         self._p_start = np.vstack([c.start for c in edges])
@@ -211,17 +225,7 @@ class Profile:
     @property
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """(min (2,), max (2,)) of the exact boundary: ends and axis-extreme points."""
-        pts = []
-        for c in self._edge_list:
-            pts.append(c.start[None, :])
-            pts.append(c.end[None, :])
-            for axis in (0, 1):
-                # extremes of coordinate `axis`: where the derivative component vanishes
-                t = _derivative_roots(c, axis)
-                if t.size:
-                    pts.append(c.evaluate(t))
-        P = np.vstack(pts)
-        return P.min(axis=0), P.max(axis=0)
+        return self._box_lo.min(axis=0), self._box_hi.max(axis=0)
 
     @property
     def area(self) -> float:
@@ -230,49 +234,95 @@ class Profile:
 
     # -- distance ----------------------------------------------------------------------------
 
+    def _nearest(self, P: np.ndarray):
+        """Per point: distance to the boundary, nearest edge, its parameter, and the signed
+        (positive outside) distance to that edge. Cheap edges (segments, arcs) go first; an
+        expensive edge (elliptic arc, B-spline) is projected only for the points whose
+        distance to its bounding box is below the best distance so far."""
+        n = len(P)
+        best = np.full(n, np.inf)
+        edge = np.zeros(n, dtype=np.intp)
+        tpar = np.zeros(n)
+        sd = np.zeros(n)
+        x, y = P[:, 0], P[:, 1]
+        for k in self._order:
+            curve = self._edge_list[k]
+            if self._expensive[k] and k != self._order[0]:
+                lo, hi = self._cull_lo[k], self._cull_hi[k]
+                gx = np.maximum(np.maximum(lo[0] - x, x - hi[0]), 0.0)
+                gy = np.maximum(np.maximum(lo[1] - y, y - hi[1]), 0.0)
+                idx = np.flatnonzero(np.hypot(gx, gy) < best)
+                if idx.size == 0:
+                    continue
+                pr = curve.project(P[idx])
+                d = np.abs(pr.distances)
+                better = d < best[idx]
+                j = idx[better]
+                best[j] = d[better]
+                edge[j] = k
+                tpar[j] = pr.parameters[better]
+                sd[j] = pr.distances[better]
+            else:
+                pr = curve.project(P)
+                d = np.abs(pr.distances)
+                better = d < best
+                np.copyto(best, d, where=better)
+                np.copyto(tpar, pr.parameters, where=better)
+                np.copyto(sd, pr.distances, where=better)
+                edge[better] = k
+        return best, edge, tpar, sd
+
+    def _evaluate_edges(self, edge: np.ndarray, t: np.ndarray, normals: bool = False):
+        """Points (and normals) of the edges ``edge`` at parameters ``t`` (one pass per edge)."""
+        c = np.empty((len(t), 2))
+        nrm = np.empty((len(t), 2)) if normals else None
+        for k, curve in enumerate(self._edge_list):
+            m = edge == k
+            if np.any(m):
+                c[m] = curve.evaluate(t[m])
+                if normals:
+                    nrm[m] = curve.normal(t[m])
+        return c, nrm
+
+    def _phi(self, P: np.ndarray, want_points: bool):
+        best, edge, tpar, sd = self._nearest(P)
+        # sign: interior feet keep sign((p - c).n); feet at (or within round-off of) a vertex
+        # use the pseudo-normal n_in + n_out of the two edges meeting there
+        ts, te = self._t_start[edge], self._t_end[edge]
+        eps = 1e-9 * (te - ts)
+        at_end = tpar >= te - eps
+        at_start = (tpar <= ts + eps) & ~at_end
+        sign = np.where(sd < 0.0, -1.0, 1.0)
+        c = nrm = None
+        if want_points:
+            c, nrm = self._evaluate_edges(edge, tpar, normals=True)
+        vtx = np.flatnonzero(at_end | at_start)
+        if vtx.size:
+            e = edge[vtx]
+            ae = at_end[vtx]
+            pseudo = np.where(
+                ae[:, None],
+                self._n_end[e] + self._n_start[self._next[e]],
+                self._n_start[e] + self._n_end[self._prev[e]],
+            )
+            cv = c[vtx] if c is not None else self._evaluate_edges(e, tpar[vtx])[0]
+            # (p - c), not (p - vertex): where c is interior but within round-off of the
+            # vertex, p - c is along that edge's normal n1 and (p - c).(n1 + n2) keeps its sign
+            s = np.einsum("ij,ij->i", P[vtx] - cv, pseudo)
+            usable = (np.hypot(pseudo[:, 0], pseudo[:, 1]) > 1e-6) & (s != 0.0)
+            sign[vtx] = np.where(usable, np.sign(s), sign[vtx])
+        phi = -sign * best  # positive inside
+        return phi, edge, tpar, c, nrm
+
     def project(self, points: Any) -> ProfileProjection:
         """Closest boundary points, outward normals, phi (positive inside), nearest edge."""
         P = _points2(points)
-        n = len(P)
-        best = np.full(n, np.inf)
-        c = np.zeros((n, 2))
-        nrm = np.zeros((n, 2))
-        sd = np.zeros(n)
-        edge = np.zeros(n, dtype=np.intp)
-        tpar = np.zeros(n)
-        for k, curve in enumerate(self._edge_list):
-            pr = curve.project(P)
-            d = np.abs(pr.distances)
-            better = d < best
-            best = np.where(better, d, best)
-            c[better] = pr.points[better]
-            nrm[better] = pr.normals[better]
-            sd[better] = pr.distances[better]
-            tpar[better] = pr.parameters[better]
-            edge[better] = k
-        # sign: interior feet keep sign((p - c).n); feet at a vertex use the pseudo-normal
-        near = 1e-9 * self.size
-        at_end = np.linalg.norm(c - self._p_end[edge], axis=1) <= near
-        at_start = np.linalg.norm(c - self._p_start[edge], axis=1) <= near
-        at_start &= ~at_end
-        sign = np.where(sd < 0.0, -1.0, 1.0)
-        if np.any(at_end | at_start):
-            pseudo = np.zeros((n, 2))
-            pseudo[at_end] = self._n_end[edge[at_end]] + self._n_start[self._next[edge[at_end]]]
-            pseudo[at_start] = self._n_start[edge[at_start]] + self._n_end[self._prev[edge[at_start]]]
-            vtx = at_end | at_start
-            # (p - c), not (p - vertex): where c is interior but within round-off of the
-            # vertex, p - c is along that edge's normal n1 and (p - c).(n1 + n2) keeps its sign
-            s = np.einsum("ij,ij->i", P - c, pseudo)
-            usable = vtx & (np.linalg.norm(pseudo, axis=1) > 1e-6)
-            sign = np.where(usable & (s != 0.0), np.sign(s), sign)
-        # outward normal at the closest point; phi positive inside
-        phi = -sign * best
+        phi, edge, tpar, c, nrm = self._phi(P, want_points=True)
         return ProfileProjection(points=c, normals=nrm, phi=phi, edge_index=edge, parameters=tpar)
 
     def signed_distance(self, points: Any) -> np.ndarray:
         """phi (n,): distance to the boundary, positive inside, negative outside."""
-        return self.project(points).phi
+        return self._phi(_points2(points), want_points=False)[0]
 
     def contains(self, points: Any, tolerance: float = 0.0) -> np.ndarray:
         """Inside test (n,) bool: phi >= -tolerance. Points on the boundary (phi = 0 up to
@@ -315,6 +365,17 @@ class Profile:
 
     def __repr__(self) -> str:
         return f"Profile(edges={list(self.edge_names)}, loops={len(self.loops)})"
+
+
+def _curve_box(curve: BoundedCurve) -> tuple[np.ndarray, np.ndarray]:
+    pts = [curve.start[None, :], curve.end[None, :]]
+    for axis in (0, 1):
+        # extremes of coordinate `axis`: where the derivative component vanishes
+        t = _derivative_roots(curve, axis)
+        if t.size:
+            pts.append(curve.evaluate(t))
+    P = np.vstack(pts)
+    return P.min(axis=0), P.max(axis=0)
 
 
 def _derivative_roots(curve: BoundedCurve, axis: int) -> np.ndarray:
