@@ -138,6 +138,14 @@ def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) 
         v0 = c0[special] / d if d > 0.0 else np.zeros(int(special.sum()))
         u0[special] = v0
         u1[special] = np.sqrt(np.maximum(1.0 - v0 * v0, 0.0))
+    # u0^2 + u1^2 = 1 to a few ulp at convergence; normalising puts the point exactly on the
+    # ellipse also where denormal inputs leave too few bits for the iteration (e.g. a circle
+    # queried at (5e-324, 5e-324))
+    w = u0 * u0
+    w += u1 * u1
+    np.sqrt(w, out=w)
+    u0 /= w
+    u1 /= w
     return u0, u1
 
 
