@@ -776,56 +776,43 @@ def _contact_frame(problem: pb.Problem, contact: pb.ContactModel) -> tuple[np.nd
         point = np.asarray(contact.point, dtype=float)
     else:
         size = min(problem.body(n).element_size for n in contact.bodies)
-        xa = closest_boundary_point(first, second, 0.05 * size)
+        xa = closest_boundary_point(first, second, 0.25 * size)
         xb = np.asarray(second.project(xa[None, :]).points[0], dtype=float)
         point = 0.5 * (xa + xb)
     normal = np.asarray(second.project(point[None, :]).normals[0], dtype=float)
     return point, normal / np.linalg.norm(normal)
 
 
-def closest_boundary_point(first: Any, second: Any, chord_tolerance: float) -> np.ndarray:
+def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarray:
     """The point of ``first``'s boundary that maximises ``second``'s signed distance phi
     (positive inside): the point closest to ``second`` when they are apart, the deepest one
-    when they overlap. A KD-tree on the two tessellations gives the start; a bounded scalar
-    search in the exact edge parameter between the neighbouring tessellation points refines it."""
+    when they overlap. Each edge is sampled in its own parameter about every ``spacing``
+    (one vectorised phi call per edge), then a bounded scalar search in the exact parameter
+    between the neighbours of the best sample refines it."""
     from scipy.optimize import minimize_scalar
-    from scipy.spatial import cKDTree
 
-    loops_a = [pts for pts, _ in first.tessellate(chord_tolerance)]
-    pa = np.concatenate(loops_a)
-    pb_ = np.concatenate([pts for pts, _ in second.tessellate(chord_tolerance)])
-    phi = np.asarray(second.signed_distance(pa), dtype=float)
-    if np.max(phi) > 0.0:  # overlap: start from the deepest tessellation point
+    best_phi, best = -np.inf, None
+    for name in first.edge_names:  # a handful of edges
+        curve = first.edges[name]
+        n = int(np.clip(np.ceil(float(curve.length) / spacing) + 1, 9, 20001))
+        t = np.linspace(curve.t_start, curve.t_end, n)
+        phi = np.asarray(second.signed_distance(curve.evaluate(t)), dtype=float)
         k = int(np.argmax(phi))
-    else:
-        dist, _ = cKDTree(pb_).query(pa)
-        k = int(np.argmin(dist))
-    # neighbours of k on its own loop bound the search
-    start = 0
-    for pts in loops_a:
-        if k < start + len(pts):
-            loop, j = pts, k - start
-            break
-        start += len(pts)
-    neighbours = np.array([loop[max(j - 1, 0)], loop[j], loop[min(j + 1, len(loop) - 1)]])
-    proj = first.project(neighbours)
-    edge = int(proj.edge_index[1])
-    curve = first.edges[first.edge_names[edge]]
-    t = np.asarray(proj.parameters, dtype=float)
-    lo_t, hi_t = sorted((curve.t_start, curve.t_end))
-    lo, hi = t[1], t[1]
-    for e, tt in zip(proj.edge_index, t):
-        if int(e) == edge:
-            lo, hi = min(lo, tt), max(hi, tt)
-    if hi - lo <= 1e-14 * max(abs(hi_t - lo_t), 1.0):
-        lo, hi = lo_t, hi_t
+        if phi[k] > best_phi:
+            best_phi, best = phi[k], (curve, t[max(k - 1, 0)], t[min(k + 1, n - 1)])
+    curve, t0, t1 = best
     res = minimize_scalar(
         lambda s: -float(second.signed_distance(curve.evaluate(np.array([s])))[0]),
-        bounds=(max(lo, lo_t), min(hi, hi_t)),
+        bounds=(min(t0, t1), max(t0, t1)),
         method="bounded",
-        options={"xatol": 1e-13 * max(abs(hi_t - lo_t), 1.0)},
+        options={"xatol": 1e-13 * max(abs(curve.t_end - curve.t_start), 1.0)},
     )
-    return np.asarray(curve.evaluate(np.array([res.x]))[0], dtype=float)
+    x = np.asarray(curve.evaluate(np.array([res.x]))[0], dtype=float)
+    # the bounded search never returns the interval ends: keep a better sample end point
+    ends = np.asarray(curve.evaluate(np.array([t0, t1])), dtype=float)
+    candidates = np.vstack([x[None, :], ends])
+    phi = np.asarray(second.signed_distance(candidates), dtype=float)
+    return candidates[int(np.argmax(phi))]
 
 
 def rigid_body_modes(

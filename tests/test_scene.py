@@ -410,3 +410,26 @@ def test_modulus_that_looks_like_gpa_is_a_warning_not_an_error():
     data["materials"][0]["youngs_modulus"] = 200.0
     scene = scene_from_dict(data, label="scene.toml")
     assert scene.warnings == ("scene.toml: materials[0].youngs_modulus = 200.0: very small for Pa (units are SI: steel is 2.0e11)",)
+
+
+@pytest.mark.parametrize("order", [("pin", "block"), ("block", "pin")])
+@pytest.mark.parametrize("shape", [
+    {"type": "half_disk", "center": [0.3, 1.0], "radius": 1.0, "side": "below"},
+    {"type": "half_ellipse", "center": [0.3, 0.5], "semi_axes": [1.0, 0.5], "side": "below"},
+])
+def test_contact_point_on_long_straight_edges(order, shape):
+    """A curved body touching a long flat one at (0.3, 0): the finder must not be fooled by
+    the flat edge having no interior tessellation vertices, whichever body comes first."""
+    from solver.scene import _contact_frame
+
+    data = {"materials": [dict(STEEL)],
+            "bodies": [{"name": "pin", "material": "steel", "element_size": 0.05, "shape": shape},
+                       {"name": "block", "material": "steel", "element_size": 0.05,
+                        "shape": {"type": "rectangle", "min": [-3, -2], "max": [3, 0]}}],
+            "boundary_conditions": [{"body": "pin", "edge": "flat", "type": "fixed"},
+                                    {"body": "block", "edge": "bottom", "type": "fixed"}],
+            "contacts": [{"bodies": list(order), "type": "frictionless"}]}
+    problem = scene_from_dict(data).problem
+    point, normal = _contact_frame(problem, problem.contacts[0])
+    assert np.allclose(point, [0.3, 0.0], atol=1e-7)
+    assert np.allclose(normal, [0.0, 1.0] if order[1] == "block" else [0.0, -1.0], atol=1e-6)
