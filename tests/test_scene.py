@@ -383,9 +383,12 @@ def test_rigid_body_modes_agree_with_the_null_space_of_a_hand_built_matrix():
 
 
 def test_examples_load():
-    for path in sorted((ROOT / "examples" / "single_body").glob("*.toml")):
+    """Every example scene (SPEC section 5 and the single-body ones) validates as it is."""
+    paths = sorted((ROOT / "examples").glob("*.toml")) + sorted((ROOT / "examples" / "single_body").glob("*.toml"))
+    assert len(paths) >= 4
+    for path in paths:
         scene = load_scene(path)
-        assert scene.problem.bodies and scene.warnings == ()
+        assert scene.problem.bodies and scene.warnings == (), path
 
 
 def test_solver_section_accepts_options_the_solver_adds(monkeypatch):
