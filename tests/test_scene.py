@@ -2,6 +2,7 @@
 messages (file, key path, value), and the rigid-body check against hand-derived answers."""
 
 import copy
+import sys
 import json
 import math
 from pathlib import Path
@@ -436,3 +437,29 @@ def test_contact_point_on_long_straight_edges(order, shape):
     point, normal = _contact_frame(problem, problem.contacts[0])
     assert np.allclose(point, [0.3, 0.0], atol=1e-7)
     assert np.allclose(normal, [0.0, 1.0] if order[1] == "block" else [0.0, -1.0], atol=1e-6)
+
+
+def test_onshape_shape_goes_to_the_importer_with_its_path_resolved(tmp_path, monkeypatch):
+    import types
+
+    from geometry.shapes import profile_from_shape
+
+    seen = {}
+
+    def fake_profile_from_shape(shape, where="shape"):
+        seen.update(shape=dict(shape), where=where)
+        return profile_from_shape({"type": "rectangle", "min": [0, 0], "max": [2, 1]})
+
+    fake = types.ModuleType("importers.onshape.profile")
+    fake.profile_from_shape = fake_profile_from_shape
+    monkeypatch.setitem(sys.modules, "importers.onshape.profile", fake)
+    import importers.onshape
+
+    monkeypatch.setattr(importers.onshape, "profile", fake, raising=False)
+    data = plate()
+    data["bodies"][0]["shape"] = {"type": "onshape", "path": "cache/block", "face": "JHD"}
+    (tmp_path / "scene.toml").write_text("")
+    scene = scene_from_dict(data, label="scene.toml", base_dir=tmp_path)
+    assert seen["shape"] == {"type": "onshape", "path": str(tmp_path / "cache" / "block"), "face": "JHD"}
+    assert seen["where"] == "bodies[0].shape"
+    assert scene.problem.body("plate").profile.edge_names == ("bottom", "right", "top", "left")
