@@ -268,6 +268,16 @@ class BoundedCurve(ABC):
         """Where the curve's smoothness may break (knots); the length table starts here."""
         return np.array([self.t_start, self.t_end])
 
+    def breakpoints(self) -> np.ndarray:
+        """Sorted parameters, ends included, between which the curve is smooth (analytic):
+        B-spline knots; for arcs also quarter-turn points (harmless extra splits)."""
+        return np.unique(np.asarray(self._breakpoints(), dtype=float))
+
+    @cached_property
+    def _samples(self) -> tuple[np.ndarray, np.ndarray]:
+        grid = self._sample_grid()
+        return grid, self.evaluate(grid)
+
     @cached_property
     def _length_table(self) -> tuple[np.ndarray, np.ndarray]:
         """(t_k, s_k): panel ends and the arc length up to them, to ~1e-15 relative.
@@ -375,8 +385,7 @@ class BoundedCurve(ABC):
         neighbouring samples (clamped to the curve), and the second-best local minimum too
         where it could still win (its sampled distance is within one sample spacing of the
         best one). The end points are candidates as well."""
-        grid = self._sample_grid()
-        S = self.evaluate(grid)
+        grid, S = self._samples
         M = len(grid)
         spacing = float(np.max(np.sqrt(np.sum(np.diff(S, axis=0) ** 2, axis=1))))
         n = len(P)
@@ -463,10 +472,15 @@ class BoundedCurve(ABC):
         def f(t):
             return self.evaluate(t)[:, axis] - value
 
-        grid = self._sample_grid()
-        if np.all(f(grid) == 0.0):
+        grid, S = self._samples
+        fs = S[:, axis] - value
+        if np.all(fs == 0.0):
             return np.array([self.t_start, self.t_end])
-        return _dedupe_sorted(_roots_on_grid(f, grid), abs(self.t_end - self.t_start))
+        zeros = grid[fs == 0.0]
+        change = (fs[:-1] * fs[1:]) < 0.0
+        if np.any(change):
+            zeros = np.concatenate([zeros, _bisect(f, grid[:-1][change], grid[1:][change], fs[:-1][change])])
+        return _dedupe_sorted(zeros, abs(self.t_end - self.t_start))
 
     # -- quadrature ------------------------------------------------------------------------
 
@@ -1036,8 +1050,9 @@ class EllipticArc(BoundedCurve):
         # elongated ellipses (the speed varies fastest there)
         k = np.arange(-8, 9) * (0.5 * math.pi)
         t = self._t_of_angle(k)
-        t = t[(t > 0.0) & (t < self.sweep)]
-        return np.unique(np.concatenate([[0.0, self.sweep], t]))
+        t = t[(t > 1e-9 * self.sweep) & (t < self.sweep * (1.0 - 1e-9))]
+        # the same axis end reached from different k differs in the last bits: merge them
+        return _dedupe_sorted(np.concatenate([[0.0, self.sweep], t]), 1e5 * self.sweep)
 
     def _sample_grid(self) -> np.ndarray:
         bp = self._breakpoints()

@@ -32,6 +32,7 @@ CURVES = {
     "circle": Arc((0.0, 0.0), 2.0, 0.0, 2 * math.pi, "c"),
     "ellipse_arc": EllipticArc((0.2, 0.1), (3.0, 1.0), 25.0, math.radians(-100), math.radians(120), "e"),
     "ellipse_cw": EllipticArc((0.2, 0.1), (1.0, 2.5), -40.0, math.radians(160), math.radians(-80), "e"),
+    "ellipse_thin": EllipticArc((0.0, 0.0), (3.0, 0.15), 15.0, math.radians(200), math.radians(-10), "e"),
     "nurbs": quarter_circle_nurbs(),
     "bspline": wavy_bspline(),
 }
@@ -114,7 +115,15 @@ def test_nurbs_quarter_circle_is_exact():
 @pytest.mark.parametrize("key", list(CURVES))
 def test_projection_matches_dense_sampling(key):
     curve = CURVES[key]
-    P = np.vstack([RNG.uniform(-4, 5, (300, 2)), curve.evaluate(RNG.uniform(curve.t_start, curve.t_end, 20))])
+    # random points, points near the centre of ellipses (inside the evolute: several local
+    # minima) and points on the curve
+    P = np.vstack(
+        [
+            RNG.uniform(-4, 5, (300, 2)),
+            RNG.normal(getattr(curve, "center", np.zeros(2)), 0.3, (60, 2)),
+            curve.evaluate(RNG.uniform(curve.t_start, curve.t_end, 20)),
+        ]
+    )
     pr = curve.project(P)
     brute, spacing = brute_force_distance(curve, P[::3])
     got = np.abs(pr.distances[::3])
@@ -321,3 +330,24 @@ def test_invalid_edges_name_the_key(d, msg):
     with pytest.raises(ValueError, match=None) as exc:
         bounded_curve_from_dict(d)
     assert msg in str(exc.value)
+
+
+@pytest.mark.parametrize("key", list(CURVES))
+def test_empty_and_single_point_queries(key):
+    curve = CURVES[key]
+    pr = curve.project(np.zeros((0, 2)))
+    assert pr.points.shape == (0, 2) and pr.distances.shape == (0,)
+    one = curve.project([0.1, 0.2])
+    assert one.points.shape == (1, 2)
+    with pytest.raises(ValueError, match="points must have shape"):
+        curve.project(np.zeros((3, 3)))
+
+
+def test_breakpoints_and_sampled_crossings_of_a_spline():
+    b = CURVES["bspline"]
+    np.testing.assert_allclose(b.breakpoints(), [0, 0.2, 0.5, 0.7, 1.0])
+    # x(t) of this spline is monotone: one crossing per vertical line, at the right place
+    for v in np.linspace(0.1, 5.9, 13):
+        t = b.axis_crossings(0, v)
+        assert t.size == 1
+        assert b.evaluate(t)[0, 0] == pytest.approx(v, abs=1e-13)
