@@ -463,3 +463,49 @@ def test_onshape_shape_goes_to_the_importer_with_its_path_resolved(tmp_path, mon
     assert seen["shape"] == {"type": "onshape", "path": str(tmp_path / "cache" / "block"), "face": "JHD"}
     assert seen["where"] == "bodies[0].shape"
     assert scene.problem.body("plate").profile.edge_names == ("bottom", "right", "top", "left")
+
+
+def test_onshape_fixture_scene_with_a_relative_path(tmp_path):
+    """The `onshape` shape end to end on the cached half-cylinder-on-block part (thesis
+    contact example): the path is relative to the scene file, edges are Onshape ids, and the
+    contact point found from the exact section curves is the touching point (0, 0)."""
+    import os
+
+    from solver.scene import _contact_frame
+
+    fixture = ROOT / "fixtures" / "onshape" / "half_cylinder_on_block"
+    if not (fixture / "bodydetails.json").exists():
+        pytest.skip("fixture not present")
+    rel = os.path.relpath(fixture, tmp_path)
+    section = {"origin": [0, 0, 0.01], "normal": [0, 0, 1]}
+
+    def shape(body):
+        return {"type": "onshape", "path": rel, "section": section, "body": body}
+
+    data = {"materials": [dict(STEEL)],
+            "bodies": [{"name": "cylinder", "material": "steel", "element_size": 0.005, "shape": shape("Half cylinder")},
+                       {"name": "block", "material": "steel", "element_size": 0.005, "shape": shape("Block")}],
+            "contacts": [{"bodies": ["cylinder", "block"], "type": "frictionless"}]}
+    # find the edges by geometry: the cylinder's flat top and the block's bottom
+    from importers.onshape.profile import profile_from_shape as onshape_profile
+
+    cyl = onshape_profile({**shape("Half cylinder"), "path": str(fixture)})
+    block = onshape_profile({**shape("Block"), "path": str(fixture)})
+
+    def edge_at(profile, pick):
+        mids = {n: profile.edges[n].evaluate(np.array([0.5 * (profile.edges[n].t_start + profile.edges[n].t_end)]))[0]
+                for n in profile.edge_names}
+        return pick(mids, key=lambda n: mids[n][1])
+
+    flat, bottom = edge_at(cyl, max), edge_at(block, min)
+    data["boundary_conditions"] = [{"body": "cylinder", "edge": flat, "type": "displacement", "value": [0.0, -1e-5]},
+                                   {"body": "block", "edge": bottom, "type": "fixed"}]
+    scene = scene_from_dict(data, label="scene.toml", base_dir=tmp_path)
+    point, normal = _contact_frame(scene.problem, scene.problem.contacts[0])
+    assert np.allclose(point, [0.0, 0.0], atol=1e-8) and np.allclose(normal, [0.0, 1.0], atol=1e-8)
+    # the cylinder alone with its flat edge held only vertically can slide: caught
+    data["boundary_conditions"][0]["value"] = ["free", -1e-5]
+    with pytest.raises(SceneError) as info:
+        scene_from_dict(data, label="scene.toml", base_dir=tmp_path)
+    (msg,) = info.value.problems
+    assert msg.startswith('scene.toml: bodies[0].name = "cylinder": rigid-body motion not prevented')
