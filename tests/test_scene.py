@@ -254,11 +254,15 @@ def test_file_errors(tmp_path):
         load_scene(tmp_path / "bad.json")
 
 
-def test_onshape_shape_without_a_usable_importer_is_a_clear_error():
+def test_onshape_shape_errors_name_the_key(monkeypatch):
     data = plate()
     data["bodies"][0]["shape"] = {"type": "onshape", "path": "fixtures/onshape/none", "face": "JHD"}
-    problems = errors_of(data)
-    assert len(problems) == 1 and problems[0].startswith("scene.toml: bodies[0].shape") and "onshape" in problems[0]
+    (msg,) = errors_of(data)
+    assert msg.startswith("scene.toml: bodies[0].shape.path: ") and "none" in msg
+    # without the importer: one clear line, no traceback
+    monkeypatch.setitem(sys.modules, "importers.onshape.profile", None)
+    (msg,) = errors_of(data)
+    assert msg.startswith("scene.toml: bodies[0].shape") and "needs the Onshape importer" in msg
 
 
 # --- rigid-body motion -------------------------------------------------------------------
