@@ -75,14 +75,7 @@ def body_volume(part, body_id: str) -> float:
 
 @lru_cache(maxsize=None)
 def cached_part(studio: str):
-    """load_part of a shipped fixture, loaded once per test session (do not mutate it);
-    skips the test while a primitive the studio needs is not registered yet."""
+    """load_part of a shipped fixture, loaded once per test session (do not mutate it)."""
     from importers.onshape import load_part
-
-    missing = missing_primitives(studio)
-    if missing:
-        import pytest
-
-        pytest.skip(f"primitives not registered yet: {missing}")
 
     return load_part(FIXTURES / studio)

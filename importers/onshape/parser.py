@@ -298,7 +298,16 @@ def _bspline_dict(desc: M.CurveDesc, reading) -> dict:
     return d
 
 
+class _Unavailable(Exception):
+    """The geometry package has no primitive of this type (yet): keep the entity as
+    tessellation-only rather than refuse the whole part."""
+
+
 def _build(d: dict, path: str):
+    from geometry._base import _REGISTRY
+
+    if d["type"] not in _REGISTRY or (d["type"] == "sweep" and d["profile"]["type"] not in _REGISTRY):
+        raise _Unavailable(d["type"])
     try:
         return primitive_from_dict(d)
     except ValueError as exc:
@@ -530,6 +539,11 @@ def _make_face(mf: M.ModelFace, body_id: str, mesh_data, path: str, part: Part, 
         surface, kind, note = surface_primitive(mf.surface, f"{path}.surface", check)
     except _Fail as exc:
         raise OnshapeFormatError(f"{DETAILS_FILE}: {exc.path}: {exc.message}") from None
+    except _Unavailable as exc:
+        kind = LEGACY_NAMES.get(mf.surface.type, mf.surface.type)
+        surface, note = None, f"geometry has no {exc.args[0]!r} primitive: kept as tessellation-only"
+        unsupported.setdefault(f"surface {kind} (no {exc.args[0]} primitive in geometry)", []).append(mf.id)
+        return _mesh_face(mf.id, kind, None, mesh_data, body_id, loops, [note])
     notes = [note] if note else []
     if surface is None:
         label = kind if kind in TESSELLATION_ONLY_SURFACES + ("SWEEP",) else f"{kind} (unknown surface type)"
@@ -570,6 +584,11 @@ def _make_edge(me: M.ModelEdge, body_id: str, polyline, path: str, part: Part, u
         curve, kind, note = curve_primitive(me.curve, f"{path}.curve", check)
     except _Fail as exc:
         raise OnshapeFormatError(f"{DETAILS_FILE}: {exc.path}: {exc.message}") from None
+    except _Unavailable as exc:
+        kind = LEGACY_NAMES.get(me.curve.type, me.curve.type)
+        unsupported.setdefault(f"curve {kind} (no {exc.args[0]} primitive in geometry)", []).append(me.id)
+        return Edge(me.id, kind, None, polyline, start, end, g.length if g else None, body_id,
+                    notes=(f"geometry has no {exc.args[0]!r} primitive",))
     if curve is None:
         label = kind if kind in TESSELLATION_ONLY_CURVES else f"{kind} (unknown curve type)"
         unsupported.setdefault(f"curve {label}", []).append(me.id)
