@@ -260,7 +260,10 @@ def test_onshape_shape_errors_name_the_key(monkeypatch):
     (msg,) = errors_of(data)
     assert msg.startswith("scene.toml: bodies[0].shape.path: ") and "none" in msg
     # without the importer: one clear line, no traceback
+    import importers.onshape
+
     monkeypatch.setitem(sys.modules, "importers.onshape.profile", None)
+    monkeypatch.delattr(importers.onshape, "profile", raising=False)
     (msg,) = errors_of(data)
     assert msg.startswith("scene.toml: bodies[0].shape") and "needs the Onshape importer" in msg
 
