@@ -101,6 +101,28 @@ def _chain(curves: list[BoundedCurve], tol: float, label: str) -> list[BoundedCu
     return out
 
 
+def _reorder(curves: list[BoundedCurve], tol: float) -> list[BoundedCurve] | None:
+    """The curves in chain order (greedy walk from the first curve matching end points), or
+    None when they do not form one closed chain."""
+    rest = list(curves[1:])
+    out = [curves[0]]
+    here = curves[0].end
+    while rest:
+        for i, c in enumerate(rest):
+            if np.linalg.norm(c.start - here) <= tol:
+                out.append(c)
+                here = c.end
+                break
+            if np.linalg.norm(c.end - here) <= tol:
+                out.append(c.reversed())
+                here = c.start
+                break
+        else:
+            return None
+        rest.pop(i)
+    return out
+
+
 def _loop_area(curves: Sequence[BoundedCurve]) -> float:
     return float(sum(c.area_integral() for c in curves))
 
@@ -110,7 +132,8 @@ class Profile:
 
     The constructor takes each loop as a sequence of bounded curves listed in order, each in
     either direction; it reverses curves so they chain end to start (gaps up to
-    ``tolerance``, default 1e-9 of the profile's size), then orients the outer loop
+    ``tolerance``, default 1e-6 of the profile's size; curves listed out of order are
+    put in order when the listed order does not chain), then orients the outer loop
     counter-clockwise and holes clockwise, so every curve's ``normal`` points out of the
     material. Edge names stay with their curves and must be unique.
     """
@@ -123,14 +146,41 @@ class Profile:
         size = float(np.linalg.norm(np.ptp(samples, axis=0)))
         if not size > 0.0:
             raise ValueError("profile has zero size")
-        tol = 1e-9 * size if tolerance is None else float(tolerance)
+        tol = 1e-6 * size if tolerance is None else float(tolerance)
         self.size = size
         self.tolerance = tol
+
+        # names first, in the order given (unnamed curves get e<k>, k their position)
+        given = [c for lp in raw for c in lp]
+        names = [c.name for c in given]
+        used = {n for n in names if n}
+        for k, nm in enumerate(names):
+            if not nm:
+                j = k
+                while f"e{j}" in used:
+                    j += 1
+                names[k] = f"e{j}"
+                used.add(names[k])
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise ValueError(f"profile edge names must be unique; repeated: {', '.join(dup)}")
+        k = 0
+        for lp in raw:
+            for j, c in enumerate(lp):
+                if c.name != names[k]:
+                    lp[j] = c.renamed(names[k])
+                k += 1
 
         loops_out: list[tuple[BoundedCurve, ...]] = []
         for i, lp in enumerate(raw):
             label = "outer loop" if i == 0 else f"hole {i - 1}"
-            chained = _chain(lp, tol, label)
+            try:
+                chained = _chain(lp, tol, label)
+            except ValueError:
+                ordered = _reorder(lp, tol)
+                if ordered is None:
+                    raise
+                chained = _chain(ordered, tol, label)
             area = _loop_area(chained)
             if area == 0.0:
                 raise ValueError(f"{label} encloses no area")
@@ -138,50 +188,33 @@ class Profile:
             if (area > 0.0) != want_ccw:
                 chained = [c.reversed() for c in reversed(chained)]
             loops_out.append(tuple(chained))
+        #: the oriented curves of each loop in chain order (outer CCW first, then holes CW)
         self.loops: tuple[tuple[BoundedCurve, ...], ...] = tuple(loops_out)
 
-        names: list[str] = []
-        edges: list[BoundedCurve] = []
-        for lp in self.loops:
-            for c in lp:
-                names.append(c.name)
-                edges.append(c)
-        used = {n for n in names if n}
-        for k, nm in enumerate(names):
-            if not nm:  # unnamed curves get e<k>, skipping names already in use
-                j = k
-                while f"e{j}" in used:
-                    j += 1
-                names[k] = f"e{j}"
-                used.add(names[k])
-                edges[k] = edges[k].renamed(names[k])
-        dup = sorted({n for n in names if names.count(n) > 1})
-        if dup:
-            raise ValueError(f"profile edge names must be unique; repeated: {', '.join(dup)}")
-        # keep loops consistent with the renamed edges
-        k = 0
-        new_loops = []
-        for lp in self.loops:
-            new_loops.append(tuple(edges[k : k + len(lp)]))
-            k += len(lp)
-        self.loops = tuple(new_loops)
+        # edges in the order given; topology from the chains
+        oriented = {c.name: c for lp in self.loops for c in lp}
+        edges = [oriented[nm] for nm in names]
         self.edge_names: tuple[str, ...] = tuple(names)
         self.edges: dict[str, BoundedCurve] = dict(zip(names, edges))
         self._edge_list = edges
+        index = {nm: k for k, nm in enumerate(names)}
 
         # loop topology: previous / next edge of every edge, end normals
-        prev, nxt, loop_of = [], [], []
-        k = 0
+        n_edges = len(edges)
+        prev = np.zeros(n_edges, dtype=np.intp)
+        nxt = np.zeros(n_edges, dtype=np.intp)
+        loop_of = np.zeros(n_edges, dtype=np.intp)
         for li, lp in enumerate(self.loops):
             m = len(lp)
-            for j in range(m):
-                prev.append(k + (j - 1) % m)
-                nxt.append(k + (j + 1) % m)
-                loop_of.append(li)
-            k += m
-        self._prev = np.array(prev)
-        self._next = np.array(nxt)
-        self.edge_loop = np.array(loop_of)
+            for j, c in enumerate(lp):
+                k = index[c.name]
+                prev[k] = index[lp[(j - 1) % m].name]
+                nxt[k] = index[lp[(j + 1) % m].name]
+                loop_of[k] = li
+        self._prev = prev
+        self._next = nxt
+        #: loop index of every edge (0 = outer)
+        self.edge_loop = loop_of
         self._t_start = np.array([c.t_start for c in edges])
         self._t_end = np.array([c.t_end for c in edges])
         # tight bounding boxes (ends and axis-extreme points) for culling in _nearest
@@ -337,30 +370,34 @@ class Profile:
         """Per loop: (points (m, 2), edge_index (m - 1,)); the polyline is closed (the last
         point repeats the first) and segment j lies on edge edge_index[j]."""
         out = []
-        k = 0
+        index = {nm: k for k, nm in enumerate(self.edge_names)}
         for lp in self.loops:
             pts, idx = [], []
-            for j, cur in enumerate(lp):
+            for cur in lp:
                 X, _ = cur.tessellate(chord_tolerance)
                 X = X.copy()
                 X[0] = cur.start
                 pts.append(X[:-1])
-                idx.append(np.full(len(X) - 1, k + j))
+                idx.append(np.full(len(X) - 1, index[cur.name]))
             P = np.vstack(pts + [pts[0][:1]])
             out.append((P, np.concatenate(idx)))
-            k += len(lp)
         return out
 
     def transformed(self, rotate_deg: float = 0.0, pivot: Any = (0.0, 0.0), translate: Any = (0.0, 0.0)) -> "Profile":
         """The profile rotated by ``rotate_deg`` about ``pivot`` and then translated."""
-        loops = [[c.transformed(rotate_deg, pivot, translate) for c in lp] for lp in self.loops]
+        loops = [[c.transformed(rotate_deg, pivot, translate) for c in lp] for lp in self._given_loops()]
         return Profile(loops, tolerance=self.tolerance)
+
+    def _given_loops(self) -> list[list[BoundedCurve]]:
+        """Each loop's (oriented) edges in the order of ``edge_names``."""
+        return [[self._edge_list[k] for k in np.flatnonzero(self.edge_loop == li)] for li in range(len(self.loops))]
 
     def to_dict(self) -> dict[str, Any]:
         """The SPEC section 4 ``profile`` shape dict (edges and holes)."""
-        d: dict[str, Any] = {"type": "profile", "edges": [c.to_dict() for c in self.loops[0]]}
-        if len(self.loops) > 1:
-            d["holes"] = [[c.to_dict() for c in lp] for lp in self.loops[1:]]
+        given = self._given_loops()
+        d: dict[str, Any] = {"type": "profile", "edges": [c.to_dict() for c in given[0]]}
+        if len(given) > 1:
+            d["holes"] = [[c.to_dict() for c in lp] for lp in given[1:]]
         return d
 
     def __repr__(self) -> str:

@@ -237,3 +237,23 @@ def test_errors():
         p.edge("front")
     assert "bottom, right, top, left" in str(exc.value)
     assert isinstance(exc.value, ValueError) and isinstance(exc.value, UnknownEdgeError)
+
+
+def test_edge_names_keep_the_given_order_and_loops_out_of_order_are_chained():
+    # clockwise square listed out of chain order
+    e = [Segment((0, 0), (0, 1), "a"), Segment((1, 0), (0, 0), "b"), Segment((0, 1), (1, 1), "c"), Segment((1, 1), (1, 0), "d")]
+    p = Profile([e])
+    assert p.edge_names == ("a", "b", "c", "d")
+    assert p.area == pytest.approx(1.0)
+    for lp in p.loops:
+        for x, y in zip(lp, lp[1:] + lp[:1]):
+            np.testing.assert_allclose(x.end, y.start, atol=1e-15)
+    (pts, idx), = p.tessellate(0.1)
+    for k, name in enumerate(p.edge_names):
+        assert np.all(np.abs(p.edge(name).project(pts[:-1][idx == k]).distances) < 1e-15)
+    q = p.transformed(rotate_deg=10.0)
+    assert q.edge_names == p.edge_names
+    assert Profile([[Segment(**{"p0": c["start"], "p1": c["end"], "name": c["name"]}) for c in p.to_dict()["edges"]]]).edge_names == p.edge_names
+    # the pseudo-normal uses the right neighbours: corners of the square
+    corners = np.array([[-1e-3, -1e-3], [1.001, 1.001], [0.001, 0.001], [0.999, 0.5]])
+    np.testing.assert_allclose(p.signed_distance(corners), [-math.sqrt(2e-6), -math.sqrt(2e-6), 1e-3, 1e-3], rtol=1e-9)
