@@ -582,13 +582,15 @@ def _profile(shape: dict[str, Any], base_dir: Path, where: str = "shape") -> Any
         try:
             from importers.onshape import profile as onshape_profile
         except ImportError as err:
-            raise ValueError(f"onshape shapes need the Onshape importer (importers.onshape.profile): {err}") from None
+            raise ValueError(
+                f'{where}.type = "onshape": needs the Onshape importer (importers.onshape.profile): {err}'
+            ) from None
         if "path" in shape:
             p = Path(str(shape["path"]))
             shape["path"] = str(p if p.is_absolute() else (base_dir / p))
         build = getattr(onshape_profile, "profile_from_shape", None)
         if build is None:
-            raise ValueError("importers.onshape.profile has no profile_from_shape(shape) function")
+            raise ValueError(f'{where}.type = "onshape": importers.onshape.profile has no profile_from_shape')
         if "where" in inspect.signature(build).parameters:
             return build(shape, where=where)
         return build(shape)
