@@ -327,3 +327,15 @@ def test_unknown_edge_and_unresolved_refinement_are_clear_errors():
     prob = Problem("e", "plane_stress", 1.0, (BodyModel("plate", prof, STEEL, 0.25),), (Fixed("nobody", "left"),))
     with pytest.raises(ValueError, match="nobody"):
         solve(prob)
+
+
+def test_nested_dissection_solve_path_matches_minimum_degree(monkeypatch):
+    import solver.ibfem as ibfem
+
+    prob = _lame_problem(27.3, 0.1)
+    ref = solve(prob)
+    monkeypatch.setattr(ibfem, "NESTED_DISSECTION_DOFS", 0)
+    nd = solve(prob)
+    assert np.allclose(nd.u, ref.u, rtol=1e-9, atol=1e-12 * np.abs(ref.u).max())
+    order = ibfem.nested_dissection(np.random.default_rng(0).integers(0, 50, (3000, 2)).astype(float))
+    assert np.array_equal(np.sort(order), np.arange(3000))
