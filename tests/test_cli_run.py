@@ -227,3 +227,22 @@ def test_missing_pyvista_skips_the_vtu_files_with_a_warning(tmp_path, capsys, mo
     assert "warning: VTU files not written: pyvista is not installed" in capsys.readouterr().err
     data = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert data["files"] == [] and "pyvista" in data["warnings"][0]
+
+
+def test_progress_on_a_terminal_rewrites_one_line():
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    clock, stream = FakeClock(), Tty()
+    rep = ProgressReporter(stream=stream, delay=1.0, clock=clock)
+    clock.t = 2.0
+    rep("assembly of a long name", 0.25)
+    clock.t = 3.0
+    rep("solve", 0.5)
+    rep.close()
+    text = stream.getvalue()
+    assert text.count("\n") == 1 and text.endswith("\n")
+    last = text.split("\r")[-1].rstrip("\n")
+    assert last.startswith("[    3.0 s] solve (50 %)")
+    assert len(last) == len("[    2.0 s] assembly of a long name (25 %)")  # padded over the longer line
