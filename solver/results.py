@@ -145,7 +145,7 @@ def build_summary(
         "model": problem.model,
         "bodies": bodies,
         "reactions": {k: np.asarray(v, dtype=float).reshape(2).tolist() for k, v in solution.reactions.items()},
-        "contacts": list(solution.contacts),
+        "contacts": [_contact_block(problem, k, c) for k, c in enumerate(solution.contacts)],
         "probes": probe_list,
         "lines": line_dict,
         "iterations": iterations,
@@ -153,6 +153,34 @@ def build_summary(
     }
     if extra:
         out.update(extra)
+    return out
+
+
+_CONTACT_KEYS = (
+    "bodies", "type", "friction", "point", "normal", "tangent", "half_width", "stick_half_width",
+    "normal_force", "tangential_force", "pressure", "shear",
+)
+
+
+def _contact_block(problem: pb.Problem, k: int, block: Mapping[str, Any]) -> dict[str, Any]:
+    """A contact block with every SPEC key, in SPEC order: what the scene defines (bodies,
+    type, friction) is filled in from the problem, ``tangent`` from its definition
+    (-n_y, n_x), and a missing result is null (an empty profile for pressure and shear);
+    further keys the solver adds follow."""
+    block = dict(block)
+    model = problem.contacts[k] if k < len(problem.contacts) else None
+    if model is not None:
+        block.setdefault("bodies", list(model.bodies))
+        block.setdefault("type", model.type)
+        block.setdefault("friction", model.friction)
+    if block.get("tangent") is None and block.get("normal") is not None:
+        n = np.asarray(block["normal"], dtype=float).reshape(2)
+        block["tangent"] = [-n[1], n[0]]
+    for key in ("pressure", "shear"):
+        if block.get(key) is None:
+            block[key] = {"s": [], "value": []}
+    out = {key: block.pop(key, None) for key in _CONTACT_KEYS}
+    out.update(block)
     return out
 
 

@@ -150,3 +150,18 @@ def test_json_safe_rejects_unknown_objects():
         results.json_safe({"x": object()})
     assert results.json_safe({"a": np.array([1.0, np.inf]), "b": np.int64(3), "c": np.bool_(True)}) == {
         "a": [1.0, None], "b": 3, "c": True}
+
+
+def test_contact_blocks_get_every_spec_key_in_order(tmp_path):
+    problem = make_problem()
+    problem = pb.Problem(name=problem.name, model=problem.model, thickness=1.0, bodies=problem.bodies,
+                         contacts=(pb.ContactModel(bodies=("upper", "lower"), type="frictional", friction=0.3),))
+    partial = {"normal": [0.6, 0.8], "normal_force": 5.0, "width_iterations": 4}
+    results.write_results(tmp_path, problem, make_solution(contacts=[partial]), vtk=False)
+    (c,) = json.loads((tmp_path / "summary.json").read_text())["contacts"]
+    assert list(c)[:12] == ["bodies", "type", "friction", "point", "normal", "tangent", "half_width",
+                            "stick_half_width", "normal_force", "tangential_force", "pressure", "shear"]
+    assert c["bodies"] == ["upper", "lower"] and c["type"] == "frictional" and c["friction"] == 0.3
+    assert c["tangent"] == [-0.8, 0.6]  # SPEC: tangent = (-n_y, n_x)
+    assert c["half_width"] is None and c["pressure"] == {"s": [], "value": []}
+    assert c["normal_force"] == 5.0 and c["width_iterations"] == 4
