@@ -406,23 +406,42 @@ class BoundedCurve(ABC):
             masked[rows, i1] = np.inf
             i2 = np.argmin(masked, axis=1)
             dsec = masked[rows, i2]
-            cands = [self._refine(p, grid, i1)]
+            cands = self._refine(p, grid, i1)
             second = np.flatnonzero(np.sqrt(dsec) < np.sqrt(d1) + spacing)
-            t2 = cands[0].copy()
             if second.size:
-                t2[second] = self._refine(p[second], grid, i2[second])
-            cands += [t2, np.full(m, self.t_start), np.full(m, self.t_end)]
+                for tc in self._refine(p[second], grid, i2[second]):
+                    t2 = cands[0].copy()
+                    t2[second] = tc
+                    cands.append(t2)
+            cands += [np.full(m, self.t_start), np.full(m, self.t_end)]
             T = np.stack(cands, axis=1)
             X = self.evaluate(T.ravel()).reshape(T.shape + (2,))
             dd = (X[..., 0] - p[:, 0, None]) ** 2 + (X[..., 1] - p[:, 1, None]) ** 2
             best_t[i0 : i0 + chunk] = T[rows, np.argmin(dd, axis=1)]
         return best_t
 
-    def _refine(self, p: np.ndarray, grid: np.ndarray, idx: np.ndarray) -> np.ndarray:
+    def _kink_parameters(self) -> np.ndarray:
+        """Interior parameters where the tangent may jump (none for smooth curves)."""
+        return np.empty(0)
+
+    def _refine(self, p: np.ndarray, grid: np.ndarray, idx: np.ndarray) -> list[np.ndarray]:
+        """Newton from sample idx within its neighbours; where that sample is a kink, the
+        two sides are refined separately (g is discontinuous there)."""
         M = len(grid)
         lo = grid[np.maximum(idx - 1, 0)]
         hi = grid[np.minimum(idx + 1, M - 1)]
-        return self._newton_closest(p, grid[idx], lo, hi)
+        kinks = self._kink_parameters()
+        at_kink = np.isin(grid[idx], kinks) if kinks.size else np.zeros(len(idx), dtype=bool)
+        if not np.any(at_kink):
+            return [self._newton_closest(p, grid[idx], lo, hi)]
+        mid = grid[idx]
+        t_main = self._newton_closest(p, grid[idx], lo, hi)
+        k = np.flatnonzero(at_kink)
+        left = t_main.copy()
+        right = t_main.copy()
+        left[k] = self._newton_closest(p[k], 0.5 * (lo[k] + mid[k]), lo[k], mid[k])
+        right[k] = self._newton_closest(p[k], 0.5 * (mid[k] + hi[k]), mid[k], hi[k])
+        return [t_main, left, right]
 
     def _newton_closest(self, p: np.ndarray, t: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """Safeguarded Newton for a zero of g(t) = X'(t).(X(t) - p) in [lo, hi]; a Newton step
@@ -1207,10 +1226,9 @@ class BSplineArc(BoundedCurve):
             c = self.control_points
         else:
             c = np.column_stack([self.control_points * self.weights[:, None], self.weights])
-        s0 = BSpline(self.knots, c, self.degree, extrapolate=False)
-        s1 = s0.derivative(1)
-        s2 = s0.derivative(2) if self.degree >= 2 else None
-        return s0, s1, s2
+        # derivatives by evaluating with nu (piecewise, so repeated interior knots are fine;
+        # BSpline.derivative refuses those)
+        return BSpline(self.knots, c, self.degree, extrapolate=False)
 
     @property
     def t_start(self) -> float:
@@ -1224,11 +1242,11 @@ class BSplineArc(BoundedCurve):
         return np.clip(_params(t), self.t_start, self.t_end)
 
     def _eval_all(self, t: np.ndarray, nu: int):
-        s0, s1, s2 = self._splines
-        H = s0(t)
-        H1 = s1(t) if nu >= 1 else None
+        s = self._splines
+        H = s(t)
+        H1 = s(t, nu=1) if nu >= 1 else None
         if nu >= 2:
-            H2 = s2(t) if s2 is not None else np.zeros_like(H)
+            H2 = s(t, nu=2) if self.degree >= 2 else np.zeros_like(H)
         else:
             H2 = None
         return H, H1, H2
@@ -1269,9 +1287,39 @@ class BSplineArc(BoundedCurve):
         pieces = [np.linspace(a, b, per + 1)[:-1] for a, b in zip(bp[:-1], bp[1:])]
         return np.concatenate(pieces + [[self.t_end]])
 
+    @cached_property
+    def kinks(self) -> np.ndarray:
+        """Interior knots of multiplicity >= degree, where the curve may have a corner."""
+        k = self.knots
+        inner, counts = np.unique(k[(k > self.t_start) & (k < self.t_end)], return_counts=True)
+        return inner[counts >= self.degree]
+
+    def _kink_parameters(self) -> np.ndarray:
+        return self.kinks
+
     def project(self, points: Any) -> BoundedProjection:
+        """Sampling and safeguarded Newton; where the closest point is a corner (a kink at a
+        knot of multiplicity >= degree) the sign of the distance comes from the pseudo-normal
+        n_left + n_right there, as at the vertices of a profile."""
         P = _points2(points)
-        return self._projection_at(P, self._project_sampled(P))
+        t = self._project_sampled(P)
+        pr = self._projection_at(P, t)
+        if self.kinks.size and len(P):
+            span = self.t_end - self.t_start
+            j = np.clip(np.searchsorted(self.kinks, t), 0, self.kinks.size - 1)
+            jl = np.clip(j - 1, 0, self.kinks.size - 1)
+            near_r = np.abs(t - self.kinks[j]) <= 1e-9 * span
+            near_l = np.abs(t - self.kinks[jl]) <= 1e-9 * span
+            kk = np.where(near_r, self.kinks[j], self.kinks[jl])
+            at = np.flatnonzero(near_r | near_l)
+            if at.size:
+                h = 1e-9 * span
+                pseudo = self.normal(kk[at] - h) + self.normal(kk[at] + h)
+                d = P[at] - pr.points[at]
+                s = d[:, 0] * pseudo[:, 0] + d[:, 1] * pseudo[:, 1]
+                dist = np.abs(pr.distances[at])
+                pr.distances[at] = np.where(s < 0.0, -dist, dist)
+        return pr
 
     def reversed(self) -> "BSplineArc":
         a, b = self.knots[0], self.knots[-1]

@@ -351,3 +351,23 @@ def test_breakpoints_and_sampled_crossings_of_a_spline():
         t = b.axis_crossings(0, v)
         assert t.size == 1
         assert b.evaluate(t)[0, 0] == pytest.approx(v, abs=1e-13)
+
+
+def test_bspline_with_a_corner_signs_by_pseudo_normal():
+    # degree-2 spline with a double knot at 0.5: a sharp corner at control point (1, 3)
+    cp = [[0, 0], [0.5, 1.5], [1, 3], [1.5, 1.5], [2, 0]]
+    b = BSplineArc(2, cp, [0, 0, 0, 0.5, 0.5, 1, 1, 1], None, "tent")
+    np.testing.assert_allclose(b.kinks, [0.5])
+    np.testing.assert_allclose(b.evaluate(0.5)[0], [1, 3])
+    # the tent runs left to right: its normal (right-hand side) points down, into the tent
+    ang = np.linspace(0.0, 2 * math.pi, 361)
+    P = np.array([1.0, 3.0]) + 0.2 * np.column_stack([np.cos(ang), np.sin(ang)])
+    pr = b.project(P)
+    # above the apex (inside the cone of the two outward-up normals) the side is "left" (-)
+    left_normal = np.array([3.0, 1.0]) / math.sqrt(10.0)  # outward normal of the left leg (up-left side)
+    right_normal = np.array([-3.0, 1.0]) / math.sqrt(10.0)
+    above = ((P - [1, 3]) @ left_normal < 0) & ((P - [1, 3]) @ right_normal < 0)
+    at_apex = np.linalg.norm(pr.points - [1, 3], axis=1) < 1e-9
+    assert np.all(pr.distances[at_apex & above] < 0)
+    brute, _ = brute_force_distance(b, P[::20])
+    np.testing.assert_allclose(np.abs(pr.distances[::20]), brute, atol=1e-9)
