@@ -532,7 +532,8 @@ class BoundedCurve(ABC):
 
         The first crossing along the walk is returned (where the chord distance is not
         monotone, later crossings are ignored); NaN where the curve ends before the chord
-        distance is reached. The distance is sampled at ``samples`` intervals and each crossing
+        distance is reached. On a closed curve (full circle or ellipse) the walk wraps around
+        once. The distance is sampled at ``samples`` intervals and each crossing
         refined by bisection to round-off; a crossing that only touches (tangency between two
         samples) can be missed.
         """
@@ -541,21 +542,32 @@ class BoundedCurve(ABC):
         if direction not in (1, -1):
             raise ValueError(f"direction must be +1 or -1, got {direction!r}")
         t_from = float(np.clip(t_from, self.t_start, self.t_end))
-        t_stop = self.t_end if direction > 0 else self.t_start
+        period = self.t_end - self.t_start
+        closed = self.is_closed
+        # walk variable w >= 0: t = t_from + direction * w, wrapped once around a closed curve
+        if closed:
+            W = period
+        else:
+            W = (self.t_end - t_from) if direction > 0 else (t_from - self.t_start)
+
+        def t_of(w):
+            t = t_from + direction * w
+            if closed:
+                t = self.t_start + np.mod(t - self.t_start, period)
+                t = np.where(w >= W, t_from, t) if W > 0 else t
+            return np.clip(t, self.t_start, self.t_end)
+
         out = np.full(chord.shape, np.nan)
-        if t_stop == t_from:
+        if W <= 0.0:
             D0 = float(np.linalg.norm(self.evaluate(t_from)[0] - origin))
-            out[chord == D0] = t_from
+            out[np.abs(chord - D0) <= 1e-14 * max(D0, 1.0)] = t_from
             return out
-        grid = np.linspace(t_from, t_stop, int(samples) + 1)
+        w = np.linspace(0.0, W, int(samples) + 1)
         bp = self._breakpoints()
-        inner = bp[(bp > min(t_from, t_stop)) & (bp < max(t_from, t_stop))]
-        if inner.size:
-            grid = np.unique(np.concatenate([grid, inner]))
-            if direction < 0:
-                grid = grid[::-1]
-        X = self.evaluate(grid)
-        D = np.hypot(X[:, 0] - origin[0], X[:, 1] - origin[1])
+        wb = np.mod(direction * (bp - t_from), period) if closed else direction * (bp - t_from)
+        w = np.unique(np.concatenate([w, wb[(wb > 0.0) & (wb < W)]]))
+        X = self.evaluate(t_of(w))
+        D = np.sqrt((X[:, 0] - origin[0]) ** 2 + (X[:, 1] - origin[1]) ** 2)
         f = D[None, :] - chord[:, None]
         # distances within round-off of the chord count as hits (origin on the curve, chord 0)
         f = np.where(np.abs(f) <= 1e-14 * (D.max() + np.abs(chord[:, None])), 0.0, f)
@@ -564,19 +576,19 @@ class BoundedCurve(ABC):
         found = hit.any(axis=1)
         j = np.argmax(hit, axis=1)
         exact = found & (f[np.arange(len(chord)), j] == 0.0)
-        out[exact] = grid[j[exact]]
+        out[exact] = t_of(w[j[exact]])
         todo = found & ~exact
         if np.any(todo):
             c = chord[todo]
 
-            def g(t):
-                Y = self.evaluate(t)
-                return np.hypot(Y[:, 0] - origin[0], Y[:, 1] - origin[1]) - c
+            def g(ww):
+                Y = self.evaluate(t_of(ww))
+                return np.sqrt((Y[:, 0] - origin[0]) ** 2 + (Y[:, 1] - origin[1]) ** 2) - c
 
             jj = j[todo]
-            out[todo] = _bisect(g, grid[jj], grid[jj + 1], f[todo, jj])
+            out[todo] = t_of(_bisect(g, w[jj], w[jj + 1], f[todo, jj]))
         tail = ~found & last
-        out[tail] = t_stop
+        out[tail] = t_of(np.array([W]))[0]
         return out
 
     # -- tessellation ----------------------------------------------------------------------

@@ -371,3 +371,20 @@ def test_bspline_with_a_corner_signs_by_pseudo_normal():
     assert np.all(pr.distances[at_apex & above] < 0)
     brute, _ = brute_force_distance(b, P[::20])
     np.testing.assert_allclose(np.abs(pr.distances[::20]), brute, atol=1e-9)
+
+
+def test_parameter_at_chord_not_monotone_returns_the_first_crossing():
+    circle = CURVES["circle"]  # r = 2, starts at (2, 0)
+    t = circle.parameter_at_chord(circle.start, [1.0, 3.9, 4.0], 0.0, 1)
+    np.testing.assert_allclose(t[:2], 2 * np.arcsin(np.array([1.0, 3.9]) / 4.0), atol=1e-13)
+    assert t[2] == pytest.approx(math.pi, abs=1e-7)  # the far point, reached once (tangency)
+    t = circle.parameter_at_chord(circle.start, [1.0], 0.0, -1)
+    np.testing.assert_allclose(t, [2 * math.pi - 2 * math.asin(0.25)], atol=1e-13)
+    # origin off the curve: the distance first falls to the chord, then rises again
+    seg = Segment((-2.0, 0.0), (2.0, 0.0), "s")
+    from geometry.bounded import BoundedCurve
+
+    for method in (seg.parameter_at_chord, lambda *a: BoundedCurve.parameter_at_chord(seg, *a)):
+        t = method((0.0, 1.0), np.array([1.5, 0.5, 3.0]), 0.0, 1)
+        np.testing.assert_allclose(t[0], 2.0 - math.sqrt(1.25), atol=1e-14)
+        assert np.isnan(t[1]) and np.isnan(t[2])  # closer than the curve ever gets / farther
