@@ -80,17 +80,22 @@ class FakeOnshape:
         path, _, query = h.path.partition("?")
         ok = self.check_auth(h, path, query)
         endpoint = path.rsplit("/", 1)[-1]
+        redirected = path.startswith("/r/")
         entry = {"path": path, "query": query, "auth_ok": ok, "t": time.monotonic(), "endpoint": endpoint}
+        if redirected:
+            path = path[2:]
         self.log.append(entry)
         if not ok:
             return self.reply(h, 401, b'{"message":"Unauthenticated API request"}')
-        plan = self.plan.get(endpoint) or []
+        plan = (self.plan.get(endpoint) or []) if not redirected else []
         if plan:
             step = plan.pop(0)
             entry["answer"] = step
             if step == "stall":
                 time.sleep(self.stall_seconds)
                 return self.reply(h, 200, b"{}")
+            if step == "redirect":  # 307 to the same resource under /r: must be re-signed
+                return self.reply(h, 307, b"", {"Location": f"/r{h.path}"})
             headers = {"Retry-After": "1"} if step == 429 else {}
             return self.reply(h, step, b'{"message":"planned failure"}', headers)
         if endpoint == "currentmicroversion":
@@ -274,3 +279,13 @@ def test_configuration_is_passed_through_and_signed(tmp_path):
         client().fetch(srv.url(query="configuration=size%3D2"), tmp_path / "p")
         qs = [e["query"] for e in srv.log if e["endpoint"] != "currentmicroversion"]
         assert all(q.startswith("configuration=size%3D2") for q in qs) and all(e["auth_ok"] for e in srv.log)
+
+
+def test_redirects_are_followed_and_re_signed(tmp_path):
+    with FakeOnshape() as srv:
+        srv.plan = {"bodydetails": ["redirect"]}
+        out = client().fetch(srv.url(), tmp_path / "p")
+        paths = [e["path"] for e in srv.log]
+    assert any(p.startswith("/r/api/v10/partstudios/") for p in paths)
+    assert all(e["auth_ok"] for e in srv.log)
+    assert (out / "bodydetails.json").read_bytes() == (FIXTURES / STUDIO / "bodydetails.json").read_bytes()
