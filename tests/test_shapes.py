@@ -159,3 +159,40 @@ def test_errors_name_the_key(d, msg):
     with pytest.raises(ValueError) as exc:
         profile_from_shape(d)
     assert msg in str(exc.value)
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    w=st.floats(0.1, 10.0),
+    h=st.floats(0.1, 10.0),
+    angle=st.floats(-360.0, 360.0),
+    tx=st.floats(-100.0, 100.0),
+    ty=st.floats(-100.0, 100.0),
+    r=st.floats(0.05, 5.0),
+    side=st.sampled_from(["below", "above", "left", "right"]),
+)
+def test_random_rigid_motions_keep_the_closed_forms(w, h, angle, tx, ty, r, side):
+    a = math.radians(angle)
+    R = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+    rng = np.random.default_rng(0)
+    # rectangle [0, w] x [0, h] turned about its corner (pivot) and moved
+    p = profile_from_shape({"type": "rectangle", "min": [0, 0], "max": [w, h], "rotate_deg": angle, "translate": [tx, ty]})
+    L = rng.uniform([-1, -1], [w + 1, h + 1], (300, 2))
+    inside = np.minimum.reduce([L[:, 0], w - L[:, 0], L[:, 1], h - L[:, 1]])
+    dx = np.maximum.reduce([-L[:, 0], np.zeros(len(L)), L[:, 0] - w])
+    dy = np.maximum.reduce([-L[:, 1], np.zeros(len(L)), L[:, 1] - h])
+    ref = np.where(inside >= 0, inside, -np.hypot(dx, dy))
+    scale = max(w, h, abs(tx), abs(ty))
+    np.testing.assert_allclose(p.signed_distance(L @ R.T + [tx, ty]), ref, atol=1e-13 * scale)
+    # half disk: phi = min(r - rho, distance to the flat) in the kept half
+    q = profile_from_shape({"type": "half_disk", "center": [0, 0], "radius": r, "side": side, "rotate_deg": angle, "translate": [tx, ty]})
+    L = rng.uniform(-1.5 * r, 1.5 * r, (300, 2))
+    keep = {"below": -L[:, 1], "above": L[:, 1], "left": -L[:, 0], "right": L[:, 0]}[side]
+    rho = np.hypot(L[:, 0], L[:, 1])
+    ok = (keep > 0) & (rho < r)
+    phi = q.signed_distance(L @ R.T + [tx, ty])
+    np.testing.assert_allclose(phi[ok], np.minimum(r - rho, keep)[ok], atol=1e-13 * max(r, abs(tx), abs(ty)))
+    assert np.all(phi[(keep < -1e-9 * r) | (rho > r * (1 + 1e-9))] < 0)
