@@ -23,7 +23,7 @@ from any point right of the root lands left of it. So:
 1. lower bound lb = max(z1, r0 z0 - r0 + 1) (each of u0, u1 <= 1 there, so Phi(lb) <= 0);
    upper bound ub from freezing one term: X = z1 / sqrt(1 - u0(lb)^2), or
    X = r0 z0 / sqrt(1 - u1(lb)^2) - (r0 - 1), whichever is smaller;
-2. start = max(lb, Newton(ub), Newton(radial guess)) (all left of the root: safe);
+2. start = max(lb, Newton(ub)) (left of the root: safe);
 3. monotone Newton steps until the step is below 2 ulp, continued only on the points that
    have not converged (the bracket needs no further safeguard: steps never leave it).
 
@@ -31,7 +31,8 @@ Special cases: z1 = 0 inside the evolute (r0 z0 < r0 - 1, the root is the pole X
 x0 = e0^2 y0 / (e0^2 - e1^2), x1 = e1 sqrt(1 - (x0/e0)^2) (Eberly's formula); the centre
 gives the co-vertex (0, e1). The iteration never forms squares of the query coordinates, so
 it neither overflows nor loses accuracy far away, and r0 - 1 = (e0 - e1)(e0 + e1)/e1^2 keeps
-nearly circular ellipses (aspect 1.0001) exact. Typical cost: 1-3 Newton steps per point.
+nearly circular ellipses (aspect 1.0001) exact. Typical cost: 3-5 evaluations of the Newton
+step per point (including the one that detects convergence).
 """
 
 from __future__ import annotations
@@ -60,8 +61,12 @@ _STEP_TOL = 4.5e-16  # relative step size below which the iteration has converge
 
 
 def _newton_step(X: np.ndarray, c0: np.ndarray, z1: np.ndarray, d: float) -> np.ndarray:
-    """Newton step for Phi(X) = (u0^2 + u1^2)^(-1/2) - 1 (module docstring); 0 where undefined."""
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+    """Newton step for Phi(X) = (u0^2 + u1^2)^(-1/2) - 1 (module docstring), for X > 0.
+
+    The result can only be NaN where the squares under- or overflow completely (|query| beyond
+    1e300 lengths); callers combine it with np.fmax, which ignores NaN.
+    """
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore", under="ignore"):
         xd = X + d
         u0 = c0 / xd
         u1 = z1 / X
@@ -78,8 +83,8 @@ def _newton_step(X: np.ndarray, c0: np.ndarray, z1: np.ndarray, d: float) -> np.
         w1 = w - 1.0
         w1 *= w
         w1 /= step
-    np.nan_to_num(w1, copy=False, nan=0.0, posinf=0.0, neginf=0.0)
     return w1
+
 
 
 def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -89,36 +94,28 @@ def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) 
     z0 = y0 / e0
     z1 = y1 / e1
     c0 = z0 * r0
-    lb = np.maximum(z1, c0 - d)
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+    special = (z1 == 0.0) & (c0 <= d)  # on the major axis inside the evolute, or the centre
+    any_special = special.any()
+    if any_special:
+        z1[special] = 1.0  # a placeholder keeping X > 0; the answer is set in closed form below
+    lb = np.maximum(z1, c0 - d)  # > 0 for every point now
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore", under="ignore"):
         # upper bounds from freezing one of u0, u1 at its value at lb (both only shrink as X grows)
         u0 = c0 / (lb + d)
         u1 = z1 / lb
         ub = z1 / np.sqrt(1.0 - u0 * u0)
         np.fmin(ub, c0 / np.sqrt(1.0 - u1 * u1) - d, out=ub)
-        ub[~np.isfinite(ub)] = 0.0
-        # guess from the point of the ellipse on the ray through the centre: t = (p - q).g / |g|^2
-        rad = np.sqrt(z0 * z0 + z1 * z1)  # a guess only: under- or overflow is caught below
-        q0 = z0 / rad
-        q1 = z1 / rad
-        g0 = q0 / e0
-        g1 = q1 / e1
-        tg = ((y0 - e0 * q0) * g0 + (y1 - e1 * q1) * g1) / (g0 * g0 + g1 * g1)
-        guess = 1.0 + tg / (e1 * e1)
-        guess[~np.isfinite(guess)] = 0.0
-    np.maximum(ub, lb, out=ub)
-    np.maximum(guess, lb, out=guess)
-    ub += _newton_step(ub, c0, z1, d)
-    guess += _newton_step(guess, c0, z1, d)
-    X = np.maximum(lb, ub)
-    np.maximum(X, guess, out=X)  # every candidate is left of the root: take the best
+        np.fmax(ub, lb, out=ub)  # also where a bound is NaN
+        np.minimum(ub, 1e300, out=ub)
+        ub += _newton_step(ub, c0, z1, d)
+        X = np.fmax(lb, ub)  # a Newton step from anywhere lands left of the root
 
     # monotone Newton; after each step keep iterating only the points that moved
     idx = None
     Xa, c0a, z1a = X, c0, z1
     for _ in range(_MAX_NEWTON):
         step = _newton_step(Xa, c0a, z1a, d)
-        np.maximum(step, 0.0, out=step)  # round-off may give a tiny negative step at the root
+        np.fmax(step, 0.0, out=step)  # round-off may give a tiny negative step at the root
         Xa += step
         moving = step > _STEP_TOL * Xa
         if idx is not None:
@@ -133,8 +130,7 @@ def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) 
     with np.errstate(invalid="ignore", divide="ignore"):
         u0 = c0 / (X + d)
         u1 = z1 / X
-    special = (z1 == 0.0) & (c0 <= d)  # on the major axis inside the evolute, or the centre
-    if special.any():
+    if any_special:
         v0 = c0[special] / d if d > 0.0 else np.zeros(int(special.sum()))
         u0[special] = v0
         u1[special] = np.sqrt(np.maximum(1.0 - v0 * v0, 0.0))
