@@ -379,12 +379,13 @@ class BoundedCurve(ABC):
     def _sample_grid(self) -> np.ndarray:
         return np.linspace(self.t_start, self.t_end, 65)
 
-    def _project_sampled(self, P: np.ndarray) -> np.ndarray:
+    def _project_sampled(self, P: np.ndarray, upper: np.ndarray | None = None) -> np.ndarray:
         """Parameters of the closest points: dense sampling, the best local minimum of the
         sampled distance refined by safeguarded Newton on g(t) = X'(t).(X(t) - p) within its
         neighbouring samples (clamped to the curve), and the second-best local minimum too
         where it could still win (its sampled distance is within one sample spacing of the
-        best one). The end points are candidates as well."""
+        best one). The end points are candidates as well. Points whose sampled distance minus
+        the sample spacing (a lower bound) is at least ``upper`` keep their best sample."""
         grid, S = self._samples
         M = len(grid)
         spacing = float(np.max(np.sqrt(np.sum(np.diff(S, axis=0) ** 2, axis=1))))
@@ -406,6 +407,15 @@ class BoundedCurve(ABC):
             masked[rows, i1] = np.inf
             i2 = np.argmin(masked, axis=1)
             dsec = masked[rows, i2]
+            if upper is not None:
+                far = np.sqrt(d1) - spacing >= upper[i0 : i0 + chunk]
+                if np.any(far):
+                    best_t[i0 : i0 + chunk][far] = grid[i1[far]]
+                    near = np.flatnonzero(~far)
+                    if near.size:
+                        sub = self._project_sampled(p[near])
+                        best_t[i0 : i0 + chunk][near] = sub
+                    continue
             cands = self._refine(p, grid, i1)
             second = np.flatnonzero(np.sqrt(dsec) < np.sqrt(d1) + spacing)
             if second.size:
@@ -472,6 +482,14 @@ class BoundedCurve(ABC):
             t[active], lo[active], hi[active] = t_new, la, ha
             active = active[~done]
         return t
+
+    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(signed distances, parameters) of the projection, without the points and normals
+        (profiles need only these for all points; closed forms override it). Where ``upper``
+        (n,) is given, a result whose distance is >= upper may be any such value (the caller
+        already has something closer)."""
+        pr = self.project(P)
+        return pr.distances, pr.parameters
 
     def _projection_at(self, P: np.ndarray, t: np.ndarray) -> BoundedProjection:
         c = self.evaluate(t)
@@ -727,6 +745,22 @@ class Segment(BoundedCurve):
         n[:, 1] = -ux
         return BoundedProjection(points=np.stack([cx, cy], axis=1), normals=n, distances=dist, parameters=t)
 
+    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        L, u = self._frame
+        (x0, y0), (x1, y1) = self.p0, self.p1
+        ux, uy = float(u[0]), float(u[1])
+        dx = P[:, 0] - x0
+        dy = P[:, 1] - y0
+        t = dx * ux
+        t += dy * uy
+        np.clip(t, 0.0, L, out=t)
+        f = t / L
+        rx = dx - f * (x1 - x0)
+        ry = dy - f * (y1 - y0)
+        dist = np.sqrt(rx * rx + ry * ry)
+        side = rx * uy - ry * ux
+        return np.where(side < 0.0, -dist, dist), t
+
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
         axis = _axis(axis)
         a, b = self.p0[axis], self.p1[axis]
@@ -914,6 +948,20 @@ class Arc(BoundedCurve):
                 t = np.where(outside, np.where(ds <= de, 0.0, self.sweep), t)
         return self._projection_at(P, t)
 
+    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        dx = P[:, 0] - self.center[0]
+        dy = P[:, 1] - self.center[1]
+        t = self._t_of_angle(np.arctan2(dy, dx))
+        # foot on the arc: p - c = (rho - r) e_r and n = sense e_r
+        sd = self.sense * (np.sqrt(dx * dx + dy * dy) - self.radius)
+        if not self.is_closed:
+            out = np.flatnonzero(t > self.sweep)
+            if out.size:
+                pr = self.project(P[out])
+                sd[out] = pr.distances
+                t[out] = pr.parameters
+        return sd, t
+
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
         axis = _axis(axis)
         k = (float(value) - self.center[axis]) / self.radius
@@ -1096,9 +1144,16 @@ class EllipticArc(BoundedCurve):
         (four normals to the ellipse), which may have an interior local minimum on the arc:
         those go through sampling and safeguarded Newton."""
         P = _points2(points)
+        return self._projection_at(P, self._parameters(P))
+
+    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        pr = self._projection_at(P, self._parameters(P, upper))
+        return pr.distances, pr.parameters
+
+    def _parameters(self, P: np.ndarray, upper: np.ndarray | None = None) -> np.ndarray:
         kernel = _ellipse_kernel()
         if kernel is None:
-            return self._projection_at(P, self._project_sampled(P))
+            return self._project_sampled(P)
         a, b = self.semi_axes
         R = self._R
         dx = P[:, 0] - self.center[0]
@@ -1116,11 +1171,17 @@ class EllipticArc(BoundedCurve):
                 t_off = np.where(ds <= de, 0.0, self.sweep)
                 # inside the evolute: (a x)^(2/3) + (b y)^(2/3) < |a^2 - b^2|^(2/3) (with margin)
                 ev = np.cbrt((a * qx[off]) ** 2) + np.cbrt((b * qy[off]) ** 2)
-                inner = np.flatnonzero(ev <= np.cbrt((a * a - b * b) ** 2) * (1.0 + 1e-6))
+                inside_evolute = ev <= np.cbrt((a * a - b * b) ** 2) * (1.0 + 1e-6)
+                if upper is not None:
+                    # the full ellipse is nearer than the arc: where even it is beyond the
+                    # caller's best distance, the arc cannot win and the end point will do
+                    foot = np.sqrt((qx[off] - cx[off]) ** 2 + (qy[off] - cy[off]) ** 2)
+                    inside_evolute &= foot < upper[off]
+                inner = np.flatnonzero(inside_evolute)
                 if inner.size:
                     t_off[inner] = self._project_sampled(Po[inner])
                 t[off] = t_off
-        return self._projection_at(P, t)
+        return t
 
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
         axis = _axis(axis)
@@ -1309,12 +1370,18 @@ class BSplineArc(BoundedCurve):
     def _kink_parameters(self) -> np.ndarray:
         return self.kinks
 
+    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        pr = self._project(P, upper)
+        return pr.distances, pr.parameters
+
     def project(self, points: Any) -> BoundedProjection:
         """Sampling and safeguarded Newton; where the closest point is a corner (a kink at a
         knot of multiplicity >= degree) the sign of the distance comes from the pseudo-normal
         n_left + n_right there, as at the vertices of a profile."""
-        P = _points2(points)
-        t = self._project_sampled(P)
+        return self._project(_points2(points))
+
+    def _project(self, P: np.ndarray, upper: np.ndarray | None = None) -> BoundedProjection:
+        t = self._project_sampled(P, upper)
         pr = self._projection_at(P, t)
         if self.kinks.size and len(P):
             span = self.t_end - self.t_start

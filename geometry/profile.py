@@ -287,21 +287,21 @@ class Profile:
                 idx = np.flatnonzero(np.hypot(gx, gy) < best)
                 if idx.size == 0:
                     continue
-                pr = curve.project(P[idx])
-                d = np.abs(pr.distances)
+                dist_k, t_k = curve._nearest_signed(P[idx], best[idx])
+                d = np.abs(dist_k)
                 better = d < best[idx]
                 j = idx[better]
                 best[j] = d[better]
                 edge[j] = k
-                tpar[j] = pr.parameters[better]
-                sd[j] = pr.distances[better]
+                tpar[j] = t_k[better]
+                sd[j] = dist_k[better]
             else:
-                pr = curve.project(P)
-                d = np.abs(pr.distances)
+                dist_k, t_k = curve._nearest_signed(P)
+                d = np.abs(dist_k)
                 better = d < best
                 np.copyto(best, d, where=better)
-                np.copyto(tpar, pr.parameters, where=better)
-                np.copyto(sd, pr.distances, where=better)
+                np.copyto(tpar, t_k, where=better)
+                np.copyto(sd, dist_k, where=better)
                 edge[better] = k
         return best, edge, tpar, sd
 
