@@ -129,24 +129,26 @@ def rows(m: int) -> np.ndarray:
 
 def unit_radial(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """rho = |(x, y)| and the unit direction (x, y)/rho; (1, 0) where rho == 0."""
-    rho = x * x
-    rho += y * y
-    np.sqrt(rho, out=rho)  # ten times faster than np.hypot; hypot below where squares underflow
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+        rho = x * x
+        rho += y * y
+        np.sqrt(rho, out=rho)  # ten times faster than np.hypot, which is used below where needed
         cx = x / rho
         cy = y / rho
-    tiny = rho < 1e-150
-    if tiny.any():
-        # squares underflow here: rescale by a power of two (exact) first
-        xt = x[tiny] * _BIG
-        yt = y[tiny] * _BIG
+    bad = (rho < 1e-150) | (rho > 1e150)
+    if bad.any():
+        # the squares under- or overflowed: hypot, after an exact power-of-two rescaling of tiny
+        # values (hypot alone keeps too few bits for denormal inputs)
+        scale = np.where(rho[bad] < 1e-150, _BIG, 1.0)
+        xt = x[bad] * scale
+        yt = y[bad] * scale
         rt = np.hypot(xt, yt)
         zero = rt == 0.0
         rt[zero] = 1.0
         xt[zero] = 1.0  # exactly on the axis: the fixed direction (1, 0)
-        cx[tiny] = xt / rt
-        cy[tiny] = yt / rt
-        rho[tiny] = np.where(zero, 0.0, rt / _BIG)
+        cx[bad] = xt / rt
+        cy[bad] = yt / rt
+        rho[bad] = np.where(zero, 0.0, rt / scale)
     return rho, cx, cy
 
 

@@ -136,25 +136,27 @@ class Sphere(Surface):
         for s in blocks(n):
             c = pts[s].T - self._o[:, None]  # (3, m), rows contiguous
             x, y, z = c
-            rxy = x * x
-            rxy += y * y
-            rho = rxy + z * z
-            np.sqrt(rho, out=rho)
-            with np.errstate(invalid="ignore", divide="ignore"):
+            with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+                rxy = x * x
+                rxy += y * y
+                rho = rxy + z * z
+                np.sqrt(rho, out=rho)
                 c /= rho
-            tiny = rho < 1e-150
-            if tiny.any():
-                # squares underflow here: rescale by a power of two (exact) first
-                ct = (pts[s][tiny] - self._o).T * 2.0**600
+            bad = (rho < 1e-150) | (rho > 1e150)
+            if bad.any():
+                # squares under- or overflowed: rescale by a power of two (exact) first
+                ct = (pts[s][bad] - self._o).T
+                scale = np.where(np.max(np.abs(ct), axis=0) < 1e-140, 2.0**600, 2.0**-600)
+                ct *= scale
                 rt = np.sqrt(np.einsum("ij,ij->j", ct, ct))
                 zero = rt == 0.0
                 ct[:, zero] = np.array([[0.0], [0.0], [1.0]])  # the centre: fixed direction e_z
                 rt[zero] = 1.0
-                c[:, tiny] = ct / rt
-                rho[tiny] = np.where(zero, 0.0, rt * 2.0**-600)
+                c[:, bad] = ct / rt
+                rho[bad] = np.where(zero, 0.0, rt / scale)
             np.subtract(rho, R, out=dist[s])
             uv[s, 0] = np.arctan2(y, x)
-            np.multiply(x, x, out=rxy)
+            np.multiply(x, x, out=rxy)  # x, y, z are the unit normal's components now
             rxy += y * y
             np.sqrt(rxy, out=rxy)
             uv[s, 1] = np.arctan2(z, rxy)
