@@ -557,3 +557,29 @@ def test_round_trip_through_json(kind, data):
     for key in ("direction", "normal", "axis"):
         if key in out:
             assert abs(np.linalg.norm(out[key]) - 1) < 4 * EPS
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_huge_and_tiny_coordinates(kind):
+    """Squares of 1e200 overflow and of 1e-200 underflow: answers stay finite and exact."""
+    d = {
+        "line": line_dict([0, 0, 0], [1, 2, 2]),
+        "circle": {"type": "circle", "origin": [0, 0, 0], "normal": [0, 0, 1], "radius": 1.0},
+        "plane": {"type": "plane", "origin": [0, 0, 0], "normal": [0, 0, 1]},
+        "sphere": {"type": "sphere", "origin": [0, 0, 0], "radius": 1.0},
+        "cylinder": {"type": "cylinder", "origin": [0, 0, 0], "axis": [0, 0, 1], "radius": 1.0},
+        "cone": {"type": "cone", "origin": [0, 0, 0], "axis": [0, 0, 1], "radius": 1.0, "half_angle": 0.4},
+        "torus": {"type": "torus", "origin": [0, 0, 0], "axis": [0, 0, 1], "major_radius": 1.0, "minor_radius": 0.5},
+    }[kind]
+    prim = primitive_from_dict(d)
+    direction = unit([3.0, 4.0, 0.0])
+    p = np.array([1e200 * direction, 1e-200 * direction, 5e-324 * np.array([1.0, 1.0, 0.0])])
+    with np.errstate(over="raise", invalid="raise", divide="raise"):  # (underflow is legitimate)
+        pr = prim.project(p)
+    assert np.all(np.isfinite(pr.points)) and np.all(np.isfinite(pr.distances))
+    assert np.allclose(norms(pr.normals), 1.0, rtol=0, atol=1e-15)
+    if kind in ("circle", "sphere", "cylinder"):
+        # radial direction kept exactly, even for denormal coordinates
+        assert np.allclose(pr.normals[:2], direction, atol=1e-15)
+        assert np.allclose(pr.normals[2], unit([1.0, 1.0, 0.0]), atol=1e-15)
+        assert np.allclose(pr.distances, [1e200 - 1.0, -1.0, -1.0], rtol=1e-15)
