@@ -423,10 +423,12 @@ class BoundedCurve(ABC):
                     t2 = cands[0].copy()
                     t2[second] = tc
                     cands.append(t2)
-            cands += [np.full(m, self.t_start), np.full(m, self.t_end)]
             T = np.stack(cands, axis=1)
             X = self.evaluate(T.ravel()).reshape(T.shape + (2,))
             dd = (X[..., 0] - p[:, 0, None]) ** 2 + (X[..., 1] - p[:, 1, None]) ** 2
+            # the end points too (their samples are S[0] and S[-1])
+            T = np.column_stack([T, np.full(m, self.t_start), np.full(m, self.t_end)])
+            dd = np.column_stack([dd, d2[:, 0], d2[:, -1]])
             best_t[i0 : i0 + chunk] = T[rows, np.argmin(dd, axis=1)]
         return best_t
 
@@ -465,9 +467,7 @@ class BoundedCurve(ABC):
             if active.size == 0:
                 break
             ta, la, ha, pa = t[active], lo[active], hi[active], p[active]
-            X = self.evaluate(ta)
-            d1 = self.derivative(ta)
-            d2 = self.second_derivative(ta)
+            X, d1, d2 = self._derivatives2(ta)
             rx = X[:, 0] - pa[:, 0]
             ry = X[:, 1] - pa[:, 1]
             g = d1[:, 0] * rx + d1[:, 1] * ry
@@ -482,6 +482,10 @@ class BoundedCurve(ABC):
             t[active], lo[active], hi[active] = t_new, la, ha
             active = active[~done]
         return t
+
+    def _derivatives2(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """X, dX/dt and d2X/dt2 at t (one pass where the curve can share the work)."""
+        return self.evaluate(t), self.derivative(t), self.second_derivative(t)
 
     def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(signed distances, parameters) of the projection, without the points and normals
@@ -1349,6 +1353,17 @@ class BSplineArc(BoundedCurve):
         X = H[:, :2] / w
         X1 = (H1[:, :2] - X * H1[:, 2:3]) / w
         return (H2[:, :2] - 2.0 * X1 * H1[:, 2:3] - X * H2[:, 2:3]) / w
+
+    def _derivatives2(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        t = self._clip(t)
+        H, H1, H2 = self._eval_all(t, 2)
+        if self.weights is None:
+            return H, H1, H2
+        w = H[:, 2:3]
+        X = H[:, :2] / w
+        X1 = (H1[:, :2] - X * H1[:, 2:3]) / w
+        X2 = (H2[:, :2] - 2.0 * X1 * H1[:, 2:3] - X * H2[:, 2:3]) / w
+        return X, X1, X2
 
     def _breakpoints(self) -> np.ndarray:
         k = self.knots
