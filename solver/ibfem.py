@@ -183,12 +183,8 @@ class BodyDiscretisation:
         inner = np.nonzero(g.status != CUT)[0]
         k_cut = cell_stiffness(g.moments[cut], km) + alpha * k_full
         cells = np.concatenate([inner, cut])
-        data = np.concatenate([np.broadcast_to(k_full.ravel(), (len(inner), 64)).ravel(), k_cut.ravel()])
-        dofs = self.cell_dofs(cells).astype(np.int32)
-        rows = np.broadcast_to(dofs[:, :, None], (len(cells), 8, 8)).ravel()
-        cols = np.broadcast_to(dofs[:, None, :], (len(cells), 8, 8)).ravel()
-        n = 2 * len(g.nodes)
-        k = sp.coo_matrix((data, (rows, cols)), shape=(n, n)).tocsr()
+        k_cells = np.concatenate([np.broadcast_to(k_full, (len(inner), 8, 8)), k_cut])
+        k = assemble_blocks(g.cells[cells], k_cells, len(g.nodes))
         if g.n_hanging:
             t = sp.kron(g.constraint, sp.identity(2), format="csr")
             k = (t.T @ k @ t).tocsr()
@@ -227,6 +223,26 @@ class BodyDiscretisation:
         if self.boundary.exact:
             return phi >= -tol
         return self.boundary.inside(points, phi) | (np.abs(phi) <= tol)
+
+
+def assemble_blocks(cell_nodes: np.ndarray, k_cells: np.ndarray, n_nodes: int) -> sp.csr_matrix:
+    """Sum cell matrices (m, 8, 8) over node dofs [x0, y0, x1, ...] into a sparse matrix.
+
+    Works on 2x2 node blocks (16 per cell instead of 64 scalar triplets): one sort of the node
+    pairs, four bincounts, and a BSR matrix converted to CSR. Hand-written because scipy's
+    COO -> CSR conversion sorts all 64 scalar triplets per cell, about 3 times slower here.
+    """
+    m = len(cell_nodes)
+    nodes = cell_nodes.astype(np.int64)
+    key = (nodes[:, :, None] * n_nodes + nodes[:, None, :]).ravel()
+    unique_keys, inverse = np.unique(key, return_inverse=True)
+    blocks = np.ascontiguousarray(k_cells.reshape(m, 4, 2, 4, 2).transpose(0, 1, 3, 2, 4)).reshape(-1, 4)
+    summed = np.empty((len(unique_keys), 4))
+    for j in range(4):
+        summed[:, j] = np.bincount(inverse, blocks[:, j], minlength=len(unique_keys))
+    rows = unique_keys // n_nodes
+    indptr = np.searchsorted(rows, np.arange(n_nodes + 1))
+    return sp.bsr_matrix((summed.reshape(-1, 2, 2), unique_keys % n_nodes, indptr), shape=(2 * n_nodes, 2 * n_nodes)).tocsr()
 
 
 def _zones(body, h0) -> tuple[RefinementZone, ...]:
