@@ -19,6 +19,8 @@ the full field U = K0^-1 (F0 + B^T (f_c - K_c x)) is recovered once per load ste
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import dataclasses
 import math
 import time
@@ -42,9 +44,42 @@ from .step_boundary import (
     thin_band_traction,
 )
 
-__all__ = ["ContactSettings", "solve_contact", "resolve_contact_point"]
+__all__ = ["ContactSettings", "solve_contact", "resolve_contact_point", "single_threaded_blas"]
 
-WIDTH_UPDATES = ("bisection", "thesis")
+
+@contextlib.contextmanager
+def single_threaded_blas():
+    """Run dense linear algebra on one OpenBLAS thread, restoring the previous count.
+
+    The width iterations factor dense matrices of a few hundred rows: threads gain nothing
+    there, and on a loaded machine OpenBLAS's spinning threads made a 536 x 536 Cholesky
+    25 times slower (0.4 s against 15 ms, measured). threadpoolctl is not a dependency, so
+    the OpenBLAS libraries numpy and scipy loaded are driven through ctypes; without them
+    this does nothing."""
+    handles = []
+    try:
+        paths = {ln.split()[-1] for ln in open("/proc/self/maps") if "openblas" in ln.lower()}
+    except OSError:
+        paths = set()
+    for path in sorted(paths):
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:
+            continue
+        for prefix, suffix in (("scipy_", ""), ("scipy_", "64_"), ("", ""), ("", "64_")):
+            get = getattr(lib, f"{prefix}openblas_get_num_threads{suffix}", None)
+            put = getattr(lib, f"{prefix}openblas_set_num_threads{suffix}", None)
+            if get is not None and put is not None:
+                handles.append((put, int(get())))
+                put(1)
+                break
+    try:
+        yield
+    finally:
+        for put, n in handles:
+            put(n)
+
+WIDTH_UPDATES = ("bracket", "thesis")
 FLUXES = ("average", "body1", "body1_half")
 
 
@@ -53,13 +88,15 @@ class ContactSettings:
     """Numerical choices of the contact solution (defaults measured in benchmarks/contact.py)."""
 
     core: Settings = field(default_factory=Settings)
-    width_update: str = "bisection"  # "bisection" (safeguarded, fast) or "thesis" (sections 5.5.3-5.5.4)
+    width_update: str = "bracket"  # "bracket" (bisection on both conditions) or "thesis" (sections 5.5.3-5.5.4)
     flux: str = "average"  # consistency flux: "average" (band limit), "body1" (weight 1), "body1_half" (1/2)
     order: int = 4  # Gauss points per contact-curve piece
-    width_tolerance: float = 1.0 / 16.0  # bracket on a, in finest contact cells
-    sample_spacing: float = 0.25  # penetration/tension samples, in finest contact cells
-    gap_tolerance: float = 1e-4  # penetration: gap < -tol x (finest cell) x (mean pressure / E*)
-    tension_tolerance: float = 0.05  # tension: pressure < -tol x mean pressure
+    width_tolerance: float = 1.0 / 16.0  # bracket on a in the last load step, in finest contact cells
+    step_tolerance: float = 0.25  # bracket on a in the earlier load steps (they only start the next)
+    sample_spacing: float = 1.0 / 16.0  # penetration/tension samples, in finest contact cells
+    window: float = 0.75  # penetration / tension are judged on window means this wide (in cells) at the edges
+    gap_tolerance: float = 1e-3  # penetration: mean gap < -tol x (finest cell) x (mean pressure / E*)
+    tension_tolerance: float = 0.01  # tension: mean pressure < -tol x mean pressure
     extent_fraction: float = 0.8  # candidate region: this fraction of the innermost contact refinement radius
     max_width_iterations: int = 60
 
@@ -220,25 +257,139 @@ def _sample_state(c: _Contact, x: np.ndarray, a: float, settings: ContactSetting
 
 @dataclass
 class _Verdict:
-    penetration: int
-    tension: int
+    """Contact conditions at the region's edges. ``gap`` / ``pressure``: the smaller of the two
+    sides' mean normal gap just outside / mean pressure just inside, over a window of
+    ``settings.window`` cells; the counts are the thesis's per-sample counts."""
+
+    penetration: bool
+    tension: bool
+    gap: float
+    pressure: float
+    penetration_count: int
+    tension_count: int
     min_gap: float
     min_pressure: float
 
 
 def _judge(c: _Contact, gap, pressure, inside, a, settings: ContactSettings) -> _Verdict:
+    s = c.samples.s if len(gap) == len(c.samples.s) else None
     p_mean = max(float(np.mean(pressure[inside])) if inside.any() else 0.0, 0.0)
     g_tol = settings.gap_tolerance * c.h * max(p_mean, 1e-30) / c.e_star
+    p_tol = settings.tension_tolerance * p_mean
+    width = settings.window * c.h
     outside = ~inside
-    pen = outside & (gap < -g_tol)
-    # tension: compare with the mean pressure; a region of zero width has none
-    ten = inside & (pressure < -settings.tension_tolerance * p_mean) if p_mean > 0 else np.zeros_like(inside)
+    gaps, pressures = [], []
+    for sgn in (1.0, -1.0):
+        r = sgn * s
+        out_w = (r > a) & (r <= a + width)
+        in_w = (r <= a) & (r > a - width) & inside
+        gaps.append(float(gap[out_w].mean()) if out_w.any() else np.inf)
+        pressures.append(float(pressure[in_w].mean()) if in_w.any() else np.inf)
+    g, p = min(gaps), min(pressures)
     return _Verdict(
-        int(pen.sum()),
-        int(ten.sum()),
-        float(gap[outside].min()) if outside.any() else 0.0,
-        float(pressure[inside].min()) if inside.any() else 0.0,
+        penetration=bool(g < -g_tol),
+        tension=bool(a > 0 and p < -p_tol),
+        gap=g,
+        pressure=p,
+        penetration_count=int((outside & (gap < -g_tol)).sum()),
+        tension_count=int((inside & (pressure < -p_tol)).sum()) if p_mean > 0 else 0,
+        min_gap=float(gap[outside].min()) if outside.any() else 0.0,
+        min_pressure=float(pressure[inside].min()) if inside.any() else 0.0,
     )
+
+
+def _bracket_search(a0: float, h: float, tol: float, a_max: float, full: bool):
+    """Generator of trial half-widths; receives the verdict of each, returns the final width
+    and the bracket (a_pen, a_ten).
+
+    Phase 1 brackets the smallest width without penetration a_pen (grow / shrink by a
+    doubling step until the verdict changes, then bisect to ``tol``). Phase 2 (``full``)
+    brackets the largest width without tension a_ten above it the same way. The half-width is
+    their midpoint: with bilinear cells both conditions are only resolved to about a cell (the
+    constraint of a cell cut by the region's edge reaches beyond it, so penetration shows late,
+    and the pressure's edge oscillates), and the two err on opposite sides
+    (benchmarks/contact.py measures both). Without ``full`` the result is a_pen."""
+    step = max(0.05 * a0, 0.5 * h)
+    lo, hi = None, None  # lo: penetrates, hi: does not
+    a = a0
+    seen = {}
+    while True:
+        v = yield a
+        seen[a] = v
+        if v.penetration:
+            lo = a if lo is None else max(lo, a)
+        else:
+            hi = a if hi is None else min(hi, a)
+        if hi is None:
+            if a >= a_max:
+                raise _RegionTooSmall()
+            a = min(a + step, a_max)
+            step *= 2.0
+        elif lo is None:
+            if a <= 0.0:
+                return 0.0, (0.0, 0.0)
+            a = max(a - step, 0.0)
+            step *= 2.0
+        elif hi - lo > tol:
+            a = 0.5 * (lo + hi)
+        else:
+            break
+    a_pen = hi
+    if not full or seen[a_pen].tension:
+        return a_pen, (a_pen, a_pen)
+    # phase 2: largest width without tension, from a_pen upwards
+    lo, hi = a_pen, None  # lo: no tension, hi: tension
+    step = 0.5 * h
+    a = min(a_pen + step, a_max)
+    while True:
+        if a in seen:
+            v = seen[a]
+        else:
+            v = yield a
+            seen[a] = v
+        if v.tension:
+            hi = a
+        else:
+            lo = a
+        if hi is None:
+            if a >= a_max:
+                break
+            step *= 2.0
+            a = min(a + step, a_max)
+        elif hi - lo > tol:
+            a = 0.5 * (lo + hi)
+        else:
+            break
+    a_ten = lo
+    return 0.5 * (a_pen + a_ten), (a_pen, a_ten)
+
+
+def _thesis_search(a0: float, h: float, tol: float, a_max: float, max_iterations: int):
+    """The thesis's width update (sections 5.5.3-5.5.4): grow on penetration only, shrink on
+    tension only, the larger count decides when both are found (with half the step); the
+    step starts at the cell size each load step, is halved on a change of direction and grown
+    by 5 % while only penetration is found; stop when neither is found or the step is below
+    ``tol``."""
+    step, last, a = h, 0, a0
+    for _ in range(max_iterations):
+        v = yield a
+        pen, ten = v.penetration_count, v.tension_count
+        if not pen and not ten:
+            break
+        sign = 1 if pen >= ten else -1
+        if last and sign != last:
+            step *= 0.5
+        elif sign > 0 and not ten and last > 0:
+            step *= 1.05
+        last = sign
+        if step < tol:
+            break
+        a = float(np.clip(a + sign * step * (0.5 if (pen and ten) else 1.0), 0.0, a_max))
+    return a, (a, a)
+
+
+class _RegionTooSmall(Exception):
+    pass
 
 
 # ---------------------------------------------------------------------------------- solve
@@ -311,81 +462,14 @@ def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
     return c
 
 
-class _WidthSearch:
-    """Updates of the half-width a from the penetration / tension verdicts."""
-
-    def __init__(self, c: _Contact, a0: float, settings: ContactSettings, mode: str):
-        self.c, self.mode = c, mode
-        self.a = float(a0)
-        self.tol = settings.width_tolerance * c.h
-        self.lo, self.hi = None, None  # lo: penetration seen (a too small); hi: no penetration
-        # thesis: initial increment from the cell size; bisection: a first bracket of ~5 % of a
-        self.step = c.h if mode == "thesis" else max(0.05 * a0, 0.5 * c.h)
-        self.last_sign = 0
-        self.done = False
-        self.best = None
-
-    def update(self, v: _Verdict) -> float:
-        """Bracket a between the largest width seen to penetrate (lo) and the smallest seen not
-        to (hi): expand or shrink by a doubling step until bracketed, then bisect."""
-        a, c = self.a, self.c
-        if self.mode == "thesis":
-            return self._thesis(v)
-        if v.penetration:
-            self.lo = a if self.lo is None else max(self.lo, a)
-        else:
-            self.hi = a if self.hi is None else min(self.hi, a)
-        if self.hi is None:  # still penetrating: grow
-            nxt = min(a + self.step, c.geom.s_max())
-            self.step *= 2.0
-            if nxt <= a:
-                raise ValueError(
-                    f"contact {c.geom.bodies[0]}/{c.geom.bodies[1]}: the contact region reaches the candidate "
-                    f"region's end (s = {c.geom.s_max():.4g} m) and still penetrates; enlarge the contact "
-                    "refinement radius"
-                )
-        elif self.lo is None:  # no penetration: shrink (to zero: no contact)
-            if a <= 0.0:
-                self.done = True
-                return 0.0
-            nxt = max(a - self.step, 0.0)
-            self.step *= 2.0
-        elif self.hi - self.lo <= self.tol:
-            self.done = True
-            nxt = self.hi
-        else:
-            nxt = 0.5 * (self.lo + self.hi)
-        self.a = nxt
-        return nxt
-
-    def _thesis(self, v: _Verdict) -> float:
-        # sections 5.5.3-5.5.4: increment from the counts, halved on a change of direction,
-        # grown by 5 % while only penetration is found
-        if v.penetration and not v.tension:
-            sign = 1
-        elif v.tension and not v.penetration:
-            sign = -1
-        elif v.tension and v.penetration:
-            sign = 1 if v.penetration >= v.tension else -1
-        else:
-            self.done = True
-            return self.a
-        if self.last_sign and sign != self.last_sign:
-            self.step *= 0.5
-        elif sign > 0 and not v.tension and self.last_sign > 0:
-            self.step *= 1.05
-        step = self.step * (0.5 if (v.tension and v.penetration) else 1.0)
-        self.last_sign = sign
-        if self.step < self.tol:
-            self.done = True
-            return self.a
-        self.a = float(np.clip(self.a + sign * step, 0.0, self.c.geom.s_max()))
-        return self.a
-
-
 def solve_contact(problem, progress: Callable | None = None, settings: ContactSettings | None = None) -> IBFEMSolution:
     """Solve a problem with tied / frictionless contacts (issue 5); returns an IBFEMSolution
     whose ``contacts`` holds the SPEC section 4 contact blocks."""
+    with single_threaded_blas():
+        return _solve_contact(problem, progress, settings)
+
+
+def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     settings = settings or ContactSettings()
     core = settings.core
     report = progress or (lambda stage, fraction=None: None)
@@ -473,75 +557,102 @@ def solve_contact(problem, progress: Callable | None = None, settings: ContactSe
         return kc, fc, extra
 
     def solve_small(lam, kc, fc):
-        return sla.solve(schur + kc, lam * sbu0 + fc, assume_a="sym")
+        try:  # S + Kc is symmetric positive definite when the Nitsche terms are coercive
+            return sla.cho_solve(sla.cho_factor(schur + kc), lam * sbu0 + fc)
+        except np.linalg.LinAlgError:
+            return sla.solve(schur + kc, lam * sbu0 + fc, assume_a="sym")
 
     # ------------------------------------------------------------------ load steps
+    # With linear elasticity and a fixed contact region each load step is linear: the "Newton"
+    # iterations of eqs. 5-11 to 5-14 are re-solves with updated contact terms, one per trial
+    # width; the residual work between consecutive states is recorded (exact, on the contact dofs).
     t = time.perf_counter()
     steps = opts.load_steps
     per_step, work_history, converged = [], [], True
     widths = [2.0 * c.h for c in contacts]
+    brackets = [(0.0, 0.0)] * len(contacts)
     prev = None  # (lam, x, y, kc, fc) of the last converged state
     messages = []
+    max_it = min(opts.max_iterations, settings.max_width_iterations)
     for step in range(1, steps + 1):
         lam = step / steps
+        final = step == steps
         report(f"load step {step}/{steps}", 0.3 + 0.6 * (step - 1) / steps)
         if prev is not None and prev[0] > 0:
+            # start from the last width scaled as Hertz (a ~ sqrt(N) ~ sqrt(load))
             widths = [max(a * math.sqrt(lam / prev[0]), 2.0 * c.h) for a, c in zip(widths, contacts)]
-        searches = [_WidthSearch(c, a, settings, settings.width_update) for c, a in zip(contacts, widths)]
+        tol_cells = settings.width_tolerance if final else settings.step_tolerance
+        if settings.width_update == "thesis":
+            gens = [_thesis_search(a, c.h, settings.width_tolerance * c.h, c.geom.s_max(), max_it)
+                    for a, c in zip(widths, contacts)]
+        else:
+            gens = [_bracket_search(a, c.h, tol_cells * c.h, c.geom.s_max(), final) for a, c in zip(widths, contacts)]
+        trial = [next(gn) for gn in gens]
+        results = [None] * len(contacts)
         iters, ref_work, last = 0, None, None
-        step_ok = False
         cache = {}
-        while iters < min(opts.max_iterations, settings.max_width_iterations):
-            iters += 1
-            widths = [s.a for s in searches]
-            kc, fc, _ = assemble(widths)
-            x = solve_small(lam, kc, fc)
-            y = fc - kc @ x
-            # residual work of eq. 5-14 between consecutive states (exact, on the contact dofs)
-            old = last if last is not None else prev
-            if old is not None:
-                o_lam, o_x, o_y, o_kc, o_fc = old
-                r = fc - kc @ o_x - o_fc + o_kc @ o_x
-                work = float((x - o_x) @ r)
-                dl = lam - o_lam
-                if dl:
-                    work += dl * (dl * u0f0 + (y - o_y) @ bu0)
-                work = abs(work)
+        while True:
+            key = tuple(trial)
+            if key in cache:
+                state, verdicts = cache[key]
             else:
-                work = abs(float(lam * lam * u0f0 + lam * (y @ bu0)))
-            ref_work = work if ref_work is None else max(ref_work, work)
-            ratio = work / ref_work if ref_work > 0 else 0.0
-            last = (lam, x, y, kc, fc)
-            cache[tuple(widths)] = last
-            verdicts = []
-            for c, wh, s in zip(contacts, where, searches):
-                gap, pres, inside = _sample_state(c, x[wh], s.a, settings)
-                v = _judge(c, gap, pres, inside, s.a, settings)
-                verdicts.append(v)
-                c.history.append({"step": step, "iteration": iters, "a": s.a, "penetration": v.penetration,
-                                  "tension": v.tension, "min_gap": v.min_gap, "min_pressure": v.min_pressure,
-                                  "work_ratio": ratio})
-            work_history.append(ratio)
-            for s, v in zip(searches, verdicts):
-                if not s.done:
-                    s.update(v)
-            if all(s.done for s in searches):
-                widths = [s.a for s in searches]
-                if tuple(widths) in cache:
-                    last = cache[tuple(widths)]
-                else:  # the accepted widths were not the last solved: solve there
-                    iters += 1
-                    kc, fc, _ = assemble(widths)
-                    x = solve_small(lam, kc, fc)
-                    last = (lam, x, fc - kc @ x, kc, fc)
-                step_ok = True
+                iters += 1
+                kc, fc, _ = assemble(trial)
+                x = solve_small(lam, kc, fc)
+                y = fc - kc @ x
+                old = last if last is not None else prev
+                if old is not None:
+                    o_lam, o_x, o_y, o_kc, o_fc = old
+                    r = fc - kc @ o_x - o_fc + o_kc @ o_x
+                    work = float((x - o_x) @ r)
+                    dl = lam - o_lam
+                    if dl:
+                        work += dl * (dl * u0f0 + (y - o_y) @ bu0)
+                    work = abs(work)
+                else:
+                    work = abs(float(lam * lam * u0f0 + lam * (y @ bu0)))
+                ref_work = work if ref_work is None else max(ref_work, work)
+                ratio = work / ref_work if ref_work > 0 else 0.0
+                work_history.append(ratio)
+                state = (lam, x, y, kc, fc)
+                last = state
+                verdicts = []
+                for c, wh, a in zip(contacts, where, trial):
+                    gap, pres, inside = _sample_state(c, x[wh], a, settings)
+                    v = _judge(c, gap, pres, inside, a, settings)
+                    verdicts.append(v)
+                    c.history.append({"step": step, "iteration": iters, "a": a, "penetration": v.penetration,
+                                      "tension": v.tension, "edge_gap": v.gap, "edge_pressure": v.pressure,
+                                      "work_ratio": ratio})
+                cache[key] = (state, verdicts)
+            if all(r is not None for r in results) or iters >= max_it:
                 break
+            nxt = []
+            for k, (gn, v) in enumerate(zip(gens, verdicts)):
+                if results[k] is not None:
+                    nxt.append(results[k][0])
+                    continue
+                try:
+                    nxt.append(gn.send(v))
+                except StopIteration as stop:
+                    results[k] = stop.value
+                    nxt.append(stop.value[0])
+                except _RegionTooSmall:
+                    c = contacts[k]
+                    raise ValueError(
+                        f"contact {c.geom.bodies[0]}/{c.geom.bodies[1]}: the contact region reaches the end of the "
+                        f"candidate region (s = {c.geom.s_max():.4g} m) and still penetrates; enlarge the contact "
+                        "refinement radius"
+                    ) from None
+            trial = nxt
         per_step.append(iters)
-        widths = [s.a for s in searches]
-        prev = last
-        if not step_ok:
+        if any(r is None for r in results):
             converged = False
             messages.append(f"load step {step}: the contact width did not settle in {iters} iterations")
+            results = [r if r is not None else (a, (a, a)) for r, a in zip(results, trial)]
+        widths = [r[0] for r in results]
+        brackets = [r[1] for r in results]
+        prev = cache[tuple(widths)][0] if tuple(widths) in cache else last
     timings["iterations_s"] = time.perf_counter() - t
 
     # ------------------------------------------------------------------ results
@@ -579,7 +690,7 @@ def solve_contact(problem, progress: Callable | None = None, settings: ContactSe
         tractions[key] = (bp.points, bp.weights, tr)
 
     blocks = []
-    for c, a, info, wh in zip(contacts, widths, infos, where):
+    for c, a, info, wh, bracket in zip(contacts, widths, infos, where, brackets):
         gap, pres, inside = _sample_state(c, u[c.dofs], a, settings)
         v = _judge(c, gap, pres, inside, a, settings)
         force1 = np.zeros(2)
@@ -589,17 +700,19 @@ def solve_contact(problem, progress: Callable | None = None, settings: ContactSe
             force1 = (tr * bp.weights[:, None]).sum(axis=0)  # force on body 1 from body 2
         on2 = -force1
         nrm, tan = c.geom.normal, c.geom.tangent
-        ok = v.penetration == 0 and v.tension == 0
+        ok = not v.penetration and not v.tension
         if not ok:
             converged = False
             messages.append(
-                f"contact {c.geom.bodies[0]}/{c.geom.bodies[1]}: final state has {v.penetration} penetrating "
-                f"and {v.tension} tensile sample points (a = {a:.6g} m)"
+                f"contact {c.geom.bodies[0]}/{c.geom.bodies[1]}: final state has penetration {v.penetration} "
+                f"(edge gap {v.gap:.3g} m) and tension {v.tension} (edge pressure {v.pressure:.3g} Pa) at a = {a:.6g} m"
             )
         blocks.append(_contact_block(c, a, on2, nrm, tan, settings, u))
-        blocks[-1]["checks"] = {"penetration_points": v.penetration, "tension_points": v.tension,
+        blocks[-1]["checks"] = {"penetration": v.penetration, "tension": v.tension,
+                                "edge_gap": v.gap, "edge_pressure": v.pressure,
+                                "penetration_points": v.penetration_count, "tension_points": v.tension_count,
                                 "min_gap": v.min_gap, "min_pressure": v.min_pressure,
-                                "force_on_first": force1.tolist()}
+                                "half_width_bracket": list(bracket), "force_on_first": force1.tolist()}
     timings["results_s"] = time.perf_counter() - t
     timings["total_s"] = time.perf_counter() - t_start
     report("done", 1.0)
