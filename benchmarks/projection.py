@@ -236,7 +236,7 @@ def dense_samples(d, pts):
         return o + a * np.cos(th)[:, None] * e1 + b * np.sin(th)[:, None] * e2
     if kind == "plane":
         e1, e2 = perp(d["normal"])
-        u = np.linspace(-2 * reach, 2 * reach, 1200)
+        u = np.linspace(-2 * reach, 2 * reach, 800)
         U, V = np.meshgrid(u, u)
         return o + U.reshape(-1, 1) * e1 + V.reshape(-1, 1) * e2
     if kind == "sphere":
@@ -479,7 +479,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     n_closed = args.points or (100_000 if args.quick else 1_000_000)
     n_free = max(n_closed // 10, 1000)
-    n_check = 200 if args.quick else 500
+    n_check = 200 if args.quick else 300
     rng = np.random.default_rng(20261122)
 
     rows = []

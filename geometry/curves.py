@@ -80,10 +80,6 @@ def check_fields(d: Any, owner: str, required: tuple[str, ...], optional: tuple[
     return {k: v for k, v in d.items() if k != "type"}
 
 
-def as_list(v: np.ndarray) -> list[float]:
-    return [float(x) for x in v]
-
-
 def frozen(arr: np.ndarray) -> np.ndarray:
     arr = np.array(arr, dtype=float)
     arr.setflags(write=False)
@@ -95,11 +91,12 @@ def frame_matrix(e1: np.ndarray, e2: np.ndarray, e3: np.ndarray) -> np.ndarray:
     return frozen(np.array([e1, e2, e3], dtype=float))
 
 
-def to_local(pts: np.ndarray, frame: np.ndarray, origin_local: np.ndarray) -> np.ndarray:
-    """(3, m) local coordinates ``frame @ (p - origin)`` of an (m, 3) block (rows contiguous)."""
-    loc = frame @ pts.T
-    loc -= origin_local[:, None]
-    return loc
+def to_local(pts: np.ndarray, frame: np.ndarray, origin: np.ndarray) -> np.ndarray:
+    """(3, m) local coordinates ``frame @ (p - origin)`` of an (m, 3) block (rows contiguous).
+
+    The difference is formed first, so the rounding error is relative to |p - origin|, not |p|.
+    """
+    return frame @ (pts - origin).T
 
 
 def to_global(local: np.ndarray, frame: np.ndarray, offset: np.ndarray | None, out: np.ndarray) -> None:
@@ -182,7 +179,7 @@ class Line(Curve):
         e1, e2 = orthonormal_frame(d)
         frame = frame_matrix(e1, e2, d)
         set_fields(self, origin=tuple(map(float, o)), direction=tuple(map(float, d)))
-        set_fields(self, _o=o, _d=d, _frame=frame, _o_local=frozen(frame @ o))
+        set_fields(self, _o=o, _d=d, _frame=frame)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Line":
@@ -219,7 +216,7 @@ class Line(Curve):
         dist = np.empty(n)
         frame = self._frame
         for s in blocks(n):
-            x, y, ts = to_local(pts[s], frame, self._o_local)
+            x, y, ts = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(x, y)  # on the line: e1, a fixed perpendicular
             c = rows(len(ts))
             c[0] = cx
@@ -259,7 +256,7 @@ class Circle(Curve):
         e1, e2 = orthonormal_frame(nrm)
         frame = frame_matrix(e1, e2, nrm)
         set_fields(self, origin=tuple(map(float, o)), normal=tuple(map(float, nrm)), radius=r)
-        set_fields(self, _o=o, _n=nrm, _frame=frame, _o_local=frozen(frame @ o))
+        set_fields(self, _o=o, _n=nrm, _frame=frame)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Circle":
@@ -281,7 +278,7 @@ class Circle(Curve):
         theta = np.empty(n)
         dist = np.empty(n)
         for s in blocks(n):
-            c = to_local(pts[s], frame, self._o_local)
+            c = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(c[0], c[1])
             theta[s] = np.arctan2(cy, cx)
             np.subtract(rho, R, out=dist[s])

@@ -52,7 +52,7 @@ from ._base import (
     unit_vector,
     vector,
 )
-from .curves import blocks, check_fields, frame_matrix, frozen, require_planar_z0, set_fields, to_global3, to_local
+from .curves import blocks, check_fields, frame_matrix, require_planar_z0, set_fields, to_global3, to_local
 
 __all__ = ["Ellipse", "ellipse_closest_point_2d"]
 
@@ -217,7 +217,7 @@ class Ellipse(Curve):
             major_radius=a,
             minor_radius=b,
         )
-        set_fields(self, _o=o, _n=nrm, _frame=frame, _o_local=frozen(frame @ o))
+        set_fields(self, _o=o, _n=nrm, _frame=frame)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Ellipse":
@@ -253,7 +253,7 @@ class Ellipse(Curve):
         t = np.empty(n)
         dist = np.empty(n)
         for s in blocks(n):
-            x, y, _h = to_local(pts[s], frame, self._o_local)
+            x, y, _h = to_local(pts[s], frame, self._o)
             u0, u1 = _first_quadrant_block(a, b, np.abs(x), np.abs(y))
             cx = np.copysign(a * u0, x)  # back to the query's quadrant
             cy = np.copysign(b * u1, y)

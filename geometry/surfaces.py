@@ -40,10 +40,10 @@ from .curves import blocks, check_fields, frame_matrix, frozen, set_fields, to_g
 __all__ = ["Plane", "Sphere", "Cylinder", "Cone", "Torus"]
 
 
-def _axis_frame(axis: np.ndarray, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _axis_frame(axis: np.ndarray) -> np.ndarray:
+    """Rows e1, e2, axis with (e1, e2) from ``orthonormal_frame(axis)``."""
     e1, e2 = orthonormal_frame(axis)
-    frame = frame_matrix(e1, e2, axis)
-    return frame, frozen(frame @ origin)
+    return frame_matrix(e1, e2, axis)
 
 
 # ---------------------------------------------------------------------------------------
@@ -64,9 +64,9 @@ class Plane(Surface):
     def __post_init__(self) -> None:
         o = vector(self.origin, "origin", "plane")
         nrm = unit_vector(self.normal, "normal", "plane")
-        frame, o_local = _axis_frame(nrm, o)
+        frame = _axis_frame(nrm)
         set_fields(self, origin=tuple(map(float, o)), normal=tuple(map(float, nrm)))
-        set_fields(self, _o=o, _n=nrm, _frame=frame, _o_local=o_local)
+        set_fields(self, _o=o, _n=nrm, _frame=frame)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Plane":
@@ -84,7 +84,7 @@ class Plane(Surface):
         dist = np.empty(n)
         uv = np.empty((n, 2))
         for s in blocks(n):
-            u, v, h = to_local(pts[s], self._frame, self._o_local)
+            u, v, h = to_local(pts[s], self._frame, self._o)
             np.multiply(h[:, None], nrm, out=closest[s])
             np.subtract(pts[s], closest[s], out=closest[s])
             dist[s] = h
@@ -186,9 +186,9 @@ class Cylinder(Surface):
         o = vector(self.origin, "origin", "cylinder")
         ax = unit_vector(self.axis, "axis", "cylinder")
         r = positive(self.radius, "radius", "cylinder")
-        frame, o_local = _axis_frame(ax, o)
+        frame = _axis_frame(ax)
         set_fields(self, origin=tuple(map(float, o)), axis=tuple(map(float, ax)), radius=r)
-        set_fields(self, _o=o, _frame=frame, _o_local=o_local)
+        set_fields(self, _o=o, _frame=frame)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Cylinder":
@@ -208,7 +208,7 @@ class Cylinder(Surface):
         dist = np.empty(n)
         uv = np.empty((n, 2))
         for s in blocks(n):
-            x, y, t = to_local(pts[s], frame, self._o_local)
+            x, y, t = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(x, y)
             to_global3(cx, cy, 0, frame, None, normals[s])
             to_global3(R * cx, R * cy, t, frame, self._o, closest[s])
@@ -254,10 +254,10 @@ class Cone(Surface):
         alpha = finite(self.half_angle, "half_angle", "cone")
         if not 0.0 < alpha < math.pi / 2:
             raise ValueError(f"cone: field 'half_angle' must be in (0, pi/2) radians, got {self.half_angle!r}")
-        frame, o_local = _axis_frame(ax, o)
+        frame = _axis_frame(ax)
         set_fields(self, origin=tuple(map(float, o)), axis=tuple(map(float, ax)), radius=r, half_angle=alpha)
         t_apex = -r / math.tan(alpha)
-        set_fields(self, _o=o, _frame=frame, _o_local=o_local, _sin=math.sin(alpha), _cos=math.cos(alpha))
+        set_fields(self, _o=o, _frame=frame, _sin=math.sin(alpha), _cos=math.cos(alpha))
         set_fields(self, _t_apex=t_apex, _apex=frozen(o + t_apex * ax))
 
     @classmethod
@@ -288,7 +288,7 @@ class Cone(Surface):
         dist = np.empty(n)
         uv = np.empty((n, 2))
         for s in blocks(n):
-            x, y, t = to_local(pts[s], frame, self._o_local)
+            x, y, t = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(x, y)
             # signed distance to the generator line, written without the apex coordinate so that
             # small half-angles (apex far away) keep full accuracy near the surface
@@ -350,9 +350,9 @@ class Torus(Surface):
                 f"torus: field 'minor_radius' = {r!r} must not exceed field 'major_radius' = {R!r}"
                 " (self-intersecting spindle tori are not supported)"
             )
-        frame, o_local = _axis_frame(ax, o)
+        frame = _axis_frame(ax)
         set_fields(self, origin=tuple(map(float, o)), axis=tuple(map(float, ax)), major_radius=R, minor_radius=r)
-        set_fields(self, _o=o, _frame=frame, _o_local=o_local)
+        set_fields(self, _o=o, _frame=frame)
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Torus":
@@ -378,7 +378,7 @@ class Torus(Surface):
         dist = np.empty(n)
         uv = np.empty((n, 2))
         for s in blocks(n):
-            x, y, h = to_local(pts[s], frame, self._o_local)
+            x, y, h = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(x, y)
             dq, nr, nh = unit_radial(rho - R, h)  # on the core circle: (1, 0), away from the axis
             rc = nr * r
