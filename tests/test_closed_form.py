@@ -583,3 +583,48 @@ def test_huge_and_tiny_coordinates(kind):
         assert np.allclose(pr.normals[:2], direction, atol=1e-15)
         assert np.allclose(pr.normals[2], unit([1.0, 1.0, 0.0]), atol=1e-15)
         assert np.allclose(pr.distances, [1e200 - 1.0, -1.0, -1.0], rtol=1e-15)
+
+
+def evaluate_at_parameters(d, params):
+    """The documented parametrisations (frames from geometry._base.orthonormal_frame)."""
+    from geometry._base import orthonormal_frame
+
+    o = np.asarray(d["origin"], dtype=float)
+    kind = d["type"]
+    if kind == "line":
+        return o + params[:, None] * unit(d["direction"])
+    if kind == "circle":
+        e1, e2 = orthonormal_frame(unit(d["normal"]))
+        return o + d["radius"] * (np.cos(params)[:, None] * e1 + np.sin(params)[:, None] * e2)
+    if kind == "plane":
+        e1, e2 = orthonormal_frame(unit(d["normal"]))
+        return o + params[:, :1] * e1 + params[:, 1:] * e2
+    if kind == "sphere":
+        u, v = params[:, 0], params[:, 1]
+        return o + d["radius"] * np.c_[np.cos(v) * np.cos(u), np.cos(v) * np.sin(u), np.sin(v)]
+    a = unit(d["axis"])
+    e1, e2 = orthonormal_frame(a)
+    th = params[:, 0]
+    ring = np.cos(th)[:, None] * e1 + np.sin(th)[:, None] * e2
+    if kind == "cylinder":
+        return o + params[:, 1:] * a + d["radius"] * ring
+    if kind == "cone":
+        t = params[:, 1:]
+        return o + t * a + (d["radius"] + t * math.tan(d["half_angle"])) * ring
+    if kind == "torus":
+        phi = params[:, 1:]
+        return o + (d["major_radius"] + d["minor_radius"] * np.cos(phi)) * ring + d["minor_radius"] * np.sin(phi) * a
+    raise AssertionError(kind)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@settings(max_examples=15, deadline=None)
+@given(data=st.data(), rng_seed=seed)
+def test_parameters_reproduce_the_closest_points(kind, data, rng_seed):
+    d = data.draw(primitives(kind))
+    pts = query_points(d, np.random.default_rng(rng_seed))
+    pr = primitive_from_dict(d).project(pts)
+    expected_shape = (len(pts),) if kind in ("line", "circle") else (len(pts), 2)
+    assert pr.parameters.shape == expected_shape
+    scale = 1.0 + np.max(norms(pts - np.asarray(d["origin"])))
+    assert np.max(norms(evaluate_at_parameters(d, pr.parameters) - pr.points)) < 1e-13 * scale
