@@ -285,7 +285,8 @@ def write_plots(
     out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]
 ) -> list[Path]:
     """PNG pictures: ``fields.png`` (von Mises and displacement magnitude over every body),
-    ``line_<name>.png`` per output line, ``contact_<k>.png`` (pressure and shear) per contact."""
+    ``contact_<k>_fields.png`` (the same close to each contact point), ``line_<name>.png`` per
+    output line, ``contact_<k>.png`` (pressure and shear) per contact."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -298,45 +299,71 @@ def write_plots(
     summary = json_safe(summary)  # plain lists; None where a value is missing
     written = []
 
-    meshes = [(_body_mesh(problem, solution, b)) for b in problem.bodies]
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
-    for ax, key, title in (
-        (axes[0], "von_mises", "von Mises stress [Pa]"),
-        (axes[1], "displacement", "displacement magnitude [m]"),
-    ):
-        values = []
-        for m in meshes:
-            if key == "von_mises":
-                values.append(m["von_mises"])
-            else:  # node magnitudes averaged onto the cells
-                values.append(np.linalg.norm(m["displacement"], axis=1)[m["cells"]].mean(axis=1))
-        finite = np.concatenate(values) if values else np.zeros(0)
-        finite = finite[np.isfinite(finite)]
-        vmin, vmax = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
-        if vmax <= vmin:
-            vmax = vmin + max(abs(vmin), 1.0) * 1e-12 + 1e-300
-        for body, m, v in zip(problem.bodies, meshes, values):
-            poly = PolyCollection(m["nodes"][m["cells"]], array=v, cmap="viridis", edgecolors="none")
-            poly.set_clim(vmin, vmax)
-            ax.add_collection(poly)
-            outline = _outline_path(body)
-            if outline is not None:  # cut cells drawn only inside the exact boundary
-                patch = PathPatch(outline, facecolor="none", edgecolor="k", lw=0.6)
-                ax.add_patch(patch)
-                poly.set_clip_path(patch)
-        if meshes:
-            allnodes = np.concatenate([m["nodes"] for m in meshes])
-            ax.set_xlim(allnodes[:, 0].min(), allnodes[:, 0].max())
-            ax.set_ylim(allnodes[:, 1].min(), allnodes[:, 1].max())
+    meshes = [_body_mesh(problem, solution, b) for b in problem.bodies]
+    outlines = [_outline_path(b) for b in problem.bodies]
+
+    def field_figure(title: str, window: tuple[float, float, float, float] | None) -> Any:
+        """von Mises and displacement magnitude side by side; colour scales from the cells
+        in ``window`` (x0, x1, y0, y1), the whole scene when None."""
+        fig, axes = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
+        allnodes = np.concatenate([m["nodes"] for m in meshes])
+        x0, x1, y0, y1 = window or (allnodes[:, 0].min(), allnodes[:, 0].max(), allnodes[:, 1].min(), allnodes[:, 1].max())
+        for ax, key, label in (
+            (axes[0], "von_mises", "von Mises stress [Pa]"),
+            (axes[1], "displacement", "displacement magnitude [m]"),
+        ):
+            values, shown = [], []
+            for m in meshes:
+                if key == "von_mises":
+                    v = m["von_mises"]
+                else:  # node magnitudes averaged onto the cells
+                    v = np.linalg.norm(m["displacement"], axis=1)[m["cells"]].mean(axis=1)
+                values.append(v)
+                lo, hi = m["nodes"][m["cells"]].min(axis=1), m["nodes"][m["cells"]].max(axis=1)
+                seen = (hi[:, 0] >= x0) & (lo[:, 0] <= x1) & (hi[:, 1] >= y0) & (lo[:, 1] <= y1)
+                shown.append(v[seen & (m["fraction"] > 0)])
+            finite = np.concatenate(shown)
+            finite = finite[np.isfinite(finite)]
+            vmin, vmax = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+            if vmax <= vmin:
+                vmax = vmin + max(abs(vmin), 1.0) * 1e-12 + 1e-300
+            for m, v, outline in zip(meshes, values, outlines):
+                poly = PolyCollection(m["nodes"][m["cells"]], array=v, cmap="viridis", edgecolors="none")
+                poly.set_clim(vmin, vmax)
+                ax.add_collection(poly)
+                if outline is not None:  # cut cells drawn only inside the exact boundary
+                    patch = PathPatch(outline, facecolor="none", edgecolor="k", lw=0.6)
+                    ax.add_patch(patch)
+                    poly.set_clip_path(patch)
+            ax.set_xlim(x0, x1)
+            ax.set_ylim(y0, y1)
             fig.colorbar(poly, ax=ax, shrink=0.8)
-        ax.set_aspect("equal")
-        ax.set_title(f"{problem.name}: {title}")
-        ax.set_xlabel("x [m]")
-        ax.set_ylabel("y [m]")
-    path = out_dir / "fields.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    written.append(path)
+            ax.set_aspect("equal")
+            ax.locator_params(nbins=5)
+            ax.set_title(f"{title}: {label}", fontsize=10)
+            ax.set_xlabel("x [m]")
+            ax.set_ylabel("y [m]")
+        return fig
+
+    if meshes:
+        fig = field_figure(problem.name, None)
+        path = out_dir / "fields.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        written.append(path)
+        # a close-up of each contact: 4 half-widths (at least 8 of the finest cells) around it
+        finest = min(float(d.get("min_element_size") or b.element_size)
+                     for b, d in zip(problem.bodies, (summary["bodies"].get(b.name, {}) for b in problem.bodies)))
+        for k, c in enumerate(summary.get("contacts", [])):
+            if c.get("point") is None or None in c["point"]:
+                continue
+            half = max(4.0 * float(c.get("half_width") or 0.0), 8.0 * finest)
+            px, py = c["point"]
+            fig = field_figure(f"{problem.name}, contact {k}", (px - half, px + half, py - half, py + half))
+            path = out_dir / f"contact_{k}_fields.png"
+            fig.savefig(path, dpi=110)
+            plt.close(fig)
+            written.append(path)
 
     for name, line in summary.get("lines", {}).items():
         s = np.asarray(line.get("s") or np.linalg.norm(np.subtract(line["points"], line["points"][0]), axis=1), dtype=float)

@@ -112,7 +112,7 @@ def test_contacts_pass_through_json_safe(tmp_path):
     data = json.loads((tmp_path / "summary.json").read_text())
     c = data["contacts"][0]
     assert c["point"] == [0.5, 0.0] and c["half_width"] == 0.01 and c["pressure"]["value"] == [1.0] * 5
-    assert "contact_0.png" in data["files"]
+    assert data["files"] == ["contact_0.png", "contact_0_fields.png", "fields.png"]
 
 
 def test_vtu_files_hold_the_field(tmp_path):
