@@ -109,4 +109,15 @@ def _run(args: argparse.Namespace) -> int:
         f"{scene.name}: converged in {iterations} iterations, {summary['timings']['total_s']:.2f} s; "
         f"results in {out}/"
     )
+    for c in summary["contacts"]:
+        print("  contact " + " / ".join(c.get("bodies") or []) + ": " + _contact_line(c))
     return 0
+
+
+def _contact_line(c: dict) -> str:
+    def num(key: str, unit: str) -> str:
+        v = c.get(key)
+        return f"{key} = {float(v):.6g} {unit}" if isinstance(v, (int, float)) and v == v else f"{key} = n/a"
+
+    return ", ".join([num("half_width", "m"), num("stick_half_width", "m"), num("normal_force", "N/m"),
+                      num("tangential_force", "N/m")])

@@ -105,11 +105,19 @@ def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypat
 def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypatch):
     import solver.ibfem
 
-    monkeypatch.setattr(solver.ibfem, "solve", lambda problem, progress=None: fake_solution(converged=True))
+    def solved(problem, progress=None):
+        sol = fake_solution(converged=True)
+        sol.contacts = [{"bodies": ["plate", "pin"], "half_width": 0.0125, "normal_force": 2.5e6}]
+        return sol
+
+    monkeypatch.setattr(solver.ibfem, "solve", solved)
     path = write_plate(tmp_path)
     monkeypatch.chdir(tmp_path)
     assert main(["run", str(path), "--quiet"]) == 0
-    assert "plate: converged in 7 iterations" in capsys.readouterr().out
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("plate: converged in 7 iterations")
+    assert out[1] == ("  contact plate / pin: half_width = 0.0125 m, stick_half_width = n/a, "
+                      "normal_force = 2.5e+06 N/m, tangential_force = n/a")
     assert json.loads((tmp_path / "out" / "plate" / "summary.json").read_text())["converged"] is True
 
 
