@@ -1,0 +1,184 @@
+"""Two-body contact (solver.contact_solver): Hertz half-width for the computed force,
+equilibrium of the supports and the contact, symmetry, frictionless transmission, and errors.
+
+Fast tests use a small cylinder-on-block scene (about 10 cells across the contact); the
+validation scenes of examples/ run in the slow tests."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from solver import theory
+from solver.contact_solver import ContactSettings, solve_contact
+from solver.scene import load_scene, scene_from_dict
+
+E, NU = 2.0e11, 0.3
+E_STAR = theory.effective_modulus(E, NU, E, NU)
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def small_scene(kind="frictionless", ux=0.0, uy=-2.0e-3, load_steps=2):
+    refinement = [
+        {"levels": 2, "around": "contact", "radius": 0.4},
+        {"levels": 4, "around": "contact", "radius": 0.12},
+    ]
+    return scene_from_dict(
+        {
+            "name": "small cylinder on block",
+            "model": "plane_strain",
+            "thickness": 1.0,
+            "solver": {"load_steps": load_steps},
+            "materials": [{"name": "steel", "youngs_modulus": E, "poissons_ratio": NU}],
+            "bodies": [
+                {"name": "cyl", "material": "steel", "element_size": 0.1, "refinement": refinement,
+                 "shape": {"type": "half_disk", "center": [0, 1], "radius": 1.0, "side": "below"}},
+                {"name": "block", "material": "steel", "element_size": 0.1, "refinement": refinement,
+                 "shape": {"type": "rectangle", "min": [-1.5, -1.0], "max": [1.5, 0.0]}},
+            ],
+            "boundary_conditions": [
+                {"body": "cyl", "edge": "flat", "type": "displacement", "value": [ux, uy]},
+                {"body": "block", "edge": "bottom", "type": "fixed"},
+            ],
+            "contacts": [{"bodies": ["cyl", "block"], "type": kind, "point": [0, 0]}],
+        }
+    ).problem
+
+
+@pytest.fixture(scope="module")
+def frictionless():
+    return solve_contact(small_scene("frictionless"))
+
+
+@pytest.fixture(scope="module")
+def tied_sideways():
+    return solve_contact(small_scene("tied", ux=2.0e-4))
+
+
+def test_half_width_against_hertz_for_computed_force(frictionless):
+    c = frictionless.contacts[0]
+    assert frictionless.converged
+    a_hertz = theory.hertz_half_width(c["normal_force"], 1.0, E_STAR)
+    # about 10 cells across 2a: the width is resolved to a fraction of a cell (h / a ~ 0.2)
+    assert c["half_width"] == pytest.approx(a_hertz, rel=0.04)
+    lo, hi = c["checks"]["half_width_bracket"]
+    assert lo <= c["half_width"] <= hi
+
+
+def test_equilibrium_and_contact_force_equal_reactions(frictionless):
+    r_top = frictionless.reactions["cyl/flat"]
+    r_bottom = frictionless.reactions["block/bottom"]
+    scale = np.linalg.norm(r_top)
+    # the two bodies' supports balance (the contact passes the force through)
+    assert np.linalg.norm(r_top + r_bottom) <= 1e-6 * scale
+    c = frictionless.contacts[0]
+    # the cylinder pushes the block down: N equals the support reaction of either body
+    assert c["normal_force"] == pytest.approx(-r_top[1], rel=1e-2)
+    assert c["normal_force"] == pytest.approx(r_bottom[1], rel=1e-2)
+    # frictionless and symmetric: no tangential force
+    assert abs(c["tangential_force"]) <= 1e-8 * c["normal_force"]
+
+
+def test_pressure_profile_is_hertzian_and_symmetric(frictionless):
+    c = frictionless.contacts[0]
+    s = np.asarray(c["pressure"]["s"])
+    p = np.asarray(c["pressure"]["value"])
+    a, n = c["half_width"], c["normal_force"]
+    p0 = 2 * n / (math.pi * a)
+    np.testing.assert_allclose(p, p[::-1], atol=0.02 * p0)  # symmetric about the contact point
+    inner = np.abs(s) <= 0.9 * a
+    rms = np.sqrt(np.mean((p[inner] - theory.hertz_pressure(s[inner], a, p0)) ** 2))
+    assert rms <= 0.05 * p0
+    # zero outside the region widened by the half-cell moving average of the recovery
+    assert np.all(p[np.abs(s) > a + 0.5 * c["profile_smoothing"]] == 0.0)
+    # the sampled pressure integrates to the transmitted force
+    assert np.trapezoid(p, s) == pytest.approx(n, rel=0.02)
+
+
+def test_summary_block_follows_spec(frictionless):
+    c = frictionless.contacts[0]
+    for key in ("bodies", "type", "friction", "point", "normal", "tangent", "half_width", "stick_half_width",
+                "normal_force", "tangential_force", "pressure", "shear"):
+        assert key in c
+    np.testing.assert_allclose(c["normal"], [0.0, 1.0], atol=1e-12)
+    np.testing.assert_allclose(c["tangent"], [-1.0, 0.0], atol=1e-12)
+    assert c["stick_half_width"] == 0.0
+    assert len(frictionless.iterations["per_step"]) == 2
+
+
+def test_tied_contact_transmits_the_tangential_reaction(tied_sideways):
+    sol = tied_sideways
+    c = sol.contacts[0]
+    r_top = sol.reactions["cyl/flat"]
+    r_bottom = sol.reactions["block/bottom"]
+    assert np.linalg.norm(r_top + r_bottom) <= 1e-6 * np.linalg.norm(r_top)
+    # the force the cylinder exerts on the block balances the block's support reaction
+    assert c["tangential_force"] == pytest.approx(-r_bottom @ np.asarray(c["tangent"]), rel=1e-2)
+    assert abs(c["tangential_force"]) > 1e-3 * c["normal_force"]
+    assert c["stick_half_width"] == c["half_width"]
+    # the shear integrates to the tangential force
+    s, q = np.asarray(c["shear"]["s"]), np.asarray(c["shear"]["value"])
+    assert np.trapezoid(q, s) == pytest.approx(c["tangential_force"], rel=0.03)
+
+
+def test_thesis_width_update_reaches_a_consistent_state():
+    sol = solve_contact(small_scene("frictionless", load_steps=2), settings=ContactSettings(width_update="thesis"))
+    c = sol.contacts[0]
+    a_hertz = theory.hertz_half_width(c["normal_force"], 1.0, E_STAR)
+    assert sol.converged
+    assert c["half_width"] == pytest.approx(a_hertz, rel=0.08)
+
+
+def test_errors_name_the_field():
+    problem = small_scene("frictionless")
+    import dataclasses
+
+    bad = dataclasses.replace(problem, contacts=(dataclasses.replace(problem.contacts[0], type="frictional", friction=0.3),))
+    with pytest.raises(ValueError, match="issue 6"):
+        solve_contact(bad)
+    with pytest.raises(ValueError, match="width_update"):
+        ContactSettings(width_update="newton")
+    with pytest.raises(ValueError, match="window"):
+        ContactSettings(window=0.0)
+
+
+# ------------------------------------------------------------------------------ validation
+
+
+def _run(name):
+    scene = load_scene(EXAMPLES / name)
+    return scene, solve_contact(scene.problem)
+
+
+@pytest.mark.slow
+def test_example3_cylinder_on_cylinder_frictionless():
+    _, sol = _run("cylinder_on_cylinder_frictionless.toml")
+    c = sol.contacts[0]
+    assert sol.converged
+    a_hertz = theory.hertz_half_width(c["normal_force"], 0.5, E_STAR)
+    assert c["half_width"] == pytest.approx(a_hertz, rel=0.03)
+    assert abs(c["tangential_force"]) < 1e-3  # N: nothing tangential passes
+    r = sol.reactions
+    assert np.linalg.norm(r["upper/flat"] + r["lower/flat"]) <= 1e-6 * np.linalg.norm(r["upper/flat"])
+    # subsurface von Mises on the load axis against McEwen: 0.5575 p0 at 0.704 a
+    a, p0 = c["half_width"], 2 * c["normal_force"] / (math.pi * c["half_width"])
+    z = np.linspace(0.05, 2.0, 400) * a_hertz
+    vm = sol.von_mises(np.stack([np.zeros_like(z), -z], axis=1), body="lower")
+    k = int(np.argmax(vm))
+    peak, depth = theory.axis_peak(NU)
+    p0_hertz = 2 * c["normal_force"] / (math.pi * a_hertz)
+    assert vm[k] == pytest.approx(peak * p0_hertz, rel=0.03)
+    assert z[k] == pytest.approx(depth * a_hertz, rel=0.1)
+
+
+@pytest.mark.slow
+def test_example2_mesh_convergence_tied():
+    _, sol = _run("mesh_convergence.toml")
+    c = sol.contacts[0]
+    assert sol.converged
+    a_hertz = theory.hertz_half_width(c["normal_force"], 1.0, E_STAR)
+    assert c["half_width"] == pytest.approx(a_hertz, rel=0.03)
+    assert c["normal_force"] == pytest.approx(-sol.reactions["cylinder/flat"][1], rel=1e-2)
