@@ -120,7 +120,40 @@ def _polygon(d: dict, w: str) -> list[list[BoundedCurve]]:
         if np.array_equal(a, b):
             raise ValueError(f"{w}.points[{i}] and {w}.points[{(i + 1) % n}] coincide ({a.tolist()})")
         edges.append(Segment(a, b, names[i]))
+    crossing = _first_crossing(pts)
+    if crossing is not None:
+        i, j = crossing
+        raise ValueError(f"{w}.points: the polygon crosses itself (edges {names[i]!r} and {names[j]!r})")
     return [edges]
+
+
+def _first_crossing(pts: np.ndarray) -> tuple[int, int] | None:
+    """First pair of non-adjacent polygon edges that intersect (closed segments), if any.
+    All pairs at once: polygons in scene files have few points."""
+    n = len(pts)
+    a, b = pts, np.roll(pts, -1, axis=0)
+    i, j = np.triu_indices(n, k=2)
+    keep = ~((i == 0) & (j == n - 1))  # the last and first edges are adjacent
+    i, j = i[keep], j[keep]
+    if i.size == 0:
+        return None
+
+    def orient(p, q, r):
+        return np.sign((q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0]))
+
+    def on_segment(p, q, r):  # r collinear with p, q: is it within their box?
+        return (np.minimum(p[:, 0], q[:, 0]) <= r[:, 0]) & (r[:, 0] <= np.maximum(p[:, 0], q[:, 0])) & (
+            np.minimum(p[:, 1], q[:, 1]) <= r[:, 1]) & (r[:, 1] <= np.maximum(p[:, 1], q[:, 1]))
+
+    p1, q1, p2, q2 = a[i], b[i], a[j], b[j]
+    o1, o2, o3, o4 = orient(p1, q1, p2), orient(p1, q1, q2), orient(p2, q2, p1), orient(p2, q2, q1)
+    hit = (o1 * o2 < 0) & (o3 * o4 < 0)
+    hit |= (o1 == 0) & on_segment(p1, q1, p2)
+    hit |= (o2 == 0) & on_segment(p1, q1, q2)
+    hit |= (o3 == 0) & on_segment(p2, q2, p1)
+    hit |= (o4 == 0) & on_segment(p2, q2, q1)
+    k = np.flatnonzero(hit)
+    return (int(i[k[0]]), int(j[k[0]])) if k.size else None
 
 
 def _edge_loop(value: Any, w: str) -> list[BoundedCurve]:
