@@ -617,7 +617,8 @@ class BoundedCurve(ABC):
 
     def tessellate(self, chord_tolerance: float) -> tuple[np.ndarray, np.ndarray]:
         """Polyline (points (m, 2), t (m,)) with both ends, within ``chord_tolerance`` of the
-        curve (the midpoint deviation of every chord is checked; subdivision by halving)."""
+        curve (the curve's deviation from every chord is checked at 1/4, 1/2 and 3/4 of the
+        piece; pieces are halved until it is within the tolerance)."""
         tol = float(chord_tolerance)
         if not tol > 0.0:
             raise ValueError(f"chord_tolerance must be positive, got {chord_tolerance!r}")
@@ -626,12 +627,15 @@ class BoundedCurve(ABC):
             X = self.evaluate(t)
             a, b = X[:-1], X[1:]
             tm = 0.5 * (t[:-1] + t[1:])
-            m = self.evaluate(tm)
             chord = b - a
-            L = np.hypot(chord[:, 0], chord[:, 1])
-            # distance of the curve's midpoint from the chord segment
-            s = np.clip(np.einsum("ij,ij->i", m - a, chord) / np.where(L > 0, L * L, 1.0), 0.0, 1.0)
-            dev = np.linalg.norm(m - (a + s[:, None] * chord), axis=1)
+            L2 = np.where(np.sum(chord**2, axis=1) > 0.0, np.sum(chord**2, axis=1), 1.0)
+            dev = np.zeros(len(tm))
+            # distance of the curve at 1/4, 1/2, 3/4 of each piece from its chord segment
+            # (three points, so an inflection with its midpoint on the chord is caught)
+            for frac in (0.25, 0.5, 0.75):
+                m = self.evaluate(t[:-1] + frac * (t[1:] - t[:-1]))
+                s = np.clip(np.einsum("ij,ij->i", m - a, chord) / L2, 0.0, 1.0)
+                dev = np.maximum(dev, np.linalg.norm(m - (a + s[:, None] * chord), axis=1))
             bad = dev > tol
             if not np.any(bad):
                 break
