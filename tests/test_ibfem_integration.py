@@ -108,3 +108,55 @@ def test_polygon_contains_square_with_hole():
     hole = np.array([[1, 1], [1, 3], [3, 3], [3, 1]], float)
     pts = np.array([[0.5, 0.5], [2, 2], [3.5, 2], [5, 5]])
     assert polygon_contains(pts, [outer, hole]).tolist() == [True, False, True, False]
+
+
+def _clip_to_box(poly, lo, hi):
+    """Sutherland-Hodgman clip of a closed polygon (k, 2) by the box [lo, hi] (reference code)."""
+    out = list(map(tuple, poly))
+    for axis in (0, 1):
+        for bound, keep_le in ((lo[axis], False), (hi[axis], True)):
+            src, out = out, []
+            if not src:
+                break
+            for i in range(len(src)):
+                p, q = np.array(src[i - 1]), np.array(src[i])
+                pin = p[axis] <= bound if keep_le else p[axis] >= bound
+                qin = q[axis] <= bound if keep_le else q[axis] >= bound
+                if qin:
+                    if not pin:
+                        out.append(tuple(p + (bound - p[axis]) / (q[axis] - p[axis]) * (q - p)))
+                    out.append(tuple(q))
+                elif pin:
+                    out.append(tuple(p + (bound - p[axis]) / (q[axis] - p[axis]) * (q - p)))
+    return np.array(out)
+
+
+def test_tessellated_variant_equals_clip_triangulate_gauss():
+    # the thesis's integration: clip each cell by the tessellated boundary, fan-triangulate,
+    # integrate with a degree-2 triangle rule; the moments must equal the polyline moments
+    prof = profile_from_shape({"type": "disk", "center": [0.1, 0.2], "radius": 0.8})
+    boundary = tessellated_boundary(prof, 0.02)
+    grid = build_grid(boundary, 0.2, offset=(0.31, 0.17))
+    poly = boundary.polygon_loops[0]
+    bary = np.array([[2 / 3, 1 / 6, 1 / 6], [1 / 6, 2 / 3, 1 / 6], [1 / 6, 1 / 6, 2 / 3]])  # exact for degree 2
+    checked = 0
+    for c in np.nonzero(grid.status == CUT)[0]:
+        lo = grid.lower[c]
+        clipped = _clip_to_box(poly, lo, lo + grid.size[c])
+        if len(clipped) < 3:
+            continue
+        local = 2 * (clipped - grid.center[c]) / grid.size[c]
+        m = np.zeros((3, 3))
+        for i in range(1, len(local) - 1):
+            tri = np.array([local[0], local[i], local[i + 1]])
+            e1, e2 = tri[1] - tri[0], tri[2] - tri[0]
+            area = 0.5 * (e1[0] * e2[1] - e1[1] * e2[0])
+            pts = bary @ tri
+            for a in range(3):
+                for b in range(3):
+                    if a + b <= 2:
+                        m[a, b] += area / 3 * np.sum(pts[:, 0] ** a * pts[:, 1] ** b)
+        for a, b in ((0, 0), (1, 0), (0, 1), (1, 1), (2, 0), (0, 2)):
+            assert abs(grid.moments[c, a, b] - m[a, b]) < 1e-12
+        checked += 1
+    assert checked > 10

@@ -339,3 +339,53 @@ def test_nested_dissection_solve_path_matches_minimum_degree(monkeypatch):
     assert np.allclose(nd.u, ref.u, rtol=1e-9, atol=1e-12 * np.abs(ref.u).max())
     order = ibfem.nested_dissection(np.random.default_rng(0).integers(0, 50, (3000, 2)).astype(float))
     assert np.array_equal(np.sort(order), np.arange(3000))
+
+
+def test_two_bodies_on_their_own_grids_solve_independently():
+    # without contact, two bodies in one problem must give each body's own solution
+    lame = _lame_problem(10.0, 0.1)
+    plate = _plate_problem(31.0)
+    moved = profile_from_shape({"type": "rectangle", "min": [0, 0], "max": [2, 1], "rotate_deg": 31.0, "translate": [5.0, 0.0]})
+    plate_body = BodyModel("plate", moved, STEEL, 0.1)
+    both = Problem("two", "plane_strain", 1.0, (lame.bodies[0], plate_body),
+                   lame.boundary_conditions + plate.boundary_conditions)
+    sol = solve(both)
+    alone = solve(Problem("one", "plane_strain", 1.0, lame.bodies, lame.boundary_conditions))
+    pts = np.array([[1.2, 0.5], [0.4, 1.5]])
+    assert np.allclose(sol.displacement(pts, "ring"), alone.displacement(pts), rtol=1e-9)
+    assert np.allclose(sol.displacement(pts), alone.displacement(pts), rtol=1e-9)
+    assert sol.body_at(np.array([[1.2, 0.5], [5.0 + 0.3, 0.4], [20.0, 0.0]])).tolist() == [0, 1, -1]
+    assert set(sol.reactions) == {"ring/bottom", "ring/left", "plate/left", "plate/bottom"}
+    assert sol.body_info["plate"]["dofs"] > 0 and sol.body_info["ring"]["dofs"] > 0
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("rot", np.arange(0.0, 90.0, 7.5).tolist())
+def test_slow_lame_acceptance_at_every_grid_position(rot):
+    # the acceptance of the issue for a sweep of angles (grid / edge positions)
+    sol = solve(_lame_problem(rot, 0.02))
+    e_u, e_rr, e_tt = _lame_errors(sol, rot, np.linspace(1.05, 1.95, 19), np.linspace(5, 85, 17))
+    assert e_u.max() < 0.005 and max(e_rr.max(), e_tt.max()) < 0.05
+    for edge, n in (("bottom", [0.0, -1.0]), ("left", [-1.0, 0.0])):
+        assert np.allclose(sol.reactions[f"ring/{edge}"], 100e6 * (_rot(rot) @ n), atol=0.02 * 100e6)
+
+
+@pytest.mark.slow
+def test_slow_convergence_five_grids_and_thesis_weight_saturation():
+    rot = 17.0
+    rng = np.random.default_rng(1)
+    R = np.sqrt(rng.uniform(1, 4, 4000))
+    TH = rng.uniform(0, np.pi / 2, 4000) + np.deg2rad(rot)
+    pts = np.column_stack([R * np.cos(TH), R * np.sin(TH)])
+    ur, _, _ = _lame_exact(R)
+    ref_u = np.column_stack([ur * np.cos(TH), ur * np.sin(TH)])
+    hs = np.array([0.2, 0.1, 0.05, 0.025, 0.0125])
+    err = {1.0: [], 0.5: []}
+    for h in hs:
+        for theta in err:
+            sol = solve(_lame_problem(rot, h), settings=Settings(consistency=theta, band_fraction=0.1))
+            u = sol.displacement(pts)
+            err[theta].append(np.sqrt(np.mean(np.sum((u - ref_u) ** 2, axis=1)) / np.mean(ur**2)))
+    assert 1.9 < np.polyfit(np.log(hs), np.log(err[1.0]), 1)[0] < 2.2
+    # weight 1/2: O(delta) inconsistency, the last halving of h gains much less than 4x
+    assert err[0.5][-2] / err[0.5][-1] < 2.5
