@@ -1,0 +1,214 @@
+"""Two-body contact (issue 5): wall time, iterations, peak memory and accuracy per example, the
+two width updates side by side, and stress tests.
+
+Cases (each in its own subprocess, so that the peak resident memory belongs to it):
+
+- examples 1 (exact and tessellated geometry), 2, 3 and 7 of examples/, with the default
+  "bracket" width search and with the thesis's update (sections 5.5.3-5.5.4);
+- example 3 on grids shifted by fractions of a cell (the answer must not depend on where the
+  grid starts), with a 10 times stiffer upper body, and turned by 30 degrees;
+- example 3 with one more refinement level (h halved: the width's resolution);
+- a cylinder on a block under loads from a ~ 2 cells to a ~ R/4.
+
+Per case: a against Hertz for the computed normal force (solver.theory), the bracket
+[a_pen, a_ten] of the width search, N, Q, the balance of the supports' reactions and N
+against them, the RMS pressure error inside 0.9 a against Hertz (in p0), the von Mises
+peak on the load axis against McEwen (0.5575 p0 at 0.704 a, frictionless cases), iterations
+per load step, wall time and peak memory.
+
+    .venv/bin/python benchmarks/contact.py            # all cases (several minutes on 2 cores)
+    .venv/bin/python benchmarks/contact.py --quick    # the examples with the default search only
+
+Writes benchmarks/results/contact.json and contact.csv.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import platform
+import resource
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+EXAMPLES = HERE.parent / "examples"
+
+# name, scene file, R* of the pair, depth direction of the subsurface line is taken from the scene
+EXAMPLE_CASES = [
+    ("ex1_ellipse_on_block", "ellipse_on_block.toml", 0.1),
+    ("ex1_ellipse_tessellated", "ellipse_on_block_tessellated.toml", 0.1),
+    ("ex2_mesh_convergence", "mesh_convergence.toml", 1.0),
+    ("ex3_cylinder_on_cylinder", "cylinder_on_cylinder_frictionless.toml", 0.5),
+    ("ex7_cylinder_on_wedge", "cylinder_on_wedge_frictionless.toml", 1.0),
+]
+
+
+def _rotate(v, deg):
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+
+
+def _scene_dict(spec: dict) -> dict:
+    data = tomllib.loads((EXAMPLES / spec["file"]).read_text())
+    data.pop("output", None)
+    if spec.get("stiff_upper"):
+        data["materials"].append({"name": "stiff", "youngs_modulus": 10 * data["materials"][0]["youngs_modulus"],
+                                  "poissons_ratio": data["materials"][0]["poissons_ratio"]})
+        data["bodies"][0]["material"] = "stiff"
+    if spec.get("extra_level"):
+        for b in data["bodies"]:
+            for r in b.get("refinement", []):
+                if r["levels"] >= 4:
+                    r["levels"] += 1
+    if spec.get("uy") is not None:
+        for bc in data["boundary_conditions"]:
+            if bc["type"] == "displacement":
+                bc["value"] = [bc["value"][0], spec["uy"]]
+    turn = spec.get("rotate_deg", 0.0)
+    if turn:
+        for b in data["bodies"]:
+            b["shape"]["rotate_deg"] = turn
+        for bc in data["boundary_conditions"]:
+            if bc["type"] == "displacement":
+                bc["value"] = _rotate([0.0 if v == "free" else v for v in bc["value"]], turn)
+        for c in data["contacts"]:
+            if "point" in c:
+                c["point"] = _rotate(c["point"], turn)
+    return data
+
+
+def run_one(spec: dict) -> dict:
+    import numpy as np
+
+    from solver import theory
+    from solver.contact_solver import ContactSettings, solve_contact
+    from solver.ibfem import Settings
+    from solver.scene import scene_from_dict
+
+    data = _scene_dict(spec)
+    problem = scene_from_dict(data, label=spec["file"], base_dir=EXAMPLES).problem
+    settings = ContactSettings(core=Settings(grid_offset=tuple(spec.get("offset", (0.0, 0.0)))),
+                               width_update=spec.get("width_update", "bracket"))
+    t = time.perf_counter()
+    sol = solve_contact(problem, settings=settings)
+    wall = time.perf_counter() - t
+    c = sol.contacts[0]
+    mats = {m["name"]: m for m in data["materials"]}
+    m1, m2 = (mats[b["material"]] for b in data["bodies"][:2])
+    e_star = theory.effective_modulus(m1["youngs_modulus"], m1["poissons_ratio"], m2["youngs_modulus"], m2["poissons_ratio"])
+    n_force, a = c["normal_force"], c["half_width"]
+    a_hertz = theory.hertz_half_width(max(n_force, 0.0), spec["R"], e_star)
+    p0 = 2 * n_force / (math.pi * a_hertz)
+    s = np.asarray(c["pressure"]["s"])
+    p = np.asarray(c["pressure"]["value"])
+    inner = np.abs(s) <= 0.9 * a_hertz
+    rms = float(np.sqrt(np.mean((p[inner] - theory.hertz_pressure(s[inner], a_hertz, p0)) ** 2)) / p0)
+    reactions = {k: np.asarray(v) for k, v in sol.reactions.items()}
+    lower = data["bodies"][1]["name"]
+    by_body = {}
+    for k, v in reactions.items():
+        by_body.setdefault(k.split("/")[0], np.zeros(2))
+        by_body[k.split("/")[0]] += v
+    r_lower = by_body.get(lower, np.zeros(2))
+    balance = float(np.linalg.norm(sum(reactions.values())) / max(np.linalg.norm(r_lower), 1e-300))
+    n_vs_reaction = float(n_force / max(abs(r_lower @ np.asarray(c["normal"])), 1e-300) - 1.0)
+    row = {
+        "case": spec["name"],
+        "width_update": settings.width_update,
+        "a": a,
+        "a_hertz": a_hertz,
+        "a_error": a / a_hertz - 1.0,
+        "bracket_error": [x / a_hertz - 1.0 for x in c["checks"]["half_width_bracket"]],
+        "normal_force": n_force,
+        "tangential_force": c["tangential_force"],
+        "reaction_balance": balance,
+        "normal_force_vs_reaction": n_vs_reaction,
+        "pressure_rms_p0": rms,
+        "cells_across_2a": 2 * a / min(v["min_element_size"] for v in sol.body_info.values()),
+        "dofs": int(sum(v["dofs"] for v in sol.body_info.values())),
+        "contact_dofs": sol.iterations["contact_dofs"],
+        "iterations": sol.iterations["per_step"],
+        "converged": sol.converged,
+        "messages": sol.iterations["messages"],
+        "wall_s": wall,
+        "timings": sol.timings,
+        "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+    }
+    if c["type"] == "frictionless" or spec.get("subsurface"):
+        # von Mises along the contact normal into the second body from the contact point
+        point, normal = np.asarray(c["point"]), np.asarray(c["normal"])
+        z = np.linspace(0.05, 2.0, 400) * a_hertz
+        vm = sol.von_mises(point[None, :] - z[:, None] * normal[None, :], body=lower)
+        k = int(np.nanargmax(vm))
+        peak, depth = theory.axis_peak(data["materials"][0]["poissons_ratio"])
+        row["von_mises_peak_error"] = float(vm[k] / (peak * p0) - 1.0)
+        row["von_mises_depth_error"] = float(z[k] / (depth * a_hertz) - 1.0)
+    return row
+
+
+def cases(quick: bool) -> list[dict]:
+    out = [{"name": n, "file": f, "R": r} for n, f, r in EXAMPLE_CASES]
+    if quick:
+        return out
+    out += [{"name": n + "_thesis", "file": f, "R": r, "width_update": "thesis"} for n, f, r in EXAMPLE_CASES
+            if "tessellated" not in n]
+    ex3 = {"file": "cylinder_on_cylinder_frictionless.toml", "R": 0.5}
+    for off in ((0.25, 0.1), (0.5, 0.35), (0.75, 0.6), (0.37, 0.26)):
+        out.append({**ex3, "name": f"ex3_offset_{off[0]}_{off[1]}", "offset": off})
+    out.append({**ex3, "name": "ex3_stiffness_ratio_10", "stiff_upper": True})
+    out.append({**ex3, "name": "ex3_turned_30deg", "rotate_deg": 30.0})
+    out.append({**ex3, "name": "ex3_one_more_level", "extra_level": True})
+    flat = {"file": "mesh_convergence.toml", "R": 1.0}
+    for uy in (-0.1e-3, -0.5e-3, -4.0e-3, -12.0e-3):  # a from ~2 cells (h = 3.1 mm) to ~R/10-R/4
+        out.append({**flat, "name": f"ex2_uy_{uy * 1e3:g}mm", "uy": uy})
+    return out
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true", help="the examples with the default search only")
+    ap.add_argument("--single", help=argparse.SUPPRESS)
+    ap.add_argument("--out", default=str(HERE / "results" / "contact.json"))
+    args = ap.parse_args(argv)
+    if args.single:
+        print(json.dumps(run_one(json.loads(args.single))))
+        return 0
+    rows = []
+    for spec in cases(args.quick):
+        r = subprocess.run([sys.executable, __file__, "--single", json.dumps(spec)], capture_output=True, text=True)
+        if r.returncode != 0:
+            print(f"{spec['name']}: failed\n{r.stderr[-2000:]}", flush=True)
+            rows.append({"case": spec["name"], "error": r.stderr.strip().splitlines()[-1] if r.stderr.strip() else "?"})
+            continue
+        row = json.loads(r.stdout.strip().splitlines()[-1])
+        rows.append(row)
+        vm = f" vM {row['von_mises_peak_error']:+.1%}" if "von_mises_peak_error" in row else ""
+        print(f"{row['case']:32s} {row['width_update']:8s} a {row['a_error']:+6.2%} "
+              f"[{row['bracket_error'][0]:+.1%}, {row['bracket_error'][1]:+.1%}] "
+              f"N {row['normal_force']:.4g} Q {row['tangential_force']:+.2g} bal {row['reaction_balance']:.1e} "
+              f"p_rms {row['pressure_rms_p0']:.3f}{vm} it {sum(row['iterations'])} "
+              f"t {row['wall_s']:.1f}s mem {row['peak_rss_mb']:.0f}MB conv {row['converged']}", flush=True)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps({"machine": platform.platform(), "python": platform.python_version(), "runs": rows},
+                              indent=2))
+    keys = ["case", "width_update", "a", "a_hertz", "a_error", "normal_force", "tangential_force", "reaction_balance",
+            "normal_force_vs_reaction", "pressure_rms_p0", "von_mises_peak_error", "cells_across_2a", "dofs",
+            "contact_dofs", "wall_s", "peak_rss_mb", "converged"]
+    with open(out.with_suffix(".csv"), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
+        w.writeheader()
+        for row in rows:
+            if "error" not in row:
+                w.writerow(row)
+    return 0 if all("error" not in r for r in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
