@@ -269,9 +269,9 @@ class BoundedCurve(ABC):
         return np.array([self.t_start, self.t_end])
 
     def breakpoints(self) -> np.ndarray:
-        """Sorted parameters, ends included, between which the curve is smooth (analytic):
-        B-spline knots; for arcs also quarter-turn points (harmless extra splits)."""
-        return np.unique(np.asarray(self._breakpoints(), dtype=float))
+        """Sorted parameters, ends included, between which the curve is analytic (B-spline
+        knots; just the ends for segments and arcs): quadrature splits there."""
+        return np.array([self.t_start, self.t_end])
 
     @cached_property
     def _samples(self) -> tuple[np.ndarray, np.ndarray]:
@@ -533,7 +533,7 @@ class BoundedCurve(ABC):
             raise ValueError(f"quadrature order must be >= 1, got {order}")
         t0, t1 = float(t0), float(t1)
         lo, hi = min(t0, t1), max(t0, t1)
-        bp = self._breakpoints()
+        bp = self.breakpoints()
         cuts = np.concatenate([[lo], bp[(bp > lo) & (bp < hi)], [hi]])
         if t1 < t0:
             cuts = cuts[::-1]
@@ -1372,6 +1372,9 @@ class BSplineArc(BoundedCurve):
     def _breakpoints(self) -> np.ndarray:
         k = self.knots
         return np.unique(k[(k >= self.t_start) & (k <= self.t_end)])
+
+    def breakpoints(self) -> np.ndarray:
+        return self._breakpoints()
 
     def _sample_grid(self) -> np.ndarray:
         bp = self._breakpoints()
