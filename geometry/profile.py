@@ -357,12 +357,12 @@ class Profile:
         """phi (n,): distance to the boundary, positive inside, negative outside."""
         return self._phi(_points2(points), want_points=False)[0]
 
-    def contains(self, points: Any, tolerance: float = 0.0) -> np.ndarray:
-        """Inside test (n,) bool: phi >= -tolerance. Points on the boundary (phi = 0 up to
-        round-off of the exact distance, i.e. |phi| ~ 1e-16 of the size) count as inside
-        when ``tolerance`` is at least that round-off; the default 0 decides by the sign of
-        the computed phi, so points exactly on straight edges and at corners are inside."""
-        return self.signed_distance(points) >= -float(tolerance)
+    def contains(self, points: Any, tolerance: float | None = None) -> np.ndarray:
+        """Inside test (n,) bool: phi >= -tolerance, the boundary included. The default
+        tolerance, 1e-12 of the profile's size, covers the round-off of phi on curved edges,
+        so points on any edge or at a corner are inside."""
+        tol = 1e-12 * self.size if tolerance is None else float(tolerance)
+        return self.signed_distance(points) >= -tol
 
     # -- tessellation and transforms -----------------------------------------------------------
 

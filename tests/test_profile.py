@@ -107,12 +107,16 @@ def test_contains_on_edges_and_corners_counts_as_inside():
     on = np.array([[-1, -0.5], [2, -0.5], [2, 1.5], [-1, 1.5], [0.5, -0.5], [2, 0.0], [0.0, 1.5], [-1, 0.25]])
     assert np.all(p.contains(on))
     np.testing.assert_array_equal(p.signed_distance(on), 0.0)
-    assert not np.any(p.contains(on + [[-1e-12, -1e-12], [1e-12, -1e-12], [1e-12, 1e-12], [-1e-12, 1e-12],
-                                      [0, -1e-12], [1e-12, 0], [0, 1e-12], [-1e-12, 0]]))
+    out = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1], [0, -1], [1, 0], [0, 1], [-1, 0]])
+    assert not np.any(p.contains(on + 1e-10 * out))
+    assert np.all(p.contains(on - 1e-10 * out))
+    # exact sign with tolerance 0: on straight edges phi is exactly 0, so still inside
+    assert np.all(p.contains(on, tolerance=0.0))
+    assert not np.any(p.contains(on + 1e-15 * out, tolerance=0.0))
     ring = annulus()
-    on_circle = ring.edge("outer").evaluate(np.linspace(0, 2 * math.pi, 13))
+    on_circle = np.vstack([ring.edge(e).evaluate(np.linspace(0, 2 * math.pi, 13)) for e in ("outer", "inner")])
     assert np.all(np.abs(ring.signed_distance(on_circle)) < 1e-15)
-    assert np.all(ring.contains(on_circle, tolerance=1e-12))
+    assert np.all(ring.contains(on_circle))
 
 
 @pytest.mark.parametrize("make", [lshape, mixed_profile, annulus])
