@@ -124,6 +124,25 @@ def test_tied_contact_transmits_the_tangential_reaction(tied_sideways):
     assert np.trapezoid(q, s) == pytest.approx(c["tangential_force"], rel=0.03)
 
 
+def test_body_held_only_by_a_tied_contact():
+    """A pressure on the cylinder's flat and nothing else holding it: K0 is singular for the
+    cylinder and the solver keeps a fixed contact patch in it; the contact passes exactly the
+    applied force to the block's support."""
+    import dataclasses
+
+    from solver.problem import Pressure
+
+    base = small_scene("tied")
+    problem = dataclasses.replace(base, boundary_conditions=(Pressure("cyl", "flat", 4.0e7), base.boundary_conditions[1]))
+    sol = solve_contact(problem)
+    c = sol.contacts[0]
+    applied = 4.0e7 * 2.0  # the flat edge is 2 m long
+    assert sol.converged
+    assert c["normal_force"] == pytest.approx(applied, rel=1e-9)
+    np.testing.assert_allclose(sol.reactions["block/bottom"], [0.0, applied], atol=1e-9 * applied)
+    assert c["half_width"] == pytest.approx(theory.hertz_half_width(applied, 1.0, E_STAR), rel=0.04)
+
+
 def test_thesis_width_update_reaches_a_consistent_state():
     sol = solve_contact(small_scene("frictionless", load_steps=2), settings=ContactSettings(width_update="thesis"))
     c = sol.contacts[0]
