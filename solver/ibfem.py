@@ -48,6 +48,12 @@ __all__ = [
     "exact_boundary",
     "tessellated_boundary",
     "IBFEMSolution",
+    "EssentialTerm",
+    "LinearSystem",
+    "discretise",
+    "assemble",
+    "body_info",
+    "linear_solve",
     "solve",
     "von_mises",
     "nested_dissection",
@@ -449,27 +455,59 @@ def _rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> No
             )
 
 
-def solve(problem, progress: Callable[[str, float], None] | None = None, settings: Settings | None = None) -> IBFEMSolution:
-    """Solve a linear elastic :class:`solver.problem.Problem` (no contact) with IBFEM.
+@dataclass
+class EssentialTerm:
+    """One essential condition's thin-band terms, kept to recover its reaction."""
 
-    ``progress(stage, fraction)`` is called between stages when given.
-    """
-    settings = settings or Settings()
-    t_start = time.perf_counter()
-    report = progress or (lambda stage, fraction: None)
-    timings: dict[str, float] = {}
+    key: str  # "body/edge"
+    body: BodyDiscretisation
+    points: BoundaryPoints
+    projector: np.ndarray
+    target: np.ndarray
+
+    def traction(self, u: np.ndarray, settings: Settings) -> np.ndarray:
+        b = self.body
+        return thin_band_traction(
+            self.points, self.projector, self.target, b.lam, b.mu, u, settings.band_fraction, settings.consistency
+        )
+
+
+@dataclass
+class LinearSystem:
+    """K u = F of a problem without contact: the stiffness and loads of all bodies (block by
+    block) and their boundary conditions. Contact terms are added on top of it."""
+
+    bodies: list[BodyDiscretisation]
+    stiffness: sp.csr_matrix
+    load: np.ndarray
+    essentials: list[EssentialTerm]
+    settings: Settings
+
+    @property
+    def n_dofs(self) -> int:
+        return len(self.load)
+
+    def reactions(self, u: np.ndarray) -> tuple[dict[str, np.ndarray], dict]:
+        """Force (2,) each essential condition exerts on its body, and the tractions along it."""
+        reactions: dict[str, np.ndarray] = {}
+        tractions = {}
+        for e in self.essentials:
+            tr = e.traction(u, self.settings)
+            reactions[e.key] = reactions.get(e.key, np.zeros(2)) + (tr * e.points.weights[:, None]).sum(axis=0)
+            tractions[e.key] = (e.points.points, e.points.weights, tr)
+        return reactions, tractions
+
+
+def discretise(problem, settings: Settings, progress=None) -> list[BodyDiscretisation]:
+    """Grids of all bodies, with their blocks of the global dof vector."""
+    report = progress or (lambda *a, **k: None)
     if problem.model not in ("plane_strain", "plane_stress"):
         raise ValueError(f"model must be 'plane_strain' or 'plane_stress', got {problem.model!r}")
     if not problem.bodies:
         raise ValueError("the problem has no bodies")
-    if problem.contacts:
-        raise ValueError("contacts are not supported by this solver yet (issue 5)")
-    names = [b.name for b in problem.bodies]
-
-    t = time.perf_counter()
     bodies = []
     for i, body in enumerate(problem.bodies):
-        report(f"grid {body.name}", i / (2 * len(problem.bodies)))
+        report(f"grid {body.name}", 0.4 * i / len(problem.bodies))
         bodies.append(discretise_body(body, i, problem.model, problem.options.exact_geometry, settings))
     offset = 0
     for b in bodies:
@@ -477,14 +515,18 @@ def solve(problem, progress: Callable[[str, float], None] | None = None, setting
         offset += b.n_dofs
     for b in bodies:
         b.n_total = offset
-    n = offset
-    timings["grid_s"] = time.perf_counter() - t
+        b._dof_map = None
+    return bodies
 
-    report("assembly", 0.5)
-    t = time.perf_counter()
+
+def assemble(problem, bodies: list[BodyDiscretisation], settings: Settings) -> LinearSystem:
+    """Volume stiffness of every body, essential conditions (thin band), tractions, pressures
+    and body forces."""
+    n = bodies[0].n_total if bodies else 0
     k = sp.block_diag([b.stiffness(settings.fictitious_stiffness) for b in bodies], format="csr")
     f = np.zeros(n)
     by_name = {b.name: b for b in bodies}
+    names = list(by_name)
     essentials = []
     for j, bc in enumerate(problem.boundary_conditions):
         if bc.body not in by_name:
@@ -502,7 +544,7 @@ def solve(problem, progress: Callable[[str, float], None] | None = None, setting
             kb, fa = thin_band_terms(bp, proj, target, b.lam, b.mu, settings.band_fraction, settings.consistency)
             k = k + kb
             f += fa
-            essentials.append((f"{bc.body}/{bc.edge}", b, bp, proj, target))
+            essentials.append(EssentialTerm(f"{bc.body}/{bc.edge}", b, bp, proj, target))
         elif isinstance(bc, Traction):
             tr = np.broadcast_to(np.asarray(bc.value, dtype=float), bp.normals.shape)
             f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
@@ -511,26 +553,11 @@ def solve(problem, progress: Callable[[str, float], None] | None = None, setting
             f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
         else:
             raise ValueError(f"boundary_conditions[{j}]: unsupported condition type {type(bc).__name__}")
-    k = k.tocsr()
-    timings["assembly_s"] = time.perf_counter() - t
+    return LinearSystem(bodies, k.tocsr(), f, essentials, settings)
 
-    _rigid_modes_check(k, bodies)
-    report("solve", 0.7)
-    t = time.perf_counter()
-    u = _linear_solve(k, f, bodies)
-    timings["solve_s"] = time.perf_counter() - t
-    residual = float(np.linalg.norm(k @ u - f) / max(np.linalg.norm(f), 1e-300))
 
-    reactions: dict[str, np.ndarray] = {}
-    tractions = {}
-    for key, b, bp, proj, target in essentials:
-        tr = thin_band_traction(bp, proj, target, b.lam, b.mu, u, settings.band_fraction, settings.consistency)
-        force = (tr * bp.weights[:, None]).sum(axis=0)
-        reactions[key] = reactions.get(key, np.zeros(2)) + force
-        tractions[key] = (bp.points, bp.weights, tr)
-    timings["total_s"] = time.perf_counter() - t_start
-    report("done", 1.0)
-    info = {
+def body_info(bodies: list[BodyDiscretisation]) -> dict[str, dict[str, float]]:
+    return {
         b.name: {
             "elements": int(len(b.grid.level)),
             "dofs": int(b.n_dofs),
@@ -539,12 +566,46 @@ def solve(problem, progress: Callable[[str, float], None] | None = None, setting
         }
         for b in bodies
     }
+
+
+def solve(problem, progress: Callable[..., None] | None = None, settings: Settings | None = None) -> IBFEMSolution:
+    """Solve a linear elastic :class:`solver.problem.Problem` (no contact) with IBFEM.
+
+    ``progress(stage, fraction)`` is called between stages when given.
+    """
+    settings = settings or Settings()
+    t_start = time.perf_counter()
+    report = progress or (lambda *a, **k: None)
+    timings: dict[str, float] = {}
+    if problem.contacts:
+        raise ValueError("contacts are not supported by this solver yet (issue 5)")
+
+    t = time.perf_counter()
+    bodies = discretise(problem, settings, report)
+    timings["grid_s"] = time.perf_counter() - t
+
+    report("assembly", 0.4)
+    t = time.perf_counter()
+    system = assemble(problem, bodies, settings)
+    timings["assembly_s"] = time.perf_counter() - t
+
+    _rigid_modes_check(system.stiffness, bodies)
+    report("solve", 0.6)
+    t = time.perf_counter()
+    u = linear_solve(system.stiffness, system.load, bodies)
+    timings["solve_s"] = time.perf_counter() - t
+    k, f = system.stiffness, system.load
+    residual = float(np.linalg.norm(k @ u - f) / max(np.linalg.norm(f), 1e-300))
+
+    reactions, tractions = system.reactions(u)
+    timings["total_s"] = time.perf_counter() - t_start
+    report("done", 1.0)
     return IBFEMSolution(
         problem=problem,
         bodies=bodies,
         u=u,
         converged=bool(np.isfinite(u).all() and residual < 1e-6),
-        body_info=info,
+        body_info=body_info(bodies),
         reactions=reactions,
         iterations={"total": 1, "per_step": [1], "linear_residual": residual},
         timings=timings,
@@ -585,7 +646,7 @@ def nested_dissection(points: np.ndarray, leaf: int = 64) -> np.ndarray:
     return np.concatenate(out)
 
 
-def _linear_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list[BodyDiscretisation] | None = None) -> np.ndarray:
+def linear_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list[BodyDiscretisation] | None = None) -> np.ndarray:
     """Sparse direct solve with SuperLU (CHOLMOD is not available). The matrix is symmetric:
     symmetric mode, no pivoting across the diagonal. Small systems use SuperLU's minimum
     degree on A + A^T; large ones a geometric nested-dissection order of each body's nodes."""
