@@ -261,3 +261,33 @@ def test_edge_names_keep_the_given_order_and_loops_out_of_order_are_chained():
     # the pseudo-normal uses the right neighbours: corners of the square
     corners = np.array([[-1e-3, -1e-3], [1.001, 1.001], [0.001, 0.001], [0.999, 0.5]])
     np.testing.assert_allclose(p.signed_distance(corners), [-math.sqrt(2e-6), -math.sqrt(2e-6), 1e-3, 1e-3], rtol=1e-9)
+
+
+from hypothesis import assume, given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(3, 12))
+def test_random_star_polygons_against_point_segment_brute_force(seed, n):
+    rng = np.random.default_rng(seed)
+    ang = np.sort(rng.uniform(0, 2 * math.pi, n))
+    gaps = np.diff(np.concatenate([ang, [ang[0] + 2 * math.pi]]))
+    assume(gaps.min() > 1e-3 and gaps.max() < math.pi - 1e-3)  # simple: star-shaped about the centre
+    rad = rng.uniform(0.2, 2.0, n)
+    pts = np.column_stack([rad * np.cos(ang), rad * np.sin(ang)]) + rng.uniform(-5, 5, 2)
+    if rng.random() < 0.5:
+        pts = pts[::-1]  # clockwise input
+    p = Profile([[Segment(pts[i], pts[(i + 1) % n], f"s{i}") for i in range(n)]])
+    # queries: random, on vertices, on edge midpoints, and along lines through vertices
+    mids = 0.5 * (pts + np.roll(pts, -1, axis=0))
+    Q = np.vstack([rng.uniform(pts.min(0) - 1, pts.max(0) + 1, (300, 2)), pts, mids, pts + [[0.37, 0.0]]])
+    a, b = pts, np.roll(pts, -1, axis=0)
+    ab = b - a
+    s = np.clip(np.einsum("qkj,kj->qk", Q[:, None, :] - a[None], ab) / np.sum(ab**2, axis=1), 0, 1)
+    d = np.min(np.linalg.norm(Q[:, None, :] - (a[None] + s[..., None] * ab[None]), axis=2), axis=1)
+    inside = Path(pts).contains_points(Q)
+    phi = p.signed_distance(Q)
+    np.testing.assert_allclose(np.abs(phi), d, atol=1e-12)
+    clear = d > 1e-9
+    np.testing.assert_array_equal(phi[clear] > 0, inside[clear])
+    assert p.area == pytest.approx(0.5 * abs(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1])), rel=1e-12)
