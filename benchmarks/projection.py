@@ -21,7 +21,7 @@ Errors are relative to the primitive's size (1 for the unit-sized definitions be
     .venv/bin/python benchmarks/projection.py            # 10^6 points (10^5 for B-splines)
     .venv/bin/python benchmarks/projection.py --quick    # 10^5 points (10^4 for B-splines)
 
-Writes benchmarks/results/projection.json.
+Writes benchmarks/results/projection.json and projection.csv.
 """
 
 from __future__ import annotations
@@ -502,7 +502,13 @@ def main(argv=None):
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(result, indent=2))
-    print(f"\nwritten {out}")
+    columns = ["primitive", "type", "points", "mpts_per_s_wall", "mpts_per_s_cpu", "max_residual", "max_consistency",
+               "max_brute_excess", "max_offset_position_error", "max_offset_distance_error", "skipped"]
+    lines = [",".join(columns)]
+    for row in rows:
+        lines.append(",".join("" if row.get(c) is None else str(row.get(c)).replace(",", ";") for c in columns))
+    out.with_suffix(".csv").write_text("\n".join(lines) + "\n")
+    print(f"\nwritten {out} and {out.with_suffix('.csv').name}")
     return result
 
 

@@ -47,7 +47,7 @@ __all__ = ["Line", "Circle"]
 # Points are processed in blocks of this many: every temporary of a block stays in the L2
 # cache, which makes the long chains of elementwise numpy operations about twice as fast as
 # on whole 10^6-point arrays. The loop runs over blocks, never over points.
-BLOCK = 1 << 14
+BLOCK = 1 << 15
 
 
 def blocks(n: int):
