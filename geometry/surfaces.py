@@ -296,24 +296,22 @@ class Cone(Surface):
             # closest point on the generator line: q - dg m
             rc = rho - dg * ca
             tc = t + dg * sa
-            nr = np.full_like(rho, ca)  # meridian normal (rho, t) components
-            nt = np.full_like(rho, -sa)
             apex = rc <= 0.0  # foot at or behind the apex: the apex is the closest point
             if apex.any():
-                ra = rho[apex]
-                ha = t[apex] - ta
-                da = np.hypot(ra, ha)
-                pos = da > 0.0
-                nr_a = np.full_like(ra, ca)
-                nt_a = np.full_like(ra, -sa)
-                nr_a[pos] = ra[pos] / da[pos]
-                nt_a[pos] = ha[pos] / da[pos]
+                da, nr_a, nt_a = unit_radial(rho[apex], t[apex] - ta)  # p - apex in (rho, t)
+                at = da == 0.0  # the apex itself: the generator's normal in the e1 half-plane
+                nr_a[at] = ca
+                nt_a[at] = -sa
+                nr = np.full_like(rho, ca)  # meridian normal (rho, t) components
+                nt = np.full_like(rho, -sa)
                 nr[apex] = nr_a
                 nt[apex] = nt_a
                 dg[apex] = da
                 rc[apex] = 0.0
                 tc[apex] = ta
-            to_global3(nr * cx, nr * cy, nt, frame, None, normals[s])
+                to_global3(nr * cx, nr * cy, nt, frame, None, normals[s])
+            else:
+                to_global3(ca * cx, ca * cy, -sa, frame, None, normals[s])
             to_global3(rc * cx, rc * cy, tc, frame, self._o, closest[s])
             dist[s] = dg
             uv[s, 0] = np.arctan2(cy, cx)
