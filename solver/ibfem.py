@@ -31,6 +31,7 @@ from .integration import (
     shape_functions,
     strain_matrix,
 )
+from .recovery import nodal_stress
 from .problem import BodyForce, Displacement, Fixed, Pressure, Sliding, Traction
 from .step_boundary import (
     DEFAULT_BAND_FRACTION,
@@ -350,6 +351,33 @@ class IBFEMSolution:
                 out[np.nonzero(todo)[0][hit]] = b.index
         return out
 
+    def cell_centroids(self, body: str) -> np.ndarray:
+        """(m, 2) centroids of the inside parts of the cells."""
+        (b,) = self._body(body)
+        g = b.grid
+        m = g.moments
+        with np.errstate(invalid="ignore", divide="ignore"):
+            loc = np.stack([m[:, 1, 0] / m[:, 0, 0], m[:, 0, 1] / m[:, 0, 0]], axis=1)
+        return g.center + 0.5 * g.size[:, None] * np.clip(np.nan_to_num(loc), -1.0, 1.0)
+
+    def centroid_stress(self, body: str) -> np.ndarray:
+        """(m, 3) stress of the discrete field at the centroid of each cell's inside part (the
+        superconvergent point of a bilinear square for interior cells); computed once."""
+        (b,) = self._body(body)
+        cache = self.__dict__.setdefault("_centroid_stress", {})
+        if b.name not in cache:
+            cells = np.arange(len(b.grid.level))
+            cache[b.name] = (b.stress_operator(self.cell_centroids(b.name), cells) @ self.u).reshape(-1, 3)
+        return cache[b.name]
+
+    def nodal_stress(self, body: str) -> np.ndarray:
+        """(N, 3) recovered nodal stresses (solver.recovery); computed once."""
+        (b,) = self._body(body)
+        cache = self.__dict__.setdefault("_nodal_stress", {})
+        if b.name not in cache:
+            cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), self.centroid_stress(b.name))
+        return cache[b.name]
+
     def _evaluate(self, points, body, kind: str, width: int) -> np.ndarray:
         p = self._points(points)
         out = np.full((len(p), width), np.nan)
@@ -365,21 +393,26 @@ class IBFEMSolution:
             ok = cells >= 0
             sel, cells = sel[ok], cells[ok]
             if kind == "displacement":
-                op = b.displacement_operator(p[sel], cells)
-            else:
-                op = b.stress_operator(p[sel], cells)
-            out[sel] = (op @ self.u).reshape(-1, width)
+                out[sel] = (b.displacement_operator(p[sel], cells) @ self.u).reshape(-1, 2)
+            elif kind == "stress":
+                out[sel] = (b.stress_operator(p[sel], cells) @ self.u).reshape(-1, 3)
+            else:  # recovered stress: bilinear interpolation of the nodal stresses
+                n, _ = b.shape(p[sel], cells)
+                out[sel] = np.einsum("qa,qak->qk", n, self.nodal_stress(b.name)[b.grid.cells[cells]])
         return out
 
     def displacement(self, points: np.ndarray, body: str | None = None) -> np.ndarray:
         return self._evaluate(points, body, "displacement", 2)
 
-    def stress(self, points: np.ndarray, body: str | None = None) -> np.ndarray:
-        return self._evaluate(points, body, "stress", 3)
+    def stress(self, points: np.ndarray, body: str | None = None, recovered: bool = True) -> np.ndarray:
+        """[sxx, syy, sxy] (n, 3). By default the recovered field (solver.recovery: nodal values
+        from the cell-centroid stresses, interpolated bilinearly; O(h^2) inside);
+        ``recovered=False`` gives the stress of the discrete field itself, C B u (O(h))."""
+        return self._evaluate(points, body, "recovered" if recovered else "stress", 3)
 
-    def von_mises(self, points: np.ndarray, body: str | None = None) -> np.ndarray:
+    def von_mises(self, points: np.ndarray, body: str | None = None, recovered: bool = True) -> np.ndarray:
         p = self._points(points)
-        s = self.stress(p, body)
+        s = self.stress(p, body, recovered)
         out = np.full(len(p), np.nan)
         owner = self.body_at(p) if body is None else None
         for b in self._body(body):
@@ -391,13 +424,7 @@ class IBFEMSolution:
         (b,) = self._body(body)
         g = b.grid
         disp = (b.node_dof_map @ self.u).reshape(-1, 2)
-        m = g.moments
-        with np.errstate(invalid="ignore", divide="ignore"):
-            loc = np.stack([m[:, 1, 0] / m[:, 0, 0], m[:, 0, 1] / m[:, 0, 0]], axis=1)
-        loc = np.nan_to_num(loc)
-        centroid = g.center + 0.5 * g.size[:, None] * loc
-        cells = np.arange(len(g.level))
-        stress = (b.stress_operator(centroid, cells) @ self.u).reshape(-1, 3)
+        stress = self.centroid_stress(b.name)
         return {
             "nodes": g.nodes.copy(),
             "cells": g.cells.copy(),
