@@ -3,6 +3,8 @@ traceback from deep inside); unknown surface/curve types are kept and reported."
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -264,3 +266,16 @@ def test_the_cartesian_reading_is_chosen_when_the_data_says_so():
     curve, kind, note = curve_primitive(_desc(isRational=True, controlPoints=cart), "c", check_points=on)
     assert note == "control points read as cartesian xyzw"
     assert np.max(np.abs(curve.project(on).distances)) < 1e-12
+
+
+def test_the_2018_parts_wrapper_is_accepted(tmp_path):
+    """The 2018 docs wrap legacy tessellation arrays as {"parts": [...]}; paths then start there."""
+    d = copy_studio(B, tmp_path)
+    for name in ("tessellatedfaces.json", "tessellatededges.json"):
+        data = json.loads((d / name).read_text())
+        (d / name).write_text(json.dumps({"parts": data}))
+    part = load_part(d)
+    assert len(part.faces) == 13 and all(f.mesh is not None for f in part.faces.values())
+    assert all(len(e.polyline) >= 2 for e in part.edges.values())
+    edit_json(d / "tessellatedfaces.json", lambda data: data["parts"][1]["faces"][0].pop("id"))
+    assert _err(d) == "tessellatedfaces.json: parts[1].faces[0].id: missing field"
