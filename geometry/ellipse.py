@@ -22,7 +22,7 @@ from any point right of the root lands left of it. So:
 
 1. lower bound lb = max(z1, r0 z0 - r0 + 1) (each of u0, u1 <= 1 there, so Phi(lb) <= 0);
    upper bound ub from freezing one term: X = z1 / sqrt(1 - u0(lb)^2), or
-   X = r0 z0 / sqrt(1 - u1(lb)^2) - (r0 - 1), whichever is smaller;
+   X = r0 z0 / sqrt(1 - u1(lb)^2) - (r0 - 1), or Eberly's |(r0 z0, z1)|, whichever is smallest;
 2. start = max(lb, Newton(ub)) (left of the root: safe);
 3. monotone Newton steps until the step is below 2 ulp, continued only on the points that
    have not converged (the bracket needs no further safeguard: steps never leave it).
@@ -105,6 +105,8 @@ def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) 
         u1 = z1 / lb
         ub = z1 / np.sqrt(1.0 - u0 * u0)
         np.fmin(ub, c0 / np.sqrt(1.0 - u1 * u1) - d, out=ub)
+        # and Eberly's bracket end |(r0 z0, z1)| (u0^2 + u1^2 <= 1 there): best for near-circles
+        np.fmin(ub, np.sqrt(c0 * c0 + z1 * z1), out=ub)
         np.fmax(ub, lb, out=ub)  # also where a bound is NaN
         np.minimum(ub, 1e300, out=ub)
         ub += _newton_step(ub, c0, z1, d)
