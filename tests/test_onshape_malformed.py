@@ -279,3 +279,21 @@ def test_the_2018_parts_wrapper_is_accepted(tmp_path):
     assert all(len(e.polyline) >= 2 for e in part.edges.values())
     edit_json(d / "tessellatedfaces.json", lambda data: data["parts"][1]["faces"][0].pop("id"))
     assert _err(d) == "tessellatedfaces.json: parts[1].faces[0].id: missing field"
+
+
+@pytest.mark.parametrize("kind", ["SPUN", "BSURFACE", "OFFSET", "BLEND", "OTHER", "UNKNOWN", "revolved"])
+def test_documented_tessellation_only_surface_types(tmp_path, kind):
+    d = copy_studio(A, tmp_path)
+    k = {}
+
+    def set_type(data):
+        k["i"] = _cyl_index(data)
+        k["id"] = data["bodies"][0]["faces"][k["i"]]["id"]
+        data["bodies"][0]["faces"][k["i"]]["surface"] = {"type": kind}
+
+    edit_json(d / "bodydetails.json", set_type)
+    part = load_part(d)
+    canonical = {"revolved": "SPUN"}.get(kind, kind)
+    face = part.faces[k["id"]]
+    assert face.surface is None and face.surface_type == canonical
+    assert any(w.startswith(f"surface {canonical}: kept as tessellation-only") and k["id"] in w for w in part.warnings)
