@@ -17,13 +17,14 @@ and Delta (the thesis's non-projected results).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .integration import curve_gauss
 
 __all__ = [
+    "chord_table",
     "ContactGeometry",
     "ContactPoints",
     "closest_parameter",
@@ -68,25 +69,36 @@ def closest_parameter(curve, point: np.ndarray, samples: int = 4097) -> float:
     return 0.5 * (a + b)
 
 
-def parameter_at_chord(curve, origin: np.ndarray, chord: np.ndarray, t_from: float, direction: int,
-                       samples: int = 2049) -> np.ndarray:
-    """Parameters t (m,) of the points whose straight-line distance from ``origin`` is ``chord``,
-    walking from ``t_from`` in ``direction`` (+1 increasing t); the first crossing along the
-    walk, NaN where the curve ends first. Sampling, then safeguarded Newton to round-off
-    (one code path for exact curves and polylines)."""
-    chord = np.asarray(chord, dtype=float).ravel()
-    end = float(curve.t_end) if direction > 0 else float(curve.t_start)
+def chord_table(curve, origin: np.ndarray, t_from: float, direction: int, samples: int = 2049,
+                t_to: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Samples (t, chord) of the walk from ``t_from`` in ``direction`` (to the curve's end, or
+    to ``t_to``): the bracketing table of :func:`parameter_at_chord`."""
+    end = (float(curve.t_end) if direction > 0 else float(curve.t_start)) if t_to is None else float(t_to)
     t = np.linspace(float(t_from), end, samples)
     p = np.asarray(curve.evaluate(t), dtype=float).reshape(-1, 2)
-    d = np.hypot(*(p - origin).T)
-    beyond = d[None, :] >= chord[:, None]
-    k = np.argmax(beyond, axis=1)
-    found = beyond[np.arange(len(chord)), k]
-    k = np.maximum(k, 1)
+    return t, np.hypot(*(p - origin).T)
+
+
+def parameter_at_chord(curve, origin: np.ndarray, chord: np.ndarray, t_from: float, direction: int,
+                       samples: int = 2049, table: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    """Parameters t (m,) of the points whose straight-line distance from ``origin`` is ``chord``,
+    walking from ``t_from`` in ``direction`` (+1 increasing t); the first crossing along the
+    walk, NaN where the curve ends first (or beyond a given ``table``'s end). Sampling (or the
+    precomputed ``chord_table``), then safeguarded Newton to round-off (one code path for exact
+    curves and polylines)."""
+    chord = np.asarray(chord, dtype=float).ravel()
+    t, d = table if table is not None else chord_table(curve, origin, t_from, direction, samples)
+    reach = np.maximum.accumulate(d)  # first crossing of the walk = first sample reaching the chord
+    k = np.searchsorted(reach, chord, side="left")
+    found = k < len(t)
+    k = np.clip(k, 1, len(t) - 1)
     a, b = t[k - 1], t[k]
     # safeguarded Newton on f(t) = |X(t) - origin|^2 - chord^2 inside the sampled bracket
     # (bisection where a Newton step leaves it); quadratic convergence, ~6 evaluations
-    t_cur = 0.5 * (a + b)
+    da, db = d[k - 1], d[k]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        frac = np.clip(np.where(db > da, (chord - da) / (db - da), 0.5), 0.0, 1.0)
+    t_cur = a + frac * (b - a)  # linear interpolation in the bracket: Newton then needs ~3 steps
     for _ in range(12):
         x = np.asarray(curve.evaluate(t_cur), float).reshape(-1, 2) - origin
         f = np.einsum("ij,ij->i", x, x) - chord**2
@@ -99,7 +111,7 @@ def parameter_at_chord(curve, origin: np.ndarray, chord: np.ndarray, t_from: flo
         lo_, hi_ = np.minimum(a, b), np.maximum(a, b)
         ok = np.isfinite(nt) & (nt >= lo_) & (nt <= hi_)
         nt = np.where(ok, nt, 0.5 * (a + b))
-        if np.all(np.abs(nt - t_cur) <= 4e-16 * np.maximum(1.0, np.abs(nt))):
+        if np.all(np.abs(nt - t_cur) <= 1e-15 * np.maximum(1.0, np.abs(nt))):
             t_cur = nt
             break
         t_cur = nt
@@ -124,9 +136,21 @@ class ContactGeometry:
     t_origin: tuple[float, float]
     directions: tuple[int, int]  # parameter direction of +s (along tangent) on each curve
     s_limits: tuple[float, float]  # usable chord range on each side (candidate region), > 0
+    tables: dict = field(default_factory=dict)  # (curve, side) -> chord_table over the candidate region
 
     def s_max(self) -> float:
         return min(self.s_limits)
+
+    def table(self, which: int, sgn: int):
+        """Chord table of curve ``which`` on side ``sgn`` covering the candidate region."""
+        key = (which, sgn)
+        if key not in self.tables:
+            curve, c, t0 = self.curves[which], self.origins[which], self.t_origin[which]
+            direction = sgn * self.directions[which]
+            reach = 1.05 * self.s_limits[0 if sgn > 0 else 1]
+            t_end = parameter_at_chord(curve, c, np.array([reach]), t0, direction)[0]
+            self.tables[key] = chord_table(curve, c, t0, direction, 2049, None if np.isnan(t_end) else t_end)
+        return self.tables[key]
 
 
 def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: float) -> ContactGeometry:
@@ -186,7 +210,7 @@ def _parameters_at_s(geom: ContactGeometry, which: int, s: np.ndarray) -> np.nda
     for sgn in (1, -1):
         sel = (s >= 0) if sgn > 0 else (s < 0)
         if sel.any():
-            out[sel] = parameter_at_chord(curve, c, np.abs(s[sel]), t0, sgn * d)
+            out[sel] = parameter_at_chord(curve, c, np.abs(s[sel]), t0, sgn * d, table=geom.table(which, sgn))
     return out
 
 

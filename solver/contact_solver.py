@@ -182,6 +182,9 @@ class _Contact:
     breakpoints: np.ndarray
     a: float = 0.0
     history: list = field(default_factory=list)
+    # stick half-width c: tied (P = I) for |s| <= c, sliding (P = n_c n_c^T) for c < |s| <= a.
+    # Tied contact: c = inf; frictionless: c = 0; partial slip (issue 6) sets c between.
+    stick: float = 0.0
 
 
 def _flux_weights(flux: str) -> tuple[float, float]:
@@ -215,9 +218,11 @@ def _operators(c: _Contact, pts, settings: ContactSettings):
     return jump.tocsr(), flux.tocsr(), _local_size(c, pts, cells1, cells2)
 
 
-def _projector(kind: str, normal: np.ndarray) -> np.ndarray:
-    """Constrained components of the jump: all (tied) or the contact normal (frictionless)."""
-    return projector("sliding" if kind == "frictionless" else "fixed", normal)
+def _projector(c: _Contact, pts) -> np.ndarray:
+    """Constrained components of the jump per point: all where tied (|s| <= stick half-width,
+    eq. 5-20), the contact normal n_c where sliding (eqs. 5-22, 5-23)."""
+    tied = np.abs(pts.s) <= c.stick
+    return np.where(tied[:, None, None], projector("fixed", pts.normal), projector("sliding", pts.normal))
 
 
 def _terms(c: _Contact, a: float, settings: ContactSettings):
@@ -226,10 +231,13 @@ def _terms(c: _Contact, a: float, settings: ContactSettings):
     if a <= 0.0:
         return np.zeros((m, m)), np.zeros(m), None
     lo, hi = -min(a, c.geom.s_limits[1]), min(a, c.geom.s_limits[0])
-    pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, settings.order, c.breakpoints)
+    brk = c.breakpoints
+    if 0.0 < c.stick < a:  # the projector changes at the stick zone's ends
+        brk = np.concatenate([brk, [-c.stick, c.stick]])
+    pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, settings.order, brk)
     jump, flux, size = _operators(c, pts, settings)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
-    proj = _projector(c.kind, pts.normal)
+    proj = _projector(c, pts)
     k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, settings.core.band_fraction, 1.0, jump=jump)
     k = k.tocsr()
     kc = k[c.dofs][:, c.dofs]
@@ -246,7 +254,7 @@ def _tractions(c: _Contact, samples, e_op: np.ndarray, f_op: np.ndarray, size: n
     nc = samples.normal
     gap = np.einsum("qi,qi->q", w, nc)
     inside = np.abs(samples.s) <= a
-    proj = _projector(c.kind, nc)
+    proj = _projector(c, samples)
     layer = (PENALTY_FACTOR / (settings.core.band_fraction * size))[:, None, None] * (
         proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
     )
@@ -457,7 +465,8 @@ def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
     cells1 = np.concatenate([_locate(b1, samples.x1, samples.n1), _locate(b1, full.x1, full.n1)])
     cells2 = np.concatenate([_locate(b2, samples.x2, samples.n2), _locate(b2, full.x2, full.n2)])
     dofs = np.union1d(_cell_dofs_global(b1, cells1), _cell_dofs_global(b2, cells2))
-    c = _Contact(model, geom, b1, b2, model.type, dofs, h, samples, None, None, None, 0.0, bk)
+    c = _Contact(model, geom, b1, b2, model.type, dofs, h, samples, None, None, None, 0.0, bk,
+                 stick=math.inf if model.type == "tied" else 0.0)
     jump, flux, size = _operators(c, samples, settings)
     c.e_samples = jump[:, dofs].toarray()
     c.f_samples = flux[:, dofs].toarray()
@@ -842,7 +851,7 @@ def _contact_block(c: _Contact, a: float, on2, nrm, tan, settings, u) -> dict:
         "normal": nrm.tolist(),
         "tangent": tan.tolist(),
         "half_width": float(a),
-        "stick_half_width": float(a) if c.kind == "tied" else 0.0,
+        "stick_half_width": float(min(c.stick, a)),
         "normal_force": float(-on2 @ nrm),
         "tangential_force": float(on2 @ tan),
         "pressure": {"s": out_s.tolist(), "value": np.interp(out_s, s, pressure).tolist()},
