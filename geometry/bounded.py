@@ -379,81 +379,73 @@ class BoundedCurve(ABC):
     def _sample_grid(self) -> np.ndarray:
         return np.linspace(self.t_start, self.t_end, 65)
 
-    def _project_sampled(self, P: np.ndarray, upper: np.ndarray | None = None) -> np.ndarray:
-        """Parameters of the closest points: dense sampling, the best local minimum of the
-        sampled distance refined by safeguarded Newton on g(t) = X'(t).(X(t) - p) within its
-        neighbouring samples (clamped to the curve), and the second-best local minimum too
-        where it could still win (its sampled distance is within one sample spacing of the
-        best one). The end points are candidates as well. Points whose sampled distance minus
-        the sample spacing (a lower bound) is at least ``upper`` keep their best sample."""
+    @cached_property
+    def _pieces(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Sample grid t (M,), points S (M, 2) and, per piece between samples, a bound h
+        (M - 1,) on how far the curve strays from the piece's chord: the largest deviation at
+        32 points per piece, times 1.5 (the deviation of a smooth piece is close to a
+        parabola, so the sampled maximum is within a few per cent of the true one)."""
         grid, S = self._samples
+        u = (np.arange(1, 33) / 33.0)[None, :]
+        tt = grid[:-1, None] + u * np.diff(grid)[:, None]
+        Y = self.evaluate(tt.ravel()).reshape(tt.shape + (2,))
+        a, b = S[:-1, None, :], S[1:, None, :]
+        ab = b - a
+        L2 = np.sum(ab**2, axis=-1)
+        s = np.clip(np.sum((Y - a) * ab, axis=-1) / np.where(L2 > 0.0, L2, 1.0), 0.0, 1.0)
+        dev = np.sqrt(np.sum((Y - a - s[..., None] * ab) ** 2, axis=-1)).max(axis=1)
+        size = float(np.ptp(S, axis=0).max())
+        return grid, S, 1.5 * dev + 1e-13 * size
+
+    def _project_sampled(self, P: np.ndarray, upper: np.ndarray | None = None) -> np.ndarray:
+        """Parameters of the closest points by branch and bound over the pieces between
+        samples: a piece can hold the closest point only if its chord distance minus its
+        deviation bound (a lower bound) is below the nearest sample's distance (an upper
+        bound); each such piece is refined by safeguarded Newton on g(t) = X'(t).(X(t) - p)
+        within the piece, and the nearest result wins (sample points and ends included).
+        Pieces whose lower bound is at least ``upper`` (the caller's best) are skipped."""
+        grid, S, h = self._pieces
         M = len(grid)
-        spacing = float(np.max(np.sqrt(np.sum(np.diff(S, axis=0) ** 2, axis=1))))
         n = len(P)
         best_t = np.empty(n)
-        chunk = max(1, 4_000_000 // M)
-        for i0 in range(0, n, chunk):  # blocks of points bound the (n, M) work array
+        a = S[:-1]
+        ab = S[1:] - S[:-1]
+        L2 = np.sum(ab**2, axis=1)
+        inv = np.where(L2 > 0.0, 1.0 / np.where(L2 > 0.0, L2, 1.0), 0.0)
+        chunk = max(1, 2_000_000 // M)
+        for i0 in range(0, n, chunk):  # blocks of points bound the (n, M) work arrays
             p = P[i0 : i0 + chunk]
             m = len(p)
-            rows = np.arange(m)
-            d2 = (p[:, 0, None] - S[None, :, 0]) ** 2
-            d2 += (p[:, 1, None] - S[None, :, 1]) ** 2
-            local = np.ones(d2.shape, dtype=bool)
-            local[:, 1:] &= d2[:, 1:] <= d2[:, :-1]
-            local[:, :-1] &= d2[:, :-1] <= d2[:, 1:]
-            masked = np.where(local, d2, np.inf)
-            i1 = np.argmin(masked, axis=1)
-            d1 = masked[rows, i1]
-            masked[rows, i1] = np.inf
-            i2 = np.argmin(masked, axis=1)
-            dsec = masked[rows, i2]
+            dx = p[:, 0, None] - a[None, :, 0]
+            dy = p[:, 1, None] - a[None, :, 1]
+            s = np.clip((dx * ab[None, :, 0] + dy * ab[None, :, 1]) * inv[None, :], 0.0, 1.0)
+            ex = dx - s * ab[None, :, 0]
+            ey = dy - s * ab[None, :, 1]
+            lower = np.sqrt(ex * ex + ey * ey) - h[None, :]
+            d2 = (p[:, 0, None] - S[None, :, 0]) ** 2 + (p[:, 1, None] - S[None, :, 1]) ** 2
+            k = np.argmin(d2, axis=1)
+            ub = np.sqrt(d2[np.arange(m), k])
             if upper is not None:
-                far = np.sqrt(d1) - spacing >= upper[i0 : i0 + chunk]
-                if np.any(far):
-                    best_t[i0 : i0 + chunk][far] = grid[i1[far]]
-                    near = np.flatnonzero(~far)
-                    if near.size:
-                        sub = self._project_sampled(p[near])
-                        best_t[i0 : i0 + chunk][near] = sub
-                    continue
-            cands = self._refine(p, grid, i1)
-            second = np.flatnonzero(np.sqrt(dsec) < np.sqrt(d1) + spacing)
-            if second.size:
-                for tc in self._refine(p[second], grid, i2[second]):
-                    t2 = cands[0].copy()
-                    t2[second] = tc
-                    cands.append(t2)
-            T = np.stack(cands, axis=1)
-            X = self.evaluate(T.ravel()).reshape(T.shape + (2,))
-            dd = (X[..., 0] - p[:, 0, None]) ** 2 + (X[..., 1] - p[:, 1, None]) ** 2
-            # the end points too (their samples are S[0] and S[-1])
-            T = np.column_stack([T, np.full(m, self.t_start), np.full(m, self.t_end)])
-            dd = np.column_stack([dd, d2[:, 0], d2[:, -1]])
-            best_t[i0 : i0 + chunk] = T[rows, np.argmin(dd, axis=1)]
+                ub = np.minimum(ub, upper[i0 : i0 + chunk])
+            pt, piece = np.nonzero(lower < ub[:, None])
+            t_pairs = self._newton_closest(
+                p[pt],
+                grid[piece] + s[pt, piece] * (grid[piece + 1] - grid[piece]),
+                grid[piece],
+                grid[piece + 1],
+            )
+            X = self.evaluate(t_pairs)
+            dd = (X[:, 0] - p[pt, 0]) ** 2 + (X[:, 1] - p[pt, 1]) ** 2
+            # per point: the nearest sample, then any refined piece that beats it
+            bt = grid[k]
+            bd = d2[np.arange(m), k]
+            order = np.lexsort((dd, pt))
+            first = np.unique(pt[order], return_index=True)[1]
+            win = order[first]
+            better = dd[win] < bd[pt[win]]
+            bt[pt[win][better]] = t_pairs[win][better]
+            best_t[i0 : i0 + chunk] = bt
         return best_t
-
-    def _kink_parameters(self) -> np.ndarray:
-        """Interior parameters where the tangent may jump (none for smooth curves)."""
-        return np.empty(0)
-
-    def _refine(self, p: np.ndarray, grid: np.ndarray, idx: np.ndarray) -> list[np.ndarray]:
-        """Newton from sample idx within its neighbours; where that sample is a kink, the
-        two sides are refined separately (g is discontinuous there)."""
-        M = len(grid)
-        lo = grid[np.maximum(idx - 1, 0)]
-        hi = grid[np.minimum(idx + 1, M - 1)]
-        kinks = self._kink_parameters()
-        at_kink = np.isin(grid[idx], kinks) if kinks.size else np.zeros(len(idx), dtype=bool)
-        if not np.any(at_kink):
-            return [self._newton_closest(p, grid[idx], lo, hi)]
-        mid = grid[idx]
-        t_main = self._newton_closest(p, grid[idx], lo, hi)
-        k = np.flatnonzero(at_kink)
-        left = t_main.copy()
-        right = t_main.copy()
-        left[k] = self._newton_closest(p[k], 0.5 * (lo[k] + mid[k]), lo[k], mid[k])
-        right[k] = self._newton_closest(p[k], 0.5 * (mid[k] + hi[k]), mid[k], hi[k])
-        return [t_main, left, right]
 
     def _newton_closest(self, p: np.ndarray, t: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """Safeguarded Newton for a zero of g(t) = X'(t).(X(t) - p) in [lo, hi]; a Newton step
@@ -1389,8 +1381,6 @@ class BSplineArc(BoundedCurve):
         inner, counts = np.unique(k[(k > self.t_start) & (k < self.t_end)], return_counts=True)
         return inner[counts >= self.degree]
 
-    def _kink_parameters(self) -> np.ndarray:
-        return self.kinks
 
     def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         pr = self._project(P, upper)

@@ -391,3 +391,21 @@ def test_parameter_at_chord_not_monotone_returns_the_first_crossing():
         t = method((0.0, 1.0), np.array([1.5, 0.5, 3.0]), 0.0, 1)
         np.testing.assert_allclose(t[0], 2.0 - math.sqrt(1.25), atol=1e-14)
         assert np.isnan(t[1]) and np.isnan(t[2])  # closer than the curve ever gets / farther
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_bsplines_against_brute_force(seed):
+    # random degree 1-4 splines (rational half of the time): polylines with many corners and
+    # points close to the curve are the hard cases for sampled seeding
+    rng = np.random.default_rng(100 + seed)
+    n = int(rng.integers(5, 16))
+    p = int(min(rng.integers(1, 5), n - 1))
+    inner = np.sort(rng.uniform(0, 1, n - p - 1))
+    knots = np.concatenate([np.zeros(p + 1), inner, np.ones(p + 1)])
+    b = BSplineArc(p, rng.uniform(-3, 3, (n, 2)), knots, rng.uniform(0.3, 3, n) if seed % 2 else None, "r")
+    on = b.evaluate(rng.uniform(0, 1, 40))
+    P = np.vstack([rng.uniform(-4, 4, (80, 2)), on + rng.normal(0, 0.05, on.shape)])
+    pr = b.project(P)
+    brute, spacing = brute_force_distance(b, P, n1=50_001, n2=1_001)
+    assert np.all(np.abs(pr.distances) <= brute + 1e-12)
+    assert np.all(np.abs(pr.distances) >= brute - 0.5 * spacing - 1e-12)
