@@ -93,7 +93,10 @@ def run_one(spec: dict) -> dict:
 
     data = _scene_dict(spec)
     problem = scene_from_dict(data, label=spec["file"], base_dir=EXAMPLES).problem
-    settings = ContactSettings(core=Settings(grid_offset=tuple(spec.get("offset", (0.0, 0.0)))),
+    core = Settings(grid_offset=tuple(spec.get("offset", (0.0, 0.0))))
+    if spec.get("chord_fraction"):
+        core = Settings(grid_offset=core.grid_offset, chord_fraction=spec["chord_fraction"])
+    settings = ContactSettings(core=core,
                                width_update=spec.get("width_update", "bracket"))
     t = time.perf_counter()
     sol = solve_contact(problem, settings=settings)
@@ -159,11 +162,18 @@ def cases(quick: bool) -> list[dict]:
     out += [{"name": n + "_thesis", "file": f, "R": r, "width_update": "thesis"} for n, f, r in EXAMPLE_CASES
             if "tessellated" not in n]
     ex3 = {"file": "cylinder_on_cylinder_frictionless.toml", "R": 0.5}
-    for off in ((0.25, 0.1), (0.5, 0.35), (0.75, 0.6), (0.37, 0.26)):
+    # offsets in fractions of element_size; the finest cells are element_size / 16 here, so
+    # multiples of 1/16 would leave the fine grid where it was: use quarters of a fine cell
+    for off in ((1 / 64, 1 / 64), (2 / 64, 3 / 64), (3 / 64, 1 / 64), (0.37, 0.26)):
         out.append({**ex3, "name": f"ex3_offset_{off[0]}_{off[1]}", "offset": off})
     out.append({**ex3, "name": "ex3_stiffness_ratio_10", "stiff_upper": True})
     out.append({**ex3, "name": "ex3_turned_30deg", "rotate_deg": 30.0})
     out.append({**ex3, "name": "ex3_one_more_level", "extra_level": True})
+    # exact_geometry = false: the degradation against the tessellation's chord tolerance
+    # (Settings.chord_fraction x element_size: 1 mm by default for example 1, where a ~ 2 mm)
+    for cf in (0.01, 0.001):
+        out.append({"name": f"ex1_tessellated_chord_{cf * 10:g}mm", "file": "ellipse_on_block_tessellated.toml",
+                    "R": 0.1, "chord_fraction": cf})
     flat = {"file": "mesh_convergence.toml", "R": 1.0}
     for uy in (-0.1e-3, -0.5e-3, -4.0e-3, -12.0e-3):  # a from ~2 cells (h = 3.1 mm) to ~R/10-R/4
         out.append({**flat, "name": f"ex2_uy_{uy * 1e3:g}mm", "uy": uy})

@@ -177,10 +177,9 @@ class _Contact:
     samples: object  # ContactPoints at the sample chords
     e_samples: np.ndarray  # (2 ns, m) jump operator at samples on the contact dofs
     f_samples: np.ndarray  # (2 ns, m) flux operator at samples
-    delta_samples: np.ndarray  # (ns,) local delta of samples
+    size_samples: np.ndarray  # (ns,) local size (sets delta) at the samples
     e_star: float
     breakpoints: np.ndarray
-    a: float = 0.0
     history: list = field(default_factory=list)
     # stick half-width c: tied (P = I) for |s| <= c, sliding (P = n_c n_c^T) for c < |s| <= a.
     # Tied contact: c = inf; frictionless: c = 0; partial slip (issue 6) sets c between.
@@ -265,7 +264,7 @@ def _tractions(c: _Contact, samples, e_op: np.ndarray, f_op: np.ndarray, size: n
 
 def _sample_state(c: _Contact, x: np.ndarray, a: float, settings: ContactSettings):
     """Normal gap (ns,) and contact pressure (ns,) at the samples for contact dof values x."""
-    gap, t1, inside = _tractions(c, c.samples, c.e_samples, c.f_samples, c.delta_samples, x, a, settings)
+    gap, t1, inside = _tractions(c, c.samples, c.e_samples, c.f_samples, c.size_samples, x, a, settings)
     return gap, np.einsum("qi,qi->q", t1, c.samples.normal), inside
 
 
@@ -286,7 +285,7 @@ class _Verdict:
 
 
 def _judge(c: _Contact, gap, pressure, inside, a, settings: ContactSettings) -> _Verdict:
-    s = c.samples.s if len(gap) == len(c.samples.s) else None
+    s = c.samples.s
     p_mean = max(float(np.mean(pressure[inside])) if inside.any() else 0.0, 0.0)
     g_tol = settings.gap_tolerance * c.h * max(p_mean, 1e-30) / c.e_star
     p_tol = settings.tension_tolerance * p_mean
@@ -444,11 +443,6 @@ def _essential_terms(problem, bodies, settings: Settings):
     return k.tocsr(), f, essentials
 
 
-def _factor(k: sp.csr_matrix):
-    """SuperLU in symmetric mode (as solver.ibfem does; CHOLMOD is not available)."""
-    return spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-
-
 def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
     s_plus, s_minus = geom.s_limits
     bk = grid_breakpoints(geom, (b1.grid, b2.grid), -s_minus, s_plus)
@@ -470,7 +464,7 @@ def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
     jump, flux, size = _operators(c, samples, settings)
     c.e_samples = jump[:, dofs].toarray()
     c.f_samples = flux[:, dofs].toarray()
-    c.delta_samples = size
+    c.size_samples = size
     e1 = b1.elasticity[0, 0] - b1.elasticity[0, 1] ** 2 / b1.elasticity[0, 0]  # plane modulus E/(1-nu^2)
     e2 = b2.elasticity[0, 0] - b2.elasticity[0, 1] ** 2 / b2.elasticity[0, 0]
     c.e_star = 1.0 / (1.0 / e1 + 1.0 / e2)
