@@ -97,7 +97,7 @@ def run_one(spec: dict) -> dict:
     if spec.get("chord_fraction"):
         core = Settings(grid_offset=core.grid_offset, chord_fraction=spec["chord_fraction"])
     settings = ContactSettings(core=core,
-                               width_update=spec.get("width_update", "bracket"))
+                               width_update=spec.get("width_update", "bracket"), flux=spec.get("flux", "average"))
     t = time.perf_counter()
     sol = solve_contact(problem, settings=settings)
     wall = time.perf_counter() - t
@@ -124,6 +124,7 @@ def run_one(spec: dict) -> dict:
     row = {
         "case": spec["name"],
         "width_update": settings.width_update,
+        "flux": settings.flux,
         "a": a,
         "a_hertz": a_hertz,
         "a_error": a / a_hertz - 1.0,
@@ -167,6 +168,9 @@ def cases(quick: bool) -> list[dict]:
     for off in ((1 / 64, 1 / 64), (2 / 64, 3 / 64), (3 / 64, 1 / 64), (0.37, 0.26)):
         out.append({**ex3, "name": f"ex3_offset_{off[0]}_{off[1]}", "offset": off})
     out.append({**ex3, "name": "ex3_stiffness_ratio_10", "stiff_upper": True})
+    # consistency flux: body 1's alone with weight 1 or 1/2 (the thesis's reading) against the average
+    out.append({**ex3, "name": "ex3_flux_body1", "flux": "body1"})
+    out.append({**ex3, "name": "ex3_flux_body1_half", "flux": "body1_half"})
     out.append({**ex3, "name": "ex3_turned_30deg", "rotate_deg": 30.0})
     out.append({**ex3, "name": "ex3_one_more_level", "extra_level": True})
     # exact_geometry = false: the degradation against the tessellation's chord tolerance
