@@ -406,3 +406,40 @@ def test_slow_convergence_five_grids_and_thesis_weight_saturation():
     assert 1.9 < np.polyfit(np.log(hs), np.log(err[1.0]), 1)[0] < 2.2
     # weight 1/2: O(delta) inconsistency, the last halving of h gains much less than 4x
     assert err[0.5][-2] / err[0.5][-1] < 2.5
+
+
+def test_sliding_on_a_curved_edge_with_prescribed_normal_displacement():
+    # quarter annulus: internal pressure p, outer arc held at u_r(b) = d0 by a sliding condition
+    # along its exact (curved) normal. Closed form u = A r + B / r (plane strain) with
+    # sigma_rr(a) = -p and u(b) = d0.
+    a, b, p, d0, rot = 1.0, 2.0, 50e6, 2e-4, 33.0
+    lam, mu = STEEL.lame("plane_strain")
+    M = np.array([[2 * (lam + mu), -2 * mu / a**2], [b, 1 / b]])
+    A, B = np.linalg.solve(M, [-p, d0])
+    prof = _quarter_annulus(rot)
+    prob = Problem("held", "plane_strain", 1.0, (BodyModel("ring", prof, STEEL, 0.025),),
+                   (Sliding("ring", "bottom"), Sliding("ring", "left"), Pressure("ring", "inner", p),
+                    Sliding("ring", "outer", normal_displacement=d0)))
+    sol = solve(prob)
+    R = np.array([1.0, 1.3, 1.7, 2.0])
+    th = np.deg2rad(40.0 + rot)
+    pts = np.column_stack([R * np.cos(th), R * np.sin(th)])
+    ur = sol.displacement(pts) @ [np.cos(th), np.sin(th)]
+    assert np.allclose(ur, A * R + B / R, rtol=2e-3)
+    srr_b = 2 * (lam + mu) * A - 2 * mu * B / b**2
+    # the outer support's force on the ring: sigma_rr(b) b (1, 1) turned with the body
+    assert np.allclose(sol.reactions["ring/outer"], srr_b * b * (_rot(rot) @ [1.0, 1.0]), rtol=0.01)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_patch_test_at_random_grid_offsets_and_angles(seed):
+    # robustness of classification, cut-cell moments and band terms wherever the grid falls
+    rng = np.random.default_rng(100 + seed)
+    rot = float(rng.uniform(-180, 180))
+    offset = tuple(rng.choice([0.0, 1e-12, 0.5, 1 - 1e-12, float(rng.uniform())], 2))
+    s0 = 1e8
+    sol = solve(_plate_problem(rot, h=0.13, s0=s0), settings=Settings(grid_offset=offset))
+    _, pts = _plate_points(rot, n=400)
+    sxx, syy, sxy = _to_frame(sol.stress(pts), rot)
+    assert np.max(np.abs(sxx - s0)) < 1e-5 * s0, (rot, offset)
+    assert max(np.abs(syy).max(), np.abs(sxy).max()) < 1e-5 * s0
