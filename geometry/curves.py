@@ -99,29 +99,30 @@ def to_local(pts: np.ndarray, frame: np.ndarray, origin: np.ndarray) -> np.ndarr
     return frame @ (pts - origin).T
 
 
-def to_global(local: np.ndarray, frame: np.ndarray, offset: np.ndarray | None, out: np.ndarray) -> None:
-    """``out = local^T frame (+ offset)``: (3, m) local components to an (m, 3) output block.
+def to_global(local: np.ndarray, frame: np.ndarray, out: np.ndarray) -> None:
+    """``out = local^T frame``: (3, m) local components to an (m, 3) output block.
 
     One BLAS call on the transposed view: much faster than writing the strided output columns
     one by one with elementwise numpy operations.
     """
     np.matmul(local.T, frame, out=out)
-    if offset is not None:
-        out += offset
 
 
-def to_global3(c1: np.ndarray, c2: np.ndarray, c3: Any, frame: np.ndarray, offset: np.ndarray | None, out: np.ndarray) -> None:
-    """``out = c1 e1 + c2 e2 + c3 e3 (+ offset)``; c3 may be a scalar."""
-    c = np.empty((3, len(c1)))
+def to_global3(c1: Any, c2: Any, c3: Any, frame: np.ndarray, offset: np.ndarray | None, out: np.ndarray) -> None:
+    """``out = c1 e1 + c2 e2 + c3 e3 (+ offset)`` for an (m, 3) block; the c's may be scalars.
+
+    The offset rides along as a fourth row of ones times a fourth frame row: a broadcast add
+    on the (m, 3) output would cost as much as the whole product.
+    """
+    m = out.shape[0]
+    c = np.empty((3 if offset is None else 4, m))
     c[0] = c1
     c[1] = c2
     c[2] = c3
-    to_global(c, frame, offset, out)
-
-
-def rows(m: int) -> np.ndarray:
-    """A (3, m) scratch array for local components (rows contiguous)."""
-    return np.empty((3, m))
+    if offset is not None:
+        c[3] = 1.0
+        frame = np.vstack((frame, offset))
+    np.matmul(c.T, frame, out=out)
 
 
 def unit_radial(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -218,15 +219,8 @@ class Line(Curve):
         for s in blocks(n):
             x, y, ts = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(x, y)  # on the line: e1, a fixed perpendicular
-            c = rows(len(ts))
-            c[0] = cx
-            c[1] = cy
-            c[2] = 0.0
-            to_global(c, frame, None, normals[s])
-            c[0] = 0.0
-            c[1] = 0.0
-            c[2] = ts
-            to_global(c, frame, self._o, closest[s])
+            to_global3(cx, cy, 0.0, frame, None, normals[s])
+            to_global3(0.0, 0.0, ts, frame, self._o, closest[s])
             t[s] = ts
             dist[s] = rho
         return Projection(points=closest, normals=normals, distances=dist, parameters=t)
@@ -282,11 +276,7 @@ class Circle(Curve):
             rho, cx, cy = unit_radial(c[0], c[1])
             theta[s] = np.arctan2(cy, cx)
             np.subtract(rho, R, out=dist[s])
-            c[0] = cx
-            c[1] = cy
-            c[2] = 0.0
-            to_global(c, frame, None, normals[s])
-            c *= R
-            to_global(c, frame, self._o, closest[s])
+            to_global3(cx, cy, 0.0, frame, None, normals[s])
+            to_global3(R * cx, R * cy, 0.0, frame, self._o, closest[s])
         return restore_dim(Projection(points=closest, normals=normals, distances=dist, parameters=theta), dim)
 

@@ -160,9 +160,9 @@ class Sphere(Surface):
             rxy += y * y
             np.sqrt(rxy, out=rxy)
             uv[s, 1] = np.arctan2(z, rxy)
-            to_global(c, eye, None, normals[s])
+            to_global(c, eye, normals[s])
             c *= R
-            to_global(c, eye, self._o, closest[s])
+            to_global3(c[0], c[1], c[2], eye, self._o, closest[s])
         return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
 
 
