@@ -252,6 +252,10 @@ def assemble_blocks(cell_nodes: np.ndarray, k_cells: np.ndarray, n_nodes: int) -
     return sp.bsr_matrix((summed.reshape(-1, 2, 2), unique_keys % n_nodes, indptr), shape=(2 * n_nodes, 2 * n_nodes)).tocsr()
 
 
+# 2^12 = 4096 times finer than the background grid is far beyond any use.
+MAX_REFINEMENT_LEVELS = 12
+
+
 def _zones(body, h0) -> tuple[RefinementZone, ...]:
     zones = []
     for k, r in enumerate(body.refinements):
@@ -259,8 +263,8 @@ def _zones(body, h0) -> tuple[RefinementZone, ...]:
             raise ValueError(
                 f"bodies[{body.name}].refinement[{k}].around is 'contact' but no contact point was resolved"
             )
-        if int(r.levels) != r.levels or r.levels < 0:
-            raise ValueError(f"bodies[{body.name}].refinement[{k}].levels must be an integer >= 0, got {r.levels!r}")
+        if int(r.levels) != r.levels or not 0 <= r.levels <= MAX_REFINEMENT_LEVELS:
+            raise ValueError(f"bodies[{body.name}].refinement[{k}].levels must be an integer in [0, {MAX_REFINEMENT_LEVELS}], got {r.levels!r}")
         if not (r.radius > 0):
             raise ValueError(f"bodies[{body.name}].refinement[{k}].radius must be positive, got {r.radius!r}")
         zones.append(RefinementZone(int(r.levels), float(r.radius), np.asarray(r.center, dtype=float)))
@@ -455,6 +459,13 @@ def _essential(bc, names):
     return None
 
 
+def _finite_vector(value, where: str) -> np.ndarray:
+    v = np.asarray(value, dtype=float).ravel()
+    if v.shape != (2,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{where} must be two finite numbers, got {value!r}")
+    return v
+
+
 def _rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> None:
     """Raise ValueError when a body can move rigidly (R^T K R singular for its rigid modes)."""
     diag = np.abs(k.diagonal())
@@ -560,7 +571,7 @@ def assemble(problem, bodies: list[BodyDiscretisation], settings: Settings) -> L
             raise ValueError(f"boundary_conditions[{j}].body: unknown body {bc.body!r}; bodies: {', '.join(names)}")
         b = by_name[bc.body]
         if isinstance(bc, BodyForce):
-            f += b.body_force(bc.value)
+            f += b.body_force(_finite_vector(bc.value, f"boundary_conditions[{j}].value"))
             continue
         bp = b.edge_points(bc.edge, settings.boundary_order)
         ess = _essential(bc, names)
@@ -573,9 +584,11 @@ def assemble(problem, bodies: list[BodyDiscretisation], settings: Settings) -> L
             f += fa
             essentials.append(EssentialTerm(f"{bc.body}/{bc.edge}", b, bp, proj, target))
         elif isinstance(bc, Traction):
-            tr = np.broadcast_to(np.asarray(bc.value, dtype=float), bp.normals.shape)
+            tr = np.broadcast_to(_finite_vector(bc.value, f"boundary_conditions[{j}].value"), bp.normals.shape)
             f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
         elif isinstance(bc, Pressure):
+            if not np.isfinite(bc.value):
+                raise ValueError(f"boundary_conditions[{j}].value: pressure must be finite, got {bc.value!r}")
             tr = -float(bc.value) * bp.normals
             f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
         else:

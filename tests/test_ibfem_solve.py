@@ -443,3 +443,15 @@ def test_patch_test_at_random_grid_offsets_and_angles(seed):
     sxx, syy, sxy = _to_frame(sol.stress(pts), rot)
     assert np.max(np.abs(sxx - s0)) < 1e-5 * s0, (rot, offset)
     assert max(np.abs(syy).max(), np.abs(sxy).max()) < 1e-5 * s0
+
+
+def test_bad_load_values_are_clear_errors():
+    prof = profile_from_shape({"type": "rectangle", "min": [0, 0], "max": [1, 1]})
+    body = BodyModel("plate", prof, STEEL, 0.25)
+    for bc, field in ((Traction("plate", "top", (np.nan, 0.0)), "value"), (Pressure("plate", "top", np.inf), "pressure"),
+                      (BodyForce("plate", (1.0, 2.0, 3.0)), "value")):
+        with pytest.raises(ValueError, match=field):
+            solve(Problem("e", "plane_stress", 1.0, (body,), (Fixed("plate", "left"), bc)))
+    with pytest.raises(ValueError, match="levels"):
+        solve(Problem("e", "plane_stress", 1.0, (BodyModel("plate", prof, STEEL, 0.25, (Refinement(40, 0.1, np.zeros(2)),)),),
+                      (Fixed("plate", "left"),)))
