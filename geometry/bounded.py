@@ -497,23 +497,49 @@ class BoundedCurve(ABC):
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
         """Sorted parameters where coordinate ``axis`` (0 = x, 1 = y) equals ``value``.
 
-        Generic version: sampling plus bisection (closed forms override it). A curve piece
-        lying along the line returns its two ends."""
+        Generic version (closed forms override it): sign changes between samples refined by
+        bisection, plus pieces that may dip across the line between two samples on the same
+        side (within the piece's deviation bound), searched at their coordinate extremum. A
+        curve lying along the line returns its two ends."""
         axis = _axis(axis)
         value = float(value)
 
         def f(t):
             return self.evaluate(t)[:, axis] - value
 
-        grid, S = self._samples
+        def df(t):
+            return self.derivative(t)[:, axis]
+
+        grid, S, h = self._pieces
         fs = S[:, axis] - value
         if np.all(fs == 0.0):
             return np.array([self.t_start, self.t_end])
-        zeros = grid[fs == 0.0]
+        zeros = [grid[fs == 0.0]]
         change = (fs[:-1] * fs[1:]) < 0.0
         if np.any(change):
-            zeros = np.concatenate([zeros, _bisect(f, grid[:-1][change], grid[1:][change], fs[:-1][change])])
-        return _dedupe_sorted(zeros, abs(self.t_end - self.t_start))
+            zeros.append(_bisect(f, grid[:-1][change], grid[1:][change], fs[:-1][change]))
+        # pieces with both ends on one side that may still reach the line (within their
+        # deviation bound): look at the coordinate's extremum inside the piece; if it gets
+        # to the other side there are two crossings (a touching line gives one)
+        same = ~change & (fs[:-1] != 0.0) & (fs[1:] != 0.0)
+        reach = same & (np.minimum(np.abs(fs[:-1]), np.abs(fs[1:])) <= h)
+        idx = np.flatnonzero(reach)
+        if idx.size:
+            lo, hi = grid[idx], grid[idx + 1]
+            d_lo, d_hi = df(lo), df(hi)
+            turn = d_lo * d_hi < 0.0
+            if np.any(turn):
+                lo, hi, d_lo = lo[turn], hi[turn], d_lo[turn]
+                tm = _bisect(df, lo, hi, d_lo)
+                fm = f(tm)
+                side = np.sign(fs[idx[turn]])
+                touch = fm == 0.0
+                zeros.append(tm[touch])
+                cross = np.sign(fm) == -side
+                if np.any(cross):
+                    zeros.append(_bisect(f, lo[cross], tm[cross], f(lo[cross])))
+                    zeros.append(_bisect(f, tm[cross], hi[cross], fm[cross]))
+        return _dedupe_sorted(np.concatenate(zeros), abs(self.t_end - self.t_start))
 
     # -- quadrature ------------------------------------------------------------------------
 

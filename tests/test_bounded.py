@@ -409,3 +409,18 @@ def test_random_bsplines_against_brute_force(seed):
     brute, spacing = brute_force_distance(b, P, n1=50_001, n2=1_001)
     assert np.all(np.abs(pr.distances) <= brute + 1e-12)
     assert np.all(np.abs(pr.distances) >= brute - 0.5 * spacing - 1e-12)
+
+
+def test_spline_crossings_near_a_tangent_line_are_found():
+    # y(t) = 4t - 3.5t^2: apex y = 8/7 at t = 4/7, between two samples (they are at k/12)
+    b = BSplineArc(2, [[-1.0, 0.0], [0.0, 2.0], [1.0, 0.5]], [0, 0, 0, 1, 1, 1], None, "cap")
+    apex = 8.0 / 7.0
+    grid, S, _ = b._pieces
+    assert np.all(np.abs(grid - 4 / 7) > 1e-3) and np.all(S[:, 1] < apex - 2e-4)  # no sample reaches
+    for value in (apex - 1e-9, apex - 1e-4, apex - 0.3):
+        tc = b.axis_crossings(1, value)
+        assert tc.size == 2
+        np.testing.assert_allclose(b.evaluate(tc)[:, 1], value, atol=1e-14)
+        ref = (4 + np.array([-1, 1]) * np.sqrt(16 - 14 * value)) / 7  # roots of 3.5t^2 - 4t + v
+        np.testing.assert_allclose(tc, ref, atol=1e-7)
+    assert b.axis_crossings(1, apex + 1e-9).size == 0
