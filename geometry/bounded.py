@@ -1438,6 +1438,40 @@ class BSplineArc(BoundedCurve):
                 pr.distances[at] = np.where(s < 0.0, -dist, dist)
         return pr
 
+    def trimmed(self, t0: float, t1: float) -> "BSplineArc":
+        """The piece on [t0, t1] (inside the domain) as a clamped B-spline of its own: knots
+        inserted up to multiplicity ``degree`` at t0 and t1 (exact, scipy's FITPACK insertion,
+        in homogeneous coordinates for NURBS), then the control points between them. The
+        parameter keeps its values (the piece's domain is [t0, t1]); the name is kept."""
+        from scipy.interpolate import insert  # lazy: keeps `import geometry` light
+
+        t0, t1 = float(t0), float(t1)
+        if not (self.t_start <= t0 < t1 <= self.t_end):
+            raise ValueError(
+                f"bspline {self.name!r}: trim range [{t0}, {t1}] must be increasing and inside the domain "
+                f"[{self.t_start}, {self.t_end}]"
+            )
+        p = self.degree
+        if self.weights is None:
+            coef = self.control_points
+        else:
+            coef = np.column_stack([self.control_points * self.weights[:, None], self.weights])
+        T = self.knots
+        C = [coef[:, j].copy() for j in range(coef.shape[1])]
+        for x in (t0, t1):
+            mult = int(np.count_nonzero(T == x))
+            if mult < p:
+                T, C, _ = insert(x, (T, C, p), m=p - mult)
+                C = [np.asarray(c[: len(T) - p - 1]) for c in C]
+        C = np.column_stack(C)
+        i_last = int(np.flatnonzero(T == t0)[-1])
+        j_first = int(np.flatnonzero(T == t1)[0])
+        cp = C[i_last - p : j_first]
+        knots = np.concatenate([[t0] * (p + 1), T[(T > t0) & (T < t1)], [t1] * (p + 1)])
+        if self.weights is None:
+            return BSplineArc(p, cp, knots, None, self.name)
+        return BSplineArc(p, cp[:, :2] / cp[:, 2:3], knots, cp[:, 2], self.name)
+
     def reversed(self) -> "BSplineArc":
         a, b = self.knots[0], self.knots[-1]
         return BSplineArc(

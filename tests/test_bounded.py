@@ -424,3 +424,17 @@ def test_spline_crossings_near_a_tangent_line_are_found():
         ref = (4 + np.array([-1, 1]) * np.sqrt(16 - 14 * value)) / 7  # roots of 3.5t^2 - 4t + v
         np.testing.assert_allclose(tc, ref, atol=1e-7)
     assert b.axis_crossings(1, apex + 1e-9).size == 0
+
+
+@pytest.mark.parametrize("key", ["nurbs", "bspline"])
+def test_trimmed_spline_is_the_same_curve_piece(key):
+    b = CURVES[key]
+    for t0, t1 in [(0.13, 0.61), (0.0, 0.5), (0.2, 1.0), (0.5, 0.7)]:
+        piece = b.trimmed(t0, t1)
+        assert piece.t_start == t0 and piece.t_end == t1
+        t = np.linspace(t0, t1, 17)
+        np.testing.assert_allclose(piece.evaluate(t), b.evaluate(t), atol=1e-14)
+        np.testing.assert_allclose(piece.derivative(t[1:-1]), b.derivative(t[1:-1]), atol=1e-12)
+        assert piece.length == pytest.approx(b.arc_length(t1)[0] - b.arc_length(t0)[0], rel=1e-13)
+    with pytest.raises(ValueError, match="trim range"):
+        b.trimmed(0.5, 0.2)
