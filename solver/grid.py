@@ -46,6 +46,7 @@ __all__ = [
     "Grid",
     "build_grid",
     "refinement_radii",
+    "assign_to_material_side",
 ]
 
 INSIDE = 1
@@ -386,7 +387,7 @@ def _cut_pieces(grid: Grid, boundary: Boundary, candidate: np.ndarray) -> Pieces
         t0, t1, tm, pm = t0[ok], t1[ok], tm[ok], pm[ok]
         d = np.asarray(curve.derivative(tm), float).reshape(-1, 2)
         n = np.stack([d[:, 1], -d[:, 0]], axis=1) / np.hypot(d[:, 0], d[:, 1])[:, None]
-        cell = _assign_to_material_side(grid, pm, -n)
+        cell = assign_to_material_side(grid, pm, -n)
         if (cell < 0).any():
             bad = pm[cell < 0][0]
             raise RuntimeError(f"boundary piece of {name!r} near {bad.tolist()} lies in no grid cell")
@@ -402,7 +403,7 @@ def _cut_pieces(grid: Grid, boundary: Boundary, candidate: np.ndarray) -> Pieces
 ON_SIDE = 1e-11
 
 
-def _assign_to_material_side(grid: Grid, points: np.ndarray, inward: np.ndarray) -> np.ndarray:
+def assign_to_material_side(grid: Grid, points: np.ndarray, inward: np.ndarray) -> np.ndarray:
     """Cell holding each piece midpoint; a midpoint on a cell side (a piece along a grid line)
     goes to the cell on the material side (``inward`` direction)."""
     cell = grid.locate(points)

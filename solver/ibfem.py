@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .grid import CUT, Boundary, Grid, RefinementZone, build_grid
+from .grid import CUT, Boundary, Grid, RefinementZone, assign_to_material_side, build_grid
 from .integration import (
     Polyline,
     body_force_vectors,
@@ -221,6 +221,25 @@ class BodyDiscretisation:
             cell_size=np.maximum(self.grid.material_thickness[cells], 1e-6 * self.grid.size[cells]),
             displacement=self.displacement_operator(pts, cells),
             traction=self.traction_operator(pts, cells, nrm),
+        )
+
+    def points_on(self, points: np.ndarray, weights: np.ndarray, normals: np.ndarray) -> BoundaryPoints:
+        """BoundaryPoints at boundary points of this body (e.g. matched contact points), with
+        the operators of the cells holding them (a point on a cell side goes to the cell on
+        the material side of ``normals``); points in no cell raise ValueError."""
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        normals = np.asarray(normals, dtype=float).reshape(-1, 2)
+        cells = assign_to_material_side(self.grid, points, -normals)
+        if (cells < 0).any():
+            bad = points[cells < 0][0]
+            raise ValueError(f"point {bad.tolist()} lies outside the grid of body {self.name!r}")
+        return BoundaryPoints(
+            points=points,
+            weights=np.asarray(weights, dtype=float).ravel(),
+            normals=normals,
+            cell_size=np.maximum(self.grid.material_thickness[cells], 1e-6 * self.grid.size[cells]),
+            displacement=self.displacement_operator(points, cells),
+            traction=self.traction_operator(points, cells, normals),
         )
 
     def contains(self, points: np.ndarray) -> np.ndarray:

@@ -93,3 +93,26 @@ def test_acoustic_tensor():
     t = np.array([-0.8, 0.6])
     assert np.isclose(n[0] @ a @ n[0], 2.0 + 2 * 0.5)
     assert np.isclose(t @ a @ t, 0.5) and np.isclose(t @ a @ n[0], 0.0)
+
+
+def test_points_on_a_body_give_the_same_operators_as_its_edge_quadrature():
+    from geometry.shapes import profile_from_shape
+    from solver.ibfem import Settings, discretise
+    from solver.problem import BodyModel, Material, Problem
+
+    prof = profile_from_shape({"type": "disk", "center": [0, 0], "radius": 1.0})
+    prob = Problem("d", "plane_strain", 1.0, (BodyModel("d", prof, Material("s", 1.0, 0.3), 0.2),))
+    (body,) = discretise(prob, Settings())
+    edge = body.edge_points("boundary", 3)
+    again = body.points_on(edge.points, edge.weights, edge.normals)
+    u = np.random.default_rng(0).normal(size=body.n_total)
+    assert np.allclose(edge.displacement @ u, again.displacement @ u)
+    assert np.allclose(edge.traction @ u, again.traction @ u)
+    # an edge on a grid line: points go to the cells on the material side, as the edge's own
+    sq = profile_from_shape({"type": "rectangle", "min": [0, 0], "max": [1, 1]})
+    (plate,) = discretise(Problem("s", "plane_strain", 1.0, (BodyModel("p", sq, Material("s", 1.0, 0.3), 0.25),)), Settings())
+    u = np.random.default_rng(1).normal(size=plate.n_total)
+    for name in ("bottom", "right", "top", "left"):
+        edge = plate.edge_points(name, 2)
+        again = plate.points_on(edge.points, edge.weights, edge.normals)
+        assert np.allclose(edge.traction @ u, again.traction @ u)
