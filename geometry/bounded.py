@@ -239,7 +239,7 @@ class BoundedCurve(ABC):
     def end(self) -> np.ndarray:
         return self.evaluate(self.t_end)[0]
 
-    @property
+    @cached_property
     def is_closed(self) -> bool:
         """True when the curve ends where it starts (a full circle or ellipse)."""
         size = float(np.ptp(self._coarse_samples(), axis=0).max())
