@@ -86,7 +86,6 @@ def _newton_step(X: np.ndarray, c0: np.ndarray, z1: np.ndarray, d: float) -> np.
     return w1
 
 
-
 def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(u0, u1) with closest point (e0 u0, e1 u1) for y0, y1 >= 0 and e0 >= e1 > 0."""
     r0 = (e0 / e1) ** 2
@@ -150,8 +149,8 @@ def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) 
 def ellipse_closest_point_2d(a: float, b: float, x: Any, y: Any) -> tuple[np.ndarray, np.ndarray]:
     """Closest points (cx, cy) on the ellipse (x/a)^2 + (y/b)^2 = 1 to the points (x, y).
 
-    Vectorised over x, y (any broadcastable shapes); all quadrants (the answer keeps the signs
-    of the query, with +b for y = 0 on the major axis inside the evolute and for the centre);
+    Vectorised over x, y (any broadcastable shapes); all quadrants (the answer takes the signs
+    of x and y, so +b for y = +0.0 on the major axis inside the evolute and at the centre);
     ``a < b`` is allowed. Accurate to a few ulp in position (see the module docstring).
     """
     a = positive(a, "a", "ellipse_closest_point_2d")
