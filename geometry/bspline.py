@@ -60,8 +60,10 @@ _FINE = 1e-5
 _MAX_ITER = 60
 # seeding density (samples per knot span) and the sample count above which the nearest
 # sample is found with a k-d tree instead of a brute-force (BLAS) distance matrix
-_CURVE_SEEDS_PER_SPAN = 8
-_SURFACE_SEEDS_PER_SPAN = 4
+_CURVE_SEEDS_PER_SPAN = 8  # at most; fewer when there are many spans
+_CURVE_SEEDS_MAX = 2048
+_SURFACE_SEEDS_PER_SPAN = 8  # per direction, at most
+_SURFACE_SEEDS_MAX = 160  # per direction
 _BRUTE_SEEDS = 96
 
 
@@ -150,10 +152,12 @@ def _points_of(d: dict[str, Any], key: str, owner: str) -> Any:
     return d[key]
 
 
-def _span_samples(t: np.ndarray, a: float, b: float, per_span: int) -> np.ndarray:
-    """Parameters: ``per_span`` equal steps in every non-empty knot span of [a, b]."""
+def _span_samples(t: np.ndarray, a: float, b: float, per_span: int, at_most: int) -> np.ndarray:
+    """Parameters: equal steps in every non-empty knot span of [a, b], ``per_span`` of
+    them (at least 2) unless that would exceed ``at_most`` samples; both ends included."""
     br = np.unique(t[(t >= a) & (t <= b)])
     br = np.unique(np.concatenate([[a], br, [b]]))
+    per_span = int(max(2, min(per_span, at_most // max(len(br) - 1, 1))))
     frac = np.arange(per_span) / per_span
     s = (br[:-1, None] + frac[None, :] * np.diff(br)[:, None]).ravel()
     return np.append(s, b)
@@ -347,7 +351,7 @@ class BSplineCurve(Curve):
         """Sample parameters, a table ``[C, C', C'']`` (n_s, 9) at them, the sample points,
         and a k-d tree when there are too many samples for a brute-force nearest search."""
         a, b = self.domain
-        s = _span_samples(self._spline.t, a, b, _CURVE_SEEDS_PER_SPAN)
+        s = _span_samples(self._spline.t, a, b, _CURVE_SEEDS_PER_SPAN, _CURVE_SEEDS_MAX)
         if self.periodic:
             s = s[:-1]
         table = np.concatenate(self.derivatives(s, 2), axis=1)
@@ -621,7 +625,7 @@ class BSplineSurface(Surface):
         (n_s, 18) there, the per-sample parameter cell half-widths (n_s, 2), and a k-d tree."""
         axes, halfw = [], []
         for t, (a, b) in ((self.knots_u, self.domain[0]), (self.knots_v, self.domain[1])):
-            s = _span_samples(t, a, b, _SURFACE_SEEDS_PER_SPAN)
+            s = _span_samples(t, a, b, _SURFACE_SEEDS_PER_SPAN, _SURFACE_SEEDS_MAX)
             axes.append(s)
             gap = np.diff(s)
             halfw.append(np.maximum(np.concatenate([gap[:1], gap]), np.concatenate([gap, gap[-1:]])))
@@ -634,22 +638,25 @@ class BSplineSurface(Surface):
         tree = cKDTree(Q) if len(uv) > _BRUTE_SEEDS else None
         return uv, table, np.column_stack([HU.ravel(), HV.ravel()]), tree
 
-    def _newton_step(self, uv, S, Su, Sv, Suu, Suv, Svv, p):
-        """Safeguarded Newton step for ``min |S(u, v) - p|^2`` from ``uv``: Newton where the
-        Hessian is positive definite, Gauss-Newton otherwise; a coordinate at a bound whose
-        descent points out of the domain is frozen and the 1D problem along that edge solved.
-        Returns (step (m, 2), newton (m,), metric (E, F, G)) ."""
-        dot = _rowdot
-        (ua, ub), (va, vb) = self.domain
+    def _hessian(self, S, Su, Sv, Suu, Suv, Svv, p):
+        """Hessian of ``|S - p|^2 / 2`` as (huu, huv, hvv), replaced by the first fundamental
+        form (Gauss-Newton) where it is not clearly positive definite; and which was taken."""
         r = S - p
-        gu, gv = dot(Su, r), dot(Sv, r)
-        E, F, G = dot(Su, Su), dot(Su, Sv), dot(Sv, Sv)
-        huu, huv, hvv = E + dot(Suu, r), F + dot(Suv, r), G + dot(Svv, r)
+        E, F, G = _rowdot(Su, Su), _rowdot(Su, Sv), _rowdot(Sv, Sv)
+        huu, huv, hvv = E + _rowdot(Suu, r), F + _rowdot(Suv, r), G + _rowdot(Svv, r)
         det = huu * hvv - huv * huv
         newton = (huu > 1e-6 * E) & (hvv > 1e-6 * G) & (det > 1e-6 * (E * G - F * F))
-        huu = np.where(newton, huu, E)
-        huv = np.where(newton, huv, F)
-        hvv = np.where(newton, hvv, G)
+        hess = np.column_stack([np.where(newton, huu, E), np.where(newton, huv, F), np.where(newton, hvv, G)])
+        return hess, newton
+
+    def _newton_step(self, uv, S, Su, Sv, hess, p):
+        """Step solving ``hess . step = -grad`` from ``uv``; a coordinate at a bound whose
+        descent points out of the domain is frozen and the 1D problem along that edge is
+        solved instead (corner: both frozen). Returns (step (m, 2), frozen (m,))."""
+        (ua, ub), (va, vb) = self.domain
+        r = S - p
+        gu, gv = _rowdot(Su, r), _rowdot(Sv, r)
+        huu, huv, hvv = hess[:, 0], hess[:, 1], hess[:, 2]
         det = huu * hvv - huv * huv
         det_ok = det > 0
         inv_det = np.where(det_ok, 1.0 / np.where(det_ok, det, 1.0), 0.0)
@@ -658,11 +665,13 @@ class BSplineSurface(Surface):
         u0, v0 = uv[:, 0], uv[:, 1]
         fix_u = ((u0 <= ua) & (gu > 0)) | ((u0 >= ub) & (gu < 0))
         fix_v = ((v0 <= va) & (gv > 0)) | ((v0 >= vb) & (gv < 0))
-        edge_u = np.where(huu > 0, huu, np.where(E > 0, E, 1.0))
-        edge_v = np.where(hvv > 0, hvv, np.where(G > 0, G, 1.0))
-        du = np.where(fix_u, 0.0, np.where(fix_v, -gu / edge_u, du))
-        dv = np.where(fix_v, 0.0, np.where(fix_u, -gv / edge_v, dv))
-        return np.column_stack([du, dv]), newton & ~fix_u & ~fix_v, (E, F, G)
+        frozen = fix_u | fix_v
+        if np.any(frozen):
+            edge_u = np.where(huu > 0, huu, 1.0)
+            edge_v = np.where(hvv > 0, hvv, 1.0)
+            du = np.where(fix_u, 0.0, np.where(fix_v, -gu / edge_u, du))
+            dv = np.where(fix_v, 0.0, np.where(fix_u, -gv / edge_v, dv))
+        return np.column_stack([du, dv]), frozen
 
     def _seed(self, p: np.ndarray) -> np.ndarray:
         """Nearest grid sample, improved by one Newton step from the tabulated derivatives
@@ -670,8 +679,9 @@ class BSplineSurface(Surface):
         uv, table, halfw, tree = self._seeds
         j = _nearest(p, table[:, :3], tree)
         row = table[j]
-        parts = [row[:, 3 * i : 3 * i + 3] for i in range(6)]
-        step, _, _ = self._newton_step(uv[j], *parts, p)
+        S, Su, Sv, Suu, Suv, Svv = (row[:, 3 * i : 3 * i + 3] for i in range(6))
+        hess, _ = self._hessian(S, Su, Sv, Suu, Suv, Svv, p)
+        step, _ = self._newton_step(uv[j], S, Su, Sv, hess, p)
         (ua, ub), (va, vb) = self.domain
         new = uv[j] + np.clip(step, -halfw[j], halfw[j])
         return np.clip(new, [ua, va], [ub, vb])
@@ -679,71 +689,77 @@ class BSplineSurface(Surface):
     def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
         """Parameters (m, 2) of the closest points and ``{(0,0): S, (1,0): S_u, (0,1): S_v}``
         there, for (m, 3) points: the safeguarded Newton core of :meth:`project`."""
-        p_all = np.ascontiguousarray(points, dtype=float)
-        m = len(p_all)
+        p = np.ascontiguousarray(points, dtype=float)
+        m = len(p)
         (ua, ub), (va, vb) = self.domain
         lo = np.array([ua, va])
         hi = np.array([ub, vb])
         half = 0.5 * (hi - lo)
-        strict_tol, predict_tol = _STRICT * self.scale, _PREDICT * self.scale
+        tol = _STRICT * self.scale
         out_uv = np.empty((m, 2))
-        out = {nu: np.empty((m, 3)) for nu in ((0, 0), (1, 0), (0, 1))}
-        pending = []
+        out = np.empty((m, 9))  # S, S_u, S_v
         idx = np.arange(m)
-        p = p_all
         trial = self._seed(p)
         uv_acc = trial.copy()
         f_acc = np.full(m, np.inf)
         step = np.zeros((m, 2))
-        acc_vals = {nu: np.zeros((m, 3)) for nu in out}
+        val_acc = np.zeros((m, 9))
+        H_acc = np.zeros((m, 3))
+        fine = np.zeros(m, dtype=bool)
         halvings = np.zeros(m, dtype=np.int64)
         reach = np.abs(p).max(axis=1) + self.extent
         for _ in range(_MAX_ITER):
             if len(idx) == 0:
                 break
-            d = self.derivatives(trial, 2)
-            r = d[(0, 0)] - p
+            # full Newton needs second derivatives; points in the final (fine) phase reuse
+            # their last Hessian and need S, S_u, S_v only
+            n_fine = int(np.count_nonzero(fine))
+            val = np.empty((len(idx), 9))
+            H = H_acc.copy()
+            newton = np.ones(len(idx), dtype=bool)
+            co = slice(None) if n_fine == 0 else np.flatnonzero(~fine)
+            if n_fine < len(idx):
+                d = self.derivatives(trial[co], 2)
+                val[co] = np.concatenate([d[(0, 0)], d[(1, 0)], d[(0, 1)]], axis=1)
+                H[co], newton[co] = self._hessian(*(d[nu] for nu in _NU), p[co])
+            if n_fine:
+                fi = np.flatnonzero(fine)
+                d = self.derivatives(trial[fi], 1)
+                val[fi] = np.concatenate([d[(0, 0)], d[(1, 0)], d[(0, 1)]], axis=1)
+            S, Su, Sv = val[:, :3], val[:, 3:6], val[:, 6:]
+            r = S - p
             f = _rowdot(r, r)
             acc = f <= f_acc + _roundoff(f_acc, reach)
-            acc2 = acc[:, None]
-            uv_acc = np.where(acc2, trial, uv_acc)
-            f_acc = np.where(acc, f, f_acc)
-            for nu in acc_vals:
-                acc_vals[nu] = np.where(acc2, d[nu], acc_vals[nu])
-            dstep, newton, (E, F, G) = self._newton_step(uv_acc, *(d[nu] for nu in _NU), p)
-            # for rejected trials the step above is discarded; their metric is recomputed
-            new_step = np.where(acc2, np.clip(dstep, -half, half), 0.5 * step)
-            raw = uv_acc + new_step
-            new = np.clip(raw, lo, hi)
-            clamped = np.any(new != raw, axis=1)
+            if acc.all():
+                uv_acc, f_acc, val_acc, H_acc = trial, f, val, H
+            else:
+                acc2 = acc[:, None]
+                uv_acc = np.where(acc2, trial, uv_acc)
+                f_acc = np.where(acc, f, f_acc)
+                val_acc = np.where(acc2, val, val_acc)
+                H_acc = np.where(acc2, H, H_acc)
+            dstep, frozen = self._newton_step(uv_acc, S, Su, Sv, H, p)
+            new_step = np.where(acc[:, None], np.clip(dstep, -half, half), 0.5 * step)
+            new = np.clip(uv_acc + new_step, lo, hi)
             eff = new - uv_acc
-            Su, Sv = acc_vals[(1, 0)], acc_vals[(0, 1)]
-            move = np.sqrt(_rowdot(eff[:, :1] * Su + eff[:, 1:] * Sv, eff[:, :1] * Su + eff[:, 1:] * Sv))
-            strict = move <= strict_tol
-            predicted = acc & ~strict & newton & ~clamped & (move <= predict_tol)
+            Sua, Sva = val_acc[:, 3:6], val_acc[:, 6:]
+            dS = eff[:, :1] * Sua + eff[:, 1:] * Sva
+            move = np.sqrt(_rowdot(dS, dS))
             halvings = np.where(acc, 0, halvings + 1)
-            done = strict | predicted | (halvings > 60)
+            fine |= acc & newton & ~frozen & (move <= _FINE * self.scale)
+            done = (move <= tol) | (halvings > 60)
             if np.any(done):
                 k = np.flatnonzero(done)
-                out_uv[idx[k]] = np.where(predicted[k, None], new[k], uv_acc[k])
-                for nu in out:
-                    out[nu][idx[k]] = acc_vals[nu][k]
-                pending.append(idx[k[predicted[k]]])
+                out_uv[idx[k]] = uv_acc[k]
+                out[idx[k]] = val_acc[k]
                 keep = ~done
                 idx, p, new, eff, uv_acc, f_acc = idx[keep], p[keep], new[keep], eff[keep], uv_acc[keep], f_acc[keep]
-                reach, halvings = reach[keep], halvings[keep]
-                acc_vals = {nu: v[keep] for nu, v in acc_vals.items()}
+                reach, halvings, fine, H_acc, val_acc = reach[keep], halvings[keep], fine[keep], H_acc[keep], val_acc[keep]
             trial, step = new, eff
         if len(idx):  # iteration limit: keep the best accepted point
             out_uv[idx] = uv_acc
-            for nu in out:
-                out[nu][idx] = acc_vals[nu]
-        pend = np.concatenate(pending) if pending else np.zeros(0, dtype=np.int64)
-        if len(pend):
-            d = self.derivatives(out_uv[pend], 1)
-            for nu in out:
-                out[nu][pend] = d[nu]
-        return out_uv, out
+            out[idx] = val_acc
+        return out_uv, {(0, 0): out[:, :3], (1, 0): out[:, 3:6], (0, 1): out[:, 6:]}
 
     def project(self, points: Any) -> Projection:
         p, _ = as_points(points, dims=(3,))
