@@ -80,6 +80,12 @@ class Settings:
             raise ValueError(f"consistency must be >= 0, got {self.consistency!r}")
         if not self.fictitious_stiffness >= 0:
             raise ValueError(f"fictitious_stiffness must be >= 0, got {self.fictitious_stiffness!r}")
+        for name in ("boundary_order", "curve_order"):
+            v = getattr(self, name)
+            if int(v) != v or v < 1:
+                raise ValueError(f"{name} must be a positive integer, got {v!r}")
+        if not self.chord_fraction > 0:
+            raise ValueError(f"chord_fraction must be positive, got {self.chord_fraction!r}")
 
 
 # ---------------------------------------------------------------------------------- boundaries
