@@ -416,18 +416,32 @@ class BoundedCurve(ABC):
         for i0 in range(0, n, chunk):  # blocks of points bound the (n, M) work arrays
             p = P[i0 : i0 + chunk]
             m = len(p)
+            rows = np.arange(m)
             dx = p[:, 0, None] - a[None, :, 0]
             dy = p[:, 1, None] - a[None, :, 1]
-            s = np.clip((dx * ab[None, :, 0] + dy * ab[None, :, 1]) * inv[None, :], 0.0, 1.0)
+            d2 = dx * dx
+            d2 += dy * dy  # squared distances to the samples but the last
+            s = dx * ab[None, :, 0]
+            s += dy * ab[None, :, 1]
+            s *= inv[None, :]
+            np.clip(s, 0.0, 1.0, out=s)
             ex = dx - s * ab[None, :, 0]
             ey = dy - s * ab[None, :, 1]
-            lower = np.sqrt(ex * ex + ey * ey) - h[None, :]
-            d2 = (p[:, 0, None] - S[None, :, 0]) ** 2 + (p[:, 1, None] - S[None, :, 1]) ** 2
+            e2 = ex * ex
+            e2 += ey * ey  # squared distances to the chords
+            d_last = (p[:, 0] - S[-1, 0]) ** 2 + (p[:, 1] - S[-1, 1]) ** 2
             k = np.argmin(d2, axis=1)
-            ub = np.sqrt(d2[np.arange(m), k])
+            bd = d2[rows, k]
+            use_last = d_last < bd
+            k = np.where(use_last, M - 1, k)
+            bd = np.where(use_last, d_last, bd)
+            ub = np.sqrt(bd)
             if upper is not None:
                 ub = np.minimum(ub, upper[i0 : i0 + chunk])
-            pt, piece = np.nonzero(lower < ub[:, None])
+            # lower bound sqrt(e2) - h < ub  <=>  e2 < (ub + h)^2
+            reach = ub[:, None] + h[None, :]
+            reach *= reach
+            pt, piece = np.nonzero(e2 < reach)
             t_pairs = self._newton_closest(
                 p[pt],
                 grid[piece] + s[pt, piece] * (grid[piece + 1] - grid[piece]),
@@ -438,7 +452,6 @@ class BoundedCurve(ABC):
             dd = (X[:, 0] - p[pt, 0]) ** 2 + (X[:, 1] - p[pt, 1]) ** 2
             # per point: the nearest sample, then any refined piece that beats it
             bt = grid[k]
-            bd = d2[np.arange(m), k]
             order = np.lexsort((dd, pt))
             first = np.unique(pt[order], return_index=True)[1]
             win = order[first]
@@ -1396,7 +1409,7 @@ class BSplineArc(BoundedCurve):
 
     def _sample_grid(self) -> np.ndarray:
         bp = self._breakpoints()
-        per = max(8, 4 * (self.degree + 1))
+        per = max(6, 2 * (self.degree + 1))
         pieces = [np.linspace(a, b, per + 1)[:-1] for a, b in zip(bp[:-1], bp[1:])]
         return np.concatenate(pieces + [[self.t_end]])
 
