@@ -143,6 +143,29 @@ def test_body_held_only_by_a_tied_contact():
     assert c["half_width"] == pytest.approx(theory.hertz_half_width(applied, 1.0, E_STAR), rel=0.04)
 
 
+def test_initial_gap_and_contact_point_found_from_the_geometry():
+    """The cylinder starts 0.2 mm above the block and no contact point is given: the point is
+    the midpoint of the closest points, Delta carries the gap, and the force drops to what the
+    remaining approach gives (checked through Hertz for the computed force)."""
+    import dataclasses
+
+    from geometry.shapes import profile_from_shape
+
+    base = small_scene("frictionless")
+    lifted = profile_from_shape({"type": "half_disk", "center": [0, 1.0002], "radius": 1.0, "side": "below"})
+    problem = dataclasses.replace(
+        base,
+        bodies=(dataclasses.replace(base.bodies[0], profile=lifted), base.bodies[1]),
+        contacts=(dataclasses.replace(base.contacts[0], point=None),),
+    )
+    sol = solve_contact(problem)
+    c = sol.contacts[0]
+    assert sol.converged
+    np.testing.assert_allclose(c["point"], [0.0, 1e-4], atol=1e-8)
+    assert c["half_width"] == pytest.approx(theory.hertz_half_width(c["normal_force"], 1.0, E_STAR), rel=0.04)
+    assert c["normal_force"] == pytest.approx(sol.reactions["block/bottom"][1], rel=1e-6)
+
+
 def test_thesis_width_update_reaches_a_consistent_state():
     sol = solve_contact(small_scene("frictionless", load_steps=2), settings=ContactSettings(width_update="thesis"))
     c = sol.contacts[0]
