@@ -438,3 +438,45 @@ def test_trimmed_spline_is_the_same_curve_piece(key):
         assert piece.length == pytest.approx(b.arc_length(t1)[0] - b.arc_length(t0)[0], rel=1e-13)
     with pytest.raises(ValueError, match="trim range"):
         b.trimmed(0.5, 0.2)
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    kind=st.sampled_from(["arc", "elliptic"]),
+    a=st.floats(0.01, 100.0),
+    ratio=st.floats(0.001, 1.0),
+    rot=st.floats(-180.0, 180.0),
+    th0=st.floats(-360.0, 360.0),
+    sweep=st.floats(-360.0, 360.0).filter(lambda x: abs(x) > 1e-3),
+    cx=st.floats(-1e3, 1e3),
+    cy=st.floats(-1e3, 1e3),
+    seed=st.integers(0, 2**31),
+)
+def test_property_arcs_in_random_orientations(kind, a, ratio, rot, th0, sweep, cx, cy, seed):
+    t0, t1 = math.radians(th0), math.radians(th0 + sweep)
+    if kind == "arc":
+        c = Arc((cx, cy), a, t0, t1, "h")
+    else:
+        c = EllipticArc((cx, cy), (a, a * ratio), rot, t0, t1, "h")
+    rng = np.random.default_rng(seed)
+    P = np.array([cx, cy]) + a * rng.normal(0, 1.0, (40, 2))
+    P = np.vstack([P, [[cx, cy]], c.evaluate(rng.uniform(0, c.t_end, 5))])
+    pr = c.project(P)
+    scale = a + abs(cx) + abs(cy)
+    # the closest point is on the curve at its parameter, inside the trimmed range
+    assert np.all((pr.parameters >= 0) & (pr.parameters <= c.t_end))
+    np.testing.assert_allclose(c.evaluate(pr.parameters), pr.points, atol=1e-12 * scale)
+    # no densely sampled point of the curve is closer
+    S = c.evaluate(np.linspace(0, c.t_end, 20_001))
+    brute = np.min(np.hypot(P[:, 0, None] - S[None, :, 0], P[:, 1, None] - S[None, :, 1]), axis=1)
+    assert np.all(np.abs(pr.distances) <= brute + 1e-12 * scale)
+    # p - c along the normal where the foot is interior
+    inner = (pr.parameters > 1e-9) & (pr.parameters < c.t_end - 1e-9)
+    r = P - pr.points
+    tang = c.tangent(pr.parameters)
+    assert np.all(np.abs(np.einsum("ij,ij->i", r, tang))[inner] <= 1e-9 * scale)
+    # points on the curve project onto themselves
+    np.testing.assert_allclose(pr.distances[-5:], 0.0, atol=1e-12 * scale)
