@@ -119,7 +119,12 @@ def test_contains_on_edges_and_corners_counts_as_inside():
     assert np.all(ring.contains(on_circle))
 
 
-@pytest.mark.parametrize("make", [lshape, mixed_profile, annulus])
+def thin_half_ellipse():
+    arc = EllipticArc((0.0, 0.0), (3.0, 0.2), 10.0, math.pi, 2 * math.pi, "arc")
+    return Profile([[arc, Segment(arc.end, arc.start, "flat")]])
+
+
+@pytest.mark.parametrize("make", [lshape, mixed_profile, annulus, thin_half_ellipse])
 def test_random_points_against_brute_force(make):
     profile = make()
     lo, hi = profile.bounds
