@@ -621,7 +621,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
                 else:
                     work = abs(float(lam * lam * u0f0 + lam * (y @ bu0)))
                 ref_work = work if ref_work is None else max(ref_work, work)
-                ratio = work / ref_work if ref_work > 0 else 0.0
+                ratio = float(work / ref_work) if ref_work > 0 else 0.0
                 work_history.append(ratio)
                 state = (lam, x, y, kc, fc)
                 last = state
