@@ -257,3 +257,15 @@ def test_ellipse_definitions():
             primitive_from_dict({**base, **change})
     with pytest.raises(ValueError, match="z = 0"):
         primitive_from_dict({**base, "normal": [0, 1, 0]}).project(np.zeros((2, 2)))
+
+
+def test_huge_and_tiny_coordinates():
+    e = primitive_from_dict({"type": "ellipse", "origin": [0, 0, 0], "normal": [0, 0, 1], "major_axis": [1, 0, 0], "major_radius": 2.0, "minor_radius": 1.0})
+    p = np.array([[1e200, 0, 0], [0, -1e200, 0], [3e150, 4e150, 1e150], [1e-200, 1e-200, 0], [5e-324, 0, 0], [0, 5e-324, 0]])
+    with np.errstate(over="raise", invalid="raise", divide="raise"):  # (underflow is legitimate)
+        pr = e.project(p)
+    assert np.all(np.isfinite(pr.points)) and np.all(np.isfinite(pr.distances))
+    assert np.allclose(np.linalg.norm(pr.normals, axis=1), 1.0, atol=1e-15)
+    assert np.allclose(pr.points[:2], [[2, 0, 0], [0, -1, 0]])
+    assert np.allclose(pr.distances[:2], [1e200 - 2, 1e200 - 1], rtol=1e-15)
+    assert np.allclose(pr.distances[3:], -1.0) and np.allclose(np.abs(pr.points[3:, 1]), 1.0)
