@@ -27,8 +27,8 @@ Normal conventions (SPEC section 2 leaves free-form normals to the primitive):
   direction to the point, or +z for points on such a corner;
 * curves, 2D queries (curve in the z = 0 plane): the tangent turned by -90 degrees
   (the right-hand side of the direction of increasing parameter), signed distances;
-* curves, 3D queries: ``unit(p - closest)`` (distances >= 0); for points on the curve a
-  deterministic perpendicular, ``unit(T x z)`` (``unit(T x x)`` when T is nearly along z),
+* curves, 3D queries: ``unit(p - closest)`` (its part perpendicular to the tangent, so
+  distances >= 0); for points on the curve (within 1e-14 of its size) a deterministic perpendicular, ``unit(T x z)`` (``unit(T x x)`` when T is nearly along z),
   which equals the 2D convention for curves in the z = 0 plane.
 
 Periodic curves (``periodic: true``): ``control_points`` lists the n distinct control
@@ -477,8 +477,16 @@ class BSplineCurve(Curve):
             off, dd = _normalise_rows(p - C)
             normals[nn == 0] = off[nn == 0]
         else:
-            normals, dd = _normalise_rows(p - C)
-            on = dd <= 1e-15 * self.scale
+            # the part of p - C perpendicular to the tangent: exactly normal to the curve
+            # even where the closest point carries its convergence error along the tangent
+            r = p - C
+            perp = r - np.einsum("ij,ij->i", r, T)[:, None] * T
+            if not self.periodic:  # at the ends p - C may legitimately have a tangential part
+                a, b = self.domain
+                end = (t <= a) | (t >= b)
+                perp[end] = r[end]
+            normals, dd = _normalise_rows(perp)
+            on = dd <= 1e-14 * self.scale
             if np.any(on):
                 Ton = T[on]
                 axis = np.where(np.abs(Ton[:, 2:3]) > 0.9, np.array([[1.0, 0.0, 0.0]]), np.array([[0.0, 0.0, 1.0]]))

@@ -1,0 +1,332 @@
+"""B-spline / NURBS curves and surfaces: projection against independent references.
+
+References: exact circles and cylinders represented as NURBS (analytic distances, including
+the closest points on arc ends, patch edges and corners), dense brute-force sampling,
+first-order optimality, offset-and-project-back along the exact normal.
+"""
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from geometry import primitive_from_dict
+from geometry.bspline import BSplineCurve, BSplineSurface
+
+W = np.sqrt(0.5)
+RNG = np.random.default_rng(20261122)
+
+
+def quarter_circle(radius=2.0):
+    """Exact NURBS quarter circle from (R, 0) to (0, R), counter-clockwise."""
+    return BSplineCurve(2, [0, 0, 0, 1, 1, 1], [[radius, 0], [radius, radius], [0, radius]], [1, W, 1])
+
+
+def periodic_circle(radius=1.5, centre=(0.5, -0.25)):
+    """Exact NURBS full circle, periodic form: 8 distinct control points, one period of knots."""
+    square = np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1]], float)
+    return BSplineCurve(
+        2,
+        [0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1],
+        np.asarray(centre) + radius * square,
+        [1, W, 1, W, 1, W, 1, W],
+        periodic=True,
+    )
+
+
+def cylinder_patch(radius=1.0, length=2.0):
+    """Quarter of a cylinder about z (angle 0..90 deg, 0 <= z <= length): rational in u, linear in v."""
+    arc = np.array([[radius, 0], [radius, radius], [0, radius]], float)
+    P = np.zeros((3, 2, 3))
+    P[:, :, :2] = arc[:, None, :]
+    P[:, 1, 2] = length
+    w = np.array([[1, 1], [W, W], [1, 1]])
+    return BSplineSurface(2, 1, [0, 0, 0, 1, 1, 1], [0, 0, 1, 1], P, w)
+
+
+def cubic_surface(rational=False, n=8):
+    t = np.r_[[0.0] * 3, np.linspace(0, 1, n - 2), [1.0] * 3]
+    U, V = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n), indexing="ij")
+    P = np.stack([U, V, 0.25 * np.sin(3 * U) * np.cos(2 * V) + 0.1 * U * V], axis=-1)
+    w = 1.0 + 0.5 * np.sin(5 * U + 2 * V) ** 2 if rational else None
+    return BSplineSurface(3, 3, t, t, P, w)
+
+
+def space_curve(rational=False):
+    n = 9
+    t = np.r_[[0.0] * 3, np.linspace(0, 1, n - 2), [1.0] * 3]
+    th = np.linspace(0, 1.5 * np.pi, n)
+    P = np.c_[np.cos(th), np.sin(th), 0.2 * th]
+    w = 1.0 + 0.6 * np.cos(3 * th) ** 2 if rational else None
+    return BSplineCurve(3, t, P, w)
+
+
+def arc_reference(p, radius):
+    """Exact distance from 2D points to the quarter arc (radial inside the wedge, else the
+    nearer end point)."""
+    ang = np.arctan2(p[:, 1], p[:, 0])
+    inside = (ang >= 0) & (ang <= np.pi / 2)
+    ends = np.minimum(np.linalg.norm(p - [radius, 0], axis=1), np.linalg.norm(p - [0, radius], axis=1))
+    return np.where(inside, np.abs(np.linalg.norm(p, axis=1) - radius), ends), inside
+
+
+# ---------------------------------------------------------------------------------------
+# curves
+# ---------------------------------------------------------------------------------------
+
+
+def test_nurbs_quarter_circle_exact_distances_2d():
+    c = quarter_circle(2.0)
+    p = RNG.uniform(-3, 5, (4000, 2))
+    pr = c.project(p)
+    ref, inside = arc_reference(p, 2.0)
+    assert np.allclose(np.linalg.norm(p - pr.points, axis=1), ref, rtol=1e-12, atol=1e-12)
+    # closest points on the circle itself; 2D normal = tangent turned by -90 deg = outward here
+    assert np.allclose(np.linalg.norm(pr.points, axis=1), 2.0, rtol=1e-13)
+    r = np.linalg.norm(p[inside], axis=1)
+    assert np.allclose(pr.distances[inside], r - 2.0, rtol=1e-12, atol=1e-12)
+    assert np.allclose(pr.normals[inside], p[inside] / r[:, None], atol=1e-12)
+    # outside the wedge the closest points are the ends, parameters exactly at the bounds
+    out = ~inside & (np.linalg.norm(p, axis=1) > 0.1)
+    assert np.all(np.isin(pr.parameters[out], [0.0, 1.0]))
+    assert np.allclose(pr.distances, np.einsum("ij,ij->i", p - pr.points, pr.normals), atol=1e-14)
+
+
+def test_periodic_nurbs_circle_and_seam():
+    c = periodic_circle(1.5, (0.5, -0.25))
+    assert np.allclose(c.evaluate([0.0]), c.evaluate([1.0]), atol=1e-15)
+    ang = RNG.uniform(-np.pi, np.pi, 3000)
+    ang[:200] = RNG.normal(0.0, 1e-6, 200)  # around the seam at parameter 0
+    rad = RNG.uniform(0.05, 4.0, 3000)
+    p = np.array([0.5, -0.25]) + rad[:, None] * np.c_[np.cos(ang), np.sin(ang)]
+    pr = c.project(p)
+    assert np.allclose(pr.distances, rad - 1.5, rtol=1e-12, atol=1e-12)
+    assert np.all((pr.parameters >= 0) & (pr.parameters <= 1))
+    back = c.evaluate(pr.parameters)
+    assert np.allclose(back, pr.points, atol=1e-14)
+
+
+def test_periodic_unwrapped_knots_equal_one_period_form():
+    c1 = periodic_circle(1.0, (0.0, 0.0))
+    # the same knots unwrapped: degree 2 knots on each side, spacing repeating every 8
+    full = [-0.25, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1.25, 1.25]
+    c2 = BSplineCurve(2, full, c1.control_points, c1.weights, periodic=True)
+    s = np.linspace(0, 1, 17)
+    assert np.allclose(c1.evaluate(s), c2.evaluate(s), atol=1e-14)
+
+
+@pytest.mark.parametrize("rational", [False, True])
+def test_space_curve_brute_force_optimality_and_normals(rational):
+    c = space_curve(rational)
+    s = RNG.uniform(0, 1, 3000)
+    p = c.evaluate(s) + 0.15 * RNG.standard_normal((3000, 3))
+    pr = c.project(p)
+    # the point lies on the curve at the returned parameter
+    assert np.allclose(c.evaluate(pr.parameters), pr.points, atol=1e-14)
+    # nothing sampled densely is closer (a dense sample is never closer than the true minimum)
+    dense = c.evaluate(np.linspace(0, 1, 200_001))
+    brute = cKDTree(dense).query(p)[0]
+    dist = np.linalg.norm(p - pr.points, axis=1)
+    assert np.all(dist <= brute + 1e-12)
+    # first-order optimality at interior parameters
+    inner = (pr.parameters > 1e-9) & (pr.parameters < 1 - 1e-9)
+    C1 = c.derivatives(pr.parameters[inner], 1)[1]
+    r = p[inner] - pr.points[inner]
+    assert np.abs(np.einsum("ij,ij->i", r, C1)).max() <= 1e-11 * np.linalg.norm(C1, axis=1).max()
+    # 3D convention: unit(p - closest), distances >= 0
+    assert np.allclose(np.linalg.norm(pr.normals, axis=1), 1.0)
+    assert np.allclose(pr.distances, dist, rtol=1e-13, atol=1e-15)
+
+
+def test_curve_ends_found_beyond_the_ends():
+    c = space_curve(rational=True)
+    C0, T0 = c.derivatives([0.0], 1)[:2]
+    C1, T1 = c.derivatives([1.0], 1)[:2]
+    T0, T1 = T0 / np.linalg.norm(T0), T1 / np.linalg.norm(T1)
+    alpha = RNG.uniform(0.01, 0.3, (50, 1))
+    # points beyond each end along the end tangent, plus an offset perpendicular to it
+    perp0 = np.cross(T0[0], [0.3, -0.2, 1.0])
+    perp1 = np.cross(T1[0], [0.3, -0.2, 1.0])
+    p0 = C0 - alpha * T0 + 0.1 * alpha * perp0
+    p1 = C1 + alpha * T1 + 0.1 * alpha * perp1
+    pr0, pr1 = c.project(p0), c.project(p1)
+    assert np.all(pr0.parameters == 0.0) and np.all(pr1.parameters == 1.0)
+    assert np.allclose(pr0.points, C0, atol=1e-14) and np.allclose(pr1.points, C1, atol=1e-14)
+
+
+def test_curve_offset_and_project_back_2d():
+    n = 7
+    t = np.r_[[0.0] * 3, np.linspace(0, 1, n - 2), [1.0] * 3]
+    P = np.c_[np.linspace(0, 3, n), 0.4 * np.sin(np.linspace(0, 3, n))]
+    c = BSplineCurve(3, t, P, 1.0 + 0.3 * np.arange(n) % 2)
+    s = RNG.uniform(0.02, 0.98, 2000)
+    C, C1, C2 = c.derivatives(s, 2)
+    T = C1[:, :2] / np.linalg.norm(C1[:, :2], axis=1)[:, None]
+    n2 = np.c_[T[:, 1], -T[:, 0]]
+    kappa = np.abs(C1[:, 0] * C2[:, 1] - C1[:, 1] * C2[:, 0]) / np.linalg.norm(C1, axis=1) ** 3
+    delta = RNG.uniform(-0.5, 0.5, 2000) / np.maximum(kappa, 1.0)
+    pr = c.project(C[:, :2] + delta[:, None] * n2)
+    assert np.allclose(pr.parameters, s, atol=1e-10)
+    assert np.allclose(pr.points, C[:, :2], atol=1e-12)
+    assert np.allclose(pr.normals, n2, atol=1e-11)
+    assert np.allclose(pr.distances, delta, atol=1e-12)
+
+
+def test_points_on_a_3d_curve_get_a_deterministic_perpendicular_normal():
+    c = space_curve()
+    s = np.linspace(0.05, 0.95, 7)
+    pr = c.project(c.evaluate(s))
+    T = c.derivatives(pr.parameters, 1)[1]
+    assert np.allclose(np.linalg.norm(pr.normals, axis=1), 1.0)
+    assert np.abs(np.einsum("ij,ij->i", pr.normals, T)).max() < 1e-10
+    assert np.allclose(pr.distances, 0.0, atol=1e-14)
+
+
+def test_2d_query_needs_a_planar_curve():
+    with pytest.raises(ValueError, match="z = 0"):
+        space_curve().project(np.zeros((3, 2)))
+
+
+# ---------------------------------------------------------------------------------------
+# surfaces
+# ---------------------------------------------------------------------------------------
+
+
+def cylinder_patch_reference(p, radius, length):
+    """Exact closest point on the quarter-cylinder patch (angle 0..90 deg, 0 <= z <= L)."""
+    z = np.clip(p[:, 2], 0, length)
+    ang = np.arctan2(p[:, 1], p[:, 0])
+    inside = (ang >= 0) & (ang <= np.pi / 2)
+    xy = p[:, :2]
+    to_end0 = np.linalg.norm(xy - [radius, 0], axis=1)
+    to_end1 = np.linalg.norm(xy - [0, radius], axis=1)
+    end_ang = np.where(to_end0 <= to_end1, 0.0, np.pi / 2)
+    a = np.where(inside, ang, end_ang)
+    return np.c_[radius * np.cos(a), radius * np.sin(a), z]
+
+
+def test_nurbs_cylinder_patch_exact_including_edges_and_corners():
+    R, L = 1.0, 2.0
+    s = cylinder_patch(R, L)
+    p = RNG.uniform([-1.5, -1.5, -1.0], [2.5, 2.5, 3.0], (6000, 3))
+    pr = s.project(p)
+    ref = cylinder_patch_reference(p, R, L)
+    assert np.allclose(pr.points, ref, atol=1e-12)
+    assert np.allclose(np.linalg.norm(p - pr.points, axis=1), np.linalg.norm(p - ref, axis=1), rtol=1e-12, atol=1e-13)
+    # interior closest points: signed distance rho - R along the outward normal (S_u x S_v)
+    ang = np.arctan2(p[:, 1], p[:, 0])
+    interior = (ang > 0) & (ang < np.pi / 2) & (p[:, 2] > 0) & (p[:, 2] < L)
+    rho = np.linalg.norm(p[interior, :2], axis=1)
+    assert np.allclose(pr.distances[interior], rho - R, rtol=1e-12, atol=1e-12)
+    # corners and edges are hit exactly: parameters on the bounds
+    corner = ~interior & ((p[:, 2] < 0) | (p[:, 2] > L)) & ((ang < 0) | (ang > np.pi / 2))
+    assert corner.sum() > 100
+    assert np.all(np.isin(pr.parameters[corner, 1], [0.0, 1.0]))
+    assert np.all(np.isin(pr.parameters[corner, 0], [0.0, 1.0]))
+    assert np.allclose(s.evaluate(pr.parameters), pr.points, atol=1e-14)
+
+
+@pytest.mark.parametrize("rational", [False, True])
+def test_cubic_surface_brute_force_and_optimality(rational):
+    s = cubic_surface(rational)
+    uv = RNG.uniform(-0.1, 1.1, (3000, 2))  # some beyond the edges: closest on the boundary
+    base = s.evaluate(np.clip(uv, 0, 1))
+    p = base + 0.1 * RNG.standard_normal((3000, 3))
+    pr = s.project(p)
+    assert np.allclose(s.evaluate(pr.parameters), pr.points, atol=1e-14)
+    g = np.linspace(0, 1, 801)
+    G = np.stack(np.meshgrid(g, g, indexing="ij"), -1).reshape(-1, 2)
+    brute = cKDTree(s.evaluate(G)).query(p)[0]
+    dist = np.linalg.norm(p - pr.points, axis=1)
+    assert np.all(dist <= brute + 1e-12)
+    d = s.derivatives(pr.parameters, 1)
+    r = p - pr.points
+    eps = 1e-10
+    inner_u = (pr.parameters[:, 0] > eps) & (pr.parameters[:, 0] < 1 - eps)
+    inner_v = (pr.parameters[:, 1] > eps) & (pr.parameters[:, 1] < 1 - eps)
+    scale = 1e-11 * np.linalg.norm(d[(1, 0)], axis=1).max()
+    assert np.abs(np.einsum("ij,ij->i", r, d[(1, 0)])[inner_u]).max() <= scale
+    assert np.abs(np.einsum("ij,ij->i", r, d[(0, 1)])[inner_v]).max() <= scale
+    # on an edge (one parameter at a bound) the residual may only point out of the domain
+    at_u0 = pr.parameters[:, 0] == 0.0
+    assert np.all(np.einsum("ij,ij->i", r, d[(1, 0)])[at_u0] <= 1e-12)
+    assert (~inner_u).sum() > 50  # the sample does exercise the edges
+    n = s.normals_at(pr.parameters)
+    assert np.allclose(pr.normals, n, atol=1e-12)
+    assert np.allclose(pr.distances, np.einsum("ij,ij->i", r, n), atol=1e-14)
+
+
+def test_surface_offset_and_project_back():
+    s = cubic_surface(rational=True)
+    uv = RNG.uniform(0.05, 0.95, (2000, 2))
+    S = s.evaluate(uv)
+    n = s.normals_at(uv)
+    delta = RNG.uniform(-0.3, 0.3, 2000)
+    pr = s.project(S + delta[:, None] * n)
+    assert np.allclose(pr.parameters, uv, atol=1e-9)
+    assert np.allclose(pr.points, S, atol=1e-12)
+    assert np.allclose(pr.normals, n, atol=1e-11)
+    assert np.allclose(pr.distances, delta, atol=1e-12)
+
+
+# ---------------------------------------------------------------------------------------
+# definitions
+# ---------------------------------------------------------------------------------------
+
+
+def test_round_trip_through_primitive_from_dict():
+    prims = [quarter_circle(), periodic_circle(), space_curve(True), cylinder_patch(), cubic_surface(True)]
+    p = RNG.uniform(-1, 2, (50, 3))
+    for prim in prims:
+        d = prim.to_dict()
+        again = primitive_from_dict(d)
+        assert type(again) is type(prim) and again.to_dict() == d
+        assert np.array_equal(again.project(p).points, prim.project(p).points)
+
+
+GOOD_CURVE = {"type": "bspline_curve", "degree": 2, "knots": [0, 0, 0, 1, 1, 1], "control_points": [[0, 0], [1, 1], [2, 0]]}
+GOOD_SURFACE = cubic_surface().to_dict()
+
+
+@pytest.mark.parametrize(
+    "change, field",
+    [
+        ({"degree": 0}, "degree"),
+        ({"degree": 1.5}, "degree"),
+        ({"knots": [0, 0, 1, 0.5, 1, 1]}, "knots"),
+        ({"knots": [0, 0, 0, 1, 1]}, "knots"),
+        ({"knots": [0, 0, 0, 0, 0, 0]}, "knots"),
+        ({"control_points": [[0, 0, 0, 0], [1, 1, 1, 1], [2, 0, 0, 0]]}, "control_points"),
+        ({"control_points": [[0, 0], [1, 1]]}, "control_points"),
+        ({"control_points": [[0, 0], [1, np.nan], [2, 0]]}, "control_points"),
+        ({"weights": [1, -1, 1]}, "weights"),
+        ({"weights": [1, 1]}, "weights"),
+        ({"periodic": "yes"}, "periodic"),
+        ({"periodic": True}, "knots"),
+    ],
+)
+def test_invalid_curve_definitions_name_the_field(change, field):
+    with pytest.raises(ValueError, match=field):
+        primitive_from_dict({**GOOD_CURVE, **change})
+
+
+def test_missing_curve_field():
+    d = dict(GOOD_CURVE)
+    del d["knots"]
+    with pytest.raises(ValueError, match="knots"):
+        primitive_from_dict(d)
+
+
+@pytest.mark.parametrize(
+    "change, field",
+    [
+        ({"degree_v": -1}, "degree_v"),
+        ({"knots_u": GOOD_SURFACE["knots_u"][:-1]}, "knots_u"),
+        ({"knots_v": GOOD_SURFACE["knots_v"][::-1]}, "knots_v"),
+        ({"control_points": np.zeros((8, 8, 2)).tolist()}, "control_points"),
+        ({"weights": np.ones((8, 7)).tolist()}, "weights"),
+        ({"weights": np.zeros((8, 8)).tolist()}, "weights"),
+    ],
+)
+def test_invalid_surface_definitions_name_the_field(change, field):
+    with pytest.raises(ValueError, match=field):
+        primitive_from_dict({**GOOD_SURFACE, **change})
