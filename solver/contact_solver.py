@@ -107,8 +107,8 @@ class ContactSettings:
             raise ValueError(f"flux must be one of {FLUXES}, got {self.flux!r}")
         if not (isinstance(self.order, int) and 1 <= self.order <= 20):
             raise ValueError(f"order must be an integer in [1, 20], got {self.order!r}")
-        for name in ("width_tolerance", "step_tolerance", "sample_spacing", "window", "gap_tolerance", "tension_tolerance",
-                     "extent_fraction"):
+        for name in ("width_tolerance", "step_tolerance", "sample_spacing", "window", "gap_tolerance",
+                     "tension_tolerance", "extent_fraction"):
             v = getattr(self, name)
             if not (v > 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a positive number, got {v!r}")
@@ -496,7 +496,9 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         if cm.bodies[0] == cm.bodies[1]:
             raise ValueError(f"contacts[{i}].bodies: a contact needs two different bodies, got {list(cm.bodies)}")
         if cm.type not in ("tied", "frictionless"):
-            raise ValueError(f"contacts[{i}].type = {cm.type!r}: only 'tied' and 'frictionless' are implemented (issue 6)")
+            raise ValueError(
+                f"contacts[{i}].type = {cm.type!r}: only 'tied' and 'frictionless' are implemented (issue 6)"
+            )
     opts = problem.options
     if not (isinstance(opts.load_steps, int) and opts.load_steps >= 1):
         raise ValueError(f"solver.load_steps must be an integer >= 1, got {opts.load_steps!r}")
@@ -541,7 +543,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         base = [2.0 * c.h for c in contacts]
         for c, a0 in zip(contacts, base):
             kc, _, _ = _terms(c, a0, settings)
-            k0 = k0 + sp.csr_matrix((kc[np.nonzero(kc)], (c.dofs[np.nonzero(kc)[0]], c.dofs[np.nonzero(kc)[1]])), shape=(n, n))
+            k0 = k0 + _embed(kc, c.dofs, n)
         _rigid_modes_check(k0, bodies)  # still singular: a genuine rigid-body motion
     dofs = np.unique(np.concatenate([c.dofs for c in contacts]))
     m = len(dofs)
@@ -682,7 +684,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     for c, a0 in zip(contacts, base):
         if a0 > 0:
             kb, _, info = _terms(c, a0, settings)
-            k_full = k_full - sp.csr_matrix((kb[np.nonzero(kb)], (c.dofs[np.nonzero(kb)[0]], c.dofs[np.nonzero(kb)[1]])), shape=(n, n))
+            k_full = k_full - _embed(kb, c.dofs, n)
     k_full = k_full.tocsr()
     res = f_full - k_full @ u
     for _ in range(2):
@@ -705,7 +707,8 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         force1 = np.zeros(2)
         if info is not None:
             pts, bp, proj = info
-            tr = thin_band_traction(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, u, core.band_fraction, 1.0, jump=bp.displacement)
+            tr = thin_band_traction(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, u, core.band_fraction, 1.0,
+                                    jump=bp.displacement)
             force1 = (tr * bp.weights[:, None]).sum(axis=0)  # force on body 1 from body 2
         on2 = -force1
         nrm, tan = c.geom.normal, c.geom.tangent
@@ -757,6 +760,12 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         settings=core,
         boundary_tractions=tractions,
     )
+
+
+def _embed(dense: np.ndarray, dofs: np.ndarray, n: int) -> sp.csr_matrix:
+    """A dense block on the dofs ``dofs`` as an (n, n) sparse matrix."""
+    r, c = np.nonzero(dense)
+    return sp.csr_matrix((dense[r, c], (dofs[r], dofs[c])), shape=(n, n))
 
 
 def _scatter(n, dofs, values):

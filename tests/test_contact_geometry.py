@@ -9,10 +9,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from geometry.bounded import Arc, Segment
+from geometry.bounded import Arc
 from geometry.shapes import profile_from_shape
 from solver.contact import contact_geometry, contact_quadrature, parameter_at_chord, sample_points
-from solver.grid import build_grid, RefinementZone
+from solver.grid import RefinementZone, build_grid
 from solver.ibfem import exact_boundary
 from solver.integration import Polyline
 
