@@ -2,19 +2,26 @@
 contact with the half-width found by the non-linear solution. ``solve_contact(problem)``.
 
 Discrete form (docs/contact.md). On body 1's contact curve, |s| <= a, with matched points
-x1, x2 and w = u_h1(x1) - u_h2(x2) + Delta (eq. 5-2 to 5-4 in the thin-band limit):
+x1, x2 and w = u_h1(x1) - u_h2(x2) + Delta (eqs. 5-2 to 5-4 in the thin-band limit):
 
     K_c = J^T L J - (F^T W P J + J^T P W F),   f_c = -J^T L Delta + F^T W P Delta
 
-J the jump operator u_h1(x1) - u_h2(x2), L = sum_q w_q 4/(3 delta) P A_n P (body 1's moduli,
-delta = band_fraction x local cell size), F the flux operator (default the band limit
-1/2 sigma_1(u_h1) n1 + 1/2 sigma_2(u_h2) n1, i.e. the symmetric average), P = I (tied) or
-n1 n1^T (frictionless: the exact local normal, tangential jump free).
+J the jump operator u_h1(x1) - u_h2(x2) (each field in its own grid at its own matched point),
+L = sum_q w_q 4/(3 delta) P A(n_c) P with body 1's moduli (delta = band_fraction x local cell
+size), F the flux (default the band limit 1/2 sigma_1(u_h1) n1 + 1/2 sigma_2(u_h2) n1, the
+symmetric average), P = I where tied (|s| <= stick half-width; all of a for tied contact) and
+n_c n_c^T where sliding (frictionless: the tangential jump is free), n_c the pair's contact
+normal (bisector of the two exact normals).
+
+The half-width: penetration (normal gap < 0 outside a) and tension (pressure < 0 inside a)
+judged on window means at the region's edges; a bracket search (default) or the thesis's
+increment rule (sections 5.5.3-5.5.4); the final state is checked again.
 
 Speed: the bodies' stiffness K0 (volume + essential conditions) never changes. It is factored
-once; for the m dofs B of the cells the candidate contact region touches, G = B K0^-1 B^T is
-computed once; then each width iteration is the m x m solve (I + G K_c) x = B U0 + G f_c and
-the full field U = K0^-1 (F0 + B^T (f_c - K_c x)) is recovered once per load step.
+once with the m dofs B of the cells the candidate contact region touches ordered last, the
+Schur complement S = B K0^-1 B^T ^-1 is read off the factors, each width trial is the m x m
+solve (S + K_c) x = lambda S B U0 + f_c, and the full field U = K0^-1 (F0 + B^T (f_c - K_c x))
+is recovered once.
 """
 
 from __future__ import annotations
