@@ -19,7 +19,7 @@ increment rule (sections 5.5.3-5.5.4); the final state is checked again.
 
 Speed: the bodies' stiffness K0 (volume + essential conditions) never changes. It is factored
 once with the m dofs B of the cells the candidate contact region touches ordered last, the
-Schur complement S = B K0^-1 B^T ^-1 is read off the factors, each width trial is the m x m
+Schur complement S = (B K0^-1 B^T)^-1 is read off the factors, each width trial is the m x m
 solve (S + K_c) x = lambda S B U0 + f_c, and the full field U = K0^-1 (F0 + B^T (f_c - K_c x))
 is recovered once.
 """
