@@ -162,11 +162,12 @@ def test_lame_acceptance_element_size_0p02(rot):
     assert np.allclose(sol.reactions["ring/left"], p * a * n_left, rtol=0, atol=0.02 * p * a)
 
 
-def test_lame_reactions_balance_the_pressure_exactly():
+@pytest.mark.parametrize("consistency", [0.5, 1.0])
+def test_lame_reactions_balance_the_pressure_exactly(consistency):
     # global equilibrium: sum of reactions + integral of -p n over the inner arc = 0, and the
-    # pressure resultant on a quarter arc is p a (1, 1) turned with the body
+    # pressure resultant on a quarter arc is p a (1, 1) turned with the body (for either weight)
     rot = -41.0
-    sol = solve(_lame_problem(rot, 0.05))
+    sol = solve(_lame_problem(rot, 0.05), settings=Settings(consistency=consistency))
     load = 100e6 * 1.0 * (_rot(rot) @ [1.0, 1.0])
     total = sol.reactions["ring/bottom"] + sol.reactions["ring/left"] + load
     assert np.linalg.norm(total) < 1e-8 * np.linalg.norm(load)
@@ -455,3 +456,14 @@ def test_bad_load_values_are_clear_errors():
     with pytest.raises(ValueError, match="levels"):
         solve(Problem("e", "plane_stress", 1.0, (BodyModel("plate", prof, STEEL, 0.25, (Refinement(40, 0.1, np.zeros(2)),)),),
                       (Fixed("plate", "left"),)))
+
+
+def test_solution_has_every_member_of_the_protocol():
+    from solver.problem import Solution
+
+    sol = solve(_lame_problem(0.0, 0.2))
+    members = [m for m in vars(Solution) if not m.startswith("_")] + list(Solution.__annotations__)
+    for m in members:
+        assert hasattr(sol, m), m
+    assert sol.iterations["total"] == 1 and sol.contacts == []
+    assert set(sol.body_info["ring"]) == {"elements", "dofs", "element_size", "min_element_size"}
