@@ -55,7 +55,7 @@ from ._base import Curve, Projection, Surface, as_points, register_primitive, re
 __all__ = ["BSplineCurve", "BSplineSurface"]
 
 # Newton stopping tolerances, relative to the size of the control net (see module doc).
-_STRICT = 1e-12
+_STRICT = 1e-13
 _FINE = 1e-5
 _MAX_ITER = 60
 # seeding density (samples per knot span) and the sample count above which the nearest

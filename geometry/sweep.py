@@ -84,6 +84,10 @@ class Sweep(Surface):
                 f"{_OWNER}: field 'profile' must be a curve (line, circle, ellipse, bspline_curve), got {got!r}"
             )
         d = unit_vector(self.direction, "direction", _OWNER)
+        raw = np.asarray(self.direction, dtype=float)
+        if raw.shape == d.shape and np.allclose(raw, d, rtol=0, atol=1e-15):
+            d = raw.copy()  # already unit: keep it bit for bit so to_dict round-trips exactly
+            d.setflags(write=False)
         object.__setattr__(self, "profile", prof)
         object.__setattr__(self, "direction", d)
         spec = prof.to_dict()
