@@ -640,17 +640,19 @@ def body_info(bodies: list[BodyDiscretisation]) -> dict[str, dict[str, float]]:
 
 
 def solve(problem, progress: Callable[..., None] | None = None, settings: Settings | None = None) -> IBFEMSolution:
-    """Solve a linear elastic :class:`solver.problem.Problem` (no contact) with IBFEM.
+    """Solve a linear elastic :class:`solver.problem.Problem` with IBFEM.
 
-    ``progress(stage, fraction)`` is called between stages when given.
+    Problems with contacts go to :func:`solver.contact_solver.solve_contact` (``settings``
+    there is a ``ContactSettings``). ``progress(stage, fraction)`` is called between stages.
     """
+    if problem.contacts:
+        from solver.contact_solver import solve_contact
+
+        return solve_contact(problem, progress=progress, settings=settings)
     settings = settings or Settings()
     t_start = time.perf_counter()
     report = progress or (lambda *a, **k: None)
     timings: dict[str, float] = {}
-    if problem.contacts:
-        raise ValueError("contacts are not supported by this solver yet (issue 5)")
-
     t = time.perf_counter()
     bodies = discretise(problem, settings, report)
     timings["grid_s"] = time.perf_counter() - t
