@@ -101,7 +101,7 @@ class ContactSettings:
     width_tolerance: float = 1.0 / 16.0  # bracket on a in the last load step, in finest contact cells
     step_tolerance: float = 0.25  # bracket on a in the earlier load steps (they only start the next)
     sample_spacing: float = 1.0 / 16.0  # penetration/tension samples, in finest contact cells
-    window: float = 0.75  # penetration / tension are judged on window means this wide (in cells) at the edges
+    window: float = 1.0  # penetration / tension are judged on means over this many cells at the edges
     gap_tolerance: float = 1e-3  # penetration: mean gap < -tol x (finest cell) x (mean pressure / E*)
     tension_tolerance: float = 0.01  # tension: mean pressure < -tol x mean pressure
     extent_fraction: float = 0.8  # candidate region: this fraction of the innermost contact refinement radius

@@ -95,8 +95,9 @@ def test_pressure_profile_is_hertzian_and_symmetric(frictionless):
     inner = np.abs(s) <= 0.9 * a
     rms = np.sqrt(np.mean((p[inner] - theory.hertz_pressure(s[inner], a, p0)) ** 2))
     assert rms <= 0.05 * p0
-    # zero outside the region widened by the half-cell moving average of the recovery
-    assert np.all(p[np.abs(s) > a + 0.5 * c["profile_smoothing"]] == 0.0)
+    # zero outside the region widened by the half-cell reach of the recovery's moving average
+    # (plus a sample spacing of the fine samples it is interpolated from)
+    assert np.all(p[np.abs(s) > a + 0.6 * c["profile_smoothing"]] == 0.0)
     # the sampled pressure integrates to the transmitted force
     assert np.trapezoid(p, s) == pytest.approx(n, rel=0.02)
 
