@@ -55,7 +55,7 @@ from ._base import Curve, Projection, Surface, as_points, register_primitive, re
 __all__ = ["BSplineCurve", "BSplineSurface"]
 
 # Newton stopping tolerances, relative to the size of the control net (see module doc).
-_STRICT = 1e-13
+_STRICT = 1e-12
 _FINE = 1e-5
 _MAX_ITER = 60
 # seeding density (samples per knot span) and the sample count above which the nearest
@@ -412,22 +412,15 @@ class BSplineCurve(Curve):
         for _ in range(_MAX_ITER):
             if len(idx) == 0:
                 break
-            # full Newton needs C''; points in the final (fine) phase reuse their Hessian
-            n_fine = int(np.count_nonzero(fine))
-            if n_fine == 0:
+            # full Newton needs C''; once every active point is in the final (fine) phase
+            # the Hessian is reused and C, C' suffice (mixed sets: full Newton for all, which
+            # is cheaper here than splitting the arrays)
+            if fine.all():
+                C, C1 = self.derivatives(trial, 1)
+                H, newton = H_acc, fine
+            else:
                 C, C1, C2 = self.derivatives(trial, 2)
                 H, newton = self._hessian(C, C1, C2, p)
-            elif n_fine == len(idx):
-                C, C1 = self.derivatives(trial, 1)
-                H, newton = H_acc, np.ones(len(idx), dtype=bool)
-            else:
-                C = np.empty((len(idx), 3))
-                C1 = np.empty((len(idx), 3))
-                H, newton = H_acc.copy(), np.ones(len(idx), dtype=bool)
-                co, fi = np.flatnonzero(~fine), np.flatnonzero(fine)
-                C[co], C1[co], C2c = self.derivatives(trial[co], 2)
-                H[co], newton[co] = self._hessian(C[co], C1[co], C2c, p[co])
-                C[fi], C1[fi] = self.derivatives(trial[fi], 1)
             r = C - p
             f = _rowdot(r, r)
             acc = f <= f_acc + _roundoff(f_acc, reach)
