@@ -61,7 +61,7 @@ def _run(args: argparse.Namespace) -> int:
         return 3
 
     from solver.progress import ProgressReporter, silent
-    from solver.results import write_results
+    from solver.results import write_scene_results
 
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name
@@ -77,22 +77,11 @@ def _run(args: argparse.Namespace) -> int:
             progress.close()
 
     out = Path(args.out) if args.out else default_out_dir(args.scene)
-    output = scene.output
     extra = {"scene": str(Path(args.scene))}
     if scene.warnings:
         extra["warnings"] = list(scene.warnings)
     try:
-        summary = write_results(
-            out,
-            scene.problem,
-            solution,
-            probes=output.probes,
-            lines=output.lines,
-            vtk=output.vtk,
-            plots=output.plots,
-            total_s=time.perf_counter() - t0,
-            extra=extra,
-        )
+        summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0, extra=extra)
     except OSError as err:
         _err(f"cannot write results to {out}: {err.strerror or err}")
         return 4

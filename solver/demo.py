@@ -40,7 +40,7 @@ def main(argv: list[str] | None = None) -> int:
 
     from solver import theory
     from solver.ibfem import solve
-    from solver.results import write_results
+    from solver.results import write_scene_results
     from solver.scene import SceneError, load_scene
     from solver.validate import effective_properties
 
@@ -52,10 +52,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     t0 = time.perf_counter()
     solution = solve(scene.problem)
-    summary = write_results(
-        out, scene.problem, solution, probes=scene.output.probes, lines=scene.output.lines,
-        vtk=scene.output.vtk, plots=scene.output.plots, total_s=time.perf_counter() - t0,
-    )
+    summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0)
     print(f"   solved in {summary['timings']['total_s']:.2f} s, converged: {summary['converged']},"
           f" {summary['iterations']['total']} iterations")
     for block in summary["contacts"]:

@@ -438,3 +438,26 @@ def write_results(
     summary["files"] = sorted(str(p.relative_to(out_dir)) for p in files)
     write_summary(out_dir / "summary.json", summary)
     return summary
+
+
+def write_scene_results(
+    out_dir: str | Path,
+    scene: Any,
+    solution: pb.Solution,
+    total_s: float | None = None,
+    extra: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
+    """:func:`write_results` with the probes, lines and file choices of a loaded
+    :class:`solver.scene.Scene`'s ``[output]`` table."""
+    output = scene.output
+    return write_results(
+        out_dir,
+        scene.problem,
+        solution,
+        probes=output.probes,
+        lines=output.lines,
+        vtk=output.vtk,
+        plots=output.plots,
+        total_s=total_s,
+        extra=extra,
+    )

@@ -62,23 +62,13 @@ class Result:
 def run_scene_data(data: dict, label: str, out_dir: Path, base_dir: Path = EXAMPLES) -> tuple[Any, dict]:
     """Validate, solve and write one scene given as a dict; returns (scene, summary)."""
     from solver.ibfem import solve
-    from solver.results import write_results
+    from solver.results import write_scene_results
     from solver.scene import scene_from_dict
 
     t0 = time.perf_counter()
     scene = scene_from_dict(data, label=label, base_dir=base_dir)
     solution = solve(scene.problem)
-    out = scene.output
-    summary = write_results(
-        out_dir,
-        scene.problem,
-        solution,
-        probes=out.probes,
-        lines=out.lines,
-        vtk=out.vtk,
-        plots=out.plots,
-        total_s=time.perf_counter() - t0,
-    )
+    summary = write_scene_results(out_dir, scene, solution, total_s=time.perf_counter() - t0)
     return scene, summary
 
 
