@@ -478,9 +478,16 @@ def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
     return c
 
 
-def solve_contact(problem, progress: Callable | None = None, settings: ContactSettings | None = None) -> IBFEMSolution:
+def solve_contact(problem, progress: Callable | None = None,
+                  settings: ContactSettings | Settings | None = None) -> IBFEMSolution:
     """Solve a problem with tied / frictionless contacts (issue 5); returns an IBFEMSolution
-    whose ``contacts`` holds the SPEC section 4 contact blocks."""
+    whose ``contacts`` holds the SPEC section 4 contact blocks. ``settings`` may be the core's
+    :class:`solver.ibfem.Settings` (then the contact choices are the defaults), so that
+    ``solver.ibfem.solve`` can pass its own through."""
+    if isinstance(settings, Settings):
+        settings = ContactSettings(core=settings)
+    elif settings is not None and not isinstance(settings, ContactSettings):
+        raise ValueError(f"settings must be ContactSettings or solver.ibfem.Settings, got {type(settings).__name__}")
     with single_threaded_blas():
         return _solve_contact(problem, progress, settings)
 

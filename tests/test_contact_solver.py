@@ -204,6 +204,8 @@ def test_errors_name_the_field():
         ContactSettings(width_update="newton")
     with pytest.raises(ValueError, match="window"):
         ContactSettings(window=0.0)
+    with pytest.raises(ValueError, match="settings must be"):
+        solve_contact(problem, settings={"band_fraction": 0.2})
 
 
 # ------------------------------------------------------------------------------ validation
