@@ -193,6 +193,17 @@ def test_thesis_width_update_reaches_a_consistent_state():
     assert c["half_width"] == pytest.approx(a_hertz, rel=0.08)
 
 
+def test_unsettled_width_is_not_reported_as_converged():
+    import dataclasses
+
+    problem = small_scene("frictionless", load_steps=1)
+    problem = dataclasses.replace(problem, options=dataclasses.replace(problem.options, max_iterations=2))
+    sol = solve_contact(problem)
+    assert not sol.converged
+    assert sol.iterations["per_step"] == [2]
+    assert any("did not settle" in m for m in sol.iterations["messages"])
+
+
 def test_errors_name_the_field():
     problem = small_scene("frictionless")
     import dataclasses
