@@ -318,22 +318,60 @@ def _judge(c: _Contact, gap, pressure, inside, a, settings: ContactSettings) -> 
     )
 
 
+class _Bracket:
+    """A bracket [lo, hi] on a transition with the scalar g (< 0 on the lo side) at both ends;
+    proposes the next trial by regula falsi with the Illinois modification, kept at least
+    tol/2 inside the bracket (so every trial shrinks it and the last one closes it), and
+    bisection whenever g does not bracket or two trials shrank the bracket by less than half."""
+
+    def __init__(self, lo, hi, glo, ghi, tol):
+        self.lo, self.hi, self.glo, self.ghi, self.tol = lo, hi, glo, ghi, tol
+        self.side, self.widths = 0, [hi - lo]
+
+    def update(self, a, low_side: bool, g: float) -> None:
+        if low_side:
+            self.lo, self.glo = a, g
+            if self.side < 0:
+                self.ghi *= 0.5  # Illinois: the retained end's value is halved
+            self.side = -1
+        else:
+            self.hi, self.ghi = a, g
+            if self.side > 0:
+                self.glo *= 0.5
+            self.side = 1
+        self.widths.append(self.hi - self.lo)
+
+    def closed(self) -> bool:
+        return self.hi - self.lo <= self.tol
+
+    def propose(self) -> float:
+        lo, hi = self.lo, self.hi
+        mid = 0.5 * (lo + hi)
+        slow = len(self.widths) >= 3 and self.widths[-1] > 0.5 * self.widths[-3]
+        if slow or not (np.isfinite(self.glo) and np.isfinite(self.ghi) and self.glo < 0.0 < self.ghi):
+            return mid
+        x = lo + (hi - lo) * (-self.glo) / (self.ghi - self.glo)
+        margin = min(0.5 * self.tol, 0.25 * (hi - lo))
+        return float(np.clip(x, lo + margin, hi - margin))
+
+
 def _bracket_search(a0: float, h: float, tol: float, a_max: float, full: bool):
     """Generator of trial half-widths; receives the verdict of each, returns the final width
     and the bracket (a_pen, a_ten).
 
     Phase 1 brackets the smallest width without penetration a_pen (grow / shrink by a
-    doubling step until the verdict changes, then bisect to ``tol``). Phase 2 (``full``)
-    brackets the largest width without tension a_ten above it the same way. The half-width is
-    their midpoint: with bilinear cells both conditions are only resolved to about a cell (the
-    constraint of a cell cut by the region's edge reaches beyond it, so penetration shows late,
-    and the pressure's edge oscillates), and the two err on opposite sides
-    (benchmarks/contact.py measures both). Without ``full`` the result is a_pen."""
+    doubling step until the verdict changes), then closes the bracket to ``tol`` by a
+    safeguarded secant on the edge gap (:class:`_Bracket`). Phase 2 (``full``) brackets the
+    largest width without tension a_ten above it the same way, on the edge pressure. The
+    half-width is their midpoint: with bilinear cells both conditions are only resolved to
+    about a cell (penetration shows only once a is about half a cell too small, the edge
+    pressure turns tensile about when a passes the exact width), and the two err on opposite
+    sides (benchmarks/contact.py measures both). Without ``full`` the result is a_pen."""
     step = max(0.05 * a0, 0.5 * h)
     lo, hi = None, None  # lo: penetrates, hi: does not
     a = a0
     seen = {}
-    while True:
+    while True:  # expand or shrink until bracketed
         v = yield a
         seen[a] = v
         if v.penetration:
@@ -350,15 +388,19 @@ def _bracket_search(a0: float, h: float, tol: float, a_max: float, full: bool):
                 return 0.0, (0.0, 0.0)
             a = max(a - step, 0.0)
             step *= 2.0
-        elif hi - lo > tol:
-            a = 0.5 * (lo + hi)
         else:
             break
-    a_pen = hi
+    br = _Bracket(lo, hi, seen[lo].gap, seen[hi].gap, tol)
+    while not br.closed():
+        a = br.propose()
+        v = yield a
+        seen[a] = v
+        br.update(a, v.penetration, v.gap)
+    a_pen = br.hi
     if not full or seen[a_pen].tension:
         return a_pen, (a_pen, a_pen)
-    # phase 2: largest width without tension, from a_pen upwards
-    lo, hi = a_pen, None  # lo: no tension, hi: tension
+    # phase 2: largest width without tension, from a_pen upwards (g = -pressure < 0 below)
+    lo, hi = a_pen, None
     step = 0.5 * h
     a = min(a_pen + step, a_max)
     while True:
@@ -369,18 +411,19 @@ def _bracket_search(a0: float, h: float, tol: float, a_max: float, full: bool):
             seen[a] = v
         if v.tension:
             hi = a
-        else:
-            lo = a
-        if hi is None:
-            if a >= a_max:
-                break
-            step *= 2.0
-            a = min(a + step, a_max)
-        elif hi - lo > tol:
-            a = 0.5 * (lo + hi)
-        else:
             break
-    a_ten = lo
+        lo = a
+        if a >= a_max:
+            return 0.5 * (a_pen + lo), (a_pen, lo)
+        step *= 2.0
+        a = min(a + step, a_max)
+    br = _Bracket(lo, hi, -seen[lo].pressure, -seen[hi].pressure, tol)
+    while not br.closed():
+        a = br.propose()
+        v = seen[a] if a in seen else (yield a)
+        seen[a] = v
+        br.update(a, not v.tension, -v.pressure)
+    a_ten = br.lo
     return 0.5 * (a_pen + a_ten), (a_pen, a_ten)
 
 
