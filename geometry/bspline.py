@@ -14,18 +14,20 @@ stay in cache):
 
 1. seed: the nearest of a set of parameter samples (up to 8 per knot span and direction),
    found by a brute-force distance matrix (few samples) or a ``scipy.spatial.cKDTree``
-   (built once per primitive), then one Newton step computed from derivatives tabulated at
-   the samples (no spline evaluation), kept within the neighbouring samples;
-2. safeguarded Newton on the first-order conditions ``(S - p) . S_u = 0`` (second
-   derivatives; Gauss-Newton where the Hessian is not clearly positive definite); each trial
-   is clamped to the parameter domain (wrapped for periodic curves); a coordinate at a bound
-   whose descent direction points out of the domain is frozen, so the 1D problem along
-   that edge is solved (corners: both frozen); a trial that increases the squared distance
-   beyond round-off is halved. Once a Newton step moves the point by less than 1e-5 of the
-   control net's size, the Hessian is kept and only first derivatives are evaluated;
-3. stop when the next step would move the point by less than 1e-12 of the control net's
+   (built once per primitive), refined by Newton steps on the cubic Taylor model of the
+   curve/surface at that sample (derivatives up to order 3 tabulated at the samples, so no
+   spline evaluation), kept within the neighbouring samples;
+2. safeguarded Newton on the first-order conditions ``(S - p) . S_u = 0``; the Hessian
+   (with second derivatives; Gauss-Newton where it is not clearly positive definite) is
+   taken from the seed's model first and kept while the steps are small (fine phase:
+   only S and its first derivatives are evaluated), recomputed from scipy's second
+   derivatives otherwise; each trial is clamped to the parameter domain (wrapped for
+   periodic curves); a coordinate at a bound whose descent direction points out of the
+   domain is frozen, so the 1D problem along that edge is solved (corners: both frozen);
+   a trial that increases the squared distance beyond round-off is halved;
+3. stop when the next step would move the point by less than 5e-13 of the control net's
    size (bounding-box diagonal); the returned points are evaluated at the returned
-   parameters.
+   parameters (so they lie on the spline to round-off).
 
 Global optimality rests on the seeding: a competing local minimum can be missed only when
 its distance is within about (sample spacing)^2 x curvature of the one found (far points
@@ -52,6 +54,7 @@ polygon ``P_0 .. P_{n-1}, P_0 .. P_{degree-1}``; parameters wrap around the peri
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, ClassVar
@@ -65,7 +68,7 @@ from ._base import Curve, Projection, Surface, as_points, register_primitive, re
 __all__ = ["BSplineCurve", "BSplineSurface"]
 
 # Newton stopping tolerances, relative to the size of the control net (see module doc).
-_STRICT = 1e-12
+_STRICT = 5e-13
 _FINE = 1e-5
 _MAX_ITER = 60
 _BLOCK = 16384  # points per block in the Newton loop
@@ -529,6 +532,7 @@ class BSplineCurve(Curve):
 # ---------------------------------------------------------------------------------------
 
 _NU = ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2))
+_NU3 = _NU + ((3, 0), (2, 1), (1, 2), (0, 3))
 
 
 @register_primitive
@@ -624,25 +628,28 @@ class BSplineSurface(Surface):
 
     def derivatives(self, uv: Any, order: int = 2) -> dict[tuple[int, int], np.ndarray]:
         """Partial derivatives ``{(i, j): d^(i+j) S / du^i dv^j}`` for i + j <= order
-        (order <= 2) at (m, 2) parameters (clamped into the domain), each (m, 3)."""
+        (order <= 3) at (m, 2) parameters (clamped into the domain), each (m, 3)."""
         uv = self._clip(np.atleast_2d(np.asarray(uv, dtype=float)))
-        nus = [nu for nu in _NU if sum(nu) <= order]
-        raw = {nu: self._spline(uv, nu=nu) for nu in nus}
+        nus = [nu for nu in _NU3 if sum(nu) <= order]
+        width = self._spline.c.shape[-1]
+        raw = {
+            nu: self._spline(uv, nu=nu) if nu[0] <= self.degree_u and nu[1] <= self.degree_v else np.zeros((len(uv), width))
+            for nu in nus
+        }
         if self.weights is None:
             return raw
+        # quotient rule for S = A / w: Leibniz on A = w S, in order of total degree
         A = {nu: r[:, :3] for nu, r in raw.items()}
         w = {nu: r[:, 3:] for nu, r in raw.items()}
         inv = 1.0 / w[(0, 0)]
-        S = A[(0, 0)] * inv
-        out = {(0, 0): S}
-        if order >= 1:
-            out[(1, 0)] = (A[(1, 0)] - w[(1, 0)] * S) * inv
-            out[(0, 1)] = (A[(0, 1)] - w[(0, 1)] * S) * inv
-        if order >= 2:
-            Su, Sv = out[(1, 0)], out[(0, 1)]
-            out[(2, 0)] = (A[(2, 0)] - 2.0 * w[(1, 0)] * Su - w[(2, 0)] * S) * inv
-            out[(0, 2)] = (A[(0, 2)] - 2.0 * w[(0, 1)] * Sv - w[(0, 2)] * S) * inv
-            out[(1, 1)] = (A[(1, 1)] - w[(1, 0)] * Sv - w[(0, 1)] * Su - w[(1, 1)] * S) * inv
+        out = {(0, 0): A[(0, 0)] * inv}
+        for a, b in nus[1:]:
+            acc = A[(a, b)].copy()
+            for i in range(a + 1):
+                for j in range(b + 1):
+                    if i or j:
+                        acc -= (math.comb(a, i) * math.comb(b, j)) * w[(i, j)] * out[(a - i, b - j)]
+            out[(a, b)] = acc * inv
         return out
 
     def evaluate(self, uv: Any) -> np.ndarray:
@@ -658,8 +665,9 @@ class BSplineSurface(Surface):
 
     @cached_property
     def _seeds(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, cKDTree | None]:
-        """Grid of sample parameters (n_s, 2), the table ``[S, S_u, S_v, S_uu, S_uv, S_vv]``
-        (n_s, 18) there, the per-sample parameter cell half-widths (n_s, 2), and a k-d tree."""
+        """Grid of sample parameters (n_s, 2), the table of all partial derivatives up to
+        total order 3 there (n_s, 30; order of ``_NU3``), the per-sample parameter distance
+        to the neighbouring samples (n_s, 2), and a k-d tree of the sample points."""
         axes, halfw = [], []
         for t, (a, b) in ((self.knots_u, self.domain[0]), (self.knots_v, self.domain[1])):
             s = _span_samples(t, a, b, _SURFACE_SEEDS_PER_SPAN, _SURFACE_SEEDS_MAX)
@@ -669,8 +677,8 @@ class BSplineSurface(Surface):
         U, V = np.meshgrid(axes[0], axes[1], indexing="ij")
         uv = np.column_stack([U.ravel(), V.ravel()])
         HU, HV = np.meshgrid(halfw[0], halfw[1], indexing="ij")
-        d = self.derivatives(uv, 2)
-        table = np.concatenate([d[nu] for nu in _NU], axis=1)
+        d = self.derivatives(uv, 3)
+        table = np.concatenate([d[nu] for nu in _NU3], axis=1)
         Q = np.ascontiguousarray(table[:, :3])
         tree = cKDTree(Q) if len(uv) > _BRUTE_SEEDS else None
         return uv, table, np.column_stack([HU.ravel(), HV.ravel()]), tree
@@ -710,18 +718,39 @@ class BSplineSurface(Surface):
             dv = np.where(fix_v, 0.0, np.where(fix_u, -gv / edge_v, dv))
         return np.column_stack([du, dv]), frozen
 
-    def _seed(self, p: np.ndarray) -> np.ndarray:
-        """Nearest grid sample, improved by one Newton step from the tabulated derivatives
-        (no spline evaluation), kept within the neighbouring samples and the domain."""
+    def _seed(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Nearest grid sample, refined by Newton steps on the cubic Taylor model of the
+        surface at that sample (tabulated derivatives, no spline evaluation), kept within
+        the neighbouring samples and the domain. Also returns the model's Hessian there and
+        whether it is the Newton (not Gauss-Newton) one."""
         uv, table, halfw, tree = self._seeds
         j = _nearest(p, table[:, :3], tree)
-        row = table[j]
-        S, Su, Sv, Suu, Suv, Svv = (row[:, 3 * i : 3 * i + 3] for i in range(6))
-        hess, _ = self._hessian(S, Su, Sv, Suu, Suv, Svv, p)
-        step, _ = self._newton_step(uv[j], S, Su, Sv, hess, p)
+        T = table[j].reshape(len(p), 10, 3)  # rows in the order of _NU3
+        T[:, 0] -= p
         (ua, ub), (va, vb) = self.domain
-        new = uv[j] + np.clip(step, -halfw[j], halfw[j])
-        return np.clip(new, [ua, va], [ub, vb])
+        lo = np.maximum(-halfw[j], np.array([ua, va]) - uv[j])
+        hi = np.minimum(halfw[j], np.array([ub, vb]) - uv[j])
+        delta = np.zeros((len(p), 2))
+        # monomial weights of the model and of its derivatives: rows r = S - p, S_u, S_v,
+        # S_uu, S_uv, S_vv; columns the Taylor coefficients of _NU3
+        M = np.zeros((len(p), 6, 10))
+        M[:, 0, 0] = M[:, 1, 1] = M[:, 2, 2] = M[:, 3, 3] = M[:, 4, 4] = M[:, 5, 5] = 1.0
+        for _ in range(_SEED_STEPS):
+            x, y = delta[:, 0], delta[:, 1]
+            xx, xy, yy = 0.5 * x * x, x * y, 0.5 * y * y
+            M[:, 0, 1], M[:, 0, 2], M[:, 0, 3], M[:, 0, 4], M[:, 0, 5] = x, y, xx, xy, yy
+            M[:, 0, 6], M[:, 0, 7], M[:, 0, 8], M[:, 0, 9] = xx * x / 3.0, xx * y, x * yy, yy * y / 3.0
+            M[:, 1, 3], M[:, 1, 4], M[:, 1, 6], M[:, 1, 7], M[:, 1, 8] = x, y, xx, xy, yy
+            M[:, 2, 4], M[:, 2, 5], M[:, 2, 7], M[:, 2, 8], M[:, 2, 9] = x, y, xx, xy, yy
+            M[:, 3, 6], M[:, 3, 7] = x, y
+            M[:, 4, 7], M[:, 4, 8] = x, y
+            M[:, 5, 8], M[:, 5, 9] = x, y
+            D = np.matmul(M, T)
+            r, Su, Sv, Suu, Suv, Svv = (D[:, k] for k in range(6))
+            hess, newton = self._hessian(r, Su, Sv, Suu, Suv, Svv, 0.0)
+            step, _ = self._newton_step(uv[j] + delta, r, Su, Sv, hess, 0.0)
+            delta = np.clip(delta + step, lo, hi)
+        return uv[j] + delta, hess, newton
 
     def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
         """Parameters (m, 2) of the closest points and ``{(0,0): S, (1,0): S_u, (0,1): S_v}``
@@ -743,13 +772,13 @@ class BSplineSurface(Surface):
         out_uv = np.empty((m, 2))
         out = np.empty((m, 9))  # S, S_u, S_v
         idx = np.arange(m)
-        trial = self._seed(p)
+        # the seed's Taylor model supplies the first Hessian: the first evaluation needs
+        # S, S_u, S_v only
+        trial, H_acc, fine = self._seed(p)
         uv_acc = trial.copy()
         f_acc = np.full(m, np.inf)
         step = np.zeros((m, 2))
         val_acc = np.zeros((m, 9))
-        H_acc = np.zeros((m, 3))
-        fine = np.zeros(m, dtype=bool)
         halvings = np.zeros(m, dtype=np.int64)
         reach = np.abs(p).max(axis=1) + self.extent
         for _ in range(_MAX_ITER):
@@ -790,7 +819,7 @@ class BSplineSurface(Surface):
             dS = eff[:, :1] * Sua + eff[:, 1:] * Sva
             move = np.sqrt(_rowdot(dS, dS))
             halvings = np.where(acc, 0, halvings + 1)
-            fine |= acc & newton & ~frozen & (move <= _FINE * self.scale)
+            fine = np.where(acc, newton & ~frozen & (move <= _FINE * self.scale), fine)
             done = (move <= tol) | (halvings > 60)
             if np.any(done):
                 k = np.flatnonzero(done)
