@@ -97,7 +97,7 @@ def run_one(spec: dict) -> dict:
     if spec.get("chord_fraction"):
         core = Settings(grid_offset=core.grid_offset, chord_fraction=spec["chord_fraction"])
     settings = ContactSettings(core=core,
-                               width_update=spec.get("width_update", "bracket"), flux=spec.get("flux", "average"))
+                               width_update=spec.get("width_update", "edge"), flux=spec.get("flux", "average"))
     t = time.perf_counter()
     sol = solve_contact(problem, settings=settings)
     wall = time.perf_counter() - t
@@ -162,11 +162,22 @@ def cases(quick: bool) -> list[dict]:
         return out
     out += [{"name": n + "_thesis", "file": f, "R": r, "width_update": "thesis"} for n, f, r in EXAMPLE_CASES
             if "tessellated" not in n]
+    out += [{"name": n + "_bracket", "file": f, "R": r, "width_update": "bracket"} for n, f, r in EXAMPLE_CASES
+            if "tessellated" not in n]
     ex3 = {"file": "cylinder_on_cylinder_frictionless.toml", "R": 0.5}
     # offsets in fractions of element_size; the finest cells are element_size / 16 here, so
-    # multiples of 1/16 would leave the fine grid where it was: use quarters of a fine cell
-    for off in ((1 / 64, 1 / 64), (2 / 64, 3 / 64), (3 / 64, 1 / 64), (0.37, 0.26)):
-        out.append({**ex3, "name": f"ex3_offset_{off[0]}_{off[1]}", "offset": off})
+    # multiples of 1/16 would leave the fine grid where it was: quarters of a fine cell, and
+    # five random fractions of the coarsest cell (the slow test's, numpy seed 5)
+    import numpy as np
+
+    offs = [(1 / 64, 1 / 64), (2 / 64, 3 / 64), (3 / 64, 1 / 64), (0.37, 0.26)]
+    offs += [tuple(float(v) for v in o) for o in np.random.default_rng(5).uniform(0.0, 1.0, (5, 2))]
+    for off in offs:
+        out.append({**ex3, "name": f"ex3_offset_{off[0]:.4f}_{off[1]:.4f}", "offset": off})
+        out.append({**ex3, "name": f"ex3_offset_{off[0]:.4f}_{off[1]:.4f}_bracket", "offset": off,
+                    "width_update": "bracket"})
+    out.append({**ex3, "name": "ex3_stiffness_ratio_10_bracket", "stiff_upper": True, "width_update": "bracket"})
+    out.append({**ex3, "name": "ex3_turned_30deg_bracket", "rotate_deg": 30.0, "width_update": "bracket"})
     out.append({**ex3, "name": "ex3_stiffness_ratio_10", "stiff_upper": True})
     # consistency flux: body 1's alone with weight 1 or 1/2 (the thesis's reading) against the average
     out.append({**ex3, "name": "ex3_flux_body1", "flux": "body1"})

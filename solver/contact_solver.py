@@ -86,7 +86,7 @@ def single_threaded_blas():
         for put, n in handles:
             put(n)
 
-WIDTH_UPDATES = ("bracket", "thesis")
+WIDTH_UPDATES = ("edge", "bracket", "thesis")
 FLUXES = ("average", "body1", "body1_half")
 
 
@@ -95,10 +95,13 @@ class ContactSettings:
     """Numerical choices of the contact solution (defaults measured in benchmarks/contact.py)."""
 
     core: Settings = field(default_factory=Settings)
-    width_update: str = "bracket"  # "bracket" (bisection on both conditions) or "thesis" (sections 5.5.3-5.5.4)
+    # "edge": root of the edge coefficient (continuous in a, sub-cell; docs/contact.md),
+    # "bracket" (the one-cell window verdicts), "thesis" (sections 5.5.3-5.5.4)
+    width_update: str = "edge"
     flux: str = "average"  # consistency flux: "average" (band limit), "body1" (weight 1), "body1_half" (1/2)
     order: int = 4  # Gauss points per contact-curve piece
     width_tolerance: float = 1.0 / 16.0  # bracket on a in the last load step, in finest contact cells
+    edge_tolerance: float = 1e-3  # "edge": the root of the edge coefficient to this many finest cells (last step)
     step_tolerance: float = 0.25  # bracket on a in the earlier load steps (they only start the next)
     sample_spacing: float = 1.0 / 16.0  # penetration/tension samples, in finest contact cells
     window: float = 1.0  # penetration / tension are judged on means over this many cells at the edges
@@ -115,7 +118,7 @@ class ContactSettings:
         if not (isinstance(self.order, int) and 1 <= self.order <= 20):
             raise ValueError(f"order must be an integer in [1, 20], got {self.order!r}")
         for name in ("width_tolerance", "step_tolerance", "sample_spacing", "window", "gap_tolerance",
-                     "tension_tolerance", "extent_fraction"):
+                     "tension_tolerance", "extent_fraction", "edge_tolerance"):
             v = getattr(self, name)
             if not (v > 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a positive number, got {v!r}")
@@ -249,7 +252,7 @@ def _terms(c: _Contact, a: float, settings: ContactSettings):
     kc = k[c.dofs][:, c.dofs]
     if abs(k.sum() - kc.sum()) > 1e-9 * abs(k).sum():
         raise RuntimeError("contact terms reach beyond the contact dofs")
-    return kc.toarray(), f[c.dofs], (pts, bp, proj)
+    return kc.toarray(), f[c.dofs], (pts, bp, proj, jump[:, c.dofs].toarray(), flux[:, c.dofs].toarray(), size)
 
 
 def _tractions(c: _Contact, samples, e_op: np.ndarray, f_op: np.ndarray, size: np.ndarray, x: np.ndarray, a: float,
@@ -289,6 +292,45 @@ class _Verdict:
     tension_count: int
     min_gap: float
     min_pressure: float
+    edge: float = math.nan  # edge coefficient (see _edge_coefficient); > 0: a too small
+
+
+def _quadrature_pressure(c: _Contact, info, x: np.ndarray, settings: ContactSettings) -> np.ndarray:
+    """Contact pressure (q,) at the quadrature points of the region (compression positive)."""
+    pts, _, proj, e_q, f_q, size = info
+    w = (e_q @ x).reshape(-1, 2) + pts.delta
+    nc = pts.normal
+    layer = (PENALTY_FACTOR / (settings.core.band_fraction * size))[:, None, None] * (
+        proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
+    )
+    t1 = -np.einsum("qij,qj->qi", layer, w) + np.einsum("qij,qj->qi", proj, (f_q @ x).reshape(-1, 2))
+    return np.einsum("qi,qi->q", t1, nc)
+
+
+def _edge_coefficient(c: _Contact, info, x: np.ndarray, a: float, settings: ContactSettings) -> float:
+    """Edge coefficient of the pressure on the region |s| <= a: (Q(a) + Q(-a)) / (2 Q_mean) with
+    Q(s) = p(s) sqrt(a^2 - s^2) fitted by Chebyshev polynomials of degree <= 2.
+
+    Every pressure on a region |s| <= a of a contact whose initial gap is quadratic in s
+    (Hertz's, Mindlin's) is p(s) = Q(s) / sqrt(a^2 - s^2) with Q a quadratic: Q(+-a) != 0 is
+    the square-root singularity of a region too small (Q > 0: a punch's edges) or the tension
+    of one too large (Q < 0); the consistent width has Q(+-a) = 0. With s = a cos(theta) the
+    Chebyshev coefficients of Q are moments of p, q_k = (2 / pi) int p T_k(s/a) ds (q_0 half
+    that), so that (q_0 + q_2) / q_0 = int p (4 s^2/a^2 - 1) ds / int p ds: an integral of
+    the traction over the whole region. Unlike point or cell values it does not see the
+    grid-periodic oscillation of the discrete traction, and its quadrature points move
+    continuously with a (the pieces end at +-a exactly): a continuous, grid-position
+    independent function of a whose root is the width (Hertz: int sqrt(1 - x^2)(4x^2 - 1) dx
+    = 0)."""
+    if info is None or a <= 0.0:
+        return math.inf
+    pts = info[0]
+    p = _quadrature_pressure(c, info, x, settings)
+    wp = pts.weights * p
+    total = float(wp.sum())
+    if not total > 0.0:
+        return -math.inf  # no compression at all: the region is far too large (or the bodies apart)
+    return float((wp * (4.0 * (pts.s / a) ** 2 - 1.0)).sum() / total)
 
 
 def _judge(c: _Contact, gap, pressure, inside, a, settings: ContactSettings) -> _Verdict:
@@ -449,6 +491,46 @@ def _thesis_search(a0: float, h: float, tol: float, a_max: float, max_iterations
             break
         a = float(np.clip(a + sign * step * (0.5 if (pen and ten) else 1.0), 0.0, a_max))
     return a, (a, a)
+
+
+def _edge_search(a0: float, h: float, tol: float, a_max: float):
+    """Generator of trial half-widths for the root of the edge coefficient g(a) (> 0: a too
+    small); receives the verdict of each trial, returns the width and the final bracket.
+
+    Grow / shrink from a0 by a doubling step until g changes sign, then close the bracket to
+    ``tol`` by regula falsi with the Illinois modification (:class:`_Bracket`; g is smooth in
+    a, so this converges superlinearly). Without compression (g = -inf) the trial is treated
+    as too large."""
+    step = max(0.05 * a0, 0.5 * h)
+    lo = hi = None
+    glo = ghi = None
+    a = a0
+    while True:
+        v = yield a
+        g = v.edge
+        if g > 0.0:
+            lo, glo = a, g
+            if hi is None:
+                if a >= a_max:
+                    raise _RegionTooSmall()
+                a = min(a + step, a_max)
+        else:
+            hi, ghi = a, g
+            if lo is None:
+                if a <= 0.5 * h:
+                    return 0.0, (0.0, 0.0)
+                a = max(a - step, 0.25 * h)
+        if lo is not None and hi is not None:
+            break
+        step *= 2.0
+    br = _Bracket(lo, hi, -glo, -ghi, tol)  # _Bracket wants g < 0 on the low side
+    while not br.closed():
+        a = br.propose()
+        v = yield a
+        br.update(a, v.edge > 0.0, -v.edge)
+    # the end with the smaller |g| (the two are within tol)
+    a = br.lo if abs(br.glo) <= abs(br.ghi) else br.hi
+    return a, (br.lo, br.hi)
 
 
 class _RegionTooSmall(Exception):
@@ -650,7 +732,10 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
             # start from the last width scaled as Hertz (a ~ sqrt(N) ~ sqrt(load))
             widths = [max(a * math.sqrt(lam / prev[0]), 2.0 * c.h) for a, c in zip(widths, contacts)]
         tol_cells = settings.width_tolerance if final else settings.step_tolerance
-        if settings.width_update == "thesis":
+        if settings.width_update == "edge":
+            gens = [_edge_search(a, c.h, (settings.edge_tolerance if final else settings.step_tolerance) * c.h,
+                                 c.geom.s_max()) for a, c in zip(widths, contacts)]
+        elif settings.width_update == "thesis":
             gens = [_thesis_search(a, c.h, settings.width_tolerance * c.h, c.geom.s_max(), max_it)
                     for a, c in zip(widths, contacts)]
         else:
@@ -665,7 +750,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
                 state, verdicts = cache[key]
             else:
                 iters += 1
-                kc, fc, _ = assemble(trial)
+                kc, fc, infos_trial = assemble(trial)
                 x = solve_small(lam, kc, fc)
                 y = fc - kc @ x
                 old = last if last is not None else prev
@@ -685,13 +770,14 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
                 state = (lam, x, y, kc, fc)
                 last = state
                 verdicts = []
-                for c, wh, a in zip(contacts, where, trial):
+                for c, wh, a, inf in zip(contacts, where, trial, infos_trial):
                     gap, pres, inside = _sample_state(c, x[wh], a, settings)
                     v = _judge(c, gap, pres, inside, a, settings)
+                    v.edge = _edge_coefficient(c, inf, x[wh], a, settings)
                     verdicts.append(v)
                     c.history.append({"step": step, "iteration": iters, "a": a, "penetration": v.penetration,
                                       "tension": v.tension, "edge_gap": v.gap, "edge_pressure": v.pressure,
-                                      "work_ratio": ratio})
+                                      "edge_coefficient": v.edge, "work_ratio": ratio})
                 cache[key] = (state, verdicts)
             if all(r is not None for r in results) or iters >= max_it:
                 break
@@ -734,7 +820,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     for c, a, info in zip(contacts, widths, infos):
         if info is None:
             continue
-        pts, bp, proj = info
+        pts, bp, proj = info[:3]
         kk, ff = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, core.band_fraction, 1.0, jump=bp.displacement)
         k_full = k_full + kk
         f_full = f_full + ff
@@ -763,7 +849,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         v = _judge(c, gap, pres, inside, a, settings)
         force1 = np.zeros(2)
         if info is not None:
-            pts, bp, proj = info
+            pts, bp, proj = info[:3]
             tr = thin_band_traction(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, u, core.band_fraction, 1.0,
                                     jump=bp.displacement)
             force1 = (tr * bp.weights[:, None]).sum(axis=0)  # force on body 1 from body 2

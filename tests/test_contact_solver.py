@@ -283,3 +283,71 @@ def test_example1_ellipse_exact_against_tessellated_geometry():
     # the thesis's degradation without exact geometry (31 % there; here the default chord
     # tolerance of 1 mm flattens the 2 mm contact much more)
     assert errors[1] > 10 * errors[0]
+
+
+# ------------------------------------------------------------------ width independent of the grid
+
+
+def _scene_data(name):
+    import tomllib
+
+    data = tomllib.loads((EXAMPLES / name).read_text())
+    data.pop("output", None)
+    return data
+
+
+def _turned(data, deg):
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    for b in data["bodies"]:
+        b["shape"]["rotate_deg"] = deg
+    for bc in data["boundary_conditions"]:
+        if bc["type"] == "displacement":
+            x, y = bc["value"]
+            bc["value"] = [c * x - s * y, s * x + c * y]
+    for cm in data["contacts"]:
+        x, y = cm["point"]
+        cm["point"] = [c * x - s * y, s * x + c * y]
+    return data
+
+
+def _hertz_error(data, offset=(0.0, 0.0), r_star=0.5, e_star=E_STAR):
+    from solver.ibfem import Settings
+
+    problem = scene_from_dict(data, label="test", base_dir=EXAMPLES).problem
+    sol = solve_contact(problem, settings=ContactSettings(core=Settings(grid_offset=tuple(offset))))
+    c = sol.contacts[0]
+    assert sol.converged, sol.iterations["messages"]
+    return c["half_width"] / theory.hertz_half_width(c["normal_force"], r_star, e_star) - 1.0
+
+
+def test_half_width_does_not_depend_on_where_the_grid_starts():
+    # the small scene (h / a ~ 0.2) at three grid positions (fractions of the coarsest cell):
+    # the width is the root of a continuous function of a, not a one-cell verdict
+    from solver.ibfem import Settings
+
+    errors = []
+    for off in [(0.0, 0.0), (0.013, 0.021), (0.37, 0.26)]:
+        sol = solve_contact(small_scene("frictionless"), settings=ContactSettings(core=Settings(grid_offset=off)))
+        c = sol.contacts[0]
+        assert sol.converged, sol.iterations["messages"]
+        errors.append(c["half_width"] / theory.hertz_half_width(c["normal_force"], 1.0, E_STAR) - 1.0)
+    assert max(abs(e) for e in errors) < 0.02, errors
+
+
+@pytest.mark.slow
+def test_example3_half_width_within_2_percent_at_any_grid_position():
+    rng = np.random.default_rng(5)
+    # grid origin shifts in fractions of the coarsest cell (Settings.grid_offset)
+    offsets = [(0.0, 0.0)] + [tuple(o) for o in rng.uniform(0.0, 1.0, (5, 2))]
+    errors = [_hertz_error(_scene_data("cylinder_on_cylinder_frictionless.toml"), off) for off in offsets]
+    assert max(abs(e) for e in errors) < 0.02, errors
+
+
+@pytest.mark.slow
+def test_example3_half_width_stiffness_ratio_10_and_turned_scene():
+    stiff = _scene_data("cylinder_on_cylinder_frictionless.toml")
+    stiff["materials"].append({"name": "stiff", "youngs_modulus": 10 * E, "poissons_ratio": NU})
+    stiff["bodies"][0]["material"] = "stiff"
+    e_stiff = theory.effective_modulus(10 * E, NU, E, NU)
+    assert abs(_hertz_error(stiff, e_star=e_stiff)) < 0.02
+    assert abs(_hertz_error(_turned(_scene_data("cylinder_on_cylinder_frictionless.toml"), 30.0))) < 0.02
