@@ -109,6 +109,14 @@ class ContactSettings:
     tension_tolerance: float = 0.01  # tension: mean pressure < -tol x mean pressure
     extent_fraction: float = 0.8  # candidate region: this fraction of the innermost contact refinement radius
     max_width_iterations: int = 60
+    # boundary points in a sliver cell (material thickness < this fraction of its size) take the
+    # fields of the cell half a cell further inside (0: off)
+    sliver_fraction: float = 0.25
+    # frictional contact (issue 6): the slip zone carries mu p (eq. 5-24); False: the thesis's
+    # variant without it (section 5.4.2), the stick zone alone transmits the shear
+    friction_traction: bool = True
+    stick_tolerance: float = 1e-3  # |sqrt(1 - |beta|/mu) - c/a| at the returned state
+    max_stick_iterations: int = 30
 
     def __post_init__(self):
         if self.width_update not in WIDTH_UPDATES:
@@ -117,8 +125,12 @@ class ContactSettings:
             raise ValueError(f"flux must be one of {FLUXES}, got {self.flux!r}")
         if not (isinstance(self.order, int) and 1 <= self.order <= 20):
             raise ValueError(f"order must be an integer in [1, 20], got {self.order!r}")
+        if not (0.0 <= self.sliver_fraction < 1.0):
+            raise ValueError(f"sliver_fraction must be in [0, 1), got {self.sliver_fraction!r}")
+        if not (isinstance(self.max_stick_iterations, int) and self.max_stick_iterations >= 1):
+            raise ValueError(f"max_stick_iterations must be an integer >= 1, got {self.max_stick_iterations!r}")
         for name in ("width_tolerance", "step_tolerance", "sample_spacing", "window", "gap_tolerance",
-                     "tension_tolerance", "extent_fraction", "edge_tolerance"):
+                     "tension_tolerance", "extent_fraction", "edge_tolerance", "stick_tolerance"):
             v = getattr(self, name)
             if not (v > 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a positive number, got {v!r}")
@@ -191,9 +203,17 @@ class _Contact:
     e_star: float
     breakpoints: np.ndarray
     history: list = field(default_factory=list)
-    # stick half-width c: tied (P = I) for |s| <= c, sliding (P = n_c n_c^T) for c < |s| <= a.
-    # Tied contact: c = inf; frictionless: c = 0; partial slip (issue 6) sets c between.
-    stick: float = 0.0
+    # stick ratio c/a: tied (P = I) for |s| <= c, sliding (P = n_c n_c^T) for c < |s| <= a.
+    # Tied contact: inf; frictionless: 0; frictional (issue 6): sqrt(1 - |beta| / mu), iterated.
+    stick_ratio: float = 0.0
+    friction: float = 0.0  # mu: the slip zone carries mu p along -slip_sign t_c on body 1
+    slip_sign: float = 0.0  # sign of the tangential force on body 2 (0: no friction traction)
+    beta: float = math.nan  # Q / N of the last state (frictional)
+    gross_slip: bool = False
+
+    def stick(self, a: float) -> float:
+        """Stick half-width c for the half-width a."""
+        return math.inf if math.isinf(self.stick_ratio) else self.stick_ratio * a
 
 
 def _flux_weights(flux: str) -> tuple[float, float]:
@@ -215,10 +235,36 @@ def _locate(b, x, n) -> np.ndarray:
     return cells
 
 
+def _support_cells(b, x, n, cells, fraction: float) -> np.ndarray:
+    """Cells whose fields represent the body at boundary points: the point's own cell, or, where
+    that is a sliver (material thickness below ``fraction`` of its size), the cell half a cell
+    further inside whose bilinear field is extended to the point.
+
+    A sliver's far nodes are held only by a fragment of material: its stress (the flux) is
+    unreliable and its thickness would set a tiny band, an enormous layer stiffness. Measured on
+    example 6, whose grid line y = 0 touches the concave seat at the contact point: slivers
+    h^2 / (4 R) thick put a 30 p0 spike into the pressure at s = 0 and a 1.8 % error into a."""
+    ratio = b.grid.material_thickness[cells] / b.grid.size[cells]
+    thin = ratio < fraction
+    if not thin.any():
+        return cells
+    inner = b.grid.locate(x[thin] - 0.75 * b.grid.size[cells[thin]][:, None] * n[thin])
+    ok = inner >= 0
+    better = np.where(ok, b.grid.material_thickness[np.maximum(inner, 0)] / b.grid.size[np.maximum(inner, 0)], 0.0)
+    out = cells.copy()
+    idx = np.nonzero(thin)[0]
+    use = ok & (better > ratio[thin])
+    out[idx[use]] = inner[use]
+    return out
+
+
 def _operators(c: _Contact, pts, settings: ContactSettings):
     """Jump J and flux F (2q, n_total) and the local size at contact points."""
     cells1 = _locate(c.b1, pts.x1, pts.n1)
     cells2 = _locate(c.b2, pts.x2, pts.n2)
+    if settings.sliver_fraction > 0.0:
+        cells1 = _support_cells(c.b1, pts.x1, pts.n1, cells1, settings.sliver_fraction)
+        cells2 = _support_cells(c.b2, pts.x2, pts.n2, cells2, settings.sliver_fraction)
     jump = c.b1.displacement_operator(pts.x1, cells1) - c.b2.displacement_operator(pts.x2, cells2)
     th1, th2 = _flux_weights(settings.flux)
     flux = th1 * c.b1.traction_operator(pts.x1, cells1, pts.n1)
@@ -227,10 +273,10 @@ def _operators(c: _Contact, pts, settings: ContactSettings):
     return jump.tocsr(), flux.tocsr(), _local_size(c, pts, cells1, cells2)
 
 
-def _projector(c: _Contact, pts) -> np.ndarray:
+def _projector(c: _Contact, pts, a: float) -> np.ndarray:
     """Constrained components of the jump per point: all where tied (|s| <= stick half-width,
     eq. 5-20), the contact normal n_c where sliding (eqs. 5-22, 5-23)."""
-    tied = np.abs(pts.s) <= c.stick
+    tied = np.abs(pts.s) <= c.stick(a)
     return np.where(tied[:, None, None], projector("fixed", pts.normal), projector("sliding", pts.normal))
 
 
@@ -241,18 +287,70 @@ def _terms(c: _Contact, a: float, settings: ContactSettings):
         return np.zeros((m, m)), np.zeros(m), None
     lo, hi = -min(a, c.geom.s_limits[1]), min(a, c.geom.s_limits[0])
     brk = c.breakpoints
-    if 0.0 < c.stick < a:  # the projector changes at the stick zone's ends
-        brk = np.concatenate([brk, [-c.stick, c.stick]])
+    stick = c.stick(a)
+    if 0.0 < stick < a:  # the projector changes at the stick zone's ends
+        brk = np.concatenate([brk, [-stick, stick]])
     pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, settings.order, brk)
     jump, flux, size = _operators(c, pts, settings)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
-    proj = _projector(c, pts)
+    proj = _projector(c, pts, a)
     k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, settings.core.band_fraction, 1.0, jump=jump)
     k = k.tocsr()
     kc = k[c.dofs][:, c.dofs]
     if abs(k.sum() - kc.sum()) > 1e-9 * abs(k).sum():
         raise RuntimeError("contact terms reach beyond the contact dofs")
-    return kc.toarray(), f[c.dofs], (pts, bp, proj, jump[:, c.dofs].toarray(), flux[:, c.dofs].toarray(), size)
+    kc = kc.toarray()
+    f = f[c.dofs]
+    e_q, f_q = jump[:, c.dofs].toarray(), flux[:, c.dofs].toarray()
+    slip = _slip_mask(c, pts, a)
+    if slip.any():
+        # friction traction of the slip zone (eq. 5-24), linear in the contact dofs through the
+        # pressure p = n_c . (-L w + P F x) = r x + b: body 1 gets t_f = -sign mu p t_c, whose
+        # virtual work moves to the left side as the non-symmetric K_f = sum w g^T r with
+        # g = (-sign mu t_c)^T J (docs/contact.md); exact for the width, no inner iteration
+        r, b = _pressure_rows(c, pts, proj, e_q, f_q, size, settings)
+        tdir = -c.slip_sign * c.friction * _tangents(pts.normal)  # (q, 2) per unit pressure
+        g = e_q[0::2] * tdir[:, 0:1] + e_q[1::2] * tdir[:, 1:2]  # (q, m)
+        wq = np.where(slip, pts.weights, 0.0)
+        kc = kc - g.T @ (wq[:, None] * r)
+        f = f + g.T @ (wq * b)
+    return kc, f, (pts, bp, proj, e_q, f_q, size)
+
+
+def _tangents(normal: np.ndarray) -> np.ndarray:
+    """(q, 2) tangent t_c = (-n_y, n_x) of each contact normal."""
+    return np.stack([-normal[:, 1], normal[:, 0]], axis=1)
+
+
+def _slip_mask(c: _Contact, pts, a: float) -> np.ndarray:
+    """Points of the slip zone c < |s| <= a that carry a friction traction."""
+    if not (c.friction > 0.0 and c.slip_sign != 0.0) or a <= 0.0:
+        return np.zeros(len(pts.s), dtype=bool)
+    r = np.abs(pts.s)
+    return (r > c.stick(a)) & (r <= a)
+
+
+def _pressure_rows(c: _Contact, pts, proj, e_q, f_q, size, settings):
+    """Pressure at points as an affine function of the contact dofs: p = r @ x + b (r (q, m))."""
+    nc = pts.normal
+    layer = (PENALTY_FACTOR / (settings.core.band_fraction * size))[:, None, None] * (
+        proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
+    )
+    nl = np.einsum("qi,qij->qj", nc, layer)  # n^T L (q, 2)
+    npf = np.einsum("qi,qij->qj", nc, proj)  # n^T P
+    r = -(nl[:, 0:1] * e_q[0::2] + nl[:, 1:2] * e_q[1::2]) + npf[:, 0:1] * f_q[0::2] + npf[:, 1:2] * f_q[1::2]
+    b = -np.einsum("qi,qi->q", nl, pts.delta)
+    return r, b
+
+
+def _friction_traction(c: _Contact, pts, t1: np.ndarray, a: float) -> np.ndarray:
+    """Friction traction (q, 2) on body 1 in the slip zone: -sign mu p t_c with p = t1 . n_c."""
+    slip = _slip_mask(c, pts, a)
+    out = np.zeros_like(t1)
+    if slip.any():
+        p = np.einsum("qi,qi->q", t1, pts.normal)
+        out[slip] = (-c.slip_sign * c.friction * p[slip])[:, None] * _tangents(pts.normal[slip])
+    return out
 
 
 def _tractions(c: _Contact, samples, e_op: np.ndarray, f_op: np.ndarray, size: np.ndarray, x: np.ndarray, a: float,
@@ -263,11 +361,12 @@ def _tractions(c: _Contact, samples, e_op: np.ndarray, f_op: np.ndarray, size: n
     nc = samples.normal
     gap = np.einsum("qi,qi->q", w, nc)
     inside = np.abs(samples.s) <= a
-    proj = _projector(c, samples)
+    proj = _projector(c, samples, a)
     layer = (PENALTY_FACTOR / (settings.core.band_fraction * size))[:, None, None] * (
         proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
     )
     t1 = -np.einsum("qij,qj->qi", layer, w) + np.einsum("qij,qj->qi", proj, (f_op @ x).reshape(-1, 2))
+    t1 = t1 + _friction_traction(c, samples, t1, a)
     t1[~inside] = 0.0
     return gap, t1, inside
 
@@ -295,8 +394,8 @@ class _Verdict:
     edge: float = math.nan  # edge coefficient (see _edge_coefficient); > 0: a too small
 
 
-def _quadrature_pressure(c: _Contact, info, x: np.ndarray, settings: ContactSettings) -> np.ndarray:
-    """Contact pressure (q,) at the quadrature points of the region (compression positive)."""
+def _quadrature_traction(c: _Contact, info, x: np.ndarray, a: float, settings: ContactSettings) -> np.ndarray:
+    """Traction (q, 2) on body 1 at the quadrature points of the region, friction included."""
     pts, _, proj, e_q, f_q, size = info
     w = (e_q @ x).reshape(-1, 2) + pts.delta
     nc = pts.normal
@@ -304,7 +403,7 @@ def _quadrature_pressure(c: _Contact, info, x: np.ndarray, settings: ContactSett
         proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
     )
     t1 = -np.einsum("qij,qj->qi", layer, w) + np.einsum("qij,qj->qi", proj, (f_q @ x).reshape(-1, 2))
-    return np.einsum("qi,qi->q", t1, nc)
+    return t1 + _friction_traction(c, pts, t1, a)
 
 
 def _edge_coefficient(c: _Contact, info, x: np.ndarray, a: float, settings: ContactSettings) -> float:
@@ -325,7 +424,7 @@ def _edge_coefficient(c: _Contact, info, x: np.ndarray, a: float, settings: Cont
     if info is None or a <= 0.0:
         return math.inf
     pts = info[0]
-    p = _quadrature_pressure(c, info, x, settings)
+    p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a, settings), pts.normal)
     wp = pts.weights * p
     total = float(wp.sum())
     if not total > 0.0:
@@ -533,6 +632,50 @@ def _edge_search(a0: float, h: float, tol: float, a_max: float):
     return a, (br.lo, br.hi)
 
 
+class _StickRoot:
+    """Root of F(k) = sqrt(1 - |Q(k)| / (mu N(k))) - k for the stick ratio k = c/a in [0, 1]
+    (eq. 2-29 made consistent with the transmitted forces). F decreases in k (a larger stick
+    zone transmits more shear), F(0) >= 0 and F(1) <= 0: fixed-point steps k <- k + F until the
+    root is bracketed, then regula falsi with the Illinois modification."""
+
+    def __init__(self, k0: float, tol: float):
+        self.tol = tol
+        self.lo = self.hi = None  # k with F > 0 / F < 0
+        self.flo = self.fhi = 0.0
+        self.side = 0
+
+    def update(self, k: float, normal: float, tangential: float, mu: float) -> tuple[float, bool]:
+        """Next ratio and whether k is consistent (|F(k)| <= tol, or no compression)."""
+        if not normal > 0.0:
+            return k, True
+        g = math.sqrt(max(0.0, 1.0 - abs(tangential) / (mu * normal)))
+        f = g - k
+        if abs(f) <= self.tol:
+            return k, True
+        if f > 0.0:
+            self.lo, self.flo = k, f
+            if self.side > 0:
+                self.fhi *= 0.5
+            self.side = 1
+        else:
+            self.hi, self.fhi = k, f
+            if self.side < 0:
+                self.flo *= 0.5
+            self.side = -1
+        if self.lo is None or self.hi is None:
+            return g, False
+        if abs(self.hi - self.lo) <= 0.25 * self.tol:
+            return 0.5 * (self.lo + self.hi), True
+        return self.lo + (self.hi - self.lo) * self.flo / (self.flo - self.fhi), False
+
+
+def _contact_force(c: _Contact, info, x: np.ndarray, a: float, settings: ContactSettings) -> np.ndarray:
+    """Force (2,) on body 1 from body 2: the traction integrated over the region."""
+    if info is None:
+        return np.zeros(2)
+    return (_quadrature_traction(c, info, x, a, settings) * info[0].weights[:, None]).sum(axis=0)
+
+
 class _RegionTooSmall(Exception):
     pass
 
@@ -588,11 +731,16 @@ def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
     s = np.concatenate([-np.linspace(s_minus, 0, n_minus + 1)[:-1], np.linspace(0, s_plus, n_plus + 1)])
     samples = sample_points(geom, s)
     full = contact_quadrature(geom, (b1.grid, b2.grid), -s_minus, s_plus, settings.order, bk)
-    cells1 = np.concatenate([_locate(b1, samples.x1, samples.n1), _locate(b1, full.x1, full.n1)])
-    cells2 = np.concatenate([_locate(b2, samples.x2, samples.n2), _locate(b2, full.x2, full.n2)])
+    cells1, cells2 = [], []
+    for pts in (samples, full):
+        for b, x, nn, out in ((b1, pts.x1, pts.n1, cells1), (b2, pts.x2, pts.n2, cells2)):
+            own = _locate(b, x, nn)
+            out += [own, _support_cells(b, x, nn, own, settings.sliver_fraction) if settings.sliver_fraction else own]
+    cells1, cells2 = np.concatenate(cells1), np.concatenate(cells2)
     dofs = np.union1d(_cell_dofs_global(b1, cells1), _cell_dofs_global(b2, cells2))
     c = _Contact(model, geom, b1, b2, model.type, dofs, h, samples, None, None, None, 0.0, bk,
-                 stick=math.inf if model.type == "tied" else 0.0)
+                 stick_ratio={"tied": math.inf, "frictionless": 0.0}.get(model.type, 1.0),
+                 friction=float(model.friction or 0.0) if model.type == "frictional" else 0.0)
     jump, flux, size = _operators(c, samples, settings)
     c.e_samples = jump[:, dofs].toarray()
     c.f_samples = flux[:, dofs].toarray()
@@ -634,10 +782,12 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
                 raise ValueError(f"contacts[{i}].bodies: unknown body {nm!r}; bodies: {', '.join(names)}")
         if cm.bodies[0] == cm.bodies[1]:
             raise ValueError(f"contacts[{i}].bodies: a contact needs two different bodies, got {list(cm.bodies)}")
-        if cm.type not in ("tied", "frictionless"):
-            raise ValueError(
-                f"contacts[{i}].type = {cm.type!r}: only 'tied' and 'frictionless' are implemented (issue 6)"
-            )
+        if cm.type not in ("tied", "frictionless", "frictional"):
+            raise ValueError(f"contacts[{i}].type must be 'tied', 'frictionless' or 'frictional', got {cm.type!r}")
+        if cm.type == "frictional":
+            mu = cm.friction
+            if not (isinstance(mu, (int, float)) and math.isfinite(mu) and mu > 0):
+                raise ValueError(f"contacts[{i}].friction must be a positive number for frictional contact, got {mu!r}")
     opts = problem.options
     if not (isinstance(opts.load_steps, int) and opts.load_steps >= 1):
         raise ValueError(f"solver.load_steps must be an integer >= 1, got {opts.load_steps!r}")
@@ -707,6 +857,8 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         return kc, fc, extra
 
     def solve_small(lam, kc, fc):
+        if any(c.slip_sign != 0.0 and c.friction > 0.0 for c in contacts):  # K_f: non-symmetric
+            return sla.solve(schur + kc, lam * sbu0 + fc)
         try:  # S + Kc is symmetric positive definite when the Nitsche terms are coercive
             return sla.cho_solve(sla.cho_factor(schur + kc), lam * sbu0 + fc)
         except np.linalg.LinAlgError:
@@ -722,15 +874,14 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     widths = [2.0 * c.h for c in contacts]
     brackets = [(0.0, 0.0)] * len(contacts)
     prev = None  # (lam, x, y, kc, fc) of the last converged state
+    prev_infos = None
     messages = []
     max_it = min(opts.max_iterations, settings.max_width_iterations)
-    for step in range(1, steps + 1):
-        lam = step / steps
-        final = step == steps
-        report(f"load step {step}/{steps}", 0.3 + 0.6 * (step - 1) / steps)
-        if prev is not None and prev[0] > 0:
-            # start from the last width scaled as Hertz (a ~ sqrt(N) ~ sqrt(load))
-            widths = [max(a * math.sqrt(lam / prev[0]), 2.0 * c.h) for a, c in zip(widths, contacts)]
+    run = {"last": None, "ref_work": None}
+
+    def width_search(step, lam, final, widths, tag):
+        """The width iterations of one load step at fixed stick ratios: (widths, brackets, state,
+        quadrature infos, solves, settled)."""
         tol_cells = settings.width_tolerance if final else settings.step_tolerance
         if settings.width_update == "edge":
             gens = [_edge_search(a, c.h, (settings.edge_tolerance if final else settings.step_tolerance) * c.h,
@@ -742,18 +893,18 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
             gens = [_bracket_search(a, c.h, tol_cells * c.h, c.geom.s_max(), final) for a, c in zip(widths, contacts)]
         trial = [next(gn) for gn in gens]
         results = [None] * len(contacts)
-        iters, ref_work, last = 0, None, None
+        iters = 0
         cache = {}
         while True:
             key = tuple(trial)
             if key in cache:
-                state, verdicts = cache[key]
+                state, verdicts, infos_trial = cache[key]
             else:
                 iters += 1
                 kc, fc, infos_trial = assemble(trial)
                 x = solve_small(lam, kc, fc)
                 y = fc - kc @ x
-                old = last if last is not None else prev
+                old = run["last"] if run["last"] is not None else prev
                 if old is not None:
                     o_lam, o_x, o_y, o_kc, o_fc = old
                     r = fc - kc @ o_x - o_fc + o_kc @ o_x
@@ -764,11 +915,12 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
                     work = abs(work)
                 else:
                     work = abs(float(lam * lam * u0f0 + lam * (y @ bu0)))
-                ref_work = work if ref_work is None else max(ref_work, work)
-                ratio = float(work / ref_work) if ref_work > 0 else 0.0
+                ref = run["ref_work"]
+                run["ref_work"] = ref = work if ref is None else max(ref, work)
+                ratio = float(work / ref) if ref > 0 else 0.0
                 work_history.append(ratio)
                 state = (lam, x, y, kc, fc)
-                last = state
+                run["last"] = state
                 verdicts = []
                 for c, wh, a, inf in zip(contacts, where, trial, infos_trial):
                     gap, pres, inside = _sample_state(c, x[wh], a, settings)
@@ -777,8 +929,9 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
                     verdicts.append(v)
                     c.history.append({"step": step, "iteration": iters, "a": a, "penetration": v.penetration,
                                       "tension": v.tension, "edge_gap": v.gap, "edge_pressure": v.pressure,
-                                      "edge_coefficient": v.edge, "work_ratio": ratio})
-                cache[key] = (state, verdicts)
+                                      "edge_coefficient": v.edge, "stick_ratio": c.stick_ratio,
+                                      "stick_iteration": tag, "work_ratio": ratio})
+                cache[key] = (state, verdicts, infos_trial)
             if all(r is not None for r in results) or iters >= max_it:
                 break
             nxt = []
@@ -799,36 +952,81 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
                         "refinement radius"
                     ) from None
             trial = nxt
+        settled = all(r is not None for r in results)
+        results = [r if r is not None else (a, (a, a)) for r, a in zip(results, trial)]
+        widths = [r[0] for r in results]
+        key = tuple(widths)
+        if key not in cache:  # unsettled: the last trial
+            key = tuple(trial)
+        state, _, infos = cache[key]
+        return widths, [r[1] for r in results], state, infos, iters, settled
+
+    frictional = [k for k, c in enumerate(contacts) if c.kind == "frictional"]
+    for step in range(1, steps + 1):
+        lam = step / steps
+        final = step == steps
+        report(f"load step {step}/{steps}", 0.3 + 0.6 * (step - 1) / steps)
+        if prev is not None and prev[0] > 0:
+            # start from the last width scaled as Hertz (a ~ sqrt(N) ~ sqrt(load))
+            widths = [max(a * math.sqrt(lam / prev[0]), 2.0 * c.h) for a, c in zip(widths, contacts)]
+        # stick ratios (frictional contacts): root of F(k) = sqrt(1 - |beta(k)| / mu) - k on [0, 1]
+        # (F decreases: a larger stick zone transmits more shear), by the fixed-point step until
+        # bracketed, then regula falsi (Illinois); the widths are searched at each trial ratio
+        stick = {k: _StickRoot(contacts[k].stick_ratio, settings.stick_tolerance) for k in frictional}
+        iters, settled, tag = 0, True, 0
+        while True:
+            widths, brackets, state, infos, it, ok = width_search(step, lam, final, widths, tag)
+            iters += it
+            settled = settled and ok
+            if not frictional:
+                break
+            done = True
+            for k in frictional:
+                c = contacts[k]
+                on2 = -_contact_force(c, infos[k], state[1][where[k]], widths[k], settings)
+                normal, tangential = float(-on2 @ c.geom.normal), float(on2 @ c.geom.tangent)
+                nxt, finished = stick[k].update(c.stick_ratio, normal, tangential, c.friction)
+                c.beta = tangential / normal if normal > 0 else math.nan
+                if settings.friction_traction and tangential != 0.0:
+                    sign = math.copysign(1.0, tangential)
+                    if sign != c.slip_sign and c.stick_ratio < 1.0:
+                        finished = False  # the friction traction pointed the wrong way
+                    c.slip_sign = sign
+                if not finished:
+                    c.stick_ratio = nxt
+                    done = False
+            tag += 1
+            if done:
+                break
+            if tag >= settings.max_stick_iterations:
+                settled = False
+                messages.append(f"load step {step}: the stick zone did not settle in {tag} iterations")
+                break
         per_step.append(iters)
-        if any(r is None for r in results):
+        if not settled:
             converged = False
             messages.append(f"load step {step}: the contact width did not settle in {iters} iterations")
-            results = [r if r is not None else (a, (a, a)) for r, a in zip(results, trial)]
-        widths = [r[0] for r in results]
-        brackets = [r[1] for r in results]
-        prev = cache[tuple(widths)][0] if tuple(widths) in cache else last
+        prev, prev_infos = state, infos
+    for k in frictional:
+        c = contacts[k]
+        c.gross_slip = bool(c.stick_ratio == 0.0 and abs(c.beta) >= c.friction * (1.0 - 1e-6))
+        if c.gross_slip:
+            messages.append(
+                f"contact {c.geom.bodies[0]}/{c.geom.bodies[1]}: gross slip, |Q|/N = {abs(c.beta):.4g} >= mu = "
+                f"{c.friction:g}: no stick zone; solved with full sliding friction (the constraints still hold "
+                "the bodies)"
+            )
     timings["iterations_s"] = time.perf_counter() - t
 
     # ------------------------------------------------------------------ results
     t = time.perf_counter()
     lam, x, y, kc, fc = prev
     u = lu.solve(lam * f0 + _scatter(n, dofs, y))
-    # one step of iterative refinement on the full system
-    k_full = k0.copy()
-    f_full = lam * f0
-    _, _, infos = assemble(widths)
-    for c, a, info in zip(contacts, widths, infos):
-        if info is None:
-            continue
-        pts, bp, proj = info[:3]
-        kk, ff = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, core.band_fraction, 1.0, jump=bp.displacement)
-        k_full = k_full + kk
-        f_full = f_full + ff
-    for c, a0 in zip(contacts, base):
-        if a0 > 0:
-            kb, _, info = _terms(c, a0, settings)
-            k_full = k_full - _embed(kb, c.dofs, n)
-    k_full = k_full.tocsr()
+    # two steps of iterative refinement on the full system K0 + B^T Kc B (the contact terms,
+    # friction included, live on the contact dofs only: _terms checks it)
+    infos = prev_infos
+    k_full = (k0 + _embed(kc, dofs, n)).tocsr()
+    f_full = lam * f0 + _scatter(n, dofs, fc)
     res = f_full - k_full @ u
     for _ in range(2):
         du = _condensed_apply(lu, schur, dofs, kc, res)
@@ -847,12 +1045,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     for c, a, info, wh, bracket in zip(contacts, widths, infos, where, brackets):
         gap, pres, inside = _sample_state(c, u[c.dofs], a, settings)
         v = _judge(c, gap, pres, inside, a, settings)
-        force1 = np.zeros(2)
-        if info is not None:
-            pts, bp, proj = info[:3]
-            tr = thin_band_traction(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, u, core.band_fraction, 1.0,
-                                    jump=bp.displacement)
-            force1 = (tr * bp.weights[:, None]).sum(axis=0)  # force on body 1 from body 2
+        force1 = _contact_force(c, info, u[c.dofs], a, settings)  # force on body 1 from body 2
         on2 = -force1
         nrm, tan = c.geom.normal, c.geom.tangent
         ok = not v.penetration and not v.tension
@@ -867,7 +1060,19 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
                                 "edge_gap": v.gap, "edge_pressure": v.pressure,
                                 "penetration_points": v.penetration_count, "tension_points": v.tension_count,
                                 "min_gap": v.min_gap, "min_pressure": v.min_pressure,
-                                "half_width_bracket": list(bracket), "force_on_first": force1.tolist()}
+                                "half_width_bracket": list(bracket), "force_on_first": force1.tolist(),
+                                "edge_coefficient": _edge_coefficient(c, info, u[c.dofs], a, settings)}
+        if c.kind == "frictional":
+            nf, qf = float(-on2 @ nrm), float(on2 @ tan)
+            ca = math.sqrt(max(0.0, 1.0 - abs(qf) / (c.friction * nf))) if nf > 0 else math.nan
+            blocks[-1]["checks"].update({"stick_ratio": c.stick_ratio, "stick_ratio_from_forces": ca,
+                                         "force_ratio": qf / nf if nf > 0 else math.nan,
+                                         "friction_traction": settings.friction_traction})
+            blocks[-1]["gross_slip"] = c.gross_slip
+            if not abs(ca - c.stick_ratio) <= 2.0 * settings.stick_tolerance:
+                converged = False
+                messages.append(f"contact {c.geom.bodies[0]}/{c.geom.bodies[1]}: c/a = {c.stick_ratio:.4g} but the "
+                                f"forces give sqrt(1 - |Q|/(mu N)) = {ca:.4g}")
     timings["results_s"] = time.perf_counter() - t
     timings["total_s"] = time.perf_counter() - t_start
     report("done", 1.0)
@@ -921,7 +1126,8 @@ def _condensed_apply(lu, schur, dofs, kc, r):
     """(K0 + B^T Kc B)^-1 r by static condensation: (S + Kc) x = S B K0^-1 r, then
     U = K0^-1 (r - B^T Kc x)."""
     z = lu.solve(r)
-    x = sla.solve(schur + kc, schur @ z[dofs], assume_a="sym")
+    sym = np.allclose(kc, kc.T, rtol=0.0, atol=1e-12 * max(np.abs(kc).max(), 1e-300))
+    x = sla.solve(schur + kc, schur @ z[dofs], assume_a="sym" if sym else "gen")
     return lu.solve(r - _scatter(len(r), dofs, kc @ x))
 
 
@@ -997,7 +1203,7 @@ def _contact_block(c: _Contact, a: float, on2, nrm, tan, settings, u) -> dict:
         "normal": nrm.tolist(),
         "tangent": tan.tolist(),
         "half_width": float(a),
-        "stick_half_width": float(min(c.stick, a)),
+        "stick_half_width": float(min(c.stick(a), a)),
         "normal_force": float(-on2 @ nrm),
         "tangential_force": float(on2 @ tan),
         "pressure": {"s": out_s.tolist(), "value": np.interp(out_s, s, pressure).tolist()},

@@ -208,9 +208,14 @@ def test_errors_name_the_field():
     problem = small_scene("frictionless")
     import dataclasses
 
-    bad = dataclasses.replace(problem, contacts=(dataclasses.replace(problem.contacts[0], type="frictional", friction=0.3),))
-    with pytest.raises(ValueError, match="issue 6"):
+    bad = dataclasses.replace(problem, contacts=(dataclasses.replace(problem.contacts[0], type="frictional", friction=0.0),))
+    with pytest.raises(ValueError, match=r"contacts\[0\]\.friction"):
         solve_contact(bad)
+    bad = dataclasses.replace(problem, contacts=(dataclasses.replace(problem.contacts[0], type="glued"),))
+    with pytest.raises(ValueError, match=r"contacts\[0\]\.type"):
+        solve_contact(bad)
+    with pytest.raises(ValueError, match="sliver_fraction"):
+        ContactSettings(sliver_fraction=1.5)
     with pytest.raises(ValueError, match="width_update"):
         ContactSettings(width_update="newton")
     with pytest.raises(ValueError, match="window"):
