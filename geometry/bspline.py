@@ -75,8 +75,9 @@ _BLOCK = 16384  # points per block in the Newton loop
 _SEED_STEPS = 3  # Newton steps on the tabulated Taylor model when seeding
 # seeding density (samples per knot span) and the sample count above which the nearest
 # sample is found with a k-d tree instead of a brute-force (BLAS) distance matrix
-_CURVE_SEEDS_PER_SPAN = 8  # at most; fewer when there are many spans
+_CURVE_SEEDS_PER_SPAN = 4  # at least
 _CURVE_SEEDS_MAX = 2048
+_CURVE_SEED_SPACING = 32  # samples about 1/32 of the curve size apart (control polygon)
 _SURFACE_SEEDS_PER_SPAN = 8  # per direction, at most
 _SURFACE_SEEDS_MAX = 160  # per direction
 _BRUTE_SEEDS = 96
@@ -167,6 +168,46 @@ def _points_of(d: dict[str, Any], key: str, owner: str) -> Any:
     return d[key]
 
 
+def _kinks(t: np.ndarray, k: int, lo: float, hi: float) -> np.ndarray:
+    """Parameters in (lo, hi) where the spline is only C0 (knot multiplicity >= degree):
+    Newton steps are stopped there, since f jumps in slope across them."""
+    vals, counts = np.unique(t, return_counts=True)
+    return vals[(counts >= k) & (vals > lo) & (vals < hi)]
+
+
+def _stop_at_kinks(start: np.ndarray, raw: np.ndarray, kinks: np.ndarray) -> np.ndarray:
+    """Steps ``start -> raw`` clamped at the first kink strictly beyond ``start``."""
+    if len(kinks) == 0:
+        return raw
+    up = raw > start
+    i = np.searchsorted(kinks, start, side="right")
+    k_up = kinks[np.minimum(i, len(kinks) - 1)]
+    i_dn = np.searchsorted(kinks, start, side="left") - 1
+    k_dn = kinks[np.maximum(i_dn, 0)]
+    hit_up = up & (i < len(kinks)) & (k_up < raw)
+    hit_dn = ~up & (i_dn >= 0) & (k_dn > raw)
+    return np.where(hit_up, k_up, np.where(hit_dn, k_dn, raw))
+
+
+def _polygon_samples(t: np.ndarray, k: int, a: float, b: float, legs: np.ndarray, spacing: float, at_most: int) -> np.ndarray:
+    """Sample parameters: in every non-empty knot span of [a, b] as many equal steps as
+    the control polygon legs acting on that span are long (divided by the degree) in
+    units of ``spacing``, at least ``_CURVE_SEEDS_PER_SPAN``; scaled down to at most
+    ``at_most`` samples."""
+    br = np.unique(np.concatenate([[a], t[(t > a) & (t < b)], [b]]))
+    # span [t_i, t_i+1) is shaped by control points i-k .. i, i.e. legs i-k .. i-1
+    i = np.searchsorted(t, br[:-1], side="right") - 1
+    cum = np.concatenate([[0.0], np.cumsum(legs)])
+    lo = np.clip(i - k, 0, len(legs))
+    hi = np.clip(i, 0, len(legs))
+    length = (cum[hi] - cum[lo]) / k  # each leg acts on k spans
+    n = np.maximum(_CURVE_SEEDS_PER_SPAN, np.ceil(length / spacing)).astype(int)
+    if n.sum() > at_most:
+        n = np.maximum(2, (n * at_most) // n.sum())
+    s = np.concatenate([br[j] + np.arange(n[j]) / n[j] * (br[j + 1] - br[j]) for j in range(len(n))])
+    return np.append(s, b)
+
+
 def _span_samples(t: np.ndarray, a: float, b: float, per_span: int, at_most: int) -> np.ndarray:
     """Parameters: equal steps in every non-empty knot span of [a, b], ``per_span`` of
     them (at least 2) unless that would exceed ``at_most`` samples; both ends included."""
@@ -200,6 +241,64 @@ def _nearest(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> np.ndarray:
     for i in range(0, len(p), chunk):
         out[i : i + chunk] = np.argmin(QQ[None, :] - 2.0 * (p[i : i + chunk] @ Q.T), axis=1)
     return out
+
+
+def _two_basins(
+    p: np.ndarray, Q: np.ndarray, tree: cKDTree | None, periodic: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """For a sampled curve: the nearest sample j1 and the nearest sample j2 that is a
+    local minimum of the sampled distance in another basin than j1 (not next to it), with
+    both distances; j2 = -1 where there is none (among the k-d tree's 16 candidates)."""
+    n = len(Q)
+    if periodic:
+        prev_i, next_i = np.roll(np.arange(n), 1), np.roll(np.arange(n), -1)
+    else:
+        prev_i, next_i = np.r_[0, np.arange(n - 1)], np.r_[np.arange(1, n), n - 1]
+
+    def apart(j: np.ndarray, j1: np.ndarray) -> np.ndarray:
+        gap = np.abs(j - j1)
+        return (np.minimum(gap, n - gap) if periodic else gap) > 1
+
+    if tree is None:
+        QQ = np.einsum("ij,ij->i", Q, Q)
+        j1 = np.empty(len(p), dtype=np.int64)
+        j2 = np.empty(len(p), dtype=np.int64)
+        d1 = np.empty(len(p))
+        d2 = np.empty(len(p))
+        chunk = max(128, 32_768 // max(n, 1))  # small blocks stay in L2 (measured ~3x faster)
+        for i in range(0, len(p), chunk):
+            pc = p[i : i + chunk]
+            D = QQ[None, :] - 2.0 * (pc @ Q.T)
+            a = np.argmin(D, axis=1)
+            rows = np.arange(len(pc))
+            da = D[rows, a]
+            # local minima of the sampled distance (views, no copies), away from j1
+            basin = np.empty(D.shape, dtype=bool)
+            np.less(D[:, 1:], D[:, :-1], out=basin[:, 1:])
+            basin[:, 0] = D[:, 0] < D[:, -1] if periodic else True
+            basin[:, :-1] &= D[:, :-1] <= D[:, 1:]
+            basin[:, -1] &= D[:, -1] <= D[:, 0] if periodic else True
+            lo, hi = a - 1, a + 1
+            basin[rows, np.clip(lo, 0, n - 1) if not periodic else lo % n] = False
+            basin[rows, a] = False
+            basin[rows, np.clip(hi, 0, n - 1) if not periodic else hi % n] = False
+            b = np.argmin(np.where(basin, D, np.inf), axis=1)
+            pp = np.einsum("ij,ij->i", pc, pc)
+            j1[i : i + chunk] = a
+            j2[i : i + chunk] = np.where(basin[rows, b], b, -1)
+            d1[i : i + chunk] = np.sqrt(np.maximum(da + pp, 0.0))
+            d2[i : i + chunk] = np.sqrt(np.maximum(D[rows, b] + pp, 0.0))
+        return j1, j2, d1, d2
+    k = min(16, n)
+    dd, jj = tree.query(p, k=k)
+    j1, d1 = jj[:, 0], dd[:, 0]
+    d_prev = np.linalg.norm(Q[prev_i[jj]] - p[:, None, :], axis=2)
+    d_next = np.linalg.norm(Q[next_i[jj]] - p[:, None, :], axis=2)
+    basin = (dd < d_prev) & (dd <= d_next) & apart(jj, j1[:, None])
+    first = np.argmax(basin, axis=1)
+    rows = np.arange(len(p))
+    has = basin[rows, first]
+    return j1, np.where(has, jj[rows, first], -1), d1, np.where(has, dd[rows, first], np.inf)
 
 
 def _normalise_rows(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -368,7 +467,11 @@ class BSplineCurve(Curve):
         distances to the neighbouring samples (n_s, 2), the sample points, and a k-d tree
         when there are too many samples for a brute-force nearest search."""
         a, b = self.domain
-        s = _span_samples(self._spline.t, a, b, _CURVE_SEEDS_PER_SPAN, _CURVE_SEEDS_MAX)
+        # enough samples that neighbouring ones are about 1/32 of the curve's size apart,
+        # judged by the control polygon (the curve lies in its convex hull span by span)
+        coef = self._spline.c[:, :3] / (self._spline.c[:, 3:] if self.weights is not None else 1.0)
+        legs = np.linalg.norm(np.diff(coef, axis=0), axis=1)
+        s = _polygon_samples(self._spline.t, self.degree, a, b, legs, self.scale / _CURVE_SEED_SPACING, _CURVE_SEEDS_MAX)
         gaps = np.diff(s)
         if self.periodic:
             s = s[:-1]
@@ -380,14 +483,13 @@ class BSplineCurve(Curve):
         tree = cKDTree(Q) if len(s) > _BRUTE_SEEDS else None
         return s, table, reach, Q, tree
 
-    def _seed(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Seed parameters: the nearest sample, refined by Newton steps on the cubic Taylor
+    def _seed(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Seed parameters: sample ``j`` (the nearest), refined by Newton steps on the cubic Taylor
         model of the curve at that sample (tabulated derivatives, no spline evaluation; the
         model is exact inside the sample's knot span for polynomial cubics), kept within the
         neighbouring samples. Also returns the model's Newton derivative there and whether
         it is positive (Newton) rather than Gauss-Newton."""
         s, table, reach, Q, tree = self._seeds
-        j = _nearest(p, Q, tree)
         row = table[j]
         C0p, D1, D2, D3 = row[:, :3] - p, row[:, 3:6], row[:, 6:9], row[:, 9:12]
         D2_2, D3_6 = 0.5 * D2, D3 / 6.0
@@ -421,13 +523,35 @@ class BSplineCurve(Curve):
         for (m, 3) points: the safeguarded Newton core of :meth:`project`."""
         p = np.ascontiguousarray(points, dtype=float)
         if len(p) <= _BLOCK:
-            return self._closest_block(p)
+            return self._closest_two_basins(p)
         # blocks that stay in cache: the many small array operations per Newton step are
         # memory bound on large arrays
-        parts = [self._closest_block(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
+        parts = [self._closest_two_basins(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
         return tuple(np.concatenate(x) for x in zip(*parts))
 
-    def _closest_block(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _closest_two_basins(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Newton from the nearest sample; where a sample of another basin of the distance
+        is nearly as near (within the sample spacing), Newton from there too, keep the better."""
+        s, _, _, Q, tree = self._seeds
+        j1, j2, d1, d2 = _two_basins(p, Q, tree, self.periodic)
+        t, C, C1 = self._closest_block(p, j1)
+        spacing = np.max(np.linalg.norm(np.diff(Q, axis=0), axis=1)) if len(Q) > 1 else 0.0
+        amb = np.flatnonzero((j2 >= 0) & (d2 - d1 <= spacing))
+        if len(amb):
+            t2, C2, C12 = self._closest_block(p[amb], j2[amb])
+            better = _rowdot(C2 - p[amb], C2 - p[amb]) < _rowdot(C[amb] - p[amb], C[amb] - p[amb])
+            k = amb[better]
+            t[k], C[k], C1[k] = t2[better], C2[better], C12[better]
+        return t, C, C1
+
+    @cached_property
+    def _kinks(self) -> np.ndarray:
+        a, b = self.domain
+        if self.periodic:  # steps stay within half a period of [a, b]
+            return _kinks(self._spline.t, self.degree, 2 * a - b, 2 * b - a)
+        return _kinks(self._spline.t, self.degree, a, b)
+
+    def _closest_block(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         m = len(p)
         a, b = self.domain
         width = b - a
@@ -438,7 +562,7 @@ class BSplineCurve(Curve):
         idx = np.arange(m)
         # the seed's Taylor model supplies the first Hessian: the first evaluation needs
         # C and C' only, and most points converge right there
-        trial, H_acc, fine = self._seed(p)
+        trial, H_acc, fine = self._seed(p, j)
         t_acc = trial.copy()
         f_acc = np.full(m, np.inf)
         step = np.zeros(m)
@@ -446,6 +570,7 @@ class BSplineCurve(Curve):
         C1_acc = np.zeros((m, 3))
         halvings = np.zeros(m, dtype=np.int64)
         reach = np.abs(p).max(axis=1) + self.extent
+        kinks = self._kinks
         for _ in range(_MAX_ITER):
             if len(idx) == 0:
                 break
@@ -475,13 +600,14 @@ class BSplineCurve(Curve):
             dt = np.where(H > 0, -g / np.where(H > 0, H, 1.0), 0.0)
             new_step = np.where(acc, np.clip(dt, -0.5 * width, 0.5 * width), 0.5 * step)
             raw = t_acc + new_step
-            new = self._wrap(raw)
-            eff = new_step if self.periodic else new - t_acc
+            stopped = _stop_at_kinks(t_acc, raw, kinks)
+            new = self._wrap(stopped)
+            eff = stopped - t_acc if self.periodic else new - t_acc
             move = np.abs(eff) * np.sqrt(speed2)
             halvings = np.where(acc, 0, halvings + 1)
             # fine phase (reuse the Hessian) while the steps are small; back to full Newton
             # for points whose accepted step is large
-            fine = np.where(acc, newton & (move <= _FINE * self.scale), fine)
+            fine = np.where(acc, newton & (stopped == raw) & (move <= _FINE * self.scale), fine)
             done = (move <= tol) | (halvings > 60)
             if np.any(done):
                 d = np.flatnonzero(done)
