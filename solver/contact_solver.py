@@ -635,8 +635,11 @@ def _edge_search(a0: float, h: float, tol: float, a_max: float):
 class _StickRoot:
     """Root of F(k) = sqrt(1 - |Q(k)| / (mu N(k))) - k for the stick ratio k = c/a in [0, 1]
     (eq. 2-29 made consistent with the transmitted forces). F decreases in k (a larger stick
-    zone transmits more shear), F(0) >= 0 and F(1) <= 0: fixed-point steps k <- k + F until the
-    root is bracketed, then regula falsi with the Illinois modification."""
+    zone transmits more shear), F(1) <= 0: fixed-point steps k <- k + F (halving instead where
+    that would drop below k / 2) until the root is bracketed, then regula falsi with the
+    Illinois modification. k = 0 (gross slip) only when F < 0 down to ``min_ratio``."""
+
+    min_ratio = 0.01  # below this c/a a stick zone is not resolved: gross slip
 
     def __init__(self, k0: float, tol: float):
         self.tol = tol
@@ -662,6 +665,13 @@ class _StickRoot:
             if self.side < 0:
                 self.flo *= 0.5
             self.side = -1
+        if self.lo is None and (g <= 0.5 * k or k <= 0.0):
+            # with the friction traction every ratio near 0 transmits |Q| = mu N, so F(0) = 0 always:
+            # the partial-slip root is the largest one. Approach 0 by halving, never by a jump; gross
+            # slip is the answer only once F < 0 all the way down (no stick zone can hold the shear)
+            if k <= self.min_ratio:
+                return 0.0, k <= 0.0
+            return 0.5 * k, False
         if self.lo is None or self.hi is None:
             return g, False
         if abs(self.hi - self.lo) <= 0.25 * self.tol:
@@ -674,6 +684,30 @@ def _contact_force(c: _Contact, info, x: np.ndarray, a: float, settings: Contact
     if info is None:
         return np.zeros(2)
     return (_quadrature_traction(c, info, x, a, settings) * info[0].weights[:, None]).sum(axis=0)
+
+
+def _friction_checks(c: _Contact, info, x: np.ndarray, a: float, block: dict) -> dict:
+    """Coulomb's conditions on the returned state: in the slip zone the tangential jump (the
+    slip of body 1 on body 2) must point along slip_sign (the friction traction opposes it); in
+    the stick zone the shear profile must stay within mu times the pressure profile. Reported as
+    the fractions of each zone (by length) where they fail; not used to steer the iterations."""
+    out = {"slip_direction_violations": 0.0, "stick_shear_above_mu_p": 0.0}
+    if info is not None and c.slip_sign != 0.0:
+        pts, e_q = info[0], info[3]
+        w = (e_q @ x).reshape(-1, 2) + pts.delta
+        wt = np.einsum("qi,qi->q", w, _tangents(pts.normal))
+        slip = _slip_mask(c, pts, a)
+        scale = max(float(np.abs(wt[slip]).max()) if slip.any() else 0.0, 1e-300)
+        wrong = slip & (wt * c.slip_sign < -1e-6 * scale)
+        if slip.any():
+            out["slip_direction_violations"] = float(pts.weights[wrong].sum() / pts.weights[slip].sum())
+    s = np.asarray(block["shear"]["s"])
+    stick = np.abs(s) <= min(c.stick(a), a)
+    if stick.any():
+        q = np.abs(np.asarray(block["shear"]["value"])[stick])
+        p = np.asarray(block["pressure"]["value"])[stick]
+        out["stick_shear_above_mu_p"] = float(np.mean(q > 1.02 * c.friction * np.maximum(p, 0.0)))
+    return out
 
 
 class _RegionTooSmall(Exception):
@@ -1068,6 +1102,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
             blocks[-1]["checks"].update({"stick_ratio": c.stick_ratio, "stick_ratio_from_forces": ca,
                                          "force_ratio": qf / nf if nf > 0 else math.nan,
                                          "friction_traction": settings.friction_traction})
+            blocks[-1]["checks"].update(_friction_checks(c, info, u[c.dofs], a, blocks[-1]))
             blocks[-1]["gross_slip"] = c.gross_slip
             if not abs(ca - c.stick_ratio) <= 2.0 * settings.stick_tolerance:
                 converged = False
