@@ -12,11 +12,12 @@ with the size of the net. Rational splines are evaluated in homogeneous coordina
 Projection (``project``), vectorised over all points (in blocks of ``_BLOCK`` points that
 stay in cache):
 
-1. seed: the nearest of a set of parameter samples (up to 8 per knot span and direction),
-   found by a brute-force distance matrix (few samples) or a ``scipy.spatial.cKDTree``
-   (built once per primitive), refined by Newton steps on the cubic Taylor model of the
-   curve/surface at that sample (derivatives up to order 3 tabulated at the samples, so no
-   spline evaluation), kept within the neighbouring samples;
+1. seed: the nearest of a set of parameter samples (curves: spaced by the control polygon,
+   about 1/32 of the curve's size apart, at least 4 per knot span; surfaces: up to 8 per
+   knot span and direction), found by a brute-force distance matrix (few samples) or a
+   ``scipy.spatial.cKDTree`` (built once per primitive), refined by Newton steps on the
+   cubic Taylor model of the curve/surface at that sample (derivatives up to order 3
+   tabulated at the samples, so no spline evaluation), kept within the neighbouring samples;
 2. safeguarded Newton on the first-order conditions ``(S - p) . S_u = 0``; the Hessian
    (with second derivatives; Gauss-Newton where it is not clearly positive definite) is
    taken from the seed's model first and kept while the steps are small (fine phase:
@@ -29,9 +30,14 @@ stay in cache):
    size (bounding-box diagonal); the returned points are evaluated at the returned
    parameters (so they lie on the spline to round-off).
 
-Global optimality rests on the seeding: a competing local minimum can be missed only when
-its distance is within about (sample spacing)^2 x curvature of the one found (far points
-above nearly flat regions); points near the curve or surface, the use case, are safe.
+Global minimum. Curves: where the sampled distance has another local minimum (another
+basin) within one sample spacing of the nearest sample, Newton also runs from there and
+the better result is kept. Steps stop at C0 knots (multiplicity >= degree: polylines,
+creases), where the distance has a kink; surfaces whose nearest sample lies on a C0 knot
+line run Newton on both sides of it. Beyond that, surfaces rely on the nearest sample: a
+competing local minimum can be missed when its distance is within about
+(sample spacing)^2 x curvature of the one found (far points over nearly flat regions);
+points near the surface, the use case, are safe.
 
 Normal conventions (SPEC section 2 leaves free-form normals to the primitive):
 
@@ -844,13 +850,12 @@ class BSplineSurface(Surface):
             dv = np.where(fix_v, 0.0, np.where(fix_u, -gv / edge_v, dv))
         return np.column_stack([du, dv]), frozen
 
-    def _seed(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Nearest grid sample, refined by Newton steps on the cubic Taylor model of the
+    def _seed(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Grid sample ``j`` (the nearest), refined by Newton steps on the cubic Taylor model of the
         surface at that sample (tabulated derivatives, no spline evaluation), kept within
         the neighbouring samples and the domain. Also returns the model's Hessian there and
         whether it is the Newton (not Gauss-Newton) one."""
         uv, table, halfw, tree = self._seeds
-        j = _nearest(p, table[:, :3], tree)
         T = table[j].reshape(len(p), 10, 3)  # rows in the order of _NU3
         T[:, 0] -= p
         (ua, ub), (va, vb) = self.domain
@@ -883,12 +888,40 @@ class BSplineSurface(Surface):
         there, for (m, 3) points: the safeguarded Newton core of :meth:`project`."""
         p = np.ascontiguousarray(points, dtype=float)
         if len(p) <= _BLOCK:
-            return self._closest_block(p)
-        parts = [self._closest_block(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
+            return self._closest_sides(p)
+        parts = [self._closest_sides(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
         uv = np.concatenate([x[0] for x in parts])
         return uv, {nu: np.concatenate([x[1][nu] for x in parts]) for nu in parts[0][1]}
 
-    def _closest_block(self, p: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
+    def _closest_sides(self, p: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
+        """Newton from the nearest grid sample; where that sample lies on a C0 crease
+        (a knot line of multiplicity >= degree), Newton again from the neighbouring sample on
+        the other side of the crease (the two sides are separate basins), keep the better."""
+        uv, table, _, tree = self._seeds
+        j = _nearest(p, table[:, :3], tree)
+        uv_out, d = self._closest_block(p, j)
+        (ua, ub), (va, vb) = self.domain
+        nv = len(np.unique(uv[:, 1]))
+        for axis, knots, k, lo, hi, shift in (
+            (0, self.knots_u, self.degree_u, ua, ub, nv),
+            (1, self.knots_v, self.degree_v, va, vb, 1),
+        ):
+            kinks = _kinks(knots, k, lo, hi)
+            if len(kinks) == 0:
+                continue
+            on = np.flatnonzero(np.isin(uv[j, axis], kinks))
+            if len(on) == 0:
+                continue
+            uv2, d2 = self._closest_block(p[on], j[on] - shift)
+            r1, r2 = d[(0, 0)][on] - p[on], d2[(0, 0)] - p[on]
+            better = _rowdot(r2, r2) < _rowdot(r1, r1)
+            k_idx = on[better]
+            uv_out[k_idx] = uv2[better]
+            for nu in d:
+                d[nu][k_idx] = d2[nu][better]
+        return uv_out, d
+
+    def _closest_block(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
         m = len(p)
         (ua, ub), (va, vb) = self.domain
         lo = np.array([ua, va])
@@ -900,8 +933,10 @@ class BSplineSurface(Surface):
         idx = np.arange(m)
         # the seed's Taylor model supplies the first Hessian: the first evaluation needs
         # S, S_u, S_v only
-        trial, H_acc, fine = self._seed(p)
+        trial, H_acc, fine = self._seed(p, j)
         uv_acc = trial.copy()
+        kinks_u = _kinks(self.knots_u, self.degree_u, ua, ub)
+        kinks_v = _kinks(self.knots_v, self.degree_v, va, vb)
         f_acc = np.full(m, np.inf)
         step = np.zeros((m, 2))
         val_acc = np.zeros((m, 9))
@@ -939,13 +974,18 @@ class BSplineSurface(Surface):
                 H_acc = np.where(acc2, H, H_acc)
             dstep, frozen = self._newton_step(uv_acc, S, Su, Sv, H, p)
             new_step = np.where(acc[:, None], np.clip(dstep, -half, half), 0.5 * step)
-            new = np.clip(uv_acc + new_step, lo, hi)
+            raw = uv_acc + new_step
+            stopped = np.column_stack(
+                [_stop_at_kinks(uv_acc[:, 0], raw[:, 0], kinks_u), _stop_at_kinks(uv_acc[:, 1], raw[:, 1], kinks_v)]
+            )
+            new = np.clip(stopped, lo, hi)
             eff = new - uv_acc
             Sua, Sva = val_acc[:, 3:6], val_acc[:, 6:]
             dS = eff[:, :1] * Sua + eff[:, 1:] * Sva
             move = np.sqrt(_rowdot(dS, dS))
             halvings = np.where(acc, 0, halvings + 1)
-            fine = np.where(acc, newton & ~frozen & (move <= _FINE * self.scale), fine)
+            smooth = np.all(stopped == raw, axis=1)
+            fine = np.where(acc, newton & ~frozen & smooth & (move <= _FINE * self.scale), fine)
             done = (move <= tol) | (halvings > 60)
             if np.any(done):
                 k = np.flatnonzero(done)

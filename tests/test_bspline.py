@@ -330,3 +330,56 @@ def test_missing_curve_field():
 def test_invalid_surface_definitions_name_the_field(change, field):
     with pytest.raises(ValueError, match=field):
         primitive_from_dict({**GOOD_SURFACE, **change})
+
+
+# ---------------------------------------------------------------------------------------
+# creases (C0 knots) and competing basins
+# ---------------------------------------------------------------------------------------
+
+
+def segment_distance(p, a, b):
+    ab = b - a
+    lam = np.clip((p - a) @ ab / (ab @ ab), 0, 1)
+    return np.linalg.norm(p - (a + lam[:, None] * ab), axis=1)
+
+
+def test_polyline_exact_including_corners():
+    P = np.array([[0, 0], [1, 0], [1, 1], [2, 1], [2.5, -0.5]], float)
+    c = BSplineCurve(1, [0, 0, 1, 2, 3, 4, 4], P)
+    p = RNG.uniform(-1, 3.5, (3000, 2))
+    pr = c.project(p)
+    ref = np.min([segment_distance(p, P[i], P[i + 1]) for i in range(len(P) - 1)], axis=0)
+    assert np.allclose(np.linalg.norm(p - pr.points, axis=1), ref, rtol=1e-12, atol=1e-13)
+    # points whose closest point is a corner (inside the corner's normal cone) get exactly it
+    corner = np.isin(pr.parameters, [1.0, 2.0, 3.0])
+    assert corner.sum() > 100
+    assert np.allclose(pr.points[corner], P[pr.parameters[corner].astype(int)], atol=1e-15)
+
+
+def test_wiggly_quintic_finds_the_global_minimum():
+    rng = np.random.default_rng(3)
+    c = BSplineCurve(5, np.r_[[0] * 6, [0.3, 0.5, 0.6], [1] * 6], rng.random((9, 3)))
+    p = rng.random((1500, 3))
+    pr = c.project(p)
+    brute = cKDTree(c.evaluate(np.linspace(0, 1, 100_001))).query(p)[0]
+    assert np.all(np.linalg.norm(p - pr.points, axis=1) <= brute + 1e-12)
+
+
+def test_surface_with_a_crease_both_sides_searched():
+    # a tent: two planes meeting in a C0 ridge at u = 1 (knot of multiplicity = degree)
+    P = np.array([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0.8], [1, 1, 0.8]], [[2, 0, 0], [2, 1, 0]]], float)
+    s = BSplineSurface(1, 1, [0, 0, 1, 2, 2], [0, 0, 1, 1], P)
+    p = RNG.uniform([-0.5, -0.5, -0.5], [2.5, 1.5, 2.0], (3000, 3))
+    pr = s.project(p)
+
+    def rectangle(a, b):  # closest points on the rectangle a -> b (along x, z) times 0 <= y <= 1
+        e1 = (b - a) / np.linalg.norm(b - a)
+        s1 = np.clip((p - a) @ e1, 0, np.linalg.norm(b - a))
+        return a + s1[:, None] * e1 + np.clip(p[:, 1], 0, 1)[:, None] * np.array([0.0, 1.0, 0.0])
+
+    left = rectangle(np.array([0, 0, 0.0]), np.array([1, 0, 0.8]))
+    right = rectangle(np.array([1, 0, 0.8]), np.array([2, 0, 0.0]))
+    ref = np.minimum(np.linalg.norm(p - left, axis=1), np.linalg.norm(p - right, axis=1))
+    assert np.allclose(np.linalg.norm(p - pr.points, axis=1), ref, rtol=1e-12, atol=1e-13)
+    ridge = pr.parameters[:, 0] == 1.0
+    assert ridge.sum() > 50  # points above the ridge project onto it exactly
