@@ -63,11 +63,27 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
-from scipy.interpolate import BSpline, NdBSpline
-from scipy.spatial import cKDTree
+
+if TYPE_CHECKING:  # pragma: no cover
+    from scipy.spatial import cKDTree
+
+# scipy.interpolate takes ~0.6 s to import; it (and scipy.spatial) are imported when the
+# first spline is built, so that ``import geometry`` stays light
+
+
+def _bspline_classes():
+    from scipy.interpolate import BSpline, NdBSpline
+
+    return BSpline, NdBSpline
+
+
+def _kd_tree(points: np.ndarray) -> "cKDTree":
+    from scipy.spatial import cKDTree
+
+    return cKDTree(points)
 
 from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
 
@@ -373,6 +389,7 @@ class BSplineCurve(Curve):
             c = P3[coef_idx]
         else:
             c = np.column_stack([P3 * w[:, None], w])[coef_idx]
+        BSpline, _ = _bspline_classes()
         object.__setattr__(self, "_spline", BSpline(full, c, k, extrapolate=True))
         object.__setattr__(self, "domain", (a, b))
         object.__setattr__(self, "dim", P.shape[1])
@@ -486,7 +503,7 @@ class BSplineCurve(Curve):
             reach = np.column_stack([np.r_[gaps[0], gaps], np.r_[gaps, gaps[-1]]])
         table = np.concatenate(self.derivatives(s, 3), axis=1)
         Q = np.ascontiguousarray(table[:, :3])
-        tree = cKDTree(Q) if len(s) > _BRUTE_SEEDS else None
+        tree = _kd_tree(Q) if len(s) > _BRUTE_SEEDS else None
         return s, table, reach, Q, tree
 
     def _seed(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -719,6 +736,7 @@ class BSplineSurface(Surface):
         ):
             object.__setattr__(self, name, val)
         c = P if w is None else np.concatenate([P * w[..., None], w[..., None]], axis=2)
+        _, NdBSpline = _bspline_classes()
         object.__setattr__(self, "_spline", NdBSpline((tu, tv), np.ascontiguousarray(c), (ku, kv), extrapolate=True))
         object.__setattr__(self, "domain", (dom_u, dom_v))
         flat = P.reshape(-1, 3)
@@ -812,7 +830,7 @@ class BSplineSurface(Surface):
         d = self.derivatives(uv, 3)
         table = np.concatenate([d[nu] for nu in _NU3], axis=1)
         Q = np.ascontiguousarray(table[:, :3])
-        tree = cKDTree(Q) if len(uv) > _BRUTE_SEEDS else None
+        tree = _kd_tree(Q) if len(uv) > _BRUTE_SEEDS else None
         return uv, table, np.column_stack([HU.ravel(), HV.ravel()]), tree
 
     def _hessian(self, S, Su, Sv, Suu, Suv, Svv, p):
