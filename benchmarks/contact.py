@@ -1,20 +1,26 @@
-"""Two-body contact (issue 5): wall time, iterations, peak memory and accuracy per example, the
-two width updates side by side, and stress tests.
+"""Two-body contact (issues 5 and 6): wall time, iterations, peak memory and accuracy per
+example, the width updates side by side, and stress tests.
 
 Cases (each in its own subprocess, so that the peak resident memory belongs to it):
 
-- examples 1 (exact and tessellated geometry), 2, 3 and 7 of examples/, with the default
-  "bracket" width search and with the thesis's update (sections 5.5.3-5.5.4);
+- examples 1 (exact and tessellated geometry), 2, 3, 7 and the partial-slip examples 4, 5, 6
+  of examples/ with the default width search ("edge": root of the edge coefficient), and
+  examples 1, 2, 3, 7 with the one-cell "bracket" search and the thesis's update (sections
+  5.5.3-5.5.4);
 - example 3 on grids shifted by fractions of a cell (the answer must not depend on where the
-  grid starts), with a 10 times stiffer upper body, and turned by 30 degrees;
-- example 3 with one more refinement level (h halved: the width's resolution);
+  grid starts: four quarter-cell shifts and five random fractions of the coarsest cell), with
+  a 10 times stiffer upper body, and turned by 30 degrees (default and "bracket" search);
+- example 3 with one more refinement level (h halved);
+- examples 4-6 without the slip-zone friction traction (the thesis's variant); example 4 at
+  mu = 0.05 and 1 with |Q|/(mu N) near 0.05 and 0.95, in gross slip, and turned by 30 degrees;
 - a cylinder on a block under loads from a ~ 2 cells to a ~ R/4.
 
-Per case: a against Hertz for the computed normal force (solver.theory), the bracket
-[a_pen, a_ten] of the width search, N, Q, the balance of the supports' reactions and N
-against them, the RMS pressure error inside 0.9 a against Hertz (in p0), the von Mises
-peak on the load axis against McEwen (0.5575 p0 at 0.704 a, frictionless cases), iterations
-per load step, wall time and peak memory.
+Per case: a against Hertz for the computed normal force (solver.theory), the final bracket
+of the width search, N, Q, the balance of the supports' reactions and N against them, the
+RMS pressure error inside 0.9 a against Hertz (in p0), the von Mises peak on the load axis
+against McEwen (0.5575 p0 at 0.704 a, frictionless cases); frictional cases: Q/N, |Q|/(mu N),
+c/a against Cattaneo-Mindlin for the computed forces and the shear RMS inside 0.95 a in mu p0
+(solver.validate.compare_contact); iterations per load step, wall time and peak memory.
 
     .venv/bin/python benchmarks/contact.py            # all cases (several minutes on 2 cores)
     .venv/bin/python benchmarks/contact.py --quick    # the examples with the default search only
@@ -46,6 +52,9 @@ EXAMPLE_CASES = [
     ("ex2_mesh_convergence", "mesh_convergence.toml", 1.0),
     ("ex3_cylinder_on_cylinder", "cylinder_on_cylinder_frictionless.toml", 0.5),
     ("ex7_cylinder_on_wedge", "cylinder_on_wedge_frictionless.toml", 1.0),
+    ("ex4_cylinder_on_flat_partial_slip", "cylinder_on_flat_partial_slip.toml", 1.0),
+    ("ex5_cylinder_on_cylinder_partial_slip", "cylinder_on_cylinder_partial_slip.toml", 0.5),
+    ("ex6_cylinder_in_concave_partial_slip", "cylinder_in_concave_partial_slip.toml", 2.0),
 ]
 
 
@@ -70,6 +79,13 @@ def _scene_dict(spec: dict) -> dict:
         for bc in data["boundary_conditions"]:
             if bc["type"] == "displacement":
                 bc["value"] = [bc["value"][0], spec["uy"]]
+    if spec.get("ux") is not None:
+        for bc in data["boundary_conditions"]:
+            if bc["type"] == "displacement":
+                bc["value"] = [spec["ux"], bc["value"][1]]
+    if spec.get("mu") is not None:
+        for c in data["contacts"]:
+            c["friction"] = spec["mu"]
     turn = spec.get("rotate_deg", 0.0)
     if turn:
         for b in data["bodies"]:
@@ -96,8 +112,8 @@ def run_one(spec: dict) -> dict:
     core = Settings(grid_offset=tuple(spec.get("offset", (0.0, 0.0))))
     if spec.get("chord_fraction"):
         core = Settings(grid_offset=core.grid_offset, chord_fraction=spec["chord_fraction"])
-    settings = ContactSettings(core=core,
-                               width_update=spec.get("width_update", "edge"), flux=spec.get("flux", "average"))
+    settings = ContactSettings(core=core, width_update=spec.get("width_update", "edge"),
+                               flux=spec.get("flux", "average"), friction_traction=spec.get("friction_traction", True))
     t = time.perf_counter()
     sol = solve_contact(problem, settings=settings)
     wall = time.perf_counter() - t
@@ -144,6 +160,16 @@ def run_one(spec: dict) -> dict:
         "timings": sol.timings,
         "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
     }
+    if c["type"] == "frictional":
+        from solver.validate import compare_contact
+
+        m = compare_contact(problem, c, {})  # Cattaneo-Mindlin for the computed N and Q
+        mu = c["friction"]
+        row.update(friction=mu, friction_traction=settings.friction_traction, Q_over_N=m["Q_over_N"],
+                   Q_over_mu_N=abs(m["Q"]) / (mu * m["N"]), ca=m["ca"], ca_theory=m["ca_theory"],
+                   ca_error=m["ca_error"], shear_rms_mu_p0=m.get("shear_rms"), gross_slip=c.get("gross_slip"),
+                   slip_direction_violations=c["checks"].get("slip_direction_violations"),
+                   stick_shear_above_mu_p=c["checks"].get("stick_shear_above_mu_p"))
     if c["type"] == "frictionless" or spec.get("subsurface"):
         # von Mises along the contact normal into the second body from the contact point
         point, normal = np.asarray(c["point"]), np.asarray(c["normal"])
@@ -189,6 +215,16 @@ def cases(quick: bool) -> list[dict]:
     for cf in (0.01, 0.001):
         out.append({"name": f"ex1_tessellated_chord_{cf * 10:g}mm", "file": "ellipse_on_block_tessellated.toml",
                     "R": 0.1, "chord_fraction": cf})
+    # partial slip: the thesis's variant (no slip-zone friction traction) on examples 4-6, and
+    # example 4 at mu 0.05 / 1 with |Q|/(mu N) ~ 0.05 / ~0.95 (ux from Q/N ~ 274 ux here), turned
+    for n, f, r in EXAMPLE_CASES:
+        if "partial_slip" in n:
+            out.append({"name": n + "_no_slip_traction", "file": f, "R": r, "friction_traction": False})
+    ex4 = {"file": "cylinder_on_flat_partial_slip.toml", "R": 1.0}
+    for mu, ux in ((0.05, 9.1e-6), (0.05, 1.84e-4), (1.0, 1.8e-4), (1.0, 3.69e-3)):
+        out.append({**ex4, "name": f"ex4_mu_{mu:g}_ux_{ux * 1e3:g}mm", "mu": mu, "ux": ux})
+    out.append({**ex4, "name": "ex4_gross_slip_mu_0.05_ux_0.5mm", "mu": 0.05, "ux": 5e-4})
+    out.append({**ex4, "name": "ex4_turned_30deg", "rotate_deg": 30.0})
     flat = {"file": "mesh_convergence.toml", "R": 1.0}
     for uy in (-0.1e-3, -0.5e-3, -4.0e-3, -12.0e-3):  # a from ~2 cells (h = 3.1 mm) to ~R/10-R/4
         out.append({**flat, "name": f"ex2_uy_{uy * 1e3:g}mm", "uy": uy})
@@ -214,6 +250,9 @@ def main(argv: list[str]) -> int:
         row = json.loads(r.stdout.strip().splitlines()[-1])
         rows.append(row)
         vm = f" vM {row['von_mises_peak_error']:+.1%}" if "von_mises_peak_error" in row else ""
+        if "ca" in row:
+            vm += (f" Q/N {row['Q_over_N']:+.4f} |Q|/muN {row['Q_over_mu_N']:.3f} c/a {row['ca']:.4f} "
+                   f"({row['ca_theory']:.4f}) q_rms {row['shear_rms_mu_p0']:.3f} gross {row['gross_slip']}")
         print(f"{row['case']:32s} {row['width_update']:8s} a {row['a_error']:+6.2%} "
               f"[{row['bracket_error'][0]:+.1%}, {row['bracket_error'][1]:+.1%}] "
               f"N {row['normal_force']:.4g} Q {row['tangential_force']:+.2g} bal {row['reaction_balance']:.1e} "
@@ -224,7 +263,8 @@ def main(argv: list[str]) -> int:
     out.write_text(json.dumps({"machine": platform.platform(), "python": platform.python_version(), "runs": rows},
                               indent=2))
     keys = ["case", "width_update", "a", "a_hertz", "a_error", "normal_force", "tangential_force", "reaction_balance",
-            "normal_force_vs_reaction", "pressure_rms_p0", "von_mises_peak_error", "cells_across_2a", "dofs",
+            "normal_force_vs_reaction", "pressure_rms_p0", "von_mises_peak_error", "Q_over_N", "Q_over_mu_N", "ca",
+            "ca_theory", "ca_error", "shear_rms_mu_p0", "gross_slip", "cells_across_2a", "dofs",
             "contact_dofs", "wall_s", "peak_rss_mb", "converged"]
     with open(out.with_suffix(".csv"), "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")

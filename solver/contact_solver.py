@@ -769,7 +769,18 @@ def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
     for pts in (samples, full):
         for b, x, nn, out in ((b1, pts.x1, pts.n1, cells1), (b2, pts.x2, pts.n2, cells2)):
             own = _locate(b, x, nn)
-            out += [own, _support_cells(b, x, nn, own, settings.sliver_fraction) if settings.sliver_fraction else own]
+            out.append(own)
+            if settings.sliver_fraction:
+                # the support cell of a sliver depends on where in it a point lies (x - 0.75 h n):
+                # take every cell within 1.25 h of the sliver's centre (finer neighbours included)
+                thin = np.unique(own[b.grid.material_thickness[own] < settings.sliver_fraction * b.grid.size[own]])
+                if len(thin):
+                    centre = b.grid.lower[thin] + 0.5 * b.grid.size[thin][:, None]
+                    g = np.linspace(-1.25, 1.25, 11)
+                    offs = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
+                    probe = centre[:, None, :] + b.grid.size[thin][:, None, None] * offs[None, :, :]
+                    near = b.grid.locate(probe.reshape(-1, 2))
+                    out.append(near[near >= 0])
     cells1, cells2 = np.concatenate(cells1), np.concatenate(cells2)
     dofs = np.union1d(_cell_dofs_global(b1, cells1), _cell_dofs_global(b2, cells2))
     c = _Contact(model, geom, b1, b2, model.type, dofs, h, samples, None, None, None, 0.0, bk,
