@@ -276,7 +276,7 @@ def _operators(c: _Contact, pts, settings: ContactSettings):
 def _projector(c: _Contact, pts, a: float) -> np.ndarray:
     """Constrained components of the jump per point: all where tied (|s| <= stick half-width,
     eq. 5-20), the contact normal n_c where sliding (eqs. 5-22, 5-23)."""
-    tied = np.abs(pts.s) <= c.stick(a)
+    tied = np.abs(pts.s) < c.stick(a)  # strict: with c = 0 (frictionless, gross slip) nothing is tied
     return np.where(tied[:, None, None], projector("fixed", pts.normal), projector("sliding", pts.normal))
 
 
@@ -323,11 +323,11 @@ def _tangents(normal: np.ndarray) -> np.ndarray:
 
 
 def _slip_mask(c: _Contact, pts, a: float) -> np.ndarray:
-    """Points of the slip zone c < |s| <= a that carry a friction traction."""
+    """Points of the slip zone c <= |s| <= a that carry a friction traction."""
     if not (c.friction > 0.0 and c.slip_sign != 0.0) or a <= 0.0:
         return np.zeros(len(pts.s), dtype=bool)
     r = np.abs(pts.s)
-    return (r > c.stick(a)) & (r <= a)
+    return (r >= c.stick(a)) & (r <= a)
 
 
 def _pressure_rows(c: _Contact, pts, proj, e_q, f_q, size, settings):
@@ -1017,6 +1017,11 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         # stick ratios (frictional contacts): root of F(k) = sqrt(1 - |beta(k)| / mu) - k on [0, 1]
         # (F decreases: a larger stick zone transmits more shear), by the fixed-point step until
         # bracketed, then regula falsi (Illinois); the widths are searched at each trial ratio
+        # each step starts from the previous ratio, or from tied (k = 1) after gross slip: k = 0
+        # is always consistent (F(0) = 0, see _StickRoot) and would never be left
+        for k in frictional:
+            if contacts[k].stick_ratio <= 0.0:
+                contacts[k].stick_ratio = 1.0
         stick = {k: _StickRoot(contacts[k].stick_ratio, settings.stick_tolerance) for k in frictional}
         iters, settled, tag = 0, True, 0
         while True:
