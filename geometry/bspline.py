@@ -99,6 +99,7 @@ _FINE = 1e-5
 _MAX_ITER = 60
 _BLOCK = 16384  # points per block in the Newton loop
 _SEED_STEPS = 3  # Newton steps on the tabulated Taylor model when seeding
+_KINK_NUDGE = 1e-13  # steps stop this fraction of the domain short of a C0 kink
 # seeding density (samples per knot span) and the sample count above which the nearest
 # sample is found with a k-d tree instead of a brute-force (BLAS) distance matrix
 _CURVE_SEEDS_PER_SPAN = 4  # at least
@@ -200,8 +201,11 @@ def _kinks(t: np.ndarray, k: int, lo: float, hi: float) -> np.ndarray:
     return vals[(counts >= k) & (vals > lo) & (vals < hi)]
 
 
-def _stop_at_kinks(start: np.ndarray, raw: np.ndarray, kinks: np.ndarray) -> np.ndarray:
-    """Steps ``start -> raw`` clamped at the first kink strictly beyond ``start``."""
+def _stop_at_kinks(start: np.ndarray, raw: np.ndarray, kinks: np.ndarray, nudge: float) -> np.ndarray:
+    """Steps ``start -> raw`` clamped at the first kink strictly beyond ``start``, held
+    ``nudge`` short of it: the derivatives there are then those of the piece the step came
+    from (at a knot scipy evaluates the piece to the right), so a minimum just before the
+    kink is not lost to the next piece."""
     if len(kinks) == 0:
         return raw
     up = raw > start
@@ -209,9 +213,9 @@ def _stop_at_kinks(start: np.ndarray, raw: np.ndarray, kinks: np.ndarray) -> np.
     k_up = kinks[np.minimum(i, len(kinks) - 1)]
     i_dn = np.searchsorted(kinks, start, side="left") - 1
     k_dn = kinks[np.maximum(i_dn, 0)]
-    hit_up = up & (i < len(kinks)) & (k_up < raw)
-    hit_dn = ~up & (i_dn >= 0) & (k_dn > raw)
-    return np.where(hit_up, k_up, np.where(hit_dn, k_dn, raw))
+    hit_up = up & (i < len(kinks)) & (k_up - nudge < raw) & (k_up - nudge > start)
+    hit_dn = ~up & (i_dn >= 0) & (k_dn + nudge > raw) & (k_dn + nudge < start)
+    return np.where(hit_up, k_up - nudge, np.where(hit_dn, k_dn + nudge, raw))
 
 
 def _polygon_samples(t: np.ndarray, k: int, a: float, b: float, legs: np.ndarray, spacing: float, at_most: int) -> np.ndarray:
@@ -591,6 +595,18 @@ class BSplineCurve(Curve):
             better = _rowdot(C2 - p[rows], C2 - p[rows]) < _rowdot(C[rows] - p[rows], C[rows] - p[rows])
             k = rows[better]
             t[k], C[k], C1[k] = t2[better], C2[better], C12[better]
+        if len(kinks):  # results held a nudge short of a kink: snap onto it where no worse
+            gap = t[:, None] - kinks[None, :]
+            near_k = np.argmin(np.abs(gap), axis=1)
+            rows = np.flatnonzero(np.abs(gap[np.arange(len(t)), near_k]) <= 2.0 * _KINK_NUDGE * (self.domain[1] - self.domain[0]))
+            if len(rows):
+                tk = kinks[near_k[rows]]
+                if self.periodic:
+                    tk = self._wrap(tk)
+                Ck, C1k = self.derivatives(tk, 1)
+                ok = _rowdot(Ck - p[rows], Ck - p[rows]) <= _rowdot(C[rows] - p[rows], C[rows] - p[rows]) * (1 + 1e-12)
+                k = rows[ok]
+                t[k], C[k], C1[k] = tk[ok], Ck[ok], C1k[ok]
         return t, C, C1
 
     @cached_property
@@ -649,7 +665,7 @@ class BSplineCurve(Curve):
             dt = np.where(H > 0, -g / np.where(H > 0, H, 1.0), 0.0)
             new_step = np.where(acc, np.clip(dt, -0.5 * width, 0.5 * width), 0.5 * step)
             raw = t_acc + new_step
-            stopped = _stop_at_kinks(t_acc, raw, kinks)
+            stopped = _stop_at_kinks(t_acc, raw, kinks, _KINK_NUDGE * width)
             new = self._wrap(stopped)
             eff = stopped - t_acc if self.periodic else new - t_acc
             move = np.abs(eff) * np.sqrt(speed2)
@@ -678,7 +694,10 @@ class BSplineCurve(Curve):
             raise ValueError("bspline_curve: 2D query points need a curve in the z = 0 plane")
         t, C, C1 = self.closest_parameters(p)
         T, _ = _normalise_rows(C1)
-        kink = np.isin(t, self._kinks) if len(self._kinks) else np.zeros(len(t), dtype=bool)
+        kink = np.zeros(len(t), dtype=bool)
+        if len(self._kinks):  # at (or held a nudge short of) a C0 kink
+            gap = np.abs(t[:, None] - self._kinks[None, :]).min(axis=1)
+            kink = gap <= 2.0 * _KINK_NUDGE * (self.domain[1] - self.domain[0])
         if dim == 2:
             normals = np.column_stack([T[:, 1], -T[:, 0], np.zeros(len(T))])
             normals, nn = _normalise_rows(normals)
@@ -1036,7 +1055,10 @@ class BSplineSurface(Surface):
             new_step = np.where(acc[:, None], np.clip(dstep, -half, half), 0.5 * step)
             raw = uv_acc + new_step
             stopped = np.column_stack(
-                [_stop_at_kinks(uv_acc[:, 0], raw[:, 0], kinks_u), _stop_at_kinks(uv_acc[:, 1], raw[:, 1], kinks_v)]
+                [
+                    _stop_at_kinks(uv_acc[:, 0], raw[:, 0], kinks_u, _KINK_NUDGE * (ub - ua)),
+                    _stop_at_kinks(uv_acc[:, 1], raw[:, 1], kinks_v, _KINK_NUDGE * (vb - va)),
+                ]
             )
             new = np.clip(stopped, lo, hi)
             eff = new - uv_acc
