@@ -1017,11 +1017,12 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         # stick ratios (frictional contacts): root of F(k) = sqrt(1 - |beta(k)| / mu) - k on [0, 1]
         # (F decreases: a larger stick zone transmits more shear), by the fixed-point step until
         # bracketed, then regula falsi (Illinois); the widths are searched at each trial ratio
-        # each step starts from the previous ratio, or from tied (k = 1) after gross slip: k = 0
-        # is always consistent (F(0) = 0, see _StickRoot) and would never be left
+        # each step starts from the previous ratio, or after gross slip from the smallest resolved
+        # one (k = 0 is always consistent, F(0) = 0, see _StickRoot, and would never be left):
+        # F < 0 there confirms gross slip in two solves, F > 0 climbs to the partial-slip root
         for k in frictional:
             if contacts[k].stick_ratio <= 0.0:
-                contacts[k].stick_ratio = 1.0
+                contacts[k].stick_ratio = _StickRoot.min_ratio
         stick = {k: _StickRoot(contacts[k].stick_ratio, settings.stick_tolerance) for k in frictional}
         iters, settled, tag = 0, True, 0
         while True:
