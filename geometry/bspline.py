@@ -13,8 +13,8 @@ Projection (``project``), vectorised over all points (in blocks of ``_BLOCK`` po
 stay in cache):
 
 1. seed: the nearest of a set of parameter samples (curves: spaced by the control polygon,
-   about 1/32 of the curve's size apart, at least 4 per knot span; surfaces: up to 8 per
-   knot span and direction), found by a brute-force distance matrix (few samples) or a
+   about 1/32 of the curve's size apart, at least 4 per knot span; surfaces: per direction
+   by the longest polygon leg, about 1/64 of the size apart, at least 4 per knot span), found by a brute-force distance matrix (few samples) or a
    ``scipy.spatial.cKDTree`` (built once per primitive), refined by Newton steps on the
    cubic Taylor model of the curve/surface at that sample (derivatives up to order 3
    tabulated at the samples, so no spline evaluation), kept within the neighbouring samples;
@@ -106,6 +106,7 @@ _CURVE_SEEDS_PER_SPAN = 4  # at least
 _CURVE_SEEDS_MAX = 2048
 _CURVE_SEED_SPACING = 32  # samples about 1/32 of the curve size apart (control polygon)
 _SURFACE_SEEDS_MAX = 160  # per direction
+_SURFACE_SEED_SPACING = 64  # samples about 1/64 of the surface size apart per direction
 _BRUTE_SEEDS = 96
 
 
@@ -873,7 +874,7 @@ class BSplineSurface(Surface):
         to the neighbouring samples (n_s, 2), and a k-d tree of the sample points."""
         axes, halfw = [], []
         # per direction: samples spaced by the longest control polygon leg across the net
-        # (about 1/32 of the surface's size apart, at least 4 per knot span)
+        # (about 1/64 of the surface's size apart, at least 4 per knot span)
         P = self.control_points
         legs_u = np.linalg.norm(np.diff(P, axis=0), axis=2).max(axis=1)
         legs_v = np.linalg.norm(np.diff(P, axis=1), axis=2).max(axis=0)
@@ -881,7 +882,7 @@ class BSplineSurface(Surface):
             (self.knots_u, self.degree_u, self.domain[0], legs_u),
             (self.knots_v, self.degree_v, self.domain[1], legs_v),
         ):
-            s = _polygon_samples(t, k, a, b, legs, self.scale / _CURVE_SEED_SPACING, _SURFACE_SEEDS_MAX)
+            s = _polygon_samples(t, k, a, b, legs, self.scale / _SURFACE_SEED_SPACING, _SURFACE_SEEDS_MAX)
             axes.append(s)
             gap = np.diff(s)
             halfw.append(np.maximum(np.concatenate([gap[:1], gap]), np.concatenate([gap, gap[-1:]])))
