@@ -238,17 +238,6 @@ def _polygon_samples(t: np.ndarray, k: int, a: float, b: float, legs: np.ndarray
     return np.append(s, b)
 
 
-def _span_samples(t: np.ndarray, a: float, b: float, per_span: int, at_most: int) -> np.ndarray:
-    """Parameters: equal steps in every non-empty knot span of [a, b], ``per_span`` of
-    them (at least 2) unless that would exceed ``at_most`` samples; both ends included."""
-    br = np.unique(t[(t >= a) & (t <= b)])
-    br = np.unique(np.concatenate([[a], br, [b]]))
-    per_span = int(max(2, min(per_span, at_most // max(len(br) - 1, 1))))
-    frac = np.arange(per_span) / per_span
-    s = (br[:-1, None] + frac[None, :] * np.diff(br)[:, None]).ravel()
-    return np.append(s, b)
-
-
 def _size(P: np.ndarray) -> float:
     """Size of a control net: its bounding-box diagonal (translation invariant), or the
     largest coordinate for a net collapsed to a point."""
