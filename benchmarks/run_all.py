@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-BENCHMARKS = ["projection.py", "assembly.py", "contact.py"]
+BENCHMARKS = ["import_time.py", "projection.py", "assembly.py", "contact.py"]
 
 
 def main(argv: list[str]) -> int:
