@@ -73,7 +73,22 @@ class Settings:
     chord_fraction: float = 0.1  # exact_geometry false: chord tolerance / element_size
     grid_offset: tuple[float, float] = (0.0, 0.0)  # grid origin shift (fraction of element_size)
 
+    chord_tolerance: float | None = None  # exact_geometry false: absolute chord (m), overrides chord_fraction
+
+    @classmethod
+    def from_options(cls, options) -> "Settings":
+        """Settings with the numerical choices a scene's ``[solver]`` table made
+        (``band_fraction``, ``consistency``, ``chord_tolerance``); the rest default."""
+        chosen = {
+            name: getattr(options, name)
+            for name in ("band_fraction", "consistency", "chord_tolerance")
+            if getattr(options, name, None) is not None
+        }
+        return cls(**chosen)
+
     def __post_init__(self):
+        if self.chord_tolerance is not None and not self.chord_tolerance > 0:
+            raise ValueError(f"solver.chord_tolerance must be positive, got {self.chord_tolerance!r}")
         if not self.band_fraction > 0:
             raise ValueError(f"band_fraction must be positive, got {self.band_fraction!r}")
         if self.consistency < 0:
@@ -315,7 +330,8 @@ def discretise_body(body, index: int, model: str, exact_geometry: bool, settings
     if exact_geometry:
         boundary = exact_boundary(body.profile)
     else:
-        boundary = tessellated_boundary(body.profile, settings.chord_fraction * h0)
+        chord = settings.chord_tolerance if settings.chord_tolerance is not None else settings.chord_fraction * h0
+        boundary = tessellated_boundary(body.profile, chord)
     grid = build_grid(boundary, h0, _zones(body, h0), settings.grid_offset, settings.curve_order)
     lam, mu = body.material.lame(model)
     return BodyDiscretisation(
@@ -649,7 +665,7 @@ def solve(problem, progress: Callable[..., None] | None = None, settings: Settin
         from solver.contact_solver import solve_contact
 
         return solve_contact(problem, progress=progress, settings=settings)
-    settings = settings or Settings()
+    settings = settings or Settings.from_options(problem.options)
     t_start = time.perf_counter()
     report = progress or (lambda *a, **k: None)
     timings: dict[str, float] = {}

@@ -139,6 +139,10 @@ class SolverOptions:
     tolerance: float = 1e-10
     max_iterations: int = 100
     exact_geometry: bool = True
+    # Extensions (README "Extensions to the contracts"); None keeps the documented default.
+    band_fraction: float | None = None  # step-function band delta / local cell size
+    consistency: float | None = None  # 1 symmetric Nitsche (default), 0.5 the thesis's band limit
+    chord_tolerance: float | None = None  # m; exact_geometry = false: tessellation chord (default 0.1 h)
 
 
 @dataclass(frozen=True)
