@@ -516,3 +516,18 @@ def test_onshape_fixture_scene_with_a_relative_path(tmp_path):
         scene_from_dict(data, label="scene.toml", base_dir=tmp_path)
     (msg,) = info.value.problems
     assert msg.startswith('scene.toml: bodies[0].name = "cylinder": rigid-body motion not prevented')
+
+
+def test_numerical_solver_options_reach_the_ibfem_settings():
+    from solver.ibfem import Settings
+
+    data = plate()
+    data["solver"] = {"consistency": 0.5, "band_fraction": 0.05, "chord_tolerance": 1e-3}
+    options = scene_from_dict(data, label="scene.toml").problem.options
+    settings = Settings.from_options(options)
+    assert (settings.consistency, settings.band_fraction, settings.chord_tolerance) == (0.5, 0.05, 1e-3)
+    defaults = Settings.from_options(scene_from_dict(plate(), label="scene.toml").problem.options)
+    assert defaults == Settings()
+    data["solver"] = {"chord_tolerance": -1.0}
+    with pytest.raises(ValueError, match="chord_tolerance"):
+        Settings.from_options(scene_from_dict(data, label="scene.toml").problem.options)
