@@ -1,5 +1,6 @@
-"""Two-body contact on the IBFEM core (thesis chapter 5): tied and frictionless sliding
-contact with the half-width found by the non-linear solution. ``solve_contact(problem)``.
+"""Two-body contact on the IBFEM core (thesis chapter 5): tied, frictionless sliding and
+frictional (partial slip) contact with the half-width and the stick zone found by the
+non-linear solution. ``solve_contact(problem)``.
 
 Discrete form (docs/contact.md). On body 1's contact curve, |s| <= a, with matched points
 x1, x2 and w = u_h1(x1) - u_h2(x2) + Delta (eqs. 5-2 to 5-4 in the thin-band limit):
@@ -13,9 +14,17 @@ symmetric average), P = I where tied (|s| <= stick half-width; all of a for tied
 n_c n_c^T where sliding (frictionless: the tangential jump is free), n_c the pair's contact
 normal (bisector of the two exact normals).
 
-The half-width: penetration (normal gap < 0 outside a) and tension (pressure < 0 inside a)
-judged on window means at the region's edges; a bracket search (default) or the thesis's
-increment rule (sections 5.5.3-5.5.4); the final state is checked again.
+The half-width (default): the root of the edge coefficient int p (4 s^2/a^2 - 1) ds / int p ds,
+the Chebyshev estimate of p sqrt(a^2 - s^2) at the region's ends (zero for the consistent
+width, > 0 for a punch-like region that is too small, < 0 with tension): continuous in a and
+blind to the grid-periodic traction oscillation. Alternatives: a bracket on the window verdicts
+(penetration / tension judged on one-cell means at the edges) or the thesis's increment rule
+(sections 5.5.3-5.5.4). The final state is always judged by the window verdicts.
+
+Frictional contact (issue 6): stick zone |s| < c tied, slip zones c <= |s| <= a sliding with
+Coulomb's traction mu p along the pair's tangent (eq. 5-24; p is affine in the dofs, so the
+traction enters exactly as a non-symmetric block); c/a is the root of
+sqrt(1 - |Q|/(mu N)) - c/a for the transmitted forces (eq. 2-29); gross slip is reported.
 
 Speed: the bodies' stiffness K0 (volume + essential conditions) never changes. It is factored
 once with the m dofs B of the cells the candidate contact region touches ordered last, the
@@ -798,7 +807,7 @@ def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
 
 def solve_contact(problem, progress: Callable | None = None,
                   settings: ContactSettings | Settings | None = None) -> IBFEMSolution:
-    """Solve a problem with tied / frictionless contacts (issue 5); returns an IBFEMSolution
+    """Solve a problem with tied / frictionless / frictional contacts (issues 5, 6); returns an IBFEMSolution
     whose ``contacts`` holds the SPEC section 4 contact blocks. ``settings`` may be the core's
     :class:`solver.ibfem.Settings` (then the contact choices are the defaults), so that
     ``solver.ibfem.solve`` can pass its own through."""
