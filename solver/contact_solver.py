@@ -650,7 +650,7 @@ class _StickRoot:
 
     min_ratio = 0.01  # below this c/a a stick zone is not resolved: gross slip
 
-    def __init__(self, k0: float, tol: float):
+    def __init__(self, tol: float):
         self.tol = tol
         self.lo = self.hi = None  # k with F > 0 / F < 0
         self.flo = self.fhi = 0.0
@@ -1032,7 +1032,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         for k in frictional:
             if contacts[k].stick_ratio <= 0.0:
                 contacts[k].stick_ratio = _StickRoot.min_ratio
-        stick = {k: _StickRoot(contacts[k].stick_ratio, settings.stick_tolerance) for k in frictional}
+        stick = {k: _StickRoot(settings.stick_tolerance) for k in frictional}
         iters, settled, tag = 0, True, 0
         while True:
             widths, brackets, state, infos, it, ok = width_search(step, lam, final, widths, tag)
