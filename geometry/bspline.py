@@ -327,6 +327,94 @@ def _two_basins(
     return j1, np.where(has, jj[rows, first], -1), d1, np.where(has, dd[rows, first], np.inf)
 
 
+# ---------------------------------------------------------------------------------------
+# global check: Bezier cell boxes and branch-and-bound over them
+# ---------------------------------------------------------------------------------------
+
+_CERT_REL = 2e-12  # a cell must be able to beat the best distance by this (relative, squared)
+_BOX_MARGIN = 1e-9  # cell boxes are widened by this fraction of the size (Bezier round-off)
+_PAIR_CHUNK = 2048  # points per branch-and-bound traversal (bounds the pair arrays)
+
+
+def _bernstein_inverse(k: int) -> np.ndarray:
+    """Inverse of the Bernstein collocation matrix at the equally spaced nodes m / k: maps
+    k + 1 values of a degree-k polynomial piece to its Bezier control points."""
+    x = np.arange(k + 1) / k
+    ell = np.arange(k + 1)
+    B = np.array([math.comb(k, i) for i in ell]) * x[:, None] ** ell * (1.0 - x[:, None]) ** (k - ell)
+    return np.linalg.inv(B)
+
+
+def _hull_boxes(ctrl: np.ndarray, rational: bool, margin: float) -> tuple[np.ndarray, np.ndarray]:
+    """Axis-aligned boxes (lo, hi), each (n, 3), of Bezier control nets ``ctrl`` (n, m, 3 or
+    4, homogeneous ``(w P, w)`` when rational). A polynomial or rational (positive weights:
+    subdivision keeps them positive) Bezier piece lies in the convex hull of its control
+    points, so in their box."""
+    pts = ctrl[..., :3] / ctrl[..., 3:] if rational else ctrl[..., :3]
+    return pts.min(axis=1) - margin, pts.max(axis=1) + margin
+
+
+def _box_levels(lo: np.ndarray, hi: np.ndarray, branch: int) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Bounding-box hierarchy over cells in a spatially coherent order: each level's box i
+    bounds boxes ``i * branch .. (i + 1) * branch - 1`` of the level below; top level first."""
+    levels = [(lo, hi)]
+    while len(levels[-1][0]) > branch:
+        l, h = levels[-1]
+        m = -(-len(l) // branch)
+        pad = m * branch - len(l)
+        l = np.concatenate([l, np.full((pad, 3), np.inf)]).reshape(m, branch, 3).min(axis=1)
+        h = np.concatenate([h, np.full((pad, 3), -np.inf)]).reshape(m, branch, 3).max(axis=1)
+        levels.append((l, h))
+    return levels[::-1]
+
+
+def _candidate_cells(
+    p: np.ndarray, bound2: np.ndarray, levels: list[tuple[np.ndarray, np.ndarray]], branch: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """All (point, cell) pairs whose box lies closer to the point than ``sqrt(bound2)``
+    (branch and bound down the box hierarchy, vectorised over flat pair arrays)."""
+    out_p, out_c = [], []
+    kids = np.arange(branch)
+    for i0 in range(0, len(p), _PAIR_CHUNK):
+        pc, bc = p[i0 : i0 + _PAIR_CHUNK], bound2[i0 : i0 + _PAIR_CHUNK]
+        n_top = len(levels[0][0])
+        pi = np.repeat(np.arange(len(pc)), n_top)
+        ni = np.tile(np.arange(n_top), len(pc))
+        for depth, (lo, hi) in enumerate(levels):
+            if depth:
+                pi = np.repeat(pi, branch)
+                ni = (ni[:, None] * branch + kids).ravel()
+                ok = ni < len(lo)
+                pi, ni = pi[ok], ni[ok]
+            q = pc[pi]
+            gap = np.maximum(lo[ni] - q, 0.0) + np.maximum(q - hi[ni], 0.0)
+            keep = _rowdot(gap, gap) < bc[pi]
+            pi, ni = pi[keep], ni[keep]
+        out_p.append(pi + i0)
+        out_c.append(ni)
+    return np.concatenate(out_p), np.concatenate(out_c)
+
+
+def _best_per_point(pi: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Indices into the pair arrays of the smallest ``f`` of every point in ``pi``."""
+    order = np.lexsort((f, pi))
+    ps = pi[order]
+    return order[np.r_[True, ps[1:] != ps[:-1]]]
+
+
+def _in_chunks(fn, p: np.ndarray, j: np.ndarray):
+    """``fn(p, j)`` over blocks of ``_BLOCK`` rows, results concatenated."""
+    if len(p) <= _BLOCK:
+        return fn(p, j)
+    parts = [fn(p[i : i + _BLOCK], j[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
+    if isinstance(parts[0], dict):
+        return {k: np.concatenate([x[k] for x in parts]) for k in parts[0]}
+    return tuple(
+        {k: np.concatenate([x[i][k] for x in parts]) for k in parts[0][i]} if isinstance(parts[0][i], dict) else np.concatenate([x[i] for x in parts])
+        for i in range(len(parts[0]))
+    )
+
+
 def _normalise_rows(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n = np.sqrt(np.einsum("ij,ij->i", v, v))
     return v / np.where(n > 0, n, 1.0)[:, None], n
@@ -585,6 +673,7 @@ class BSplineCurve(Curve):
             better = _rowdot(C2 - p[rows], C2 - p[rows]) < _rowdot(C[rows] - p[rows], C[rows] - p[rows])
             k = rows[better]
             t[k], C[k], C1[k] = t2[better], C2[better], C12[better]
+        t, C, C1 = self._global_check(p, t, C, C1)
         if len(kinks):  # results held a nudge short of a kink: snap onto it where no worse
             gap = t[:, None] - kinks[None, :]
             near_k = np.argmin(np.abs(gap), axis=1)
@@ -597,6 +686,53 @@ class BSplineCurve(Curve):
                 ok = _rowdot(Ck - p[rows], Ck - p[rows]) <= _rowdot(C[rows] - p[rows], C[rows] - p[rows]) * (1 + 1e-12)
                 k = rows[ok]
                 t[k], C[k], C1[k] = tk[ok], Ck[ok], C1k[ok]
+        return t, C, C1
+
+    @cached_property
+    def _cells(self) -> tuple[list[tuple[np.ndarray, np.ndarray]], np.ndarray]:
+        """Box hierarchy over the cells between neighbouring samples (every cell lies in one
+        knot span, so it is one polynomial / rational Bezier piece) and the cell bounds."""
+        s, _, _, _, _ = self._seeds
+        a, b = self.domain
+        edges = np.append(s, b) if self.periodic else s
+        k = self.degree
+        nodes = edges[:-1, None] + np.diff(edges)[:, None] * (np.arange(k + 1) / k)
+        H = self._spline(self._wrap(nodes.ravel())).reshape(len(nodes), k + 1, -1)  # wrap: b -> a when periodic
+        ctrl = np.einsum("lm,cmd->cld", _bernstein_inverse(k), H)
+        lo, hi = _hull_boxes(ctrl, self.weights is not None, _BOX_MARGIN * self.scale)
+        return _box_levels(lo, hi, 8), edges
+
+    def _global_check(self, p, t, C, C1):
+        """Branch and bound over the Bezier cells: every cell whose box is closer than the
+        distance found, and not the found cell or its neighbours (the same basin), gets a
+        Newton run from its nearer end sample; the best result per point is kept."""
+        levels, edges = self._cells
+        r = C - p
+        ub2 = _rowdot(r, r)
+        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 8)
+        if len(pi) == 0:
+            return t, C, C1
+        n_cells = len(edges) - 1
+        found = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, n_cells - 1)
+        gap = np.abs(ci - found[pi])
+        if self.periodic:
+            gap = np.minimum(gap, n_cells - gap)
+        keep = gap > 1
+        pi, ci = pi[keep], ci[keep]
+        if len(pi) == 0:
+            return t, C, C1
+        s, _, _, Q, _ = self._seeds
+        j0, j1 = ci, (ci + 1) % len(s)
+        q = p[pi]
+        d0, d1 = Q[j0] - q, Q[j1] - q
+        j = np.where(_rowdot(d1, d1) < _rowdot(d0, d0), j1, j0)
+        t2, C2, C12 = _in_chunks(self._closest_block, q, j)
+        f2 = _rowdot(C2 - q, C2 - q)
+        first = _best_per_point(pi, f2)
+        better = f2[first] < ub2[pi[first]]
+        rows, src_ = pi[first][better], first[better]
+        t, C, C1 = t.copy(), C.copy(), C1.copy()
+        t[rows], C[rows], C1[rows] = t2[src_], C2[src_], C12[src_]
         return t, C, C1
 
     @cached_property
@@ -988,7 +1124,71 @@ class BSplineSurface(Surface):
             uv_out[k_idx] = uv2[better]
             for nu in d:
                 d[nu][k_idx] = d2[nu][better]
-        return uv_out, d
+        return self._global_check(p, uv_out, d)
+
+    @cached_property
+    def _cells(self) -> tuple[list[tuple[np.ndarray, np.ndarray]], np.ndarray, np.ndarray, np.ndarray]:
+        """Box hierarchy over the cells of the sample grid (each inside one knot span in
+        both directions, so one tensor Bezier patch), cells in Morton (Z) order so that
+        groups of 16 are 4 x 4 tiles; the sample axes and each ordered cell's (i, j)."""
+        uv, _, _, _ = self._seeds
+        su, sv = np.unique(uv[:, 0]), np.unique(uv[:, 1])
+        ku, kv = self.degree_u, self.degree_v
+        nu_ = su[:-1, None] + np.diff(su)[:, None] * (np.arange(ku + 1) / ku)
+        nv_ = sv[:-1, None] + np.diff(sv)[:, None] * (np.arange(kv + 1) / kv)
+        cu, cv = len(nu_), len(nv_)
+        U = np.broadcast_to(nu_[:, None, :, None], (cu, cv, ku + 1, kv + 1))
+        V = np.broadcast_to(nv_[None, :, None, :], (cu, cv, ku + 1, kv + 1))
+        H = self._spline(np.column_stack([U.ravel(), V.ravel()])).reshape(cu * cv, ku + 1, kv + 1, -1)
+        ctrl = np.einsum("am,bn,cmnd->cabd", _bernstein_inverse(ku), _bernstein_inverse(kv), H)
+        lo, hi = _hull_boxes(ctrl.reshape(cu * cv, (ku + 1) * (kv + 1), -1), self.weights is not None, _BOX_MARGIN * self.scale)
+        I, J = np.meshgrid(np.arange(cu), np.arange(cv), indexing="ij")
+        I, J = I.ravel(), J.ravel()
+        key = np.zeros(len(I), dtype=np.int64)
+        for bit in range(16):
+            key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
+        order = np.argsort(key, kind="stable")
+        return _box_levels(lo[order], hi[order], 16), su, sv, np.column_stack([I[order], J[order]])
+
+    def _global_check(self, p, uv, d):
+        """Branch and bound over the Bezier cells: every cell whose box is closer than the
+        distance found, and not the found cell or one of its 8 neighbours (the same basin),
+        gets a Newton run from its nearest corner sample; the best result per point is kept."""
+        levels, su, sv, cell_ij = self._cells
+        r = d[(0, 0)] - p
+        ub2 = _rowdot(r, r)
+        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 16)
+        if len(pi) == 0:
+            return uv, d
+        fi = np.clip(np.searchsorted(su, uv[:, 0], side="right") - 1, 0, len(su) - 2)
+        fj = np.clip(np.searchsorted(sv, uv[:, 1], side="right") - 1, 0, len(sv) - 2)
+        ci_i, ci_j = cell_ij[ci, 0], cell_ij[ci, 1]
+        keep = (np.abs(ci_i - fi[pi]) > 1) | (np.abs(ci_j - fj[pi]) > 1)
+        pi, ci_i, ci_j = pi[keep], ci_i[keep], ci_j[keep]
+        if len(pi) == 0:
+            return uv, d
+        _, table, _, _ = self._seeds
+        nv = len(sv)
+        q = p[pi]
+        best_j = ci_i * nv + ci_j
+        best_d = np.full(len(pi), np.inf)
+        for di, dj in ((0, 0), (1, 0), (0, 1), (1, 1)):
+            jj = (ci_i + di) * nv + ci_j + dj
+            e = table[jj, :3] - q
+            dd = _rowdot(e, e)
+            closer = dd < best_d
+            best_j, best_d = np.where(closer, jj, best_j), np.where(closer, dd, best_d)
+        uv2, d2 = _in_chunks(self._closest_block, q, best_j)
+        f2 = _rowdot(d2[(0, 0)] - q, d2[(0, 0)] - q)
+        first = _best_per_point(pi, f2)
+        better = f2[first] < ub2[pi[first]]
+        rows, src_ = pi[first][better], first[better]
+        uv = uv.copy()
+        uv[rows] = uv2[src_]
+        d = {nu: x.copy() for nu, x in d.items()}
+        for nu in d:
+            d[nu][rows] = d2[nu][src_]
+        return uv, d
 
     def _closest_block(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
         m = len(p)
