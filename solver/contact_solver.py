@@ -820,7 +820,7 @@ def solve_contact(problem, progress: Callable | None = None,
 
 
 def _solve_contact(problem, progress, settings) -> IBFEMSolution:
-    settings = settings or ContactSettings()
+    settings = settings or ContactSettings(core=Settings.from_options(problem.options))
     core = settings.core
     report = progress or (lambda stage, fraction=None: None)
     t_start = time.perf_counter()
