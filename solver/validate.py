@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import shutil
 import math
 import sys
 import time
@@ -59,8 +60,8 @@ class Result:
     seconds: float = 0.0
 
 
-def run_scene_data(data: dict, label: str, out_dir: Path, base_dir: Path = EXAMPLES) -> tuple[Any, dict]:
-    """Validate, solve and write one scene given as a dict; returns (scene, summary)."""
+def run_scene_data(data: dict, label: str, out_dir: Path, base_dir: Path = EXAMPLES) -> tuple[Any, Any, dict]:
+    """Validate, solve and write one scene given as a dict; returns (scene, solution, summary)."""
     from solver.ibfem import solve
     from solver.results import write_scene_results
     from solver.scene import scene_from_dict
@@ -69,7 +70,7 @@ def run_scene_data(data: dict, label: str, out_dir: Path, base_dir: Path = EXAMP
     scene = scene_from_dict(data, label=label, base_dir=base_dir)
     solution = solve(scene.problem)
     summary = write_scene_results(out_dir, scene, solution, total_s=time.perf_counter() - t0)
-    return scene, summary
+    return scene, solution, summary
 
 
 def _curvature_at(profile, point: np.ndarray) -> float:
@@ -139,6 +140,40 @@ def compare_contact(problem, block: dict, summary: dict) -> dict[str, Any]:
     return m
 
 
+def reference_field(block: dict, metrics: dict):
+    """The analytical subsurface field for this contact: McEwen's (frictionless or tied) or
+    the Cattaneo-Mindlin superposition (frictional), as ``f(x, z) -> (sxx, szz, sxz)``."""
+    a, p0 = metrics["a_hertz"], metrics["p0"]
+    if block["type"] == "frictional" and "ca_theory" in metrics:
+        mu = float(block["friction"])
+        sign = float(np.sign(metrics["Q"])) or 1.0
+        return lambda x, z: theory.cattaneo_mindlin_stress(x, z, a, metrics["ca_theory"] * a, mu, p0, sign)
+    return lambda x, z: theory.mcewen_stress(x, z, a, p0)
+
+
+def field_peak_comparison(problem, solution, block: dict, metrics: dict, n: int = 121) -> dict[str, float]:
+    """Largest von Mises stress below the contact, computed and analytical: peak / p0 and its
+    position (x along the tangent, z depth along -normal, both / a). With partial slip the peak
+    leaves the load axis (the tilt of the thesis's figure 6-17)."""
+    a, p0 = metrics["a_hertz"], metrics["p0"]
+    point = np.asarray(block["point"], dtype=float)
+    normal = np.asarray(block["normal"], dtype=float)
+    tangent = np.asarray(block["tangent"], dtype=float)
+    xs = np.linspace(-2.0, 2.0, 2 * n - 1)
+    zs = np.linspace(0.02, 2.0, n)
+    X, Z = np.meshgrid(xs, zs)
+    pts = point + a * (X.ravel()[:, None] * tangent - Z.ravel()[:, None] * normal)
+    vm = np.asarray(solution.von_mises(pts, body=block["bodies"][1]), dtype=float)
+    k = int(np.nanargmax(vm))
+    nu = problem.body(block["bodies"][1]).material.poissons_ratio
+    field = reference_field(block, metrics)
+    peak, x_ref, z_ref = theory.field_peak(lambda x, z: field(x * a, z * a), nu=nu, extent=2.0, n=81)
+    return {
+        "field_peak": float(vm[k] / p0), "field_peak_x": float(X.ravel()[k]), "field_peak_z": float(Z.ravel()[k]),
+        "field_peak_theory": float(peak / p0), "field_peak_x_theory": float(x_ref), "field_peak_z_theory": float(z_ref),
+    }
+
+
 def _plot(name: str, problem, block: dict, summary: dict, metrics: dict, out_dir: Path) -> list[Path]:
     import matplotlib
 
@@ -171,8 +206,9 @@ def _plot(name: str, problem, block: dict, summary: dict, metrics: dict, out_dir
         depth = np.linalg.norm(pts - np.asarray(block["point"]), axis=1)
         z = np.linspace(1e-6, depth.max(), 300)
         nu = problem.body(block["bodies"][1]).material.poissons_ratio
-        sxx, szz, sxz = theory.mcewen_stress(np.zeros_like(z), z, a_ref, p0)
-        axes[2].plot(theory.von_mises_plane_strain(sxx, szz, sxz, nu) / p0, z / a_ref, "k-", label="McEwen (frictionless)")
+        sxx, szz, sxz = reference_field(block, metrics)(np.zeros_like(z), z)
+        label = "Cattaneo-Mindlin (McEwen superposition)" if block["type"] == "frictional" else "McEwen"
+        axes[2].plot(theory.von_mises_plane_strain(sxx, szz, sxz, nu) / p0, z / a_ref, "k-", label=label)
         axes[2].plot(np.asarray(line["von_mises"], dtype=float) / p0, depth / a_ref, ".", ms=3, label="IBFEM")
         axes[2].invert_yaxis()
         axes[2].set(xlabel="von Mises / p0", ylabel="depth / a", title="subsurface von Mises")
@@ -191,17 +227,23 @@ def validate_scene(path: Path, out_root: Path, fig_dir: Path) -> Result:
     t0 = time.perf_counter()
     try:
         data = tomllib.loads(path.read_text())
-        scene, summary = run_scene_data(data, path.name, out_root / name, base_dir=path.parent)
+        scene, solution, summary = run_scene_data(data, path.name, out_root / name, base_dir=path.parent)
     except Exception as err:  # a validation run reports every failure and goes on
         return Result(name, False, f"{type(err).__name__}: {err}", seconds=time.perf_counter() - t0)
     res = Result(name, bool(summary["converged"]), "" if summary["converged"] else "not converged", summary)
     for block in summary.get("contacts", []):
         m = compare_contact(scene.problem, block, summary)
+        if "a_hertz" in m:
+            m.update(field_peak_comparison(scene.problem, solution, block, m))
         res.metrics.append(m)
         try:
             _plot(name, scene.problem, block, summary, m, fig_dir)
         except ImportError:
             pass
+    for picture in ("contact_0_fields.png",):
+        src = out_root / name / picture
+        if src.exists():
+            shutil.copyfile(src, fig_dir / f"{name}_fields.png")
     res.seconds = time.perf_counter() - t0
     return res
 
@@ -232,7 +274,7 @@ def mesh_convergence_sweeps(out_root: Path) -> dict[str, list[dict]]:
     rows: dict[str, list[dict]] = {"loads": [], "grids": []}
     for uy in loads:
         try:
-            scene, summary = run_scene_data(_scaled(data, uy / base_uy, levels=5), "mesh_convergence (load sweep)", out_root / f"mesh_convergence_load_{abs(uy)*1e3:g}mm")
+            scene, _, summary = run_scene_data(_scaled(data, uy / base_uy, levels=5), "mesh_convergence (load sweep)", out_root / f"mesh_convergence_load_{abs(uy)*1e3:g}mm")
             m = compare_contact(scene.problem, summary["contacts"][0], summary)
             m["uy"] = uy
             m["cells_across"] = 2 * m["a_hertz"] / min(b["min_element_size"] for b in summary["bodies"].values())
@@ -242,7 +284,7 @@ def mesh_convergence_sweeps(out_root: Path) -> dict[str, list[dict]]:
             rows["loads"].append({"uy": uy, "error": f"{type(err).__name__}: {err}"})
     for h, lv in grids:
         try:
-            scene, summary = run_scene_data(_scaled(data, None, h, lv), "mesh_convergence (grid sweep)", out_root / f"mesh_convergence_grid_{h}_{lv}")
+            scene, _, summary = run_scene_data(_scaled(data, None, h, lv), "mesh_convergence (grid sweep)", out_root / f"mesh_convergence_grid_{h}_{lv}")
             m = compare_contact(scene.problem, summary["contacts"][0], summary)
             m["element_size"], m["levels"] = h, lv
             m["cells_across"] = 2 * m["a_hertz"] / min(b["min_element_size"] for b in summary["bodies"].values())
@@ -308,11 +350,31 @@ def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir
                 f"| {_num(m.get('ca'), '.4f')} | {_num(m.get('ca_theory'), '.4f')} | {_num(m.get('ca_error'), '.4f')} | {_pct(th.get('ca_error'))} "
                 f"| {_pct(m.get('pressure_rms'))} | {_pct(m.get('shear_rms'))} | {vm} | {r.seconds:.1f} | {verdict} |"
             )
+    lines += [
+        "",
+        "Largest von Mises stress below the contact (computed on a 2a x 2a window of the lower body;",
+        "theory: McEwen, or the Cattaneo-Mindlin superposition for partial slip), peak / p0 at (x, z) / a,",
+        "x along the contact tangent, z the depth. With partial slip the peak leaves the axis: the",
+        "tilt of the thesis's figure 6-17.",
+        "",
+        "| scene | computed peak | at (x, z) / a | theory peak | at (x, z) / a |",
+        "|---|---|---|---|---|",
+    ]
+    for r in results:
+        for m in r.metrics:
+            if "field_peak" in m:
+                lines.append(
+                    f"| {r.name} | {m['field_peak']:.4f} | ({m['field_peak_x']:+.3f}, {m['field_peak_z']:.3f}) "
+                    f"| {m['field_peak_theory']:.4f} | ({m['field_peak_x_theory']:+.3f}, {m['field_peak_z_theory']:.3f}) |"
+                )
     lines.append("")
     for r in results:
         png = fig_dir / f"{r.name}.png"
         if png.exists():
             lines += [f"## {r.name}", "", f"![{r.name}]({png.relative_to(path.parent).as_posix()})", ""]
+        fields = fig_dir / f"{r.name}_fields.png"
+        if fields.exists():
+            lines += [f"![{r.name}: von Mises and displacement]({fields.relative_to(path.parent).as_posix()})", ""]
         if r.message:
             lines += [f"## {r.name}", "", f"Not validated: `{r.message}`", ""]
     if sweeps:
