@@ -219,6 +219,16 @@ def _stop_at_kinks(start: np.ndarray, raw: np.ndarray, kinks: np.ndarray, nudge:
     return np.where(hit_up, k_up - nudge, np.where(hit_dn, k_dn + nudge, raw))
 
 
+def _at_crease(x: np.ndarray, g: np.ndarray, kinks: np.ndarray, near: float) -> np.ndarray:
+    """Parameters held within ``near`` short of a kink whose descent (-g) points across it."""
+    i = np.searchsorted(kinks, x, side="right")
+    up = kinks[np.minimum(i, len(kinks) - 1)]
+    dn = kinks[np.maximum(i - 1, 0)]
+    below = (i < len(kinks)) & (up - x <= near) & (up > x) & (g < 0)
+    above = (i > 0) & (x - dn <= near) & (x > dn) & (g > 0)
+    return below | above
+
+
 def _polygon_samples(t: np.ndarray, k: int, a: float, b: float, legs: np.ndarray, spacing: float, at_most: int) -> np.ndarray:
     """Sample parameters: in every non-empty knot span of [a, b] as many equal steps as
     the control polygon legs acting on that span are long (divided by the degree) in
@@ -334,6 +344,9 @@ def _two_basins(
 _CERT_REL = 2e-12  # a cell must be able to beat the best distance by this (relative, squared)
 _BOX_MARGIN = 1e-9  # cell boxes are widened by this fraction of the size (Bezier round-off)
 _PAIR_CHUNK = 2048  # points per branch-and-bound traversal (bounds the pair arrays)
+# cells within this many cells of the found one count as its basin and are not re-searched
+# (1: the neighbours too; faster, but adjacent cells can hold a second minimum where knots cluster)
+_SAME_BASIN = 0
 
 
 def _bernstein_inverse(k: int) -> np.ndarray:
@@ -354,6 +367,43 @@ def _hull_boxes(ctrl: np.ndarray, rational: bool, margin: float) -> tuple[np.nda
     return pts.min(axis=1) - margin, pts.max(axis=1) + margin
 
 
+def _oriented_boxes(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, margin: float):
+    """Boxes of control nets ``pts`` (n, m, 3) in per-cell orthonormal frames built from
+    the directions e1, e2 (n, 3) (Gram-Schmidt; a degenerate direction falls back to the
+    coordinate axes): (origin (n, 3), frame rows (n, 3, 3), lo, hi (n, 3)). Aligned with a
+    cell's tangents, the box is only as thick as the cell bends (~ curvature h^2 / 8), so
+    its distance bounds the cell's distance far more tightly than an axis-aligned box."""
+    def unit(v, fallback):
+        n = np.linalg.norm(v, axis=1, keepdims=True)
+        return np.where(n > 1e-300, v / np.where(n > 1e-300, n, 1.0), fallback)
+
+    x, y = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    a = unit(e1, x)
+    b = e2 - _rowdot(e2, a)[:, None] * a
+    alt = np.where(np.abs(a[:, :1]) < 0.9, x, y)
+    alt = alt - _rowdot(alt, a)[:, None] * a
+    b = unit(np.where(np.linalg.norm(b, axis=1, keepdims=True) > 1e-9 * np.linalg.norm(e2, axis=1, keepdims=True) + 1e-300, b, alt), alt / np.linalg.norm(alt, axis=1, keepdims=True))
+    c = np.cross(a, b)
+    R = np.stack([a, b, c], axis=1)
+    origin = pts[:, 0]
+    L = np.einsum("nkj,nmj->nmk", R, pts - origin[:, None])
+    return origin, R, L.min(axis=1) - margin, L.max(axis=1) + margin
+
+
+def _frame_boxes(nets: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Boxes (lo, hi) (n, 3) of control nets (n, m, 3) in the cells' frames R (n, 3, 3)."""
+    L = np.einsum("nkj,nmj->nmk", R, nets)
+    lo, hi = L.min(axis=1), L.max(axis=1)
+    pad = 1e-9 * np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, keepdims=True)
+    return lo - pad, hi + pad
+
+
+def _dot_bounds(alo, ahi, blo, bhi) -> tuple[np.ndarray, np.ndarray]:
+    """Interval bounds of ``a . b`` for a in the box [alo, ahi] and b in [blo, bhi] (rows)."""
+    prods = np.stack([alo * blo, alo * bhi, ahi * blo, ahi * bhi])
+    return prods.min(axis=0).sum(axis=1), prods.max(axis=0).sum(axis=1)
+
+
 def _box_levels(lo: np.ndarray, hi: np.ndarray, branch: int) -> list[tuple[np.ndarray, np.ndarray]]:
     """Bounding-box hierarchy over cells in a spatially coherent order: each level's box i
     bounds boxes ``i * branch .. (i + 1) * branch - 1`` of the level below; top level first."""
@@ -369,10 +419,12 @@ def _box_levels(lo: np.ndarray, hi: np.ndarray, branch: int) -> list[tuple[np.nd
 
 
 def _candidate_cells(
-    p: np.ndarray, bound2: np.ndarray, levels: list[tuple[np.ndarray, np.ndarray]], branch: int
+    p: np.ndarray, bound2: np.ndarray, levels: list[tuple[np.ndarray, np.ndarray]], branch: int, oriented
 ) -> tuple[np.ndarray, np.ndarray]:
     """All (point, cell) pairs whose box lies closer to the point than ``sqrt(bound2)``
-    (branch and bound down the box hierarchy, vectorised over flat pair arrays)."""
+    (branch and bound down the box hierarchy, vectorised over flat pair arrays; the cells
+    themselves by their oriented boxes ``oriented``, see :func:`_oriented_boxes`)."""
+    origin, R, olo, ohi = oriented
     out_p, out_c = [], []
     kids = np.arange(branch)
     for i0 in range(0, len(p), _PAIR_CHUNK):
@@ -390,6 +442,10 @@ def _candidate_cells(
             gap = np.maximum(lo[ni] - q, 0.0) + np.maximum(q - hi[ni], 0.0)
             keep = _rowdot(gap, gap) < bc[pi]
             pi, ni = pi[keep], ni[keep]
+        q = np.einsum("nkj,nj->nk", R[ni], pc[pi] - origin[ni])
+        gap = np.maximum(olo[ni] - q, 0.0) + np.maximum(q - ohi[ni], 0.0)
+        keep = _rowdot(gap, gap) < bc[pi]
+        pi, ni = pi[keep], ni[keep]
         out_p.append(pi + i0)
         out_c.append(ni)
     return np.concatenate(out_p), np.concatenate(out_c)
@@ -402,11 +458,11 @@ def _best_per_point(pi: np.ndarray, f: np.ndarray) -> np.ndarray:
     return order[np.r_[True, ps[1:] != ps[:-1]]]
 
 
-def _in_chunks(fn, p: np.ndarray, j: np.ndarray):
-    """``fn(p, j)`` over blocks of ``_BLOCK`` rows, results concatenated."""
+def _in_chunks(fn, p: np.ndarray, start: np.ndarray):
+    """``fn(p, None, start)`` over blocks of ``_BLOCK`` rows, results concatenated."""
     if len(p) <= _BLOCK:
-        return fn(p, j)
-    parts = [fn(p[i : i + _BLOCK], j[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
+        return fn(p, None, start)
+    parts = [fn(p[i : i + _BLOCK], None, start[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
     if isinstance(parts[0], dict):
         return {k: np.concatenate([x[k] for x in parts]) for k in parts[0]}
     return tuple(
@@ -699,17 +755,30 @@ class BSplineCurve(Curve):
         nodes = edges[:-1, None] + np.diff(edges)[:, None] * (np.arange(k + 1) / k)
         H = self._spline(self._wrap(nodes.ravel())).reshape(len(nodes), k + 1, -1)  # wrap: b -> a when periodic
         ctrl = np.einsum("lm,cmd->cld", _bernstein_inverse(k), H)
-        lo, hi = _hull_boxes(ctrl, self.weights is not None, _BOX_MARGIN * self.scale)
-        return _box_levels(lo, hi, 8), edges
+        margin = _BOX_MARGIN * self.scale
+        lo, hi = _hull_boxes(ctrl, self.weights is not None, margin)
+        pts = ctrl[..., :3] / ctrl[..., 3:] if self.weights is not None else ctrl[..., :3]
+        chord = pts[:, -1] - pts[:, 0]
+        bend = pts.mean(axis=1) - 0.5 * (pts[:, -1] + pts[:, 0])
+        oriented = _oriented_boxes(pts, chord, bend, margin)
+        # the direction of C' over the cell: C' = (A' w - A w') / w^2 for C = A / w, whose
+        # numerator is a polynomial of degree <= 2k - 2 (k - 1 without weights); its Bezier
+        # net bounds it, in the cell's frame
+        kn = 2 * k if self.weights is not None else k
+        x = self._wrap((edges[:-1, None] + np.diff(edges)[:, None] * (np.arange(kn + 1) / kn)).ravel())
+        H0, H1 = self._spline(x), self._spline(x, 1)
+        N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if self.weights is not None else H1[:, :3]
+        N = np.einsum("lm,cmd->cld", _bernstein_inverse(kn), N.reshape(len(edges) - 1, kn + 1, 3))
+        return _box_levels(lo, hi, 8), edges, oriented, _frame_boxes(N, oriented[1])
 
     def _global_check(self, p, t, C, C1):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
         distance found, and not the found cell or its neighbours (the same basin), gets a
         Newton run from its nearer end sample; the best result per point is kept."""
-        levels, edges = self._cells
+        levels, edges, oriented, (nlo, nhi) = self._cells
         r = C - p
         ub2 = _rowdot(r, r)
-        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 8)
+        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 8, oriented)
         if len(pi) == 0:
             return t, C, C1
         n_cells = len(edges) - 1
@@ -717,16 +786,24 @@ class BSplineCurve(Curve):
         gap = np.abs(ci - found[pi])
         if self.periodic:
             gap = np.minimum(gap, n_cells - gap)
-        keep = gap > 1
+        keep = gap > _SAME_BASIN
+        if len(self._kinks) == 0:
+            # a cell where f' = C'.(C - p) keeps one sign holds no minimum of its own: the
+            # smallest distance on it is at an end it shares with a neighbouring cell
+            # (checked there; f' is continuous for a C1 curve, so the neighbours cannot both
+            # point at the shared end), so it is skipped; not at the ends of an open curve
+            origin, R, olo, ohi = oriented
+            q = np.einsum("nkj,nj->nk", R[ci], p[pi] - origin[ci])
+            low, high = _dot_bounds(nlo[ci], nhi[ci], olo[ci] - q, ohi[ci] - q)
+            has_lo = np.ones(len(ci), bool) if self.periodic else ci > 0
+            has_hi = np.ones(len(ci), bool) if self.periodic else ci < n_cells - 1
+            keep &= ~(((low > 0) & has_lo) | ((high < 0) & has_hi))
         pi, ci = pi[keep], ci[keep]
         if len(pi) == 0:
             return t, C, C1
-        s, _, _, Q, _ = self._seeds
-        j0, j1 = ci, (ci + 1) % len(s)
         q = p[pi]
-        d0, d1 = Q[j0] - q, Q[j1] - q
-        j = np.where(_rowdot(d1, d1) < _rowdot(d0, d0), j1, j0)
-        t2, C2, C12 = _in_chunks(self._closest_block, q, j)
+        # start inside the cell (its middle): never on a knot, so on the cell's own piece
+        t2, C2, C12 = _in_chunks(self._closest_block, q, 0.5 * (edges[ci] + edges[ci + 1]))
         f2 = _rowdot(C2 - q, C2 - q)
         first = _best_per_point(pi, f2)
         better = f2[first] < ub2[pi[first]]
@@ -742,7 +819,7 @@ class BSplineCurve(Curve):
             return _kinks(self._spline.t, self.degree, 2 * a - b, 2 * b - a)
         return _kinks(self._spline.t, self.degree, a, b)
 
-    def _closest_block(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _closest_block(self, p: np.ndarray, j: np.ndarray, start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         m = len(p)
         a, b = self.domain
         width = b - a
@@ -753,7 +830,11 @@ class BSplineCurve(Curve):
         idx = np.arange(m)
         # the seed's Taylor model supplies the first Hessian: the first evaluation needs
         # C and C' only, and most points converge right there
-        trial, H_acc, fine = self._seed(p, j)
+        if start is None:
+            trial, H_acc, fine = self._seed(p, j)
+        else:  # given start parameters: the first Hessian from the spline there
+            trial = start
+            H_acc, fine = self._hessian(*self.derivatives(start, 2), p)
         t_acc = trial.copy()
         f_acc = np.full(m, np.inf)
         step = np.zeros(m)
@@ -1028,8 +1109,16 @@ class BSplineSurface(Surface):
         huu, huv, hvv = E + _rowdot(Suu, r), F + _rowdot(Suv, r), G + _rowdot(Svv, r)
         det = huu * hvv - huv * huv
         newton = (huu > 1e-6 * E) & (hvv > 1e-6 * G) & (det > 1e-6 * (E * G - F * F))
-        hess = np.column_stack([np.where(newton, huu, E), np.where(newton, huv, F), np.where(newton, hvv, G)])
+        # columns 3, 4: the full second derivatives along u and v, used for the 1D Newton
+        # along an edge (the 2D Hessian is often indefinite where the edge problem is not)
+        hess = np.column_stack([np.where(newton, huu, E), np.where(newton, huv, F), np.where(newton, hvv, G), huu, hvv])
         return hess, newton
+
+    @cached_property
+    def _creases(self) -> tuple[np.ndarray, np.ndarray]:
+        """Interior C0 knot lines (multiplicity >= degree) in u and in v."""
+        (ua, ub), (va, vb) = self.domain
+        return _kinks(self.knots_u, self.degree_u, ua, ub), _kinks(self.knots_v, self.degree_v, va, vb)
 
     def _newton_step(self, uv, S, Su, Sv, hess, p):
         """Step solving ``hess . step = -grad`` from ``uv``; a coordinate at a bound whose
@@ -1047,10 +1136,20 @@ class BSplineSurface(Surface):
         u0, v0 = uv[:, 0], uv[:, 1]
         fix_u = ((u0 <= ua) & (gu > 0)) | ((u0 >= ub) & (gu < 0))
         fix_v = ((v0 <= va) & (gv > 0)) | ((v0 >= vb) & (gv < 0))
+        # held at a crease (C0 knot line) with the descent pointing across it: the crease acts
+        # as an edge of the patch the point is on (1D Newton along it); the patch beyond is
+        # a separate basin, searched from its own start
+        ku_, kv_ = self._creases
+        if len(ku_):
+            fix_u |= _at_crease(u0, gu, ku_, 2.0 * _KINK_NUDGE * (ub - ua))
+        if len(kv_):
+            fix_v |= _at_crease(v0, gv, kv_, 2.0 * _KINK_NUDGE * (vb - va))
         frozen = fix_u | fix_v
         if np.any(frozen):
-            edge_u = np.where(huu > 0, huu, 1.0)
-            edge_v = np.where(hvv > 0, hvv, 1.0)
+            edge_u = np.where(hess[:, 3] > 1e-6 * huu, hess[:, 3], huu)
+            edge_v = np.where(hess[:, 4] > 1e-6 * hvv, hess[:, 4], hvv)
+            edge_u = np.where(edge_u > 0, edge_u, 1.0)
+            edge_v = np.where(edge_v > 0, edge_v, 1.0)
             du = np.where(fix_u, 0.0, np.where(fix_v, -gu / edge_u, du))
             dv = np.where(fix_v, 0.0, np.where(fix_u, -gv / edge_v, dv))
         return np.column_stack([du, dv]), frozen
@@ -1141,44 +1240,74 @@ class BSplineSurface(Surface):
         V = np.broadcast_to(nv_[None, :, None, :], (cu, cv, ku + 1, kv + 1))
         H = self._spline(np.column_stack([U.ravel(), V.ravel()])).reshape(cu * cv, ku + 1, kv + 1, -1)
         ctrl = np.einsum("am,bn,cmnd->cabd", _bernstein_inverse(ku), _bernstein_inverse(kv), H)
-        lo, hi = _hull_boxes(ctrl.reshape(cu * cv, (ku + 1) * (kv + 1), -1), self.weights is not None, _BOX_MARGIN * self.scale)
+        margin = _BOX_MARGIN * self.scale
+        flat = ctrl.reshape(cu * cv, (ku + 1) * (kv + 1), -1)
+        lo, hi = _hull_boxes(flat, self.weights is not None, margin)
+        pts = flat[..., :3] / flat[..., 3:] if self.weights is not None else flat[..., :3]
+        net = pts.reshape(cu * cv, ku + 1, kv + 1, 3)
+        along_u = net[:, -1, 0] - net[:, 0, 0] + net[:, -1, -1] - net[:, 0, -1]
+        along_v = net[:, 0, -1] - net[:, 0, 0] + net[:, -1, -1] - net[:, -1, 0]
         I, J = np.meshgrid(np.arange(cu), np.arange(cv), indexing="ij")
         I, J = I.ravel(), J.ravel()
         key = np.zeros(len(I), dtype=np.int64)
         for bit in range(16):
             key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
         order = np.argsort(key, kind="stable")
-        return _box_levels(lo[order], hi[order], 16), su, sv, np.column_stack([I[order], J[order]])
+        oriented = _oriented_boxes(pts[order], along_u[order], along_v[order], margin)
+        # directions of S_u and S_v over each cell: numerators A_u w - A w_u (degree
+        # <= 2 ku - 1 in u, 2 kv in v; ku - 1, kv without weights) by their Bezier nets
+        rational = self.weights is not None
+        du, dv = (2 * ku, 2 * kv) if rational else (ku, kv)
+        nu2 = su[:-1, None] + np.diff(su)[:, None] * (np.arange(du + 1) / du)
+        nv2 = sv[:-1, None] + np.diff(sv)[:, None] * (np.arange(dv + 1) / dv)
+        U = np.broadcast_to(nu2[:, None, :, None], (cu, cv, du + 1, dv + 1))
+        V = np.broadcast_to(nv2[None, :, None, :], (cu, cv, du + 1, dv + 1))
+        x = np.column_stack([U.ravel(), V.ravel()])
+        H0 = self._spline(x) if rational else None
+        tangent_boxes = []
+        for nu_ in ((1, 0), (0, 1)):
+            H1 = self._spline(x, nu=nu_)
+            N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if rational else H1[:, :3]
+            N = np.einsum("am,bn,cmnd->cabd", _bernstein_inverse(du), _bernstein_inverse(dv), N.reshape(cu * cv, du + 1, dv + 1, 3))
+            tangent_boxes.append(_frame_boxes(N.reshape(cu * cv, -1, 3)[order], oriented[1]))
+        return _box_levels(lo[order], hi[order], 16), su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
 
     def _global_check(self, p, uv, d):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
         distance found, and not the found cell or one of its 8 neighbours (the same basin),
         gets a Newton run from its nearest corner sample; the best result per point is kept."""
-        levels, su, sv, cell_ij = self._cells
+        levels, su, sv, cell_ij, oriented, tangent_boxes = self._cells
         r = d[(0, 0)] - p
         ub2 = _rowdot(r, r)
-        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 16)
+        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 16, oriented)
         if len(pi) == 0:
             return uv, d
         fi = np.clip(np.searchsorted(su, uv[:, 0], side="right") - 1, 0, len(su) - 2)
         fj = np.clip(np.searchsorted(sv, uv[:, 1], side="right") - 1, 0, len(sv) - 2)
         ci_i, ci_j = cell_ij[ci, 0], cell_ij[ci, 1]
-        keep = (np.abs(ci_i - fi[pi]) > 1) | (np.abs(ci_j - fj[pi]) > 1)
+        keep = (np.abs(ci_i - fi[pi]) > _SAME_BASIN) | (np.abs(ci_j - fj[pi]) > _SAME_BASIN)
+        # a cell where f_u = S_u.(S - p) (or f_v) keeps one sign holds no minimum of its own:
+        # the smallest distance on it lies on an edge it shares with a neighbouring cell
+        # (checked there; f_u is continuous across C1 knot lines, so two neighbours cannot
+        # both point at their shared edge); not at the domain's edges, nor across creases
+        origin, R, olo, ohi = oriented
+        q = np.einsum("nkj,nj->nk", R[ci], p[pi] - origin[ci])
+        slo, shi = olo[ci] - q, ohi[ci] - q
+        (ua, ub), (va, vb) = self.domain
+        for (tlo, thi), idx, n_axis, smooth in (
+            (tangent_boxes[0], ci_i, len(su) - 1, len(_kinks(self.knots_u, self.degree_u, ua, ub)) == 0),
+            (tangent_boxes[1], ci_j, len(sv) - 1, len(_kinks(self.knots_v, self.degree_v, va, vb)) == 0),
+        ):
+            if smooth:
+                low, high = _dot_bounds(tlo[ci], thi[ci], slo, shi)
+                keep &= ~(((low > 0) & (idx > 0)) | ((high < 0) & (idx < n_axis - 1)))
         pi, ci_i, ci_j = pi[keep], ci_i[keep], ci_j[keep]
         if len(pi) == 0:
             return uv, d
-        _, table, _, _ = self._seeds
-        nv = len(sv)
         q = p[pi]
-        best_j = ci_i * nv + ci_j
-        best_d = np.full(len(pi), np.inf)
-        for di, dj in ((0, 0), (1, 0), (0, 1), (1, 1)):
-            jj = (ci_i + di) * nv + ci_j + dj
-            e = table[jj, :3] - q
-            dd = _rowdot(e, e)
-            closer = dd < best_d
-            best_j, best_d = np.where(closer, jj, best_j), np.where(closer, dd, best_d)
-        uv2, d2 = _in_chunks(self._closest_block, q, best_j)
+        # start inside the cell (its middle): never on a knot line, so on the cell's own patch
+        mid = np.column_stack([0.5 * (su[ci_i] + su[ci_i + 1]), 0.5 * (sv[ci_j] + sv[ci_j + 1])])
+        uv2, d2 = _in_chunks(self._closest_block, q, mid)
         f2 = _rowdot(d2[(0, 0)] - q, d2[(0, 0)] - q)
         first = _best_per_point(pi, f2)
         better = f2[first] < ub2[pi[first]]
@@ -1190,7 +1319,7 @@ class BSplineSurface(Surface):
             d[nu][rows] = d2[nu][src_]
         return uv, d
 
-    def _closest_block(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
+    def _closest_block(self, p: np.ndarray, j: np.ndarray, start: np.ndarray | None = None) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
         m = len(p)
         (ua, ub), (va, vb) = self.domain
         lo = np.array([ua, va])
@@ -1202,7 +1331,11 @@ class BSplineSurface(Surface):
         idx = np.arange(m)
         # the seed's Taylor model supplies the first Hessian: the first evaluation needs
         # S, S_u, S_v only
-        trial, H_acc, fine = self._seed(p, j)
+        if start is None:
+            trial, H_acc, fine = self._seed(p, j)
+        else:  # given start parameters: the first Hessian from the spline there
+            trial = start
+            H_acc, fine = self._hessian(*(self.derivatives(start, 2)[nu] for nu in _NU), p)
         uv_acc = trial.copy()
         kinks_u = _kinks(self.knots_u, self.degree_u, ua, ub)
         kinks_v = _kinks(self.knots_v, self.degree_v, va, vb)
@@ -1242,7 +1375,8 @@ class BSplineSurface(Surface):
                 val_acc = np.where(acc2, val, val_acc)
                 H_acc = np.where(acc2, H, H_acc)
             dstep, frozen = self._newton_step(uv_acc, S, Su, Sv, H, p)
-            new_step = np.where(acc[:, None], np.clip(dstep, -half, half), 0.5 * step)
+            shrink = np.min(np.where(np.abs(dstep) > half, half / np.maximum(np.abs(dstep), 1e-300), 1.0), axis=1)
+            new_step = np.where(acc[:, None], dstep * shrink[:, None], 0.5 * step)
             raw = uv_acc + new_step
             stopped = np.column_stack(
                 [
@@ -1251,6 +1385,14 @@ class BSplineSurface(Surface):
                 ]
             )
             new = np.clip(stopped, lo, hi)
+            # a kink or a bound that cuts one coordinate only would turn the step off its
+            # (descent) direction, and halving it might then never descend: scale the whole
+            # step to its first stop instead (projection only where that stop is at the start)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                frac_c = np.where(new_step != 0.0, (new - uv_acc) / new_step, 1.0)
+            frac = np.clip(frac_c.min(axis=1), 0.0, 1.0)
+            scaled = np.where(frac_c <= frac[:, None], new, uv_acc + frac[:, None] * new_step)
+            new = np.where((frac > 1e-3)[:, None], np.clip(scaled, lo, hi), new)
             eff = new - uv_acc
             Sua, Sva = val_acc[:, 3:6], val_acc[:, 6:]
             dS = eff[:, :1] * Sua + eff[:, 1:] * Sva
