@@ -137,6 +137,10 @@ class ContactGeometry:
     directions: tuple[int, int]  # parameter direction of +s (along tangent) on each curve
     s_limits: tuple[float, float]  # usable chord range on each side (candidate region), > 0
     tables: dict = field(default_factory=dict)  # (curve, side) -> chord_table over the candidate region
+    # "frame": every pair is constrained along the contact frame's normal (the small-strain,
+    # half-space assumption of Hertz theory: frictionless tractions have no component along
+    # the tangent); "pair": along each matched pair's bisector normal (ContactPoints.normal)
+    normal_mode: str = "frame"
 
     def s_max(self) -> float:
         return min(self.s_limits)
@@ -231,9 +235,18 @@ class ContactPoints:
     n2: np.ndarray  # (q, 2) outward normal of body 2
     delta: np.ndarray  # (q, 2) X1 - X2
     weights: np.ndarray | None = None  # (q,) ds on curve 1 (quadrature only)
+    frame_normal: np.ndarray | None = None  # (2,) the contact frame's normal, when it governs
 
     @property
     def normal(self) -> np.ndarray:
+        """(q, 2) direction of each pair's normal constraint: the contact frame's normal when
+        ``frame_normal`` is set (ContactGeometry.normal_mode "frame"), else the pair bisector."""
+        if self.frame_normal is not None:
+            return np.broadcast_to(self.frame_normal, self.n1.shape).copy()
+        return self.pair_normal
+
+    @property
+    def pair_normal(self) -> np.ndarray:
         """(q, 2) contact normal of each matched pair: the bisector of body 2's outward normal
         and body 1's inward one, (n2 - n1) / |n2 - n1|. Along it a relative slide of the two
         surfaces leaves the normal gap unchanged to first order (n1 or n2 alone would turn a
@@ -252,7 +265,9 @@ def match_points(geom: ContactGeometry, t1: np.ndarray) -> ContactPoints:
     if np.isnan(t2).any():
         raise ValueError(f"contact {geom.bodies}: body 2's edge {geom.edges[1]!r} ends inside the candidate region")
     x2 = np.asarray(geom.curves[1].evaluate(t2), dtype=float).reshape(-1, 2)
-    return ContactPoints(s=s, x1=x1, n1=_unit_normal(c1, t1), x2=x2, n2=_unit_normal(geom.curves[1], t2), delta=x1 - x2)
+    frame = np.asarray(geom.normal, dtype=float) if geom.normal_mode == "frame" else None
+    return ContactPoints(s=s, x1=x1, n1=_unit_normal(c1, t1), x2=x2, n2=_unit_normal(geom.curves[1], t2),
+                         delta=x1 - x2, frame_normal=frame)
 
 
 def sample_points(geom: ContactGeometry, s: np.ndarray) -> ContactPoints:

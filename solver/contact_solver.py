@@ -124,10 +124,16 @@ class ContactSettings:
     # frictional contact (issue 6): the slip zone carries mu p (eq. 5-24); False: the thesis's
     # variant without it (section 5.4.2), the stick zone alone transmits the shear
     friction_traction: bool = True
+    # direction of the normal constraint and of the friction traction: "frame" (the contact
+    # frame's normal and tangent for every pair: the half-space assumption of Hertz and
+    # Cattaneo-Mindlin) or "pair" (each matched pair's bisector of the two exact normals)
+    contact_normal: str = "frame"
     stick_tolerance: float = 1e-3  # |sqrt(1 - |beta|/mu) - c/a| at the returned state
     max_stick_iterations: int = 30
 
     def __post_init__(self):
+        if self.contact_normal not in ("frame", "pair"):
+            raise ValueError(f"contact_normal must be 'frame' or 'pair', got {self.contact_normal!r}")
         if self.width_update not in WIDTH_UPDATES:
             raise ValueError(f"width_update must be one of {WIDTH_UPDATES}, got {self.width_update!r}")
         if self.flux not in FLUXES:
@@ -873,6 +879,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     for cm, p in zip(problem.contacts, points):
         b1, b2 = by_name[cm.bodies[0]], by_name[cm.bodies[1]]
         geom = contact_geometry((b1, b2), cm.bodies, p, _contact_extent(problem, cm, settings.extent_fraction))
+        geom.normal_mode = settings.contact_normal
         contacts.append(_setup_contact(cm, geom, b1, b2, settings))
     timings["assembly_s"] = time.perf_counter() - t
 

@@ -274,6 +274,17 @@ def test_example7_cylinder_on_wedge_frictionless():
     assert c["half_width"] == pytest.approx(a_hertz, rel=0.02)  # issue 5: within 2 % of Hertz
     # frictionless on the face: the vertical reaction of the top is N cos 15 (thesis eq. 6-5)
     assert -sol.reactions["cylinder/top"][1] == pytest.approx(c["normal_force"] * math.cos(math.radians(15)), rel=1e-2)
+    assert abs(c["tangential_force"]) < 1e-3  # issue 5: frictionless |Q| < 1e-3 N
+
+
+def test_frictionless_contact_passes_no_tangential_force_when_pushed_sideways():
+    sol = solve_contact(small_scene("frictionless", ux=3.0e-4, turn=17.0))
+    c = sol.contacts[0]
+    assert sol.converged and c["normal_force"] > 0
+    assert abs(c["tangential_force"]) < 1e-3  # N/m, against N of order 1e8
+    # the supports take the whole load: the two bodies' reactions balance
+    total = sum(np.asarray(r) for r in sol.reactions.values())
+    assert np.linalg.norm(total) < 1e-6 * c["normal_force"]
 
 
 @pytest.mark.slow
