@@ -1,27 +1,37 @@
 """``make bench``: every benchmark of SPEC section 6, one after the other, each in its own
 process (so one's memory peak does not hide another's). Results land in benchmarks/results/.
-Pass ``--quick`` for the short variants."""
+
+    python benchmarks/run_all.py [--quick] [--large]
+
+``--quick`` runs the short variants; ``--large`` adds the ~10^6 dof assembly case."""
 
 from __future__ import annotations
 
+import argparse
 import subprocess
 import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-BENCHMARKS = ["import_time.py", "projection.py", "assembly.py", "contact.py"]
 
 
 def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--large", action="store_true")
+    args = ap.parse_args(argv)
+    quick = ["--quick"] if args.quick else []
+    benchmarks = [
+        ("import_time.py", []),
+        ("projection.py", quick),
+        ("assembly.py", ["--large"] if args.large else []),
+        ("contact.py", quick),
+        ("error_vs_time.py", quick),
+    ]
     failed = []
-    for name in BENCHMARKS:
-        path = HERE / name
-        if not path.exists():
-            print(f"bench: {name} not present, skipped", flush=True)
-            continue
-        print(f"\n=== {name} ===", flush=True)
-        rc = subprocess.call([sys.executable, str(path), *argv])
-        if rc != 0:
+    for name, extra in benchmarks:
+        print(f"\n=== {name} {' '.join(extra)} ===", flush=True)
+        if subprocess.call([sys.executable, str(HERE / name), *extra]) != 0:
             failed.append(name)
     if failed:
         print(f"bench: failed: {', '.join(failed)}", file=sys.stderr)
