@@ -873,27 +873,15 @@ def _sweep_checks(start_angle: float, end_angle: float, owner: str) -> None:
         )
 
 
-@dataclass(frozen=True, eq=False)
-class Arc(BoundedCurve):
-    """Circular arc from ``start_angle`` to ``end_angle`` (radians; counter-clockwise when
-    end > start). t is the angle swept from the start, in [0, |end - start|]. A sweep of
-    2 pi is a full circle (one closed edge)."""
+class _AngleSweptArc(BoundedCurve):
+    """Shared part of the circular and elliptic arcs: t is the angle swept from
+    ``start_angle`` towards ``end_angle`` (radians), in [0, |end - start|]."""
 
-    center: np.ndarray
-    radius: float
     start_angle: float
     end_angle: float
-    name: str = ""
-    type = "arc"
-    cost = 1
 
-    def __post_init__(self) -> None:
-        owner = f"arc {self.name!r}"
-        object.__setattr__(self, "center", _vec2(self.center, f"{owner}: center"))
-        r = _number(self.radius, f"{owner}: radius")
-        if not r > 0.0:
-            raise ValueError(f"{owner}: radius must be positive, got {self.radius!r}")
-        object.__setattr__(self, "radius", r)
+    def _set_angles(self, owner: str) -> None:
+        """Check the two angles and store them as floats; a sweep a hair over 2 pi is cut to 2 pi."""
         a0 = _number(self.start_angle, f"{owner}: start_angle")
         a1 = _number(self.end_angle, f"{owner}: end_angle")
         _sweep_checks(a0, a1, owner)
@@ -924,11 +912,61 @@ class Arc(BoundedCurve):
         return self.sweep >= _TWO_PI
 
     @property
-    def length(self) -> float:
-        return self.radius * self.sweep
+    def end(self) -> np.ndarray:
+        if self.is_closed:
+            return self.start
+        return self.evaluate(self.sweep)[0]
 
     def _theta(self, t: Any) -> np.ndarray:
         return self.start_angle + self.sense * _params(t)
+
+    def _t_of_angle(self, theta: np.ndarray) -> np.ndarray:
+        """Angle -> t in [0, 2 pi)."""
+        return np.mod(self.sense * (theta - self.start_angle), _TWO_PI)
+
+    def _nearer_end(self, P: np.ndarray) -> np.ndarray:
+        """t of the end point nearer to each point (the start on a tie)."""
+        ds = np.sum((P - self.start) ** 2, axis=1)
+        de = np.sum((P - self.end) ** 2, axis=1)
+        return np.where(ds <= de, 0.0, self.sweep)
+
+    def _crossings_at_angles(self, theta: np.ndarray) -> np.ndarray:
+        """Sorted t of the angles ``theta`` that lie on the arc (the axis crossings)."""
+        t = self._t_of_angle(theta)
+        # a crossing at the start angle may come back as ~2 pi
+        t = np.where(t > _TWO_PI - 1e-14, 0.0, t)
+        out = list(t[t <= self.sweep * (1 + 1e-15)])
+        if self.is_closed and 0.0 in out:
+            out.append(self.sweep)
+        return _dedupe_sorted(np.clip(np.array(out), 0.0, self.sweep), self.sweep)
+
+
+@dataclass(frozen=True, eq=False)
+class Arc(_AngleSweptArc):
+    """Circular arc from ``start_angle`` to ``end_angle`` (radians; counter-clockwise when
+    end > start). t is the angle swept from the start, in [0, |end - start|]. A sweep of
+    2 pi is a full circle (one closed edge)."""
+
+    center: np.ndarray
+    radius: float
+    start_angle: float
+    end_angle: float
+    name: str = ""
+    type = "arc"
+    cost = 1
+
+    def __post_init__(self) -> None:
+        owner = f"arc {self.name!r}"
+        object.__setattr__(self, "center", _vec2(self.center, f"{owner}: center"))
+        r = _number(self.radius, f"{owner}: radius")
+        if not r > 0.0:
+            raise ValueError(f"{owner}: radius must be positive, got {self.radius!r}")
+        object.__setattr__(self, "radius", r)
+        self._set_angles(owner)
+
+    @property
+    def length(self) -> float:
+        return self.radius * self.sweep
 
     def evaluate(self, t: Any) -> np.ndarray:
         th = self._theta(t)
@@ -937,12 +975,6 @@ class Arc(BoundedCurve):
     @property
     def start(self) -> np.ndarray:
         return self.evaluate(0.0)[0]
-
-    @property
-    def end(self) -> np.ndarray:
-        if self.is_closed:
-            return self.start
-        return self.evaluate(self.sweep)[0]
 
     def derivative(self, t: Any) -> np.ndarray:
         th = self._theta(t)
@@ -969,10 +1001,6 @@ class Arc(BoundedCurve):
         k = max(1, int(math.ceil(self.sweep / (0.5 * math.pi))))
         return np.linspace(0.0, self.sweep, k + 1)
 
-    def _t_of_angle(self, theta: np.ndarray) -> np.ndarray:
-        """Angle -> t in [0, 2 pi)."""
-        return np.mod(self.sense * (theta - self.start_angle), _TWO_PI)
-
     def project(self, points: Any) -> BoundedProjection:
         P = _points2(points)
         d = P - self.center
@@ -981,10 +1009,7 @@ class Arc(BoundedCurve):
         if not self.is_closed:
             outside = t > self.sweep
             if np.any(outside):
-                # nearest end point: compare distances to both ends
-                ds = np.sum((P - self.start) ** 2, axis=1)
-                de = np.sum((P - self.end) ** 2, axis=1)
-                t = np.where(outside, np.where(ds <= de, 0.0, self.sweep), t)
+                t = np.where(outside, self._nearer_end(P), t)
         return self._projection_at(P, t)
 
     def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -1013,13 +1038,7 @@ class Arc(BoundedCurve):
         else:
             base = math.asin(k)
             theta = np.array([base, math.pi - base])
-        t = self._t_of_angle(theta)
-        # a crossing at the start angle may come back as ~2 pi
-        t = np.where(t > _TWO_PI - 1e-14, 0.0, t)
-        out = list(t[t <= self.sweep * (1 + 1e-15)])
-        if self.is_closed and 0.0 in out:
-            out.append(self.sweep)
-        return _dedupe_sorted(np.clip(np.array(out), 0.0, self.sweep), self.sweep)
+        return self._crossings_at_angles(theta)
 
     def tessellate(self, chord_tolerance: float) -> tuple[np.ndarray, np.ndarray]:
         tol = float(chord_tolerance)
@@ -1076,7 +1095,7 @@ def _ellipse_kernel():
 
 
 @dataclass(frozen=True, eq=False)
-class EllipticArc(BoundedCurve):
+class EllipticArc(_AngleSweptArc):
     """Arc of the ellipse X = center + R(rotate_deg) (a cos th, b sin th) from parametric
     angle ``start_angle`` to ``end_angle`` (radians, counter-clockwise when end > start);
     ``semi_axes`` = (a, b) along the rotated x and y axes. t is the parametric angle swept
@@ -1099,43 +1118,11 @@ class EllipticArc(BoundedCurve):
             raise ValueError(f"{owner}: semi_axes must be positive, got {list(ax)}")
         object.__setattr__(self, "semi_axes", ax)
         object.__setattr__(self, "rotate_deg", _number(self.rotate_deg, f"{owner}: rotate_deg"))
-        a0 = _number(self.start_angle, f"{owner}: start_angle")
-        a1 = _number(self.end_angle, f"{owner}: end_angle")
-        _sweep_checks(a0, a1, owner)
-        if abs(a1 - a0) > _TWO_PI:
-            a1 = a0 + math.copysign(_TWO_PI, a1 - a0)
-        object.__setattr__(self, "start_angle", a0)
-        object.__setattr__(self, "end_angle", a1)
+        self._set_angles(owner)
 
     @cached_property
     def _R(self) -> np.ndarray:
         return _rotation(self.rotate_deg)
-
-    @property
-    def sense(self) -> float:
-        return 1.0 if self.end_angle > self.start_angle else -1.0
-
-    @property
-    def sweep(self) -> float:
-        return abs(self.end_angle - self.start_angle)
-
-    @property
-    def t_start(self) -> float:
-        return 0.0
-
-    @property
-    def t_end(self) -> float:
-        return self.sweep
-
-    @property
-    def is_closed(self) -> bool:
-        return self.sweep >= _TWO_PI
-
-    def _theta(self, t: Any) -> np.ndarray:
-        return self.start_angle + self.sense * _params(t)
-
-    def _t_of_angle(self, theta: np.ndarray) -> np.ndarray:
-        return np.mod(self.sense * (theta - self.start_angle), _TWO_PI)
 
     def _local(self, v: np.ndarray) -> np.ndarray:
         # elementwise (not a matmul) so one point and many points round identically
@@ -1146,12 +1133,6 @@ class EllipticArc(BoundedCurve):
         th = self._theta(t)
         a, b = self.semi_axes
         return self.center[None, :] + self._local(np.stack([a * np.cos(th), b * np.sin(th)], axis=1))
-
-    @property
-    def end(self) -> np.ndarray:
-        if self.is_closed:
-            return self.start
-        return self.evaluate(self.sweep)[0]
 
     def derivative(self, t: Any) -> np.ndarray:
         th = self._theta(t)
@@ -1205,9 +1186,7 @@ class EllipticArc(BoundedCurve):
             off = np.flatnonzero(t > self.sweep)
             if off.size:
                 Po = P[off]
-                ds = np.sum((Po - self.start) ** 2, axis=1)
-                de = np.sum((Po - self.end) ** 2, axis=1)
-                t_off = np.where(ds <= de, 0.0, self.sweep)
+                t_off = self._nearer_end(Po)
                 # inside the evolute: (a x)^(2/3) + (b y)^(2/3) < |a^2 - b^2|^(2/3) (with margin)
                 ev = np.cbrt((a * qx[off]) ** 2) + np.cbrt((b * qy[off]) ** 2)
                 inside_evolute = ev <= np.cbrt((a * a - b * b) ** 2) * (1.0 + 1e-6)
@@ -1235,12 +1214,7 @@ class EllipticArc(BoundedCurve):
         delta = math.atan2(B, A)
         base = math.acos(k)
         theta = np.array([delta + base, delta - base])
-        t = self._t_of_angle(theta)
-        t = np.where(t > _TWO_PI - 1e-14, 0.0, t)
-        out = list(t[t <= self.sweep * (1 + 1e-15)])
-        if self.is_closed and 0.0 in out:
-            out.append(self.sweep)
-        return _dedupe_sorted(np.clip(np.array(out), 0.0, self.sweep), self.sweep)
+        return self._crossings_at_angles(theta)
 
     def reversed(self) -> "EllipticArc":
         return EllipticArc(self.center, self.semi_axes, self.rotate_deg, self.end_angle, self.start_angle, self.name)
