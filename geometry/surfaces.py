@@ -46,6 +46,37 @@ def _axis_frame(axis: np.ndarray) -> np.ndarray:
     return frame_matrix(e1, e2, axis)
 
 
+class _Revolved(Surface):
+    """Shared projection of the surfaces of revolution (cylinder, cone, torus): each point is
+    taken to its meridian half-plane (rho, t) in the local frame (e1, e2, axis), the subclass's
+    ``_meridian_foot`` solves the 2D problem there, and the answer is turned back about the axis.
+    Parameters: (angle about the axis from e1, the subclass's second parameter)."""
+
+    def _meridian_foot(self, rho: np.ndarray, t: np.ndarray) -> tuple[Any, Any, Any, Any, np.ndarray, np.ndarray]:
+        """Closest point (rho_c, t_c), unit normal (n_rho, n_t), signed distance and second
+        parameter for meridian-plane points (rho, t); the first four may be scalars."""
+        raise NotImplementedError
+
+    def project(self, points: Any) -> Projection:
+        pts, _ = as_points(points)
+        n = len(pts)
+        frame = self._frame
+        closest = np.empty((n, 3))
+        normals = np.empty((n, 3))
+        dist = np.empty(n)
+        uv = np.empty((n, 2))
+        for s in blocks(n):
+            x, y, t = to_local(pts[s], frame, self._o)
+            rho, cx, cy = unit_radial(x, y)
+            rc, tc, nr, nt, d, v = self._meridian_foot(rho, t)
+            to_global3(nr * cx, nr * cy, nt, frame, None, normals[s])
+            to_global3(rc * cx, rc * cy, tc, frame, self._o, closest[s])
+            dist[s] = d
+            uv[s, 0] = np.arctan2(cy, cx)
+            uv[s, 1] = v
+        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
+
+
 # ---------------------------------------------------------------------------------------
 # plane
 # ---------------------------------------------------------------------------------------
@@ -173,7 +204,7 @@ class Sphere(Surface):
 
 @register_primitive
 @dataclass(frozen=True)
-class Cylinder(Surface):
+class Cylinder(_Revolved):
     """Infinite circular cylinder of ``radius`` about the line through ``origin`` along
     ``axis``; parameters (angle about the axis from e1, axial coordinate from the origin)."""
 
@@ -198,24 +229,9 @@ class Cylinder(Surface):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "cylinder", "origin": list(self.origin), "axis": list(self.axis), "radius": self.radius}
 
-    def project(self, points: Any) -> Projection:
-        pts, _ = as_points(points)
-        n = len(pts)
+    def _meridian_foot(self, rho: np.ndarray, t: np.ndarray) -> tuple[Any, Any, Any, Any, np.ndarray, np.ndarray]:
         R = self.radius
-        frame = self._frame
-        closest = np.empty((n, 3))
-        normals = np.empty((n, 3))
-        dist = np.empty(n)
-        uv = np.empty((n, 2))
-        for s in blocks(n):
-            x, y, t = to_local(pts[s], frame, self._o)
-            rho, cx, cy = unit_radial(x, y)
-            to_global3(cx, cy, 0, frame, None, normals[s])
-            to_global3(R * cx, R * cy, t, frame, self._o, closest[s])
-            np.subtract(rho, R, out=dist[s])
-            uv[s, 0] = np.arctan2(cy, cx)
-            uv[s, 1] = t
-        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
+        return R, t, 1.0, 0.0, rho - R, t
 
 
 # ---------------------------------------------------------------------------------------
@@ -225,7 +241,7 @@ class Cylinder(Surface):
 
 @register_primitive
 @dataclass(frozen=True)
-class Cone(Surface):
+class Cone(_Revolved):
     """Cone about the line through ``origin`` along ``axis``: radius ``radius`` (>= 0) at the
     origin, growing along +axis as radius + t tan(half_angle), 0 < half_angle < pi/2. Only the
     nappe that carries the surface (radius >= 0, i.e. t >= t_apex = -radius / tan(half_angle))
@@ -278,45 +294,29 @@ class Cone(Surface):
     def apex(self) -> np.ndarray:
         return self._apex
 
-    def project(self, points: Any) -> Projection:
-        pts, _ = as_points(points)
-        n = len(pts)
+    def _meridian_foot(self, rho: np.ndarray, t: np.ndarray) -> tuple[Any, Any, Any, Any, np.ndarray, np.ndarray]:
         R, sa, ca, ta = self.radius, self._sin, self._cos, self._t_apex
-        frame = self._frame
-        closest = np.empty((n, 3))
-        normals = np.empty((n, 3))
-        dist = np.empty(n)
-        uv = np.empty((n, 2))
-        for s in blocks(n):
-            x, y, t = to_local(pts[s], frame, self._o)
-            rho, cx, cy = unit_radial(x, y)
-            # signed distance to the generator line, written without the apex coordinate so that
-            # small half-angles (apex far away) keep full accuracy near the surface
-            dg = rho * ca - t * sa - R * ca
-            # closest point on the generator line: q - dg m
-            rc = rho - dg * ca
-            tc = t + dg * sa
-            apex = rc <= 0.0  # foot at or behind the apex: the apex is the closest point
-            if apex.any():
-                da, nr_a, nt_a = unit_radial(rho[apex], t[apex] - ta)  # p - apex in (rho, t)
-                at = da == 0.0  # the apex itself: the generator's normal in the e1 half-plane
-                nr_a[at] = ca
-                nt_a[at] = -sa
-                nr = np.full_like(rho, ca)  # meridian normal (rho, t) components
-                nt = np.full_like(rho, -sa)
-                nr[apex] = nr_a
-                nt[apex] = nt_a
-                dg[apex] = da
-                rc[apex] = 0.0
-                tc[apex] = ta
-                to_global3(nr * cx, nr * cy, nt, frame, None, normals[s])
-            else:
-                to_global3(ca * cx, ca * cy, -sa, frame, None, normals[s])
-            to_global3(rc * cx, rc * cy, tc, frame, self._o, closest[s])
-            dist[s] = dg
-            uv[s, 0] = np.arctan2(cy, cx)
-            uv[s, 1] = tc
-        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
+        # signed distance to the generator line, written without the apex coordinate so that
+        # small half-angles (apex far away) keep full accuracy near the surface
+        dg = rho * ca - t * sa - R * ca
+        # closest point on the generator line: q - dg m
+        rc = rho - dg * ca
+        tc = t + dg * sa
+        apex = rc <= 0.0  # foot at or behind the apex: the apex is the closest point
+        if not apex.any():
+            return rc, tc, ca, -sa, dg, tc
+        da, nr_a, nt_a = unit_radial(rho[apex], t[apex] - ta)  # p - apex in (rho, t)
+        at = da == 0.0  # the apex itself: the generator's normal in the e1 half-plane
+        nr_a[at] = ca
+        nt_a[at] = -sa
+        nr = np.full_like(rho, ca)  # meridian normal (rho, t) components
+        nt = np.full_like(rho, -sa)
+        nr[apex] = nr_a
+        nt[apex] = nt_a
+        dg[apex] = da
+        rc[apex] = 0.0
+        tc[apex] = ta
+        return rc, tc, nr, nt, dg, tc
 
 
 # ---------------------------------------------------------------------------------------
@@ -326,7 +326,7 @@ class Cone(Surface):
 
 @register_primitive
 @dataclass(frozen=True)
-class Torus(Surface):
+class Torus(_Revolved):
     """Torus about ``origin`` and ``axis``: core circle of ``major_radius`` in the plane normal to
     the axis, tube of ``minor_radius`` (0 < minor_radius <= major_radius). Normals point away from
     the core circle. Parameters: (angle about the axis from e1, angle about the core circle from
@@ -366,24 +366,9 @@ class Torus(Surface):
             "minor_radius": self.minor_radius,
         }
 
-    def project(self, points: Any) -> Projection:
-        pts, _ = as_points(points)
-        n = len(pts)
+    def _meridian_foot(self, rho: np.ndarray, h: np.ndarray) -> tuple[Any, Any, Any, Any, np.ndarray, np.ndarray]:
         R, r = self.major_radius, self.minor_radius
-        frame = self._frame
-        closest = np.empty((n, 3))
-        normals = np.empty((n, 3))
-        dist = np.empty(n)
-        uv = np.empty((n, 2))
-        for s in blocks(n):
-            x, y, h = to_local(pts[s], frame, self._o)
-            rho, cx, cy = unit_radial(x, y)
-            dq, nr, nh = unit_radial(rho - R, h)  # on the core circle: (1, 0), away from the axis
-            rc = nr * r
-            rc += R
-            to_global3(nr * cx, nr * cy, nh, frame, None, normals[s])
-            to_global3(rc * cx, rc * cy, r * nh, frame, self._o, closest[s])
-            np.subtract(dq, r, out=dist[s])
-            uv[s, 0] = np.arctan2(cy, cx)
-            uv[s, 1] = np.arctan2(nh, nr)
-        return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
+        dq, nr, nh = unit_radial(rho - R, h)  # on the core circle: (1, 0), away from the axis
+        rc = nr * r
+        rc += R
+        return rc, r * nh, nr, nh, dq - r, np.arctan2(nh, nr)
