@@ -404,27 +404,30 @@ def _dot_bounds(alo, ahi, blo, bhi) -> tuple[np.ndarray, np.ndarray]:
     return prods.min(axis=0).sum(axis=1), prods.max(axis=0).sum(axis=1)
 
 
-def _box_levels(lo: np.ndarray, hi: np.ndarray, branch: int) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Bounding-box hierarchy over cells in a spatially coherent order: each level's box i
-    bounds boxes ``i * branch .. (i + 1) * branch - 1`` of the level below; top level first."""
-    levels = [(lo, hi)]
-    while len(levels[-1][0]) > branch:
-        l, h = levels[-1]
-        m = -(-len(l) // branch)
-        pad = m * branch - len(l)
-        l = np.concatenate([l, np.full((pad, 3), np.inf)]).reshape(m, branch, 3).min(axis=1)
-        h = np.concatenate([h, np.full((pad, 3), -np.inf)]).reshape(m, branch, 3).max(axis=1)
-        levels.append((l, h))
+def _box_levels(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, branch: int, margin: float) -> list[tuple]:
+    """Hierarchy of oriented boxes (see :func:`_oriented_boxes`) over cells with control
+    nets ``pts`` (n, m, 3) in a spatially coherent order: a node of a level bounds the
+    cells of ``branch`` consecutive nodes of the level below (its frame from their summed
+    directions); top level first, the cells' own boxes last."""
+    def unit(v):
+        return v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
+
+    levels = [_oriented_boxes(pts, e1, e2, margin)]
+    e1, e2 = levels[0][1][:, 0], levels[0][1][:, 1]
+    while len(pts) > branch:
+        m = -(-len(pts) // branch)
+        fill = np.arange(m * branch) % len(pts)  # pad with repeated cells (harmless)
+        pts = pts[fill].reshape(m, -1, 3)
+        e1 = unit(e1[fill].reshape(m, branch, 3).sum(axis=1))
+        e2 = unit(e2[fill].reshape(m, branch, 3).sum(axis=1))
+        levels.append(_oriented_boxes(pts, e1, e2, margin))
+        e1, e2 = levels[-1][1][:, 0], levels[-1][1][:, 1]
     return levels[::-1]
 
 
-def _candidate_cells(
-    p: np.ndarray, bound2: np.ndarray, levels: list[tuple[np.ndarray, np.ndarray]], branch: int, oriented
-) -> tuple[np.ndarray, np.ndarray]:
+def _candidate_cells(p: np.ndarray, bound2: np.ndarray, levels: list[tuple], branch: int) -> tuple[np.ndarray, np.ndarray]:
     """All (point, cell) pairs whose box lies closer to the point than ``sqrt(bound2)``
-    (branch and bound down the box hierarchy, vectorised over flat pair arrays; the cells
-    themselves by their oriented boxes ``oriented``, see :func:`_oriented_boxes`)."""
-    origin, R, olo, ohi = oriented
+    (branch and bound down the box hierarchy, vectorised over flat pair arrays)."""
     out_p, out_c = [], []
     kids = np.arange(branch)
     for i0 in range(0, len(p), _PAIR_CHUNK):
@@ -432,20 +435,16 @@ def _candidate_cells(
         n_top = len(levels[0][0])
         pi = np.repeat(np.arange(len(pc)), n_top)
         ni = np.tile(np.arange(n_top), len(pc))
-        for depth, (lo, hi) in enumerate(levels):
+        for depth, (origin, R, lo, hi) in enumerate(levels):
             if depth:
                 pi = np.repeat(pi, branch)
                 ni = (ni[:, None] * branch + kids).ravel()
                 ok = ni < len(lo)
                 pi, ni = pi[ok], ni[ok]
-            q = pc[pi]
+            q = np.einsum("nkj,nj->nk", R[ni], pc[pi] - origin[ni])
             gap = np.maximum(lo[ni] - q, 0.0) + np.maximum(q - hi[ni], 0.0)
             keep = _rowdot(gap, gap) < bc[pi]
             pi, ni = pi[keep], ni[keep]
-        q = np.einsum("nkj,nj->nk", R[ni], pc[pi] - origin[ni])
-        gap = np.maximum(olo[ni] - q, 0.0) + np.maximum(q - ohi[ni], 0.0)
-        keep = _rowdot(gap, gap) < bc[pi]
-        pi, ni = pi[keep], ni[keep]
         out_p.append(pi + i0)
         out_c.append(ni)
     return np.concatenate(out_p), np.concatenate(out_c)
@@ -458,11 +457,11 @@ def _best_per_point(pi: np.ndarray, f: np.ndarray) -> np.ndarray:
     return order[np.r_[True, ps[1:] != ps[:-1]]]
 
 
-def _in_chunks(fn, p: np.ndarray, start: np.ndarray):
-    """``fn(p, None, start)`` over blocks of ``_BLOCK`` rows, results concatenated."""
+def _in_chunks(fn, p: np.ndarray, start: np.ndarray, lo: np.ndarray, hi: np.ndarray):
+    """``fn(p, None, start, (lo, hi))`` over blocks of ``_BLOCK`` rows, results concatenated."""
     if len(p) <= _BLOCK:
-        return fn(p, None, start)
-    parts = [fn(p[i : i + _BLOCK], None, start[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
+        return fn(p, None, start, (lo, hi))
+    parts = [fn(p[i : i + _BLOCK], None, start[i : i + _BLOCK], (lo[i : i + _BLOCK], hi[i : i + _BLOCK])) for i in range(0, len(p), _BLOCK)]
     if isinstance(parts[0], dict):
         return {k: np.concatenate([x[k] for x in parts]) for k in parts[0]}
     return tuple(
@@ -760,7 +759,8 @@ class BSplineCurve(Curve):
         pts = ctrl[..., :3] / ctrl[..., 3:] if self.weights is not None else ctrl[..., :3]
         chord = pts[:, -1] - pts[:, 0]
         bend = pts.mean(axis=1) - 0.5 * (pts[:, -1] + pts[:, 0])
-        oriented = _oriented_boxes(pts, chord, bend, margin)
+        levels = _box_levels(pts, chord, bend, 8, margin)
+        oriented = levels[-1]
         # the direction of C' over the cell: C' = (A' w - A w') / w^2 for C = A / w, whose
         # numerator is a polynomial of degree <= 2k - 2 (k - 1 without weights); its Bezier
         # net bounds it, in the cell's frame
@@ -769,7 +769,7 @@ class BSplineCurve(Curve):
         H0, H1 = self._spline(x), self._spline(x, 1)
         N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if self.weights is not None else H1[:, :3]
         N = np.einsum("lm,cmd->cld", _bernstein_inverse(kn), N.reshape(len(edges) - 1, kn + 1, 3))
-        return _box_levels(lo, hi, 8), edges, oriented, _frame_boxes(N, oriented[1])
+        return levels, edges, oriented, _frame_boxes(N, oriented[1])
 
     def _global_check(self, p, t, C, C1):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
@@ -778,7 +778,7 @@ class BSplineCurve(Curve):
         levels, edges, oriented, (nlo, nhi) = self._cells
         r = C - p
         ub2 = _rowdot(r, r)
-        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 8, oriented)
+        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 8)
         if len(pi) == 0:
             return t, C, C1
         n_cells = len(edges) - 1
@@ -786,7 +786,10 @@ class BSplineCurve(Curve):
         gap = np.abs(ci - found[pi])
         if self.periodic:
             gap = np.minimum(gap, n_cells - gap)
-        keep = gap > _SAME_BASIN
+        # the found cell is searched again only where the answer lies on its end (an end of
+        # the curve, a kink, or Newton pushed there from a minimum inside it)
+        inner = (t > edges[found]) & (t < edges[found + 1])
+        keep = (gap > _SAME_BASIN) | ~inner[pi]
         if len(self._kinks) == 0:
             # a cell where f' = C'.(C - p) keeps one sign holds no minimum of its own: the
             # smallest distance on it is at an end it shares with a neighbouring cell
@@ -795,15 +798,17 @@ class BSplineCurve(Curve):
             origin, R, olo, ohi = oriented
             q = np.einsum("nkj,nj->nk", R[ci], p[pi] - origin[ci])
             low, high = _dot_bounds(nlo[ci], nhi[ci], olo[ci] - q, ohi[ci] - q)
-            has_lo = np.ones(len(ci), bool) if self.periodic else ci > 0
-            has_hi = np.ones(len(ci), bool) if self.periodic else ci < n_cells - 1
+            # ... or at the curve's end, where that end is the answer found
+            has_lo = np.ones(len(ci), bool) if self.periodic else (ci > 0) | (t[pi] == edges[ci])
+            has_hi = np.ones(len(ci), bool) if self.periodic else (ci < n_cells - 1) | (t[pi] == edges[ci + 1])
             keep &= ~(((low > 0) & has_lo) | ((high < 0) & has_hi))
         pi, ci = pi[keep], ci[keep]
         if len(pi) == 0:
             return t, C, C1
         q = p[pi]
         # start inside the cell (its middle): never on a knot, so on the cell's own piece
-        t2, C2, C12 = _in_chunks(self._closest_block, q, 0.5 * (edges[ci] + edges[ci + 1]))
+        # Newton kept inside the cell: it finds the cell's own minimum (an inner one or an end)
+        t2, C2, C12 = _in_chunks(self._closest_block, q, 0.5 * (edges[ci] + edges[ci + 1]), edges[ci], edges[ci + 1])
         f2 = _rowdot(C2 - q, C2 - q)
         first = _best_per_point(pi, f2)
         better = f2[first] < ub2[pi[first]]
@@ -819,7 +824,9 @@ class BSplineCurve(Curve):
             return _kinks(self._spline.t, self.degree, 2 * a - b, 2 * b - a)
         return _kinks(self._spline.t, self.degree, a, b)
 
-    def _closest_block(self, p: np.ndarray, j: np.ndarray, start: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _closest_block(self, p: np.ndarray, j: np.ndarray, start: np.ndarray | None = None, box=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Safeguarded Newton from sample ``j`` (or from ``start`` parameters, then kept within
+        the per-point parameter intervals ``box = (lo, hi)``)."""
         m = len(p)
         a, b = self.domain
         width = b - a
@@ -873,8 +880,12 @@ class BSplineCurve(Curve):
             new_step = np.where(acc, np.clip(dt, -0.5 * width, 0.5 * width), 0.5 * step)
             raw = t_acc + new_step
             stopped = _stop_at_kinks(t_acc, raw, kinks, _KINK_NUDGE * width)
-            new = self._wrap(stopped)
-            eff = stopped - t_acc if self.periodic else new - t_acc
+            if box is None:
+                new = self._wrap(stopped)
+                eff = stopped - t_acc if self.periodic else new - t_acc
+            else:
+                new = np.clip(stopped, box[0], box[1])
+                eff = new - t_acc
             move = np.abs(eff) * np.sqrt(speed2)
             halvings = np.where(acc, 0, halvings + 1)
             # fine phase (reuse the Hessian) while the steps are small; back to full Newton
@@ -890,6 +901,8 @@ class BSplineCurve(Curve):
                 idx, p, new, eff, t_acc, f_acc = idx[keep], p[keep], new[keep], eff[keep], t_acc[keep], f_acc[keep]
                 reach, fine, H_acc = reach[keep], fine[keep], H_acc[keep]
                 C_acc, C1_acc, halvings = C_acc[keep], C1_acc[keep], halvings[keep]
+                if box is not None:
+                    box = (box[0][keep], box[1][keep])
             trial, step = new, eff
         if len(idx):  # iteration limit: keep the best accepted point
             out_t[idx], out_C[idx], out_C1[idx] = t_acc, C_acc, C1_acc
@@ -1120,11 +1133,14 @@ class BSplineSurface(Surface):
         (ua, ub), (va, vb) = self.domain
         return _kinks(self.knots_u, self.degree_u, ua, ub), _kinks(self.knots_v, self.degree_v, va, vb)
 
-    def _newton_step(self, uv, S, Su, Sv, hess, p):
+    def _newton_step(self, uv, S, Su, Sv, hess, p, lo=None, hi=None):
         """Step solving ``hess . step = -grad`` from ``uv``; a coordinate at a bound whose
         descent points out of the domain is frozen and the 1D problem along that edge is
         solved instead (corner: both frozen). Returns (step (m, 2), frozen (m,))."""
         (ua, ub), (va, vb) = self.domain
+        near_u, near_v = 2.0 * _KINK_NUDGE * (ub - ua), 2.0 * _KINK_NUDGE * (vb - va)
+        if lo is not None:  # bounds of a sub-box (per point) instead of the domain
+            ua, va, ub, vb = lo[..., 0], lo[..., 1], hi[..., 0], hi[..., 1]
         r = S - p
         gu, gv = _rowdot(Su, r), _rowdot(Sv, r)
         huu, huv, hvv = hess[:, 0], hess[:, 1], hess[:, 2]
@@ -1141,9 +1157,9 @@ class BSplineSurface(Surface):
         # a separate basin, searched from its own start
         ku_, kv_ = self._creases
         if len(ku_):
-            fix_u |= _at_crease(u0, gu, ku_, 2.0 * _KINK_NUDGE * (ub - ua))
+            fix_u |= _at_crease(u0, gu, ku_, near_u)
         if len(kv_):
-            fix_v |= _at_crease(v0, gv, kv_, 2.0 * _KINK_NUDGE * (vb - va))
+            fix_v |= _at_crease(v0, gv, kv_, near_v)
         frozen = fix_u | fix_v
         if np.any(frozen):
             edge_u = np.where(hess[:, 3] > 1e-6 * huu, hess[:, 3], huu)
@@ -1253,7 +1269,8 @@ class BSplineSurface(Surface):
         for bit in range(16):
             key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
         order = np.argsort(key, kind="stable")
-        oriented = _oriented_boxes(pts[order], along_u[order], along_v[order], margin)
+        levels = _box_levels(pts[order], along_u[order], along_v[order], 16, margin)
+        oriented = levels[-1]
         # directions of S_u and S_v over each cell: numerators A_u w - A w_u (degree
         # <= 2 ku - 1 in u, 2 kv in v; ku - 1, kv without weights) by their Bezier nets
         rational = self.weights is not None
@@ -1270,7 +1287,7 @@ class BSplineSurface(Surface):
             N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if rational else H1[:, :3]
             N = np.einsum("am,bn,cmnd->cabd", _bernstein_inverse(du), _bernstein_inverse(dv), N.reshape(cu * cv, du + 1, dv + 1, 3))
             tangent_boxes.append(_frame_boxes(N.reshape(cu * cv, -1, 3)[order], oriented[1]))
-        return _box_levels(lo[order], hi[order], 16), su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
+        return levels, su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
 
     def _global_check(self, p, uv, d):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
@@ -1279,13 +1296,16 @@ class BSplineSurface(Surface):
         levels, su, sv, cell_ij, oriented, tangent_boxes = self._cells
         r = d[(0, 0)] - p
         ub2 = _rowdot(r, r)
-        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 16, oriented)
+        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 16)
         if len(pi) == 0:
             return uv, d
         fi = np.clip(np.searchsorted(su, uv[:, 0], side="right") - 1, 0, len(su) - 2)
         fj = np.clip(np.searchsorted(sv, uv[:, 1], side="right") - 1, 0, len(sv) - 2)
         ci_i, ci_j = cell_ij[ci, 0], cell_ij[ci, 1]
-        keep = (np.abs(ci_i - fi[pi]) > _SAME_BASIN) | (np.abs(ci_j - fj[pi]) > _SAME_BASIN)
+        # the found cell is searched again only where the answer lies on its edge (an edge of
+        # the surface, a crease, or Newton pushed there from a minimum inside it)
+        inner = (uv[:, 0] > su[fi]) & (uv[:, 0] < su[fi + 1]) & (uv[:, 1] > sv[fj]) & (uv[:, 1] < sv[fj + 1])
+        keep = (np.abs(ci_i - fi[pi]) > _SAME_BASIN) | (np.abs(ci_j - fj[pi]) > _SAME_BASIN) | ~inner[pi]
         # a cell where f_u = S_u.(S - p) (or f_v) keeps one sign holds no minimum of its own:
         # the smallest distance on it lies on an edge it shares with a neighbouring cell
         # (checked there; f_u is continuous across C1 knot lines, so two neighbours cannot
@@ -1294,20 +1314,28 @@ class BSplineSurface(Surface):
         q = np.einsum("nkj,nj->nk", R[ci], p[pi] - origin[ci])
         slo, shi = olo[ci] - q, ohi[ci] - q
         (ua, ub), (va, vb) = self.domain
-        for (tlo, thi), idx, n_axis, smooth in (
-            (tangent_boxes[0], ci_i, len(su) - 1, len(_kinks(self.knots_u, self.degree_u, ua, ub)) == 0),
-            (tangent_boxes[1], ci_j, len(sv) - 1, len(_kinks(self.knots_v, self.degree_v, va, vb)) == 0),
+        # ... or at the domain's edge, where the answer found is on that edge in this cell
+        same = (ci_i == fi[pi]) & (ci_j == fj[pi])
+        creases = self._creases
+        for (tlo, thi), idx, axis_s, x, smooth in (
+            (tangent_boxes[0], ci_i, su, uv[pi, 0], len(creases[0]) == 0),
+            (tangent_boxes[1], ci_j, sv, uv[pi, 1], len(creases[1]) == 0),
         ):
             if smooth:
                 low, high = _dot_bounds(tlo[ci], thi[ci], slo, shi)
-                keep &= ~(((low > 0) & (idx > 0)) | ((high < 0) & (idx < n_axis - 1)))
+                has_lo = (idx > 0) | (same & (x == axis_s[idx]))
+                has_hi = (idx < len(axis_s) - 2) | (same & (x == axis_s[idx + 1]))
+                keep &= ~(((low > 0) & has_lo) | ((high < 0) & has_hi))
         pi, ci_i, ci_j = pi[keep], ci_i[keep], ci_j[keep]
         if len(pi) == 0:
             return uv, d
         q = p[pi]
         # start inside the cell (its middle): never on a knot line, so on the cell's own patch
         mid = np.column_stack([0.5 * (su[ci_i] + su[ci_i + 1]), 0.5 * (sv[ci_j] + sv[ci_j + 1])])
-        uv2, d2 = _in_chunks(self._closest_block, q, mid)
+        # Newton kept inside the cell: it finds the cell's own minimum (inner, edge or corner)
+        lo = np.column_stack([su[ci_i], sv[ci_j]])
+        hi = np.column_stack([su[ci_i + 1], sv[ci_j + 1]])
+        uv2, d2 = _in_chunks(self._closest_block, q, mid, lo, hi)
         f2 = _rowdot(d2[(0, 0)] - q, d2[(0, 0)] - q)
         first = _best_per_point(pi, f2)
         better = f2[first] < ub2[pi[first]]
@@ -1319,12 +1347,16 @@ class BSplineSurface(Surface):
             d[nu][rows] = d2[nu][src_]
         return uv, d
 
-    def _closest_block(self, p: np.ndarray, j: np.ndarray, start: np.ndarray | None = None) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
+    def _closest_block(self, p: np.ndarray, j: np.ndarray, start: np.ndarray | None = None, box=None) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
+        """Safeguarded Newton from grid sample ``j`` (or from ``start`` parameters, then kept
+        within the per-point parameter boxes ``box = (lo, hi)``, each (m, 2))."""
         m = len(p)
         (ua, ub), (va, vb) = self.domain
         lo = np.array([ua, va])
         hi = np.array([ub, vb])
         half = 0.5 * (hi - lo)
+        if box is not None:
+            lo, hi = box
         tol = _STRICT * self.scale
         out_uv = np.empty((m, 2))
         out = np.empty((m, 9))  # S, S_u, S_v
@@ -1374,7 +1406,7 @@ class BSplineSurface(Surface):
                 f_acc = np.where(acc, f, f_acc)
                 val_acc = np.where(acc2, val, val_acc)
                 H_acc = np.where(acc2, H, H_acc)
-            dstep, frozen = self._newton_step(uv_acc, S, Su, Sv, H, p)
+            dstep, frozen = self._newton_step(uv_acc, S, Su, Sv, H, p, lo, hi)
             shrink = np.min(np.where(np.abs(dstep) > half, half / np.maximum(np.abs(dstep), 1e-300), 1.0), axis=1)
             new_step = np.where(acc[:, None], dstep * shrink[:, None], 0.5 * step)
             raw = uv_acc + new_step
@@ -1408,6 +1440,8 @@ class BSplineSurface(Surface):
                 keep = ~done
                 idx, p, new, eff, uv_acc, f_acc = idx[keep], p[keep], new[keep], eff[keep], uv_acc[keep], f_acc[keep]
                 reach, halvings, fine, H_acc, val_acc = reach[keep], halvings[keep], fine[keep], H_acc[keep], val_acc[keep]
+                if box is not None:
+                    lo, hi = lo[keep], hi[keep]
             trial, step = new, eff
         if len(idx):  # iteration limit: keep the best accepted point
             out_uv[idx] = uv_acc
