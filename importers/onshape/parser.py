@@ -531,18 +531,30 @@ def _mesh_face(fid, kind, surface, mesh_data, body_id, loops, notes, orientation
                 loops=loops, body_id=body_id, vertex_normals=VN, notes=tuple(wnotes) + tuple(notes))
 
 
+def _convert(convert, desc, path: str, check, what: str, item_id: str, unsupported):
+    """``convert(desc, path, check)`` -> (primitive, kind, note, None). A malformed description
+    raises OnshapeFormatError; one whose primitive the geometry package lacks is recorded in
+    ``unsupported`` and gives (None, kind, None, name of the missing primitive)."""
+    try:
+        primitive, kind, note = convert(desc, path, check)
+    except _Fail as exc:
+        raise OnshapeFormatError(f"{DETAILS_FILE}: {exc.path}: {exc.message}") from None
+    except _Unavailable as exc:
+        kind = LEGACY_NAMES.get(desc.type, desc.type)
+        unsupported.setdefault(f"{what} {kind} (no {exc.args[0]} primitive in geometry)", []).append(item_id)
+        return None, kind, None, exc.args[0]
+    return primitive, kind, note, None
+
+
 def _make_face(mf: M.ModelFace, body_id: str, mesh_data, path: str, part: Part, unsupported) -> Face:
     loops = tuple(Loop(coedges=tuple(Coedge(c.edgeId, c.orientation) for c in lp.coedges), is_outer=lp.outer)
                   for lp in mf.loops)
     check = mesh_data[0] if mesh_data is not None else None
-    try:
-        surface, kind, note = surface_primitive(mf.surface, f"{path}.surface", check)
-    except _Fail as exc:
-        raise OnshapeFormatError(f"{DETAILS_FILE}: {exc.path}: {exc.message}") from None
-    except _Unavailable as exc:
-        kind = LEGACY_NAMES.get(mf.surface.type, mf.surface.type)
-        surface, note = None, f"geometry has no {exc.args[0]!r} primitive: kept as tessellation-only"
-        unsupported.setdefault(f"surface {kind} (no {exc.args[0]} primitive in geometry)", []).append(mf.id)
+    surface, kind, note, missing = _convert(
+        surface_primitive, mf.surface, f"{path}.surface", check, "surface", mf.id, unsupported
+    )
+    if missing is not None:
+        note = f"geometry has no {missing!r} primitive: kept as tessellation-only"
         return _mesh_face(mf.id, kind, None, mesh_data, body_id, loops, [note])
     notes = [note] if note else []
     if surface is None:
@@ -580,15 +592,10 @@ def _make_edge(me: M.ModelEdge, body_id: str, polyline, path: str, part: Part, u
         return Edge(me.id, "UNKNOWN", None, polyline, start, end, g.length if g else None, body_id)
     pts = [p for p in ((g.startPoint, g.midPoint, g.quarterPoint, g.endPoint) if g else ()) if p is not None]
     check = np.vstack([np.asarray(pts, float).reshape(-1, 3), polyline]) if (pts or len(polyline)) else None
-    try:
-        curve, kind, note = curve_primitive(me.curve, f"{path}.curve", check)
-    except _Fail as exc:
-        raise OnshapeFormatError(f"{DETAILS_FILE}: {exc.path}: {exc.message}") from None
-    except _Unavailable as exc:
-        kind = LEGACY_NAMES.get(me.curve.type, me.curve.type)
-        unsupported.setdefault(f"curve {kind} (no {exc.args[0]} primitive in geometry)", []).append(me.id)
+    curve, kind, note, missing = _convert(curve_primitive, me.curve, f"{path}.curve", check, "curve", me.id, unsupported)
+    if missing is not None:
         return Edge(me.id, kind, None, polyline, start, end, g.length if g else None, body_id,
-                    notes=(f"geometry has no {exc.args[0]!r} primitive",))
+                    notes=(f"geometry has no {missing!r} primitive",))
     if curve is None:
         label = kind if kind in TESSELLATION_ONLY_CURVES else f"{kind} (unknown curve type)"
         unsupported.setdefault(f"curve {label}", []).append(me.id)
