@@ -49,15 +49,13 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .contact import ContactGeometry, contact_geometry, contact_quadrature, grid_breakpoints, sample_points
-from .ibfem import IBFEMSolution, Settings, _essential, _rigid_modes_check, discretise_body
-from .problem import BodyForce, Pressure, Traction
+from .ibfem import IBFEMSolution, Settings, boundary_terms, discretise_body, essential_reactions, rigid_modes_check
 from .step_boundary import (
     PENALTY_FACTOR,
     BoundaryPoints,
     acoustic_tensor,
     projector,
     thin_band_terms,
-    thin_band_traction,
 )
 
 __all__ = ["ContactSettings", "solve_contact", "resolve_contact_point", "single_threaded_blas"]
@@ -732,41 +730,6 @@ class _RegionTooSmall(Exception):
 # ---------------------------------------------------------------------------------- solve
 
 
-def _essential_terms(problem, bodies, settings: Settings):
-    by_name = {b.name: b for b in bodies}
-    names = [b.name for b in bodies]
-    n = bodies[0].n_total
-    k = sp.csr_matrix((n, n))
-    f = np.zeros(n)
-    essentials = []
-    for j, bc in enumerate(problem.boundary_conditions):
-        if bc.body not in by_name:
-            raise ValueError(f"boundary_conditions[{j}].body: unknown body {bc.body!r}; bodies: {', '.join(names)}")
-        b = by_name[bc.body]
-        if isinstance(bc, BodyForce):
-            f += b.body_force(bc.value)
-            continue
-        bp = b.edge_points(bc.edge, settings.boundary_order)
-        ess = _essential(bc, names)
-        if ess is not None:
-            kind, free, target_of = ess
-            proj = projector(kind, bp.normals, free)
-            target = target_of(bp.normals)
-            kb, fa = thin_band_terms(bp, proj, target, b.lam, b.mu, settings.band_fraction, settings.consistency)
-            k = k + kb
-            f += fa
-            essentials.append((f"{bc.body}/{bc.edge}", b, bp, proj, target))
-        elif isinstance(bc, Traction):
-            tr = np.broadcast_to(np.asarray(bc.value, dtype=float), bp.normals.shape)
-            f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
-        elif isinstance(bc, Pressure):
-            tr = -float(bc.value) * bp.normals
-            f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
-        else:
-            raise ValueError(f"boundary_conditions[{j}]: unsupported condition type {type(bc).__name__}")
-    return k.tocsr(), f, essentials
-
-
 def _setup_contact(model, geom, b1, b2, settings: ContactSettings) -> _Contact:
     s_plus, s_minus = geom.s_limits
     bk = grid_breakpoints(geom, (b1.grid, b2.grid), -s_minus, s_plus)
@@ -873,7 +836,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     report("assembly", 0.2)
     t = time.perf_counter()
     k0 = sp.block_diag([b.stiffness(core.fictitious_stiffness) for b in bodies], format="csr")
-    k_ess, f0, essentials = _essential_terms(problem, bodies, core)
+    k_ess, f0, essentials = boundary_terms(problem, bodies, core, sp.csr_matrix((n, n)))
     k0 = (k0 + k_ess).tocsr()
     contacts = []
     for cm, p in zip(problem.contacts, points):
@@ -888,13 +851,13 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     t = time.perf_counter()
     base = [0.0] * len(contacts)
     try:
-        _rigid_modes_check(k0, bodies)
+        rigid_modes_check(k0, bodies)
     except ValueError:
         base = [2.0 * c.h for c in contacts]
         for c, a0 in zip(contacts, base):
             kc, _, _ = _terms(c, a0, settings)
             k0 = k0 + _embed(kc, c.dofs, n)
-        _rigid_modes_check(k0, bodies)  # still singular: a genuine rigid-body motion
+        rigid_modes_check(k0, bodies)  # still singular: a genuine rigid-body motion
     dofs = np.unique(np.concatenate([c.dofs for c in contacts]))
     m = len(dofs)
     where = [np.searchsorted(dofs, c.dofs) for c in contacts]
@@ -1101,12 +1064,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         res = f_full - k_full @ u
     residual = float(np.linalg.norm(res) / max(np.linalg.norm(f_full), 1e-300))
 
-    reactions: dict[str, np.ndarray] = {}
-    tractions = {}
-    for key, b, bp, proj, target in essentials:
-        tr = thin_band_traction(bp, proj, lam * target, b.lam, b.mu, u, core.band_fraction, core.consistency)
-        reactions[key] = reactions.get(key, np.zeros(2)) + (tr * bp.weights[:, None]).sum(axis=0)
-        tractions[key] = (bp.points, bp.weights, tr)
+    reactions, tractions = essential_reactions(essentials, u, core, lam)
 
     blocks = []
     for c, a, info, wh, bracket in zip(contacts, widths, infos, where, brackets):

@@ -50,6 +50,10 @@ __all__ = [
     "tessellated_boundary",
     "IBFEMSolution",
     "EssentialTerm",
+    "essential_condition",
+    "rigid_modes_check",
+    "boundary_terms",
+    "essential_reactions",
     "LinearSystem",
     "discretise",
     "assemble",
@@ -488,7 +492,7 @@ class IBFEMSolution:
 # ---------------------------------------------------------------------------------- solve
 
 
-def _essential(bc, names):
+def essential_condition(bc, names):
     """(kind, free, target) of an essential condition, or None for natural ones."""
     if isinstance(bc, Fixed):
         return "fixed", (False, False), lambda n: np.zeros_like(n)
@@ -513,7 +517,7 @@ def _finite_vector(value, where: str) -> np.ndarray:
     return v
 
 
-def _rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> None:
+def rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> None:
     """Raise ValueError when a body can move rigidly (R^T K R singular for its rigid modes)."""
     diag = np.abs(k.diagonal())
     for b in bodies:
@@ -550,11 +554,27 @@ class EssentialTerm:
     projector: np.ndarray
     target: np.ndarray
 
-    def traction(self, u: np.ndarray, settings: Settings) -> np.ndarray:
+    def traction(self, u: np.ndarray, settings: Settings, load_factor: float = 1.0) -> np.ndarray:
+        """Traction along the edge with the prescribed values scaled by ``load_factor``."""
         b = self.body
+        target = self.target if load_factor == 1.0 else load_factor * self.target
         return thin_band_traction(
-            self.points, self.projector, self.target, b.lam, b.mu, u, settings.band_fraction, settings.consistency
+            self.points, self.projector, target, b.lam, b.mu, u, settings.band_fraction, settings.consistency
         )
+
+
+def essential_reactions(
+    essentials: list[EssentialTerm], u: np.ndarray, settings: Settings, load_factor: float = 1.0
+) -> tuple[dict[str, np.ndarray], dict]:
+    """Force (2,) each essential condition exerts on its body (summed over terms with the same
+    "body/edge" key), and the (points, weights, traction) along it."""
+    reactions: dict[str, np.ndarray] = {}
+    tractions = {}
+    for e in essentials:
+        tr = e.traction(u, settings, load_factor)
+        reactions[e.key] = reactions.get(e.key, np.zeros(2)) + (tr * e.points.weights[:, None]).sum(axis=0)
+        tractions[e.key] = (e.points.points, e.points.weights, tr)
+    return reactions, tractions
 
 
 @dataclass
@@ -574,13 +594,7 @@ class LinearSystem:
 
     def reactions(self, u: np.ndarray) -> tuple[dict[str, np.ndarray], dict]:
         """Force (2,) each essential condition exerts on its body, and the tractions along it."""
-        reactions: dict[str, np.ndarray] = {}
-        tractions = {}
-        for e in self.essentials:
-            tr = e.traction(u, self.settings)
-            reactions[e.key] = reactions.get(e.key, np.zeros(2)) + (tr * e.points.weights[:, None]).sum(axis=0)
-            tractions[e.key] = (e.points.points, e.points.weights, tr)
-        return reactions, tractions
+        return essential_reactions(self.essentials, u, self.settings)
 
 
 def discretise(problem, settings: Settings, progress=None) -> list[BodyDiscretisation]:
@@ -607,8 +621,19 @@ def discretise(problem, settings: Settings, progress=None) -> list[BodyDiscretis
 def assemble(problem, bodies: list[BodyDiscretisation], settings: Settings) -> LinearSystem:
     """Volume stiffness of every body, essential conditions (thin band), tractions, pressures
     and body forces."""
-    n = bodies[0].n_total if bodies else 0
     k = sp.block_diag([b.stiffness(settings.fictitious_stiffness) for b in bodies], format="csr")
+    k, f, essentials = boundary_terms(problem, bodies, settings, k)
+    return LinearSystem(bodies, k, f, essentials, settings)
+
+
+def boundary_terms(
+    problem, bodies: list[BodyDiscretisation], settings: Settings, stiffness: sp.spmatrix
+) -> tuple[sp.csr_matrix, np.ndarray, list[EssentialTerm]]:
+    """``stiffness`` plus the thin-band terms of the essential conditions, the load vector
+    (their band loads, tractions, pressures, body forces) and the essential terms kept for
+    the reactions."""
+    n = bodies[0].n_total if bodies else 0
+    k = stiffness
     f = np.zeros(n)
     by_name = {b.name: b for b in bodies}
     names = list(by_name)
@@ -621,7 +646,7 @@ def assemble(problem, bodies: list[BodyDiscretisation], settings: Settings) -> L
             f += b.body_force(_finite_vector(bc.value, f"boundary_conditions[{j}].value"))
             continue
         bp = b.edge_points(bc.edge, settings.boundary_order)
-        ess = _essential(bc, names)
+        ess = essential_condition(bc, names)
         if ess is not None:
             ekind, free, target_of = ess
             proj = projector(ekind, bp.normals, free)
@@ -640,7 +665,7 @@ def assemble(problem, bodies: list[BodyDiscretisation], settings: Settings) -> L
             f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
         else:
             raise ValueError(f"boundary_conditions[{j}]: unsupported condition type {type(bc).__name__}")
-    return LinearSystem(bodies, k.tocsr(), f, essentials, settings)
+    return k.tocsr(), f, essentials
 
 
 def body_info(bodies: list[BodyDiscretisation]) -> dict[str, dict[str, float]]:
@@ -678,7 +703,7 @@ def solve(problem, progress: Callable[..., None] | None = None, settings: Settin
     system = assemble(problem, bodies, settings)
     timings["assembly_s"] = time.perf_counter() - t
 
-    _rigid_modes_check(system.stiffness, bodies)
+    rigid_modes_check(system.stiffness, bodies)
     report("solve", 0.6)
     t = time.perf_counter()
     u = linear_solve(system.stiffness, system.load, bodies)
