@@ -299,6 +299,20 @@ def write_plots(
     summary = json_safe(summary)  # plain lists; None where a value is missing
     written = []
 
+    def save(fig: Any, name: str) -> None:
+        path = out_dir / name
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        written.append(path)
+
+    def save_line_plot(fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str) -> None:
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title)
+        ax.legend()
+        ax.grid(alpha=0.3)
+        save(fig, name)
+
     meshes = [_body_mesh(problem, solution, b) for b in problem.bodies]
     outlines = [_outline_path(b) for b in problem.bodies]
 
@@ -346,11 +360,7 @@ def write_plots(
         return fig
 
     if meshes:
-        fig = field_figure(problem.name, None)
-        path = out_dir / "fields.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        written.append(path)
+        save(field_figure(problem.name, None), "fields.png")
         # a close-up of each contact: 4 half-widths (at least 8 of the finest cells) around it
         finest = min(float(d.get("min_element_size") or b.element_size)
                      for b, d in zip(problem.bodies, (summary["bodies"].get(b.name, {}) for b in problem.bodies)))
@@ -360,10 +370,7 @@ def write_plots(
             half = max(4.0 * float(c.get("half_width") or 0.0), 8.0 * finest)
             px, py = c["point"]
             fig = field_figure(f"{problem.name}, contact {k}", (px - half, px + half, py - half, py + half))
-            path = out_dir / f"contact_{k}_fields.png"
-            fig.savefig(path, dpi=110)
-            plt.close(fig)
-            written.append(path)
+            save(fig, f"contact_{k}_fields.png")
 
     for name, line in summary.get("lines", {}).items():
         s = np.asarray(line.get("s") or np.linalg.norm(np.subtract(line["points"], line["points"][0]), axis=1), dtype=float)
@@ -373,15 +380,9 @@ def write_plots(
         for k, lab in enumerate(("sxx", "syy", "sxy")):
             ax.plot(s, stress[:, k], label=lab)
         ax.plot(s, vm, "k", lw=2, label="von Mises")
-        ax.set_xlabel("distance along the line [m]")
-        ax.set_ylabel("stress [Pa]")
-        ax.set_title(f"{problem.name}: line {name}")
-        ax.legend()
-        ax.grid(alpha=0.3)
-        path = out_dir / f"line_{_file_stem(name)}.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        written.append(path)
+        save_line_plot(
+            fig, ax, "distance along the line [m]", "stress [Pa]", f"{problem.name}: line {name}", f"line_{_file_stem(name)}.png"
+        )
 
     for k, c in enumerate(summary.get("contacts", [])):
         pressure, shear = c.get("pressure") or {}, c.get("shear") or {}
@@ -392,15 +393,8 @@ def write_plots(
             ax.plot(np.asarray(pressure["s"], float), np.asarray(pressure["value"], float), label="pressure")
         if shear.get("s"):
             ax.plot(np.asarray(shear["s"], float), np.asarray(shear["value"], float), label="shear")
-        ax.set_xlabel("s along the contact curve [m]")
-        ax.set_ylabel("traction [Pa]")
-        ax.set_title(f"{problem.name}: contact {' / '.join(c.get('bodies', []))}")
-        ax.legend()
-        ax.grid(alpha=0.3)
-        path = out_dir / f"contact_{k}.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        written.append(path)
+        title = f"{problem.name}: contact {' / '.join(c.get('bodies', []))}"
+        save_line_plot(fig, ax, "s along the contact curve [m]", "traction [Pa]", title, f"contact_{k}.png")
     return written
 
 
