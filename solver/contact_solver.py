@@ -49,7 +49,16 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .contact import ContactGeometry, contact_geometry, contact_quadrature, grid_breakpoints, sample_points
-from .ibfem import IBFEMSolution, Settings, boundary_terms, discretise_body, essential_reactions, rigid_modes_check
+from .ibfem import (
+    IBFEMSolution,
+    Settings,
+    body_info,
+    boundary_terms,
+    discretise_body,
+    essential_reactions,
+    number_dofs,
+    rigid_modes_check,
+)
 from .step_boundary import (
     PENALTY_FACTOR,
     BoundaryPoints,
@@ -823,13 +832,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         report(f"grid {body.name}", 0.2 * i / len(problem.bodies))
         mine = [p for cm, p in zip(problem.contacts, points) if body.name in cm.bodies]
         bodies.append(discretise_body(_resolved_body(body, mine), i, problem.model, opts.exact_geometry, core))
-    offset = 0
-    for b in bodies:
-        b.dof_offset = offset
-        offset += b.n_dofs
-    for b in bodies:
-        b.n_total = offset
-    n = offset
+    n = number_dofs(bodies)
     by_name = {b.name: b for b in bodies}
     timings["grid_s"] = time.perf_counter() - t
 
@@ -1102,15 +1105,6 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
     timings["results_s"] = time.perf_counter() - t
     timings["total_s"] = time.perf_counter() - t_start
     report("done", 1.0)
-    info = {
-        b.name: {
-            "elements": int(len(b.grid.level)),
-            "dofs": int(b.n_dofs),
-            "element_size": float(b.element_size),
-            "min_element_size": float(b.grid.min_size),
-        }
-        for b in bodies
-    }
     iterations = {
         "total": int(sum(per_step)),
         "per_step": per_step,
@@ -1126,7 +1120,7 @@ def _solve_contact(problem, progress, settings) -> IBFEMSolution:
         bodies=bodies,
         u=u,
         converged=bool(converged and np.isfinite(u).all() and residual < 1e-6),
-        body_info=info,
+        body_info=body_info(bodies),
         reactions=reactions,
         iterations=iterations,
         timings=timings,

@@ -56,6 +56,7 @@ __all__ = [
     "essential_reactions",
     "LinearSystem",
     "discretise",
+    "number_dofs",
     "assemble",
     "body_info",
     "linear_solve",
@@ -608,6 +609,12 @@ def discretise(problem, settings: Settings, progress=None) -> list[BodyDiscretis
     for i, body in enumerate(problem.bodies):
         report(f"grid {body.name}", 0.4 * i / len(problem.bodies))
         bodies.append(discretise_body(body, i, problem.model, problem.options.exact_geometry, settings))
+    number_dofs(bodies)
+    return bodies
+
+
+def number_dofs(bodies: list[BodyDiscretisation]) -> int:
+    """Give each body its block of the global dof vector (in order); the total number of dofs."""
     offset = 0
     for b in bodies:
         b.dof_offset = offset
@@ -615,7 +622,7 @@ def discretise(problem, settings: Settings, progress=None) -> list[BodyDiscretis
     for b in bodies:
         b.n_total = offset
         b._dof_map = None
-    return bodies
+    return offset
 
 
 def assemble(problem, bodies: list[BodyDiscretisation], settings: Settings) -> LinearSystem:
