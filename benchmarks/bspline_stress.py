@@ -21,10 +21,9 @@ from geometry.bspline import BSplineCurve, BSplineSurface
 
 def clustered_knots(rng, count):
     """Interior knots drawn from a squared/cubed uniform distribution: clustered near 0 or 1."""
-    x = rng.uniform(0, 1, count) ** rng.choice([1.0, 2.0, 3.0])
-    if rng.random() < 0.5:
-        x = 1.0 - x
-    return np.sort(np.clip(x, 1e-3, 1 - 1e-3))
+    x = np.sort(rng.uniform(0, 1, count) ** rng.choice([1.0, 2.0, 3.0]))
+    x = 1e-3 + 0.99 * x + 1e-3 * np.arange(count) / max(count, 1)  # distinct: no C^-1 jumps
+    return np.sort(1.0 - x) if rng.random() < 0.5 else x
 
 
 def rotation(rng):

@@ -450,6 +450,12 @@ def _candidate_cells(p: np.ndarray, bound2: np.ndarray, levels: list[tuple], bra
     return np.concatenate(out_p), np.concatenate(out_c)
 
 
+def _stationary(r: np.ndarray, tangent: np.ndarray) -> np.ndarray:
+    """Where ``r = S - p`` is perpendicular to ``tangent`` up to 1e-7 (relative): a
+    converged inner minimum."""
+    return np.abs(_rowdot(r, tangent)) <= 1e-7 * np.sqrt(_rowdot(r, r) * _rowdot(tangent, tangent)) + 1e-300
+
+
 def _best_per_point(pi: np.ndarray, f: np.ndarray) -> np.ndarray:
     """Indices into the pair arrays of the smallest ``f`` of every point in ``pi``."""
     order = np.lexsort((f, pi))
@@ -788,7 +794,8 @@ class BSplineCurve(Curve):
             gap = np.minimum(gap, n_cells - gap)
         # the found cell is searched again only where the answer lies on its end (an end of
         # the curve, a kink, or Newton pushed there from a minimum inside it)
-        inner = (t > edges[found]) & (t < edges[found + 1])
+        # (or Newton stopped short of a stationary point: iteration limit)
+        inner = (t > edges[found]) & (t < edges[found + 1]) & _stationary(r, C1)
         keep = (gap > _SAME_BASIN) | ~inner[pi]
         if len(self._kinks) == 0:
             # a cell where f' = C'.(C - p) keeps one sign holds no minimum of its own: the
@@ -1304,7 +1311,9 @@ class BSplineSurface(Surface):
         ci_i, ci_j = cell_ij[ci, 0], cell_ij[ci, 1]
         # the found cell is searched again only where the answer lies on its edge (an edge of
         # the surface, a crease, or Newton pushed there from a minimum inside it)
+        # (or Newton stopped short of a stationary point: iteration limit)
         inner = (uv[:, 0] > su[fi]) & (uv[:, 0] < su[fi + 1]) & (uv[:, 1] > sv[fj]) & (uv[:, 1] < sv[fj + 1])
+        inner &= _stationary(r, d[(1, 0)]) & _stationary(r, d[(0, 1)])
         keep = (np.abs(ci_i - fi[pi]) > _SAME_BASIN) | (np.abs(ci_j - fj[pi]) > _SAME_BASIN) | ~inner[pi]
         # a cell where f_u = S_u.(S - p) (or f_v) keeps one sign holds no minimum of its own:
         # the smallest distance on it lies on an edge it shares with a neighbouring cell
