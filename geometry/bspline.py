@@ -1246,7 +1246,33 @@ class BSplineSurface(Surface):
             uv_out[k_idx] = uv2[better]
             for nu in d:
                 d[nu][k_idx] = d2[nu][better]
-        return self._global_check(p, uv_out, d)
+        uv_out, d = self._global_check(p, uv_out, d)
+        return self._snap_to_creases(p, uv_out, d)
+
+    def _snap_to_creases(self, p, uv, d):
+        """Results held a nudge short of a crease are moved onto it where that is no worse
+        (the nudge in parameter can be far from negligible in space on a short knot span)."""
+        (ua, ub), (va, vb) = self.domain
+        snapped = uv.copy()
+        for axis, kinks, width in ((0, self._creases[0], ub - ua), (1, self._creases[1], vb - va)):
+            if len(kinks):
+                gap = uv[:, axis : axis + 1] - kinks[None, :]
+                near = np.argmin(np.abs(gap), axis=1)
+                close = np.abs(gap[np.arange(len(uv)), near]) <= 2.0 * _KINK_NUDGE * width
+                snapped[close, axis] = kinks[near[close]]
+        rows = np.flatnonzero(np.any(snapped != uv, axis=1))
+        if len(rows) == 0:
+            return uv, d
+        dk = self.derivatives(snapped[rows], 1)
+        r0, r1 = d[(0, 0)][rows] - p[rows], dk[(0, 0)] - p[rows]
+        ok = _rowdot(r1, r1) <= _rowdot(r0, r0) * (1 + 1e-12)
+        k = rows[ok]
+        uv = uv.copy()
+        uv[k] = snapped[k]
+        d = {nu: x.copy() for nu, x in d.items()}
+        for nu in d:
+            d[nu][k] = dk[nu][ok]
+        return uv, d
 
     @cached_property
     def _cells(self) -> tuple[list[tuple[np.ndarray, np.ndarray]], np.ndarray, np.ndarray, np.ndarray]:

@@ -416,7 +416,7 @@ def harsh_points(rng, X, size, m):
     return base + sd[:, None] * rng.standard_normal((m, 3))
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=10, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1))
 def test_random_nurbs_curve_global_minimum_against_brute_force(seed):
     """Clustered knots, weights 0.2-5, degree 1-5, random orientation, near and far points:
@@ -440,7 +440,7 @@ def test_random_nurbs_curve_global_minimum_against_brute_force(seed):
     assert np.allclose(c.evaluate(pr.parameters), pr.points, atol=1e-14 * c.scale)
 
 
-@settings(max_examples=8, deadline=None)
+@settings(max_examples=5, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1))
 def test_random_nurbs_surface_global_minimum_against_brute_force(seed):
     """Clustered knots, weights 0.2-5, degrees 1-3 (degree 1: creases along every knot
@@ -458,7 +458,7 @@ def test_random_nurbs_surface_global_minimum_against_brute_force(seed):
     s_rot = BSplineSurface(ku, kv, tu, tv, P @ R.T + shift, w)
     g = np.linspace(0, 1, 501)
     X = s.evaluate(np.stack(np.meshgrid(g, g, indexing="ij"), -1).reshape(-1, 2))
-    p = harsh_points(rng, X, s.scale, 240)
+    p = harsh_points(rng, X, s.scale, 150)
     pr, pr_rot = s.project(p), s_rot.project(p @ R.T + shift)
     dist = np.linalg.norm(p - pr.points, axis=1)
     assert np.all(dist <= cKDTree(X).query(p)[0] + 1e-12 * s.scale)
