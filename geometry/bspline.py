@@ -425,28 +425,53 @@ def _box_levels(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, branch: int, ma
     return levels[::-1]
 
 
-def _candidate_cells(p: np.ndarray, bound2: np.ndarray, levels: list[tuple], branch: int) -> tuple[np.ndarray, np.ndarray]:
-    """All (point, cell) pairs whose box lies closer to the point than ``sqrt(bound2)``
-    (branch and bound down the box hierarchy, vectorised over flat pair arrays)."""
+def _node_tables(levels: list[tuple], branch: int) -> list[np.ndarray]:
+    """Per level of a box hierarchy a table (n_parents, branch, 15) of its nodes grouped by
+    parent (the top level: one group): frame rows R (9), ``R origin + box centre`` (3) and
+    the box half widths (3), so that a point's gap to a box is ``max(|R p - c| - h, 0)``.
+    Padding nodes have half widths -inf (never within reach)."""
+    tables = []
+    for depth, (origin, R, lo, hi) in enumerate(levels):
+        t = np.concatenate(
+            [R.reshape(-1, 9), np.einsum("nkj,nj->nk", R, origin) + 0.5 * (lo + hi), 0.5 * (hi - lo)], axis=1
+        )
+        group = len(t) if depth == 0 else branch
+        n_groups = -(-len(t) // group)
+        pad = np.zeros((n_groups * group - len(t), 15))
+        pad[:, 12:] = -np.inf
+        tables.append(np.concatenate([t, pad]).reshape(n_groups, group, 15))
+    return tables
+
+
+def _candidate_cells(p: np.ndarray, bound2: np.ndarray, tables: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """All (point, cell) pairs whose box lies closer to the point than ``sqrt(bound2)``:
+    branch and bound down the box hierarchy, vectorised over flat (point, node) pairs; all
+    children of a kept node are tested at once (one contiguous gather per pair)."""
     out_p, out_c = [], []
-    kids = np.arange(branch)
     for i0 in range(0, len(p), _PAIR_CHUNK):
         pc, bc = p[i0 : i0 + _PAIR_CHUNK], bound2[i0 : i0 + _PAIR_CHUNK]
-        n_top = len(levels[0][0])
-        pi = np.repeat(np.arange(len(pc)), n_top)
-        ni = np.tile(np.arange(n_top), len(pc))
-        for depth, (origin, R, lo, hi) in enumerate(levels):
-            if depth:
-                pi = np.repeat(pi, branch)
-                ni = (ni[:, None] * branch + kids).ravel()
-                ok = ni < len(lo)
-                pi, ni = pi[ok], ni[ok]
-            q = np.einsum("nkj,nj->nk", R[ni], pc[pi] - origin[ni])
-            gap = np.maximum(lo[ni] - q, 0.0) + np.maximum(q - hi[ni], 0.0)
-            keep = _rowdot(gap, gap) < bc[pi]
-            pi, ni = pi[keep], ni[keep]
+        pi = np.arange(len(pc))
+        parent = np.zeros(len(pc), dtype=np.int64)
+        for tab in tables:
+            T = tab[parent]  # (pairs, branch, 15)
+            x = pc[pi][:, None, :]
+            q = (
+                np.stack(
+                    [
+                        T[..., 0] * x[..., 0] + T[..., 1] * x[..., 1] + T[..., 2] * x[..., 2],
+                        T[..., 3] * x[..., 0] + T[..., 4] * x[..., 1] + T[..., 5] * x[..., 2],
+                        T[..., 6] * x[..., 0] + T[..., 7] * x[..., 1] + T[..., 8] * x[..., 2],
+                    ],
+                    axis=-1,
+                )
+                - T[..., 9:12]
+            )
+            gap = np.maximum(np.abs(q) - T[..., 12:15], 0.0)
+            rows, kid = np.nonzero(np.einsum("pbk,pbk->pb", gap, gap) < bc[pi][:, None])
+            parent = parent[rows] * tab.shape[1] + kid
+            pi = pi[rows]
         out_p.append(pi + i0)
-        out_c.append(ni)
+        out_c.append(parent)
     return np.concatenate(out_p), np.concatenate(out_c)
 
 
@@ -775,7 +800,7 @@ class BSplineCurve(Curve):
         H0, H1 = self._spline(x), self._spline(x, 1)
         N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if self.weights is not None else H1[:, :3]
         N = np.einsum("lm,cmd->cld", _bernstein_inverse(kn), N.reshape(len(edges) - 1, kn + 1, 3))
-        return levels, edges, oriented, _frame_boxes(N, oriented[1])
+        return _node_tables(levels, 8), edges, oriented, _frame_boxes(N, oriented[1])
 
     def _global_check(self, p, t, C, C1):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
@@ -784,7 +809,7 @@ class BSplineCurve(Curve):
         levels, edges, oriented, (nlo, nhi) = self._cells
         r = C - p
         ub2 = _rowdot(r, r)
-        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 8)
+        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels)
         if len(pi) == 0:
             return t, C, C1
         n_cells = len(edges) - 1
@@ -1320,7 +1345,7 @@ class BSplineSurface(Surface):
             N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if rational else H1[:, :3]
             N = np.einsum("am,bn,cmnd->cabd", _bernstein_inverse(du), _bernstein_inverse(dv), N.reshape(cu * cv, du + 1, dv + 1, 3))
             tangent_boxes.append(_frame_boxes(N.reshape(cu * cv, -1, 3)[order], oriented[1]))
-        return levels, su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
+        return _node_tables(levels, 16), su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
 
     def _global_check(self, p, uv, d):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
@@ -1329,7 +1354,7 @@ class BSplineSurface(Surface):
         levels, su, sv, cell_ij, oriented, tangent_boxes = self._cells
         r = d[(0, 0)] - p
         ub2 = _rowdot(r, r)
-        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels, 16)
+        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels)
         if len(pi) == 0:
             return uv, d
         fi = np.clip(np.searchsorted(su, uv[:, 0], side="right") - 1, 0, len(su) - 2)
