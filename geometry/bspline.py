@@ -426,7 +426,7 @@ def _box_levels(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, branch: int, ma
 
 
 def _node_tables(levels: list[tuple], branch: int) -> list[np.ndarray]:
-    """Per level of a box hierarchy a table (n_parents, branch, 15) of its nodes grouped by
+    """Per level of a box hierarchy a table (15, n_parents, branch) of its nodes grouped by
     parent (the top level: one group): frame rows R (9), ``R origin + box centre`` (3) and
     the box half widths (3), so that a point's gap to a box is ``max(|R p - c| - h, 0)``.
     Padding nodes have half widths -inf (never within reach)."""
@@ -439,7 +439,8 @@ def _node_tables(levels: list[tuple], branch: int) -> list[np.ndarray]:
         n_groups = -(-len(t) // group)
         pad = np.zeros((n_groups * group - len(t), 15))
         pad[:, 12:] = -np.inf
-        tables.append(np.concatenate([t, pad]).reshape(n_groups, group, 15))
+        # components first: every component of a gathered group is then contiguous
+        tables.append(np.ascontiguousarray(np.concatenate([t, pad]).reshape(n_groups, group, 15).transpose(2, 0, 1)))
     return tables
 
 
@@ -453,22 +454,16 @@ def _candidate_cells(p: np.ndarray, bound2: np.ndarray, tables: list[np.ndarray]
         pi = np.arange(len(pc))
         parent = np.zeros(len(pc), dtype=np.int64)
         for tab in tables:
-            T = tab[parent]  # (pairs, branch, 15)
-            x = pc[pi][:, None, :]
-            q = (
-                np.stack(
-                    [
-                        T[..., 0] * x[..., 0] + T[..., 1] * x[..., 1] + T[..., 2] * x[..., 2],
-                        T[..., 3] * x[..., 0] + T[..., 4] * x[..., 1] + T[..., 5] * x[..., 2],
-                        T[..., 6] * x[..., 0] + T[..., 7] * x[..., 1] + T[..., 8] * x[..., 2],
-                    ],
-                    axis=-1,
-                )
-                - T[..., 9:12]
-            )
-            gap = np.maximum(np.abs(q) - T[..., 12:15], 0.0)
-            rows, kid = np.nonzero(np.einsum("pbk,pbk->pb", gap, gap) < bc[pi][:, None])
-            parent = parent[rows] * tab.shape[1] + kid
+            T = tab[:, parent]  # (15, pairs, branch)
+            x = pc[pi]
+            x0, x1, x2 = x[:, 0:1], x[:, 1:2], x[:, 2:3]
+            dist2 = np.zeros(T.shape[1:])
+            for k in range(3):  # frame coordinate k of the point, its gap to the box
+                g = np.abs(T[3 * k] * x0 + T[3 * k + 1] * x1 + T[3 * k + 2] * x2 - T[9 + k]) - T[12 + k]
+                np.maximum(g, 0.0, out=g)
+                dist2 += g * g
+            rows, kid = np.nonzero(dist2 < bc[pi][:, None])
+            parent = parent[rows] * tab.shape[2] + kid
             pi = pi[rows]
         out_p.append(pi + i0)
         out_c.append(parent)
