@@ -347,6 +347,9 @@ _PAIR_CHUNK = 2048  # points per branch-and-bound traversal (bounds the pair arr
 # cells within this many cells of the found one count as its basin and are not re-searched
 # (1: the neighbours too; faster, but adjacent cells can hold a second minimum where knots cluster)
 _SAME_BASIN = 0
+# children per node of the box hierarchies (surface cells in Morton order: 4 = 2 x 2 tiles)
+_SURFACE_BRANCH = 4
+_CURVE_BRANCH = 8
 
 
 def _bernstein_inverse(k: int) -> np.ndarray:
@@ -785,7 +788,7 @@ class BSplineCurve(Curve):
         pts = ctrl[..., :3] / ctrl[..., 3:] if self.weights is not None else ctrl[..., :3]
         chord = pts[:, -1] - pts[:, 0]
         bend = pts.mean(axis=1) - 0.5 * (pts[:, -1] + pts[:, 0])
-        levels = _box_levels(pts, chord, bend, 8, margin)
+        levels = _box_levels(pts, chord, bend, _CURVE_BRANCH, margin)
         oriented = levels[-1]
         # the direction of C' over the cell: C' = (A' w - A w') / w^2 for C = A / w, whose
         # numerator is a polynomial of degree <= 2k - 2 (k - 1 without weights); its Bezier
@@ -795,7 +798,7 @@ class BSplineCurve(Curve):
         H0, H1 = self._spline(x), self._spline(x, 1)
         N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if self.weights is not None else H1[:, :3]
         N = np.einsum("lm,cmd->cld", _bernstein_inverse(kn), N.reshape(len(edges) - 1, kn + 1, 3))
-        return _node_tables(levels, 8), edges, oriented, _frame_boxes(N, oriented[1])
+        return _node_tables(levels, _CURVE_BRANCH), edges, oriented, _frame_boxes(N, oriented[1])
 
     def _global_check(self, p, t, C, C1):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
@@ -1322,7 +1325,7 @@ class BSplineSurface(Surface):
         for bit in range(16):
             key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
         order = np.argsort(key, kind="stable")
-        levels = _box_levels(pts[order], along_u[order], along_v[order], 16, margin)
+        levels = _box_levels(pts[order], along_u[order], along_v[order], _SURFACE_BRANCH, margin)
         oriented = levels[-1]
         # directions of S_u and S_v over each cell: numerators A_u w - A w_u (degree
         # <= 2 ku - 1 in u, 2 kv in v; ku - 1, kv without weights) by their Bezier nets
@@ -1340,7 +1343,7 @@ class BSplineSurface(Surface):
             N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if rational else H1[:, :3]
             N = np.einsum("am,bn,cmnd->cabd", _bernstein_inverse(du), _bernstein_inverse(dv), N.reshape(cu * cv, du + 1, dv + 1, 3))
             tangent_boxes.append(_frame_boxes(N.reshape(cu * cv, -1, 3)[order], oriented[1]))
-        return _node_tables(levels, 16), su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
+        return _node_tables(levels, _SURFACE_BRANCH), su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
 
     def _global_check(self, p, uv, d):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
