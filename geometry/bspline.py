@@ -443,7 +443,7 @@ def _box_levels(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, branch: int, ma
 
 
 def _node_tables(levels: list[tuple], branch: int) -> list[np.ndarray]:
-    """Per level of a box hierarchy a table (15, n_parents, branch) of its nodes grouped by
+    """Per level of a box hierarchy a table (n_parents, 15, branch) of its nodes grouped by
     parent (the top level: one group): frame rows R (9), ``R origin + box centre`` (3) and
     the box half widths (3), so that a point's gap to a box is ``max(|R p - c| - h, 0)``.
     Padding nodes have half widths -inf (never within reach)."""
@@ -457,7 +457,7 @@ def _node_tables(levels: list[tuple], branch: int) -> list[np.ndarray]:
         pad = np.zeros((n_groups * group - len(t), 15))
         pad[:, 12:] = -np.inf
         # components first: every component of a gathered group is then contiguous
-        tables.append(np.ascontiguousarray(np.concatenate([t, pad]).reshape(n_groups, group, 15).transpose(2, 0, 1)))
+        tables.append(np.ascontiguousarray(np.concatenate([t, pad]).reshape(n_groups, group, 15).transpose(0, 2, 1)))
     return tables
 
 
@@ -471,12 +471,12 @@ def _candidate_cells(p: np.ndarray, bound2: np.ndarray, tables: list[np.ndarray]
         pi = np.arange(len(pc))
         parent = np.zeros(len(pc), dtype=np.int64)
         for tab in tables:
-            T = tab[:, parent]  # (15, pairs, branch)
+            T = tab[parent]  # (pairs, 15, branch)
             x = pc[pi]
             x0, x1, x2 = x[:, 0:1], x[:, 1:2], x[:, 2:3]
-            dist2 = np.zeros(T.shape[1:])
+            dist2 = np.zeros((T.shape[0], T.shape[2]))
             for k in range(3):  # frame coordinate k of the point, its gap to the box
-                g = np.abs(T[3 * k] * x0 + T[3 * k + 1] * x1 + T[3 * k + 2] * x2 - T[9 + k]) - T[12 + k]
+                g = np.abs(T[:, 3 * k] * x0 + T[:, 3 * k + 1] * x1 + T[:, 3 * k + 2] * x2 - T[:, 9 + k]) - T[:, 12 + k]
                 np.maximum(g, 0.0, out=g)
                 dist2 += g * g
             rows, kid = np.nonzero(dist2 < bc[pi][:, None])
@@ -743,13 +743,13 @@ class BSplineCurve(Curve):
         return tuple(np.concatenate(x) for x in zip(*parts))
 
     def _closest_two_basins(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Newton from the nearest sample; where a sample of another basin of the distance
-        is nearly as near (within the sample spacing), Newton from there too, keep the better."""
+        """Newton from the nearest sample (and from both sides of a nearby kink), then the
+        global check over the Bezier cells (which replaced an earlier search for a second
+        basin among the samples)."""
         s, _, _, Q, tree = self._seeds
-        j1, j2, d1, d2 = _two_basins(p, Q, tree, self.periodic)
+        j1 = _nearest(p, Q, tree)
         t, C, C1 = self._closest_block(p, j1)
-        spacing = np.max(np.linalg.norm(np.diff(Q, axis=0), axis=1)) if len(Q) > 1 else 0.0
-        starts = [(np.flatnonzero((j2 >= 0) & (d2 - d1 <= spacing)), j2)]
+        starts = []
         kinks = self._kinks
         if len(kinks):
             # near a C0 kink the pieces on either side are separate basins: also start two
