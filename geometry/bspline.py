@@ -293,64 +293,6 @@ def _nearest(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> np.ndarray:
     return out
 
 
-def _two_basins(
-    p: np.ndarray, Q: np.ndarray, tree: cKDTree | None, periodic: bool
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """For a sampled curve: the nearest sample j1 and the nearest sample j2 that is a
-    local minimum of the sampled distance in another basin than j1 (not next to it), with
-    both distances; j2 = -1 where there is none (among the k-d tree's 16 candidates)."""
-    n = len(Q)
-    if periodic:
-        prev_i, next_i = np.roll(np.arange(n), 1), np.roll(np.arange(n), -1)
-    else:
-        prev_i, next_i = np.r_[0, np.arange(n - 1)], np.r_[np.arange(1, n), n - 1]
-
-    def apart(j: np.ndarray, j1: np.ndarray) -> np.ndarray:
-        gap = np.abs(j - j1)
-        return (np.minimum(gap, n - gap) if periodic else gap) > 1
-
-    if tree is None:
-        QQ = np.einsum("ij,ij->i", Q, Q)
-        j1 = np.empty(len(p), dtype=np.int64)
-        j2 = np.empty(len(p), dtype=np.int64)
-        d1 = np.empty(len(p))
-        d2 = np.empty(len(p))
-        chunk = max(128, 32_768 // max(n, 1))  # small blocks stay in L2 (measured ~3x faster)
-        for i in range(0, len(p), chunk):
-            pc = p[i : i + chunk]
-            D = QQ[None, :] - 2.0 * (pc @ Q.T)
-            a = np.argmin(D, axis=1)
-            rows = np.arange(len(pc))
-            da = D[rows, a]
-            # local minima of the sampled distance (views, no copies), away from j1
-            basin = np.empty(D.shape, dtype=bool)
-            np.less(D[:, 1:], D[:, :-1], out=basin[:, 1:])
-            basin[:, 0] = D[:, 0] < D[:, -1] if periodic else True
-            basin[:, :-1] &= D[:, :-1] <= D[:, 1:]
-            basin[:, -1] &= D[:, -1] <= D[:, 0] if periodic else True
-            lo, hi = a - 1, a + 1
-            basin[rows, np.clip(lo, 0, n - 1) if not periodic else lo % n] = False
-            basin[rows, a] = False
-            basin[rows, np.clip(hi, 0, n - 1) if not periodic else hi % n] = False
-            b = np.argmin(np.where(basin, D, np.inf), axis=1)
-            pp = np.einsum("ij,ij->i", pc, pc)
-            j1[i : i + chunk] = a
-            j2[i : i + chunk] = np.where(basin[rows, b], b, -1)
-            d1[i : i + chunk] = np.sqrt(np.maximum(da + pp, 0.0))
-            d2[i : i + chunk] = np.sqrt(np.maximum(D[rows, b] + pp, 0.0))
-        return j1, j2, d1, d2
-    k = min(16, n)
-    dd, jj = tree.query(p, k=k)
-    j1, d1 = jj[:, 0], dd[:, 0]
-    d_prev = np.linalg.norm(Q[prev_i[jj]] - p[:, None, :], axis=2)
-    d_next = np.linalg.norm(Q[next_i[jj]] - p[:, None, :], axis=2)
-    basin = (dd < d_prev) & (dd <= d_next) & apart(jj, j1[:, None])
-    first = np.argmax(basin, axis=1)
-    rows = np.arange(len(p))
-    has = basin[rows, first]
-    return j1, np.where(has, jj[rows, first], -1), d1, np.where(has, dd[rows, first], np.inf)
-
-
 # ---------------------------------------------------------------------------------------
 # global check: Bezier cell boxes and branch-and-bound over them
 # ---------------------------------------------------------------------------------------
@@ -736,13 +678,13 @@ class BSplineCurve(Curve):
         for (m, 3) points: the safeguarded Newton core of :meth:`project`."""
         p = np.ascontiguousarray(points, dtype=float)
         if len(p) <= _BLOCK:
-            return self._closest_two_basins(p)
+            return self._closest_global(p)
         # blocks that stay in cache: the many small array operations per Newton step are
         # memory bound on large arrays
-        parts = [self._closest_two_basins(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
+        parts = [self._closest_global(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
         return tuple(np.concatenate(x) for x in zip(*parts))
 
-    def _closest_two_basins(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _closest_global(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Newton from the nearest sample (and from both sides of a nearby kink), then the
         global check over the Bezier cells (which replaced an earlier search for a second
         basin among the samples)."""
