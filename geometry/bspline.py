@@ -758,8 +758,8 @@ class BSplineCurve(Curve):
 
     def _global_check(self, p, t, C, C1):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
-        distance found, and not the found cell or its neighbours (the same basin), gets a
-        Newton run from its nearer end sample; the best result per point is kept."""
+        distance found and that may hold a minimum of its own (see the module doc) gets
+        Newton kept inside the cell from its middle; the best result per point is kept."""
         levels, edges, oriented, (nlo, nhi) = self._cells
         r = C - p
         ub2 = _rowdot(r, r)
@@ -1303,8 +1303,9 @@ class BSplineSurface(Surface):
 
     def _global_check(self, p, uv, d):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
-        distance found, and not the found cell or one of its 8 neighbours (the same basin),
-        gets a Newton run from its nearest corner sample; the best result per point is kept."""
+        distance found and that may hold a minimum of its own (see the module doc) gets
+        Newton kept inside the cell's parameter box from its middle; the best result per
+        point is kept."""
         levels, su, sv, cell_ij, oriented, tangent_boxes = self._cells
         r = d[(0, 0)] - p
         ub2 = _rowdot(r, r)
