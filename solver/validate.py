@@ -340,7 +340,7 @@ def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir
             if "abs_Q" in m and m["type"] == "frictionless":
                 checks.append(m["abs_Q"] < 1e-3)
             if r.name == "ellipse_on_block_tessellated":
-                verdict = "degraded as in the thesis" if m.get("a_error", 0) > A_TOL else "not degraded"
+                verdict = "degraded without exact geometry" if m.get("a_error", 0) > A_TOL else "not degraded"
             else:
                 verdict = _verdict(r.ok and all(checks)) if checks else _verdict(None)
             vm = f"{_num(m.get('vm_peak'), '.4f')} ({_num(m.get('vm_peak_depth'), '.3f')})" if "vm_peak" in m else "–"
