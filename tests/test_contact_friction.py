@@ -8,7 +8,6 @@ validation scenes 4-6 of examples/ run in the slow tests."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +15,9 @@ import pytest
 
 from solver import theory, validate
 from solver.contact_solver import ContactSettings, solve_contact
-from solver.scene import load_scene, scene_from_dict
+from solver.scene import load_scene
+
+from _contact_scenes import cylinder_on_block
 
 E, NU = 2.0e11, 0.3
 E_STAR = theory.effective_modulus(E, NU, E, NU)
@@ -25,33 +26,7 @@ EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 def frictional_scene(mu=0.3, ux=2.0e-4, uy=-2.0e-3, load_steps=2, turn=0.0):
     """Cylinder R = 1 on a block; the cylinder's flat edge moved by (ux, uy) (turned by ``turn``)."""
-    c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
-    load = [c * ux - s * uy, s * ux + c * uy]
-    refinement = [
-        {"levels": 2, "around": "contact", "radius": 0.4},
-        {"levels": 4, "around": "contact", "radius": 0.12},
-    ]
-    return scene_from_dict(
-        {
-            "name": "small cylinder on block, friction",
-            "model": "plane_strain",
-            "thickness": 1.0,
-            "solver": {"load_steps": load_steps},
-            "materials": [{"name": "steel", "youngs_modulus": E, "poissons_ratio": NU}],
-            "bodies": [
-                {"name": "cyl", "material": "steel", "element_size": 0.1, "refinement": refinement,
-                 "shape": {"type": "half_disk", "center": [0, 1], "radius": 1.0, "side": "below",
-                           "rotate_deg": turn}},
-                {"name": "block", "material": "steel", "element_size": 0.1, "refinement": refinement,
-                 "shape": {"type": "rectangle", "min": [-1.5, -1.0], "max": [1.5, 0.0], "rotate_deg": turn}},
-            ],
-            "boundary_conditions": [
-                {"body": "cyl", "edge": "flat", "type": "displacement", "value": load},
-                {"body": "block", "edge": "bottom", "type": "fixed"},
-            ],
-            "contacts": [{"bodies": ["cyl", "block"], "type": "frictional", "friction": mu, "point": [0, 0]}],
-        }
-    ).problem
+    return cylinder_on_block("frictional", ux, uy, load_steps, turn, friction=mu)
 
 
 def metrics(problem, sol):

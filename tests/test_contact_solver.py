@@ -16,39 +16,15 @@ from solver import theory
 from solver.contact_solver import ContactSettings, solve_contact
 from solver.scene import load_scene, scene_from_dict
 
+from _contact_scenes import cylinder_on_block
+
 E, NU = 2.0e11, 0.3
 E_STAR = theory.effective_modulus(E, NU, E, NU)
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
 
 def small_scene(kind="frictionless", ux=0.0, uy=-2.0e-3, load_steps=2, turn=0.0):
-    c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
-    load = [c * ux - s * uy, s * ux + c * uy]
-    refinement = [
-        {"levels": 2, "around": "contact", "radius": 0.4},
-        {"levels": 4, "around": "contact", "radius": 0.12},
-    ]
-    return scene_from_dict(
-        {
-            "name": "small cylinder on block",
-            "model": "plane_strain",
-            "thickness": 1.0,
-            "solver": {"load_steps": load_steps},
-            "materials": [{"name": "steel", "youngs_modulus": E, "poissons_ratio": NU}],
-            "bodies": [
-                {"name": "cyl", "material": "steel", "element_size": 0.1, "refinement": refinement,
-                 "shape": {"type": "half_disk", "center": [0, 1], "radius": 1.0, "side": "below",
-                           "rotate_deg": turn}},
-                {"name": "block", "material": "steel", "element_size": 0.1, "refinement": refinement,
-                 "shape": {"type": "rectangle", "min": [-1.5, -1.0], "max": [1.5, 0.0], "rotate_deg": turn}},
-            ],
-            "boundary_conditions": [
-                {"body": "cyl", "edge": "flat", "type": "displacement", "value": load},
-                {"body": "block", "edge": "bottom", "type": "fixed"},
-            ],
-            "contacts": [{"bodies": ["cyl", "block"], "type": kind, "point": [0, 0]}],
-        }
-    ).problem
+    return cylinder_on_block(kind, ux, uy, load_steps, turn)
 
 
 @pytest.fixture(scope="module")
