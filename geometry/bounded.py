@@ -21,11 +21,12 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from functools import cached_property, lru_cache
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
+from .quadrature import gauss_legendre
 from ._base import Projection
 
 __all__ = [
@@ -52,12 +53,7 @@ class BoundedProjection(Projection):
 # ---------------------------------------------------------------------------------------
 
 
-@lru_cache(maxsize=None)
-def _gauss_legendre(order: int) -> tuple[np.ndarray, np.ndarray]:
-    x, w = np.polynomial.legendre.leggauss(order)
-    x.setflags(write=False)
-    w.setflags(write=False)
-    return x, w
+_gauss_legendre = gauss_legendre
 
 
 def _points2(points: Any, name: str = "points") -> np.ndarray:

@@ -23,9 +23,10 @@ Pure functions over arrays of cells x quadrature points.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
+
+from geometry.quadrature import gauss_legendre
 
 __all__ = [
     "REFERENCE_NODES",
@@ -50,13 +51,6 @@ REFERENCE_NODES = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
 STIFFNESS_MONOMIALS = ((0, 0), (1, 0), (0, 1), (2, 0), (0, 2), (1, 1))
 
 
-@lru_cache(maxsize=None)
-def gauss_legendre(order: int) -> tuple[np.ndarray, np.ndarray]:
-    """Points and weights on [-1, 1] (numpy's leggauss, cached)."""
-    x, w = np.polynomial.legendre.leggauss(order)
-    x.setflags(write=False)
-    w.setflags(write=False)
-    return x, w
 
 
 def shape_functions(xi: np.ndarray, eta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
