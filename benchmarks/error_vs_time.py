@@ -18,6 +18,7 @@ import json
 import resource
 import subprocess
 import sys
+import tempfile
 import time
 import tomllib
 from pathlib import Path
@@ -42,7 +43,7 @@ def run_single(scene: str, shift: int) -> dict:
             ref[-1]["levels"] = max(0, int(ref[-1]["levels"]) + shift)
     data.setdefault("output", {}).update(vtk=False, plots=False)
     t0 = time.perf_counter()
-    out = Path("/tmp") / f"ibfem_bench_{scene}_{shift}"
+    out = Path(tempfile.gettempdir()) / f"ibfem_bench_{scene}_{shift}"
     sc, solution, summary = run_scene_data(data, path.name, out, base_dir=path.parent)
     wall = time.perf_counter() - t0
     row = {
