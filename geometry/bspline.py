@@ -104,6 +104,7 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
     return cKDTree(points)
 
 from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
+from ._cell_boxes import CellSearch, bernstein_inverse, best_per_point, box_levels, dot_bounds, frame_boxes, frame_coordinates
 
 __all__ = ["BSplineCurve", "BSplineSurface"]
 
@@ -112,6 +113,10 @@ _STRICT = 5e-13
 _FINE = 1e-5
 _MAX_ITER = 60
 _BLOCK = 16384  # points per block in the Newton loop
+_PAIR_BLOCK = 16384  # (point, cell) pairs per cell-wise Newton run
+_MAX_HALVINGS = 30  # a trial halved this often (2^-30) leaves the point where it is
+_CELL_TURN = math.radians(20.0)  # half-angle of a cell's tangent cone (see _split_turning)
+_FINISH = 1e-7  # a Newton step this small (relative to the size) is the last one
 _SEED_STEPS = 3  # Newton steps on the tabulated Taylor model when seeding
 _KINK_NUDGE = 1e-13  # steps stop this fraction of the domain short of a C0 kink
 # seeding density (samples per knot span) and the sample count above which the nearest
@@ -460,6 +465,84 @@ def _normalise_rows(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return v / np.where(n > 0, n, 1.0)[:, None], n
 
 
+
+# ---------------------------------------------------------------------------------------
+# component-major helpers of the Newton loops (vectors as (3, n) arrays: see _cell_boxes)
+# ---------------------------------------------------------------------------------------
+
+
+def _coldot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Column-wise dot product of (3, n) arrays."""
+    return np.einsum("ij,ij->j", x, y)
+
+
+def _stationary_cols(r: np.ndarray, tangent: np.ndarray) -> np.ndarray:
+    """Where ``r = S - p`` is perpendicular to ``tangent`` (both (3, n)) up to 1e-7
+    (relative): a converged inner minimum."""
+    return np.abs(_coldot(r, tangent)) <= 1e-7 * np.sqrt(_coldot(r, r) * _coldot(tangent, tangent)) + 1e-300
+
+
+def _nearest_cols(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> tuple[np.ndarray, np.ndarray]:
+    """Index of the nearest sample ``Q[j]`` (n_s, 3) for every point of ``p`` (3, m), and
+    the squared distance to it; for a few samples a chunked ``|Q|^2 - 2 Q.p`` argmin (one
+    matrix product) beats the k-d tree several times over."""
+    if tree is not None:
+        dist, j = tree.query(p.T)
+        return j, dist * dist
+    QQ = np.einsum("ij,ij->i", Q, Q)[:, None]
+    j = np.empty(p.shape[1], dtype=np.int64)
+    chunk = max(128, 32_768 // max(len(Q), 1))  # small blocks stay in L2 (measured ~3x faster)
+    for i in range(0, p.shape[1], chunk):
+        j[i : i + chunk] = np.argmin(QQ - 2.0 * (Q @ p[:, i : i + chunk]), axis=0)
+    d = Q[j].T - p
+    return j, _coldot(d, d)
+
+
+def _derivative_bounds(q: np.ndarray, ci: np.ndarray, oriented: tuple, tangent_box: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """Interval bounds of ``T . (S - p)`` over cells ``ci`` for points ``q`` (3, n): T in the
+    box ``tangent_box`` (lo, hi, each (3, n_cells), in the cells' frames) of a tangent's
+    numerator, S in the cell's oriented box (origin, frame rows (9, n_cells), lo, hi)."""
+    origin, R, olo, ohi = oriented
+    x = frame_coordinates(q, origin[:, ci], R[:, ci])
+    return dot_bounds(tangent_box[0][:, ci], tangent_box[1][:, ci], olo[:, ci] - x, ohi[:, ci] - x)
+
+
+def _horner(coef: np.ndarray, x: np.ndarray, k: int, order: int) -> list[np.ndarray]:
+    """Value and derivatives up to ``order`` (<= 2) of polynomials with coefficients
+    ``coef`` ((k + 1) D, n; row i D + d: coefficient of x^i of component d) at ``x`` (n,),
+    each (D, n)."""
+    D = coef.shape[0] // (k + 1)
+    top = coef[k * D :]
+    c0 = top * x  # Horner's rule with its first step done
+    c0 += coef[(k - 1) * D : k * D]
+    c1 = top.copy() if order >= 1 else None
+    c2 = np.zeros_like(c0) if order >= 2 else None
+    for i in range(k - 2, -1, -1):
+        if order >= 2:
+            c2 *= x
+            c2 += c1
+        if order >= 1:
+            c1 *= x
+            c1 += c0
+        c0 *= x
+        c0 += coef[i * D : (i + 1) * D]
+    if order >= 2:
+        c2 *= 2.0
+    return [c0, c1, c2][: order + 1]
+
+
+def _quotient(H: list[np.ndarray]) -> list[np.ndarray]:
+    """Derivatives of C = A / w from those of the homogeneous ``(A, w)`` (4, n) (quotient
+    rule, up to the second)."""
+    inv = 1.0 / H[0][3]
+    out = [H[0][:3] * inv]
+    if len(H) > 1:
+        out.append((H[1][:3] - H[1][3] * out[0]) * inv)
+    if len(H) > 2:
+        out.append((H[2][:3] - 2.0 * H[1][3] * out[1] - H[2][3] * out[0]) * inv)
+    return out
+
+
 # ---------------------------------------------------------------------------------------
 # curve
 # ---------------------------------------------------------------------------------------
@@ -617,191 +700,153 @@ class BSplineCurve(Curve):
     # -- projection -------------------------------------------------------------------------
 
     @cached_property
-    def _seeds(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, cKDTree | None]:
-        """Sample parameters, the table [C, C', C'', C'''] (n_s, 12) at them, the parameter
-        distances to the neighbouring samples (n_s, 2), the sample points, and a k-d tree
-        when there are too many samples for a brute-force nearest search."""
+    def _seeds(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, cKDTree | None]:
+        """Sample parameters, the parameter distances to the neighbouring samples (2, n_s),
+        the sample points (n_s, 3), and a k-d tree when there are too many samples for a
+        brute-force nearest search."""
         a, b = self.domain
         # enough samples that neighbouring ones are about 1/32 of the curve's size apart,
         # judged by the control polygon (the curve lies in its convex hull span by span)
         coef = self._spline.c[:, :3] / (self._spline.c[:, 3:] if self.weights is not None else 1.0)
         legs = np.linalg.norm(np.diff(coef, axis=0), axis=1)
         s = _polygon_samples(self._spline.t, self.degree, a, b, legs, self.scale / _CURVE_SEED_SPACING, _CURVE_SEEDS_MAX)
+        s = self._split_turning(s)
         gaps = np.diff(s)
         if self.periodic:
             s = s[:-1]
-            reach = np.column_stack([np.roll(gaps, 1), gaps])
+            reach = np.stack([np.roll(gaps, 1), gaps])
         else:
-            reach = np.column_stack([np.r_[gaps[0], gaps], np.r_[gaps, gaps[-1]]])
-        table = np.concatenate(self.derivatives(s, 3), axis=1)
-        Q = np.ascontiguousarray(table[:, :3])
+            reach = np.stack([np.r_[gaps[0], gaps], np.r_[gaps, gaps[-1]]])
+        Q = np.ascontiguousarray(self.derivatives(s, 0)[0])
         tree = _kd_tree(Q) if len(s) > _BRUTE_SEEDS else None
-        return s, table, reach, Q, tree
+        return s, reach, Q, tree
 
-    def _seed(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Seed parameters: sample ``j`` (the nearest), refined by Newton steps on the cubic Taylor
-        model of the curve at that sample (tabulated derivatives, no spline evaluation; the
-        model is exact inside the sample's knot span for polynomial cubics), kept within the
-        neighbouring samples. Also returns the model's Newton derivative there and whether
-        it is positive (Newton) rather than Gauss-Newton."""
-        s, table, reach, Q, tree = self._seeds
-        row = table[j]
-        C0p, D1, D2, D3 = row[:, :3] - p, row[:, 3:6], row[:, 6:9], row[:, 9:12]
-        D2_2, D3_6 = 0.5 * D2, D3 / 6.0
-        lo, hi = -reach[j, 0], reach[j, 1]
-        dt = np.zeros(len(p))
-        for _ in range(_SEED_STEPS):
-            x = dt[:, None]
-            C2 = D2 + x * D3
-            C1 = D1 + 0.5 * x * (D2 + C2)
-            r = C0p + x * (D1 + x * (D2_2 + x * D3_6))
-            H, newton = self._hessian_r(r, C1, C2)
-            g = _rowdot(C1, r)
-            dt = np.clip(dt - np.where(H > 0, g / np.where(H > 0, H, 1.0), 0.0), lo, hi)
-        return self._wrap(s[j] + dt), H, newton
-
-    @staticmethod
-    def _hessian_r(r, C1, C2):
-        """Newton derivative of g(t) = C'.r (r = C - p), or Gauss-Newton |C'|^2 where it is
-        not clearly positive; and which of the two was taken."""
-        sp2 = _rowdot(C1, C1)
-        h = sp2 + _rowdot(C2, r)
-        newton = h > 1e-6 * sp2
-        return np.where(newton, h, sp2), newton
-
-    @staticmethod
-    def _hessian(C, C1, C2, p):
-        return BSplineCurve._hessian_r(C - p, C1, C2)
-
-    def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Parameters ``t`` (m,), closest points C(t) (m, 3) and derivatives C'(t) (m, 3)
-        for (m, 3) points: the safeguarded Newton core of :meth:`project`."""
-        p = np.ascontiguousarray(points, dtype=float)
-        if len(p) <= _BLOCK:
-            return self._closest_global(p)
-        # blocks that stay in cache: the many small array operations per Newton step are
-        # memory bound on large arrays
-        parts = [self._closest_global(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
-        return tuple(np.concatenate(x) for x in zip(*parts))
-
-    def _closest_global(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Newton from the nearest sample (and from both sides of a nearby kink), then the
-        global check over the Bezier cells (which replaced an earlier search for a second
-        basin among the samples)."""
-        s, _, _, Q, tree = self._seeds
-        j1 = _nearest(p, Q, tree)
-        t, C, C1 = self._closest_block(p, j1)
-        starts = []
-        kinks = self._kinks
-        if len(kinks):
-            # near a C0 kink the pieces on either side are separate basins: also start two
-            # samples before and after (Newton steps stop at kinks, so each stays on its side)
-            n = len(s)
-            at_kink = np.isin(s, kinks)
-            near = np.zeros(len(p), dtype=bool)
-            for off in (-2, -1, 0, 1, 2):
-                jj = (j1 + off) % n if self.periodic else np.clip(j1 + off, 0, n - 1)
-                near |= at_kink[jj]
-            rows = np.flatnonzero(near)
-            for off in (-2, 2):
-                jj = (j1 + off) % n if self.periodic else np.clip(j1 + off, 0, n - 1)
-                starts.append((rows, jj))
-        for rows, jj in starts:
-            if len(rows) == 0:
-                continue
-            t2, C2, C12 = self._closest_block(p[rows], jj[rows])
-            better = _rowdot(C2 - p[rows], C2 - p[rows]) < _rowdot(C[rows] - p[rows], C[rows] - p[rows])
-            k = rows[better]
-            t[k], C[k], C1[k] = t2[better], C2[better], C12[better]
-        t, C, C1 = self._global_check(p, t, C, C1)
-        if len(kinks):  # results held a nudge short of a kink: snap onto it where no worse
-            gap = t[:, None] - kinks[None, :]
-            near_k = np.argmin(np.abs(gap), axis=1)
-            rows = np.flatnonzero(np.abs(gap[np.arange(len(t)), near_k]) <= 2.0 * _KINK_NUDGE * (self.domain[1] - self.domain[0]))
-            if len(rows):
-                tk = kinks[near_k[rows]]
-                if self.periodic:
-                    tk = self._wrap(tk)
-                Ck, C1k = self.derivatives(tk, 1)
-                ok = _rowdot(Ck - p[rows], Ck - p[rows]) <= _rowdot(C[rows] - p[rows], C[rows] - p[rows]) * (1 + 1e-12)
-                k = rows[ok]
-                t[k], C[k], C1[k] = tk[ok], Ck[ok], C1k[ok]
-        return t, C, C1
-
-    @cached_property
-    def _cells(self) -> tuple[list[tuple[np.ndarray, np.ndarray]], np.ndarray]:
-        """Box hierarchy over the cells between neighbouring samples (every cell lies in one
-        knot span, so it is one polynomial / rational Bezier piece) and the cell bounds."""
-        s, _, _, _, _ = self._seeds
-        a, b = self.domain
-        edges = np.append(s, b) if self.periodic else s
+    def _tangent_nets(self, edges: np.ndarray) -> np.ndarray:
+        """Bezier nets (n_cells, kn + 1, 3) of the numerator of C' over the cells between
+        ``edges``: C' = (A' w - A w') / w^2 for C = A / w, a polynomial of degree <= 2k - 2
+        (k - 1 without weights) on a knot span, so its net bounds its direction."""
         k = self.degree
-        nodes = edges[:-1, None] + np.diff(edges)[:, None] * (np.arange(k + 1) / k)
-        H = self._spline(self._wrap(nodes.ravel())).reshape(len(nodes), k + 1, -1)  # wrap: b -> a when periodic
-        ctrl = np.einsum("lm,cmd->cld", _bernstein_inverse(k), H)
-        margin = _BOX_MARGIN * self.scale
-        lo, hi = _hull_boxes(ctrl, self.weights is not None, margin)
-        pts = ctrl[..., :3] / ctrl[..., 3:] if self.weights is not None else ctrl[..., :3]
-        chord = pts[:, -1] - pts[:, 0]
-        bend = pts.mean(axis=1) - 0.5 * (pts[:, -1] + pts[:, 0])
-        levels = _box_levels(pts, chord, bend, _CURVE_BRANCH, margin)
-        oriented = levels[-1]
-        # the direction of C' over the cell: C' = (A' w - A w') / w^2 for C = A / w, whose
-        # numerator is a polynomial of degree <= 2k - 2 (k - 1 without weights); its Bezier
-        # net bounds it, in the cell's frame
         kn = 2 * k if self.weights is not None else k
         x = self._wrap((edges[:-1, None] + np.diff(edges)[:, None] * (np.arange(kn + 1) / kn)).ravel())
         H0, H1 = self._spline(x), self._spline(x, 1)
         N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if self.weights is not None else H1[:, :3]
-        N = np.einsum("lm,cmd->cld", _bernstein_inverse(kn), N.reshape(len(edges) - 1, kn + 1, 3))
-        return _node_tables(levels, _CURVE_BRANCH), edges, oriented, _frame_boxes(N, oriented[1])
+        return np.einsum("lm,cmd->cld", bernstein_inverse(kn), N.reshape(len(edges) - 1, kn + 1, 3))
 
-    def _global_check(self, p, t, C, C1):
-        """Branch and bound over the Bezier cells: every cell whose box is closer than the
-        distance found and that may hold a minimum of its own (see the module doc) gets
-        Newton kept inside the cell from its middle; the best result per point is kept."""
-        levels, edges, oriented, (nlo, nhi) = self._cells
-        r = C - p
-        ub2 = _rowdot(r, r)
-        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels)
-        if len(pi) == 0:
-            return t, C, C1
+    def _split_turning(self, s: np.ndarray) -> np.ndarray:
+        """Cells (between neighbouring samples ``s``) over which the tangent may turn by more
+        than ``2 _CELL_TURN`` (its Bezier net leaves a cone of that half-angle) are halved,
+        until none is left or the samples number ``_CURVE_SEEDS_MAX``: a point near a sharp
+        turn of the curve (a rational curve with large weights puts it in a short stretch of
+        parameter) can have two local minima of its distance on one such cell."""
+        cos_max = math.cos(_CELL_TURN)
+        for _ in range(30):
+            net = self._tangent_nets(s)
+            u, length = _normalise_rows(net.reshape(-1, 3))
+            u = u.reshape(net.shape)
+            axis, _ = _normalise_rows(u.sum(axis=1))
+            cos = np.einsum("cld,cd->cl", u, axis).min(axis=1)
+            tiny = np.diff(s) <= 1e-9 * (s[-1] - s[0])
+            bad = ((cos < cos_max) | (length.reshape(net.shape[:2]).min(axis=1) == 0.0)) & ~tiny
+            if not bad.any() or len(s) + np.count_nonzero(bad) > _CURVE_SEEDS_MAX:
+                return s
+            s = np.sort(np.concatenate([s, 0.5 * (s[:-1] + s[1:])[bad]]))
+        return s
+
+    @cached_property
+    def _pieces(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The cells between neighbouring samples (each inside one knot span, so one
+        polynomial piece of the homogeneous curve) as Taylor polynomials about their
+        middles: cell edges (n_c + 1,), middles (n_c,) and coefficients ((k + 1) D, n_c),
+        row i D + d = d-th homogeneous coordinate of C^(i)(middle) / i!, from scipy."""
+        s = self._seeds[0]
+        edges = np.append(s, self.domain[1]) if self.periodic else s
+        mids = 0.5 * (edges[:-1] + edges[1:])
+        coef = np.concatenate([self._spline(mids, i).T / math.factorial(i) for i in range(self.degree + 1)])
+        return edges, mids, np.ascontiguousarray(coef)
+
+    def _eval(self, t: np.ndarray, order: int = 2) -> list[np.ndarray]:
+        """``[C, C', C'']`` (up to ``order``) at parameters ``t`` inside the domain, each (3, n),
+        by Horner's rule on the cells' Taylor polynomials. The projection's Newton loops
+        use this rather than scipy's ``BSpline.__call__`` (one call per derivative order on
+        row-major arrays): the pieces are built by scipy once, and evaluating them
+        component-major on long arrays is several times cheaper per Newton step."""
+        edges, mids, coef = self._pieces
+        cell = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, len(mids) - 1)
+        out = _horner(coef[:, cell], t - mids[cell], self.degree, order)
+        return out if self.weights is None else _quotient(out)
+
+    def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Parameters ``t`` (m,), closest points C(t) (m, 3) and derivatives C'(t) (m, 3)
+        for (m, 3) points: the core of :meth:`project` (see the module doc)."""
+        p = np.ascontiguousarray(np.asarray(points, dtype=float).T)
+        m = p.shape[1]
+        s, _, Q, tree = self._seeds
+        search = self._cells
+        edges = self._pieces[0]
         n_cells = len(edges) - 1
-        found = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, n_cells - 1)
-        gap = np.abs(ci - found[pi])
-        if self.periodic:
-            gap = np.minimum(gap, n_cells - gap)
-        # the found cell is searched again only where the answer lies on its end (an end of
-        # the curve, a kink, or Newton pushed there from a minimum inside it)
-        # (or Newton stopped short of a stationary point: iteration limit)
-        inner = (t > edges[found]) & (t < edges[found + 1]) & _stationary(r, C1)
-        keep = (gap > _SAME_BASIN) | ~inner[pi]
-        if len(self._kinks) == 0:
-            # a cell where f' = C'.(C - p) keeps one sign holds no minimum of its own: the
-            # smallest distance on it is at an end it shares with a neighbouring cell
-            # (checked there; f' is continuous for a C1 curve, so the neighbours cannot both
-            # point at the shared end), so it is skipped; not at the ends of an open curve
-            origin, R, olo, ohi = oriented
-            q = np.einsum("nkj,nj->nk", R[ci], p[pi] - origin[ci])
-            low, high = _dot_bounds(nlo[ci], nhi[ci], olo[ci] - q, ohi[ci] - q)
-            # ... or at the curve's end, where that end is the answer found
-            has_lo = np.ones(len(ci), bool) if self.periodic else (ci > 0) | (t[pi] == edges[ci])
-            has_hi = np.ones(len(ci), bool) if self.periodic else (ci < n_cells - 1) | (t[pi] == edges[ci + 1])
-            keep &= ~(((low > 0) & has_lo) | ((high < 0) & has_hi))
-        pi, ci = pi[keep], ci[keep]
-        if len(pi) == 0:
-            return t, C, C1
-        q = p[pi]
-        # start inside the cell (its middle): never on a knot, so on the cell's own piece
-        # Newton kept inside the cell: it finds the cell's own minimum (an inner one or an end)
-        t2, C2, C12 = _in_chunks(self._closest_block, q, 0.5 * (edges[ci] + edges[ci + 1]), edges[ci], edges[ci + 1])
-        f2 = _rowdot(C2 - q, C2 - q)
-        first = _best_per_point(pi, f2)
-        better = f2[first] < ub2[pi[first]]
-        rows, src_ = pi[first][better], first[better]
-        t, C, C1 = t.copy(), C.copy(), C1.copy()
-        t[rows], C[rows], C1[rows] = t2[src_], C2[src_], C12[src_]
-        return t, C, C1
+        pis, cis = [], []
+        # in blocks that stay in cache: the candidate (point, cell) pairs: cells closer
+        # than the nearest sample
+        for i0 in range(0, m, _BLOCK):
+            q = p[:, i0 : i0 + _BLOCK]
+            j, ub2 = _nearest_cols(q, Q, tree)
+            pi, ci, ((low, high),) = search.pairs(q, ub2)
+            if len(self._kinks) == 0:
+                # a cell where f' = C'.(C - p) keeps one sign holds no minimum of its own:
+                # the smallest distance on it is at an end it shares with a neighbouring
+                # cell, which is a candidate too where that end is closer than the bound
+                # (f' is continuous for a C1 curve, so two neighbours cannot both point at
+                # their shared end); not at the ends of an open curve
+                has_lo = np.ones(len(ci), bool) if self.periodic else ci > 0
+                has_hi = np.ones(len(ci), bool) if self.periodic else ci < n_cells - 1
+                keep = ~(((low > 0) & has_lo) | ((high < 0) & has_hi))
+                pi, ci = pi[keep], ci[keep]
+            # every point keeps a cell at its nearest sample (round-off safety net)
+            orphan = np.ones(q.shape[1], dtype=bool)
+            orphan[pi] = False
+            rows = np.flatnonzero(orphan)
+            pis += [pi + i0, rows + i0]
+            cis += [ci, np.minimum(j[rows], n_cells - 1)]
+        pi, ci = np.concatenate(pis), np.concatenate(cis)
+        # Newton kept inside each candidate cell: the cell's own minimum (inner or an end);
+        # the best per point wins
+        t2, C2, C12 = np.empty(len(pi)), np.empty((3, len(pi))), np.empty((3, len(pi)))
+        for i0 in range(0, len(pi), _PAIR_BLOCK):
+            sl = slice(i0, i0 + _PAIR_BLOCK)
+            t2[sl], C2[:, sl], C12[:, sl] = self._cell_newton(p[:, pi[sl]], ci[sl])
+        r = C2 - p[:, pi]
+        best = best_per_point(pi, _coldot(r, r), m)
+        return t2[best], C2[:, best].T, C12[:, best].T
+
+    @cached_property
+    def _cells(self):
+        """Box hierarchy over the cells between neighbouring samples (every cell lies in one
+        knot span, so it is one polynomial / rational Bezier piece), the cells' own oriented
+        boxes (component-major) and the boxes of the direction of C' over each cell."""
+        edges = self._pieces[0]
+        k = self.degree
+        nodes = edges[:-1, None] + np.diff(edges)[:, None] * (np.arange(k + 1) / k)
+        # Bezier nets of the pieces from their values (the pieces' own polynomials, so at a
+        # cell's end the piece of that cell, also at a kink)
+        n_cells = len(edges) - 1
+        H = self._piece_values(np.repeat(np.arange(n_cells), k + 1), nodes.ravel())
+        ctrl = np.einsum("lm,cmd->cld", bernstein_inverse(k), H.T.reshape(n_cells, k + 1, -1))
+        margin = _BOX_MARGIN * self.scale
+        pts = ctrl[..., :3] / ctrl[..., 3:] if self.weights is not None else ctrl[..., :3]
+        chord = pts[:, -1] - pts[:, 0]
+        bend = pts.mean(axis=1) - 0.5 * (pts[:, -1] + pts[:, 0])
+        levels = box_levels(pts, chord, bend, _CURVE_BRANCH, margin)
+        origin, R, lo, hi = levels[-1]
+        # the direction of C' over the cell, in the cell's frame
+        N = self._tangent_nets(edges)
+        return CellSearch(levels, _CURVE_BRANCH, extra=(frame_boxes(N, R),))
+
+    def _piece_values(self, cell: np.ndarray, t: np.ndarray, order: int = 0):
+        """Homogeneous values (and derivatives up to ``order``) of the pieces of cells
+        ``cell`` at parameters ``t``, each (D, n)."""
+        _, mids, coef = self._pieces
+        out = _horner(coef[:, cell], t - mids[cell], self.degree, order)
+        return out if order else out[0]
 
     @cached_property
     def _kinks(self) -> np.ndarray:
@@ -810,89 +855,104 @@ class BSplineCurve(Curve):
             return _kinks(self._spline.t, self.degree, 2 * a - b, 2 * b - a)
         return _kinks(self._spline.t, self.degree, a, b)
 
-    def _closest_block(self, p: np.ndarray, j: np.ndarray, start: np.ndarray | None = None, box=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Safeguarded Newton from sample ``j`` (or from ``start`` parameters, then kept within
-        the per-point parameter intervals ``box = (lo, hi)``)."""
-        m = len(p)
-        a, b = self.domain
-        width = b - a
-        tol = _STRICT * self.scale
-        out_t = np.empty(m)
-        out_C = np.empty((m, 3))
-        out_C1 = np.empty((m, 3))
-        idx = np.arange(m)
-        # the seed's Taylor model supplies the first Hessian: the first evaluation needs
-        # C and C' only, and most points converge right there
-        if start is None:
-            trial, H_acc, fine = self._seed(p, j)
-        else:  # given start parameters: the first Hessian from the spline there
-            trial = start
-            H_acc, fine = self._hessian(*self.derivatives(start, 2), p)
-        t_acc = trial.copy()
-        f_acc = np.full(m, np.inf)
-        step = np.zeros(m)
-        C_acc = np.zeros((m, 3))
-        C1_acc = np.zeros((m, 3))
-        halvings = np.zeros(m, dtype=np.int64)
-        reach = np.abs(p).max(axis=1) + self.extent
-        kinks = self._kinks
+    def _cell_newton(self, p: np.ndarray, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Safeguarded Newton on ``g(t) = C'(t) . (C(t) - p) = 0`` kept inside one cell per
+        point (``p`` (3, n), ``cell`` (n,)), on the cell's exact polynomial piece; starts at
+        the projection onto the cell's chord. A trial that increases the squared distance
+        beyond round-off is halved; Gauss-Newton (``|C'|^2``) where the Newton derivative is
+        not clearly positive. Stops when the next step moves the point by less than
+        ``_STRICT`` of the size, or after a plain Newton step that moved it by less than
+        ``_FINISH`` (the error left is of the order of its square). Returns t (n,), C and
+        C' (3, n), evaluated at t."""
+        edges, mids, coef = self._pieces
+        n = p.shape[1]
+        k = self.degree
+        tol, finish = _STRICT * self.scale, _FINISH * self.scale
+        p_all = p
+        G = coef[:, cell]
+        mid = mids[cell]
+        lo, hi = edges[cell] - mid, edges[cell + 1] - mid
+        # start: projection onto the chord of the cell
+        A, B = self._piece_ends
+        a_, ab = A[:, cell], B[:, cell]
+        ab -= a_
+        frac = np.clip(_coldot(p - a_, ab) / np.maximum(_coldot(ab, ab), 1e-300), 0.0, 1.0)
+        trial = lo + frac * (hi - lo)
+        out_x = np.empty(n)
+        idx = np.arange(n)
+        x_acc = trial
+        f_acc = np.full(n, np.inf)
+        speed_acc = np.zeros(n)
+        step = np.zeros(n)
+        halvings = np.zeros(n, dtype=np.int64)
+        reach = np.abs(p).max(axis=0) + self.extent
         for _ in range(_MAX_ITER):
             if len(idx) == 0:
                 break
-            # full Newton needs C''; once every active point is in the final (fine) phase
-            # the Hessian is reused and C, C' suffice (mixed sets: full Newton for all, which
-            # is cheaper here than splitting the arrays)
-            if fine.all():
-                C, C1 = self.derivatives(trial, 1)
-                H, newton = H_acc, fine
-            else:
-                C, C1, C2 = self.derivatives(trial, 2)
-                H, newton = self._hessian(C, C1, C2, p)
-            r = C - p
-            f = _rowdot(r, r)
+            H = _horner(G, trial, k, 2)
+            C, C1, C2 = H if self.weights is None else _quotient(H)
+            C -= p  # r = C - p
+            f = _coldot(C, C)
+            g = _coldot(C1, C)
+            sp2 = _coldot(C1, C1)
+            h = sp2 + _coldot(C2, C)
             acc = f <= f_acc + _roundoff(f_acc, reach)
-            if acc.all():
-                t_acc, f_acc, C_acc, C1_acc, H_acc = trial, f, C, C1, H
+            all_acc = bool(acc.all())
+            if all_acc:
+                x_acc, f_acc, speed_acc = trial, f, np.sqrt(sp2)
             else:
-                acc3 = acc[:, None]
-                t_acc = np.where(acc, trial, t_acc)
+                x_acc = np.where(acc, trial, x_acc)
                 f_acc = np.where(acc, f, f_acc)
-                C_acc = np.where(acc3, C, C_acc)
-                C1_acc = np.where(acc3, C1, C1_acc)
-                H_acc = np.where(acc, H, H_acc)
-            g = _rowdot(C1, r)
-            speed2 = _rowdot(C1_acc, C1_acc)
-            dt = np.where(H > 0, -g / np.where(H > 0, H, 1.0), 0.0)
-            new_step = np.where(acc, np.clip(dt, -0.5 * width, 0.5 * width), 0.5 * step)
-            raw = t_acc + new_step
-            stopped = _stop_at_kinks(t_acc, raw, kinks, _KINK_NUDGE * width)
-            if box is None:
-                new = self._wrap(stopped)
-                eff = stopped - t_acc if self.periodic else new - t_acc
-            else:
-                new = np.clip(stopped, box[0], box[1])
-                eff = new - t_acc
-            move = np.abs(eff) * np.sqrt(speed2)
+                speed_acc = np.where(acc, np.sqrt(sp2), speed_acc)
+            newton = h > 1e-6 * sp2
+            H = np.where(newton, h, sp2)
+            H[H <= 0] = np.inf  # |C'| = 0: no step
+            dx = -g / H
+            new_step = dx if all_acc else np.where(acc, dx, 0.5 * step)
+            raw = x_acc + new_step
+            new = np.clip(raw, lo, hi)
+            eff = new - x_acc
+            move = np.abs(eff) * speed_acc
             halvings = np.where(acc, 0, halvings + 1)
-            # fine phase (reuse the Hessian) while the steps are small; back to full Newton
-            # for points whose accepted step is large
-            fine = np.where(acc, newton & (stopped == raw) & (move <= _FINE * self.scale), fine)
-            done = (move <= tol) | (halvings > 60)
-            if np.any(done):
+            # a plain Newton step (accepted, unclamped) this small is the last one
+            taylor = acc & newton & (new == raw) & (move <= finish)
+            done = taylor | (move <= tol) | (halvings > _MAX_HALVINGS)
+            if done.any():
                 d = np.flatnonzero(done)
-                out_t[idx[d]] = t_acc[d]
-                out_C[idx[d]] = C_acc[d]
-                out_C1[idx[d]] = C1_acc[d]
-                keep = ~done
-                idx, p, new, eff, t_acc, f_acc = idx[keep], p[keep], new[keep], eff[keep], t_acc[keep], f_acc[keep]
-                reach, fine, H_acc = reach[keep], fine[keep], H_acc[keep]
-                C_acc, C1_acc, halvings = C_acc[keep], C1_acc[keep], halvings[keep]
-                if box is not None:
-                    box = (box[0][keep], box[1][keep])
+                out_x[idx[d]] = np.where(taylor[d], new[d], x_acc[d])
+                keep = np.flatnonzero(~done)
+                idx, p, G, lo, hi = idx[keep], p[:, keep], G[:, keep], lo[keep], hi[keep]
+                new, eff, x_acc, f_acc = new[keep], eff[keep], x_acc[keep], f_acc[keep]
+                reach, speed_acc, halvings = reach[keep], speed_acc[keep], halvings[keep]
             trial, step = new, eff
         if len(idx):  # iteration limit: keep the best accepted point
-            out_t[idx], out_C[idx], out_C1[idx] = t_acc, C_acc, C1_acc
-        return out_t, out_C, out_C1
+            out_x[idx] = x_acc
+        # the returned points and tangents: the pieces at the returned parameters; an end
+        # of the cell where that is closer (a minimum at the end beside an inner one)
+        p = p_all
+        G = coef[:, cell]
+        H = _horner(G, out_x, k, 1)
+        C, C1 = H if self.weights is None else _quotient(H)
+        f = _coldot(C - p, C - p)
+        fa, fb = _coldot(A[:, cell] - p, A[:, cell] - p), _coldot(B[:, cell] - p, B[:, cell] - p)
+        end = np.flatnonzero(np.minimum(fa, fb) < f)
+        if len(end):
+            x_end = np.where(fa[end] <= fb[end], edges[cell[end]], edges[cell[end] + 1]) - mids[cell[end]]
+            out_x[end] = x_end
+            H = _horner(G[:, end], x_end, k, 1)
+            C[:, end], C1[:, end] = H if self.weights is None else _quotient(H)
+        return self._wrap(mids[cell] + out_x), C, C1
+
+    @cached_property
+    def _piece_ends(self) -> tuple[np.ndarray, np.ndarray]:
+        """Start and end points (3, n_c) of every cell, on the cell's own piece."""
+        edges, mids, _ = self._pieces
+        cells = np.arange(len(mids))
+        ends = []
+        for x in (edges[:-1], edges[1:]):
+            H = self._piece_values(cells, x)
+            ends.append(np.ascontiguousarray(H[:3] / H[3:] if self.weights is not None else H))
+        return tuple(ends)
 
     def project(self, points: Any) -> Projection:
         p, dim = as_points(points, dims=(2, 3))

@@ -1,0 +1,224 @@
+"""Bounding boxes of Bezier cells and the branch-and-bound search over them (the global
+check of B-spline projection, see :mod:`geometry.bspline`).
+
+Arrays here are component-major ("structure of arrays"): a set of n vectors is (3, n), a
+table of n boxes is (15, n). numpy then runs every operation over long contiguous rows;
+with (n, 3) rows and a broadcast (n, 1) factor it runs a 3-long inner loop per row, which
+measured 5-7 times slower (260 us against 39 us for 16384 products).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+# top level of a box hierarchy: the deepest level with at most this many nodes; it is
+# tested against all points with one matrix product
+_TOP_NODES = 64
+# points per matrix product at the top level (bounds the (nodes, points) temporaries)
+_TOP_ENTRIES = 1 << 18
+
+
+def bernstein_inverse(k: int) -> np.ndarray:
+    """Inverse of the Bernstein collocation matrix at the equally spaced nodes m / k: maps
+    k + 1 values of a degree-k polynomial piece to its Bezier control points."""
+    x = np.arange(k + 1) / k
+    ell = np.arange(k + 1)
+    B = np.array([math.comb(k, i) for i in ell]) * x[:, None] ** ell * (1.0 - x[:, None]) ** (k - ell)
+    return np.linalg.inv(B)
+
+
+def rowdot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Row-wise dot product of (n, 3) arrays."""
+    return np.einsum("ij,ij->i", x, y)
+
+
+def oriented_boxes(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, margin: float):
+    """Boxes of control nets ``pts`` (n, m, 3) in per-cell orthonormal frames built from
+    the directions e1, e2 (n, 3) (Gram-Schmidt; a degenerate direction falls back to the
+    coordinate axes): (origin (n, 3), frame rows (n, 3, 3), lo, hi (n, 3)). Aligned with a
+    cell's tangents, the box is only as thick as the cell bends (~ curvature h^2 / 8), so
+    its distance bounds the cell's distance far more tightly than an axis-aligned box."""
+
+    def unit(v, fallback):
+        n = np.linalg.norm(v, axis=1, keepdims=True)
+        return np.where(n > 1e-300, v / np.where(n > 1e-300, n, 1.0), fallback)
+
+    x, y = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
+    a = unit(e1, x)
+    b = e2 - rowdot(e2, a)[:, None] * a
+    alt = np.where(np.abs(a[:, :1]) < 0.9, x, y)
+    alt = alt - rowdot(alt, a)[:, None] * a
+    usable = np.linalg.norm(b, axis=1, keepdims=True) > 1e-9 * np.linalg.norm(e2, axis=1, keepdims=True) + 1e-300
+    b = unit(np.where(usable, b, alt), alt / np.linalg.norm(alt, axis=1, keepdims=True))
+    c = np.cross(a, b)
+    R = np.stack([a, b, c], axis=1)
+    origin = pts[:, 0]
+    L = np.einsum("nkj,nmj->nmk", R, pts - origin[:, None])
+    return origin, R, L.min(axis=1) - margin, L.max(axis=1) + margin
+
+
+def frame_boxes(nets: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Boxes (lo, hi), each (3, n), of control nets (n, m, 3) in the cells' frames R (n, 3, 3)."""
+    L = np.einsum("nkj,nmj->nmk", R, nets)
+    lo, hi = L.min(axis=1), L.max(axis=1)
+    pad = 1e-9 * np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, keepdims=True)
+    return np.ascontiguousarray((lo - pad).T), np.ascontiguousarray((hi + pad).T)
+
+
+def box_levels(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, branch: int, margin: float) -> list[tuple]:
+    """Hierarchy of oriented boxes (see :func:`oriented_boxes`) over cells with control
+    nets ``pts`` (n, m, 3) in a spatially coherent order: node i of a level bounds the
+    nodes ``branch i .. branch i + branch - 1`` of the level below (its frame from their
+    summed directions); top level first, the cells' own boxes last."""
+
+    def unit(v):
+        return v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
+
+    levels = [oriented_boxes(pts, e1, e2, margin)]
+    e1, e2 = levels[0][1][:, 0], levels[0][1][:, 1]
+    while len(pts) > _TOP_NODES:
+        m = -(-len(pts) // branch)
+        fill = np.arange(m * branch) % len(pts)  # pad with repeated cells (harmless)
+        pts = pts[fill].reshape(m, -1, 3)
+        e1 = unit(e1[fill].reshape(m, branch, 3).sum(axis=1))
+        e2 = unit(e2[fill].reshape(m, branch, 3).sum(axis=1))
+        levels.append(oriented_boxes(pts, e1, e2, margin))
+        e1, e2 = levels[-1][1][:, 0], levels[-1][1][:, 1]
+    return levels[::-1]
+
+
+def _frame_offsets(T: np.ndarray, x: np.ndarray) -> list[np.ndarray]:
+    """Per frame axis k, ``(R x)_k - c_k`` for points ``x`` (3, n) and oriented boxes ``T``
+    (rows: frame R (9), frame centre c (3), half widths (3), ...)."""
+    out = []
+    for k in range(3):
+        y = T[3 * k] * x[0]
+        y += T[3 * k + 1] * x[1]
+        y += T[3 * k + 2] * x[2]
+        y -= T[9 + k]
+        out.append(y)
+    return out
+
+
+def _gap2(y: list[np.ndarray], T: np.ndarray) -> np.ndarray:
+    """Squared distance to the boxes from the frame offsets ``y``."""
+    d2 = np.zeros(len(y[0]))
+    for k in range(3):
+        g = np.abs(y[k])
+        g -= T[12 + k]
+        np.maximum(g, 0.0, out=g)
+        g *= g
+        d2 += g
+    return d2
+
+
+class CellSearch:
+    """Branch and bound over a box hierarchy (levels from :func:`box_levels`): every
+    (point, cell) pair whose cell box lies closer to the point than a per-point bound,
+    with interval bounds of ``V . (S - p)`` over the cell for the vector fields V whose
+    boxes ``extra`` (pairs (lo, hi), each (3, n_cells), in the cells' frames) are given:
+    S in the cell's box, V in its box.
+
+    The top level (at most ``_TOP_NODES`` nodes) is screened for all points at once by the
+    nodes' bounding spheres (one matrix product, a few operations per (point, node)); then
+    level by level the pairs that pass by the nodes' oriented boxes, and all children of a
+    kept node. The cells' own boxes and the bounds share one gather per pair."""
+
+    def __init__(self, levels: list[tuple], branch: int, extra: tuple = ()):
+        self.branch = branch
+        tables = []
+        for depth, (origin, R, lo, hi) in enumerate(levels):
+            # rows: frame R (9), R origin + box centre (3), box half widths (3); a point's
+            # gap to the box is then max(|R p - c| - h, 0) per frame axis
+            t = np.concatenate(
+                [R.reshape(-1, 9), np.einsum("nkj,nj->nk", R, origin) + 0.5 * (lo + hi), 0.5 * (hi - lo)], axis=1
+            )
+            if depth == len(levels) - 1:
+                t = np.concatenate([t] + [np.concatenate([a.T, b.T], axis=1) for a, b in extra], axis=1)
+            n = len(t) if depth == 0 else -(-len(t) // branch) * branch
+            pad = np.zeros((n - len(t), t.shape[1]))
+            pad[:, 12:15] = -np.inf  # padding nodes are never within reach
+            tables.append(np.ascontiguousarray(np.concatenate([t, pad]).T))
+        origin, R, lo, hi = levels[0]
+        # bounding spheres of the top boxes: centre origin + R^T (box centre), radius the
+        # half diagonal (rounded up)
+        self.top_centre = np.ascontiguousarray(origin + np.einsum("nkj,nk->nj", R, 0.5 * (lo + hi)))
+        self.top_radius = np.linalg.norm(0.5 * (hi - lo), axis=1) * (1.0 + 1e-12)
+        self.top_cc = np.einsum("ij,ij->i", self.top_centre, self.top_centre)[:, None]
+        self.tables = tables
+        self.n_extra = len(extra)
+
+    def pairs(self, p: np.ndarray, bound2: np.ndarray) -> tuple[np.ndarray, np.ndarray, list]:
+        """(point index, cell index) of all pairs whose cell box is closer to the point
+        (``p`` (3, m)) than ``sqrt(bound2)``, and per extra field the bounds (low, high)."""
+        m = p.shape[1]
+        n_top = len(self.top_centre)
+        chunk = max(256, _TOP_ENTRIES // n_top)
+        reach = np.sqrt(bound2)
+        pp = np.einsum("ij,ij->j", p, p)
+        pis, nodes = [], []
+        for i0 in range(0, m, chunk):
+            sl = slice(i0, i0 + chunk)
+            # |p - c|^2 < (bound + radius)^2, up to the round-off of the expanded square
+            d2 = self.top_centre @ p[:, sl]
+            d2 *= -2.0
+            d2 += self.top_cc
+            d2 += pp[sl]
+            lim = reach[sl] + self.top_radius[:, None]
+            lim *= lim
+            lim += 1e-15 * (self.top_cc + pp[sl])
+            node, pt = np.nonzero(d2 < lim)
+            pis.append(pt + i0)
+            nodes.append(node)
+        pi, node = np.concatenate(pis), np.concatenate(nodes)
+        kids = np.arange(self.branch)
+        for depth, tab in enumerate(self.tables):
+            if depth:  # all children of the kept nodes
+                node = (node[:, None] * self.branch + kids).ravel()
+                pi = np.repeat(pi, self.branch)
+            T = tab[:, node]
+            y = _frame_offsets(T, p[:, pi])
+            keep = np.flatnonzero(_gap2(y, T) < bound2[pi])
+            pi, node = pi[keep], node[keep]
+        bounds = []
+        if self.n_extra:
+            T, y = T[:, keep], [v[keep] for v in y]
+            for e in range(self.n_extra):
+                # S - p lies in [-h - y, h - y] (frame coordinates), V in [vlo, vhi]
+                low, high = np.zeros(len(pi)), np.zeros(len(pi))
+                for k in range(3):
+                    slo, shi = -T[12 + k] - y[k], T[12 + k] - y[k]
+                    vlo, vhi = T[15 + 6 * e + k], T[18 + 6 * e + k]
+                    a, b, c, d = vlo * slo, vlo * shi, vhi * slo, vhi * shi
+                    low += np.minimum(np.minimum(a, b), np.minimum(c, d))
+                    high += np.maximum(np.maximum(a, b), np.maximum(c, d))
+                bounds.append((low, high))
+        return pi, node, bounds
+
+
+def frame_coordinates(p: np.ndarray, origin: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """``R (p - origin)`` per pair: p (3, n) points, origin (3, n) and R (9, n) frames."""
+    d = p - origin
+    return np.stack([R[3 * k] * d[0] + R[3 * k + 1] * d[1] + R[3 * k + 2] * d[2] for k in range(3)])
+
+
+def dot_bounds(alo, ahi, blo, bhi) -> tuple[np.ndarray, np.ndarray]:
+    """Interval bounds of ``a . b`` for a in the box [alo, ahi] and b in [blo, bhi]
+    (each (3, n))."""
+    p1, p2, p3, p4 = alo * blo, alo * bhi, ahi * blo, ahi * bhi
+    lo = np.minimum(np.minimum(p1, p2), np.minimum(p3, p4)).sum(axis=0)
+    hi = np.maximum(np.maximum(p1, p2), np.maximum(p3, p4)).sum(axis=0)
+    return lo, hi
+
+
+def best_per_point(pi: np.ndarray, f: np.ndarray, m: int) -> np.ndarray:
+    """Index into the pair arrays of the smallest ``f`` of each of the points 0 .. m - 1
+    (every point has at least one pair)."""
+    best = np.full(m, np.inf)
+    np.minimum.at(best, pi, f)
+    win = np.flatnonzero(f == best[pi])
+    out = np.empty(m, dtype=np.int64)
+    out[pi[win]] = win  # ties: any of them
+    return out
