@@ -139,14 +139,18 @@ class CellSearch:
                 t = np.concatenate([t] + [np.concatenate([a.T, b.T], axis=1) for a, b in extra], axis=1)
             n = len(t) if depth == 0 else -(-len(t) // branch) * branch
             pad = np.zeros((n - len(t), t.shape[1]))
-            pad[:, 12:15] = -np.inf  # padding nodes are never within reach
+            pad[:, 12:15] = -1e150  # padding nodes are never within reach (finite: no nan in the bounds)
             tables.append(np.ascontiguousarray(np.concatenate([t, pad]).T))
         origin, R, lo, hi = levels[0]
-        # bounding spheres of the top boxes: centre origin + R^T (box centre), radius the
-        # half diagonal (rounded up)
-        self.top_centre = np.ascontiguousarray(origin + np.einsum("nkj,nk->nj", R, 0.5 * (lo + hi)))
-        self.top_radius = np.linalg.norm(0.5 * (hi - lo), axis=1) * (1.0 + 1e-12)
-        self.top_cc = np.einsum("ij,ij->i", self.top_centre, self.top_centre)[:, None]
+        # bounding spheres of the top boxes: centre c = origin + R^T (box centre), radius
+        # the half diagonal (rounded up); the sphere test |p - c| < bound + radius is
+        # -2 (c.p + radius bound) + (|c|^2 - radius^2) + (|p|^2 - bound^2) < 0, its first
+        # term one matrix product of [c, radius] with [p, bound]
+        centre = origin + np.einsum("nkj,nk->nj", R, 0.5 * (lo + hi))
+        radius = np.linalg.norm(0.5 * (hi - lo), axis=1) * (1.0 + 1e-12)
+        self.top_m2 = np.ascontiguousarray(-2.0 * np.column_stack([centre, radius]))
+        self.top_cc = np.einsum("ij,ij->i", centre, centre)
+        self.top_const = self.top_cc - radius * radius
         self.tables = tables
         self.n_extra = len(extra)
 
@@ -154,48 +158,49 @@ class CellSearch:
         """(point index, cell index) of all pairs whose cell box is closer to the point
         (``p`` (3, m)) than ``sqrt(bound2)``, and per extra field the bounds (low, high)."""
         m = p.shape[1]
-        n_top = len(self.top_centre)
+        n_top = len(self.top_const)
         chunk = max(256, _TOP_ENTRIES // n_top)
-        reach = np.sqrt(bound2)
-        pp = np.einsum("ij,ij->j", p, p)
+        X = np.empty((4, m))
+        X[:3] = p
+        X[3] = np.sqrt(bound2)
+        rest = np.einsum("ij,ij->j", p, p)
+        # the round-off of the expanded squares: a little slack (never fewer pairs)
+        slack = 1e-14 * (self.top_cc.max() + rest.max())
+        rest -= bound2
         pis, nodes = [], []
         for i0 in range(0, m, chunk):
             sl = slice(i0, i0 + chunk)
-            # |p - c|^2 < (bound + radius)^2, up to the round-off of the expanded square
-            d2 = self.top_centre @ p[:, sl]
-            d2 *= -2.0
-            d2 += self.top_cc
-            d2 += pp[sl]
-            lim = reach[sl] + self.top_radius[:, None]
-            lim *= lim
-            lim += 1e-15 * (self.top_cc + pp[sl])
-            node, pt = np.nonzero(d2 < lim)
+            d = self.top_m2 @ X[:, sl]
+            d += (self.top_const - slack)[:, None]
+            d += rest[sl]
+            node, pt = np.nonzero(d < 0.0)
             pis.append(pt + i0)
             nodes.append(node)
         pi, node = np.concatenate(pis), np.concatenate(nodes)
         kids = np.arange(self.branch)
+        last = len(self.tables) - 1
         for depth, tab in enumerate(self.tables):
             if depth:  # all children of the kept nodes
                 node = (node[:, None] * self.branch + kids).ravel()
                 pi = np.repeat(pi, self.branch)
-            T = tab[:, node]
-            y = _frame_offsets(T, p[:, pi])
+            T = np.take(tab if depth == last else tab[:15], node, axis=1)
+            y = _frame_offsets(T, np.take(p, pi, axis=1))
             keep = np.flatnonzero(_gap2(y, T) < bound2[pi])
-            pi, node = pi[keep], node[keep]
+            if depth < last:
+                pi, node = pi[keep], node[keep]
         bounds = []
-        if self.n_extra:
-            T, y = T[:, keep], [v[keep] for v in y]
-            for e in range(self.n_extra):
-                # S - p lies in [-h - y, h - y] (frame coordinates), V in [vlo, vhi]
-                low, high = np.zeros(len(pi)), np.zeros(len(pi))
-                for k in range(3):
-                    slo, shi = -T[12 + k] - y[k], T[12 + k] - y[k]
-                    vlo, vhi = T[15 + 6 * e + k], T[18 + 6 * e + k]
-                    a, b, c, d = vlo * slo, vlo * shi, vhi * slo, vhi * shi
-                    low += np.minimum(np.minimum(a, b), np.minimum(c, d))
-                    high += np.maximum(np.maximum(a, b), np.maximum(c, d))
-                bounds.append((low, high))
-        return pi, node, bounds
+        for e in range(self.n_extra):
+            # S - p lies in [-h - y, h - y] (frame coordinates), V in [vlo, vhi]
+            low, high = np.zeros(len(pi)), np.zeros(len(pi))
+            for k in range(3):
+                slo = -T[12 + k] - y[k]
+                shi = slo + 2.0 * T[12 + k]
+                vlo, vhi = T[15 + 6 * e + k], T[18 + 6 * e + k]
+                a, b, c, d = vlo * slo, vlo * shi, vhi * slo, vhi * shi
+                low += np.minimum(np.minimum(a, b), np.minimum(c, d))
+                high += np.maximum(np.maximum(a, b), np.maximum(c, d))
+            bounds.append((low[keep], high[keep]))
+        return pi[keep], node[keep], bounds
 
 
 def frame_coordinates(p: np.ndarray, origin: np.ndarray, R: np.ndarray) -> np.ndarray:

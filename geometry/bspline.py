@@ -471,6 +471,13 @@ def _normalise_rows(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 # ---------------------------------------------------------------------------------------
 
 
+def _cols(a: np.ndarray, idx: np.ndarray) -> np.ndarray:
+    """Columns ``idx`` of a component-major array, C-contiguous: ``a[:, idx]`` would return
+    them in Fortran order (rows strided), which made every later row operation several
+    times slower."""
+    return np.take(a, idx, axis=1)
+
+
 def _coldot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Column-wise dot product of (3, n) arrays."""
     return np.einsum("ij,ij->j", x, y)
@@ -772,7 +779,7 @@ class BSplineCurve(Curve):
         component-major on long arrays is several times cheaper per Newton step."""
         edges, mids, coef = self._pieces
         cell = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, len(mids) - 1)
-        out = _horner(coef[:, cell], t - mids[cell], self.degree, order)
+        out = _horner(_cols(coef, cell), t - mids[cell], self.degree, order)
         return out if self.weights is None else _quotient(out)
 
     def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -813,8 +820,8 @@ class BSplineCurve(Curve):
         t2, C2, C12 = np.empty(len(pi)), np.empty((3, len(pi))), np.empty((3, len(pi)))
         for i0 in range(0, len(pi), _PAIR_BLOCK):
             sl = slice(i0, i0 + _PAIR_BLOCK)
-            t2[sl], C2[:, sl], C12[:, sl] = self._cell_newton(p[:, pi[sl]], ci[sl])
-        r = C2 - p[:, pi]
+            t2[sl], C2[:, sl], C12[:, sl] = self._cell_newton(_cols(p, pi[sl]), ci[sl])
+        r = C2 - _cols(p, pi)
         best = best_per_point(pi, _coldot(r, r), m)
         return t2[best], C2[:, best].T, C12[:, best].T
 
@@ -845,7 +852,7 @@ class BSplineCurve(Curve):
         """Homogeneous values (and derivatives up to ``order``) of the pieces of cells
         ``cell`` at parameters ``t``, each (D, n)."""
         _, mids, coef = self._pieces
-        out = _horner(coef[:, cell], t - mids[cell], self.degree, order)
+        out = _horner(_cols(coef, cell), t - mids[cell], self.degree, order)
         return out if order else out[0]
 
     @cached_property
@@ -868,24 +875,28 @@ class BSplineCurve(Curve):
         n = p.shape[1]
         k = self.degree
         tol, finish = _STRICT * self.scale, _FINISH * self.scale
-        p_all = p
-        G = coef[:, cell]
+        G = _cols(coef, cell)
         mid = mids[cell]
         lo, hi = edges[cell] - mid, edges[cell + 1] - mid
-        # start: projection onto the chord of the cell
+        # the cell's ends: the start is the projection onto its chord, and an end is
+        # returned where it is closer than the minimum Newton finds (a minimum at the end
+        # beside an inner one)
         A, B = self._piece_ends
-        a_, ab = A[:, cell], B[:, cell]
-        ab -= a_
-        frac = np.clip(_coldot(p - a_, ab) / np.maximum(_coldot(ab, ab), 1e-300), 0.0, 1.0)
+        ra, ab = _cols(A, cell), _cols(B, cell)
+        ab -= ra
+        ra -= p
+        f_ends = np.minimum(_coldot(ra, ra), _coldot(ra + ab, ra + ab))
+        frac = np.clip(-_coldot(ra, ab) / np.maximum(_coldot(ab, ab), 1e-300), 0.0, 1.0)
         trial = lo + frac * (hi - lo)
-        out_x = np.empty(n)
+        p_all = p
+        out_x, out_f = np.empty(n), np.empty(n)
         idx = np.arange(n)
         x_acc = trial
         f_acc = np.full(n, np.inf)
         speed_acc = np.zeros(n)
         step = np.zeros(n)
         halvings = np.zeros(n, dtype=np.int64)
-        reach = np.abs(p).max(axis=0) + self.extent
+        reach = float(np.abs(p).max()) + self.extent
         for _ in range(_MAX_ITER):
             if len(idx) == 0:
                 break
@@ -905,9 +916,10 @@ class BSplineCurve(Curve):
                 f_acc = np.where(acc, f, f_acc)
                 speed_acc = np.where(acc, np.sqrt(sp2), speed_acc)
             newton = h > 1e-6 * sp2
-            H = np.where(newton, h, sp2)
-            H[H <= 0] = np.inf  # |C'| = 0: no step
-            dx = -g / H
+            # where f is not clearly convex the descent runs to the end of the cell (with
+            # halving back where that is worse); Gauss-Newton steps would creep there
+            dx = np.where(newton, -g / np.where(newton, h, 1.0), np.where(g > 0, lo, hi) - trial)
+            dx[g == 0.0] = 0.0
             new_step = dx if all_acc else np.where(acc, dx, 0.5 * step)
             raw = x_acc + new_step
             new = np.clip(raw, lo, hi)
@@ -920,27 +932,22 @@ class BSplineCurve(Curve):
             if done.any():
                 d = np.flatnonzero(done)
                 out_x[idx[d]] = np.where(taylor[d], new[d], x_acc[d])
+                out_f[idx[d]] = f_acc[d]
                 keep = np.flatnonzero(~done)
-                idx, p, G, lo, hi = idx[keep], p[:, keep], G[:, keep], lo[keep], hi[keep]
+                idx, p, G, lo, hi = idx[keep], _cols(p, keep), _cols(G, keep), lo[keep], hi[keep]
                 new, eff, x_acc, f_acc = new[keep], eff[keep], x_acc[keep], f_acc[keep]
-                reach, speed_acc, halvings = reach[keep], speed_acc[keep], halvings[keep]
+                speed_acc, halvings = speed_acc[keep], halvings[keep]
             trial, step = new, eff
         if len(idx):  # iteration limit: keep the best accepted point
-            out_x[idx] = x_acc
-        # the returned points and tangents: the pieces at the returned parameters; an end
-        # of the cell where that is closer (a minimum at the end beside an inner one)
-        p = p_all
-        G = coef[:, cell]
-        H = _horner(G, out_x, k, 1)
-        C, C1 = H if self.weights is None else _quotient(H)
-        f = _coldot(C - p, C - p)
-        fa, fb = _coldot(A[:, cell] - p, A[:, cell] - p), _coldot(B[:, cell] - p, B[:, cell] - p)
-        end = np.flatnonzero(np.minimum(fa, fb) < f)
+            out_x[idx], out_f[idx] = x_acc, f_acc
+        end = np.flatnonzero(f_ends < out_f)
         if len(end):
-            x_end = np.where(fa[end] <= fb[end], edges[cell[end]], edges[cell[end] + 1]) - mids[cell[end]]
-            out_x[end] = x_end
-            H = _horner(G[:, end], x_end, k, 1)
-            C[:, end], C1[:, end] = H if self.weights is None else _quotient(H)
+            ra = _cols(A, cell[end]) - _cols(p_all, end)
+            fa = _coldot(ra, ra)
+            out_x[end] = np.where(f_ends[end] == fa, edges[cell[end]], edges[cell[end] + 1]) - mids[cell[end]]
+        # the returned points and tangents: the pieces at the returned parameters
+        H = _horner(_cols(coef, cell), out_x, k, 1)
+        C, C1 = H if self.weights is None else _quotient(H)
         return self._wrap(mids[cell] + out_x), C, C1
 
     @cached_property
