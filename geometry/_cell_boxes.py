@@ -67,18 +67,18 @@ def frame_boxes(nets: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return np.ascontiguousarray((lo - pad).T), np.ascontiguousarray((hi + pad).T)
 
 
-def box_levels(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, branch: int, margin: float) -> list[tuple]:
+def box_levels(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, branch: int, margin: float, top: int = _TOP_NODES) -> list[tuple]:
     """Hierarchy of oriented boxes (see :func:`oriented_boxes`) over cells with control
     nets ``pts`` (n, m, 3) in a spatially coherent order: node i of a level bounds the
     nodes ``branch i .. branch i + branch - 1`` of the level below (its frame from their
-    summed directions); top level first, the cells' own boxes last."""
+    summed directions); top level (at most ``top`` nodes) first, the cells' own boxes last."""
 
     def unit(v):
         return v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
 
     levels = [oriented_boxes(pts, e1, e2, margin)]
     e1, e2 = levels[0][1][:, 0], levels[0][1][:, 1]
-    while len(pts) > _TOP_NODES:
+    while len(pts) > top:
         m = -(-len(pts) // branch)
         fill = np.arange(m * branch) % len(pts)  # pad with repeated cells (harmless)
         pts = pts[fill].reshape(m, -1, 3)
@@ -153,6 +153,14 @@ class CellSearch:
         self.top_const = self.top_cc - radius * radius
         self.tables = tables
         self.n_extra = len(extra)
+
+    def flat_nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """All levels' nodes as one (n_nodes, 21) table (rows of :meth:`pairs`' tables,
+        zero-padded) and the first node of each level (see :mod:`geometry._jit`)."""
+        rows = [np.pad(t, ((0, 21 - t.shape[0]), (0, 0))).T for t in self.tables]
+        top = rows[0].copy()
+        level_start = np.cumsum([0] + [len(r) for r in rows])
+        return np.ascontiguousarray(np.concatenate([top] + rows[1:])), level_start.astype(np.int64)
 
     def pairs(self, p: np.ndarray, bound2: np.ndarray) -> tuple[np.ndarray, np.ndarray, list]:
         """(point index, cell index) of all pairs whose cell box is closer to the point

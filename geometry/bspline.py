@@ -104,6 +104,7 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
     return cKDTree(points)
 
 from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
+from . import _jit
 from ._cell_boxes import CellSearch, bernstein_inverse, best_per_point, box_levels, dot_bounds, frame_boxes, frame_coordinates
 
 __all__ = ["BSplineCurve", "BSplineSurface"]
@@ -785,6 +786,8 @@ class BSplineCurve(Curve):
     def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Parameters ``t`` (m,), closest points C(t) (m, 3) and derivatives C'(t) (m, 3)
         for (m, 3) points: the core of :meth:`project` (see the module doc)."""
+        if _jit.enabled():
+            return self._closest_jit(np.ascontiguousarray(points, dtype=float))
         p = np.ascontiguousarray(np.asarray(points, dtype=float).T)
         m = p.shape[1]
         s, _, Q, tree = self._seeds
@@ -826,7 +829,33 @@ class BSplineCurve(Curve):
         return t2[best], C2[:, best].T, C12[:, best].T
 
     @cached_property
-    def _cells(self):
+    def _jit_tables(self) -> dict[str, Any]:
+        """The tables of the compiled kernel (see :mod:`geometry._jit`)."""
+        edges, mids, coef = self._pieces
+        A, B = self._piece_ends
+        # a deep hierarchy (one root group) suits the per-point traversal
+        nodes, level_start = self._cell_search(_CURVE_BRANCH).flat_nodes()
+        D = 4 if self.weights is not None else 3
+        return dict(
+            nodes=nodes, level_start=level_start, branch=_CURVE_BRANCH, coef=np.ascontiguousarray(coef.T),
+            mids=mids, edges=edges, ends=np.ascontiguousarray(np.concatenate([A, B]).T), k=self.degree, D=D,
+            rational=self.weights is not None, periodic=self.periodic, prune=len(self._kinks) == 0,
+            tol=_STRICT * self.scale, finish=_FINISH * self.scale, extent=self.extent, max_iter=_MAX_ITER,
+            max_halvings=_MAX_HALVINGS, cert=_CERT_REL,
+        )
+
+    def _closest_jit(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`closest_parameters` by the compiled kernel."""
+        if len(P) == 0:
+            return np.empty(0), np.empty((0, 3)), np.empty((0, 3))
+        t, CC = _jit.kernels()["curve_project"](P, **self._jit_tables)
+        return self._wrap(t), CC[:, :3], CC[:, 3:]
+
+    @cached_property
+    def _cells(self) -> CellSearch:
+        return self._cell_search()
+
+    def _cell_search(self, top: int | None = None) -> CellSearch:
         """Box hierarchy over the cells between neighbouring samples (every cell lies in one
         knot span, so it is one polynomial / rational Bezier piece), the cells' own oriented
         boxes (component-major) and the boxes of the direction of C' over each cell."""
@@ -842,7 +871,7 @@ class BSplineCurve(Curve):
         pts = ctrl[..., :3] / ctrl[..., 3:] if self.weights is not None else ctrl[..., :3]
         chord = pts[:, -1] - pts[:, 0]
         bend = pts.mean(axis=1) - 0.5 * (pts[:, -1] + pts[:, 0])
-        levels = box_levels(pts, chord, bend, _CURVE_BRANCH, margin)
+        levels = box_levels(pts, chord, bend, _CURVE_BRANCH, margin, *(() if top is None else (top,)))
         origin, R, lo, hi = levels[-1]
         # the direction of C' over the cell, in the cell's frame
         N = self._tangent_nets(edges)
@@ -932,7 +961,8 @@ class BSplineCurve(Curve):
             if done.any():
                 d = np.flatnonzero(done)
                 out_x[idx[d]] = np.where(taylor[d], new[d], x_acc[d])
-                out_f[idx[d]] = f_acc[d]
+                # after a final (Taylor) step f has dropped by about -g . step (second order)
+                out_f[idx[d]] = f_acc[d] + np.where(taylor[d], g[d] * eff[d], 0.0)
                 keep = np.flatnonzero(~done)
                 idx, p, G, lo, hi = idx[keep], _cols(p, keep), _cols(G, keep), lo[keep], hi[keep]
                 new, eff, x_acc, f_acc = new[keep], eff[keep], x_acc[keep], f_acc[keep]
@@ -940,7 +970,7 @@ class BSplineCurve(Curve):
             trial, step = new, eff
         if len(idx):  # iteration limit: keep the best accepted point
             out_x[idx], out_f[idx] = x_acc, f_acc
-        end = np.flatnonzero(f_ends < out_f)
+        end = np.flatnonzero(f_ends < out_f - _roundoff(out_f, reach))
         if len(end):
             ra = _cols(A, cell[end]) - _cols(p_all, end)
             fa = _coldot(ra, ra)
