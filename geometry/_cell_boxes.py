@@ -155,9 +155,11 @@ class CellSearch:
         self.n_extra = len(extra)
 
     def flat_nodes(self) -> tuple[np.ndarray, np.ndarray]:
-        """All levels' nodes as one (n_nodes, 21) table (rows of :meth:`pairs`' tables,
-        zero-padded) and the first node of each level (see :mod:`geometry._jit`)."""
-        rows = [np.pad(t, ((0, 21 - t.shape[0]), (0, 0))).T for t in self.tables]
+        """All levels' nodes as one (n_nodes, 15 + 6 extra fields) table (rows of
+        :meth:`pairs`' tables, zero-padded) and the first node of each level (see
+        :mod:`geometry._jit`)."""
+        width = 15 + 6 * self.n_extra
+        rows = [np.pad(t, ((0, width - t.shape[0]), (0, 0))).T for t in self.tables]
         top = rows[0].copy()
         level_start = np.cumsum([0] + [len(r) for r in rows])
         return np.ascontiguousarray(np.concatenate([top] + rows[1:])), level_start.astype(np.int64)

@@ -85,6 +85,30 @@ def _build():
         return low, high
 
     @jit
+    def push_children(nodes, level_start, branch, nd, p0, p1, p2, bound, stack, gstack, top):
+        """Pushes the children of node nd closer than ``bound`` onto the stack, the
+        nearest last (popped first); returns the new stack top."""
+        lvl = 0
+        while level_start[lvl + 1] <= nd:
+            lvl += 1
+        base = level_start[lvl + 1] + (nd - level_start[lvl]) * branch
+        start = top
+        for ch in range(branch):
+            g = box_gap2(nodes, base + ch, p0, p1, p2)
+            if g >= bound:
+                continue
+            # insertion: keep stack[start:top] sorted by decreasing gap
+            b = top
+            while b > start and gstack[b - 1] < g:
+                stack[b] = stack[b - 1]
+                gstack[b] = gstack[b - 1]
+                b -= 1
+            stack[b] = base + ch
+            gstack[b] = g
+            top += 1
+        return top
+
+    @jit
     def curve_eval(coef, c, k, D, rational, x, out):
         """out[0:3] C, out[3:6] C', out[6:9] C'' of cell c at local x (out[9:21]: scratch:
         value, first and second derivative of each homogeneous component)."""
@@ -219,6 +243,7 @@ def _build():
         buf = np.empty(21)
         gaps = np.empty(n_top)
         stack = np.empty(n_levels * branch + 1, dtype=np.int64)
+        gstack = np.empty(n_levels * branch + 1)
         for i in range(m):
             p0 = P[i, 0]
             p1 = P[i, 1]
@@ -235,21 +260,15 @@ def _build():
                     continue
                 top = 0
                 stack[top] = root
+                gstack[top] = gaps[root]
                 top += 1
                 while top > 0:
                     top -= 1
                     nd = stack[top]
-                    if nd != root or best_c >= 0:
-                        if box_gap2(nodes, nd, p0, p1, p2) >= best_f * (1.0 - cert):
-                            continue
+                    if gstack[top] >= best_f * (1.0 - cert):
+                        continue
                     if nd < leaf0:
-                        lvl = 0
-                        while level_start[lvl + 1] <= nd:
-                            lvl += 1
-                        base = level_start[lvl + 1] + (nd - level_start[lvl]) * branch
-                        for ch in range(branch):
-                            stack[top] = base + ch
-                            top += 1
+                        top = push_children(nodes, level_start, branch, nd, p0, p1, p2, best_f * (1.0 - cert), stack, gstack, top)
                         continue
                     c = nd - leaf0
                     if c >= n_cells:
@@ -273,4 +292,350 @@ def _build():
                 out_CC[i, d] = buf[d]
         return out_t, out_CC
 
-    return {"curve_project": curve_project, "curve_eval": curve_eval, "curve_cell_newton": curve_cell_newton, "box_gap2": box_gap2}
+    return {"curve_project": curve_project, "curve_eval": curve_eval, "curve_cell_newton": curve_cell_newton,
+            "box_gap2": box_gap2, "field_bounds": field_bounds, "push_children": push_children}
+
+
+def _build_surface():
+    from numba import njit
+
+    jit = njit(cache=True, nogil=True, fastmath=False, error_model="numpy")
+    k = kernels()
+    box_gap2, field_bounds, push_children = k["box_gap2"], k["field_bounds"], k["push_children"]
+
+    @jit
+    def surface_eval(coef, c, ku, kv, D, rational, x, y, out):
+        """out[0:18]: S, S_u, S_v, S_uu, S_uv, S_vv (3 each) of cell c at local (x, y);
+        out[18:42]: scratch (the six homogeneous derivatives, 4 each)."""
+        for d in range(D):
+            s00 = 0.0
+            s10 = 0.0
+            s20 = 0.0
+            s01 = 0.0
+            s11 = 0.0
+            s02 = 0.0
+            for a in range(ku, -1, -1):
+                base = a * (kv + 1)
+                w0 = coef[c, (base + kv) * D + d]
+                w1 = 0.0
+                w2 = 0.0
+                for b in range(kv - 1, -1, -1):
+                    w2 = w2 * y + w1
+                    w1 = w1 * y + w0
+                    w0 = w0 * y + coef[c, (base + b) * D + d]
+                s20 = s20 * x + s10
+                s10 = s10 * x + s00
+                s00 = s00 * x + w0
+                s11 = s11 * x + s01
+                s01 = s01 * x + w1
+                s02 = s02 * x + 2.0 * w2
+            out[18 + d] = s00
+            out[22 + d] = s10
+            out[26 + d] = s01
+            out[30 + d] = 2.0 * s20
+            out[34 + d] = s11
+            out[38 + d] = s02
+        if rational:
+            w = out[21]
+            wu = out[25]
+            wv = out[29]
+            wuu = out[33]
+            wuv = out[37]
+            wvv = out[41]
+            for d in range(3):
+                S = out[18 + d] / w
+                Su = (out[22 + d] - wu * S) / w
+                Sv = (out[26 + d] - wv * S) / w
+                out[d] = S
+                out[3 + d] = Su
+                out[6 + d] = Sv
+                out[9 + d] = (out[30 + d] - 2.0 * wu * Su - wuu * S) / w
+                out[12 + d] = (out[34 + d] - wu * Sv - wv * Su - wuv * S) / w
+                out[15 + d] = (out[38 + d] - 2.0 * wv * Sv - wvv * S) / w
+        else:
+            for j in range(6):
+                for d in range(3):
+                    out[3 * j + d] = out[18 + 4 * j + d]
+
+    @jit
+    def dot3(out, i, j):
+        return out[i] * out[j] + out[i + 1] * out[j + 1] + out[i + 2] * out[j + 2]
+
+    @jit
+    def surface_cell_newton(coef, cu_lo, cu_hi, cv_lo, cv_hi, c, ku, kv, D, rational, p0, p1, p2,
+                            tol, finish, reach, max_iter, max_halvings, buf):
+        """Safeguarded Newton kept inside cell c (local box [cu_lo, cu_hi] x [cv_lo, cv_hi]),
+        from its middle: coordinates at a bound whose descent points out are frozen (the 1D
+        problem along that edge); Gauss-Newton (first fundamental form) where the Hessian is
+        not clearly positive definite. Returns (x, y, squared distance)."""
+        tx = 0.5 * (cu_lo + cu_hi)
+        ty = 0.5 * (cv_lo + cv_hi)
+        xa = tx
+        ya = ty
+        f_acc = np.inf
+        sdu = 0.0
+        sdv = 0.0
+        halvings = 0
+        Sua0 = 0.0
+        Sua1 = 0.0
+        Sua2 = 0.0
+        Sva0 = 0.0
+        Sva1 = 0.0
+        Sva2 = 0.0
+        x_out = tx
+        y_out = ty
+        f_out = np.inf
+        E = 0.0
+        G = 0.0
+        for _ in range(max_iter):
+            surface_eval(coef, c, ku, kv, D, rational, tx, ty, buf)
+            buf[0] -= p0
+            buf[1] -= p1
+            buf[2] -= p2
+            f = dot3(buf, 0, 0)
+            gu = dot3(buf, 3, 0)
+            gv = dot3(buf, 6, 0)
+            acc = True
+            if f_acc < np.inf:
+                acc = f <= f_acc + 8e-16 * (f_acc + 2.0 * np.sqrt(f_acc) * reach)
+            newton = False
+            if acc:
+                xa = tx
+                ya = ty
+                f_acc = f
+                halvings = 0
+                Sua0 = buf[3]
+                Sua1 = buf[4]
+                Sua2 = buf[5]
+                Sva0 = buf[6]
+                Sva1 = buf[7]
+                Sva2 = buf[8]
+                E = dot3(buf, 3, 3)
+                F = dot3(buf, 3, 6)
+                G = dot3(buf, 6, 6)
+                huu = E + dot3(buf, 9, 0)
+                huv = F + dot3(buf, 12, 0)
+                hvv = G + dot3(buf, 15, 0)
+                det = huu * hvv - huv * huv
+                newton = huu > 1e-6 * E and hvv > 1e-6 * G and det > 1e-6 * (E * G - F * F)
+                if not newton:
+                    huu = E
+                    huv = F
+                    hvv = G
+                    det = E * G - F * F
+                du = 0.0
+                dv = 0.0
+                if det > 0.0:
+                    du = -(hvv * gu - huv * gv) / det
+                    dv = -(huu * gv - huv * gu) / det
+                fix_u = (xa <= cu_lo and gu > 0.0) or (xa >= cu_hi and gu < 0.0)
+                fix_v = (ya <= cv_lo and gv > 0.0) or (ya >= cv_hi and gv < 0.0)
+                if fix_u or fix_v:
+                    newton = False
+                    eu = E + dot3(buf, 9, 0)
+                    ev = G + dot3(buf, 15, 0)
+                    # 1D Newton along the edge; where f is not clearly convex along it, to the
+                    # end of the edge in the descent direction (halved back where worse)
+                    if fix_u:
+                        du = 0.0
+                    elif eu > 1e-6 * E:
+                        du = -gu / eu
+                    elif gu != 0.0:
+                        du = (cu_lo if gu > 0.0 else cu_hi) - xa
+                    else:
+                        du = 0.0
+                    if fix_v:
+                        dv = 0.0
+                    elif ev > 1e-6 * G:
+                        dv = -gv / ev
+                    elif gv != 0.0:
+                        dv = (cv_lo if gv > 0.0 else cv_hi) - ya
+                    else:
+                        dv = 0.0
+                elif not newton and (du != 0.0 or dv != 0.0):
+                    # not clearly convex: along the Gauss-Newton (descent) direction to the
+                    # cell's boundary (halved back where worse); plain steps would creep
+                    reach_t = np.inf
+                    if du > 0.0:
+                        reach_t = min(reach_t, (cu_hi - xa) / du)
+                    elif du < 0.0:
+                        reach_t = min(reach_t, (cu_lo - xa) / du)
+                    if dv > 0.0:
+                        reach_t = min(reach_t, (cv_hi - ya) / dv)
+                    elif dv < 0.0:
+                        reach_t = min(reach_t, (cv_lo - ya) / dv)
+                    if reach_t > 1.0 and reach_t < np.inf:
+                        du *= reach_t
+                        dv *= reach_t
+            else:
+                halvings += 1
+                du = 0.5 * sdu
+                dv = 0.5 * sdv
+            # the largest fraction of the step that stays in the cell; where that is tiny
+            # (the step starts at a bound) the coordinates are clipped instead
+            frac = 1.0
+            if du > 0.0 and xa + du > cu_hi:
+                frac = min(frac, (cu_hi - xa) / du)
+            if du < 0.0 and xa + du < cu_lo:
+                frac = min(frac, (cu_lo - xa) / du)
+            if dv > 0.0 and ya + dv > cv_hi:
+                frac = min(frac, (cv_hi - ya) / dv)
+            if dv < 0.0 and ya + dv < cv_lo:
+                frac = min(frac, (cv_lo - ya) / dv)
+            if acc and frac <= 1e-3:
+                # the step leaves the cell at once (a coordinate at a bound that the coupled
+                # step pushes out while its own descent points in): scaled steepest descent
+                # instead, which points into the cell, cut at the cell's boundary
+                newton = False
+                du = -gu / E if E > 0.0 else 0.0
+                dv = -gv / G if G > 0.0 else 0.0
+                if (xa <= cu_lo and du < 0.0) or (xa >= cu_hi and du > 0.0):
+                    du = 0.0
+                if (ya <= cv_lo and dv < 0.0) or (ya >= cv_hi and dv > 0.0):
+                    dv = 0.0
+                frac = 1.0
+                if du > 0.0 and xa + du > cu_hi:
+                    frac = min(frac, (cu_hi - xa) / du)
+                if du < 0.0 and xa + du < cu_lo:
+                    frac = min(frac, (cu_lo - xa) / du)
+                if dv > 0.0 and ya + dv > cv_hi:
+                    frac = min(frac, (cv_hi - ya) / dv)
+                if dv < 0.0 and ya + dv < cv_lo:
+                    frac = min(frac, (cv_lo - ya) / dv)
+            clamped = frac < 1.0
+            nx = min(max(xa + frac * du, cu_lo), cu_hi)
+            ny = min(max(ya + frac * dv, cv_lo), cv_hi)
+            if clamped:  # onto the bound the step was cut at, exactly (not an ulp short)
+                eu = 1e-12 * (cu_hi - cu_lo)
+                ev = 1e-12 * (cv_hi - cv_lo)
+                if du > 0.0 and nx >= cu_hi - eu:
+                    nx = cu_hi
+                if du < 0.0 and nx <= cu_lo + eu:
+                    nx = cu_lo
+                if dv > 0.0 and ny >= cv_hi - ev:
+                    ny = cv_hi
+                if dv < 0.0 and ny <= cv_lo + ev:
+                    ny = cv_lo
+            ex = nx - xa
+            ey = ny - ya
+            m0 = ex * Sua0 + ey * Sva0
+            m1 = ex * Sua1 + ey * Sva1
+            m2 = ex * Sua2 + ey * Sva2
+            move = np.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+            if acc and newton and not clamped and move <= finish:
+                x_out = nx
+                y_out = ny
+                f_out = f_acc + gu * ex + gv * ey  # after the last step (second order)
+                break
+            if move <= tol or halvings > max_halvings:
+                x_out = xa
+                y_out = ya
+                f_out = f_acc
+                break
+            tx = nx
+            ty = ny
+            sdu = ex
+            sdv = ey
+            x_out = xa
+            y_out = ya
+            f_out = f_acc
+        return x_out, y_out, f_out
+
+    @jit
+    def surface_project(P, nodes, level_start, branch, leaf_cell, coef, su, sv, ku, kv, D, rational,
+                        prune_u, prune_v, tol, finish, extent, max_iter, max_halvings, cert):
+        """Per point: best-first over the top boxes, depth first below them; every leaf cell
+        closer than the best distance so far (and not proved monotone along u or v) gets the
+        cell Newton. Returns u, v and S, S_u, S_v (9 columns) of the best."""
+        m = P.shape[0]
+        n_levels = len(level_start) - 1
+        leaf0 = level_start[n_levels - 1]
+        n_top = level_start[1]
+        n_cells = len(leaf_cell)
+        cv = len(sv) - 1
+        cu = len(su) - 1
+        out_uv = np.empty((m, 2))
+        out_S = np.empty((m, 9))
+        buf = np.empty(42)
+        gaps = np.empty(n_top)
+        stack = np.empty(n_levels * branch + 1, dtype=np.int64)
+        gstack = np.empty(n_levels * branch + 1)
+        for i in range(m):
+            p0 = P[i, 0]
+            p1 = P[i, 1]
+            p2 = P[i, 2]
+            reach = max(abs(p0), max(abs(p1), abs(p2))) + extent
+            first = 0
+            for nd in range(n_top):
+                gaps[nd] = box_gap2(nodes, nd, p0, p1, p2)
+                if gaps[nd] < gaps[first]:
+                    first = nd
+            best_f = np.inf
+            best_c = -1
+            best_x = 0.0
+            best_y = 0.0
+            for a in range(-1, n_top):
+                root = first if a < 0 else a
+                if a == first or (best_c >= 0 and gaps[root] >= best_f * (1.0 - cert)):
+                    continue
+                top = 0
+                stack[top] = root
+                gstack[top] = gaps[root]
+                top += 1
+                while top > 0:
+                    top -= 1
+                    nd = stack[top]
+                    if gstack[top] >= best_f * (1.0 - cert):
+                        continue
+                    if nd < leaf0:
+                        top = push_children(nodes, level_start, branch, nd, p0, p1, p2, best_f * (1.0 - cert), stack, gstack, top)
+                        continue
+                    leaf = nd - leaf0
+                    if leaf >= n_cells:
+                        continue
+                    c = leaf_cell[leaf]
+                    ci = c // cv
+                    cj = c % cv
+                    if best_c >= 0:
+                        # monotone along u (v) over the cell: its smallest distance lies on the
+                        # edge it shares with the neighbouring cell (not at the domain's edge)
+                        if prune_u:
+                            low, high = field_bounds(nodes, nd, p0, p1, p2, 0)
+                            if (low > 0.0 and ci > 0) or (high < 0.0 and ci < cu - 1):
+                                continue
+                        if prune_v:
+                            low, high = field_bounds(nodes, nd, p0, p1, p2, 1)
+                            if (low > 0.0 and cj > 0) or (high < 0.0 and cj < cv - 1):
+                                continue
+                    mu = 0.5 * (su[ci] + su[ci + 1])
+                    mv = 0.5 * (sv[cj] + sv[cj + 1])
+                    x, y, f = surface_cell_newton(coef, su[ci] - mu, su[ci + 1] - mu, sv[cj] - mv, sv[cj + 1] - mv, c,
+                                                  ku, kv, D, rational, p0, p1, p2, tol, finish, reach, max_iter,
+                                                  max_halvings, buf)
+                    if f < best_f:
+                        best_f = f
+                        best_c = c
+                        best_x = x
+                        best_y = y
+            ci = best_c // cv
+            cj = best_c % cv
+            mu = 0.5 * (su[ci] + su[ci + 1])
+            mv = 0.5 * (sv[cj] + sv[cj + 1])
+            surface_eval(coef, best_c, ku, kv, D, rational, best_x, best_y, buf)
+            out_uv[i, 0] = mu + best_x
+            out_uv[i, 1] = mv + best_y
+            for d in range(9):
+                out_S[i, d] = buf[d]
+        return out_uv, out_S
+
+    return {"surface_project": surface_project, "surface_eval": surface_eval, "surface_cell_newton": surface_cell_newton, "dot3": dot3}
+
+
+_SURFACE_KERNELS = None
+
+
+def surface_kernels():
+    global _SURFACE_KERNELS
+    if _SURFACE_KERNELS is None:
+        _SURFACE_KERNELS = _build_surface()
+    return _SURFACE_KERNELS

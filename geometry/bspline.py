@@ -9,8 +9,31 @@ points against about 2.5 s for the design-matrix route, and NdBSpline's cost doe
 with the size of the net. Rational splines are evaluated in homogeneous coordinates
 ``(w P, w)`` and differentiated by the quotient rule.
 
-Projection (``project``), vectorised over all points (in blocks of ``_BLOCK`` points that
-stay in cache):
+Curve projection (``BSplineCurve.project``): the curve is cut into cells between samples
+(about 1/32 of the curve's size apart judged by the control polygon, at least 4 per knot
+span; cells over which the tangent turns by more than 40 degrees are halved, since a rational
+curve with large weights can turn sharply within a short stretch of parameter). Each cell is
+one polynomial piece of the homogeneous curve, kept as its Taylor polynomial about the cell's
+middle (coefficients from scipy's derivatives there) and bounded by the box of its Bezier net
+in a frame along its chord (as thin as the cell bends). For every point, every cell whose box
+is closer than the best distance known (at first the nearest sample) is a candidate; a
+candidate over which ``f' = C'.(C - p)`` keeps one sign (interval bound from the Bezier net of
+the numerator of C' against the box of C - p) is dropped, since its smallest distance is at
+an end it shares with a neighbouring cell (not at the ends of an open curve, nor anywhere on a
+curve with C0 kinks); every other candidate gets a safeguarded Newton kept inside the cell
+(start: the projection onto the cell's chord; a trial that increases the distance beyond
+round-off is halved; where f is not clearly convex the step goes to the cell's end; stop when
+the next step moves the point by less than 5e-13 of the size, or after a Newton step below
+1e-7 of it), and the cell's ends where they are closer; the closest result wins and is
+evaluated on its piece. The compiled kernel (``geometry._jit``, optional) runs the same per
+point, depth first over a box hierarchy with the bound tightened as cells are solved; the
+numpy path runs it over (point, cell) pairs, component-major ((3, n) arrays). Not a proof:
+a cell is trusted to hold one minimum besides its ends (random tests with clustered knots,
+weights 0.2-5 and points 1-100 % of the size away, ``benchmarks/bspline_stress.py``, find no
+miss).
+
+Surface projection (``BSplineSurface.project``), vectorised over all points (in blocks of
+``_BLOCK`` points that stay in cache):
 
 1. seed: the nearest of a set of parameter samples (curves: spaced by the control polygon,
    about 1/32 of the curve's size apart, at least 4 per knot span; surfaces: per direction
@@ -116,6 +139,9 @@ _MAX_ITER = 60
 _BLOCK = 16384  # points per block in the Newton loop
 _PAIR_BLOCK = 16384  # (point, cell) pairs per cell-wise Newton run
 _MAX_HALVINGS = 30  # a trial halved this often (2^-30) leaves the point where it is
+# the compiled surface kernel (geometry._jit) is not used yet: bspline_stress.py seeds 2 and 3
+# still find missed minima with it (a cell Newton that stops short on a patch edge)
+_SURFACE_JIT = False
 _CELL_TURN = math.radians(20.0)  # half-angle of a cell's tangent cone (see _split_turning)
 _FINISH = 1e-7  # a Newton step this small (relative to the size) is the last one
 _SEED_STEPS = 3  # Newton steps on the tabulated Taylor model when seeding
@@ -1290,11 +1316,75 @@ class BSplineSurface(Surface):
         """Parameters (m, 2) of the closest points and ``{(0,0): S, (1,0): S_u, (0,1): S_v}``
         there, for (m, 3) points: the safeguarded Newton core of :meth:`project`."""
         p = np.ascontiguousarray(points, dtype=float)
+        if _SURFACE_JIT and _jit.enabled() and len(p):
+            uv, S = _jit.surface_kernels()["surface_project"](p, **self._jit_tables)
+            return uv, {(0, 0): S[:, :3], (1, 0): S[:, 3:6], (0, 1): S[:, 6:]}
         if len(p) <= _BLOCK:
             return self._closest_sides(p)
         parts = [self._closest_sides(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
         uv = np.concatenate([x[0] for x in parts])
         return uv, {nu: np.concatenate([x[1][nu] for x in parts]) for nu in parts[0][1]}
+
+    @cached_property
+    def _jit_tables(self) -> dict[str, Any]:
+        """The tables of the compiled kernel (see :mod:`geometry._jit`): the cells of the
+        sample grid (each inside one knot span in both directions, so one polynomial or
+        rational tensor patch) as Taylor polynomials about their middles (from scipy's
+        partial derivatives there), and a box hierarchy over them (Morton order) with the
+        boxes of the numerators of S_u and S_v."""
+        uv, _, _, _ = self._seeds
+        su, sv = np.unique(uv[:, 0]), np.unique(uv[:, 1])
+        ku, kv = self.degree_u, self.degree_v
+        cu, cv = len(su) - 1, len(sv) - 1
+        mu, mv = 0.5 * (su[:-1] + su[1:]), 0.5 * (sv[:-1] + sv[1:])
+        centres = np.column_stack([np.repeat(mu, cv), np.tile(mv, cu)])  # cell i cv + j
+        D = 4 if self.weights is not None else 3
+        coef = np.empty((cu * cv, (ku + 1) * (kv + 1) * D))
+        for a in range(ku + 1):
+            for b in range(kv + 1):
+                col = (a * (kv + 1) + b) * D
+                coef[:, col : col + D] = self._spline(centres, nu=(a, b)) / (math.factorial(a) * math.factorial(b))
+        # Bezier nets of the patches and of the numerators of S_u, S_v (as in _cells)
+        def nets(deg_u, deg_v, nu=(0, 0), rational_numerator=False):
+            nu_ = su[:-1, None] + np.diff(su)[:, None] * (np.arange(deg_u + 1) / deg_u)
+            nv_ = sv[:-1, None] + np.diff(sv)[:, None] * (np.arange(deg_v + 1) / deg_v)
+            U = np.broadcast_to(nu_[:, None, :, None], (cu, cv, deg_u + 1, deg_v + 1))
+            V = np.broadcast_to(nv_[None, :, None, :], (cu, cv, deg_u + 1, deg_v + 1))
+            x = np.column_stack([U.ravel(), V.ravel()])
+            H = self._spline(x, nu=nu)
+            if rational_numerator:
+                H0 = self._spline(x)
+                H = H[:, :3] * H0[:, 3:] - H0[:, :3] * H[:, 3:]
+            H = H.reshape(cu * cv, deg_u + 1, deg_v + 1, -1)
+            return np.einsum("am,bn,cmnd->cabd", bernstein_inverse(deg_u), bernstein_inverse(deg_v), H)
+
+        rational = self.weights is not None
+        net = nets(ku, kv)
+        net = net[..., :3] / net[..., 3:] if rational else net
+        along_u = net[:, -1, 0] - net[:, 0, 0] + net[:, -1, -1] - net[:, 0, -1]
+        along_v = net[:, 0, -1] - net[:, 0, 0] + net[:, -1, -1] - net[:, -1, 0]
+        I, J = np.repeat(np.arange(cu), cv), np.tile(np.arange(cv), cu)
+        key = np.zeros(len(I), dtype=np.int64)
+        for bit in range(16):
+            key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
+        order = np.argsort(key, kind="stable")
+        pts = net.reshape(cu * cv, -1, 3)[order]
+        levels = box_levels(pts, along_u[order], along_v[order], _SURFACE_BRANCH, _BOX_MARGIN * self.scale, _SURFACE_BRANCH)
+        R = levels[-1][1]
+        du, dv = (2 * ku, 2 * kv) if rational else (ku, kv)
+        extra = []
+        for nu in ((1, 0), (0, 1)):
+            N = nets(du, dv, nu, rational)[..., :3].reshape(cu * cv, -1, 3)[order]
+            extra.append(frame_boxes(N, R))
+        nodes, level_start = CellSearch(levels, _SURFACE_BRANCH, extra=tuple(extra)).flat_nodes()
+        creases = self._creases
+        return dict(
+            nodes=nodes, level_start=level_start, branch=_SURFACE_BRANCH, leaf_cell=order.astype(np.int64),
+            coef=coef, su=su, sv=sv, ku=ku, kv=kv, D=D, rational=rational,
+            prune_u=len(creases[0]) == 0, prune_v=len(creases[1]) == 0, tol=_STRICT * self.scale,
+            finish=_FINISH * self.scale, extent=self.extent, max_iter=_MAX_ITER, max_halvings=_MAX_HALVINGS,
+            cert=_CERT_REL,
+        )
 
     def _closest_sides(self, p: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
         """Newton from the nearest grid sample; where that sample lies on a C0 crease
