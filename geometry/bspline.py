@@ -128,7 +128,7 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
 
 from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
 from . import _jit
-from ._cell_boxes import CellSearch, bernstein_inverse, best_per_point, box_levels, dot_bounds, frame_boxes, frame_coordinates
+from ._cell_boxes import CellSearch, bernstein_inverse, best_per_point, box_levels, dot_bounds, frame_boxes, frame_coordinates, oriented_boxes
 
 __all__ = ["BSplineCurve", "BSplineSurface"]
 
@@ -340,15 +340,6 @@ _SURFACE_BRANCH = 4
 _CURVE_BRANCH = 8
 
 
-def _bernstein_inverse(k: int) -> np.ndarray:
-    """Inverse of the Bernstein collocation matrix at the equally spaced nodes m / k: maps
-    k + 1 values of a degree-k polynomial piece to its Bezier control points."""
-    x = np.arange(k + 1) / k
-    ell = np.arange(k + 1)
-    B = np.array([math.comb(k, i) for i in ell]) * x[:, None] ** ell * (1.0 - x[:, None]) ** (k - ell)
-    return np.linalg.inv(B)
-
-
 def _hull_boxes(ctrl: np.ndarray, rational: bool, margin: float) -> tuple[np.ndarray, np.ndarray]:
     """Axis-aligned boxes (lo, hi), each (n, 3), of Bezier control nets ``ctrl`` (n, m, 3 or
     4, homogeneous ``(w P, w)`` when rational). A polynomial or rational (positive weights:
@@ -356,29 +347,6 @@ def _hull_boxes(ctrl: np.ndarray, rational: bool, margin: float) -> tuple[np.nda
     points, so in their box."""
     pts = ctrl[..., :3] / ctrl[..., 3:] if rational else ctrl[..., :3]
     return pts.min(axis=1) - margin, pts.max(axis=1) + margin
-
-
-def _oriented_boxes(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, margin: float):
-    """Boxes of control nets ``pts`` (n, m, 3) in per-cell orthonormal frames built from
-    the directions e1, e2 (n, 3) (Gram-Schmidt; a degenerate direction falls back to the
-    coordinate axes): (origin (n, 3), frame rows (n, 3, 3), lo, hi (n, 3)). Aligned with a
-    cell's tangents, the box is only as thick as the cell bends (~ curvature h^2 / 8), so
-    its distance bounds the cell's distance far more tightly than an axis-aligned box."""
-    def unit(v, fallback):
-        n = np.linalg.norm(v, axis=1, keepdims=True)
-        return np.where(n > 1e-300, v / np.where(n > 1e-300, n, 1.0), fallback)
-
-    x, y = np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])
-    a = unit(e1, x)
-    b = e2 - _rowdot(e2, a)[:, None] * a
-    alt = np.where(np.abs(a[:, :1]) < 0.9, x, y)
-    alt = alt - _rowdot(alt, a)[:, None] * a
-    b = unit(np.where(np.linalg.norm(b, axis=1, keepdims=True) > 1e-9 * np.linalg.norm(e2, axis=1, keepdims=True) + 1e-300, b, alt), alt / np.linalg.norm(alt, axis=1, keepdims=True))
-    c = np.cross(a, b)
-    R = np.stack([a, b, c], axis=1)
-    origin = pts[:, 0]
-    L = np.einsum("nkj,nmj->nmk", R, pts - origin[:, None])
-    return origin, R, L.min(axis=1) - margin, L.max(axis=1) + margin
 
 
 def _frame_boxes(nets: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -393,27 +361,6 @@ def _dot_bounds(alo, ahi, blo, bhi) -> tuple[np.ndarray, np.ndarray]:
     """Interval bounds of ``a . b`` for a in the box [alo, ahi] and b in [blo, bhi] (rows)."""
     prods = np.stack([alo * blo, alo * bhi, ahi * blo, ahi * bhi])
     return prods.min(axis=0).sum(axis=1), prods.max(axis=0).sum(axis=1)
-
-
-def _box_levels(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, branch: int, margin: float) -> list[tuple]:
-    """Hierarchy of oriented boxes (see :func:`_oriented_boxes`) over cells with control
-    nets ``pts`` (n, m, 3) in a spatially coherent order: a node of a level bounds the
-    cells of ``branch`` consecutive nodes of the level below (its frame from their summed
-    directions); top level first, the cells' own boxes last."""
-    def unit(v):
-        return v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
-
-    levels = [_oriented_boxes(pts, e1, e2, margin)]
-    e1, e2 = levels[0][1][:, 0], levels[0][1][:, 1]
-    while len(pts) > branch:
-        m = -(-len(pts) // branch)
-        fill = np.arange(m * branch) % len(pts)  # pad with repeated cells (harmless)
-        pts = pts[fill].reshape(m, -1, 3)
-        e1 = unit(e1[fill].reshape(m, branch, 3).sum(axis=1))
-        e2 = unit(e2[fill].reshape(m, branch, 3).sum(axis=1))
-        levels.append(_oriented_boxes(pts, e1, e2, margin))
-        e1, e2 = levels[-1][1][:, 0], levels[-1][1][:, 1]
-    return levels[::-1]
 
 
 def _node_tables(levels: list[tuple], branch: int) -> list[np.ndarray]:
@@ -1454,7 +1401,7 @@ class BSplineSurface(Surface):
         U = np.broadcast_to(nu_[:, None, :, None], (cu, cv, ku + 1, kv + 1))
         V = np.broadcast_to(nv_[None, :, None, :], (cu, cv, ku + 1, kv + 1))
         H = self._spline(np.column_stack([U.ravel(), V.ravel()])).reshape(cu * cv, ku + 1, kv + 1, -1)
-        ctrl = np.einsum("am,bn,cmnd->cabd", _bernstein_inverse(ku), _bernstein_inverse(kv), H)
+        ctrl = np.einsum("am,bn,cmnd->cabd", bernstein_inverse(ku), bernstein_inverse(kv), H)
         margin = _BOX_MARGIN * self.scale
         flat = ctrl.reshape(cu * cv, (ku + 1) * (kv + 1), -1)
         lo, hi = _hull_boxes(flat, self.weights is not None, margin)
@@ -1468,7 +1415,7 @@ class BSplineSurface(Surface):
         for bit in range(16):
             key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
         order = np.argsort(key, kind="stable")
-        levels = _box_levels(pts[order], along_u[order], along_v[order], _SURFACE_BRANCH, margin)
+        levels = box_levels(pts[order], along_u[order], along_v[order], _SURFACE_BRANCH, margin, _SURFACE_BRANCH)
         oriented = levels[-1]
         # directions of S_u and S_v over each cell: numerators A_u w - A w_u (degree
         # <= 2 ku - 1 in u, 2 kv in v; ku - 1, kv without weights) by their Bezier nets
@@ -1484,7 +1431,7 @@ class BSplineSurface(Surface):
         for nu_ in ((1, 0), (0, 1)):
             H1 = self._spline(x, nu=nu_)
             N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if rational else H1[:, :3]
-            N = np.einsum("am,bn,cmnd->cabd", _bernstein_inverse(du), _bernstein_inverse(dv), N.reshape(cu * cv, du + 1, dv + 1, 3))
+            N = np.einsum("am,bn,cmnd->cabd", bernstein_inverse(du), bernstein_inverse(dv), N.reshape(cu * cv, du + 1, dv + 1, 3))
             tangent_boxes.append(_frame_boxes(N.reshape(cu * cv, -1, 3)[order], oriented[1]))
         return _node_tables(levels, _SURFACE_BRANCH), su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
 
