@@ -367,7 +367,8 @@ def _build_surface():
         """Safeguarded Newton kept inside cell c (local box [cu_lo, cu_hi] x [cv_lo, cv_hi]),
         from its middle: coordinates at a bound whose descent points out are frozen (the 1D
         problem along that edge); Gauss-Newton (first fundamental form) where the Hessian is
-        not clearly positive definite. Returns (x, y, squared distance)."""
+        not clearly positive definite. Returns (x, y, squared distance, whether it converged
+        by Newton steps to a point inside the cell)."""
         tx = 0.5 * (cu_lo + cu_hi)
         ty = 0.5 * (cv_lo + cv_hi)
         xa = tx
@@ -387,6 +388,7 @@ def _build_surface():
         f_out = np.inf
         E = 0.0
         G = 0.0
+        inner = False
         for _ in range(max_iter):
             surface_eval(coef, c, ku, kv, D, rational, tx, ty, buf)
             buf[0] -= p0
@@ -452,21 +454,6 @@ def _build_surface():
                         dv = (cv_lo if gv > 0.0 else cv_hi) - ya
                     else:
                         dv = 0.0
-                elif not newton and (du != 0.0 or dv != 0.0):
-                    # not clearly convex: along the Gauss-Newton (descent) direction to the
-                    # cell's boundary (halved back where worse); plain steps would creep
-                    reach_t = np.inf
-                    if du > 0.0:
-                        reach_t = min(reach_t, (cu_hi - xa) / du)
-                    elif du < 0.0:
-                        reach_t = min(reach_t, (cu_lo - xa) / du)
-                    if dv > 0.0:
-                        reach_t = min(reach_t, (cv_hi - ya) / dv)
-                    elif dv < 0.0:
-                        reach_t = min(reach_t, (cv_lo - ya) / dv)
-                    if reach_t > 1.0 and reach_t < np.inf:
-                        du *= reach_t
-                        dv *= reach_t
             else:
                 halvings += 1
                 du = 0.5 * sdu
@@ -526,11 +513,13 @@ def _build_surface():
                 x_out = nx
                 y_out = ny
                 f_out = f_acc + gu * ex + gv * ey  # after the last step (second order)
+                inner = cu_lo < nx < cu_hi and cv_lo < ny < cv_hi
                 break
             if move <= tol or halvings > max_halvings:
                 x_out = xa
                 y_out = ya
                 f_out = f_acc
+                inner = acc and newton and cu_lo < xa < cu_hi and cv_lo < ya < cv_hi
                 break
             tx = nx
             ty = ny
@@ -539,7 +528,68 @@ def _build_surface():
             x_out = xa
             y_out = ya
             f_out = f_acc
-        return x_out, y_out, f_out
+        return x_out, y_out, f_out, inner
+
+    @jit
+    def surface_edge_newton(coef, c, ku, kv, D, rational, along_u, fixed, lo, hi, p0, p1, p2, tol, finish, reach,
+                            max_iter, max_halvings, buf):
+        """Safeguarded 1D Newton along a cell edge (u free when ``along_u``, the other
+        coordinate at ``fixed``) over [lo, hi], as the curve's cell Newton: start in the
+        middle, halving where worse, to the edge's end where f is not clearly convex, the
+        ends where closer. Returns (free coordinate, squared distance)."""
+        i1 = 3 if along_u else 6  # S_u or S_v
+        i2 = 9 if along_u else 15  # S_uu or S_vv
+        trial = 0.5 * (lo + hi)
+        x_acc = trial
+        f_acc = np.inf
+        speed_acc = 0.0
+        step = 0.0
+        halvings = 0
+        x_out = trial
+        f_out = np.inf
+        for _ in range(max_iter):
+            if along_u:
+                surface_eval(coef, c, ku, kv, D, rational, trial, fixed, buf)
+            else:
+                surface_eval(coef, c, ku, kv, D, rational, fixed, trial, buf)
+            buf[0] -= p0
+            buf[1] -= p1
+            buf[2] -= p2
+            f = dot3(buf, 0, 0)
+            g = dot3(buf, i1, 0)
+            sp2 = dot3(buf, i1, i1)
+            h = sp2 + dot3(buf, i2, 0)
+            acc = True
+            if f_acc < np.inf:
+                acc = f <= f_acc + 8e-16 * (f_acc + 2.0 * np.sqrt(f_acc) * reach)
+            newton = h > 1e-6 * sp2
+            if acc:
+                x_acc = trial
+                f_acc = f
+                speed_acc = np.sqrt(sp2)
+                halvings = 0
+                if g == 0.0:
+                    new_step = 0.0
+                elif newton:
+                    new_step = -g / h
+                else:
+                    new_step = (lo if g > 0.0 else hi) - trial
+            else:
+                halvings += 1
+                new_step = 0.5 * step
+            raw = x_acc + new_step
+            new = min(max(raw, lo), hi)
+            eff = new - x_acc
+            move = abs(eff) * speed_acc
+            if acc and newton and new == raw and move <= finish:
+                return new, f_acc + g * eff
+            if move <= tol or halvings > max_halvings:
+                break
+            trial = new
+            step = eff
+        x_out = x_acc
+        f_out = f_acc
+        return x_out, f_out
 
     @jit
     def surface_project(P, nodes, level_start, branch, leaf_cell, coef, su, sv, ku, kv, D, rational,
@@ -609,14 +659,31 @@ def _build_surface():
                                 continue
                     mu = 0.5 * (su[ci] + su[ci + 1])
                     mv = 0.5 * (sv[cj] + sv[cj + 1])
-                    x, y, f = surface_cell_newton(coef, su[ci] - mu, su[ci + 1] - mu, sv[cj] - mv, sv[cj + 1] - mv, c,
-                                                  ku, kv, D, rational, p0, p1, p2, tol, finish, reach, max_iter,
-                                                  max_halvings, buf)
+                    ulo = su[ci] - mu
+                    uhi = su[ci + 1] - mu
+                    vlo = sv[cj] - mv
+                    vhi = sv[cj + 1] - mv
+                    x, y, f, inner = surface_cell_newton(coef, ulo, uhi, vlo, vhi, c, ku, kv, D, rational, p0, p1, p2,
+                                                         tol, finish, reach, max_iter, max_halvings, buf)
                     if f < best_f:
                         best_f = f
                         best_c = c
                         best_x = x
                         best_y = y
+                    # the cell's edges (1D, robust) unless Newton converged inside the cell: a
+                    # minimum on an edge the 2D iteration did not reach
+                    for e in range(0 if inner else 4):
+                        along_u = e < 2
+                        fixed = (vlo if e == 0 else vhi) if along_u else (ulo if e == 2 else uhi)
+                        a0 = ulo if along_u else vlo
+                        a1 = uhi if along_u else vhi
+                        z, f = surface_edge_newton(coef, c, ku, kv, D, rational, along_u, fixed, a0, a1, p0, p1, p2,
+                                                   tol, finish, reach, max_iter, max_halvings, buf)
+                        if f < best_f:
+                            best_f = f
+                            best_c = c
+                            best_x = z if along_u else fixed
+                            best_y = fixed if along_u else z
             ci = best_c // cv
             cj = best_c % cv
             mu = 0.5 * (su[ci] + su[ci + 1])

@@ -32,8 +32,15 @@ a cell is trusted to hold one minimum besides its ends (random tests with cluste
 weights 0.2-5 and points 1-100 % of the size away, ``benchmarks/bspline_stress.py``, find no
 miss).
 
-Surface projection (``BSplineSurface.project``), vectorised over all points (in blocks of
-``_BLOCK`` points that stay in cache):
+Surface projection (``BSplineSurface.project``) with the compiled kernel (numba; see
+``geometry._jit``): as for curves, over the cells of the sample grid (each a polynomial or
+rational tensor patch, kept as its Taylor polynomial about the cell's middle), pruned by
+their oriented boxes and by interval bounds of ``S_u.(S - p)`` and ``S_v.(S - p)`` (not
+across creases), each candidate cell solved by a safeguarded 2D Newton from its middle
+(coordinates frozen at a bound the descent points out of; scaled steepest descent where the
+step would leave the cell at once) and, where that does not converge inside the cell, by 1D
+Newton along its four edges. Without numba (numpy path), vectorised over all points (in
+blocks of ``_BLOCK`` points that stay in cache):
 
 1. seed: the nearest of a set of parameter samples (curves: spaced by the control polygon,
    about 1/32 of the curve's size apart, at least 4 per knot span; surfaces: per direction
@@ -139,9 +146,9 @@ _MAX_ITER = 60
 _BLOCK = 16384  # points per block in the Newton loop
 _PAIR_BLOCK = 16384  # (point, cell) pairs per cell-wise Newton run
 _MAX_HALVINGS = 30  # a trial halved this often (2^-30) leaves the point where it is
-# the compiled surface kernel (geometry._jit) is not used yet: bspline_stress.py seeds 2 and 3
-# still find missed minima with it (a cell Newton that stops short on a patch edge)
-_SURFACE_JIT = False
+# the compiled surface kernel (geometry._jit) is used when numba is there (switch kept for
+# comparisons: tests/test_bspline_paths.py)
+_SURFACE_JIT = True
 _CELL_TURN = math.radians(20.0)  # half-angle of a cell's tangent cone (see _split_turning)
 _FINISH = 1e-7  # a Newton step this small (relative to the size) is the last one
 _SEED_STEPS = 3  # Newton steps on the tabulated Taylor model when seeding

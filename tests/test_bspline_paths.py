@@ -1,4 +1,4 @@
-"""The B-spline curve projection's two implementations (compiled kernel, numpy path)
+"""The B-spline projection's two implementations (compiled kernel, numpy path)
 against a dense brute force and against each other, on the harsh random cases of
 benchmarks/bspline_stress.py (clustered knots, weights 0.2-5, points 1 %-100 % of the size
 away), including the cases that once missed (rational curves with a sharp turn)."""
@@ -58,3 +58,19 @@ def test_sharp_turn_of_a_rational_curve_is_split_into_cells():
     axis = u.sum(axis=1)
     axis /= np.linalg.norm(axis, axis=1, keepdims=True)
     assert np.degrees(np.arccos(np.clip(np.einsum("cld,cd->cl", u, axis).min(), -1, 1))) <= 20.0 + 1e-9
+
+
+@pytest.mark.parametrize("seed", [2, 3])
+@pytest.mark.parametrize("jit", [False, True])
+def test_surface_projection_finds_the_global_minimum(seed, jit, monkeypatch):
+    """Harsh random NURBS surfaces (degrees 1-3, clustered knots, weights 0.2-5)."""
+    if jit and not _jit.enabled():
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
+    rng = np.random.default_rng(seed)
+    for _ in range(3):
+        s, X, p = bspline_stress.surface_case(rng, 200)
+        pr = s.project(p)
+        got = np.linalg.norm(p - pr.points, axis=1)
+        assert np.all(got <= cKDTree(X).query(p)[0] + 1e-12 * s.scale)
+        assert np.allclose(s.evaluate(pr.parameters), pr.points, atol=1e-13 * s.scale, rtol=0)
