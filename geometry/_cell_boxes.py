@@ -213,19 +213,14 @@ class CellSearch:
         return pi[keep], node[keep], bounds
 
 
-def frame_coordinates(p: np.ndarray, origin: np.ndarray, R: np.ndarray) -> np.ndarray:
-    """``R (p - origin)`` per pair: p (3, n) points, origin (3, n) and R (9, n) frames."""
-    d = p - origin
-    return np.stack([R[3 * k] * d[0] + R[3 * k + 1] * d[1] + R[3 * k + 2] * d[2] for k in range(3)])
-
-
-def dot_bounds(alo, ahi, blo, bhi) -> tuple[np.ndarray, np.ndarray]:
-    """Interval bounds of ``a . b`` for a in the box [alo, ahi] and b in [blo, bhi]
-    (each (3, n))."""
-    p1, p2, p3, p4 = alo * blo, alo * bhi, ahi * blo, ahi * bhi
-    lo = np.minimum(np.minimum(p1, p2), np.minimum(p3, p4)).sum(axis=0)
-    hi = np.maximum(np.maximum(p1, p2), np.maximum(p3, p4)).sum(axis=0)
-    return lo, hi
+def morton_order(cu: int, cv: int) -> np.ndarray:
+    """The cells i cv + j of a cu x cv grid in Morton (Z) order: groups of 4^n consecutive
+    cells are 2^n x 2^n tiles, so that a box hierarchy over them stays compact."""
+    I, J = np.repeat(np.arange(cu), cv), np.tile(np.arange(cv), cu)
+    key = np.zeros(len(I), dtype=np.int64)
+    for bit in range(16):
+        key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
+    return np.argsort(key, kind="stable")
 
 
 def best_per_point(pi: np.ndarray, f: np.ndarray, m: int) -> np.ndarray:

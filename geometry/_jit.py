@@ -292,8 +292,8 @@ def _build():
                 out_CC[i, d] = buf[d]
         return out_t, out_CC
 
-    return {"curve_project": curve_project, "curve_eval": curve_eval, "curve_cell_newton": curve_cell_newton,
-            "box_gap2": box_gap2, "field_bounds": field_bounds, "push_children": push_children}
+    return {"curve_project": curve_project, "box_gap2": box_gap2, "field_bounds": field_bounds,
+            "push_children": push_children, "top_gaps": top_gaps}
 
 
 def _build_surface():
@@ -301,7 +301,7 @@ def _build_surface():
 
     jit = njit(cache=True, nogil=True, fastmath=False, error_model="numpy")
     k = kernels()
-    box_gap2, field_bounds, push_children = k["box_gap2"], k["field_bounds"], k["push_children"]
+    box_gap2, field_bounds, push_children, top_gaps = k["box_gap2"], k["field_bounds"], k["push_children"], k["top_gaps"]
 
     @jit
     def surface_eval(coef, c, ku, kv, D, rational, x, y, out):
@@ -615,11 +615,7 @@ def _build_surface():
             p1 = P[i, 1]
             p2 = P[i, 2]
             reach = max(abs(p0), max(abs(p1), abs(p2))) + extent
-            first = 0
-            for nd in range(n_top):
-                gaps[nd] = box_gap2(nodes, nd, p0, p1, p2)
-                if gaps[nd] < gaps[first]:
-                    first = nd
+            first = top_gaps(nodes, n_top, p0, p1, p2, gaps)
             best_f = np.inf
             best_c = -1
             best_x = 0.0
@@ -695,7 +691,7 @@ def _build_surface():
                 out_S[i, d] = buf[d]
         return out_uv, out_S
 
-    return {"surface_project": surface_project, "surface_eval": surface_eval, "surface_cell_newton": surface_cell_newton, "dot3": dot3}
+    return {"surface_project": surface_project}
 
 
 _SURFACE_KERNELS = None

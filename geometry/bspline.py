@@ -135,7 +135,7 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
 
 from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
 from . import _jit
-from ._cell_boxes import CellSearch, bernstein_inverse, best_per_point, box_levels, dot_bounds, frame_boxes, frame_coordinates, oriented_boxes
+from ._cell_boxes import CellSearch, bernstein_inverse, best_per_point, box_levels, frame_boxes, morton_order, oriented_boxes
 
 __all__ = ["BSplineCurve", "BSplineSurface"]
 
@@ -464,12 +464,6 @@ def _coldot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.einsum("ij,ij->j", x, y)
 
 
-def _stationary_cols(r: np.ndarray, tangent: np.ndarray) -> np.ndarray:
-    """Where ``r = S - p`` is perpendicular to ``tangent`` (both (3, n)) up to 1e-7
-    (relative): a converged inner minimum."""
-    return np.abs(_coldot(r, tangent)) <= 1e-7 * np.sqrt(_coldot(r, r) * _coldot(tangent, tangent)) + 1e-300
-
-
 def _nearest_cols(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> tuple[np.ndarray, np.ndarray]:
     """Index of the nearest sample ``Q[j]`` (n_s, 3) for every point of ``p`` (3, m), and
     the squared distance to it; for a few samples a chunked ``|Q|^2 - 2 Q.p`` argmin (one
@@ -484,15 +478,6 @@ def _nearest_cols(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> tuple[n
         j[i : i + chunk] = np.argmin(QQ - 2.0 * (Q @ p[:, i : i + chunk]), axis=0)
     d = Q[j].T - p
     return j, _coldot(d, d)
-
-
-def _derivative_bounds(q: np.ndarray, ci: np.ndarray, oriented: tuple, tangent_box: tuple) -> tuple[np.ndarray, np.ndarray]:
-    """Interval bounds of ``T . (S - p)`` over cells ``ci`` for points ``q`` (3, n): T in the
-    box ``tangent_box`` (lo, hi, each (3, n_cells), in the cells' frames) of a tangent's
-    numerator, S in the cell's oriented box (origin, frame rows (9, n_cells), lo, hi)."""
-    origin, R, olo, ohi = oriented
-    x = frame_coordinates(q, origin[:, ci], R[:, ci])
-    return dot_bounds(tangent_box[0][:, ci], tangent_box[1][:, ci], olo[:, ci] - x, ohi[:, ci] - x)
 
 
 def _horner(coef: np.ndarray, x: np.ndarray, k: int, order: int) -> list[np.ndarray]:
@@ -751,17 +736,6 @@ class BSplineCurve(Curve):
         mids = 0.5 * (edges[:-1] + edges[1:])
         coef = np.concatenate([self._spline(mids, i).T / math.factorial(i) for i in range(self.degree + 1)])
         return edges, mids, np.ascontiguousarray(coef)
-
-    def _eval(self, t: np.ndarray, order: int = 2) -> list[np.ndarray]:
-        """``[C, C', C'']`` (up to ``order``) at parameters ``t`` inside the domain, each (3, n),
-        by Horner's rule on the cells' Taylor polynomials. The projection's Newton loops
-        use this rather than scipy's ``BSpline.__call__`` (one call per derivative order on
-        row-major arrays): the pieces are built by scipy once, and evaluating them
-        component-major on long arrays is several times cheaper per Newton step."""
-        edges, mids, coef = self._pieces
-        cell = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, len(mids) - 1)
-        out = _horner(_cols(coef, cell), t - mids[cell], self.degree, order)
-        return out if self.weights is None else _quotient(out)
 
     def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Parameters ``t`` (m,), closest points C(t) (m, 3) and derivatives C'(t) (m, 3)
@@ -1317,11 +1291,7 @@ class BSplineSurface(Surface):
         net = net[..., :3] / net[..., 3:] if rational else net
         along_u = net[:, -1, 0] - net[:, 0, 0] + net[:, -1, -1] - net[:, 0, -1]
         along_v = net[:, 0, -1] - net[:, 0, 0] + net[:, -1, -1] - net[:, -1, 0]
-        I, J = np.repeat(np.arange(cu), cv), np.tile(np.arange(cv), cu)
-        key = np.zeros(len(I), dtype=np.int64)
-        for bit in range(16):
-            key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
-        order = np.argsort(key, kind="stable")
+        order = morton_order(cu, cv)
         pts = net.reshape(cu * cv, -1, 3)[order]
         levels = box_levels(pts, along_u[order], along_v[order], _SURFACE_BRANCH, _BOX_MARGIN * self.scale, _SURFACE_BRANCH)
         R = levels[-1][1]
@@ -1416,12 +1386,7 @@ class BSplineSurface(Surface):
         net = pts.reshape(cu * cv, ku + 1, kv + 1, 3)
         along_u = net[:, -1, 0] - net[:, 0, 0] + net[:, -1, -1] - net[:, 0, -1]
         along_v = net[:, 0, -1] - net[:, 0, 0] + net[:, -1, -1] - net[:, -1, 0]
-        I, J = np.meshgrid(np.arange(cu), np.arange(cv), indexing="ij")
-        I, J = I.ravel(), J.ravel()
-        key = np.zeros(len(I), dtype=np.int64)
-        for bit in range(16):
-            key |= ((I >> bit) & 1) << (2 * bit + 1) | ((J >> bit) & 1) << (2 * bit)
-        order = np.argsort(key, kind="stable")
+        order = morton_order(cu, cv)
         levels = box_levels(pts[order], along_u[order], along_v[order], _SURFACE_BRANCH, margin, _SURFACE_BRANCH)
         oriented = levels[-1]
         # directions of S_u and S_v over each cell: numerators A_u w - A w_u (degree
@@ -1440,7 +1405,7 @@ class BSplineSurface(Surface):
             N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if rational else H1[:, :3]
             N = np.einsum("am,bn,cmnd->cabd", bernstein_inverse(du), bernstein_inverse(dv), N.reshape(cu * cv, du + 1, dv + 1, 3))
             tangent_boxes.append(_frame_boxes(N.reshape(cu * cv, -1, 3)[order], oriented[1]))
-        return _node_tables(levels, _SURFACE_BRANCH), su, sv, np.column_stack([I[order], J[order]]), oriented, tangent_boxes
+        return _node_tables(levels, _SURFACE_BRANCH), su, sv, np.column_stack([order // cv, order % cv]), oriented, tangent_boxes
 
     def _global_check(self, p, uv, d):
         """Branch and bound over the Bezier cells: every cell whose box is closer than the
