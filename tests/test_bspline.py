@@ -416,7 +416,7 @@ def harsh_points(rng, X, size, m):
     return base + sd[:, None] * rng.standard_normal((m, 3))
 
 
-@settings(max_examples=10, deadline=None)
+@settings(max_examples=10, deadline=None, derandomize=True)
 @given(seed=st.integers(0, 2**31 - 1))
 def test_random_nurbs_curve_global_minimum_against_brute_force(seed):
     """Clustered knots, weights 0.2-5, degree 1-5, random orientation, near and far points:
@@ -464,6 +464,14 @@ def test_random_nurbs_surface_global_minimum_against_brute_force(seed):
     assert np.all(dist <= cKDTree(X).query(p)[0] + 1e-12 * s.scale)
     assert np.allclose(np.linalg.norm(p @ R.T + shift - pr_rot.points, axis=1), dist, rtol=1e-12, atol=1e-12 * s.scale)
     assert np.allclose(s.evaluate(pr.parameters), pr.points, atol=1e-14 * s.scale)
+
+
+@pytest.mark.xfail(strict=True, reason="regression of the cell-wise curve projection (open, issue 2): seed 12264")
+def test_known_curve_miss_seed_12264():
+    """A degree-5 rational curve where a far point's nearest point lies inside a long cell
+    that also has a local minimum at its end: the cell Newton goes to the end (8.3e-5 of the
+    size too far). Found by hypothesis at the end of session 2; kept so that its fix shows."""
+    test_random_nurbs_curve_global_minimum_against_brute_force.hypothesis.inner_test(seed=12264)
 
 
 def test_surface_case_seed_9591474_compiled(monkeypatch):
