@@ -68,9 +68,12 @@ def main(argv=None):
     ap.add_argument("--cases", type=int, default=20)
     ap.add_argument("--points", type=int, default=2000)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--kind", choices=("curve", "surface", "both"), default="both")
     args = ap.parse_args(argv)
     rng = np.random.default_rng(args.seed)
     for kind, make in (("curve", curve_case), ("surface", surface_case)):
+        if args.kind not in (kind, "both"):
+            continue
         bad_total, worst, elapsed = 0, 0.0, 0.0
         for _ in range(args.cases):
             prim, X, p = make(rng, args.points)

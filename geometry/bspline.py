@@ -134,7 +134,8 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
     return cKDTree(points)
 
 from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
-from . import _jit
+from . import _bernstein, _jit
+from . import _surface_cells
 from ._cell_boxes import CellSearch, bernstein_inverse, best_per_point, box_levels, frame_boxes, morton_order, oriented_boxes
 
 __all__ = ["BSplineCurve", "BSplineSurface"]
@@ -146,6 +147,7 @@ _MAX_ITER = 60
 _BLOCK = 16384  # points per block in the Newton loop
 _PAIR_BLOCK = 16384  # (point, cell) pairs per cell-wise Newton run
 _MAX_HALVINGS = 30  # a trial halved this often (2^-30) leaves the point where it is
+_ISOLATE_DEPTH = 30  # halvings of a cell in isolating the stationary points of a curve's distance
 # the compiled surface kernel (geometry._jit) is used when numba is there (switch kept for
 # comparisons: tests/test_bspline_paths.py)
 _SURFACE_JIT = True
@@ -777,7 +779,7 @@ class BSplineCurve(Curve):
         t2, C2, C12 = np.empty(len(pi)), np.empty((3, len(pi))), np.empty((3, len(pi)))
         for i0 in range(0, len(pi), _PAIR_BLOCK):
             sl = slice(i0, i0 + _PAIR_BLOCK)
-            t2[sl], C2[:, sl], C12[:, sl] = self._cell_newton(_cols(p, pi[sl]), ci[sl])
+            t2[sl], C2[:, sl], C12[:, sl] = self._cell_minima(_cols(p, pi[sl]), ci[sl])
         r = C2 - _cols(p, pi)
         best = best_per_point(pi, _coldot(r, r), m)
         return t2[best], C2[:, best].T, C12[:, best].T
@@ -790,12 +792,15 @@ class BSplineCurve(Curve):
         # a deep hierarchy (one root group) suits the per-point traversal
         nodes, level_start = self._cell_search(_CURVE_BRANCH).flat_nodes()
         D = 4 if self.weights is not None else 3
+        G0, G1 = self._stationary_nets
+        stat = np.concatenate([G0, G1[0], G1[1], G1[2]]).T  # (n_c, 4 (M + 1))
         return dict(
             nodes=nodes, level_start=level_start, branch=_CURVE_BRANCH, coef=np.ascontiguousarray(coef.T),
-            mids=mids, edges=edges, ends=np.ascontiguousarray(np.concatenate([A, B]).T), k=self.degree, D=D,
+            mids=mids, edges=edges, ends=np.ascontiguousarray(np.concatenate([A, B]).T),
+            stat=np.ascontiguousarray(stat), M=G0.shape[0] - 1, k=self.degree, D=D,
             rational=self.weights is not None, periodic=self.periodic, prune=len(self._kinks) == 0,
-            tol=_STRICT * self.scale, finish=_FINISH * self.scale, extent=self.extent, max_iter=_MAX_ITER,
-            max_halvings=_MAX_HALVINGS, cert=_CERT_REL,
+            tol=_STRICT * self.scale, finish=_FINISH * self.scale, max_iter=_MAX_ITER,
+            max_depth=_ISOLATE_DEPTH, cert=_CERT_REL,
         )
 
     def _closest_jit(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -845,94 +850,142 @@ class BSplineCurve(Curve):
             return _kinks(self._spline.t, self.degree, 2 * a - b, 2 * b - a)
         return _kinks(self._spline.t, self.degree, a, b)
 
-    def _cell_newton(self, p: np.ndarray, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Safeguarded Newton on ``g(t) = C'(t) . (C(t) - p) = 0`` kept inside one cell per
-        point (``p`` (3, n), ``cell`` (n,)), on the cell's exact polynomial piece; starts at
-        the projection onto the cell's chord. A trial that increases the squared distance
-        beyond round-off is halved; Gauss-Newton (``|C'|^2``) where the Newton derivative is
-        not clearly positive. Stops when the next step moves the point by less than
-        ``_STRICT`` of the size, or after a plain Newton step that moved it by less than
-        ``_FINISH`` (the error left is of the order of its square). Returns t (n,), C and
-        C' (3, n), evaluated at t."""
-        edges, mids, coef = self._pieces
-        n = p.shape[1]
+    @cached_property
+    def _stationary_nets(self) -> tuple[np.ndarray, np.ndarray]:
+        """Bernstein coefficients over each cell (local s in [0, 1]) of a positive multiple
+        of ``g = C_s . (C - p)`` for a point p: ``G0 - sum_d p_d G1[d]``, G0 (M + 1, n_c), G1
+        (3, M + 1, n_c). Polynomial: M = 2k - 1; rational (C = N / w): the numerator of
+        ``g w^3 = (N_s w - N w_s) . (N - p w)``, M = 3k - 1. Built by exact Bernstein
+        arithmetic from the cells' Taylor coefficients (see :mod:`geometry._bernstein`)."""
+        edges, _, coef = self._pieces
+        k = self.degree
+        D = 4 if self.weights is not None else 3
+        scale = np.diff(edges)[None, :] ** np.arange(k + 1)[:, None]  # L^i
+        T = _bernstein.from_taylor(k)
+        net = [T @ (coef[d :: D] * scale) for d in range(D)]  # (k + 1, n_c) each
+        d_net = [_bernstein.derivative(x) for x in net]
+        if self.weights is None:
+            G0 = sum(_bernstein.product(d_net[d], net[d]) for d in range(3))
+            G1 = [_bernstein.elevate(d_net[d], k) for d in range(3)]
+        else:
+            w, w_s = net[3], d_net[3]
+            Q = [_bernstein.product(d_net[d], w) - _bernstein.product(net[d], w_s) for d in range(3)]
+            G0 = sum(_bernstein.product(Q[d], net[d]) for d in range(3))
+            G1 = [_bernstein.product(Q[d], w) for d in range(3)]
+        return np.ascontiguousarray(G0), np.ascontiguousarray(np.stack(G1))
+
+    def _cell_minima(self, p: np.ndarray, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The closest point of each cell ``cell`` (n,) to its point (``p`` (3, n)): every
+        local minimum inside the cell and its two ends. The stationary points are isolated
+        by the Bernstein coefficients of g = C'.(C - p) over the cell: no sign change, no
+        stationary point; one, from - to +, exactly one (a minimum): bracketed Newton;
+        more: the interval is halved (de Casteljau) until each part has at most one, to
+        ``_ISOLATE_DEPTH`` halvings (then Newton in the part). Returns t (n,), C and C'
+        (3, n) at the best."""
+        edges, mids, _ = self._pieces
+        G0, G1 = self._stationary_nets
+        n = len(cell)
+        lo = edges[cell] - mids[cell]
+        length = edges[cell + 1] - edges[cell]
+        b = _cols(G0, cell)
+        for d in range(3):
+            b -= p[d] * _cols(G1[d], cell)
+        # the cell's ends
+        A, B = self._piece_ends
+        ra, rb = _cols(A, cell) - p, _cols(B, cell) - p
+        fa, fb = _coldot(ra, ra), _coldot(rb, rb)
+        pairs, xs, fs = [np.arange(n)], [np.where(fa <= fb, lo, lo + length)], [np.minimum(fa, fb)]
+        # isolation: items (pair, s0, width, coefficients over [s0, s0 + width])
+        item, s0, width = np.arange(n), np.zeros(n), np.ones(n)
+        br_item, br_lo, br_hi, br_start = [], [], [], []
+        M = b.shape[0] - 1
+        for depth in range(_ISOLATE_DEPTH + 1):
+            V = _bernstein.sign_changes(b)
+            negative = b < 0.0
+            one = (V == 1) & negative[0]
+            many = V >= 2
+            last = depth == _ISOLATE_DEPTH
+            solve = np.flatnonzero(one | (many & last))
+            if len(solve):
+                # start: where the control polygon of g crosses zero
+                bs = b[:, solve]
+                i = np.minimum(np.count_nonzero(negative[:, solve], axis=0) - 1, M - 1)
+                i = np.maximum(i, 0)
+                cols = np.arange(len(solve))
+                b_i, b_j = bs[i, cols], bs[i + 1, cols]
+                frac = np.clip((i + np.where(b_i != b_j, b_i / (b_i - b_j), 0.5)) / M, 0.0, 1.0)
+                it = item[solve]
+                br_item.append(it)
+                br_lo.append(s0[solve])
+                br_hi.append(s0[solve] + width[solve])
+                br_start.append(s0[solve] + frac * width[solve])
+            split = np.flatnonzero(many) if not last else np.empty(0, dtype=np.int64)
+            if len(split) == 0:
+                break
+            left, right = _bernstein.halves(b[:, split])
+            half = 0.5 * width[split]
+            item = np.concatenate([item[split], item[split]])
+            s0 = np.concatenate([s0[split], s0[split] + half])
+            width = np.concatenate([half, half])
+            b = np.concatenate([left, right], axis=1)
+        if br_item:
+            it = np.concatenate(br_item)
+            L = length[it]
+            x, f = self._bracketed_newton(
+                _cols(p, it), cell[it], lo[it] + L * np.concatenate(br_lo), lo[it] + L * np.concatenate(br_hi),
+                lo[it] + L * np.concatenate(br_start),
+            )
+            pairs.append(it)
+            xs.append(x)
+            fs.append(f)
+        pi, x, f = np.concatenate(pairs), np.concatenate(xs), np.concatenate(fs)
+        best = best_per_point(pi, f, n)
+        out_x = x[best]
+        H = self._piece_values(cell, mids[cell] + out_x, 1)
+        C, C1 = H if self.weights is None else _quotient(H)
+        return self._wrap(mids[cell] + out_x), C, C1
+
+    def _bracketed_newton(self, p, cell, lo, hi, x):
+        """Newton on ``g(x) = C'.(C - p) = 0`` on a bracket [lo, hi] of local parameters with
+        ``g(lo) < 0 <= g(hi)`` (one root inside), from ``x``; a step that leaves the bracket
+        (or where g' <= 0) is replaced by bisection, and the bracket shrinks with every
+        evaluation. Stops when the next step moves the point by less than ``_STRICT`` of
+        the size, or after a Newton step below ``_FINISH`` of it (the error left is of the
+        order of its square). Returns x and the squared distance there."""
+        _, _, coef = self._pieces
         k = self.degree
         tol, finish = _STRICT * self.scale, _FINISH * self.scale
+        n = len(cell)
         G = _cols(coef, cell)
-        mid = mids[cell]
-        lo, hi = edges[cell] - mid, edges[cell + 1] - mid
-        # the cell's ends: the start is the projection onto its chord, and an end is
-        # returned where it is closer than the minimum Newton finds (a minimum at the end
-        # beside an inner one)
-        A, B = self._piece_ends
-        ra, ab = _cols(A, cell), _cols(B, cell)
-        ab -= ra
-        ra -= p
-        f_ends = np.minimum(_coldot(ra, ra), _coldot(ra + ab, ra + ab))
-        frac = np.clip(-_coldot(ra, ab) / np.maximum(_coldot(ab, ab), 1e-300), 0.0, 1.0)
-        trial = lo + frac * (hi - lo)
-        p_all = p
-        out_x, out_f = np.empty(n), np.empty(n)
+        out_x, out_f = x.copy(), np.full(n, np.inf)
         idx = np.arange(n)
-        x_acc = trial
-        f_acc = np.full(n, np.inf)
-        speed_acc = np.zeros(n)
-        step = np.zeros(n)
-        halvings = np.zeros(n, dtype=np.int64)
-        reach = float(np.abs(p).max()) + self.extent
         for _ in range(_MAX_ITER):
             if len(idx) == 0:
                 break
-            H = _horner(G, trial, k, 2)
+            H = _horner(G, x, k, 2)
             C, C1, C2 = H if self.weights is None else _quotient(H)
             C -= p  # r = C - p
             f = _coldot(C, C)
             g = _coldot(C1, C)
             sp2 = _coldot(C1, C1)
             h = sp2 + _coldot(C2, C)
-            acc = f <= f_acc + _roundoff(f_acc, reach)
-            all_acc = bool(acc.all())
-            if all_acc:
-                x_acc, f_acc, speed_acc = trial, f, np.sqrt(sp2)
-            else:
-                x_acc = np.where(acc, trial, x_acc)
-                f_acc = np.where(acc, f, f_acc)
-                speed_acc = np.where(acc, np.sqrt(sp2), speed_acc)
-            newton = h > 1e-6 * sp2
-            # where f is not clearly convex the descent runs to the end of the cell (with
-            # halving back where that is worse); Gauss-Newton steps would creep there
-            dx = np.where(newton, -g / np.where(newton, h, 1.0), np.where(g > 0, lo, hi) - trial)
-            dx[g == 0.0] = 0.0
-            new_step = dx if all_acc else np.where(acc, dx, 0.5 * step)
-            raw = x_acc + new_step
-            new = np.clip(raw, lo, hi)
-            eff = new - x_acc
-            move = np.abs(eff) * speed_acc
-            halvings = np.where(acc, 0, halvings + 1)
-            # a plain Newton step (accepted, unclamped) this small is the last one
-            taylor = acc & newton & (new == raw) & (move <= finish)
-            done = taylor | (move <= tol) | (halvings > _MAX_HALVINGS)
+            below = g < 0.0
+            lo = np.where(below, x, lo)
+            hi = np.where(below, hi, x)
+            trial = x - g / np.where(h > 0.0, h, 1.0)
+            newton = (h > 0.0) & (trial > lo) & (trial < hi)
+            new = np.where(newton, trial, 0.5 * (lo + hi))
+            move = np.abs(new - x) * np.sqrt(sp2)
+            taylor = newton & (move <= finish)
+            done = taylor | (move <= tol) | (g == 0.0)
+            out_x[idx] = np.where(taylor, new, x)
+            # after a final (Taylor) step f has dropped by about -g . step (second order)
+            out_f[idx] = f + np.where(taylor, g * (new - x), 0.0)
             if done.any():
-                d = np.flatnonzero(done)
-                out_x[idx[d]] = np.where(taylor[d], new[d], x_acc[d])
-                # after a final (Taylor) step f has dropped by about -g . step (second order)
-                out_f[idx[d]] = f_acc[d] + np.where(taylor[d], g[d] * eff[d], 0.0)
                 keep = np.flatnonzero(~done)
-                idx, p, G, lo, hi = idx[keep], _cols(p, keep), _cols(G, keep), lo[keep], hi[keep]
-                new, eff, x_acc, f_acc = new[keep], eff[keep], x_acc[keep], f_acc[keep]
-                speed_acc, halvings = speed_acc[keep], halvings[keep]
-            trial, step = new, eff
-        if len(idx):  # iteration limit: keep the best accepted point
-            out_x[idx], out_f[idx] = x_acc, f_acc
-        end = np.flatnonzero(f_ends < out_f - _roundoff(out_f, reach))
-        if len(end):
-            ra = _cols(A, cell[end]) - _cols(p_all, end)
-            fa = _coldot(ra, ra)
-            out_x[end] = np.where(f_ends[end] == fa, edges[cell[end]], edges[cell[end] + 1]) - mids[cell[end]]
-        # the returned points and tangents: the pieces at the returned parameters
-        H = _horner(_cols(coef, cell), out_x, k, 1)
-        C, C1 = H if self.weights is None else _quotient(H)
-        return self._wrap(mids[cell] + out_x), C, C1
+                idx, p, G, lo, hi, new = idx[keep], _cols(p, keep), _cols(G, keep), lo[keep], hi[keep], new[keep]
+            x = new
+        return out_x, out_f
 
     @cached_property
     def _piece_ends(self) -> tuple[np.ndarray, np.ndarray]:

@@ -466,11 +466,19 @@ def test_random_nurbs_surface_global_minimum_against_brute_force(seed):
     assert np.allclose(s.evaluate(pr.parameters), pr.points, atol=1e-14 * s.scale)
 
 
-@pytest.mark.xfail(strict=True, reason="regression of the cell-wise curve projection (open, issue 2): seed 12264")
-def test_known_curve_miss_seed_12264():
-    """A degree-5 rational curve where a far point's nearest point lies inside a long cell
-    that also has a local minimum at its end: the cell Newton goes to the end (8.3e-5 of the
-    size too far). Found by hypothesis at the end of session 2; kept so that its fix shows."""
+@pytest.mark.parametrize("jit", [True, False], ids=["compiled", "numpy"])
+def test_curve_case_seed_12264_two_minima_in_one_cell(jit, monkeypatch):
+    """A degree-5 rational curve where a far point (near a centre of curvature) has two
+    local minima of its distance inside one long cell and a third at the cell's end; the
+    global one is inside (8.3e-5 of the size closer than the end). A cell-wise Newton that
+    trusted one minimum per cell ended at the end (session 2); the stationary points are
+    now isolated by the Bernstein coefficients of C'.(C - p) over the cell."""
+    from geometry import _jit
+
+    if jit and not _jit.enabled():
+        pytest.skip("numba not installed")
+    if not jit:
+        monkeypatch.setenv("IBFEM_NO_JIT", "1")
     test_random_nurbs_curve_global_minimum_against_brute_force.hypothesis.inner_test(seed=12264)
 
 
