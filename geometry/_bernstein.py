@@ -77,3 +77,49 @@ def sign_changes(B: np.ndarray) -> np.ndarray:
     roots exactly at a coefficient's zero; a zero end coefficient is a root at that end)."""
     negative = B < 0.0
     return np.count_nonzero(negative[1:] != negative[:-1], axis=0)
+
+
+# ---------------------------------------------------------------------------------------
+# nets of the distance to a polynomial (or rational) piece C(x) = N(x) / w(x), given by
+# its Taylor coefficients about the middle of a cell: coef ((k + 1) D, n), row i D + d the
+# coefficient of x^i of homogeneous component d (D = 3: polynomial, D = 4: (w N, w))
+# ---------------------------------------------------------------------------------------
+
+
+def piece_nets(coef: np.ndarray, length: np.ndarray, k: int, D: int) -> list[np.ndarray]:
+    """Bezier nets over the cells (local s in [0, 1]) of the D homogeneous components,
+    each (k + 1, n), for cells of parameter length ``length`` (n,)."""
+    scale = np.asarray(length, dtype=float)[None, :] ** np.arange(k + 1)[:, None]  # L^i
+    T = from_taylor(k)
+    return [T @ (coef[d::D] * scale) for d in range(D)]
+
+
+def stationary_nets(coef: np.ndarray, length: np.ndarray, k: int, D: int) -> tuple[np.ndarray, np.ndarray]:
+    """Bernstein coefficients over each cell of a positive multiple of ``g = C_s . (C - p)``
+    for a point p: ``G0 - sum_d p_d G1[d]``, G0 (M + 1, n), G1 (3, M + 1, n). Polynomial:
+    M = 2k - 1; rational (C = N / w): the numerator of ``g w^3 = (N_s w - N w_s) . (N - p
+    w)``, M = 3k - 1."""
+    net = piece_nets(coef, length, k, D)
+    d_net = [derivative(x) for x in net]
+    if D == 3:
+        G0 = sum(product(d_net[d], net[d]) for d in range(3))
+        G1 = [elevate(d_net[d], k) for d in range(3)]
+    else:
+        w, w_s = net[3], d_net[3]
+        Q = [product(d_net[d], w) - product(net[d], w_s) for d in range(3)]
+        G0 = sum(product(Q[d], net[d]) for d in range(3))
+        G1 = [product(Q[d], w) for d in range(3)]
+    return np.ascontiguousarray(G0), np.ascontiguousarray(np.stack(G1))
+
+
+def distance_nets(coef: np.ndarray, length: np.ndarray, k: int, D: int) -> np.ndarray:
+    """(5, 2k + 1, n): F0, F1 (3), F2 with ``|C - p|^2 w^2 = F0 - 2 p . F1 + |p|^2 F2``
+    (w = 1 for a polynomial piece). F2 > 0, and the squared distance over the cell lies
+    between the smallest and largest ratio (F0 - 2 p . F1 + |p|^2 F2)_j / F2_j (a convex
+    combination of them)."""
+    net = piece_nets(coef, length, k, D)
+    w = net[3] if D == 4 else np.ones_like(net[0])
+    F0 = sum(product(net[d], net[d]) for d in range(3))
+    F1 = [product(net[d], w) for d in range(3)]
+    F2 = product(w, w)
+    return np.ascontiguousarray(np.stack([F0, *F1, F2]))

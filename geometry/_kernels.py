@@ -135,14 +135,12 @@ def curve_bracketed_newton(coef, c, k, D, rational, p0, p1, p2, lo, hi, x, tol, 
 
 
 @jit
-def curve_cell_minima(coef, mids, edges, ends, stat, M, c, k, D, rational, p0, p1, p2, tol, finish, max_iter,
+def curve_cell_minima(coef, ends, stat, M, c, lo, length, k, D, rational, p0, p1, p2, tol, finish, max_iter,
                       max_depth, buf, bstack, sstack, tmp):
-    """The closest point of cell c (see BSplineCurve._cell_minima): its ends and every
-    stationary point isolated by the Bernstein coefficients of g over the cell (row c of
-    ``stat``: G0, G1x, G1y, G1z, M + 1 each); returns (local parameter, squared distance)."""
-    mid = mids[c]
-    lo = edges[c] - mid
-    length = edges[c + 1] - edges[c]
+    """The closest point of cell c (local parameters [lo, lo + length]; see
+    BSplineCurve._cell_minima): its ends and every stationary point isolated by the
+    Bernstein coefficients of g over the cell (row c of ``stat``: G0, G1x, G1y, G1z, M + 1
+    each); returns (local parameter, squared distance). Also the edges of surface cells."""
     ax = ends[c, 0] - p0
     ay = ends[c, 1] - p1
     az = ends[c, 2] - p2
@@ -276,8 +274,9 @@ def curve_project(P, nodes, level_start, branch, coef, mids, edges, ends, stat, 
                     has_hi = periodic or c < n_cells - 1
                     if (low > 0.0 and has_lo) or (high < 0.0 and has_hi):
                         continue
-                x, f = curve_cell_minima(coef, mids, edges, ends, stat, M, c, k, D, rational, p0, p1, p2, tol, finish,
-                                         max_iter, max_depth, buf, bstack, sstack, tmp)
+                x, f = curve_cell_minima(coef, ends, stat, M, c, edges[c] - mids[c], edges[c + 1] - edges[c], k, D,
+                                         rational, p0, p1, p2, tol, finish, max_iter, max_depth, buf, bstack, sstack,
+                                         tmp)
                 if f < best_f:
                     best_f = f
                     best_c = c
@@ -581,8 +580,23 @@ def surface_edge_newton(coef, c, ku, kv, D, rational, along_u, fixed, lo, hi, p0
     return x_out, f_out
 
 @jit
+def edge_lower_bound(fnet, e, n, p0, p1, p2):
+    """Lower bound of the squared distance from p to curve cell e: the smallest ratio of
+    the Bernstein coefficients (row e of ``fnet``: F0, F1x, F1y, F1z, F2, n each; see
+    geometry._bernstein.distance_nets)."""
+    pp = p0 * p0 + p1 * p1 + p2 * p2
+    low = np.inf
+    for j in range(n):
+        num = fnet[e, j] - 2.0 * (p0 * fnet[e, n + j] + p1 * fnet[e, 2 * n + j] + p2 * fnet[e, 3 * n + j])
+        low = min(low, (num + pp * fnet[e, 4 * n + j]) / fnet[e, 4 * n + j])
+    return low
+
+
+@jit
 def surface_project(P, nodes, level_start, branch, leaf_cell, coef, su, sv, ku, kv, D, rational,
-                    prune_u, prune_v, tol, finish, extent, max_iter, max_halvings, cert):
+                    prune_u, prune_v, tol, finish, extent, max_iter, max_halvings, cert,
+                    ue_coef, ue_ends, ue_stat, ue_M, ue_fnet, ve_coef, ve_ends, ve_stat, ve_M, ve_fnet, max_depth,
+                    rep, rep_cell):
     """Per point: best-first over the top boxes, depth first below them; every leaf cell
     closer than the best distance so far (and not proved monotone along u or v) gets the
     cell Newton. Returns u, v and S, S_u, S_v (9 columns) of the best."""
@@ -596,6 +610,11 @@ def surface_project(P, nodes, level_start, branch, leaf_cell, coef, su, sv, ku, 
     out_uv = np.empty((m, 2))
     out_S = np.empty((m, 9))
     buf = np.empty(42)
+    ebuf = np.empty(21)
+    M = max(ue_M, ve_M)
+    bstack = np.empty((max_depth + 3, M + 1))
+    sstack = np.empty((max_depth + 3, 3))
+    tmp = np.empty(M + 1)
     gaps = np.empty(n_top)
     stack = np.empty(n_levels * branch + 1, dtype=np.int64)
     gstack = np.empty(n_levels * branch + 1)
@@ -622,6 +641,16 @@ def surface_project(P, nodes, level_start, branch, leaf_cell, coef, su, sv, ku, 
                 nd = stack[top]
                 if gstack[top] >= best_f * (1.0 - cert):
                     continue
+                # a point of the surface in the node: an upper bound of the answer
+                r0 = rep[nd, 0] - p0
+                r1 = rep[nd, 1] - p1
+                r2 = rep[nd, 2] - p2
+                f = r0 * r0 + r1 * r1 + r2 * r2
+                if f < best_f:
+                    best_f = f
+                    best_c = rep_cell[nd]
+                    best_x = 0.0
+                    best_y = 0.0
                 if nd < leaf0:
                     top = push_children(nodes, level_start, branch, nd, p0, p1, p2, best_f * (1.0 - cert), stack, gstack, top)
                     continue
@@ -655,15 +684,27 @@ def surface_project(P, nodes, level_start, branch, leaf_cell, coef, su, sv, ku, 
                     best_c = c
                     best_x = x
                     best_y = y
-                # the cell's edges (1D, robust) unless Newton converged inside the cell: a
-                # minimum on an edge the 2D iteration did not reach
-                for e in range(0 if inner else 4):
+                # the cell's edges, where the Bernstein bound of the distance along the edge
+                # is below the best: their minima by isolation as for curve cells (a
+                # minimum on an edge beside an inner one, or one the 2D descent missed)
+                slack = 1e-15 * reach * reach
+                for e in range(4):
                     along_u = e < 2
-                    fixed = (vlo if e == 0 else vhi) if along_u else (ulo if e == 2 else uhi)
-                    a0 = ulo if along_u else vlo
-                    a1 = uhi if along_u else vhi
-                    z, f = surface_edge_newton(coef, c, ku, kv, D, rational, along_u, fixed, a0, a1, p0, p1, p2,
-                                               tol, finish, reach, max_iter, max_halvings, buf)
+                    eid = 2 * c + (e % 2)
+                    if along_u:
+                        low = edge_lower_bound(ue_fnet, eid, 2 * ku + 1, p0, p1, p2)
+                    else:
+                        low = edge_lower_bound(ve_fnet, eid, 2 * kv + 1, p0, p1, p2)
+                    if low - slack >= best_f * (1.0 - cert):
+                        continue
+                    if along_u:
+                        fixed = vlo if e == 0 else vhi
+                        z, f = curve_cell_minima(ue_coef, ue_ends, ue_stat, ue_M, eid, ulo, uhi - ulo, ku, D, rational,
+                                                 p0, p1, p2, tol, finish, max_iter, max_depth, ebuf, bstack, sstack, tmp)
+                    else:
+                        fixed = ulo if e == 2 else uhi
+                        z, f = curve_cell_minima(ve_coef, ve_ends, ve_stat, ve_M, eid, vlo, vhi - vlo, kv, D, rational,
+                                                 p0, p1, p2, tol, finish, max_iter, max_depth, ebuf, bstack, sstack, tmp)
                     if f < best_f:
                         best_f = f
                         best_c = c

@@ -32,58 +32,41 @@ a cell is trusted to hold one minimum besides its ends (random tests with cluste
 weights 0.2-5 and points 1-100 % of the size away, ``benchmarks/bspline_stress.py``, find no
 miss).
 
-Surface projection (``BSplineSurface.project``) with the compiled kernel (numba; see
-``geometry._jit``): as for curves, over the cells of the sample grid (each a polynomial or
-rational tensor patch, kept as its Taylor polynomial about the cell's middle), pruned by
-their oriented boxes and by interval bounds of ``S_u.(S - p)`` and ``S_v.(S - p)`` (not
-across creases), each candidate cell solved by a safeguarded 2D Newton from its middle
-(coordinates frozen at a bound the descent points out of; scaled steepest descent where the
-step would leave the cell at once) and, where that does not converge inside the cell, by 1D
-Newton along its four edges. Without numba (numpy path), vectorised over all points (in
-blocks of ``_BLOCK`` points that stay in cache):
-
-1. seed: the nearest of a set of parameter samples (curves: spaced by the control polygon,
-   about 1/32 of the curve's size apart, at least 4 per knot span; surfaces: per direction
-   by the longest polygon leg, about 1/64 of the size apart, at least 4 per knot span), found by a brute-force distance matrix (few samples) or a
-   ``scipy.spatial.cKDTree`` (built once per primitive), refined by Newton steps on the
-   cubic Taylor model of the curve/surface at that sample (derivatives up to order 3
-   tabulated at the samples, so no spline evaluation), kept within the neighbouring samples;
-2. safeguarded Newton on the first-order conditions ``(S - p) . S_u = 0``; the Hessian
-   (with second derivatives; Gauss-Newton where it is not clearly positive definite) is
-   taken from the seed's model first and kept while the steps are small (fine phase:
-   only S and its first derivatives are evaluated), recomputed from scipy's second
-   derivatives otherwise; each trial is clamped to the parameter domain (wrapped for
-   periodic curves); a coordinate at a bound whose descent direction points out of the
-   domain is frozen, so the 1D problem along that edge is solved (corners: both frozen);
-   a trial that increases the squared distance beyond round-off is halved;
-3. stop when the next step would move the point by less than 5e-13 of the control net's
-   size (bounding-box diagonal); the returned points are evaluated at the returned
-   parameters (so they lie on the spline to round-off).
-
-Global minimum (after Newton from the nearest sample). The cells between neighbouring
-samples (each inside one knot span: a polynomial or rational Bezier piece / patch) carry
-the Bezier control nets of the piece (sampled at degree + 1 nodes per direction and
-mapped by the inverse Bernstein collocation matrix); by the convex-hull property (positive
-weights stay positive under subdivision) the piece lies in the box of its net, taken in a
-frame aligned with the cell's tangents (as thin as the cell bends). A hierarchy of such
-boxes is searched branch-and-bound, vectorised over (point, node) pairs, for every cell
-whose box is closer than the distance found. A candidate cell is dropped when the
-derivative of the squared distance along a parameter, ``S_u . (S - p)``, keeps one sign
-over it (interval bound from the Bezier net of the numerator of ``S_u`` against the box of
-``S - p``): its smallest distance then lies on an edge it shares with a neighbouring cell,
-checked there (not across creases, and at the domain's edges only where the answer found
-is on that edge of that cell). Every other candidate cell, and the found cell where the
-answer lies on its edge or is not stationary, gets Newton kept inside the cell's parameter
-box from its middle; the best result wins. Not a proof: the found cell itself is not
-searched again where the answer is an inner stationary point (a second minimum inside the
-same cell would be missed), and the restricted Newton is trusted to find a cell's
-minimum. Random tests with clustered knots, weights 0.2-5 and points from 1 % to 100 % of
-the size away (``benchmarks/bspline_stress.py``) found no miss. Newton steps stop at C0
-knots (multiplicity >= degree: polylines, creases), where the distance has a kink; a
-crease that the descent points across is treated like an edge (1D Newton along it), and
-results held a nudge short of it are snapped onto it. Cost: far points (distance
-comparable to the size, near centres of curvature) have many candidate cells and are
-several times slower than points near the spline.
+Surface projection (``BSplineSurface.project``): as for curves, over the cells of a grid of
+samples (per direction spaced by the longest control polygon leg across the net, about 1/64
+of the surface's size apart, at least 4 per knot span, every knot a grid line), so that each
+cell lies inside one knot span in both directions: one polynomial or rational tensor patch,
+kept as its Taylor polynomial about the cell's middle (coefficients from scipy's partial
+derivatives there) and bounded by the box of its Bezier net in a frame aligned with its
+tangents; the boxes form a hierarchy (cells in Morton order, 2 x 2 tiles per node). For
+every point, every cell whose box is closer than the best distance known is a candidate; a
+candidate over which ``S_u.(S - p)`` or ``S_v.(S - p)`` keeps one sign (interval bound from
+the Bezier net of the numerator of S_u or S_v against the box of S - p) is dropped, since its
+smallest distance lies on an edge it shares with a neighbouring cell (not at the domain's
+edges, and not at all along a direction with creases: C0 knot lines, multiplicity >=
+degree). Every other candidate gets a safeguarded 2D Newton kept inside the cell, from its
+middle: Gauss-Newton (first fundamental form) where the Hessian is not clearly positive
+definite; a coordinate at a bound that its descent points out of is frozen (1D Newton along
+that edge); scaled steepest descent where the step would leave the cell at once; steps cut
+exactly at the cell's bounds; a trial that increases the distance beyond round-off is
+halved; stop as for curves. Where that iteration does not converge to a point strictly
+inside the cell, 1D Newton along the cell's four edges finds a minimum on an edge that it
+did not reach. The closest result wins; S, S_u and S_v are evaluated on its patch at the
+returned parameters (so the points lie on the spline to round-off). Creases are cell edges,
+so no Newton step crosses one. The compiled kernel (``geometry._jit``) runs this per point,
+best first over the top boxes and depth first below them, with the bound tightened as cells
+are solved. The numpy path (``geometry._surface_cells``) runs it in blocks of ``_BLOCK``
+points: the bound is the distance to the nearest grid sample (a ``scipy.spatial.cKDTree``,
+or a distance matrix for few samples); all candidate (point, cell) pairs under it are found
+at once (``CellSearch.pairs``) and solved together over component-major arrays; a point
+left without a candidate keeps the cell of its nearest sample, and the sample itself where
+no Newton result is closer. It solves every candidate of that first bound (more cells than
+the kernel, which tightens its bound as it goes), each array operation over all of them.
+Not a proof: the 2D Newton and the edges are trusted to find a cell's smallest distance (a
+cell holding two inner minima could hide one); random tests with clustered knots, weights
+0.2-5 and points 1-100 % of the size away (``benchmarks/bspline_stress.py``) find no miss on
+either path. Cost: far points (near centres of curvature) have more candidate cells than
+points near the surface.
 
 Normal conventions (SPEC section 2 leaves free-form normals to the primitive):
 
@@ -142,7 +125,6 @@ __all__ = ["BSplineCurve", "BSplineSurface"]
 
 # Newton stopping tolerances, relative to the size of the control net (see module doc).
 _STRICT = 5e-13
-_FINE = 1e-5
 _MAX_ITER = 60
 _BLOCK = 16384  # points per block in the Newton loop
 _PAIR_BLOCK = 16384  # (point, cell) pairs per cell-wise Newton run
@@ -153,7 +135,6 @@ _ISOLATE_DEPTH = 30  # halvings of a cell in isolating the stationary points of 
 _SURFACE_JIT = True
 _CELL_TURN = math.radians(20.0)  # half-angle of a cell's tangent cone (see _split_turning)
 _FINISH = 1e-7  # a Newton step this small (relative to the size) is the last one
-_SEED_STEPS = 3  # Newton steps on the tabulated Taylor model when seeding
 _KINK_NUDGE = 1e-13  # steps stop this fraction of the domain short of a C0 kink
 # seeding density (samples per knot span) and the sample count above which the nearest
 # sample is found with a k-d tree instead of a brute-force (BLAS) distance matrix
@@ -340,107 +321,9 @@ def _nearest(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> np.ndarray:
 
 _CERT_REL = 2e-12  # a cell must be able to beat the best distance by this (relative, squared)
 _BOX_MARGIN = 1e-9  # cell boxes are widened by this fraction of the size (Bezier round-off)
-_PAIR_CHUNK = 2048  # points per branch-and-bound traversal (bounds the pair arrays)
-# cells within this many cells of the found one count as its basin and are not re-searched
-# (1: the neighbours too; faster, but adjacent cells can hold a second minimum where knots cluster)
-_SAME_BASIN = 0
 # children per node of the box hierarchies (surface cells in Morton order: 4 = 2 x 2 tiles)
 _SURFACE_BRANCH = 4
 _CURVE_BRANCH = 8
-
-
-def _hull_boxes(ctrl: np.ndarray, rational: bool, margin: float) -> tuple[np.ndarray, np.ndarray]:
-    """Axis-aligned boxes (lo, hi), each (n, 3), of Bezier control nets ``ctrl`` (n, m, 3 or
-    4, homogeneous ``(w P, w)`` when rational). A polynomial or rational (positive weights:
-    subdivision keeps them positive) Bezier piece lies in the convex hull of its control
-    points, so in their box."""
-    pts = ctrl[..., :3] / ctrl[..., 3:] if rational else ctrl[..., :3]
-    return pts.min(axis=1) - margin, pts.max(axis=1) + margin
-
-
-def _frame_boxes(nets: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Boxes (lo, hi) (n, 3) of control nets (n, m, 3) in the cells' frames R (n, 3, 3)."""
-    L = np.einsum("nkj,nmj->nmk", R, nets)
-    lo, hi = L.min(axis=1), L.max(axis=1)
-    pad = 1e-9 * np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, keepdims=True)
-    return lo - pad, hi + pad
-
-
-def _dot_bounds(alo, ahi, blo, bhi) -> tuple[np.ndarray, np.ndarray]:
-    """Interval bounds of ``a . b`` for a in the box [alo, ahi] and b in [blo, bhi] (rows)."""
-    prods = np.stack([alo * blo, alo * bhi, ahi * blo, ahi * bhi])
-    return prods.min(axis=0).sum(axis=1), prods.max(axis=0).sum(axis=1)
-
-
-def _node_tables(levels: list[tuple], branch: int) -> list[np.ndarray]:
-    """Per level of a box hierarchy a table (n_parents, 15, branch) of its nodes grouped by
-    parent (the top level: one group): frame rows R (9), ``R origin + box centre`` (3) and
-    the box half widths (3), so that a point's gap to a box is ``max(|R p - c| - h, 0)``.
-    Padding nodes have half widths -inf (never within reach)."""
-    tables = []
-    for depth, (origin, R, lo, hi) in enumerate(levels):
-        t = np.concatenate(
-            [R.reshape(-1, 9), np.einsum("nkj,nj->nk", R, origin) + 0.5 * (lo + hi), 0.5 * (hi - lo)], axis=1
-        )
-        group = len(t) if depth == 0 else branch
-        n_groups = -(-len(t) // group)
-        pad = np.zeros((n_groups * group - len(t), 15))
-        pad[:, 12:] = -np.inf
-        # components first: every component of a gathered group is then contiguous
-        tables.append(np.ascontiguousarray(np.concatenate([t, pad]).reshape(n_groups, group, 15).transpose(0, 2, 1)))
-    return tables
-
-
-def _candidate_cells(p: np.ndarray, bound2: np.ndarray, tables: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """All (point, cell) pairs whose box lies closer to the point than ``sqrt(bound2)``:
-    branch and bound down the box hierarchy, vectorised over flat (point, node) pairs; all
-    children of a kept node are tested at once (one contiguous gather per pair)."""
-    out_p, out_c = [], []
-    for i0 in range(0, len(p), _PAIR_CHUNK):
-        pc, bc = p[i0 : i0 + _PAIR_CHUNK], bound2[i0 : i0 + _PAIR_CHUNK]
-        pi = np.arange(len(pc))
-        parent = np.zeros(len(pc), dtype=np.int64)
-        for tab in tables:
-            T = tab[parent]  # (pairs, 15, branch)
-            x = pc[pi]
-            x0, x1, x2 = x[:, 0:1], x[:, 1:2], x[:, 2:3]
-            dist2 = np.zeros((T.shape[0], T.shape[2]))
-            for k in range(3):  # frame coordinate k of the point, its gap to the box
-                g = np.abs(T[:, 3 * k] * x0 + T[:, 3 * k + 1] * x1 + T[:, 3 * k + 2] * x2 - T[:, 9 + k]) - T[:, 12 + k]
-                np.maximum(g, 0.0, out=g)
-                dist2 += g * g
-            rows, kid = np.nonzero(dist2 < bc[pi][:, None])
-            parent = parent[rows] * tab.shape[2] + kid
-            pi = pi[rows]
-        out_p.append(pi + i0)
-        out_c.append(parent)
-    return np.concatenate(out_p), np.concatenate(out_c)
-
-
-def _stationary(r: np.ndarray, tangent: np.ndarray) -> np.ndarray:
-    """Where ``r = S - p`` is perpendicular to ``tangent`` up to 1e-7 (relative): a
-    converged inner minimum."""
-    return np.abs(_rowdot(r, tangent)) <= 1e-7 * np.sqrt(_rowdot(r, r) * _rowdot(tangent, tangent)) + 1e-300
-
-
-def _best_per_point(pi: np.ndarray, f: np.ndarray) -> np.ndarray:
-    """Indices into the pair arrays of the smallest ``f`` of every point in ``pi``."""
-    order = np.lexsort((f, pi))
-    ps = pi[order]
-    return order[np.r_[True, ps[1:] != ps[:-1]]]
-
-
-def _in_chunks(fn, p: np.ndarray, start: np.ndarray, lo: np.ndarray, hi: np.ndarray):
-    """``fn(p, None, start, (lo, hi))`` over blocks of ``_BLOCK`` rows, results concatenated."""
-    if len(p) <= _BLOCK:
-        return fn(p, None, start, (lo, hi))
-    parts = [fn(p[i : i + _BLOCK], None, start[i : i + _BLOCK], (lo[i : i + _BLOCK], hi[i : i + _BLOCK])) for i in range(0, len(p), _BLOCK)]
-    if isinstance(parts[0], dict):
-        return {k: np.concatenate([x[k] for x in parts]) for k in parts[0]}
-    return tuple(
-        {k: np.concatenate([x[i][k] for x in parts]) for k in parts[0][i]} if isinstance(parts[0][i], dict) else np.concatenate([x[i] for x in parts])
-        for i in range(len(parts[0]))
-    )
 
 
 def _normalise_rows(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -858,21 +741,7 @@ class BSplineCurve(Curve):
         ``g w^3 = (N_s w - N w_s) . (N - p w)``, M = 3k - 1. Built by exact Bernstein
         arithmetic from the cells' Taylor coefficients (see :mod:`geometry._bernstein`)."""
         edges, _, coef = self._pieces
-        k = self.degree
-        D = 4 if self.weights is not None else 3
-        scale = np.diff(edges)[None, :] ** np.arange(k + 1)[:, None]  # L^i
-        T = _bernstein.from_taylor(k)
-        net = [T @ (coef[d :: D] * scale) for d in range(D)]  # (k + 1, n_c) each
-        d_net = [_bernstein.derivative(x) for x in net]
-        if self.weights is None:
-            G0 = sum(_bernstein.product(d_net[d], net[d]) for d in range(3))
-            G1 = [_bernstein.elevate(d_net[d], k) for d in range(3)]
-        else:
-            w, w_s = net[3], d_net[3]
-            Q = [_bernstein.product(d_net[d], w) - _bernstein.product(net[d], w_s) for d in range(3)]
-            G0 = sum(_bernstein.product(Q[d], net[d]) for d in range(3))
-            G1 = [_bernstein.product(Q[d], w) for d in range(3)]
-        return np.ascontiguousarray(G0), np.ascontiguousarray(np.stack(G1))
+        return _bernstein.stationary_nets(coef, np.diff(edges), self.degree, 4 if self.weights is not None else 3)
 
     def _cell_minima(self, p: np.ndarray, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The closest point of each cell ``cell`` (n,) to its point (``p`` (3, n)): every
@@ -1178,12 +1047,11 @@ class BSplineSurface(Surface):
 
     @cached_property
     def _seeds(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, cKDTree | None]:
-        """Grid of sample parameters (n_s, 2), the table of all partial derivatives up to
-        total order 3 there (n_s, 30; order of ``_NU3``), the per-sample parameter distance
-        to the neighbouring samples (n_s, 2), and a k-d tree of the sample points."""
-        axes, halfw = [], []
-        # per direction: samples spaced by the longest control polygon leg across the net
-        # (about 1/64 of the surface's size apart, at least 4 per knot span)
+        """The sample grid: its axes su (n_u,) and sv (n_v,), per direction spaced by the
+        longest control polygon leg across the net (about 1/64 of the surface's size apart,
+        at least 4 per knot span, every knot among them), its points (n_u n_v, 3; sample
+        i n_v + j at (su[i], sv[j])), and a k-d tree of them when they are many."""
+        axes = []
         P = self.control_points
         legs_u = np.linalg.norm(np.diff(P, axis=0), axis=2).max(axis=1)
         legs_v = np.linalg.norm(np.diff(P, axis=1), axis=2).max(axis=0)
@@ -1191,31 +1059,12 @@ class BSplineSurface(Surface):
             (self.knots_u, self.degree_u, self.domain[0], legs_u),
             (self.knots_v, self.degree_v, self.domain[1], legs_v),
         ):
-            s = _polygon_samples(t, k, a, b, legs, self.scale / _SURFACE_SEED_SPACING, _SURFACE_SEEDS_MAX)
-            axes.append(s)
-            gap = np.diff(s)
-            halfw.append(np.maximum(np.concatenate([gap[:1], gap]), np.concatenate([gap, gap[-1:]])))
-        U, V = np.meshgrid(axes[0], axes[1], indexing="ij")
-        uv = np.column_stack([U.ravel(), V.ravel()])
-        HU, HV = np.meshgrid(halfw[0], halfw[1], indexing="ij")
-        d = self.derivatives(uv, 3)
-        table = np.concatenate([d[nu] for nu in _NU3], axis=1)
-        Q = np.ascontiguousarray(table[:, :3])
-        tree = _kd_tree(Q) if len(uv) > _BRUTE_SEEDS else None
-        return uv, table, np.column_stack([HU.ravel(), HV.ravel()]), tree
-
-    def _hessian(self, S, Su, Sv, Suu, Suv, Svv, p):
-        """Hessian of ``|S - p|^2 / 2`` as (huu, huv, hvv), replaced by the first fundamental
-        form (Gauss-Newton) where it is not clearly positive definite; and which was taken."""
-        r = S - p
-        E, F, G = _rowdot(Su, Su), _rowdot(Su, Sv), _rowdot(Sv, Sv)
-        huu, huv, hvv = E + _rowdot(Suu, r), F + _rowdot(Suv, r), G + _rowdot(Svv, r)
-        det = huu * hvv - huv * huv
-        newton = (huu > 1e-6 * E) & (hvv > 1e-6 * G) & (det > 1e-6 * (E * G - F * F))
-        # columns 3, 4: the full second derivatives along u and v, used for the 1D Newton
-        # along an edge (the 2D Hessian is often indefinite where the edge problem is not)
-        hess = np.column_stack([np.where(newton, huu, E), np.where(newton, huv, F), np.where(newton, hvv, G), huu, hvv])
-        return hess, newton
+            axes.append(_polygon_samples(t, k, a, b, legs, self.scale / _SURFACE_SEED_SPACING, _SURFACE_SEEDS_MAX))
+        su, sv = axes
+        U, V = np.meshgrid(su, sv, indexing="ij")
+        Q = np.ascontiguousarray(self.evaluate(np.column_stack([U.ravel(), V.ravel()])))
+        tree = _kd_tree(Q) if len(Q) > _BRUTE_SEEDS else None
+        return su, sv, Q, tree
 
     @cached_property
     def _creases(self) -> tuple[np.ndarray, np.ndarray]:
@@ -1223,98 +1072,16 @@ class BSplineSurface(Surface):
         (ua, ub), (va, vb) = self.domain
         return _kinks(self.knots_u, self.degree_u, ua, ub), _kinks(self.knots_v, self.degree_v, va, vb)
 
-    def _newton_step(self, uv, S, Su, Sv, hess, p, lo=None, hi=None):
-        """Step solving ``hess . step = -grad`` from ``uv``; a coordinate at a bound whose
-        descent points out of the domain is frozen and the 1D problem along that edge is
-        solved instead (corner: both frozen). Returns (step (m, 2), frozen (m,))."""
-        (ua, ub), (va, vb) = self.domain
-        near_u, near_v = 2.0 * _KINK_NUDGE * (ub - ua), 2.0 * _KINK_NUDGE * (vb - va)
-        if lo is not None:  # bounds of a sub-box (per point) instead of the domain
-            ua, va, ub, vb = lo[..., 0], lo[..., 1], hi[..., 0], hi[..., 1]
-        r = S - p
-        gu, gv = _rowdot(Su, r), _rowdot(Sv, r)
-        huu, huv, hvv = hess[:, 0], hess[:, 1], hess[:, 2]
-        det = huu * hvv - huv * huv
-        det_ok = det > 0
-        inv_det = np.where(det_ok, 1.0 / np.where(det_ok, det, 1.0), 0.0)
-        du = -(hvv * gu - huv * gv) * inv_det
-        dv = -(huu * gv - huv * gu) * inv_det
-        u0, v0 = uv[:, 0], uv[:, 1]
-        fix_u = ((u0 <= ua) & (gu > 0)) | ((u0 >= ub) & (gu < 0))
-        fix_v = ((v0 <= va) & (gv > 0)) | ((v0 >= vb) & (gv < 0))
-        # held at a crease (C0 knot line) with the descent pointing across it: the crease acts
-        # as an edge of the patch the point is on (1D Newton along it); the patch beyond is
-        # a separate basin, searched from its own start
-        ku_, kv_ = self._creases
-        if len(ku_):
-            fix_u |= _at_crease(u0, gu, ku_, near_u)
-        if len(kv_):
-            fix_v |= _at_crease(v0, gv, kv_, near_v)
-        frozen = fix_u | fix_v
-        if np.any(frozen):
-            edge_u = np.where(hess[:, 3] > 1e-6 * huu, hess[:, 3], huu)
-            edge_v = np.where(hess[:, 4] > 1e-6 * hvv, hess[:, 4], hvv)
-            edge_u = np.where(edge_u > 0, edge_u, 1.0)
-            edge_v = np.where(edge_v > 0, edge_v, 1.0)
-            du = np.where(fix_u, 0.0, np.where(fix_v, -gu / edge_u, du))
-            dv = np.where(fix_v, 0.0, np.where(fix_u, -gv / edge_v, dv))
-        return np.column_stack([du, dv]), frozen
-
-    def _seed(self, p: np.ndarray, j: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Grid sample ``j`` (the nearest), refined by Newton steps on the cubic Taylor model of the
-        surface at that sample (tabulated derivatives, no spline evaluation), kept within
-        the neighbouring samples and the domain. Also returns the model's Hessian there and
-        whether it is the Newton (not Gauss-Newton) one."""
-        uv, table, halfw, tree = self._seeds
-        T = table[j].reshape(len(p), 10, 3)  # rows in the order of _NU3
-        T[:, 0] -= p
-        (ua, ub), (va, vb) = self.domain
-        lo = np.maximum(-halfw[j], np.array([ua, va]) - uv[j])
-        hi = np.minimum(halfw[j], np.array([ub, vb]) - uv[j])
-        delta = np.zeros((len(p), 2))
-        # monomial weights of the model and of its derivatives: rows r = S - p, S_u, S_v,
-        # S_uu, S_uv, S_vv; columns the Taylor coefficients of _NU3
-        M = np.zeros((len(p), 6, 10))
-        M[:, 0, 0] = M[:, 1, 1] = M[:, 2, 2] = M[:, 3, 3] = M[:, 4, 4] = M[:, 5, 5] = 1.0
-        for _ in range(_SEED_STEPS):
-            x, y = delta[:, 0], delta[:, 1]
-            xx, xy, yy = 0.5 * x * x, x * y, 0.5 * y * y
-            M[:, 0, 1], M[:, 0, 2], M[:, 0, 3], M[:, 0, 4], M[:, 0, 5] = x, y, xx, xy, yy
-            M[:, 0, 6], M[:, 0, 7], M[:, 0, 8], M[:, 0, 9] = xx * x / 3.0, xx * y, x * yy, yy * y / 3.0
-            M[:, 1, 3], M[:, 1, 4], M[:, 1, 6], M[:, 1, 7], M[:, 1, 8] = x, y, xx, xy, yy
-            M[:, 2, 4], M[:, 2, 5], M[:, 2, 7], M[:, 2, 8], M[:, 2, 9] = x, y, xx, xy, yy
-            M[:, 3, 6], M[:, 3, 7] = x, y
-            M[:, 4, 7], M[:, 4, 8] = x, y
-            M[:, 5, 8], M[:, 5, 9] = x, y
-            D = np.matmul(M, T)
-            r, Su, Sv, Suu, Suv, Svv = (D[:, k] for k in range(6))
-            hess, newton = self._hessian(r, Su, Sv, Suu, Suv, Svv, 0.0)
-            step, _ = self._newton_step(uv[j] + delta, r, Su, Sv, hess, 0.0)
-            delta = np.clip(delta + step, lo, hi)
-        return uv[j] + delta, hess, newton
-
-    def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
-        """Parameters (m, 2) of the closest points and ``{(0,0): S, (1,0): S_u, (0,1): S_v}``
-        there, for (m, 3) points: the safeguarded Newton core of :meth:`project`."""
-        p = np.ascontiguousarray(points, dtype=float)
-        if _SURFACE_JIT and _jit.enabled() and len(p):
-            uv, S = _jit.surface_kernels()["surface_project"](p, **self._jit_tables)
-            return uv, {(0, 0): S[:, :3], (1, 0): S[:, 3:6], (0, 1): S[:, 6:]}
-        if len(p) <= _BLOCK:
-            return self._closest_sides(p)
-        parts = [self._closest_sides(p[i : i + _BLOCK]) for i in range(0, len(p), _BLOCK)]
-        uv = np.concatenate([x[0] for x in parts])
-        return uv, {nu: np.concatenate([x[1][nu] for x in parts]) for nu in parts[0][1]}
-
     @cached_property
-    def _jit_tables(self) -> dict[str, Any]:
-        """The tables of the compiled kernel (see :mod:`geometry._jit`): the cells of the
-        sample grid (each inside one knot span in both directions, so one polynomial or
-        rational tensor patch) as Taylor polynomials about their middles (from scipy's
-        partial derivatives there), and a box hierarchy over them (Morton order) with the
-        boxes of the numerators of S_u and S_v."""
-        uv, _, _, _ = self._seeds
-        su, sv = np.unique(uv[:, 0]), np.unique(uv[:, 1])
+    def _patches(self) -> dict[str, Any]:
+        """The cells of the sample grid (each inside one knot span in both directions, so one
+        polynomial or rational tensor patch) as Taylor polynomials about their middles, from
+        scipy's partial derivatives there: ``coef`` (n_cells, (ku + 1) (kv + 1) D), cell
+        i cv + j, column (a (kv + 1) + b) D + d the coefficient of x^a y^b of homogeneous
+        component d. For the box hierarchy, in Morton order (``order``): the patches'
+        Bezier control points ``pts`` (n_cells, (ku + 1) (kv + 1), 3), their directions
+        along u and v, and the Bezier nets of the numerators of S_u and S_v (``tangent_nets``)."""
+        su, sv, _, _ = self._seeds
         ku, kv = self.degree_u, self.degree_v
         cu, cv = len(su) - 1, len(sv) - 1
         mu, mv = 0.5 * (su[:-1] + su[1:]), 0.5 * (sv[:-1] + sv[1:])
@@ -1325,302 +1092,174 @@ class BSplineSurface(Surface):
             for b in range(kv + 1):
                 col = (a * (kv + 1) + b) * D
                 coef[:, col : col + D] = self._spline(centres, nu=(a, b)) / (math.factorial(a) * math.factorial(b))
-        # Bezier nets of the patches and of the numerators of S_u, S_v (as in _cells)
-        def nets(deg_u, deg_v, nu=(0, 0), rational_numerator=False):
-            nu_ = su[:-1, None] + np.diff(su)[:, None] * (np.arange(deg_u + 1) / deg_u)
-            nv_ = sv[:-1, None] + np.diff(sv)[:, None] * (np.arange(deg_v + 1) / deg_v)
-            U = np.broadcast_to(nu_[:, None, :, None], (cu, cv, deg_u + 1, deg_v + 1))
-            V = np.broadcast_to(nv_[None, :, None, :], (cu, cv, deg_u + 1, deg_v + 1))
-            x = np.column_stack([U.ravel(), V.ravel()])
-            H = self._spline(x, nu=nu)
-            if rational_numerator:
-                H0 = self._spline(x)
-                H = H[:, :3] * H0[:, 3:] - H0[:, :3] * H[:, 3:]
-            H = H.reshape(cu * cv, deg_u + 1, deg_v + 1, -1)
-            return np.einsum("am,bn,cmnd->cabd", bernstein_inverse(deg_u), bernstein_inverse(deg_v), H)
+
+        # Bezier nets from the Taylor polynomials (the patches Newton solves): values at
+        # equally spaced nodes, mapped by the inverse Bernstein collocation matrix. With
+        # x = h_u s, y = h_v t (s, t in [-1/2, 1/2]) the patch is sum c_ab h_u^a h_v^b s^a t^b.
+        hu, hv = np.repeat(np.diff(su), cv), np.tile(np.diff(sv), cu)
+        c = coef.reshape(cu * cv, ku + 1, kv + 1, D) * (
+            (hu[:, None] ** np.arange(ku + 1))[:, :, None, None] * (hv[:, None] ** np.arange(kv + 1))[:, None, :, None]
+        )
+
+        def node_powers(k, deg, order):
+            """d^order/ds^order of s^a (a = 0 .. k) at the nodes s_i = i / deg - 1/2."""
+            s = np.arange(deg + 1) / deg - 0.5
+            a = np.arange(k + 1)
+            fall = np.array([math.perm(int(x), order) for x in a], dtype=float)
+            return fall * s[:, None] ** np.maximum(a - order, 0) * (a >= order)
+
+        def values(deg_u, deg_v, nu=(0, 0)):
+            """d^nu A (homogeneous) at the (deg_u + 1) x (deg_v + 1) nodes of every cell."""
+            H = np.einsum("ia,jb,cabd->cijd", node_powers(ku, deg_u, nu[0]), node_powers(kv, deg_v, nu[1]), c, optimize=True)
+            return H / (hu ** nu[0] * hv ** nu[1])[:, None, None, None]
+
+        def nets(H):
+            deg_u, deg_v = H.shape[1] - 1, H.shape[2] - 1
+            return np.einsum("am,bn,cmnd->cabd", bernstein_inverse(deg_u), bernstein_inverse(deg_v), H, optimize=True)
 
         rational = self.weights is not None
-        net = nets(ku, kv)
+        net = nets(values(ku, kv))
         net = net[..., :3] / net[..., 3:] if rational else net
         along_u = net[:, -1, 0] - net[:, 0, 0] + net[:, -1, -1] - net[:, 0, -1]
         along_v = net[:, 0, -1] - net[:, 0, 0] + net[:, -1, -1] - net[:, -1, 0]
         order = morton_order(cu, cv)
-        pts = net.reshape(cu * cv, -1, 3)[order]
-        levels = box_levels(pts, along_u[order], along_v[order], _SURFACE_BRANCH, _BOX_MARGIN * self.scale, _SURFACE_BRANCH)
-        R = levels[-1][1]
+        # the numerators of S_u, S_v: A_u w - A w_u for S = A / w (degree <= 2 ku - 1 in u
+        # and 2 kv in v, so 2 ku + 1 by 2 kv + 1 nodes determine it); A_u, A_v without weights
         du, dv = (2 * ku, 2 * kv) if rational else (ku, kv)
-        extra = []
+        H0 = values(du, dv) if rational else None
+        tangent_nets = []
         for nu in ((1, 0), (0, 1)):
-            N = nets(du, dv, nu, rational)[..., :3].reshape(cu * cv, -1, 3)[order]
-            extra.append(frame_boxes(N, R))
-        nodes, level_start = CellSearch(levels, _SURFACE_BRANCH, extra=tuple(extra)).flat_nodes()
-        creases = self._creases
+            H = values(du, dv, nu)
+            N = H[..., :3] * H0[..., 3:] - H0[..., :3] * H[..., 3:] if rational else H
+            tangent_nets.append(nets(N).reshape(cu * cv, -1, 3)[order])
+        tangent_nets = tuple(tangent_nets)
         return dict(
-            nodes=nodes, level_start=level_start, branch=_SURFACE_BRANCH, leaf_cell=order.astype(np.int64),
-            coef=coef, su=su, sv=sv, ku=ku, kv=kv, D=D, rational=rational,
-            prune_u=len(creases[0]) == 0, prune_v=len(creases[1]) == 0, tol=_STRICT * self.scale,
-            finish=_FINISH * self.scale, extent=self.extent, max_iter=_MAX_ITER, max_halvings=_MAX_HALVINGS,
-            cert=_CERT_REL,
+            coef=coef, order=order, pts=net.reshape(cu * cv, -1, 3)[order], along_u=along_u[order],
+            along_v=along_v[order], tangent_nets=tangent_nets,
         )
 
-    def _closest_sides(self, p: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
-        """Newton from the nearest grid sample; where that sample lies on a C0 crease
-        (a knot line of multiplicity >= degree), Newton again from the neighbouring sample on
-        the other side of the crease (the two sides are separate basins), keep the better."""
-        uv, table, _, tree = self._seeds
-        j = _nearest(p, table[:, :3], tree)
-        uv_out, d = self._closest_block(p, j)
-        (ua, ub), (va, vb) = self.domain
-        nv = len(np.unique(uv[:, 1]))
-        for axis, knots, k, lo, hi, shift in (
-            (0, self.knots_u, self.degree_u, ua, ub, nv),
-            (1, self.knots_v, self.degree_v, va, vb, 1),
-        ):
-            kinks = _kinks(knots, k, lo, hi)
-            if len(kinks) == 0:
-                continue
-            on = np.flatnonzero(np.isin(uv[j, axis], kinks))
-            if len(on) == 0:
-                continue
-            uv2, d2 = self._closest_block(p[on], j[on] - shift)
-            r1, r2 = d[(0, 0)][on] - p[on], d2[(0, 0)] - p[on]
-            better = _rowdot(r2, r2) < _rowdot(r1, r1)
-            k_idx = on[better]
-            uv_out[k_idx] = uv2[better]
-            for nu in d:
-                d[nu][k_idx] = d2[nu][better]
-        uv_out, d = self._global_check(p, uv_out, d)
-        return self._snap_to_creases(p, uv_out, d)
-
-    def _snap_to_creases(self, p, uv, d):
-        """Results held a nudge short of a crease are moved onto it where that is no worse
-        (the nudge in parameter can be far from negligible in space on a short knot span)."""
-        (ua, ub), (va, vb) = self.domain
-        snapped = uv.copy()
-        for axis, kinks, width in ((0, self._creases[0], ub - ua), (1, self._creases[1], vb - va)):
-            if len(kinks):
-                gap = uv[:, axis : axis + 1] - kinks[None, :]
-                near = np.argmin(np.abs(gap), axis=1)
-                close = np.abs(gap[np.arange(len(uv)), near]) <= 2.0 * _KINK_NUDGE * width
-                snapped[close, axis] = kinks[near[close]]
-        rows = np.flatnonzero(np.any(snapped != uv, axis=1))
-        if len(rows) == 0:
-            return uv, d
-        dk = self.derivatives(snapped[rows], 1)
-        r0, r1 = d[(0, 0)][rows] - p[rows], dk[(0, 0)] - p[rows]
-        ok = _rowdot(r1, r1) <= _rowdot(r0, r0) * (1 + 1e-12)
-        k = rows[ok]
-        uv = uv.copy()
-        uv[k] = snapped[k]
-        d = {nu: x.copy() for nu, x in d.items()}
-        for nu in d:
-            d[nu][k] = dk[nu][ok]
-        return uv, d
+    def _cell_search(self, top: int | None = None) -> CellSearch:
+        """Box hierarchy over the cells (Morton order, so that groups of 4^n are 2^n x 2^n
+        tiles) with the boxes of the numerators of S_u and S_v in the cells' frames; ``top``:
+        the most nodes of its top level."""
+        c = self._patches
+        levels = box_levels(
+            c["pts"], c["along_u"], c["along_v"], _SURFACE_BRANCH, _BOX_MARGIN * self.scale, *(() if top is None else (top,))
+        )
+        R = levels[-1][1]
+        return CellSearch(levels, _SURFACE_BRANCH, extra=tuple(frame_boxes(N, R) for N in c["tangent_nets"]))
 
     @cached_property
-    def _cells(self) -> tuple[list[tuple[np.ndarray, np.ndarray]], np.ndarray, np.ndarray, np.ndarray]:
-        """Box hierarchy over the cells of the sample grid (each inside one knot span in
-        both directions, so one tensor Bezier patch), cells in Morton (Z) order so that
-        groups of 16 are 4 x 4 tiles; the sample axes and each ordered cell's (i, j)."""
-        uv, _, _, _ = self._seeds
-        su, sv = np.unique(uv[:, 0]), np.unique(uv[:, 1])
-        ku, kv = self.degree_u, self.degree_v
-        nu_ = su[:-1, None] + np.diff(su)[:, None] * (np.arange(ku + 1) / ku)
-        nv_ = sv[:-1, None] + np.diff(sv)[:, None] * (np.arange(kv + 1) / kv)
-        cu, cv = len(nu_), len(nv_)
-        U = np.broadcast_to(nu_[:, None, :, None], (cu, cv, ku + 1, kv + 1))
-        V = np.broadcast_to(nv_[None, :, None, :], (cu, cv, ku + 1, kv + 1))
-        H = self._spline(np.column_stack([U.ravel(), V.ravel()])).reshape(cu * cv, ku + 1, kv + 1, -1)
-        ctrl = np.einsum("am,bn,cmnd->cabd", bernstein_inverse(ku), bernstein_inverse(kv), H)
-        margin = _BOX_MARGIN * self.scale
-        flat = ctrl.reshape(cu * cv, (ku + 1) * (kv + 1), -1)
-        lo, hi = _hull_boxes(flat, self.weights is not None, margin)
-        pts = flat[..., :3] / flat[..., 3:] if self.weights is not None else flat[..., :3]
-        net = pts.reshape(cu * cv, ku + 1, kv + 1, 3)
-        along_u = net[:, -1, 0] - net[:, 0, 0] + net[:, -1, -1] - net[:, 0, -1]
-        along_v = net[:, 0, -1] - net[:, 0, 0] + net[:, -1, -1] - net[:, -1, 0]
-        order = morton_order(cu, cv)
-        levels = box_levels(pts[order], along_u[order], along_v[order], _SURFACE_BRANCH, margin, _SURFACE_BRANCH)
-        oriented = levels[-1]
-        # directions of S_u and S_v over each cell: numerators A_u w - A w_u (degree
-        # <= 2 ku - 1 in u, 2 kv in v; ku - 1, kv without weights) by their Bezier nets
-        rational = self.weights is not None
-        du, dv = (2 * ku, 2 * kv) if rational else (ku, kv)
-        nu2 = su[:-1, None] + np.diff(su)[:, None] * (np.arange(du + 1) / du)
-        nv2 = sv[:-1, None] + np.diff(sv)[:, None] * (np.arange(dv + 1) / dv)
-        U = np.broadcast_to(nu2[:, None, :, None], (cu, cv, du + 1, dv + 1))
-        V = np.broadcast_to(nv2[None, :, None, :], (cu, cv, du + 1, dv + 1))
-        x = np.column_stack([U.ravel(), V.ravel()])
-        H0 = self._spline(x) if rational else None
-        tangent_boxes = []
-        for nu_ in ((1, 0), (0, 1)):
-            H1 = self._spline(x, nu=nu_)
-            N = H1[:, :3] * H0[:, 3:] - H0[:, :3] * H1[:, 3:] if rational else H1[:, :3]
-            N = np.einsum("am,bn,cmnd->cabd", bernstein_inverse(du), bernstein_inverse(dv), N.reshape(cu * cv, du + 1, dv + 1, 3))
-            tangent_boxes.append(_frame_boxes(N.reshape(cu * cv, -1, 3)[order], oriented[1]))
-        return _node_tables(levels, _SURFACE_BRANCH), su, sv, np.column_stack([order // cv, order % cv]), oriented, tangent_boxes
+    def _cells(self) -> CellSearch:
+        # the numpy path screens a wide top level with one matrix product (see CellSearch)
+        return self._cell_search()
 
-    def _global_check(self, p, uv, d):
-        """Branch and bound over the Bezier cells: every cell whose box is closer than the
-        distance found and that may hold a minimum of its own (see the module doc) gets
-        Newton kept inside the cell's parameter box from its middle; the best result per
-        point is kept."""
-        levels, su, sv, cell_ij, oriented, tangent_boxes = self._cells
-        r = d[(0, 0)] - p
-        ub2 = _rowdot(r, r)
-        pi, ci = _candidate_cells(p, ub2 * (1.0 - _CERT_REL), levels)
-        if len(pi) == 0:
-            return uv, d
-        fi = np.clip(np.searchsorted(su, uv[:, 0], side="right") - 1, 0, len(su) - 2)
-        fj = np.clip(np.searchsorted(sv, uv[:, 1], side="right") - 1, 0, len(sv) - 2)
-        ci_i, ci_j = cell_ij[ci, 0], cell_ij[ci, 1]
-        # the found cell is searched again only where the answer lies on its edge (an edge of
-        # the surface, a crease, or Newton pushed there from a minimum inside it)
-        # (or Newton stopped short of a stationary point: iteration limit)
-        inner = (uv[:, 0] > su[fi]) & (uv[:, 0] < su[fi + 1]) & (uv[:, 1] > sv[fj]) & (uv[:, 1] < sv[fj + 1])
-        inner &= _stationary(r, d[(1, 0)]) & _stationary(r, d[(0, 1)])
-        keep = (np.abs(ci_i - fi[pi]) > _SAME_BASIN) | (np.abs(ci_j - fj[pi]) > _SAME_BASIN) | ~inner[pi]
-        # a cell where f_u = S_u.(S - p) (or f_v) keeps one sign holds no minimum of its own:
-        # the smallest distance on it lies on an edge it shares with a neighbouring cell
-        # (checked there; f_u is continuous across C1 knot lines, so two neighbours cannot
-        # both point at their shared edge); not at the domain's edges, nor across creases
-        origin, R, olo, ohi = oriented
-        q = np.einsum("nkj,nj->nk", R[ci], p[pi] - origin[ci])
-        slo, shi = olo[ci] - q, ohi[ci] - q
-        (ua, ub), (va, vb) = self.domain
-        # ... or at the domain's edge, where the answer found is on that edge in this cell
-        same = (ci_i == fi[pi]) & (ci_j == fj[pi])
+    @cached_property
+    def _cell_tables(self) -> dict[str, Any]:
+        """The tables and tolerances both paths use (compiled: :mod:`geometry._jit`; numpy:
+        :mod:`geometry._surface_cells`)."""
+        c = self._patches
+        su, sv, _, _ = self._seeds
         creases = self._creases
-        for (tlo, thi), idx, axis_s, x, smooth in (
-            (tangent_boxes[0], ci_i, su, uv[pi, 0], len(creases[0]) == 0),
-            (tangent_boxes[1], ci_j, sv, uv[pi, 1], len(creases[1]) == 0),
-        ):
-            if smooth:
-                low, high = _dot_bounds(tlo[ci], thi[ci], slo, shi)
-                has_lo = (idx > 0) | (same & (x == axis_s[idx]))
-                has_hi = (idx < len(axis_s) - 2) | (same & (x == axis_s[idx + 1]))
-                keep &= ~(((low > 0) & has_lo) | ((high < 0) & has_hi))
-        pi, ci_i, ci_j = pi[keep], ci_i[keep], ci_j[keep]
-        if len(pi) == 0:
-            return uv, d
-        q = p[pi]
-        # start inside the cell (its middle): never on a knot line, so on the cell's own patch
-        mid = np.column_stack([0.5 * (su[ci_i] + su[ci_i + 1]), 0.5 * (sv[ci_j] + sv[ci_j + 1])])
-        # Newton kept inside the cell: it finds the cell's own minimum (inner, edge or corner)
-        lo = np.column_stack([su[ci_i], sv[ci_j]])
-        hi = np.column_stack([su[ci_i + 1], sv[ci_j + 1]])
-        uv2, d2 = _in_chunks(self._closest_block, q, mid, lo, hi)
-        f2 = _rowdot(d2[(0, 0)] - q, d2[(0, 0)] - q)
-        first = _best_per_point(pi, f2)
-        better = f2[first] < ub2[pi[first]]
-        rows, src_ = pi[first][better], first[better]
-        uv = uv.copy()
-        uv[rows] = uv2[src_]
-        d = {nu: x.copy() for nu, x in d.items()}
-        for nu in d:
-            d[nu][rows] = d2[nu][src_]
-        return uv, d
+        return dict(
+            leaf_cell=c["order"].astype(np.int64), coef=c["coef"], su=su, sv=sv, ku=self.degree_u, kv=self.degree_v,
+            D=c["coef"].shape[1] // ((self.degree_u + 1) * (self.degree_v + 1)), rational=self.weights is not None,
+            prune_u=len(creases[0]) == 0, prune_v=len(creases[1]) == 0, tol=_STRICT * self.scale,
+            finish=_FINISH * self.scale, extent=self.extent, max_iter=_MAX_ITER, max_halvings=_MAX_HALVINGS,
+        )
 
-    def _closest_block(self, p: np.ndarray, j: np.ndarray, start: np.ndarray | None = None, box=None) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
-        """Safeguarded Newton from grid sample ``j`` (or from ``start`` parameters, then kept
-        within the per-point parameter boxes ``box = (lo, hi)``, each (m, 2))."""
-        m = len(p)
-        (ua, ub), (va, vb) = self.domain
-        lo = np.array([ua, va])
-        hi = np.array([ub, vb])
-        half = 0.5 * (hi - lo)
-        if box is not None:
-            lo, hi = box
-        tol = _STRICT * self.scale
-        out_uv = np.empty((m, 2))
-        out = np.empty((m, 9))  # S, S_u, S_v
-        idx = np.arange(m)
-        # the seed's Taylor model supplies the first Hessian: the first evaluation needs
-        # S, S_u, S_v only
-        if start is None:
-            trial, H_acc, fine = self._seed(p, j)
-        else:  # given start parameters: the first Hessian from the spline there
-            trial = start
-            H_acc, fine = self._hessian(*(self.derivatives(start, 2)[nu] for nu in _NU), p)
-        uv_acc = trial.copy()
-        kinks_u = _kinks(self.knots_u, self.degree_u, ua, ub)
-        kinks_v = _kinks(self.knots_v, self.degree_v, va, vb)
-        f_acc = np.full(m, np.inf)
-        step = np.zeros((m, 2))
-        val_acc = np.zeros((m, 9))
-        halvings = np.zeros(m, dtype=np.int64)
-        reach = np.abs(p).max(axis=1) + self.extent
-        for _ in range(_MAX_ITER):
-            if len(idx) == 0:
-                break
-            # full Newton needs second derivatives; points in the final (fine) phase reuse
-            # their last Hessian and need S, S_u, S_v only
-            n_fine = int(np.count_nonzero(fine))
-            val = np.empty((len(idx), 9))
-            H = H_acc.copy()
-            newton = np.ones(len(idx), dtype=bool)
-            co = slice(None) if n_fine == 0 else np.flatnonzero(~fine)
-            if n_fine < len(idx):
-                d = self.derivatives(trial[co], 2)
-                val[co] = np.concatenate([d[(0, 0)], d[(1, 0)], d[(0, 1)]], axis=1)
-                H[co], newton[co] = self._hessian(*(d[nu] for nu in _NU), p[co])
-            if n_fine:
-                fi = np.flatnonzero(fine)
-                d = self.derivatives(trial[fi], 1)
-                val[fi] = np.concatenate([d[(0, 0)], d[(1, 0)], d[(0, 1)]], axis=1)
-            S, Su, Sv = val[:, :3], val[:, 3:6], val[:, 6:]
-            r = S - p
-            f = _rowdot(r, r)
-            acc = f <= f_acc + _roundoff(f_acc, reach)
-            if acc.all():
-                uv_acc, f_acc, val_acc, H_acc = trial, f, val, H
-            else:
-                acc2 = acc[:, None]
-                uv_acc = np.where(acc2, trial, uv_acc)
-                f_acc = np.where(acc, f, f_acc)
-                val_acc = np.where(acc2, val, val_acc)
-                H_acc = np.where(acc2, H, H_acc)
-            dstep, frozen = self._newton_step(uv_acc, S, Su, Sv, H, p, lo, hi)
-            shrink = np.min(np.where(np.abs(dstep) > half, half / np.maximum(np.abs(dstep), 1e-300), 1.0), axis=1)
-            new_step = np.where(acc[:, None], dstep * shrink[:, None], 0.5 * step)
-            raw = uv_acc + new_step
-            stopped = np.column_stack(
-                [
-                    _stop_at_kinks(uv_acc[:, 0], raw[:, 0], kinks_u, _KINK_NUDGE * (ub - ua)),
-                    _stop_at_kinks(uv_acc[:, 1], raw[:, 1], kinks_v, _KINK_NUDGE * (vb - va)),
-                ]
-            )
-            new = np.clip(stopped, lo, hi)
-            # a kink or a bound that cuts one coordinate only would turn the step off its
-            # (descent) direction, and halving it might then never descend: scale the whole
-            # step to its first stop instead (projection only where that stop is at the start)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                frac_c = np.where(new_step != 0.0, (new - uv_acc) / new_step, 1.0)
-            frac = np.clip(frac_c.min(axis=1), 0.0, 1.0)
-            scaled = np.where(frac_c <= frac[:, None], new, uv_acc + frac[:, None] * new_step)
-            new = np.where((frac > 1e-3)[:, None], np.clip(scaled, lo, hi), new)
-            eff = new - uv_acc
-            Sua, Sva = val_acc[:, 3:6], val_acc[:, 6:]
-            dS = eff[:, :1] * Sua + eff[:, 1:] * Sva
-            move = np.sqrt(_rowdot(dS, dS))
-            halvings = np.where(acc, 0, halvings + 1)
-            smooth = np.all(stopped == raw, axis=1)
-            fine = np.where(acc, newton & ~frozen & smooth & (move <= _FINE * self.scale), fine)
-            done = (move <= tol) | (halvings > 60)
-            if np.any(done):
-                k = np.flatnonzero(done)
-                out_uv[idx[k]] = uv_acc[k]
-                out[idx[k]] = val_acc[k]
-                keep = ~done
-                idx, p, new, eff, uv_acc, f_acc = idx[keep], p[keep], new[keep], eff[keep], uv_acc[keep], f_acc[keep]
-                reach, halvings, fine, H_acc, val_acc = reach[keep], halvings[keep], fine[keep], H_acc[keep], val_acc[keep]
-                if box is not None:
-                    lo, hi = lo[keep], hi[keep]
-            trial, step = new, eff
-        if len(idx):  # iteration limit: keep the best accepted point
-            out_uv[idx] = uv_acc
-            out[idx] = val_acc
-        return out_uv, {(0, 0): out[:, :3], (1, 0): out[:, 3:6], (0, 1): out[:, 6:]}
+    @cached_property
+    def _jit_tables(self) -> dict[str, Any]:
+        """The tables of the compiled kernel (see :mod:`geometry._jit`): a deep hierarchy
+        (at most ``_SURFACE_BRANCH`` top nodes) suits its per-point traversal."""
+        nodes, level_start = self._cell_search(_SURFACE_BRANCH).flat_nodes()
+        return dict(nodes=nodes, level_start=level_start, branch=_SURFACE_BRANCH, cert=_CERT_REL, **self._cell_tables)
+
+    @cached_property
+    def _node_points(self) -> dict[str, Any]:
+        """A point of the surface in every node of the compiled kernel's hierarchy: the
+        middle of the cell in the middle of the node's run of leaves (``rep`` (n_nodes, 3),
+        its cell ``rep_cell``). Its distance bounds the answer from above, so the bound is
+        tight from the first descent on (without it, a first descent into a wrong subtree
+        whose boxes hold the point left the bound loose for hundreds of box tests)."""
+        t = self._jit_tables
+        level_start, leaf_cell = t["level_start"], t["leaf_cell"]
+        coef = self._patches["coef"]
+        D = 4 if self.weights is not None else 3
+        middle = coef[:, :3] / coef[:, 3:4] if D == 4 else coef[:, :3]  # S at the cell's middle
+        n_levels = len(level_start) - 1
+        leaves = []
+        for lvl in range(n_levels):
+            span = _SURFACE_BRANCH ** (n_levels - 1 - lvl)
+            i = np.arange(level_start[lvl + 1] - level_start[lvl])
+            leaves.append(np.minimum(i * span + span // 2, len(leaf_cell) - 1))
+        cell = leaf_cell[np.concatenate(leaves)]
+        return {"rep": np.ascontiguousarray(middle[cell]), "rep_cell": cell.astype(np.int64)}
+
+    @cached_property
+    def _edge_tables(self) -> dict[str, Any]:
+        """The four edges of every cell as curve cells (see :mod:`geometry._jit`): along u
+        (``ue_*``, edge 2 c + s at the cell's lower (s = 0) or upper v bound) and along v
+        (``ve_*``, at the lower or upper u bound): Taylor coefficients in the edge's own
+        local parameter (from the patch's: the sum over the other coordinate's powers),
+        end points, and the Bernstein nets of ``C'.(C - p)`` (``stat``) and of the squared
+        distance (``fnet``, a lower bound of the distance along the edge)."""
+        coef = self._patches["coef"]
+        su, sv, _, _ = self._seeds
+        ku, kv = self.degree_u, self.degree_v
+        cu, cv = len(su) - 1, len(sv) - 1
+        D = 4 if self.weights is not None else 3
+        C = coef.reshape(cu * cv, ku + 1, kv + 1, D)
+        half_u = np.repeat(0.5 * np.diff(su), cv)  # cell i cv + j
+        half_v = np.tile(0.5 * np.diff(sv), cu)
+        out: dict[str, Any] = {"max_depth": _ISOLATE_DEPTH}
+        for name, k, half_along, half_other, spec in (
+            ("ue", ku, half_u, half_v, "cabd,cb->cad"),
+            ("ve", kv, half_v, half_u, "cabd,ca->cbd"),
+        ):
+            kk = kv if name == "ue" else ku  # degree of the coordinate held fixed
+            sides = [np.einsum(spec, C, (s * half_other)[:, None] ** np.arange(kk + 1)) for s in (-1.0, 1.0)]
+            E = np.stack(sides, axis=1).reshape(2 * cu * cv, (k + 1) * D)  # edge 2 c + s
+            length = np.repeat(2.0 * half_along, 2)
+            G0, G1 = _bernstein.stationary_nets(E.T, length, k, D)
+            F = _bernstein.distance_nets(E.T, length, k, D)
+            ends = []
+            for x in (-0.5 * length, 0.5 * length):
+                H = _horner(np.ascontiguousarray(E.T), x, k, 0)[0]
+                ends.append(H[:3] / H[3] if D == 4 else H)
+            out[f"{name}_coef"] = np.ascontiguousarray(E)
+            out[f"{name}_ends"] = np.ascontiguousarray(np.concatenate(ends).T)
+            out[f"{name}_stat"] = np.ascontiguousarray(np.concatenate([G0, G1[0], G1[1], G1[2]]).T)
+            out[f"{name}_M"] = G0.shape[0] - 1
+            out[f"{name}_fnet"] = np.ascontiguousarray(F.reshape(-1, F.shape[-1]).T)
+        return out
+
+    def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
+        """Parameters (m, 2) of the closest points and ``{(0,0): S, (1,0): S_u, (0,1): S_v}``
+        there, for (m, 3) points: the core of :meth:`project` (see the module doc)."""
+        p = np.ascontiguousarray(points, dtype=float)
+        if len(p) == 0:
+            return np.empty((0, 2)), {nu: np.empty((0, 3)) for nu in ((0, 0), (1, 0), (0, 1))}
+        if _SURFACE_JIT and _jit.enabled():
+            uv, S = _jit.kernels()["surface_project"](p, **self._jit_tables, **self._edge_tables, **self._node_points)
+        else:
+            uv, S = self._closest_cells(p)
+        return uv, {(0, 0): S[:, :3], (1, 0): S[:, 3:6], (0, 1): S[:, 6:]}
+
+    def _closest_cells(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The numpy path (:mod:`geometry._surface_cells`), in blocks of ``_BLOCK`` points:
+        the nearest grid sample gives each point's first bound. Returns uv (m, 2) and S,
+        S_u, S_v (m, 9)."""
+        p = np.ascontiguousarray(P.T)
+        m = p.shape[1]
+        _, _, Q, tree = self._seeds
+        uv, S = np.empty((2, m)), np.empty((9, m))
+        for i0 in range(0, m, _BLOCK):
+            sl = slice(i0, i0 + _BLOCK)
+            q = np.ascontiguousarray(p[:, sl])
+            j, bound2 = _nearest_cols(q, Q, tree)
+            uv[:, sl], S[:, sl] = _surface_cells.project_block(q, j, bound2, self._cells, **self._cell_tables)
+        return uv.T, S.T
 
     def project(self, points: Any) -> Projection:
         p, _ = as_points(points, dims=(3,))

@@ -483,9 +483,9 @@ def test_curve_case_seed_12264_two_minima_in_one_cell(jit, monkeypatch):
 
 
 def test_surface_case_seed_9591474_compiled(monkeypatch):
-    """A surface case hypothesis found where the numpy path misses the global minimum; the
-    compiled kernel (cell edges solved in 1D where the 2D Newton does not converge inside)
-    finds it."""
+    """A surface case hypothesis found where the old numpy path (Newton from the nearest
+    sample, then a global check) missed the global minimum; the compiled kernel (cell edges
+    solved in 1D where the 2D Newton does not converge inside) finds it."""
     from geometry import _jit
 
     if not _jit.enabled():
@@ -493,9 +493,9 @@ def test_surface_case_seed_9591474_compiled(monkeypatch):
     test_random_nurbs_surface_global_minimum_against_brute_force.hypothesis.inner_test(seed=9591474)
 
 
-@pytest.mark.xfail(strict=True, reason="known miss of the numpy surface path (open, issue 2): seed 9591474")
-def test_known_surface_miss_seed_9591474_numpy_path(monkeypatch):
-    """The same case on the numpy path (no numba): still missed; kept so that its fix shows."""
+def test_surface_case_seed_9591474_numpy_path(monkeypatch):
+    """The same case on the numpy path (no numba), which once missed it: the numpy port of
+    the kernel's cell-wise search (geometry._surface_cells) finds it."""
     monkeypatch.setenv("IBFEM_NO_JIT", "1")
     test_random_nurbs_surface_global_minimum_against_brute_force.hypothesis.inner_test(seed=9591474)
 

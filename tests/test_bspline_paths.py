@@ -14,6 +14,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import bspline_stress  # noqa: E402
 
 from geometry import _jit  # noqa: E402
+from geometry.bspline import BSplineSurface  # noqa: E402
 
 
 def _cases(seed, count, points):
@@ -74,3 +75,70 @@ def test_surface_projection_finds_the_global_minimum(seed, jit, monkeypatch):
         got = np.linalg.norm(p - pr.points, axis=1)
         assert np.all(got <= cKDTree(X).query(p)[0] + 1e-12 * s.scale)
         assert np.allclose(s.evaluate(pr.parameters), pr.points, atol=1e-13 * s.scale, rtol=0)
+
+
+def _crease_surface():
+    """A rational surface (degrees 3 x 2, weights 0.5-2) with C0 creases (knot multiplicity
+    = degree) at u = 0.5 (a ridge) and v = 0.4 (a valley)."""
+    rng = np.random.default_rng(7)
+    ku, kv = 3, 2
+    tu = np.r_[[0.0] * 4, [0.5] * 3, [1.0] * 4]
+    tv = np.r_[[0.0] * 3, [0.4] * 2, [1.0] * 3]
+    nu, nv = len(tu) - ku - 1, len(tv) - kv - 1
+    U, V = np.meshgrid(np.linspace(0, 2, nu), np.linspace(0, 2, nv), indexing="ij")
+    # the net is kinked at the control points the creases pass through (U = 1, V = 1)
+    Z = 0.8 - 0.8 * np.abs(U - 1.0) + 0.5 * np.abs(V - 1.0) + 0.1 * rng.standard_normal((nu, nv))
+    w = np.exp(rng.uniform(np.log(0.5), np.log(2.0), (nu, nv)))
+    return BSplineSurface(ku, kv, tu, tv, np.stack([U, V, Z], axis=-1), w)
+
+
+def _dense(s, n=801):
+    """Dense samples of the surface (scipy's evaluation, not the projection's cells)."""
+    g = np.linspace(0, 1, n)
+    return s.evaluate(np.stack(np.meshgrid(g, g, indexing="ij"), -1).reshape(-1, 2))
+
+
+def _assert_global_minimum(s, X, p):
+    pr = s.project(p)
+    got = np.linalg.norm(p - pr.points, axis=1)
+    assert np.all(got <= cKDTree(X).query(p)[0] + 1e-12 * s.scale)
+    assert np.allclose(s.evaluate(pr.parameters), pr.points, atol=1e-13 * s.scale, rtol=0)
+    return pr
+
+
+@pytest.mark.parametrize("jit", [False, True])
+def test_surface_projection_across_creases(jit, monkeypatch):
+    """C0 creases: points near and far, and points above and below the crease lines (closest
+    point on the ridge, or one of two minima beside the valley / under the ridge)."""
+    if jit and not _jit.enabled():
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
+    s = _crease_surface()
+    assert len(s._creases[0]) == 1 and len(s._creases[1]) == 1
+    X = _dense(s)
+    rng = np.random.default_rng(11)
+    t = rng.uniform(0, 1, 300)
+    on = np.concatenate([np.column_stack([np.full(300, 0.5), t]), np.column_stack([t, np.full(300, 0.4)])])
+    h = s.scale * rng.uniform(0.001, 0.5, (len(on), 1)) * rng.choice([-1.0, 1.0], (len(on), 1))
+    p = np.concatenate([s.evaluate(on) + h * np.array([0.0, 0.0, 1.0]), bspline_stress.query(rng, X, s.scale, 600)])
+    pr = _assert_global_minimum(s, X, p)
+    # the ridge's crest: straight above it the closest point is on the crease
+    above = np.flatnonzero((on[:, 0] == 0.5) & (h[:, 0] > 0.05 * s.scale))
+    assert np.allclose(pr.parameters[above, 0], 0.5, atol=1e-9)
+
+
+@pytest.mark.parametrize("seed", [5, 6])
+@pytest.mark.parametrize("jit", [False, True])
+def test_surface_projection_of_far_points(seed, jit, monkeypatch):
+    """Points about the surface's size away (around it, and along its normals, near the
+    centres of curvature, where the distance is flat over many cells)."""
+    if jit and not _jit.enabled():
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
+    rng = np.random.default_rng(seed)
+    for _ in range(2):
+        s, X, _ = bspline_stress.surface_case(rng, 0)
+        uv = rng.uniform(0, 1, (300, 2))
+        along = s.scale * rng.uniform(0.3, 1.5, (300, 1)) * rng.choice([-1.0, 1.0], (300, 1))
+        p = np.concatenate([s.evaluate(uv) + along * s.normals_at(uv), X[rng.integers(0, len(X), 300)] + s.scale * rng.standard_normal((300, 3))])
+        _assert_global_minimum(s, X, p)
