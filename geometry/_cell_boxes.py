@@ -55,13 +55,19 @@ def oriented_boxes(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, margin: floa
     c = np.cross(a, b)
     R = np.stack([a, b, c], axis=1)
     origin = pts[:, 0]
-    L = np.einsum("nkj,nmj->nmk", R, pts - origin[:, None])
+    L = _in_frames(pts - origin[:, None], R)
     return origin, R, L.min(axis=1) - margin, L.max(axis=1) + margin
+
+
+def _in_frames(nets: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """Coordinates (n, m, 3) of nets (n, m, 3) in frames R (n, 3, 3): a batched matmul
+    (6x faster than the equivalent einsum, which numpy 2 runs as many tiny products)."""
+    return np.matmul(nets, R.transpose(0, 2, 1))
 
 
 def frame_boxes(nets: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Boxes (lo, hi), each (3, n), of control nets (n, m, 3) in the cells' frames R (n, 3, 3)."""
-    L = np.einsum("nkj,nmj->nmk", R, nets)
+    L = _in_frames(nets, R)
     lo, hi = L.min(axis=1), L.max(axis=1)
     pad = 1e-9 * np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, keepdims=True)
     return np.ascontiguousarray((lo - pad).T), np.ascontiguousarray((hi + pad).T)
@@ -232,3 +238,16 @@ def best_per_point(pi: np.ndarray, f: np.ndarray, m: int) -> np.ndarray:
     out = np.empty(m, dtype=np.int64)
     out[pi[win]] = win  # ties: any of them
     return out
+
+
+def middle_leaves(level_start: np.ndarray, branch: int, n_leaves: int) -> np.ndarray:
+    """For every node of a flat hierarchy (see :meth:`CellSearch.flat_nodes`) the leaf in
+    the middle of its run of leaves (clamped for padding nodes): where the compiled
+    kernels take a point of the spline in the node, whose distance bounds the answer."""
+    n_levels = len(level_start) - 1
+    out = []
+    for lvl in range(n_levels):
+        span = branch ** (n_levels - 1 - lvl)
+        i = np.arange(level_start[lvl + 1] - level_start[lvl])
+        out.append(np.minimum(i * span + span // 2, n_leaves - 1))
+    return np.concatenate(out).astype(np.int64)

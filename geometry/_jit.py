@@ -54,5 +54,3 @@ def kernels() -> dict[str, Any]:
         raise RuntimeError("the compiled kernels are not available (numba missing or IBFEM_NO_JIT set)")
     return _KERNELS
 
-
-surface_kernels = kernels

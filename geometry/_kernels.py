@@ -222,7 +222,7 @@ def top_gaps(nodes, n_top, p0, p1, p2, gaps):
 
 @jit
 def curve_project(P, nodes, level_start, branch, coef, mids, edges, ends, stat, M, k, D, rational,
-                  periodic, prune, tol, finish, max_iter, max_depth, cert):
+                  periodic, prune, tol, finish, max_iter, max_depth, cert, rep, rep_cell):
     """Per point: best-first over the top boxes, depth first below them; every leaf cell
     closer than the best distance so far (and not proved monotone) gets the cell
     Newton. Returns the parameter, C and C' (3 + 3 columns) of the best."""
@@ -262,6 +262,15 @@ def curve_project(P, nodes, level_start, branch, coef, mids, edges, ends, stat, 
                 nd = stack[top]
                 if gstack[top] >= best_f * (1.0 - cert):
                     continue
+                # a point of the curve in the node: an upper bound of the answer
+                r0 = rep[nd, 0] - p0
+                r1 = rep[nd, 1] - p1
+                r2 = rep[nd, 2] - p2
+                f = r0 * r0 + r1 * r1 + r2 * r2
+                if f < best_f:
+                    best_f = f
+                    best_c = rep_cell[nd]
+                    best_x = 0.0
                 if nd < leaf0:
                     top = push_children(nodes, level_start, branch, nd, p0, p1, p2, best_f * (1.0 - cert), stack, gstack, top)
                     continue
@@ -517,67 +526,6 @@ def surface_cell_newton(coef, cu_lo, cu_hi, cv_lo, cv_hi, c, ku, kv, D, rational
         y_out = ya
         f_out = f_acc
     return x_out, y_out, f_out, inner
-
-@jit
-def surface_edge_newton(coef, c, ku, kv, D, rational, along_u, fixed, lo, hi, p0, p1, p2, tol, finish, reach,
-                        max_iter, max_halvings, buf):
-    """Safeguarded 1D Newton along a cell edge (u free when ``along_u``, the other
-    coordinate at ``fixed``) over [lo, hi], as the curve's cell Newton: start in the
-    middle, halving where worse, to the edge's end where f is not clearly convex, the
-    ends where closer. Returns (free coordinate, squared distance)."""
-    i1 = 3 if along_u else 6  # S_u or S_v
-    i2 = 9 if along_u else 15  # S_uu or S_vv
-    trial = 0.5 * (lo + hi)
-    x_acc = trial
-    f_acc = np.inf
-    speed_acc = 0.0
-    step = 0.0
-    halvings = 0
-    x_out = trial
-    f_out = np.inf
-    for _ in range(max_iter):
-        if along_u:
-            surface_eval(coef, c, ku, kv, D, rational, trial, fixed, buf)
-        else:
-            surface_eval(coef, c, ku, kv, D, rational, fixed, trial, buf)
-        buf[0] -= p0
-        buf[1] -= p1
-        buf[2] -= p2
-        f = dot3(buf, 0, 0)
-        g = dot3(buf, i1, 0)
-        sp2 = dot3(buf, i1, i1)
-        h = sp2 + dot3(buf, i2, 0)
-        acc = True
-        if f_acc < np.inf:
-            acc = f <= f_acc + 8e-16 * (f_acc + 2.0 * np.sqrt(f_acc) * reach)
-        newton = h > 1e-6 * sp2
-        if acc:
-            x_acc = trial
-            f_acc = f
-            speed_acc = np.sqrt(sp2)
-            halvings = 0
-            if g == 0.0:
-                new_step = 0.0
-            elif newton:
-                new_step = -g / h
-            else:
-                new_step = (lo if g > 0.0 else hi) - trial
-        else:
-            halvings += 1
-            new_step = 0.5 * step
-        raw = x_acc + new_step
-        new = min(max(raw, lo), hi)
-        eff = new - x_acc
-        move = abs(eff) * speed_acc
-        if acc and newton and new == raw and move <= finish:
-            return new, f_acc + g * eff
-        if move <= tol or halvings > max_halvings:
-            break
-        trial = new
-        step = eff
-    x_out = x_acc
-    f_out = f_acc
-    return x_out, f_out
 
 @jit
 def edge_lower_bound(fnet, e, n, p0, p1, p2):

@@ -20,17 +20,24 @@ is closer than the best distance known (at first the nearest sample) is a candid
 candidate over which ``f' = C'.(C - p)`` keeps one sign (interval bound from the Bezier net of
 the numerator of C' against the box of C - p) is dropped, since its smallest distance is at
 an end it shares with a neighbouring cell (not at the ends of an open curve, nor anywhere on a
-curve with C0 kinks); every other candidate gets a safeguarded Newton kept inside the cell
-(start: the projection onto the cell's chord; a trial that increases the distance beyond
-round-off is halved; where f is not clearly convex the step goes to the cell's end; stop when
-the next step moves the point by less than 5e-13 of the size, or after a Newton step below
-1e-7 of it), and the cell's ends where they are closer; the closest result wins and is
-evaluated on its piece. The compiled kernel (``geometry._jit``, optional) runs the same per
-point, depth first over a box hierarchy with the bound tightened as cells are solved; the
-numpy path runs it over (point, cell) pairs, component-major ((3, n) arrays). Not a proof:
-a cell is trusted to hold one minimum besides its ends (random tests with clustered knots,
-weights 0.2-5 and points 1-100 % of the size away, ``benchmarks/bspline_stress.py``, find no
-miss).
+curve with C0 kinks); every other candidate is solved exactly: its ends, and every local
+minimum inside it, isolated by the Bernstein coefficients over the cell of a positive
+multiple of ``g = C'.(C - p)`` (a polynomial of degree 2k - 1, or 3k - 1 for a rational
+curve: ``(N' w - N w').(N - p w)``; tabulated per cell as ``G0 - p.G1`` by exact Bernstein
+arithmetic from the Taylor coefficients, ``geometry._bernstein``). No sign change: no
+stationary point; one, from - to +: exactly one, a minimum, found by Newton kept in the
+bracket (bisection where a step leaves it; stop when the next step moves the point by less
+than 5e-13 of the size, or after a Newton step below 1e-7 of it); more: the interval is
+halved by de Casteljau until every part has at most one (to 2^-30 of the cell). This finds
+two minima in one cell, as near a centre of curvature, where a Newton descent finds one
+(hypothesis seed 12264). The closest result wins and is evaluated on its piece. The
+compiled kernel (``geometry._kernels``, optional) runs the same per point, depth first over
+a box hierarchy with the bound tightened as cells are solved and by a point of the curve
+in every node visited (so that a first descent into a wrong subtree does not leave the
+bound loose); the numpy path runs it over (point, cell) pairs, component-major ((3, n)
+arrays). Exact up to round-off in the coefficients: a sign change lost to round-off where
+g is at the noise level (a point at a centre of curvature, where the distance is flat to
+that level anyway).
 
 Surface projection (``BSplineSurface.project``): as for curves, over the cells of a grid of
 samples (per direction spaced by the longest control polygon leg across the net, about 1/64
@@ -49,24 +56,31 @@ middle: Gauss-Newton (first fundamental form) where the Hessian is not clearly p
 definite; a coordinate at a bound that its descent points out of is frozen (1D Newton along
 that edge); scaled steepest descent where the step would leave the cell at once; steps cut
 exactly at the cell's bounds; a trial that increases the distance beyond round-off is
-halved; stop as for curves. Where that iteration does not converge to a point strictly
-inside the cell, 1D Newton along the cell's four edges finds a minimum on an edge that it
-did not reach. The closest result wins; S, S_u and S_v are evaluated on its patch at the
-returned parameters (so the points lie on the spline to round-off). Creases are cell edges,
-so no Newton step crosses one. The compiled kernel (``geometry._jit``) runs this per point,
-best first over the top boxes and depth first below them, with the bound tightened as cells
-are solved. The numpy path (``geometry._surface_cells``) runs it in blocks of ``_BLOCK``
-points: the bound is the distance to the nearest grid sample (a ``scipy.spatial.cKDTree``,
-or a distance matrix for few samples); all candidate (point, cell) pairs under it are found
-at once (``CellSearch.pairs``) and solved together over component-major arrays; a point
-left without a candidate keeps the cell of its nearest sample, and the sample itself where
-no Newton result is closer. It solves every candidate of that first bound (more cells than
-the kernel, which tightens its bound as it goes), each array operation over all of them.
-Not a proof: the 2D Newton and the edges are trusted to find a cell's smallest distance (a
-cell holding two inner minima could hide one); random tests with clustered knots, weights
-0.2-5 and points 1-100 % of the size away (``benchmarks/bspline_stress.py``) find no miss on
-either path. Cost: far points (near centres of curvature) have more candidate cells than
-points near the surface.
+halved; stop as for curves. The closest result wins; S, S_u and S_v are evaluated on its
+patch at the returned parameters (so the points lie on the spline to round-off). Creases are
+cell edges, so no Newton step crosses one. The two paths differ in the order of the search
+and in the cells' edges:
+
+* compiled kernel (``geometry._kernels``): per point, best first over the top boxes and
+  depth first below them, the bound tightened as cells are solved and by a point of the
+  surface in every node visited; each of a candidate's four edges whose Bernstein lower
+  bound of the distance is below the best is solved as a curve cell (isolation, above);
+* numpy path (``geometry._surface_cells``), in blocks of ``_BLOCK`` points: the bound is the
+  distance to the nearest grid sample (a ``scipy.spatial.cKDTree``, or a distance matrix
+  for few samples); all candidate (point, cell) pairs under it are found at once
+  (``CellSearch.pairs``) and solved together over component-major arrays (more cells than
+  the kernel solves, each array operation over all of them); where the 2D Newton does not
+  converge to a point strictly inside the cell, 1D Newton along the cell's four edges (from
+  each edge's middle; to its end where the distance is not clearly convex along it); a point
+  left without a candidate keeps the cell of its nearest sample, and the sample itself
+  where no Newton result is closer.
+
+Not a proof: the 2D Newton (and on the numpy path the edges' 1D Newton) is trusted to find
+a cell's smallest distance (a cell holding two inner minima could hide one; on the numpy
+path also an edge minimum beside an inner one that the 2D Newton converged to); random tests
+with clustered knots, weights 0.2-5 and points 1-100 % of the size away
+(``benchmarks/bspline_stress.py``) find no miss on either path. Cost: far points (near
+centres of curvature) have more candidate cells than points near the surface.
 
 Normal conventions (SPEC section 2 leaves free-form normals to the primitive):
 
@@ -119,7 +133,16 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
 from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
 from . import _bernstein, _jit
 from . import _surface_cells
-from ._cell_boxes import CellSearch, bernstein_inverse, best_per_point, box_levels, frame_boxes, morton_order, oriented_boxes
+from ._cell_boxes import (
+    CellSearch,
+    bernstein_inverse,
+    best_per_point,
+    box_levels,
+    frame_boxes,
+    middle_leaves,
+    morton_order,
+    oriented_boxes,
+)
 
 __all__ = ["BSplineCurve", "BSplineSurface"]
 
@@ -293,13 +316,6 @@ def _size(P: np.ndarray) -> float:
 
 def _rowdot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.einsum("ij,ij->i", x, y)
-
-
-def _roundoff(f: np.ndarray, reach: np.ndarray) -> np.ndarray:
-    """Round-off level of a squared distance ``f = |S - p|^2`` with coordinates of size
-    ``reach``: a trial within it of the accepted value counts as no increase, so Newton
-    keeps converging on the first-order condition where ``f`` itself is flat to round-off."""
-    return 8e-16 * (f + 2.0 * np.sqrt(f) * reach)
 
 
 def _nearest(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> np.ndarray:
@@ -677,7 +693,12 @@ class BSplineCurve(Curve):
         D = 4 if self.weights is not None else 3
         G0, G1 = self._stationary_nets
         stat = np.concatenate([G0, G1[0], G1[1], G1[2]]).T  # (n_c, 4 (M + 1))
+        # a point of the curve in every node (the middle of the middle cell of its run of
+        # leaves): an upper bound of the answer, tight from the first descent on
+        rep_cell = middle_leaves(level_start, _CURVE_BRANCH, len(mids))
+        middle = coef[:3] / coef[3:4] if D == 4 else coef[:3]
         return dict(
+            rep=np.ascontiguousarray(middle[:, rep_cell].T), rep_cell=rep_cell,
             nodes=nodes, level_start=level_start, branch=_CURVE_BRANCH, coef=np.ascontiguousarray(coef.T),
             mids=mids, edges=edges, ends=np.ascontiguousarray(np.concatenate([A, B]).T),
             stat=np.ascontiguousarray(stat), M=G0.shape[0] - 1, k=self.degree, D=D,
@@ -1187,13 +1208,7 @@ class BSplineSurface(Surface):
         coef = self._patches["coef"]
         D = 4 if self.weights is not None else 3
         middle = coef[:, :3] / coef[:, 3:4] if D == 4 else coef[:, :3]  # S at the cell's middle
-        n_levels = len(level_start) - 1
-        leaves = []
-        for lvl in range(n_levels):
-            span = _SURFACE_BRANCH ** (n_levels - 1 - lvl)
-            i = np.arange(level_start[lvl + 1] - level_start[lvl])
-            leaves.append(np.minimum(i * span + span // 2, len(leaf_cell) - 1))
-        cell = leaf_cell[np.concatenate(leaves)]
+        cell = leaf_cell[middle_leaves(level_start, _SURFACE_BRANCH, len(leaf_cell))]
         return {"rep": np.ascontiguousarray(middle[cell]), "rep_cell": cell.astype(np.int64)}
 
     @cached_property
