@@ -1,17 +1,20 @@
 """Closest points on a B-spline surface by cells, vectorised over (point, cell) pairs: the
-numpy path of :meth:`geometry.bspline.BSplineSurface.closest_parameters`, a port of the
-compiled kernel ``surface_project`` (:mod:`geometry._jit`) to whole arrays.
+numpy path of :meth:`geometry.bspline.BSplineSurface.closest_parameters`, the cell-wise
+design of the compiled kernel ``surface_project`` (:mod:`geometry._kernels`) run over whole
+arrays.
 
 The surface is cut into the cells of its sample grid (each inside one knot span in both
 directions, so one polynomial or rational tensor patch), every cell kept as its Taylor
 polynomial about its middle. Per block of points: the nearest grid sample gives a bound;
 every cell whose box lies closer than the bound, and over which neither ``S_u.(S - p)``
 nor ``S_v.(S - p)`` provably keeps one sign, is a candidate; each candidate (point, cell)
-pair gets the safeguarded 2D Newton kept inside the cell, and where that does not converge
-inside the cell, 1D Newton along the cell's four edges; the closest result per point wins.
-The kernel runs the same per point with the bound tightened as cells are solved; here
-every candidate of the first bound is solved, all pairs at once, which costs more Newton
-solves but few numpy calls per solve.
+pair gets the safeguarded 2D Newton kept inside the cell (the kernel's
+``surface_cell_newton``), and where that does not converge inside the cell, 1D Newton along
+the cell's four edges (the kernel instead solves every edge whose Bernstein lower bound of
+the distance is below the best as a curve cell, by isolation); the closest result per point
+wins. The kernel runs this per point with the bound tightened as cells are solved;
+here every candidate of the first bound is solved, all pairs at once, which costs more
+Newton solves but few numpy calls per solve.
 
 Arrays are component-major (see :mod:`geometry._cell_boxes`): n vectors are (3, n), the
 Taylor coefficients of n cells ``((ku + 1) (kv + 1) D, n)`` (row ``(a (kv + 1) + b) D + d``:
@@ -227,8 +230,8 @@ def cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, tol, finish, max_ite
             with np.errstate(divide="ignore", invalid="ignore"):
                 eu = np.where(huu > 1e-6 * E, -gu / huu, np.where(gu > 0.0, ulo - xa, uhi - xa))
                 ev = np.where(hvv > 1e-6 * Gf, -gv / hvv, np.where(gv > 0.0, vlo - ya, vhi - ya))
-            eu = np.where(fix_u | (gu == 0.0) & ~(huu > 1e-6 * E), 0.0, eu)
-            ev = np.where(fix_v | (gv == 0.0) & ~(hvv > 1e-6 * Gf), 0.0, ev)
+            eu = np.where(fix_u | ((gu == 0.0) & ~(huu > 1e-6 * E)), 0.0, eu)
+            ev = np.where(fix_v | ((gv == 0.0) & ~(hvv > 1e-6 * Gf)), 0.0, ev)
             du, dv = np.where(frozen, eu, du), np.where(frozen, ev, dv)
             newton &= ~frozen
         # not accepted: half the last step back
@@ -286,7 +289,7 @@ def cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, tol, finish, max_ite
 
 def edge_newton(c, lo, hi, p, reach, tol, finish, max_iter, max_halvings):
     """Safeguarded 1D Newton along cell edges (Taylor coefficients ``c`` (k + 1, D, n) in the
-    free coordinate, kept in [lo, hi]) as the kernel's ``surface_edge_newton``: from the
+    free coordinate, kept in [lo, hi]), as the curve cells' Newton once was: from the
     middle, halving where worse, to the edge's end where f is not clearly convex. Returns
     the free coordinate and the squared distance."""
     n = p.shape[1]
