@@ -9,9 +9,9 @@ polynomial about its middle. Per block of points: the nearest grid sample gives 
 every cell whose box lies closer than the bound, and over which neither ``S_u.(S - p)``
 nor ``S_v.(S - p)`` provably keeps one sign, is a candidate; each candidate (point, cell)
 pair gets the safeguarded 2D Newton kept inside the cell (the kernel's
-``surface_cell_newton``), and where that does not converge inside the cell, 1D Newton along
-the cell's four edges (the kernel instead solves every edge whose Bernstein lower bound of
-the distance is below the best as a curve cell, by isolation); the closest result per point
+``surface_cell_newton``); then every edge of a candidate whose Bernstein lower bound of the
+distance is below its point's best is solved as a curve cell (every minimum along it, by
+isolation: :mod:`geometry._curve_cells`, as the kernel does); the closest result per point
 wins. The kernel runs this per point with the bound tightened as cells are solved;
 here every candidate of the first bound is solved, all pairs at once, which costs more
 Newton solves but few numpy calls per solve.
@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _curve_cells
 from ._cell_boxes import CellSearch, best_per_point
 
 # (point, cell) pairs per Newton run: the gathered Taylor coefficients ((ku + 1) (kv + 1) D
@@ -107,50 +108,6 @@ def patch_values(G: np.ndarray, x: np.ndarray, y: np.ndarray, ku: int, kv: int, 
     Suv = (s11[:3] - s10[3] * Sv - s01[3] * Su - s11[3] * S) * inv
     Svv = (s02[:3] - 2.0 * s01[3] * Sv - s02[3] * S) * inv
     return [S, Su, Sv, Suu, Suv, Svv]
-
-
-def edge_polynomials(G: np.ndarray, along_u: bool, fixed: np.ndarray, ku: int, kv: int, D: int) -> np.ndarray:
-    """Taylor coefficients (k + 1, D, n) in the free coordinate of the patches ``G`` along
-    the lines v = ``fixed`` (``along_u``) or u = ``fixed``."""
-    n = G.shape[1]
-    G4 = G.reshape(ku + 1, kv + 1, D, n)
-    if along_u:  # sum over b of G[a, b] fixed^b
-        c = G4[:, kv].copy()
-        for b in range(kv - 1, -1, -1):
-            c *= fixed
-            c += G4[:, b]
-        return c
-    c = G4[ku].copy()  # sum over a of G[a, b] fixed^a
-    for a in range(ku - 1, -1, -1):
-        c *= fixed
-        c += G4[a]
-    return c
-
-
-def _line_values(c: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """C, C', C'' (3, n) of the curves with Taylor coefficients ``c`` (k + 1, D, n) at x."""
-    k, D = c.shape[0] - 1, c.shape[1]
-    s0, s1, s2 = c[k].copy(), np.zeros_like(c[k]), np.zeros_like(c[k])
-    for i in range(k - 1, -1, -1):
-        s2 *= x
-        s2 += s1
-        s1 *= x
-        s1 += s0
-        s0 *= x
-        s0 += c[i]
-    s2 *= 2.0
-    if D == 3:
-        return s0, s1, s2
-    inv = 1.0 / s0[3]
-    C = s0[:3] * inv
-    C1 = (s1[:3] - s1[3] * C) * inv
-    C2 = (s2[:3] - 2.0 * s1[3] * C1 - s2[3] * C) * inv
-    return C, C1, C2
-
-
-# ---------------------------------------------------------------------------------------
-# Newton kept inside a cell (2D) and along a cell's edge (1D)
-# ---------------------------------------------------------------------------------------
 
 
 def _inside_fraction(xa, ya, du, dv, ulo, uhi, vlo, vhi) -> np.ndarray:
@@ -287,87 +244,52 @@ def cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, tol, finish, max_ite
     return out_x, out_y, out_f, out_inner
 
 
-def edge_newton(c, lo, hi, p, reach, tol, finish, max_iter, max_halvings):
-    """Safeguarded 1D Newton along cell edges (Taylor coefficients ``c`` (k + 1, D, n) in the
-    free coordinate, kept in [lo, hi]), as the curve cells' Newton once was: from the
-    middle, halving where worse, to the edge's end where f is not clearly convex. Returns
-    the free coordinate and the squared distance."""
-    n = p.shape[1]
-    out_x, out_f = np.empty(n), np.empty(n)
-    idx = np.arange(n)
-    trial = 0.5 * (lo + hi)
-    x_acc, f_acc = trial, np.full(n, np.inf)
-    speed, step = np.zeros(n), np.zeros(n)
-    halvings = np.zeros(n, dtype=np.int64)
-    for _ in range(max_iter):
-        if len(idx) == 0:
-            break
-        C, C1, C2 = _line_values(c, trial)
-        C -= p
-        f, g, sp2 = _coldot(C, C), _coldot(C1, C), _coldot(C1, C1)
-        h = sp2 + _coldot(C2, C)
-        acc = f <= f_acc + _roundoff(f_acc, reach)
-        newton = h > 1e-6 * sp2
-        x_acc, f_acc = np.where(acc, trial, x_acc), np.where(acc, f, f_acc)
-        speed = np.where(acc, np.sqrt(sp2), speed)
-        halvings = np.where(acc, 0, halvings + 1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            dx = np.where(newton, -g / h, np.where(g > 0.0, lo, hi) - trial)
-        dx = np.where(g == 0.0, 0.0, dx)
-        raw = x_acc + np.where(acc, dx, 0.5 * step)
-        new = np.clip(raw, lo, hi)
-        eff = new - x_acc
-        move = np.abs(eff) * speed
-        last = acc & newton & (new == raw) & (move <= finish)
-        done = last | (move <= tol) | (halvings > max_halvings)
-        if done.any():
-            d = np.flatnonzero(done)
-            ld = last[d]
-            out_x[idx[d]] = np.where(ld, new[d], x_acc[d])
-            out_f[idx[d]] = f_acc[d] + np.where(ld, g[d] * eff[d], 0.0)
-            keep = np.flatnonzero(~done)
-            idx, c, p, reach = idx[keep], np.take(c, keep, axis=2), np.take(p, keep, axis=1), reach[keep]
-            lo, hi, new, eff = lo[keep], hi[keep], new[keep], eff[keep]
-            x_acc, f_acc, speed, halvings = x_acc[keep], f_acc[keep], speed[keep], halvings[keep]
-        trial, step = new, eff
-    if len(idx):
-        out_x[idx], out_f[idx] = x_acc, f_acc
-    return out_x, out_f
-
-
 def solve_cells(coef, su, sv, cv, cell, p, reach, ku, kv, D, tol, finish, max_iter, max_halvings):
-    """The closest point of each pair's cell (``cell`` indices i cv + j into the Taylor
-    coefficients ``coef`` (n_cells, (ku + 1) (kv + 1) D), ``p`` (3, n)):
-    the 2D cell Newton, and where that does not converge inside the cell, 1D Newton along
-    its four edges (a minimum on an edge the 2D iteration did not reach); the best.
-    Returns local x, y (offsets from the cell's middle) and the squared distance."""
+    """The 2D cell Newton for each pair (``cell`` indices i cv + j into the Taylor
+    coefficients ``coef`` (n_cells, (ku + 1) (kv + 1) D), ``p`` (3, n)). Returns local x, y
+    (offsets from the cell's middle) and the squared distance."""
     ci, cj = cell // cv, cell % cv
     mu, mv = 0.5 * (su[ci] + su[ci + 1]), 0.5 * (sv[cj] + sv[cj + 1])
     ulo, uhi, vlo, vhi = su[ci] - mu, su[ci + 1] - mu, sv[cj] - mv, sv[cj + 1] - mv
     # a cell's coefficients are one contiguous row of coef: gathered as rows, then turned
     G = np.ascontiguousarray(np.take(coef, cell, axis=0).T)
-    args = (tol, finish, max_iter, max_halvings)
-    x, y, f, inner = cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, *args)
-    rows = np.flatnonzero(~inner)
-    if len(rows):
-        Gr, pr, rr = np.take(G, rows, axis=1), np.take(p, rows, axis=1), reach[rows]
-        Gr2, pr2, rr2 = np.concatenate([Gr, Gr], axis=1), np.concatenate([pr, pr], axis=1), np.concatenate([rr, rr])
-        n = len(rows)
-        for along_u, fixed, lo, hi in (
-            (True, np.concatenate([vlo[rows], vhi[rows]]), ulo[rows], uhi[rows]),
-            (False, np.concatenate([ulo[rows], uhi[rows]]), vlo[rows], vhi[rows]),
-        ):
-            c = edge_polynomials(Gr2, along_u, fixed, ku, kv, D)
-            z, fe = edge_newton(c, np.concatenate([lo, lo]), np.concatenate([hi, hi]), pr2, rr2, *args)
-            for half in (slice(0, n), slice(n, 2 * n)):
-                better = np.flatnonzero(fe[half] < f[rows])
-                r = rows[better]
-                f[r] = fe[half][better]
-                if along_u:
-                    x[r], y[r] = z[half][better], fixed[half][better]
-                else:
-                    x[r], y[r] = fixed[half][better], z[half][better]
+    x, y, f, _ = cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, tol, finish, max_iter, max_halvings)
     return x, y, f
+
+
+def solve_edges(p, pi, cell, best, su, sv, cv, ku, kv, reach, cert, tol, finish, max_iter, edges):
+    """The edges of the pairs' cells whose Bernstein lower bound of the distance is below
+    the best distance of their point (``best`` (m,)), solved as curve cells (every minimum
+    along the edge, :func:`geometry._curve_cells.cell_minima`): a minimum on an edge beside
+    an inner one, or one the 2D descent did not reach. ``edges``: the surface's edge tables
+    (``ue_*`` along u, edge 2 c + s at the lower / upper v bound; ``ve_*`` along v). Returns
+    (pair index, x, y, f) of the edge results."""
+    ci, cj = cell // cv, cell % cv
+    half_u, half_v = 0.5 * (su[ci + 1] - su[ci]), 0.5 * (sv[cj + 1] - sv[cj])
+    out = [], [], [], []
+    for along_u in (True, False):
+        name, k = ("ue", ku) if along_u else ("ve", kv)
+        for side in (0, 1):
+            eid = 2 * cell + side
+            q = np.take(p, pi, axis=1)
+            low = _curve_cells.distance_lower_bound(q, eid, edges[f"{name}_fnet"])
+            rows = np.flatnonzero(low - 1e-15 * reach[pi] ** 2 < best[pi] * (1.0 - cert))
+            if len(rows) == 0:
+                continue
+            h_along = (half_u if along_u else half_v)[rows]
+            h_fixed = (half_v if along_u else half_u)[rows]
+            z, fe = _curve_cells.cell_minima(
+                np.take(q, rows, axis=1), eid[rows], -h_along, 2.0 * h_along, edges[f"{name}_coef"],
+                edges[f"{name}_ends"], edges[f"{name}_stat"], k, tol, finish, max_iter, edges["max_depth"],
+            )
+            fixed = h_fixed if side else -h_fixed
+            out[0].append(rows)
+            out[1].append(z if along_u else fixed)
+            out[2].append(fixed if along_u else z)
+            out[3].append(fe)
+    if not out[0]:
+        return np.empty(0, dtype=np.int64), np.empty(0), np.empty(0), np.empty(0)
+    return tuple(np.concatenate(a) for a in out)
 
 
 # ---------------------------------------------------------------------------------------
@@ -376,7 +298,7 @@ def solve_cells(coef, su, sv, cv, cell, p, reach, ku, kv, D, tol, finish, max_it
 
 
 def project_block(p, j_sample, bound2, search: CellSearch, leaf_cell, coef, su, sv, ku, kv, D, rational, prune_u,
-                  prune_v, tol, finish, extent, max_iter, max_halvings, pair_block=PAIR_BLOCK):
+                  prune_v, tol, finish, extent, max_iter, max_halvings, edges, cert, pair_block=PAIR_BLOCK):
     """Closest points of the points ``p`` (3, m) whose nearest grid sample is
     ``j_sample`` (index i len(sv) + j of the sample (su[i], sv[j])), ``bound2`` the
     squared distance to it; ``search`` the box hierarchy over the cells (leaf i: cell
@@ -413,6 +335,12 @@ def project_block(p, j_sample, bound2, search: CellSearch, leaf_cell, coef, su, 
         q = np.take(p, pi[sl], axis=1)
         x[sl], y[sl], f[sl] = solve_cells(coef, su, sv, cv, cell[sl], q, reach[pi[sl]], ku, kv, D, tol, finish,
                                           max_iter, max_halvings)
+    # the cells' edges where they can hold a closer point (solved as curve cells)
+    best_f = np.full(m, np.inf)
+    np.minimum.at(best_f, pi, f)
+    er, ex, ey, ef = solve_edges(p, pi, cell, best_f, su, sv, cv, ku, kv, reach, cert, tol, finish, max_iter, edges)
+    pi, cell = np.concatenate([pi, pi[er]]), np.concatenate([cell, cell[er]])
+    x, y, f = np.concatenate([x, ex]), np.concatenate([y, ey]), np.concatenate([f, ef])
     best = best_per_point(pi, f, m)
     bx, by, bf, bc = x[best], y[best], f[best], cell[best]
     # where Newton found nothing closer than the sample, the sample (a corner of its cell)

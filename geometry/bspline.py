@@ -58,29 +58,29 @@ that edge); scaled steepest descent where the step would leave the cell at once;
 exactly at the cell's bounds; a trial that increases the distance beyond round-off is
 halved; stop as for curves. The closest result wins; S, S_u and S_v are evaluated on its
 patch at the returned parameters (so the points lie on the spline to round-off). Creases are
-cell edges, so no Newton step crosses one. The two paths differ in the order of the search
-and in the cells' edges:
+cell edges, so no Newton step crosses one. Each of a candidate's four edges whose Bernstein
+lower bound of the distance along it is below the best distance found is solved as a curve
+cell (every minimum along it, by isolation as above; ``geometry._curve_cells``): a minimum on
+an edge beside an inner one, or one the 2D descent did not reach, is found. The two paths
+differ in the order of the search:
 
 * compiled kernel (``geometry._kernels``): per point, best first over the top boxes and
   depth first below them, the bound tightened as cells are solved and by a point of the
-  surface in every node visited; each of a candidate's four edges whose Bernstein lower
-  bound of the distance is below the best is solved as a curve cell (isolation, above);
+  surface in every node visited;
 * numpy path (``geometry._surface_cells``), in blocks of ``_BLOCK`` points: the bound is the
   distance to the nearest grid sample (a ``scipy.spatial.cKDTree``, or a distance matrix
   for few samples); all candidate (point, cell) pairs under it are found at once
   (``CellSearch.pairs``) and solved together over component-major arrays (more cells than
-  the kernel solves, each array operation over all of them); where the 2D Newton does not
-  converge to a point strictly inside the cell, 1D Newton along the cell's four edges (from
-  each edge's middle; to its end where the distance is not clearly convex along it); a point
-  left without a candidate keeps the cell of its nearest sample, and the sample itself
-  where no Newton result is closer.
+  the kernel solves, each array operation over all of them), then the edges under the best
+  distance of the cells; a point left without a candidate keeps the cell of its nearest
+  sample, and the sample itself where no Newton result is closer.
 
-Not a proof: the 2D Newton (and on the numpy path the edges' 1D Newton) is trusted to find
-a cell's smallest distance (a cell holding two inner minima could hide one; on the numpy
-path also an edge minimum beside an inner one that the 2D Newton converged to); random tests
-with clustered knots, weights 0.2-5 and points 1-100 % of the size away
-(``benchmarks/bspline_stress.py``) find no miss on either path. Cost: far points (near
-centres of curvature) have more candidate cells than points near the surface.
+Not a proof: the 2D Newton is trusted to find a cell's smallest inner distance (a cell
+holding two inner minima could hide one: cells are about 1/64 of the size, so only a
+distance function flat over the cell, near a centre of curvature, can have two); random
+tests with clustered knots, weights 0.2-5 and points 1-100 % of the size away
+(``benchmarks/bspline_stress.py``, hypothesis) find no miss on either path. Cost: far points
+(near centres of curvature) have more candidate cells than points near the surface.
 
 Normal conventions (SPEC section 2 leaves free-form normals to the primitive):
 
@@ -131,7 +131,7 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
     return cKDTree(points)
 
 from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
-from . import _bernstein, _jit
+from . import _bernstein, _curve_cells, _jit
 from . import _surface_cells
 from ._cell_boxes import (
     CellSearch,
@@ -153,8 +153,8 @@ _BLOCK = 16384  # points per block in the Newton loop
 _PAIR_BLOCK = 16384  # (point, cell) pairs per cell-wise Newton run
 _MAX_HALVINGS = 30  # a trial halved this often (2^-30) leaves the point where it is
 _ISOLATE_DEPTH = 30  # halvings of a cell in isolating the stationary points of a curve's distance
-# the compiled surface kernel (geometry._jit) is used when numba is there (switch kept for
-# comparisons: tests/test_bspline_paths.py)
+# the compiled surface kernel (geometry._kernels) is used when numba is there (a switch for
+# comparisons by hand)
 _SURFACE_JIT = True
 _CELL_TURN = math.radians(20.0)  # half-angle of a cell's tangent cone (see _split_turning)
 _FINISH = 1e-7  # a Newton step this small (relative to the size) is the last one
@@ -261,33 +261,6 @@ def _kinks(t: np.ndarray, k: int, lo: float, hi: float) -> np.ndarray:
     return vals[(counts >= k) & (vals > lo) & (vals < hi)]
 
 
-def _stop_at_kinks(start: np.ndarray, raw: np.ndarray, kinks: np.ndarray, nudge: float) -> np.ndarray:
-    """Steps ``start -> raw`` clamped at the first kink strictly beyond ``start``, held
-    ``nudge`` short of it: the derivatives there are then those of the piece the step came
-    from (at a knot scipy evaluates the piece to the right), so a minimum just before the
-    kink is not lost to the next piece."""
-    if len(kinks) == 0:
-        return raw
-    up = raw > start
-    i = np.searchsorted(kinks, start, side="right")
-    k_up = kinks[np.minimum(i, len(kinks) - 1)]
-    i_dn = np.searchsorted(kinks, start, side="left") - 1
-    k_dn = kinks[np.maximum(i_dn, 0)]
-    hit_up = up & (i < len(kinks)) & (k_up - nudge < raw) & (k_up - nudge > start)
-    hit_dn = ~up & (i_dn >= 0) & (k_dn + nudge > raw) & (k_dn + nudge < start)
-    return np.where(hit_up, k_up - nudge, np.where(hit_dn, k_dn + nudge, raw))
-
-
-def _at_crease(x: np.ndarray, g: np.ndarray, kinks: np.ndarray, near: float) -> np.ndarray:
-    """Parameters held within ``near`` short of a kink whose descent (-g) points across it."""
-    i = np.searchsorted(kinks, x, side="right")
-    up = kinks[np.minimum(i, len(kinks) - 1)]
-    dn = kinks[np.maximum(i - 1, 0)]
-    below = (i < len(kinks)) & (up - x <= near) & (up > x) & (g < 0)
-    above = (i > 0) & (x - dn <= near) & (x > dn) & (g > 0)
-    return below | above
-
-
 def _polygon_samples(t: np.ndarray, k: int, a: float, b: float, legs: np.ndarray, spacing: float, at_most: int) -> np.ndarray:
     """Sample parameters: in every non-empty knot span of [a, b] as many equal steps as
     the control polygon legs acting on that span are long (divided by the degree) in
@@ -312,23 +285,6 @@ def _size(P: np.ndarray) -> float:
     largest coordinate for a net collapsed to a point."""
     diag = float(np.linalg.norm(np.ptp(P, axis=0)))
     return diag if diag > 0 else max(float(np.abs(P).max()), 1e-300)
-
-
-def _rowdot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    return np.einsum("ij,ij->i", x, y)
-
-
-def _nearest(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> np.ndarray:
-    """Index of the nearest sample ``Q[j]`` for every point; for a few samples a chunked
-    ``|Q|^2 - 2 p.Q`` argmin (one matrix product) beats the k-d tree several times over."""
-    if tree is not None:
-        return tree.query(p)[1]
-    QQ = np.einsum("ij,ij->i", Q, Q)
-    out = np.empty(len(p), dtype=np.int64)
-    chunk = max(128, 32_768 // max(len(Q), 1))  # small blocks stay in L2 (measured ~3x faster)
-    for i in range(0, len(p), chunk):
-        out[i : i + chunk] = np.argmin(QQ[None, :] - 2.0 * (p[i : i + chunk] @ Q.T), axis=1)
-    return out
 
 
 # ---------------------------------------------------------------------------------------
@@ -381,40 +337,7 @@ def _nearest_cols(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> tuple[n
     return j, _coldot(d, d)
 
 
-def _horner(coef: np.ndarray, x: np.ndarray, k: int, order: int) -> list[np.ndarray]:
-    """Value and derivatives up to ``order`` (<= 2) of polynomials with coefficients
-    ``coef`` ((k + 1) D, n; row i D + d: coefficient of x^i of component d) at ``x`` (n,),
-    each (D, n)."""
-    D = coef.shape[0] // (k + 1)
-    top = coef[k * D :]
-    c0 = top * x  # Horner's rule with its first step done
-    c0 += coef[(k - 1) * D : k * D]
-    c1 = top.copy() if order >= 1 else None
-    c2 = np.zeros_like(c0) if order >= 2 else None
-    for i in range(k - 2, -1, -1):
-        if order >= 2:
-            c2 *= x
-            c2 += c1
-        if order >= 1:
-            c1 *= x
-            c1 += c0
-        c0 *= x
-        c0 += coef[i * D : (i + 1) * D]
-    if order >= 2:
-        c2 *= 2.0
-    return [c0, c1, c2][: order + 1]
-
-
-def _quotient(H: list[np.ndarray]) -> list[np.ndarray]:
-    """Derivatives of C = A / w from those of the homogeneous ``(A, w)`` (4, n) (quotient
-    rule, up to the second)."""
-    inv = 1.0 / H[0][3]
-    out = [H[0][:3] * inv]
-    if len(H) > 1:
-        out.append((H[1][:3] - H[1][3] * out[0]) * inv)
-    if len(H) > 2:
-        out.append((H[2][:3] - 2.0 * H[1][3] * out[1] - H[2][3] * out[0]) * inv)
-    return out
+_horner = _curve_cells.homogeneous_values
 
 
 # ---------------------------------------------------------------------------------------
@@ -684,27 +607,37 @@ class BSplineCurve(Curve):
         return t2[best], C2[:, best].T, C12[:, best].T
 
     @cached_property
+    def _cell_rows(self) -> dict[str, Any]:
+        """The cells as rows of the curve-cell tables both paths use (see
+        :mod:`geometry._curve_cells`): Taylor coefficients, end points, Bernstein nets of
+        ``C'.(C - p)``."""
+        _, _, coef = self._pieces
+        A, B = self._piece_ends
+        G0, G1 = self._stationary_nets
+        return dict(
+            coef=np.ascontiguousarray(coef.T), ends=np.ascontiguousarray(np.concatenate([A, B]).T),
+            stat=np.ascontiguousarray(np.concatenate([G0, G1[0], G1[1], G1[2]]).T),
+        )
+
+    @cached_property
     def _jit_tables(self) -> dict[str, Any]:
         """The tables of the compiled kernel (see :mod:`geometry._jit`)."""
         edges, mids, coef = self._pieces
-        A, B = self._piece_ends
         # a deep hierarchy (one root group) suits the per-point traversal
         nodes, level_start = self._cell_search(_CURVE_BRANCH).flat_nodes()
         D = 4 if self.weights is not None else 3
-        G0, G1 = self._stationary_nets
-        stat = np.concatenate([G0, G1[0], G1[1], G1[2]]).T  # (n_c, 4 (M + 1))
+        rows = self._cell_rows
         # a point of the curve in every node (the middle of the middle cell of its run of
         # leaves): an upper bound of the answer, tight from the first descent on
         rep_cell = middle_leaves(level_start, _CURVE_BRANCH, len(mids))
         middle = coef[:3] / coef[3:4] if D == 4 else coef[:3]
         return dict(
             rep=np.ascontiguousarray(middle[:, rep_cell].T), rep_cell=rep_cell,
-            nodes=nodes, level_start=level_start, branch=_CURVE_BRANCH, coef=np.ascontiguousarray(coef.T),
-            mids=mids, edges=edges, ends=np.ascontiguousarray(np.concatenate([A, B]).T),
-            stat=np.ascontiguousarray(stat), M=G0.shape[0] - 1, k=self.degree, D=D,
+            nodes=nodes, level_start=level_start, branch=_CURVE_BRANCH, mids=mids, edges=edges,
+            M=rows["stat"].shape[1] // 4 - 1, k=self.degree, D=D,
             rational=self.weights is not None, periodic=self.periodic, prune=len(self._kinks) == 0,
             tol=_STRICT * self.scale, finish=_FINISH * self.scale, max_iter=_MAX_ITER,
-            max_depth=_ISOLATE_DEPTH, cert=_CERT_REL,
+            max_depth=_ISOLATE_DEPTH, cert=_CERT_REL, **rows,
         )
 
     def _closest_jit(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -765,117 +698,18 @@ class BSplineCurve(Curve):
         return _bernstein.stationary_nets(coef, np.diff(edges), self.degree, 4 if self.weights is not None else 3)
 
     def _cell_minima(self, p: np.ndarray, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The closest point of each cell ``cell`` (n,) to its point (``p`` (3, n)): every
-        local minimum inside the cell and its two ends. The stationary points are isolated
-        by the Bernstein coefficients of g = C'.(C - p) over the cell: no sign change, no
-        stationary point; one, from - to +, exactly one (a minimum): bracketed Newton;
-        more: the interval is halved (de Casteljau) until each part has at most one, to
-        ``_ISOLATE_DEPTH`` halvings (then Newton in the part). Returns t (n,), C and C'
-        (3, n) at the best."""
-        edges, mids, _ = self._pieces
-        G0, G1 = self._stationary_nets
-        n = len(cell)
-        lo = edges[cell] - mids[cell]
-        length = edges[cell + 1] - edges[cell]
-        b = _cols(G0, cell)
-        for d in range(3):
-            b -= p[d] * _cols(G1[d], cell)
-        # the cell's ends
-        A, B = self._piece_ends
-        ra, rb = _cols(A, cell) - p, _cols(B, cell) - p
-        fa, fb = _coldot(ra, ra), _coldot(rb, rb)
-        pairs, xs, fs = [np.arange(n)], [np.where(fa <= fb, lo, lo + length)], [np.minimum(fa, fb)]
-        # isolation: items (pair, s0, width, coefficients over [s0, s0 + width])
-        item, s0, width = np.arange(n), np.zeros(n), np.ones(n)
-        br_item, br_lo, br_hi, br_start = [], [], [], []
-        M = b.shape[0] - 1
-        for depth in range(_ISOLATE_DEPTH + 1):
-            V = _bernstein.sign_changes(b)
-            negative = b < 0.0
-            one = (V == 1) & negative[0]
-            many = V >= 2
-            last = depth == _ISOLATE_DEPTH
-            solve = np.flatnonzero(one | (many & last))
-            if len(solve):
-                # start: where the control polygon of g crosses zero
-                bs = b[:, solve]
-                i = np.minimum(np.count_nonzero(negative[:, solve], axis=0) - 1, M - 1)
-                i = np.maximum(i, 0)
-                cols = np.arange(len(solve))
-                b_i, b_j = bs[i, cols], bs[i + 1, cols]
-                frac = np.clip((i + np.where(b_i != b_j, b_i / (b_i - b_j), 0.5)) / M, 0.0, 1.0)
-                it = item[solve]
-                br_item.append(it)
-                br_lo.append(s0[solve])
-                br_hi.append(s0[solve] + width[solve])
-                br_start.append(s0[solve] + frac * width[solve])
-            split = np.flatnonzero(many) if not last else np.empty(0, dtype=np.int64)
-            if len(split) == 0:
-                break
-            left, right = _bernstein.halves(b[:, split])
-            half = 0.5 * width[split]
-            item = np.concatenate([item[split], item[split]])
-            s0 = np.concatenate([s0[split], s0[split] + half])
-            width = np.concatenate([half, half])
-            b = np.concatenate([left, right], axis=1)
-        if br_item:
-            it = np.concatenate(br_item)
-            L = length[it]
-            x, f = self._bracketed_newton(
-                _cols(p, it), cell[it], lo[it] + L * np.concatenate(br_lo), lo[it] + L * np.concatenate(br_hi),
-                lo[it] + L * np.concatenate(br_start),
-            )
-            pairs.append(it)
-            xs.append(x)
-            fs.append(f)
-        pi, x, f = np.concatenate(pairs), np.concatenate(xs), np.concatenate(fs)
-        best = best_per_point(pi, f, n)
-        out_x = x[best]
-        H = self._piece_values(cell, mids[cell] + out_x, 1)
-        C, C1 = H if self.weights is None else _quotient(H)
-        return self._wrap(mids[cell] + out_x), C, C1
-
-    def _bracketed_newton(self, p, cell, lo, hi, x):
-        """Newton on ``g(x) = C'.(C - p) = 0`` on a bracket [lo, hi] of local parameters with
-        ``g(lo) < 0 <= g(hi)`` (one root inside), from ``x``; a step that leaves the bracket
-        (or where g' <= 0) is replaced by bisection, and the bracket shrinks with every
-        evaluation. Stops when the next step moves the point by less than ``_STRICT`` of
-        the size, or after a Newton step below ``_FINISH`` of it (the error left is of the
-        order of its square). Returns x and the squared distance there."""
-        _, _, coef = self._pieces
-        k = self.degree
-        tol, finish = _STRICT * self.scale, _FINISH * self.scale
-        n = len(cell)
-        G = _cols(coef, cell)
-        out_x, out_f = x.copy(), np.full(n, np.inf)
-        idx = np.arange(n)
-        for _ in range(_MAX_ITER):
-            if len(idx) == 0:
-                break
-            H = _horner(G, x, k, 2)
-            C, C1, C2 = H if self.weights is None else _quotient(H)
-            C -= p  # r = C - p
-            f = _coldot(C, C)
-            g = _coldot(C1, C)
-            sp2 = _coldot(C1, C1)
-            h = sp2 + _coldot(C2, C)
-            below = g < 0.0
-            lo = np.where(below, x, lo)
-            hi = np.where(below, hi, x)
-            trial = x - g / np.where(h > 0.0, h, 1.0)
-            newton = (h > 0.0) & (trial > lo) & (trial < hi)
-            new = np.where(newton, trial, 0.5 * (lo + hi))
-            move = np.abs(new - x) * np.sqrt(sp2)
-            taylor = newton & (move <= finish)
-            done = taylor | (move <= tol) | (g == 0.0)
-            out_x[idx] = np.where(taylor, new, x)
-            # after a final (Taylor) step f has dropped by about -g . step (second order)
-            out_f[idx] = f + np.where(taylor, g * (new - x), 0.0)
-            if done.any():
-                keep = np.flatnonzero(~done)
-                idx, p, G, lo, hi, new = idx[keep], _cols(p, keep), _cols(G, keep), lo[keep], hi[keep], new[keep]
-            x = new
-        return out_x, out_f
+        """The closest point of each cell ``cell`` (n,) to its point (``p`` (3, n)): its
+        ends and every local minimum inside, isolated by the Bernstein coefficients of
+        ``C'.(C - p)`` over the cell (:func:`geometry._curve_cells.cell_minima`). Returns t
+        (n,), C and C' (3, n) at the best."""
+        edges, mids, coef = self._pieces
+        x, _ = _curve_cells.cell_minima(
+            p, cell, edges[cell] - mids[cell], edges[cell + 1] - edges[cell], k=self.degree,
+            tol=_STRICT * self.scale, finish=_FINISH * self.scale, max_iter=_MAX_ITER, max_depth=_ISOLATE_DEPTH,
+            **self._cell_rows,
+        )
+        C, C1 = _curve_cells.piece_values(_cols(coef, cell), x, self.degree, 1)
+        return self._wrap(mids[cell] + x), C, C1
 
     @cached_property
     def _piece_ends(self) -> tuple[np.ndarray, np.ndarray]:
@@ -1240,8 +1074,7 @@ class BSplineSurface(Surface):
             F = _bernstein.distance_nets(E.T, length, k, D)
             ends = []
             for x in (-0.5 * length, 0.5 * length):
-                H = _horner(np.ascontiguousarray(E.T), x, k, 0)[0]
-                ends.append(H[:3] / H[3] if D == 4 else H)
+                ends.append(_curve_cells.piece_values(np.ascontiguousarray(E.T), x, k, 0)[0])
             out[f"{name}_coef"] = np.ascontiguousarray(E)
             out[f"{name}_ends"] = np.ascontiguousarray(np.concatenate(ends).T)
             out[f"{name}_stat"] = np.ascontiguousarray(np.concatenate([G0, G1[0], G1[1], G1[2]]).T)
@@ -1273,7 +1106,9 @@ class BSplineSurface(Surface):
             sl = slice(i0, i0 + _BLOCK)
             q = np.ascontiguousarray(p[:, sl])
             j, bound2 = _nearest_cols(q, Q, tree)
-            uv[:, sl], S[:, sl] = _surface_cells.project_block(q, j, bound2, self._cells, **self._cell_tables)
+            uv[:, sl], S[:, sl] = _surface_cells.project_block(
+                q, j, bound2, self._cells, edges=self._edge_tables, cert=_CERT_REL, **self._cell_tables
+            )
         return uv.T, S.T
 
     def project(self, points: Any) -> Projection:
