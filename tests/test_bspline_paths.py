@@ -142,3 +142,33 @@ def test_surface_projection_of_far_points(seed, jit, monkeypatch):
         along = s.scale * rng.uniform(0.3, 1.5, (300, 1)) * rng.choice([-1.0, 1.0], (300, 1))
         p = np.concatenate([s.evaluate(uv) + along * s.normals_at(uv), X[rng.integers(0, len(X), 300)] + s.scale * rng.standard_normal((300, 3))])
         _assert_global_minimum(s, X, p)
+
+
+def test_surface_points_near_centres_of_curvature(monkeypatch):
+    """An elliptic paraboloid patch z = a x^2 + b y^2 (exact as a bicubic, rational with
+    random weights too) and points near its axis around the centres of curvature 1/(2a),
+    1/(2b), where the distance is nearly flat and has several local minima: the global one
+    against a dense brute force, on both paths."""
+    rng = np.random.default_rng(5)
+    x_ctrl = np.array([-1.0, -1 / 3, 1 / 3, 1.0])
+    sq_ctrl = np.array([1.0, -1 / 3, -1 / 3, 1.0])  # x^2 on [-1, 1] in cubic Bernstein form
+    t = np.r_[[0.0] * 4, [1.0] * 4]
+    g = np.linspace(0, 1, 401)
+    UV = np.stack(np.meshgrid(g, g, indexing="ij"), -1).reshape(-1, 2)
+    for rational in (False, True):
+        a, b = rng.uniform(0.3, 2.0, 2)
+        X, Y = np.meshgrid(x_ctrl, x_ctrl, indexing="ij")
+        P = np.stack([X, Y, a * sq_ctrl[:, None] + b * sq_ctrl[None, :]], -1)
+        w = np.exp(rng.uniform(-0.5, 0.5, (4, 4))) if rational else None
+        s = BSplineSurface(3, 3, t, t, P, w)
+        h = rng.uniform(0.2, 3.0, 150) * max(1 / (2 * a), 1 / (2 * b))
+        p = np.column_stack([rng.normal(0, 0.02, 150), rng.normal(0, 0.02, 150), h])
+        # nearest sample by matrix products (a k-d tree is slow here: many samples are
+        # nearly equidistant), then its exact distance
+        S = s.evaluate(UV)
+        D2 = np.einsum("ij,ij->i", S, S) - 2.0 * sum(p[:, d, None] * S[:, d] for d in range(3))
+        brute = np.linalg.norm(S[np.argmin(D2, axis=1)] - p, axis=1)
+        for jit in (False, True) if _jit.enabled() else (False,):
+            monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
+            got = np.linalg.norm(p - s.project(p).points, axis=1)
+            assert np.all(got <= brute + 1e-12 * s.scale), jit
