@@ -15,14 +15,25 @@ them (and numba) on the first B-spline projection only.
 
 Tables (built once per spline in :mod:`geometry.bspline`):
 
-* ``nodes`` (n_nodes, 21): per node of the box hierarchy (all levels, top first) its
-  frame rows R (9), frame centre ``R origin + box centre`` (3), half widths (3), and for
-  leaf cells the box of a tangent field's numerator in the same frame (lo 3, hi 3);
-  ``level_start`` (levels + 1,): the first node of each level; node i of level l has the
-  children ``level_start[l + 1] + branch i + c``; padding nodes have half widths -1e150;
-* curves: ``coef`` (n_cells, (k + 1) D) Taylor coefficients of each cell's piece about
-  its middle (row i D + d: coefficient of x^i of homogeneous component d), ``mids``,
-  ``edges`` (n_cells + 1), ``ends`` (n_cells, 6): the cell's first and last point.
+* ``nodes`` (n_nodes, 15 + 6 fields): per node of the box hierarchy (all levels, top first)
+  its frame rows R (9), frame centre ``R origin + box centre`` (3), half widths (3), and for
+  leaf cells the boxes of the tangent fields' numerators in the same frame (lo 3, hi 3
+  each: C' for curves, S_u and S_v for surfaces); ``level_start`` (levels + 1,): the first
+  node of each level; node i of level l has the children ``level_start[l + 1] + branch i +
+  c``; padding nodes have half widths -1e150; ``rep`` (n_nodes, 3) a point of the spline in
+  every node (the middle of cell ``rep_cell``), an upper bound of the answer;
+* curve cells (also the edges of surface cells, prefixed ``ue_`` along u and ``ve_``
+  along v, edge 2 c + s of cell c at its lower (s = 0) or upper bound): ``coef``
+  (n_cells, (k + 1) D) Taylor coefficients of each cell's piece about its middle (column
+  i D + d: coefficient of x^i of homogeneous component d), ``ends`` (n_cells, 6) its first
+  and last point, ``stat`` (n_cells, 4 (M + 1)) the Bernstein coefficients G0, G1x, G1y,
+  G1z of a positive multiple of ``C'.(C - p) = G0 - p.G1`` over the cell, ``fnet``
+  (surface edges, n_cells, 5 (2k + 1)) those of the squared distance
+  (:func:`geometry._bernstein.distance_nets`); curves also ``mids`` and ``edges`` (n_cells
+  + 1);
+* surfaces: ``coef`` (n_cells, (ku + 1) (kv + 1) D) Taylor coefficients of each patch
+  about its middle (column (a (kv + 1) + b) D + d: coefficient of x^a y^b), the grid
+  ``su``, ``sv``, and ``leaf_cell``: the cell (i cv + j) of every leaf (Morton order).
 """
 
 from __future__ import annotations
