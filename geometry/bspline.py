@@ -564,6 +564,8 @@ class BSplineCurve(Curve):
     def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Parameters ``t`` (m,), closest points C(t) (m, 3) and derivatives C'(t) (m, 3)
         for (m, 3) points: the core of :meth:`project` (see the module doc)."""
+        if len(points) == 0:
+            return np.empty(0), np.empty((0, 3)), np.empty((0, 3))
         if _jit.enabled():
             return self._closest_jit(np.ascontiguousarray(points, dtype=float))
         p = np.ascontiguousarray(np.asarray(points, dtype=float).T)

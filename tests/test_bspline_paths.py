@@ -172,3 +172,17 @@ def test_surface_points_near_centres_of_curvature(monkeypatch):
             monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
             got = np.linalg.norm(p - s.project(p).points, axis=1)
             assert np.all(got <= brute + 1e-12 * s.scale), jit
+
+
+@pytest.mark.parametrize("jit", [False, True])
+def test_no_points_to_project(jit, monkeypatch):
+    """An empty (0, 3) query gives empty results on both paths (curves and surfaces)."""
+    if jit and not _jit.enabled():
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
+    rng = np.random.default_rng(0)
+    c, _, _ = bspline_stress.curve_case(rng, 3)
+    s, _, _ = bspline_stress.surface_case(rng, 3)
+    for prim in (c, s):
+        pr = prim.project(np.empty((0, 3)))
+        assert pr.points.shape == (0, 3) and pr.distances.shape == (0,) and pr.normals.shape == (0, 3)
