@@ -162,11 +162,13 @@ def positive(value: Any, field: str, owner: str | None = None) -> float:
     return x
 
 
-def as_points(points: Any, dims: tuple[int, ...] = (3,), name: str = "points") -> tuple[np.ndarray, int]:
+def as_points(points: Any, dims: tuple[int, ...] = (3,), name: str = "points", finite: bool = False) -> tuple[np.ndarray, int]:
     """Query points as a C-contiguous float64 (n, 3) array, and the dimension they came in.
 
     A single point (shape (d,)) is accepted and treated as n = 1. 2D points (allowed for
-    curves) are lifted to z = 0; :func:`restore_dim` drops z again on the way out.
+    curves) are lifted to z = 0; :func:`restore_dim` drops z again on the way out. With
+    ``finite`` a NaN or infinite coordinate is an error (where a search would otherwise
+    return an arbitrary point for it; closed forms just propagate NaN).
     """
     try:
         arr = np.asarray(points, dtype=float)
@@ -178,6 +180,9 @@ def as_points(points: Any, dims: tuple[int, ...] = (3,), name: str = "points") -
         want = " or ".join(f"(n, {k})" for k in dims)
         raise ValueError(f"{name} must have shape {want}, got {np.shape(points)}")
     dim = arr.shape[1]
+    if finite and not np.isfinite(arr).all():
+        row = int(np.flatnonzero(~np.isfinite(arr).all(axis=1))[0])
+        raise ValueError(f"{name} must be finite: row {row} is {arr[row].tolist()}")
     if dim == 2:
         arr = np.column_stack([arr, np.zeros(len(arr))])
     return np.ascontiguousarray(arr), dim

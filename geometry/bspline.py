@@ -725,7 +725,7 @@ class BSplineCurve(Curve):
         return tuple(ends)
 
     def project(self, points: Any) -> Projection:
-        p, dim = as_points(points, dims=(2, 3))
+        p, dim = as_points(points, dims=(2, 3), finite=True)
         if dim == 2 and not self.planar_z:
             raise ValueError("bspline_curve: 2D query points need a curve in the z = 0 plane")
         t, C, C1 = self.closest_parameters(p)
@@ -1114,7 +1114,7 @@ class BSplineSurface(Surface):
         return uv.T, S.T
 
     def project(self, points: Any) -> Projection:
-        p, _ = as_points(points, dims=(3,))
+        p, _ = as_points(points, dims=(3,), finite=True)
         uv, d = self.closest_parameters(p)
         S = d[(0, 0)]
         normals, nn = _normalise_rows(np.cross(d[(1, 0)], d[(0, 1)]))

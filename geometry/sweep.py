@@ -212,7 +212,7 @@ class Sweep(Surface):
     # -- projection -------------------------------------------------------------------------
 
     def project(self, points: Any) -> Projection:
-        p, _ = as_points(points, dims=(3,))
+        p, _ = as_points(points, dims=(3,), finite=self._kind == "bspline_curve")
         d = self.direction
         height = p @ d
         p_flat = p - height[:, None] * d

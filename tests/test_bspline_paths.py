@@ -186,3 +186,26 @@ def test_no_points_to_project(jit, monkeypatch):
     for prim in (c, s):
         pr = prim.project(np.empty((0, 3)))
         assert pr.points.shape == (0, 3) and pr.distances.shape == (0,) and pr.normals.shape == (0, 3)
+
+
+@pytest.mark.parametrize("jit", [False, True])
+def test_non_finite_points_are_rejected(jit, monkeypatch):
+    """A NaN or infinite query point is an error naming the row (the search would return
+    an arbitrary point for it), on both paths, and for a sweep of a B-spline profile."""
+    if jit and not _jit.enabled():
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
+    from geometry import primitive_from_dict
+
+    rng = np.random.default_rng(0)
+    c, _, _ = bspline_stress.curve_case(rng, 3)
+    s, _, _ = bspline_stress.surface_case(rng, 3)
+    profile = {"type": "bspline_curve", "degree": 2, "knots": [0, 0, 0, 1, 1, 1],
+               "control_points": [[0, 0, 0], [1, 1, 0], [2, 0, 0]]}
+    sweep = primitive_from_dict({"type": "sweep", "profile": profile, "direction": [0, 0, 1]})
+    for prim in (c, s, sweep):
+        for bad in (np.nan, np.inf):
+            p = np.zeros((3, 3))
+            p[1, 2] = bad
+            with pytest.raises(ValueError, match="row 1"):
+                prim.project(p)
