@@ -34,6 +34,17 @@ def rowdot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.einsum("ij,ij->i", x, y)
 
 
+def coldot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Column-wise dot product of component-major (3, n) arrays."""
+    return np.einsum("ij,ij->j", x, y)
+
+
+def rows_as_columns(table: np.ndarray, idx: np.ndarray) -> np.ndarray:
+    """Rows ``idx`` of a row-per-cell table, turned component-major (width, n): a cell's
+    row is contiguous, so gathering rows and turning them once is the fast order."""
+    return np.ascontiguousarray(np.take(table, idx, axis=0).T)
+
+
 def oriented_boxes(pts: np.ndarray, e1: np.ndarray, e2: np.ndarray, margin: float):
     """Boxes of control nets ``pts`` (n, m, 3) in per-cell orthonormal frames built from
     the directions e1, e2 (n, 3) (Gram-Schmidt; a degenerate direction falls back to the
@@ -166,9 +177,8 @@ class CellSearch:
         :mod:`geometry._jit`)."""
         width = 15 + 6 * self.n_extra
         rows = [np.pad(t, ((0, width - t.shape[0]), (0, 0))).T for t in self.tables]
-        top = rows[0].copy()
         level_start = np.cumsum([0] + [len(r) for r in rows])
-        return np.ascontiguousarray(np.concatenate([top] + rows[1:])), level_start.astype(np.int64)
+        return np.ascontiguousarray(np.concatenate(rows)), level_start.astype(np.int64)
 
     def pairs(self, p: np.ndarray, bound2: np.ndarray) -> tuple[np.ndarray, np.ndarray, list]:
         """(point index, cell index) of all pairs whose cell box is closer to the point

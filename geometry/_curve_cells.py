@@ -22,16 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _bernstein
-
-
-def _rows_T(table: np.ndarray, idx: np.ndarray) -> np.ndarray:
-    """Rows ``idx`` of a row-per-cell table, turned component-major (width, n): a cell's
-    row is contiguous, so gathering rows and turning them once is the fast order."""
-    return np.ascontiguousarray(np.take(table, idx, axis=0).T)
-
-
-def _coldot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    return np.einsum("ij,ij->j", x, y)
+from ._cell_boxes import coldot, rows_as_columns
 
 
 def homogeneous_values(G: np.ndarray, x: np.ndarray, k: int, order: int) -> list[np.ndarray]:
@@ -89,8 +80,8 @@ def bracketed_newton(p, G, lo, hi, x, k, tol, finish, max_iter):
             break
         C, C1, C2 = piece_values(G, x, k, 2)
         C -= p  # r = C - p
-        f, g, sp2 = _coldot(C, C), _coldot(C1, C), _coldot(C1, C1)
-        h = sp2 + _coldot(C2, C)
+        f, g, sp2 = coldot(C, C), coldot(C1, C), coldot(C1, C1)
+        h = sp2 + coldot(C2, C)
         below = g < 0.0
         lo = np.where(below, x, lo)
         hi = np.where(below, hi, x)
@@ -117,11 +108,11 @@ def cell_minima(p, cell, lo, length, coef, ends, stat, k, tol, finish, max_iter,
     Newton in the part). Returns the local parameter and the squared distance (n,) each."""
     n = len(cell)
     M = stat.shape[1] // 4 - 1
-    S = _rows_T(stat, cell)
+    S = rows_as_columns(stat, cell)
     b = S[: M + 1] - p[0] * S[M + 1 : 2 * M + 2] - p[1] * S[2 * M + 2 : 3 * M + 3] - p[2] * S[3 * M + 3 :]
-    E = _rows_T(ends, cell)
+    E = rows_as_columns(ends, cell)
     ra, rb = E[:3] - p, E[3:] - p
-    fa, fb = _coldot(ra, ra), _coldot(rb, rb)
+    fa, fb = coldot(ra, ra), coldot(rb, rb)
     pairs, xs, fs = [np.arange(n)], [np.where(fa <= fb, lo, lo + length)], [np.minimum(fa, fb)]
     # isolation: items (pair, s0, width, coefficients over [s0, s0 + width])
     item, s0, width = np.arange(n), np.zeros(n), np.ones(n)
@@ -156,7 +147,7 @@ def cell_minima(p, cell, lo, length, coef, ends, stat, k, tol, finish, max_iter,
         it = np.concatenate(br_item)
         a, L = lo[it], length[it]
         x, f = bracketed_newton(
-            np.take(p, it, axis=1), _rows_T(coef, cell[it]), a + L * np.concatenate(br_lo),
+            np.take(p, it, axis=1), rows_as_columns(coef, cell[it]), a + L * np.concatenate(br_lo),
             a + L * np.concatenate(br_hi), a + L * np.concatenate(br_start), k, tol, finish, max_iter,
         )
         pairs.append(it)
@@ -171,11 +162,29 @@ def cell_minima(p, cell, lo, length, coef, ends, stat, k, tol, finish, max_iter,
     return out_x, best
 
 
+def cell_rows(coef: np.ndarray, lo: np.ndarray, hi: np.ndarray, k: int, D: int, distance: bool = False) -> dict:
+    """The row-per-cell tables of curve cells (see the module doc) with Taylor coefficients
+    ``coef`` ((k + 1) D, n) on local parameters [lo, hi] (n,) each: ``coef`` rows, the end
+    points ``ends``, the Bernstein coefficients of ``C'.(C - p)`` (``stat``) and, with
+    ``distance``, those of the squared distance (``fnet``)."""
+    length = hi - lo
+    G0, G1 = _bernstein.stationary_nets(coef, length, k, D)
+    ends = [piece_values(coef, x, k, 0)[0] for x in (lo, hi)]
+    out = dict(
+        coef=np.ascontiguousarray(coef.T), ends=np.ascontiguousarray(np.concatenate(ends).T),
+        stat=np.ascontiguousarray(np.concatenate([G0, G1[0], G1[1], G1[2]]).T),
+    )
+    if distance:
+        F = _bernstein.distance_nets(coef, length, k, D)
+        out["fnet"] = np.ascontiguousarray(F.reshape(-1, F.shape[-1]).T)
+    return out
+
+
 def distance_lower_bound(p, cell, fnet):
     """Lower bound of the squared distance from ``p`` (3, n) to each pair's cell: the
     smallest ratio of the Bernstein coefficients of ``|C - p|^2 w^2`` and ``w^2``."""
-    F = _rows_T(fnet, cell)
+    F = rows_as_columns(fnet, cell)
     m = F.shape[0] // 5
     num = F[:m] - 2.0 * (p[0] * F[m : 2 * m] + p[1] * F[2 * m : 3 * m] + p[2] * F[3 * m : 4 * m])
-    num += _coldot(p, p) * F[4 * m :]
+    num += coldot(p, p) * F[4 * m :]
     return (num / F[4 * m :]).min(axis=0)

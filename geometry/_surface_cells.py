@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _curve_cells
-from ._cell_boxes import CellSearch, best_per_point
+from ._cell_boxes import CellSearch, best_per_point, coldot, rows_as_columns
 
 # (point, cell) pairs per Newton run: the gathered Taylor coefficients ((ku + 1) (kv + 1) D
 # rows) of a run then stay within a few MB
@@ -38,11 +38,6 @@ _LEAVES_AT_ONCE = 1e-3
 # a step cut at a bound and ending within this fraction of the cell's width of it is put
 # exactly onto it
 _SNAP = 1e-12
-
-
-def _coldot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Column-wise dot product of (3, n) arrays."""
-    return np.einsum("ij,ij->j", x, y)
 
 
 def _roundoff(f: np.ndarray, reach: np.ndarray) -> np.ndarray:
@@ -150,8 +145,8 @@ def cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, tol, finish, max_ite
             break
         S, Su, Sv, Suu, Suv, Svv = patch_values(G, tx, ty, ku, kv, D, 2)
         S -= p  # r = S - p
-        f = _coldot(S, S)
-        gu, gv = _coldot(Su, S), _coldot(Sv, S)
+        f = coldot(S, S)
+        gu, gv = coldot(Su, S), coldot(Sv, S)
         acc = f <= f_acc + _roundoff(f_acc, reach)
         every = bool(acc.all())
         if every:
@@ -163,9 +158,9 @@ def cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, tol, finish, max_ite
             halvings = np.where(acc, 0, halvings + 1)
         # at accepted trials: the Newton step (Gauss-Newton where the Hessian is not
         # clearly positive definite)
-        E, F, Gf = _coldot(Su, Su), _coldot(Su, Sv), _coldot(Sv, Sv)
-        huu, hvv = E + _coldot(Suu, S), Gf + _coldot(Svv, S)
-        huv = F + _coldot(Suv, S)
+        E, F, Gf = coldot(Su, Su), coldot(Su, Sv), coldot(Sv, Sv)
+        huu, hvv = E + coldot(Suu, S), Gf + coldot(Svv, S)
+        huv = F + coldot(Suv, S)
         det = huu * hvv - huv * huv
         newton = (huu > 1e-6 * E) & (hvv > 1e-6 * Gf) & (det > 1e-6 * (E * Gf - F * F))
         if not newton.all():
@@ -221,7 +216,7 @@ def cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, tol, finish, max_ite
         ex, ey = nx - xa, ny - ya
         dS = ex * Sua
         dS += ey * Sva
-        move = np.sqrt(_coldot(dS, dS))
+        move = np.sqrt(coldot(dS, dS))
         # a plain Newton step (accepted, not cut) this small is the last one
         last = acc & newton & ~clamped & (move <= finish)
         done = last | (move <= tol) | (halvings > max_halvings)
@@ -251,8 +246,7 @@ def solve_cells(coef, su, sv, cv, cell, p, reach, ku, kv, D, tol, finish, max_it
     ci, cj = cell // cv, cell % cv
     mu, mv = 0.5 * (su[ci] + su[ci + 1]), 0.5 * (sv[cj] + sv[cj + 1])
     ulo, uhi, vlo, vhi = su[ci] - mu, su[ci + 1] - mu, sv[cj] - mv, sv[cj + 1] - mv
-    # a cell's coefficients are one contiguous row of coef: gathered as rows, then turned
-    G = np.ascontiguousarray(np.take(coef, cell, axis=0).T)
+    G = rows_as_columns(coef, cell)
     x, y, f, _ = cell_newton(G, ulo, uhi, vlo, vhi, p, reach, ku, kv, D, tol, finish, max_iter, max_halvings)
     return x, y, f
 
@@ -351,6 +345,6 @@ def project_block(p, j_sample, bound2, search: CellSearch, leaf_cell, coef, su, 
         bx[worse] = su[i_s[worse]] - 0.5 * (su[ci] + su[ci + 1])
         by[worse] = sv[j_s[worse]] - 0.5 * (sv[cj] + sv[cj + 1])
     ci, cj = bc // cv, bc % cv
-    S, Su, Sv = patch_values(np.ascontiguousarray(np.take(coef, bc, axis=0).T), bx, by, ku, kv, D, 1)
+    S, Su, Sv = patch_values(rows_as_columns(coef, bc), bx, by, ku, kv, D, 1)
     uv = np.stack([0.5 * (su[ci] + su[ci + 1]) + bx, 0.5 * (sv[cj] + sv[cj + 1]) + by])
     return uv, np.concatenate([S, Su, Sv])

@@ -138,6 +138,7 @@ from ._cell_boxes import (
     bernstein_inverse,
     best_per_point,
     box_levels,
+    coldot,
     frame_boxes,
     middle_leaves,
     morton_order,
@@ -316,11 +317,6 @@ def _cols(a: np.ndarray, idx: np.ndarray) -> np.ndarray:
     return np.take(a, idx, axis=1)
 
 
-def _coldot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Column-wise dot product of (3, n) arrays."""
-    return np.einsum("ij,ij->j", x, y)
-
-
 def _nearest_cols(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> tuple[np.ndarray, np.ndarray]:
     """Index of the nearest sample ``Q[j]`` (n_s, 3) for every point of ``p`` (3, m), and
     the squared distance to it; for a few samples a chunked ``|Q|^2 - 2 Q.p`` argmin (one
@@ -334,10 +330,8 @@ def _nearest_cols(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> tuple[n
     for i in range(0, p.shape[1], chunk):
         j[i : i + chunk] = np.argmin(QQ - 2.0 * (Q @ p[:, i : i + chunk]), axis=0)
     d = Q[j].T - p
-    return j, _coldot(d, d)
+    return j, coldot(d, d)
 
-
-_horner = _curve_cells.homogeneous_values
 
 
 # ---------------------------------------------------------------------------------------
@@ -605,7 +599,7 @@ class BSplineCurve(Curve):
             sl = slice(i0, i0 + _PAIR_BLOCK)
             t2[sl], C2[:, sl], C12[:, sl] = self._cell_minima(_cols(p, pi[sl]), ci[sl])
         r = C2 - _cols(p, pi)
-        best = best_per_point(pi, _coldot(r, r), m)
+        best = best_per_point(pi, coldot(r, r), m)
         return t2[best], C2[:, best].T, C12[:, best].T
 
     @cached_property
@@ -613,13 +607,9 @@ class BSplineCurve(Curve):
         """The cells as rows of the curve-cell tables both paths use (see
         :mod:`geometry._curve_cells`): Taylor coefficients, end points, Bernstein nets of
         ``C'.(C - p)``."""
-        _, _, coef = self._pieces
-        A, B = self._piece_ends
-        G0, G1 = self._stationary_nets
-        return dict(
-            coef=np.ascontiguousarray(coef.T), ends=np.ascontiguousarray(np.concatenate([A, B]).T),
-            stat=np.ascontiguousarray(np.concatenate([G0, G1[0], G1[1], G1[2]]).T),
-        )
+        edges, mids, coef = self._pieces
+        D = 4 if self.weights is not None else 3
+        return _curve_cells.cell_rows(coef, edges[:-1] - mids, edges[1:] - mids, self.degree, D)
 
     @cached_property
     def _jit_tables(self) -> dict[str, Any]:
@@ -679,7 +669,7 @@ class BSplineCurve(Curve):
         """Homogeneous values (and derivatives up to ``order``) of the pieces of cells
         ``cell`` at parameters ``t``, each (D, n)."""
         _, mids, coef = self._pieces
-        out = _horner(_cols(coef, cell), t - mids[cell], self.degree, order)
+        out = _curve_cells.homogeneous_values(_cols(coef, cell), t - mids[cell], self.degree, order)
         return out if order else out[0]
 
     @cached_property
@@ -688,16 +678,6 @@ class BSplineCurve(Curve):
         if self.periodic:  # steps stay within half a period of [a, b]
             return _kinks(self._spline.t, self.degree, 2 * a - b, 2 * b - a)
         return _kinks(self._spline.t, self.degree, a, b)
-
-    @cached_property
-    def _stationary_nets(self) -> tuple[np.ndarray, np.ndarray]:
-        """Bernstein coefficients over each cell (local s in [0, 1]) of a positive multiple
-        of ``g = C_s . (C - p)`` for a point p: ``G0 - sum_d p_d G1[d]``, G0 (M + 1, n_c), G1
-        (3, M + 1, n_c). Polynomial: M = 2k - 1; rational (C = N / w): the numerator of
-        ``g w^3 = (N_s w - N w_s) . (N - p w)``, M = 3k - 1. Built by exact Bernstein
-        arithmetic from the cells' Taylor coefficients (see :mod:`geometry._bernstein`)."""
-        edges, _, coef = self._pieces
-        return _bernstein.stationary_nets(coef, np.diff(edges), self.degree, 4 if self.weights is not None else 3)
 
     def _cell_minima(self, p: np.ndarray, cell: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The closest point of each cell ``cell`` (n,) to its point (``p`` (3, n)): its
@@ -712,17 +692,6 @@ class BSplineCurve(Curve):
         )
         C, C1 = _curve_cells.piece_values(_cols(coef, cell), x, self.degree, 1)
         return self._wrap(mids[cell] + x), C, C1
-
-    @cached_property
-    def _piece_ends(self) -> tuple[np.ndarray, np.ndarray]:
-        """Start and end points (3, n_c) of every cell, on the cell's own piece."""
-        edges, mids, _ = self._pieces
-        cells = np.arange(len(mids))
-        ends = []
-        for x in (edges[:-1], edges[1:]):
-            H = self._piece_values(cells, x)
-            ends.append(np.ascontiguousarray(H[:3] / H[3:] if self.weights is not None else H))
-        return tuple(ends)
 
     def project(self, points: Any) -> Projection:
         p, dim = as_points(points, dims=(2, 3), finite=True)
@@ -1028,24 +997,21 @@ class BSplineSurface(Surface):
     @cached_property
     def _jit_tables(self) -> dict[str, Any]:
         """The tables of the compiled kernel (see :mod:`geometry._jit`): a deep hierarchy
-        (at most ``_SURFACE_BRANCH`` top nodes) suits its per-point traversal."""
+        (at most ``_SURFACE_BRANCH`` top nodes) suits its per-point traversal. Every node
+        carries a point of the surface, the middle of the cell in the middle of its run of
+        leaves (``rep``, in cell ``rep_cell``): its distance bounds the answer from above, so
+        the bound is tight from the first descent on (without it, a first descent into a
+        wrong subtree whose boxes hold the point left the bound loose for hundreds of box
+        tests)."""
         nodes, level_start = self._cell_search(_SURFACE_BRANCH).flat_nodes()
-        return dict(nodes=nodes, level_start=level_start, branch=_SURFACE_BRANCH, cert=_CERT_REL, **self._cell_tables)
-
-    @cached_property
-    def _node_points(self) -> dict[str, Any]:
-        """A point of the surface in every node of the compiled kernel's hierarchy: the
-        middle of the cell in the middle of the node's run of leaves (``rep`` (n_nodes, 3),
-        its cell ``rep_cell``). Its distance bounds the answer from above, so the bound is
-        tight from the first descent on (without it, a first descent into a wrong subtree
-        whose boxes hold the point left the bound loose for hundreds of box tests)."""
-        t = self._jit_tables
-        level_start, leaf_cell = t["level_start"], t["leaf_cell"]
-        coef = self._patches["coef"]
-        D = 4 if self.weights is not None else 3
-        middle = coef[:, :3] / coef[:, 3:4] if D == 4 else coef[:, :3]  # S at the cell's middle
-        cell = leaf_cell[middle_leaves(level_start, _SURFACE_BRANCH, len(leaf_cell))]
-        return {"rep": np.ascontiguousarray(middle[cell]), "rep_cell": cell.astype(np.int64)}
+        cells = self._cell_tables
+        coef, leaf_cell = cells["coef"], cells["leaf_cell"]
+        middle = coef[:, :3] / coef[:, 3:4] if cells["D"] == 4 else coef[:, :3]  # S at the cell's middle
+        rep_cell = leaf_cell[middle_leaves(level_start, _SURFACE_BRANCH, len(leaf_cell))]
+        return dict(
+            nodes=nodes, level_start=level_start, branch=_SURFACE_BRANCH, cert=_CERT_REL,
+            rep=np.ascontiguousarray(middle[rep_cell]), rep_cell=rep_cell, **cells, **self._edge_tables,
+        )
 
     @cached_property
     def _edge_tables(self) -> dict[str, Any]:
@@ -1071,17 +1037,10 @@ class BSplineSurface(Surface):
             kk = kv if name == "ue" else ku  # degree of the coordinate held fixed
             sides = [np.einsum(spec, C, (s * half_other)[:, None] ** np.arange(kk + 1)) for s in (-1.0, 1.0)]
             E = np.stack(sides, axis=1).reshape(2 * cu * cv, (k + 1) * D)  # edge 2 c + s
-            length = np.repeat(2.0 * half_along, 2)
-            G0, G1 = _bernstein.stationary_nets(E.T, length, k, D)
-            F = _bernstein.distance_nets(E.T, length, k, D)
-            ends = []
-            for x in (-0.5 * length, 0.5 * length):
-                ends.append(_curve_cells.piece_values(np.ascontiguousarray(E.T), x, k, 0)[0])
-            out[f"{name}_coef"] = np.ascontiguousarray(E)
-            out[f"{name}_ends"] = np.ascontiguousarray(np.concatenate(ends).T)
-            out[f"{name}_stat"] = np.ascontiguousarray(np.concatenate([G0, G1[0], G1[1], G1[2]]).T)
-            out[f"{name}_M"] = G0.shape[0] - 1
-            out[f"{name}_fnet"] = np.ascontiguousarray(F.reshape(-1, F.shape[-1]).T)
+            half = np.repeat(half_along, 2)
+            rows = _curve_cells.cell_rows(np.ascontiguousarray(E.T), -half, half, k, D, distance=True)
+            out.update({f"{name}_{key}": value for key, value in rows.items()})
+            out[f"{name}_M"] = rows["stat"].shape[1] // 4 - 1
         return out
 
     def closest_parameters(self, points: np.ndarray) -> tuple[np.ndarray, dict[tuple[int, int], np.ndarray]]:
@@ -1091,7 +1050,7 @@ class BSplineSurface(Surface):
         if len(p) == 0:
             return np.empty((0, 2)), {nu: np.empty((0, 3)) for nu in ((0, 0), (1, 0), (0, 1))}
         if _SURFACE_JIT and _jit.enabled():
-            uv, S = _jit.kernels()["surface_project"](p, **self._jit_tables, **self._edge_tables, **self._node_points)
+            uv, S = _jit.kernels()["surface_project"](p, **self._jit_tables)
         else:
             uv, S = self._closest_cells(p)
         return uv, {(0, 0): S[:, :3], (1, 0): S[:, 3:6], (0, 1): S[:, 6:]}

@@ -60,8 +60,8 @@ def test_curve_nets_of_the_distance_and_its_derivative(k, rational):
     t = np.r_[[0.0] * (k + 1), np.sort(rng.uniform(0, 1, n - k - 1)), [1.0] * (k + 1)]
     c = BSplineCurve(k, t, np.cumsum(rng.uniform(-1, 1, (n, 3)), axis=0), np.exp(rng.uniform(-1.5, 1.5, n)) if rational else None)
     edges, mids, coef = c._pieces
-    G0, G1 = c._stationary_nets
     D = 4 if rational else 3
+    G0, G1 = _bernstein.stationary_nets(coef, np.diff(edges), k, D)
     F = _bernstein.distance_nets(coef, np.diff(edges), k, D)
     for _ in range(5):
         p = rng.normal(size=3) * 2
