@@ -17,17 +17,22 @@ from geometry import _jit  # noqa: E402
 from geometry.bspline import BSplineSurface  # noqa: E402
 
 
+@pytest.fixture(params=[False, True], ids=["numpy", "compiled"])
+def jit(request, monkeypatch):
+    """Runs a test on the numpy path and on the compiled kernels (skipped without numba)."""
+    if request.param and not _jit.enabled():
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("IBFEM_NO_JIT", "" if request.param else "1")
+    return request.param
+
+
 def _cases(seed, count, points):
     rng = np.random.default_rng(seed)
     return [bspline_stress.curve_case(rng, points) for _ in range(count)]
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
-@pytest.mark.parametrize("jit", [False, True])
-def test_curve_projection_finds_the_global_minimum(seed, jit, monkeypatch):
-    if jit and not _jit.enabled():
-        pytest.skip("numba not installed")
-    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
+def test_curve_projection_finds_the_global_minimum(seed, jit):
     for c, X, p in _cases(seed, 6, 400):
         pr = c.project(p)
         got = np.linalg.norm(p - pr.points, axis=1)
@@ -62,12 +67,8 @@ def test_sharp_turn_of_a_rational_curve_is_split_into_cells():
 
 
 @pytest.mark.parametrize("seed", [2, 3])
-@pytest.mark.parametrize("jit", [False, True])
-def test_surface_projection_finds_the_global_minimum(seed, jit, monkeypatch):
+def test_surface_projection_finds_the_global_minimum(seed, jit):
     """Harsh random NURBS surfaces (degrees 1-3, clustered knots, weights 0.2-5)."""
-    if jit and not _jit.enabled():
-        pytest.skip("numba not installed")
-    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
     rng = np.random.default_rng(seed)
     for _ in range(3):
         s, X, p = bspline_stress.surface_case(rng, 200)
@@ -106,13 +107,9 @@ def _assert_global_minimum(s, X, p):
     return pr
 
 
-@pytest.mark.parametrize("jit", [False, True])
-def test_surface_projection_across_creases(jit, monkeypatch):
+def test_surface_projection_across_creases(jit):
     """C0 creases: points near and far, and points above and below the crease lines (closest
     point on the ridge, or one of two minima beside the valley / under the ridge)."""
-    if jit and not _jit.enabled():
-        pytest.skip("numba not installed")
-    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
     s = _crease_surface()
     assert len(s._creases[0]) == 1 and len(s._creases[1]) == 1
     X = _dense(s)
@@ -128,13 +125,9 @@ def test_surface_projection_across_creases(jit, monkeypatch):
 
 
 @pytest.mark.parametrize("seed", [5, 6])
-@pytest.mark.parametrize("jit", [False, True])
-def test_surface_projection_of_far_points(seed, jit, monkeypatch):
+def test_surface_projection_of_far_points(seed, jit):
     """Points about the surface's size away (around it, and along its normals, near the
     centres of curvature, where the distance is flat over many cells)."""
-    if jit and not _jit.enabled():
-        pytest.skip("numba not installed")
-    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
     rng = np.random.default_rng(seed)
     for _ in range(2):
         s, X, _ = bspline_stress.surface_case(rng, 0)
@@ -174,12 +167,8 @@ def test_surface_points_near_centres_of_curvature(monkeypatch):
             assert np.all(got <= brute + 1e-12 * s.scale), jit
 
 
-@pytest.mark.parametrize("jit", [False, True])
-def test_no_points_to_project(jit, monkeypatch):
+def test_no_points_to_project(jit):
     """An empty (0, 3) query gives empty results on both paths (curves and surfaces)."""
-    if jit and not _jit.enabled():
-        pytest.skip("numba not installed")
-    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
     rng = np.random.default_rng(0)
     c, _, _ = bspline_stress.curve_case(rng, 3)
     s, _, _ = bspline_stress.surface_case(rng, 3)
@@ -188,13 +177,9 @@ def test_no_points_to_project(jit, monkeypatch):
         assert pr.points.shape == (0, 3) and pr.distances.shape == (0,) and pr.normals.shape == (0, 3)
 
 
-@pytest.mark.parametrize("jit", [False, True])
-def test_non_finite_points_are_rejected(jit, monkeypatch):
+def test_non_finite_points_are_rejected(jit):
     """A NaN or infinite query point is an error naming the row (the search would return
     an arbitrary point for it), on both paths, and for a sweep of a B-spline profile."""
-    if jit and not _jit.enabled():
-        pytest.skip("numba not installed")
-    monkeypatch.setenv("IBFEM_NO_JIT", "" if jit else "1")
     from geometry import primitive_from_dict
 
     rng = np.random.default_rng(0)
