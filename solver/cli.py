@@ -6,6 +6,10 @@ from __future__ import annotations
 
 import argparse
 import sys
+from importlib import import_module
+
+# modules that each add sub-commands with ``register(subparsers)``, in ``--help`` order
+COMMAND_MODULES = ("solver.commands", "importers.commands")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -15,11 +19,8 @@ def build_parser() -> argparse.ArgumentParser:
         "from CAD parts (see README.md).",
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    from solver import commands as solver_commands
-    from importers import commands as import_commands
-
-    solver_commands.register(sub)
-    import_commands.register(sub)
+    for name in COMMAND_MODULES:
+        import_module(name).register(sub)
     return parser
 
 

@@ -343,10 +343,16 @@ class Scene:
         return self.problem.name
 
 
-def load_scene(path: str | Path) -> Scene:
-    """Read and validate a TOML (or JSON, by extension ``.json``) scene file."""
-    path = Path(path)
-    label = path.name
+def load_scene(
+    source: str | Path | dict, label: str | None = None, base_dir: str | Path | None = None
+) -> Scene:
+    """Read and validate a TOML (or JSON, by extension ``.json``) scene file, or a scene given
+    as parsed data (a dict: ``label`` names it in errors, relative paths are taken from
+    ``base_dir``, default the working directory)."""
+    if isinstance(source, dict):
+        return scene_from_dict(source, label=label or "scene", base_dir=base_dir or ".")
+    path = Path(source)
+    label = label or path.name
     try:
         raw = path.read_bytes()
     except OSError as err:
@@ -362,7 +368,7 @@ def load_scene(path: str | Path) -> Scene:
         raise SceneError([f"{label}: invalid TOML: {err}"]) from None
     except json.JSONDecodeError as err:
         raise SceneError([f"{label}: invalid JSON: {err.msg} (line {err.lineno}, column {err.colno})"]) from None
-    return scene_from_dict(data, label=label, base_dir=path.parent, path=path)
+    return scene_from_dict(data, label=label, base_dir=path.parent if base_dir is None else base_dir, path=path)
 
 
 def scene_from_dict(
