@@ -16,10 +16,10 @@ test: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m pytest -m "not slow"
 
 demo: $(STAMP)
-	MPLBACKEND=Agg $(PY) -m solver.demo
+	MPLBACKEND=Agg $(PY) -m solver.reports.demo
 
 validate: $(STAMP)
-	MPLBACKEND=Agg $(PY) -m solver.validate
+	MPLBACKEND=Agg $(PY) -m solver.reports.validate
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(PY) benchmarks/run_all.py

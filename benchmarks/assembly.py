@@ -29,8 +29,10 @@ def run_one(h: float) -> dict:
     import numpy as np
 
     from geometry.shapes import profile_from_shape
-    from solver.ibfem import Settings, discretise_body, solve
-    from solver.problem import BodyModel, Material, Problem, Sliding, Traction
+    from solver.fem.space import discretise_body
+    from solver.model.options import SolverOptions
+    from solver.solve import solve
+    from solver.model.problem import BodyModel, Material, Problem, Sliding, Traction
 
     prof = profile_from_shape({"type": "profile", "edges": [
         {"name": "bottom", "type": "line", "start": [0.5, 0.0], "end": [4.0, 0.0]},
@@ -43,7 +45,7 @@ def run_one(h: float) -> dict:
     body = BodyModel("plate", prof, steel, h)
     prob = Problem("bench", "plane_strain", 1.0, (body,),
                    (Sliding("plate", "bottom"), Sliding("plate", "left"), Traction("plate", "right", (1e8, 0.0))))
-    settings = Settings()
+    settings = SolverOptions()
     # assembly alone (volume stiffness of every cell), timed apart from the solve
     t = time.perf_counter()
     disc = discretise_body(body, 0, prob.model, True, settings)
@@ -54,7 +56,7 @@ def run_one(h: float) -> dict:
     t_asm = time.perf_counter() - t
     cells = len(disc.grid.level)
     del k
-    sol = solve(prob, settings=settings)
+    sol = solve(prob)
     rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     ref = np.array([-1e8 * 2.0, 0.0])  # the left edge carries the whole load back
     rel = float(np.linalg.norm(sol.reactions["plate/left"] - np.array([[np.cos(np.deg2rad(7)), -np.sin(np.deg2rad(7))], [np.sin(np.deg2rad(7)), np.cos(np.deg2rad(7))]]) @ ref) / 2e8)

@@ -15,12 +15,12 @@ Cases (each in its own subprocess, so that the peak resident memory belongs to i
   mu = 0.05 and 1 with |Q|/(mu N) near 0.05 and 0.95, in gross slip, and turned by 30 degrees;
 - a cylinder on a block under loads from a ~ 2 cells to a ~ R/4.
 
-Per case: a against Hertz for the computed normal force (solver.theory), the final bracket
+Per case: a against Hertz for the computed normal force (solver.reference.theory), the final bracket
 of the width search, N, Q, the balance of the supports' reactions and N against them, the
 RMS pressure error inside 0.9 a against Hertz (in p0), the von Mises peak on the load axis
 against McEwen (0.5575 p0 at 0.704 a, frictionless cases); frictional cases: Q/N, |Q|/(mu N),
 c/a against Cattaneo-Mindlin for the computed forces and the shear RMS inside 0.95 a in mu p0
-(solver.validate.compare_contact); iterations per load step, wall time and peak memory.
+(solver.reports.validate.compare_contact); iterations per load step, wall time and peak memory.
 
     .venv/bin/python benchmarks/contact.py            # all cases (several minutes on 2 cores)
     .venv/bin/python benchmarks/contact.py --quick    # the examples with the default search only
@@ -102,20 +102,19 @@ def _scene_dict(spec: dict) -> dict:
 def run_one(spec: dict) -> dict:
     import numpy as np
 
-    from solver import theory
-    from solver.contact_solver import ContactSettings, solve_contact
-    from solver.ibfem import Settings
-    from solver.scene import scene_from_dict
+    from solver.reference import theory
+    from solver.io.scene import scene_from_dict
+    from solver.solve import solve
 
     data = _scene_dict(spec)
     problem = scene_from_dict(data, label=spec["file"], base_dir=EXAMPLES).problem
-    core = Settings(grid_offset=tuple(spec.get("offset", (0.0, 0.0))))
+    problem = problem.with_options(grid_offset=tuple(spec.get("offset", (0.0, 0.0))))
     if spec.get("chord_fraction"):
-        core = Settings(grid_offset=core.grid_offset, chord_fraction=spec["chord_fraction"])
-    settings = ContactSettings(core=core, width_update=spec.get("width_update", "edge"),
-                               flux=spec.get("flux", "average"), friction_traction=spec.get("friction_traction", True))
+        problem = problem.with_options(chord_fraction=spec["chord_fraction"])
+    problem = problem.with_contact_options(width_update=spec.get("width_update", "edge"), flux=spec.get("flux", "average"),
+                                           friction_traction=spec.get("friction_traction", True))
     t = time.perf_counter()
-    sol = solve_contact(problem, settings=settings)
+    sol = solve(problem)
     wall = time.perf_counter() - t
     c = sol.contacts[0]
     mats = {m["name"]: m for m in data["materials"]}
@@ -139,8 +138,8 @@ def run_one(spec: dict) -> dict:
     n_vs_reaction = float(n_force / max(abs(r_lower @ np.asarray(c["normal"])), 1e-300) - 1.0)
     row = {
         "case": spec["name"],
-        "width_update": settings.width_update,
-        "flux": settings.flux,
+        "width_update": problem.contacts[0].options.width_update,
+        "flux": problem.contacts[0].options.flux,
         "a": a,
         "a_hertz": a_hertz,
         "a_error": a / a_hertz - 1.0,
@@ -161,11 +160,11 @@ def run_one(spec: dict) -> dict:
         "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
     }
     if c["type"] == "frictional":
-        from solver.validate import compare_contact
+        from solver.reports.validate import compare_contact
 
         m = compare_contact(problem, c, {})  # Cattaneo-Mindlin for the computed N and Q
         mu = c["friction"]
-        row.update(friction=mu, friction_traction=settings.friction_traction, Q_over_N=m["Q_over_N"],
+        row.update(friction=mu, friction_traction=problem.contacts[0].options.friction_traction, Q_over_N=m["Q_over_N"],
                    Q_over_mu_N=abs(m["Q"]) / (mu * m["N"]), ca=m["ca"], ca_theory=m["ca_theory"],
                    ca_error=m["ca_error"], shear_rms_mu_p0=m.get("shear_rms"), gross_slip=c.get("gross_slip"),
                    slip_direction_violations=c["checks"].get("slip_direction_violations"),

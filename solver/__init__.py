@@ -15,7 +15,8 @@ Public API (everything else is internal and may move)::
 - ``solve(problem, progress=None) -> Solution``: solve a validated problem (``scene.problem``).
 - ``write_results(out_dir, scene, solution, total_s=None, extra=None) -> dict``: write
   ``summary.json`` and the files the scene's ``[output]`` asks for; returns the summary.
-- Types: ``Scene``, ``Problem``, ``Solution``, ``SceneError``.
+- Types: ``Scene``, ``Problem``, ``Solution``, ``SceneError``, ``SolverOptions`` (the
+  ``[solver]`` table), ``ContactOptions`` (the numerical keys of a ``[[contacts]]`` table).
 
 Names are imported lazily, so ``import solver`` loads no numerics.
 """
@@ -34,17 +35,21 @@ __all__ = [
     "SceneError",
     "Problem",
     "Solution",
+    "SolverOptions",
+    "ContactOptions",
 ]
 
 _WHERE = {
-    "load_scene": ("solver.scene", "load_scene"),
-    "scene_from_dict": ("solver.scene", "scene_from_dict"),
-    "Scene": ("solver.scene", "Scene"),
-    "SceneError": ("solver.scene", "SceneError"),
-    "solve": ("solver.ibfem", "solve"),
-    "write_results": ("solver.results", "write_scene_results"),
-    "Problem": ("solver.problem", "Problem"),
-    "Solution": ("solver.problem", "Solution"),
+    "load_scene": ("solver.io.scene", "load_scene"),
+    "scene_from_dict": ("solver.io.scene", "scene_from_dict"),
+    "Scene": ("solver.io.scene", "Scene"),
+    "SceneError": ("solver.io.scene", "SceneError"),
+    "solve": ("solver.solve", "solve"),
+    "write_results": ("solver.io.output", "write_scene_results"),
+    "Problem": ("solver.model.problem", "Problem"),
+    "Solution": ("solver.model.problem", "Solution"),
+    "SolverOptions": ("solver.model.options", "SolverOptions"),
+    "ContactOptions": ("solver.model.options", "ContactOptions"),
 }
 
 

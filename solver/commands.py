@@ -42,7 +42,7 @@ def default_out_dir(scene_path: str | Path) -> Path:
 
 def _run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
-    from solver.scene import SceneError, load_scene
+    from solver.io.scene import SceneError, load_scene
 
     try:
         scene = load_scene(args.scene)
@@ -55,13 +55,13 @@ def _run(args: argparse.Namespace) -> int:
         print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies)")
         return 0
     try:
-        from solver.ibfem import solve
+        from solver.solve import solve
     except ImportError as err:
-        _err(f"the solver core (solver.ibfem.solve) is not available: {err}")
+        _err(f"the solver core (solver.solve.solve) is not available: {err}")
         return 3
 
-    from solver.progress import ProgressReporter, silent
-    from solver.results import write_scene_results
+    from solver.io.progress import ProgressReporter, silent
+    from solver.io.output import write_scene_results
 
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name

@@ -187,7 +187,7 @@ class FieldBody:
 
 @dataclass
 class FieldSolution:
-    """Satisfies solver.problem.Solution with the closed-form fields of FieldBody."""
+    """Satisfies solver.model.problem.Solution with the closed-form fields of FieldBody."""
 
     bodies: list
     converged: bool = True

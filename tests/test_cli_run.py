@@ -14,7 +14,7 @@ import pytest
 
 from _scene_standins import FieldBody, FieldSolution
 from solver.cli import main
-from solver.progress import ProgressReporter
+from solver.io.progress import ProgressReporter
 
 ROOT = Path(__file__).resolve().parents[1]
 LAME = ROOT / "examples" / "single_body" / "lame_quarter_annulus.toml"
@@ -79,7 +79,7 @@ def fake_solution(converged):
 
 
 def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypatch):
-    import solver.ibfem
+    import solver.solve
 
     calls = []
 
@@ -88,7 +88,7 @@ def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypat
         progress("load step", 0.5)
         return fake_solution(converged=False)
 
-    monkeypatch.setattr(solver.ibfem, "solve", fake_solve)
+    monkeypatch.setattr(solver.solve, "solve", fake_solve)
     out = tmp_path / "out"
     assert main(["run", str(write_plate(tmp_path)), "--out", str(out), "--quiet"]) == 1
     err = capsys.readouterr().err
@@ -103,14 +103,14 @@ def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypat
 
 
 def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypatch):
-    import solver.ibfem
+    import solver.solve
 
     def solved(problem, progress=None):
         sol = fake_solution(converged=True)
         sol.contacts = [{"bodies": ["plate", "pin"], "half_width": 0.0125, "normal_force": 2.5e6}]
         return sol
 
-    monkeypatch.setattr(solver.ibfem, "solve", solved)
+    monkeypatch.setattr(solver.solve, "solve", solved)
     path = write_plate(tmp_path)
     monkeypatch.chdir(tmp_path)
     assert main(["run", str(path), "--quiet"]) == 0
@@ -122,18 +122,18 @@ def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypat
 
 
 def test_solver_value_error_is_a_one_line_scene_error(tmp_path, capsys, monkeypatch):
-    import solver.ibfem
+    import solver.solve
 
     def refuse(problem, progress=None):
         raise ValueError("body 'plate' is not held against rigid-body motion")
 
-    monkeypatch.setattr(solver.ibfem, "solve", refuse)
+    monkeypatch.setattr(solver.solve, "solve", refuse)
     assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 2
     assert capsys.readouterr().err == "ibfem run: plate.toml: body 'plate' is not held against rigid-body motion\n"
 
 
 def test_missing_solver_core(tmp_path, capsys, monkeypatch):
-    monkeypatch.setitem(sys.modules, "solver.ibfem", None)
+    monkeypatch.setitem(sys.modules, "solver.solve", None)
     assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 3
     assert "solver core" in capsys.readouterr().err
 
@@ -214,9 +214,9 @@ def test_end_to_end_lame_quarter_annulus(tmp_path):
 
 
 def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
-    import solver.ibfem
+    import solver.solve
 
-    monkeypatch.setattr(solver.ibfem, "solve", lambda problem, progress=None: fake_solution(converged=True))
+    monkeypatch.setattr(solver.solve, "solve", lambda problem, progress=None: fake_solution(converged=True))
     blocker = tmp_path / "file"
     blocker.write_text("")
     assert main(["run", str(write_plate(tmp_path)), "--quiet", "--out", str(blocker / "out")]) == 4
@@ -225,9 +225,9 @@ def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
 
 
 def test_missing_pyvista_skips_the_vtu_files_with_a_warning(tmp_path, capsys, monkeypatch):
-    import solver.ibfem
+    import solver.solve
 
-    monkeypatch.setattr(solver.ibfem, "solve", lambda problem, progress=None: fake_solution(converged=True))
+    monkeypatch.setattr(solver.solve, "solve", lambda problem, progress=None: fake_solution(converged=True))
     monkeypatch.setitem(sys.modules, "pyvista", None)
     path = tmp_path / "plate.toml"
     path.write_text(PLATE.format(material="steel").replace("vtk = false", "vtk = true"))

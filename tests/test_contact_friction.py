@@ -1,4 +1,4 @@
-"""Frictional contact with partial slip (issue 6, solver.contact_solver): the stick zone against
+"""Frictional contact with partial slip (issue 6, solver.contact.driver): the stick zone against
 Cattaneo-Mindlin for the transmitted forces (c/a = sqrt(1 - |Q|/(mu N)), thesis eq. 2-29), the
 shear against eqs. 2-25/2-26, Coulomb's bound |Q| <= mu N, equilibrium, gross slip, and the
 thesis's variant without the slip-zone friction traction.
@@ -13,9 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver import theory, validate
-from solver.contact_solver import ContactSettings, solve_contact
-from solver.scene import load_scene
+from solver.reference import theory
+from solver.reports import validate
+from solver.solve import solve as solve_contact
+from solver.io.scene import load_scene
 
 from _contact_scenes import cylinder_on_block
 
@@ -30,7 +31,7 @@ def frictional_scene(mu=0.3, ux=2.0e-4, uy=-2.0e-3, load_steps=2, turn=0.0):
 
 
 def metrics(problem, sol):
-    """solver.validate's comparison with Hertz / Cattaneo-Mindlin for the computed N and Q."""
+    """solver.reports.validate's comparison with Hertz / Cattaneo-Mindlin for the computed N and Q."""
     return validate.compare_contact(problem, sol.contacts[0], {})
 
 
@@ -85,7 +86,7 @@ def test_slip_zone_carries_mu_times_pressure():
 
 def test_thesis_variant_without_friction_traction_overestimates_the_shear(partial_slip):
     problem, full = partial_slip
-    sol = solve_contact(problem, settings=ContactSettings(friction_traction=False))
+    sol = solve_contact(problem.with_contact_options(friction_traction=False))
     assert sol.converged
     m_full, m_thesis = metrics(problem, full), metrics(problem, sol)
     assert m_thesis["ca_error"] < 0.02  # the stick ratio is still consistent with the forces

@@ -1,4 +1,4 @@
-"""Contact geometry (solver.contact): chord matching, Delta and the contact-curve quadrature,
+"""Contact geometry (solver.contact.geometry): chord matching, Delta and the contact-curve quadrature,
 checked against closed forms for circles and lines."""
 
 from __future__ import annotations
@@ -11,10 +11,10 @@ import pytest
 
 from geometry.bounded import Arc
 from geometry.shapes import profile_from_shape
-from solver.contact import contact_geometry, contact_quadrature, parameter_at_chord, sample_points
-from solver.grid import RefinementZone, build_grid
-from solver.ibfem import exact_boundary
-from solver.integration import Polyline
+from solver.contact.geometry import contact_geometry, contact_quadrature, parameter_at_chord, sample_points
+from solver.fem.grid import RefinementZone, build_grid
+from solver.fem.space import exact_boundary
+from solver.fem.integration import Polyline
 
 
 def _body(shape, h=0.1, levels=3):

@@ -1,4 +1,4 @@
-"""Two-body contact (solver.contact_solver): Hertz half-width for the computed force,
+"""Two-body contact (solver.contact.driver): Hertz half-width for the computed force,
 equilibrium of the supports and the contact, symmetry, frictionless transmission, and errors.
 
 Fast tests use a small cylinder-on-block scene (about 10 cells across the contact); the
@@ -12,9 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver import theory
-from solver.contact_solver import ContactSettings, solve_contact
-from solver.scene import load_scene, scene_from_dict
+from solver.reference import theory
+from solver.model.options import ContactOptions
+from solver.solve import solve as solve_contact
+from solver.io.scene import load_scene, scene_from_dict
 
 from _contact_scenes import cylinder_on_block
 
@@ -110,7 +111,7 @@ def test_body_held_only_by_a_tied_contact():
     applied force to the block's support."""
     import dataclasses
 
-    from solver.problem import Pressure
+    from solver.model.problem import Pressure
 
     base = small_scene("tied")
     problem = dataclasses.replace(base, boundary_conditions=(Pressure("cyl", "flat", 4.0e7), base.boundary_conditions[1]))
@@ -162,7 +163,7 @@ def test_turned_scene_gives_the_same_contact(frictionless):
 
 
 def test_thesis_width_update_reaches_a_consistent_state():
-    sol = solve_contact(small_scene("frictionless", load_steps=2), settings=ContactSettings(width_update="thesis"))
+    sol = solve_contact(small_scene("frictionless", load_steps=2).with_contact_options(width_update="thesis"))
     c = sol.contacts[0]
     a_hertz = theory.hertz_half_width(c["normal_force"], 1.0, E_STAR)
     assert sol.converged
@@ -191,13 +192,13 @@ def test_errors_name_the_field():
     with pytest.raises(ValueError, match=r"contacts\[0\]\.type"):
         solve_contact(bad)
     with pytest.raises(ValueError, match="sliver_fraction"):
-        ContactSettings(sliver_fraction=1.5)
+        ContactOptions(sliver_fraction=1.5)
     with pytest.raises(ValueError, match="width_update"):
-        ContactSettings(width_update="newton")
+        ContactOptions(width_update="newton")
     with pytest.raises(ValueError, match="window"):
-        ContactSettings(window=0.0)
-    with pytest.raises(ValueError, match="settings must be"):
-        solve_contact(problem, settings={"band_fraction": 0.2})
+        ContactOptions(window=0.0)
+    with pytest.raises(ValueError, match="formulation 'mortar'"):
+        solve_contact(problem.with_contact_options(formulation="mortar"))
 
 
 # ------------------------------------------------------------------------------ validation
@@ -303,10 +304,9 @@ def _turned(data, deg):
 
 
 def _hertz_error(data, offset=(0.0, 0.0), r_star=0.5, e_star=E_STAR):
-    from solver.ibfem import Settings
 
     problem = scene_from_dict(data, label="test", base_dir=EXAMPLES).problem
-    sol = solve_contact(problem, settings=ContactSettings(core=Settings(grid_offset=tuple(offset))))
+    sol = solve_contact(problem.with_options(grid_offset=tuple(offset)))
     c = sol.contacts[0]
     assert sol.converged, sol.iterations["messages"]
     return c["half_width"] / theory.hertz_half_width(c["normal_force"], r_star, e_star) - 1.0
@@ -315,11 +315,10 @@ def _hertz_error(data, offset=(0.0, 0.0), r_star=0.5, e_star=E_STAR):
 def test_half_width_does_not_depend_on_where_the_grid_starts():
     # the small scene (h / a ~ 0.2) at three grid positions (fractions of the coarsest cell):
     # the width is the root of a continuous function of a, not a one-cell verdict
-    from solver.ibfem import Settings
 
     errors = []
     for off in [(0.0, 0.0), (0.013, 0.021), (0.37, 0.26)]:
-        sol = solve_contact(small_scene("frictionless"), settings=ContactSettings(core=Settings(grid_offset=off)))
+        sol = solve_contact(small_scene("frictionless").with_options(grid_offset=off))
         c = sol.contacts[0]
         assert sol.converged, sol.iterations["messages"]
         errors.append(c["half_width"] / theory.hertz_half_width(c["normal_force"], 1.0, E_STAR) - 1.0)

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from geometry.shapes import profile_from_shape
-from solver.grid import CUT, INSIDE, RefinementZone, build_grid, polyline_boundary
-from solver.ibfem import exact_boundary
+from solver.fem.grid import CUT, INSIDE, RefinementZone, build_grid, polyline_boundary
+from solver.fem.space import exact_boundary
 
 
 def _area(grid):

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from geometry.shapes import profile_from_shape
-from solver.grid import CUT, build_grid
-from solver.ibfem import exact_boundary, tessellated_boundary
-from solver.integration import (
+from solver.fem.grid import CUT, build_grid
+from solver.fem.space import exact_boundary, tessellated_boundary
+from solver.fem.integration import (
     cell_stiffness,
     full_cell_moments,
     gauss_legendre,

@@ -3,9 +3,9 @@
 import numpy as np
 
 from geometry.shapes import profile_from_shape
-from solver.grid import RefinementZone, build_grid
-from solver.ibfem import exact_boundary
-from solver.recovery import nodal_stress
+from solver.fem.grid import RefinementZone, build_grid
+from solver.fem.space import exact_boundary
+from solver.fem.recovery import nodal_stress
 
 
 def test_linear_cell_field_is_recovered_exactly_at_every_node():

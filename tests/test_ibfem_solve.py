@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from geometry.shapes import profile_from_shape
-from solver.ibfem import Settings, solve
-from solver.problem import (
+from solver.solve import solve
+from solver.model.problem import (
     BodyForce,
     BodyModel,
     Displacement,
@@ -78,7 +78,7 @@ def test_patch_test_thesis_weight_error_is_set_by_the_band():
     s0 = 1e8
     errors = []
     for beta in (0.2, 0.05):
-        sol = solve(_plate_problem(31.0, s0=s0), settings=Settings(consistency=0.5, band_fraction=beta))
+        sol = solve(_plate_problem(31.0, s0=s0).with_options(consistency=0.5, band_fraction=beta))
         loc, pts = _plate_points(31.0)
         sxx, _, _ = _to_frame(sol.stress(pts), 31.0)
         err = np.abs(sxx - s0) / s0
@@ -167,7 +167,7 @@ def test_lame_reactions_balance_the_pressure_exactly(consistency):
     # global equilibrium: sum of reactions + integral of -p n over the inner arc = 0, and the
     # pressure resultant on a quarter arc is p a (1, 1) turned with the body (for either weight)
     rot = -41.0
-    sol = solve(_lame_problem(rot, 0.05), settings=Settings(consistency=consistency))
+    sol = solve(_lame_problem(rot, 0.05).with_options(consistency=consistency))
     load = 100e6 * 1.0 * (_rot(rot) @ [1.0, 1.0])
     total = sol.reactions["ring/bottom"] + sol.reactions["ring/left"] + load
     assert np.linalg.norm(total) < 1e-8 * np.linalg.norm(load)
@@ -348,7 +348,7 @@ def test_unknown_edge_and_unresolved_refinement_are_clear_errors():
 
 
 def test_nested_dissection_solve_path_matches_minimum_degree(monkeypatch):
-    import solver.ibfem as ibfem
+    import solver.fem.linalg as ibfem
 
     prob = _lame_problem(27.3, 0.1)
     ref = solve(prob)
@@ -401,7 +401,7 @@ def test_slow_convergence_five_grids_and_thesis_weight_saturation():
     err = {1.0: [], 0.5: []}
     for h in hs:
         for theta in err:
-            sol = solve(_lame_problem(rot, h), settings=Settings(consistency=theta, band_fraction=0.1))
+            sol = solve(_lame_problem(rot, h).with_options(consistency=theta, band_fraction=0.1))
             u = sol.displacement(pts)
             err[theta].append(np.sqrt(np.mean(np.sum((u - ref_u) ** 2, axis=1)) / np.mean(ur**2)))
     assert 1.9 < np.polyfit(np.log(hs), np.log(err[1.0]), 1)[0] < 2.2
@@ -439,7 +439,7 @@ def test_patch_test_at_random_grid_offsets_and_angles(seed):
     rot = float(rng.uniform(-180, 180))
     offset = tuple(rng.choice([0.0, 1e-12, 0.5, 1 - 1e-12, float(rng.uniform())], 2))
     s0 = 1e8
-    sol = solve(_plate_problem(rot, h=0.13, s0=s0), settings=Settings(grid_offset=offset))
+    sol = solve(_plate_problem(rot, h=0.13, s0=s0).with_options(grid_offset=offset))
     _, pts = _plate_points(rot, n=400)
     sxx, syy, sxy = _to_frame(sol.stress(pts), rot)
     assert np.max(np.abs(sxx - s0)) < 1e-5 * s0, (rot, offset)
@@ -459,7 +459,7 @@ def test_bad_load_values_are_clear_errors():
 
 
 def test_solution_has_every_member_of_the_protocol():
-    from solver.problem import Solution
+    from solver.model.problem import Solution
 
     sol = solve(_lame_problem(0.0, 0.2))
     members = [m for m in vars(Solution) if not m.startswith("_")] + list(Solution.__annotations__)

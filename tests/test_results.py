@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from _scene_standins import E, NU, FieldBody, FieldSolution, plane_strain_stress
-from solver import problem as pb
-from solver import results
+from solver.model import problem as pb
+from solver.io import output, results
 
 STEEL = pb.Material("steel", E, NU)
 UPPER = FieldBody("upper", (0.0, 0.0), (1.0, 1.0), a=1e-4, b=-2e-4)
@@ -51,7 +51,7 @@ def test_summary_has_exactly_the_spec_keys_and_values(tmp_path):
     solution = make_solution(reactions=reactions)
     probes = [[0.25, 0.5], [0.75, -0.25], [3.0, 3.0]]
     lines = [{"name": "down", "start": [0.5, 0.9], "end": [0.5, -0.9], "n": 37}]
-    written = results.write_results(tmp_path, problem, solution, probes=probes, lines=lines, vtk=False, total_s=1.5)
+    written = output.write_results(tmp_path, problem, solution, probes=probes, lines=lines, vtk=False, total_s=1.5)
     data = json.loads((tmp_path / "summary.json").read_text())
     spec_keys = {"name", "converged", "model", "bodies", "reactions", "contacts", "probes", "lines", "iterations", "timings"}
     assert spec_keys <= set(data)
@@ -94,7 +94,7 @@ def test_summary_has_exactly_the_spec_keys_and_values(tmp_path):
 def test_non_converged_history_kept_and_json_strict(tmp_path):
     history = {"total": 100, "per_step": [100], "residual": [1.0, 0.5, float("nan")], "status": "max_iterations"}
     solution = make_solution(converged=False, iterations=history)
-    results.write_results(tmp_path, make_problem(), solution, vtk=False)
+    output.write_results(tmp_path, make_problem(), solution, vtk=False)
     text = (tmp_path / "summary.json").read_text()
     assert "NaN" not in text and "Infinity" not in text
     data = json.loads(text)
@@ -108,7 +108,7 @@ def test_contacts_pass_through_json_safe(tmp_path):
              "normal": np.array([0.0, 1.0]), "tangent": [-1.0, 0.0], "half_width": np.float64(0.01),
              "stick_half_width": 0.0, "normal_force": 12.0, "tangential_force": 0.0,
              "pressure": {"s": np.linspace(-0.01, 0.01, 5), "value": np.ones(5)}, "shear": {"s": [], "value": []}}
-    results.write_results(tmp_path, make_problem(), make_solution(contacts=[block]), vtk=False, plots=True)
+    output.write_results(tmp_path, make_problem(), make_solution(contacts=[block]), vtk=False, plots=True)
     data = json.loads((tmp_path / "summary.json").read_text())
     c = data["contacts"][0]
     assert c["point"] == [0.5, 0.0] and c["half_width"] == 0.01 and c["pressure"]["value"] == [1.0] * 5
@@ -118,7 +118,7 @@ def test_contacts_pass_through_json_safe(tmp_path):
 def test_vtu_files_hold_the_field(tmp_path):
     pv = pytest.importorskip("pyvista")
     problem = make_problem()
-    summary = results.write_results(tmp_path, problem, make_solution(), vtk=True)
+    summary = output.write_results(tmp_path, problem, make_solution(), vtk=True)
     assert summary["files"] == ["lower.vtu", "upper.vtu"]
     for body in (UPPER, LOWER):
         grid = pv.read(tmp_path / f"{body.name}.vtu")
@@ -138,7 +138,7 @@ def test_vtu_files_hold_the_field(tmp_path):
 
 def test_plots_are_png_images(tmp_path):
     lines = [{"name": "across body", "start": [0.0, 0.5], "end": [1.0, 0.5], "n": 20}]
-    summary = results.write_results(tmp_path, make_problem(), make_solution(), lines=lines, vtk=False, plots=True)
+    summary = output.write_results(tmp_path, make_problem(), make_solution(), lines=lines, vtk=False, plots=True)
     assert summary["files"] == ["fields.png", "line_across_body.png"]
     for name in summary["files"]:
         head = (tmp_path / name).read_bytes()[:8]
@@ -157,7 +157,7 @@ def test_contact_blocks_get_every_spec_key_in_order(tmp_path):
     problem = pb.Problem(name=problem.name, model=problem.model, thickness=1.0, bodies=problem.bodies,
                          contacts=(pb.ContactModel(bodies=("upper", "lower"), type="frictional", friction=0.3),))
     partial = {"normal": [0.6, 0.8], "normal_force": 5.0, "width_iterations": 4}
-    results.write_results(tmp_path, problem, make_solution(contacts=[partial]), vtk=False)
+    output.write_results(tmp_path, problem, make_solution(contacts=[partial]), vtk=False)
     (c,) = json.loads((tmp_path / "summary.json").read_text())["contacts"]
     assert list(c)[:12] == ["bodies", "type", "friction", "point", "normal", "tangent", "half_width",
                             "stick_half_width", "normal_force", "tangential_force", "pressure", "shear"]

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver import problem as pb
-from solver.scene import SceneError, load_scene, rigid_body_modes, scene_from_dict
+from solver.model import problem as pb
+from solver.io.scene import SceneError, load_scene, rigid_body_modes, scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -112,7 +112,10 @@ def test_spec_example_loads_into_problem(tmp_path):
     assert [b.name for b in p.bodies] == ["cylinder", "block"]
     cyl = p.body("cylinder")
     assert cyl.material == pb.Material("steel", 2.0e11, 0.3) and cyl.element_size == 0.05
-    assert cyl.refinements == (pb.Refinement(levels=4, radius=0.3, center=None),)
+    # around = "contact": resolved once, at the contact point the solver will use
+    (ref,) = cyl.refinements
+    assert (ref.levels, ref.radius, ref.around_contact) == (4, 0.3, True)
+    assert np.array_equal(ref.center, [0.0, 0.0])
     assert set(cyl.profile.edge_names) == {"arc", "flat"}
     assert p.boundary_conditions == (
         pb.Displacement("cylinder", "flat", (2.0e-4, -1.0e-3)),
@@ -363,7 +366,7 @@ def test_body_held_only_through_contacts():
 
 
 def test_contact_point_found_as_closest_points_with_a_gap():
-    from solver.scene import _contact_frame
+    from solver.model.resolve import contact_frame as _contact_frame
 
     data = two_cylinders("frictionless", [{"body": "top", "edge": "flat", "type": "fixed"}])
     data["bodies"][0]["shape"]["center"] = [0.2, 1.01]  # a gap of 0.01 at x = 0.1
@@ -402,14 +405,13 @@ def test_examples_load():
 def test_solver_section_accepts_options_the_solver_adds(monkeypatch):
     import dataclasses
 
-    from solver import scene as sc
+    from solver.io import scene as sc
 
     @dataclasses.dataclass(frozen=True)
     class Options(pb.SolverOptions):
         future_option: float = 0.25
 
-    monkeypatch.setattr(pb, "SolverOptions", Options)
-    spec_cls = sc._with_solver_extensions(sc.SolverSpec)
+    spec_cls = sc._fields_of(Options, sc._SolverBase, "SolverSpec")
     assert spec_cls.model_validate({"future_option": 0.1}).future_option == 0.1
     assert spec_cls.model_validate({}).future_option == 0.25 and spec_cls.model_validate({}).load_steps == 10
     with pytest.raises(Exception, match="future_option"):
@@ -431,7 +433,7 @@ def test_modulus_that_looks_like_gpa_is_a_warning_not_an_error():
 def test_contact_point_on_long_straight_edges(order, shape):
     """A curved body touching a long flat one at (0.3, 0): the finder must not be fooled by
     the flat edge having no interior tessellation vertices, whichever body comes first."""
-    from solver.scene import _contact_frame
+    from solver.model.resolve import contact_frame as _contact_frame
 
     data = {"materials": [dict(STEEL)],
             "bodies": [{"name": "pin", "material": "steel", "element_size": 0.05, "shape": shape},
@@ -478,7 +480,7 @@ def test_onshape_fixture_scene_with_a_relative_path(tmp_path):
     contact point found from the exact section curves is the touching point (0, 0)."""
     import os
 
-    from solver.scene import _contact_frame
+    from solver.model.resolve import contact_frame as _contact_frame
 
     fixture = ROOT / "fixtures" / "onshape" / "half_cylinder_on_block"
     if not (fixture / "bodydetails.json").exists():
@@ -518,16 +520,16 @@ def test_onshape_fixture_scene_with_a_relative_path(tmp_path):
     assert msg.startswith('scene.toml: bodies[0].name = "cylinder": rigid-body motion not prevented')
 
 
-def test_numerical_solver_options_reach_the_ibfem_settings():
-    from solver.ibfem import Settings
+def test_numerical_solver_options_reach_the_problem():
+    from solver.model.options import SolverOptions
 
     data = plate()
     data["solver"] = {"consistency": 0.5, "band_fraction": 0.05, "chord_tolerance": 1e-3}
     options = scene_from_dict(data, label="scene.toml").problem.options
-    settings = Settings.from_options(options)
-    assert (settings.consistency, settings.band_fraction, settings.chord_tolerance) == (0.5, 0.05, 1e-3)
-    defaults = Settings.from_options(scene_from_dict(plate(), label="scene.toml").problem.options)
-    assert defaults == Settings()
+    assert (options.consistency, options.band_fraction, options.chord_tolerance) == (0.5, 0.05, 1e-3)
+    assert scene_from_dict(plate(), label="scene.toml").problem.options == SolverOptions()
     data["solver"] = {"chord_tolerance": -1.0}
-    with pytest.raises(ValueError, match="chord_tolerance"):
-        Settings.from_options(scene_from_dict(data, label="scene.toml").problem.options)
+    with pytest.raises(SceneError, match=r"solver\.chord_tolerance = -1\.0: must be a positive number"):
+        scene_from_dict(data, label="scene.toml")
+
+

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from solver import theory as th
+from solver.reference import theory as th
 
 E, NU = 2.0e11, 0.3
 E_STAR = th.effective_modulus(E, NU, E, NU)
@@ -354,7 +354,7 @@ def test_every_validation_scene_is_present():
 
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_scene_loads_and_has_the_stated_geometry(name):
-    scene_mod = pytest.importorskip("solver.scene")
+    scene_mod = pytest.importorskip("solver.io.scene")
     try:
         import geometry.shapes  # noqa: F401  (the loader builds profiles with it)
     except ImportError:

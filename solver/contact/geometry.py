@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .integration import curve_gauss
+from ..fem.integration import curve_gauss
 
 __all__ = [
     "chord_table",

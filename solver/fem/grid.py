@@ -268,13 +268,36 @@ def build_grid(
         phi = boundary.signed_distance(c)
         return phi > -(size * (0.5 * math.sqrt(2.0) * (1 + 1e-9)) + tol + 1e-12 * h0), phi
 
+    index, level, phi = _quadtree_cells(origin, shape, h0, refinements, keep)
+
+    grid = Grid(
+        origin=origin,
+        h0=h0,
+        shape=(int(shape[0]), int(shape[1])),
+        max_level=max_level,
+        level=level,
+        index=index,
+        status=np.zeros(len(level), dtype=np.int8),
+        moments=np.zeros((len(level), 3, 3)),
+        pieces=None,
+    )
+    _classify(grid, boundary, phi, h0)
+    _cut_moments(grid, boundary, curve_order)
+    _nodes_and_constraints(grid)
+    return grid
+
+
+
+def _quadtree_cells(origin, shape, h0: float, refinements, keep):
+    """Cells (index, level, phi at the centre) of the background grid kept by ``keep`` and
+    split level by level where a zone asks for finer cells."""
     ii, jj = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
     index = np.stack([ii.ravel(), jj.ravel()], axis=1)
     level = np.zeros(len(index), dtype=np.int64)
     size0 = np.full(len(index), h0)
     k, phi = keep(origin + index * h0, size0)
     index, level, phi = index[k], level[k], phi[k]
-
+    max_level = max([int(z.levels) for z in refinements], default=0)
     zones = [(z, refinement_radii(z, h0)) for z in refinements]
     for lv in range(max_level):
         at = level == lv
@@ -294,18 +317,12 @@ def build_grid(
         index = np.concatenate([index[~split], child[kc]])
         level = np.concatenate([level[~split], np.full(kc.sum(), lv + 1)])
         phi = np.concatenate([phi[~split], phic[kc]])
+    return index, level, phi
 
-    grid = Grid(
-        origin=origin,
-        h0=h0,
-        shape=(int(shape[0]), int(shape[1])),
-        max_level=max_level,
-        level=level,
-        index=index,
-        status=np.zeros(len(level), dtype=np.int8),
-        moments=np.zeros((len(level), 3, 3)),
-        pieces=None,
-    )
+
+def _classify(grid: Grid, boundary: Boundary, phi: np.ndarray, h0: float) -> None:
+    """Cut (the boundary crosses the cell), inside or dropped; cells renumbered, pieces kept."""
+    level, index, tol = grid.level, grid.index, boundary.tolerance
     size = grid.size
     candidate = np.abs(phi) <= size * (0.5 * math.sqrt(2.0) * (1 + 1e-9)) + tol + 1e-12 * h0
     pieces = _cut_pieces(grid, boundary, candidate)
@@ -325,9 +342,6 @@ def build_grid(
     grid._tables = None
     grid.moments = np.broadcast_to(full_cell_moments(), (len(grid.level), 3, 3)).copy()
     grid.boundary_length = np.zeros(len(grid.level))
-    _cut_moments(grid, boundary, curve_order)
-    _nodes_and_constraints(grid)
-    return grid
 
 
 def _curve_bbox(curve, pad):

@@ -2,11 +2,11 @@
 
 Writes ``docs/validation.md`` (tables) and ``docs/validation/*.png`` (plots), and every scene's
 results under ``out/validation/<scene>/``. Each contact is compared with the analytical
-references of :mod:`solver.theory` *for the forces the solver computed*: the half-width a with
+references of :mod:`solver.reference.theory` *for the forces the solver computed*: the half-width a with
 Hertz, c/a with Cattaneo-Mindlin, the pressure and shear sampled on the exact contact curve, and
 the subsurface von Mises stress on the ``subsurface`` line with McEwen's field.
 
-Usage: ``python -m solver.validate [--quick] [--only NAME ...] [--report PATH]``.
+Usage: ``python -m solver.reports.validate [--quick] [--only NAME ...] [--report PATH]``.
 ``--quick`` skips the load and grid sweeps of example 2.
 """
 
@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from solver import theory
+from solver.reference import theory
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -62,9 +62,9 @@ class Result:
 
 def run_scene_data(data: dict, label: str, out_dir: Path, base_dir: Path = EXAMPLES) -> tuple[Any, Any, dict]:
     """Validate, solve and write one scene given as a dict; returns (scene, solution, summary)."""
-    from solver.ibfem import solve
-    from solver.results import write_scene_results
-    from solver.scene import scene_from_dict
+    from solver.solve import solve
+    from solver.io.output import write_scene_results
+    from solver.io.scene import scene_from_dict
 
     t0 = time.perf_counter()
     scene = scene_from_dict(data, label=label, base_dir=base_dir)
@@ -307,21 +307,8 @@ def _verdict(ok: bool | None) -> str:
     return "–" if ok is None else ("pass" if ok else "**fail**")
 
 
-def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir: Path) -> None:
-    lines = [
-        "# Validation report",
-        "",
-        "Written by `make validate` (`python -m solver.validate`): every scene of SPEC section 5 in",
-        "`examples/`, solved as it is, compared with theory for the forces the solver computed",
-        "(`solver/theory.py`). Acceptance (issues 5 and 6): a within 2 % of Hertz, c/a within 0.02 of",
-        "Cattaneo-Mindlin, pressure RMS within 5 % of p0 inside 0.9 a, shear RMS within 15 % of mu p0",
-        "inside 0.95 a, frictionless |Q| < 1e-3 N, subsurface von Mises peak within 3 % of 0.5575 p0.",
-        "",
-        f"Run on {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}.",
-        "",
-        "| scene | converged | N [N/m] | Q/N | a [m] | a Hertz [m] | error in a | thesis | c/a | c/a theory | error c/a | thesis | p RMS / p0 | q RMS / mu p0 | vM peak / p0 (depth / a) | time [s] | verdict |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
+def _contact_rows(results: list[Result]) -> list[str]:
+    lines: list[str] = []
     for r in results:
         if not r.metrics:
             lines.append(f"| {r.name} | {_verdict(False) if r.message else '–'} | {r.message or 'no contact'} |" + " |" * 14)
@@ -350,6 +337,11 @@ def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir
                 f"| {_num(m.get('ca'), '.4f')} | {_num(m.get('ca_theory'), '.4f')} | {_num(m.get('ca_error'), '.4f')} | {_pct(th.get('ca_error'))} "
                 f"| {_pct(m.get('pressure_rms'))} | {_pct(m.get('shear_rms'))} | {vm} | {r.seconds:.1f} | {verdict} |"
             )
+    return lines
+
+
+def _peak_table(results: list[Result]) -> list[str]:
+    lines: list[str] = []
     lines += [
         "",
         "Largest von Mises stress below the contact (computed on a 2a x 2a window of the lower body;",
@@ -367,6 +359,11 @@ def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir
                     f"| {r.name} | {m['field_peak']:.4f} | ({m['field_peak_x']:+.3f}, {m['field_peak_z']:.3f}) "
                     f"| {m['field_peak_theory']:.4f} | ({m['field_peak_x_theory']:+.3f}, {m['field_peak_z_theory']:.3f}) |"
                 )
+    return lines
+
+
+def _figure_sections(results: list[Result], path: Path, fig_dir: Path) -> list[str]:
+    lines: list[str] = []
     lines.append("")
     for r in results:
         png = fig_dir / f"{r.name}.png"
@@ -377,25 +374,50 @@ def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir
             lines += [f"![{r.name}: von Mises and displacement]({fields.relative_to(path.parent).as_posix()})", ""]
         if r.message:
             lines += [f"## {r.name}", "", f"Not validated: `{r.message}`", ""]
+    return lines
+
+
+def _sweep_tables(sweeps: dict) -> list[str]:
+    lines: list[str] = []
+    lines += ["## Example 2: load sweep", "", "| uy [mm] | N [N/m] | a [m] | a Hertz [m] | error | cells across 2a | time [s] |", "|---|---|---|---|---|---|---|"]
+    for m in sweeps["loads"]:
+        if "error" in m and isinstance(m["error"], str):
+            lines.append(f"| {m['uy']*1e3:g} | {m['error']} | | | | | |")
+        else:
+            lines.append(f"| {m['uy']*1e3:g} | {_num(m['N'])} | {_num(m['a'])} | {_num(m['a_hertz'])} | {_pct(m['a_error'])} | {m['cells_across']:.1f} | {m['seconds']:.1f} |")
+    lines += ["", "## Example 2: grid sweep", "", "| element_size | levels | cells across 2a | a [m] | a Hertz [m] | error | time [s] |", "|---|---|---|---|---|---|---|"]
+    for m in sweeps["grids"]:
+        if "error" in m and isinstance(m["error"], str):
+            lines.append(f"| {m['element_size']} | {m['levels']} | {m['error']} | | | | |")
+        else:
+            lines.append(f"| {m['element_size']} | {m['levels']} | {m['cells_across']:.1f} | {_num(m['a'])} | {_num(m['a_hertz'])} | {_pct(m['a_error'])} | {m['seconds']:.1f} |")
+    lines.append("")
+    return lines
+
+
+def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir: Path) -> None:
+    lines = [
+        "# Validation report",
+        "",
+        "Written by `make validate` (`python -m solver.reports.validate`): every scene of SPEC section 5 in",
+        "`examples/`, solved as it is, compared with theory for the forces the solver computed",
+        "(`solver/theory.py`). Acceptance (issues 5 and 6): a within 2 % of Hertz, c/a within 0.02 of",
+        "Cattaneo-Mindlin, pressure RMS within 5 % of p0 inside 0.9 a, shear RMS within 15 % of mu p0",
+        "inside 0.95 a, frictionless |Q| < 1e-3 N, subsurface von Mises peak within 3 % of 0.5575 p0.",
+        "",
+        f"Run on {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}.",
+        "",
+        "| scene | converged | N [N/m] | Q/N | a [m] | a Hertz [m] | error in a | thesis | c/a | c/a theory | error c/a | thesis | p RMS / p0 | q RMS / mu p0 | vM peak / p0 (depth / a) | time [s] | verdict |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    lines += _contact_rows(results) + _peak_table(results) + _figure_sections(results, path, fig_dir)
     if sweeps:
-        lines += ["## Example 2: load sweep", "", "| uy [mm] | N [N/m] | a [m] | a Hertz [m] | error | cells across 2a | time [s] |", "|---|---|---|---|---|---|---|"]
-        for m in sweeps["loads"]:
-            if "error" in m and isinstance(m["error"], str):
-                lines.append(f"| {m['uy']*1e3:g} | {m['error']} | | | | | |")
-            else:
-                lines.append(f"| {m['uy']*1e3:g} | {_num(m['N'])} | {_num(m['a'])} | {_num(m['a_hertz'])} | {_pct(m['a_error'])} | {m['cells_across']:.1f} | {m['seconds']:.1f} |")
-        lines += ["", "## Example 2: grid sweep", "", "| element_size | levels | cells across 2a | a [m] | a Hertz [m] | error | time [s] |", "|---|---|---|---|---|---|---|"]
-        for m in sweeps["grids"]:
-            if "error" in m and isinstance(m["error"], str):
-                lines.append(f"| {m['element_size']} | {m['levels']} | {m['error']} | | | | |")
-            else:
-                lines.append(f"| {m['element_size']} | {m['levels']} | {m['cells_across']:.1f} | {_num(m['a'])} | {_num(m['a_hertz'])} | {_pct(m['a_error'])} | {m['seconds']:.1f} |")
-        lines.append("")
+        lines += _sweep_tables(sweeps)
     path.write_text("\n".join(lines) + "\n")
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m solver.validate", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m solver.reports.validate", description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="skip the load and grid sweeps of example 2")
     parser.add_argument("--only", nargs="*", default=None, help="scene names (file stems) to run")
     parser.add_argument("--report", default=str(ROOT / "docs" / "validation.md"), help="report path")

@@ -21,7 +21,7 @@ SCENE = ROOT / "examples" / "onshape" / "half_cylinder_on_block.toml"
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m solver.demo", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m solver.reports.demo", description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default="out/demo", help="output directory (default out/demo)")
     args = parser.parse_args(argv)
     out = Path(args.out)
@@ -38,11 +38,11 @@ def main(argv: list[str] | None = None) -> int:
         f" projection of tessellated vertices: max position error {report['max_error']:.2e} m"
     )
 
-    from solver import theory
-    from solver.ibfem import solve
-    from solver.results import write_scene_results
-    from solver.scene import SceneError, load_scene
-    from solver.validate import effective_properties
+    from solver.reference import theory
+    from solver.solve import solve
+    from solver.io.output import write_scene_results
+    from solver.io.scene import SceneError, load_scene
+    from solver.reports.validate import effective_properties
 
     print(f"2. Contact scene: {SCENE.relative_to(ROOT)}")
     try:

@@ -1,5 +1,5 @@
 """Scene files (SPEC section 4): TOML, or JSON with the same structure, validated into
-pydantic models and turned into a :class:`solver.problem.Problem`.
+pydantic models and turned into a :class:`solver.model.problem.Problem`.
 
 Validation happens in three stages, all before any assembly, and every error names the
 file, the key path and the offending value (``scene.toml: bodies[1].material = "stel":
@@ -41,7 +41,11 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
-from solver import problem as pb
+from solver.model import problem as pb
+from solver.model.problem import MAX_REFINEMENT_LEVELS
+from solver.model.options import ContactOptions, OptionError, SolverOptions
+from solver.model.resolve import contact_frame, resolve_problem
+from solver.model.rigid import rigid_body_modes
 
 __all__ = [
     "SceneError",
@@ -56,8 +60,6 @@ __all__ = [
     "COARSE_GRID_RATIO",
 ]
 
-#: refinement deeper than this (cells 2**12 = 4096 times finer) is almost surely a typo
-MAX_REFINEMENT_LEVELS = 12
 #: element_size may be at most this fraction of the body's smallest bounding-box dimension
 COARSE_GRID_RATIO = 0.5
 
@@ -118,28 +120,24 @@ Vec2 = tuple[Num, Num]
 Component = Annotated[Union[float, None], BeforeValidator(_component)]
 
 
-class SolverSpec(_Strict):
-    load_steps: int = Field(10, ge=1)
-    tolerance: float = Field(1e-10, gt=0.0, lt=1.0)
-    max_iterations: int = Field(100, ge=1)
+def _fields_of(options: type, base: type[BaseModel], name: str) -> type[BaseModel]:
+    """``base`` with a field for every option of the dataclass ``options`` that ``base`` does
+    not declare (its type and default): every option the solver has is reachable from a scene,
+    and its range is checked once, by the dataclass (see :func:`_options`)."""
+    hints = typing.get_type_hints(options)
+    extra = {
+        f.name: (hints[f.name], f.default)
+        for f in dataclasses.fields(options)
+        if f.name not in base.model_fields and f.default is not dataclasses.MISSING
+    }
+    return create_model(name, __base__=base, **extra)
+
+
+class _SolverBase(_Strict):
     exact_geometry: bool = True
 
 
-def _with_solver_extensions(base: type[SolverSpec]) -> type[SolverSpec]:
-    """Accept in ``[solver]`` every further field ``SolverOptions`` defines (with its type
-    and default), so options the solver adds need no change here."""
-    hints = typing.get_type_hints(pb.SolverOptions)
-    extra = {
-        f.name: (hints[f.name], f.default)
-        for f in dataclasses.fields(pb.SolverOptions)
-        if f.name not in base.model_fields and f.default is not dataclasses.MISSING
-    }
-    if not extra:
-        return base
-    return create_model("SolverSpec", __base__=base, **extra)
-
-
-SolverSpec = _with_solver_extensions(SolverSpec)
+SolverSpec = _fields_of(SolverOptions, _SolverBase, "SolverSpec")
 
 
 class MaterialSpec(_Strict):
@@ -257,7 +255,7 @@ _BC_TYPES = ("fixed", "displacement", "sliding", "traction", "pressure", "body_f
 _ESSENTIAL = (FixedSpec, DisplacementSpec, SlidingSpec)
 
 
-class ContactSpec(_Strict):
+class _ContactBase(_Strict):
     bodies: tuple[str, str]
     type: Literal["tied", "frictionless", "frictional"]
     friction: Num = Field(0.0, ge=0.0, validate_default=True)
@@ -274,6 +272,9 @@ class ContactSpec(_Strict):
                 "friction", 'only used by type = "frictional" (this contact is "{type}")', {"type": kind}
             )
         return v
+
+
+ContactSpec = _fields_of(ContactOptions, _ContactBase, "ContactSpec")
 
 
 class LineSpec(_Strict):
@@ -384,7 +385,11 @@ def scene_from_dict(
         raise SceneError(_format_errors(err, data, label)) from None
     _check_references(spec, label)
     profiles = _build_profiles(spec, label, Path(base_dir))
-    problem = _problem(spec, profiles, Path(label).stem if path is None else path.stem)
+    problem = _problem(spec, profiles, Path(label).stem if path is None else path.stem, label)
+    try:
+        problem = resolve_problem(problem)
+    except ValueError as err:
+        raise SceneError([f"{label}: {err}"]) from None
     _check_geometry(spec, problem, label)
     return Scene(path=path, spec=spec, problem=problem, warnings=tuple(_notes(spec, label)))
 
@@ -605,7 +610,18 @@ def _profile(shape: dict[str, Any], base_dir: Path, where: str = "shape") -> Any
     return profile_from_shape(shape, where=where)
 
 
-def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str) -> pb.Problem:
+def _options(kind: type, spec: BaseModel, where: str, label: str) -> Any:
+    """The options dataclass ``kind`` from a validated table; its range checks become a
+    SceneError naming the key."""
+    values = {f.name: getattr(spec, f.name) for f in dataclasses.fields(kind)}
+    try:
+        return kind(**values)
+    except OptionError as err:
+        value = values.get(err.key)
+        raise SceneError([f"{label}: {where}.{err.key} = {_show(value)}: {str(err)[len(err.key) + 1:]}"]) from None
+
+
+def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str, label: str) -> pb.Problem:
     materials = {
         m.name: pb.Material(name=m.name, youngs_modulus=m.youngs_modulus, poissons_ratio=m.poissons_ratio)
         for m in spec.materials
@@ -649,12 +665,11 @@ def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str) -> pb
             type=c.type,
             friction=c.friction,
             point=None if c.point is None else _frozen(np.asarray(c.point, dtype=float)),
+            options=_options(ContactOptions, c, f"contacts[{i}]", label),
         )
-        for c in spec.contacts
+        for i, c in enumerate(spec.contacts)
     )
-    options = pb.SolverOptions(
-        **{f.name: getattr(spec.solver, f.name) for f in dataclasses.fields(pb.SolverOptions) if f.name in type(spec.solver).model_fields}
-    )
+    options = _options(SolverOptions, spec.solver, "solver", label)
     return pb.Problem(
         name=spec.name if spec.name else default_name,
         model=spec.model,
@@ -706,7 +721,7 @@ def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
         for k in np.flatnonzero(~inside):
             problems.append(f"{label}: output.probes[{k}] = {_show(list(spec.output.probes[k]))}: outside every body")
 
-    contact_frames = [_contact_frame(problem, c) for c in problem.contacts]
+    contact_frames = [contact_frame(problem, c) for c in problem.contacts]
     modes = rigid_body_modes(problem, contact_frames)
     for name, description in modes.items():
         i = body_index[name]
@@ -729,187 +744,3 @@ def _notes(spec: SceneSpec, label: str) -> list[str]:
     return notes
 
 
-# ---------------------------------------------------------------------------------------
-# rigid-body motion
-# ---------------------------------------------------------------------------------------
-
-#: points sampled along each essential edge for the rigid-body check
-_EDGE_SAMPLES = 17
-#: singular values below this fraction of the largest count as zero (rows are O(1): unit
-#: directions and positions scaled by the scene size)
-_RANK_TOLERANCE = 1e-6
-
-
-def _edge_samples(profile: Any, edge: str) -> tuple[np.ndarray, np.ndarray]:
-    """Points (m, 2) and outward unit normals (m, 2) spread along an edge of a profile."""
-    curve = profile.edges[edge]
-    t = np.linspace(curve.t_start, curve.t_end, _EDGE_SAMPLES)
-    return np.asarray(curve.evaluate(t), dtype=float), np.asarray(curve.normal(t), dtype=float)
-
-
-def _support_rows(problem: pb.Problem, body: pb.BodyModel) -> tuple[np.ndarray, np.ndarray]:
-    """Points and directions along which an essential condition holds the body."""
-    points, dirs = [], []
-    ex, ey = np.array([1.0, 0.0]), np.array([0.0, 1.0])
-    for bc in problem.boundary_conditions:
-        if getattr(bc, "body", None) != body.name or not isinstance(bc, (pb.Fixed, pb.Displacement, pb.Sliding)):
-            continue
-        x, n = _edge_samples(body.profile, bc.edge)
-        if isinstance(bc, pb.Sliding):
-            points.append(x)
-            dirs.append(n)
-            continue
-        held = (True, True) if isinstance(bc, pb.Fixed) else (bc.value[0] is not None, bc.value[1] is not None)
-        for keep, d in zip(held, (ex, ey)):
-            if keep:
-                points.append(x)
-                dirs.append(np.broadcast_to(d, x.shape))
-    if not points:
-        return np.zeros((0, 2)), np.zeros((0, 2))
-    return np.concatenate(points), np.concatenate(dirs)
-
-
-def _motion_rows(points: np.ndarray, dirs: np.ndarray, origin: np.ndarray, scale: float) -> np.ndarray:
-    """Rows d . (t + omega e_z x (x - x0)) of a constraint on the rigid motion (tx, ty, omega*scale)."""
-    r = (points - origin) / scale
-    return np.column_stack([dirs[:, 0], dirs[:, 1], dirs[:, 1] * r[:, 0] - dirs[:, 0] * r[:, 1]])
-
-
-def _contact_frame(problem: pb.Problem, contact: pb.ContactModel) -> tuple[np.ndarray, np.ndarray]:
-    """Contact point and the outward unit normal of the second body there. Without a given
-    point: the closest points of the two exact boundaries (or the deepest point when they
-    overlap), the midpoint of the pair."""
-    first, second = problem.body(contact.bodies[0]).profile, problem.body(contact.bodies[1]).profile
-    if contact.point is not None:
-        point = np.asarray(contact.point, dtype=float)
-    else:
-        size = min(problem.body(n).element_size for n in contact.bodies)
-        xa = closest_boundary_point(first, second, 0.25 * size)
-        xb = np.asarray(second.project(xa[None, :]).points[0], dtype=float)
-        point = 0.5 * (xa + xb)
-    normal = np.asarray(second.project(point[None, :]).normals[0], dtype=float)
-    return point, normal / np.linalg.norm(normal)
-
-
-def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarray:
-    """The point of ``first``'s boundary that maximises ``second``'s signed distance phi
-    (positive inside): the point closest to ``second`` when they are apart, the deepest one
-    when they overlap. Each edge is sampled in its own parameter about every ``spacing``
-    (one vectorised phi call per edge), then a bounded scalar search in the exact parameter
-    between the neighbours of the best sample refines it."""
-    from scipy.optimize import minimize_scalar
-
-    best_phi, best = -np.inf, None
-    for name in first.edge_names:  # a handful of edges
-        curve = first.edges[name]
-        n = int(np.clip(np.ceil(float(curve.length) / spacing) + 1, 9, 20001))
-        t = np.linspace(curve.t_start, curve.t_end, n)
-        phi = np.asarray(second.signed_distance(curve.evaluate(t)), dtype=float)
-        k = int(np.argmax(phi))
-        if phi[k] > best_phi:
-            best_phi, best = phi[k], (curve, t[max(k - 1, 0)], t[min(k + 1, n - 1)])
-    curve, t0, t1 = best
-    res = minimize_scalar(
-        lambda s: -float(second.signed_distance(curve.evaluate(np.array([s])))[0]),
-        bounds=(min(t0, t1), max(t0, t1)),
-        method="bounded",
-        options={"xatol": 1e-13 * max(abs(curve.t_end - curve.t_start), 1.0)},
-    )
-    x = np.asarray(curve.evaluate(np.array([res.x]))[0], dtype=float)
-    # the bounded search never returns the interval ends: keep a better sample end point
-    ends = np.asarray(curve.evaluate(np.array([t0, t1])), dtype=float)
-    candidates = np.vstack([x[None, :], ends])
-    phi = np.asarray(second.signed_distance(candidates), dtype=float)
-    return candidates[int(np.argmax(phi))]
-
-
-def rigid_body_modes(
-    problem: pb.Problem, contact_frames: list[tuple[np.ndarray, np.ndarray]] | None = None
-) -> dict[str, str]:
-    """Bodies whose rigid motions (tx, ty, omega) are not all prevented, with a description
-    of a free motion. Empty when every body is held.
-
-    Rule: each essential condition contributes rows d . (t + omega e_z x (x - x0)) = 0 sampled
-    along its edge (fixed: x and y; displacement: the prescribed components; sliding: the
-    exact local normal). Contacts couple the motions of their two bodies at the contact
-    point: frictionless in the normal direction, frictional in the normal and tangential
-    directions (a stick zone forms under load), tied in both directions at the point and at
-    two points a cell size either side along the tangent (a tied patch also resists relative
-    rotation). Bodies linked by contacts are checked together: the stacked rows of a group of
-    k bodies must have rank 3k. A unilateral contact is treated as holding, so a body
-    pressed only through a frictionless contact passes (the solver checks the contact set).
-    """
-    bodies = list(problem.bodies)
-    index = {b.name: i for i, b in enumerate(bodies)}
-    if contact_frames is None:
-        contact_frames = [_contact_frame(problem, c) for c in problem.contacts]
-    lo = np.min([np.asarray(b.profile.bounds[0], dtype=float) for b in bodies], axis=0)
-    hi = np.max([np.asarray(b.profile.bounds[1], dtype=float) for b in bodies], axis=0)
-    origin, scale = 0.5 * (lo + hi), max(float(np.max(hi - lo)), 1e-300)
-
-    # groups of bodies joined by contacts (union-find over a handful of bodies)
-    parent = list(range(len(bodies)))
-
-    def root(i: int) -> int:
-        while parent[i] != i:
-            i = parent[i]
-        return i
-
-    for c in problem.contacts:
-        a, b = index[c.bodies[0]], index[c.bodies[1]]
-        parent[root(a)] = root(b)
-    groups: dict[int, list[int]] = {}
-    for i in range(len(bodies)):
-        groups.setdefault(root(i), []).append(i)
-
-    free: dict[str, str] = {}
-    for members in groups.values():
-        slot = {m: k for k, m in enumerate(members)}
-        blocks = []
-        for m in members:
-            x, d = _support_rows(problem, bodies[m])
-            rows = np.zeros((len(x), 3 * len(members)))
-            rows[:, 3 * slot[m] : 3 * slot[m] + 3] = _motion_rows(x, d, origin, scale)
-            blocks.append(rows)
-        for c, (point, normal) in zip(problem.contacts, contact_frames):
-            a, b = index[c.bodies[0]], index[c.bodies[1]]
-            if a not in slot:
-                continue
-            tangent = np.array([-normal[1], normal[0]])
-            if c.type == "frictionless":
-                pts, dirs = point[None, :], normal[None, :]
-            elif c.type == "frictional":
-                pts, dirs = np.array([point, point]), np.array([normal, tangent])
-            else:
-                h = min(bodies[a].element_size, bodies[b].element_size)
-                pts = np.repeat(np.array([point, point + h * tangent, point - h * tangent]), 2, axis=0)
-                dirs = np.tile(np.array([normal, tangent]), (3, 1))
-            coupling = _motion_rows(pts, dirs, origin, scale)
-            rows = np.zeros((len(pts), 3 * len(members)))
-            rows[:, 3 * slot[a] : 3 * slot[a] + 3] = coupling
-            rows[:, 3 * slot[b] : 3 * slot[b] + 3] = -coupling
-            blocks.append(rows)
-        A = np.concatenate(blocks) if blocks else np.zeros((0, 3 * len(members)))
-        # null space by SVD: a 3k-column matrix with a few hundred rows
-        if A.shape[0]:
-            _, s, vt = np.linalg.svd(A, full_matrices=True)
-            rank = int(np.sum(s > _RANK_TOLERANCE * max(s[0], 1e-300)))
-        else:
-            vt, rank = np.eye(A.shape[1]), 0
-        null = vt[rank:]
-        for m in members:
-            block = null[:, 3 * slot[m] : 3 * slot[m] + 3]
-            if block.size and np.max(np.abs(block)) > 1e-6:
-                k = int(np.argmax(np.linalg.norm(block, axis=1)))
-                free[bodies[m].name] = _describe(block[k], origin, scale, len(members) > 1)
-    return free
-
-
-def _describe(mode: np.ndarray, origin: np.ndarray, scale: float, grouped: bool) -> str:
-    t, omega = mode[:2], mode[2] / scale
-    via = " (together with the bodies it touches)" if grouped else ""
-    if abs(mode[2]) < 1e-6 * max(np.max(np.abs(mode)), 1e-300):
-        d = t / np.linalg.norm(t)
-        return f"free translation along [{d[0]:.3g}, {d[1]:.3g}]{via}"
-    centre = origin + np.array([-t[1], t[0]]) / omega
-    return f"free rotation about [{centre[0]:.4g}, {centre[1]:.4g}]{via}"

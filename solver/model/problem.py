@@ -7,6 +7,8 @@ Units are SI. In 2D every force is per unit thickness (N/m) and every traction a
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from dataclasses import dataclass, field
 from typing import Literal, Protocol
 
@@ -14,12 +16,15 @@ import numpy as np
 
 from geometry.profile import Profile
 
-Model = Literal["plane_strain", "plane_stress"]
+from .elasticity import Model, dimension, elasticity_matrix, lame_parameters
+from .options import ContactOptions, SolverOptions
+
 
 __all__ = [
     "Model",
     "Material",
     "Refinement",
+    "MAX_REFINEMENT_LEVELS",
     "BodyModel",
     "Fixed",
     "Displacement",
@@ -30,6 +35,7 @@ __all__ = [
     "BoundaryCondition",
     "ContactModel",
     "SolverOptions",
+    "ContactOptions",
     "Problem",
     "Solution",
 ]
@@ -37,34 +43,45 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Material:
+    """Linear elastic, isotropic material (SI: Pa). The law itself is in :mod:`solver.model.elasticity`."""
+
     name: str
     youngs_modulus: float
     poissons_ratio: float
 
     def lame(self, model: Model) -> tuple[float, float]:
-        """(lambda, mu) of the 2D constitutive law: plane strain uses the 3D Lame constants,
-        plane stress the reduced lambda* = 2 lambda mu / (lambda + 2 mu)."""
-        E, nu = self.youngs_modulus, self.poissons_ratio
-        mu = E / (2.0 * (1.0 + nu))
-        lam = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
-        if model == "plane_stress":
-            lam = 2.0 * lam * mu / (lam + 2.0 * mu)
-        return lam, mu
+        """(lambda, mu) of the constitutive law for ``model`` (see :func:`elasticity.lame_parameters`)."""
+        return lame_parameters(self.youngs_modulus, self.poissons_ratio, model)
 
     def elasticity_matrix(self, model: Model) -> np.ndarray:
-        """C in Voigt form acting on [exx, eyy, 2 exy] -> [sxx, syy, sxy]."""
+        """C in Voigt form for ``model`` (see :func:`elasticity.elasticity_matrix`)."""
         lam, mu = self.lame(model)
-        return np.array([[lam + 2 * mu, lam, 0.0], [lam, lam + 2 * mu, 0.0], [0.0, 0.0, mu]])
+        return elasticity_matrix(lam, mu, dimension(model))
+
+
+#: refinement deeper than this (cells 2**12 = 4096 times finer) is almost surely a typo
+MAX_REFINEMENT_LEVELS = 12
 
 
 @dataclass(frozen=True)
 class Refinement:
     """Cells within ``radius`` of ``center`` are made 2**levels times finer (graded outside).
-    ``center`` None means "around the contact points" and is resolved before solving."""
+    ``around_contact``: the zone follows the body's contact points (``around = "contact"``);
+    ``center`` is None until :func:`solver.model.resolve.resolve_problem` fills it in (one
+    zone per contact point of the body). A zone made with ``center`` None is around_contact."""
 
     levels: int
     radius: float
     center: np.ndarray | None = None
+    around_contact: bool = False
+
+    def __post_init__(self):
+        if self.center is None and not self.around_contact:
+            object.__setattr__(self, "around_contact", True)
+        if isinstance(self.levels, bool) or int(self.levels) != self.levels or not 0 <= self.levels <= MAX_REFINEMENT_LEVELS:
+            raise ValueError(f"refinement.levels must be an integer in [0, {MAX_REFINEMENT_LEVELS}], got {self.levels!r}")
+        if not (self.radius > 0 and math.isfinite(self.radius)):
+            raise ValueError(f"refinement.radius must be positive, got {self.radius!r}")
 
 
 @dataclass(frozen=True)
@@ -125,24 +142,20 @@ BoundaryCondition = Fixed | Displacement | Sliding | Traction | Pressure | BodyF
 
 @dataclass(frozen=True)
 class ContactModel:
-    """Two-body contact (issues 5 and 6). ``point`` None: found as the closest points."""
+    """Two-body contact. ``point`` None: found as the closest points of the two exact
+    boundaries (:mod:`solver.model.resolve`); ``point_given`` records whether the scene gave it.
+    ``options``: the numerical choices of this contact's formulation."""
 
     bodies: tuple[str, str]
     type: Literal["tied", "frictionless", "frictional"]
     friction: float = 0.0
     point: np.ndarray | None = None
+    options: ContactOptions = field(default_factory=ContactOptions)
+    point_given: bool | None = None
 
-
-@dataclass(frozen=True)
-class SolverOptions:
-    load_steps: int = 10
-    tolerance: float = 1e-10
-    max_iterations: int = 100
-    exact_geometry: bool = True
-    # Extensions (README "Extensions to the contracts"); None keeps the documented default.
-    band_fraction: float | None = None  # step-function band delta / local cell size
-    consistency: float | None = None  # 1 symmetric Nitsche (default), 0.5 the thesis's band limit
-    chord_tolerance: float | None = None  # m; exact_geometry = false: tessellation chord (default 0.1 h)
+    def __post_init__(self):
+        if self.point_given is None:
+            object.__setattr__(self, "point_given", self.point is not None)
 
 
 @dataclass(frozen=True)
@@ -160,6 +173,22 @@ class Problem:
             if b.name == name:
                 return b
         raise KeyError(name)
+
+    @property
+    def dim(self) -> int:
+        """Spatial dimension of the model (2 for plane strain / plane stress)."""
+        return dimension(self.model)
+
+    def with_options(self, **changes) -> "Problem":
+        """A copy with ``[solver]`` options changed (checked as in a scene)."""
+        return dataclasses.replace(self, options=dataclasses.replace(self.options, **changes))
+
+    def with_contact_options(self, **changes) -> "Problem":
+        """A copy with the same contact options changed on every contact."""
+        contacts = tuple(
+            dataclasses.replace(c, options=dataclasses.replace(c.options, **changes)) for c in self.contacts
+        )
+        return dataclasses.replace(self, contacts=contacts)
 
 
 class Solution(Protocol):
@@ -191,3 +220,25 @@ class Solution(Protocol):
         """Active cells of a body for output: {"nodes" (N, 2), "cells" (M, 4) node indices
         counter-clockwise, "displacement" (N, 2) at the nodes, "cell_stress" (M, 3) at the
         centres of the parts of cells inside the body, "cell_inside_fraction" (M,)}."""
+
+
+CONTACT_TYPES = ("tied", "frictionless", "frictional")
+
+
+def check_problem(problem: Problem) -> None:
+    """Consistency of a problem built by hand (a scene is checked with key paths before it gets
+    here): known, distinct contact bodies, contact types and friction. Raises ValueError."""
+    names = [b.name for b in problem.bodies]
+    if not names:
+        raise ValueError("the problem has no bodies")
+    for i, cm in enumerate(problem.contacts):
+        for nm in cm.bodies:
+            if nm not in names:
+                raise ValueError(f"contacts[{i}].bodies: unknown body {nm!r}; bodies: {', '.join(names)}")
+        if cm.bodies[0] == cm.bodies[1]:
+            raise ValueError(f"contacts[{i}].bodies: a contact needs two different bodies, got {list(cm.bodies)}")
+        if cm.type not in CONTACT_TYPES:
+            raise ValueError(f"contacts[{i}].type must be one of {', '.join(CONTACT_TYPES)}, got {cm.type!r}")
+        mu = cm.friction
+        if cm.type == "frictional" and not (isinstance(mu, (int, float)) and math.isfinite(mu) and mu > 0):
+            raise ValueError(f"contacts[{i}].friction must be a positive number for frictional contact, got {mu!r}")

@@ -1,0 +1,320 @@
+"""The load-step driver of contact problems: it knows no formulation. Each contact supplies its
+terms, verdicts and region search through the :class:`~solver.contact.formulation.ContactFormulation`
+protocol; the driver owns the linear algebra and the iterations.
+
+Speed: the bodies' stiffness K0 (volume + essential conditions) never changes. It is factored
+once with the m dofs B of the cells the candidate contact regions touch ordered last, the
+Schur complement S = (B K0^-1 B^T)^-1 is read off the factors (solver.fem.linalg), each trial
+region is the m x m solve (S + K_c) x = lambda S B U0 + f_c, and the full field
+U = K0^-1 (F0 + B^T (f_c - K_c x)) is recovered once, with two steps of iterative refinement.
+
+With linear elasticity and a fixed contact region each load step is linear: the "Newton"
+iterations of eqs. 5-11 to 5-14 are re-solves with updated contact terms, one per trial
+region; the residual work between consecutive states is recorded (exact, on the contact dofs).
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Callable
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from ..fem.assembly import boundary_terms, essential_reactions, rigid_modes_check
+from ..fem.linalg import condensed_apply, condensed_factor, embed, scatter, single_threaded_blas
+from ..fem.space import body_info, discretise
+from ..solution import IBFEMSolution
+from .formulation import formulation
+from .roots import RegionTooSmall
+
+__all__ = ["ContactDriver", "solve_contact"]
+
+
+def solve_contact(problem, progress: Callable | None = None) -> IBFEMSolution:
+    """Solve a (resolved) problem with contacts; returns an IBFEMSolution whose ``contacts``
+    holds the SPEC section 4 contact blocks."""
+    if not problem.contacts:
+        raise ValueError("the problem has no contacts")
+    with single_threaded_blas():
+        return ContactDriver(problem, progress).run()
+
+
+def _silent(stage, fraction=None) -> None:
+    return None
+
+
+class ContactDriver:
+    """One contact solve: set-up (grids, K0, the contacts' formulations, the condensed factor),
+    the load steps (region searches and friction updates), the final state and its report."""
+
+    def __init__(self, problem, progress: Callable | None = None):
+        self.problem = problem
+        self.options = problem.options
+        self.report = progress or _silent
+        self.timings: dict[str, float] = {}
+        self.messages: list[str] = []
+        self.converged = True
+        self.per_step: list[int] = []
+        self.work_history: list[float] = []
+        self.last = None  # (lam, x, y, kc, fc) of the last trial state
+        self.ref_work = None
+
+    # ------------------------------------------------------------------ set-up
+
+    def run(self) -> IBFEMSolution:
+        t_start = time.perf_counter()
+        self._discretise()
+        self._assemble()
+        self._factor()
+        t = time.perf_counter()
+        for step in range(1, self.options.load_steps + 1):
+            self._load_step(step)
+        for c in self.contacts:
+            self.messages += c.finish()
+        self.timings["iterations_s"] = time.perf_counter() - t
+        t = time.perf_counter()
+        solution = self._results()
+        self.timings["results_s"] = time.perf_counter() - t
+        self.timings["total_s"] = time.perf_counter() - t_start
+        self.report("done", 1.0)
+        return solution
+
+    def _discretise(self) -> None:
+        t = time.perf_counter()
+        self.bodies = discretise(self.problem, self.options, lambda stage, f: self.report(stage, 0.5 * f))
+        self.n = self.bodies[0].n_total
+        self.timings["grid_s"] = time.perf_counter() - t
+
+    def _assemble(self) -> None:
+        self.report("assembly", 0.2)
+        t = time.perf_counter()
+        n = self.n
+        k0 = sp.block_diag([b.stiffness(self.options.fictitious_stiffness) for b in self.bodies], format="csr")
+        k_ess, self.f0, self.essentials = boundary_terms(self.problem, self.bodies, self.options, sp.csr_matrix((n, n)))
+        self.k0 = (k0 + k_ess).tocsr()
+        by_name = {b.name: b for b in self.bodies}
+        self.contacts = [
+            formulation(cm.options.formulation)(self.problem, cm, by_name[cm.bodies[0]], by_name[cm.bodies[1]],
+                                                self.options)
+            for cm in self.problem.contacts
+        ]
+        self.timings["assembly_s"] = time.perf_counter() - t
+
+    def _factor(self) -> None:
+        """K0 factored with the contact dofs last. A body held only through a contact makes K0
+        singular: a small fixed region (two finest cells) is kept in K0 and only the difference
+        is updated (documented in docs/contact.md)."""
+        t = time.perf_counter()
+        self.base = [0.0] * len(self.contacts)
+        try:
+            rigid_modes_check(self.k0, self.bodies)
+        except ValueError:
+            self.base = [c.initial_region() for c in self.contacts]
+            for c, a0 in zip(self.contacts, self.base):
+                kc, _, _ = c.terms(a0)
+                self.k0 = self.k0 + embed(kc, c.dofs, self.n)
+            rigid_modes_check(self.k0, self.bodies)  # still singular: a genuine rigid-body motion
+        self.dofs = np.unique(np.concatenate([c.dofs for c in self.contacts]))
+        self.where = [np.searchsorted(self.dofs, c.dofs) for c in self.contacts]
+        self.lu, self.schur = condensed_factor(self.k0, self.dofs)
+        u0 = self.lu.solve(self.f0)
+        self.bu0 = u0[self.dofs]
+        self.sbu0 = self.schur @ self.bu0
+        self.u0f0 = float(u0 @ self.f0)
+        self.base_terms = [c.terms(a0)[:2] for c, a0 in zip(self.contacts, self.base)]
+        self.timings["factor_s"] = time.perf_counter() - t
+        self.widths = [c.initial_region() for c in self.contacts]
+        self.brackets = [(0.0, 0.0)] * len(self.contacts)
+        self.prev = None  # (lam, x, y, kc, fc) of the last converged state
+        self.prev_infos = None
+        self.max_iterations = min([self.options.max_iterations]
+                                  + [c.options.max_width_iterations for c in self.contacts])
+        self.max_stick_iterations = min(c.options.max_stick_iterations for c in self.contacts)
+
+    # ------------------------------------------------------------------ one trial state
+
+    def _assemble_trial(self, widths):
+        m = len(self.dofs)
+        kc = np.zeros((m, m))
+        fc = np.zeros(m)
+        infos = []
+        for c, wh, a, (kb, fb) in zip(self.contacts, self.where, widths, self.base_terms):
+            kk, ff, info = c.terms(a)
+            kc[np.ix_(wh, wh)] += kk - kb
+            fc[wh] += ff
+            infos.append(info)
+        return kc, fc, infos
+
+    def _solve_small(self, lam, kc, fc):
+        rhs = lam * self.sbu0 + fc
+        if not all(c.is_symmetric() for c in self.contacts):  # friction traction: non-symmetric
+            return sla.solve(self.schur + kc, rhs)
+        try:  # S + Kc is symmetric positive definite when the Nitsche terms are coercive
+            return sla.cho_solve(sla.cho_factor(self.schur + kc), rhs)
+        except np.linalg.LinAlgError:
+            return sla.solve(self.schur + kc, rhs, assume_a="sym")
+
+    def _work_ratio(self, lam, x, y, kc, fc) -> float:
+        """Residual work between this trial state and the previous one, relative to the largest
+        seen (the thesis's convergence measure, recorded in the history)."""
+        old = self.last if self.last is not None else self.prev
+        if old is not None:
+            o_lam, o_x, o_y, o_kc, o_fc = old
+            r = fc - kc @ o_x - o_fc + o_kc @ o_x
+            work = float((x - o_x) @ r)
+            dl = lam - o_lam
+            if dl:
+                work += dl * (dl * self.u0f0 + (y - o_y) @ self.bu0)
+            work = abs(work)
+        else:
+            work = abs(float(lam * lam * self.u0f0 + lam * (y @ self.bu0)))
+        self.ref_work = work if self.ref_work is None else max(self.ref_work, work)
+        return float(work / self.ref_work) if self.ref_work > 0 else 0.0
+
+    def _trial(self, trial, lam, step, iteration, tag):
+        """Solve the state of the trial regions; (state, verdicts, infos)."""
+        kc, fc, infos = self._assemble_trial(trial)
+        x = self._solve_small(lam, kc, fc)
+        y = fc - kc @ x
+        ratio = self._work_ratio(lam, x, y, kc, fc)
+        self.work_history.append(ratio)
+        state = (lam, x, y, kc, fc)
+        self.last = state
+        verdicts = []
+        for c, wh, a, info in zip(self.contacts, self.where, trial, infos):
+            v = c.judge(x[wh], a, info)
+            c.history_entry(v, a, step, iteration, tag, ratio)
+            verdicts.append(v)
+        return state, verdicts, infos
+
+    # ------------------------------------------------------------------ region search
+
+    def _region_search(self, step, lam, final, tag):
+        """The region searches of all contacts in one load step at fixed stick ratios: (widths,
+        brackets, state, infos, solves, settled)."""
+        gens = [c.region_search(a, final, self.max_iterations) for a, c in zip(self.widths, self.contacts)]
+        trial = [next(gn) for gn in gens]
+        results = [None] * len(self.contacts)
+        iters, cache = 0, {}
+        while True:
+            key = tuple(trial)
+            if key not in cache:
+                iters += 1
+                cache[key] = self._trial(trial, lam, step, iters, tag)
+            verdicts = cache[key][1]
+            if all(r is not None for r in results) or iters >= self.max_iterations:
+                break
+            trial = self._advance(gens, results, verdicts)
+        settled = all(r is not None for r in results)
+        results = [r if r is not None else (a, (a, a)) for r, a in zip(results, trial)]
+        widths = [r[0] for r in results]
+        key = tuple(widths) if tuple(widths) in cache else tuple(trial)  # unsettled: the last trial
+        state, _, infos = cache[key]
+        return widths, [r[1] for r in results], state, infos, iters, settled
+
+    def _advance(self, gens, results, verdicts) -> list[float]:
+        """Send each unsettled search its verdict; the next trial of every contact."""
+        nxt = []
+        for k, (gn, v) in enumerate(zip(gens, verdicts)):
+            if results[k] is not None:
+                nxt.append(results[k][0])
+                continue
+            try:
+                nxt.append(gn.send(v))
+            except StopIteration as stop:
+                results[k] = stop.value
+                nxt.append(stop.value[0])
+            except RegionTooSmall:
+                raise self.contacts[k].region_too_small() from None
+        return nxt
+
+    # ------------------------------------------------------------------ load steps
+
+    def _load_step(self, step: int) -> None:
+        steps = self.options.load_steps
+        lam = step / steps
+        final = step == steps
+        self.report(f"load step {step}/{steps}", 0.3 + 0.6 * (step - 1) / steps)
+        if self.prev is not None and self.prev[0] > 0:
+            self.widths = [c.next_region(a, lam / self.prev[0]) for a, c in zip(self.widths, self.contacts)]
+        for c in self.contacts:
+            c.start_step()
+        iters, settled, tag = 0, True, 0
+        while True:
+            self.widths, self.brackets, state, infos, it, ok = self._region_search(step, lam, final, tag)
+            iters += it
+            settled = settled and ok
+            done = True
+            for c, wh, a, info in zip(self.contacts, self.where, self.widths, infos):
+                done = c.update_friction(state[1][wh], a, info) and done
+            tag += 1
+            if done:
+                break
+            if tag >= self.max_stick_iterations:
+                settled = False
+                self.messages.append(f"load step {step}: the stick zone did not settle in {tag} iterations")
+                break
+        self.per_step.append(iters)
+        if not settled:
+            self.converged = False
+            self.messages.append(f"load step {step}: the contact width did not settle in {iters} iterations")
+        self.prev, self.prev_infos = state, infos
+
+    # ------------------------------------------------------------------ the final state
+
+    def _final_field(self):
+        """The full field of the last state, refined twice on K0 + B^T Kc B (the contact terms,
+        friction included, live on the contact dofs only); (u, load factor, residual work ratio)."""
+        lam, x, y, kc, fc = self.prev
+        n, dofs = self.n, self.dofs
+        u = self.lu.solve(lam * self.f0 + scatter(n, dofs, y))
+        k_full = (self.k0 + embed(kc, dofs, n)).tocsr()
+        f_full = lam * self.f0 + scatter(n, dofs, fc)
+        res = f_full - k_full @ u
+        for _ in range(2):
+            u = u + condensed_apply(self.lu, self.schur, dofs, kc, res)
+            res = f_full - k_full @ u
+        work = abs(float(u @ res)) / max(abs(float(u @ f_full)), 1e-300)
+        return u, lam, float(np.linalg.norm(res) / max(np.linalg.norm(f_full), 1e-300)), work
+
+    def _results(self) -> IBFEMSolution:
+        u, lam, residual, work = self._final_field()
+        reactions, tractions = essential_reactions(self.essentials, u, self.options, lam)
+        blocks = []
+        for c, a, info, bracket in zip(self.contacts, self.widths, self.prev_infos, self.brackets):
+            block, problems = c.report(u, a, info, bracket)
+            blocks.append(block)
+            if problems:
+                self.converged = False
+                self.messages += problems
+        if not work <= self.options.tolerance:
+            self.converged = False
+            self.messages.append(
+                f"the residual work of the final state is {work:.3g}, above solver.tolerance = {self.options.tolerance:g}"
+            )
+        iterations = {
+            "total": int(sum(self.per_step)),
+            "per_step": self.per_step,
+            "linear_residual": residual,
+            "residual_work": work,
+            "width_update": [c.options.width_update for c in self.contacts][0],
+            "work_ratio": self.work_history,
+            "contact_dofs": len(self.dofs),
+            "contacts": [c.history for c in self.contacts],
+            "messages": self.messages,
+        }
+        return IBFEMSolution(
+            problem=self.problem,
+            bodies=self.bodies,
+            u=u,
+            converged=bool(self.converged and np.isfinite(u).all() and residual < 1e-6),
+            body_info=body_info(self.bodies),
+            reactions=reactions,
+            iterations=iterations,
+            timings=self.timings,
+            contacts=blocks,
+            settings=self.options,
+            boundary_tractions=tractions,
+        )

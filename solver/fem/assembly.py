@@ -1,0 +1,183 @@
+"""Assembly of the linear problem without contact: every body's volume stiffness, the essential
+conditions by the thin-band step boundary terms (solver.fem.step_boundary), tractions,
+pressures and body forces on the exact boundary and cut cells; the reactions of the essential
+conditions; the rigid-body check of the assembled stiffness."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..model.options import SolverOptions
+from ..model.problem import BodyForce, Displacement, Fixed, Pressure, Sliding, Traction
+from .space import BodyDiscretisation
+from .step_boundary import BoundaryPoints, projector, thin_band_terms, thin_band_traction
+
+__all__ = [
+    "EssentialTerm",
+    "essential_condition",
+    "essential_reactions",
+    "rigid_modes_check",
+    "LinearSystem",
+    "assemble",
+    "boundary_terms",
+]
+
+
+def essential_condition(bc, names):
+    """(kind, free, target) of an essential condition, or None for natural ones."""
+    if isinstance(bc, Fixed):
+        return "fixed", (False, False), lambda n: np.zeros_like(n)
+    if isinstance(bc, Displacement):
+        if len(bc.value) != 2:
+            raise ValueError(f"boundary condition {bc.body}/{bc.edge}: value must have 2 components, got {bc.value!r}")
+        free = tuple(v is None for v in bc.value)
+        if all(free):
+            raise ValueError(f"boundary condition {bc.body}/{bc.edge}: both displacement components are free")
+        a = np.array([0.0 if v is None else float(v) for v in bc.value])
+        return "displacement", free, lambda n: np.broadcast_to(a, n.shape).copy()
+    if isinstance(bc, Sliding):
+        an = float(bc.normal_displacement)
+        return "sliding", (False, False), lambda n: an * n
+    return None
+
+
+def _finite_vector(value, where: str) -> np.ndarray:
+    v = np.asarray(value, dtype=float).ravel()
+    if v.shape != (2,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{where} must be two finite numbers, got {value!r}")
+    return v
+
+
+def rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> None:
+    """Raise ValueError when a body can move rigidly (R^T K R singular for its rigid modes)."""
+    diag = np.abs(k.diagonal())
+    for b in bodies:
+        g = b.grid
+        nodes = g.nodes[g.free_nodes]
+        c = nodes.mean(axis=0)
+        r = np.zeros((b.n_total, 3))
+        sl = slice(b.dof_offset, b.dof_offset + b.n_dofs)
+        r[sl, 0] = np.tile([1.0, 0.0], len(nodes))
+        r[sl, 1] = np.tile([0.0, 1.0], len(nodes))
+        rot = np.stack([-(nodes[:, 1] - c[1]), nodes[:, 0] - c[0]], axis=1)
+        r[sl, 2] = rot.ravel() / max(np.abs(rot).max(), 1e-300)
+        m = r.T @ (k @ r)
+        m = 0.5 * (m + m.T)
+        scale = diag[sl].mean() * len(nodes)
+        ev, vec = np.linalg.eigh(m)
+        small = np.abs(ev) < 1e-10 * scale
+        if small.any():
+            v = vec[:, np.argmin(np.abs(ev))]
+            what = ["x translation", "y translation", "rotation"]
+            motion = " + ".join(f"{x:.2g} {w}" for x, w in zip(v, what) if abs(x) > 1e-3)
+            raise ValueError(
+                f"body {b.name!r} is not held against rigid-body motion ({motion}); add essential boundary conditions"
+            )
+
+
+@dataclass
+class EssentialTerm:
+    """One essential condition's thin-band terms, kept to recover its reaction."""
+
+    key: str  # "body/edge"
+    body: BodyDiscretisation
+    points: BoundaryPoints
+    projector: np.ndarray
+    target: np.ndarray
+
+    def traction(self, u: np.ndarray, settings: SolverOptions, load_factor: float = 1.0) -> np.ndarray:
+        """Traction along the edge with the prescribed values scaled by ``load_factor``."""
+        b = self.body
+        target = self.target if load_factor == 1.0 else load_factor * self.target
+        return thin_band_traction(
+            self.points, self.projector, target, b.lam, b.mu, u, settings.band_fraction, settings.consistency
+        )
+
+
+def essential_reactions(
+    essentials: list[EssentialTerm], u: np.ndarray, settings: SolverOptions, load_factor: float = 1.0
+) -> tuple[dict[str, np.ndarray], dict]:
+    """Force (2,) each essential condition exerts on its body (summed over terms with the same
+    "body/edge" key), and the (points, weights, traction) along it."""
+    reactions: dict[str, np.ndarray] = {}
+    tractions = {}
+    for e in essentials:
+        tr = e.traction(u, settings, load_factor)
+        reactions[e.key] = reactions.get(e.key, np.zeros(2)) + (tr * e.points.weights[:, None]).sum(axis=0)
+        tractions[e.key] = (e.points.points, e.points.weights, tr)
+    return reactions, tractions
+
+
+@dataclass
+class LinearSystem:
+    """K u = F of a problem without contact: the stiffness and loads of all bodies (block by
+    block) and their boundary conditions. Contact terms are added on top of it."""
+
+    bodies: list[BodyDiscretisation]
+    stiffness: sp.csr_matrix
+    load: np.ndarray
+    essentials: list[EssentialTerm]
+    settings: SolverOptions
+
+    @property
+    def n_dofs(self) -> int:
+        return len(self.load)
+
+    def reactions(self, u: np.ndarray) -> tuple[dict[str, np.ndarray], dict]:
+        """Force (2,) each essential condition exerts on its body, and the tractions along it."""
+        return essential_reactions(self.essentials, u, self.settings)
+
+
+def assemble(problem, bodies: list[BodyDiscretisation], settings: SolverOptions) -> LinearSystem:
+    """Volume stiffness of every body, essential conditions (thin band), tractions, pressures
+    and body forces."""
+    k = sp.block_diag([b.stiffness(settings.fictitious_stiffness) for b in bodies], format="csr")
+    k, f, essentials = boundary_terms(problem, bodies, settings, k)
+    return LinearSystem(bodies, k, f, essentials, settings)
+
+
+def boundary_terms(
+    problem, bodies: list[BodyDiscretisation], settings: SolverOptions, stiffness: sp.spmatrix
+) -> tuple[sp.csr_matrix, np.ndarray, list[EssentialTerm]]:
+    """``stiffness`` plus the thin-band terms of the essential conditions, the load vector
+    (their band loads, tractions, pressures, body forces) and the essential terms kept for
+    the reactions."""
+    n = bodies[0].n_total if bodies else 0
+    k = stiffness
+    f = np.zeros(n)
+    by_name = {b.name: b for b in bodies}
+    names = list(by_name)
+    essentials = []
+    for j, bc in enumerate(problem.boundary_conditions):
+        if bc.body not in by_name:
+            raise ValueError(f"boundary_conditions[{j}].body: unknown body {bc.body!r}; bodies: {', '.join(names)}")
+        b = by_name[bc.body]
+        if isinstance(bc, BodyForce):
+            f += b.body_force(_finite_vector(bc.value, f"boundary_conditions[{j}].value"))
+            continue
+        bp = b.edge_points(bc.edge, settings.boundary_order)
+        ess = essential_condition(bc, names)
+        if ess is not None:
+            ekind, free, target_of = ess
+            proj = projector(ekind, bp.normals, free)
+            target = target_of(bp.normals)
+            kb, fa = thin_band_terms(bp, proj, target, b.lam, b.mu, settings.band_fraction, settings.consistency)
+            k = k + kb
+            f += fa
+            essentials.append(EssentialTerm(f"{bc.body}/{bc.edge}", b, bp, proj, target))
+        elif isinstance(bc, Traction):
+            tr = np.broadcast_to(_finite_vector(bc.value, f"boundary_conditions[{j}].value"), bp.normals.shape)
+            f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
+        elif isinstance(bc, Pressure):
+            if not np.isfinite(bc.value):
+                raise ValueError(f"boundary_conditions[{j}].value: pressure must be finite, got {bc.value!r}")
+            tr = -float(bc.value) * bp.normals
+            f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
+        else:
+            raise ValueError(f"boundary_conditions[{j}]: unsupported condition type {type(bc).__name__}")
+    return k.tocsr(), f, essentials
+
+

@@ -1,0 +1,166 @@
+"""Linear algebra of the solver, behind small functions the drivers call: the sparse direct
+solve of the whole system (SuperLU, geometric nested dissection for large grids), the condensed
+factorisation of the contact drivers (factor once with the contact dofs last, read the Schur
+complement off the factors), dense blocks embedded into sparse ones, and a guard that runs dense
+linear algebra on one BLAS thread."""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+__all__ = [
+    "NESTED_DISSECTION_DOFS",
+    "nested_dissection",
+    "linear_solve",
+    "single_threaded_blas",
+    "condensed_factor",
+    "condensed_apply",
+    "PermutedLU",
+    "embed",
+    "scatter",
+]
+
+
+# Above this many dofs the solver orders the unknowns by geometric nested dissection itself.
+NESTED_DISSECTION_DOFS = 40_000
+
+
+def nested_dissection(points: np.ndarray, leaf: int = 64) -> np.ndarray:
+    """Order of grid nodes (n, 2) by geometric nested dissection: split the node set at the
+    median grid line of its longer side, order both halves recursively, the line's nodes
+    (the separator) last. Hand-written because scipy has no nested-dissection ordering and
+    SuperLU's minimum-degree orderings give about twice the fill on grids. Any order is
+    correct; a line crossing a coarse cell only makes a worse separator."""
+    out = []
+
+    def rec(idx):
+        if len(idx) <= leaf:
+            out.append(idx)
+            return
+        p = points[idx]
+        axis = int(np.argmax(np.ptp(p, axis=0)))
+        vals = np.unique(p[:, axis])
+        if len(vals) < 3:
+            out.append(idx)
+            return
+        split = vals[len(vals) // 2]
+        rec(idx[p[:, axis] < split])
+        rec(idx[p[:, axis] > split])
+        out.append(idx[p[:, axis] == split])
+
+    rec(np.arange(len(points)))
+    return np.concatenate(out)
+
+
+def linear_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None) -> np.ndarray:
+    """Sparse direct solve with SuperLU (CHOLMOD is not available). The matrix is symmetric:
+    symmetric mode, no pivoting across the diagonal. Small systems use SuperLU's minimum
+    degree on A + A^T; large ones a geometric nested-dissection order of each body's nodes."""
+    n = k.shape[0]
+    if bodies is None or n < NESTED_DISSECTION_DOFS:
+        lu = spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        return lu.solve(f)
+    perm = []
+    for b in bodies:
+        nodes = nested_dissection(b.grid.nodes[b.grid.free_nodes])
+        perm.append(b.dof_offset + (b.dim * nodes[:, None] + np.arange(b.dim)).ravel())
+    perm = np.concatenate(perm)
+    kp = k[perm][:, perm].tocsc()
+    lu = spla.splu(kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    u = np.empty(n)
+    u[perm] = lu.solve(f[perm])
+    return u
+
+
+@contextlib.contextmanager
+def single_threaded_blas():
+    """Run dense linear algebra on one OpenBLAS thread, restoring the previous count.
+
+    The width iterations factor dense matrices of a few hundred rows: threads gain nothing
+    there, and on a loaded machine OpenBLAS's spinning threads made a 536 x 536 Cholesky
+    25 times slower (0.4 s against 15 ms, measured). threadpoolctl is not a dependency, so
+    the OpenBLAS libraries numpy and scipy loaded are driven through ctypes; without them
+    this does nothing."""
+    handles = []
+    try:
+        paths = {ln.split()[-1] for ln in open("/proc/self/maps") if "openblas" in ln.lower()}
+    except OSError:
+        paths = set()
+    for path in sorted(paths):
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:
+            continue
+        for prefix, suffix in (("scipy_", ""), ("scipy_", "64_"), ("", ""), ("", "64_")):
+            get = getattr(lib, f"{prefix}openblas_get_num_threads{suffix}", None)
+            put = getattr(lib, f"{prefix}openblas_set_num_threads{suffix}", None)
+            if get is not None and put is not None:
+                handles.append((put, int(get())))
+                put(1)
+                break
+    try:
+        yield
+    finally:
+        for put, n in handles:
+            put(n)
+
+
+def embed(dense: np.ndarray, dofs: np.ndarray, n: int) -> sp.csr_matrix:
+    """A dense block on the dofs ``dofs`` as an (n, n) sparse matrix."""
+    r, c = np.nonzero(dense)
+    return sp.csr_matrix((dense[r, c], (dofs[r], dofs[c])), shape=(n, n))
+
+
+def scatter(n, dofs, values):
+    out = np.zeros(n)
+    out[dofs] = values
+    return out
+
+
+def condensed_apply(lu, schur, dofs, kc, r):
+    """(K0 + B^T Kc B)^-1 r by static condensation: (S + Kc) x = S B K0^-1 r, then
+    U = K0^-1 (r - B^T Kc x)."""
+    z = lu.solve(r)
+    sym = np.allclose(kc, kc.T, rtol=0.0, atol=1e-12 * max(np.abs(kc).max(), 1e-300))
+    x = sla.solve(schur + kc, schur @ z[dofs], assume_a="sym" if sym else "gen")
+    return lu.solve(r - scatter(len(r), dofs, kc @ x))
+
+
+class PermutedLU:
+    """Sparse LU of K0 with the contact dofs ordered last; ``solve`` in the original numbering."""
+
+    def __init__(self, lu, order):
+        self.lu, self.order = lu, order
+
+    def solve(self, f):
+        out = np.empty_like(f)
+        out[self.order] = self.lu.solve(np.ascontiguousarray(f[self.order]))
+        return out
+
+
+def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray):
+    """Factor K0 once with the contact dofs last (fill-reducing order of the rest from SuperLU's
+    MMD on the interior block, then natural order with diagonal pivots) and read the Schur
+    complement S = K_cc - K_ci K_ii^-1 K_ic off the trailing block of the factors: S = L_cc U_cc.
+    Then G = B K0^-1 B^T = S^-1 without m solves (scipy's SuperLU solves many right-hand sides
+    one by one, ~20 ms each here)."""
+    n = k0.shape[0]
+    m = len(dofs)
+    interior = np.setdiff1d(np.arange(n), dofs)
+    kii = k0[interior][:, interior].tocsc()
+    lu_i = spla.splu(kii, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    order = np.concatenate([interior[np.argsort(lu_i.perm_c)], dofs])
+    kp = k0[order][:, order].tocsc()
+    lu = spla.splu(kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    if (lu.perm_r != np.arange(n)).any() or (lu.perm_c != np.arange(n)).any():
+        raise RuntimeError("the condensed factorisation pivoted off the diagonal")
+    lcc = lu.L.tocsr()[n - m :, n - m :].toarray()
+    ucc = lu.U.tocsr()[n - m :, n - m :].toarray()
+    schur = lcc @ ucc
+    return PermutedLU(lu, order), 0.5 * (schur + schur.T)

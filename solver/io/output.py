@@ -1,0 +1,74 @@
+"""Writing a run's results: ``summary.json`` (solver.io.results), one VTU file per body and the
+PNG pictures (solver.io.plots) the scene's ``[output]`` asks for."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+from solver.model import problem as pb
+
+from .results import build_summary, write_summary, write_vtu
+
+__all__ = ["write_results", "write_scene_results"]
+
+
+def write_results(
+    out_dir: str | Path,
+    problem: pb.Problem,
+    solution: pb.Solution,
+    probes: Iterable[Any] = (),
+    lines: Iterable[Any] = (),
+    vtk: bool = True,
+    plots: bool = False,
+    total_s: float | None = None,
+    extra: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
+    """Write every requested file into ``out_dir``; returns the summary written. The summary
+    lists the other files under ``files`` (names relative to ``out_dir``)."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    summary = build_summary(problem, solution, probes, lines, total_s=total_s, extra=extra)
+    files: list[Path] = []
+    missing: list[str] = []
+    # a missing optional library costs its files, not the summary
+    if vtk:
+        try:
+            files += write_vtu(out_dir, problem, solution)
+        except ImportError as err:
+            missing.append(f"VTU files not written: pyvista is not installed ({err}); pip install 'ibfem[pictures]'")
+    if plots:
+        try:
+            from .plots import write_plots
+
+            files += write_plots(out_dir, problem, solution, summary)
+        except ImportError as err:
+            missing.append(f"plots not written: matplotlib is not installed ({err}); pip install 'ibfem[pictures]'")
+    if missing:
+        summary["warnings"] = list(summary.get("warnings", [])) + missing
+    summary["files"] = sorted(str(p.relative_to(out_dir)) for p in files)
+    write_summary(out_dir / "summary.json", summary)
+    return summary
+
+
+def write_scene_results(
+    out_dir: str | Path,
+    scene: Any,
+    solution: pb.Solution,
+    total_s: float | None = None,
+    extra: Mapping[str, Any] | None = None,
+) -> dict[str, Any]:
+    """:func:`write_results` with the probes, lines and file choices of a loaded
+    :class:`solver.io.scene.Scene`'s ``[output]`` table."""
+    output = scene.output
+    return write_results(
+        out_dir,
+        scene.problem,
+        solution,
+        probes=output.probes,
+        lines=output.lines,
+        vtk=output.vtk,
+        plots=output.plots,
+        total_s=total_s,
+        extra=extra,
+    )

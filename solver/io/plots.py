@@ -1,0 +1,184 @@
+"""PNG pictures of a run (``[output] plots = true``), headless (matplotlib's Agg, imported only
+here and only when pictures are written): ``fields.png`` (von Mises and displacement magnitude
+over every body), ``contact_<k>_fields.png`` (the same close to each contact point),
+``line_<name>.png`` per output line, ``contact_<k>.png`` (pressure and shear) per contact."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from solver.model import problem as pb
+
+from .results import _body_mesh, _file_stem, json_safe
+
+__all__ = ["write_plots"]
+
+
+def _outline_path(body: pb.BodyModel) -> Any:
+    """The body's boundary (outer loop and holes) as a matplotlib compound path, or None."""
+    tessellate = getattr(body.profile, "tessellate", None)
+    if tessellate is None:
+        return None
+    from matplotlib.path import Path as MplPath
+
+    verts, codes = [], []
+    for points, _ in tessellate(1e-3 * body.element_size):  # sagitta: smooth to the eye
+        pts = np.asarray(points, dtype=float)
+        verts.append(np.vstack([pts, pts[:1]]))
+        c = np.full(len(pts) + 1, MplPath.LINETO, dtype=np.uint8)
+        c[0], c[-1] = MplPath.MOVETO, MplPath.CLOSEPOLY
+        codes.append(c)
+    return MplPath(np.concatenate(verts), np.concatenate(codes)) if verts else None
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+class _Figures:
+    """Saves figures into ``out_dir`` and remembers the files written."""
+
+    def __init__(self, out_dir: Path):
+        self.plt = _pyplot()
+        self.out_dir = out_dir
+        self.written: list[Path] = []
+
+    def save(self, fig: Any, name: str) -> None:
+        path = self.out_dir / name
+        fig.savefig(path, dpi=110)
+        self.plt.close(fig)
+        self.written.append(path)
+
+    def save_line_plot(self, fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str) -> None:
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title)
+        ax.legend()
+        ax.grid(alpha=0.3)
+        self.save(fig, name)
+
+
+def _cell_values(m: dict, key: str) -> np.ndarray:
+    if key == "von_mises":
+        return m["von_mises"]
+    return np.linalg.norm(m["displacement"], axis=1)[m["cells"]].mean(axis=1)  # node magnitudes onto cells
+
+
+def _colour_range(meshes: list[dict], values: list[np.ndarray], window) -> tuple[float, float]:
+    """Colour scale from the cells with material in ``window`` (x0, x1, y0, y1)."""
+    x0, x1, y0, y1 = window
+    shown = []
+    for m, v in zip(meshes, values):
+        lo, hi = m["nodes"][m["cells"]].min(axis=1), m["nodes"][m["cells"]].max(axis=1)
+        seen = (hi[:, 0] >= x0) & (lo[:, 0] <= x1) & (hi[:, 1] >= y0) & (lo[:, 1] <= y1)
+        shown.append(v[seen & (m["fraction"] > 0)])
+    finite = np.concatenate(shown)
+    finite = finite[np.isfinite(finite)]
+    vmin, vmax = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    if vmax <= vmin:
+        vmax = vmin + max(abs(vmin), 1.0) * 1e-12 + 1e-300
+    return vmin, vmax
+
+
+def _draw_field(fig: Any, ax: Any, meshes, outlines, key: str, label: str, title: str, window) -> None:
+    from matplotlib.collections import PolyCollection
+    from matplotlib.patches import PathPatch
+
+    values = [_cell_values(m, key) for m in meshes]
+    vmin, vmax = _colour_range(meshes, values, window)
+    for m, v, outline in zip(meshes, values, outlines):
+        poly = PolyCollection(m["nodes"][m["cells"]], array=v, cmap="viridis", edgecolors="none")
+        poly.set_clim(vmin, vmax)
+        ax.add_collection(poly)
+        if outline is not None:  # cut cells drawn only inside the exact boundary
+            patch = PathPatch(outline, facecolor="none", edgecolor="k", lw=0.6)
+            ax.add_patch(patch)
+            poly.set_clip_path(patch)
+    x0, x1, y0, y1 = window
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    fig.colorbar(poly, ax=ax, shrink=0.8)
+    ax.set_aspect("equal")
+    ax.locator_params(nbins=5)
+    ax.set_title(f"{title}: {label}", fontsize=10)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+
+
+def _field_figure(plt, meshes, outlines, title: str, window) -> Any:
+    """von Mises and displacement magnitude side by side over ``window`` (the whole scene when None)."""
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
+    allnodes = np.concatenate([m["nodes"] for m in meshes])
+    window = window or (allnodes[:, 0].min(), allnodes[:, 0].max(), allnodes[:, 1].min(), allnodes[:, 1].max())
+    for ax, key, label in ((axes[0], "von_mises", "von Mises stress [Pa]"),
+                           (axes[1], "displacement", "displacement magnitude [m]")):
+        _draw_field(fig, ax, meshes, outlines, key, label, title, window)
+    return fig
+
+
+def _field_figures(figs: _Figures, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]) -> None:
+    meshes = [_body_mesh(problem, solution, b) for b in problem.bodies]
+    outlines = [_outline_path(b) for b in problem.bodies]
+    if not meshes:
+        return
+    figs.save(_field_figure(figs.plt, meshes, outlines, problem.name, None), "fields.png")
+    # a close-up of each contact: 4 half-widths (at least 8 of the finest cells) around it
+    finest = min(float(summary["bodies"].get(b.name, {}).get("min_element_size") or b.element_size)
+                 for b in problem.bodies)
+    for k, c in enumerate(summary.get("contacts", [])):
+        if c.get("point") is None or None in c["point"]:
+            continue
+        half = max(4.0 * float(c.get("half_width") or 0.0), 8.0 * finest)
+        px, py = c["point"]
+        window = (px - half, px + half, py - half, py + half)
+        figs.save(_field_figure(figs.plt, meshes, outlines, f"{problem.name}, contact {k}", window),
+                  f"contact_{k}_fields.png")
+
+
+def _line_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any]) -> None:
+    for name, line in summary.get("lines", {}).items():
+        s = np.asarray(line.get("s") or np.linalg.norm(np.subtract(line["points"], line["points"][0]), axis=1), dtype=float)
+        stress = np.asarray(line["stress"], dtype=float).reshape(-1, 3)
+        vm = np.asarray(line["von_mises"], dtype=float)
+        fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+        for k, lab in enumerate(("sxx", "syy", "sxy")):
+            ax.plot(s, stress[:, k], label=lab)
+        ax.plot(s, vm, "k", lw=2, label="von Mises")
+        figs.save_line_plot(fig, ax, "distance along the line [m]", "stress [Pa]", f"{problem.name}: line {name}",
+                            f"line_{_file_stem(name)}.png")
+
+
+def _contact_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any]) -> None:
+    for k, c in enumerate(summary.get("contacts", [])):
+        pressure, shear = c.get("pressure") or {}, c.get("shear") or {}
+        if not (pressure.get("s") or shear.get("s")):
+            continue
+        fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+        if pressure.get("s"):
+            ax.plot(np.asarray(pressure["s"], float), np.asarray(pressure["value"], float), label="pressure")
+        if shear.get("s"):
+            ax.plot(np.asarray(shear["s"], float), np.asarray(shear["value"], float), label="shear")
+        title = f"{problem.name}: contact {' / '.join(c.get('bodies', []))}"
+        figs.save_line_plot(fig, ax, "s along the contact curve [m]", "traction [Pa]", title, f"contact_{k}.png")
+
+
+def write_plots(
+    out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]
+) -> list[Path]:
+    """Write the PNG pictures; returns their paths."""
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    figs = _Figures(out_dir)
+    summary = json_safe(summary)  # plain lists; None where a value is missing
+    _field_figures(figs, problem, solution, summary)
+    _line_figures(figs, problem, summary)
+    _contact_figures(figs, problem, summary)
+    return figs.written

@@ -1,0 +1,115 @@
+"""Resolution of what a scene leaves implicit, done once before anything is discretised: the
+contact points (given, or the closest points of the two exact boundaries: one search, one
+sampling spacing) and the centres of ``around = "contact"`` refinement zones.
+:func:`resolve_problem` returns a :class:`Problem` in which both are explicit; the scene layer
+calls it (so the rigid-body check judges the point that is solved), and ``solve`` calls it again
+for problems built by hand (a no-op on a resolved one)."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from .problem import BodyModel, ContactModel, Problem, check_problem
+
+__all__ = ["CONTACT_SEARCH_SPACING", "closest_boundary_point", "contact_point", "contact_frame", "resolve_problem"]
+
+#: sampling spacing of the closest-point search, as a fraction of the finer element size
+CONTACT_SEARCH_SPACING = 0.05
+
+
+def contact_point(problem: Problem, contact: ContactModel) -> np.ndarray:
+    """The contact's point: given, or the midpoint of the closest points of the two exact
+    boundaries (the deepest point of body 1 when they overlap)."""
+    if contact.point is not None:
+        p = np.asarray(contact.point, dtype=float)
+        if p.shape != (2,) or not np.isfinite(p).all():
+            raise ValueError(f"contacts.point must be [x, y], got {contact.point!r}")
+        return p
+    first = problem.body(contact.bodies[0]).profile
+    second = problem.body(contact.bodies[1]).profile
+    size = min(problem.body(n).element_size for n in contact.bodies)
+    xa = closest_boundary_point(first, second, CONTACT_SEARCH_SPACING * size)
+    xb = np.asarray(second.project(xa[None, :]).points[0], dtype=float)
+    return 0.5 * (xa + xb)
+
+
+def contact_frame(problem: Problem, contact: ContactModel) -> tuple[np.ndarray, np.ndarray]:
+    """Contact point and the outward unit normal of the second body there."""
+    point = contact_point(problem, contact)
+    second = problem.body(contact.bodies[1]).profile
+    normal = np.asarray(second.project(point[None, :]).normals[0], dtype=float)
+    return point, normal / np.linalg.norm(normal)
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+def _resolved_body(body: BodyModel, points: list[np.ndarray]) -> BodyModel:
+    """Every ``around = "contact"`` zone without a centre becomes one zone per contact point."""
+    refs = []
+    for k, r in enumerate(body.refinements):
+        if r.center is None:
+            if not points:
+                raise ValueError(
+                    f"bodies[{body.name}].refinement[{k}].around is 'contact' but the body has no contact"
+                )
+            refs += [dataclasses.replace(r, center=_frozen(p)) for p in points]
+        else:
+            refs.append(r)
+    return dataclasses.replace(body, refinements=tuple(refs))
+
+
+def resolve_problem(problem: Problem) -> Problem:
+    """``problem`` with every contact point and every refinement centre explicit."""
+    check_problem(problem)
+    contacts = tuple(
+        c if c.point is not None else dataclasses.replace(c, point=_frozen(contact_point(problem, c)))
+        for c in problem.contacts
+    )
+    bodies = []
+    for body in problem.bodies:
+        if any(r.center is None for r in body.refinements):
+            mine = [np.asarray(c.point, dtype=float) for c in contacts if body.name in c.bodies]
+            body = _resolved_body(body, mine)
+        bodies.append(body)
+    return dataclasses.replace(problem, contacts=contacts, bodies=tuple(bodies))
+
+
+def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarray:
+    """The point of ``first``'s boundary that maximises ``second``'s signed distance phi
+    (positive inside): the point closest to ``second`` when they are apart, the deepest one
+    when they overlap. Each edge is sampled in its own parameter about every ``spacing``
+    (one vectorised phi call per edge), then a bounded scalar search in the exact parameter
+    between the neighbours of the best sample refines it."""
+    from scipy.optimize import minimize_scalar
+
+    best_phi, best = -np.inf, None
+    for name in first.edge_names:  # a handful of edges
+        curve = first.edges[name]
+        n = int(np.clip(np.ceil(float(curve.length) / spacing) + 1, 9, 20001))
+        t = np.linspace(curve.t_start, curve.t_end, n)
+        phi = np.asarray(second.signed_distance(curve.evaluate(t)), dtype=float)
+        k = int(np.argmax(phi))
+        if phi[k] > best_phi:
+            best_phi, best = phi[k], (curve, t[max(k - 1, 0)], t[min(k + 1, n - 1)])
+    curve, t0, t1 = best
+    res = minimize_scalar(
+        lambda s: -float(second.signed_distance(curve.evaluate(np.array([s])))[0]),
+        bounds=(min(t0, t1), max(t0, t1)),
+        method="bounded",
+        options={"xatol": 1e-13 * max(abs(curve.t_end - curve.t_start), 1.0)},
+    )
+    x = np.asarray(curve.evaluate(np.array([res.x]))[0], dtype=float)
+    # the bounded search never returns the interval ends: keep a better sample end point
+    ends = np.asarray(curve.evaluate(np.array([t0, t1])), dtype=float)
+    candidates = np.vstack([x[None, :], ends])
+    phi = np.asarray(second.signed_distance(candidates), dtype=float)
+    return candidates[int(np.argmax(phi))]
+
+

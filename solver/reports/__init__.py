@@ -1,0 +1,2 @@
+"""Applications built on the library: ``make validate`` (:mod:`.validate`) and ``make demo``
+(:mod:`.demo`)."""

@@ -1,0 +1,144 @@
+"""The solved problem: the discrete displacement of every body, and the fields derived from it
+(displacement, raw and recovered stress, von Mises) evaluated lazily at the points asked for;
+forces, iteration history and timings as the solver reported them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .fem.recovery import nodal_stress
+from .fem.space import BodyDiscretisation
+from .model.elasticity import von_mises
+from .model.options import SolverOptions
+
+__all__ = ["IBFEMSolution"]
+
+
+@dataclass
+class IBFEMSolution:
+    """The solved problem: fields are evaluated lazily at the points asked for."""
+
+    problem: object
+    bodies: list[BodyDiscretisation]
+    u: np.ndarray
+    converged: bool
+    body_info: dict[str, dict[str, float]]
+    reactions: dict[str, np.ndarray]
+    iterations: dict
+    timings: dict[str, float]
+    contacts: list[dict] = field(default_factory=list)
+    settings: SolverOptions = field(default_factory=SolverOptions)
+    boundary_tractions: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=dict)
+
+    def _body(self, body: str | None) -> list[BodyDiscretisation]:
+        if body is None:
+            return self.bodies
+        for b in self.bodies:
+            if b.name == body:
+                return [b]
+        raise ValueError(f"no body named {body!r}; bodies: {', '.join(b.name for b in self.bodies)}")
+
+    @staticmethod
+    def _points(points) -> np.ndarray:
+        p = np.asarray(points, dtype=float)
+        if p.ndim == 1 and p.shape == (2,):
+            p = p[None]
+        if p.ndim != 2 or p.shape[1] != 2:
+            raise ValueError(f"points must be an (n, 2) array, got shape {p.shape}")
+        return p
+
+    def body_at(self, points: np.ndarray) -> np.ndarray:
+        p = self._points(points)
+        out = np.full(len(p), -1, dtype=np.int64)
+        for b in self.bodies:
+            todo = out < 0
+            if todo.any():
+                hit = b.contains(p[todo]) & (b.grid.locate(p[todo]) >= 0)
+                out[np.nonzero(todo)[0][hit]] = b.index
+        return out
+
+    def cell_centroids(self, body: str) -> np.ndarray:
+        """(m, 2) centroids of the inside parts of the cells."""
+        (b,) = self._body(body)
+        g = b.grid
+        m = g.moments
+        with np.errstate(invalid="ignore", divide="ignore"):
+            loc = np.stack([m[:, 1, 0] / m[:, 0, 0], m[:, 0, 1] / m[:, 0, 0]], axis=1)
+        return g.center + 0.5 * g.size[:, None] * np.clip(np.nan_to_num(loc), -1.0, 1.0)
+
+    def centroid_stress(self, body: str) -> np.ndarray:
+        """(m, 3) stress of the discrete field at the centroid of each cell's inside part (the
+        superconvergent point of a bilinear square for interior cells); computed once."""
+        (b,) = self._body(body)
+        cache = self.__dict__.setdefault("_centroid_stress", {})
+        if b.name not in cache:
+            cells = np.arange(len(b.grid.level))
+            cache[b.name] = (b.stress_operator(self.cell_centroids(b.name), cells) @ self.u).reshape(-1, 3)
+        return cache[b.name]
+
+    def nodal_stress(self, body: str) -> np.ndarray:
+        """(N, 3) recovered nodal stresses (solver.fem.recovery); computed once."""
+        (b,) = self._body(body)
+        cache = self.__dict__.setdefault("_nodal_stress", {})
+        if b.name not in cache:
+            cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), self.centroid_stress(b.name))
+        return cache[b.name]
+
+    def _evaluate(self, points, body, kind: str, width: int) -> np.ndarray:
+        p = self._points(points)
+        out = np.full((len(p), width), np.nan)
+        owner = self.body_at(p) if body is None else None
+        for b in self._body(body):
+            if owner is None:
+                sel = np.nonzero(b.contains(p))[0]
+            else:
+                sel = np.nonzero(owner == b.index)[0]
+            if len(sel) == 0:
+                continue
+            cells = b.grid.locate(p[sel])
+            ok = cells >= 0
+            sel, cells = sel[ok], cells[ok]
+            if kind == "displacement":
+                out[sel] = (b.displacement_operator(p[sel], cells) @ self.u).reshape(-1, 2)
+            elif kind == "stress":
+                out[sel] = (b.stress_operator(p[sel], cells) @ self.u).reshape(-1, 3)
+            else:  # recovered stress: bilinear interpolation of the nodal stresses
+                n, _ = b.shape(p[sel], cells)
+                out[sel] = np.einsum("qa,qak->qk", n, self.nodal_stress(b.name)[b.grid.cells[cells]])
+        return out
+
+    def displacement(self, points: np.ndarray, body: str | None = None) -> np.ndarray:
+        return self._evaluate(points, body, "displacement", 2)
+
+    def stress(self, points: np.ndarray, body: str | None = None, recovered: bool = True) -> np.ndarray:
+        """[sxx, syy, sxy] (n, 3). By default the recovered field (solver.fem.recovery: nodal values
+        from the cell-centroid stresses, interpolated bilinearly; O(h^2) inside);
+        ``recovered=False`` gives the stress of the discrete field itself, C B u (O(h))."""
+        return self._evaluate(points, body, "recovered" if recovered else "stress", 3)
+
+    def von_mises(self, points: np.ndarray, body: str | None = None, recovered: bool = True) -> np.ndarray:
+        p = self._points(points)
+        s = self.stress(p, body, recovered)
+        out = np.full(len(p), np.nan)
+        owner = self.body_at(p) if body is None else None
+        for b in self._body(body):
+            sel = np.nonzero(owner == b.index)[0] if owner is not None else np.arange(len(p))
+            out[sel] = von_mises(s[sel], b.model, b.poissons_ratio)
+        return out
+
+    def mesh(self, body: str) -> dict[str, np.ndarray]:
+        (b,) = self._body(body)
+        g = b.grid
+        disp = (b.node_dof_map @ self.u).reshape(-1, 2)
+        stress = self.centroid_stress(b.name)
+        return {
+            "nodes": g.nodes.copy(),
+            "cells": g.cells.copy(),
+            "displacement": disp,
+            "cell_stress": stress,
+            "cell_inside_fraction": g.inside_fraction.copy(),
+        }
+
+

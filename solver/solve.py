@@ -1,0 +1,75 @@
+"""``solve(problem) -> Solution``: the one entry of the numerics. Resolves what the problem leaves
+implicit (contact points, refinement centres), then runs the linear solve (no contacts) or the
+contact load-step driver. The only module that imports both."""
+
+from __future__ import annotations
+
+import time
+from typing import Callable
+
+import numpy as np
+
+from .contact.driver import solve_contact
+from .fem.assembly import assemble, rigid_modes_check
+from .fem.linalg import linear_solve
+from .fem.space import body_info, discretise
+from .model.resolve import resolve_problem
+from .solution import IBFEMSolution
+
+__all__ = ["solve"]
+
+
+def solve(problem, progress: Callable[..., None] | None = None) -> IBFEMSolution:
+    """Solve a linear elastic :class:`solver.model.Problem` with IBFEM (every numerical choice is
+    in ``problem.options`` and each contact's ``options``). ``progress(stage, fraction)`` is
+    called between stages."""
+    problem = resolve_problem(problem)
+    if problem.contacts:
+        return solve_contact(problem, progress=progress)
+    return _solve_linear(problem, progress)
+
+
+def _solve_linear(problem, progress) -> IBFEMSolution:
+    options = problem.options
+    t_start = time.perf_counter()
+    report = progress or (lambda *a, **k: None)
+    timings: dict[str, float] = {}
+    t = time.perf_counter()
+    bodies = discretise(problem, options, report)
+    timings["grid_s"] = time.perf_counter() - t
+
+    report("assembly", 0.4)
+    t = time.perf_counter()
+    system = assemble(problem, bodies, options)
+    timings["assembly_s"] = time.perf_counter() - t
+
+    rigid_modes_check(system.stiffness, bodies)
+    report("solve", 0.6)
+    t = time.perf_counter()
+    u = linear_solve(system.stiffness, system.load, bodies)
+    timings["solve_s"] = time.perf_counter() - t
+    k, f = system.stiffness, system.load
+    r = f - k @ u
+    residual = float(np.linalg.norm(r) / max(np.linalg.norm(f), 1e-300))
+    work = abs(float(u @ r)) / max(abs(float(u @ f)), 1e-300)
+    converged = bool(np.isfinite(u).all() and residual < 1e-6 and work <= options.tolerance)
+    messages = [] if work <= options.tolerance else [
+        f"the residual work of the solution is {work:.3g}, above solver.tolerance = {options.tolerance:g}"
+    ]
+    reactions, tractions = system.reactions(u)
+    timings["total_s"] = time.perf_counter() - t_start
+    report("done", 1.0)
+    return IBFEMSolution(
+        problem=problem,
+        bodies=bodies,
+        u=u,
+        converged=converged,
+        body_info=body_info(bodies),
+        reactions=reactions,
+        iterations={"total": 1, "per_step": [1], "linear_residual": residual, "residual_work": work,
+                    "messages": messages},
+        timings=timings,
+        contacts=[],
+        settings=options,
+        boundary_tractions=tractions,
+    )
