@@ -40,6 +40,7 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor,
 from ..model.elasticity import plane_modulus
 from ..model.options import ContactOptions
 from .geometry import ContactGeometry, contact_geometry, contact_quadrature, grid_breakpoints, sample_points
+from .report import contact_block
 from .roots import StickRoot, bracket_search, edge_search, thesis_search
 
 __all__ = ["BandContact", "build"]
@@ -151,6 +152,15 @@ class BandContact:
         """Force (2,) on body 1 from body 2 for contact dof values x."""
         return _contact_force(self, info, x, a)
 
+    def traction_samples(self, u: np.ndarray, a: float, s: np.ndarray):
+        """Traction on body 1 (q, 2) at the chords ``s`` of the contact curve for the field u,
+        with the sample points (their ``normal`` is the contact normal used)."""
+        pts = sample_points(self.geom, s)
+        jump, flux, size = _operators(self, pts)
+        _, t1, _ = _tractions(self, pts, jump[:, self.dofs].toarray(), flux[:, self.dofs].toarray(), size,
+                              u[self.dofs], a)
+        return pts, t1
+
     def is_symmetric(self) -> bool:
         """Whether the contact terms are symmetric (no friction traction in a slip zone)."""
         return not (self.slip_sign != 0.0 and self.friction > 0.0)
@@ -208,7 +218,7 @@ class BandContact:
                 f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and tension "
                 f"{v.tension} (edge pressure {v.pressure:.3g} Pa) at a = {a:.6g} m"
             )
-        block = contact_block(self, a, on2, nrm, tan, u)
+        block = contact_block(self, a, on2, u)
         block["checks"] = {"penetration": v.penetration, "tension": v.tension, "edge_gap": v.gap,
                            "edge_pressure": v.pressure, "penetration_points": v.penetration_count,
                            "tension_points": v.tension_count, "min_gap": v.min_gap, "min_pressure": v.min_pressure,
@@ -563,51 +573,3 @@ def build(problem, model, b1, b2, options) -> BandContact:
                             _contact_extent(problem, model, opts.extent_fraction))
     geom.normal_mode = opts.contact_normal
     return _setup_contact(model, geom, b1, b2, options.band_fraction)
-
-
-
-def contact_block(c: BandContact, a: float, on2, nrm, tan, u) -> dict:
-    """SPEC section 4 contact block with pressure and shear sampled on the exact contact curve.
-
-    The traction of the thin-band terms is discontinuous from cell to cell (bilinear fields:
-    sigma jumps across cell sides, w is piecewise smooth), so its point values oscillate with
-    the grid by tens of percent while its cell means are accurate. The profiles written are
-    its moving average over one cell width (the coarser of the two grids at the contact
-    point): a recovery that removes the grid-periodic part and, being a mean, keeps the
-    force (the integral of the profile equals the transmitted force)."""
-    s_plus, s_minus = c.geom.s_limits
-    out_s = np.linspace(-min(1.25 * a, s_minus), min(1.25 * a, s_plus), 201) if a > 0 else np.zeros(1)
-    width = max(
-        float(b.grid.size[b.grid.locate(np.asarray(o)[None, :] - 1e-9 * b.grid.min_size * np.asarray(n))[0]])
-        for b, o, n in ((c.b1, c.geom.origins[0], -c.geom.normal), (c.b2, c.geom.origins[1], c.geom.normal))
-    )
-    ds = c.options.sample_spacing * c.h
-    reach_p, reach_m = min(1.25 * a + width, s_plus), min(1.25 * a + width, s_minus)
-    s = np.linspace(-reach_m, reach_p, int(math.ceil((reach_p + reach_m) / ds)) + 1)
-    pts = sample_points(c.geom, s)
-    jump, flux, size = _operators(c, pts)
-    _, t1, _ = _tractions(c, pts, jump[:, c.dofs].toarray(), flux[:, c.dofs].toarray(), size, u[c.dofs], a)
-    nl = pts.normal
-    tl = np.stack([-nl[:, 1], nl[:, 0]], axis=1)
-    pressure = np.einsum("qi,qi->q", t1, nl)  # compression positive
-    shear = -np.einsum("qi,qi->q", t1, tl)  # on body 2 along the local tangent
-    k = 2 * int(round(0.5 * width / (s[1] - s[0]))) + 1 if len(s) > 1 else 1  # odd: centred
-    kernel = np.ones(k) / k
-    pressure = np.convolve(pressure, kernel, mode="same")
-    shear = np.convolve(shear, kernel, mode="same")
-    friction = float(getattr(c.model, "friction", 0.0) or 0.0)
-    return {
-        "bodies": list(c.geom.bodies),
-        "type": c.kind,
-        "friction": friction,
-        "point": c.geom.point.tolist(),
-        "normal": nrm.tolist(),
-        "tangent": tan.tolist(),
-        "half_width": float(a),
-        "stick_half_width": float(min(c.stick(a), a)),
-        "normal_force": float(-on2 @ nrm),
-        "tangential_force": float(on2 @ tan),
-        "pressure": {"s": out_s.tolist(), "value": np.interp(out_s, s, pressure).tolist()},
-        "shear": {"s": out_s.tolist(), "value": np.interp(out_s, s, shear).tolist()},
-        "profile_smoothing": float(width),
-    }
