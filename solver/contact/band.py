@@ -218,8 +218,17 @@ class BandContact:
                 f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and tension "
                 f"{v.tension} (edge pressure {v.pressure:.3g} Pa) at a = {a:.6g} m"
             )
+        elif v.penetration_count:
+            # the window verdicts look one cell beyond the edges: the bodies may still overlap
+            # farther out (a region found far too small, even empty); never report that as solved
+            messages.append(
+                f"{self.name}: the bodies interpenetrate outside the contact region at {v.penetration_count} "
+                f"sample points (smallest gap {v.min_gap:.3g} m) at a = {a:.6g} m: the region search did not "
+                "find the contact (refine the grid near the contact, or check the contact point and loads)"
+            )
         block = contact_block(self, a, on2, u)
-        block["checks"] = {"penetration": v.penetration, "tension": v.tension, "edge_gap": v.gap,
+        block["checks"] = {"penetration": bool(v.penetration or v.penetration_count), "tension": v.tension,
+                           "edge_penetration": v.penetration, "edge_gap": v.gap,
                            "edge_pressure": v.pressure, "penetration_points": v.penetration_count,
                            "tension_points": v.tension_count, "min_gap": v.min_gap, "min_pressure": v.min_pressure,
                            "half_width_bracket": list(bracket), "force_on_first": force1.tolist(),
