@@ -23,7 +23,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..fem.assembly import boundary_terms, essential_reactions, rigid_modes_check
-from ..fem.linalg import condensed_apply, condensed_factor, embed, scatter, single_threaded_blas
+from ..fem.linalg import condensed_apply, condensed_factor, dof_order, embed, scatter, single_threaded_blas
 from ..fem.space import body_info, discretise
 from ..solution import IBFEMSolution
 from .formulation import formulation
@@ -45,6 +45,19 @@ def _silent(stage, fraction=None) -> None:
     return None
 
 
+def load_steps(problem) -> tuple[int, str]:
+    """The load steps to solve, and why. Each step solves the total problem at its load factor
+    (the region is found anew; only its starting guess comes from the step before), and in
+    small-strain linear elasticity under proportional loading tied and frictionless contact do
+    not depend on the loading path: their final load is solved directly. Frictional contact
+    keeps the requested steps (the slip direction and the stick zone follow the load history)."""
+    requested = problem.options.load_steps
+    if any(c.type == "frictional" for c in problem.contacts):
+        return requested, "frictional contact: the requested load steps (the stick zone follows the load history)"
+    return 1, ("tied / frictionless contact, proportional loading: path-independent, the final load solved directly"
+               + (f" (of {requested} requested)" if requested > 1 else ""))
+
+
 class ContactDriver:
     """One contact solve: set-up (grids, K0, the contacts' formulations, the condensed factor),
     the load steps (region searches and friction updates), the final state and its report."""
@@ -60,6 +73,7 @@ class ContactDriver:
         self.work_history: list[float] = []
         self.last = None  # (lam, x, y, kc, fc) of the last trial state
         self.ref_work = None
+        self.steps, self.step_rule = load_steps(problem)
 
     # ------------------------------------------------------------------ set-up
 
@@ -69,7 +83,7 @@ class ContactDriver:
         self._assemble()
         self._factor()
         t = time.perf_counter()
-        for step in range(1, self.options.load_steps + 1):
+        for step in range(1, self.steps + 1):
             self._load_step(step)
         for c in self.contacts:
             self.messages += c.finish()
@@ -118,12 +132,13 @@ class ContactDriver:
             rigid_modes_check(self.k0, self.bodies)  # still singular: a genuine rigid-body motion
         self.dofs = np.unique(np.concatenate([c.dofs for c in self.contacts]))
         self.where = [np.searchsorted(self.dofs, c.dofs) for c in self.contacts]
-        self.lu, self.schur = condensed_factor(self.k0, self.dofs)
+        self.lu, self.schur = condensed_factor(self.k0, self.dofs, dof_order(self.bodies, self.k0))
         u0 = self.lu.solve(self.f0)
         self.bu0 = u0[self.dofs]
         self.sbu0 = self.schur @ self.bu0
         self.u0f0 = float(u0 @ self.f0)
-        self.base_terms = [c.terms(a0)[:2] for c, a0 in zip(self.contacts, self.base)]
+        # contact stiffness already in K0 (None: none)
+        self.base_terms = [c.terms(a0)[0] if a0 > 0 else None for c, a0 in zip(self.contacts, self.base)]
         self.timings["factor_s"] = time.perf_counter() - t
         self.widths = [c.initial_region() for c in self.contacts]
         self.brackets = [(0.0, 0.0)] * len(self.contacts)
@@ -136,13 +151,21 @@ class ContactDriver:
     # ------------------------------------------------------------------ one trial state
 
     def _assemble_trial(self, widths):
+        """Contact stiffness and load on the condensed dofs for trial regions ``widths``, less
+        the fixed base regions kept in K0."""
         m = len(self.dofs)
+        if len(self.contacts) == 1 and m == len(self.contacts[0].dofs):  # one contact: its own dofs
+            (c,), (a,), (kb,) = self.contacts, widths, self.base_terms
+            kc, fc, info = c.terms(a)
+            if kb is not None:
+                kc = kc - kb
+            return kc, fc, [info]
         kc = np.zeros((m, m))
         fc = np.zeros(m)
         infos = []
-        for c, wh, a, (kb, fb) in zip(self.contacts, self.where, widths, self.base_terms):
+        for c, wh, a, kb in zip(self.contacts, self.where, widths, self.base_terms):
             kk, ff, info = c.terms(a)
-            kc[np.ix_(wh, wh)] += kk - kb
+            kc[np.ix_(wh, wh)] += kk if kb is None else kk - kb
             fc[wh] += ff
             infos.append(info)
         return kc, fc, infos
@@ -233,7 +256,7 @@ class ContactDriver:
     # ------------------------------------------------------------------ load steps
 
     def _load_step(self, step: int) -> None:
-        steps = self.options.load_steps
+        steps = self.steps
         lam = step / steps
         final = step == steps
         self.report(f"load step {step}/{steps}", 0.3 + 0.6 * (step - 1) / steps)
@@ -297,6 +320,7 @@ class ContactDriver:
         iterations = {
             "total": int(sum(self.per_step)),
             "per_step": self.per_step,
+            "load_steps": {"requested": self.options.load_steps, "solved": self.steps, "rule": self.step_rule},
             "linear_residual": residual,
             "residual_work": work,
             "width_update": [c.options.width_update for c in self.contacts][0],

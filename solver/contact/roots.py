@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-__all__ = ["Bracket", "edge_search", "bracket_search", "thesis_search", "StickRoot", "RegionTooSmall"]
+__all__ = ["Bracket", "SecantBracket", "edge_search", "bracket_search", "thesis_search", "StickRoot", "RegionTooSmall"]
 
 
 class Bracket:
@@ -144,27 +144,79 @@ def thesis_search(a0: float, h: float, tol: float, a_max: float, max_iterations:
     return a, (a, a)
 
 
+class SecantBracket(Bracket):
+    """A :class:`Bracket` that proposes the secant step through the two latest trials while it
+    falls inside the bracket (kept tol/2 from its ends, so that near the root the next trial
+    lands across it and closes the bracket), regula falsi on the ends otherwise, and bisection
+    when the bracket did not halve over three trials. For a smooth g the secant converges
+    superlinearly where Illinois's retained-end halving alternates sides."""
+
+    def __init__(self, lo, hi, glo, ghi, tol, last=()):
+        super().__init__(lo, hi, glo, ghi, tol)
+        self.last = list(last)[-2:]  # (a, g) of the latest trials
+
+    def update(self, a, low_side: bool, g: float) -> None:
+        super().update(a, low_side, g)
+        self.last = (self.last + [(a, g)])[-2:]
+
+    def propose(self) -> float:
+        lo, hi = self.lo, self.hi
+        margin = min(0.5 * self.tol, 0.25 * (hi - lo))
+        slow = len(self.widths) >= 4 and self.widths[-1] > 0.5 * self.widths[-4]
+        if len(self.last) == 2 and not slow:
+            (a1, g1), (a2, g2) = self.last
+            if np.isfinite(g1) and np.isfinite(g2) and g1 != g2:
+                x = a2 - g2 * (a2 - a1) / (g2 - g1)
+                if lo + margin <= x <= hi - margin:
+                    return float(x)
+                if lo < x < hi:
+                    return float(np.clip(x, lo + margin, hi - margin))
+        if slow or not (np.isfinite(self.glo) and np.isfinite(self.ghi) and self.glo < 0.0 < self.ghi):
+            return 0.5 * (lo + hi)
+        x = lo + (hi - lo) * (-self.glo) / (self.ghi - self.glo)
+        return float(np.clip(x, lo + margin, hi - margin))
+
+
+#: growth of a trial region per step while no bracket is found: at least, at most
+_GROWTH = (1.25, 4.0)
+
+
+def _next_growing(a: float, step: float, seen: list[tuple[float, float]], a_max: float) -> float:
+    """The next trial while every trial so far was too small (g > 0): where the secant through
+    the last two trials crosses zero, a little beyond (to bracket the root), kept between
+    1.25 and 4 times a; the doubling step where g does not decrease yet."""
+    grown = a + step
+    if len(seen) >= 2:
+        (a1, g1), (a2, g2) = seen[-2:]
+        if np.isfinite(g1) and np.isfinite(g2) and g2 < g1 and a2 > a1:
+            root = a2 + g2 * (a2 - a1) / (g1 - g2)
+            grown = float(np.clip(1.1 * root, _GROWTH[0] * a, _GROWTH[1] * a))
+    return min(grown, a_max)
+
+
 def edge_search(a0: float, h: float, tol: float, a_max: float):
     """Generator of trial half-widths for the root of the edge coefficient g(a) (> 0: a too
     small); receives the verdict of each trial, returns the width and the final bracket.
 
-    Grow / shrink from a0 by a doubling step until g changes sign, then close the bracket to
-    ``tol`` by regula falsi with the Illinois modification (:class:`Bracket`; g is smooth in
-    a, so this converges superlinearly). Without compression (g = -inf) the trial is treated
-    as too large."""
+    Grow from a0 towards the root the secant through the last two trials predicts (a doubling
+    step until g decreases), or shrink by a doubling step, until g changes sign; then close the
+    bracket to ``tol`` by the safeguarded secant of :class:`SecantBracket`. Without compression
+    (g = -inf) the trial is treated as too large."""
     step = max(0.05 * a0, 0.5 * h)
     lo = hi = None
     glo = ghi = None
+    seen: list[tuple[float, float]] = []
     a = a0
     while True:
         v = yield a
         g = v.edge
+        seen.append((a, g))
         if g > 0.0:
             lo, glo = a, g
             if hi is None:
                 if a >= a_max:
                     raise RegionTooSmall()
-                a = min(a + step, a_max)
+                a = _next_growing(a, step, seen, a_max)
         else:
             hi, ghi = a, g
             if lo is None:
@@ -174,7 +226,7 @@ def edge_search(a0: float, h: float, tol: float, a_max: float):
         if lo is not None and hi is not None:
             break
         step *= 2.0
-    br = Bracket(lo, hi, -glo, -ghi, tol)  # Bracket wants g < 0 on the low side
+    br = SecantBracket(lo, hi, -glo, -ghi, tol, [(x, -y) for x, y in seen])  # g < 0 on the low side
     while not br.closed():
         a = br.propose()
         v = yield a

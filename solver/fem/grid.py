@@ -140,7 +140,12 @@ class Grid:
 
     @property
     def size(self) -> np.ndarray:
-        return self.h0 / 2.0 ** self.level
+        """Cell sizes (computed once per cell table: ``level`` is replaced, never edited)."""
+        cached = self.__dict__.get("_size")
+        if cached is None or cached[0] is not self.level:
+            cached = (self.level, self.h0 / 2.0 ** self.level)
+            self.__dict__["_size"] = cached
+        return cached[1]
 
     @property
     def lower(self) -> np.ndarray:

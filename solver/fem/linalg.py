@@ -20,6 +20,8 @@ __all__ = [
     "linear_solve",
     "single_threaded_blas",
     "condensed_factor",
+    "dof_order",
+    "metis_order",
     "condensed_apply",
     "PermutedLU",
     "embed",
@@ -66,11 +68,7 @@ def linear_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None) ->
     if bodies is None or n < NESTED_DISSECTION_DOFS:
         lu = spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         return lu.solve(f)
-    perm = []
-    for b in bodies:
-        nodes = nested_dissection(b.grid.nodes[b.grid.free_nodes])
-        perm.append(b.dof_offset + (b.dim * nodes[:, None] + np.arange(b.dim)).ravel())
-    perm = np.concatenate(perm)
+    perm = dof_order(bodies, k)
     kp = k[perm][:, perm].tocsc()
     lu = spla.splu(kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     u = np.empty(n)
@@ -144,23 +142,95 @@ class PermutedLU:
         return out
 
 
-def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray):
-    """Factor K0 once with the contact dofs last (fill-reducing order of the rest from SuperLU's
-    MMD on the interior block, then natural order with diagonal pivots) and read the Schur
-    complement S = K_cc - K_ci K_ii^-1 K_ic off the trailing block of the factors: S = L_cc U_cc.
-    Then G = B K0^-1 B^T = S^-1 without m solves (scipy's SuperLU solves many right-hand sides
-    one by one, ~20 ms each here)."""
+def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None = None):
+    """Factor K0 once with the contact dofs last and read the Schur complement
+    S = K_cc - K_ci K_ii^-1 K_ic off the trailing block of the factors: S = L_cc U_cc. Then
+    G = B K0^-1 B^T = S^-1 without m solves (scipy's SuperLU solves many right-hand sides one
+    by one, ~20 ms each here).
+
+    ``order``: a fill-reducing order of all dofs (:func:`dof_order`, geometric nested
+    dissection); the interior dofs keep it, the contact dofs go last; SuperLU then factors in
+    that order with diagonal pivots. Without it, SuperLU's minimum degree orders the interior
+    (one more factorisation, of the interior block, only to find the order)."""
     n = k0.shape[0]
     m = len(dofs)
-    interior = np.setdiff1d(np.arange(n), dofs)
-    kii = k0[interior][:, interior].tocsc()
-    lu_i = spla.splu(kii, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-    order = np.concatenate([interior[np.argsort(lu_i.perm_c)], dofs])
-    kp = k0[order][:, order].tocsc()
+    contact = np.zeros(n, dtype=bool)
+    contact[dofs] = True
+    if order is None:
+        interior = np.flatnonzero(~contact)
+        kii = k0[interior][:, interior].tocsc()
+        lu_i = spla.splu(kii, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+        interior = interior[np.argsort(lu_i.perm_c)]
+        del lu_i, kii
+    else:
+        interior = order[~contact[order]]
+    order = np.concatenate([interior, dofs])
+    kp = _permuted(k0, order)
     lu = spla.splu(kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    del kp
     if (lu.perm_r != np.arange(n)).any() or (lu.perm_c != np.arange(n)).any():
         raise RuntimeError("the condensed factorisation pivoted off the diagonal")
-    lcc = lu.L.tocsr()[n - m :, n - m :].toarray()
-    ucc = lu.U.tocsr()[n - m :, n - m :].toarray()
+    lcc = _trailing_block(lu.L, m)
+    ucc = _trailing_block(lu.U, m)
     schur = lcc @ ucc
     return PermutedLU(lu, order), 0.5 * (schur + schur.T)
+
+
+def _permuted(k: sp.csr_matrix, order: np.ndarray) -> sp.csc_matrix:
+    """P K P^T in CSC for the permutation ``order`` (new index i holds old index order[i])."""
+    n = k.shape[0]
+    where = np.empty(n, dtype=np.int64)
+    where[order] = np.arange(n)
+    coo = k.tocoo()
+    return sp.csc_matrix((coo.data, (where[coo.row], where[coo.col])), shape=k.shape)
+
+
+def _trailing_block(factor: sp.csc_matrix, m: int) -> np.ndarray:
+    """The last m x m block of a CSC factor, dense (only its last m columns are read)."""
+    n = factor.shape[0]
+    start = factor.indptr[n - m]
+    rows = factor.indices[start:]
+    cols = np.repeat(np.arange(m), np.diff(factor.indptr[n - m :]))
+    keep = rows >= n - m
+    out = np.zeros((m, m))
+    out[rows[keep] - (n - m), cols[keep]] = factor.data[start:][keep]
+    return out
+
+
+def dof_order(bodies, k: sp.spmatrix | None = None) -> np.ndarray:
+    """A fill-reducing order of the global dofs, the dofs of a node together: METIS's multilevel
+    nested dissection of the node graph of ``k`` when pymetis is installed (the ``fast`` extra;
+    measured on the 68k-dof peer problem: 15 % less fill than SuperLU's minimum degree, 40 %
+    less than the geometric dissection), else geometric nested dissection of each body's free
+    nodes (:func:`nested_dissection`)."""
+    if k is not None:
+        order = metis_order(k, bodies[0].dim if bodies else 2)
+        if order is not None:
+            return order
+    perm = []
+    for b in bodies:
+        nodes = nested_dissection(b.grid.nodes[b.grid.free_nodes])
+        perm.append(b.dof_offset + (b.dim * nodes[:, None] + np.arange(b.dim)).ravel())
+    return np.concatenate(perm)
+
+
+def metis_order(k: sp.spmatrix, block: int) -> np.ndarray | None:
+    """METIS nested dissection of the graph of ``block`` x ``block`` node blocks of k (the dofs
+    of a node numbered together); None without pymetis."""
+    try:
+        import pymetis
+    except ImportError:
+        return None
+    n = k.shape[0]
+    if n % block:
+        return None
+    coo = k.tocoo()
+    rows, cols = coo.row // block, coo.col // block
+    off = rows != cols
+    nodes = n // block
+    graph = sp.csr_matrix((np.ones(int(off.sum()), dtype=np.int8), (rows[off], cols[off])), shape=(nodes, nodes))
+    graph.sum_duplicates()
+    graph.sort_indices()
+    perm, _ = pymetis.nested_dissection(pymetis.CSRAdjacency(graph.indptr, graph.indices))
+    perm = np.asarray(perm, dtype=np.int64)
+    return (block * perm[:, None] + np.arange(block)).ravel()
