@@ -117,32 +117,46 @@ class BodyDiscretisation:
         n, dn = shape_functions(loc[:, 0], loc[:, 1])
         return n, dn * (2.0 / self.grid.size[cells])[:, None, None]
 
-    def _point_matrix(self, values: np.ndarray, cells: np.ndarray) -> sp.csr_matrix:
-        """Sparse (rows, n_total) from per-point blocks values (q, r, cell dofs) over cell dofs."""
+    def _point_matrix(self, values: np.ndarray, cells: np.ndarray, dof_map: sp.csr_matrix | None = None) -> sp.csr_matrix:
+        """Sparse (rows, n_total) from per-point blocks values (q, r, cell dofs) over cell dofs;
+        (rows, m) with a restricted ``dof_map`` (:meth:`restricted_dof_map`)."""
         q, r, _ = values.shape
         rows = np.broadcast_to(np.arange(q * r).reshape(q, r, 1), values.shape)
         cols = np.broadcast_to(self.cell_dofs(cells)[:, None, :], values.shape)
         m = sp.csr_matrix((values.ravel(), (rows.ravel(), cols.ravel())), shape=(q * r, self.dim * len(self.grid.nodes)))
-        return (m @ self.node_dof_map).tocsr()
+        return (m @ (self.node_dof_map if dof_map is None else dof_map)).tocsr()
 
-    def displacement_operator(self, points, cells) -> sp.csr_matrix:
+    def restricted_dof_map(self, dofs: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
+        """The node-dof map restricted to the global dofs ``dofs`` (sorted): (dim N_nodes, m), and
+        per grid node whether every dof its displacement depends on is among them (operators
+        built with the map are exact only at points whose cells' nodes all are)."""
+        full = self.node_dof_map
+        inside = np.zeros(self.n_total, dtype=bool)
+        inside[dofs] = True
+        row_ok = np.ones(full.shape[0], dtype=bool)
+        bad_rows = np.repeat(np.arange(full.shape[0]), np.diff(full.indptr))[~inside[full.indices]]
+        row_ok[bad_rows] = False
+        node_ok = row_ok.reshape(-1, self.dim).all(axis=1)
+        return full[:, dofs].tocsr(), node_ok
+
+    def displacement_operator(self, points, cells, dof_map=None) -> sp.csr_matrix:
         n, _ = self.shape(points, cells)
         d = self.dim
         v = np.zeros((len(points), d, d * n.shape[1]))
         for k in range(d):
             v[:, k, k::d] = n
-        return self._point_matrix(v, cells)
+        return self._point_matrix(v, cells, dof_map)
 
-    def stress_operator(self, points, cells) -> sp.csr_matrix:
+    def stress_operator(self, points, cells, dof_map=None) -> sp.csr_matrix:
         """(nv q, n_total): the Voigt stress ([sxx, syy, sxy] in 2D) at the points."""
         _, g = self.shape(points, cells)
-        return self._point_matrix(self.elasticity @ strain_matrix(g), cells)
+        return self._point_matrix(self.elasticity @ strain_matrix(g), cells, dof_map)
 
-    def traction_operator(self, points, cells, normals) -> sp.csr_matrix:
+    def traction_operator(self, points, cells, normals, dof_map=None) -> sp.csr_matrix:
         """(dim q, n_total): sigma(u_h) n at the points."""
         _, g = self.shape(points, cells)
         s = self.elasticity @ strain_matrix(g)  # (q, nv, cell dofs)
-        return self._point_matrix(traction_of_voigt(s, normals), cells)
+        return self._point_matrix(traction_of_voigt(s, normals), cells, dof_map)
 
     def stiffness(self, alpha: float) -> sp.csr_matrix:
         """Volume stiffness (n_dofs, n_dofs) of the body's free dofs (COO over all cells)."""
