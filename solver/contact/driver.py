@@ -19,11 +19,18 @@ import time
 from typing import Callable
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..fem.assembly import boundary_terms, essential_reactions, rigid_modes_check
-from ..fem.linalg import condensed_apply, condensed_factor, dof_order, embed, scatter, single_threaded_blas
+from ..fem.linalg import (
+    SmallSystem,
+    condensed_apply,
+    condensed_factor,
+    dof_order,
+    embed,
+    scatter,
+    single_threaded_blas,
+)
 from ..fem.space import body_info, discretise
 from ..solution import IBFEMSolution
 from .formulation import formulation
@@ -71,7 +78,7 @@ class ContactDriver:
         self.converged = True
         self.per_step: list[int] = []
         self.work_history: list[float] = []
-        self.last = None  # (lam, x, y, kc, fc) of the last trial state
+        self.last = None  # (lam, x, y, kc, fc, small) of the last trial state
         self.ref_work = None
         self.steps, self.step_rule = load_steps(problem)
 
@@ -142,7 +149,7 @@ class ContactDriver:
         self.timings["factor_s"] = time.perf_counter() - t
         self.widths = [c.initial_region() for c in self.contacts]
         self.brackets = [(0.0, 0.0)] * len(self.contacts)
-        self.prev = None  # (lam, x, y, kc, fc) of the last converged state
+        self.prev = None  # (lam, x, y, kc, fc, small) of the last converged state
         self.prev_infos = None
         self.max_iterations = min([self.options.max_iterations]
                                   + [c.options.max_width_iterations for c in self.contacts])
@@ -171,20 +178,17 @@ class ContactDriver:
         return kc, fc, infos
 
     def _solve_small(self, lam, kc, fc):
-        rhs = lam * self.sbu0 + fc
-        if not all(c.is_symmetric() for c in self.contacts):  # friction traction: non-symmetric
-            return sla.solve(self.schur + kc, rhs)
-        try:  # S + Kc is symmetric positive definite when the Nitsche terms are coercive
-            return sla.cho_solve(sla.cho_factor(self.schur + kc), rhs)
-        except np.linalg.LinAlgError:
-            return sla.solve(self.schur + kc, rhs, assume_a="sym")
+        """x of the condensed system (S + Kc) x = lam S B U0 + fc, and S + Kc factored (kept
+        with the state: the final field's refinement reuses it)."""
+        small = SmallSystem(self.schur + kc, all(c.is_symmetric() for c in self.contacts))
+        return small.solve(lam * self.sbu0 + fc), small
 
     def _work_ratio(self, lam, x, y, kc, fc) -> float:
         """Residual work between this trial state and the previous one, relative to the largest
         seen (the thesis's convergence measure, recorded in the history)."""
         old = self.last if self.last is not None else self.prev
         if old is not None:
-            o_lam, o_x, o_y, o_kc, o_fc = old
+            o_lam, o_x, o_y, o_kc, o_fc = old[:5]
             r = fc - kc @ o_x - o_fc + o_kc @ o_x
             work = float((x - o_x) @ r)
             dl = lam - o_lam
@@ -199,11 +203,11 @@ class ContactDriver:
     def _trial(self, trial, lam, step, iteration, tag):
         """Solve the state of the trial regions; (state, verdicts, infos)."""
         kc, fc, infos = self._assemble_trial(trial)
-        x = self._solve_small(lam, kc, fc)
+        x, small = self._solve_small(lam, kc, fc)
         y = fc - kc @ x
         ratio = self._work_ratio(lam, x, y, kc, fc)
         self.work_history.append(ratio)
-        state = (lam, x, y, kc, fc)
+        state = (lam, x, y, kc, fc, small)
         self.last = state
         verdicts = []
         for c, wh, a, info in zip(self.contacts, self.where, trial, infos):
@@ -226,6 +230,7 @@ class ContactDriver:
             if key not in cache:
                 iters += 1
                 cache[key] = self._trial(trial, lam, step, iters, tag)
+                self._forget_old_states(cache, keep=3)
             verdicts = cache[key][1]
             if all(r is not None for r in results) or iters >= self.max_iterations:
                 break
@@ -235,7 +240,19 @@ class ContactDriver:
         widths = [r[0] for r in results]
         key = tuple(widths) if tuple(widths) in cache else tuple(trial)  # unsettled: the last trial
         state, _, infos = cache[key]
+        if state[3] is None:  # an older trial's matrices were dropped: rebuild them
+            kc, fc, _ = self._assemble_trial(list(key))
+            state = state[:3] + (kc, fc, SmallSystem(self.schur + kc, all(c.is_symmetric() for c in self.contacts)))
         return widths, [r[1] for r in results], state, infos, iters, settled
+
+    @staticmethod
+    def _forget_old_states(cache: dict, keep: int) -> None:
+        """Drop the m x m matrices of all but the latest ``keep`` trials (memory: 15 MB each at
+        m = 1400); the vectors stay, the matrices are rebuilt if an older trial is chosen."""
+        for key in list(cache)[:-keep]:
+            state, verdicts, infos = cache[key]
+            if state[3] is not None:
+                cache[key] = (state[:3] + (None, None, None), verdicts, infos)
 
     def _advance(self, gens, results, verdicts) -> list[float]:
         """Send each unsettled search its verdict; the next trial of every contact."""
@@ -290,14 +307,14 @@ class ContactDriver:
     def _final_field(self):
         """The full field of the last state, refined twice on K0 + B^T Kc B (the contact terms,
         friction included, live on the contact dofs only); (u, load factor, residual work ratio)."""
-        lam, x, y, kc, fc = self.prev
+        lam, x, y, kc, fc, small = self.prev
         n, dofs = self.n, self.dofs
         u = self.lu.solve(lam * self.f0 + scatter(n, dofs, y))
         k_full = (self.k0 + embed(kc, dofs, n)).tocsr()
         f_full = lam * self.f0 + scatter(n, dofs, fc)
         res = f_full - k_full @ u
         for _ in range(2):
-            u = u + condensed_apply(self.lu, self.schur, dofs, kc, res)
+            u = u + condensed_apply(self.lu, small, self.schur, dofs, kc, res)
             res = f_full - k_full @ u
         work = abs(float(u @ res)) / max(abs(float(u @ f_full)), 1e-300)
         return u, lam, float(np.linalg.norm(res) / max(np.linalg.norm(f_full), 1e-300)), work

@@ -23,6 +23,7 @@ __all__ = [
     "dof_order",
     "metis_order",
     "condensed_apply",
+    "SmallSystem",
     "PermutedLU",
     "embed",
     "scatter",
@@ -121,12 +122,31 @@ def scatter(n, dofs, values):
     return out
 
 
-def condensed_apply(lu, schur, dofs, kc, r):
-    """(K0 + B^T Kc B)^-1 r by static condensation: (S + Kc) x = S B K0^-1 r, then
-    U = K0^-1 (r - B^T Kc x)."""
+class SmallSystem:
+    """A dense m x m system factored once: Cholesky when symmetric positive definite (the
+    contact block of the symmetric Nitsche terms), LU otherwise (friction tractions)."""
+
+    def __init__(self, matrix: np.ndarray, symmetric: bool):
+        self.cholesky = None
+        if symmetric:
+            try:
+                self.cholesky = sla.cho_factor(matrix)
+            except np.linalg.LinAlgError:
+                pass
+        if self.cholesky is None:
+            self.lu = sla.lu_factor(matrix)
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        if self.cholesky is not None:
+            return sla.cho_solve(self.cholesky, rhs)
+        return sla.lu_solve(self.lu, rhs)
+
+
+def condensed_apply(lu, small: SmallSystem, schur, dofs, kc, r):
+    """(K0 + B^T Kc B)^-1 r by static condensation: (S + Kc) x = S B K0^-1 r (``small`` holds
+    S + Kc factored), then U = K0^-1 (r - B^T Kc x)."""
     z = lu.solve(r)
-    sym = np.allclose(kc, kc.T, rtol=0.0, atol=1e-12 * max(np.abs(kc).max(), 1e-300))
-    x = sla.solve(schur + kc, schur @ z[dofs], assume_a="sym" if sym else "gen")
+    x = small.solve(schur @ z[dofs])
     return lu.solve(r - scatter(len(r), dofs, kc @ x))
 
 
