@@ -230,7 +230,7 @@ class ContactDriver:
             if key not in cache:
                 iters += 1
                 cache[key] = self._trial(trial, lam, step, iters, tag)
-                self._forget_old_states(cache, keep=3)
+                self._forget_old_states(cache, keep=2)
             verdicts = cache[key][1]
             if all(r is not None for r in results) or iters >= self.max_iterations:
                 break
@@ -241,18 +241,19 @@ class ContactDriver:
         key = tuple(widths) if tuple(widths) in cache else tuple(trial)  # unsettled: the last trial
         state, _, infos = cache[key]
         if state[3] is None:  # an older trial's matrices were dropped: rebuild them
-            kc, fc, _ = self._assemble_trial(list(key))
+            kc, fc, infos = self._assemble_trial(list(key))
             state = state[:3] + (kc, fc, SmallSystem(self.schur + kc, all(c.is_symmetric() for c in self.contacts)))
         return widths, [r[1] for r in results], state, infos, iters, settled
 
     @staticmethod
     def _forget_old_states(cache: dict, keep: int) -> None:
-        """Drop the m x m matrices of all but the latest ``keep`` trials (memory: 15 MB each at
-        m = 1400); the vectors stay, the matrices are rebuilt if an older trial is chosen."""
+        """Drop the m x m matrices and the quadrature data of all but the latest ``keep`` trials
+        (memory: tens of MB each at m = 1400); the verdicts and vectors stay, the rest is
+        rebuilt if an older trial is chosen."""
         for key in list(cache)[:-keep]:
             state, verdicts, infos = cache[key]
             if state[3] is not None:
-                cache[key] = (state[:3] + (None, None, None), verdicts, infos)
+                cache[key] = (state[:3] + (None, None, None), verdicts, None)
 
     def _advance(self, gens, results, verdicts) -> list[float]:
         """Send each unsettled search its verdict; the next trial of every contact."""

@@ -130,16 +130,16 @@ class SmallSystem:
         self.cholesky = None
         if symmetric:
             try:
-                self.cholesky = sla.cho_factor(matrix)
+                self.cholesky = sla.cho_factor(matrix, check_finite=False)
             except np.linalg.LinAlgError:
                 pass
         if self.cholesky is None:
-            self.lu = sla.lu_factor(matrix)
+            self.lu = sla.lu_factor(matrix, check_finite=False)
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
         if self.cholesky is not None:
-            return sla.cho_solve(self.cholesky, rhs)
-        return sla.lu_solve(self.lu, rhs)
+            return sla.cho_solve(self.cholesky, rhs, check_finite=False)
+        return sla.lu_solve(self.lu, rhs, check_finite=False)
 
 
 def condensed_apply(lu, small: SmallSystem, schur, dofs, kc, r):
