@@ -139,7 +139,14 @@ class ContactDriver:
             rigid_modes_check(self.k0, self.bodies)  # still singular: a genuine rigid-body motion
         self.dofs = np.unique(np.concatenate([c.dofs for c in self.contacts]))
         self.where = [np.searchsorted(self.dofs, c.dofs) for c in self.contacts]
-        self.lu, self.schur = condensed_factor(self.k0, self.dofs, dof_order(self.bodies, self.k0))
+        try:
+            self.lu, self.schur = condensed_factor(self.k0, self.dofs, dof_order(self.bodies, self.k0))
+        except MemoryError:
+            raise MemoryError(
+                f"the sparse direct factorisation of the {self.n} x {self.n} stiffness (with {len(self.dofs)} contact "
+                "dofs condensed) does not fit in memory (SuperLU also limits its factors to 2^31 entries): coarsen "
+                "the grid (element_size, refinement levels or radii)"
+            ) from None
         u0 = self.lu.solve(self.f0)
         self.bu0 = u0[self.dofs]
         self.sbu0 = self.schur @ self.bu0
