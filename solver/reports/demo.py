@@ -15,7 +15,7 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 FIXTURE = ROOT / "fixtures" / "onshape" / "half_cylinder_on_block"
 SCENE = ROOT / "examples" / "onshape" / "half_cylinder_on_block.toml"
 

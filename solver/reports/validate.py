@@ -27,7 +27,7 @@ import numpy as np
 
 from solver.reference import theory
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 
 # What the thesis reported (chapter 6; tables 6-1 to 6-4): error in a, error in c/a.
