@@ -46,7 +46,7 @@ def _solve_linear(problem, progress) -> IBFEMSolution:
     rigid_modes_check(system.stiffness, bodies)
     report("solve", 0.6)
     t = time.perf_counter()
-    u = linear_solve(system.stiffness, system.load, bodies)
+    u = linear_solve(system.stiffness, system.load, bodies, options.linear_solver, tolerance=1e-10)
     timings["solve_s"] = time.perf_counter() - t
     k, f = system.stiffness, system.load
     r = f - k @ u

@@ -18,6 +18,11 @@ __all__ = [
     "NESTED_DISSECTION_DOFS",
     "nested_dissection",
     "linear_solve",
+    "direct_solve",
+    "amg_cg_solve",
+    "rigid_body_modes",
+    "LINEAR_SOLVERS",
+    "LinearSolveError",
     "single_threaded_blas",
     "condensed_factor",
     "dof_order",
@@ -61,20 +66,101 @@ def nested_dissection(points: np.ndarray, leaf: int = 64) -> np.ndarray:
     return np.concatenate(out)
 
 
-def linear_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None) -> np.ndarray:
+LINEAR_SOLVERS = ("auto", "direct", "iterative")
+#: "auto" solves systems with at least this many dofs iteratively (pyamg installed)
+ITERATIVE_DOFS = 400_000
+
+
+class LinearSolveError(RuntimeError):
+    """An iterative solve that did not reach its tolerance (with its residual history)."""
+
+
+def linear_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None, method: str = "auto",
+                 tolerance: float = 1e-10) -> np.ndarray:
+    """Solve the symmetric system K u = f. ``method``: "direct" (SuperLU, below), "iterative"
+    (:func:`amg_cg_solve`: conjugate gradients preconditioned by pyamg's smoothed aggregation
+    with the bodies' rigid-body modes), or "auto" (iterative from ITERATIVE_DOFS dofs on when
+    pyamg is installed, direct otherwise). ``tolerance`` is the relative residual of the
+    iterative solve."""
+    n = k.shape[0]
+    if method not in LINEAR_SOLVERS:
+        raise ValueError(f"linear solver must be one of {', '.join(LINEAR_SOLVERS)}, got {method!r}")
+    if method == "auto":
+        method = "iterative" if n >= ITERATIVE_DOFS and bodies is not None and _has_pyamg() else "direct"
+    if method == "iterative":
+        if bodies is None:
+            raise ValueError("the iterative solver needs the bodies (their rigid-body modes)")
+        return amg_cg_solve(k, f, bodies, tolerance)
+    return direct_solve(k, f, bodies)
+
+
+def _has_pyamg() -> bool:
+    try:
+        import pyamg  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def direct_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None) -> np.ndarray:
     """Sparse direct solve with SuperLU (CHOLMOD is not available). The matrix is symmetric:
     symmetric mode, no pivoting across the diagonal. Small systems use SuperLU's minimum
-    degree on A + A^T; large ones a geometric nested-dissection order of each body's nodes."""
+    degree on A + A^T; large ones a fill-reducing order of the bodies' nodes (:func:`dof_order`)."""
     n = k.shape[0]
     if bodies is None or n < NESTED_DISSECTION_DOFS:
         lu = spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         return lu.solve(f)
     perm = dof_order(bodies, k)
-    kp = k[perm][:, perm].tocsc()
+    kp = _permuted(k, perm)
     lu = spla.splu(kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     u = np.empty(n)
     u[perm] = lu.solve(f[perm])
     return u
+
+
+def rigid_body_modes(bodies, n: int) -> np.ndarray:
+    """(n, 3 per body) translations and rotation of each body's free nodes (the near-null space
+    of its stiffness), each column scaled to unit maximum."""
+    modes = np.zeros((n, 3 * len(bodies)))
+    for j, b in enumerate(bodies):
+        nodes = b.grid.nodes[b.grid.free_nodes]
+        sl = slice(b.dof_offset, b.dof_offset + b.n_dofs)
+        rel = nodes - nodes.mean(axis=0)
+        modes[sl, 3 * j] = np.tile([1.0, 0.0], len(nodes))
+        modes[sl, 3 * j + 1] = np.tile([0.0, 1.0], len(nodes))
+        rot = np.stack([-rel[:, 1], rel[:, 0]], axis=1)
+        modes[sl, 3 * j + 2] = rot.ravel() / max(np.abs(rot).max(), 1e-300)
+    return modes
+
+
+def amg_cg_solve(k: sp.csr_matrix, f: np.ndarray, bodies, tolerance: float = 1e-10,
+                 max_iterations: int = 2000) -> np.ndarray:
+    """Conjugate gradients preconditioned by smoothed-aggregation AMG (pyamg), the rigid-body
+    modes as near-null space. Raises LinearSolveError with the residual history when the
+    relative residual does not reach ``tolerance``."""
+    try:
+        import pyamg
+    except ImportError:
+        raise ImportError("the iterative linear solver needs pyamg: pip install 'ibfem[fast]'") from None
+    a = k.tocsr()
+    scale = 1.0 / np.sqrt(np.abs(a.diagonal()))  # Jacobi scaling: cut cells' tiny diagonals
+    d = sp.diags(scale)
+    a = (d @ a @ d).tocsr()
+    ml = pyamg.smoothed_aggregation_solver(
+        a, B=rigid_body_modes(bodies, a.shape[0]) / scale[:, None], symmetry="symmetric", max_coarse=500,
+        strength=("symmetric", {"theta": 0.0}),
+    )
+    residuals: list[float] = []
+    x = ml.solve(scale * f, tol=tolerance, accel="cg", maxiter=max_iterations, residuals=residuals)
+    b_norm = max(float(np.linalg.norm(scale * f)), 1e-300)
+    if not residuals or residuals[-1] > tolerance * b_norm * 10.0:
+        history = ", ".join(f"{r / b_norm:.2e}" for r in residuals[:: max(1, len(residuals) // 8)])
+        raise LinearSolveError(
+            f"the iterative solver (CG + smoothed aggregation, {a.shape[0]} dofs) did not reach the relative residual "
+            f"{tolerance:g} in {len(residuals) - 1} iterations; residual history: {history}; "
+            "use [solver] linear_solver = \"direct\""
+        )
+    return scale * x
 
 
 @contextlib.contextmanager

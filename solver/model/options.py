@@ -20,6 +20,7 @@ __all__ = ["SolverOptions", "ContactOptions", "OptionError", "WIDTH_UPDATES", "F
 WIDTH_UPDATES = ("edge", "bracket", "thesis")
 FLUXES = ("average", "body1", "body1_half")
 CONTACT_NORMALS = ("frame", "pair")
+LINEAR_SOLVERS = ("auto", "direct", "iterative")
 #: load steps beyond this are almost surely a typo (each step is at least one linear solve)
 MAX_LOAD_STEPS = 10_000
 
@@ -75,6 +76,10 @@ class SolverOptions:
     curve_order: int = 8
     #: shift of every background grid's origin, as fractions of the element size
     grid_offset: tuple[float, float] = (0.0, 0.0)
+    #: linear systems without contact: "direct" (sparse LU), "iterative" (CG + smoothed
+    #: aggregation AMG, pyamg), "auto" (iterative from 400k dofs when pyamg is installed);
+    #: contact problems always factor directly (their condensation needs the factors)
+    linear_solver: str = "auto"
 
     def __post_init__(self):
         _integer(self, "load_steps", 1, MAX_LOAD_STEPS)
@@ -95,6 +100,7 @@ class SolverOptions:
         f = self.fictitious_stiffness
         if isinstance(f, bool) or not isinstance(f, (int, float)) or not 0.0 <= f < 1.0:
             raise OptionError("fictitious_stiffness", f"must lie in [0, 1), got {f!r}")
+        _choice(self, "linear_solver", LINEAR_SOLVERS)
         off = self.grid_offset
         if len(off) != 2 or not all(isinstance(x, (int, float)) and math.isfinite(x) for x in off):
             raise OptionError("grid_offset", f"must be two finite numbers, got {off!r}")
