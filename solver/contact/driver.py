@@ -95,6 +95,7 @@ class ContactDriver:
         for c in self.contacts:
             self.messages += c.finish()
         self.timings["iterations_s"] = time.perf_counter() - t
+        self.timings["per_iteration_s"] = self.timings["iterations_s"] / max(sum(self.per_step), 1)
         t = time.perf_counter()
         solution = self._results()
         self.timings["results_s"] = time.perf_counter() - t
