@@ -118,18 +118,19 @@ class BandContact:
         return max(a * math.sqrt(load_ratio), 2.0 * self.h)
 
 
-    def region_search(self, a0: float, final: bool, max_iterations: int):
+    def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
         """Generator of trial half-widths (receives each trial's verdict, returns the width and the
-        final bracket), by the contact's ``width_update``."""
+        final bracket), by the contact's ``width_update``. ``estimate``: a0 is a close estimate
+        (the previous load step's width scaled, or the same step's width before a stick update),
+        so the edge search starts with a step of a twentieth of a cell instead of half a cell."""
         o = self.options
         if o.width_update == "edge":
             tol = (o.edge_tolerance if final else o.step_tolerance) * self.h
-            return edge_search(a0, self.h, tol, self.geom.s_max())
+            return edge_search(a0, self.h, tol, self.geom.s_max(), step0=0.05 * self.h if estimate else None)
         if o.width_update == "thesis":
             return thesis_search(a0, self.h, o.width_tolerance * self.h, self.geom.s_max(), max_iterations)
         tol = (o.width_tolerance if final else o.step_tolerance) * self.h
         return bracket_search(a0, self.h, tol, self.geom.s_max(), final)
-
 
     def region_too_small(self) -> ValueError:
         return ValueError(

@@ -229,7 +229,8 @@ class ContactDriver:
     def _region_search(self, step, lam, final, tag):
         """The region searches of all contacts in one load step at fixed stick ratios: (widths,
         brackets, state, infos, solves, settled)."""
-        gens = [c.region_search(a, final, self.max_iterations) for a, c in zip(self.widths, self.contacts)]
+        estimate = self.prev is not None or tag > 0  # a0 from the last step or the last stick update
+        gens = [c.region_search(a, final, self.max_iterations, estimate) for a, c in zip(self.widths, self.contacts)]
         trial = [next(gn) for gn in gens]
         results = [None] * len(self.contacts)
         iters, cache = 0, {}

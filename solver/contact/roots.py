@@ -177,32 +177,33 @@ class SecantBracket(Bracket):
         return float(np.clip(x, lo + margin, hi - margin))
 
 
-#: growth of a trial region per step while no bracket is found: at least, at most
-_GROWTH = (1.25, 4.0)
+#: growth of a trial region per step while no bracket is found: at most this factor
+_MAX_GROWTH = 4.0
 
 
 def _next_growing(a: float, step: float, seen: list[tuple[float, float]], a_max: float) -> float:
-    """The next trial while every trial so far was too small (g > 0): where the secant through
-    the last two trials crosses zero, a little beyond (to bracket the root), kept between
-    1.25 and 4 times a; the doubling step where g does not decrease yet."""
+    """The next trial while every trial so far was too small (g > 0): 10 % beyond where the
+    secant through the last two trials crosses zero (to bracket the root), at least the current
+    step and at most four times a further; the step itself where g does not decrease yet."""
     grown = a + step
     if len(seen) >= 2:
         (a1, g1), (a2, g2) = seen[-2:]
         if np.isfinite(g1) and np.isfinite(g2) and g2 < g1 and a2 > a1:
             root = a2 + g2 * (a2 - a1) / (g1 - g2)
-            grown = float(np.clip(1.1 * root, _GROWTH[0] * a, _GROWTH[1] * a))
+            grown = float(np.clip(a + 1.1 * (root - a), a + step, _MAX_GROWTH * a))
     return min(grown, a_max)
 
 
-def edge_search(a0: float, h: float, tol: float, a_max: float):
+def edge_search(a0: float, h: float, tol: float, a_max: float, step0: float | None = None):
     """Generator of trial half-widths for the root of the edge coefficient g(a) (> 0: a too
     small); receives the verdict of each trial, returns the width and the final bracket.
 
     Grow from a0 towards the root the secant through the last two trials predicts (a doubling
     step until g decreases), or shrink by a doubling step, until g changes sign; then close the
     bracket to ``tol`` by the safeguarded secant of :class:`SecantBracket`. Without compression
-    (g = -inf) the trial is treated as too large."""
-    step = max(0.05 * a0, 0.5 * h)
+    (g = -inf) the trial is treated as too large. ``step0``: the first step (default the larger
+    of a twentieth of a0 and half a cell; smaller where a0 is a close estimate)."""
+    step = max(0.05 * a0, 0.5 * h) if step0 is None else step0
     lo = hi = None
     glo = ghi = None
     seen: list[tuple[float, float]] = []
