@@ -19,6 +19,7 @@ import time
 from typing import Callable
 
 import numpy as np
+import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..fem.assembly import boundary_terms, essential_reactions, rigid_modes_check
@@ -151,6 +152,8 @@ class ContactDriver:
         u0 = self.lu.solve(self.f0)
         self.bu0 = u0[self.dofs]
         self.sbu0 = self.schur @ self.bu0
+        # G = S^-1 once: each trial then factors only its active dofs (fem.linalg.SmallSystem)
+        self.g_inverse = sla.cho_solve(sla.cho_factor(self.schur), np.eye(len(self.dofs)))
         self.u0f0 = float(u0 @ self.f0)
         # contact stiffness already in K0 (None: none)
         self.base_terms = [c.terms(a0)[0] if a0 > 0 else None for c, a0 in zip(self.contacts, self.base)]
@@ -188,7 +191,7 @@ class ContactDriver:
     def _solve_small(self, lam, kc, fc):
         """x of the condensed system (S + Kc) x = lam S B U0 + fc, and S + Kc factored (kept
         with the state: the final field's refinement reuses it)."""
-        small = SmallSystem(self.schur + kc, all(c.is_symmetric() for c in self.contacts))
+        small = SmallSystem(self.schur, kc, all(c.is_symmetric() for c in self.contacts), self.g_inverse)
         return small.solve(lam * self.sbu0 + fc), small
 
     def _work_ratio(self, lam, x, y, kc, fc) -> float:
@@ -251,7 +254,8 @@ class ContactDriver:
         state, _, infos = cache[key]
         if state[3] is None:  # an older trial's matrices were dropped: rebuild them
             kc, fc, infos = self._assemble_trial(list(key))
-            state = state[:3] + (kc, fc, SmallSystem(self.schur + kc, all(c.is_symmetric() for c in self.contacts)))
+            state = state[:3] + (kc, fc, SmallSystem(self.schur, kc, all(c.is_symmetric() for c in self.contacts),
+                                                     self.g_inverse))
         return widths, [r[1] for r in results], state, infos, iters, settled
 
     @staticmethod
