@@ -27,6 +27,7 @@ def main(argv: list[str]) -> int:
         ("assembly.py", ["--large"] if args.large else []),
         ("contact.py", quick),
         ("error_vs_time.py", quick),
+        ("linear_solvers.py", ["--quick"] if args.quick else []),
     ]
     failed = []
     for name, extra in benchmarks:
