@@ -94,3 +94,24 @@ def test_patch_test_on_a_graded_octree():
     u[inner] = spla.spsolve(kf[inner][:, inner].tocsc(), -kf[inner][:, fixed] @ u[fixed])
     assert inner.sum() > 30 and tree.n_hanging > 0
     np.testing.assert_allclose(u, target, rtol=0, atol=1e-10 * np.abs(target).max())
+
+
+def test_step_boundary_terms_are_written_once_for_both_dimensions():
+    """The band's acoustic tensor and projectors in 3D: A_n n = (lambda + 2 mu) n, A_n t = mu t
+    for a tangent t; the sliding projector is n n^T, the fixed one the identity."""
+    from solver.fem.step_boundary import acoustic_tensor, block_diagonal, projector
+
+    rng = np.random.default_rng(3)
+    n = rng.normal(size=(5, 3))
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    t = np.cross(n, rng.normal(size=(5, 3)))
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    lam, mu = lame_parameters(2.0e11, 0.3, "solid")
+    a = acoustic_tensor(n, lam, mu)
+    np.testing.assert_allclose(np.einsum("qij,qj->qi", a, n), (lam + 2 * mu) * n, rtol=1e-12)
+    np.testing.assert_allclose(np.einsum("qij,qj->qi", a, t), mu * t, rtol=1e-12, atol=1e-3)
+    np.testing.assert_allclose(projector("sliding", n) @ t[:, :, None], 0.0, atol=1e-15)
+    np.testing.assert_allclose(projector("fixed", n), np.broadcast_to(np.eye(3), (5, 3, 3)))
+    free_z = projector("displacement", n, (False, False, True))
+    assert free_z[0, 2, 2] == 0.0 and free_z[0, 0, 0] == 1.0
+    assert block_diagonal(a).shape == (15, 15)

@@ -72,20 +72,20 @@ def band_integrals(delta: float) -> dict[str, float]:
 
 
 def acoustic_tensor(normals: np.ndarray, lam: float, mu: float) -> np.ndarray:
-    """A_n (q, 2, 2) = sym(n x .) : C : sym(n x .) = (lambda + 2 mu) n n^T + mu (I - n n^T)."""
+    """A_n (q, d, d) = sym(n x .) : C : sym(n x .) = (lambda + 2 mu) n n^T + mu (I - n n^T)."""
     nn = normals[:, :, None] * normals[:, None, :]
-    return (lam + mu) * nn + mu * np.eye(2)[None]
+    return (lam + mu) * nn + mu * np.eye(normals.shape[1])[None]
 
 
-def projector(kind: str, normals: np.ndarray, free: tuple[bool, bool] = (False, False)) -> np.ndarray:
-    """P (q, 2, 2) on the constrained components: "fixed"/"displacement" in global axes (a
+def projector(kind: str, normals: np.ndarray, free: tuple[bool, ...] | None = None) -> np.ndarray:
+    """P (q, d, d) on the constrained components: "fixed"/"displacement" in global axes (a
     component with free[i] True is not constrained), "sliding" along the exact local normal."""
-    q = len(normals)
+    q, dim = normals.shape
     if kind == "sliding":
         return normals[:, :, None] * normals[:, None, :]
     if kind in ("fixed", "displacement"):
-        d = np.array([0.0 if f else 1.0 for f in free])
-        return np.broadcast_to(np.diag(d), (q, 2, 2)).copy()
+        d = np.array([0.0 if f else 1.0 for f in (free or (False,) * dim)])
+        return np.broadcast_to(np.diag(d), (q, dim, dim)).copy()
     raise ValueError(f"unknown essential condition kind {kind!r}")
 
 
@@ -93,18 +93,18 @@ def projector(kind: str, normals: np.ndarray, free: tuple[bool, bool] = (False, 
 class BoundaryPoints:
     """Quadrature points on an edge with their operators onto the global dof vector."""
 
-    points: np.ndarray  # (q, 2)
-    weights: np.ndarray  # (q,) ds
-    normals: np.ndarray  # (q, 2) exact outward normals of the body
+    points: np.ndarray  # (q, d)
+    weights: np.ndarray  # (q,) ds (dA in 3D)
+    normals: np.ndarray  # (q, d) exact outward normals of the body
     cell_size: np.ndarray  # (q,) local size setting delta (cell size, or less in a sliver)
-    displacement: sp.csr_matrix  # (2q, ndof): u_h at the points, rows [x0, y0, x1, y1, ...]
-    traction: sp.csr_matrix  # (2q, ndof): sigma(u_h) n at the points
+    displacement: sp.csr_matrix  # (d q, ndof): u_h at the points, rows [x0, y0, (z0,) x1, ...]
+    traction: sp.csr_matrix  # (d q, ndof): sigma(u_h) n at the points
 
 
 def block_diagonal(blocks: np.ndarray) -> sp.csr_matrix:
-    """Sparse block-diagonal matrix of q (2, 2) blocks."""
-    q = len(blocks)
-    return sp.bsr_matrix((np.ascontiguousarray(blocks), np.arange(q), np.arange(q + 1)), shape=(2 * q, 2 * q)).tocsr()
+    """Sparse block-diagonal matrix of q (d, d) blocks."""
+    q, d = blocks.shape[:2]
+    return sp.bsr_matrix((np.ascontiguousarray(blocks), np.arange(q), np.arange(q + 1)), shape=(d * q, d * q)).tocsr()
 
 
 def thin_band_terms(
@@ -119,7 +119,7 @@ def thin_band_terms(
 ) -> tuple[sp.csr_matrix, np.ndarray]:
     """Stiffness (ndof, ndof) and F_a load (ndof,) of the thin-band step boundary terms.
 
-    ``target`` (q, 2) is the prescribed displacement a at each point (only P a matters);
+    ``target`` (q, d) is the prescribed displacement a at each point (only P a matters);
     ``jump`` replaces the displacement operator (contact: u_h1 - u_h2), default bp.displacement.
     """
     eu = bp.displacement if jump is None else jump
@@ -152,8 +152,9 @@ def thin_band_traction(
     with bp.weights it is the reaction; by the translation invariance of the bulk form the
     reactions and the applied loads balance exactly."""
     eu = bp.displacement if jump is None else jump
-    w = (eu @ u).reshape(-1, 2) - np.asarray(target, dtype=float).reshape(-1, 2)
-    tn = (bp.traction @ u).reshape(-1, 2)
+    d = bp.normals.shape[1]
+    w = (eu @ u).reshape(-1, d) - np.asarray(target, dtype=float).reshape(-1, d)
+    tn = (bp.traction @ u).reshape(-1, d)
     delta = band_fraction * bp.cell_size
     layer = (PENALTY_FACTOR / delta)[:, None, None] * (proj @ acoustic_tensor(bp.normals, lam, mu) @ proj)
     return -np.einsum("qij,qj->qi", layer, w) + consistency * np.einsum("qij,qj->qi", proj, tn)
