@@ -115,3 +115,31 @@ def test_step_boundary_terms_are_written_once_for_both_dimensions():
     free_z = projector("displacement", n, (False, False, True))
     assert free_z[0, 2, 2] == 0.0 and free_z[0, 0, 0] == 1.0
     assert block_diagonal(a).shape == (15, 15)
+
+
+def test_point_operators_of_a_3d_body_reproduce_a_linear_field():
+    """The function space's displacement, stress and traction operators on an octree with hanging
+    nodes: for u = G x + c they give u, C eps(G) and (C eps(G)) n exactly at any points."""
+    from solver.fem.space import BodyDiscretisation, number_dofs
+
+    tree = unit_box_tree(levels=2, centre=(0.3, 0.6, 0.2), radius=0.2)
+    lam, mu = lame_parameters(2.0e11, 0.3, "solid")
+    body = BodyDiscretisation(name="box", index=0, grid=tree, boundary=None, profile=None, lam=lam, mu=mu,
+                              elasticity=C, model="solid", poissons_ratio=0.3)
+    number_dofs([body])
+    grad = np.array([[1e-3, 2e-4, -1e-4], [3e-4, -5e-4, 2e-4], [0.0, 1e-4, 4e-4]])
+    u = (tree.nodes[tree.free_nodes] @ grad.T + np.array([1e-3, -2e-3, 5e-4])).ravel()
+    pts = np.random.default_rng(5).uniform(0.0, 0.999, (40, 3))
+    cells = tree.locate(pts)
+    np.testing.assert_allclose((body.displacement_operator(pts, cells) @ u).reshape(-1, 3),
+                               pts @ grad.T + np.array([1e-3, -2e-3, 5e-4]), rtol=1e-12, atol=1e-15)
+    eps = 0.5 * (grad + grad.T)
+    voigt = np.array([eps[0, 0], eps[1, 1], eps[2, 2], 2 * eps[1, 2], 2 * eps[0, 2], 2 * eps[0, 1]])
+    sigma = C @ voigt
+    np.testing.assert_allclose((body.stress_operator(pts, cells) @ u).reshape(-1, 6), np.tile(sigma, (40, 1)),
+                               rtol=1e-9, atol=1e-6 * np.abs(sigma).max())
+    n = np.random.default_rng(6).normal(size=(40, 3))
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    s = np.array([[sigma[0], sigma[5], sigma[4]], [sigma[5], sigma[1], sigma[3]], [sigma[4], sigma[3], sigma[2]]])
+    np.testing.assert_allclose((body.traction_operator(pts, cells, n) @ u).reshape(-1, 3), n @ s.T,
+                               rtol=1e-9, atol=1e-6 * np.abs(sigma).max())

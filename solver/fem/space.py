@@ -24,12 +24,11 @@ from .integration import (
     curve_gauss,
     full_cell_moments,
     monomial_stiffness,
-    shape_functions,
-    strain_matrix,
 )
 from .assembly_blocks import assemble_blocks
 from .step_boundary import BoundaryPoints
 from .elasticity_ops import traction_of_voigt
+from .elements import element_for
 
 __all__ = [
     "BodyDiscretisation",
@@ -114,7 +113,7 @@ class BodyDiscretisation:
         """N (q, nodes per cell) and grad N (q, nodes per cell, dim) in physical units at points
         in their cells."""
         loc = self.grid.local_coordinates(points, cells)
-        n, dn = shape_functions(loc[:, 0], loc[:, 1])
+        n, dn = element_for(self.dim).shape_functions(loc)
         return n, dn * (2.0 / self.grid.size[cells])[:, None, None]
 
     def _point_matrix(self, values: np.ndarray, cells: np.ndarray, dof_map: sp.csr_matrix | None = None) -> sp.csr_matrix:
@@ -150,12 +149,12 @@ class BodyDiscretisation:
     def stress_operator(self, points, cells, dof_map=None) -> sp.csr_matrix:
         """(nv q, n_total): the Voigt stress ([sxx, syy, sxy] in 2D) at the points."""
         _, g = self.shape(points, cells)
-        return self._point_matrix(self.elasticity @ strain_matrix(g), cells, dof_map)
+        return self._point_matrix(self.elasticity @ element_for(self.dim).strain_matrix(g), cells, dof_map)
 
     def traction_operator(self, points, cells, normals, dof_map=None) -> sp.csr_matrix:
         """(dim q, n_total): sigma(u_h) n at the points."""
         _, g = self.shape(points, cells)
-        s = self.elasticity @ strain_matrix(g)  # (q, nv, cell dofs)
+        s = self.elasticity @ element_for(self.dim).strain_matrix(g)  # (q, nv, cell dofs)
         return self._point_matrix(traction_of_voigt(s, normals), cells, dof_map)
 
     def stiffness(self, alpha: float) -> sp.csr_matrix:
