@@ -143,3 +143,44 @@ def test_point_operators_of_a_3d_body_reproduce_a_linear_field():
     s = np.array([[sigma[0], sigma[5], sigma[4]], [sigma[5], sigma[1], sigma[3]], [sigma[4], sigma[3], sigma[2]]])
     np.testing.assert_allclose((body.traction_operator(pts, cells, n) @ u).reshape(-1, 3), n @ s.T,
                                rtol=1e-9, atol=1e-6 * np.abs(sigma).max())
+
+
+def test_monomial_stiffness_reproduces_the_cube_stiffness():
+    from solver.fem.hexahedra import box_moments, cell_stiffness, full_cube_moments, monomial_stiffness
+
+    km = monomial_stiffness(C)
+    for h in (1.0, 0.3):
+        k = cube_stiffness(C, h)
+        np.testing.assert_allclose(cell_stiffness(full_cube_moments(), h, km), k, atol=1e-13 * np.abs(k).max())
+    np.testing.assert_allclose(box_moments(-np.ones(3), np.ones(3)), full_cube_moments(), atol=1e-15)
+    # half a cube: the stiffness of the part x < 0 is that of a box, half the volume
+    m = box_moments(np.array([-1.0, -1, -1]), np.array([0.0, 1, 1]))
+    assert np.isclose(m[0], 4.0)
+
+
+def test_cut_moments_exact_for_a_face_parallel_plane_and_second_order_on_a_sphere():
+    from solver.fem.cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
+    from solver.fem.hexahedra import box_moments, full_cube_moments
+
+    # the half-space z < 0.3 cuts cells of a unit grid; every cut cell's moments are exact
+    lower = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, -0.5]])
+    size = np.array([1.0, 1.0, 1.0])
+    plane = lambda p: 0.3 - p[:, 2]  # noqa: E731
+    m = inside_moments(lower, size, plane, depth=2)
+    zeta_top = 2.0 * (0.3 - lower[:, 2]) / size - 1.0
+    exact = box_moments(np.full((3, 3), -1.0), np.stack([np.ones(3), np.ones(3), np.minimum(zeta_top, 1.0)], axis=1))
+    np.testing.assert_allclose(m, exact, atol=1e-14)
+    # a sphere: the volume error falls about 4x per subdivision level
+    centre = np.array([0.05, -0.03, 0.02])
+    sphere = lambda p: 1.0 - np.linalg.norm(p - centre, axis=1)  # noqa: E731
+    tree = build_octree(([-1.2] * 3, [1.2] * 3), 0.25, (), lambda lo, s: sphere(lo + 0.5 * s[:, None]) > -0.87 * s)
+    status = classify_cells(tree.lower, tree.size, sphere)
+    errors = []
+    for depth in (1, 2, 3):
+        mom = np.zeros((len(tree.size), 27))
+        mom[status == INSIDE] = full_cube_moments()
+        cut = status == CUT
+        mom[cut] = inside_moments(tree.lower[cut], tree.size[cut], sphere, depth)
+        errors.append(abs((mom[:, 0] * (tree.size / 2) ** 3).sum() / (4 / 3 * np.pi) - 1.0))
+    assert errors[-1] < 5e-4
+    assert errors[0] / errors[1] > 3.0 and errors[1] / errors[2] > 3.0

@@ -12,7 +12,18 @@ from geometry.quadrature import gauss_legendre
 
 from .octree import CORNERS
 
-__all__ = ["REFERENCE_CORNERS", "shape_functions", "strain_matrix", "cube_stiffness", "cube_body_force"]
+__all__ = [
+    "REFERENCE_CORNERS",
+    "shape_functions",
+    "strain_matrix",
+    "cube_stiffness",
+    "cube_body_force",
+    "STIFFNESS_EXPONENTS",
+    "monomial_stiffness",
+    "full_cube_moments",
+    "cell_stiffness",
+    "box_moments",
+]
 
 #: the corners in reference coordinates (-1 or 1)
 REFERENCE_CORNERS = 2.0 * CORNERS - 1.0
@@ -67,3 +78,49 @@ def cube_body_force(force, size: float = 1.0) -> np.ndarray:
     carries an eighth of the cube's total."""
     f = np.asarray(force, dtype=float).reshape(3)
     return np.tile(f * size**3 / 8.0, 8)
+
+
+# --------------------------------------------------------------------------- moment fitting
+
+#: exponents (a, b, c) of the monomials xi^a eta^b zeta^c in B^T C B of a trilinear cube
+STIFFNESS_EXPONENTS = np.array([(a, b, c) for a in range(3) for b in range(3) for c in range(3)])
+_SIGNS = 2.0 * CORNERS - 1.0  # the 8 corners of [-1, 1]^3
+_MULTILINEAR = np.array([(p, q, r) for p in range(2) for q in range(2) for r in range(2)])
+
+
+def monomial_stiffness(elasticity: np.ndarray) -> np.ndarray:
+    """(27, 24, 24) matrices K_abc with B^T C B = sum xi^a eta^b zeta^c K_abc on the reference
+    cube (B in local units, d/dxi). B is multilinear, B = sum_e x^e B_e over e in {0, 1}^3, with
+    B_e = (1/8) sum over the corners s of s^e B(s); then K_abc = sum over e + f = (a, b, c) of
+    B_e^T C B_f. The stiffness of any part of a cell of size h is (h / 2) sum m_abc K_abc, m the
+    part's moments in local coordinates: one table for every level of the octree."""
+    _, dn = shape_functions(_SIGNS)
+    b_corner = strain_matrix(dn)  # (8, 6, 24) at the corners, local units
+    powers = np.prod(_SIGNS[:, None, :] ** _MULTILINEAR[None, :, :], axis=2)  # (8 corners, 8 e)
+    b_e = np.einsum("se,sij->eij", powers, b_corner) / 8.0
+    c = np.asarray(elasticity, dtype=float)
+    index = {tuple(e): k for k, e in enumerate(STIFFNESS_EXPONENTS)}
+    k_abc = np.zeros((27, 24, 24))
+    for i, e in enumerate(_MULTILINEAR):
+        for j, f in enumerate(_MULTILINEAR):
+            k_abc[index[tuple(e + f)]] += b_e[i].T @ c @ b_e[j]
+    return k_abc
+
+
+def full_cube_moments() -> np.ndarray:
+    """Moments m_abc (27,) of the whole reference cube, in STIFFNESS_EXPONENTS order."""
+    one_d = np.array([2.0, 0.0, 2.0 / 3.0])
+    return np.prod(one_d[STIFFNESS_EXPONENTS], axis=1)
+
+
+def cell_stiffness(moments: np.ndarray, sizes: np.ndarray, k_monomial: np.ndarray) -> np.ndarray:
+    """Stiffness (..., 24, 24) of cell parts with local moments (..., 27) in cells of ``sizes``."""
+    return 0.5 * np.asarray(sizes, dtype=float)[..., None, None] * np.einsum("...k,kij->...ij", moments, k_monomial)
+
+
+def box_moments(lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Exact moments (..., 27) of axis-aligned boxes [lower, upper] (local coordinates)."""
+    lo, hi = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+    one_d = np.stack([(hi**k - lo**k) / k for k in (1, 2, 3)], axis=-1)  # (..., 3 axes, 3 powers)
+    e = STIFFNESS_EXPONENTS
+    return one_d[..., 0, e[:, 0]] * one_d[..., 1, e[:, 1]] * one_d[..., 2, e[:, 2]]

@@ -153,7 +153,7 @@ def _corner_keys(tree: Octree, offsets: np.ndarray, cells: np.ndarray | None = N
     base = tree.index[sel] * s[:, None]
     pts = base[:, None, :] + (offsets[None] * s[:, None, None]) // 2
     dims = np.asarray(tree.shape, dtype=np.int64) * 2**L + 1
-    return _keys(pts.reshape(-1, 3), dims).reshape(len(sel), -1)
+    return _keys(pts.reshape(-1, 3), dims).reshape(len(sel), len(offsets))
 
 
 def _nodes_and_constraints(tree: Octree) -> None:
