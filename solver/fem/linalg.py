@@ -67,8 +67,10 @@ def nested_dissection(points: np.ndarray, leaf: int = 64) -> np.ndarray:
 
 
 LINEAR_SOLVERS = ("auto", "direct", "iterative")
-#: "auto" solves systems with at least this many dofs iteratively (pyamg installed)
-ITERATIVE_DOFS = 400_000
+#: "auto" solves systems with at least this many dofs iteratively (pyamg installed), by dimension:
+#: measured crossovers (benchmarks/linear_solvers.py in 2D; the Lame sphere octant in 3D: 58k
+#: dofs direct 21 s, iterative 3.8 s)
+ITERATIVE_DOFS = {2: 400_000, 3: 20_000}
 
 
 class LinearSolveError(RuntimeError):
@@ -79,14 +81,15 @@ def linear_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None, me
                  tolerance: float = 1e-10) -> np.ndarray:
     """Solve the symmetric system K u = f. ``method``: "direct" (SuperLU, below), "iterative"
     (:func:`amg_cg_solve`: conjugate gradients preconditioned by pyamg's smoothed aggregation
-    with the bodies' rigid-body modes), or "auto" (iterative from ITERATIVE_DOFS dofs on when
-    pyamg is installed, direct otherwise). ``tolerance`` is the relative residual of the
+    with the bodies' rigid-body modes), or "auto" (iterative from ITERATIVE_DOFS[dim] dofs on
+    when pyamg is installed, direct otherwise). ``tolerance`` is the relative residual of the
     iterative solve."""
     n = k.shape[0]
     if method not in LINEAR_SOLVERS:
         raise ValueError(f"linear solver must be one of {', '.join(LINEAR_SOLVERS)}, got {method!r}")
     if method == "auto":
-        method = "iterative" if n >= ITERATIVE_DOFS and bodies is not None and _has_pyamg() else "direct"
+        dim = bodies[0].dim if bodies else 2
+        method = "iterative" if bodies is not None and n >= ITERATIVE_DOFS[dim] and _has_pyamg() else "direct"
     if method == "iterative":
         if bodies is None:
             raise ValueError("the iterative solver needs the bodies (their rigid-body modes)")
@@ -119,18 +122,27 @@ def direct_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None) ->
 
 
 def rigid_body_modes(bodies, n: int) -> np.ndarray:
-    """(n, 3 per body) translations and rotation of each body's free nodes (the near-null space
-    of its stiffness), each column scaled to unit maximum."""
-    modes = np.zeros((n, 3 * len(bodies)))
-    for j, b in enumerate(bodies):
+    """(n, k per body) the rigid motions of each body's free nodes (the near-null space of its
+    stiffness): d translations and d (d - 1) / 2 rotations (3 in 2D, 6 in 3D), each rotation
+    column scaled to unit maximum."""
+    columns = []
+    for b in bodies:
+        d = b.dim
         nodes = b.grid.nodes[b.grid.free_nodes]
-        sl = slice(b.dof_offset, b.dof_offset + b.n_dofs)
         rel = nodes - nodes.mean(axis=0)
-        modes[sl, 3 * j] = np.tile([1.0, 0.0], len(nodes))
-        modes[sl, 3 * j + 1] = np.tile([0.0, 1.0], len(nodes))
-        rot = np.stack([-rel[:, 1], rel[:, 0]], axis=1)
-        modes[sl, 3 * j + 2] = rot.ravel() / max(np.abs(rot).max(), 1e-300)
-    return modes
+        sl = slice(b.dof_offset, b.dof_offset + b.n_dofs)
+        for k in range(d):
+            col = np.zeros(n)
+            col[sl] = np.tile(np.eye(d)[k], len(nodes))
+            columns.append(col)
+        for i in range(d):
+            for j in range(i + 1, d):
+                rot = np.zeros((len(nodes), d))
+                rot[:, i], rot[:, j] = -rel[:, j], rel[:, i]
+                col = np.zeros(n)
+                col[sl] = rot.ravel() / max(np.abs(rot).max(), 1e-300)
+                columns.append(col)
+    return np.stack(columns, axis=1)
 
 
 def amg_cg_solve(k: sp.csr_matrix, f: np.ndarray, bodies, tolerance: float = 1e-10,
