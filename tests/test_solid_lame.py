@@ -116,3 +116,20 @@ def test_volume_of_the_shell_octant_from_the_cut_cells():
     volume = (body.moments[:, 0] * (body.grid.size / 2) ** 3).sum()
     exact = np.pi / 6 * (B**3 - A**3)
     assert volume == pytest.approx(exact, rel=2e-3)
+
+
+def test_a_3d_body_held_on_one_symmetry_face_only_can_move_rigidly():
+    from solver.fem.assembly import rigid_modes_check
+
+    lam, mu = lame_parameters(E, NU, "solid")
+    body = discretise_solid("shell", ShellOctant(), (lam, mu), elasticity_matrix(lam, mu, 3), NU, 0.25)
+    number_dofs([body])
+    k = body.stiffness(1e-9)
+    bp = body.edge_points("x0")
+    kb, _ = thin_band_terms(bp, projector("sliding", bp.normals), np.zeros_like(bp.normals), lam, mu, 0.25, 1.0)
+    with pytest.raises(ValueError, match="not held against rigid-body motion"):
+        rigid_modes_check((k + kb).tocsr(), [body])
+    for face in ("y0", "z0"):
+        bp = body.edge_points(face)
+        kb = kb + thin_band_terms(bp, projector("sliding", bp.normals), np.zeros_like(bp.normals), lam, mu, 0.25, 1.0)[0]
+    rigid_modes_check((k + kb).tocsr(), [body])  # three symmetry planes hold all six motions

@@ -12,6 +12,7 @@ import scipy.sparse as sp
 
 from ..model.options import SolverOptions
 from ..model.problem import BodyForce, Displacement, Fixed, Pressure, Sliding, Traction
+from .linalg import rigid_body_modes
 from .space import BodyDiscretisation
 from .step_boundary import BoundaryPoints, projector, thin_band_terms, thin_band_traction
 
@@ -51,28 +52,26 @@ def _finite_vector(value, where: str) -> np.ndarray:
     return v
 
 
+_MOTIONS = {2: ["x translation", "y translation", "rotation"],
+            3: ["x translation", "y translation", "z translation", "rotation about z", "rotation about y",
+                "rotation about x"]}
+
+
 def rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> None:
-    """Raise ValueError when a body can move rigidly (R^T K R singular for its rigid modes)."""
+    """Raise ValueError when a body can move rigidly (R^T K R singular for its rigid modes: 3 in
+    2D, 6 in 3D, solver.fem.linalg.rigid_body_modes)."""
     diag = np.abs(k.diagonal())
     for b in bodies:
-        g = b.grid
-        nodes = g.nodes[g.free_nodes]
-        c = nodes.mean(axis=0)
-        r = np.zeros((b.n_total, 3))
+        r = rigid_body_modes([b], b.n_total)
         sl = slice(b.dof_offset, b.dof_offset + b.n_dofs)
-        r[sl, 0] = np.tile([1.0, 0.0], len(nodes))
-        r[sl, 1] = np.tile([0.0, 1.0], len(nodes))
-        rot = np.stack([-(nodes[:, 1] - c[1]), nodes[:, 0] - c[0]], axis=1)
-        r[sl, 2] = rot.ravel() / max(np.abs(rot).max(), 1e-300)
         m = r.T @ (k @ r)
         m = 0.5 * (m + m.T)
-        scale = diag[sl].mean() * len(nodes)
+        scale = diag[sl].mean() * len(b.grid.free_nodes)
         ev, vec = np.linalg.eigh(m)
         small = np.abs(ev) < 1e-10 * scale
         if small.any():
             v = vec[:, np.argmin(np.abs(ev))]
-            what = ["x translation", "y translation", "rotation"]
-            motion = " + ".join(f"{x:.2g} {w}" for x, w in zip(v, what) if abs(x) > 1e-3)
+            motion = " + ".join(f"{x:.2g} {w}" for x, w in zip(v, _MOTIONS[b.dim]) if abs(x) > 1e-3)
             raise ValueError(
                 f"body {b.name!r} is not held against rigid-body motion ({motion}); add essential boundary conditions"
             )
