@@ -4,8 +4,6 @@ tractions (``traction_samples``)."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 __all__ = ["contact_block"]
@@ -16,28 +14,18 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
 
     The traction of the thin-band terms is discontinuous from cell to cell (bilinear fields:
     sigma jumps across cell sides, w is piecewise smooth), so its point values oscillate with
-    the grid by tens of percent while its cell means are accurate. The profiles written are
-    its moving average over one cell width (the coarser of the two grids at the contact
-    point): a recovery that removes the grid-periodic part and, being a mean, keeps the
-    force (the integral of the profile equals the transmitted force)."""
+    the grid by tens of percent while its integrals over the region are accurate. The profiles
+    written are its projection onto a smooth space over the region (solver.contact.tractions:
+    sqrt(1 - s^2/a^2) times Chebyshev polynomials, with the stick zone's deficit projected the
+    same way for partial slip), which reproduces the transmitted force exactly, vanishes outside
+    a, and is clipped to compression and to |q| <= mu p (what the clipping removes is reported
+    in ``profile_recovery.clipped_force``)."""
+    from .tractions import modes_for, recover_tractions
+
     s_plus, s_minus = c.geom.s_limits
     out_s = np.linspace(-min(1.25 * a, s_minus), min(1.25 * a, s_plus), 201) if a > 0 else np.zeros(1)
-    width = max(
-        float(b.grid.size[b.grid.locate(np.asarray(o)[None, :] - 1e-9 * b.grid.min_size * np.asarray(n))[0]])
-        for b, o, n in ((c.b1, c.geom.origins[0], -c.geom.normal), (c.b2, c.geom.origins[1], c.geom.normal))
-    )
-    ds = c.options.sample_spacing * c.h
-    reach_p, reach_m = min(1.25 * a + width, s_plus), min(1.25 * a + width, s_minus)
-    s = np.linspace(-reach_m, reach_p, int(math.ceil((reach_p + reach_m) / ds)) + 1)
-    pts, t1 = c.traction_samples(u, a, s)
-    nl = pts.normal
-    tl = np.stack([-nl[:, 1], nl[:, 0]], axis=1)
-    pressure = np.einsum("qi,qi->q", t1, nl)  # compression positive
-    shear = -np.einsum("qi,qi->q", t1, tl)  # on body 2 along the local tangent
-    k = 2 * int(round(0.5 * width / (s[1] - s[0]))) + 1 if len(s) > 1 else 1  # odd: centred
-    kernel = np.ones(k) / k
-    pressure = np.convolve(pressure, kernel, mode="same")
-    shear = np.convolve(shear, kernel, mode="same")
+    cell = _contact_cell(c)
+    prof = recover_tractions(c, u, a, cell)
     friction = float(getattr(c.model, "friction", 0.0) or 0.0)
     nrm, tan = c.geom.normal, c.geom.tangent
     return {
@@ -51,7 +39,18 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
         "stick_half_width": float(min(c.stick(a), a)),
         "normal_force": float(-on2 @ nrm),
         "tangential_force": float(on2 @ tan),
-        "pressure": {"s": out_s.tolist(), "value": np.interp(out_s, s, pressure).tolist()},
-        "shear": {"s": out_s.tolist(), "value": np.interp(out_s, s, shear).tolist()},
-        "profile_smoothing": float(width),
+        "pressure": {"s": out_s.tolist(), "value": prof.pressure(out_s).tolist()},
+        "shear": {"s": out_s.tolist(), "value": prof.shear(out_s).tolist()},
+        "profile_smoothing": 0.0,
+        "profile_recovery": {"method": "projection", "pressure_modes": len(prof.p_coef),
+                             "stick_modes": len(prof.r_coef), "shear_modes": len(prof.q_coef),
+                             "cell": float(cell), "clipped_force": prof.clipped_force},
     }
+
+
+def _contact_cell(c) -> float:
+    """The coarser of the two grids' cells at the contact point."""
+    return max(
+        float(b.grid.size[b.grid.locate(np.asarray(o)[None, :] - 1e-9 * b.grid.min_size * np.asarray(n))[0]])
+        for b, o, n in ((c.b1, c.geom.origins[0], -c.geom.normal), (c.b2, c.geom.origins[1], c.geom.normal))
+    )
