@@ -18,8 +18,8 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
     written are its projection onto a smooth space over the region (solver.contact.tractions:
     sqrt(1 - s^2/a^2) times Chebyshev polynomials, with the stick zone's deficit projected the
     same way for partial slip), which reproduces the transmitted force exactly, vanishes outside
-    a, and is clipped to compression and to |q| <= mu p (what the clipping removes is reported
-    in ``profile_recovery.clipped_force``)."""
+    a, and is clipped to compression and, where the formulation enforces Coulomb's law, to
+    |q| <= mu p (what the clipping removes and where it acted: ``profile_recovery``)."""
     from .tractions import modes_for, recover_tractions
 
     s_plus, s_minus = c.geom.s_limits
@@ -44,7 +44,8 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
         "profile_smoothing": 0.0,
         "profile_recovery": {"method": "projection", "pressure_modes": len(prof.p_coef),
                              "stick_modes": len(prof.r_coef), "shear_modes": len(prof.q_coef),
-                             "cell": float(cell), "clipped_force": prof.clipped_force},
+                             "cell": float(cell), "clipped_force": prof.clipped_force,
+                             "clipped_fraction": prof.clipped},
     }
 
 

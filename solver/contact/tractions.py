@@ -21,7 +21,11 @@ Gauss points of the region split at both grids' lines). K + 1 = sqrt(a / cell) m
 ``MAX_MODES``, see :func:`modes_for`): the grid-periodic part of the point traction (wavelength
 one cell) has vanishing moments against these slowly varying U_j.
 
-Shear. Tied: the same projection. Frictional with a stick zone |s| <= c: in the slip zones the
+Shear. Where no friction traction acts (tied: c = a; frictionless: c = 0; the thesis's variant
+without the slip traction) the slip zones carry no shear and the shear is projected over the
+tied zone |s| <= c onto T_k(s/c) / sqrt(1 - s^2/c^2) with the tests T_j (orthogonal in the
+same weight, T_0 = 1 keeps the force): a tied zone whose ends do not slide with friction has
+square-root singular edges (a punch's; the thesis's variant), which this space holds. Frictional with a stick zone |s| <= c: in the slip zones the
 shear is Coulomb's sign mu p exactly (the formulation's friction traction), so the shear is
 written q = sign mu p - r with r = sign mu p - q the stick zone's deficit, zero in the slip
 zones; r is projected the same way over |s| <= c (Cattaneo-Mindlin's deficit is
@@ -58,6 +62,7 @@ class TractionProfile:
     q_coef: np.ndarray  # shear modes over |s| <= a (when not frictional with a stick zone)
     r_coef: np.ndarray  # stick deficit modes over |s| <= c (frictional with a stick zone)
     clipped_force: float = 0.0  # |force| removed by clipping tension / shear above mu p
+    clipped: float = 0.0  # fraction of the region where the clipping acted
 
     def pressure(self, s: np.ndarray) -> np.ndarray:
         return np.maximum(_series(self.p_coef, s, self.a), 0.0)
@@ -66,7 +71,7 @@ class TractionProfile:
         s = np.asarray(s, dtype=float)
         p = self.pressure(s)
         if self.sign == 0.0:
-            q = _series(self.q_coef, s, self.a)
+            q = _series(self.q_coef, s, self.c, singular=True)
             if self.friction > 0.0:
                 q = np.clip(q, -self.friction * p, self.friction * p)
             return q
@@ -83,37 +88,48 @@ def _basis(s: np.ndarray, half: float, n: int) -> np.ndarray:
     return np.sin(np.outer(theta, np.arange(1, n + 1)))
 
 
-def _tests(s: np.ndarray, half: float, n: int) -> np.ndarray:
-    """(len(s), n): U_k(s / half) by the three-term recurrence (finite at the ends)."""
+def _singular_basis(s: np.ndarray, half: float, n: int) -> np.ndarray:
+    """(len(s), n): T_k(x) / sqrt(1 - x^2) = cos(k theta) / sin(theta), x = s / half: the form of
+    a traction with square-root edges (a tied zone whose ends do not slide with friction)."""
+    x = np.clip(np.asarray(s, dtype=float) / half, -1.0 + 1e-12, 1.0 - 1e-12)
+    theta = np.arccos(x)
+    return np.cos(np.outer(theta, np.arange(n))) / np.sin(theta)[:, None]
+
+
+def _tests(s: np.ndarray, half: float, n: int, first: bool = False) -> np.ndarray:
+    """(len(s), n): U_k(s / half) (``first``: T_k) by the three-term recurrence."""
     x = np.asarray(s, dtype=float) / half
     out = np.empty((len(x), n))
     out[:, 0] = 1.0
     if n > 1:
-        out[:, 1] = 2.0 * x
+        out[:, 1] = x if first else 2.0 * x
     for k in range(2, n):
         out[:, k] = 2.0 * x * out[:, k - 1] - out[:, k - 2]
     return out
 
 
-def _series(coef: np.ndarray, s, half: float) -> np.ndarray:
+def _series(coef: np.ndarray, s, half: float, singular: bool = False) -> np.ndarray:
     s = np.asarray(s, dtype=float)
     if half <= 0.0 or len(coef) == 0:
         return np.zeros_like(s)
-    out = _basis(s, half, len(coef)) @ coef
+    out = (_singular_basis if singular else _basis)(s, half, len(coef)) @ coef
     return np.where(np.abs(s) < half, out, 0.0)
 
 
-def project(s: np.ndarray, w: np.ndarray, values: np.ndarray, half: float, n: int) -> np.ndarray:
+def project(s: np.ndarray, w: np.ndarray, values: np.ndarray, half: float, n: int,
+            singular: bool = False) -> np.ndarray:
     """Modes of the Galerkin projection onto V_n over |s| <= half of ``values`` given at
     quadrature points (s, weights w): sum_k c_k int phi_k U_j = int values U_j, j < n, with the
-    same quadrature (so that the integral of the projection is that of the values exactly)."""
+    same quadrature (so that the integral of the projection is that of the values exactly).
+    ``singular``: onto T_k / sqrt(1 - x^2) with the tests T_j instead (orthogonal in the same
+    way; T_0 = 1 keeps the force)."""
     inside = np.abs(s) <= half
     s, w, v = s[inside], w[inside], values[inside]
     if len(s) == 0 or half <= 0.0:
         return np.zeros(0)
     n = max(1, min(n, len(s)))
-    test = _tests(s, half, n) * w[:, None]
-    gram = test.T @ _basis(s, half, n)  # ~ (pi half / 2) I
+    test = _tests(s, half, n, first=singular) * w[:, None]
+    gram = test.T @ (_singular_basis if singular else _basis)(s, half, n)  # diagonal but for the quadrature
     return np.linalg.solve(gram, test.T @ v)
 
 
@@ -155,22 +171,39 @@ def quadrature_tractions(c, u: np.ndarray, a: float):
 
 def recover_tractions(c, u: np.ndarray, a: float, cell: float) -> TractionProfile:
     """The projected pressure and shear of contact ``c`` (a BandContact) for the field u at
-    half-width a; ``cell`` the cell size that sets the number of modes."""
+    half-width a; ``cell`` the cell size that sets the number of modes. The shear is bounded by
+    mu p only where the formulation enforces Coulomb's law (the slip-zone friction traction);
+    the thesis's variant without it is reported as solved, its excess visible."""
     friction = float(getattr(c, "friction", 0.0) or 0.0)
+    coulomb = c.kind == "frictional" and friction > 0.0 and bool(c.options.friction_traction)
     if not a > 0.0:
         return TractionProfile(a, 0.0, 0.0, friction, np.zeros(0), np.zeros(0), np.zeros(0))
     pts, p, q = quadrature_tractions(c, u, a)
     s, w = pts.s, pts.weights
     p_coef = project(s, w, p, a, modes_for(a, cell))
     stick = min(c.stick(a), a)
-    sign = float(c.slip_sign) if (c.kind == "frictional" and friction > 0.0 and stick < a) else 0.0
-    if sign == 0.0:
-        prof = TractionProfile(a, stick, 0.0, friction if c.kind == "frictional" else 0.0,
-                               p_coef, project(s, w, q, a, modes_for(a, cell)), np.zeros(0))
+    sign = float(c.slip_sign) if (coulomb and stick < a) else 0.0
+    if sign == 0.0:  # the shear lives on the tied zone |s| <= c (frictionless: none)
+        q_coef = project(s, w, q, stick, modes_for(stick, cell), singular=True) if stick > 0.0 else np.zeros(0)
+        prof = TractionProfile(a, stick, 0.0, friction if coulomb else 0.0, p_coef, q_coef, np.zeros(0))
     else:
         r = sign * friction * p - q  # zero in the slip zones
         r_coef = project(s, w, r, stick, modes_for(stick, cell)) if stick > 0.0 else np.zeros(0)
         prof = TractionProfile(a, stick, sign, friction, p_coef, np.zeros(0), r_coef)
-    n_raw, q_raw = float(w @ p), float(w @ q)
-    prof.clipped_force = float(abs(w @ prof.pressure(s) - n_raw) + abs(w @ prof.shear(s) - q_raw))
+    prof.clipped_force = float(abs(w @ prof.pressure(s) - w @ p) + abs(w @ prof.shear(s) - w @ q))
+    prof.clipped = _clipped_fraction(prof, np.linspace(-a, a, 401))
     return prof
+
+
+def _clipped_fraction(prof: TractionProfile, s: np.ndarray) -> float:
+    """Fraction of the region where the projection before clipping had tension or shear above
+    mu p (more than 1e-9 of the peak pressure)."""
+    p = _series(prof.p_coef, s, prof.a)
+    tol = 1e-9 * max(float(np.abs(p).max()), 1e-300)
+    bad = p < -tol
+    if prof.sign != 0.0 and prof.c > 0.0:
+        r = prof.sign * _series(prof.r_coef, s, prof.c)
+        bad |= (r < -tol) | (r > 2.0 * prof.friction * np.maximum(p, 0.0) + tol)
+    elif prof.friction > 0.0:
+        bad |= np.abs(_series(prof.q_coef, s, prof.c, singular=True)) > prof.friction * np.maximum(p, 0.0) + tol
+    return float(bad.mean())
