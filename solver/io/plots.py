@@ -1,7 +1,8 @@
 """PNG pictures of a run (``[output] plots = true``), headless (matplotlib's Agg, imported only
 here and only when pictures are written): ``fields.png`` (von Mises and displacement magnitude
 over every body), ``contact_<k>_fields.png`` (the same close to each contact point),
-``line_<name>.png`` per output line, ``contact_<k>.png`` (pressure and shear) per contact."""
+``line_<name>.png`` per output line, ``contact_<k>.png`` (pressure and shear) per contact, with
+Hertz and Cattaneo-Mindlin for the computed forces beside them when the contact is Hertzian."""
 
 from __future__ import annotations
 
@@ -156,16 +157,72 @@ def _line_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any
                             f"line_{_file_stem(name)}.png")
 
 
+def _curvature(body: pb.BodyModel, point: np.ndarray) -> float | None:
+    """Signed curvature (convex positive) of the body's exact boundary at ``point``, or None
+    where the profile cannot say (no projection or no curvature on that edge)."""
+    try:
+        proj = body.profile.project(np.asarray(point, dtype=float)[None, :])
+        curve = body.profile.edge(body.profile.edge_names[int(proj.edge_index[0])])
+        k = float(np.asarray(curve.curvature(np.asarray(proj.parameters[:1])))[0])
+    except (AttributeError, NotImplementedError, TypeError, ValueError, IndexError):
+        return None
+    return k if np.isfinite(k) else None
+
+
+def hertz_reference(problem: pb.Problem, c: Mapping[str, Any]) -> dict | None:
+    """Hertz (and, frictional, Cattaneo-Mindlin) for the computed forces of a contact block when
+    the contact is Hertzian: both radii of curvature known at the contact point, a convex pair
+    (k1 + k2 > 0), a compressive force. Returns a, p0, R*, E* and the stick ratio, or None."""
+    from solver.reference import theory
+
+    try:
+        b1, b2 = (problem.body(n) for n in c["bodies"])
+        point = np.asarray(c["point"], dtype=float)
+        n_force = float(c["normal_force"])
+    except (KeyError, TypeError, ValueError):
+        return None
+    k1, k2 = _curvature(b1, point), _curvature(b2, point)
+    if k1 is None or k2 is None or not k1 + k2 > 1e-12 or not n_force > 0.0:
+        return None
+    m1, m2 = b1.material, b2.material
+    e_star = theory.effective_modulus(m1.youngs_modulus, m1.poissons_ratio, m2.youngs_modulus, m2.poissons_ratio)
+    r_star = 1.0 / (k1 + k2)
+    a = theory.hertz_half_width(n_force, r_star, e_star)
+    out = {"a": a, "p0": theory.hertz_peak_pressure(n_force, a), "R_eff": r_star, "E_eff": e_star}
+    mu = float(c.get("friction") or 0.0)
+    if c.get("type") == "frictional" and mu > 0.0:
+        q_force = float(c.get("tangential_force") or 0.0)
+        out.update(mu=mu, sign=float(np.sign(q_force)) or 1.0,
+                   stick_ratio=float(theory.cattaneo_mindlin_stick_ratio(q_force, n_force, mu, allow_gross_slip=True)))
+    return out
+
+
+def _reference_curves(ax, ref: dict, s: np.ndarray) -> None:
+    from solver.reference import theory
+
+    x = np.linspace(min(s.min(), -1.3 * ref["a"]), max(s.max(), 1.3 * ref["a"]), 600)
+    ax.plot(x, theory.hertz_pressure(x, ref["a"], ref["p0"]), "k--", lw=1.2,
+            label=f"Hertz for the computed N (R* = {ref['R_eff']:.4g} m)")
+    if "mu" in ref:
+        q = theory.cattaneo_mindlin_shear(x, ref["a"], ref["stick_ratio"] * ref["a"], ref["mu"], ref["p0"], sign=ref["sign"])
+        ax.plot(x, q, "k:", lw=1.2, label="Cattaneo-Mindlin for the computed Q, N")
+
+
 def _contact_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any]) -> None:
+    """Pressure and shear of every contact; Hertz / Cattaneo-Mindlin beside them when the
+    contact is Hertzian (:func:`hertz_reference`), the legend says which curve is which."""
     for k, c in enumerate(summary.get("contacts", [])):
         pressure, shear = c.get("pressure") or {}, c.get("shear") or {}
         if not (pressure.get("s") or shear.get("s")):
             continue
         fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
         if pressure.get("s"):
-            ax.plot(np.asarray(pressure["s"], float), np.asarray(pressure["value"], float), label="pressure")
+            ax.plot(np.asarray(pressure["s"], float), np.asarray(pressure["value"], float), lw=2, label="pressure (computed)")
         if shear.get("s"):
-            ax.plot(np.asarray(shear["s"], float), np.asarray(shear["value"], float), label="shear")
+            ax.plot(np.asarray(shear["s"], float), np.asarray(shear["value"], float), lw=2, label="shear (computed)")
+        ref = hertz_reference(problem, c)
+        if ref is not None:
+            _reference_curves(ax, ref, np.asarray(pressure.get("s") or shear.get("s"), float))
         title = f"{problem.name}: contact {' / '.join(c.get('bodies', []))}"
         figs.save_line_plot(fig, ax, "s along the contact curve [m]", "traction [Pa]", title, f"contact_{k}.png")
 
