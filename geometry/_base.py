@@ -26,6 +26,8 @@ __all__ = [
     "positive",
     "finite",
     "orthonormal_frame",
+    "signed_lengths",
+    "signed_hypot",
 ]
 
 _REGISTRY: dict[str, type["Primitive"]] = {}
@@ -35,7 +37,10 @@ _REGISTRY: dict[str, type["Primitive"]] = {}
 class Projection:
     """Closest points on a primitive, the unit normals there, and signed distances.
 
-    ``distances[i] == (p_i - points[i]) . normals[i]`` (SPEC section 2). Arrays have the
+    ``distances`` are signed Euclidean distances (SPEC section 2):
+    ``|distances[i]| == |p_i - points[i]|``, with the sign of ``(p_i - points[i]) . normals[i]``
+    (the two agree where the foot is interior to a surface; they differ for a curve in 3D off
+    its plane and where the foot lies on the boundary of a bounded patch). Arrays have the
     dimension of the query points: (n, 3) for 3D queries, (n, 2) for 2D queries of curves.
     ``parameters`` optionally carries the primitive's parameter(s) at the closest point
     ((n,) for curves, (n, 2) for surfaces) where the primitive has one.
@@ -170,10 +175,7 @@ def as_points(points: Any, dims: tuple[int, ...] = (3,), name: str = "points", f
     ``finite`` a NaN or infinite coordinate is an error (where a search would otherwise
     return an arbitrary point for it; closed forms just propagate NaN).
     """
-    try:
-        arr = np.asarray(points, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of numbers") from None
+    arr = real_array(points, name)
     if arr.ndim == 1:
         arr = arr[None, :]
     if arr.ndim != 2 or arr.shape[1] not in dims:
@@ -186,6 +188,60 @@ def as_points(points: Any, dims: tuple[int, ...] = (3,), name: str = "points", f
     if dim == 2:
         arr = np.column_stack([arr, np.zeros(len(arr))])
     return np.ascontiguousarray(arr), dim
+
+
+def real_array(values: Any, name: str = "points") -> np.ndarray:
+    """``values`` as a float64 array; only real numbers are accepted: integer and float arrays
+    (and lists of them) convert, while bool, complex, string and object arrays (and ragged
+    lists) raise a ValueError naming ``name`` and what was given, instead of being converted
+    silently (``np.asarray(["1"], float)`` and ``np.asarray([True], float)`` would succeed)."""
+    if isinstance(values, np.ndarray) and values.dtype == np.float64:
+        return values
+    try:
+        raw = np.asarray(values)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an array of real numbers, got a ragged or unreadable value") from None
+    kind = raw.dtype.kind
+    if kind not in "iuf":
+        what = {"b": "booleans", "c": "complex numbers", "U": "strings", "S": "bytes", "O": "Python objects"}
+        got = what.get(kind, f"dtype {raw.dtype}")
+        raise ValueError(f"{name} must be an array of real numbers (int or float), got {got}")
+    return np.asarray(raw, dtype=float)
+
+
+def signed_hypot(s: np.ndarray, h: Any) -> np.ndarray:
+    """``sign(s) hypot(s, h)`` (plus where s >= 0): the signed Euclidean distance of a point
+    whose offset from its foot is ``s`` along the normal and ``h`` across it (a curve's
+    in-plane signed distance and the height above its plane). A square root of the sum of
+    squares, with ``np.hypot`` (after an exact power-of-two rescaling of tiny values) where
+    the squares under- or overflow."""
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):
+        d = s * s
+        d += h * h
+        np.sqrt(d, out=d)
+    bad = (d < 1e-150) | (d > 1e150)
+    if bad.any():
+        sb = np.broadcast_to(s, d.shape)[bad]
+        hb = np.broadcast_to(h, d.shape)[bad]
+        scale = np.where(d[bad] < 1e-150, 2.0**600, 1.0)
+        d[bad] = np.hypot(sb * scale, hb * scale) / scale
+    np.negative(d, out=d, where=s < 0)
+    return d
+
+
+def signed_lengths(r: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Signed Euclidean distances of SPEC section 2 from the offsets ``r = p - closest`` and
+    the normals (both (n, d)): ``|r|`` with the sign of ``r . normal`` (plus where that is 0).
+    The length is overflow- and underflow-safe (rows rescaled by their largest component)."""
+    d = np.sqrt(np.einsum("ij,ij->i", r, r))
+    bad = (d < 1e-150) | (d > 1e150)
+    if bad.any():
+        rb = r[bad]
+        big = np.max(np.abs(rb), axis=1)
+        scaled = rb / np.where(big > 0, big, 1.0)[:, None]
+        d[bad] = np.where(big > 0, big * np.sqrt(np.einsum("ij,ij->i", scaled, scaled)), 0.0)
+    np.negative(d, out=d, where=np.einsum("ij,ij->i", r, normals) < 0)
+    return d
 
 
 def restore_dim(projection: Projection, dim: int) -> Projection:

@@ -82,6 +82,11 @@ tests with clustered knots, weights 0.2-5 and points 1-100 % of the size away
 (``benchmarks/bspline_stress.py``, hypothesis) find no miss on either path. Cost: far points
 (near centres of curvature) have more candidate cells than points near the surface.
 
+Distances (SPEC section 2) are signed Euclidean distances, ``|p - closest|`` with the sign
+of ``(p - closest) . normal``: where the foot is on a surface's edge or corner, or beyond
+the end of an open curve, ``p - closest`` is not along the normal and the dot product would
+be shorter than the distance.
+
 Normal conventions (SPEC section 2 leaves free-form normals to the primitive):
 
 * surfaces: ``unit(S_u x S_v)``; where that vanishes (degenerate patch corners) the
@@ -130,7 +135,8 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
 
     return cKDTree(points)
 
-from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim
+from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim, signed_lengths
+from .curves import check_fields
 from . import _bernstein, _curve_cells, _jit
 from . import _surface_cells
 from ._cell_boxes import (
@@ -245,14 +251,6 @@ def _domain(t: np.ndarray, k: int, n: int, owner: str, field: str) -> tuple[floa
             f"{_field(owner, field)}: empty parameter domain [knots[{k}], knots[{n}]] = [{a!r}, {b!r}]"
         )
     return a, b
-
-
-def _points_of(d: dict[str, Any], key: str, owner: str) -> Any:
-    if not isinstance(d, dict):
-        raise ValueError(f"{owner} definition must be a dict, got {type(d).__name__}")
-    if key not in d:
-        raise ValueError(f"{owner}: missing field {key!r}")
-    return d[key]
 
 
 def _kinks(t: np.ndarray, k: int, lo: float, hi: float) -> np.ndarray:
@@ -434,13 +432,13 @@ class BSplineCurve(Curve):
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "BSplineCurve":
-        owner = "bspline_curve"
+        f = check_fields(d, "bspline_curve", ("degree", "knots", "control_points"), ("weights", "periodic"))
         return cls(
-            degree=_points_of(d, "degree", owner),
-            knots=_points_of(d, "knots", owner),
-            control_points=_points_of(d, "control_points", owner),
-            weights=d.get("weights"),
-            periodic=d.get("periodic", False),
+            degree=f["degree"],
+            knots=f["knots"],
+            control_points=f["control_points"],
+            weights=f.get("weights"),
+            periodic=f.get("periodic", False),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -732,7 +730,7 @@ class BSplineCurve(Curve):
                 Ton = T[on]
                 axis = np.where(np.abs(Ton[:, 2:3]) > 0.9, np.array([[1.0, 0.0, 0.0]]), np.array([[0.0, 0.0, 1.0]]))
                 normals[on] = _normalise_rows(np.cross(Ton, axis))[0]
-        distances = np.einsum("ij,ij->i", p - C, normals)
+        distances = signed_lengths(p - C, normals)
         return restore_dim(Projection(points=C, normals=normals, distances=distances, parameters=t), dim)
 
 
@@ -805,14 +803,16 @@ class BSplineSurface(Surface):
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "BSplineSurface":
-        owner = "bspline_surface"
+        f = check_fields(
+            d, "bspline_surface", ("degree_u", "degree_v", "knots_u", "knots_v", "control_points"), ("weights",)
+        )
         return cls(
-            degree_u=_points_of(d, "degree_u", owner),
-            degree_v=_points_of(d, "degree_v", owner),
-            knots_u=_points_of(d, "knots_u", owner),
-            knots_v=_points_of(d, "knots_v", owner),
-            control_points=_points_of(d, "control_points", owner),
-            weights=d.get("weights"),
+            degree_u=f["degree_u"],
+            degree_v=f["degree_v"],
+            knots_u=f["knots_u"],
+            knots_v=f["knots_v"],
+            control_points=f["control_points"],
+            weights=f.get("weights"),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -1082,5 +1082,5 @@ class BSplineSurface(Surface):
             off, dd = _normalise_rows(p[bad] - S[bad])
             off[dd == 0] = np.array([0.0, 0.0, 1.0])
             normals[bad] = off
-        distances = np.einsum("ij,ij->i", p - S, normals)
+        distances = signed_lengths(p - S, normals)
         return Projection(points=S, normals=normals, distances=distances, parameters=uv)

@@ -8,11 +8,11 @@ Normals (SPEC section 2):
   3D query: the unit vector from the closest point toward the query point, so distances are
   the (non-negative) Euclidean distances; on the line itself a fixed unit vector perpendicular
   to the direction is used (distance 0).
-- ``Circle``: the in-plane radial direction away from the centre, for 2D and 3D queries alike,
-  so ``distance = rho - radius`` where ``rho`` is the distance of the query point from the
-  circle's axis. For a point off the circle's plane, ``p - closest`` then also has a component
-  along the circle's normal: the Euclidean distance is ``hypot(distance, height)``. On the
-  axis a fixed in-plane direction is used.
+- ``Circle``: the in-plane radial direction away from the centre, for 2D and 3D queries alike.
+  Distances are signed Euclidean distances (SPEC section 2): ``hypot(rho - radius, height)``
+  with the sign of ``rho - radius``, where ``rho`` is the distance of the query point from the
+  circle's axis and ``height`` its distance from the circle's plane (0 for 2D queries, where
+  the distance is ``rho - radius``). On the axis a fixed in-plane direction is used.
 
 The private helpers at the bottom (block loop, local frames) are shared with ``ellipse.py``
 and ``surfaces.py``.
@@ -33,6 +33,7 @@ from ._base import (
     positive,
     register_primitive,
     restore_dim,
+    signed_hypot,
     unit_vector,
     vector,
 )
@@ -275,7 +276,7 @@ class Circle(Curve):
             c = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(c[0], c[1])
             theta[s] = np.arctan2(cy, cx)
-            np.subtract(rho, R, out=dist[s])
+            dist[s] = signed_hypot(rho - R, c[2])
             to_global3(cx, cy, 0.0, frame, None, normals[s])
             to_global3(R * cx, R * cy, 0.0, frame, self._o, closest[s])
         return restore_dim(Projection(points=closest, normals=normals, distances=dist, parameters=theta), dim)

@@ -49,6 +49,7 @@ from ._base import (
     positive,
     register_primitive,
     restore_dim,
+    signed_hypot,
     unit_vector,
     vector,
 )
@@ -182,7 +183,8 @@ class Ellipse(Curve):
 
     ``project``: closest point of the ellipse (for 3D points: of the query point's projection
     onto the ellipse's plane, which is the 3D closest point); normal: the in-plane outward normal
-    of the ellipse (away from the centre), so distances are in-plane signed distances;
+    of the ellipse (away from the centre); distances: signed Euclidean distances,
+    ``hypot(in-plane signed distance, height above the plane)`` with the in-plane sign;
     parameter: the eccentric angle t with closest = origin + a cos t e1 + b sin t e2.
     """
 
@@ -254,7 +256,7 @@ class Ellipse(Curve):
         t = np.empty(n)
         dist = np.empty(n)
         for s in blocks(n):
-            x, y, _h = to_local(pts[s], frame, self._o)
+            x, y, h = to_local(pts[s], frame, self._o)
             u0, u1 = _first_quadrant_block(a, b, np.abs(x), np.abs(y))
             cx = np.copysign(a * u0, x)  # back to the query's quadrant
             cy = np.copysign(b * u1, y)
@@ -267,7 +269,7 @@ class Ellipse(Curve):
             to_global3(nx, ny, 0, frame, None, normals[s])
             dd = (x - cx) * nx
             dd += (y - cy) * ny
-            dist[s] = dd
+            dist[s] = signed_hypot(dd, h)
             t[s] = np.arctan2(np.copysign(u1, y), np.copysign(u0, x))
         return restore_dim(Projection(points=closest, normals=normals, distances=dist, parameters=t), dim)
 

@@ -27,7 +27,9 @@ Normals (unit, perpendicular to d):
 * circle and ellipse profiles: away from the sweep's axis (like a cylinder, SPEC section 2),
   whatever the sense of the profile's normal.
 
-Distances are ``(p - closest) . normal``. The sweep is unbounded in h; in t it is bounded by
+Distances are signed Euclidean distances: ``|p - closest|`` with the sign of
+``(p - closest) . normal`` (they differ from the dot product beyond the ends of a bounded
+B-spline profile). The sweep is unbounded in h; in t it is bounded by
 the profile (B-spline domain) or not at all (line), or closed (circle, ellipse).
 """
 
@@ -47,9 +49,11 @@ from ._base import (
     orthonormal_frame,
     primitive_from_dict,
     register_primitive,
+    signed_lengths,
     unit_vector,
 )
 from .bspline import BSplineCurve
+from .curves import check_fields
 
 __all__ = ["Sweep"]
 
@@ -181,11 +185,7 @@ class Sweep(Surface):
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Sweep":
-        if not isinstance(d, dict):
-            raise ValueError(f"{_OWNER} definition must be a dict, got {type(d).__name__}")
-        for key in ("profile", "direction"):
-            if key not in d:
-                raise ValueError(f"{_OWNER}: missing field {key!r}")
+        d = check_fields(d, _OWNER, ("profile", "direction"))
         if not isinstance(d["profile"], dict):
             raise ValueError(f"{_OWNER}: field 'profile' must be a curve dict, got {d['profile']!r}")
         return cls(profile=d["profile"], direction=d["direction"])
@@ -237,5 +237,5 @@ class Sweep(Surface):
             t = np.arctan2(cs[:, 1], cs[:, 0])
         closest = q + height[:, None] * d
         h = height - self._profile_points(t) @ d
-        distances = np.einsum("ij,ij->i", p - closest, normals)
+        distances = signed_lengths(p - closest, normals)
         return Projection(points=closest, normals=normals, distances=distances, parameters=np.column_stack([t, h]))

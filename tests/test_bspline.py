@@ -88,7 +88,12 @@ def test_nurbs_quarter_circle_exact_distances_2d():
     # outside the wedge the closest points are the ends, parameters exactly at the bounds
     out = ~inside & (np.linalg.norm(p, axis=1) > 0.1)
     assert np.all(np.isin(pr.parameters[out], [0.0, 1.0]))
-    assert np.allclose(pr.distances, np.einsum("ij,ij->i", p - pr.points, pr.normals), atol=1e-14)
+    # signed Euclidean distances (SPEC section 2): beyond the ends p - closest is not along the normal
+    assert np.allclose(np.abs(pr.distances), np.linalg.norm(p - pr.points, axis=1), rtol=0, atol=1e-14)
+    along = np.einsum("ij,ij->i", p - pr.points, pr.normals)
+    assert np.all(pr.distances * along >= 0)
+    assert np.allclose(pr.distances[inside], along[inside], rtol=0, atol=1e-14)
+    assert np.any(np.abs(along[out]) < np.abs(pr.distances[out]) - 0.1)  # the case is exercised
 
 
 def test_periodic_nurbs_circle_and_seam():
@@ -178,7 +183,8 @@ def test_points_on_a_3d_curve_get_a_deterministic_perpendicular_normal():
     T = c.derivatives(pr.parameters, 1)[1]
     assert np.allclose(np.linalg.norm(pr.normals, axis=1), 1.0)
     assert np.abs(np.einsum("ij,ij->i", pr.normals, T)).max() < 1e-10
-    assert np.allclose(pr.distances, 0.0, atol=1e-14)
+    # |p - closest|: the foot carries the Newton tolerance (5e-13 of the size) along the tangent
+    assert np.allclose(pr.distances, 0.0, atol=1e-12 * c.scale)
 
 
 def test_2d_query_needs_a_planar_curve():
@@ -252,7 +258,11 @@ def test_cubic_surface_brute_force_and_optimality(rational):
     assert (~inner_u).sum() > 50  # the sample does exercise the edges
     n = s.normals_at(pr.parameters)
     assert np.allclose(pr.normals, n, atol=1e-12)
-    assert np.allclose(pr.distances, np.einsum("ij,ij->i", r, n), atol=1e-14)
+    # signed Euclidean distances: |r| with the sign of r . n (on an edge r has a part along S_u or S_v)
+    along = np.einsum("ij,ij->i", r, n)
+    assert np.allclose(np.abs(pr.distances), np.linalg.norm(r, axis=1), rtol=0, atol=1e-14)
+    assert np.all(pr.distances * along >= 0)
+    assert np.allclose(pr.distances[inner_u & inner_v], along[inner_u & inner_v], rtol=0, atol=1e-12)
 
 
 def test_surface_offset_and_project_back():

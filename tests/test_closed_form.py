@@ -222,8 +222,13 @@ def check_projection(d, pts, proj, curve_3d=False):
     assert c.shape == pts.shape and nrm.shape == pts.shape and dist.shape == (len(pts),)
     assert np.all(np.isfinite(c)) and np.all(np.isfinite(nrm)) and np.all(np.isfinite(dist))
     assert np.max(np.abs(norms(nrm) - 1)) < 1e-14
-    # distances are (p - closest) . normal
-    assert np.max(np.abs(rows_dot(pts - c, nrm) - dist)) < tol
+    # distances are signed Euclidean distances: |p - closest| with the sign of (p - closest) . normal
+    assert np.max(np.abs(np.abs(dist) - norms(pts - c))) < tol
+    along = rows_dot(pts - c, nrm)
+    assert np.all(dist * along >= 0)
+    assert np.all(np.abs(along) <= np.abs(dist) + tol)
+    if not curve_3d:  # the foot is interior to a surface (or a curve's own plane): the two agree
+        assert np.max(np.abs(along - dist)) < tol
     # the closest point is on the primitive
     assert np.max(residual(d, c)) < tol
     # p - closest is along the normal (curves in 3D: only the in-plane part, see curves.py)

@@ -217,10 +217,14 @@ def test_3d_ellipse_in_random_orientation(log_ratio, seed):
     assert np.max(np.abs(pr.normals @ n)) < 1e-14  # in-plane normal
     # outward: away from the centre
     assert np.all(np.einsum("ij,ij->i", pr.normals, r) > 0)
-    assert np.max(np.abs(np.einsum("ij,ij->i", p - pr.points, pr.normals) - pr.distances) / scale) < 16 * EPS
+    # signed Euclidean distances: |p - closest|, sign of the in-plane offset along the normal
+    assert np.max(np.abs(np.linalg.norm(p - pr.points, axis=1) - np.abs(pr.distances)) / scale) < 16 * EPS
     # the in-plane part of p - closest is along the normal
     w = (p - pr.points) - np.outer((p - o) @ n, n)
-    assert np.max(np.linalg.norm(w - pr.distances[:, None] * pr.normals, axis=1) / scale) < 32 * EPS
+    inplane = np.einsum("ij,ij->i", w, pr.normals)
+    assert np.max(np.linalg.norm(w - inplane[:, None] * pr.normals, axis=1) / scale) < 32 * EPS
+    assert np.all(pr.distances * inplane >= 0)
+    assert np.max(np.abs(np.hypot(inplane, (p - o) @ n) - np.abs(pr.distances)) / scale) < 32 * EPS
     # no point of the ellipse is closer (3D distances, independent reference in the plane)
     pu, pv, ph = (p - o) @ e1, (p - o) @ e2, (p - o) @ n
     ref = np.hypot(reference_distance(a, b, pu, pv), ph)

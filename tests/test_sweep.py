@@ -50,7 +50,9 @@ def check_generic(sweep, p):
     assert np.abs(pr.normals @ sweep.direction).max() < 1e-13
     r = p - pr.points
     assert np.abs(r @ sweep.direction).max() < 1e-12  # nothing left along the extrusion
-    assert np.allclose(pr.distances, np.einsum("ij,ij->i", r, pr.normals), atol=1e-14)
+    # signed Euclidean distances: |r| with the sign of r . normal
+    assert np.allclose(np.abs(pr.distances), np.linalg.norm(r, axis=1), rtol=0, atol=1e-14)
+    assert np.all(pr.distances * np.einsum("ij,ij->i", r, pr.normals) >= 0)
     assert np.all(np.linalg.norm(r, axis=1) <= dense_section_distance(sweep, p) + 1e-12)
     return pr
 
