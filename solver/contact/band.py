@@ -40,7 +40,6 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor,
 from ..model.elasticity import plane_modulus
 from ..model.options import ContactOptions
 from .geometry import ContactGeometry, contact_geometry, contact_quadrature, grid_breakpoints, sample_points
-from .report import contact_block
 from .roots import StickRoot, bracket_search, edge_search, thesis_search
 
 __all__ = ["BandContact", "build"]
@@ -207,9 +206,10 @@ class BandContact:
                 "full sliding friction (the constraints still hold the bodies)"]
 
 
-    def report(self, u: np.ndarray, a: float, info, bracket) -> tuple[dict, list[str]]:
-        """The SPEC section 4 contact block of the final state (displacement u) with its checks, and
-        the messages of every contact condition it fails (empty: the state is consistent)."""
+    def check_final(self, u: np.ndarray, a: float, info, bracket, block: dict) -> list[str]:
+        """Judge the final state (displacement u) and record it in the contact ``block`` of the
+        summary (``checks``, and ``gross_slip`` for friction); the messages of every contact
+        condition it fails (empty: the state is consistent)."""
         x = u[self.dofs]
         messages = []
         v = self.judge(x, a, info)
@@ -229,7 +229,6 @@ class BandContact:
                 f"sample points (smallest gap {v.min_gap:.3g} m) at a = {a:.6g} m: the region search did not "
                 "find the contact (refine the grid near the contact, or check the contact point and loads)"
             )
-        block = contact_block(self, a, on2, u)
         block["checks"] = {"penetration": bool(v.penetration or v.penetration_count), "tension": v.tension,
                            "edge_penetration": v.penetration, "edge_gap": v.gap,
                            "edge_pressure": v.pressure, "penetration_points": v.penetration_count,
@@ -246,7 +245,7 @@ class BandContact:
             block["gross_slip"] = self.gross_slip
             if not abs(ca - self.stick_ratio) <= 2.0 * self.options.stick_tolerance:
                 messages.append(f"{self.name}: c/a = {self.stick_ratio:.4g} but the forces give sqrt(1 - |Q|/(mu N)) = {ca:.4g}")
-        return block, messages
+        return messages
 
 
     def history_entry(self, v: _Verdict, a: float, step: int, iteration: int, tag: int, ratio: float) -> None:

@@ -35,6 +35,7 @@ from ..fem.linalg import (
 from ..fem.space import body_info, discretise
 from ..solution import IBFEMSolution
 from .formulation import formulation
+from .report import contact_block
 from .roots import RegionTooSmall
 
 __all__ = ["ContactDriver", "solve_contact"]
@@ -338,7 +339,8 @@ class ContactDriver:
         reactions, tractions = essential_reactions(self.essentials, u, self.options, lam)
         blocks = []
         for c, a, info, bracket in zip(self.contacts, self.widths, self.prev_infos, self.brackets):
-            block, problems = c.report(u, a, info, bracket)
+            block = contact_block(c, a, -c.force(u[c.dofs], a, info), u)
+            problems = c.check_final(u, a, info, bracket, block)
             blocks.append(block)
             if problems:
                 self.converged = False
