@@ -42,11 +42,16 @@ THESIS = {
     "cylinder_on_wedge_frictionless": {"a_error": 0.0415},
 }
 
-# Acceptance of issues 5 and 6.
+# Acceptance of issues 5 and 6, pressure and shear tightened by issue 13.
 A_TOL = 0.02
 CA_TOL = 0.02
-PRESSURE_RMS_TOL = 0.05
-SHEAR_RMS_TOL = 0.15
+PRESSURE_RMS_TOL = 0.02
+PRESSURE_MIN_TOL = -0.005  # the most negative reported pressure, in p0
+SHEAR_RMS_TOL = 0.05
+# von Mises peak against the half-space references (McEwen, Cattaneo-Mindlin): issue 5's 3 %.
+# Issue 13 asks 1 %; the examples' finite bodies put their converged peaks 0.8-5 % above the
+# half-space value (benchmarks/tractions.py: the peak on two more refinement levels), so 1 % is
+# checked there against the finest grid, not here.
 VM_PEAK_TOL = 0.03
 
 
@@ -112,6 +117,8 @@ def compare_contact(problem, block: dict, summary: dict) -> dict[str, Any]:
     if inner.any():
         ref = theory.hertz_pressure(s[inner], a_ref, p0)
         m["pressure_rms"] = float(np.sqrt(np.mean((p[inner] - ref) ** 2)) / p0)
+    if len(p):
+        m["pressure_min"] = float(p.min() / p0)
     if block["type"] == "frictional":
         mu = float(block["friction"])
         m["Q_over_N"] = Q / N
@@ -311,7 +318,7 @@ def _contact_rows(results: list[Result]) -> list[str]:
     lines: list[str] = []
     for r in results:
         if not r.metrics:
-            lines.append(f"| {r.name} | {_verdict(False) if r.message else '–'} | {r.message or 'no contact'} |" + " |" * 14)
+            lines.append(f"| {r.name} | {_verdict(False) if r.message else '–'} | {r.message or 'no contact'} |" + " |" * 16)
             continue
         for m in r.metrics:
             th = THESIS.get(r.name, {})
@@ -322,6 +329,10 @@ def _contact_rows(results: list[Result]) -> list[str]:
                 checks.append(m["ca_error"] <= CA_TOL)
             if "pressure_rms" in m:
                 checks.append(m["pressure_rms"] <= PRESSURE_RMS_TOL)
+            if "pressure_min" in m:
+                checks.append(m["pressure_min"] >= PRESSURE_MIN_TOL)
+            if "field_peak" in m:
+                checks.append(abs(m["field_peak"] / m["field_peak_theory"] - 1.0) <= VM_PEAK_TOL)
             if "shear_rms" in m:
                 checks.append(m["shear_rms"] <= SHEAR_RMS_TOL)
             if "abs_Q" in m and m["type"] == "frictionless":
@@ -335,7 +346,8 @@ def _contact_rows(results: list[Result]) -> list[str]:
                 f"| {r.name} | {r.ok} | {_num(m.get('N'))} | {_num(m.get('Q_over_N', m.get('Q', 0) / m['N'] if m.get('N') else None), '.4f')} "
                 f"| {_num(m.get('a'))} | {_num(m.get('a_hertz'))} | {_pct(m.get('a_error'))} | {_pct(th.get('a_error'))} "
                 f"| {_num(m.get('ca'), '.4f')} | {_num(m.get('ca_theory'), '.4f')} | {_num(m.get('ca_error'), '.4f')} | {_pct(th.get('ca_error'))} "
-                f"| {_pct(m.get('pressure_rms'))} | {_pct(m.get('shear_rms'))} | {vm} | {r.seconds:.1f} | {verdict} |"
+                f"| {_pct(m.get('pressure_rms'))} | {_pct(m.get('pressure_min'))} | {_pct(m.get('shear_rms'))} | {vm} "
+                f"| {_pct(m['field_peak'] / m['field_peak_theory'] - 1.0) if 'field_peak' in m else '–'} | {r.seconds:.1f} | {verdict} |"
             )
     return lines
 
@@ -401,14 +413,17 @@ def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir
         "",
         "Written by `make validate` (`python -m solver.reports.validate`): every scene of SPEC section 5 in",
         "`examples/`, solved as it is, compared with theory for the forces the solver computed",
-        "(`solver/theory.py`). Acceptance (issues 5 and 6): a within 2 % of Hertz, c/a within 0.02 of",
-        "Cattaneo-Mindlin, pressure RMS within 5 % of p0 inside 0.9 a, shear RMS within 15 % of mu p0",
-        "inside 0.95 a, frictionless |Q| < 1e-3 N, subsurface von Mises peak within 3 % of 0.5575 p0.",
+        "(`solver/reference/theory.py`). Acceptance (issues 5, 6 and 13): a within 2 % of Hertz, c/a within",
+        "0.02 of Cattaneo-Mindlin, pressure RMS within 2 % of p0 inside 0.9 a and no reported pressure",
+        "below -0.5 % p0, shear RMS within 5 % of mu p0 inside 0.95 a, frictionless |Q| < 1e-3 N, the",
+        "largest von Mises stress below the contact within 3 % of the half-space field's (McEwen, or the",
+        "Cattaneo-Mindlin superposition; the bodies' finite size moves the converged peaks 0.8-5 % above",
+        "it: benchmarks/tractions.py measures the 1 % of issue 13 against the grid two levels finer).",
         "",
         f"Run on {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}.",
         "",
-        "| scene | converged | N [N/m] | Q/N | a [m] | a Hertz [m] | error in a | thesis | c/a | c/a theory | error c/a | thesis | p RMS / p0 | q RMS / mu p0 | vM peak / p0 (depth / a) | time [s] | verdict |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| scene | converged | N [N/m] | Q/N | a [m] | a Hertz [m] | error in a | thesis | c/a | c/a theory | error c/a | thesis | p RMS / p0 | min p / p0 | q RMS / mu p0 | vM on the axis / p0 (depth / a) | vM peak vs theory | time [s] | verdict |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     lines += _contact_rows(results) + _peak_table(results) + _figure_sections(results, path, fig_dir)
     if sweeps:
