@@ -11,7 +11,15 @@ two are tested against each other.
 
 The kernels live in :mod:`geometry._kernels` (module level, so numba's on-disk cache keeps
 them compiled between processes); this module decides whether they are used and imports
-them (and numba) on the first B-spline projection only.
+them (and numba) on the first B-spline projection only. The closed forms and the ellipse
+have their own compiled kernel (:mod:`geometry._closed_kernels`, :func:`closed_kernel`),
+imported on their first projection.
+
+Threads: every kernel releases the GIL, and :func:`run_ranges` runs one over ranges of the
+points on a pool of threads (``IBFEM_THREADS``, default: the machine's cores), each range
+written into the caller's result arrays, so one call uses every core (no numba
+``parallel=True``: its threading layers are not safe for calls from several threads or
+after a fork, and its compilation is slower).
 
 Tables (built once per spline in :mod:`geometry.bspline`):
 
@@ -42,6 +50,12 @@ import os
 from typing import Any
 
 _KERNELS: Any = None
+_CLOSED: Any = None
+_POOL: Any = None
+_POOL_SIZE = 0
+# a range is never shorter than this many points (the cost of handing it to a thread is
+# about that of projecting a few hundred points)
+MIN_RANGE = 8192
 
 
 def enabled() -> bool:
@@ -65,3 +79,52 @@ def kernels() -> dict[str, Any]:
         raise RuntimeError("the compiled kernels are not available (numba missing or IBFEM_NO_JIT set)")
     return _KERNELS
 
+
+
+def closed_kernel() -> Any:
+    """The compiled kernel of the closed forms and the ellipse (``project_range``) and its
+    module, or None where the compiled kernels are off (numba missing or ``IBFEM_NO_JIT``)."""
+    global _CLOSED
+    if os.environ.get("IBFEM_NO_JIT", "") not in ("", "0"):
+        return None
+    if _CLOSED is None:
+        try:
+            from . import _closed_kernels
+        except ImportError:
+            _CLOSED = False
+        else:
+            _CLOSED = _closed_kernels
+    return _CLOSED or None
+
+
+def threads() -> int:
+    """Threads a projection runs on: ``IBFEM_THREADS`` if set (>= 1), else the cores."""
+    value = os.environ.get("IBFEM_THREADS", "")
+    if value:
+        try:
+            return max(1, int(value))
+        except ValueError:
+            raise ValueError(f"IBFEM_THREADS must be a whole number >= 1, got {value!r}") from None
+    return os.cpu_count() or 1
+
+
+def run_ranges(fn: Any, n: int, per_thread: int = 4) -> None:
+    """Calls ``fn(lo, hi)`` on ranges covering ``range(n)``: directly for few points or one
+    thread, else about ``per_thread`` ranges per thread (so a thread slowed by other work on
+    the machine takes fewer) on a shared pool, waiting for all; an exception in a range is
+    raised here."""
+    global _POOL, _POOL_SIZE
+    workers = threads()
+    if workers == 1 or n < 2 * MIN_RANGE:
+        fn(0, n)
+        return
+    if _POOL is None or _POOL_SIZE != workers:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _POOL = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="geometry")
+        _POOL_SIZE = workers
+    count = max(1, min(workers * per_thread, n // MIN_RANGE))
+    edges = [n * j // count for j in range(count + 1)]
+    futures = [_POOL.submit(fn, lo, hi) for lo, hi in zip(edges[:-1], edges[1:])]
+    for f in futures:
+        f.result()

@@ -25,6 +25,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from . import _jit
 from ._base import (
     Curve,
     Projection,
@@ -79,6 +80,39 @@ def check_fields(d: Any, owner: str, required: tuple[str, ...], optional: tuple[
     if str(kind).lower() != owner:
         raise ValueError(f"{owner}: field 'type' must be {owner!r}, got {kind!r}")
     return {k: v for k, v in d.items() if k != "type"}
+
+
+def result_arrays(n: int, npar: int, out: Projection | None) -> tuple[np.ndarray, ...]:
+    """(closest (n, 3), normals (n, 3), distances (n,), parameters (n * npar,)) to write a
+    projection into: new arrays, or those of ``out`` (a Projection of n 3D points from an
+    earlier call, reused to spare the allocation and the page faults of fresh memory)."""
+    if out is None:
+        return np.empty((n, 3)), np.empty((n, 3)), np.empty(n), np.empty(n * npar)
+    arrays = (out.points, out.normals, out.distances, out.parameters)
+    shapes = ((n, 3), (n, 3), (n,), (n,) if npar == 1 else (n, 2))
+    for a, shape, name in zip(arrays, shapes, ("points", "normals", "distances", "parameters")):
+        if not (isinstance(a, np.ndarray) and a.shape == shape and a.dtype == np.float64 and a.flags.c_contiguous
+                and a.flags.writeable):
+            raise ValueError(f"out.{name} must be a writeable C-contiguous float64 array of shape {shape}")
+    return arrays[0], arrays[1], arrays[2], arrays[3].reshape(-1)
+
+
+def compiled_projection(kind: str, pts: np.ndarray, prm: np.ndarray, npar: int, out: Projection | None) -> Projection | None:
+    """The projection by the compiled kernel (:mod:`geometry._closed_kernels`) on every
+    core, or None where the compiled kernels are off (the caller then runs numpy)."""
+    mod = _jit.closed_kernel()
+    if mod is None:
+        return None
+    n = len(pts)
+    closest, normals, dist, par = result_arrays(n, npar, out)
+    code, fn = mod.KINDS[kind], mod.project_range
+    _jit.run_ranges(lambda lo, hi: fn(code, pts, lo, hi, prm, closest, normals, dist, par), n)
+    return Projection(points=closest, normals=normals, distances=dist, parameters=par if npar == 1 else par.reshape(n, 2))
+
+
+def kernel_parameters(origin: np.ndarray, frame: np.ndarray, *scalars: float) -> np.ndarray:
+    """The compiled kernel's parameter vector: origin, frame rows, the primitive's scalars."""
+    return frozen(np.concatenate([origin, np.asarray(frame).ravel(), np.asarray(scalars, dtype=float)]))
 
 
 def frozen(arr: np.ndarray) -> np.ndarray:
@@ -181,7 +215,7 @@ class Line(Curve):
         e1, e2 = orthonormal_frame(d)
         frame = frame_matrix(e1, e2, d)
         set_fields(self, origin=tuple(map(float, o)), direction=tuple(map(float, d)))
-        set_fields(self, _o=o, _d=d, _frame=frame)
+        set_fields(self, _o=o, _d=d, _frame=frame, _prm=kernel_parameters(o, frame))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Line":
@@ -191,7 +225,9 @@ class Line(Curve):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "line", "origin": list(self.origin), "direction": list(self.direction)}
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: Any, out: Projection | None = None) -> Projection:
+        """See the module doc; ``out``: a Projection of as many 3D points from an earlier
+        call to write the results into (3D queries)."""
         pts, dim = as_points(points, dims=(2, 3))
         o, d = self._o, self._d
         n = len(pts)
@@ -212,10 +248,10 @@ class Line(Curve):
             normals[:, 1] = -d[0]
             return Projection(points=closest, normals=normals, distances=dist, parameters=t)
 
-        closest = np.empty((n, 3))
-        normals = np.empty((n, 3))
-        t = np.empty(n)
-        dist = np.empty(n)
+        fast = compiled_projection("line", pts, self._prm, 1, out)
+        if fast is not None:
+            return fast
+        closest, normals, dist, t = result_arrays(n, 1, out)
         frame = self._frame
         for s in blocks(n):
             x, y, ts = to_local(pts[s], frame, self._o)
@@ -251,7 +287,7 @@ class Circle(Curve):
         e1, e2 = orthonormal_frame(nrm)
         frame = frame_matrix(e1, e2, nrm)
         set_fields(self, origin=tuple(map(float, o)), normal=tuple(map(float, nrm)), radius=r)
-        set_fields(self, _o=o, _n=nrm, _frame=frame)
+        set_fields(self, _o=o, _n=nrm, _frame=frame, _prm=kernel_parameters(o, frame, r))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Circle":
@@ -261,17 +297,20 @@ class Circle(Curve):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "circle", "origin": list(self.origin), "normal": list(self.normal), "radius": self.radius}
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: Any, out: Projection | None = None) -> Projection:
+        """See the module doc; ``out``: a Projection of as many 3D points from an earlier
+        call to write the results into (3D queries)."""
         pts, dim = as_points(points, dims=(2, 3))
         if dim == 2:
             require_planar_z0(self._o, self._n, "circle")
+            out = None
         n = len(pts)
+        fast = compiled_projection("circle", pts, self._prm, 1, out)
+        if fast is not None:
+            return restore_dim(fast, dim)
         R = self.radius
         frame = self._frame
-        closest = np.empty((n, 3))
-        normals = np.empty((n, 3))
-        theta = np.empty(n)
-        dist = np.empty(n)
+        closest, normals, dist, theta = result_arrays(n, 1, out)
         for s in blocks(n):
             c = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(c[0], c[1])

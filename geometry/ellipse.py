@@ -53,7 +53,18 @@ from ._base import (
     unit_vector,
     vector,
 )
-from .curves import blocks, check_fields, frame_matrix, require_planar_z0, set_fields, to_global3, to_local
+from .curves import (
+    blocks,
+    check_fields,
+    compiled_projection,
+    frame_matrix,
+    kernel_parameters,
+    require_planar_z0,
+    result_arrays,
+    set_fields,
+    to_global3,
+    to_local,
+)
 
 __all__ = ["Ellipse", "ellipse_closest_point_2d"]
 
@@ -220,7 +231,7 @@ class Ellipse(Curve):
             major_radius=a,
             minor_radius=b,
         )
-        set_fields(self, _o=o, _n=nrm, _frame=frame)
+        set_fields(self, _o=o, _n=nrm, _frame=frame, _prm=kernel_parameters(o, frame, a, b))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Ellipse":
@@ -243,18 +254,21 @@ class Ellipse(Curve):
             "minor_radius": self.minor_radius,
         }
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: Any, out: Projection | None = None) -> Projection:
+        """See the class doc; ``out``: a Projection of as many 3D points from an earlier
+        call to write the results into (3D queries)."""
         pts, dim = as_points(points, dims=(2, 3))
         if dim == 2:
             require_planar_z0(self._o, self._n, "ellipse")
+            out = None
         n = len(pts)
+        fast = compiled_projection("ellipse", pts, self._prm, 1, out)
+        if fast is not None:
+            return restore_dim(fast, dim)
         a, b = self.major_radius, self.minor_radius
         k = (b / a) ** 2
         frame = self._frame
-        closest = np.empty((n, 3))
-        normals = np.empty((n, 3))
-        t = np.empty(n)
-        dist = np.empty(n)
+        closest, normals, dist, t = result_arrays(n, 1, out)
         for s in blocks(n):
             x, y, h = to_local(pts[s], frame, self._o)
             u0, u1 = _first_quadrant_block(a, b, np.abs(x), np.abs(y))

@@ -35,7 +35,20 @@ from ._base import (
     unit_vector,
     vector,
 )
-from .curves import blocks, check_fields, frame_matrix, frozen, set_fields, to_global, to_global3, to_local, unit_radial
+from .curves import (
+    blocks,
+    check_fields,
+    compiled_projection,
+    frame_matrix,
+    frozen,
+    kernel_parameters,
+    result_arrays,
+    set_fields,
+    to_global,
+    to_global3,
+    to_local,
+    unit_radial,
+)
 
 __all__ = ["Plane", "Sphere", "Cylinder", "Cone", "Torus"]
 
@@ -57,14 +70,17 @@ class _Revolved(Surface):
         parameter for meridian-plane points (rho, t); the first four may be scalars."""
         raise NotImplementedError
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: Any, out: Projection | None = None) -> Projection:
+        """Closest points, normals, signed distances, parameters; ``out``: a Projection of as
+        many points from an earlier call to write the results into."""
         pts, _ = as_points(points)
         n = len(pts)
+        fast = compiled_projection(self.type, pts, self._prm, 2, out)
+        if fast is not None:
+            return fast
         frame = self._frame
-        closest = np.empty((n, 3))
-        normals = np.empty((n, 3))
-        dist = np.empty(n)
-        uv = np.empty((n, 2))
+        closest, normals, dist, uv = result_arrays(n, 2, out)
+        uv = uv.reshape(n, 2)
         for s in blocks(n):
             x, y, t = to_local(pts[s], frame, self._o)
             rho, cx, cy = unit_radial(x, y)
@@ -97,7 +113,7 @@ class Plane(Surface):
         nrm = unit_vector(self.normal, "normal", "plane")
         frame = _axis_frame(nrm)
         set_fields(self, origin=tuple(map(float, o)), normal=tuple(map(float, nrm)))
-        set_fields(self, _o=o, _n=nrm, _frame=frame)
+        set_fields(self, _o=o, _n=nrm, _frame=frame, _prm=kernel_parameters(o, frame))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Plane":
@@ -107,13 +123,17 @@ class Plane(Surface):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "plane", "origin": list(self.origin), "normal": list(self.normal)}
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: Any, out: Projection | None = None) -> Projection:
+        """Closest points, normals, signed distances, parameters; ``out``: a Projection of as
+        many points from an earlier call to write the results into."""
         pts, _ = as_points(points)
         n = len(pts)
+        fast = compiled_projection("plane", pts, self._prm, 2, out)
+        if fast is not None:
+            return fast
         nrm = self._n
-        closest = np.empty((n, 3))
-        dist = np.empty(n)
-        uv = np.empty((n, 2))
+        closest, normals, dist, uv = result_arrays(n, 2, out)
+        uv = uv.reshape(n, 2)
         for s in blocks(n):
             u, v, h = to_local(pts[s], self._frame, self._o)
             np.multiply(h[:, None], nrm, out=closest[s])
@@ -121,7 +141,6 @@ class Plane(Surface):
             dist[s] = h
             uv[s, 0] = u
             uv[s, 1] = v
-        normals = np.empty((n, 3))
         normals[:] = nrm
         return Projection(points=closest, normals=normals, distances=dist, parameters=uv)
 
@@ -145,7 +164,7 @@ class Sphere(Surface):
         o = vector(self.origin, "origin", "sphere")
         r = positive(self.radius, "radius", "sphere")
         set_fields(self, origin=tuple(map(float, o)), radius=r)
-        set_fields(self, _o=o)
+        set_fields(self, _o=o, _prm=kernel_parameters(o, np.eye(3), r))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Sphere":
@@ -155,14 +174,17 @@ class Sphere(Surface):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "sphere", "origin": list(self.origin), "radius": self.radius}
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: Any, out: Projection | None = None) -> Projection:
+        """Closest points, normals, signed distances, parameters; ``out``: a Projection of as
+        many points from an earlier call to write the results into."""
         pts, _ = as_points(points)
         n = len(pts)
+        fast = compiled_projection("sphere", pts, self._prm, 2, out)
+        if fast is not None:
+            return fast
         R = self.radius
-        closest = np.empty((n, 3))
-        normals = np.empty((n, 3))
-        dist = np.empty(n)
-        uv = np.empty((n, 2))
+        closest, normals, dist, uv = result_arrays(n, 2, out)
+        uv = uv.reshape(n, 2)
         eye = np.eye(3)
         for s in blocks(n):
             c = pts[s].T - self._o[:, None]  # (3, m), rows contiguous
@@ -219,7 +241,7 @@ class Cylinder(_Revolved):
         r = positive(self.radius, "radius", "cylinder")
         frame = _axis_frame(ax)
         set_fields(self, origin=tuple(map(float, o)), axis=tuple(map(float, ax)), radius=r)
-        set_fields(self, _o=o, _frame=frame)
+        set_fields(self, _o=o, _frame=frame, _prm=kernel_parameters(o, frame, r))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Cylinder":
@@ -275,6 +297,7 @@ class Cone(_Revolved):
         t_apex = -r / math.tan(alpha)
         set_fields(self, _o=o, _frame=frame, _sin=math.sin(alpha), _cos=math.cos(alpha))
         set_fields(self, _t_apex=t_apex, _apex=frozen(o + t_apex * ax))
+        set_fields(self, _prm=kernel_parameters(o, frame, r, self._sin, self._cos, t_apex))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Cone":
@@ -350,7 +373,7 @@ class Torus(_Revolved):
             )
         frame = _axis_frame(ax)
         set_fields(self, origin=tuple(map(float, o)), axis=tuple(map(float, ax)), major_radius=R, minor_radius=r)
-        set_fields(self, _o=o, _frame=frame)
+        set_fields(self, _o=o, _frame=frame, _prm=kernel_parameters(o, frame, R, r))
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> "Torus":
