@@ -21,11 +21,14 @@ Gauss points of the region split at both grids' lines). K + 1 = sqrt(a / cell) m
 ``MAX_MODES``, see :func:`modes_for`): the grid-periodic part of the point traction (wavelength
 one cell) has vanishing moments against these slowly varying U_j.
 
-Shear. Where no friction traction acts (tied: c = a; frictionless: c = 0; the thesis's variant
-without the slip traction) the slip zones carry no shear and the shear is projected over the
-tied zone |s| <= c onto T_k(s/c) / sqrt(1 - s^2/c^2) with the tests T_j (orthogonal in the
-same weight, T_0 = 1 keeps the force): a tied zone whose ends do not slide with friction has
-square-root singular edges (a punch's; the thesis's variant), which this space holds. Frictional with a stick zone |s| <= c: in the slip zones the
+Shear. Where no friction traction acts the slip zones carry no shear (frictionless: none at
+all). Tied (c = a): projected over the region as the pressure (bounded at +-a; a fully stuck
+region's shear is square-root singular at its edges, which the sampled profile does not
+resolve, but it integrates to the force). The thesis's variant without the slip traction
+(0 < c < a): projected over the tied zone |s| <= c onto T_k(s/c) / sqrt(1 - s^2/c^2) with the
+tests T_j (orthogonal in the same weight, T_0 = 1 keeps the force): its shear concentrates at
+the tied zone's ends like a punch's, which this space holds (and checks.stick_shear_above_mu_p
+sees). Frictional with a stick zone |s| <= c: in the slip zones the
 shear is Coulomb's sign mu p exactly (the formulation's friction traction), so the shear is
 written q = sign mu p - r with r = sign mu p - q the stick zone's deficit, zero in the slip
 zones; r is projected the same way over |s| <= c (Cattaneo-Mindlin's deficit is
@@ -63,6 +66,7 @@ class TractionProfile:
     r_coef: np.ndarray  # stick deficit modes over |s| <= c (frictional with a stick zone)
     clipped_force: float = 0.0  # |force| removed by clipping tension / shear above mu p
     clipped: float = 0.0  # fraction of the region where the clipping acted
+    singular: bool = False  # shear modes T_k / sqrt(1 - x^2) (a tied zone inside a frictionless region)
 
     def pressure(self, s: np.ndarray) -> np.ndarray:
         return np.maximum(_series(self.p_coef, s, self.a), 0.0)
@@ -71,7 +75,7 @@ class TractionProfile:
         s = np.asarray(s, dtype=float)
         p = self.pressure(s)
         if self.sign == 0.0:
-            q = _series(self.q_coef, s, self.c, singular=True)
+            q = _series(self.q_coef, s, self.c, singular=self.singular)
             if self.friction > 0.0:
                 q = np.clip(q, -self.friction * p, self.friction * p)
             return q
@@ -184,8 +188,10 @@ def recover_tractions(c, u: np.ndarray, a: float, cell: float) -> TractionProfil
     stick = min(c.stick(a), a)
     sign = float(c.slip_sign) if (coulomb and stick < a) else 0.0
     if sign == 0.0:  # the shear lives on the tied zone |s| <= c (frictionless: none)
-        q_coef = project(s, w, q, stick, modes_for(stick, cell), singular=True) if stick > 0.0 else np.zeros(0)
-        prof = TractionProfile(a, stick, 0.0, friction if coulomb else 0.0, p_coef, q_coef, np.zeros(0))
+        singular = 0.0 < stick < a  # the thesis's variant: a tied zone between frictionless slip zones
+        q_coef = project(s, w, q, stick, modes_for(stick, cell), singular=singular) if stick > 0.0 else np.zeros(0)
+        prof = TractionProfile(a, stick, 0.0, friction if coulomb else 0.0, p_coef, q_coef, np.zeros(0),
+                               singular=singular)
     else:
         r = sign * friction * p - q  # zero in the slip zones
         r_coef = project(s, w, r, stick, modes_for(stick, cell)) if stick > 0.0 else np.zeros(0)
@@ -205,5 +211,5 @@ def _clipped_fraction(prof: TractionProfile, s: np.ndarray) -> float:
         r = prof.sign * _series(prof.r_coef, s, prof.c)
         bad |= (r < -tol) | (r > 2.0 * prof.friction * np.maximum(p, 0.0) + tol)
     elif prof.friction > 0.0:
-        bad |= np.abs(_series(prof.q_coef, s, prof.c, singular=True)) > prof.friction * np.maximum(p, 0.0) + tol
+        bad |= np.abs(_series(prof.q_coef, s, prof.c, singular=prof.singular)) > prof.friction * np.maximum(p, 0.0) + tol
     return float(bad.mean())
