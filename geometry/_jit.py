@@ -4,7 +4,7 @@ The projection of :mod:`geometry.bspline` runs a branch and bound over Bezier ce
 Newton solve per candidate cell. Vectorised with numpy it is bound by memory traffic:
 every step gathers per-pair table rows and makes array temporaries (measured on the
 2-core benchmark machine: ~1 ns per element and 3-8 ns per gathered element). These
-kernels run the same algorithm point by point in compiled loops (one core, no threads),
+kernels run the same algorithm point by point in compiled loops (on the threads of :func:`run_ranges`),
 with the bound tightened as soon as a cell gives a closer point. Without numba (or with
 ``IBFEM_NO_JIT=1`` in the environment) :mod:`geometry.bspline` uses its numpy path; the
 two are tested against each other.

@@ -315,6 +315,20 @@ def _cols(a: np.ndarray, idx: np.ndarray) -> np.ndarray:
     return np.take(a, idx, axis=1)
 
 
+def _on_threads(kernel: Any, P: np.ndarray, tables: dict[str, Any], shape_a: tuple, shape_b: tuple):
+    """A compiled projection kernel (which returns two arrays per point) run over ranges of
+    the points on the threads of :func:`geometry._jit.run_ranges` (it releases the GIL),
+    each range's results copied into the whole arrays."""
+    m = len(P)
+    a, b = np.empty((m, *shape_a)), np.empty((m, *shape_b))
+
+    def run(lo: int, hi: int) -> None:
+        a[lo:hi], b[lo:hi] = kernel(P[lo:hi], **tables)
+
+    _jit.run_ranges(run, m, per_thread=8)
+    return a, b
+
+
 def _nearest_cols(p: np.ndarray, Q: np.ndarray, tree: cKDTree | None) -> tuple[np.ndarray, np.ndarray]:
     """Index of the nearest sample ``Q[j]`` (n_s, 3) for every point of ``p`` (3, m), and
     the squared distance to it; for a few samples a chunked ``|Q|^2 - 2 Q.p`` argmin (one
@@ -634,7 +648,7 @@ class BSplineCurve(Curve):
         """:meth:`closest_parameters` by the compiled kernel."""
         if len(P) == 0:
             return np.empty(0), np.empty((0, 3)), np.empty((0, 3))
-        t, CC = _jit.kernels()["curve_project"](P, **self._jit_tables)
+        t, CC = _on_threads(_jit.kernels()["curve_project"], P, self._jit_tables, (), (6,))
         return self._wrap(t), CC[:, :3], CC[:, 3:]
 
     @cached_property
@@ -1050,7 +1064,7 @@ class BSplineSurface(Surface):
         if len(p) == 0:
             return np.empty((0, 2)), {nu: np.empty((0, 3)) for nu in ((0, 0), (1, 0), (0, 1))}
         if _SURFACE_JIT and _jit.enabled():
-            uv, S = _jit.kernels()["surface_project"](p, **self._jit_tables)
+            uv, S = _on_threads(_jit.kernels()["surface_project"], p, self._jit_tables, (2,), (9,))
         else:
             uv, S = self._closest_cells(p)
         return uv, {(0, 0): S[:, :3], (1, 0): S[:, 3:6], (0, 1): S[:, 6:]}
