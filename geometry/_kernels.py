@@ -10,6 +10,8 @@ lives in memory instead of registers."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -303,6 +305,74 @@ def curve_project(P, nodes, level_start, branch, coef, mids, edges, ends, stat, 
     return out_t, out_CC
 
 
+
+
+@jit
+def curve_project_flat(P, nodes, leaf0, balls, coef, mids, edges, ends, stat, M, k, D, rational,
+                       periodic, prune, tol, finish, max_iter, max_depth, cert):
+    """``curve_project`` for curves of few cells, without the hierarchy: per point the
+    squared distances to every cell's middle (a loop over contiguous rows that the compiler
+    vectorises), the nearest middle as the first bound and its cell solved first; every
+    other cell is a candidate only if the ball about its middle (``balls``: x, y, z, radius
+    rows; the radius bounds the cell's Bezier net, hence the cell) and then its oriented box
+    (leaf ``leaf0 + c`` of ``nodes``) are closer than the best distance so far, and it is
+    not proved monotone. Returns the parameter, C and C' (3 + 3 columns) of the best."""
+    m = P.shape[0]
+    n_cells = len(mids)
+    out_t = np.empty(m)
+    out_CC = np.empty((m, 6))
+    buf = np.empty(21)
+    bstack = np.empty((max_depth + 3, M + 1))
+    sstack = np.empty((max_depth + 3, 3))
+    tmp = np.empty(M + 1)
+    d2 = np.empty(n_cells)
+    bx = balls[0]
+    by = balls[1]
+    bz = balls[2]
+    br = balls[3]
+    for i in range(m):
+        p0 = P[i, 0]
+        p1 = P[i, 1]
+        p2 = P[i, 2]
+        for c in range(n_cells):
+            dx = bx[c] - p0
+            dy = by[c] - p1
+            dz = bz[c] - p2
+            d2[c] = dx * dx + dy * dy + dz * dz
+        first = 0
+        for c in range(1, n_cells):
+            if d2[c] < d2[first]:
+                first = c
+        best_f = d2[first]  # the middle of cell ``first``: a point of the curve
+        best_c = first
+        best_x = 0.0
+        for a in range(-1, n_cells):
+            c = first if a < 0 else a
+            if a == first:
+                continue
+            if a >= 0:
+                low = math.sqrt(d2[c]) - br[c]
+                if low > 0.0 and low * low >= best_f * (1.0 - cert):
+                    continue
+                if box_gap2(nodes, leaf0 + c, p0, p1, p2) >= best_f * (1.0 - cert):
+                    continue
+            if prune:
+                low, high = field_bounds(nodes, leaf0 + c, p0, p1, p2, 0)
+                has_lo = periodic or c > 0
+                has_hi = periodic or c < n_cells - 1
+                if (low > 0.0 and has_lo) or (high < 0.0 and has_hi):
+                    continue
+            x, f = curve_cell_minima(coef, ends, stat, M, c, edges[c] - mids[c], edges[c + 1] - edges[c], k, D,
+                                     rational, p0, p1, p2, tol, finish, max_iter, max_depth, buf, bstack, sstack, tmp)
+            if f < best_f:
+                best_f = f
+                best_c = c
+                best_x = x
+        curve_eval(coef, best_c, k, D, rational, best_x, buf)
+        out_t[i] = mids[best_c] + best_x
+        for d in range(6):
+            out_CC[i, d] = buf[d]
+    return out_t, out_CC
 
 
 @jit

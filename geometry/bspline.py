@@ -295,6 +295,10 @@ _BOX_MARGIN = 1e-9  # cell boxes are widened by this fraction of the size (Bezie
 # children per node of the box hierarchies (surface cells in Morton order: 4 = 2 x 2 tiles)
 _SURFACE_BRANCH = 4
 _CURVE_BRANCH = 8
+# curves of at most this many cells are searched without the hierarchy (all cell middles
+# per point, vectorised, then balls and boxes): measured faster than the two-level
+# hierarchy on the 35-cell benchmark curve
+_FLAT_CELLS = 128
 
 
 def _normalise_rows(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -644,21 +648,41 @@ class BSplineCurve(Curve):
             max_depth=_ISOLATE_DEPTH, cert=_CERT_REL, **rows,
         )
 
+    @cached_property
+    def _flat_tables(self) -> dict[str, Any]:
+        """The tables of the compiled kernel without hierarchy (``curve_project_flat``, for
+        at most ``_FLAT_CELLS`` cells): those of :attr:`_jit_tables` and the ball about
+        every cell's middle holding its Bezier net (x, y, z, radius rows)."""
+        t = self._jit_tables
+        edges, mids, coef = self._pieces
+        middle = coef[:3] / coef[3:4] if t["D"] == 4 else coef[:3]
+        radius = np.linalg.norm(self._bezier_points - middle.T[:, None, :], axis=2).max(axis=1)
+        balls = np.ascontiguousarray(np.vstack([middle, radius * (1.0 + 1e-12) + _BOX_MARGIN * self.scale]))
+        leaf0 = int(t["level_start"][-2])
+        keep = ("nodes", "coef", "mids", "edges", "ends", "stat", "M", "k", "D", "rational", "periodic", "prune",
+                "tol", "finish", "max_iter", "max_depth", "cert")
+        return dict(leaf0=leaf0, balls=balls, **{key: t[key] for key in keep})
+
     def _closest_jit(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`closest_parameters` by the compiled kernel."""
+        """:meth:`closest_parameters` by the compiled kernel (without the hierarchy for
+        curves of few cells)."""
         if len(P) == 0:
             return np.empty(0), np.empty((0, 3)), np.empty((0, 3))
-        t, CC = _on_threads(_jit.kernels()["curve_project"], P, self._jit_tables, (), (6,))
+        if len(self._pieces[1]) <= _FLAT_CELLS:
+            kernel, tables = _jit.kernels()["curve_project_flat"], self._flat_tables
+        else:
+            kernel, tables = _jit.kernels()["curve_project"], self._jit_tables
+        t, CC = _on_threads(kernel, P, tables, (), (6,))
         return self._wrap(t), CC[:, :3], CC[:, 3:]
 
     @cached_property
     def _cells(self) -> CellSearch:
         return self._cell_search()
 
-    def _cell_search(self, top: int | None = None) -> CellSearch:
-        """Box hierarchy over the cells between neighbouring samples (every cell lies in one
-        knot span, so it is one polynomial / rational Bezier piece), the cells' own oriented
-        boxes (component-major) and the boxes of the direction of C' over each cell."""
+    @cached_property
+    def _bezier_points(self) -> np.ndarray:
+        """The Bezier control points (n_cells, k + 1, 3) of every cell's piece (its convex
+        hull holds the cell, also for a rational piece: positive weights)."""
         edges = self._pieces[0]
         k = self.degree
         nodes = edges[:-1, None] + np.diff(edges)[:, None] * (np.arange(k + 1) / k)
@@ -667,8 +691,15 @@ class BSplineCurve(Curve):
         n_cells = len(edges) - 1
         H = self._piece_values(np.repeat(np.arange(n_cells), k + 1), nodes.ravel())
         ctrl = np.einsum("lm,cmd->cld", bernstein_inverse(k), H.T.reshape(n_cells, k + 1, -1))
+        return ctrl[..., :3] / ctrl[..., 3:] if self.weights is not None else ctrl[..., :3]
+
+    def _cell_search(self, top: int | None = None) -> CellSearch:
+        """Box hierarchy over the cells between neighbouring samples (every cell lies in one
+        knot span, so it is one polynomial / rational Bezier piece), the cells' own oriented
+        boxes (component-major) and the boxes of the direction of C' over each cell."""
+        edges = self._pieces[0]
         margin = _BOX_MARGIN * self.scale
-        pts = ctrl[..., :3] / ctrl[..., 3:] if self.weights is not None else ctrl[..., :3]
+        pts = self._bezier_points
         chord = pts[:, -1] - pts[:, 0]
         bend = pts.mean(axis=1) - 0.5 * (pts[:, -1] + pts[:, 0])
         levels = box_levels(pts, chord, bend, _CURVE_BRANCH, margin, *(() if top is None else (top,)))
@@ -710,15 +741,16 @@ class BSplineCurve(Curve):
         if dim == 2 and not self.planar_z:
             raise ValueError("bspline_curve: 2D query points need a curve in the z = 0 plane")
         t, C, C1 = self.closest_parameters(p)
-        T, _ = _normalise_rows(C1)
+        r = p - C
         kink = np.zeros(len(t), dtype=bool)
         if len(self._kinks):  # at (or held a nudge short of) a C0 kink
             gap = np.abs(t[:, None] - self._kinks[None, :]).min(axis=1)
             kink = gap <= 2.0 * _KINK_NUDGE * (self.domain[1] - self.domain[0])
         if dim == 2:
+            T, _ = _normalise_rows(C1)
             normals = np.column_stack([T[:, 1], -T[:, 0], np.zeros(len(T))])
             normals, nn = _normalise_rows(normals)
-            off, dd = _normalise_rows(p - C)
+            off, dd = _normalise_rows(r)
             normals[nn == 0] = off[nn == 0]
             if np.any(kink):
                 # at a corner: along p - C, on the side of the bisector of the two one-sided
@@ -733,18 +765,21 @@ class BSplineCurve(Curve):
         else:
             # the part of p - C perpendicular to the tangent: exactly normal to the curve
             # even where the closest point carries its convergence error along the tangent
-            r = p - C
-            perp = r - np.einsum("ij,ij->i", r, T)[:, None] * T
+            speed2 = np.einsum("ij,ij->i", C1, C1)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                along = np.einsum("ij,ij->i", r, C1) / speed2
+            along[speed2 == 0.0] = 0.0
+            perp = r - along[:, None] * C1
             # at the ends and at kinks p - C may legitimately have a tangential part
             end = kink if self.periodic else kink | (t <= self.domain[0]) | (t >= self.domain[1])
             perp[end] = r[end]
             normals, dd = _normalise_rows(perp)
             on = dd <= 1e-14 * self.scale
             if np.any(on):
-                Ton = T[on]
+                Ton = _normalise_rows(C1[on])[0]
                 axis = np.where(np.abs(Ton[:, 2:3]) > 0.9, np.array([[1.0, 0.0, 0.0]]), np.array([[0.0, 0.0, 1.0]]))
                 normals[on] = _normalise_rows(np.cross(Ton, axis))[0]
-        distances = signed_lengths(p - C, normals)
+        distances = signed_lengths(r, normals)
         return restore_dim(Projection(points=C, normals=normals, distances=distances, parameters=t), dim)
 
 
