@@ -7,15 +7,13 @@ and on the compiled one (``IBFEM_NO_JIT``). Also the input checks of issue 18 (i
 and 12): unknown fields of B-spline curves, surfaces and sweeps, and query arrays that are
 not real numbers."""
 
+import functools
 import math
 
 import numpy as np
 import pytest
 
 from geometry import _jit, primitive_from_dict
-
-RNG = np.random.default_rng(19)
-
 
 @pytest.fixture(params=[False, True], ids=["numpy", "compiled"])
 def path(request, monkeypatch):
@@ -151,36 +149,48 @@ def _ellipse_points(d, th):
         d["minor_radius"] * np.sin(th)[:, None] * e2
 
 
-def nearest_sample(p, X):
+@functools.lru_cache(maxsize=None)
+def _tree(name):
+    """The k-d tree of the samples of DEFS[name] (built once for both paths: the queries
+    are the same)."""
     from scipy.spatial import cKDTree
 
+    prim = primitive_from_dict(DEFS[name])
+    X = samples(name, prim, queries(name, prim))
     if isinstance(X, tuple):  # sweep: flattened profile samples and the direction
-        X, dd = X
+        return cKDTree(X[0]), X[1]
+    return cKDTree(X), None
+
+
+def nearest_sample(name, p):
+    tree, dd = _tree(name)
+    if dd is not None:
         p = p - np.outer(p @ dd, dd)
-    return cKDTree(X).query(p)[0]
+    return tree.query(p)[0]
 
 
 def queries(name, prim):
     """Random points around the primitive, plus the places where the dot product and the
     Euclidean distance differ: off the plane of a 3D curve, beyond B-spline ends, edges and
     corners."""
+    rng = np.random.default_rng(sorted(DEFS).index(name))  # the same points on both paths
     o = np.asarray(DEFS[name].get("origin", [1.0, 1.0, 0.0]), float)
-    p = [o + RNG.normal(size=(150, 3)) * 1.5]
+    p = [o + rng.normal(size=(150, 3)) * 1.5]
     if name in ("circle", "ellipse"):
         e1, e2, n = prim._frame
-        h = RNG.uniform(-4, 4, 60)
-        th = RNG.uniform(-np.pi, np.pi, 60)
-        r = RNG.uniform(0, 2, 60)
+        h = rng.uniform(-4, 4, 60)
+        th = rng.uniform(-np.pi, np.pi, 60)
+        r = rng.uniform(0, 2, 60)
         p.append(o + (r * np.cos(th))[:, None] * e1 + (r * np.sin(th))[:, None] * e2 + h[:, None] * n)
     if name in ("bspline_surface", "nurbs_surface"):
-        g = RNG.uniform(-1.5, 3.5, (200, 2))  # the patch covers about [0, 2]^2 in x, y
-        p.append(np.column_stack([g, RNG.uniform(-1.5, 1.5, 200)]))
+        g = rng.uniform(-1.5, 3.5, (200, 2))  # the patch covers about [0, 2]^2 in x, y
+        p.append(np.column_stack([g, rng.uniform(-1.5, 1.5, 200)]))
         corners = np.array([[0, 0], [2, 0], [0, 2], [2, 2]], float)
-        out = corners[RNG.integers(0, 4, 80)] + np.sign(corners[RNG.integers(0, 4, 80)] - 1) * RNG.uniform(0.1, 2, (80, 2))
-        p.append(np.column_stack([out, RNG.uniform(-1, 1, 80)]))
+        out = corners[rng.integers(0, 4, 80)] + np.sign(corners[rng.integers(0, 4, 80)] - 1) * rng.uniform(0.1, 2, (80, 2))
+        p.append(np.column_stack([out, rng.uniform(-1, 1, 80)]))
     if name in ("bspline_curve", "sweep"):
-        p.append(np.array([-1.0, 0.0, 0.0]) + RNG.normal(size=(60, 3)))  # beyond the start
-        p.append(np.array([7.0, 0.0, 0.0]) + RNG.normal(size=(60, 3)))  # beyond the end
+        p.append(np.array([-1.0, 0.0, 0.0]) + rng.normal(size=(60, 3)))  # beyond the start
+        p.append(np.array([7.0, 0.0, 0.0]) + rng.normal(size=(60, 3)))  # beyond the end
     return np.vstack(p)
 
 
@@ -200,7 +210,7 @@ def test_distances_are_signed_euclidean_against_brute_force(name, path):
     # against dense samples of the primitive: no sample closer, and none farther than the
     # sampling allows (half the largest spacing of the samples, 0.02 along the axis of the
     # cylinder and cone windows)
-    brute = nearest_sample(p, samples(name, prim, p))
+    brute = nearest_sample(name, p)
     assert np.all(np.abs(pr.distances) <= brute + 1e-12 * scale)
     assert np.max(brute - np.abs(pr.distances)) < 1.2e-2
 
