@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-$(shell $(PYTHON) -c "import hashlib,sys;print(hashlib.sha1(open('pyproject.toml','rb').read()).hexdigest()[:12])")
 
-.PHONY: test demo validate bench clean
+.PHONY: test demo validate bench bench-peers fuzz clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -23,6 +23,15 @@ validate: $(STAMP)
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(PY) benchmarks/run_all.py
+
+# the peer study of issue 12 (NGSolve beside ibfem); installs the `peers` extra on first use
+bench-peers: $(STAMP)
+	$(PY) -c "import ngsolve" 2>/dev/null || $(PY) -m pip install --quiet -e '.[peers]'
+	MPLBACKEND=Agg $(PY) benchmarks/peers.py
+
+# the long fuzz campaign of issue 18 (FUZZ_MINUTES, default 10)
+fuzz: $(STAMP)
+	MPLBACKEND=Agg IBFEM_FUZZ_MINUTES=$${FUZZ_MINUTES:-10} $(PY) -m pytest tests/fuzz -m "fuzz_long or not slow" -p no:cacheprovider
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache .hypothesis

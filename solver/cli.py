@@ -9,7 +9,7 @@ import sys
 from importlib import import_module
 
 # modules that each add sub-commands with ``register(subparsers)``, in ``--help`` order
-COMMAND_MODULES = ("solver.commands", "importers.commands")
+COMMAND_MODULES = ("solver.commands", "solver.sweep.commands", "importers.commands")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
+from importlib import import_module
 import json
 import math
 import tomllib
@@ -573,7 +574,7 @@ def _build_profiles(spec: SceneSpec, label: str, base_dir: Path) -> dict[str, An
             problems.extend(f"{where}: {p}" for p in err.problems)
         except (ValueError, KeyError, TypeError) as err:
             text = err.args[0] if isinstance(err, KeyError) and err.args else str(err)
-            text = text.replace("shape.type must be one of ", "shape.type must be one of onshape, ")
+            text = text.replace("shape.type must be one of ", "shape.type must be one of onshape, step, ")
             if text.startswith(f"bodies[{i}].shape"):  # the builder named the key path itself
                 problems.append(f"{label}: {text}")
             elif text.startswith("shape.") or text.startswith("shape:") or text.startswith("shape "):
@@ -585,23 +586,28 @@ def _build_profiles(spec: SceneSpec, label: str, base_dir: Path) -> dict[str, An
     return profiles
 
 
+#: 2D shape types read by an importer (imported only when a scene uses them) -> its module,
+#: which provides ``profile_from_shape(shape, where=...)``
+IMPORTED_SHAPES = {"onshape": "importers.onshape.profile", "step": "importers.step.profile"}
+
+
 def _profile(shape: dict[str, Any], base_dir: Path, where: str = "shape") -> Any:
-    """Shape dict -> exact ``geometry`` profile. ``onshape`` shapes are built by the importer
-    (imported only then); their ``path`` is relative to the scene file. ``where`` is the key
-    path the builders put in their error messages."""
-    if str(shape.get("type", "")).lower() == "onshape":
+    """Shape dict -> exact ``geometry`` profile. ``onshape`` and ``step`` shapes are built by
+    their importer (imported only then); their ``path`` is relative to the scene file. ``where``
+    is the key path the builders put in their error messages."""
+    kind = str(shape.get("type", "")).lower()
+    if kind in IMPORTED_SHAPES:
+        module = IMPORTED_SHAPES[kind]
         try:
-            from importers.onshape import profile as onshape_profile
+            importer = import_module(module)
         except ImportError as err:
-            raise ValueError(
-                f'{where}.type = "onshape": needs the Onshape importer (importers.onshape.profile): {err}'
-            ) from None
+            raise ValueError(f'{where}.type = "{kind}": needs the importer {module}: {err}') from None
         if "path" in shape:
             p = Path(str(shape["path"]))
             shape["path"] = str(p if p.is_absolute() else (base_dir / p))
-        build = getattr(onshape_profile, "profile_from_shape", None)
+        build = getattr(importer, "profile_from_shape", None)
         if build is None:
-            raise ValueError(f'{where}.type = "onshape": importers.onshape.profile has no profile_from_shape')
+            raise ValueError(f'{where}.type = "{kind}": {module} has no profile_from_shape')
         if "where" in inspect.signature(build).parameters:
             return build(shape, where=where)
         return build(shape)
