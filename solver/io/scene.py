@@ -380,6 +380,10 @@ def scene_from_dict(
     errors; relative paths in the scene (``onshape`` shapes) are taken from ``base_dir``."""
     if not isinstance(data, dict):
         raise SceneError([f"{label}: the scene must be a table/object, got {type(data).__name__}"])
+    if data.get("model") == "solid":  # SPEC section 7: the 3D scene model (solver/io/scene_solid.py)
+        from solver.io.scene_solid import solid_scene_from_dict
+
+        return solid_scene_from_dict(data, label=label, base_dir=Path(base_dir), path=path)
     try:
         spec = SceneSpec.model_validate(data)
     except ValidationError as err:
