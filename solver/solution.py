@@ -8,7 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .fem.recovery import nodal_stress
+from .fem.cut_cells3d import CUT as CUT3
+from .fem.recovery import nodal_stress, patch_recovery
 from .fem.space import BodyDiscretisation
 from .model.elasticity import von_mises
 from .model.options import SolverOptions
@@ -40,13 +41,23 @@ class IBFEMSolution:
                 return [b]
         raise ValueError(f"no body named {body!r}; bodies: {', '.join(b.name for b in self.bodies)}")
 
-    @staticmethod
-    def _points(points) -> np.ndarray:
+    @property
+    def dim(self) -> int:
+        """Spatial dimension (2 or 3)."""
+        return self.bodies[0].dim if self.bodies else 2
+
+    @property
+    def voigt(self) -> int:
+        """Stress components: [sxx, syy, sxy] in 2D, [sxx, syy, szz, syz, sxz, sxy] in 3D."""
+        return self.dim * (self.dim + 1) // 2
+
+    def _points(self, points) -> np.ndarray:
         p = np.asarray(points, dtype=float)
-        if p.ndim == 1 and p.shape == (2,):
+        d = self.dim
+        if p.ndim == 1 and p.shape == (d,):
             p = p[None]
-        if p.ndim != 2 or p.shape[1] != 2:
-            raise ValueError(f"points must be an (n, 2) array, got shape {p.shape}")
+        if p.ndim != 2 or p.shape[1] != d:
+            raise ValueError(f"points must be an (n, {d}) array, got shape {p.shape}")
         return p
 
     def body_at(self, points: np.ndarray) -> np.ndarray:
@@ -60,8 +71,10 @@ class IBFEMSolution:
         return out
 
     def cell_centroids(self, body: str) -> np.ndarray:
-        """(m, 2) centroids of the inside parts of the cells."""
+        """(m, dim) centroids of the inside parts of the cells."""
         (b,) = self._body(body)
+        if b.dim == 3:
+            return b.cell_centroids()
         g = b.grid
         m = g.moments
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -75,7 +88,7 @@ class IBFEMSolution:
         cache = self.__dict__.setdefault("_centroid_stress", {})
         if b.name not in cache:
             cells = np.arange(len(b.grid.level))
-            cache[b.name] = (b.stress_operator(self.cell_centroids(b.name), cells) @ self.u).reshape(-1, 3)
+            cache[b.name] = (b.stress_operator(self.cell_centroids(b.name), cells) @ self.u).reshape(-1, self.voigt)
         return cache[b.name]
 
     def nodal_stress(self, body: str) -> np.ndarray:
@@ -83,7 +96,12 @@ class IBFEMSolution:
         (b,) = self._body(body)
         cache = self.__dict__.setdefault("_nodal_stress", {})
         if b.name not in cache:
-            cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), self.centroid_stress(b.name))
+            if b.dim == 3:
+                g = b.grid
+                cache[b.name] = patch_recovery(g.cells, g.nodes, g.size, b.inside_volume, b.status == CUT3,
+                                               self.cell_centroids(b.name), self.centroid_stress(b.name))
+            else:
+                cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), self.centroid_stress(b.name))
         return cache[b.name]
 
     def _evaluate(self, points, body, kind: str, width: int) -> np.ndarray:
@@ -101,22 +119,22 @@ class IBFEMSolution:
             ok = cells >= 0
             sel, cells = sel[ok], cells[ok]
             if kind == "displacement":
-                out[sel] = (b.displacement_operator(p[sel], cells) @ self.u).reshape(-1, 2)
+                out[sel] = (b.displacement_operator(p[sel], cells) @ self.u).reshape(-1, self.dim)
             elif kind == "stress":
-                out[sel] = (b.stress_operator(p[sel], cells) @ self.u).reshape(-1, 3)
+                out[sel] = (b.stress_operator(p[sel], cells) @ self.u).reshape(-1, self.voigt)
             else:  # recovered stress: bilinear interpolation of the nodal stresses
                 n, _ = b.shape(p[sel], cells)
                 out[sel] = np.einsum("qa,qak->qk", n, self.nodal_stress(b.name)[b.grid.cells[cells]])
         return out
 
     def displacement(self, points: np.ndarray, body: str | None = None) -> np.ndarray:
-        return self._evaluate(points, body, "displacement", 2)
+        return self._evaluate(points, body, "displacement", self.dim)
 
     def stress(self, points: np.ndarray, body: str | None = None, recovered: bool = True) -> np.ndarray:
-        """[sxx, syy, sxy] (n, 3). By default the recovered field (solver.fem.recovery: nodal values
+        """[sxx, syy, sxy] (n, 3) in 2D, [sxx, syy, szz, syz, sxz, sxy] (n, 6) in 3D. By default the recovered field (solver.fem.recovery: nodal values
         from the cell-centroid stresses, interpolated bilinearly; O(h^2) inside);
         ``recovered=False`` gives the stress of the discrete field itself, C B u (O(h))."""
-        return self._evaluate(points, body, "recovered" if recovered else "stress", 3)
+        return self._evaluate(points, body, "recovered" if recovered else "stress", self.voigt)
 
     def von_mises(self, points: np.ndarray, body: str | None = None, recovered: bool = True) -> np.ndarray:
         p = self._points(points)
@@ -131,14 +149,15 @@ class IBFEMSolution:
     def mesh(self, body: str) -> dict[str, np.ndarray]:
         (b,) = self._body(body)
         g = b.grid
-        disp = (b.node_dof_map @ self.u).reshape(-1, 2)
+        disp = (b.node_dof_map @ self.u).reshape(-1, b.dim)
         stress = self.centroid_stress(b.name)
+        fraction = b.moments[:, 0] / 8.0 if b.dim == 3 else g.inside_fraction.copy()
         return {
             "nodes": g.nodes.copy(),
             "cells": g.cells.copy(),
             "displacement": disp,
             "cell_stress": stress,
-            "cell_inside_fraction": g.inside_fraction.copy(),
+            "cell_inside_fraction": fraction,
         }
 
 

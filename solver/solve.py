@@ -12,7 +12,8 @@ import numpy as np
 from .contact.driver import solve_contact
 from .fem.assembly import assemble, rigid_modes_check
 from .fem.linalg import linear_solve
-from .fem.space import body_info, discretise
+from .fem.bodies import discretise
+from .fem.space import body_info
 from .model.resolve import resolve_problem
 from .solution import IBFEMSolution
 

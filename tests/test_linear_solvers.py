@@ -47,7 +47,7 @@ def test_iterative_solve_matches_direct_and_lame():
 def test_iterative_solver_that_cannot_converge_reports_its_history():
     from solver.fem import linalg
     from solver.fem.assembly import assemble
-    from solver.fem.space import discretise
+    from solver.fem.bodies import discretise
 
     problem = lame_scene("iterative").problem
     bodies = discretise(problem, problem.options)

@@ -32,7 +32,8 @@ from ..fem.linalg import (
     scatter,
     single_threaded_blas,
 )
-from ..fem.space import body_info, discretise
+from ..fem.bodies import discretise
+from ..fem.space import body_info
 from ..solution import IBFEMSolution
 from .formulation import formulation
 from .report import contact_block

@@ -27,28 +27,30 @@ __all__ = [
 ]
 
 
-def essential_condition(bc, names):
+def essential_condition(bc, names, dim: int = 2):
     """(kind, free, target) of an essential condition, or None for natural ones."""
     if isinstance(bc, Fixed):
-        return "fixed", (False, False), lambda n: np.zeros_like(n)
+        return "fixed", (False,) * dim, lambda n: np.zeros_like(n)
     if isinstance(bc, Displacement):
-        if len(bc.value) != 2:
-            raise ValueError(f"boundary condition {bc.body}/{bc.edge}: value must have 2 components, got {bc.value!r}")
+        if len(bc.value) != dim:
+            raise ValueError(
+                f"boundary condition {bc.body}/{bc.edge}: value must have {dim} components, got {bc.value!r}"
+            )
         free = tuple(v is None for v in bc.value)
         if all(free):
-            raise ValueError(f"boundary condition {bc.body}/{bc.edge}: both displacement components are free")
+            raise ValueError(f"boundary condition {bc.body}/{bc.edge}: every displacement component is free")
         a = np.array([0.0 if v is None else float(v) for v in bc.value])
         return "displacement", free, lambda n: np.broadcast_to(a, n.shape).copy()
     if isinstance(bc, Sliding):
         an = float(bc.normal_displacement)
-        return "sliding", (False, False), lambda n: an * n
+        return "sliding", (False,) * dim, lambda n: an * n
     return None
 
 
-def _finite_vector(value, where: str) -> np.ndarray:
+def _finite_vector(value, where: str, dim: int = 2) -> np.ndarray:
     v = np.asarray(value, dtype=float).ravel()
-    if v.shape != (2,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"{where} must be two finite numbers, got {value!r}")
+    if v.shape != (dim,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{where} must be {dim} finite numbers, got {value!r}")
     return v
 
 
@@ -99,13 +101,14 @@ class EssentialTerm:
 def essential_reactions(
     essentials: list[EssentialTerm], u: np.ndarray, settings: SolverOptions, load_factor: float = 1.0
 ) -> tuple[dict[str, np.ndarray], dict]:
-    """Force (2,) each essential condition exerts on its body (summed over terms with the same
+    """Force (dim,) each essential condition exerts on its body (summed over terms with the same
     "body/edge" key), and the (points, weights, traction) along it."""
     reactions: dict[str, np.ndarray] = {}
     tractions = {}
     for e in essentials:
         tr = e.traction(u, settings, load_factor)
-        reactions[e.key] = reactions.get(e.key, np.zeros(2)) + (tr * e.points.weights[:, None]).sum(axis=0)
+        force = (tr * e.points.weights[:, None]).sum(axis=0)
+        reactions[e.key] = reactions.get(e.key, np.zeros_like(force)) + force
         tractions[e.key] = (e.points.points, e.points.weights, tr)
     return reactions, tractions
 
@@ -126,7 +129,7 @@ class LinearSystem:
         return len(self.load)
 
     def reactions(self, u: np.ndarray) -> tuple[dict[str, np.ndarray], dict]:
-        """Force (2,) each essential condition exerts on its body, and the tractions along it."""
+        """Force (dim,) each essential condition exerts on its body, and the tractions along it."""
         return essential_reactions(self.essentials, u, self.settings)
 
 
@@ -155,10 +158,10 @@ def boundary_terms(
             raise ValueError(f"boundary_conditions[{j}].body: unknown body {bc.body!r}; bodies: {', '.join(names)}")
         b = by_name[bc.body]
         if isinstance(bc, BodyForce):
-            f += b.body_force(_finite_vector(bc.value, f"boundary_conditions[{j}].value"))
+            f += b.body_force(_finite_vector(bc.value, f"boundary_conditions[{j}].value", b.dim))
             continue
         bp = b.edge_points(bc.edge, settings.boundary_order)
-        ess = essential_condition(bc, names)
+        ess = essential_condition(bc, names, b.dim)
         if ess is not None:
             ekind, free, target_of = ess
             proj = projector(ekind, bp.normals, free)
@@ -168,7 +171,7 @@ def boundary_terms(
             f += fa
             essentials.append(EssentialTerm(f"{bc.body}/{bc.edge}", b, bp, proj, target))
         elif isinstance(bc, Traction):
-            tr = np.broadcast_to(_finite_vector(bc.value, f"boundary_conditions[{j}].value"), bp.normals.shape)
+            tr = np.broadcast_to(_finite_vector(bc.value, f"boundary_conditions[{j}].value", b.dim), bp.normals.shape)
             f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
         elif isinstance(bc, Pressure):
             if not np.isfinite(bc.value):

@@ -27,21 +27,30 @@ import scipy.sparse as sp
 
 from .grid import CUT, Grid
 
-__all__ = ["nodal_stress"]
+__all__ = ["nodal_stress", "patch_recovery"]
 
 
 def nodal_stress(grid: Grid, centroids: np.ndarray, stress: np.ndarray) -> np.ndarray:
-    """(N, k) recovered nodal values of cell values ``stress`` (m, k) given at ``centroids``."""
-    m, n = len(grid.level), len(grid.nodes)
-    w = grid.inside_area
-    rows = grid.cells.ravel()
-    cols = np.repeat(np.arange(m), 4)
-    inc = sp.csr_matrix((np.ones(4 * m), (rows, cols)), shape=(n, m))
+    """(N, k) recovered nodal values of cell values ``stress`` (m, k) given at ``centroids``
+    (a 2D grid: its cells' inside areas weigh the fits)."""
+    return patch_recovery(grid.cells, grid.nodes, grid.size, grid.inside_area, grid.status == CUT, centroids, stress)
+
+
+def patch_recovery(cells: np.ndarray, nodes: np.ndarray, sizes: np.ndarray, weights: np.ndarray, cut: np.ndarray,
+                   centroids: np.ndarray, stress: np.ndarray) -> np.ndarray:
+    """The recovery of any dimension: cells (m, corners) of nodes (N, dim), the cells' sizes,
+    inside measures (the fits' weights) and cut flags; values ``stress`` (m, k) at ``centroids``."""
+    m, n = len(cells), len(nodes)
+    corners = cells.shape[1]
+    w = np.asarray(weights, dtype=float)
+    rows = cells.ravel()
+    cols = np.repeat(np.arange(m), corners)
+    inc = sp.csr_matrix((np.ones(corners * m), (rows, cols)), shape=(n, m))
     with np.errstate(invalid="ignore", divide="ignore"):
         out = (inc @ (w[:, None] * stress)) / (inc @ w)[:, None]
     scale = np.full(n, np.inf)
-    np.minimum.at(scale, rows, np.repeat(grid.size, 4))
-    cut = (grid.status == CUT).astype(float)
+    np.minimum.at(scale, rows, np.repeat(sizes, corners))
+    cut = np.asarray(cut, dtype=float)
     near_cut = (inc @ cut) > 0
     # quadratic fits where the whole two-ring is uncut (cut cells' centroid stresses are not
     # superconvergent: measured on the turned Lame annulus, including them doubles the error
@@ -49,10 +58,10 @@ def nodal_stress(grid: Grid, centroids: np.ndarray, stress: np.ndarray) -> np.nd
     clear = ((inc @ (inc.T @ (inc @ cut))) == 0) & ((inc @ (w > 0).astype(float)) > 0)
     interior = np.nonzero(clear)[0]
     boundary = np.nonzero(near_cut)[0]
-    for nodes, degree in ((interior, 2), (boundary, 1)):
-        if len(nodes):
-            ok, values = _patch_fit(inc, nodes, grid.nodes, scale, centroids, stress, w, degree)
-            out[nodes[ok]] = values
+    for subset, degree in ((interior, 2), (boundary, 1)):
+        if len(subset):
+            ok, values = _patch_fit(inc, subset, nodes, scale, centroids, stress, w, degree)
+            out[subset[ok]] = values
     return out
 
 
@@ -62,9 +71,10 @@ def _patch_fit(inc, nodes, points, scale, centroids, stress, w, degree: int):
     ring2 = (inc[nodes] @ inc.T @ inc).tocoo()
     node, cell = nodes[ring2.row], ring2.col
     d = (centroids[cell] - points[node]) / scale[node][:, None]
-    terms = [np.ones(len(d)), d[:, 0], d[:, 1]]
+    dim = d.shape[1]
+    terms = [np.ones(len(d))] + [d[:, i] for i in range(dim)]
     if degree == 2:
-        terms += [d[:, 0] ** 2, d[:, 0] * d[:, 1], d[:, 1] ** 2]
+        terms += [d[:, i] * d[:, j] for i in range(dim) for j in range(i, dim)]
     basis = np.column_stack(terms)
     k = basis.shape[1]
     local = ring2.row

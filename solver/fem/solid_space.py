@@ -20,11 +20,13 @@ from .assembly_blocks import assemble_blocks
 from .cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
 from .grid import RefinementZone
 from .hexahedra import cell_stiffness, full_cube_moments, monomial_stiffness
-from .octree import build_octree
-from .space import BodyDiscretisation
+
+MULTILINEAR = np.array([(p, q, r) for p in range(2) for q in range(2) for r in range(2)])
+from .octree import CORNERS, build_octree
+from .space import BodyDiscretisation, body_zones
 from .step_boundary import BoundaryPoints
 
-__all__ = ["SolidDiscretisation", "discretise_solid"]
+__all__ = ["SolidDiscretisation", "discretise_solid", "discretise_solid_body"]
 
 #: subdivision levels of the cut cells' moments (volume error ~ 4^-depth of the cut cells' share)
 CUT_DEPTH = 3
@@ -75,6 +77,31 @@ class SolidDiscretisation(BodyDiscretisation):
     def contains(self, points: np.ndarray) -> np.ndarray:
         return np.asarray(self.boundary.signed_distance(points), dtype=float) >= -1e-9 * self.element_size
 
+    @property
+    def inside_volume(self) -> np.ndarray:
+        """(m,) volume of each cell's inside part."""
+        return self.moments[:, 0] * (0.5 * self.grid.size) ** 3
+
+    def cell_centroids(self) -> np.ndarray:
+        """(m, 3) centroids of the cells' inside parts (from their first moments)."""
+        m = self.moments
+        with np.errstate(invalid="ignore", divide="ignore"):
+            local = m[:, [9, 3, 1]] / m[:, [0]]  # moments of xi, eta, zeta over the volume
+        return self.grid.center + 0.5 * self.grid.size[:, None] * np.clip(np.nan_to_num(local), -1.0, 1.0)
+
+    def body_force(self, value) -> np.ndarray:
+        """Consistent load (n_total,) of a uniform body force (3,) over the inside parts: the
+        integral of each trilinear N_a = (1/8) sum_e s_a^e xi^e from the moments of the part."""
+        g = self.grid
+        force = np.asarray(value, dtype=float).reshape(3)
+        signs = 2.0 * CORNERS - 1.0  # (8, 3)
+        powers = np.prod(signs[:, None, :] ** MULTILINEAR[None, :, :], axis=2)  # (8 corners, 8 e)
+        m_e = self.moments[:, MULTILINEAR @ np.array([9, 3, 1])]  # (m, 8) moments of xi^e
+        shape_integrals = (m_e @ powers.T) / 8.0 * (0.5 * g.size[:, None]) ** 3  # (m, 8)
+        f = shape_integrals[:, :, None] * force[None, None, :]
+        nodal = np.bincount(self.cell_dofs(np.arange(len(g.level))).ravel(), f.ravel(), minlength=3 * len(g.nodes))
+        return self.node_dof_map.T @ nodal
+
 
 def discretise_solid(name: str, solid, material_lame: tuple[float, float], elasticity: np.ndarray,
                      poissons_ratio: float, element_size: float, zones: tuple[RefinementZone, ...] = (),
@@ -98,4 +125,16 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
         name=name, index=index, grid=tree, boundary=solid, profile=solid, lam=lam, mu=mu, elasticity=elasticity,
         model="solid", poissons_ratio=poissons_ratio, element_size=float(element_size), status=status,
         moments=moments,
+    )
+
+
+def discretise_solid_body(body, index: int, model: str, exact_geometry: bool, settings) -> SolidDiscretisation:
+    """One body of a 3D problem (``body.profile`` is its solid) on its octree."""
+    if not exact_geometry:
+        raise ValueError("solver.exact_geometry = false: 3D solids are integrated on their exact surfaces only")
+    offset = tuple(settings.grid_offset) + (0.0,) * (3 - len(settings.grid_offset))
+    lam, mu = body.material.lame(model)
+    return discretise_solid(
+        body.name, body.profile, (lam, mu), body.material.elasticity_matrix(model), body.material.poissons_ratio,
+        float(body.element_size), body_zones(body), index=index, offset=offset,
     )

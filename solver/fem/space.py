@@ -14,7 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..model.elasticity import MODELS
 from ..model.options import SolverOptions
 from .grid import CUT, Boundary, Grid, RefinementZone, assign_to_material_side, build_grid
 from .integration import (
@@ -35,9 +34,9 @@ __all__ = [
     "exact_boundary",
     "tessellated_boundary",
     "discretise_body",
-    "discretise",
     "number_dofs",
     "body_info",
+    "body_zones",
 ]
 
 
@@ -227,7 +226,7 @@ class BodyDiscretisation:
         return self.boundary.inside(points, phi) | (np.abs(phi) <= tol)
 
 
-def _zones(body) -> tuple[RefinementZone, ...]:
+def body_zones(body) -> tuple[RefinementZone, ...]:
     """The body's refinement zones (centres resolved: :func:`solver.model.resolve_problem`)."""
     zones = []
     for k, r in enumerate(body.refinements):
@@ -247,7 +246,9 @@ def discretise_body(body, index: int, model: str, exact_geometry: bool, settings
     else:
         chord = settings.chord_tolerance if settings.chord_tolerance is not None else settings.chord_fraction * h0
         boundary = tessellated_boundary(body.profile, chord)
-    grid = build_grid(boundary, h0, _zones(body), tuple(settings.grid_offset), settings.curve_order)
+    if len(settings.grid_offset) != 2:
+        raise ValueError(f"solver.grid_offset = {list(settings.grid_offset)}: a 2D grid takes two fractions [fx, fy]")
+    grid = build_grid(boundary, h0, body_zones(body), tuple(settings.grid_offset), settings.curve_order)
     lam, mu = body.material.lame(model)
     return BodyDiscretisation(
         name=body.name,
@@ -262,21 +263,6 @@ def discretise_body(body, index: int, model: str, exact_geometry: bool, settings
         poissons_ratio=body.material.poissons_ratio,
         element_size=h0,
     )
-
-
-def discretise(problem, settings: SolverOptions, progress=None) -> list[BodyDiscretisation]:
-    """Grids of all bodies, with their blocks of the global dof vector."""
-    report = progress or (lambda *a, **k: None)
-    if problem.model not in MODELS:
-        raise ValueError(f"model must be one of {', '.join(MODELS)}, got {problem.model!r}")
-    if not problem.bodies:
-        raise ValueError("the problem has no bodies")
-    bodies = []
-    for i, body in enumerate(problem.bodies):
-        report(f"grid {body.name}", 0.4 * i / len(problem.bodies))
-        bodies.append(discretise_body(body, i, problem.model, problem.options.exact_geometry, settings))
-    number_dofs(bodies)
-    return bodies
 
 
 def number_dofs(bodies: list[BodyDiscretisation]) -> int:

@@ -32,18 +32,20 @@ __all__ = [
 def sample_points(problem: pb.Problem, solution: pb.Solution, points: Any) -> dict[str, np.ndarray]:
     """Displacement, stress and von Mises at points, each sampled in the body containing it
     (``solution.body_at``); NaN (null in JSON) where no body contains the point."""
-    x = np.asarray(points, dtype=float).reshape(-1, 2)
+    dim = problem.dim
+    voigt = dim * (dim + 1) // 2
+    x = np.asarray(points, dtype=float).reshape(-1, dim)
     n = len(x)
     which = np.asarray(solution.body_at(x), dtype=int).reshape(n)
-    disp = np.full((n, 2), np.nan)
-    stress = np.full((n, 3), np.nan)
+    disp = np.full((n, dim), np.nan)
+    stress = np.full((n, voigt), np.nan)
     vm = np.full(n, np.nan)
     for k, body in enumerate(problem.bodies):  # a handful of bodies; each call is vectorised
         sel = which == k
         if not sel.any():
             continue
-        disp[sel] = np.asarray(solution.displacement(x[sel], body=body.name), dtype=float).reshape(-1, 2)
-        stress[sel] = np.asarray(solution.stress(x[sel], body=body.name), dtype=float).reshape(-1, 3)
+        disp[sel] = np.asarray(solution.displacement(x[sel], body=body.name), dtype=float).reshape(-1, dim)
+        stress[sel] = np.asarray(solution.stress(x[sel], body=body.name), dtype=float).reshape(-1, voigt)
         vm[sel] = np.asarray(solution.von_mises(x[sel], body=body.name), dtype=float).reshape(-1)
     names = [b.name for b in problem.bodies]
     body = np.array([names[k] if 0 <= k < len(names) else None for k in which], dtype=object)
@@ -62,7 +64,7 @@ def _field(obj: Any, key: str) -> Any:
 
 
 def _probe_blocks(problem: pb.Problem, solution: pb.Solution, probes: Iterable[Any]) -> list[dict[str, Any]]:
-    probe_points = np.asarray([list(p) for p in probes], dtype=float).reshape(-1, 2)
+    probe_points = np.asarray([list(p) for p in probes], dtype=float).reshape(-1, problem.dim)
     probe_list = []
     if len(probe_points):
         s = sample_points(problem, solution, probe_points)
@@ -153,7 +155,7 @@ def build_summary(
         "converged": bool(solution.converged),
         "model": problem.model,
         "bodies": bodies,
-        "reactions": {k: np.asarray(v, dtype=float).reshape(2).tolist() for k, v in solution.reactions.items()},
+        "reactions": {k: np.asarray(v, dtype=float).reshape(problem.dim).tolist() for k, v in solution.reactions.items()},
         "contacts": [_contact_block(problem, k, c) for k, c in enumerate(solution.contacts)],
         "probes": probe_list,
         "lines": line_dict,
@@ -236,34 +238,41 @@ def _file_stem(name: str) -> str:
 
 def _body_mesh(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) -> dict[str, np.ndarray]:
     m = solution.mesh(body.name)
-    nodes = np.asarray(m["nodes"], dtype=float).reshape(-1, 2)
-    cells = np.asarray(m["cells"], dtype=np.int64).reshape(-1, 4)
-    disp = np.asarray(m["displacement"], dtype=float).reshape(-1, 2)
-    stress = np.asarray(m["cell_stress"], dtype=float).reshape(-1, 3)
+    dim = problem.dim
+    nodes = np.asarray(m["nodes"], dtype=float).reshape(-1, dim)
+    cells = np.asarray(m["cells"], dtype=np.int64).reshape(-1, 2**dim)
+    disp = np.asarray(m["displacement"], dtype=float).reshape(-1, dim)
+    stress = np.asarray(m["cell_stress"], dtype=float).reshape(-1, dim * (dim + 1) // 2)
     fraction = np.asarray(m.get("cell_inside_fraction", np.ones(len(cells))), dtype=float).reshape(-1)
     vm = von_mises(stress, problem.model, body.material.poissons_ratio)
     return {"nodes": nodes, "cells": cells, "displacement": disp, "stress": stress, "fraction": fraction, "von_mises": vm}
 
 
 def write_vtu(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
-    """One ``<body>.vtu`` per body: quadrilateral cells (z = 0) with point data
-    ``displacement`` (3 components, z = 0, so viewers can warp by it) and cell data
-    ``stress`` [sxx, syy, sxy], ``sxx``, ``syy``, ``sxy``, ``von_mises`` and
-    ``inside_fraction`` (the part of a cut cell inside the body)."""
+    """One ``<body>.vtu`` per body: quadrilateral cells (z = 0) in 2D, hexahedra in 3D, with point
+    data ``displacement`` (3 components, z = 0 in 2D, so viewers can warp by it) and cell data
+    ``stress`` (Voigt: [sxx, syy, sxy] in 2D, [sxx, syy, szz, syz, sxz, sxy] in 3D), one array per
+    component, ``von_mises`` and ``inside_fraction`` (the part of a cut cell inside the body)."""
     import pyvista as pv
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     written = []
+    three_d = problem.dim == 3
+    names = ("sxx", "syy", "szz", "syz", "sxz", "sxy") if three_d else ("sxx", "syy", "sxy")
     for body in problem.bodies:
         m = _body_mesh(problem, solution, body)
-        points = np.column_stack([m["nodes"], np.zeros(len(m["nodes"]))])
-        cells = np.column_stack([np.full(len(m["cells"]), 4, dtype=np.int64), m["cells"]]).ravel()
-        types = np.full(len(m["cells"]), pv.CellType.QUAD, dtype=np.uint8)
-        grid = pv.UnstructuredGrid(cells, types, points)
-        grid.point_data["displacement"] = np.column_stack([m["displacement"], np.zeros(len(points))])
+        points, disp = m["nodes"], m["displacement"]
+        if not three_d:
+            points = np.column_stack([points, np.zeros(len(points))])
+            disp = np.column_stack([disp, np.zeros(len(points))])
+        corners = m["cells"].shape[1]
+        cells = np.column_stack([np.full(len(m["cells"]), corners, dtype=np.int64), m["cells"]]).ravel()
+        kind = pv.CellType.HEXAHEDRON if three_d else pv.CellType.QUAD  # both in solver.fem's corner order
+        grid = pv.UnstructuredGrid(cells, np.full(len(m["cells"]), kind, dtype=np.uint8), points)
+        grid.point_data["displacement"] = disp
         grid.cell_data["stress"] = m["stress"]
-        for k, name in enumerate(("sxx", "syy", "sxy")):
+        for k, name in enumerate(names):
             grid.cell_data[name] = m["stress"][:, k]
         grid.cell_data["von_mises"] = m["von_mises"]
         grid.cell_data["inside_fraction"] = m["fraction"]

@@ -345,6 +345,11 @@ class Scene:
         return self.problem.name
 
 
+#: scene models read by other modules of this layer, which register their loader here (the
+#: package's __init__ imports them): "solid" -> solver.io.scene_solid.solid_scene_from_dict
+SCENE_MODELS: dict[str, Any] = {}
+
+
 def load_scene(
     source: str | Path | dict, label: str | None = None, base_dir: str | Path | None = None
 ) -> Scene:
@@ -380,10 +385,9 @@ def scene_from_dict(
     errors; relative paths in the scene (``onshape`` shapes) are taken from ``base_dir``."""
     if not isinstance(data, dict):
         raise SceneError([f"{label}: the scene must be a table/object, got {type(data).__name__}"])
-    if data.get("model") == "solid":  # SPEC section 7: the 3D scene model (solver/io/scene_solid.py)
-        from solver.io.scene_solid import solid_scene_from_dict
-
-        return solid_scene_from_dict(data, label=label, base_dir=Path(base_dir), path=path)
+    loader = SCENE_MODELS.get(data["model"]) if isinstance(data.get("model"), str) else None
+    if loader is not None:  # e.g. model = "solid" (SPEC section 7): solver/io/scene_solid.py
+        return loader(data, label=label, base_dir=Path(base_dir), path=path)
     try:
         spec = SceneSpec.model_validate(data)
     except ValidationError as err:
@@ -605,7 +609,8 @@ def _profile(shape: dict[str, Any], base_dir: Path, where: str = "shape") -> Any
         try:
             importer = import_module(module)
         except ImportError as err:
-            raise ValueError(f'{where}.type = "{kind}": needs the importer {module}: {err}') from None
+            title = {"onshape": "Onshape", "step": "STEP"}.get(kind, kind)
+            raise ValueError(f'{where}.type = "{kind}": needs the {title} importer ({module}): {err}') from None
         if "path" in shape:
             p = Path(str(shape["path"]))
             shape["path"] = str(p if p.is_absolute() else (base_dir / p))

@@ -1,13 +1,270 @@
 """3D scenes (``model = "solid"``, SPEC section 7): the file's pydantic models and the solver's
-3D problem (issue 14)."""
+problem with solids for bodies (issue 14).
+
+The 2D scene's vocabulary carries over (materials, ``[solver]``, output), with 3-vectors, solid
+shapes (built by :func:`geometry.solids.solid_from_dict`) and boundary conditions naming a
+``face``. Registered in :data:`solver.io.scene.SCENE_MODELS`, so ``load_scene`` reads both.
+"""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, field_validator
+from pydantic_core import PydanticCustomError
+
+from solver.model import problem as pb
+from solver.model.options import SolverOptions
+from solver.model.problem import MAX_REFINEMENT_LEVELS
+from solver.model.resolve import resolve_problem
+
+from .scene import (
+    SCENE_MODELS,
+    Component,
+    MaterialSpec,
+    Num,
+    Scene,
+    SceneError,
+    SolverSpec,
+    _format_errors,
+    _options,
+    _show,
+    _Strict,
+)
+
+__all__ = ["SolidSceneSpec", "solid_scene_from_dict"]
+
+Vec3 = tuple[Num, Num, Num]
 
 
-def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | None = None) -> Any:
-    from solver.io.scene import SceneError
+def _around3(v: Any) -> Any:
+    if v == "contact":
+        return v
+    if isinstance(v, (list, tuple)) and len(v) == 3 and all(
+        isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v
+    ):
+        return tuple(float(c) for c in v)
+    raise PydanticCustomError("around", 'must be "contact" or a point [x, y, z]')
 
-    raise SceneError([f'{label}: model = "solid": 3D scenes are not available in this build yet (issue 14)'])
+
+class RefinementSpec3(_Strict):
+    levels: int = Field(ge=1, le=MAX_REFINEMENT_LEVELS)
+    around: Annotated[Union[Literal["contact"], tuple[float, float, float]], BeforeValidator(_around3)]
+    radius: Num = Field(gt=0.0)
+
+
+class SolidBodySpec(_Strict):
+    name: str = Field(min_length=1)
+    material: str
+    element_size: Num = Field(gt=0.0)
+    refinement: list[RefinementSpec3] = []
+    shape: dict[str, Any]
+
+    @field_validator("refinement", mode="before")
+    @classmethod
+    def _one_or_many(cls, v: Any) -> Any:
+        return [v] if isinstance(v, dict) else v
+
+    @field_validator("shape")
+    @classmethod
+    def _shape_type(cls, v: dict[str, Any]) -> dict[str, Any]:
+        if "type" not in v:
+            raise PydanticCustomError("shape_type", "missing key 'type'")
+        return v
+
+
+class _FaceCondition(_Strict):
+    body: str
+    face: str
+
+
+class Fixed3(_FaceCondition):
+    type: Literal["fixed"]
+
+
+class Displacement3(_FaceCondition):
+    type: Literal["displacement"]
+    value: tuple[Component, Component, Component]
+
+    @field_validator("value")
+    @classmethod
+    def _not_all_free(cls, v: tuple) -> tuple:
+        if all(c is None for c in v):
+            raise PydanticCustomError("all_free", "every component free: nothing is prescribed")
+        return v
+
+
+class Sliding3(_FaceCondition):
+    type: Literal["sliding"]
+    normal_displacement: Num = 0.0
+
+
+class Traction3(_FaceCondition):
+    type: Literal["traction"]
+    value: Vec3
+
+
+class Pressure3(_FaceCondition):
+    type: Literal["pressure"]
+    value: Num
+
+
+class BodyForce3(_Strict):
+    type: Literal["body_force"]
+    body: str
+    value: Vec3
+
+
+Condition3 = Annotated[
+    Union[Fixed3, Displacement3, Sliding3, Traction3, Pressure3, BodyForce3], Field(discriminator="type")
+]
+_ESSENTIAL = (Fixed3, Displacement3, Sliding3)
+
+
+class Line3(_Strict):
+    name: str = Field(min_length=1)
+    start: Vec3
+    end: Vec3
+    n: int = Field(100, ge=2, le=100_000)
+
+    @field_validator("end")
+    @classmethod
+    def _not_degenerate(cls, v: tuple, info: ValidationInfo) -> tuple:
+        if info.data.get("start") == v:
+            raise PydanticCustomError("line", "start and end coincide")
+        return v
+
+
+class Output3(_Strict):
+    vtk: bool = True
+    plots: bool = False
+    probes: list[Vec3] = []
+    lines: list[Line3] = []
+
+
+class SolidSceneSpec(_Strict):
+    name: str | None = None
+    description: str = ""
+    model: Literal["solid"]
+    solver: SolverSpec = SolverSpec()
+    materials: list[MaterialSpec] = Field(min_length=1)
+    bodies: list[SolidBodySpec] = Field(min_length=1)
+    boundary_conditions: list[Condition3] = []
+    contacts: list[dict[str, Any]] = []
+    output: Output3 = Output3()
+
+
+def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | None = None) -> Scene:
+    """Validate a 3D scene given as plain data; errors name the key path and value."""
+    if "thickness" in data:
+        raise SceneError([f"{label}: thickness = {_show(data['thickness'])}: not used by model = \"solid\" "
+                          "(forces are in N, SPEC section 7); remove it"])
+    try:
+        spec = SolidSceneSpec.model_validate(data)
+    except ValidationError as err:
+        raise SceneError(_format_errors(err, data, label)) from None
+    if spec.contacts:
+        raise SceneError([f"{label}: contacts: contact between solids (SPEC section 7) is not available in this "
+                          "version yet; 3D scenes take boundary conditions only"])
+    solids = _build_solids(spec, label, base_dir)
+    _check_references(spec, solids, label)
+    problem = _problem(spec, solids, Path(label).stem if path is None else path.stem, label)
+    try:
+        problem = resolve_problem(problem)
+    except ValueError as err:
+        raise SceneError([f"{label}: {err}"]) from None
+    return Scene(path=path, spec=spec, problem=problem, warnings=())
+
+
+def _build_solids(spec: SolidSceneSpec, label: str, base_dir: Path) -> dict[str, Any]:
+    try:
+        from geometry.solids import solid_from_dict
+    except ImportError as err:  # pragma: no cover - part of the package
+        raise SceneError([f"{label}: 3D solids need geometry.solids: {err}"]) from None
+    problems, solids = [], {}
+    for i, body in enumerate(spec.bodies):
+        shape = dict(body.shape)
+        if "path" in shape:  # CAD parts: relative to the scene file
+            p = Path(str(shape["path"]))
+            shape["path"] = str(p if p.is_absolute() else base_dir / p)
+        try:
+            solids[body.name] = solid_from_dict(shape, where=f"bodies[{i}].shape")
+        except (ValueError, KeyError, TypeError) as err:
+            text = err.args[0] if isinstance(err, KeyError) and err.args else str(err)
+            prefix = "" if text.startswith(f"bodies[{i}]") else f"bodies[{i}].shape: "
+            problems.append(f"{label}: {prefix}{text}")
+    if problems:
+        raise SceneError(problems)
+    return solids
+
+
+def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) -> None:
+    problems = []
+    materials = [m.name for m in spec.materials]
+    bodies = [b.name for b in spec.bodies]
+    for kind, names in (("materials", materials), ("bodies", bodies)):
+        for name in set(names):
+            if names.count(name) > 1:
+                problems.append(f"{label}: {kind}: name {name!r} used {names.count(name)} times")
+    for i, b in enumerate(spec.bodies):
+        if b.material not in materials:
+            problems.append(f"{label}: bodies[{i}].material = {b.material!r}: no such material "
+                            f"(materials: {', '.join(materials)})")
+    held = set()
+    for j, bc in enumerate(spec.boundary_conditions):
+        where = f"{label}: boundary_conditions[{j}]"
+        if bc.body not in solids:
+            problems.append(f"{where}.body = {bc.body!r}: no such body (bodies: {', '.join(bodies)})")
+            continue
+        if hasattr(bc, "face") and bc.face not in solids[bc.body].faces:
+            problems.append(f"{where}.face = {bc.face!r}: body {bc.body!r} has no such face "
+                            f"(faces: {', '.join(solids[bc.body].faces)})")
+        if isinstance(bc, _ESSENTIAL):
+            held.add(bc.body)
+    for name in bodies:
+        if name not in held and name in solids:
+            problems.append(f"{label}: body {name!r} has no fixed, displacement or sliding condition: "
+                            "it is not held against rigid-body motion")
+    if problems:
+        raise SceneError(problems)
+
+
+def _condition(bc) -> pb.BoundaryCondition:
+    if isinstance(bc, Fixed3):
+        return pb.Fixed(bc.body, bc.face)
+    if isinstance(bc, Displacement3):
+        return pb.Displacement(bc.body, bc.face, tuple(bc.value))
+    if isinstance(bc, Sliding3):
+        return pb.Sliding(bc.body, bc.face, float(bc.normal_displacement))
+    if isinstance(bc, Traction3):
+        return pb.Traction(bc.body, bc.face, tuple(float(v) for v in bc.value))
+    if isinstance(bc, Pressure3):
+        return pb.Pressure(bc.body, bc.face, float(bc.value))
+    return pb.BodyForce(bc.body, tuple(float(v) for v in bc.value))
+
+
+def _problem(spec: SolidSceneSpec, solids: dict[str, Any], default_name: str, label: str) -> pb.Problem:
+    import numpy as np
+
+    materials = {m.name: pb.Material(m.name, float(m.youngs_modulus), float(m.poissons_ratio)) for m in spec.materials}
+    bodies = []
+    for b in spec.bodies:
+        zones = tuple(
+            pb.Refinement(int(r.levels), float(r.radius), None if r.around == "contact" else np.array(r.around, float))
+            for r in b.refinement
+        )
+        bodies.append(pb.BodyModel(b.name, solids[b.name], materials[b.material], float(b.element_size), zones))
+    options = _options(SolverOptions, spec.solver, "solver", label)
+    return pb.Problem(
+        name=spec.name or default_name,
+        model="solid",
+        thickness=1.0,
+        bodies=tuple(bodies),
+        boundary_conditions=tuple(_condition(bc) for bc in spec.boundary_conditions),
+        options=options,
+    )
+
+
+SCENE_MODELS["solid"] = solid_scene_from_dict

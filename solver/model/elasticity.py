@@ -12,8 +12,8 @@ import numpy as np
 
 __all__ = ["Model", "MODELS", "dimension", "lame_parameters", "elasticity_matrix", "plane_modulus", "von_mises"]
 
-Model = Literal["plane_strain", "plane_stress"]
-MODELS = ("plane_strain", "plane_stress")
+Model = Literal["plane_strain", "plane_stress", "solid"]
+MODELS = ("plane_strain", "plane_stress", "solid")
 _DIMENSION = {"plane_strain": 2, "plane_stress": 2, "solid": 3}
 
 

@@ -75,7 +75,7 @@ class SolverOptions:
     boundary_order: int = 5
     curve_order: int = 8
     #: shift of every background grid's origin, as fractions of the element size
-    grid_offset: tuple[float, float] = (0.0, 0.0)
+    grid_offset: tuple[float, ...] = (0.0, 0.0)
     #: linear systems without contact: "direct" (sparse LU), "iterative" (CG + smoothed
     #: aggregation AMG, pyamg), "auto" (iterative from 400k dofs when pyamg is installed);
     #: contact problems always factor directly (their condensation needs the factors)
@@ -102,8 +102,8 @@ class SolverOptions:
             raise OptionError("fictitious_stiffness", f"must lie in [0, 1), got {f!r}")
         _choice(self, "linear_solver", LINEAR_SOLVERS)
         off = self.grid_offset
-        if len(off) != 2 or not all(isinstance(x, (int, float)) and math.isfinite(x) for x in off):
-            raise OptionError("grid_offset", f"must be two finite numbers, got {off!r}")
+        if len(off) not in (2, 3) or not all(isinstance(x, (int, float)) and math.isfinite(x) for x in off):
+            raise OptionError("grid_offset", f"must be two (three in 3D) finite numbers, got {off!r}")
 
 
 @dataclass(frozen=True)
