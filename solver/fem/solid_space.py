@@ -29,7 +29,7 @@ from .step_boundary import BoundaryPoints
 __all__ = ["SolidDiscretisation", "discretise_solid", "discretise_solid_body"]
 
 #: subdivision levels of the cut cells' moments (volume error ~ 4^-depth of the cut cells' share)
-CUT_DEPTH = 3
+CUT_DEPTH = 1
 #: boundary quadrature panels per cell width
 PANELS_PER_CELL = 2
 
@@ -41,6 +41,17 @@ class SolidDiscretisation(BodyDiscretisation):
 
     status: np.ndarray = field(default=None, repr=False)
     moments: np.ndarray = field(default=None, repr=False)
+    #: (m,) boundary area of the solid inside each cell (from the faces' quadrature)
+    boundary_area: np.ndarray = field(default=None, repr=False)
+
+    @property
+    def material_thickness(self) -> np.ndarray:
+        """Local size available to a boundary band: min(h, 2 V / A) with V the inside volume and
+        A the boundary area in the cell (h for a cell cut in half by a plane, the sliver's
+        thickness for a sliver), as in 2D (solver.fem.grid.Grid.material_thickness)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(self.boundary_area > 0, 2.0 * self.inside_volume / self.boundary_area, np.inf)
+        return np.minimum(self.grid.size, t)
 
     def stiffness(self, alpha: float) -> sp.csr_matrix:
         """Volume stiffness of the free dofs: moment-fitted cube parts, cut cells plus ``alpha``
@@ -69,7 +80,7 @@ class SolidDiscretisation(BodyDiscretisation):
             points=points,
             weights=weights,
             normals=normals,
-            cell_size=self.grid.size[cells],
+            cell_size=np.maximum(self.material_thickness[cells], 1e-6 * self.grid.size[cells]),
             displacement=self.displacement_operator(points, cells),
             traction=self.traction_operator(points, cells, normals),
         )
@@ -121,10 +132,17 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
     cut = status == CUT
     moments[cut] = inside_moments(tree.lower[cut], tree.size[cut], phi, depth)
     lam, mu = material_lame
+    area = np.zeros(len(tree.size))
+    resolution = tree.min_size / PANELS_PER_CELL
+    for face in solid.faces.values():
+        points, weights, normals = face.quadrature(resolution)
+        cells = tree.locate(points - 1e-9 * tree.min_size * normals)
+        keep = cells >= 0
+        area += np.bincount(cells[keep], weights[keep], minlength=len(area))
     return SolidDiscretisation(
         name=name, index=index, grid=tree, boundary=solid, profile=solid, lam=lam, mu=mu, elasticity=elasticity,
         model="solid", poissons_ratio=poissons_ratio, element_size=float(element_size), status=status,
-        moments=moments,
+        moments=moments, boundary_area=area,
     )
 
 
