@@ -25,6 +25,7 @@ MULTILINEAR = np.array([(p, q, r) for p in range(2) for q in range(2) for r in r
 from .octree import CORNERS, build_octree
 from .space import BodyDiscretisation, body_zones
 from .step_boundary import BoundaryPoints
+from .surface_quadrature import cell_split_quadrature
 
 __all__ = ["SolidDiscretisation", "discretise_solid", "discretise_solid_body"]
 
@@ -71,8 +72,7 @@ class SolidDiscretisation(BodyDiscretisation):
         faces = self.boundary.faces
         if face not in faces:
             raise ValueError(f"body {self.name!r} has no face {face!r}; faces: {', '.join(faces)}")
-        resolution = self.grid.min_size / PANELS_PER_CELL
-        points, weights, normals = faces[face].quadrature(resolution)
+        points, weights, normals = face_rule(faces[face], self.grid)
         cells = self.grid.locate(points - 1e-9 * self.grid.min_size * normals)
         keep = cells >= 0
         points, weights, normals, cells = points[keep], weights[keep], normals[keep], cells[keep]
@@ -114,6 +114,16 @@ class SolidDiscretisation(BodyDiscretisation):
         return self.node_dof_map.T @ nodal
 
 
+def face_rule(face, tree) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Points, weights and outward normals on a face: split at the octree's planes when the face
+    offers its parameter panels (solver.fem.surface_quadrature: exact for trilinear integrands on
+    planar faces), else the face's own rule with panels of PANELS_PER_CELL per finest cell."""
+    if hasattr(face, "panels") and hasattr(face, "evaluate"):
+        spacing = tree.h0 / 2.0**tree.max_level
+        return cell_split_quadrature(face, tree.min_size, tree.origin, spacing)
+    return face.quadrature(tree.min_size / PANELS_PER_CELL)
+
+
 def discretise_solid(name: str, solid, material_lame: tuple[float, float], elasticity: np.ndarray,
                      poissons_ratio: float, element_size: float, zones: tuple[RefinementZone, ...] = (),
                      index: int = 0, offset=(0.0, 0.0, 0.0), depth: int = CUT_DEPTH) -> SolidDiscretisation:
@@ -133,9 +143,8 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
     moments[cut] = inside_moments(tree.lower[cut], tree.size[cut], phi, depth)
     lam, mu = material_lame
     area = np.zeros(len(tree.size))
-    resolution = tree.min_size / PANELS_PER_CELL
     for face in solid.faces.values():
-        points, weights, normals = face.quadrature(resolution)
+        points, weights, normals = face_rule(face, tree)
         cells = tree.locate(points - 1e-9 * tree.min_size * normals)
         keep = cells >= 0
         area += np.bincount(cells[keep], weights[keep], minlength=len(area))

@@ -1,0 +1,140 @@
+"""Quadrature on a parametric surface split at the planes of the octree (issue 14): the
+boundary integrals of the step-boundary method and of 3D contact integrate trilinear fields,
+which have kinks on every cell face, so a rule is exact only on pieces that lie in one cell.
+
+A face supplies its parameter domain as rectangles (``panels(resolution)``: lower and upper
+corners (p, 2) in (u, v), each at most ``resolution`` across in space) and its exact map
+(``evaluate(uv) -> points (n, 3), normals (n, 3), area element (n,)``). Each panel is cut by the
+preimages of the grid planes x_k = origin_k + j h (h the finest cell size: every cell face of the
+octree lies on one of them) taken on the panel's affine approximation, as convex polygons in
+(u, v) (Sutherland-Hodgman, vectorised over the panels); each piece is split into triangles
+with a collapsed Gauss rule (Gauss-Jacobi x Gauss-Legendre, exact to degree 2n - 1). The points
+and normals are the exact surface's; the weights carry its exact area element. On a planar face
+the pieces are exactly the face's parts in each cell, so a trilinear integrand is integrated
+exactly (the patch test); on a curved face the cut lines are chords of the preimage curves,
+second order in the panel size, which the panels keep below the cells.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import roots_jacobi
+
+__all__ = ["split_panels", "cell_split_quadrature", "MAX_VERTICES"]
+
+#: most vertices of a clipped panel (a rectangle cut by six lines has at most ten)
+MAX_VERTICES = 12
+
+
+def _triangle_rule(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Barycentric-free rule on the reference triangle (0,0), (1,0), (0,1): points (n^2, 2) and
+    weights summing to 1/2 (collapsed Gauss, exact to degree 2n - 1)."""
+    xj, wj = roots_jacobi(n, 1.0, 0.0)
+    xl, wl = np.polynomial.legendre.leggauss(n)
+    r = 0.5 * (1.0 + xj)
+    s = 0.5 * (1.0 + xl)
+    rr, ss = np.meshgrid(r, s, indexing="ij")
+    pts = np.stack([rr.ravel(), ((1.0 - rr) * ss).ravel()], axis=1)
+    return pts, (np.outer(wj, wl) / 8.0).ravel()
+
+
+def _clip(poly: np.ndarray, count: np.ndarray, a: np.ndarray, b: np.ndarray, keep_positive: bool):
+    """Sutherland-Hodgman: the part of each convex polygon (n, K, 2) with ``count`` vertices where
+    a . uv + b >= 0 (or <= 0); returns the clipped polygons and counts."""
+    n, k = poly.shape[:2]
+    f = np.einsum("nkj,nj->nk", poly, a) + b[:, None]
+    if not keep_positive:
+        f = -f
+    out = np.zeros_like(poly)
+    out_count = np.zeros(n, dtype=np.int64)
+    rows = np.arange(n)
+    for i in range(k):
+        valid = i < count
+        j = np.where(i + 1 < count, i + 1, 0)
+        p, q = poly[:, i], poly[rows, j]
+        fp, fq = f[:, i], f[rows, j]
+        keep_p = valid & (fp >= 0.0)
+        out[rows[keep_p], out_count[keep_p]] = p[keep_p]
+        out_count += keep_p
+        cross = valid & ((fp >= 0.0) != (fq >= 0.0))
+        t = np.where(cross, fp / np.where(cross, fp - fq, 1.0), 0.0)
+        x = p + t[:, None] * (q - p)
+        out[rows[cross], np.minimum(out_count[cross], k - 1)] = x[cross]
+        out_count += cross
+    return out, np.minimum(out_count, k)
+
+
+def _rectangles(lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """(p, 4, 2) corners (u0, v0), (u1, v0), (u1, v1), (u0, v1) of parameter rectangles."""
+    return np.stack([lower, np.column_stack([upper[:, 0], lower[:, 1]]), upper,
+                     np.column_stack([lower[:, 0], upper[:, 1]])], axis=1)
+
+
+def split_panels(lower: np.ndarray, upper: np.ndarray, corner_points: np.ndarray, origin: np.ndarray,
+                 spacing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Convex pieces (m, K, 2) in (u, v) of the panels [lower, upper], cut at the grid planes
+    x_k = origin_k + j spacing as seen on each panel's affine approximation (from its corner
+    points (p, 4, 3): (u0, v0), (u1, v0), (u1, v1), (u0, v1)); returns the pieces, their vertex
+    counts and the panel each came from."""
+    p = len(lower)
+    poly = np.zeros((p, MAX_VERTICES, 2))
+    poly[:, :4] = _rectangles(lower, upper)
+    count = np.full(p, 4, dtype=np.int64)
+    owner = np.arange(p)
+    # affine map X(uv) = c + A (uv - lower) from three corners (bilinear twist ignored: exact on planes)
+    c = corner_points[:, 0]
+    extent = upper - lower
+    extent = np.where(extent != 0.0, extent, 1.0)
+    a_u = (corner_points[:, 1] - corner_points[:, 0]) / extent[:, :1]
+    a_v = (corner_points[:, 3] - corner_points[:, 0]) / extent[:, 1:]
+    for k in range(3):
+        lo = (corner_points[:, :, k].min(axis=1) - origin[k]) / spacing
+        hi = (corner_points[:, :, k].max(axis=1) - origin[k]) / spacing
+        first = np.floor(lo).astype(np.int64) + 1
+        last = np.ceil(hi).astype(np.int64) - 1
+        for step in range(int(max(0, (last - first).max(initial=-1) + 1))):
+            plane = first + step  # the step-th plane inside each panel's range
+            cut = plane[owner] <= last[owner]
+            if not cut.any():
+                continue
+            idx = np.nonzero(cut)[0]
+            o = owner[idx]
+            level = origin[k] + plane[o] * spacing
+            # X_k(uv) - level = a . uv + b on the affine map
+            a = np.stack([a_u[o, k], a_v[o, k]], axis=1)
+            b = c[o, k] - level - a_u[o, k] * lower[o, 0] - a_v[o, k] * lower[o, 1]
+            pos, npos = _clip(poly[idx], count[idx], a, b, True)
+            neg, nneg = _clip(poly[idx], count[idx], a, b, False)
+            poly[idx], count[idx] = pos, npos
+            poly = np.concatenate([poly, neg])
+            count = np.concatenate([count, nneg])
+            owner = np.concatenate([owner, o])
+            keep = count >= 3
+            poly, count, owner = poly[keep], count[keep], owner[keep]
+    return poly, count, owner
+
+
+def cell_split_quadrature(face, resolution: float, origin: np.ndarray, spacing: float, order: int = 4):
+    """Points (q, 3), weights (q,), outward normals (q, 3) on ``face`` (``panels`` / ``evaluate``),
+    every point's rule lying in one cell of a grid whose faces lie on the planes origin + j
+    spacing."""
+    lower, upper = (np.asarray(x, dtype=float).reshape(-1, 2) for x in face.panels(resolution))
+    corners = _rectangles(lower, upper)
+    corner_points = face.evaluate(corners.reshape(-1, 2))[0].reshape(-1, 4, 3)
+    poly, count, _ = split_panels(lower, upper, corner_points, np.asarray(origin, dtype=float), float(spacing))
+    ref, ref_w = _triangle_rule(order)
+    uv, w = [], []
+    for t in range(1, MAX_VERTICES - 1):  # fan triangles (0, t, t + 1)
+        has = count > t + 1
+        if not has.any():
+            break
+        p0, p1, p2 = poly[has, 0], poly[has, t], poly[has, t + 1]
+        e1, e2 = p1 - p0, p2 - p0
+        area2 = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])  # twice the triangle's area in (u, v)
+        uv.append((p0[:, None, :] + ref[None, :, :1] * e1[:, None, :] + ref[None, :, 1:] * e2[:, None, :]).reshape(-1, 2))
+        w.append((area2[:, None] * ref_w[None, :]).ravel())
+    uv, w = np.concatenate(uv), np.concatenate(w)
+    points, normals, jacobian = face.evaluate(uv)
+    weights = w * np.asarray(jacobian, dtype=float)
+    keep = weights > 0.0
+    return points[keep], weights[keep], normals[keep]
