@@ -235,6 +235,11 @@ def write_plots(
     out_dir.mkdir(parents=True, exist_ok=True)
     figs = _Figures(out_dir)
     summary = json_safe(summary)  # plain lists; None where a value is missing
+    if problem.dim == 3:
+        from .plots_solid import write_solid_plots
+
+        write_solid_plots(out_dir, figs, problem, solution, summary)
+        return figs.written
     _field_figures(figs, problem, solution, summary)
     _line_figures(figs, problem, summary)
     _contact_figures(figs, problem, summary)
