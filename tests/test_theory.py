@@ -398,3 +398,39 @@ def test_scene_loads_and_has_the_stated_geometry(name):
     direction = (end - start) / np.linalg.norm(end - start)
     np.testing.assert_allclose(direction, -normals[1], atol=1e-6)
     assert lower.signed_distance(end[None, :])[0] > 0.0
+
+
+# ----------------------------------------------------------------------------- 3D references
+
+
+def test_lame_sphere_satisfies_equilibrium_and_the_boundary_pressures():
+    from solver.reference.theory import lame_sphere
+
+    r = np.linspace(1.0, 2.0, 2001)
+    u, srr, stt = lame_sphere(r, 1.0, 2.0, 1e8, 2e11, 0.3)
+    assert srr[0] == pytest.approx(-1e8) and abs(srr[-1]) < 1e-6
+    # d s_rr / dr + 2 (s_rr - s_tt) / r = 0, and Hooke's law: s_tt from the strains u/r, du/dr
+    assert np.abs(np.gradient(srr, r) + 2 * (srr - stt) / r)[5:-5].max() < 1e-5 * 1e8
+    lam, mu = 2e11 * 0.3 / (1.3 * 0.4), 2e11 / 2.6
+    err, ett = np.gradient(u, r), u / r
+    np.testing.assert_allclose((lam * (err + 2 * ett) + 2 * mu * err)[5:-5], srr[5:-5], atol=1e-4 * 1e8)
+
+
+def test_goodier_concentration_of_a_spherical_cavity():
+    from solver.reference.theory import goodier_concentration
+
+    assert goodier_concentration(0.3) == pytest.approx(45.0 / 22.0)  # 2.045
+    assert goodier_concentration(0.0) == pytest.approx(27.0 / 14.0)
+
+
+def test_hertz_elliptic_contact_circular_limit_and_johnsons_approximation():
+    from solver.reference.theory import hertz_elliptic_contact, hertz_sphere_radius
+
+    a, b, p0 = hertz_elliptic_contact(1e4, (100.0, 100.0), 1e11)
+    assert a == b == pytest.approx(hertz_sphere_radius(1e4, 0.01, 1e11))
+    a1, b1, _ = hertz_elliptic_contact(1e4, (100.0, 100.0 * (1 + 1e-7)), 1e11)
+    assert a1 == pytest.approx(a, rel=1e-6) and b1 == pytest.approx(a, rel=1e-6)  # continuous
+    for ratio in (2.0, 5.0, 10.0):  # b/a ~ (A/B)^(2/3) within a few per cent (Johnson 4.2.2)
+        a, b, p0 = hertz_elliptic_contact(1e4, (100.0, 100.0 * ratio), 1e11)
+        assert b / a == pytest.approx(ratio ** (-2.0 / 3.0), rel=0.05)
+        assert 2 * np.pi * a * b * p0 / 3 == pytest.approx(1e4)  # the pressure carries N

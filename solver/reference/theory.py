@@ -52,6 +52,7 @@ __all__ = [
     "axis_compression",
     "approach_estimate",
     "load_for_approach",
+    "lame_sphere", "goodier_concentration", "hertz_sphere_radius", "hertz_sphere_peak_pressure", "hertz_sphere_pressure", "mindlin_sphere_stick_ratio", "hertz_elliptic_contact",
 ]
 
 
@@ -410,3 +411,95 @@ def load_for_approach(delta: float, R_eff: float, E1: float, nu1: float, E2: flo
     if residual(hi) < 0.0:
         raise ValueError(f"delta={delta!r} is too large for a small-strain Hertz estimate")
     return math.exp(optimize.brentq(residual, lo, hi, xtol=1e-12, rtol=1e-12))
+
+
+# ------------------------------------------------------------------------------------------
+# three dimensions (SPEC section 7)
+# ------------------------------------------------------------------------------------------
+
+
+def lame_sphere(r, inner: float, outer: float, pressure: float, youngs_modulus: float, poissons_ratio: float):
+    """Thick spherical shell (radii inner < outer) under internal pressure: radial displacement
+    u_r and the stresses (s_rr, s_tt) at radii r (Lame; e.g. Timoshenko & Goodier, Theory of
+    Elasticity, section 141): with k = p a^3 / (b^3 - a^3),
+    s_rr = k (1 - b^3 / r^3), s_tt = k (1 + b^3 / (2 r^3)),
+    u_r = k / E ((1 - 2 nu) r + (1 + nu) b^3 / (2 r^2))."""
+    a = _positive("inner", inner)
+    b = _positive("outer", outer)
+    if not b > a:
+        raise ValueError(f"outer radius must exceed the inner one, got {inner!r}, {outer!r}")
+    E = _positive("youngs_modulus", youngs_modulus)
+    nu = _poisson("poissons_ratio", poissons_ratio)
+    r = np.asarray(r, dtype=float)
+    k = pressure * a**3 / (b**3 - a**3)
+    u = k / E * ((1 - 2 * nu) * r + (1 + nu) * b**3 / (2 * r**2))
+    return u, k * (1 - b**3 / r**3), k * (1 + b**3 / (2 * r**3))
+
+
+def goodier_concentration(poissons_ratio: float) -> float:
+    """Stress concentration of a spherical cavity in an infinite body under uniaxial tension: the
+    axial stress at the cavity's equator over the remote stress, (27 - 15 nu) / (2 (7 - 5 nu))
+    (Goodier 1933; 2.045 for nu = 0.3)."""
+    nu = _poisson("poissons_ratio", poissons_ratio)
+    return (27.0 - 15.0 * nu) / (2.0 * (7.0 - 5.0 * nu))
+
+
+def hertz_sphere_radius(N: float, R_eff: float, E_eff: float) -> float:
+    """Contact radius of two spheres (or a sphere on a flat) pressed by N [N]: a = (3 N R* / (4 E*))^(1/3)
+    with 1/R* = 1/R1 + 1/R2 and 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Johnson, Contact Mechanics, 4.2)."""
+    N = _non_negative("N", N)
+    return (3.0 * N * _positive("R_eff", R_eff) / (4.0 * _positive("E_eff", E_eff))) ** (1.0 / 3.0)
+
+
+def hertz_sphere_peak_pressure(N: float, a: float) -> float:
+    """p0 = 3 N / (2 pi a^2) of a circular Hertz contact."""
+    return 3.0 * _non_negative("N", N) / (2.0 * math.pi * _positive("a", a) ** 2)
+
+
+def hertz_sphere_pressure(r, a: float, p0: float) -> np.ndarray:
+    """p(r) = p0 sqrt(1 - r^2/a^2) inside the circle, 0 outside."""
+    r = np.asarray(r, dtype=float)
+    return p0 * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
+
+
+def mindlin_sphere_stick_ratio(Q: float, N: float, mu: float) -> float:
+    """c/a = (1 - |Q| / (mu N))^(1/3) of two elastically similar spheres under partial slip
+    (Cattaneo 1938, Mindlin 1949; Johnson 7.2)."""
+    ratio = abs(Q) / (_positive("mu", mu) * _positive("N", N))
+    if ratio >= 1.0:
+        raise ValueError(f"|Q| / (mu N) = {ratio:.4g} >= 1: gross slip, no stick zone")
+    return (1.0 - ratio) ** (1.0 / 3.0)
+
+
+def hertz_elliptic_contact(N: float, curvatures: tuple[float, float], E_eff: float) -> tuple[float, float, float]:
+    """Semi-axes (a >= b) and peak pressure of an elliptical Hertz contact pressed by N [N], the
+    gap being h = x^2 / (2 R'_1) + y^2 / (2 R'_2) with ``curvatures`` = (1/R'_1, 1/R'_2) the
+    principal relative curvatures; a lies along the smaller curvature. With h = A x^2 + B y^2,
+    e^2 = 1 - b^2/a^2 and K, E the complete elliptic integrals of parameter e^2 (Johnson,
+    Contact Mechanics, 4.2.2): B/A = (E - (1 - e^2) K) / ((1 - e^2)(K - E)) fixes e (bisection),
+    then a^3 = 3 N (K - E) / (2 pi E* A e^2) and p0 = 3 N / (2 pi a b)."""
+    from scipy.special import ellipe, ellipk
+
+    k1, k2 = sorted((_positive("curvature", curvatures[0]), _positive("curvature", curvatures[1])))
+    A, B = 0.5 * k1, 0.5 * k2
+    E_eff = _positive("E_eff", E_eff)
+    if B / A < 1.0 + 1e-12:
+        a = hertz_sphere_radius(N, 1.0 / (2.0 * A), E_eff)
+        return a, a, hertz_sphere_peak_pressure(N, a)
+
+    def a_over_b(e2: float) -> float:  # A/B for eccentricity e^2
+        K, Ek = ellipk(e2), ellipe(e2)
+        return (K - Ek) * (1.0 - e2) / (Ek - (1.0 - e2) * K)
+
+    lo, hi = 1e-12, 1.0 - 1e-15
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if a_over_b(mid) > A / B:
+            lo = mid
+        else:
+            hi = mid
+    e2 = 0.5 * (lo + hi)
+    K, Ek = ellipk(e2), ellipe(e2)
+    a = (3.0 * _non_negative("N", N) * (K - Ek) / (2.0 * math.pi * E_eff * A * e2)) ** (1.0 / 3.0)
+    b = a * math.sqrt(1.0 - e2)
+    return a, b, 3.0 * N / (2.0 * math.pi * a * b)
