@@ -30,7 +30,7 @@ from .surface_quadrature import cell_split_quadrature
 __all__ = ["SolidDiscretisation", "discretise_solid", "discretise_solid_body"]
 
 #: subdivision levels of the cut cells' moments (volume error ~ 4^-depth of the cut cells' share)
-CUT_DEPTH = 1
+CUT_DEPTH = 0
 #: boundary quadrature panels per cell width
 PANELS_PER_CELL = 2
 
