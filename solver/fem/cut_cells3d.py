@@ -12,7 +12,7 @@ them, the cross-section split at the kinks of that integrand (the zeros on the s
 and edges). Spectral on smooth surfaces: sphere volume and second moment to 2e-11 one level
 below cells of R/4, a torus to 1e-12 (tests/test_octree.py); exact for planes. Leaves still
 kinked at the last level take a plain 3 x 3 line rule: the solid's edges are integrated to about
-1e-5 of the cut cells' volume (a turned box: 3.5e-5), which is what remains of the patch test
+1e-5 of the cut cells' volume (a turned box: 7e-6), which is what remains of the patch test
 there (tests/test_solid_patch.py)."""
 
 from __future__ import annotations
@@ -77,7 +77,7 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
 
 #: further subdivision levels where the distance is not linear across a sub-cube (the solid's
 #: edges and vertices, where the boundary has a kink)
-EDGE_DEPTH = 3
+EDGE_DEPTH = 4
 #: a sub-cube is kinked when a second difference of the distance over its half edge exceeds
 #: this share of the half edge (a smooth face of radius R gives about half / R, a right-angled
 #: edge about 1)
