@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import roots_jacobi
 
-__all__ = ["split_panels", "cell_split_quadrature", "MAX_VERTICES"]
+__all__ = ["split_panels", "clip_to_grid", "triangle_nodes", "cell_split_quadrature", "MAX_VERTICES"]
 
 #: most vertices of a clipped panel (a rectangle cut by six lines has at most ten)
 MAX_VERTICES = 12
@@ -80,8 +80,16 @@ def split_panels(lower: np.ndarray, upper: np.ndarray, corner_points: np.ndarray
     poly = np.zeros((p, MAX_VERTICES, 2))
     poly[:, :4] = _rectangles(lower, upper)
     count = np.full(p, 4, dtype=np.int64)
-    owner = np.arange(p)
-    # affine map X(uv) = c + A (uv - lower) from three corners (bilinear twist ignored: exact on planes)
+    return clip_to_grid(poly, count, np.arange(p), lower, upper, corner_points, origin, spacing)
+
+
+def clip_to_grid(poly: np.ndarray, count: np.ndarray, owner: np.ndarray, lower: np.ndarray, upper: np.ndarray,
+                 corner_points: np.ndarray, origin: np.ndarray, spacing: float):
+    """Cut convex pieces (n, K, 2) of panels (``owner``: the panel of each) at the grid planes
+    x_k = origin_k + j spacing, seen on each panel's affine map from its corner points (p, 4, 3)
+    over [lower, upper]; (pieces, counts, owners). Applied twice, it cuts at two grids (contact:
+    the planes of both bodies)."""
+    origin = np.asarray(origin, dtype=float)
     c = corner_points[:, 0]
     extent = upper - lower
     extent = np.where(extent != 0.0, extent, 1.0)
@@ -114,16 +122,11 @@ def split_panels(lower: np.ndarray, upper: np.ndarray, corner_points: np.ndarray
     return poly, count, owner
 
 
-def cell_split_quadrature(face, resolution: float, origin: np.ndarray, spacing: float, order: int = 4):
-    """Points (q, 3), weights (q,), outward normals (q, 3) on ``face`` (``panels`` / ``evaluate``),
-    every point's rule lying in one cell of a grid whose faces lie on the planes origin + j
-    spacing."""
-    lower, upper = (np.asarray(x, dtype=float).reshape(-1, 2) for x in face.panels(resolution))
-    corners = _rectangles(lower, upper)
-    corner_points = face.evaluate(corners.reshape(-1, 2))[0].reshape(-1, 4, 3)
-    poly, count, _ = split_panels(lower, upper, corner_points, np.asarray(origin, dtype=float), float(spacing))
+def triangle_nodes(poly: np.ndarray, count: np.ndarray, order: int = 4) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Nodes (N, 2) and weights (N,) of the collapsed Gauss rule on the fan triangles of convex
+    pieces (n, K, 2), and the piece of each node."""
     ref, ref_w = _triangle_rule(order)
-    uv, w = [], []
+    uv, w, piece = [], [], []
     for t in range(1, MAX_VERTICES - 1):  # fan triangles (0, t, t + 1)
         has = count > t + 1
         if not has.any():
@@ -133,7 +136,21 @@ def cell_split_quadrature(face, resolution: float, origin: np.ndarray, spacing: 
         area2 = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])  # twice the triangle's area in (u, v)
         uv.append((p0[:, None, :] + ref[None, :, :1] * e1[:, None, :] + ref[None, :, 1:] * e2[:, None, :]).reshape(-1, 2))
         w.append((area2[:, None] * ref_w[None, :]).ravel())
-    uv, w = np.concatenate(uv), np.concatenate(w)
+        piece.append(np.repeat(np.nonzero(has)[0], len(ref_w)))
+    if not uv:
+        return np.zeros((0, 2)), np.zeros(0), np.zeros(0, dtype=np.int64)
+    return np.concatenate(uv), np.concatenate(w), np.concatenate(piece)
+
+
+def cell_split_quadrature(face, resolution: float, origin: np.ndarray, spacing: float, order: int = 4):
+    """Points (q, 3), weights (q,), outward normals (q, 3) on ``face`` (``panels`` / ``evaluate``),
+    every point's rule lying in one cell of a grid whose faces lie on the planes origin + j
+    spacing."""
+    lower, upper = (np.asarray(x, dtype=float).reshape(-1, 2) for x in face.panels(resolution))
+    corners = _rectangles(lower, upper)
+    corner_points = face.evaluate(corners.reshape(-1, 2))[0].reshape(-1, 4, 3)
+    poly, count, _ = split_panels(lower, upper, corner_points, np.asarray(origin, dtype=float), float(spacing))
+    uv, w, _ = triangle_nodes(poly, count, order)
     points, normals, jacobian = face.evaluate(uv)
     weights = w * np.asarray(jacobian, dtype=float)
     keep = weights > 0.0
