@@ -121,8 +121,8 @@ class ContactDriver:
         self.k0 = (k0 + k_ess).tocsr()
         by_name = {b.name: b for b in self.bodies}
         self.contacts = [
-            formulation(cm.options.formulation)(self.problem, cm, by_name[cm.bodies[0]], by_name[cm.bodies[1]],
-                                                self.options)
+            formulation(cm.options.formulation, self.problem.dim)(self.problem, cm, by_name[cm.bodies[0]],
+                                                                  by_name[cm.bodies[1]], self.options)
             for cm in self.problem.contacts
         ]
         self.timings["assembly_s"] = time.perf_counter() - t
@@ -340,7 +340,9 @@ class ContactDriver:
         reactions, tractions = essential_reactions(self.essentials, u, self.options, lam)
         blocks = []
         for c, a, info, bracket in zip(self.contacts, self.widths, self.prev_infos, self.brackets):
-            block = contact_block(c, a, -c.force(u[c.dofs], a, info), u)
+            on2 = -c.force(u[c.dofs], a, info)
+            writer = getattr(c, "summary_block", None)  # a formulation may write its own block (3D)
+            block = writer(a, on2, u, info) if writer is not None else contact_block(c, a, on2, u)
             problems = c.check_final(u, a, info, bracket, block)
             blocks.append(block)
             if problems:

@@ -13,10 +13,12 @@ from typing import Any, Callable, Iterator, Protocol
 
 import numpy as np
 
-__all__ = ["ContactFormulation", "FORMULATIONS", "formulation"]
+__all__ = ["ContactFormulation", "FORMULATIONS", "FORMULATIONS_3D", "formulation"]
 
 #: name -> "module:builder", imported on first use
-FORMULATIONS = {"band": "solver.contact.band:build"}
+FORMULATIONS = {"band": "solver.contact.band:build", "ellipse": "solver.contact.ellipse:build"}
+#: the formulation a name means in 3D (the band terms on an elliptical region)
+FORMULATIONS_3D = {"band": "ellipse"}
 
 
 class ContactFormulation(Protocol):
@@ -56,8 +58,10 @@ class ContactFormulation(Protocol):
     def check_final(self, u: np.ndarray, a: float, info: Any, bracket: Any, block: dict) -> list[str]: ...
 
 
-def formulation(name: str) -> Callable[..., ContactFormulation]:
-    """The builder of a registered formulation."""
+def formulation(name: str, dim: int = 2) -> Callable[..., ContactFormulation]:
+    """The builder of a registered formulation (``dim`` 3: its 3D member, FORMULATIONS_3D)."""
+    if dim == 3:
+        name = FORMULATIONS_3D.get(name, name)
     try:
         module, attr = FORMULATIONS[name].split(":")
     except KeyError:

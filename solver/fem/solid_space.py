@@ -114,13 +114,18 @@ class SolidDiscretisation(BodyDiscretisation):
         return self.node_dof_map.T @ nodal
 
 
-def face_rule(face, tree) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def face_rule(face, tree, order: int = 4) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Points, weights and outward normals on a face: split at the octree's planes when the face
     offers its parameter panels (solver.fem.surface_quadrature: exact for trilinear integrands on
     planar faces), else the face's own rule with panels of PANELS_PER_CELL per finest cell."""
     if hasattr(face, "panels") and hasattr(face, "evaluate"):
         spacing = tree.h0 / 2.0**tree.max_level
-        return cell_split_quadrature(face, tree.min_size, tree.origin, spacing)
+
+        def cell_size(points, normals):
+            cells = tree.locate(points - 1e-9 * tree.min_size * normals)
+            return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size)
+
+        return cell_split_quadrature(face, tree.h0, tree.origin, spacing, order, cell_size=cell_size)
     return face.quadrature(tree.min_size / PANELS_PER_CELL)
 
 
@@ -143,8 +148,8 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
     moments[cut] = inside_moments(tree.lower[cut], tree.size[cut], phi, depth)
     lam, mu = material_lame
     area = np.zeros(len(tree.size))
-    for face in solid.faces.values():
-        points, weights, normals = face_rule(face, tree)
+    for face in solid.faces.values():  # areas only: one point per piece's triangle is exact
+        points, weights, normals = face_rule(face, tree, order=1)
         cells = tree.locate(points - 1e-9 * tree.min_size * normals)
         keep = cells >= 0
         area += np.bincount(cells[keep], weights[keep], minlength=len(area))

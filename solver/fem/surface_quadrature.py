@@ -71,7 +71,7 @@ def _rectangles(lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
 
 
 def split_panels(lower: np.ndarray, upper: np.ndarray, corner_points: np.ndarray, origin: np.ndarray,
-                 spacing: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                 spacing) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Convex pieces (m, K, 2) in (u, v) of the panels [lower, upper], cut at the grid planes
     x_k = origin_k + j spacing as seen on each panel's affine approximation (from its corner
     points (p, 4, 3): (u0, v0), (u1, v0), (u1, v1), (u0, v1)); returns the pieces, their vertex
@@ -90,6 +90,7 @@ def clip_to_grid(poly: np.ndarray, count: np.ndarray, owner: np.ndarray, lower: 
     over [lower, upper]; (pieces, counts, owners). Applied twice, it cuts at two grids (contact:
     the planes of both bodies)."""
     origin = np.asarray(origin, dtype=float)
+    spacing = np.broadcast_to(np.asarray(spacing, dtype=float), (len(lower),))  # per panel
     c = corner_points[:, 0]
     extent = upper - lower
     extent = np.where(extent != 0.0, extent, 1.0)
@@ -97,7 +98,7 @@ def clip_to_grid(poly: np.ndarray, count: np.ndarray, owner: np.ndarray, lower: 
     a_v = (corner_points[:, 3] - corner_points[:, 0]) / extent[:, 1:]
     for k in range(3):
         lo = (corner_points[:, :, k].min(axis=1) - origin[k]) / spacing
-        hi = (corner_points[:, :, k].max(axis=1) - origin[k]) / spacing
+        hi = (corner_points[:, :, k].max(axis=1) - origin[k]) / spacing  # per panel, in its spacing
         first = np.floor(lo).astype(np.int64) + 1
         last = np.ceil(hi).astype(np.int64) - 1
         for step in range(int(max(0, (last - first).max(initial=-1) + 1))):
@@ -107,7 +108,7 @@ def clip_to_grid(poly: np.ndarray, count: np.ndarray, owner: np.ndarray, lower: 
                 continue
             idx = np.nonzero(cut)[0]
             o = owner[idx]
-            level = origin[k] + plane[o] * spacing
+            level = origin[k] + plane[o] * spacing[o]
             # X_k(uv) - level = a . uv + b on the affine map
             a = np.stack([a_u[o, k], a_v[o, k]], axis=1)
             b = c[o, k] - level - a_u[o, k] * lower[o, 0] - a_v[o, k] * lower[o, 1]
@@ -142,16 +143,53 @@ def triangle_nodes(poly: np.ndarray, count: np.ndarray, order: int = 4) -> tuple
     return np.concatenate(uv), np.concatenate(w), np.concatenate(piece)
 
 
-def cell_split_quadrature(face, resolution: float, origin: np.ndarray, spacing: float, order: int = 4):
+def cell_split_quadrature(face, resolution: float, origin: np.ndarray, spacing: float, order: int = 4,
+                          cell_size=None, levels: int = 12):
     """Points (q, 3), weights (q,), outward normals (q, 3) on ``face`` (``panels`` / ``evaluate``),
     every point's rule lying in one cell of a grid whose faces lie on the planes origin + j
-    spacing."""
+    spacing. ``cell_size(points, normals) -> sizes``: the local cell size at face points; panels start at ``resolution``
+    and are split in four (up to ``levels`` times) while larger than the cells at their corners
+    and centre, so a face crossing coarse cells gets few points."""
     lower, upper = (np.asarray(x, dtype=float).reshape(-1, 2) for x in face.panels(resolution))
+    panel_spacing = np.full(len(lower), float(spacing))
+    if cell_size is not None:
+        lower, upper, local = _graded_panels(face, lower, upper, cell_size, levels)
+        # the planes of the panel's cells and of cells half their size (2:1 balance: no finer
+        # cell can meet a panel no larger than the cells at its corners)
+        panel_spacing = np.maximum(0.5 * local, float(spacing))
     corners = _rectangles(lower, upper)
     corner_points = face.evaluate(corners.reshape(-1, 2))[0].reshape(-1, 4, 3)
-    poly, count, _ = split_panels(lower, upper, corner_points, np.asarray(origin, dtype=float), float(spacing))
+    poly, count, _ = split_panels(lower, upper, corner_points, np.asarray(origin, dtype=float), panel_spacing)
     uv, w, _ = triangle_nodes(poly, count, order)
     points, normals, jacobian = face.evaluate(uv)
     weights = w * np.asarray(jacobian, dtype=float)
     keep = weights > 0.0
     return points[keep], weights[keep], normals[keep]
+
+
+def _graded_panels(face, lower, upper, cell_size, levels: int):
+    """Panels split in four while their extent in space exceeds the smallest cell at their
+    corners and centre."""
+    done_lo, done_hi, done_size = [], [], []
+    size = np.zeros(len(lower))
+    for _ in range(levels + 1):
+        if len(lower) == 0:
+            break
+        corners = np.concatenate([_rectangles(lower, upper), (0.5 * (lower + upper))[:, None, :]], axis=1)
+        pts, nrm, _ = face.evaluate(corners.reshape(-1, 2))
+        size = np.asarray(cell_size(pts, nrm), dtype=float).reshape(-1, 5).min(axis=1)
+        pts = pts.reshape(-1, 5, 3)
+        extent = np.linalg.norm(pts[:, 2] - pts[:, 0], axis=1)
+        extent = np.maximum(extent, np.linalg.norm(pts[:, 3] - pts[:, 1], axis=1))
+        split = extent > 1.0001 * size
+        done_lo.append(lower[~split])
+        done_hi.append(upper[~split])
+        done_size.append(size[~split])
+        lo, hi = lower[split], upper[split]
+        mid = 0.5 * (lo + hi)
+        lower = np.concatenate([lo, np.column_stack([mid[:, 0], lo[:, 1]]), mid, np.column_stack([lo[:, 0], mid[:, 1]])])
+        upper = np.concatenate([mid, np.column_stack([hi[:, 0], mid[:, 1]]), hi, np.column_stack([mid[:, 0], hi[:, 1]])])
+    done_lo.append(lower)
+    done_hi.append(upper)
+    done_size.append(np.tile(size[split], 4) if len(lower) else np.zeros(0))  # panels left at the last level
+    return np.concatenate(done_lo), np.concatenate(done_hi), np.concatenate(done_size)

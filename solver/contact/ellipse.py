@@ -1,0 +1,389 @@
+"""The ellipse formulation of a contact between two solids (issue 15; the thesis's section 7.2):
+the band terms of the 2D formulation (solver.contact.band) on an elliptical contact region of
+body 1's exact surface, semi-axes (a, b) along the principal axes of the relative curvature
+(solver.contact.ellipse_geometry), tied or frictionless.
+
+The region is searched as its size a with the shape b / a held, then the shape updated, as the
+2D partial-slip driver iterates the stick ratio: the load-step driver (solver.contact.driver)
+runs the size search (``region_search``, the root of the edge coefficient) and then
+``update_friction``, which here updates b / a and asks for another size search until the shape
+settles. Edge coefficients: every Hertzian pressure on the ellipse is
+p = Q(X, Y) / sqrt(1 - X^2 - Y^2) with X = s0/a, Y = s1/b and Q quadratic; with the weights
+5 X^2 - 1 and 5 Y^2 - 1 the moments int p (5 X^2 - 1) dA and int p (5 Y^2 - 1) dA vanish for
+Hertz's p0 sqrt(1 - X^2 - Y^2) (int over the unit disc of sqrt(1 - r^2) = 2 pi / 3, of
+X^2 sqrt(1 - r^2) = 2 pi / 15) and are positive for a punch-like pressure (a region too small):
+their mean drives the size, their difference the shape. The first shape is Hertz's for the
+relative curvatures (solver.reference.theory.hertz_elliptic_contact).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
+from ..model.options import ContactOptions
+from ..reference.theory import hertz_elliptic_contact
+from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, contact_frame_3d, matched_points,
+                               region_points, sectors, surface_point)
+from .roots import edge_search
+
+__all__ = ["EllipseContact", "build"]
+
+#: Gauss order of the triangle rule on the region's pieces
+REGION_ORDER = 3
+#: panels of the region's quadrature per finest cell
+PANELS_PER_CELL = 1.0
+#: the shape b / a holds when the two edge coefficients differ by less than this
+SHAPE_TOLERANCE = 0.005
+
+
+@dataclass
+class _Verdict:
+    penetration: bool
+    tension: bool
+    gap: float
+    pressure: float
+    penetration_count: int
+    tension_count: int
+    min_gap: float
+    min_pressure: float
+    edge: float = math.nan
+    edges: tuple = (math.nan, math.nan)
+
+
+@dataclass
+class EllipseContact:
+    model: object
+    frame: ContactFrame3D
+    solids: tuple
+    b1: object
+    b2: object
+    kind: str
+    dofs: np.ndarray
+    maps: tuple
+    h: float
+    extent: float
+    ranges: list
+    samples: RegionPoints
+    sample_axis: np.ndarray  # (ns,) 0 or 1: the axis of each sample
+    e_samples: object = None
+    f_samples: object = None
+    size_samples: np.ndarray = None
+    ratio: float = 1.0  # b / a
+    circular: bool = True
+    band_fraction: float = 0.25
+    e_star: float = 0.0
+    options: ContactOptions = field(default_factory=ContactOptions)
+    history: list = field(default_factory=list)
+    _shape: list = field(default_factory=list)  # (ratio, c0 - c1) of the settled size searches
+    stick_ratio: float = 0.0
+
+    @property
+    def name(self) -> str:
+        return f"contact {self.model.bodies[0]}/{self.model.bodies[1]}"
+
+    def semi_axes(self, a: float) -> tuple[float, float]:
+        return a, self.ratio * a
+
+    # -------------------------------------------------- the formulation protocol
+
+    def initial_region(self) -> float:
+        return 2.0 * self.h
+
+    def next_region(self, a: float, load_ratio: float) -> float:
+        return max(a * load_ratio ** (1.0 / 3.0), 2.0 * self.h)
+
+    def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
+        o = self.options
+        tol = (o.edge_tolerance if final else o.step_tolerance) * self.h
+        a_max = self.extent / max(1.0, self.ratio)
+        return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
+
+    def region_too_small(self) -> ValueError:
+        return ValueError(f"{self.name}: the contact ellipse reaches the candidate region's edge ({self.extent:.4g} m) "
+                          "and still penetrates; enlarge the contact refinement radius")
+
+    def terms(self, a: float):
+        m = len(self.dofs)
+        if a <= 0.0:
+            return np.zeros((m, m)), np.zeros(m), None
+        aa, bb = self.semi_axes(a)
+        pts = region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
+                            self.reach, REGION_ORDER)
+        jump, flux, size = _operators(self, pts)
+        bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
+        proj = _projector(self, pts)
+        k, f = thin_band_terms(bp, proj, -pts.delta, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=jump)
+        return k.toarray(), np.asarray(f).ravel(), (pts, bp, proj, jump, flux, size)
+
+    def judge(self, x: np.ndarray, a: float, info) -> _Verdict:
+        gap, pressure, inside, edge_dist = _sample_state(self, x, a)
+        v = _judge(self, gap, pressure, inside, edge_dist)
+        v.edges = _edge_coefficients(self, info, x, a)
+        v.edge = 0.5 * (v.edges[0] + v.edges[1])
+        return v
+
+    def force(self, x: np.ndarray, a: float, info) -> np.ndarray:
+        if info is None:
+            return np.zeros(3)
+        return (_quadrature_traction(self, info, x) * info[0].weights[:, None]).sum(axis=0)
+
+    def traction_samples(self, u: np.ndarray, a: float, s: np.ndarray):
+        raise NotImplementedError("3D contacts report their profiles through summary_block")
+
+    def is_symmetric(self) -> bool:
+        return True
+
+    def start_step(self) -> None:
+        self._shape = []
+
+    def update_friction(self, x: np.ndarray, a: float, info) -> bool:
+        """After a size search: the shape b / a from the difference of the two edge coefficients
+        (secant on log(b / a)); True when it holds (always for a circular contact)."""
+        if self.circular or info is None:
+            return True
+        c0, c1 = _edge_coefficients(self, info, x, a)
+        d = c0 - c1  # > 0: pressure too concentrated at the ends of axis 0: a too small against b
+        self._shape.append((math.log(self.ratio), d))
+        if abs(d) <= SHAPE_TOLERANCE:
+            return True
+        if len(self._shape) >= 2 and self._shape[-1][1] != self._shape[-2][1]:
+            (l0, d0), (l1, d1) = self._shape[-2], self._shape[-1]
+            nxt = l1 - d1 * (l1 - l0) / (d1 - d0)
+            nxt = min(max(nxt, l1 - 0.3), l1 + 0.3)
+        else:
+            nxt = math.log(self.ratio) - 0.5 * d  # b / a down when d > 0
+        self.ratio = float(min(max(math.exp(nxt), 0.02), 1.0))
+        return False
+
+    def finish(self) -> list[str]:
+        return []
+
+    def check_final(self, u: np.ndarray, a: float, info, bracket, block: dict) -> list[str]:
+        x = u[self.dofs]
+        v = self.judge(x, a, info)
+        messages = []
+        if v.penetration or v.tension:
+            messages.append(f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and "
+                            f"tension {v.tension} (edge pressure {v.pressure:.3g} Pa) at semi-axes {self.semi_axes(a)}")
+        elif v.penetration_count:
+            messages.append(f"{self.name}: the bodies interpenetrate outside the contact ellipse at "
+                            f"{v.penetration_count} sample points (smallest gap {v.min_gap:.3g} m)")
+        if not self.circular and abs(v.edges[0] - v.edges[1]) > 2.0 * SHAPE_TOLERANCE:
+            messages.append(f"{self.name}: the ellipse's shape did not settle (edge coefficients {v.edges[0]:.3g}, "
+                            f"{v.edges[1]:.3g})")
+        block["checks"] = {"penetration": bool(v.penetration or v.penetration_count), "tension": v.tension,
+                           "edge_gap": v.gap, "edge_pressure": v.pressure, "penetration_points": v.penetration_count,
+                           "tension_points": v.tension_count, "min_gap": v.min_gap,
+                           "min_pressure": v.min_pressure, "edge_coefficients": list(v.edges),
+                           "size_bracket": list(bracket)}
+        return messages
+
+    def history_entry(self, v: _Verdict, a: float, step: int, iteration: int, tag: int, ratio: float) -> None:
+        self.history.append({"step": step, "iteration": iteration, "semi_axes": list(self.semi_axes(a)),
+                             "penetration": v.penetration, "tension": v.tension, "edge_coefficients": list(v.edges),
+                             "shape_iteration": tag, "work_ratio": ratio})
+
+    def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
+        """SPEC section 7's contact block."""
+        from .ellipse_report import ellipse_block
+
+        return ellipse_block(self, a, on2, u, info)
+
+
+# ------------------------------------------------------------------ operators and tractions
+
+
+def _locate(b, x, n) -> np.ndarray:
+    cells = b.grid.locate(x - 1e-7 * b.grid.min_size * n)
+    if (cells < 0).any():
+        bad = x[cells < 0][0]
+        raise ValueError(f"body {b.name!r}: contact point {bad.tolist()} lies in no grid cell")
+    return cells
+
+
+def _operators(c: EllipseContact, pts: RegionPoints):
+    """Jump J and flux F (3q, m) on the contact dofs, and the local size at the points."""
+    cells1, cells2 = _locate(c.b1, pts.x1, pts.n1), _locate(c.b2, pts.x2, pts.n2)
+    map1, ok1, map2, ok2 = c.maps
+    if not (ok1[c.b1.grid.cells[cells1]].all() and ok2[c.b2.grid.cells[cells2]].all()):
+        raise RuntimeError("contact terms reach beyond the contact dofs")
+    jump = c.b1.displacement_operator(pts.x1, cells1, map1) - c.b2.displacement_operator(pts.x2, cells2, map2)
+    flux = 0.5 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1) + 0.5 * c.b2.traction_operator(
+        pts.x2, cells2, pts.n1, map2)
+    t1 = c.b1.material_thickness[cells1]
+    t2 = c.b2.material_thickness[cells2]
+    size = np.maximum(np.minimum(t1, t2), 1e-6 * c.b1.grid.size[cells1])
+    return jump.tocsr(), flux.tocsr(), size
+
+
+def _projector(c: EllipseContact, pts: RegionPoints) -> np.ndarray:
+    kind = "fixed" if c.kind == "tied" else "sliding"
+    return projector(kind, pts.normal)
+
+
+def _layer(c: EllipseContact, normal, proj, size) -> np.ndarray:
+    return (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
+        proj @ acoustic_tensor(normal, c.b1.lam, c.b1.mu) @ proj)
+
+
+def _quadrature_traction(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:
+    """Traction (q, 3) on body 1 at the region's quadrature points."""
+    pts, _, proj, jump, flux, size = info
+    w = (jump @ x).reshape(-1, 3) + pts.delta
+    t1 = -np.einsum("qij,qj->qi", _layer(c, pts.normal, proj, size), w)
+    return t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
+
+
+def _edge_coefficients(c: EllipseContact, info, x: np.ndarray, a: float) -> tuple[float, float]:
+    if info is None or a <= 0.0:
+        return math.inf, math.inf
+    pts = info[0]
+    aa, bb = c.semi_axes(a)
+    p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x), pts.normal)
+    wp = pts.weights * p
+    total = float(wp.sum())
+    if not total > 0.0:
+        return -math.inf, -math.inf
+    X, Y = pts.s[:, 0] / aa, pts.s[:, 1] / bb
+    return float((wp * (5.0 * X**2 - 1.0)).sum() / total), float((wp * (5.0 * Y**2 - 1.0)).sum() / total)
+
+
+def _sample_state(c: EllipseContact, x: np.ndarray, a: float):
+    """Normal gap and pressure at the axis samples, whether each lies in the region, and its
+    distance beyond the region's edge along its axis (negative inside)."""
+    smp = c.samples
+    aa, bb = c.semi_axes(a)
+    reach = np.where(c.sample_axis == 0, aa, bb)
+    along = np.abs(smp.s[np.arange(len(smp.s)), c.sample_axis])
+    inside = along <= reach
+    w = (c.e_samples @ x).reshape(-1, 3) + smp.delta
+    gap = np.einsum("qi,qi->q", w, smp.normal)
+    proj = _projector(c, smp)
+    t1 = -np.einsum("qij,qj->qi", _layer(c, smp.normal, proj, c.size_samples), w)
+    t1 = t1 + np.einsum("qij,qj->qi", proj, (c.f_samples @ x).reshape(-1, 3))
+    pressure = np.where(inside, np.einsum("qi,qi->q", t1, smp.normal), 0.0)
+    return gap, pressure, inside, along - reach
+
+
+def _judge(c: EllipseContact, gap, pressure, inside, edge_dist) -> _Verdict:
+    p_mean = max(float(np.mean(pressure[inside])) if inside.any() else 0.0, 0.0)
+    g_tol = c.options.gap_tolerance * c.h * max(p_mean, 1e-30) / c.e_star
+    p_tol = c.options.tension_tolerance * p_mean
+    width = c.options.window * c.h
+    out_w = (edge_dist > 0) & (edge_dist <= width)
+    in_w = (edge_dist <= 0) & (edge_dist > -width)
+    g = float(gap[out_w].mean()) if out_w.any() else np.inf
+    p = float(pressure[in_w].mean()) if in_w.any() else np.inf
+    outside = ~inside
+    return _Verdict(
+        penetration=bool(g < -g_tol), tension=bool(p < -p_tol), gap=g, pressure=p,
+        penetration_count=int((outside & (gap < -g_tol)).sum()),
+        tension_count=int((inside & (pressure < -p_tol)).sum()) if p_mean > 0 else 0,
+        min_gap=float(gap[outside].min()) if outside.any() else 0.0,
+        min_pressure=float(pressure[inside].min()) if inside.any() else 0.0,
+    )
+
+
+# ------------------------------------------------------------------ set-up
+
+
+def _cell_dofs_global(b, cells: np.ndarray) -> np.ndarray:
+    rows = b.cell_dofs(np.unique(cells)).ravel()
+    m = b.node_dof_map[np.unique(rows)]
+    return np.unique(m.indices)
+
+
+def _extent(problem, contact, factor: float) -> float:
+    radii = [r.radius for n in contact.bodies for r in problem.body(n).refinements if r.around_contact]
+    if radii:
+        return factor * min(radii)
+    return 10.0 * min(problem.body(n).element_size for n in contact.bodies)
+
+
+def build(problem, model, b1, b2, options) -> EllipseContact:
+    """The ellipse formulation of a contact between two discretised solids."""
+    if model.type == "frictional":
+        raise ValueError(f"contact {model.bodies[0]}/{model.bodies[1]}: frictional contact between solids is not "
+                         "available yet (tied and frictionless are)")
+    opts = model.options
+    solids = (b1.boundary, b2.boundary)
+    h = float(min(b1.grid.min_size, b2.grid.min_size))
+    frame = contact_frame_3d(*solids, np.asarray(model.point, dtype=float), h,
+                             getattr(model, "tangential_direction", None))
+    extent = _extent(problem, model, opts.extent_fraction)
+    reach = 0.5 * extent
+    ranges = sectors(solids[0], frame, 0.5 * h, reach)
+    e1 = 1.0 / (1.0 / _modulus(b1) + 1.0 / _modulus(b2))
+    k0, k1 = frame.curvatures
+    circular = abs(k1 - k0) <= 1e-6 * max(abs(k1), abs(k0), 1e-300)
+    ratio = 1.0 if circular or min(k0, k1) <= 0 else hertz_elliptic_contact(1.0, (k0, k1), e1)[1] / \
+        hertz_elliptic_contact(1.0, (k0, k1), e1)[0]
+    # sample points along both axes, both signs, at the driver's sample spacing
+    ds = opts.sample_spacing * h
+    s_line = np.concatenate([-np.arange(extent, 0, -ds), np.arange(0.0, extent + ds, ds)])
+    parts, axis = [], []
+    for k in (0, 1):
+        keep = _on_body1(solids[0], frame, k, s_line, reach)
+        pts = axis_points(*solids, frame, k, s_line[keep], reach, 1e-4 * h)
+        parts.append(pts)
+        axis.append(np.full(len(pts.s), k))
+    samples = RegionPoints(*(np.concatenate([getattr(p, f) for p in parts]) for f in
+                             ("s", "x1", "x2", "n1", "n2", "weights", "normal")))
+    c = EllipseContact(model=model, frame=frame, solids=solids, b1=b1, b2=b2, kind=model.type, dofs=np.zeros(0, int),
+                       maps=(), h=h, extent=extent, ranges=ranges, samples=samples, sample_axis=np.concatenate(axis),
+                       ratio=float(ratio), circular=bool(circular), band_fraction=options.band_fraction, e_star=e1,
+                       options=opts)
+    c.grids = [(b.grid.origin, b.grid.h0 / 2.0**b.grid.max_level) for b in (b1, b2)]
+    c.reach = reach
+    full = _dense_disc(solids, frame, extent, ranges, 0.25 * h, reach)
+    cells1 = np.concatenate([_near_cells(b1, p.x1, p.n1) for p in (full, samples)])
+    cells2 = np.concatenate([_near_cells(b2, p.x2, p.n2) for p in (full, samples)])
+    c.dofs = np.union1d(_cell_dofs_global(b1, cells1), _cell_dofs_global(b2, cells2))
+    c.maps = b1.restricted_dof_map(c.dofs) + b2.restricted_dof_map(c.dofs)
+    c.e_samples, c.f_samples, c.size_samples = _operators(c, samples)
+    return c
+
+
+def _dense_disc(solids, frame, extent: float, ranges, spacing: float, reach: float) -> RegionPoints:
+    """Points of the candidate disc (radius ``extent``) on a polar grid of ``spacing``."""
+    rho = np.arange(0.0, extent + spacing, spacing)
+    s = [np.zeros((1, 2))]
+    for r in rho[1:]:
+        for t0, t1 in ranges:
+            t = np.linspace(t0, t1, max(2, int(np.ceil((t1 - t0) * r / spacing)) + 1))
+            s.append(r * np.stack([np.cos(t), np.sin(t)], axis=1))
+    s = np.concatenate(s)
+    keep = surface_point(solids[0], frame, s, reach)[1]
+    return matched_points(*solids, frame, s[keep], np.zeros(int(keep.sum())), reach, 1e-4 * spacing)
+
+
+def _near_cells(b, x, n) -> np.ndarray:
+    """Cells holding boundary points and those a quarter of the finest cell around them (the
+    region's pieces are cut on chords of curved surfaces)."""
+    out = [_locate(b, x, n)]
+    step = 0.25 * b.grid.min_size
+    for k in range(3):
+        for sign in (-1.0, 1.0):
+            e = np.zeros(3)
+            e[k] = sign * step
+            cells = b.grid.locate(x + e - 1e-7 * b.grid.min_size * n)
+            out.append(cells[cells >= 0])
+    return np.concatenate(out)
+
+
+def _on_body1(solid1, frame, axis: int, s: np.ndarray, reach: float) -> np.ndarray:
+    st = np.zeros((len(s), 2))
+    st[:, axis] = s
+    return surface_point(solid1, frame, st, reach)[1]
+
+
+def _modulus(b) -> float:
+    """E / (1 - nu^2) of a body (Hertz's E*) from its Lame constants."""
+    lam, mu = b.lam, b.mu
+    e = mu * (3 * lam + 2 * mu) / (lam + mu)
+    nu = lam / (2 * (lam + mu))
+    return e / (1 - nu**2)

@@ -1,0 +1,273 @@
+"""Geometry of a contact between two solids (issue 15, SPEC section 7): the contact frame and
+the points of an elliptical contact region on the exact surfaces.
+
+Frame: at the contact point, ``normal`` is the outward unit normal of body 2 (pointing into
+body 1); the axes are the principal directions of the relative curvature K = K1 + K2 of the two
+surfaces in the tangent plane (each K_i = -P H_i P from the Hessian H_i of the body's exact signed
+distance at its surface point, positive for a convex body): the gap is 1/2 s^T K s to second
+order, so these are the axes of Hertz's ellipse. ``axes[0]`` carries the smaller curvature (the
+larger semi-axis); a circular contact takes ``tangential_direction`` (or the first coordinate
+axis not along the normal) for axes[0]; axes[0] x axes[1] = normal.
+
+Region: the ellipse (s0/a)^2 + (s1/b)^2 <= 1 in the tangent plane, laid on body 1's surface
+along the normal (x1 = y + t n with the exact zero of body 1's signed distance on the line), over
+the angular sectors where body 1 has surface (a quarter model's region is a quarter ellipse).
+Its quadrature: polar panels cut at the planes of both bodies' octrees (the integrand's kinks:
+solver.fem.surface_quadrature), a collapsed Gauss rule on the pieces, the area element
+a b rho / |n1 . n|. Each point is matched on body 2 by exact projection along the gradient of its
+signed distance (delta = x1 - x2 as in 2D, eq. 5-2 in 3D)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..fem.surface_quadrature import MAX_VERTICES, clip_to_grid, triangle_nodes
+
+__all__ = ["ContactFrame3D", "RegionPoints", "contact_frame_3d", "region_points", "axis_points", "sectors",
+           "surface_point", "closest_on", "matched_points"]
+
+
+def _gradient(phi, x: np.ndarray, step: float) -> np.ndarray:
+    g = np.empty_like(x)
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = step
+        g[:, k] = (np.asarray(phi(x + e), float) - np.asarray(phi(x - e), float)) / (2.0 * step)
+    return g
+
+
+def _hessian(phi, x: np.ndarray, step: float) -> np.ndarray:
+    """(3, 3) Hessian of phi at one point by central differences."""
+    h = np.empty((3, 3))
+    f0 = float(phi(x[None])[0])
+    for i in range(3):
+        for j in range(i, 3):
+            ei, ej = np.zeros(3), np.zeros(3)
+            ei[i], ej[j] = step, step
+            pts = np.array([x + ei + ej, x + ei - ej, x - ei + ej, x - ei - ej])
+            if i == j:
+                pts = np.array([x + ei, x - ei])
+                v = np.asarray(phi(pts), float)
+                h[i, i] = (v[0] + v[1] - 2.0 * f0) / step**2
+            else:
+                v = np.asarray(phi(pts), float)
+                h[i, j] = h[j, i] = (v[0] - v[1] - v[2] + v[3]) / (4.0 * step**2)
+    return h
+
+
+def closest_on(solid, x: np.ndarray, step: float, sweeps: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    """Closest points (n, 3) on a solid's surface and its outward unit normals there, by
+    x <- x - phi(x) grad phi(x) on the exact signed distance (exact in one step where it is
+    smooth; a few sweeps settle the finite differences)."""
+    x = np.asarray(x, dtype=float).reshape(-1, 3)
+    for _ in range(sweeps):
+        g = _gradient(solid.signed_distance, x, step)
+        g /= np.maximum(np.linalg.norm(g, axis=1), 1e-300)[:, None]
+        x = x - np.asarray(solid.signed_distance(x), float)[:, None] * g
+    g = _gradient(solid.signed_distance, x, step)
+    return x, -g / np.maximum(np.linalg.norm(g, axis=1), 1e-300)[:, None]
+
+
+@dataclass(frozen=True)
+class ContactFrame3D:
+    point: np.ndarray  # (3,) on the tangent plane, midway between the closest points
+    normal: np.ndarray  # (3,) outward normal of body 2
+    axes: np.ndarray  # (2, 3) principal directions of the relative curvature
+    curvatures: np.ndarray  # (2,) relative principal curvatures along the axes (1/R'_0 <= 1/R'_1)
+
+
+def _tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
+    candidates = ([] if hint is None else [np.asarray(hint, float)]) + list(np.eye(3))
+    for c in candidates:
+        t = c - (c @ normal) * normal
+        if np.linalg.norm(t) > 1e-6 * max(np.linalg.norm(c), 1e-300):
+            t0 = t / np.linalg.norm(t)
+            return np.array([t0, np.cross(normal, t0)])
+    raise ValueError("no tangent direction")  # pragma: no cover - eye(3) always has one
+
+
+def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
+                     tangential_direction: np.ndarray | None = None) -> ContactFrame3D:
+    """The frame at the contact point (``scale``: the finest cell, sets the difference steps)."""
+    step = 1e-4 * scale
+    x2, n2 = closest_on(solid2, np.asarray(point, float)[None], step)
+    x1, _ = closest_on(solid1, np.asarray(point, float)[None], step)
+    normal = n2[0] / np.linalg.norm(n2[0])
+    basis = _tangent_basis(normal, tangential_direction)
+    hstep = 1e-2 * scale
+    k = np.zeros((2, 2))
+    for solid, x in ((solid1, x1[0]), (solid2, x2[0])):
+        h = _hessian(solid.signed_distance, x, hstep)
+        k -= basis @ h @ basis.T
+    k = 0.5 * (k + k.T)
+    values, vectors = np.linalg.eigh(k)  # ascending: the smaller curvature first
+    if abs(values[1] - values[0]) <= 1e-6 * max(abs(values).max(), 1e-300):
+        axes, curv = basis, np.array([values.mean(), values.mean()])  # circular: the hint's axes
+    else:
+        axes = vectors.T @ basis
+        curv = values
+    if np.cross(axes[0], axes[1]) @ normal < 0.0:
+        axes = np.array([axes[0], -axes[1]])
+    mid = 0.5 * (x1[0] + x2[0])
+    return ContactFrame3D(point=mid, normal=normal, axes=axes, curvatures=curv)
+
+
+def surface_point(solid, frame: ContactFrame3D, s: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
+    """Points x1 = y + t n (n, 3) of a solid's surface above the tangent-plane points y(s) (s (n, 2)
+    along the frame's axes), the exact zero of its signed distance on t in [-reach, reach], and a
+    mask of the lines that cross the surface there."""
+    y = frame.point + s[:, :1] * frame.axes[0] + s[:, 1:] * frame.axes[1]
+    n = frame.normal
+    lo, hi = np.full(len(s), -reach), np.full(len(s), reach)
+    f = solid.signed_distance
+    flo, fhi = np.asarray(f(y + lo[:, None] * n), float), np.asarray(f(y + hi[:, None] * n), float)
+    ok = (flo < 0.0) != (fhi < 0.0)
+    t = np.zeros(len(s))
+    i = np.nonzero(ok)[0]
+    a, b, fa, fb = lo[i], hi[i], flo[i], fhi[i]
+    side = np.zeros(len(i), dtype=np.int8)
+    x = a.copy()
+    for _ in range(100):
+        xn = b - fb * (b - a) / np.where(fb != fa, fb - fa, 1.0)
+        done = np.abs(xn - x) <= 1e-15 * reach
+        x = xn
+        fx = np.asarray(f(y[i] + x[:, None] * n), float)
+        left = (fx < 0.0) == (fa < 0.0)
+        a, fa = np.where(left, x, a), np.where(left, fx, fa)
+        fb = np.where(left & (side == 1), 0.5 * fb, fb)
+        b, fb = np.where(left, b, x), np.where(left, fb, fx)
+        fa = np.where(~left & (side == -1), 0.5 * fa, fa)
+        side = np.where(left, 1, -1).astype(np.int8)
+        if done.all():
+            break
+    t[i] = x
+    return y + t[:, None] * n, ok
+
+
+def sectors(solid1, frame: ContactFrame3D, radius: float, reach: float, samples: int = 720) -> list[tuple[float, float]]:
+    """Angular ranges [theta0, theta1] around the contact point where body 1 has surface above the
+    tangent plane (the whole circle, or a quarter model's quarter), ends found by bisection."""
+    theta = np.linspace(0.0, 2.0 * math.pi, samples, endpoint=False)
+
+    def present(th):
+        s = radius * np.stack([np.cos(th), np.sin(th)], axis=1)
+        return surface_point(solid1, frame, s, reach)[1]
+
+    has = present(theta)
+    if has.all():
+        return [(0.0, 2.0 * math.pi)]
+    if not has.any():
+        raise ValueError("body 1 has no surface over the contact point's tangent plane")
+    out = []
+    start = int(np.argmin(has))  # a missing direction: ranges start after it
+    order = np.roll(np.arange(samples), -start)
+    k = 0
+    while k < samples:
+        if not has[order[k]]:
+            k += 1
+            continue
+        j = k
+        while j + 1 < samples and has[order[j + 1]]:
+            j += 1
+        lo_in, hi_in = theta[order[k]], theta[order[j]]
+        lo_out, hi_out = lo_in - 2 * math.pi / samples, hi_in + 2 * math.pi / samples
+        out.append((_edge(present, lo_out, lo_in), _edge(present, hi_out, hi_in)))
+        k = j + 1
+    return [(a0, a1 if a1 > a0 else a1 + 2 * math.pi) for a0, a1 in out]
+
+
+def _edge(present, outside: float, inside: float) -> float:
+    for _ in range(50):
+        mid = 0.5 * (outside + inside)
+        if present(np.array([mid]))[0]:
+            inside = mid
+        else:
+            outside = mid
+    return inside
+
+
+@dataclass
+class RegionPoints:
+    """Quadrature or sample points of a contact region, with their matched points."""
+
+    s: np.ndarray  # (q, 2) tangent-plane coordinates along the axes
+    x1: np.ndarray  # (q, 3) on body 1
+    x2: np.ndarray  # (q, 3) matched on body 2
+    n1: np.ndarray  # (q, 3) outward normals of body 1
+    n2: np.ndarray  # (q, 3) outward normals of body 2
+    weights: np.ndarray  # (q,) surface area
+    normal: np.ndarray  # (q, 3) contact normal (the frame's)
+
+    @property
+    def delta(self) -> np.ndarray:
+        """X1 - X2 (the 2D formulation's convention: the jump's target is -delta)."""
+        return self.x1 - self.x2
+
+    @property
+    def pair_normal(self) -> np.ndarray:
+        """(q, 3) bisector of body 2's outward normal and body 1's inward one (the 2D default)."""
+        v = self.n2 - self.n1
+        return v / np.linalg.norm(v, axis=1)[:, None]
+
+
+def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoints:
+    """Points of body 1 above the tangent-plane points s and their closest points on body 2."""
+    x1, ok = surface_point(solid1, frame, s, reach)
+    if not ok.all():
+        keep = ok
+        s, x1, weights = s[keep], x1[keep], weights[keep]
+    g1 = _gradient(solid1.signed_distance, x1, step)
+    n1 = -g1 / np.maximum(np.linalg.norm(g1, axis=1), 1e-300)[:, None]
+    x2, n2 = closest_on(solid2, x1, step, sweeps=2)
+    return RegionPoints(s=s, x1=x1, x2=x2, n1=n1, n2=n2, weights=weights,
+                        normal=np.broadcast_to(frame.normal, x1.shape).copy())
+
+
+def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ranges, grids, panel: float,
+                  reach: float, order: int = 3) -> RegionPoints:
+    """Quadrature of the ellipse (s0/a)^2 + (s1/b)^2 <= 1 on body 1 over the angular ``ranges``,
+    cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at most
+    ``panel`` across."""
+    lowers, uppers = [], []
+    n_rho = max(2, int(math.ceil(max(a, b) / panel)))
+    for t0, t1 in ranges:
+        n_theta = max(2, int(math.ceil((t1 - t0) * max(a, b) / panel)))
+        r, t = np.linspace(0.0, 1.0, n_rho + 1), np.linspace(t0, t1, n_theta + 1)
+        r0, t_0 = np.meshgrid(r[:-1], t[:-1], indexing="ij")
+        r1, t_1 = np.meshgrid(r[1:], t[1:], indexing="ij")
+        lowers.append(np.column_stack([r0.ravel(), t_0.ravel()]))
+        uppers.append(np.column_stack([r1.ravel(), t_1.ravel()]))
+    lower, upper = np.concatenate(lowers), np.concatenate(uppers)
+    scale = np.array([a, b])
+
+    def plane(rt):
+        return scale * rt[:, :1] * np.stack([np.cos(rt[:, 1]), np.sin(rt[:, 1])], axis=1)
+
+    corners = np.stack([lower, np.column_stack([upper[:, 0], lower[:, 1]]), upper,
+                        np.column_stack([lower[:, 0], upper[:, 1]])], axis=1).reshape(-1, 2)
+    step = 1e-4 * panel
+    x1c, _ = surface_point(solid1, frame, plane(corners), reach)
+    x2c, _ = closest_on(solid2, x1c, step, sweeps=2)
+    poly = np.zeros((len(lower), MAX_VERTICES, 2))
+    poly[:, :4] = corners.reshape(-1, 4, 2)
+    count = np.full(len(lower), 4, dtype=np.int64)
+    owner = np.arange(len(lower))
+    for (origin, spacing), pts in zip(grids, (x1c, x2c)):
+        poly, count, owner = clip_to_grid(poly, count, owner, lower, upper, pts.reshape(-1, 4, 3), origin, spacing)
+    rt, w, _ = triangle_nodes(poly, count, order)
+    s = plane(rt)
+    pts = matched_points(solid1, solid2, frame, s, w * a * b * rt[:, 0], reach, step)
+    cos = np.abs(np.einsum("qi,i->q", pts.n1, frame.normal))
+    pts.weights = pts.weights / np.maximum(cos, 1e-12)
+    return pts
+
+
+def axis_points(solid1, solid2, frame: ContactFrame3D, axis: int, s: np.ndarray, reach: float,
+                step: float) -> RegionPoints:
+    """Sample points along one axis of the frame (s signed along it)."""
+    st = np.zeros((len(s), 2))
+    st[:, axis] = s
+    return matched_points(solid1, solid2, frame, st, np.zeros(len(s)), reach, step)
