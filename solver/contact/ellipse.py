@@ -187,6 +187,14 @@ class EllipseContact:
                              "penetration": v.penetration, "tension": v.tension, "edge_coefficients": list(v.edges),
                              "shape_iteration": tag, "work_ratio": ratio})
 
+    def quadrature_traction(self, info, x: np.ndarray) -> np.ndarray:
+        """Traction (q, 3) on body 1 at the region's quadrature points for contact dof values x."""
+        return _quadrature_traction(self, info, x)
+
+    def on_body1(self, axis: int, s: np.ndarray) -> np.ndarray:
+        """Whether body 1 has surface above the points s along one axis (a symmetric model's half)."""
+        return _on_body1(self.solids[0], self.frame, axis, s, self.reach)
+
     def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         """SPEC section 7's contact block."""
         from .ellipse_report import ellipse_block

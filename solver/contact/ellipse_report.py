@@ -27,8 +27,6 @@ def fit_profile(X: np.ndarray, Y: np.ndarray, weights: np.ndarray, values: np.nd
 
 
 def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
-    from .ellipse import _on_body1, _quadrature_traction
-
     aa, bb = c.semi_axes(a)
     frame = c.frame
     out = {"bodies": list(c.model.bodies), "type": c.kind, "friction": float(getattr(c.model, "friction", 0.0) or 0.0),
@@ -43,7 +41,7 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
             out[key] = {f"axis{k}": {"s": [], "value": []} for k in (0, 1)}
         return out
     pts = info[0]
-    t1 = _quadrature_traction(c, info, u[c.dofs])
+    t1 = c.quadrature_traction(info, u[c.dofs])
     X, Y = pts.s[:, 0] / aa, pts.s[:, 1] / bb
     p = np.einsum("qi,qi->q", t1, pts.normal)
     fits = {"pressure": fit_profile(X, Y, pts.weights, p)}
@@ -51,7 +49,7 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         fits[f"shear{k}"] = fit_profile(X, Y, pts.weights, t1 @ frame.axes[k])
     for k, reach in ((0, aa), (1, bb)):
         s = np.linspace(-1.25 * reach, 1.25 * reach, 201)
-        present = _on_body1(c.solids[0], frame, k, s, c.reach)
+        present = c.on_body1(k, s)
         XY = np.zeros((len(s), 2))
         XY[:, k] = s / reach
         basis = _basis(XY[:, 0], XY[:, 1])
