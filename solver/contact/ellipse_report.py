@@ -57,6 +57,8 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         shear = basis @ fits[f"shear{k}"] if c.kind == "tied" else np.zeros(len(s))
         out["pressure"][f"axis{k}"] = {"s": s[present].tolist(), "value": pressure[present].tolist()}
         out["shear"][f"axis{k}"] = {"s": s[present].tolist(), "value": shear[present].tolist()}
-    out["profile_recovery"] = {"method": "least squares on sqrt(1 - X^2 - Y^2) x quadratic",
+    out["relative_curvatures"] = [float(k) for k in frame.curvatures]
+    out["profile_recovery"] = {"method": "least squares on sqrt(1 - X^2 - Y^2) x [1, X, Y, X^2, XY, Y^2]",
+                               "pressure_coefficients": fits["pressure"].tolist(),
                                "quadrature_points": int(len(p))}
     return out

@@ -56,6 +56,60 @@ def _sections(plt, problem: pb.Problem, solution: pb.Solution, centre: np.ndarra
     return fig
 
 
+def _hertz(problem: pb.Problem, c: Mapping[str, Any]):
+    """Hertz's semi-axes and p0 for the computed force, when both bodies' moduli and the relative
+    curvatures are known (None otherwise)."""
+    from solver.reference.theory import hertz_elliptic_contact
+
+    curv = c.get("relative_curvatures")
+    if not curv or min(curv) <= 0 or not c.get("normal_force"):
+        return None
+    mats = [problem.body(n).material for n in c["bodies"]]
+    e_star = 1.0 / sum((1 - m.poissons_ratio**2) / m.youngs_modulus for m in mats)
+    a, b, p0 = hertz_elliptic_contact(c["normal_force"], tuple(curv), e_star)
+    return (a, b, p0) if curv[0] <= curv[1] else (b, a, p0)
+
+
+def _contact_figure(plt, problem: pb.Problem, c: Mapping[str, Any]) -> Any:
+    """Pressure and shear along both axes (Hertz beside them) and the pressure over the patch
+    with the computed and Hertz ellipses."""
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5), constrained_layout=True)
+    hertz = _hertz(problem, c)
+    for k, style in ((0, "-"), (1, "--")):
+        pr, sh = c["pressure"][f"axis{k}"], c["shear"][f"axis{k}"]
+        ax.plot(pr["s"], pr["value"], style, color="C0", label=f"pressure, axis {k}")
+        if any(sh["value"]):
+            ax.plot(sh["s"], sh["value"], style, color="C1", label=f"shear, axis {k}")
+        if hertz is not None:
+            s = np.asarray(pr["s"], dtype=float)
+            ax.plot(s, hertz[2] * np.sqrt(np.clip(1 - (s / hertz[k]) ** 2, 0, None)), style, color="k", lw=0.8,
+                    label=f"Hertz, axis {k}")
+    ax.set_xlabel("s along the axis [m]")
+    ax.set_ylabel("traction [Pa]")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    a, b = c["semi_axes"]
+    coef = np.asarray(c.get("profile_recovery", {}).get("pressure_coefficients", []), dtype=float)
+    g0, g1 = np.meshgrid(np.linspace(-1.3 * a, 1.3 * a, 161), np.linspace(-1.3 * b, 1.3 * b, 161))
+    X, Y = g0 / a, g1 / b
+    if coef.size == 6:
+        root = np.sqrt(np.clip(1 - X**2 - Y**2, 0, None))
+        p = root * (coef[0] + coef[1] * X + coef[2] * Y + coef[3] * X**2 + coef[4] * X * Y + coef[5] * Y**2)
+        image = ax2.imshow(np.clip(p, 0, None), origin="lower", extent=(g0.min(), g0.max(), g1.min(), g1.max()),
+                           cmap="viridis")
+        fig.colorbar(image, ax=ax2, shrink=0.8, label="pressure [Pa]")
+    t = np.linspace(0, 2 * np.pi, 361)
+    ax2.plot(a * np.cos(t), b * np.sin(t), "w-", lw=1.5, label="computed")
+    if hertz is not None:
+        ax2.plot(hertz[0] * np.cos(t), hertz[1] * np.sin(t), "r--", lw=1.0, label="Hertz")
+    ax2.set_aspect("equal")
+    ax2.set_xlabel("axis 0 [m]")
+    ax2.set_ylabel("axis 1 [m]")
+    ax2.legend(fontsize=8)
+    fig.suptitle(f"{problem.name}: contact {'/'.join(c['bodies'])}, semi-axes {a:.4g} x {b:.4g} m")
+    return fig
+
+
 def write_solid_plots(out_dir: Path, figs: Any, problem: pb.Problem, solution: pb.Solution,
                       summary: Mapping[str, Any]) -> None:
     """Section pictures and line plots into ``figs`` (solver.io.plots._Figures)."""
@@ -63,6 +117,9 @@ def write_solid_plots(out_dir: Path, figs: Any, problem: pb.Problem, solution: p
     lower, upper = _scene_box(problem)
     centre = np.asarray(contacts[0]["point"], dtype=float) if contacts else 0.5 * (lower + upper)
     figs.save(_sections(figs.plt, problem, solution, centre), "sections.png")
+    for k, c in enumerate(summary.get("contacts", [])):
+        if c.get("semi_axes") and c["semi_axes"][0]:
+            figs.save(_contact_figure(figs.plt, problem, c), f"contact_{k}.png")
     for name, line in summary.get("lines", {}).items():
         s = np.asarray(line["s"], dtype=float)
         stress = np.asarray(line["stress"], dtype=float).reshape(-1, 6)

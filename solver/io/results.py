@@ -173,12 +173,22 @@ _CONTACT_KEYS = (
 )
 
 
+_CONTACT_KEYS_3D = (
+    "bodies", "type", "friction", "point", "normal", "axes", "semi_axes", "stick_semi_axes",
+    "normal_force", "tangential_force", "pressure", "shear",
+)
+
+
 def _contact_block(problem: pb.Problem, k: int, block: Mapping[str, Any]) -> dict[str, Any]:
-    """A contact block with every SPEC key, in SPEC order: what the scene defines (bodies,
-    type, friction) is filled in from the problem, ``tangent`` from its definition
-    (-n_y, n_x), and a missing result is null (an empty profile for pressure and shear);
-    further keys the solver adds follow."""
+    """A contact block with every SPEC key, in SPEC order (section 4 in 2D, section 7 in 3D):
+    what the scene defines (bodies, type, friction) is filled in from the problem, ``tangent``
+    from its definition (-n_y, n_x), and a missing result is null (an empty profile for
+    pressure and shear); further keys the solver adds follow."""
     block = dict(block)
+    if problem.dim == 3:
+        out = {key: block.pop(key, None) for key in _CONTACT_KEYS_3D}
+        out.update(block)
+        return out
     model = problem.contacts[k] if k < len(problem.contacts) else None
     if model is not None:
         block.setdefault("bodies", list(model.bodies))
