@@ -108,5 +108,12 @@ def _contact_line(c: dict) -> str:
         v = c.get(key)
         return f"{key} = {float(v):.6g} {unit}" if isinstance(v, (int, float)) and v == v else f"{key} = n/a"
 
+    if "semi_axes" in c:  # a contact between solids (SPEC section 7): forces in N
+        def pair(key: str) -> str:
+            v = c.get(key) or []
+            return f"{key} = [" + ", ".join(f"{float(x):.6g}" for x in v) + "]"
+
+        return ", ".join([pair("semi_axes") + " m", pair("stick_semi_axes") + " m", num("normal_force", "N"),
+                          pair("tangential_force") + " N"])
     return ", ".join([num("half_width", "m"), num("stick_half_width", "m"), num("normal_force", "N/m"),
                       num("tangential_force", "N/m")])
