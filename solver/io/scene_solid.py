@@ -16,12 +16,14 @@ from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, fi
 from pydantic_core import PydanticCustomError
 
 from solver.model import problem as pb
-from solver.model.options import SolverOptions
+from solver.model.options import ContactOptions, SolverOptions
+from solver.model.solid_contact import SolidContactModel
 from solver.model.problem import MAX_REFINEMENT_LEVELS
 from solver.model.resolve import resolve_problem
 
 from .scene import (
     SCENE_MODELS,
+    _ContactBase,
     Component,
     MaterialSpec,
     Num,
@@ -32,6 +34,7 @@ from .scene import (
     _options,
     _show,
     _Strict,
+    _fields_of,
 )
 
 __all__ = ["SolidSceneSpec", "solid_scene_from_dict"]
@@ -144,6 +147,14 @@ class Output3(_Strict):
     lines: list[Line3] = []
 
 
+class _SolidContactBase(_ContactBase):
+    point: Vec3 | None = None
+    tangential_direction: Vec3 | None = None
+
+
+SolidContactSpec = _fields_of(ContactOptions, _SolidContactBase, "SolidContactSpec")
+
+
 class SolidSceneSpec(_Strict):
     name: str | None = None
     description: str = ""
@@ -152,7 +163,7 @@ class SolidSceneSpec(_Strict):
     materials: list[MaterialSpec] = Field(min_length=1)
     bodies: list[SolidBodySpec] = Field(min_length=1)
     boundary_conditions: list[Condition3] = []
-    contacts: list[dict[str, Any]] = []
+    contacts: list[SolidContactSpec] = []
     output: Output3 = Output3()
 
 
@@ -165,9 +176,6 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
         spec = SolidSceneSpec.model_validate(data)
     except ValidationError as err:
         raise SceneError(_format_errors(err, data, label)) from None
-    if spec.contacts:
-        raise SceneError([f"{label}: contacts: contact between solids (SPEC section 7) is not available in this "
-                          "version yet; 3D scenes take boundary conditions only"])
     solids = _build_solids(spec, label, base_dir)
     _check_references(spec, solids, label)
     problem = _problem(spec, solids, Path(label).stem if path is None else path.stem, label)
@@ -223,6 +231,15 @@ def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) 
                             f"(faces: {', '.join(solids[bc.body].faces)})")
         if isinstance(bc, _ESSENTIAL):
             held.add(bc.body)
+    for k, c in enumerate(spec.contacts):
+        for j, name in enumerate(c.bodies):
+            if name not in solids:
+                problems.append(f"{label}: contacts[{k}].bodies[{j}] = {name!r}: no such body (bodies: {', '.join(bodies)})")
+        if c.bodies[0] == c.bodies[1]:
+            problems.append(f"{label}: contacts[{k}].bodies: a body cannot touch itself ({c.bodies[0]!r})")
+        if c.type == "frictional":
+            problems.append(f"{label}: contacts[{k}].type = \"frictional\": partial slip between solids is not "
+                            "available yet (tied and frictionless are)")
     for name in bodies:
         if name not in held and name in solids:
             problems.append(f"{label}: body {name!r} has no fixed, displacement or sliding condition: "
@@ -245,7 +262,7 @@ def _condition(bc) -> pb.BoundaryCondition:
     return pb.BodyForce(bc.body, tuple(float(v) for v in bc.value))
 
 
-def _problem(spec: SolidSceneSpec, solids: dict[str, Any], default_name: str, label: str) -> pb.Problem:
+def _problem(spec: SolidSceneSpec, solids: dict[str, Any], default_name: str, label: str) -> pb.Problem:  # noqa: C901
     import numpy as np
 
     materials = {m.name: pb.Material(m.name, float(m.youngs_modulus), float(m.poissons_ratio)) for m in spec.materials}
@@ -257,14 +274,45 @@ def _problem(spec: SolidSceneSpec, solids: dict[str, Any], default_name: str, la
         )
         bodies.append(pb.BodyModel(b.name, solids[b.name], materials[b.material], float(b.element_size), zones))
     options = _options(SolverOptions, spec.solver, "solver", label)
+    contacts = tuple(_contact(c, k, solids, bodies, label) for k, c in enumerate(spec.contacts))
     return pb.Problem(
         name=spec.name or default_name,
         model="solid",
         thickness=1.0,
         bodies=tuple(bodies),
         boundary_conditions=tuple(_condition(bc) for bc in spec.boundary_conditions),
+        contacts=contacts,
         options=options,
     )
+
+
+def _contact(c, k: int, solids: dict[str, Any], bodies, label: str) -> SolidContactModel:
+    """The contact model; without a ``point``, the midpoint of the two solids' closest points
+    (alternating exact projections from the middle of their nearest bounding-box corners)."""
+    import numpy as np
+
+    from solver.contact.ellipse_geometry import closest_on
+
+    options = _options(ContactOptions, c, f"contacts[{k}]", label)
+    first, second = solids[c.bodies[0]], solids[c.bodies[1]]
+    if c.point is not None:
+        point = np.array(c.point, dtype=float)
+    else:
+        size = min(b.element_size for b in bodies if b.name in c.bodies)
+        lo1, hi1 = (np.asarray(v, float) for v in first.bounds)
+        lo2, hi2 = (np.asarray(v, float) for v in second.bounds)
+        x = 0.5 * (np.clip(0.5 * (lo2 + hi2), lo1, hi1) + np.clip(0.5 * (lo1 + hi1), lo2, hi2))
+        for _ in range(50):
+            x1, _ = closest_on(first, x[None], 1e-6 * size)
+            x2, _ = closest_on(second, x1, 1e-6 * size)
+            new = 0.5 * (x1[0] + x2[0])
+            if np.linalg.norm(new - x) <= 1e-12 * size:
+                break
+            x = new
+        point = x
+    tangent = None if c.tangential_direction is None else np.array(c.tangential_direction, dtype=float)
+    return SolidContactModel(bodies=tuple(c.bodies), type=c.type, friction=float(c.friction), point=point,
+                             options=options, point_given=c.point is not None, tangential_direction=tangent)
 
 
 SCENE_MODELS["solid"] = solid_scene_from_dict
