@@ -217,8 +217,12 @@ def _operators(c: EllipseContact, pts: RegionPoints):
     """Jump J and flux F (3q, m) on the contact dofs, and the local size at the points."""
     cells1, cells2 = _locate(c.b1, pts.x1, pts.n1), _locate(c.b2, pts.x2, pts.n2)
     map1, ok1, map2, ok2 = c.maps
-    if not (ok1[c.b1.grid.cells[cells1]].all() and ok2[c.b2.grid.cells[cells2]].all()):
-        raise RuntimeError("contact terms reach beyond the contact dofs")
+    bad1 = ~ok1[c.b1.grid.cells[cells1]].all(axis=1)
+    bad2 = ~ok2[c.b2.grid.cells[cells2]].all(axis=1)
+    if bad1.any() or bad2.any():
+        where = pts.x1[bad1][:1].tolist() + pts.x2[bad2][:1].tolist()
+        raise RuntimeError(f"{c.name}: contact terms reach beyond the contact dofs ({int(bad1.sum())} points of "
+                           f"body 1, {int(bad2.sum())} of body 2, e.g. {where}; s = {pts.s[bad1 | bad2][:1].tolist()})")
     jump = c.b1.displacement_operator(pts.x1, cells1, map1) - c.b2.displacement_operator(pts.x2, cells2, map2)
     flux = 0.5 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1) + 0.5 * c.b2.traction_operator(
         pts.x2, cells2, pts.n1, map2)
@@ -327,7 +331,7 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
     ranges = sectors(solids[0], frame, 0.5 * h, reach)
     e1 = 1.0 / (1.0 / _modulus(b1) + 1.0 / _modulus(b2))
     k0, k1 = frame.curvatures
-    circular = abs(k1 - k0) <= 1e-6 * max(abs(k1), abs(k0), 1e-300)
+    circular = abs(k1 - k0) <= 1e-4 * max(abs(k1), abs(k0), 1e-300)
     ratio = 1.0 if circular or min(k0, k1) <= 0 else hertz_elliptic_contact(1.0, (k0, k1), e1)[1] / \
         hertz_elliptic_contact(1.0, (k0, k1), e1)[0]
     # sample points along both axes, both signs, at the driver's sample spacing
@@ -336,7 +340,8 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
     parts, axis = [], []
     for k in (0, 1):
         keep = _on_body1(solids[0], frame, k, s_line, reach)
-        pts = axis_points(*solids, frame, k, s_line[keep], reach, 1e-4 * h)
+        pts = axis_points(*solids, frame, k, s_line[keep], reach, 1e-4 * h,
+                          offset=_axis_offsets(ranges, k, s_line[keep], 1e-3 * h))
         parts.append(pts)
         axis.append(np.full(len(pts.s), k))
     samples = RegionPoints(*(np.concatenate([getattr(p, f) for p in parts]) for f in
@@ -363,6 +368,9 @@ def _dense_disc(solids, frame, extent: float, ranges, spacing: float, reach: flo
     for r in rho[1:]:
         for t0, t1 in ranges:
             t = np.linspace(t0, t1, max(2, int(np.ceil((t1 - t0) * r / spacing)) + 1))
+            if t1 - t0 < 2 * math.pi - 1e-12:  # a range's edges are symmetry planes: just inside them
+                margin = min(4e-3 * spacing / r, 0.25 * (t1 - t0))
+                t = np.clip(t, t0 + margin, t1 - margin)
             s.append(r * np.stack([np.cos(t), np.sin(t)], axis=1))
     s = np.concatenate(s)
     keep = surface_point(solids[0], frame, s, reach)[1]
@@ -381,6 +389,27 @@ def _near_cells(b, x, n) -> np.ndarray:
             cells = b.grid.locate(x + e - 1e-7 * b.grid.min_size * n)
             out.append(cells[cells >= 0])
     return np.concatenate(out)
+
+
+def _inside_ranges(theta: float, ranges) -> bool:
+    t = theta % (2 * math.pi)
+    return any(t0 < t < t1 or t0 < t + 2 * math.pi < t1 for t0, t1 in ranges)
+
+
+def _axis_offsets(ranges, axis: int, s: np.ndarray, shift: float) -> np.ndarray:
+    """Offsets (n,) across the axis for samples along it: zero inside the region's angular ranges,
+    ``shift`` towards their inside where the axis is a range's edge (a symmetry plane of a quarter
+    model, where the bodies' signed distances have a kink)."""
+    out = np.zeros(len(s))
+    eps = 1e-6
+    for sign in (1.0, -1.0):
+        theta = (0.0 if axis == 0 else 0.5 * math.pi) + (0.0 if sign > 0 else math.pi)
+        if _inside_ranges(theta, ranges):
+            continue
+        side = 1.0 if _inside_ranges(theta + eps, ranges) else (-1.0 if _inside_ranges(theta - eps, ranges) else 0.0)
+        # rotating by +eps moves the point along the other axis by sign(s) ... towards +theta
+        out[np.sign(s) == sign] = side * sign * shift * (1.0 if axis == 0 else -1.0)
+    return out
 
 
 def _on_body1(solid1, frame, axis: int, s: np.ndarray, reach: float) -> np.ndarray:
