@@ -1,0 +1,152 @@
+"""Faces of exact solids: a parametric face over a rectangle of (u, v) (``panels`` and
+``evaluate``, which the solver cuts at its octree's planes), and a planar region bounded by a
+2D profile (``quadrature`` only: its points from a height-function rule on the profile's exact
+signed distance)."""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["ParametricFace", "PlanarRegionFace", "gauss_panels"]
+
+Map = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+def gauss_panels(lower: np.ndarray, upper: np.ndarray, order: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    """Tensor Gauss nodes (n, 2) and weights in (u, v) on the rectangles [lower, upper]."""
+    x, w = np.polynomial.legendre.leggauss(order)
+    half = 0.5 * (upper - lower)
+    mid = 0.5 * (upper + lower)
+    gu, gv = np.meshgrid(x, x, indexing="ij")
+    uv = mid[:, None, :] + half[:, None, :] * np.stack([gu.ravel(), gv.ravel()], axis=1)[None]
+    wt = np.outer(w, w).ravel()[None, :] * (half[:, 0] * half[:, 1])[:, None]
+    return uv.reshape(-1, 2), wt.ravel()
+
+
+class ParametricFace:
+    """A face X(u, v) over [u0, u1] x [v0, v1]: ``evaluate(uv) -> (points, outward normals,
+    area element |X_u x X_v|)``; ``lengths`` (Lu, Lv) the largest extents in space along u and v
+    (to size the panels)."""
+
+    def __init__(self, name: str, bounds: tuple[float, float, float, float], mapping: Map,
+                 lengths: tuple[float, float]):
+        self.name = name
+        self.u0, self.u1, self.v0, self.v1 = (float(b) for b in bounds)
+        self._map = mapping
+        self.lengths = (float(lengths[0]), float(lengths[1]))
+
+    def evaluate(self, uv: np.ndarray):
+        return self._map(np.asarray(uv, dtype=float).reshape(-1, 2))
+
+    def panels(self, resolution: float) -> tuple[np.ndarray, np.ndarray]:
+        nu = max(1, int(math.ceil(self.lengths[0] / resolution)))
+        nv = max(1, int(math.ceil(self.lengths[1] / resolution)))
+        eu, ev = np.linspace(self.u0, self.u1, nu + 1), np.linspace(self.v0, self.v1, nv + 1)
+        a0, b0 = np.meshgrid(eu[:-1], ev[:-1], indexing="ij")
+        a1, b1 = np.meshgrid(eu[1:], ev[1:], indexing="ij")
+        return np.column_stack([a0.ravel(), b0.ravel()]), np.column_stack([a1.ravel(), b1.ravel()])
+
+    def quadrature(self, resolution: float):
+        """Gauss points (3 x 3 per panel), weights (area) and outward normals."""
+        uv, w = gauss_panels(*self.panels(resolution))
+        points, normals, jac = self.evaluate(uv)
+        return points, w * jac, normals
+
+    @property
+    def area(self) -> float:
+        return float(self.quadrature(min(self.lengths) / 16)[1].sum())
+
+
+class PlanarRegionFace:
+    """The region of a 2D profile placed in space: x = origin + p0 e0 + p1 e1 (profile
+    coordinates p), outward normal ``normal``. Points by a height-function rule on the profile's
+    exact signed distance: Gauss lines along p0 through Gauss points of strips in p1, the zeros
+    of the distance on each line bound its inside intervals."""
+
+    def __init__(self, name: str, profile, origin, e0, e1, normal, order: int = 4):
+        self.name = name
+        self.profile = profile
+        self.origin, self.e0, self.e1 = (np.asarray(v, dtype=float) for v in (origin, e0, e1))
+        self.normal = np.asarray(normal, dtype=float)
+        self.order = order
+
+    def quadrature(self, resolution: float):
+        lo, hi = (np.asarray(b, dtype=float) for b in self.profile.bounds)
+        n0 = max(2, int(math.ceil((hi[0] - lo[0]) / resolution)))
+        x, w = np.polynomial.legendre.leggauss(self.order)
+        y, wy = self._strips(resolution, x, w)
+        # each line p1 = y: sign changes of the distance on a fine sampling, zeros by bisection
+        t = np.linspace(lo[0], hi[0], 8 * n0 + 1)
+        grid = np.stack(np.broadcast_arrays(t[None, :], y[:, None]), axis=-1).reshape(-1, 2)
+        f = np.asarray(self.profile.signed_distance(grid), float).reshape(len(y), len(t))
+        inside = f >= 0
+        line, col = np.nonzero(inside[:, :-1] != inside[:, 1:])
+        a, b = t[col], t[col + 1]
+        fa_in = inside[line, col]
+        for _ in range(55):  # all crossings at once
+            m = 0.5 * (a + b)
+            fm_in = np.asarray(self.profile.signed_distance(np.column_stack([m, y[line]])), float) >= 0
+            same = fm_in == fa_in
+            a, b = np.where(same, m, a), np.where(same, b, m)
+        zeros = 0.5 * (a + b)
+        pts, wts = [], []
+        for k in range(len(y)):
+            edges = ([lo[0]] if inside[k, 0] else []) + list(np.sort(zeros[line == k]))
+            if inside[k, -1]:
+                edges.append(hi[0])
+            for a0, b0 in zip(edges[0::2], edges[1::2]):
+                if b0 > a0:
+                    n = max(1, int(math.ceil((b0 - a0) / resolution)))
+                    seg = np.linspace(a0, b0, n + 1)
+                    xs = (0.5 * (seg[:-1] + seg[1:])[:, None] + 0.5 * np.diff(seg)[:, None] * x).ravel()
+                    ws = (0.5 * np.diff(seg)[:, None] * w).ravel()
+                    pts.append(np.column_stack([xs, np.full(len(xs), y[k])]))
+                    wts.append(ws * wy[k])
+        p = np.concatenate(pts) if pts else np.zeros((0, 2))
+        wt = np.concatenate(wts) if wts else np.zeros(0)
+        points = self.origin + p[:, :1] * self.e0 + p[:, 1:] * self.e1
+        return points, wt, np.broadcast_to(self.normal, points.shape).copy()
+
+    def _breaks(self) -> np.ndarray:
+        """p1 values where the region's width along p0 has a kink or a square-root end: the
+        edges' ends and the extremes of p1 along each edge."""
+        out = []
+        for name in self.profile.edge_names:
+            c = self.profile.edge(name)
+            t = np.linspace(c.t_start, c.t_end, 257)
+            y = np.asarray(c.evaluate(t), float)[:, 1]
+            out += [y[0], y[-1]]
+            dy = np.asarray(c.derivative(t), float)[:, 1]
+            for k in np.nonzero((dy[:-1] > 0) != (dy[1:] > 0))[0]:
+                a, b = t[k], t[k + 1]
+                for _ in range(60):
+                    m = 0.5 * (a + b)
+                    if (float(np.asarray(c.derivative(np.array([m])), float)[0, 1]) > 0) == (dy[k] > 0):
+                        a = m
+                    else:
+                        b = m
+                out.append(float(np.asarray(c.evaluate(np.array([0.5 * (a + b)])), float)[0, 1]))
+        return np.unique(np.round(np.asarray(out), 14))
+
+    def _strips(self, resolution: float, x: np.ndarray, w: np.ndarray):
+        """Lines p1 (Gauss in a cosine-stretched coordinate within each range between breaks,
+        so the width's square-root ends are integrated smoothly) and their weights."""
+        ys, ws = [], []
+        br = self._breaks()
+        for a, b in zip(br[:-1], br[1:]):
+            if b - a <= 1e-14 * max(1.0, abs(b)):
+                continue
+            n = max(2, int(math.ceil((b - a) / resolution)))
+            edges = np.linspace(0.0, 1.0, n + 1)
+            xi = (0.5 * (edges[:-1] + edges[1:])[:, None] + 0.5 * np.diff(edges)[:, None] * x).ravel()
+            wxi = (0.5 * np.diff(edges)[:, None] * w).ravel()
+            ys.append(a + (b - a) * 0.5 * (1.0 - np.cos(math.pi * xi)))
+            ws.append(wxi * (b - a) * 0.5 * math.pi * np.sin(math.pi * xi))
+        return np.concatenate(ys), np.concatenate(ws)
+
+    @property
+    def area(self) -> float:
+        return float(self.profile.area)
