@@ -74,11 +74,38 @@ class PlanarRegionFace:
         self.order = order
 
     def quadrature(self, resolution: float):
+        """Points, weights (area) and normals with lines and segments about ``resolution`` apart."""
+        return self.graded_quadrature(resolution, None)
+
+    def graded_quadrature(self, resolution: float, cell_size=None):
+        """As :meth:`quadrature`, with strips and segments no longer than ``cell_size(points
+        (n, 3)) -> (n,)`` where that is smaller than ``resolution`` (a cap crossing coarse and
+        fine cells gets its points where the cells are)."""
+        x, w = np.polynomial.legendre.leggauss(self.order)
+        y, wy = self._strips(resolution, x, w, cell_size)
+        lines = self._intervals(y, resolution)
+        pts, wts = [], []
+        for k, edges in enumerate(lines):
+            for a0, b0 in zip(edges[0::2], edges[1::2]):
+                if b0 > a0:
+                    seg = self._segments(a0, b0, y[k], resolution, cell_size)
+                    xs = (0.5 * (seg[:-1] + seg[1:])[:, None] + 0.5 * np.diff(seg)[:, None] * x).ravel()
+                    ws = (0.5 * np.diff(seg)[:, None] * w).ravel()
+                    pts.append(np.column_stack([xs, np.full(len(xs), y[k])]))
+                    wts.append(ws * wy[k])
+        p = np.concatenate(pts) if pts else np.zeros((0, 2))
+        wt = np.concatenate(wts) if wts else np.zeros(0)
+        points = self._place(p)
+        return points, wt, np.broadcast_to(self.normal, points.shape).copy()
+
+    def _place(self, p: np.ndarray) -> np.ndarray:
+        return self.origin + p[:, :1] * self.e0 + p[:, 1:] * self.e1
+
+    def _intervals(self, y: np.ndarray, resolution: float) -> list[list[float]]:
+        """Per line p1 = y: the sorted ends of its inside intervals (zeros of the profile's
+        distance on a fine sampling, refined by bisection, all lines at once)."""
         lo, hi = (np.asarray(b, dtype=float) for b in self.profile.bounds)
         n0 = max(2, int(math.ceil((hi[0] - lo[0]) / resolution)))
-        x, w = np.polynomial.legendre.leggauss(self.order)
-        y, wy = self._strips(resolution, x, w)
-        # each line p1 = y: sign changes of the distance on a fine sampling, zeros by bisection
         t = np.linspace(lo[0], hi[0], 8 * n0 + 1)
         grid = np.stack(np.broadcast_arrays(t[None, :], y[:, None]), axis=-1).reshape(-1, 2)
         f = np.asarray(self.profile.signed_distance(grid), float).reshape(len(y), len(t))
@@ -92,23 +119,29 @@ class PlanarRegionFace:
             same = fm_in == fa_in
             a, b = np.where(same, m, a), np.where(same, b, m)
         zeros = 0.5 * (a + b)
-        pts, wts = [], []
+        out = []
         for k in range(len(y)):
             edges = ([lo[0]] if inside[k, 0] else []) + list(np.sort(zeros[line == k]))
             if inside[k, -1]:
                 edges.append(hi[0])
-            for a0, b0 in zip(edges[0::2], edges[1::2]):
-                if b0 > a0:
-                    n = max(1, int(math.ceil((b0 - a0) / resolution)))
-                    seg = np.linspace(a0, b0, n + 1)
-                    xs = (0.5 * (seg[:-1] + seg[1:])[:, None] + 0.5 * np.diff(seg)[:, None] * x).ravel()
-                    ws = (0.5 * np.diff(seg)[:, None] * w).ravel()
-                    pts.append(np.column_stack([xs, np.full(len(xs), y[k])]))
-                    wts.append(ws * wy[k])
-        p = np.concatenate(pts) if pts else np.zeros((0, 2))
-        wt = np.concatenate(wts) if wts else np.zeros(0)
-        points = self.origin + p[:, :1] * self.e0 + p[:, 1:] * self.e1
-        return points, wt, np.broadcast_to(self.normal, points.shape).copy()
+            out.append(edges)
+        return out
+
+    def _segments(self, a: float, b: float, y: float, resolution: float, cell_size) -> np.ndarray:
+        """Break points of [a, b] on the line p1 = y: about ``resolution`` apart, closer where
+        the cells are smaller."""
+        n = max(1, int(math.ceil((b - a) / resolution)))
+        seg = np.linspace(a, b, n + 1)
+        if cell_size is None:
+            return seg
+        for _ in range(16):
+            mid = 0.5 * (seg[:-1] + seg[1:])
+            size = np.asarray(cell_size(self._place(np.column_stack([mid, np.full(len(mid), y)]))), float)
+            split = np.diff(seg) > 1.0001 * size
+            if not split.any():
+                break
+            seg = np.sort(np.concatenate([seg, mid[split]]))
+        return seg
 
     def _breaks(self) -> np.ndarray:
         """p1 values where the region's width along p0 has a kink or a square-root end: the
@@ -131,9 +164,10 @@ class PlanarRegionFace:
                 out.append(float(np.asarray(c.evaluate(np.array([0.5 * (a + b)])), float)[0, 1]))
         return np.unique(np.round(np.asarray(out), 14))
 
-    def _strips(self, resolution: float, x: np.ndarray, w: np.ndarray):
+    def _strips(self, resolution: float, x: np.ndarray, w: np.ndarray, cell_size=None):
         """Lines p1 (Gauss in a cosine-stretched coordinate within each range between breaks,
-        so the width's square-root ends are integrated smoothly) and their weights."""
+        so the width's square-root ends are integrated smoothly) and their weights; strips
+        split further where ``cell_size`` along them is below their height."""
         ys, ws = [], []
         br = self._breaks()
         for a, b in zip(br[:-1], br[1:]):
@@ -141,11 +175,33 @@ class PlanarRegionFace:
                 continue
             n = max(2, int(math.ceil((b - a) / resolution)))
             edges = np.linspace(0.0, 1.0, n + 1)
+            if cell_size is not None:
+                edges = self._graded_strips(edges, a, b, cell_size)
             xi = (0.5 * (edges[:-1] + edges[1:])[:, None] + 0.5 * np.diff(edges)[:, None] * x).ravel()
             wxi = (0.5 * np.diff(edges)[:, None] * w).ravel()
             ys.append(a + (b - a) * 0.5 * (1.0 - np.cos(math.pi * xi)))
             ws.append(wxi * (b - a) * 0.5 * math.pi * np.sin(math.pi * xi))
         return np.concatenate(ys), np.concatenate(ws)
+
+    def _graded_strips(self, edges: np.ndarray, a: float, b: float, cell_size) -> np.ndarray:
+        """Strip ends (in the cosine coordinate) split while a strip is taller than the
+        smallest cell met along its middle line."""
+        for _ in range(16):
+            mid = 0.5 * (edges[:-1] + edges[1:])
+            yk = a + (b - a) * 0.5 * (1.0 - np.cos(math.pi * mid))
+            height = (b - a) * 0.5 * (np.cos(math.pi * edges[:-1]) - np.cos(math.pi * edges[1:]))
+            lines = self._intervals(yk, max(height.max(), 1e-12))
+            smallest = np.full(len(mid), np.inf)
+            for k, ends in enumerate(lines):
+                if len(ends) >= 2:
+                    xs = np.linspace(min(ends), max(ends), 33)
+                    sizes = np.asarray(cell_size(self._place(np.column_stack([xs, np.full(33, yk[k])]))), float)
+                    smallest[k] = sizes.min()
+            split = height > 1.0001 * smallest
+            if not split.any():
+                break
+            edges = np.sort(np.concatenate([edges, mid[split]]))
+        return edges
 
     @property
     def area(self) -> float:

@@ -126,6 +126,13 @@ def face_rule(face, tree, order: int = 4) -> tuple[np.ndarray, np.ndarray, np.nd
             return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size)
 
         return cell_split_quadrature(face, tree.h0, tree.origin, spacing, order, cell_size=cell_size)
+    if hasattr(face, "graded_quadrature"):  # points as fine as the cells they fall in
+
+        def half_cell(points):
+            cells = tree.locate(points - 1e-9 * tree.min_size * face.normal)
+            return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size) / PANELS_PER_CELL
+
+        return face.graded_quadrature(tree.h0 / PANELS_PER_CELL, half_cell)
     return face.quadrature(tree.min_size / PANELS_PER_CELL)
 
 
