@@ -20,6 +20,7 @@ demo: $(STAMP)
 
 validate: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m solver.reports.validate
+	MPLBACKEND=Agg $(PY) -m solver.reports.validate_solid
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(PY) benchmarks/run_all.py
