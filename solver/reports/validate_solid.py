@@ -33,8 +33,9 @@ HERTZ_P0_TOL = 0.02
 
 
 def _run(name: str, out_root: Path) -> tuple[object, dict, float]:
-    from solver import load_scene, solve
     from solver.io.output import write_results
+    from solver.io.scene import load_scene
+    from solver.solve import solve
 
     scene = load_scene(EXAMPLES / f"{name}.toml")
     t = time.perf_counter()
@@ -95,7 +96,7 @@ def hertz_rows(scene, summary: dict) -> tuple[list[str], bool]:
     return [f"| a | {c['semi_axes'][0]:.6g} m | {a_h:.6g} m | {100 * err_a:+.2f} % | {'ok' if abs(err_a) <= HERTZ_A_TOL else 'FAIL'} |",
             f"| p0 (fit at the centre) | {p0:.5g} Pa | {p0_h:.5g} Pa | {100 * err_p:+.2f} % | "
             f"{'ok' if abs(err_p) <= HERTZ_P0_TOL else 'FAIL'} |",
-            f"| N (quarter) | {c['normal_force']:.6g} N | all supports' reactions sum to {balance / c['normal_force']:.1e} N | | |"], ok
+            f"| N (quarter) | {c['normal_force']:.6g} N | all supports' reactions sum to {balance / c['normal_force']:.1e} of N | | |"], ok
 
 
 def main(argv: list[str] | None = None) -> int:
