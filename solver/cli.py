@@ -24,6 +24,12 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: exit code of an error the program did not expect (a bug): one line, no traceback
+INTERNAL_ERROR = 5
+#: exit code when the machine's memory ran out
+OUT_OF_MEMORY = 6
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -32,6 +38,19 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except MemoryError as err:
+        if getattr(args, "traceback", False):
+            raise
+        print(f"ibfem {args.command}: out of memory{': ' + str(err) if str(err) else ''}; coarsen the grid "
+              "(element_size, refinement levels or radii)", file=sys.stderr)
+        return OUT_OF_MEMORY
+    except Exception as err:  # noqa: BLE001 - the last line of defence: one line, a distinct code
+        if getattr(args, "traceback", False):
+            raise
+        text = str(err).splitlines()[0] if str(err) else ""
+        print(f"ibfem {args.command}: internal error ({type(err).__name__}{': ' + text if text else ''}). This is "
+              f"a bug: rerun with --traceback for the details and report it.", file=sys.stderr)
+        return INTERNAL_ERROR
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -3,8 +3,8 @@
 Exit codes: 0 solved and converged; 1 solved but not converged (``summary.json`` is still
 written, with ``converged`` false and the iteration history); 2 the scene is invalid (one
 line per problem on stderr, no traceback); 3 the solver core is not available; 4 the
-results could not be written.
-"""
+results could not be written; 5 an internal error (a bug: one line, ``--traceback`` shows it);
+6 out of memory (solver.cli)."""
 
 from __future__ import annotations
 

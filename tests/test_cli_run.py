@@ -254,3 +254,30 @@ def test_progress_on_a_terminal_rewrites_one_line():
     last = text.split("\r")[-1].rstrip("\n")
     assert last.startswith("[    3.0 s] solve (50 %)")
     assert len(last) == len("[    2.0 s] assembly of a long name (25 %)")  # padded over the longer line
+
+
+def test_an_unexpected_error_is_one_line_with_its_own_exit_code(tmp_path, capsys, monkeypatch):
+    # issue 18 item 3: exit 1 means "not converged, summary written"; a bug gets 5 and one line
+    import solver.solve
+
+    def crash(problem, progress=None):
+        raise IndexError("index 7 is out of bounds for axis 0 with size 3")
+
+    monkeypatch.setattr(solver.solve, "solve", crash)
+    assert main(["run", str(write_plate(tmp_path)), "--quiet", "--out", str(tmp_path / "o")]) == 5
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "internal error (IndexError" in err and "--traceback" in err
+    assert not (tmp_path / "o" / "summary.json").exists()
+    with pytest.raises(IndexError):  # --traceback shows it
+        main(["run", str(write_plate(tmp_path)), "--quiet", "--traceback"])
+
+
+def test_running_out_of_memory_is_reported_as_such(tmp_path, capsys, monkeypatch):
+    import solver.solve
+
+    def starve(problem, progress=None):
+        raise MemoryError()
+
+    monkeypatch.setattr(solver.solve, "solve", starve)
+    assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 6
+    assert "out of memory" in capsys.readouterr().err
