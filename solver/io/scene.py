@@ -736,6 +736,9 @@ def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
         for k in np.flatnonzero(~inside):
             problems.append(f"{label}: output.probes[{k}] = {_show(list(spec.output.probes[k]))}: outside every body")
 
+    problems += _contact_point_problems(spec, problem, label)
+    if problems:
+        raise SceneError(problems)
     contact_frames = [contact_frame(problem, c) for c in problem.contacts]
     modes = rigid_body_modes(problem, contact_frames)
     for name, description in modes.items():
@@ -746,6 +749,34 @@ def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
         )
     if problems:
         raise SceneError(problems)
+
+
+#: a given contact point may lie this many of the finer element size off either boundary
+CONTACT_POINT_REACH = 2.0
+
+
+def _contact_point_problems(spec: SceneSpec, problem: pb.Problem, label: str) -> list[str]:
+    """A ``point`` given for a contact must lie on (or within CONTACT_POINT_REACH cells of) both
+    bodies' boundaries (issue 18: a mistyped point inside a body gave a converged zero force)."""
+    problems = []
+    for k, (given, c) in enumerate(zip(spec.contacts, problem.contacts)):
+        if given.point is None:
+            continue
+        p = np.asarray(given.point, dtype=float)[None, :]
+        reach = CONTACT_POINT_REACH * min(problem.body(n).element_size for n in c.bodies)
+        far = []
+        for name in c.bodies:
+            profile = problem.body(name).profile
+            distance = abs(float(np.asarray(profile.signed_distance(p), dtype=float)[0]))
+            if not distance <= reach:
+                nearest = np.asarray(profile.project(p).points, dtype=float)[0]
+                far.append(f"{distance:.4g} from body {name!r} (nearest boundary point "
+                           f"[{nearest[0]:.6g}, {nearest[1]:.6g}])")
+        if far:
+            problems.append(f"{label}: contacts[{k}].point = {_show(list(given.point))}: not on the bodies' boundaries: "
+                            + "; ".join(far) + f" (allowed: {reach:.4g}, {CONTACT_POINT_REACH:g} elements); "
+                            "leave the point out to use the closest points of the two boundaries")
+    return problems
 
 
 def _notes(spec: SceneSpec, label: str) -> list[str]:
