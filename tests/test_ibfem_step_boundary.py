@@ -97,7 +97,7 @@ def test_acoustic_tensor():
 
 def test_points_on_a_body_give_the_same_operators_as_its_edge_quadrature():
     from geometry.shapes import profile_from_shape
-    from solver.fem.space import discretise
+    from solver.fem.bodies import discretise
     from solver.model.options import SolverOptions as Settings
     from solver.model.problem import BodyModel, Material, Problem
 
