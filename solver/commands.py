@@ -52,7 +52,10 @@ def _run(args: argparse.Namespace) -> int:
     for note in scene.warnings:
         _err(f"warning: {note}")
     if args.check:
-        print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies)")
+        from solver.model.estimate import estimate_size
+
+        print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies; "
+              f"{estimate_size(scene.problem)})")
         return 0
     try:
         from solver.solve import solve

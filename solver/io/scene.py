@@ -737,6 +737,7 @@ def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
             problems.append(f"{label}: output.probes[{k}] = {_show(list(spec.output.probes[k]))}: outside every body")
 
     problems += _contact_point_problems(spec, problem, label)
+    problems += size_problems(problem, label)
     if problems:
         raise SceneError(problems)
     contact_frames = [contact_frame(problem, c) for c in problem.contacts]
@@ -749,6 +750,20 @@ def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
         )
     if problems:
         raise SceneError(problems)
+
+
+def size_problems(problem: pb.Problem, label: str) -> list[str]:
+    """The grid must fit in the machine's memory (estimated before anything is built:
+    solver.model.estimate); the message says how much it would need."""
+    from solver.model.estimate import available_memory, estimate_size
+
+    size = estimate_size(problem)
+    have = available_memory()
+    if not size.memory <= have:
+        need = size.memory / 2**30
+        return [f"{label}: the grids would need {need:.3g} GB ({size}) but the machine has {have / 2**30:.3g} GB: "
+                "coarsen them (bodies[k].element_size, refinement levels or radii)"]
+    return []
 
 
 #: a given contact point may lie this many of the finer element size off either boundary

@@ -34,6 +34,7 @@ from .scene import (
     _options,
     _show,
     _Strict,
+    size_problems,
     _fields_of,
 )
 
@@ -183,6 +184,9 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
         problem = resolve_problem(problem)
     except ValueError as err:
         raise SceneError([f"{label}: {err}"]) from None
+    too_big = size_problems(problem, label)
+    if too_big:
+        raise SceneError(too_big)
     return Scene(path=path, spec=spec, problem=problem, warnings=())
 
 
