@@ -38,3 +38,14 @@ def test_estimate_against_the_built_grids():
     bodies = discretise(scene.problem, scene.problem.options)
     cells = sum(len(b.grid.level) for b in bodies)
     assert 0.5 * cells <= size.cells <= 2.0 * cells
+
+
+@pytest.mark.parametrize("value", [1e300, -5.0])
+def test_displacements_beyond_the_body_size_are_refused(value):
+    # issue 18 item 4: a displacement of 1e300 ended in "array must not contain infs or NaNs"
+    data = _scene()
+    disp = next(bc for bc in data["boundary_conditions"] if bc["type"] == "displacement")
+    disp["value"] = [0.0, value]
+    with pytest.raises(SceneError) as err:
+        load_scene(data, label="s.toml", base_dir=EXAMPLES)
+    assert "exceeds the size of body" in str(err.value) and "boundary_conditions[" in str(err.value)

@@ -717,6 +717,16 @@ def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
     for i, bc in enumerate(spec.boundary_conditions):
         if isinstance(bc, BodyForceSpec) or bc.body not in body_index:
             continue
+        lo, hi = (np.asarray(v, dtype=float) for v in problem.body(bc.body).profile.bounds)
+        size = float(np.linalg.norm(hi - lo))
+        moves = [v for v in getattr(bc, "value", ()) if v is not None] if isinstance(bc, DisplacementSpec) else []
+        moves += [bc.normal_displacement] if isinstance(bc, SlidingSpec) else []
+        if moves and max(abs(float(v)) for v in moves) > size:
+            problems.append(
+                f"{label}: boundary_conditions[{i}]: a prescribed displacement of {max(abs(float(v)) for v in moves):.4g} m "
+                f"exceeds the size of body {bc.body!r} ({size:.4g} m): small-strain linear elasticity needs "
+                "displacements far below the body's size (a unit typo?)"
+            )
         names = list(problem.body(bc.body).profile.edge_names)
         if bc.edge not in names:
             problems.append(
