@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from .ellipsoid import Ellipsoid, HalfEllipsoid
 from .shapes import Box, Cylinder, Extrusion, HalfSphere, Revolution, Sphere, Transformed
 
 __all__ = ["solid_from_dict", "SOLID_TYPES", "rotation_matrix"]
@@ -16,6 +17,8 @@ _KEYS = {
     "box": ({"min", "max"}, set()),
     "sphere": ({"center", "radius"}, set()),
     "half_sphere": ({"center", "radius"}, {"side"}),
+    "ellipsoid": ({"center", "semi_axes"}, set()),
+    "half_ellipsoid": ({"center", "semi_axes"}, {"side"}),
     "cylinder": ({"center", "axis", "radius", "length"}, set()),
     "half_cylinder": ({"center", "axis", "radius", "length"}, {"side"}),
     "extrusion": ({"profile", "height"}, {"z0"}),
@@ -95,6 +98,13 @@ def _build(kind: str, d: dict, where: str):
     if kind == "half_sphere":
         return HalfSphere(_vec3(d["center"], f"{where}.center"), _number(d["radius"], f"{where}.radius", True),
                           _side(d, where))
+    if kind in ("ellipsoid", "half_ellipsoid"):
+        centre, axes = _vec3(d["center"], f"{where}.center"), _vec3(d["semi_axes"], f"{where}.semi_axes")
+        for k in range(3):
+            _number(d["semi_axes"][k], f"{where}.semi_axes[{k}]", True)
+        if kind == "ellipsoid":
+            return Ellipsoid(centre, axes)
+        return HalfEllipsoid(centre, axes, _side(d, where))
     if kind == "cylinder":
         return Cylinder(_vec3(d["center"], f"{where}.center"), _vec3(d["axis"], f"{where}.axis"),
                         _number(d["radius"], f"{where}.radius", True), _number(d["length"], f"{where}.length", True))

@@ -32,11 +32,49 @@ class ParametricFace:
     (to size the panels)."""
 
     def __init__(self, name: str, bounds: tuple[float, float, float, float], mapping: Map,
-                 lengths: tuple[float, float]):
+                 lengths: tuple[float, float], surface=None):
         self.name = name
         self.u0, self.u1, self.v0, self.v1 = (float(b) for b in bounds)
         self._map = mapping
         self.lengths = (float(lengths[0]), float(lengths[1]))
+        self._surface = surface
+        self._periodic = None
+
+    @property
+    def surface(self):
+        """The exact untrimmed primitive (geometry.surfaces) the face lies on where one exists
+        (plane, sphere, cylinder), else the face itself (its own exact map)."""
+        return self if self._surface is None else self._surface
+
+    @property
+    def periodic(self) -> tuple[bool, bool]:
+        if self._periodic is None:
+            from .face_ops import periodic_flags
+
+            self._periodic = periodic_flags(self)
+        return self._periodic
+
+    @property
+    def collapsed(self):
+        if getattr(self, "_collapsed", None) is None:
+            from .face_ops import collapsed_ends
+
+            self._collapsed = collapsed_ends(self)
+        return self._collapsed
+
+    def project(self, points):
+        """Closest points on the trimmed face (a geometry.Projection: points, outward normals,
+        signed distances, parameters (u, v))."""
+        from .face_ops import project_face
+
+        return project_face(self, points, self.periodic)
+
+    def curvature(self, points):
+        """Principal curvatures k1 <= k2 (n,) and directions d1, d2 (n, 3) at the feet of
+        ``points`` on the face (positive where convex seen from outside)."""
+        from .face_ops import face_curvature
+
+        return face_curvature(self, self.project(points).parameters)
 
     def evaluate(self, uv: np.ndarray):
         return self._map(np.asarray(uv, dtype=float).reshape(-1, 2))
@@ -73,6 +111,38 @@ class PlanarRegionFace:
         self.normal = np.asarray(normal, dtype=float)
         self.order = order
 
+    @property
+    def surface(self):
+        """The exact plane of the region (geometry.surfaces.Plane, normal outward)."""
+        from ..surfaces import Plane
+
+        return Plane(origin=tuple(self.origin), normal=tuple(self.normal))
+
+    def project(self, points):
+        """Closest points on the region: the foot on the plane where it falls inside the profile,
+        else the nearest point of the profile's boundary (exact), as a geometry.Projection with
+        the profile coordinates as parameters."""
+        from .._base import Projection
+
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        r = p - self.origin
+        q = np.column_stack([r @ self.e0, r @ self.e1])
+        inside = np.asarray(self.profile.signed_distance(q), float) >= 0.0
+        edge = self.profile.project(q)
+        q_foot = np.where(inside[:, None], q, np.asarray(edge.points, float))
+        foot = self._place(q_foot)
+        height = r @ self.normal
+        dist = np.linalg.norm(p - foot, axis=1)
+        sign = np.where(height < 0.0, -1.0, 1.0)
+        normals = np.broadcast_to(self.normal, foot.shape).copy()
+        return Projection(points=foot, normals=normals, distances=sign * dist, parameters=q_foot)
+
+    def curvature(self, points):
+        """Zero curvatures; directions the profile's axes in space."""
+        from .face_ops import planar_curvature
+
+        return planar_curvature(len(np.asarray(points).reshape(-1, 3)), self.e0, self.e1)
+
     def quadrature(self, resolution: float):
         """Points, weights (area) and normals with lines and segments about ``resolution`` apart."""
         return self.graded_quadrature(resolution, None)
@@ -84,19 +154,33 @@ class PlanarRegionFace:
         x, w = np.polynomial.legendre.leggauss(self.order)
         y, wy = self._strips(resolution, x, w, cell_size)
         lines = self._intervals(y, resolution)
-        pts, wts = [], []
+        line, lo_s, hi_s = [], [], []  # every segment of every inside interval, all lines at once
         for k, edges in enumerate(lines):
             for a0, b0 in zip(edges[0::2], edges[1::2]):
                 if b0 > a0:
-                    seg = self._segments(a0, b0, y[k], resolution, cell_size)
-                    xs = (0.5 * (seg[:-1] + seg[1:])[:, None] + 0.5 * np.diff(seg)[:, None] * x).ravel()
-                    ws = (0.5 * np.diff(seg)[:, None] * w).ravel()
-                    pts.append(np.column_stack([xs, np.full(len(xs), y[k])]))
-                    wts.append(ws * wy[k])
-        p = np.concatenate(pts) if pts else np.zeros((0, 2))
-        wt = np.concatenate(wts) if wts else np.zeros(0)
+                    n = max(1, int(math.ceil((b0 - a0) / resolution)))
+                    seg = np.linspace(a0, b0, n + 1)
+                    line.append(np.full(n, k))
+                    lo_s.append(seg[:-1])
+                    hi_s.append(seg[1:])
+        if not line:
+            return np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3))
+        line, lo_s, hi_s = np.concatenate(line), np.concatenate(lo_s), np.concatenate(hi_s)
+        for _ in range(16 if cell_size is not None else 0):  # split segments longer than their cells
+            mid = 0.5 * (lo_s + hi_s)
+            size = np.asarray(cell_size(self._place(np.column_stack([mid, y[line]]))), float)
+            split = hi_s - lo_s > 1.0001 * size
+            if not split.any():
+                break
+            line = np.concatenate([line[~split], line[split], line[split]])
+            lo_s, hi_s = (np.concatenate([lo_s[~split], lo_s[split], mid[split]]),
+                          np.concatenate([hi_s[~split], mid[split], hi_s[split]]))
+        half = 0.5 * (hi_s - lo_s)
+        xs = (0.5 * (lo_s + hi_s))[:, None] + half[:, None] * x
+        ws = half[:, None] * w * wy[line][:, None]
+        p = np.column_stack([xs.ravel(), np.repeat(y[line], len(x))])
         points = self._place(p)
-        return points, wt, np.broadcast_to(self.normal, points.shape).copy()
+        return points, ws.ravel(), np.broadcast_to(self.normal, points.shape).copy()
 
     def _place(self, p: np.ndarray) -> np.ndarray:
         return self.origin + p[:, :1] * self.e0 + p[:, 1:] * self.e1
@@ -126,22 +210,6 @@ class PlanarRegionFace:
                 edges.append(hi[0])
             out.append(edges)
         return out
-
-    def _segments(self, a: float, b: float, y: float, resolution: float, cell_size) -> np.ndarray:
-        """Break points of [a, b] on the line p1 = y: about ``resolution`` apart, closer where
-        the cells are smaller."""
-        n = max(1, int(math.ceil((b - a) / resolution)))
-        seg = np.linspace(a, b, n + 1)
-        if cell_size is None:
-            return seg
-        for _ in range(16):
-            mid = 0.5 * (seg[:-1] + seg[1:])
-            size = np.asarray(cell_size(self._place(np.column_stack([mid, np.full(len(mid), y)]))), float)
-            split = np.diff(seg) > 1.0001 * size
-            if not split.any():
-                break
-            seg = np.sort(np.concatenate([seg, mid[split]]))
-        return seg
 
     def _breaks(self) -> np.ndarray:
         """p1 values where the region's width along p0 has a kink or a square-root end: the

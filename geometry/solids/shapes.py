@@ -67,13 +67,24 @@ class Box(Solid):
             return x, np.broadcast_to(normal, x.shape).copy(), np.ones(len(uv))
 
         name = f"{'xyz'[k]}_{'max' if side else 'min'}"
-        return ParametricFace(name, (lo[u], hi[u], lo[v], hi[v]), mapping, (hi[u] - lo[u], hi[v] - lo[v]))
+        return ParametricFace(name, (lo[u], hi[u], lo[v], hi[v]), mapping, (hi[u] - lo[u], hi[v] - lo[v]),
+                              surface=_primitive("plane", origin=np.where(normal != 0, level, 0.0), normal=normal))
 
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
         d = np.minimum(p - self.lower, self.upper - p)
         inside = d.min(axis=1)
         return np.where(inside >= 0.0, inside, -np.linalg.norm(np.minimum(d, 0.0), axis=1))
+
+
+def _primitive(kind: str, **fields):
+    """A geometry primitive (geometry.surfaces) from plain values."""
+    from .._base import primitive_from_dict
+
+    d = {"type": kind}
+    for key, value in fields.items():
+        d[key] = np.asarray(value, float).tolist() if np.ndim(value) else float(value)
+    return primitive_from_dict(d)
 
 
 def _sphere_face(name, centre, radius, theta, phi, sign=1.0) -> ParametricFace:
@@ -85,7 +96,8 @@ def _sphere_face(name, centre, radius, theta, phi, sign=1.0) -> ParametricFace:
         return centre + radius * d, sign * d, radius**2 * np.sin(t)
 
     return ParametricFace(name, (theta[0], theta[1], phi[0], phi[1]), mapping,
-                          (radius * (theta[1] - theta[0]), radius * (phi[1] - phi[0])))
+                          (radius * (theta[1] - theta[0]), radius * (phi[1] - phi[0])),
+                          surface=_primitive("sphere", origin=centre, radius=radius))
 
 
 def _disc_face(name, centre, radius, axis_frame, normal_sign, phi=(0.0, 2 * math.pi)) -> ParametricFace:
@@ -98,7 +110,8 @@ def _disc_face(name, centre, radius, axis_frame, normal_sign, phi=(0.0, 2 * math
         x = centre + (r * np.cos(f))[:, None] * e0 + (r * np.sin(f))[:, None] * e1
         return x, np.broadcast_to(normal_sign * e2, x.shape).copy(), r
 
-    return ParametricFace(name, (0.0, radius, phi[0], phi[1]), mapping, (radius, radius * (phi[1] - phi[0])))
+    return ParametricFace(name, (0.0, radius, phi[0], phi[1]), mapping, (radius, radius * (phi[1] - phi[0])),
+                          surface=_primitive("plane", origin=centre, normal=normal_sign * e2))
 
 
 class Sphere(Solid):
@@ -150,7 +163,8 @@ def _mirrored(face: ParametricFace, centre, flip) -> ParametricFace:
         x, n, j = base(uv)
         return centre + (x - centre) @ flip.T, n @ flip.T, j
 
-    return ParametricFace(face.name, (face.u0, face.u1, face.v0, face.v1), mapping, face.lengths)
+    return ParametricFace(face.name, (face.u0, face.u1, face.v0, face.v1), mapping, face.lengths,
+                          surface=face._surface)  # a sphere is its own mirror image
 
 
 def _frame(axis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -187,7 +201,9 @@ class Cylinder(Solid):
             radial = np.cos(f)[:, None] * e_r + np.sin(f)[:, None] * e_s
             return self.center + r * radial + h[:, None] * a, radial, np.full(len(f), r)
 
-        self.faces = {"side": ParametricFace("side", (0.0, 2 * math.pi, -half, half), side, (2 * math.pi * r, self.length)),
+        cyl = _primitive("cylinder", origin=self.center, axis=a, radius=r)
+        self.faces = {"side": ParametricFace("side", (0.0, 2 * math.pi, -half, half), side, (2 * math.pi * r, self.length),
+                                             surface=cyl),
                       "end0": _disc_face("end0", self.center - half * a, r, (e_r, e_s, a), -1.0),
                       "end1": _disc_face("end1", self.center + half * a, r, (e_r, e_s, a), 1.0)}
 
@@ -230,7 +246,8 @@ class Extrusion(Solid):
             n2 = np.stack([d[:, 1], -d[:, 0]], axis=1) / speed[:, None]  # right-hand normal: out of the material
             return (np.column_stack([xy, z]), np.column_stack([n2, np.zeros(len(t))]), speed)
 
-        return ParametricFace(name, (curve.t_start, curve.t_end, z0, z1), mapping, (float(curve.length), self.height))
+        return ParametricFace(name, (curve.t_start, curve.t_end, z0, z1), mapping, (float(curve.length), self.height),
+                              surface=_extruded_primitive(curve))
 
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
@@ -238,6 +255,19 @@ class Extrusion(Solid):
         slab = np.minimum(p[:, 2] - self.z0, self.z0 + self.height - p[:, 2])
         inside = np.minimum(d2, slab)
         return np.where(inside >= 0.0, inside, -np.hypot(np.minimum(d2, 0.0), np.minimum(slab, 0.0)))
+
+
+def _extruded_primitive(curve):
+    """The plane of an extruded segment, the cylinder of an extruded arc, else None."""
+    from ..bounded import Arc, Segment
+
+    if isinstance(curve, Segment):
+        n = np.asarray(curve.normal(np.array([curve.t_start])), float).reshape(2)
+        return _primitive("plane", origin=[*np.asarray(curve.start, float), 0.0], normal=[n[0], n[1], 0.0])
+    if isinstance(curve, Arc):
+        return _primitive("cylinder", origin=[*np.asarray(curve.center, float), 0.0], axis=[0.0, 0.0, 1.0],
+                          radius=float(curve.radius))
+    return None
 
 
 class Revolution(Solid):
@@ -299,7 +329,7 @@ class Revolution(Solid):
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
         r, z, theta, x, y = self._rz(p)
-        whole = np.asarray(self.profile.signed_distance(np.column_stack([r, z])), float)
+        whole = self._meridian_distance(np.column_stack([r, z]))
         if self.full:
             return whole
         # the wedge 0 <= theta <= angle: signed distance to its two bounding half-planes
@@ -311,6 +341,20 @@ class Revolution(Solid):
         wedge = np.where(theta <= self.angle, near, -near)
         inside = (whole >= 0.0) & (wedge >= 0.0)
         return np.where(inside, np.minimum(whole, wedge), -np.maximum(np.maximum(-whole, 0.0), np.maximum(-wedge, 0.0)))
+
+    def _meridian_distance(self, rz: np.ndarray) -> np.ndarray:
+        """The profile's signed distance in the meridian half-plane, its magnitude taken over
+        the edges that make faces only when the revolution is full (an edge on the axis is then
+        no boundary: the profile's own distance would be |r| near it, a gross underestimate;
+        the mirror half-plane's edges are never nearer, as r' >= 0 there)."""
+        whole = np.asarray(self.profile.signed_distance(rz), float)
+        if not self.full or len(self.faces) == len(self.profile.edge_names):
+            return whole
+        best = np.full(len(rz), np.inf)
+        for name in self.profile.edge_names:
+            if name in self.faces:
+                best = np.minimum(best, np.abs(np.asarray(self.profile.edge(name).project(rz).distances, float)))
+        return np.where(whole >= 0.0, best, -best)
 
     def _bounds(self, lo, hi):
         e_r, e_s, a = self.frame
@@ -360,6 +404,7 @@ class _TransformedFace:
         if hasattr(face, "panels"):
             self.panels = face.panels
             self.evaluate = self._evaluate
+            self.u0, self.u1, self.v0, self.v1 = face.u0, face.u1, face.v0, face.v1
         self.lengths = getattr(face, "lengths", None)
 
     def _evaluate(self, uv):
@@ -369,3 +414,44 @@ class _TransformedFace:
     def quadrature(self, resolution: float):
         x, w, n = self.face.quadrature(resolution)
         return self.solid._world(x), w, n @ self.solid.rotation.T
+
+    def graded_quadrature(self, resolution: float, cell_size=None):
+        if not hasattr(self.face, "graded_quadrature"):
+            return self.quadrature(resolution)
+        size = None if cell_size is None else (lambda local: cell_size(self.solid._world(local)))
+        x, w, n = self.face.graded_quadrature(resolution, size)
+        return self.solid._world(x), w, n @ self.solid.rotation.T
+
+    @property
+    def normal(self):  # planar regions: the solver offsets points along it
+        return self.solid.rotation @ self.face.normal
+
+    def project(self, points):
+        from .._base import Projection
+
+        pr = self.face.project(self.solid._local(_points(points)))
+        rot = self.solid.rotation
+        return Projection(points=self.solid._world(pr.points), normals=pr.normals @ rot.T, distances=pr.distances,
+                          parameters=pr.parameters)
+
+    def curvature(self, points):
+        k1, k2, d1, d2 = self.face.curvature(self.solid._local(_points(points)))
+        rot = self.solid.rotation
+        return k1, k2, d1 @ rot.T, d2 @ rot.T
+
+    @property
+    def surface(self):
+        """The base face's primitive turned and moved (rebuilt from its dict), or this face."""
+        base = self.face.surface
+        if base is self.face or not hasattr(base, "to_dict"):
+            return self
+        from .._base import primitive_from_dict
+
+        d = base.to_dict()
+        for key in ("origin",):
+            if key in d:
+                d[key] = self.solid._world(np.asarray(d[key], float)[None])[0].tolist()
+        for key in ("normal", "axis", "direction", "major_axis"):
+            if key in d:
+                d[key] = (self.solid.rotation @ np.asarray(d[key], float)).tolist()
+        return primitive_from_dict(d)
