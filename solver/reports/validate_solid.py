@@ -7,6 +7,8 @@ them with theory; writes ``docs/validation-solid.md`` and copies each scene's pi
   p pi a^2 / 4 on each.
 - ``sphere_on_flat`` (quarter model): the contact radius a and the peak pressure p0 against Hertz
   for the computed force (4 N), the two bodies' reactions against each other.
+- ``spherical_cavity`` (octant): the axial stress at the cavity's equator over the remote one
+  against Goodier's (27 - 15 nu) / (2 (7 - 5 nu)).
 
 Usage: ``python -m solver.reports.validate_solid [--only NAME ...] [--report PATH]``.
 """
@@ -30,6 +32,7 @@ LAME_DISPLACEMENT_TOL = 0.002
 LAME_STRESS_TOL = 0.01  # of p
 HERTZ_A_TOL = 0.01
 HERTZ_P0_TOL = 0.02
+GOODIER_TOL = 0.02
 
 
 def _run(name: str, out_root: Path) -> tuple[object, dict, float]:
@@ -99,12 +102,30 @@ def hertz_rows(scene, summary: dict) -> tuple[list[str], bool]:
             f"| N (quarter) | {c['normal_force']:.6g} N | all supports' reactions sum to {balance / c['normal_force']:.1e} of N | | |"], ok
 
 
+def goodier_rows(summary: dict) -> tuple[list[str], bool]:
+    """The first probe sits on the cavity's equator, the last far from it (the remote stress)."""
+    remote = float(summary["probes"][-1]["stress"][2])
+    scf_theory = theory.goodier_concentration(0.3)
+    rows, ok = [], True
+    for probe in summary["probes"][:-1]:
+        scf = float(probe["stress"][2]) / 1.0e8
+        err = scf / scf_theory - 1.0
+        good = abs(err) <= GOODIER_TOL
+        ok &= good
+        rows.append(f"| s_zz / s_remote at {np.round(probe['point'], 4).tolist()} | {scf:.4f} | {scf_theory:.4f} | "
+                    f"{100 * err:+.2f} % | {'ok' if good else 'FAIL'} |")
+    rows.append(f"| remote s_zz (probe {np.round(summary['probes'][-1]['point'], 3).tolist()}) | {remote / 1e8:.4f} x 100 MPa "
+                "| 1 | | |")
+    return rows, ok
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m solver.reports.validate_solid", description=__doc__.split("\n")[0])
-    ap.add_argument("--only", nargs="*", default=None, help="scene names (default: lame_sphere sphere_on_flat)")
+    ap.add_argument("--only", nargs="*", default=None,
+                    help="scene names (default: lame_sphere sphere_on_flat spherical_cavity)")
     ap.add_argument("--report", default=str(ROOT / "docs" / "validation-solid.md"))
     args = ap.parse_args(argv)
-    names = args.only or ["lame_sphere", "sphere_on_flat"]
+    names = args.only or ["lame_sphere", "sphere_on_flat", "spherical_cavity"]
     out_root = ROOT / "out" / "validation" / "solid"
     fig_dir = ROOT / "docs" / "validation" / "solid"
     fig_dir.mkdir(parents=True, exist_ok=True)
@@ -118,6 +139,9 @@ def main(argv: list[str] | None = None) -> int:
         if name == "lame_sphere":
             rows, ok = lame_rows(summary)
             lines += ["| where | u_r | s_rr | s_tt | |", "|---|---|---|---|---|"] + rows
+        elif name == "spherical_cavity":
+            rows, ok = goodier_rows(summary)
+            lines += ["| quantity | ibfem | Goodier | error | |", "|---|---|---|---|---|"] + rows
         else:
             rows, ok = hertz_rows(scene, summary)
             lines += ["| quantity | ibfem | Hertz | error | |", "|---|---|---|---|---|"] + rows
