@@ -21,3 +21,14 @@ from .shapes import *  # noqa: F401,F403  SPEC section 4 shapes -> profiles
 from .verify import *  # noqa: F401,F403  verify_projection
 
 __version__ = "0.1.0"
+
+#: names of geometry.solids (SPEC section 7 solids) reachable from the package, imported on first use
+_SOLIDS = ("solid_from_dict", "PartSolid", "SOLID_TYPES")
+
+
+def __getattr__(name: str):
+    if name in _SOLIDS:
+        from . import solids
+
+        return getattr(solids, name)
+    raise AttributeError(f"module 'geometry' has no attribute {name!r}")

@@ -122,15 +122,34 @@ def _build(kind: str, d: dict, where: str):
     return Revolution(_profile(d, where), _vec3(d["axis_origin"], f"{where}.axis_origin"), axis, angle)
 
 
-def solid_from_dict(shape: Any, where: str = "shape"):
+def _cad_solid(d: dict, where: str, load_part):
+    from .part_solid import PartSolid
+
+    if load_part is None:
+        raise ValueError(f"{where}.type = {d.get('type')!r}: CAD solids need a part loader (the importers read "
+                         "the file; pass load_part to solid_from_dict)")
+    unknown = set(d) - {"type", "path", "body"} - _COMMON
+    if unknown or "path" not in d:
+        raise ValueError(f"{where}: a {d['type']!r} solid takes path and body (and rotate, pivot, translate); "
+                         f"got keys {', '.join(sorted(d))}")
+    part = load_part(d)
+    try:
+        return PartSolid(part, d.get("body"))
+    except ValueError as err:
+        raise ValueError(f"{where}.body: {err}") from None
+
+
+def solid_from_dict(shape: Any, where: str = "shape", load_part=None):
     """The solid of a SPEC section 7 shape dict (``rotate = {axis, angle_deg}`` about ``pivot``,
-    then ``translate``)."""
+    then ``translate``). ``onshape`` / ``step`` shapes need ``load_part(shape dict) ->
+    geometry.Part`` (an importer: geometry reads no files of CAD systems itself)."""
     if not isinstance(shape, dict):
         raise ValueError(f"{where} must be a table, got {type(shape).__name__}")
     d = {k: v for k, v in shape.items() if v is not None}
     kind = d.get("type")
     if kind in IMPORTED:
-        raise ValueError(f"{where}.type = {kind!r}: CAD solids are read by the importers (not available for 3D yet)")
+        solid = _cad_solid(d, where, load_part)
+        return _placed(solid, d, where)
     if kind not in _KEYS:
         raise ValueError(f"{where}.type must be one of {', '.join(SOLID_TYPES)}, got {kind!r}")
     required, optional = _KEYS[kind]
@@ -141,7 +160,10 @@ def solid_from_dict(shape: Any, where: str = "shape"):
     missing = required - set(d)
     if missing:
         raise ValueError(f"{where}: missing key(s) {', '.join(sorted(missing))} for shape type {kind!r}")
-    solid = _build(kind, d, where)
+    return _placed(_build(kind, d, where), d, where)
+
+
+def _placed(solid, d: dict, where: str):
     rotate, translate = d.get("rotate"), d.get("translate")
     if rotate is None and translate is None:
         return solid

@@ -1,0 +1,306 @@
+"""The solid of one body of a CAD part (``geometry.Part``, from the Onshape importer now and the
+STEP importer later): its faces' exact surfaces give every distance, foot, normal and
+quadrature point; the tessellation only seeds searches and decides which side a point is on.
+
+- ``signed_distance``: for each face, the foot on its exact surface counts when it lies on the
+  face's trimmed region (within the tessellation's chord sag of the face's triangles), else the
+  face's exact boundary edges (their curves' feet within the edge's polyline, else the edges'
+  end vertices). The sign: the side of the nearest face's exact normal where the foot is
+  interior to a face, the generalised winding number of the closed tessellation (sum of the
+  triangles' solid angles) where the nearest feature is an edge or a vertex. A face without an
+  exact surface falls back to its tessellation (distance minus the sag bound: a lower bound).
+- faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution``,
+  mapped onto the exact surface by its closest-point projection (points and normals exact,
+  weights the area element of that map by differences): exact inside the face, off by the
+  strips between the chords and the exact trimming curves (of order sag x perimeter).
+  ``project`` and ``curvature`` as the other faces'.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._base import Projection
+from .shapes import Solid
+
+__all__ = ["PartSolid", "PartFace", "point_triangle_distance"]
+
+# symmetric 6-point rule on triangles, degree 4 (Dunavant 1985), barycentric (a, a, 1 - 2a)
+_A = (0.445948490915965, 0.091576213509771)
+_W = (0.223381589678011, 0.109951743655322)
+
+
+def _triangle_rule():
+    bary, w = [], []
+    for a, wt in zip(_A, _W):
+        b = 1.0 - 2.0 * a
+        bary += [(a, a, b), (a, b, a), (b, a, a)]
+        w += [wt] * 3
+    return np.array(bary), 0.5 * np.array(w)  # weights sum to the reference area 1/2
+
+
+def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """Distances (n,) from points p (n, 3) to triangles tri (n, 3, 3) (pairwise): the foot in
+    the plane when it falls inside, else the nearest of the three edges."""
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    n = np.cross(b - a, c - a)
+    nn = np.maximum((n * n).sum(1), 1e-300)
+    h = ((p - a) * n).sum(1) / nn
+    q = p - h[:, None] * n
+    inside = np.ones(len(p), bool)
+    for u, v in ((a, b), (b, c), (c, a)):
+        inside &= (np.cross(v - u, q - u) * n).sum(1) >= 0.0
+    best = np.full(len(p), np.inf)
+    for u, v in ((a, b), (b, c), (c, a)):
+        e = v - u
+        t = np.clip(((p - u) * e).sum(1) / np.maximum((e * e).sum(1), 1e-300), 0.0, 1.0)
+        best = np.minimum(best, np.linalg.norm(p - u - t[:, None] * e, axis=1))
+    return np.where(inside, np.abs(h) * np.sqrt(nn), best)
+
+
+class _Mesh:
+    """Triangles (m, 3, 3) with a KD-tree on their centroids for nearest-triangle queries."""
+
+    def __init__(self, triangles: np.ndarray):
+        from scipy.spatial import cKDTree
+
+        self.tri = triangles
+        self.centroid = triangles.mean(axis=1)
+        self.radius = float(np.linalg.norm(triangles - self.centroid[:, None], axis=2).max()) if len(triangles) else 0.0
+        self.tree = cKDTree(self.centroid)
+
+    def distance(self, p: np.ndarray) -> np.ndarray:
+        """Exact distance to the nearest triangle: candidates within (nearest centroid distance
+        + 2 radius) of the point, taken in rounds of the k nearest centroids."""
+        k = min(len(self.tri), 16)
+        dc, idx = self.tree.query(p, k=k)
+        dc, idx = dc.reshape(len(p), k), idx.reshape(len(p), k)
+        best = np.full(len(p), np.inf)
+        for j in range(k):
+            best = np.minimum(best, point_triangle_distance(p, self.tri[idx[:, j]]))
+        short = (dc[:, -1] < best + self.radius) & (k < len(self.tri))
+        for i in np.flatnonzero(short):  # rare: big triangles next to small ones
+            near = self.tree.query_ball_point(p[i], best[i] + self.radius)
+            best[i] = point_triangle_distance(np.repeat(p[i:i + 1], len(near), 0), self.tri[near]).min()
+        return best
+
+
+def _winding(points: np.ndarray, triangles: np.ndarray, chunk: int = 2000) -> np.ndarray:
+    """Generalised winding numbers (n,) of the points w.r.t. the oriented triangles (the sum of
+    their solid angles by Van Oosterom and Strackee's formula, over 4 pi)."""
+    out = np.zeros(len(points))
+    for s in range(0, len(triangles), chunk):
+        t = triangles[s:s + chunk]
+        a, b, c = (t[None, :, k, :] - points[:, None, :] for k in range(3))
+        la, lb, lc = (np.linalg.norm(v, axis=2) for v in (a, b, c))
+        det = (a * np.cross(b, c)).sum(2)
+        den = la * lb * lc + (a * b).sum(2) * lc + (b * c).sum(2) * la + (c * a).sum(2) * lb
+        out += 2.0 * np.arctan2(det, den).sum(axis=1)
+    return out / (4.0 * math.pi)
+
+
+class PartFace:
+    """One face of a CAD body: ``surface`` (exact primitive, or None), ``orientation`` (+1 when
+    the solid's outward normal is the surface's own), its triangles (m, 3, 3) wound outward."""
+
+    def __init__(self, face, sag: float):
+        self.name, self.surface, self.orientation = face.id, face.surface, int(face.orientation)
+        mesh = face.mesh
+        self.triangles = np.asarray(mesh.vertices, float)[np.asarray(mesh.faces)]
+        self.mesh = _Mesh(self.triangles)
+        self.sag = sag
+
+    def _normals(self, pr: Projection) -> np.ndarray:
+        return self.orientation * np.asarray(pr.normals, float)
+
+    def project_surface(self, points: np.ndarray):
+        pr = self.surface.project(points)
+        return np.asarray(pr.points, float), self._normals(pr)
+
+    def on_face(self, feet: np.ndarray) -> np.ndarray:
+        return self.mesh.distance(feet) <= self.sag
+
+    def quadrature(self, resolution: float):
+        """Points, weights (area) and outward normals: the triangles split to ``resolution``
+        and mapped onto the exact surface."""
+        bary, w = _triangle_rule()
+        tri = _split(self.triangles, resolution)
+        e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
+        x = np.einsum("gk,tkd->tgd", bary, tri).reshape(-1, 3)
+        if self.surface is None:
+            n = np.cross(e1, e2)
+            area2 = np.linalg.norm(n, axis=1)
+            normals = np.repeat(n / area2[:, None], len(w), axis=0)
+            return x, (area2[:, None] * w[None]).ravel(), normals
+        h = 1e-5 * max(min(resolution, self.mesh.radius), 1e-12)  # ~ cbrt(eps) x the size: 1e-10 relative
+        du = (self.project_surface(x + h * np.repeat(e1 / np.linalg.norm(e1, axis=1)[:, None], len(w), 0))[0]
+              - self.project_surface(x - h * np.repeat(e1 / np.linalg.norm(e1, axis=1)[:, None], len(w), 0))[0]) / (2 * h)
+        t2 = np.cross(np.cross(e1, e2), e1)
+        t2 /= np.linalg.norm(t2, axis=1)[:, None]
+        dv = (self.project_surface(x + h * np.repeat(t2, len(w), 0))[0]
+              - self.project_surface(x - h * np.repeat(t2, len(w), 0))[0]) / (2 * h)
+        flat_area = np.linalg.norm(np.cross(e1, e2), axis=1)  # twice the triangle's area
+        jac = np.linalg.norm(np.cross(du, dv), axis=1)
+        points, normals = self.project_surface(x)
+        return points, (flat_area[:, None] * w[None]).ravel() * jac, normals
+
+    def project(self, points) -> Projection:
+        """Closest points on the face: the exact foot where it lies on the face, else the
+        nearest of its tessellation's points pulled onto the exact surface (a seed-quality
+        foot near the trimming curves)."""
+        p = np.asarray(points, float).reshape(-1, 3)
+        if self.surface is None:
+            raise ValueError(f"face {self.name}: no exact surface (tessellation only)")
+        feet, normals = self.project_surface(p)
+        off = ~self.on_face(feet)
+        if off.any():
+            from scipy.spatial import cKDTree
+
+            verts = self.triangles.reshape(-1, 3)
+            _, idx = cKDTree(verts).query(p[off])
+            feet[off], normals[off] = self.project_surface(verts[idx])
+        r = p - feet
+        sign = np.where((r * normals).sum(1) < 0.0, -1.0, 1.0)
+        return Projection(points=feet, normals=normals, distances=sign * np.linalg.norm(r, axis=1))
+
+    def curvature(self, points):
+        """Principal curvatures (positive where convex from outside) and directions, from
+        differences of the exact normals about the feet."""
+        p = np.asarray(points, float).reshape(-1, 3)
+        feet, n = self.project_surface(p)
+        t1 = np.cross(n, np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]]))
+        t1 /= np.linalg.norm(t1, axis=1)[:, None]
+        t2 = np.cross(n, t1)
+        h = 1e-5 * max(self.mesh.radius, 1e-9)
+        shape = np.zeros((len(p), 2, 2))
+        for j, t in enumerate((t1, t2)):
+            dn = (self.project_surface(feet + h * t)[1] - self.project_surface(feet - h * t)[1]) / (2 * h)
+            shape[:, 0, j], shape[:, 1, j] = (dn * t1).sum(1), (dn * t2).sum(1)
+        k, vec = np.linalg.eigh(0.5 * (shape + np.swapaxes(shape, 1, 2)))
+        d = [vec[:, 0, j, None] * t1 + vec[:, 1, j, None] * t2 for j in (0, 1)]
+        return k[:, 0], k[:, 1], d[0], d[1]
+
+
+def _split(tri: np.ndarray, resolution: float) -> np.ndarray:
+    """Triangles split into four (midpoints) until no edge exceeds ``resolution``."""
+    for _ in range(12):
+        long = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1) > resolution
+        if not long.any():
+            break
+        a, b, c = tri[long, 0], tri[long, 1], tri[long, 2]
+        ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
+        new = np.concatenate([np.stack(s, 1) for s in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
+        tri = np.concatenate([tri[~long], new])
+    return tri
+
+
+def _surface_sag(face, triangles: np.ndarray) -> float:
+    """Largest distance from the triangles' centroids and edge midpoints to the exact surface."""
+    if face.surface is None or not len(triangles):
+        return 0.0
+    probes = np.concatenate([triangles.mean(axis=1), 0.5 * (triangles + np.roll(triangles, 1, axis=1)).reshape(-1, 3)])
+    return float(np.abs(np.asarray(face.surface.project(probes).distances, float)).max())
+
+
+def _edge_sag(edge) -> float:
+    if edge.curve is None or len(edge.polyline) < 2:
+        return 0.0
+    mid = 0.5 * (edge.polyline[1:] + edge.polyline[:-1])
+    return float(np.abs(np.asarray(edge.curve.project(mid).distances, float)).max())
+
+
+def _polyline_distance(p: np.ndarray, line: np.ndarray) -> np.ndarray:
+    best = np.full(len(p), np.inf)
+    for u, v in zip(line[:-1], line[1:]):
+        e = v - u
+        t = np.clip(((p - u) @ e) / max(float(e @ e), 1e-300), 0.0, 1.0)
+        best = np.minimum(best, np.linalg.norm(p - u - t[:, None] * e, axis=1))
+    return best
+
+
+class PartSolid(Solid):
+    """The solid of one body of a ``geometry.Part`` (``body``: its id or name; optional when
+    the part has one body). Faces keyed by their CAD ids."""
+
+    def __init__(self, part, body=None):
+        self.body = _pick_body(part, body)
+        faces = [part.faces[i] for i in self.body.face_ids if i in part.faces]
+        missing = [f.id for f in faces if f.mesh is None or not len(f.mesh.faces)]
+        if not faces or missing:
+            raise ValueError(f"body {self.body.id!r} ({self.body.name}): faces without a tessellation: "
+                             f"{', '.join(missing) or 'no faces'}")
+        tri = [np.asarray(f.mesh.vertices, float)[np.asarray(f.mesh.faces)] for f in faces]
+        allv = np.concatenate([t.reshape(-1, 3) for t in tri])
+        size = float(np.linalg.norm(np.ptp(allv, axis=0)))
+        self.edges = [part.edges[i] for i in self.body.edge_ids if i in part.edges]
+        sag = max([_surface_sag(f, t) for f, t in zip(faces, tri)] + [_edge_sag(e) for e in self.edges])
+        #: how far the tessellation may stray from the exact faces (2 x the measured sag + round-off)
+        self.tolerance = 2.0 * sag + 1e-9 * size
+        self.faces = {f.id: PartFace(f, self.tolerance) for f in faces}
+        self.triangles = np.concatenate(tri)
+        self.bounds = (allv.min(axis=0) - self.tolerance, allv.max(axis=0) + self.tolerance)
+        self.size = size
+        x, w, n = (np.concatenate(v) for v in zip(*[f.quadrature(size / 8) for f in self.faces.values()]))
+        #: by the divergence theorem over the faces' quadrature (see the module's note on trims)
+        self.volume = float(((x * n).sum(axis=1) @ w) / 3.0)
+
+    def _faces_nearest(self, p: np.ndarray):
+        best = np.full(len(p), np.inf)
+        sign = np.ones(len(p))
+        interior = np.zeros(len(p), bool)
+        for face in self.faces.values():
+            if face.surface is None:
+                d = np.maximum(face.mesh.distance(p) - self.tolerance, 0.0)
+                on, s = np.zeros(len(p), bool), np.ones(len(p))
+            else:
+                feet, n = face.project_surface(p)
+                on = face.on_face(feet)
+                r = p - feet
+                d = np.where(on, np.linalg.norm(r, axis=1), np.inf)
+                s = np.where((r * n).sum(1) < 0.0, 1.0, -1.0)  # positive inside
+            better = d < best
+            best[better], sign[better], interior[better] = d[better], s[better], on[better]
+        return best, sign, interior
+
+    def _edges_nearest(self, p: np.ndarray) -> np.ndarray:
+        best = np.full(len(p), np.inf)
+        for e in self.edges:
+            line = np.asarray(e.polyline, float)
+            ends = [v for v in (e.start, e.end) if v is not None] or [line[0], line[-1]]
+            d = np.min([np.linalg.norm(p - np.asarray(v, float), axis=1) for v in ends], axis=0)
+            if e.curve is None:
+                d = np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
+            else:
+                pr = e.curve.project(p)
+                feet = np.asarray(pr.points, float)
+                on = _polyline_distance(feet, line) <= self.tolerance
+                d = np.minimum(d, np.where(on, np.abs(np.asarray(pr.distances, float)), np.inf))
+            best = np.minimum(best, d)
+        return best
+
+    def signed_distance(self, points) -> np.ndarray:
+        p = np.asarray(points, float).reshape(-1, 3)
+        best, sign, interior = self._faces_nearest(p)
+        edge = self._edges_nearest(p)
+        at_edge = edge < best
+        best = np.minimum(best, edge)
+        ask = at_edge | ~interior
+        if ask.any():  # nearest feature an edge or a vertex: the side by the winding number
+            sign[ask] = np.where(_winding(p[ask], self.triangles) > 0.5, 1.0, -1.0)
+        return sign * best
+
+
+def _pick_body(part, body):
+    bodies = list(part.bodies.values())
+    if body is None:
+        if len(bodies) != 1:
+            raise ValueError(f"the part has {len(bodies)} bodies; choose one by id or name: "
+                             + ", ".join(f"{b.id} ({b.name})" for b in bodies))
+        return bodies[0]
+    for b in bodies:
+        if body in (b.id, b.name):
+            return b
+    raise ValueError(f"body = {body!r}: no such body; the part's bodies: "
+                     + ", ".join(f"{b.id} ({b.name})" for b in bodies))
