@@ -1,0 +1,225 @@
+"""The peer study of issue 12 (``make bench-peers``): ibfem beside NGSolve P2 on the same contact
+problem, time to error.
+
+Problem (benchmarks/scenes/peer_half_disc.toml): lower half disc R = 1 centred (0, 1) on the block
+[-2, 2] x [-2, 0], plane strain, the block's bottom fixed, the disc's flat top moved by
+(0, -0.0107), frictionless. ``steel``: both E 2e11, nu 0.3; ``aluminium``: the disc E 7e10,
+nu 0.33 on the steel block. Errors in the half-width a and the normal force N against the
+converged references below (docs/peers.md says how they were obtained).
+
+Each run is its own process (``ibfem run`` on a scene generated from the base scene with the
+rung's element size and refinement levels, VTU and plots off; ``benchmarks/peers_ngsolve.py``
+for NGSolve), the two ladders interleaved (ibfem, NGSolve, ibfem, ...). Wall time is the child
+process's whole life (imports, meshing, solve, output), peak memory its maximum resident set
+(``os.wait4``). The time to reach 1 %, 0.3 % and 0.1 % error in a is interpolated on each ladder
+(log-log between the last rung above and the first rung at or below the error, on the running
+best error), the ratio NGSolve/ibfem printed beside it.
+
+    python benchmarks/peers.py [--quick] [--problem steel|aluminium|all]
+
+Writes benchmarks/results/peers.json and peers.md. Needs the ``peers`` extra (ngsolve).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import tomllib
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+BASE_SCENE = HERE / "scenes" / "peer_half_disc.toml"
+RESULTS = HERE / "results"
+TARGETS = (0.01, 0.003, 0.001)
+
+STEEL = (2.0e11, 0.3)
+ALUMINIUM = (7.0e10, 0.33)
+PROBLEMS = {
+    # issue 12: NGSolve P3, curved, Richardson-checked; cross-checked in docs/peers.md
+    "steel": {"disc": STEEL, "block": STEEL, "a": 0.076667, "N": 5.09216e8},
+    # docs/peers.md: ibfem's finest grids and NGSolve P3 on graded meshes
+    "aluminium": {"disc": ALUMINIUM, "block": STEEL, "a": float("nan"), "N": float("nan")},
+}
+# (element_size, refinement levels) of both bodies; NGSolve: element size along the contact
+IBFEM_LADDER = [(0.1, 3), (0.05, 3), (0.05, 4), (0.05, 5)]
+NGSOLVE_LADDER = [0.008, 0.004, 0.002, 0.001, 0.0005]
+QUICK_IBFEM = [(0.1, 3), (0.05, 3)]
+QUICK_NGSOLVE = [0.004, 0.002]
+
+
+def scene_data(problem: str, element_size: float, levels: int) -> dict:
+    """The base scene with this problem's materials and this rung's grids, VTU and plots off."""
+    data = tomllib.loads(BASE_SCENE.read_text())
+    spec = PROBLEMS[problem]
+    data["materials"] = [
+        {"name": "disc_material", "youngs_modulus": spec["disc"][0], "poissons_ratio": spec["disc"][1]},
+        {"name": "block_material", "youngs_modulus": spec["block"][0], "poissons_ratio": spec["block"][1]},
+    ]
+    for body in data["bodies"]:
+        body["material"] = f"{body['name']}_material"
+        body["element_size"] = element_size
+        for ref in body.get("refinement") or []:
+            ref["levels"] = levels
+    data["name"] = f"peer {problem} h0 {element_size} levels {levels}"
+    data.setdefault("output", {}).update(vtk=False, plots=False)
+    return data
+
+
+def run_child(cmd: list[str]) -> tuple[int, str, str, float, float]:
+    """Runs one process: return code, stdout, stderr, wall time (s), peak resident memory (MB)."""
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(cmd, stdout=out, stderr=err, cwd=ROOT)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - t0
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        return proc.returncode, out.read(), err.read(), wall, usage.ru_maxrss / 1024.0
+
+
+def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> dict:
+    tag = f"ibfem_{problem}_{element_size}_{levels}"
+    scene = workdir / f"{tag}.json"
+    scene.write_text(json.dumps(scene_data(problem, element_size, levels)))
+    out = workdir / tag
+    ibfem = Path(sys.executable).with_name("ibfem")
+    cmd = [str(ibfem), "run", str(scene), "--out", str(out), "--quiet"]
+    code, _, err, wall, peak = run_child(cmd)
+    row = {"code": "ibfem", "problem": problem, "rung": f"h0 {element_size}, {levels} levels",
+           "element_size": element_size, "levels": levels, "wall_s": wall, "peak_mb": peak, "exit": code}
+    if code not in (0, 1):
+        row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
+        return row
+    summary = json.loads((out / "summary.json").read_text())
+    contact = summary["contacts"][0]
+    row.update(converged=bool(summary["converged"]), a=contact["half_width"], N=contact["normal_force"],
+               dofs=sum(b["dofs"] for b in summary["bodies"].values()),
+               iterations=summary["iterations"]["total"], solver_s=summary["timings"].get("solver_total_s"))
+    return row
+
+
+def run_ngsolve(problem: str, hc: float, order: int = 2) -> dict:
+    spec = PROBLEMS[problem]
+    cmd = [sys.executable, str(HERE / "peers_ngsolve.py"), "--hc", str(hc), "--order", str(order),
+           "--disc-E", str(spec["disc"][0]), "--disc-nu", str(spec["disc"][1]),
+           "--block-E", str(spec["block"][0]), "--block-nu", str(spec["block"][1])]
+    code, out, err, wall, peak = run_child(cmd)
+    row = {"code": f"NGSolve P{order}", "problem": problem, "rung": f"h_c {hc}", "hc": hc,
+           "wall_s": wall, "peak_mb": peak, "exit": code}
+    if code != 0:
+        row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
+        return row
+    res = json.loads(out.strip().splitlines()[-1])
+    row.update(converged=True, a=res["a"], N=res["N"], dofs=res["dofs"], iterations=res["newton_iterations"],
+               a_sides=res["a_sides"], solver_s=res["total_in_process_s"])
+    return row
+
+
+def add_errors(row: dict) -> dict:
+    spec = PROBLEMS[row["problem"]]
+    if "a" in row:
+        row["a_error"] = row["a"] / spec["a"] - 1.0
+        row["N_error"] = row["N"] / spec["N"] - 1.0
+    return row
+
+
+def time_to_error(rows: list[dict], target: float) -> dict | None:
+    """Wall time and peak memory to reach |error in a| <= target on one ladder (None: never)."""
+    pts = sorted((r["wall_s"], abs(r["a_error"]), r["peak_mb"]) for r in rows
+                 if isinstance(r.get("a_error"), float) and math.isfinite(r["a_error"]))
+    best, prev = math.inf, None
+    for wall, err, peak in pts:
+        if err < best:
+            if err <= target:
+                if prev is None or prev[1] <= 0 or err <= 0:
+                    return {"time_s": wall, "peak_mb": peak, "bound": prev is None}
+                f = (math.log(target) - math.log(prev[1])) / (math.log(err) - math.log(prev[1]))
+                t = math.exp(math.log(prev[0]) + f * (math.log(wall) - math.log(prev[0])))
+                return {"time_s": t, "peak_mb": peak, "bound": False}
+            best, prev = err, (wall, err)
+    return None
+
+
+def comparison(rows: list[dict], problem: str) -> list[dict]:
+    out = []
+    ib = [r for r in rows if r["problem"] == problem and r["code"] == "ibfem"]
+    ng = [r for r in rows if r["problem"] == problem and r["code"].startswith("NGSolve")]
+    for target in TARGETS:
+        ti, tn = time_to_error(ib, target), time_to_error(ng, target)
+        ratio = tn["time_s"] / ti["time_s"] if ti and tn else None
+        out.append({"problem": problem, "target": target, "ibfem": ti, "ngsolve": tn, "ratio": ratio})
+    return out
+
+
+def fmt_row(r: dict) -> str:
+    if "a" not in r:
+        return f"| {r['problem']} | {r['code']} | {r['rung']} | | {r['wall_s']:.2f} | {r['peak_mb']:.0f} | failed: {r.get('error')} | |"
+    return (f"| {r['problem']} | {r['code']} | {r['rung']} | {r['dofs']} | {r['wall_s']:.2f} | {r['peak_mb']:.0f} "
+            f"| {r['a']:.6f} ({100 * r['a_error']:+.3f} %) | {r['N']:.5e} ({100 * r['N_error']:+.3f} %) |")
+
+
+def fmt_cmp(c: dict) -> str:
+    def cell(t):
+        if t is None:
+            return "not reached"
+        return f"{'<= ' if t['bound'] else ''}{t['time_s']:.2f} s, {t['peak_mb']:.0f} MB"
+    ratio = f"{c['ratio']:.2f}" if c["ratio"] else "-"
+    return f"| {c['problem']} | {100 * c['target']:g} % | {cell(c['ibfem'])} | {cell(c['ngsolve'])} | {ratio} |"
+
+
+def write_results(rows: list[dict], cmps: list[dict], quick: bool) -> str:
+    lines = ["| problem | code | rung | dofs | wall (s) | peak (MB) | a (error) | N (error) |",
+             "|---|---|---|---|---|---|---|---|", *map(fmt_row, rows), "",
+             "| problem | error in a | ibfem (time, memory) | NGSolve P2 (time, memory) | NGSolve / ibfem |",
+             "|---|---|---|---|---|", *map(fmt_cmp, cmps)]
+    text = "\n".join(lines)
+    RESULTS.mkdir(exist_ok=True)
+    suffix = "_quick" if quick else ""
+    (RESULTS / f"peers{suffix}.json").write_text(json.dumps(
+        {"references": PROBLEMS, "rows": rows, "comparison": cmps, "quick": quick}, indent=2))
+    (RESULTS / f"peers{suffix}.md").write_text(
+        f"# Peer study (benchmarks/peers.py{' --quick' if quick else ''})\n\n{text}\n")
+    return text
+
+
+def check_ngsolve() -> None:
+    r = subprocess.run([sys.executable, "-c", "import ngsolve"], capture_output=True)
+    if r.returncode != 0:
+        raise SystemExit("benchmarks/peers.py needs NGSolve: pip install -e '.[peers]' (the `peers` extra)")
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="two rungs per code (a smoke check)")
+    ap.add_argument("--problem", choices=["steel", "aluminium", "all"], default="all")
+    args = ap.parse_args(argv)
+    check_ngsolve()
+    problems = ["steel", "aluminium"] if args.problem == "all" else [args.problem]
+    ib_ladder = QUICK_IBFEM if args.quick else IBFEM_LADDER
+    ng_ladder = QUICK_NGSOLVE if args.quick else NGSOLVE_LADDER
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="ibfem_peers_") as tmp:
+        for problem in problems:
+            for i in range(max(len(ib_ladder), len(ng_ladder))):
+                if i < len(ib_ladder):
+                    rows.append(add_errors(run_ibfem(problem, *ib_ladder[i], Path(tmp))))
+                    print(fmt_row(rows[-1]), flush=True)
+                if i < len(ng_ladder):
+                    rows.append(add_errors(run_ngsolve(problem, ng_ladder[i])))
+                    print(fmt_row(rows[-1]), flush=True)
+    cmps = [c for p in problems for c in comparison(rows, p)]
+    print()
+    print(write_results(rows, cmps, args.quick))
+    return 0 if all("a" in r for r in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
