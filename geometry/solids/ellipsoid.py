@@ -19,6 +19,7 @@ from .shapes import Solid
 
 __all__ = ["Ellipsoid", "HalfEllipsoid", "ellipse_foot", "ellipsoid_foot"]
 
+_TINY = 1e-13
 _BISECTIONS = 160  # float64 halves an interval at most ~1100 times; this reaches round-off for t
 
 
@@ -29,7 +30,8 @@ def _bisect(f, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         done = (mid == lo) | (mid == hi)
         if np.all(done):
             break
-        pos = f(mid) > 0.0
+        with np.errstate(divide="ignore", invalid="ignore"):  # at the bracket's end F is +inf: still "above"
+            pos = ~(f(mid) <= 0.0)
         lo, hi = np.where(pos, mid, lo), np.where(pos, hi, mid)
     return 0.5 * (lo + hi)
 
@@ -40,8 +42,11 @@ def ellipse_foot(y: np.ndarray, e: tuple[float, float]) -> np.ndarray:
     e0, e1 = float(e[0]), float(e[1])
     y = np.asarray(y, dtype=float)
     x = np.zeros_like(y)
-    gen = (y[:, 1] > 0) & (y[:, 0] > 0)
-    x[(y[:, 1] > 0) & ~gen, 1] = e1  # on the minor axis
+    # coordinates below 1e-13 of their semi-axis count as zero (the root's bracket would
+    # otherwise collapse onto a pole of F; the foot moves by that much at most)
+    pos0, pos1 = y[:, 0] > _TINY * e0, y[:, 1] > _TINY * e1
+    gen = pos0 & pos1
+    x[pos1 & ~gen, 1] = e1  # on the minor axis
     if gen.any():
         z0, z1 = y[gen, 0] / e0, y[gen, 1] / e1
         r0 = (e0 / e1) ** 2
@@ -52,7 +57,7 @@ def ellipse_foot(y: np.ndarray, e: tuple[float, float]) -> np.ndarray:
         s = np.where(g == 0.0, 0.0, s)
         x[gen, 0] = r0 * y[gen, 0] / (s + r0)
         x[gen, 1] = y[gen, 1] / (s + 1.0)
-    axis = y[:, 1] <= 0  # on the major axis
+    axis = ~pos1  # on the major axis
     if axis.any():
         numer, denom = e0 * y[axis, 0], e0**2 - e1**2
         inner = numer < denom
@@ -68,7 +73,7 @@ def ellipsoid_foot(y: np.ndarray, e: tuple[float, float, float]) -> np.ndarray:
     e0, e1, e2 = (float(v) for v in e)
     y = np.asarray(y, dtype=float)
     x = np.zeros_like(y)
-    p0, p1, p2 = y[:, 0] > 0, y[:, 1] > 0, y[:, 2] > 0
+    p0, p1, p2 = y[:, 0] > _TINY * e0, y[:, 1] > _TINY * e1, y[:, 2] > _TINY * e2
     gen = p0 & p1 & p2
     if gen.any():
         z = y[gen] / np.array([e0, e1, e2])

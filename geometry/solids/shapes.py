@@ -217,6 +217,13 @@ class Cylinder(Solid):
         return np.where(inside >= 0.0, inside, -np.linalg.norm(np.maximum(q, 0.0), axis=1))
 
 
+def _no_clash(profile, names, what: str) -> None:
+    clash = [n for n in names if n in profile.edge_names]
+    if clash:
+        raise ValueError(f"profile edge name(s) {', '.join(repr(n) for n in clash)} clash with the face names "
+                         f"{' and '.join(names)} of {what}: rename the edge(s)")
+
+
 class Extrusion(Solid):
     """A 2D profile (x, y) extruded along z from z0 to z0 + height: faces named by the profile's
     edges, ``bottom`` and ``top``."""
@@ -224,6 +231,7 @@ class Extrusion(Solid):
     def __init__(self, profile, z0: float, height: float):
         if not height > 0:
             raise ValueError(f"height must be positive, got {height!r}")
+        _no_clash(profile, ("bottom", "top"), "an extrusion")
         self.profile, self.z0, self.height = profile, float(z0), float(height)
         lo, hi = (np.asarray(b, float) for b in profile.bounds)
         self.bounds = (np.array([lo[0], lo[1], self.z0]), np.array([hi[0], hi[1], self.z0 + self.height]))
@@ -282,6 +290,8 @@ class Revolution(Solid):
             raise ValueError(f"the profile must lie in r >= 0 (its r ranges from {lo[0]:.6g})")
         if not 0.0 < angle_deg <= 360.0:
             raise ValueError(f"angle_deg must lie in (0, 360], got {angle_deg!r}")
+        if angle_deg < 360.0:
+            _no_clash(profile, ("start", "end"), "a partial revolution")
         self.profile, self.origin = profile, np.asarray(axis_origin, float)
         self.frame = _frame(axis)
         self.angle = math.radians(float(angle_deg))
