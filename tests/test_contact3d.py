@@ -89,3 +89,31 @@ def test_quarter_model_with_sliding_symmetry_planes_matches_the_full_model():
     assert c["semi_axes"][0] / a_hertz - 1.0 == pytest.approx(-0.037, abs=0.005)
     # measured on finer grids: -1.15 % (a/h 5.7, 8 s) and -0.32 % (a/h 11.6, 26 s, 2.2 GB)
     assert len(c["pressure"]["axis0"]["s"]) > 0 and min(c["pressure"]["axis0"]["s"]) >= 0.0  # one side only
+
+
+def test_partial_slip_of_a_half_ball_stick_ellipse_from_the_forces():
+    # a half model (the plane y = 0 slides) pushed 2 mm down and 0.25 mm along x, mu = 0.3: the
+    # stick circle c = a (1 - |Q| / (mu N))^(1/3) (Mindlin) for the transmitted forces, the
+    # slip zone carrying mu p against the slip; Q along x by symmetry
+    from geometry.solids import solid_from_dict
+
+    quarter = {"type": "profile", "edges": [
+        {"type": "line", "start": [0, 0], "end": [1, 0], "name": "flat"},
+        {"type": "arc", "center": [0, 0], "radius": 1, "start_angle": 0, "end_angle": -90, "name": "dome"},
+        {"type": "line", "start": [0, -1], "end": [0, 0], "name": "axis"}]}
+    ball = solid_from_dict({"type": "revolution", "profile": quarter, "axis_origin": [0, 0, 1], "axis": [0, 0, 1],
+                            "angle_deg": 180})
+    block = solid_from_dict({"type": "box", "min": [-1, 0, -1], "max": [1, 1, 0]})
+    steel = pb.Material("steel", E, NU)
+    zone = (pb.Refinement(3, 0.1),)
+    bodies = (pb.BodyModel("ball", ball, steel, 0.25, zone), pb.BodyModel("block", block, steel, 0.25, zone))
+    bcs = (pb.Displacement("ball", "flat", (2.5e-4, 0.0, -0.002)), pb.Sliding("ball", "start"),
+           pb.Sliding("ball", "end"), pb.Fixed("block", "z_min"), pb.Sliding("block", "y_min"))
+    contact = pb.ContactModel(("ball", "block"), "frictional", friction=0.3, point=np.zeros(3))
+    sol = solve(pb.Problem("slip", "solid", 1.0, bodies, bcs, (contact,)).with_options(load_steps=1))
+    c = sol.contacts[0]
+    n, (qx, qy) = c["normal_force"], c["tangential_force"]
+    assert 0.05 < qx / n < 0.2 and abs(qy) < 0.05 * qx  # the half model's y share: 3.4 % on this grid
+    ratio = c["stick_semi_axes"][0] / c["semi_axes"][0]
+    assert ratio == pytest.approx((1 - abs(qx) / (0.3 * n)) ** (1 / 3), abs=0.01)
+    assert c["checks"]["edge_coefficients"][0] == pytest.approx(c["checks"]["edge_coefficients"][1], abs=0.05)

@@ -79,7 +79,13 @@ class EllipseContact:
     options: ContactOptions = field(default_factory=ContactOptions)
     history: list = field(default_factory=list)
     _shape: list = field(default_factory=list)  # (ratio, c0 - c1) of the settled size searches
+    # stick ellipse = stick_ratio x (a, b): tied inside, sliding outside; tied contact: inf,
+    # frictionless: 0, frictional: Mindlin's (1 - |Q| / (mu N))^(1/3), iterated
     stick_ratio: float = 0.0
+    friction: float = 0.0
+    slip_direction: np.ndarray | None = None  # unit tangential force on body 2 (the slip zone's traction on body 1 opposes it)
+    beta: float = math.nan  # |Q| / N of the last state
+    _stick_root: object = None
 
     @property
     def name(self) -> str:
@@ -115,9 +121,20 @@ class EllipseContact:
                             self.reach, REGION_ORDER)
         jump, flux, size = _operators(self, pts)
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
-        proj = _projector(self, pts)
+        proj = _projector(self, pts, a)
         k, f = thin_band_terms(bp, proj, -pts.delta, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=jump)
-        return k.toarray(), np.asarray(f).ravel(), (pts, bp, proj, jump, flux, size)
+        kc, fc = k.toarray(), np.asarray(f).ravel()
+        info = (pts, bp, proj, jump, flux, size, a)
+        slip = _slip_mask(self, pts, a)
+        if slip.any():
+            # Coulomb's traction mu p on the slip zone, against the slip: p is affine in the contact
+            # dofs (p = r x + b), so it enters exactly as a non-symmetric block (the 2D rule)
+            r, b = _pressure_rows(self, info)
+            g = _blocks(np.broadcast_to(-self.friction * self.slip_direction, pts.x1.shape)) @ jump
+            wq = np.where(slip, pts.weights, 0.0)
+            kc = kc - (g.T @ (r.multiply(wq[:, None]))).toarray()
+            fc = fc + g.T @ (wq * b)
+        return kc, fc, info
 
     def judge(self, x: np.ndarray, a: float, info) -> _Verdict:
         gap, pressure, inside, edge_dist = _sample_state(self, x, a)
@@ -135,21 +152,46 @@ class EllipseContact:
         raise NotImplementedError("3D contacts report their profiles through summary_block")
 
     def is_symmetric(self) -> bool:
-        return True
+        return not (self.friction > 0.0 and self.slip_direction is not None)
 
     def start_step(self) -> None:
         self._shape = []
+        if self.kind == "frictional":
+            from .roots import StickRoot
+
+            if self.stick_ratio <= 0.0:
+                self.stick_ratio = StickRoot.min_ratio
+            self._stick_root = StickRoot(self.options.stick_tolerance, exponent=1.0 / 3.0)
+
+    def _update_stick(self, x: np.ndarray, a: float, info) -> bool:
+        """Stick ratio from the transmitted forces (Mindlin's cube root) and the slip direction;
+        True when both hold."""
+        on2 = -self.force(x, a, info)
+        normal = float(-on2 @ self.frame.normal)
+        tangential = on2 - (on2 @ self.frame.normal) * self.frame.normal
+        q = float(np.linalg.norm(tangential))
+        nxt, finished = self._stick_root.update(self.stick_ratio, normal, q, self.friction)
+        self.beta = q / normal if normal > 0 else math.nan
+        if q > 0.0:
+            e = tangential / q
+            if self.slip_direction is None or float(e @ self.slip_direction) < 1.0 - 1e-6:
+                finished = finished and self.stick_ratio >= 1.0
+            self.slip_direction = e
+        if not finished:
+            self.stick_ratio = nxt
+        return finished
 
     def update_friction(self, x: np.ndarray, a: float, info) -> bool:
         """After a size search: the shape b / a from the difference of the two edge coefficients
         (secant on log(b / a)); True when it holds (always for a circular contact)."""
+        stuck = self._update_stick(x, a, info) if self.kind == "frictional" and info is not None else True
         if self.circular or info is None:
-            return True
+            return stuck
         c0, c1 = _edge_coefficients(self, info, x, a)
         d = c0 - c1  # > 0: pressure too concentrated at the ends of axis 0: a too small against b
         self._shape.append((math.log(self.ratio), d))
         if abs(d) <= SHAPE_TOLERANCE:
-            return True
+            return stuck
         if len(self._shape) >= 2 and self._shape[-1][1] != self._shape[-2][1]:
             (l0, d0), (l1, d1) = self._shape[-2], self._shape[-1]
             nxt = l1 - d1 * (l1 - l0) / (d1 - d0)
@@ -232,9 +274,42 @@ def _operators(c: EllipseContact, pts: RegionPoints):
     return jump.tocsr(), flux.tocsr(), size
 
 
-def _projector(c: EllipseContact, pts: RegionPoints) -> np.ndarray:
-    kind = "fixed" if c.kind == "tied" else "sliding"
-    return projector(kind, pts.normal)
+def _normalised_radius(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
+    aa, bb = c.semi_axes(a)
+    return np.hypot(pts.s[:, 0] / aa, pts.s[:, 1] / bb)
+
+
+def _projector(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
+    """Tied inside the stick ellipse (all of it for tied contact), sliding along the normal
+    outside."""
+    tied = _normalised_radius(c, pts, a) < c.stick_ratio if a > 0 else np.zeros(len(pts.s), dtype=bool)
+    return np.where(tied[:, None, None], projector("fixed", pts.normal), projector("sliding", pts.normal))
+
+
+def _slip_mask(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
+    """Points of the slip zone (between the stick ellipse and the region's edge) that carry
+    Coulomb's traction."""
+    if not (c.friction > 0.0 and c.slip_direction is not None) or a <= 0.0:
+        return np.zeros(len(pts.s), dtype=bool)
+    rho = _normalised_radius(c, pts, a)
+    return (rho >= c.stick_ratio) & (rho <= 1.0)
+
+
+def _blocks(rows: np.ndarray):
+    """Sparse (q, 3q) with row k holding rows[k] in columns 3k..3k+2."""
+    import scipy.sparse as sp
+
+    q = len(rows)
+    return sp.csr_matrix((rows.ravel(), np.arange(3 * q), np.arange(0, 3 * q + 1, 3)), shape=(q, 3 * q))
+
+
+def _pressure_rows(c: EllipseContact, info):
+    """Pressure at the quadrature points as an affine function of the contact dofs: p = r x + b."""
+    pts, _, proj, jump, flux, size, _ = info
+    nl = np.einsum("qi,qij->qj", pts.normal, _layer(c, pts.normal, proj, size))  # n^T L
+    npf = np.einsum("qi,qij->qj", pts.normal, proj)  # n^T P
+    r = (-(_blocks(nl) @ jump) + _blocks(npf) @ flux).tocsr()
+    return r, -np.einsum("qi,qi->q", nl, pts.delta)
 
 
 def _layer(c: EllipseContact, normal, proj, size) -> np.ndarray:
@@ -244,10 +319,15 @@ def _layer(c: EllipseContact, normal, proj, size) -> np.ndarray:
 
 def _quadrature_traction(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:
     """Traction (q, 3) on body 1 at the region's quadrature points."""
-    pts, _, proj, jump, flux, size = info
+    pts, _, proj, jump, flux, size, a = info
     w = (jump @ x).reshape(-1, 3) + pts.delta
     t1 = -np.einsum("qij,qj->qi", _layer(c, pts.normal, proj, size), w)
-    return t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
+    t1 = t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
+    slip = _slip_mask(c, pts, a)
+    if slip.any():
+        p = np.einsum("qi,qi->q", t1, pts.normal)
+        t1[slip] -= (c.friction * p[slip])[:, None] * c.slip_direction
+    return t1
 
 
 def _edge_coefficients(c: EllipseContact, info, x: np.ndarray, a: float) -> tuple[float, float]:
@@ -274,7 +354,7 @@ def _sample_state(c: EllipseContact, x: np.ndarray, a: float):
     inside = along <= reach
     w = (c.e_samples @ x).reshape(-1, 3) + smp.delta
     gap = np.einsum("qi,qi->q", w, smp.normal)
-    proj = _projector(c, smp)
+    proj = _projector(c, smp, a)
     t1 = -np.einsum("qij,qj->qi", _layer(c, smp.normal, proj, c.size_samples), w)
     t1 = t1 + np.einsum("qij,qj->qi", proj, (c.f_samples @ x).reshape(-1, 3))
     pressure = np.where(inside, np.einsum("qi,qi->q", t1, smp.normal), 0.0)
@@ -318,9 +398,6 @@ def _extent(problem, contact, factor: float) -> float:
 
 def build(problem, model, b1, b2, options) -> EllipseContact:
     """The ellipse formulation of a contact between two discretised solids."""
-    if model.type == "frictional":
-        raise ValueError(f"contact {model.bodies[0]}/{model.bodies[1]}: frictional contact between solids is not "
-                         "available yet (tied and frictionless are)")
     opts = model.options
     solids = (b1.boundary, b2.boundary)
     h = float(min(b1.grid.min_size, b2.grid.min_size))
@@ -349,7 +426,8 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
     c = EllipseContact(model=model, frame=frame, solids=solids, b1=b1, b2=b2, kind=model.type, dofs=np.zeros(0, int),
                        maps=(), h=h, extent=extent, ranges=ranges, samples=samples, sample_axis=np.concatenate(axis),
                        ratio=float(ratio), circular=bool(circular), band_fraction=options.band_fraction, e_star=e1,
-                       options=opts)
+                       options=opts, stick_ratio={"tied": math.inf, "frictionless": 0.0}.get(model.type, 1.0),
+                       friction=float(model.friction or 0.0) if model.type == "frictional" else 0.0)
     c.grids = [(b.grid.origin, b.grid.h0 / 2.0**b.grid.max_level) for b in (b1, b2)]
     c.reach = reach
     full = _dense_disc(solids, frame, extent, ranges, 0.25 * h, reach)

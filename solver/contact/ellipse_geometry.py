@@ -159,10 +159,16 @@ def surface_point(solid, frame: ContactFrame3D, s: np.ndarray, reach: float) -> 
     mask of the lines that cross the surface there."""
     y = frame.point + s[:, :1] * frame.axes[0] + s[:, 1:] * frame.axes[1]
     n = frame.normal
-    lo, hi = np.full(len(s), -reach), np.full(len(s), reach)
     f = solid.signed_distance
-    flo, fhi = np.asarray(f(y + lo[:, None] * n), float), np.asarray(f(y + hi[:, None] * n), float)
-    ok = (flo < 0.0) != (fhi < 0.0)
+    # the first entry into the body going up the line (the line may leave a thin body again)
+    t = np.linspace(-reach, reach, 33)
+    values = np.asarray(f((y[:, None, :] + t[None, :, None] * n).reshape(-1, 3)), float).reshape(len(s), len(t))
+    entry = (values[:, :-1] < 0.0) & (values[:, 1:] >= 0.0)
+    ok = entry.any(axis=1)
+    first = np.argmax(entry, axis=1)
+    lo, hi = t[first], t[first + 1]
+    rows = np.arange(len(s))
+    flo, fhi = values[rows, first], values[rows, first + 1]
     t = np.zeros(len(s))
     i = np.nonzero(ok)[0]
     a, b, fa, fb = lo[i], hi[i], flo[i], fhi[i]

@@ -32,7 +32,7 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     out = {"bodies": list(c.model.bodies), "type": c.kind, "friction": float(getattr(c.model, "friction", 0.0) or 0.0),
            "point": frame.point.tolist(), "normal": frame.normal.tolist(), "axes": frame.axes.tolist(),
            "semi_axes": [float(aa), float(bb)],
-           "stick_semi_axes": [float(aa), float(bb)] if c.kind == "tied" else [0.0, 0.0],
+           "stick_semi_axes": [float(min(c.stick_ratio, 1.0) * aa), float(min(c.stick_ratio, 1.0) * bb)],
            "normal_force": float(-on2 @ frame.normal),
            "tangential_force": [float(on2 @ frame.axes[0]), float(on2 @ frame.axes[1])],
            "pressure": {}, "shear": {}}
@@ -54,7 +54,7 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         XY[:, k] = s / reach
         basis = _basis(XY[:, 0], XY[:, 1])
         pressure = np.clip(basis @ fits["pressure"], 0.0, None)
-        shear = basis @ fits[f"shear{k}"] if c.kind == "tied" else np.zeros(len(s))
+        shear = basis @ fits[f"shear{k}"] if c.kind != "frictionless" else np.zeros(len(s))
         out["pressure"][f"axis{k}"] = {"s": s[present].tolist(), "value": pressure[present].tolist()}
         out["shear"][f"axis{k}"] = {"s": s[present].tolist(), "value": shear[present].tolist()}
     out["relative_curvatures"] = [float(k) for k in frame.curvatures]

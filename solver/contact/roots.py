@@ -238,16 +238,18 @@ def edge_search(a0: float, h: float, tol: float, a_max: float, step0: float | No
 
 
 class StickRoot:
-    """Root of F(k) = sqrt(1 - |Q(k)| / (mu N(k))) - k for the stick ratio k = c/a in [0, 1]
-    (eq. 2-29 made consistent with the transmitted forces). F decreases in k (a larger stick
+    """Root of F(k) = (1 - |Q(k)| / (mu N(k)))^e - k for the stick ratio k = c/a in [0, 1]
+    (e = 1/2: eq. 2-29 of two cylinders; e = 1/3: Mindlin's spheres), consistent with the
+    transmitted forces. F decreases in k (a larger stick
     zone transmits more shear), F(1) <= 0: fixed-point steps k <- k + F (halving instead where
     that would drop below k / 2) until the root is bracketed, then regula falsi with the
     Illinois modification. k = 0 (gross slip) only when F < 0 down to ``min_ratio``."""
 
     min_ratio = 0.01  # below this c/a a stick zone is not resolved: gross slip
 
-    def __init__(self, tol: float):
+    def __init__(self, tol: float, exponent: float = 0.5):
         self.tol = tol
+        self.exponent = exponent  # 1/2: cylinders (eq. 2-29); 1/3: spheres (Mindlin)
         self.lo = self.hi = None  # k with F > 0 / F < 0
         self.flo = self.fhi = 0.0
         self.side = 0
@@ -256,7 +258,7 @@ class StickRoot:
         """Next ratio and whether k is consistent (|F(k)| <= tol, or no compression)."""
         if not normal > 0.0:
             return k, True
-        g = math.sqrt(max(0.0, 1.0 - abs(tangential) / (mu * normal)))
+        g = max(0.0, 1.0 - abs(tangential) / (mu * normal)) ** self.exponent
         f = g - k
         if abs(f) <= self.tol:
             return k, True

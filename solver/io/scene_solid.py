@@ -241,9 +241,6 @@ def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) 
                 problems.append(f"{label}: contacts[{k}].bodies[{j}] = {name!r}: no such body (bodies: {', '.join(bodies)})")
         if c.bodies[0] == c.bodies[1]:
             problems.append(f"{label}: contacts[{k}].bodies: a body cannot touch itself ({c.bodies[0]!r})")
-        if c.type == "frictional":
-            problems.append(f"{label}: contacts[{k}].type = \"frictional\": partial slip between solids is not "
-                            "available yet (tied and frictionless are)")
     for name in bodies:
         if name not in held and name in solids:
             problems.append(f"{label}: body {name!r} has no fixed, displacement or sliding condition: "
