@@ -202,7 +202,7 @@ def _build_solids(spec: SolidSceneSpec, label: str, base_dir: Path) -> dict[str,
             p = Path(str(shape["path"]))
             shape["path"] = str(p if p.is_absolute() else base_dir / p)
         try:
-            solids[body.name] = solid_from_dict(shape, where=f"bodies[{i}].shape")
+            solids[body.name] = solid_from_dict(shape, where=f"bodies[{i}].shape", load_part=_load_part)
         except (ValueError, KeyError, TypeError) as err:
             text = err.args[0] if isinstance(err, KeyError) and err.args else str(err)
             prefix = "" if text.startswith(f"bodies[{i}]") else f"bodies[{i}].shape: "
@@ -210,6 +210,22 @@ def _build_solids(spec: SolidSceneSpec, label: str, base_dir: Path) -> dict[str,
     if problems:
         raise SceneError(problems)
     return solids
+
+
+#: the importer of each CAD shape type (imported when a scene uses it): module, function
+CAD_LOADERS = {"onshape": ("importers.onshape", "load_part"), "step": ("importers.step", "load_part")}
+
+
+def _load_part(shape: dict):
+    """geometry.Part of an ``onshape`` (cached import directory) or ``step`` shape."""
+    from importlib import import_module
+
+    module, name = CAD_LOADERS[shape["type"]]
+    try:
+        loader = getattr(import_module(module), name)
+    except (ImportError, AttributeError) as err:
+        raise ValueError(f"type = {shape['type']!r} needs the importer {module}: {err}") from None
+    return loader(shape["path"])
 
 
 def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) -> None:
