@@ -103,10 +103,14 @@ def solve(args) -> dict:
     form, energy = elasticity(mesh, fes, materials)
     a = ng.BilinearForm(fes)
     a += energy
-    cb = ng.ContactBoundary(mesh.Boundaries("top"), mesh.Boundaries("arc"))
     uT = fes.TrialFunction()
     X = ng.CoefficientFunction((ng.x, ng.y))
-    cf = (uT - uT.Other() + X - X.Other()) * cb.normal
+    if args.pairing == "vertical":     # master: the disc's arc, its points paired straight down
+        cb = ng.ContactBoundary(mesh.Boundaries("arc"), mesh.Boundaries("top"))
+        cf = (uT - uT.Other() + X - X.Other()) * ng.CoefficientFunction((0.0, -1.0))
+    else:                              # master: the block's top, paired radially onto the arc
+        cb = ng.ContactBoundary(mesh.Boundaries("top"), mesh.Boundaries("arc"))
+        cf = (uT - uT.Other() + X - X.Other()) * cb.normal
     k = ng.Parameter(args.penalty * args.block_E / args.hc)
     cb.AddEnergy(ng.IfPos(cf, 0.5 * k * cf * cf, 0))
     gfu = ng.GridFunction(fes)
@@ -122,8 +126,8 @@ def solve(args) -> dict:
         iterations += its
     t_solve = time.perf_counter()
     out = {"order": args.order, "hc": args.hc, "hmax": args.hmax, "dofs": fes.ndof,
-           "elements": mesh.ne, "newton_iterations": iterations, "last_step": step, "penalty": args.penalty}
-    out.update(measure(mesh, fes, form, gfu, args.hc, args.width))
+           "elements": mesh.ne, "newton_iterations": iterations, "last_step": step, "penalty": args.penalty, "pairing": args.pairing}
+    out.update(measure(mesh, fes, form, gfu, args.hc, args.width, args.pairing))
     out.update(mesh_s=t_mesh - t0, solve_s=t_solve - t_mesh, measure_s=time.perf_counter() - t_solve,
                total_in_process_s=time.perf_counter() - t0)
     return out
@@ -175,19 +179,38 @@ def evaluate_y(mesh, gfu, xs, ys, inward):
     return out
 
 
-def measure(mesh, fes, form, gfu, hc: float, width: float) -> dict:
+def opening_fit(xs, cf, a_closing: float, hc: float) -> float:
+    """a from the gap just outside the contact: g^(2/3) is smooth through the edge (g ~ (x - a)^1.5,
+    Hertz's edge), fitted by a quadratic in x over [a_c + 2 h_c, a_c + 2 h_c + 0.1 a_c] (clear of
+    the elements at the edge), its root nearest a_c."""
+    import numpy as np
+
+    lo = a_closing + 2.0 * hc
+    m = (xs > lo) & (xs < lo + 0.1 * a_closing) & (cf < 0.0)
+    if m.sum() < 5:
+        return float("nan")
+    c = np.polyfit(xs[m] - a_closing, (-cf[m]) ** (2.0 / 3.0), 2)
+    roots = np.roots(c)
+    roots = roots[np.isreal(roots)].real
+    return float(a_closing + roots[np.argmin(np.abs(roots))]) if len(roots) else float("nan")
+
+
+def measure(mesh, fes, form, gfu, hc: float, width: float, pairing: str) -> dict:
     """a from the closing of the gap along the block's top, N from the reactions."""
     import ngsolve as ng
     import numpy as np
 
     cy = R + LIFT
-    halves = []
+    halves, closing = [], []
     for sign in (1.0, -1.0):
         xs = sign * np.arange(0.0, width, hc / 40.0)
         xb, yb = xs, np.full_like(xs, -1e-12)
         d = np.stack([xs, -cy * np.ones_like(xs)], axis=1)
         d /= np.linalg.norm(d, axis=1)[:, None]
-        px, py = d[:, 0] * R, cy + d[:, 1] * R
+        if pairing == "vertical":
+            px, py = xs, cy - np.sqrt(R * R - xs * xs)
+        else:
+            px, py = d[:, 0] * R, cy + d[:, 1] * R
         ub = evaluate_y(mesh, gfu, xb, yb, (0.0, -1.0))
         ud = evaluate_y(mesh, gfu, px, py, (-d[:, 0], -d[:, 1]))
         cf = ub - ud + (0.0 - py)          # penetration along the block's normal (0, 1)
@@ -196,10 +219,12 @@ def measure(mesh, fes, form, gfu, hc: float, width: float) -> dict:
         closed = np.nonzero(cf >= 0.0)[0]
         if len(closed) == 0 or closed[-1] + 1 >= len(xs):
             halves.append(float("nan"))
+            closing.append(float("nan"))
             continue
         i = closed[-1]
         t = cf[i] / (cf[i] - cf[i + 1])
-        halves.append(abs(xs[i] + t * (xs[i + 1] - xs[i])))
+        closing.append(abs(xs[i] + t * (xs[i + 1] - xs[i])))
+        halves.append(opening_fit(np.abs(xs), cf, closing[-1], hc))
     reactions = {}
     k = ng.BilinearForm(fes)
     k += form
@@ -211,7 +236,7 @@ def measure(mesh, fes, form, gfu, hc: float, width: float) -> dict:
         phi = ng.GridFunction(fes)
         phi.Set((0.0, 1.0), ng.BND, definedon=mesh.Boundaries(name))
         reactions[name] = float(ng.InnerProduct(r, phi.vec))
-    return {"a": float(np.mean(halves)), "a_sides": halves, "N": -reactions["flat"],
+    return {"a": float(np.mean(halves)), "a_sides": halves, "a_closing": float(np.mean(closing)), "N": -reactions["flat"],
             "N_bottom": reactions["bottom"]}
 
 
@@ -224,6 +249,9 @@ def parse(argv):
     ap.add_argument("--order", type=int, default=2)
     ap.add_argument("--penalty", type=float, default=1e3, help="k = penalty E_block / h_c")
     ap.add_argument("--continuation", type=int, default=3, help="penalty stages below the full one (x10 each)")
+    ap.add_argument("--pairing", choices=["vertical", "radial"], default="vertical",
+                    help="vertical: disc points paired with the block point below (the small-strain gap along "
+                         "the frame normal); radial: block points paired with their closest disc point")
     ap.add_argument("--intorder", type=int, default=0, help="0: 2 order + 4")
     ap.add_argument("--maxdist", type=float, default=0.05)
     ap.add_argument("--inverse", default="sparsecholesky")
