@@ -9,6 +9,8 @@ them with theory; writes ``docs/validation-solid.md`` and copies each scene's pi
   for the computed force (4 N), the two bodies' reactions against each other.
 - ``spherical_cavity`` (octant): the axial stress at the cavity's equator over the remote one
   against Goodier's (27 - 15 nu) / (2 (7 - 5 nu)).
+- ``crossed_cylinders``: an elliptical contact's semi-axes against Hertz's elliptic-integral
+  solution (2 %), its axes against the principal directions (1 degree).
 
 Usage: ``python -m solver.reports.validate_solid [--only NAME ...] [--report PATH]``.
 """
@@ -102,6 +104,25 @@ def hertz_rows(scene, summary: dict) -> tuple[list[str], bool]:
             f"| N (quarter) | {c['normal_force']:.6g} N | all supports' reactions sum to {balance / c['normal_force']:.1e} of N | | |"], ok
 
 
+def elliptic_rows(scene, summary: dict) -> tuple[list[str], bool]:
+    """Crossed cylinders: the semi-axes against Hertz's elliptic-integral solution for the
+    computed force, the axes against the principal directions (a along y, b along x)."""
+    c = summary["contacts"][0]
+    mats = [scene.problem.body(n).material for n in c["bodies"]]
+    e_star = 1.0 / sum((1 - m.poissons_ratio**2) / m.youngs_modulus for m in mats)
+    a_h, b_h, _ = theory.hertz_elliptic_contact(c["normal_force"], (1.0, 2.0), e_star)
+    (a, b), axes = c["semi_axes"], np.asarray(c["axes"], dtype=float)
+    angle = float(np.degrees(np.arccos(min(1.0, abs(axes[0] @ [0.0, 1.0, 0.0])))))
+    rows, ok = [], angle <= 1.0
+    for label, got, want in (("a (along y)", a, a_h), ("b (along x)", b, b_h)):
+        err = got / want - 1.0
+        ok &= abs(err) <= HERTZ_A_TOL * 2
+        rows.append(f"| {label} | {got:.6g} m | {want:.6g} m | {100 * err:+.2f} % | "
+                    f"{'ok' if abs(err) <= 2 * HERTZ_A_TOL else 'FAIL'} |")
+    rows.append(f"| axis 0 against y | {angle:.2g} degrees | 0 | | {'ok' if angle <= 1.0 else 'FAIL'} |")
+    return rows, ok
+
+
 def goodier_rows(summary: dict) -> tuple[list[str], bool]:
     """The first probe sits on the cavity's equator, the last far from it (the remote stress)."""
     remote = float(summary["probes"][-1]["stress"][2])
@@ -122,10 +143,10 @@ def goodier_rows(summary: dict) -> tuple[list[str], bool]:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m solver.reports.validate_solid", description=__doc__.split("\n")[0])
     ap.add_argument("--only", nargs="*", default=None,
-                    help="scene names (default: lame_sphere sphere_on_flat spherical_cavity)")
+                    help="scene names (default: lame_sphere sphere_on_flat spherical_cavity crossed_cylinders)")
     ap.add_argument("--report", default=str(ROOT / "docs" / "validation-solid.md"))
     args = ap.parse_args(argv)
-    names = args.only or ["lame_sphere", "sphere_on_flat", "spherical_cavity"]
+    names = args.only or ["lame_sphere", "sphere_on_flat", "spherical_cavity", "crossed_cylinders"]
     out_root = ROOT / "out" / "validation" / "solid"
     fig_dir = ROOT / "docs" / "validation" / "solid"
     fig_dir.mkdir(parents=True, exist_ok=True)
@@ -139,6 +160,9 @@ def main(argv: list[str] | None = None) -> int:
         if name == "lame_sphere":
             rows, ok = lame_rows(summary)
             lines += ["| where | u_r | s_rr | s_tt | |", "|---|---|---|---|---|"] + rows
+        elif name == "crossed_cylinders":
+            rows, ok = elliptic_rows(scene, summary)
+            lines += ["| quantity | ibfem | Hertz (elliptic integrals) | error | |", "|---|---|---|---|---|"] + rows
         elif name == "spherical_cavity":
             rows, ok = goodier_rows(summary)
             lines += ["| quantity | ibfem | Goodier | error | |", "|---|---|---|---|---|"] + rows
