@@ -50,9 +50,9 @@ PROBLEMS = {
     "aluminium": {"disc": ALUMINIUM, "block": STEEL, "a": 0.078940, "N": 2.84707e8},
 }
 # (element_size, refinement levels) of both bodies
-IBFEM_LADDER = [(0.1, 3), (0.05, 3), (0.05, 4), (0.05, 5)]
+IBFEM_LADDER = [(0.1, 2), (0.1, 3), (0.05, 3), (0.05, 4), (0.05, 5)]
 # NGSolve: (element size along the contact h_c, largest element size)
-NGSOLVE_LADDER = [(0.008, 0.25), (0.004, 0.2), (0.002, 0.1), (0.001, 0.1), (0.0005, 0.05)]
+NGSOLVE_LADDER = [(0.016, 0.25), (0.008, 0.25), (0.004, 0.2), (0.002, 0.1), (0.001, 0.1), (0.0005, 0.05), (0.00025, 0.05)]
 QUICK_IBFEM = [(0.1, 3), (0.05, 3)]
 QUICK_NGSOLVE = [(0.004, 0.2), (0.002, 0.1)]
 
@@ -75,8 +75,9 @@ def scene_data(problem: str, element_size: float, levels: int) -> dict:
     return data
 
 
-def run_child(cmd: list[str]) -> tuple[int, str, str, float, float]:
-    """Runs one process: return code, stdout, stderr, wall time (s), peak resident memory (MB)."""
+def run_child(cmd: list[str]) -> tuple[int, str, str, float, float, float]:
+    """Runs one process: return code, stdout, stderr, wall time (s), peak resident memory (MB),
+    CPU time (user + system, s)."""
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         t0 = time.perf_counter()
         proc = subprocess.Popen(cmd, stdout=out, stderr=err, cwd=ROOT)
@@ -85,7 +86,8 @@ def run_child(cmd: list[str]) -> tuple[int, str, str, float, float]:
         proc.returncode = os.waitstatus_to_exitcode(status)
         out.seek(0)
         err.seek(0)
-        return proc.returncode, out.read(), err.read(), wall, usage.ru_maxrss / 1024.0
+        return (proc.returncode, out.read(), err.read(), wall, usage.ru_maxrss / 1024.0,
+                usage.ru_utime + usage.ru_stime)
 
 
 def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> dict:
@@ -95,9 +97,10 @@ def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> 
     out = workdir / tag
     ibfem = Path(sys.executable).with_name("ibfem")
     cmd = [str(ibfem), "run", str(scene), "--out", str(out), "--quiet"]
-    code, _, err, wall, peak = run_child(cmd)
+    code, _, err, wall, peak, cpu = run_child(cmd)
     row = {"code": "ibfem", "problem": problem, "rung": f"h0 {element_size}, {levels} levels",
-           "element_size": element_size, "levels": levels, "wall_s": wall, "peak_mb": peak, "exit": code}
+           "element_size": element_size, "levels": levels, "wall_s": wall, "cpu_s": cpu,
+           "peak_mb": peak, "exit": code}
     if code not in (0, 1):
         row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
         return row
@@ -109,14 +112,14 @@ def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> 
     return row
 
 
-def run_ngsolve(problem: str, hc: float, hmax: float, order: int = 2) -> dict:
+def run_ngsolve(problem: str, hc: float, hmax: float, order: int = 2, threads: int = 2) -> dict:
     spec = PROBLEMS[problem]
-    cmd = [sys.executable, str(HERE / "peers_ngsolve.py"), "--hc", str(hc), "--hmax", str(hmax),
+    cmd = [sys.executable, str(HERE / "peers_ngsolve.py"), "--hc", str(hc), "--hmax", str(hmax), "--threads", str(threads),
            "--order", str(order), "--disc-E", str(spec["disc"][0]), "--disc-nu", str(spec["disc"][1]),
            "--block-E", str(spec["block"][0]), "--block-nu", str(spec["block"][1])]
-    code, out, err, wall, peak = run_child(cmd)
+    code, out, err, wall, peak, cpu = run_child(cmd)
     row = {"code": f"NGSolve P{order}", "problem": problem, "rung": f"h_c {hc}, h_max {hmax}", "hc": hc,
-           "hmax": hmax, "wall_s": wall, "peak_mb": peak, "exit": code}
+           "hmax": hmax, "wall_s": wall, "cpu_s": cpu, "peak_mb": peak, "exit": code}
     if code != 0:
         row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
         return row
@@ -131,6 +134,7 @@ def best_of(run, repeat: int) -> dict:
     rows = [run() for _ in range(repeat)]
     best = min(rows, key=lambda r: r["wall_s"])
     best["wall_all_s"] = [r["wall_s"] for r in rows]
+    best["cpu_all_s"] = [r["cpu_s"] for r in rows]
     best["peak_mb"] = max(r["peak_mb"] for r in rows)
     return best
 
@@ -145,9 +149,10 @@ def add_errors(row: dict) -> dict:
     return row
 
 
-def time_to_error(rows: list[dict], target: float, key: str = "a_error") -> dict | None:
-    """Wall time and peak memory to reach |error| <= target on one ladder (None: never)."""
-    pts = sorted((r["wall_s"], abs(r[key]), r["peak_mb"]) for r in rows
+def time_to_error(rows: list[dict], target: float, key: str = "a_error", clock: str = "wall_s") -> dict | None:
+    """Time (``clock``: wall_s or cpu_s) and peak memory to reach |error| <= target on one ladder
+    (None: never)."""
+    pts = sorted((r[clock], abs(r[key]), r["peak_mb"]) for r in rows
                  if isinstance(r.get(key), float) and math.isfinite(r[key]))
     best, prev = math.inf, None
     for wall, err, peak in pts:
@@ -169,18 +174,22 @@ def comparison(rows: list[dict], problem: str, ng_key: str = "a_error") -> list[
     ng = [r for r in rows if r["problem"] == problem and r["code"].startswith("NGSolve")]
     for target in TARGETS:
         ti, tn = time_to_error(ib, target), time_to_error(ng, target, ng_key)
-        ratio = tn["time_s"] / ti["time_s"] if ti and tn else None
+        ci, cn = time_to_error(ib, target, clock="cpu_s"), time_to_error(ng, target, ng_key, clock="cpu_s")
         out.append({"problem": problem, "ngsolve_a": "gap closing" if ng_key == "a_error" else "gap opening fit",
-                    "target": target, "ibfem": ti, "ngsolve": tn, "ratio": ratio})
+                    "target": target, "ibfem": ti, "ngsolve": tn,
+                    "ratio": tn["time_s"] / ti["time_s"] if ti and tn else None,
+                    "ibfem_cpu": ci, "ngsolve_cpu": cn,
+                    "ratio_cpu": cn["time_s"] / ci["time_s"] if ci and cn else None})
     return out
 
 
 def fmt_row(r: dict) -> str:
     if "a" not in r:
-        return f"| {r['problem']} | {r['code']} | {r['rung']} | | | {r['wall_s']:.2f} | {r['peak_mb']:.0f} | failed: {r.get('error')} | | |"
+        return (f"| {r['problem']} | {r['code']} | {r['rung']} | | | {r['wall_s']:.2f} | {r['cpu_s']:.2f} "
+                f"| {r['peak_mb']:.0f} | failed: {r.get('error')} | | |")
     fit = f"{r['a_fit']:.6f} ({100 * r['a_fit_error']:+.3f} %)" if "a_fit" in r else ""
     return (f"| {r['problem']} | {r['code']} | {r['rung']} | {r['dofs']} | {r['iterations']} | {r['wall_s']:.2f} "
-            f"| {r['peak_mb']:.0f} | {r['a']:.6f} ({100 * r['a_error']:+.3f} %) | {fit} "
+            f"| {r['cpu_s']:.2f} | {r['peak_mb']:.0f} | {r['a']:.6f} ({100 * r['a_error']:+.3f} %) | {fit} "
             f"| {r['N']:.5e} ({100 * r['N_error']:+.3f} %) |")
 
 
@@ -189,17 +198,18 @@ def fmt_cmp(c: dict) -> str:
         if t is None:
             return "not reached"
         return f"{'<= ' if t['bound'] else ''}{t['time_s']:.2f} s, {t['peak_mb']:.0f} MB"
-    ratio = f"{c['ratio']:.2f}" if c["ratio"] else "-"
+    def ratio(x):
+        return f"{x:.2f}" if x else "-"
     return (f"| {c['problem']} | {c['ngsolve_a']} | {100 * c['target']:g} % | {cell(c['ibfem'])} "
-            f"| {cell(c['ngsolve'])} | {ratio} |")
+            f"| {cell(c['ngsolve'])} | {ratio(c['ratio'])} | {ratio(c['ratio_cpu'])} |")
 
 
 def write_results(rows: list[dict], cmps: list[dict], quick: bool) -> str:
-    lines = ["| problem | code | rung | dofs | iterations | wall (s) | peak (MB) | a (error) "
+    lines = ["| problem | code | rung | dofs | iterations | wall (s) | CPU (s) | peak (MB) | a (error) "
              "| a, NGSolve's gap-opening fit (error) | N (error) |",
-             "|---|---|---|---|---|---|---|---|---|---|", *map(fmt_row, rows), "",
-             "| problem | NGSolve's a | error in a | ibfem (time, memory) | NGSolve P2 (time, memory) "
-             "| NGSolve / ibfem |", "|---|---|---|---|---|---|", *map(fmt_cmp, cmps)]
+             "|---|---|---|---|---|---|---|---|---|---|---|", *map(fmt_row, rows), "",
+             "| problem | NGSolve's a | error in a | ibfem (wall, memory) | NGSolve P2 (wall, memory) "
+             "| NGSolve / ibfem, wall | same, CPU time |", "|---|---|---|---|---|---|---|", *map(fmt_cmp, cmps)]
     text = "\n".join(lines)
     RESULTS.mkdir(exist_ok=True)
     suffix = "_quick" if quick else ""
@@ -221,9 +231,20 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--quick", action="store_true", help="two rungs per code (a smoke check)")
     ap.add_argument("--problem", choices=["steel", "aluminium", "all"], default="all")
     ap.add_argument("--repeat", type=int, default=2, help="runs per rung, the fastest kept (default 2: the machine may be shared)")
+    ap.add_argument("--ngsolve-threads", type=int, default=2, help="NGSolve's TaskManager threads (default 2)")
+    ap.add_argument("--report", type=Path, help="no runs: the tables again from the rows of this peers.json")
     args = ap.parse_args(argv)
-    check_ngsolve()
     problems = ["steel", "aluminium"] if args.problem == "all" else [args.problem]
+    if args.report:
+        rows = [add_errors(r) for r in json.loads(args.report.read_text())["rows"] if r["problem"] in problems]
+        cmps = [c for p in problems for key in ("a_error", "a_fit_error") for c in comparison(rows, p, key)]
+        print(write_results(rows, cmps, args.quick))
+        return 0
+    check_ngsolve()
+    load = os.getloadavg()[0]
+    if load > 0.5:
+        print(f"warning: load average {load:.1f} before the runs: wall times include other processes' "
+              "(compare cpu_s in the JSON, or rerun on a quiet machine)", file=sys.stderr)
     ib_ladder = QUICK_IBFEM if args.quick else IBFEM_LADDER
     ng_ladder = QUICK_NGSOLVE if args.quick else NGSOLVE_LADDER
     rows = []
@@ -234,7 +255,7 @@ def main(argv: list[str]) -> int:
                 if i < len(ib_ladder):
                     runs.append(lambda p=problem, r=ib_ladder[i]: run_ibfem(p, *r, Path(tmp)))
                 if i < len(ng_ladder):
-                    runs.append(lambda p=problem, r=ng_ladder[i]: run_ngsolve(p, *r))
+                    runs.append(lambda p=problem, r=ng_ladder[i]: run_ngsolve(p, *r, threads=args.ngsolve_threads))
                 for run in runs:
                     rows.append(add_errors(best_of(run, args.repeat)))
                     print(fmt_row(rows[-1]), flush=True)
