@@ -18,7 +18,7 @@ from _turned_box import TurnedBox
 
 @pytest.fixture
 def solids(monkeypatch):
-    def solid_from_dict(shape, where="shape"):
+    def solid_from_dict(shape, where="shape", load_part=None):
         if shape["type"] == "half_sphere":
             return HalfBall(shape["center"], shape["radius"])
         if shape["type"] == "box":
