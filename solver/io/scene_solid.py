@@ -18,11 +18,12 @@ from pydantic_core import PydanticCustomError
 from solver.model import problem as pb
 from solver.model.options import ContactOptions, SolverOptions
 from solver.model.solid_contact import SolidContactModel
-from solver.model.problem import MAX_REFINEMENT_LEVELS
 from solver.model.resolve import resolve_problem
 
 from .scene import (
     SCENE_MODELS,
+    BodySpec,
+    RefinementSpec,
     _ContactBase,
     Component,
     MaterialSpec,
@@ -53,30 +54,14 @@ def _around3(v: Any) -> Any:
     raise PydanticCustomError("around", 'must be "contact" or a point [x, y, z]')
 
 
-class RefinementSpec3(_Strict):
-    levels: int = Field(ge=1, le=MAX_REFINEMENT_LEVELS)
+class RefinementSpec3(RefinementSpec):
     around: Annotated[Union[Literal["contact"], tuple[float, float, float]], BeforeValidator(_around3)]
-    radius: Num = Field(gt=0.0)
 
 
-class SolidBodySpec(_Strict):
-    name: str = Field(min_length=1)
-    material: str
-    element_size: Num = Field(gt=0.0)
+class SolidBodySpec(BodySpec):
+    """A body of SPEC section 7: the 2D body's keys, refinement centres in 3D."""
+
     refinement: list[RefinementSpec3] = []
-    shape: dict[str, Any]
-
-    @field_validator("refinement", mode="before")
-    @classmethod
-    def _one_or_many(cls, v: Any) -> Any:
-        return [v] if isinstance(v, dict) else v
-
-    @field_validator("shape")
-    @classmethod
-    def _shape_type(cls, v: dict[str, Any]) -> dict[str, Any]:
-        if "type" not in v:
-            raise PydanticCustomError("shape_type", "missing key 'type'")
-        return v
 
 
 class _FaceCondition(_Strict):
