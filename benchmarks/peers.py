@@ -259,10 +259,16 @@ def main(argv: list[str]) -> int:
                 for run in runs:
                     rows.append(add_errors(best_of(run, args.repeat)))
                     print(fmt_row(rows[-1]), flush=True)
+    ok = all("a" in r for r in rows)
+    previous = RESULTS / f"peers{'_quick' if args.quick else ''}.json"
+    if args.problem != "all" and previous.exists():   # keep the other problem's rows
+        rows += [r for r in json.loads(previous.read_text())["rows"] if r["problem"] not in problems]
+        problems = [p for p in PROBLEMS if any(r["problem"] == p for r in rows)]
+        rows.sort(key=lambda r: problems.index(r["problem"]))
     cmps = [c for p in problems for key in ("a_error", "a_fit_error") for c in comparison(rows, p, key)]
     print()
     print(write_results(rows, cmps, args.quick))
-    return 0 if all("a" in r for r in rows) else 1
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":
