@@ -1,0 +1,148 @@
+"""Where the cases run: in this process one after the other (``--serial``), or on Dask
+distributed: an embedded ``LocalCluster`` of worker processes (one thread each) when no
+scheduler is named, else the cluster at ``--scheduler-address`` / ``--scheduler-file`` /
+``DASK_SCHEDULER_ADDRESS`` (a laptop's, or an HPC / Kubernetes cluster's started with
+dask-jobqueue or dask-kubernetes). Dask does the scheduling: a case whose worker dies is given to
+another worker (``distributed.scheduler.allowed-failures`` times, then it is ``killed``)."""
+
+from __future__ import annotations
+
+import logging
+import os
+import secrets
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from .worker import fingerprint, run_case
+
+EXTRA_HINT = "pip install 'ibfem[sweep]'"
+
+
+class EngineError(RuntimeError):
+    """The engine cannot run: Dask missing, no scheduler, workers with another ibfem."""
+
+
+@dataclass
+class EngineOptions:
+    serial: bool = False
+    workers: int | None = None           # embedded cluster: worker processes (default: the cores)
+    scheduler_address: str | None = None
+    scheduler_file: str | None = None
+    memory_limit: str | None = None      # embedded cluster: per worker ("4GB"; default Dask's "auto")
+    case_timeout: float | None = None
+    wait_workers_s: float = 120.0        # an existing cluster: how long to wait for a first worker
+
+    def address(self) -> str | None:
+        return self.scheduler_address or (None if self.scheduler_file else os.environ.get("DASK_SCHEDULER_ADDRESS") or None)
+
+    @property
+    def remote(self) -> bool:
+        """Cases may run on other hosts (an existing cluster): their files must travel with them."""
+        return not self.serial and bool(self.address() or self.scheduler_file)
+
+
+def default_workers() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def run_serial(payloads: list[dict], on_result: Callable[[dict], None], runner: Callable = run_case,
+               started: Callable[[int], None] | None = None) -> str:
+    for p in payloads:
+        if started:
+            started(1)
+        on_result(runner(p))
+    return "serial (this process)"
+
+
+def _import_dask():
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise EngineError(f"Dask distributed is not installed: {EXTRA_HINT} (or run with --serial)") from None
+    return distributed
+
+
+def _connect(opts: EngineOptions):
+    """(client, cluster or None, description)."""
+    distributed = _import_dask()
+    address = opts.address()
+    try:
+        if opts.scheduler_file:
+            client = distributed.Client(scheduler_file=opts.scheduler_file, timeout="30s")
+            return client, None, f"the cluster of {opts.scheduler_file} ({client.scheduler.address})"
+        if address:
+            return distributed.Client(address, timeout="30s"), None, f"the cluster at {address}"
+    except (OSError, TimeoutError, ValueError) as err:
+        where = opts.scheduler_file or address
+        raise EngineError(f"cannot reach the Dask scheduler at {where}: {err}") from None
+    n = opts.workers or default_workers()
+    cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                       memory_limit=opts.memory_limit or "auto", dashboard_address=None,
+                                       silence_logs=logging.ERROR, env={"IBFEM_THREADS": "1"})
+    return distributed.Client(cluster), cluster, f"an embedded cluster of {n} worker processes"
+
+
+def check_workers(client, wait_s: float) -> int:
+    """Wait for a worker, and refuse workers with another ibfem build; returns their number."""
+    try:
+        client.wait_for_workers(1, timeout=wait_s)
+    except (TimeoutError, OSError):
+        raise EngineError(f"no Dask worker joined the scheduler within {wait_s:g} s") from None
+    mine = fingerprint()
+    try:
+        theirs = client.run(fingerprint)
+    except Exception as err:  # noqa: BLE001 - e.g. ModuleNotFoundError on a worker without ibfem
+        raise EngineError(f"the Dask workers cannot run ibfem ({type(err).__name__}: {err}); install "
+                          f"ibfem {mine.split('+')[0]} with its sweep extra on them") from None
+    other = {w: v for w, v in theirs.items() if v != mine}
+    if other:
+        listed = ", ".join(f"{w} has {v}" for w, v in sorted(other.items()))
+        raise EngineError(f"workers run another ibfem than this driver ({mine}): {listed}")
+    return len(theirs)
+
+
+def _failure(payload: dict, err: BaseException) -> dict[str, Any]:
+    name = type(err).__name__
+    if name == "KilledWorker":
+        return {"hash": payload["hash"], "status": "killed",
+                "message": "the workers running this case died (each time it was given to one)"}
+    text = str(err).strip().splitlines()
+    return {"hash": payload["hash"], "status": "error", "message": f"{name}: {text[0] if text else ''}".rstrip(": ")}
+
+
+def run_dask(payloads: list[dict], opts: EngineOptions, on_result: Callable[[dict], None],
+             runner: Callable = run_case, on_start: Callable[[str, int], None] | None = None) -> str:
+    """Submit every case, hand each result to ``on_result`` as it arrives (in this process)."""
+    client, cluster, description = _connect(opts)
+    futures = []
+    try:
+        workers = check_workers(client, opts.wait_workers_s)
+        if on_start:
+            on_start(description, workers)
+        token = secrets.token_hex(4)
+        by_key = {}
+        for p in payloads:
+            fut = client.submit(runner, p, key=f"ibfem-case-{p['hash']}-{token}", retries=0)
+            by_key[fut.key] = p
+            futures.append(fut)
+        from distributed import as_completed
+
+        for fut in as_completed(futures):
+            p = by_key[fut.key]
+            try:
+                result = fut.result()
+            except Exception as err:  # noqa: BLE001 - KilledWorker, a worker that cannot unpickle, ...
+                result = _failure(p, err)
+            fut.release()
+            on_result(result)
+    finally:
+        for fut in futures:
+            if not fut.done():
+                fut.cancel()
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return description
