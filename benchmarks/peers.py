@@ -9,13 +9,16 @@ converged references below (docs/peers.md says how they were obtained).
 
 Each run is its own process (``ibfem run`` on a scene generated from the base scene with the
 rung's element size and refinement levels, VTU and plots off; ``benchmarks/peers_ngsolve.py``
-for NGSolve), the two ladders interleaved (ibfem, NGSolve, ibfem, ...). Wall time is the child
-process's whole life (imports, meshing, solve, output), peak memory its maximum resident set
-(``os.wait4``). The time to reach 1 %, 0.3 % and 0.1 % error in a is interpolated on each ladder
-(log-log between the last rung above and the first rung at or below the error, on the running
-best error), the ratio NGSolve/ibfem printed beside it.
+for NGSolve), the two ladders interleaved (ibfem, NGSolve, ibfem, ...), each rung ``--repeat``
+times (the fastest kept). Wall time is the child process's whole life (imports, meshing, solve,
+output); CPU time and peak memory (maximum resident set) come from ``os.wait4``. NGSolve's a is
+reported twice: where its gap closes (the definition) and from a fit of the gap opening
+(docs/peers.md). The time to reach 1 %, 0.3 % and 0.1 % error in a is interpolated on each
+ladder (log-log between the last rung above and the first rung at or below the error, on the
+running best error), the ratio NGSolve/ibfem printed beside it, on wall and on CPU time.
 
-    python benchmarks/peers.py [--quick] [--problem steel|aluminium|all]
+    python benchmarks/peers.py [--quick] [--problem steel|aluminium|all] [--repeat N]
+    python benchmarks/peers.py --report benchmarks/results/peers.json   # the tables again, no runs
 
 Writes benchmarks/results/peers.json and peers.md. Needs the ``peers`` extra (ngsolve).
 """
