@@ -101,21 +101,29 @@ def referenced_files(scene: dict) -> list[tuple[dict, str]]:
     return found
 
 
+def _pack_one(src: Path, ref: str, files: dict[str, bytes], name: str, base_dir: Path) -> str:
+    if src.is_file():
+        files[f"{ref}/{src.name}"] = src.read_bytes()
+        return f"{ref}/{src.name}"
+    members = sorted(p for p in src.rglob("*") if p.is_file()) if src.is_dir() else []
+    if not members:
+        raise FileNotFoundError(f"shape.path = {name!r}: no such file or directory under {base_dir}")
+    for p in members:
+        files[f"{ref}/{p.relative_to(src).as_posix()}"] = p.read_bytes()
+    return ref
+
+
 def pack_files(scene: dict, base_dir: Path) -> dict[str, bytes]:
     """Put the files the scene reads into the case (relative names ``ref<k>/...``) and point
     the scene at them; the worker writes them out and loads the scene from there."""
     files: dict[str, bytes] = {}
-    total = 0
-    for k, (shape, name) in enumerate(referenced_files(scene)):
-        src = Path(name) if Path(name).is_absolute() else base_dir / name
-        members = [src] if src.is_file() else sorted(p for p in src.rglob("*") if p.is_file()) if src.is_dir() else []
-        if not members:
-            raise FileNotFoundError(f"shape.path = {name!r}: no such file or directory under {base_dir}")
-        for p in members:
-            rel = f"ref{k}/{p.name}" if src.is_file() else f"ref{k}/{p.relative_to(src).as_posix()}"
-            files[rel] = p.read_bytes()
-            total += len(files[rel])
-        shape["path"] = f"ref{k}/{src.name}" if src.is_file() else f"ref{k}"
+    sent: dict[Path, str] = {}  # a file or directory read by several shapes travels once
+    for shape, name in referenced_files(scene):
+        src = (Path(name) if Path(name).is_absolute() else base_dir / name).resolve()
+        if src not in sent:
+            sent[src] = _pack_one(src, f"ref{len(sent)}", files, name, base_dir)
+        shape["path"] = sent[src]
+    total = sum(len(b) for b in files.values())
     if total > MAX_SENT_BYTES:
         raise ValueError(f"the scene's files are {total / 2**20:.0f} MB, more than the {MAX_SENT_BYTES // 2**20} MB "
                          "a case may carry to a remote worker; put them on a disk the workers share and "

@@ -57,7 +57,7 @@ def run_serial(payloads: list[dict], on_result: Callable[[dict], None], runner: 
     return "serial (this process)"
 
 
-def _import_dask():
+def import_dask():
     try:
         import distributed  # noqa: F401
     except ImportError:
@@ -67,7 +67,7 @@ def _import_dask():
 
 def _connect(opts: EngineOptions):
     """(client, cluster or None, description)."""
-    distributed = _import_dask()
+    distributed = import_dask()
     address = opts.address()
     try:
         if opts.scheduler_file:

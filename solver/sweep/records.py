@@ -88,6 +88,7 @@ class Records:
     def write_csv(self, cases: list, columns: list[str]) -> None:
         params = list(dict.fromkeys(k for c in cases for k in c.params))
         header = ["case", "hash", *params, *columns, "status", "message", "wall_s", "peak_memory_mb", "worker"]
+        self.out.mkdir(parents=True, exist_ok=True)
         tmp = self.csv.with_suffix(".csv.tmp")
         with open(tmp, "w", newline="", encoding="utf-8") as f:
             w = csv.writer(f)

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from .cases import Case, build_cases, pack_files, scene_digest
-from .engine import EngineOptions, run_dask, run_serial
+from .engine import EngineOptions, import_dask, run_dask, run_serial
 from .progress import SweepProgress
 from .records import Records, output_values, warn
 from .spec import Sweep
@@ -93,6 +93,8 @@ def run_sweep(sweep: Sweep, out: str | Path, opts: EngineOptions | None = None, 
     """Run the cases of ``sweep`` that have no record in ``out`` yet (and the failed ones with
     ``retry_failed``); results are written as they arrive. ``runner`` is the task (tests)."""
     opts = opts or EngineOptions()
+    if not opts.serial:
+        import_dask()  # before anything is written: without the extra, one line naming it
     cases = build_cases(sweep)
     records = Records(Path(out), scene_digest(sweep.base)).load()
     if records.ignored:
