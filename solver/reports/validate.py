@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import json
 import shutil
 import math
 import sys
@@ -29,6 +30,7 @@ from solver.reference import theory
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
+SWEEPS = EXAMPLES / "sweeps"
 
 # What the thesis reported (chapter 6; tables 6-1 to 6-4): error in a, error in c/a.
 THESIS = {
@@ -255,50 +257,54 @@ def validate_scene(path: Path, out_root: Path, fig_dir: Path) -> Result:
     return res
 
 
-def _scaled(data: dict, uy_scale: float | None = None, element_size: float | None = None, levels: int | None = None) -> dict:
-    d = copy.deepcopy(data)
-    if uy_scale is not None:
-        for bc in d.get("boundary_conditions", []):
-            if bc.get("type") == "displacement":
-                bc["value"] = [v * uy_scale if isinstance(v, (int, float)) else v for v in bc["value"]]
-    for body in d["bodies"]:
-        if element_size is not None:
-            body["element_size"] = element_size
-        if levels is not None and body.get("refinement"):
-            body["refinement"][-1]["levels"] = levels
-    d.setdefault("output", {})["vtk"] = False
-    d["output"]["plots"] = False
-    return d
+def _sweep_engine():
+    """The embedded Dask cluster when the ``sweep`` extra is installed, else one case at a time."""
+    from solver.sweep.engine import EngineOptions
+
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        return EngineOptions(serial=True)
+    return EngineOptions()
+
+
+def run_example_sweep(name: str, out_root: Path) -> list[tuple[dict, dict]]:
+    """Run ``examples/sweeps/<name>.toml`` through the sweep module (``ibfem sweep``; earlier
+    results removed first) and compare each case's contact with theory: (parameters, metrics)."""
+    from solver.io.scene import scene_from_dict
+    from solver.sweep.run import run_sweep
+    from solver.sweep.spec import load_sweep
+
+    sweep = load_sweep(SWEEPS / f"{name}.toml")
+    out = out_root / "sweeps" / name
+    shutil.rmtree(out, ignore_errors=True)
+    outcome = run_sweep(sweep, out, _sweep_engine(), quiet=True)
+    rows = []
+    for case in outcome.cases:
+        rec = outcome.record(case)
+        try:
+            if rec.get("status") not in ("ok", "not_converged"):
+                raise RuntimeError(f"{rec.get('status')}: {rec.get('message')}")
+            summary = json.loads((out / rec["dir"] / "summary.json").read_text())
+            scene = scene_from_dict(copy.deepcopy(case.scene), label=f"{name} case {case.index}", base_dir=sweep.base_dir)
+            m = compare_contact(scene.problem, summary["contacts"][0], summary)
+            m["cells_across"] = 2 * m["a_hertz"] / min(b["min_element_size"] for b in summary["bodies"].values())
+            m["seconds"] = summary["timings"]["total_s"]
+        except Exception as err:
+            m = {"error": f"{type(err).__name__}: {err}"}
+        rows.append((case.params, m))
+    return rows
 
 
 def mesh_convergence_sweeps(out_root: Path) -> dict[str, list[dict]]:
-    """Example 2: the eight loads on one grid and the grid sweep at the representative load."""
-    path = EXAMPLES / "mesh_convergence.toml"
-    data = tomllib.loads(path.read_text())
-    base_uy = -2.5e-3
-    loads = [-0.25e-3, -0.5e-3, -1.0e-3, -1.5e-3, -2.0e-3, -2.5e-3, -3.0e-3, -4.0e-3]
-    grids = [(0.05, 2), (0.06, 3), (0.05, 3), (0.07, 4), (0.06, 4), (0.05, 4), (0.04, 4), (0.07, 5), (0.06, 5), (0.05, 5)]
+    """Example 2: the eight loads on one grid and the grid sweep at the representative load
+    (examples/sweeps/mesh_convergence_load.toml and mesh_convergence_grid.toml)."""
     rows: dict[str, list[dict]] = {"loads": [], "grids": []}
-    for uy in loads:
-        try:
-            scene, _, summary = run_scene_data(_scaled(data, uy / base_uy, levels=5), "mesh_convergence (load sweep)", out_root / f"mesh_convergence_load_{abs(uy)*1e3:g}mm")
-            m = compare_contact(scene.problem, summary["contacts"][0], summary)
-            m["uy"] = uy
-            m["cells_across"] = 2 * m["a_hertz"] / min(b["min_element_size"] for b in summary["bodies"].values())
-            m["seconds"] = summary["timings"]["total_s"]
-            rows["loads"].append(m)
-        except Exception as err:
-            rows["loads"].append({"uy": uy, "error": f"{type(err).__name__}: {err}"})
-    for h, lv in grids:
-        try:
-            scene, _, summary = run_scene_data(_scaled(data, None, h, lv), "mesh_convergence (grid sweep)", out_root / f"mesh_convergence_grid_{h}_{lv}")
-            m = compare_contact(scene.problem, summary["contacts"][0], summary)
-            m["element_size"], m["levels"] = h, lv
-            m["cells_across"] = 2 * m["a_hertz"] / min(b["min_element_size"] for b in summary["bodies"].values())
-            m["seconds"] = summary["timings"]["total_s"]
-            rows["grids"].append(m)
-        except Exception as err:
-            rows["grids"].append({"element_size": h, "levels": lv, "error": f"{type(err).__name__}: {err}"})
+    for params, m in run_example_sweep("mesh_convergence_load", out_root):
+        rows["loads"].append({**m, "uy": params["boundary_conditions.cylinder/flat.value.1"]})
+    for params, m in run_example_sweep("mesh_convergence_grid", out_root):
+        rows["grids"].append({**m, "element_size": params["bodies.*.element_size"],
+                              "levels": params["bodies.*.refinement.-1.levels"]})
     return rows
 
 

@@ -13,6 +13,7 @@ import secrets
 from dataclasses import dataclass
 from typing import Any, Callable
 
+from .records import warn
 from .worker import fingerprint, run_case
 
 EXTRA_HINT = "pip install 'ibfem[sweep]'"
@@ -79,9 +80,13 @@ def _connect(opts: EngineOptions):
         where = opts.scheduler_file or address
         raise EngineError(f"cannot reach the Dask scheduler at {where}: {err}") from None
     n = opts.workers or default_workers()
-    cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                       memory_limit=opts.memory_limit or "auto", dashboard_address=None,
-                                       silence_logs=logging.ERROR, env={"IBFEM_THREADS": "1"})
+    try:
+        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                           memory_limit=opts.memory_limit or "auto", dashboard_address=":0",
+                                           silence_logs=logging.ERROR, env={"IBFEM_THREADS": "1"})
+    except (RuntimeError, OSError, ValueError) as err:
+        raise EngineError(f"cannot start an embedded Dask cluster of {n} workers: {err} (a script that runs a "
+                          "sweep needs the `if __name__ == \"__main__\":` guard; or use --serial)") from None
     return distributed.Client(cluster), cluster, f"an embedded cluster of {n} worker processes"
 
 
@@ -97,10 +102,15 @@ def check_workers(client, wait_s: float) -> int:
     except Exception as err:  # noqa: BLE001 - e.g. ModuleNotFoundError on a worker without ibfem
         raise EngineError(f"the Dask workers cannot run ibfem ({type(err).__name__}: {err}); install "
                           f"ibfem {mine.split('+')[0]} with its sweep extra on them") from None
-    other = {w: v for w, v in theirs.items() if v != mine}
+    version = mine.split("+")[0]
+    other = {w: v for w, v in theirs.items() if v.split("+")[0] != version}
     if other:
         listed = ", ".join(f"{w} has {v}" for w, v in sorted(other.items()))
-        raise EngineError(f"workers run another ibfem than this driver ({mine}): {listed}")
+        raise EngineError(f"workers run another ibfem version than this driver ({mine}): {listed}")
+    edited = sorted(w for w, v in theirs.items() if v != mine)
+    if edited:
+        warn(f"the ibfem sources of {len(edited)} workers differ from this driver's ({mine}; e.g. {edited[0]} has "
+             f"{theirs[edited[0]]}): edited since, or another build of version {version}")
     return len(theirs)
 
 

@@ -65,7 +65,7 @@ class _Collector:
                "status": result.get("status", "error"), "message": result.get("message", ""),
                "outputs": output_values(result.get("summary"), self.sweep.columns),
                "wall_s": result.get("wall_s"), "peak_memory_mb": result.get("peak_memory_mb"),
-               "worker": result.get("worker", "")}
+               "worker": result.get("worker", ""), "ibfem": result.get("ibfem", "")}
         if case.scene:
             d = self.records.write_case_dir(case.hash, case.scene, result.get("files") or {})
             rec["dir"] = d.relative_to(self.records.out).as_posix()

@@ -18,7 +18,6 @@ import subprocess
 import sys
 import tempfile
 import time
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -26,10 +25,9 @@ from typing import Any
 STATUSES = ("ok", "not_converged", "error", "timeout", "invalid", "killed")
 
 
-@lru_cache(maxsize=1)
 def fingerprint() -> str:
-    """The installed ibfem: its version and a hash of the sources of its three packages, so a
-    worker with another build of the same version is noticed too."""
+    """The installed ibfem: ``VERSION+HASH``, its version and a hash of the sources of its three
+    packages (so a worker whose sources differ from the driver's is noticed too)."""
     import hashlib
     from importlib import metadata
 
@@ -155,9 +153,9 @@ def run_case(payload: dict) -> dict[str, Any]:
     """The task: one case (scene data) -> its result record (status, message, summary, the
     result directory's files, wall time, peak memory, where it ran)."""
     t0 = time.perf_counter()
-    expected = payload.get("fingerprint")
-    if expected and expected != fingerprint():
-        result = {"status": "error", "message": f"ibfem on this worker is {fingerprint()}, the driver's is "
+    expected, mine = payload.get("fingerprint"), fingerprint()
+    if expected and expected.split("+")[0] != mine.split("+")[0]:
+        result = {"status": "error", "message": f"ibfem on this worker is {mine}, the driver's is "
                   f"{expected}: install the same version on every worker"}
     elif payload.get("timeout"):
         result = _in_child({**payload, "timeout": None}, float(payload["timeout"]))
@@ -166,7 +164,7 @@ def run_case(payload: dict) -> dict[str, Any]:
     result.setdefault("summary", None)
     result.setdefault("files", {})
     result.setdefault("peak_memory_mb", None)
-    result.update(hash=payload["hash"], wall_s=round(time.perf_counter() - t0, 3), worker=where())
+    result.update(hash=payload["hash"], wall_s=round(time.perf_counter() - t0, 3), worker=where(), ibfem=mine)
     return result
 
 
