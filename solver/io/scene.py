@@ -111,12 +111,28 @@ def _component(v: Any) -> Any:
 
 
 def _number(v: Any) -> Any:
-    if isinstance(v, bool):  # TOML true is not 1.0
+    if isinstance(v, (bool, str)):  # TOML true is not 1.0, "0.04" is not 0.04
         raise PydanticCustomError("number", "must be a number")
     return v
 
 
+def _integer(v: Any) -> Any:
+    if isinstance(v, (bool, str)) or (isinstance(v, float) and not v.is_integer()):
+        raise PydanticCustomError("integer", "must be a whole number")
+    return v
+
+
+def _boolean(v: Any) -> Any:
+    if not isinstance(v, bool):  # "yes", 1, "true" are not true
+        raise PydanticCustomError("boolean", "must be true or false")
+    return v
+
+
 Num = Annotated[float, BeforeValidator(_number)]
+Int = Annotated[int, BeforeValidator(_integer)]
+Bool = Annotated[bool, BeforeValidator(_boolean)]
+#: the scene types of the options dataclasses' fields (strict: no strings for numbers, no "yes")
+_STRICT_TYPES = {float: Num, int: Int, bool: Bool, float | None: Num | None}
 Vec2 = tuple[Num, Num]
 Component = Annotated[Union[float, None], BeforeValidator(_component)]
 
@@ -127,7 +143,7 @@ def _fields_of(options: type, base: type[BaseModel], name: str) -> type[BaseMode
     and its range is checked once, by the dataclass (see :func:`_options`)."""
     hints = typing.get_type_hints(options)
     extra = {
-        f.name: (hints[f.name], f.default)
+        f.name: (_STRICT_TYPES.get(hints[f.name], hints[f.name]), f.default)
         for f in dataclasses.fields(options)
         if f.name not in base.model_fields and f.default is not dataclasses.MISSING
     }
@@ -135,7 +151,7 @@ def _fields_of(options: type, base: type[BaseModel], name: str) -> type[BaseMode
 
 
 class _SolverBase(_Strict):
-    exact_geometry: bool = True
+    exact_geometry: Bool = True
 
 
 SolverSpec = _fields_of(SolverOptions, _SolverBase, "SolverSpec")
@@ -176,7 +192,7 @@ def _around(v: Any) -> Any:
 
 
 class RefinementSpec(_Strict):
-    levels: int = Field(ge=1, le=MAX_REFINEMENT_LEVELS)
+    levels: Int = Field(ge=1, le=MAX_REFINEMENT_LEVELS)
     around: Annotated[Union[Literal["contact"], tuple[float, float]], BeforeValidator(_around)]
     radius: Num = Field(gt=0.0)
 
@@ -198,6 +214,8 @@ class BodySpec(_Strict):
     def _shape_type(cls, v: dict[str, Any]) -> dict[str, Any]:
         if "type" not in v:
             raise PydanticCustomError("shape_type", "missing key 'type'")
+        if not isinstance(v["type"], str):
+            raise PydanticCustomError("shape_type", "shape.type must be a string (the shape's type name)")
         return v
 
 
@@ -282,7 +300,7 @@ class LineSpec(_Strict):
     name: str = Field(min_length=1)
     start: Vec2
     end: Vec2
-    n: int = Field(100, ge=2, le=100_000)
+    n: Int = Field(100, ge=2, le=100_000)
 
     @field_validator("end")
     @classmethod
@@ -293,8 +311,8 @@ class LineSpec(_Strict):
 
 
 class OutputSpec(_Strict):
-    vtk: bool = True
-    plots: bool = False
+    vtk: Bool = True
+    plots: Bool = False
     probes: list[Vec2] = []
     lines: list[LineSpec] = []
 
@@ -364,18 +382,69 @@ def load_scene(
         raw = path.read_bytes()
     except OSError as err:
         raise SceneError([f"{path}: cannot read scene file ({err.strerror or err})"]) from None
+    data = parse_scene_text(raw, label, json_file=path.suffix.lower() == ".json")
+    return scene_from_dict(data, label=label, base_dir=path.parent if base_dir is None else base_dir, path=path)
+
+
+def parse_scene_text(raw: bytes, label: str, json_file: bool = False) -> Any:
+    """The parsed TOML (JSON) of a scene file's bytes; every failure a SceneError naming the
+    file: not UTF-8 (a leading byte-order mark is allowed), invalid syntax, numbers with more
+    digits than Python converts, nesting too deep for the parser."""
     try:
-        if path.suffix.lower() == ".json":
-            data = json.loads(raw.decode("utf-8"))
-        else:
-            data = tomllib.loads(raw.decode("utf-8"))
-    except UnicodeDecodeError:
-        raise SceneError([f"{label}: not a UTF-8 text file"]) from None
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as err:
+        raise SceneError([f"{label}: not a UTF-8 text file (byte 0x{raw[err.start]:02x} at offset {err.start}); "
+                          "save it as UTF-8"]) from None
+    try:
+        return json.loads(text) if json_file else tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise SceneError([f"{label}: invalid TOML: {err}"]) from None
     except json.JSONDecodeError as err:
         raise SceneError([f"{label}: invalid JSON: {err.msg} (line {err.lineno}, column {err.colno})"]) from None
-    return scene_from_dict(data, label=label, base_dir=path.parent if base_dir is None else base_dir, path=path)
+    except RecursionError:
+        raise SceneError([f"{label}: nested too deeply to read (arrays or tables inside each other "
+                          f"more than {MAX_NESTING} levels deep)"]) from None
+    except ValueError as err:  # e.g. an integer of more than 4300 digits
+        raise SceneError([f"{label}: cannot read a value: {str(err).split(';')[0]}"]) from None
+
+
+#: a scene nests tables and arrays at most this deep (a profile's edges: 5)
+MAX_NESTING = 32
+#: numbers in a scene are at most this large in magnitude (SI units; beyond it products of two
+#: of them overflow double precision in the solver)
+MAX_MAGNITUDE = 1e20
+
+
+def _input_problems(data: Any, label: str) -> list[str]:
+    """Nesting deeper than MAX_NESTING and numbers beyond MAX_MAGNITUDE (or non-finite), with
+    their key paths; iterative, so no recursion limit is reached on any input."""
+    problems: list[str] = []
+    stack: list[tuple[Any, tuple]] = [(data, ())]
+    while stack and len(problems) < 10:
+        value, loc = stack.pop()
+        if len(loc) > MAX_NESTING:
+            problems.append(f"{label}: {_key_path(loc[:4])}...: nested more than {MAX_NESTING} levels deep")
+            break
+        if isinstance(value, dict):
+            stack.extend((v, loc + (str(k),)) for k, v in value.items())
+        elif isinstance(value, list):
+            stack.extend((v, loc + (i,)) for i, v in enumerate(value))
+        elif isinstance(value, (int, float)) and not isinstance(value, bool):
+            problem = _number_problem(value)
+            if problem:
+                problems.append(f"{label}: {_key_path(loc) or '(top level)'} = {problem}")
+    return problems
+
+
+def _number_problem(value: int | float) -> str | None:
+    if isinstance(value, int) and value.bit_length() > 128:  # float(value) may overflow
+        return (f"an integer of about {int(value.bit_length() * math.log10(2)) + 1} digits: beyond the largest "
+                f"number a scene may hold ({MAX_MAGNITUDE:g})")
+    if not math.isfinite(value):
+        return f"{_show(value)}: input should be a finite number"
+    if abs(value) > MAX_MAGNITUDE:
+        return f"{_show(value)}: beyond the largest number a scene may hold ({MAX_MAGNITUDE:g}, SI units)"
+    return None
 
 
 def scene_from_dict(
@@ -385,6 +454,9 @@ def scene_from_dict(
     errors; relative paths in the scene (``onshape`` shapes) are taken from ``base_dir``."""
     if not isinstance(data, dict):
         raise SceneError([f"{label}: the scene must be a table/object, got {type(data).__name__}"])
+    problems = _input_problems(data, label)
+    if problems:
+        raise SceneError(problems)
     loader = SCENE_MODELS.get(data["model"]) if isinstance(data.get("model"), str) else None
     if loader is not None:  # e.g. model = "solid" (SPEC section 7): solver/io/scene_solid.py
         return loader(data, label=label, base_dir=Path(base_dir), path=path)
