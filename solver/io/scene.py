@@ -45,7 +45,8 @@ from pydantic_core import PydanticCustomError
 from solver.model import problem as pb
 from solver.model.problem import MAX_REFINEMENT_LEVELS
 from solver.model.options import ContactOptions, OptionError, SolverOptions
-from solver.model.resolve import contact_frame, resolve_problem
+from solver.model.resolve import (CONTACT_SEARCH_SPACING, boundary_gap, contact_frame, contact_point,
+                                  corner_distance, finest_size_at, resolve_problem)
 from solver.model.rigid import rigid_body_modes
 
 __all__ = [
@@ -757,6 +758,7 @@ def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str, label
         for i, c in enumerate(spec.contacts)
     )
     options = _options(SolverOptions, spec.solver, "solver", label)
+    _plane_option_checks(options, contacts, label)
     return pb.Problem(
         name=spec.name if spec.name else default_name,
         model=spec.model,
@@ -766,6 +768,20 @@ def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str, label
         contacts=contacts,
         options=options,
     )
+
+
+def _plane_option_checks(options: SolverOptions, contacts: tuple, label: str) -> None:
+    """Options valid in 3D only (model = "solid") refused in a plane scene."""
+    problems = []
+    if len(options.grid_offset) != 2:
+        problems.append(f"{label}: solver.grid_offset = {_show(list(options.grid_offset))}: a plane scene's grid "
+                        "takes two fractions [fx, fy]")
+    for k, c in enumerate(contacts):
+        if c.options.formulation == "ellipse":
+            problems.append(f'{label}: contacts[{k}].formulation = "ellipse": the formulation between solids '
+                            '(model = "solid"); plane scenes use "band"')
+    if problems:
+        raise SceneError(problems)
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:
@@ -850,30 +866,68 @@ def size_problems(problem: pb.Problem, label: str) -> list[str]:
 
 #: a given contact point may lie this many of the finer element size off either boundary
 CONTACT_POINT_REACH = 2.0
+#: ... and the gap at it may exceed the smallest gap between the bodies by this many of the
+#: finest cells there (a point where the bodies are not closest finds no contact)
+CONTACT_GAP_CELLS = 2.0
 
 
 def _contact_point_problems(spec: SceneSpec, problem: pb.Problem, label: str) -> list[str]:
     """A ``point`` given for a contact must lie on (or within CONTACT_POINT_REACH cells of) both
-    bodies' boundaries (issue 18: a mistyped point inside a body gave a converged zero force)."""
+    bodies' boundaries, where the bodies are closest (issue 18: a mistyped point inside a body,
+    or one off the touching point, gave a converged zero force); given or found, it must not sit
+    at a corner of either body (the run needs an edge on each side of it)."""
     problems = []
     for k, (given, c) in enumerate(zip(spec.contacts, problem.contacts)):
-        if given.point is None:
-            continue
-        p = np.asarray(given.point, dtype=float)[None, :]
-        reach = CONTACT_POINT_REACH * min(problem.body(n).element_size for n in c.bodies)
-        far = []
+        p = np.asarray(c.point, dtype=float)
+        if given.point is not None:
+            text = _point_distance_problem(problem, c) or _point_gap_problem(problem, c)
+            if text:
+                problems.append(f"{label}: contacts[{k}].point = {_show(list(given.point))}: {text}")
+                continue
         for name in c.bodies:
-            profile = problem.body(name).profile
-            distance = abs(float(np.asarray(profile.signed_distance(p), dtype=float)[0]))
-            if not distance <= reach:
-                nearest = np.asarray(profile.project(p).points, dtype=float)[0]
-                far.append(f"{distance:.4g} from body {name!r} (nearest boundary point "
-                           f"[{nearest[0]:.6g}, {nearest[1]:.6g}])")
-        if far:
-            problems.append(f"{label}: contacts[{k}].point = {_show(list(given.point))}: not on the bodies' boundaries: "
-                            + "; ".join(far) + f" (allowed: {reach:.4g}, {CONTACT_POINT_REACH:g} elements); "
-                            "leave the point out to use the closest points of the two boundaries")
+            body = problem.body(name)
+            h = finest_size_at(body, p)
+            distance, edge = corner_distance(body.profile, p)
+            if distance < h:
+                where = (f"contacts[{k}].point = {_show(list(given.point))}" if given.point is not None else
+                         f"contacts[{k}]: the closest points of the two bodies ({_show([round(float(x), 9) for x in p])})")
+                problems.append(f"{label}: {where}: at a corner of body {name!r} ({distance:.3g} from the end of its "
+                                f"edge {edge!r}, less than the finest cell there, {h:.3g}); the contact needs a point "
+                                "inside one edge of each body")
+                break
     return problems
+
+
+def _point_distance_problem(problem: pb.Problem, c: pb.ContactModel) -> str | None:
+    p = np.asarray(c.point, dtype=float)[None, :]
+    reach = CONTACT_POINT_REACH * min(problem.body(n).element_size for n in c.bodies)
+    far = []
+    for name in c.bodies:
+        profile = problem.body(name).profile
+        distance = abs(float(np.asarray(profile.signed_distance(p), dtype=float)[0]))
+        if not distance <= reach:
+            nearest = np.asarray(profile.project(p).points, dtype=float)[0]
+            far.append(f"{distance:.4g} from body {name!r} (nearest boundary point "
+                       f"[{nearest[0]:.6g}, {nearest[1]:.6g}])")
+    if not far:
+        return None
+    return ("not on the bodies' boundaries: " + "; ".join(far) + f" (allowed: {reach:.4g}, {CONTACT_POINT_REACH:g} "
+            "elements); leave the point out to use the closest points of the two boundaries")
+
+
+def _point_gap_problem(problem: pb.Problem, c: pb.ContactModel) -> str | None:
+    first, second = (problem.body(n) for n in c.bodies)
+    p = np.asarray(c.point, dtype=float)
+    spacing = CONTACT_SEARCH_SPACING * min(first.element_size, second.element_size)
+    here = boundary_gap(first.profile, second.profile, p, spacing)
+    least = boundary_gap(first.profile, second.profile, None, spacing)
+    allowed = CONTACT_GAP_CELLS * min(finest_size_at(first, p), finest_size_at(second, p))
+    if here - least <= allowed:
+        return None
+    found = contact_point(problem, dataclasses.replace(c, point=None))
+    return (f"not where the bodies are closest: the gap between them is {here:.4g} there but {least:.4g} at "
+            f"[{found[0]:.6g}, {found[1]:.6g}] (allowed difference: {allowed:.3g}, {CONTACT_GAP_CELLS:g} of the "
+            "finest cells); give that point or leave the point out")
 
 
 def _notes(spec: SceneSpec, label: str) -> list[str]:

@@ -27,7 +27,8 @@ GRADING_CELLS = 2
 
 class ProblemSize:
     def __init__(self, cells: float, dofs: float, memory: float):
-        self.cells, self.dofs, self.memory = cells, dofs, memory
+        # nan (inf x 0 of absurd sizes) counts as beyond every machine
+        self.cells, self.dofs, self.memory = (v if v == v else math.inf for v in (cells, dofs, memory))
 
     def __str__(self) -> str:
         return f"about {self.cells:.3g} cells, {self.dofs:.3g} dofs, {self.memory / 2**30:.2g} GB"

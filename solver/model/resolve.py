@@ -14,7 +14,8 @@ import numpy as np
 
 from .problem import BodyModel, ContactModel, Problem, check_problem
 
-__all__ = ["CONTACT_SEARCH_SPACING", "closest_boundary_point", "contact_point", "contact_frame", "resolve_problem"]
+__all__ = ["CONTACT_SEARCH_SPACING", "closest_boundary_point", "contact_point", "contact_frame", "resolve_problem",
+           "finest_size_at", "corner_distance", "boundary_gap"]
 
 #: sampling spacing of the closest-point search, as a fraction of the finer element size
 CONTACT_SEARCH_SPACING = 0.05
@@ -127,3 +128,36 @@ def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarra
     return candidates[int(np.argmax(phi))]
 
 
+
+
+def finest_size_at(body: BodyModel, point: np.ndarray) -> float:
+    """The cell size the body's grid will have at ``point``: its element size halved once per
+    level of the deepest refinement zone (centre resolved) whose radius reaches the point."""
+    levels = [r.levels for r in body.refinements
+              if r.center is not None and float(np.hypot(*(np.asarray(r.center, dtype=float) - point))) <= r.radius]
+    return float(body.element_size) / 2.0 ** max(levels, default=0)
+
+
+def corner_distance(profile: Any, point: np.ndarray) -> tuple[float, str]:
+    """Distance from the closest boundary point of ``point`` to the nearer end of the edge it
+    lies on (inf on a closed edge), and that edge's name: how far a contact there is from a
+    corner of the body."""
+    proj = profile.project(np.asarray(point, dtype=float)[None, :])
+    name = profile.edge_names[int(proj.edge_index[0])]
+    curve = profile.edges[name]
+    if getattr(curve, "is_closed", False):
+        return np.inf, name
+    ends = np.asarray(curve.evaluate(np.array([curve.t_start, curve.t_end])), dtype=float)
+    c = np.asarray(proj.points[0], dtype=float)
+    return float(np.min(np.hypot(*(ends - c).T))), name
+
+
+def boundary_gap(first: Any, second: Any, point: np.ndarray | None, spacing: float) -> float:
+    """The gap between the bodies (negative: overlap) at the point of ``first``'s boundary
+    nearest ``point``, or, with ``point`` None, the smallest gap anywhere (the closest-point
+    search of :func:`closest_boundary_point`)."""
+    if point is None:
+        x = closest_boundary_point(first, second, spacing)
+    else:
+        x = np.asarray(first.project(np.asarray(point, dtype=float)[None, :]).points[0], dtype=float)
+    return -float(np.asarray(second.signed_distance(x[None, :]), dtype=float)[0])
