@@ -3,8 +3,9 @@
 Exit codes: 0 solved and converged; 1 solved but not converged (``summary.json`` is still
 written, with ``converged`` false and the iteration history); 2 the scene is invalid (one
 line per problem on stderr, no traceback); 3 the solver core is not available; 4 the
-results could not be written; 5 an internal error (a bug: one line, ``--traceback`` shows it);
-6 out of memory (solver.cli)."""
+results could not be written; 5 an internal error (a bug: one line, ``--traceback`` shows it;
+also a ValueError raised inside numpy / scipy, which is never reported as a scene error); 6 out of
+memory (solver.cli)."""
 
 from __future__ import annotations
 
@@ -28,6 +29,27 @@ def register(sub: "argparse._SubParsersAction") -> None:
     p.add_argument("--check", action="store_true", help="validate the scene only, solve nothing")
     p.add_argument("--traceback", action="store_true", help="show tracebacks of solver errors")
     p.set_defaults(handler=_run)
+
+
+#: exit code of an internal error (solver.cli has the same)
+INTERNAL_ERROR = 5
+_OURS = ("geometry", "importers", "solver")
+
+
+def error_origin(err: BaseException) -> tuple[str | None, str]:
+    """Where an exception was raised: (None, our module) when by the project's own code, else
+    (the library's name, the project's function that called it last)."""
+    tb = err.__traceback__
+    ours, last = "the solver", None
+    while tb is not None:
+        module = str(tb.tb_frame.f_globals.get("__name__", ""))
+        if module.split(".")[0] in _OURS:
+            ours = f"{module}.{tb.tb_frame.f_code.co_name}"
+        last = module
+        tb = tb.tb_next
+    if last is None or last.split(".")[0] in _OURS:
+        return None, ours
+    return last.split(".")[0], ours
 
 
 def _err(text: str) -> None:
@@ -73,8 +95,14 @@ def _run(args: argparse.Namespace) -> int:
     except ValueError as err:  # the solver's own checks on the input: a scene problem
         if args.traceback:
             raise
-        _err(f"{label}: {err}")
-        return 2
+        library, where = error_origin(err)
+        if library is None:
+            _err(f"{label}: {err}")
+            return 2
+        # numpy / scipy refused what the solver handed them: not the user's key, a gap in the checks
+        _err(f"{label}: the solver failed in {where}: {library} reported \"{str(err).splitlines()[0] if str(err) else type(err).__name__}\". "
+             "This is a bug (an input the scene check lets through): rerun with --traceback and report it.")
+        return INTERNAL_ERROR
     finally:
         if not args.quiet:
             progress.close()

@@ -34,12 +34,23 @@ def describe(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
+#: no number in an Onshape response (SI units: metres) is larger: a part 1e12 m across is a
+#: damaged file, and squares of larger numbers overflow (1e308 did, in the mesh welding)
+MAX_MAGNITUDE = 1e12
+
+
 def _number(value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ValueError(f"expected a number, got {describe(value)}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:  # an integer beyond floating point
+        raise ValueError(f"expected a number below {MAX_MAGNITUDE:g} in magnitude, got a {len(str(value))}-digit "
+                         "integer") from None
     if not math.isfinite(x):
         raise ValueError(f"expected a finite number, got {describe(value)}")
+    if abs(x) > MAX_MAGNITUDE:
+        raise ValueError(f"expected a number below {MAX_MAGNITUDE:g} in magnitude (metres), got {describe(value)}")
     return x
 
 
@@ -58,7 +69,7 @@ def _vec3(value: Any) -> tuple[float, float, float]:
         x, y, z = value
     else:
         x = y = z = None
-    if type(x) is float and type(y) is float and type(z) is float and math.isfinite(x + y + z):
+    if type(x) is float and type(y) is float and type(z) is float and abs(x) + abs(y) + abs(z) <= MAX_MAGNITUDE:
         return (x, y, z)
     if isinstance(value, dict):
         missing = [k for k in "xyz" if k not in value]

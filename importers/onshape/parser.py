@@ -83,12 +83,22 @@ def _read_json(directory: Path, name: str, required: bool = True) -> Any:
         if required:
             raise OnshapeFormatError(f"{directory}: missing {name} (expected the cached Onshape response)")
         return None
-    text = path.read_text(encoding="utf-8")
+    try:
+        text = path.read_bytes().decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise OnshapeFormatError(f"{path}: not a UTF-8 text file (byte at offset {exc.start}); the Onshape "
+                                 "cache is damaged: import it again") from None
+    except OSError as exc:
+        raise OnshapeFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
     try:
         return json.loads(text)
     except json.JSONDecodeError as exc:
         what = "truncated or invalid JSON" if exc.pos >= len(text.rstrip()) - 1 else "invalid JSON"
         raise OnshapeFormatError(f"{name}: {what} at line {exc.lineno} column {exc.colno}: {exc.msg}") from None
+    except RecursionError:
+        raise OnshapeFormatError(f"{path}: nested too deeply to read: not an Onshape response") from None
+    except ValueError as exc:  # e.g. an integer of more than 4300 digits
+        raise OnshapeFormatError(f"{path}: cannot read a value: {str(exc).split(';')[0]}") from None
 
 
 def _validate(name: str, model: Any, data: Any, prefix: tuple = ()) -> Any:
@@ -473,6 +483,13 @@ def parse_part(faces_json: Any, details_json: Any, edges_json: Any = None, sourc
             if tf.errorMessage:
                 part.warnings.append(f"face {tf.id}: Onshape could not tessellate it: {tf.errorMessage}")
 
+    if tess.bodies and not details.bodies:
+        raise OnshapeFormatError(f"{DETAILS_FILE}: bodies: empty, while {FACES_FILE} has {len(tess.bodies)} bodies: "
+                                 "the cached response is damaged; import the part again")
+    if not any(m is not None for m in meshes.values()):
+        faces = sum(len(tb.faces) for tb in tess.bodies)
+        raise OnshapeFormatError(f"{FACES_FILE}: no usable tessellation ({len(tess.bodies)} bodies, {faces} faces, "
+                                 "no facets): the cached response is empty or damaged; import the part again")
     polylines: dict[str, np.ndarray] = {}
     if etess is not None:
         for bi, eb in enumerate(etess.bodies):

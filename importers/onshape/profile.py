@@ -227,7 +227,8 @@ def section_profile(part: Part, origin: Any, normal: Any, body: Any = None, x_ax
         sides.append(fid)
     if len(caps) != 2:
         raise ValueError(f"body {b.id}: a prism along {n.tolist()} has two caps, found {len(caps)}")
-    levels = sorted(float(np.asarray(part.faces[c].mesh.vertices)[0] @ n) for c in caps)
+    # the caps' levels from their exact planes (the tessellation may be missing)
+    levels = sorted(float(np.asarray(part.faces[c].surface.to_dict()["origin"], float) @ n) for c in caps)
     at = float(origin @ n)
     if not levels[0] < at < levels[1]:
         raise ValueError(f"section plane at {at:.6g} along {n.tolist()} is not between the caps "
