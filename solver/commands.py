@@ -34,22 +34,23 @@ def register(sub: "argparse._SubParsersAction") -> None:
 #: exit code of an internal error (solver.cli has the same)
 INTERNAL_ERROR = 5
 _OURS = ("geometry", "importers", "solver")
+#: numerical libraries whose ValueErrors mean the solver handed them something broken
+LIBRARIES = ("numpy", "scipy", "pyamg", "pymetis", "numba", "trimesh", "matplotlib", "pyvista")
 
 
 def error_origin(err: BaseException) -> tuple[str | None, str]:
-    """Where an exception was raised: (None, our module) when by the project's own code, else
-    (the library's name, the project's function that called it last)."""
+    """Where an exception was raised: (None, module) when not inside a numerical library (the
+    solver's own checks), else (the library's name, the project's function that called it)."""
     tb = err.__traceback__
-    ours, last = "the solver", None
+    ours, last = "the solver", ""
     while tb is not None:
         module = str(tb.tb_frame.f_globals.get("__name__", ""))
         if module.split(".")[0] in _OURS:
             ours = f"{module}.{tb.tb_frame.f_code.co_name}"
         last = module
         tb = tb.tb_next
-    if last is None or last.split(".")[0] in _OURS:
-        return None, ours
-    return last.split(".")[0], ours
+    top = last.split(".")[0]
+    return (top if top in LIBRARIES else None), ours
 
 
 def _err(text: str) -> None:
