@@ -80,10 +80,17 @@ def _connect(opts: EngineOptions):
         where = opts.scheduler_file or address
         raise EngineError(f"cannot reach the Dask scheduler at {where}: {err}") from None
     n = opts.workers or default_workers()
+    import dask
+
     try:
-        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                           memory_limit=opts.memory_limit or "auto", dashboard_address=":0",
-                                           silence_logs=logging.ERROR, env={"IBFEM_THREADS": "1"})
+        # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's adaptive
+        # mmap threshold: every large numpy temporary is then mapped and faulted in afresh, and a
+        # case runs 1.7x slower (example 4 at 5 levels: 2.7 -> 4.5 s). Our workers keep the default.
+        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+            cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                               memory_limit=opts.memory_limit or "auto",
+                                               dashboard_address=":0", silence_logs=logging.ERROR,
+                                               env={"IBFEM_THREADS": "1"})
     except (RuntimeError, OSError, ValueError) as err:
         raise EngineError(f"cannot start an embedded Dask cluster of {n} workers: {err} (a script that runs a "
                           "sweep needs the `if __name__ == \"__main__\":` guard; or use --serial)") from None
@@ -107,6 +114,10 @@ def check_workers(client, wait_s: float) -> int:
     if other:
         listed = ", ".join(f"{w} has {v}" for w, v in sorted(other.items()))
         raise EngineError(f"workers run another ibfem version than this driver ({mine}): {listed}")
+    trimmed = {v for v in client.run(os.environ.get, "MALLOC_TRIM_THRESHOLD_").values() if v}
+    if trimmed:
+        warn(f"the workers run with MALLOC_TRIM_THRESHOLD_={min(trimmed)} (Dask's default): cases run up to 1.7x "
+             "slower; see docs/sweeps.md (distributed.nanny.pre-spawn-environ)")
     edited = sorted(w for w, v in theirs.items() if v != mine)
     if edited:
         warn(f"the ibfem sources of {len(edited)} workers differ from this driver's ({mine}; e.g. {edited[0]} has "
@@ -123,36 +134,66 @@ def _failure(payload: dict, err: BaseException) -> dict[str, Any]:
     return {"hash": payload["hash"], "status": "error", "message": f"{name}: {text[0] if text else ''}".rstrip(": ")}
 
 
-def run_dask(payloads: list[dict], opts: EngineOptions, on_result: Callable[[dict], None],
-             runner: Callable = run_case, on_start: Callable[[str, int], None] | None = None) -> str:
-    """Submit every case, hand each result to ``on_result`` as it arrives (in this process)."""
-    client, cluster, description = _connect(opts)
-    futures = []
-    try:
-        workers = check_workers(client, opts.wait_workers_s)
-        if on_start:
-            on_start(description, workers)
-        token = secrets.token_hex(4)
-        by_key = {}
-        for p in payloads:
-            fut = client.submit(runner, p, key=f"ibfem-case-{p['hash']}-{token}", retries=0)
-            by_key[fut.key] = p
-            futures.append(fut)
+class DaskSession:
+    """A connection to a Dask cluster (embedded or existing), opened in a background thread so
+    that the workers start and warm up (imports, a tiny solve) while the driver prepares the
+    cases; :meth:`run` waits for it."""
+
+    def __init__(self, opts: EngineOptions, warm: bool = True):
+        import threading
+
+        import_dask()
+        self.opts, self.warm = opts, warm
+        self.client = self.cluster = None
+        self.description, self.workers = "", 0
+        self.error: BaseException | None = None
+        self.thread = threading.Thread(target=self._open, name="ibfem-sweep-connect", daemon=True)
+        self.thread.start()
+
+    def _open(self) -> None:
+        try:
+            self.client, self.cluster, self.description = _connect(self.opts)
+            self.workers = check_workers(self.client, self.opts.wait_workers_s)
+            if self.warm and self.cluster is not None:
+                from .worker import warm_up
+
+                self.client.run(warm_up)
+        except BaseException as err:  # noqa: BLE001 - raised again in the driver's thread by ready()
+            self.error = err
+
+    def ready(self) -> None:
+        self.thread.join()
+        if self.error is not None:
+            raise self.error
+
+    def run(self, payloads: list[dict], on_result: Callable[[dict], None], runner: Callable = run_case) -> str:
+        """Submit every case, hand each result to ``on_result`` as it arrives (in this process)."""
         from distributed import as_completed
 
-        for fut in as_completed(futures):
-            p = by_key[fut.key]
-            try:
-                result = fut.result()
-            except Exception as err:  # noqa: BLE001 - KilledWorker, a worker that cannot unpickle, ...
-                result = _failure(p, err)
-            fut.release()
-            on_result(result)
-    finally:
-        for fut in futures:
-            if not fut.done():
-                fut.cancel()
-        client.close()
-        if cluster is not None:
-            cluster.close()
-    return description
+        self.ready()
+        token = secrets.token_hex(4)
+        futures, by_key = [], {}
+        try:
+            for p in payloads:
+                fut = self.client.submit(runner, p, key=f"ibfem-case-{p['hash']}-{token}", retries=0)
+                by_key[fut.key] = p
+                futures.append(fut)
+            for fut in as_completed(futures):
+                try:
+                    result = fut.result()
+                except Exception as err:  # noqa: BLE001 - KilledWorker, a worker that cannot unpickle, ...
+                    result = _failure(by_key[fut.key], err)
+                fut.release()
+                on_result(result)
+        finally:
+            for fut in futures:
+                if not fut.done():
+                    fut.cancel()
+        return self.description
+
+    def close(self) -> None:
+        self.thread.join()
+        if self.client is not None:
+            self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()

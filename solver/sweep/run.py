@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from .cases import Case, build_cases, pack_files, scene_digest
-from .engine import EngineOptions, import_dask, run_dask, run_serial
+from .engine import DaskSession, EngineOptions, run_serial
 from .progress import SweepProgress
 from .records import Records, output_values, warn
 from .spec import Sweep
@@ -93,8 +93,18 @@ def run_sweep(sweep: Sweep, out: str | Path, opts: EngineOptions | None = None, 
     """Run the cases of ``sweep`` that have no record in ``out`` yet (and the failed ones with
     ``retry_failed``); results are written as they arrive. ``runner`` is the task (tests)."""
     opts = opts or EngineOptions()
-    if not opts.serial:
-        import_dask()  # before anything is written: without the extra, one line naming it
+    # the cluster starts (and its workers warm up) while the cases are built and checked; without
+    # the extra this stops here, before anything is written, with one line naming it
+    session = None if opts.serial else DaskSession(opts)
+    try:
+        return _run(sweep, Path(out), opts, retry_failed, quiet, shared_files, runner, plots, session)
+    finally:
+        if session is not None:
+            session.close()
+
+
+def _run(sweep: Sweep, out: Path, opts: EngineOptions, retry_failed: bool, quiet: bool, shared_files: bool,
+         runner: Callable, plots: bool, session) -> SweepOutcome:
     cases = build_cases(sweep)
     records = Records(Path(out), scene_digest(sweep.base)).load()
     if records.ignored:
@@ -124,8 +134,9 @@ def run_sweep(sweep: Sweep, out: str | Path, opts: EngineOptions | None = None, 
         elif opts.serial:
             outcome.engine = run_serial(payloads, collect, runner)
         else:
-            outcome.engine = run_dask(payloads, opts, collect, runner,
-                                      on_start=lambda what, n: _started(progress, what, n, quiet))
+            session.ready()
+            _started(progress, session.description, session.workers, quiet)
+            outcome.engine = session.run(payloads, collect, runner)
     finally:
         progress.close()
         records.write_csv(cases, sweep.columns)

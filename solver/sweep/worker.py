@@ -48,6 +48,29 @@ def where() -> str:
     return f"{socket.gethostname()}:{os.getpid()}"
 
 
+#: a small contact scene a fresh worker solves once, so that imports and first-call costs (numba
+#: kernels, caches) are paid while the driver still prepares the cases
+_WARM_SCENE = {
+    "name": "warm-up", "model": "plane_strain", "solver": {"load_steps": 1},
+    "materials": [{"name": "m", "youngs_modulus": 2.0e11, "poissons_ratio": 0.3}],
+    "bodies": [{"name": "c", "material": "m", "element_size": 0.25,
+                "shape": {"type": "half_disk", "center": [0, 1], "radius": 1.0, "side": "below"}},
+               {"name": "b", "material": "m", "element_size": 0.25,
+                "shape": {"type": "rectangle", "min": [-1.5, -1.0], "max": [1.5, 0.0]}}],
+    "boundary_conditions": [{"body": "c", "edge": "flat", "type": "displacement", "value": [0.0, -2e-3]},
+                            {"body": "b", "edge": "bottom", "type": "fixed"}],
+    "contacts": [{"bodies": ["c", "b"], "type": "frictional", "friction": 0.3, "point": [0, 0]}],
+    "output": {"vtk": False, "plots": False},
+}
+
+
+def warm_up() -> str:
+    """Import the solver and solve a tiny scene (a worker's first case is then not slower)."""
+    with tempfile.TemporaryDirectory(prefix="ibfem-warm-") as tmp:
+        solve_case(dict(_WARM_SCENE), "warm-up", Path(tmp), Path(tmp) / "out")
+    return fingerprint()
+
+
 def _reset_peak() -> None:
     try:  # Linux: "5" resets the process's peak resident set size (VmHWM)
         with open("/proc/self/clear_refs", "w") as f:
