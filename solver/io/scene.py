@@ -22,6 +22,7 @@ import inspect
 from importlib import import_module
 import json
 import math
+import re
 import tomllib
 import typing
 from dataclasses import dataclass, field
@@ -71,7 +72,8 @@ class SceneError(ValueError):
     ``FILE: KEY.PATH = VALUE: what is wrong``."""
 
     def __init__(self, problems: list[str]):
-        self.problems = list(problems)
+        # one line per problem, whatever a value or key held (a newline in a key name)
+        self.problems = [str(p).replace("\r", "\\r").replace("\n", "\\n") for p in problems]
         super().__init__("\n".join(self.problems))
 
 
@@ -481,6 +483,9 @@ def scene_from_dict(
 # ---------------------------------------------------------------------------------------
 
 
+_PLAIN_KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")
+
+
 def _show(value: Any, limit: int = 80) -> str:
     try:
         text = json.dumps(value, default=str, allow_nan=True)
@@ -494,8 +499,10 @@ def _key_path(loc: tuple) -> str:
     for item in loc:
         if isinstance(item, int):
             out += f"[{item}]"
-        else:
+        elif _PLAIN_KEY.fullmatch(str(item)):
             out += ("." if out else "") + str(item)
+        else:  # a key with spaces, newlines or other characters: quoted, on one line
+            out += f"[{json.dumps(str(item))}]"
     return out
 
 
@@ -653,15 +660,17 @@ def _build_profiles(spec: SceneSpec, label: str, base_dir: Path) -> dict[str, An
             profiles[b.name] = _profile(dict(b.shape), base_dir, where=f"bodies[{i}].shape")
         except SceneError as err:
             problems.extend(f"{where}: {p}" for p in err.problems)
-        except (ValueError, KeyError, TypeError) as err:
+        except (ValueError, KeyError, TypeError, ArithmeticError) as err:
             text = err.args[0] if isinstance(err, KeyError) and err.args else str(err)
             text = text.replace("shape.type must be one of ", "shape.type must be one of onshape, step, ")
-            if text.startswith(f"bodies[{i}].shape"):  # the builder named the key path itself
-                problems.append(f"{label}: {text}")
-            elif text.startswith("shape.") or text.startswith("shape:") or text.startswith("shape "):
-                problems.append(f"{label}: bodies[{i}].{text}")
+            first, *more = str(text).splitlines() or [type(err).__name__]
+            if first.startswith(f"bodies[{i}].shape"):  # the builder named the key path itself
+                problems.append(f"{label}: {first}")
+            elif first.startswith("shape.") or first.startswith("shape:") or first.startswith("shape "):
+                problems.append(f"{label}: bodies[{i}].{first}")
             else:
-                problems.append(f"{where} (type {_show(b.shape.get('type'))}): {text}")
+                problems.append(f"{where} (type {_show(b.shape.get('type'))}): {first}")
+            problems += [f"{where}: {line.strip()}" for line in more if line.strip()]  # one line per problem
     if problems:
         raise SceneError(problems)
     return profiles

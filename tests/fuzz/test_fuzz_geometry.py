@@ -12,7 +12,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 from _values import mutate
@@ -146,7 +146,8 @@ def test_fuzz_geometry_api(data):
 def test_fuzz_long_geometry(findings):
     stop = findings.budget("geometry")
 
-    @settings(max_examples=50, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+    @settings(max_examples=50, deadline=None, database=None, phases=[Phase.generate],
+              suppress_health_check=list(HealthCheck))
     @given(st.data())
     def one(data):
         problems, what = geometry_problems(data)

@@ -13,7 +13,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 from _oracles import check_part_directory, check_scene_file
@@ -88,7 +88,8 @@ def test_fuzz_scenes_on_damaged_caches_check_cleanly(data):
 def test_fuzz_long_onshape(findings):
     stop = findings.budget("onshape")
 
-    @settings(max_examples=10, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+    @settings(max_examples=10, deadline=None, database=None, phases=[Phase.generate],
+              suppress_health_check=list(HealthCheck))
     @given(st.data())
     def one(data):
         scene = data.draw(st.integers(0, 4)) == 0

@@ -12,7 +12,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 from _oracles import check_scene_file
@@ -109,7 +109,8 @@ def test_fuzz_damaged_scene_files_check_cleanly(data):
 def test_fuzz_long_scenes(findings):
     stop = findings.budget("scenes")
 
-    @settings(max_examples=20, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+    @settings(max_examples=20, deadline=None, database=None, phases=[Phase.generate],
+              suppress_health_check=list(HealthCheck))
     @given(st.data())
     def one(data):
         if data.draw(st.integers(0, 4)) == 0:
