@@ -21,6 +21,10 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMAND_MODULES:
         import_module(name).register(sub)
+    for command in sub.choices.values():  # every command can show the traceback of an internal error
+        if not any("--traceback" in a.option_strings for a in command._actions):
+            command.add_argument("--traceback", action="store_true",
+                                 help="show the Python traceback of an internal error")
     return parser
 
 

@@ -134,3 +134,12 @@ def test_class4_the_issues_numpy_reproducers_are_scene_errors_with_their_key(mut
     assert key in str(err.value)
     for internal in ("fp and xp", "zero-size array", "infs or NaNs"):
         assert internal not in str(err.value)
+
+
+def test_class3_every_command_takes_traceback():
+    """The internal-error line tells the user to rerun with --traceback: every command takes it."""
+    from solver.cli import build_parser
+
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    for name, command in sub.choices.items():
+        assert any("--traceback" in a.option_strings for a in command._actions), name

@@ -42,10 +42,15 @@ def _strict_json(text: str) -> Any:
     return json.loads(text, parse_constant=refuse)
 
 
+#: exit codes of the scene checks so far (the long run reports how many scenes were valid)
+CHECK_CODES: dict = {}
+
+
 def check_scene_file(path: Path, allowed=(0, 2)) -> list[str]:
     """``ibfem run PATH --check``: exit 0 (valid, with the size estimate) or 2 (each line names
     the file), quickly, never a traceback."""
     code, out, err, seconds = run_cli(["run", str(path), "--check"])
+    CHECK_CODES[code] = CHECK_CODES.get(code, 0) + 1
     problems = []
     if code not in allowed:
         problems.append(f"check exit {code!r}: {(err or out).strip()[:400]}")

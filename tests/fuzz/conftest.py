@@ -52,9 +52,22 @@ class Findings:
         return f"{family}: {self.tried.get(family, 0)} cases, {len(mine)} defects"
 
 
+    def write_summary(self) -> None:
+        """out/fuzz/summary.json: cases and defects per family, the minutes asked for."""
+        families = sorted(set(self.tried) | {f["family"] for f in self.found})
+        doc = {"minutes": fuzz_minutes(), "families": {
+            fam: {"cases": self.tried.get(fam, 0), "defects": sum(f["family"] == fam for f in self.found)}
+            for fam in families}}
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        (self.path.parent / "summary.json").write_text(json.dumps(doc, indent=1) + "\n")
+
+
 @pytest.fixture(scope="session")
 def findings():
     path = ROOT / "out" / "fuzz" / "findings.jsonl"
     if path.exists():
         path.unlink()
-    return Findings(path)
+    found = Findings(path)
+    yield found
+    if found.tried:
+        found.write_summary()

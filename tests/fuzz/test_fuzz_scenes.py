@@ -124,7 +124,12 @@ def test_fuzz_long_scenes(findings):
             if path.name.startswith(".fuzz-"):
                 path.unlink(missing_ok=True)
 
+    from _oracles import CHECK_CODES
+
+    before = dict(CHECK_CODES)
     while time.monotonic() < stop:
         one()
+    for code, n in CHECK_CODES.items():  # valid (0) and refused (2) scenes
+        findings.tried[f"scenes-exit-{code}"] = n - before.get(code, 0)
     print(findings.summary("scenes"))
     assert not [f for f in findings.found if f["family"] == "scenes"], findings.summary("scenes")
