@@ -18,6 +18,10 @@ def _number(value: Any) -> float | None:
     return None
 
 
+def _show(value: Any) -> str:
+    return f"{value:.6g}" if isinstance(value, float) else json.dumps(value)
+
+
 def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_-]+", "_", text).strip("_") or "value"
 
@@ -30,7 +34,7 @@ def _series(outcome, column: str, param: str) -> dict[str, list[tuple[Any, float
         y = _number((rec.get("outputs") or {}).get(column))
         if rec.get("status") not in ("ok", "not_converged") or y is None:
             continue
-        others = ", ".join(f"{k} = {json.dumps(v)}" for k, v in case.params.items() if k != param)
+        others = ", ".join(f"{k} = {_show(v)}" for k, v in case.params.items() if k != param)
         lines[others].append((case.params.get(param), y))
     return lines
 
