@@ -767,7 +767,7 @@ def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str, label
         for i, c in enumerate(spec.contacts)
     )
     options = _options(SolverOptions, spec.solver, "solver", label)
-    _plane_option_checks(options, contacts, label)
+    _plane_option_checks(options, contacts, label, [b.element_size for b in spec.bodies])
     return pb.Problem(
         name=spec.name if spec.name else default_name,
         model=spec.model,
@@ -779,9 +779,13 @@ def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str, label
     )
 
 
-def _plane_option_checks(options: SolverOptions, contacts: tuple, label: str) -> None:
-    """Options valid in 3D only (model = "solid") refused in a plane scene."""
+def _plane_option_checks(options: SolverOptions, contacts: tuple, label: str, sizes: list[float]) -> None:
+    """Options valid in 3D only (model = "solid") refused in a plane scene; a tessellation chord
+    above the smallest element size (a boundary coarser than the grid)."""
     problems = []
+    if options.chord_tolerance is not None and options.chord_tolerance > min(sizes):
+        problems.append(f"{label}: solver.chord_tolerance = {_show(options.chord_tolerance)}: above the smallest "
+                        f"element size ({min(sizes):.4g}): the tessellated boundary would be coarser than the grid")
     if len(options.grid_offset) != 2:
         problems.append(f"{label}: solver.grid_offset = {_show(list(options.grid_offset))}: a plane scene's grid "
                         "takes two fractions [fx, fy]")
