@@ -296,3 +296,16 @@ def test_class9_damaged_onshape_caches_are_named(tmp_path, how):
     text = errors(data)
     assert "bodies[" in text and ("tessellatedfaces.json" in text or "bodydetails.json" in text)
     assert not any(word in text for word in ("AttributeError", "IndexError", "Overflow", "codec"))
+
+
+@pytest.mark.parametrize("name", ["x\ny", "x\u2028y", "x\x1cy", "x\ry"])
+def test_class12_a_line_break_in_a_name_keeps_one_line_per_problem(name):
+    """Found by the fuzz campaign: an edge name with a line break split an error into lines that
+    did not name the file."""
+    data = cylinders()
+    data["bodies"][0]["shape"] = {"type": "profile", "edges": [
+        {"name": name, "type": "arc", "center": [0.0, 1.0], "radius": 1.0, "start_angle": 180.0, "end_angle": 360.0},
+        {"name": "flat", "type": "line", "start": [1.0, 1.0], "end": [-1.0, 1.0]}]}
+    data["boundary_conditions"][0]["edge"] = "top"
+    text = errors(data)
+    assert len(text.splitlines()) == len([p for p in text.split("\n")]) and "boundary_conditions[0].edge" in text

@@ -67,13 +67,17 @@ __all__ = [
 COARSE_GRID_RATIO = 0.5
 
 
+#: every character str.splitlines() breaks at -> its escape (a problem is printed as one line)
+_LINE_BREAKS = {ord(c): c.encode("unicode_escape").decode() for c in "\n\r\v\f\x1c\x1d\x1e\x85\u2028\u2029"}
+
+
 class SceneError(ValueError):
     """A scene that cannot be solved. ``str(err)`` is one line per problem found, each
     ``FILE: KEY.PATH = VALUE: what is wrong``."""
 
     def __init__(self, problems: list[str]):
         # one line per problem, whatever a value or key held (a newline in a key name)
-        self.problems = [str(p).replace("\r", "\\r").replace("\n", "\\n") for p in problems]
+        self.problems = [str(p).translate(_LINE_BREAKS) for p in problems]
         super().__init__("\n".join(self.problems))
 
 
