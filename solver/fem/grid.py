@@ -436,9 +436,13 @@ def assign_to_material_side(grid: Grid, points: np.ndarray, inward: np.ndarray) 
         up = (loc[:, axis] >= 1.0 - ON_SIDE) & (inward[:, axis] > 1e-6)
         moved[down, axis] = lower[down, axis] - 1e-9 * size[down]
         moved[up, axis] = lower[up, axis] + size[up] * (1.0 + 1e-9)
-    change = np.any(moved != points, axis=1)
-    if change.any():
-        cell[change] = grid.locate(moved[change])
+    change = np.nonzero(np.any(moved != points, axis=1))[0]
+    if len(change):
+        # a midpoint on the grid's own border (a piece ending at a corner of the body's box, whose
+        # normal leans outwards) has no cell beyond: it stays in the cell that holds it
+        across = grid.locate(moved[change])
+        keep = across >= 0
+        cell[change[keep]] = across[keep]
     return cell
 
 

@@ -2,7 +2,8 @@
 type and friction, grid a little coarser or finer, load steps) solved by ``ibfem run`` in a child
 process with a time and memory limit, then the same scene turned and shifted: exit 0, 1 or 2
 only, exit 1 with its summary, a converged summary consistent with its own contact checks, and
-the normal force of the moved scene within 1 % (issue 18's acceptance for ``make fuzz``)."""
+the normal force of the moved scene within 1 % where the grid resolves the contact as the shipped
+example's does (issue 18's acceptance for ``make fuzz``); coarser variants check the rest."""
 
 from __future__ import annotations
 
@@ -29,7 +30,11 @@ WORK = Path(tempfile.mkdtemp(prefix="ibfem-fuzz-solve-"))
 TIMEOUT = 240.0
 
 
-def _variant(data) -> tuple[dict, str]:
+def _variant(data) -> tuple[dict, str, bool]:
+    """A varied example, its description, and whether its grid resolves the contact as the
+    shipped one does (only then is a 1 % agreement of N across rigid motions a fair demand: with
+    two refinement levels fewer or a grid twice as coarse, the cylinder on flat at a quarter load
+    is 2.5 % off its fine N and its a 15 % off, and N moves by as much with the grid's position)."""
     name = data.draw(st.sampled_from(CONTACT_EXAMPLES))
     d = tomllib.loads((ROOT / "examples" / f"{name}.toml").read_text())
     d["output"] = {"vtk": False, "plots": False}
@@ -39,10 +44,17 @@ def _variant(data) -> tuple[dict, str]:
         if bc["type"] == "displacement":
             bc["value"] = [v if v == "free" else v * load for v in bc["value"]]
     notes.append(f"load x{load}")
-    grid = data.draw(st.sampled_from([1.0, 1.0, 0.8, 1.25]))
+    grid = data.draw(st.sampled_from([1.0, 1.0, 0.8, 1.25, 2.0]))
+    coarser = data.draw(st.sampled_from([0, 0, 1, 2]))  # finest refinement levels fewer by this
     for body in d["bodies"]:
         body["element_size"] *= grid
-    notes.append(f"element_size x{grid}")
+        for zone in body.get("refinement", []):
+            zone["levels"] = max(1, zone["levels"] - coarser)
+    notes.append(f"element_size x{grid}, levels -{coarser}")
+    resolved = coarser == 0 and grid <= 1.25
+    if data.draw(st.integers(0, 3)) == 0:  # the tessellated variant (issue 18 class 1 lived there)
+        d["solver"]["exact_geometry"] = not d["solver"].get("exact_geometry", True)
+        notes.append(f"exact_geometry {d['solver']['exact_geometry']}")
     contact = d["contacts"][0]
     kind = data.draw(st.sampled_from([contact["type"], "tied", "frictionless", "frictional"]))
     if kind != contact["type"]:
@@ -54,7 +66,7 @@ def _variant(data) -> tuple[dict, str]:
     if data.draw(st.booleans()):
         contact.pop("point", None)
         notes.append("no contact point")
-    return d, ", ".join(notes)
+    return d, ", ".join(notes), resolved
 
 
 def _motion(data, d) -> tuple[float, tuple[float, float]]:
@@ -66,7 +78,7 @@ def _motion(data, d) -> tuple[float, tuple[float, float]]:
 
 
 def solve_case(data, k: int) -> tuple[list[str], dict]:
-    d, what = _variant(data)
+    d, what, resolved = _variant(data)
     deg, shift = _motion(data, d)
     case = {"change": what, "turn": deg, "shift": shift}
     problems = []
@@ -79,7 +91,7 @@ def solve_case(data, k: int) -> tuple[list[str], dict]:
         summaries.append(summary)
         if found:
             case[f"scene_{tag}"] = doc
-    if all(summaries):
+    if all(summaries) and resolved:
         problems += forces_agree(*summaries)
         case["normal_force"] = [s["contacts"][0].get("normal_force") for s in summaries]
     return problems, case
