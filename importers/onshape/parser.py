@@ -463,7 +463,33 @@ def parse_part(faces_json: Any, details_json: Any, edges_json: Any = None, sourc
     if edges_json is None:
         part.warnings.append(f"{EDGES_FILE} missing: edges have no polylines")
 
-    # --- tessellated faces, welded per face ------------------------------------------------
+    meshes, tess_body_of, tess_body_info = _face_meshes(tess, fprefix, part)
+    if tess.bodies and not details.bodies:
+        raise OnshapeFormatError(f"{DETAILS_FILE}: bodies: empty, while {FACES_FILE} has {len(tess.bodies)} bodies: "
+                                 "the cached response is damaged; import the part again")
+    if not any(m is not None for m in meshes.values()):
+        faces = sum(len(tb.faces) for tb in tess.bodies)
+        raise OnshapeFormatError(f"{FACES_FILE}: no usable tessellation ({len(tess.bodies)} bodies, {faces} faces, "
+                                 "no facets): the cached response is empty or damaged; import the part again")
+    polylines: dict[str, np.ndarray] = {}
+    if etess is not None:
+        for eb in etess.bodies:
+            for e in eb.edges:
+                polylines[e.id] = np.asarray(e.vertices, dtype=float).reshape(-1, 3)
+
+    unsupported: dict[str, list[str]] = {}
+    _detailed_bodies(details, meshes, polylines, tess_body_info, part, unsupported)
+    _tessellation_only_faces(meshes, tess_body_of, tess_body_info, part, unsupported)
+    for what, ids in sorted(unsupported.items()):
+        part.warnings.append(f"{what}: kept as tessellation-only: {', '.join(ids)}")
+    for fid, face in part.faces.items():
+        if face.mesh is None:
+            part.warnings.append(f"face {fid} ({face.surface_type}): no tessellation in {FACES_FILE}")
+    return part
+
+
+def _face_meshes(tess, fprefix: str, part: Part) -> tuple[dict, dict, dict]:
+    """Tessellated faces, welded per face: {face id: mesh}, {face id: body id}, {body id: (name, type)}."""
     meshes: dict[str, tuple] = {}
     tess_body_of: dict[str, str] = {}
     tess_body_info: dict[str, tuple[str, str]] = {}
@@ -482,22 +508,11 @@ def parse_part(faces_json: Any, details_json: Any, edges_json: Any = None, sourc
             tess_body_of[tf.id] = tb.id
             if tf.errorMessage:
                 part.warnings.append(f"face {tf.id}: Onshape could not tessellate it: {tf.errorMessage}")
+    return meshes, tess_body_of, tess_body_info
 
-    if tess.bodies and not details.bodies:
-        raise OnshapeFormatError(f"{DETAILS_FILE}: bodies: empty, while {FACES_FILE} has {len(tess.bodies)} bodies: "
-                                 "the cached response is damaged; import the part again")
-    if not any(m is not None for m in meshes.values()):
-        faces = sum(len(tb.faces) for tb in tess.bodies)
-        raise OnshapeFormatError(f"{FACES_FILE}: no usable tessellation ({len(tess.bodies)} bodies, {faces} faces, "
-                                 "no facets): the cached response is empty or damaged; import the part again")
-    polylines: dict[str, np.ndarray] = {}
-    if etess is not None:
-        for bi, eb in enumerate(etess.bodies):
-            for e in eb.edges:
-                polylines[e.id] = np.asarray(e.vertices, dtype=float).reshape(-1, 3)
 
-    # --- bodies, faces and edges from the body details --------------------------------------
-    unsupported: dict[str, list[str]] = {}
+def _detailed_bodies(details, meshes, polylines, tess_body_info, part: Part, unsupported) -> None:
+    """Bodies, faces and edges from the body details, with their exact surfaces and curves."""
     seen_faces: set[str] = set()
     for bi, mb in enumerate(details.bodies):
         bpath = f"bodies[{bi}]"
@@ -519,7 +534,9 @@ def parse_part(faces_json: Any, details_json: Any, edges_json: Any = None, sourc
         part.bodies[mb.id] = Body(id=mb.id, name=name or "", body_type=btype, face_ids=tuple(face_ids),
                                   edge_ids=tuple(edge_ids))
 
-    # faces tessellated but absent from the body details: keep them, tessellation-only
+
+def _tessellation_only_faces(meshes, tess_body_of, tess_body_info, part: Part, unsupported) -> None:
+    """Faces tessellated but absent from the body details: kept, tessellation-only."""
     for fid, mesh in meshes.items():
         if fid in part.faces:
             continue
@@ -531,12 +548,6 @@ def parse_part(faces_json: Any, details_json: Any, edges_json: Any = None, sourc
             part.bodies[bid] = Body(id=bid, name=name, body_type=btype)
         b = part.bodies[bid]
         part.bodies[bid] = Body(b.id, b.name, b.body_type, b.face_ids + (fid,), b.edge_ids)
-    for what, ids in sorted(unsupported.items()):
-        part.warnings.append(f"{what}: kept as tessellation-only: {', '.join(ids)}")
-    for fid, face in part.faces.items():
-        if face.mesh is None:
-            part.warnings.append(f"face {fid} ({face.surface_type}): no tessellation in {FACES_FILE}")
-    return part
 
 
 def _mesh_face(fid, kind, surface, mesh_data, body_id, loops, notes, orientation=1):
