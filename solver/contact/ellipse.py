@@ -396,6 +396,27 @@ def _extent(problem, contact, factor: float) -> float:
     return 10.0 * min(problem.body(n).element_size for n in contact.bodies)
 
 
+#: the smaller relative curvature below this fraction of the larger: not a point contact (b/a would
+#: exceed about 100, Hertz's ellipse for curvature ratio 1e-3)
+LINE_CONTACT_RATIO = 1e-3
+
+
+def _require_point_contact(model, frame: ContactFrame3D) -> None:
+    """An elliptical region needs the surfaces to curve apart along both axes: refuse a line
+    contact (a cylinder on a flat) or conforming surfaces with what was found and what to do."""
+    k0, k1 = (float(k) for k in frame.curvatures)
+    if k1 > 0.0 and k0 > LINE_CONTACT_RATIO * k1:
+        return
+    name = "/".join(model.bodies)
+    axis = np.round(frame.axes[0], 6).tolist()
+    kind = "conforming surfaces (the gap closes or opens the wrong way)" if min(k0, k1) < -LINE_CONTACT_RATIO * \
+        max(abs(k0), abs(k1), 1e-300) or k1 <= 0.0 else "a line contact"
+    raise ValueError(f"contact {name}: the relative curvatures at {np.round(frame.point, 6).tolist()} are "
+                     f"{k0:.4g} and {k1:.4g} 1/m (smaller along {axis}): {kind}, not a point contact. A 3D "
+                     "contact is an ellipse found from both curvatures (SPEC section 7); model a line contact "
+                     "(parallel cylinders, a cylinder on a flat) as a plane-strain 2D scene")
+
+
 def build(problem, model, b1, b2, options) -> EllipseContact:
     """The ellipse formulation of a contact between two discretised solids."""
     opts = model.options
@@ -408,6 +429,7 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
     ranges = sectors(solids[0], frame, 0.5 * h, reach)
     e1 = 1.0 / (1.0 / _modulus(b1) + 1.0 / _modulus(b2))
     k0, k1 = frame.curvatures
+    _require_point_contact(model, frame)
     circular = abs(k1 - k0) <= 1e-4 * max(abs(k1), abs(k0), 1e-300)
     ratio = 1.0 if circular or min(k0, k1) <= 0 else hertz_elliptic_contact(1.0, (k0, k1), e1)[1] / \
         hertz_elliptic_contact(1.0, (k0, k1), e1)[0]
