@@ -1,0 +1,176 @@
+"""A STEP or IGES file -> an OpenCascade shape in metres.
+
+OpenCascade converts lengths while it reads, from the file's unit into its "cascade unit"
+(the static parameter ``xstep.cascade.unit``, millimetres by default). We set that unit to
+metres for the read and restore it afterwards, so the shape's coordinates are metres whatever
+the file's unit (mm, inch, m, ...).
+
+Errors: the reader's parse messages go to the C++ streams; they are captured (file
+descriptors 1 and 2 redirected for the read) and the first one is put in the
+:class:`StepFormatError`, with the file name. Failed checks of entities after a successful
+parse name the entity (``#12 CARTESIAN_POINT`` in STEP, the directory entry number in IGES).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+from .errors import StepFormatError, require_ocp
+
+__all__ = ["read_shape", "STEP_SUFFIXES", "IGES_SUFFIXES", "CAD_SUFFIXES", "cad_format"]
+
+STEP_SUFFIXES = (".step", ".stp")
+IGES_SUFFIXES = (".iges", ".igs")
+CAD_SUFFIXES = STEP_SUFFIXES + IGES_SUFFIXES
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+def cad_format(path: str | Path) -> str | None:
+    """'step', 'iges' or None from the file name's suffix (case-insensitive)."""
+    suffix = Path(path).suffix.lower()
+    return "step" if suffix in STEP_SUFFIXES else "iges" if suffix in IGES_SUFFIXES else None
+
+
+def _quiet_messenger() -> None:
+    """OpenCascade's default printer writes every info line of a read or write to stdout;
+    keep failures only."""
+    from OCP.Message import Message, Message_Gravity
+
+    for printer in Message.DefaultMessenger_s().Printers():
+        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+
+
+@contextmanager
+def _captured_output():
+    """Redirect the process's stdout and stderr (the C++ streams) into a temporary file for the
+    duration; yields a list that receives the captured lines afterwards."""
+    lines: list[str] = []
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = [os.dup(1), os.dup(2)]
+    with tempfile.TemporaryFile(mode="w+b") as sink:
+        try:
+            os.dup2(sink.fileno(), 1)
+            os.dup2(sink.fileno(), 2)
+            yield lines
+        finally:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os.dup2(saved[0], 1)
+            os.dup2(saved[1], 2)
+            for fd in saved:
+                os.close(fd)
+            sink.seek(0)
+            text = _ANSI.sub("", sink.read().decode("utf-8", "replace"))
+            lines += [ln.strip(" *\t") for ln in text.splitlines() if ln.strip(" *\t")]
+
+
+@contextmanager
+def _metres():
+    """Read lengths in metres (``xstep.cascade.unit = M``), restoring the previous unit."""
+    from OCP.Interface import Interface_Static
+
+    before = Interface_Static.CVal_s("xstep.cascade.unit") or "MM"
+    if not Interface_Static.SetCVal_s("xstep.cascade.unit", "M"):
+        raise StepFormatError("OpenCascade refused the length unit M (xstep.cascade.unit): cannot convert to metres")
+    try:
+        yield
+    finally:
+        Interface_Static.SetCVal_s("xstep.cascade.unit", before)
+
+
+def _check_path(path: Path) -> str:
+    kind = cad_format(path)
+    if kind is None:
+        raise StepFormatError(f"{path}: not a STEP or IGES file name (expected one of {', '.join(CAD_SUFFIXES)})")
+    if not path.exists():
+        raise StepFormatError(f"{path}: no such file")
+    if not path.is_file():
+        raise StepFormatError(f"{path}: not a file")
+    try:
+        size = path.stat().st_size
+    except OSError as exc:
+        raise StepFormatError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    if size == 0:
+        raise StepFormatError(f"{path}: the file is empty")
+    return kind
+
+
+def _entity_label(reader, kind: str, check, number: int) -> str:
+    entity = check.Entity() if check.HasEntity() else None
+    if entity is None or number <= 0:
+        return ""
+    name = entity.DynamicType().Name()
+    if kind == "step":
+        try:
+            ident = reader.StepModel().IdentLabel(entity)
+        except Exception:  # pragma: no cover - bindings without IdentLabel
+            ident = number
+        return f"entity #{ident} ({name.removeprefix('StepGeom_').removeprefix('StepShape_')})"
+    return f"directory entry {2 * number - 1} ({name.removeprefix('IGESGeom_').removeprefix('IGESSolid_')})"
+
+
+def _first_failure(reader, kind: str) -> tuple[str, int] | None:
+    """(message naming the entity, number of failed entities) of the model's checks, if any."""
+    checks = reader.WS().ModelCheckList()
+    checks.Start()
+    first, count = None, 0
+    while checks.More():
+        check = checks.Value()
+        if check.NbFails():
+            count += 1
+            if first is None:
+                label = _entity_label(reader, kind, check, checks.Number())
+                msg = check.CFail(1, True)
+                first = f"{label}: {msg}" if label else msg
+        checks.Next()
+    return (first, count) if first is not None else None
+
+
+def _reader(kind: str):
+    if kind == "step":
+        from OCP.STEPControl import STEPControl_Reader
+
+        return STEPControl_Reader()
+    from OCP.IGESControl import IGESControl_Reader
+
+    return IGESControl_Reader()
+
+
+def read_shape(path: str | Path):
+    """(shape, info) of a STEP/IGES file: the OpenCascade shape of all its roots in metres,
+    and ``info`` = {"format", "roots", "warnings"}. Raises :class:`StepFormatError` naming the
+    file (and the entity) when it cannot be read."""
+    require_ocp()
+    from OCP.IFSelect import IFSelect_ReturnStatus
+
+    path = Path(path)
+    kind = _check_path(path)
+    _quiet_messenger()
+    reader = _reader(kind)  # creating a reader registers the xstep statics
+    with _metres(), _captured_output() as printed:
+        status = reader.ReadFile(str(path))
+        roots = reader.TransferRoots() if status == IFSelect_ReturnStatus.IFSelect_RetDone else 0
+        shape = reader.OneShape() if roots else None
+    fmt = kind.upper()
+    if status != IFSelect_ReturnStatus.IFSelect_RetDone:
+        said = [ln for ln in printed if "ERR" in ln or "rror" in ln or "Incorrect" in ln]
+        detail = said[0].replace("ERR ", "") if said else status.name.replace("IFSelect_Ret", "status ")
+        raise StepFormatError(f"{path}: not a readable {fmt} file: {detail}")
+    failure = _first_failure(reader, kind)
+    if failure is not None and (kind == "step" or not roots):
+        first, count = failure
+        more = f" (and {count - 1} more entities)" if count > 1 else ""
+        raise StepFormatError(f"{path}: {fmt} {first}{more}")
+    if shape is None or shape.IsNull():
+        raise StepFormatError(f"{path}: the {fmt} file holds no shape OpenCascade can transfer "
+                              f"({reader.NbRootsForTransfer()} roots, none transferred)")
+    warnings = []
+    if failure is not None:
+        warnings.append(f"{path.name}: {failure[1]} {fmt} entities failed their checks, first: {failure[0]}")
+    return shape, {"format": kind, "roots": int(roots), "warnings": warnings}

@@ -1,0 +1,128 @@
+"""OpenCascade surfaces -> ``geometry`` surface dicts (SPEC section 2), exactly.
+
+=====================  =====================  =================================================
+OpenCascade            Part type label        geometry primitive
+=====================  =====================  =================================================
+Plane                  PLANE                  ``plane`` (origin, normal = the frame's Z)
+CylindricalSurface     CYLINDER               ``cylinder``
+ConicalSurface         CONE                   ``cone`` (a negative semi-angle: axis reversed)
+SphericalSurface       SPHERE                 ``sphere``
+ToroidalSurface        TORUS                  ``torus``
+BSplineSurface         BSURFACE               ``bspline_surface`` (periodic: clamped equivalent)
+BezierSurface          BSURFACE               ``bspline_surface`` (one span)
+SurfaceOfExtrusion     SWEEP                  ``sweep`` of the basis curve (line, circle,
+                                              ellipse, B-spline)
+SurfaceOfRevolution    SPUN                   ``bspline_surface``: OpenCascade's exact rational
+                                              conversion (``GeomConvert``)
+OffsetSurface          OFFSET                 none: tessellation-only, reported
+other                  OTHER                  none: tessellation-only, reported
+=====================  =====================  =================================================
+
+The normal of each primitive is its own (SPEC section 2); whether the solid's outward normal
+is that one or its opposite is decided by the part builder (``orientation``).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .curves import curve_dict, xyz
+
+__all__ = ["surface_dict", "bspline_surface_dict", "SURFACE_KINDS"]
+
+SURFACE_KINDS = {"GeomAbs_Plane": "PLANE", "GeomAbs_Cylinder": "CYLINDER", "GeomAbs_Cone": "CONE",
+                 "GeomAbs_Sphere": "SPHERE", "GeomAbs_Torus": "TORUS", "GeomAbs_BSplineSurface": "BSURFACE",
+                 "GeomAbs_BezierSurface": "BSURFACE", "GeomAbs_SurfaceOfExtrusion": "SWEEP",
+                 "GeomAbs_SurfaceOfRevolution": "SPUN", "GeomAbs_OffsetSurface": "OFFSET",
+                 "GeomAbs_OtherSurface": "OTHER"}
+
+
+def _knots(surface, u: bool) -> list[float]:
+    n = surface.NbUKnots() if u else surface.NbVKnots()
+    knot = surface.UKnot if u else surface.VKnot
+    mult = surface.UMultiplicity if u else surface.VMultiplicity
+    out: list[float] = []
+    for i in range(1, n + 1):
+        out += [knot(i)] * mult(i)
+    return out
+
+
+def bspline_surface_dict(surface) -> dict[str, Any]:
+    """A Geom_BSplineSurface (a copy is changed) as a ``bspline_surface`` dict."""
+    from OCP.Geom import Geom_BSplineSurface
+
+    s = Geom_BSplineSurface.DownCast(surface.Copy())
+    if s.IsUPeriodic():
+        s.SetUNotPeriodic()
+    if s.IsVPeriodic():
+        s.SetVNotPeriodic()
+    nu, nv = s.NbUPoles(), s.NbVPoles()
+    d: dict[str, Any] = {
+        "type": "bspline_surface", "degree_u": int(s.UDegree()), "degree_v": int(s.VDegree()),
+        "knots_u": _knots(s, True), "knots_v": _knots(s, False),
+        "control_points": [[xyz(s.Pole(i, j)) for j in range(1, nv + 1)] for i in range(1, nu + 1)],
+    }
+    if s.IsURational() or s.IsVRational():
+        d["weights"] = [[s.Weight(i, j) for j in range(1, nv + 1)] for i in range(1, nu + 1)]
+    return d
+
+
+def _bezier_surface_dict(surface) -> dict[str, Any]:
+    from OCP.GeomConvert import GeomConvert
+
+    return bspline_surface_dict(GeomConvert.SurfaceToBSplineSurface_s(surface))
+
+
+def _cone(g) -> dict[str, Any]:
+    axis, angle = xyz(g.Axis().Direction()), g.SemiAngle()
+    if angle < 0:  # radius shrinks along +Z: the same cone about -Z
+        axis, angle = [-c for c in axis], -angle
+    return {"type": "cone", "origin": xyz(g.Location()), "axis": axis, "radius": g.RefRadius(),
+            "half_angle": angle}
+
+
+def surface_dict(adaptor) -> tuple[dict | None, str, str | None]:
+    """(geometry dict or None, type label, note or None) of a GeomAdaptor_Surface of the face's
+    located surface."""
+    name = adaptor.GetType().name
+    kind = SURFACE_KINDS.get(name, "OTHER")
+    if kind == "PLANE":
+        g = adaptor.Plane()
+        return {"type": "plane", "origin": xyz(g.Location()), "normal": xyz(g.Axis().Direction())}, kind, None
+    if kind == "CYLINDER":
+        g = adaptor.Cylinder()
+        return {"type": "cylinder", "origin": xyz(g.Location()), "axis": xyz(g.Axis().Direction()),
+                "radius": g.Radius()}, kind, None
+    if kind == "CONE":
+        return _cone(adaptor.Cone()), kind, None
+    if kind == "SPHERE":
+        g = adaptor.Sphere()
+        return {"type": "sphere", "origin": xyz(g.Location()), "radius": g.Radius()}, kind, None
+    if kind == "TORUS":
+        g = adaptor.Torus()
+        return {"type": "torus", "origin": xyz(g.Location()), "axis": xyz(g.Axis().Direction()),
+                "major_radius": g.MajorRadius(), "minor_radius": g.MinorRadius()}, kind, None
+    if name == "GeomAbs_BSplineSurface":
+        return bspline_surface_dict(adaptor.BSpline()), kind, None
+    if name == "GeomAbs_BezierSurface":
+        return _bezier_surface_dict(adaptor.Bezier()), kind, "Bezier surface as a one-span B-spline"
+    if kind == "SWEEP":
+        profile, pkind = curve_dict(adaptor.BasisCurve())
+        if profile is None:
+            return None, kind, f"extrusion of a {pkind} curve: no geometry primitive"
+        return {"type": "sweep", "profile": profile, "direction": xyz(adaptor.Direction())}, kind, None
+    if kind == "SPUN":
+        return _revolution(adaptor)
+    if kind == "OFFSET":
+        return None, kind, f"offset surface (distance {adaptor.OffsetValue():g} m): no geometry primitive"
+    return None, kind, None
+
+
+def _revolution(adaptor) -> tuple[dict | None, str, str | None]:
+    from OCP.GeomConvert import GeomConvert
+
+    try:
+        bs = GeomConvert.SurfaceToBSplineSurface_s(adaptor.Surface())
+    except Exception as exc:  # OpenCascade raises Standard_Failure subclasses
+        return None, "SPUN", f"surface of revolution not convertible to a B-spline: {exc}"
+    return bspline_surface_dict(bs), "SPUN", "surface of revolution as its exact rational B-spline"
