@@ -40,9 +40,8 @@ def _expanded_knots(curve) -> list[float]:
 def bspline_curve_dict(curve, first: float | None = None, last: float | None = None) -> dict[str, Any]:
     """A Geom_BSplineCurve (a copy is changed, never the argument) as a ``bspline_curve``
     dict; cut to [first, last] when that lies inside its domain."""
-    from OCP.Geom import Geom_BSplineCurve
 
-    c = Geom_BSplineCurve.DownCast(curve.Copy())
+    c = curve.Copy()  # OCP returns the derived type
     if c.IsPeriodic():
         c.SetNotPeriodic()
     if first is not None and last is not None:

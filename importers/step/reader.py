@@ -110,8 +110,9 @@ def _entity_label(reader, kind: str, check, number: int) -> str:
         try:
             ident = reader.StepModel().IdentLabel(entity)
         except Exception:  # pragma: no cover - bindings without IdentLabel
-            ident = number
-        return f"entity #{ident} ({name.removeprefix('StepGeom_').removeprefix('StepShape_')})"
+            ident = 0
+        where = f"#{ident}" if ident > 0 else f"number {number} (in file order)"
+        return f"entity {where} ({name.removeprefix('StepGeom_').removeprefix('StepShape_')})"
     return f"directory entry {2 * number - 1} ({name.removeprefix('IGESGeom_').removeprefix('IGESSolid_')})"
 
 
@@ -119,16 +120,19 @@ def _first_failure(reader, kind: str) -> tuple[str, int] | None:
     """(message naming the entity, number of failed entities) of the model's checks, if any."""
     checks = reader.WS().ModelCheckList()
     checks.Start()
-    first, count = None, 0
+    first, general, count = None, None, 0
     while checks.More():
         check = checks.Value()
         if check.NbFails():
             count += 1
-            if first is None:
-                label = _entity_label(reader, kind, check, checks.Number())
-                msg = check.CFail(1, True)
-                first = f"{label}: {msg}" if label else msg
+            label = _entity_label(reader, kind, check, checks.Number())
+            msg = check.CFail(1, True)
+            if label and first is None:  # the first failure of a named entity says most
+                first = f"{label}: {msg}"
+            elif not label and general is None:
+                general = msg
         checks.Next()
+    first = first or general
     return (first, count) if first is not None else None
 
 

@@ -49,9 +49,8 @@ def _knots(surface, u: bool) -> list[float]:
 
 def bspline_surface_dict(surface) -> dict[str, Any]:
     """A Geom_BSplineSurface (a copy is changed) as a ``bspline_surface`` dict."""
-    from OCP.Geom import Geom_BSplineSurface
 
-    s = Geom_BSplineSurface.DownCast(surface.Copy())
+    s = surface.Copy()  # OCP returns the derived type
     if s.IsUPeriodic():
         s.SetUNotPeriodic()
     if s.IsVPeriodic():
