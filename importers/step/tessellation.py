@@ -6,7 +6,8 @@ surface evaluated there, ``S(u, v)``. For nodes inside the face this is what the
 anyway; for nodes on the face's edges it puts them on this face's surface (the edge's 3D curve
 may stray from it by up to the edge's tolerance, 1e-7 m typically), so every vertex lies on the
 exact surface the face carries, as the projection check of SPEC section 3 expects. Triangles of
-reversed faces are re-wound, so every face's triangles are wound with the solid's outward normal.
+reversed faces are re-wound, so every face's triangles are wound with the solid's outward normal;
+triangles of zero area (two nodes at a pole) are dropped.
 """
 
 from __future__ import annotations
@@ -66,4 +67,11 @@ def face_triangles(face, surface) -> tuple[np.ndarray, np.ndarray] | None:
     triangles = np.array([tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)], dtype=np.int64) - 1
     if face.Orientation() == TopAbs_Orientation.TopAbs_REVERSED:
         triangles = triangles[:, [0, 2, 1]]
+    # triangles at a pole (a sphere's, a cone's apex) have two nodes at the same point: dropped
+    P = vertices[triangles]
+    twice_area = np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
+    scale = float(np.ptp(vertices, axis=0).max()) if len(vertices) else 0.0
+    triangles = triangles[twice_area > 1e-14 * scale**2]
+    if not len(triangles):
+        return None
     return vertices, triangles
