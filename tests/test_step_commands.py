@@ -166,3 +166,26 @@ def test_scene_with_a_step_section_and_a_solid(d):
     assert solid.volume == pytest.approx(4 / 3 * math.pi * r**3, rel=1e-6)
     c = np.asarray(S.ORIGIN) * S.MM
     assert solid.signed_distance(c[None])[0] == pytest.approx(r, rel=1e-12)
+
+
+def test_names_in_the_file_name_bodies_and_faces(d, tmp_path):
+    """MANIFOLD_SOLID_BREP('roller', ...) names the body, ADVANCED_FACE('flat end', ...) the face;
+    the scene shape takes the face by its name."""
+    from geometry.solids import PartSolid
+    from importers.step.profile import profile_from_shape
+
+    text = (d / "cylinder.step").read_text()
+    assert text.count("MANIFOLD_SOLID_BREP('',") == 1
+    plain = load_part(d / "cylinder.step")
+    cap_index = list(plain.faces).index("F2")
+    faces = text.split("ADVANCED_FACE('',")
+    assert len(faces) == 4  # three faces
+    named = faces[0] + "".join(("ADVANCED_FACE('flat end'," if k == cap_index else "ADVANCED_FACE('',") + rest
+                               for k, rest in enumerate(faces[1:]))
+    (tmp_path / "named.step").write_text(named.replace("MANIFOLD_SOLID_BREP('',", "MANIFOLD_SOLID_BREP('roller',"))
+    part = load_part(tmp_path / "named.step")
+    assert [b.name for b in part.bodies.values()] == ["roller"]
+    assert part.metadata["face_names"] == {"F2": "flat end"}
+    assert PartSolid(part, "roller").body.id == "B1"
+    a = profile_from_shape({"type": "step", "path": str(tmp_path / "named.step"), "face": "flat end"}).area
+    assert a == pytest.approx(math.pi * (S.CYLINDER["radius"] * S.MM) ** 2, rel=1e-12)

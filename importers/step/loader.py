@@ -37,7 +37,7 @@ def parse_file(path: str | Path, *, tolerance: float | None = None, angular_tole
     chord = tolerance or default_tolerance(shape)
     mesh_shape(shape, chord, angular)
     t2 = time.perf_counter()
-    part = build_part(shape, path, deflection=chord)
+    part = build_part(shape, path, names=info["names"], deflection=chord)
     if not part.faces:
         raise StepFormatError(f"{path}: the {info['format'].upper()} file holds no solids or faces "
                               "(only wires or points): nothing to import")

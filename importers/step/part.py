@@ -12,6 +12,7 @@ parameter range. The triangles (wound outward) vote as a check: a disagreement i
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -177,8 +178,11 @@ def _bodies(shape) -> list[tuple[str, object, list]]:
     return bodies
 
 
-def build_part(shape, path: Path, names: dict | None = None, deflection: float = 1e-4) -> Part:
-    """The Part of a meshed shape (see the module docstring); ``names``: {body index: name}."""
+def build_part(shape, path: Path, names=None, deflection: float = 1e-4) -> Part:
+    """The Part of a meshed shape (see the module docstring); ``names(sub-shape)``: the name the
+    file gives a solid, shell or face ('' when none). Face names are kept in
+    ``part.metadata["face_names"]`` ({face id: name}) and in the face's notes."""
+    names = names or (lambda s: "")
     from OCP.TopAbs import TopAbs_ShapeEnum as S
 
     face_map, edge_map = _shape_map(shape, S.TopAbs_FACE), _shape_map(shape, S.TopAbs_EDGE)
@@ -192,10 +196,15 @@ def build_part(shape, path: Path, names: dict | None = None, deflection: float =
         fids = [f"F{face_index(f)}" for f in bfaces]
         eids = sorted({edge_index(e) for f in bfaces for e in _indexed(f, S.TopAbs_EDGE)})
         for f, fid in zip(bfaces, fids):
-            part.faces[fid] = _face(f, fid, bid, edge_index, part, unsupported)
+            face = _face(f, fid, bid, edge_index, part, unsupported)
+            label = names(f)
+            if label:
+                part.metadata.setdefault("face_names", {})[fid] = label
+                face = replace(face, notes=face.notes + (f"name in the file: {label}",))
+            part.faces[fid] = face
         for e in eids:
             edge_body.setdefault(e, bid)
-        name = (names or {}).get(b, "")
+        name = names(sub) if sub is not None else ""
         part.bodies[bid] = Body(bid, name, btype, tuple(fids), tuple(f"E{e}" for e in eids))
     part.faces = dict(sorted(part.faces.items(), key=lambda kv: int(kv[0][1:])))
     for i, e in enumerate(edges, 1):

@@ -1,6 +1,6 @@
 """2D profiles from a STEP/IGES part: the ``step`` scene shape of SPEC sections 4 and 9.
 
-``{type = "step", path, face = "F3"}`` or ``{type = "step", path, section = {origin, normal},
+``{type = "step", path, face = "F3"}`` (a face id, or the face's name in the file) or ``{type = "step", path, section = {origin, normal},
 body = "B1"}``, with the same keys, frame and meaning as the ``onshape`` shape
 (:mod:`importers.onshape.profile`, whose face and section builders work on any
 ``geometry.Part``); ``path`` is the .step/.stp/.iges/.igs file or a directory written by
@@ -44,6 +44,16 @@ def _load(path: str) -> Part:
     return _cached_part(str(p.resolve()), stamp)
 
 
+def _face_id(part: Part, face: str) -> str:
+    """The id of a face given by id (F3) or by its name in the file (ADVANCED_FACE('top', ...))."""
+    if face in part.faces:
+        return face
+    named = [fid for fid, name in part.metadata.get("face_names", {}).items() if name == face]
+    if len(named) > 1:
+        raise ValueError(f"{len(named)} faces are named {face!r} in the file ({', '.join(named)}): give the id")
+    return named[0] if named else face
+
+
 def _section(shape: dict, where: str, part: Part, x_axis) -> Profile:
     sec = shape["section"]
     if not isinstance(sec, dict) or set(sec) - {"origin", "normal"} or "normal" not in sec:
@@ -77,7 +87,7 @@ def profile_from_shape(shape: dict, where: str = "shape") -> Profile:
         if "face" in shape:
             if not isinstance(shape["face"], str):
                 raise ValueError(f"expected a face id string, got {shape['face']!r}")
-            prof = face_profile(part, shape["face"], x_axis)
+            prof = face_profile(part, _face_id(part, shape["face"]), x_axis)
         else:
             prof = _section(shape, where, part, x_axis)
     except ValueError as exc:

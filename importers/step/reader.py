@@ -146,9 +146,29 @@ def _reader(kind: str):
     return IGESControl_Reader()
 
 
+def _namer(reader):
+    """name(sub-shape) -> the name the file gives its entity ('' when none): STEP representation
+    items (MANIFOLD_SOLID_BREP('roller', ...), ADVANCED_FACE('top', ...)), IGES entity names."""
+    transfer = reader.WS().TransferReader()
+
+    def name(shape, _keep=reader) -> str:  # the reader owns the transfer results: kept alive
+        try:
+            entity = transfer.EntityFromShapeResult(shape, 1)
+            if entity is None:
+                return ""
+            if hasattr(entity, "HasName"):  # IGES
+                return entity.NameValue().ToCString().strip() if entity.HasName() else ""
+            text = entity.Name() if hasattr(entity, "Name") else None
+            return text.ToCString().strip() if text is not None else ""
+        except Exception:  # an entity without a readable name: unnamed
+            return ""
+
+    return name
+
+
 def read_shape(path: str | Path):
     """(shape, info) of a STEP/IGES file: the OpenCascade shape of all its roots in metres,
-    and ``info`` = {"format", "roots", "warnings"}. Raises :class:`StepFormatError` naming the
+    and ``info`` = {"format", "roots", "warnings", "names"} (``names(sub-shape)``: its name in the file). Raises :class:`StepFormatError` naming the
     file (and the entity) when it cannot be read."""
     require_ocp()
     from OCP.IFSelect import IFSelect_ReturnStatus
@@ -177,4 +197,4 @@ def read_shape(path: str | Path):
     warnings = []
     if failure is not None:
         warnings.append(f"{path.name}: {failure[1]} {fmt} entities failed their checks, first: {failure[0]}")
-    return shape, {"format": kind, "roots": int(roots), "warnings": warnings}
+    return shape, {"format": kind, "roots": int(roots), "warnings": warnings, "names": _namer(reader)}
