@@ -32,6 +32,10 @@ __all__ = [
 
 _REGISTRY: dict[str, type["Primitive"]] = {}
 
+#: largest coordinate or length a curve or control point may take: squares of differences of
+#: such numbers stay far from overflow (values beyond are refused with a ValueError)
+MAX_COORDINATE = 1e100
+
 
 @dataclass(frozen=True)
 class Projection:
@@ -164,6 +168,10 @@ def positive(value: Any, field: str, owner: str | None = None) -> float:
     x = finite(value, field, owner)
     if not x > 0.0:
         raise ValueError(f"{_where(field, owner)} must be positive, got {value!r}")
+    if x > MAX_COORDINATE:
+        raise ValueError(
+            f"{_where(field, owner)} must be at most {MAX_COORDINATE:g} (squared distances would overflow), got {value!r}"
+        )
     return x
 
 

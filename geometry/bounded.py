@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from .quadrature import gauss_legendre
-from ._base import Projection
+from ._base import MAX_COORDINATE, Projection, real_array
 
 __all__ = [
     "BoundedProjection",
@@ -40,6 +40,7 @@ __all__ = [
 ]
 
 _TWO_PI = 2.0 * math.pi
+
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,16 +58,24 @@ _gauss_legendre = gauss_legendre
 
 
 def _points2(points: Any, name: str = "points") -> np.ndarray:
-    """Query points as a float (n, 2) array; a single (2,) point is n = 1."""
-    try:
-        arr = np.asarray(points, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of numbers") from None
+    """Query points as a float (n, 2) array; a single (2,) point is n = 1. Only real numbers
+    (int or float arrays) are accepted."""
+    arr = real_array(points, name)
     if arr.ndim == 1:
         arr = arr[None, :]
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise ValueError(f"{name} must have shape (n, 2), got {np.shape(points)}")
     return arr
+
+
+def _norm2(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """sqrt(x^2 + y^2) elementwise, fast; np.hypot where the squares would overflow."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = np.sqrt(x * x + y * y)
+    big = ~(d < 1e150)
+    if big.any():
+        d[big] = np.hypot(np.broadcast_to(x, d.shape)[big], np.broadcast_to(y, d.shape)[big])
+    return d
 
 
 def _params(t: Any) -> np.ndarray:
@@ -82,6 +91,8 @@ def _vec2(value: Any, field: str) -> np.ndarray:
         raise ValueError(f"{field} must be a list of 2 numbers, got {value!r}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{field} must be finite, got {value!r}")
+    if np.any(np.abs(arr) > MAX_COORDINATE):
+        raise ValueError(f"{field} must be within +-{MAX_COORDINATE:g} (squared distances would overflow), got {value!r}")
     arr = arr.copy()
     arr.setflags(write=False)
     return arr
@@ -123,7 +134,7 @@ def _unit(v: np.ndarray) -> np.ndarray:
 
 def _signed_euclidean(p: np.ndarray, c: np.ndarray, n: np.ndarray) -> np.ndarray:
     d = p - c
-    dist = np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1])
+    dist = _norm2(d[:, 0], d[:, 1])
     side = d[:, 0] * n[:, 0] + d[:, 1] * n[:, 1]
     return np.where(side < 0.0, -dist, dist)
 
@@ -772,7 +783,7 @@ class Segment(BoundedCurve):
         cy = y0 + f * (y1 - y0)
         rx = P[:, 0] - cx
         ry = P[:, 1] - cy
-        dist = np.sqrt(rx * rx + ry * ry)
+        dist = _norm2(rx, ry)
         side = rx * uy - ry * ux
         dist = np.where(side < 0.0, -dist, dist)
         n = np.empty((len(P), 2))
@@ -792,7 +803,7 @@ class Segment(BoundedCurve):
         f = t / L
         rx = dx - f * (x1 - x0)
         ry = dy - f * (y1 - y0)
-        dist = np.sqrt(rx * rx + ry * ry)
+        dist = _norm2(rx, ry)
         side = rx * uy - ry * ux
         return np.where(side < 0.0, -dist, dist), t
 
@@ -957,6 +968,8 @@ class Arc(_AngleSweptArc):
         r = _number(self.radius, f"{owner}: radius")
         if not r > 0.0:
             raise ValueError(f"{owner}: radius must be positive, got {self.radius!r}")
+        if r > MAX_COORDINATE:
+            raise ValueError(f"{owner}: radius must be at most {MAX_COORDINATE:g} (squared distances would overflow), got {self.radius!r}")
         object.__setattr__(self, "radius", r)
         self._set_angles(owner)
 
@@ -1013,7 +1026,7 @@ class Arc(_AngleSweptArc):
         dy = P[:, 1] - self.center[1]
         t = self._t_of_angle(np.arctan2(dy, dx))
         # foot on the arc: p - c = (rho - r) e_r and n = sense e_r
-        sd = self.sense * (np.sqrt(dx * dx + dy * dy) - self.radius)
+        sd = self.sense * (_norm2(dx, dy) - self.radius)
         if not self.is_closed:
             out = np.flatnonzero(t > self.sweep)
             if out.size:
@@ -1269,6 +1282,8 @@ class BSplineArc(BoundedCurve):
             raise ValueError(f"{owner}: control_points must be a list of [x, y] points") from None
         if cp.ndim != 2 or cp.shape[1] != 2 or not np.all(np.isfinite(cp)):
             raise ValueError(f"{owner}: control_points must be a list of finite [x, y] points, got shape {cp.shape}")
+        if np.any(np.abs(cp) > MAX_COORDINATE):
+            raise ValueError(f"{owner}: control_points must be within +-{MAX_COORDINATE:g}")
         n = cp.shape[0]
         if n < p + 1:
             raise ValueError(f"{owner}: needs at least degree + 1 = {p + 1} control_points, got {n}")
@@ -1511,7 +1526,7 @@ def bounded_curve_from_dict(d: Any, where: str = "edge") -> BoundedCurve:
         raise ValueError(f"{where} must be a table/dict, got {type(d).__name__}")
     d = {k: v for k, v in d.items() if v is not None}
     kind = d.get("type")
-    if kind not in _EDGE_KEYS:
+    if not isinstance(kind, str) or kind not in _EDGE_KEYS:
         raise ValueError(f"{where}.type must be one of {', '.join(sorted(_EDGE_KEYS))}, got {kind!r}")
     unknown = set(d) - _EDGE_KEYS[kind]
     if unknown:

@@ -135,7 +135,7 @@ def _kd_tree(points: np.ndarray) -> "cKDTree":
 
     return cKDTree(points)
 
-from ._base import Curve, Projection, Surface, as_points, register_primitive, restore_dim, signed_lengths
+from ._base import MAX_COORDINATE, Curve, Projection, Surface, as_points, register_primitive, restore_dim, signed_lengths
 from .curves import check_fields
 from . import _bernstein, _curve_cells, _jit
 from . import _surface_cells
@@ -379,6 +379,10 @@ class BSplineCurve(Curve):
             )
         if not np.all(np.isfinite(P)):
             raise ValueError(f"{_field(owner, 'control_points')} must be finite")
+        if np.any(np.abs(P) > MAX_COORDINATE):
+            raise ValueError(
+                f"{_field(owner, 'control_points')} must be within +-{MAX_COORDINATE:g} (squared distances would overflow)"
+            )
         n = len(P)
         if n < k + 1:
             raise ValueError(
@@ -817,6 +821,10 @@ class BSplineSurface(Surface):
             raise ValueError(f"{_field(owner, 'control_points')} must be an nu x nv x 3 array, got shape {P.shape}")
         if not np.all(np.isfinite(P)):
             raise ValueError(f"{_field(owner, 'control_points')} must be finite")
+        if np.any(np.abs(P) > MAX_COORDINATE):
+            raise ValueError(
+                f"{_field(owner, 'control_points')} must be within +-{MAX_COORDINATE:g} (squared distances would overflow)"
+            )
         nu, nv = P.shape[:2]
         for kk, n, name in ((ku, nu, "nu"), (kv, nv, "nv")):
             if n < kk + 1:

@@ -15,12 +15,15 @@ edges too. Points on the boundary get phi = 0 (to round-off) and count as inside
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 from typing import Any, Iterable, Sequence
 
 import numpy as np
 
-from .bounded import BoundedCurve, BSplineArc, _points2
+from ._base import real_array
+from .bounded import BoundedCurve, BSplineArc
+from .loop_checks import check_loops
 
 __all__ = ["Profile", "ProfileProjection", "UnknownEdgeError"]
 
@@ -43,6 +46,20 @@ class ProfileProjection:
     phi: np.ndarray
     edge_index: np.ndarray
     parameters: np.ndarray
+
+
+def _query_points(points: Any, infinite: bool) -> np.ndarray:
+    """Query points as a float (n, 2) array of real numbers; no NaN, and no infinity unless
+    ``infinite``. A 1-D array is refused (it would be ambiguous: one point or n values)."""
+    P = real_array(points, "points")
+    if P.ndim != 2 or P.shape[1] != 2:
+        raise ValueError(f"points must be an (n, 2) array (a single point is [[x, y]]), got shape {P.shape}")
+    bad = np.isnan(P).any(axis=1) if infinite else ~np.isfinite(P).all(axis=1)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        what = "NaN" if infinite else "NaN or infinite"
+        raise ValueError(f"points must not be {what}: points[{k}] = {P[k].tolist()}")
+    return P
 
 
 def _as_loop(loop: Any) -> list[BoundedCurve]:
@@ -123,6 +140,52 @@ def _reorder(curves: list[BoundedCurve], tol: float) -> list[BoundedCurve] | Non
     return out
 
 
+def _edge_names(raw: list[list[BoundedCurve]]) -> list[str]:
+    """Edge names in the order given (unnamed curves get e<k>, k their position); curves
+    renamed in place in ``raw``. Names must be unique."""
+    names = [c.name for lp in raw for c in lp]
+    used = {n for n in names if n}
+    for k, nm in enumerate(names):
+        if not nm:
+            j = k
+            while f"e{j}" in used:
+                j += 1
+            names[k] = f"e{j}"
+            used.add(names[k])
+    dup = sorted(n for n, count in Counter(names).items() if count > 1)
+    if dup:
+        raise ValueError(f"profile edge names must be unique; repeated: {', '.join(dup)}")
+    k = 0
+    for lp in raw:
+        for j, c in enumerate(lp):
+            if c.name != names[k]:
+                lp[j] = c.renamed(names[k])
+            k += 1
+    return names
+
+
+def _chained(curves: list[BoundedCurve], tol: float, label: str) -> list[BoundedCurve]:
+    """The loop's curves chained end to start, in the order given or, where that does not
+    chain, in the order found by walking from the first curve."""
+    try:
+        return _chain(curves, tol, label)
+    except ValueError:
+        ordered = _reorder(curves, tol)
+        if ordered is None:
+            raise
+        return _chain(ordered, tol, label)
+
+
+def _oriented(chained: list[BoundedCurve], ccw: bool, label: str) -> tuple[BoundedCurve, ...]:
+    """The chained loop turned counter-clockwise (``ccw``) or clockwise."""
+    area = _loop_area(chained)
+    if area == 0.0:
+        raise ValueError(f"{label} encloses no area")
+    if (area > 0.0) != ccw:
+        chained = [c.reversed() for c in reversed(chained)]
+    return tuple(chained)
+
+
 def _loop_area(curves: Sequence[BoundedCurve]) -> float:
     return float(sum(c.area_integral() for c in curves))
 
@@ -150,56 +213,26 @@ class Profile:
         self.size = size
         self.tolerance = tol
 
-        # names first, in the order given (unnamed curves get e<k>, k their position)
-        given = [c for lp in raw for c in lp]
-        names = [c.name for c in given]
-        used = {n for n in names if n}
-        for k, nm in enumerate(names):
-            if not nm:
-                j = k
-                while f"e{j}" in used:
-                    j += 1
-                names[k] = f"e{j}"
-                used.add(names[k])
-        dup = sorted({n for n in names if names.count(n) > 1})
-        if dup:
-            raise ValueError(f"profile edge names must be unique; repeated: {', '.join(dup)}")
-        k = 0
-        for lp in raw:
-            for j, c in enumerate(lp):
-                if c.name != names[k]:
-                    lp[j] = c.renamed(names[k])
-                k += 1
-
-        loops_out: list[tuple[BoundedCurve, ...]] = []
-        for i, lp in enumerate(raw):
-            label = "outer loop" if i == 0 else f"hole {i - 1}"
-            try:
-                chained = _chain(lp, tol, label)
-            except ValueError:
-                ordered = _reorder(lp, tol)
-                if ordered is None:
-                    raise
-                chained = _chain(ordered, tol, label)
-            area = _loop_area(chained)
-            if area == 0.0:
-                raise ValueError(f"{label} encloses no area")
-            want_ccw = i == 0
-            if (area > 0.0) != want_ccw:
-                chained = [c.reversed() for c in reversed(chained)]
-            loops_out.append(tuple(chained))
+        names = _edge_names(raw)
+        chained = [_chained(lp, tol, "outer loop" if i == 0 else f"hole {i - 1}") for i, lp in enumerate(raw)]
+        check_loops(chained, size, tol)
         #: the oriented curves of each loop in chain order (outer CCW first, then holes CW)
-        self.loops: tuple[tuple[BoundedCurve, ...], ...] = tuple(loops_out)
-
+        self.loops: tuple[tuple[BoundedCurve, ...], ...] = tuple(
+            _oriented(lp, i == 0, "outer loop" if i == 0 else f"hole {i - 1}") for i, lp in enumerate(chained)
+        )
         # edges in the order given; topology from the chains
         oriented = {c.name: c for lp in self.loops for c in lp}
         edges = [oriented[nm] for nm in names]
         self.edge_names: tuple[str, ...] = tuple(names)
         self.edges: dict[str, BoundedCurve] = dict(zip(names, edges))
         self._edge_list = edges
-        index = {nm: k for k, nm in enumerate(names)}
+        self._set_topology()
+        self._set_boxes()
 
-        # loop topology: previous / next edge of every edge, end normals
+    def _set_topology(self) -> None:
+        """Previous / next edge and loop of every edge, parameter ranges, end normals."""
+        edges = self._edge_list
+        index = {nm: k for k, nm in enumerate(self.edge_names)}
         n_edges = len(edges)
         prev = np.zeros(n_edges, dtype=np.intp)
         nxt = np.zeros(n_edges, dtype=np.intp)
@@ -217,29 +250,25 @@ class Profile:
         self.edge_loop = loop_of
         self._t_start = np.array([c.t_start for c in edges])
         self._t_end = np.array([c.t_end for c in edges])
-        # tight bounding boxes (ends and axis-extreme points) for culling in _nearest
+        self._n_start = np.vstack([c.normal(c.t_start) for c in edges])
+        self._n_end = np.vstack([c.normal(c.t_end) for c in edges])
+        self._p_start = np.vstack([c.start for c in edges])
+        self._p_end = np.vstack([c.end for c in edges])
+
+    def _set_boxes(self) -> None:
+        """Tight boxes (ends and axis-extreme points) and culling boxes for ``_nearest``."""
+        edges = self._edge_list
         boxes = [_curve_box(c) for c in edges]
         self._box_lo = np.array([b[0] for b in boxes])
         self._box_hi = np.array([b[1] for b in boxes])
         # culling boxes must contain the curve for sure: B-splines use their control points
         # (convex hull property, positive weights); a small margin covers round-off
         cull = [(c.control_points.min(axis=0), c.control_points.max(axis=0)) if isinstance(c, BSplineArc) else b for c, b in zip(edges, boxes)]
-        margin = 1e-12 * size
+        margin = 1e-12 * self.size
         self._cull_lo = np.array([b[0] for b in cull]) - margin
         self._cull_hi = np.array([b[1] for b in cull]) + margin
         self._expensive = np.array([getattr(c, "cost", 1) > 1 for c in edges])
         self._order = sorted(range(len(edges)), key=lambda k: getattr(edges[k], "cost", 1))
-        self._n_start = np.vstack([c.normal(c.t_start) for c in edges])
-        self._n_end = np.vstack([c.normal(c.t_end) for c in edges])
-        self._p_start = np.vstack([c.start for c in edges])
-        self._p_end = np.vstack([c.end for c in edges])
-
-        if len(self.loops) > 1:
-            outer_only = Profile([self.loops[0]], tolerance=tol)
-        for i in range(1, len(self.loops)):
-            probe = self.loops[i][0].start
-            if outer_only.signed_distance(probe)[0] < -tol:
-                raise ValueError(f"hole {i - 1} lies outside the outer loop (it starts at {probe.tolist()})")
 
     # -- naming ----------------------------------------------------------------------------
 
@@ -348,21 +377,55 @@ class Profile:
         return phi, edge, tpar, c, nrm
 
     def project(self, points: Any) -> ProfileProjection:
-        """Closest boundary points, outward normals, phi (positive inside), nearest edge."""
-        P = _points2(points)
-        phi, edge, tpar, c, nrm = self._phi(P, want_points=True)
+        """Closest boundary points, outward normals, phi (positive inside), nearest edge.
+        ``points`` is an (n, 2) array of finite numbers."""
+        P = _query_points(points, infinite=False)
+        _, P_near, shift = self._pull_in(P)
+        phi, edge, tpar, c, nrm = self._phi(P_near, want_points=True)
+        phi = phi - shift
         return ProfileProjection(points=c, normals=nrm, phi=phi, edge_index=edge, parameters=tpar)
 
     def signed_distance(self, points: Any) -> np.ndarray:
-        """phi (n,): distance to the boundary, positive inside, negative outside."""
-        return self._phi(_points2(points), want_points=False)[0]
+        """phi (n,): distance to the boundary, positive inside, negative outside.
+
+        ``points`` is an (n, 2) array (a single point is ``[[x, y]]``). A point with an
+        infinite coordinate is infinitely far outside: phi = -inf; NaN is refused
+        (ValueError). Points farther than 1e8 profile sizes are measured along their ray
+        from the profile's centre (exact to round-off there), so squares never overflow."""
+        P = _query_points(points, infinite=True)
+        inf = ~np.isfinite(P).all(axis=1)
+        phi = np.full(len(P), -np.inf)
+        if not inf.all():
+            Q = P[~inf]
+            _, Q_near, shift = self._pull_in(Q)
+            phi[~inf] = self._phi(Q_near, want_points=False)[0] - shift
+        return phi
 
     def contains(self, points: Any, tolerance: float | None = None) -> np.ndarray:
         """Inside test (n,) bool: phi >= -tolerance, the boundary included. The default
         tolerance, 1e-12 of the profile's size, covers the round-off of phi on curved edges,
-        so points on any edge or at a corner are inside."""
+        so points on any edge or at a corner are inside. Points as for :meth:`signed_distance`."""
         tol = 1e-12 * self.size if tolerance is None else float(tolerance)
         return self.signed_distance(points) >= -tol
+
+    def _pull_in(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Points farther than R = 1e8 sizes from the box centre moved along their ray to
+        distance R: (which were moved, the points, how far each was moved). Beyond R the
+        distance to the boundary grows with the distance from the centre to round-off
+        (the error is about size^2 / R)."""
+        lo, hi = self.bounds
+        centre = 0.5 * (lo + hi)
+        R = 1e8 * self.size
+        d = P - centre
+        with np.errstate(over="ignore"):  # beyond the largest float: r = inf, phi = -inf
+            r = np.hypot(d[:, 0], d[:, 1])
+        far = r > R
+        shift = np.zeros(len(P))
+        if far.any():
+            P = P.copy()
+            P[far] = centre + d[far] * (R / r[far])[:, None]
+            shift[far] = r[far] - R
+        return far, P, shift
 
     # -- tessellation and transforms -----------------------------------------------------------
 

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from .bounded import Arc, BoundedCurve, EllipticArc, Segment, _number, _vec2, bounded_curve_from_dict
+from .bounded import MAX_COORDINATE, Arc, BoundedCurve, EllipticArc, Segment, _number, _vec2, bounded_curve_from_dict
 from .profile import Profile
 
 __all__ = ["profile_from_shape", "SHAPE_TYPES"]
@@ -40,12 +40,14 @@ def _positive(d: dict, key: str, where: str) -> float:
     x = _number(d[key], f"{where}.{key}")
     if not x > 0.0:
         raise ValueError(f"{where}.{key} must be positive, got {d[key]!r}")
+    if x > MAX_COORDINATE:
+        raise ValueError(f"{where}.{key} must be at most {MAX_COORDINATE:g} (squared distances would overflow), got {d[key]!r}")
     return x
 
 
 def _side(d: dict, where: str) -> float:
     side = d["side"]
-    if side not in _SIDES:
+    if not isinstance(side, str) or side not in _SIDES:
         raise ValueError(f"{where}.side must be one of below, above, left, right, got {side!r}")
     return _SIDES[side]
 
@@ -120,40 +122,7 @@ def _polygon(d: dict, w: str) -> list[list[BoundedCurve]]:
         if np.array_equal(a, b):
             raise ValueError(f"{w}.points[{i}] and {w}.points[{(i + 1) % n}] coincide ({a.tolist()})")
         edges.append(Segment(a, b, names[i]))
-    crossing = _first_crossing(pts)
-    if crossing is not None:
-        i, j = crossing
-        raise ValueError(f"{w}.points: the polygon crosses itself (edges {names[i]!r} and {names[j]!r})")
     return [edges]
-
-
-def _first_crossing(pts: np.ndarray) -> tuple[int, int] | None:
-    """First pair of non-adjacent polygon edges that intersect (closed segments), if any.
-    All pairs at once: polygons in scene files have few points."""
-    n = len(pts)
-    a, b = pts, np.roll(pts, -1, axis=0)
-    i, j = np.triu_indices(n, k=2)
-    keep = ~((i == 0) & (j == n - 1))  # the last and first edges are adjacent
-    i, j = i[keep], j[keep]
-    if i.size == 0:
-        return None
-
-    def orient(p, q, r):
-        return np.sign((q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0]))
-
-    def on_segment(p, q, r):  # r collinear with p, q: is it within their box?
-        return (np.minimum(p[:, 0], q[:, 0]) <= r[:, 0]) & (r[:, 0] <= np.maximum(p[:, 0], q[:, 0])) & (
-            np.minimum(p[:, 1], q[:, 1]) <= r[:, 1]) & (r[:, 1] <= np.maximum(p[:, 1], q[:, 1]))
-
-    p1, q1, p2, q2 = a[i], b[i], a[j], b[j]
-    o1, o2, o3, o4 = orient(p1, q1, p2), orient(p1, q1, q2), orient(p2, q2, p1), orient(p2, q2, q1)
-    hit = (o1 * o2 < 0) & (o3 * o4 < 0)
-    hit |= (o1 == 0) & on_segment(p1, q1, p2)
-    hit |= (o2 == 0) & on_segment(p1, q1, q2)
-    hit |= (o3 == 0) & on_segment(p2, q2, p1)
-    hit |= (o4 == 0) & on_segment(p2, q2, q1)
-    k = np.flatnonzero(hit)
-    return (int(i[k[0]]), int(j[k[0]])) if k.size else None
 
 
 def _edge_loop(value: Any, w: str) -> list[BoundedCurve]:
@@ -196,6 +165,8 @@ def profile_from_shape(d: Any, where: str = "shape") -> Profile:
         raise ValueError(f"{where} must be a table/dict, got {type(d).__name__}")
     d = {k: v for k, v in d.items() if v is not None}
     kind = d.get("type")
+    if not isinstance(kind, str):
+        raise ValueError(f"{where}.type must be a string (one of {', '.join(SHAPE_TYPES)}), got {kind!r}")
     if kind == "onshape":
         raise ValueError(f"{where}.type 'onshape' is built by importers.onshape, not geometry.profile_from_shape")
     if kind not in _KEYS:

@@ -1,7 +1,6 @@
 """Issue 18 classes 5, 10, 11 and 12 (geometry API): impossible profiles, distances of far
-points, unknown fields of B-spline dicts and array inputs that are not real points. These
-classes are fixed in geometry/ (not by the robustness helper); a test that still fails is
-marked xfail with the reason, so the suite shows what is open."""
+points, unknown fields of B-spline dicts and array inputs that are not real points. More
+variants of classes 5, 10 and 12: tests/test_geometry_loops.py and test_geometry_far_points.py."""
 
 from __future__ import annotations
 
@@ -34,10 +33,7 @@ def _profile_refused(shape) -> bool:
 
 # --- class 5: impossible profiles ---------------------------------------------------------------
 
-OPEN_5 = "issue 18 item 5 (geometry/profile.py, another helper): loops are not yet checked for crossings"
 
-
-@pytest.mark.xfail(reason=OPEN_5, strict=False)
 @pytest.mark.parametrize("edges", [
     # the issue's reproducer: edges (0,0)->(2,1) and (2,0)->(0,2) cross
     [line("a", (0, 0), (2, 1)), line("b", (2, 1), (2, 0)), line("c", (2, 0), (0, 2)), line("d", (0, 2), (0, 0))],
@@ -50,7 +46,6 @@ def test_class5_a_loop_that_crosses_itself(edges):
     assert _profile_refused({"type": "profile", "edges": edges})
 
 
-@pytest.mark.xfail(reason=OPEN_5, strict=False)
 @pytest.mark.parametrize("holes", [
     [square("h", (0, 0), 0.5), square("k", (0.3, 0), 0.5)],  # two overlapping holes
     [square("h", (1.8, 0), 0.5)],  # a hole crossing the outer loop
@@ -74,11 +69,7 @@ def test_class5_a_valid_profile_with_a_hole_is_accepted():
 
 # --- class 10: far and infinite points -----------------------------------------------------------
 
-OPEN_10 = ("issue 18 item 10 (geometry/bounded.py, not this helper's): the segment distance squares "
-           "coordinates of 1e300 and overflows to +inf ('inside')")
 
-
-@pytest.mark.xfail(reason=OPEN_10, strict=False)
 @pytest.mark.parametrize("shape, point", [
     ({"type": "rectangle", "min": [-2, -2], "max": [2, 0]}, (1e300, -0.1)),  # the reproducer
     ({"type": "polygon", "points": [[0, 0], [1, 0], [0, 1]]}, (1e200, 1e200)),  # variants
@@ -126,8 +117,6 @@ def test_class12_project_refuses_arrays_that_are_not_real_numbers(points):
         circle.project(points)
 
 
-@pytest.mark.xfail(reason="issue 18 item 12 (geometry/profile.py, not this helper's): signed_distance takes a "
-                          "1-D array as one point", strict=False)
 def test_class12_signed_distance_wants_an_n_by_2_array():
     prof = profile_from_shape({"type": "rectangle", "min": [-2, -2], "max": [2, 0]})
     with pytest.raises(ValueError):

@@ -143,7 +143,7 @@ def test_rotate_and_translate():
         ({"type": "polygon", "points": [[0, 0], [1, 0]]}, "shape.points must be a list of at least 3"),
         ({"type": "polygon", "points": [[0, 0], [1, 0], [0, 1]], "edge_names": ["a", "b"]}, "shape.edge_names"),
         ({"type": "half_ellipse", "center": [0, 0], "semi_axes": [1, -1], "side": "below"}, "shape.semi_axes must be positive"),
-        ({"type": "polygon", "points": [[0, 0], [1, 1], [1, 0], [0, 1]]}, "shape.points: the polygon crosses itself (edges 'e0' and 'e2')"),
+        ({"type": "polygon", "points": [[0, 0], [1, 1], [1, 0], [0, 1]]}, "shape: outer loop crosses itself (edges 'e0' and 'e2' at [0.5, 0.5])"),
         ({"type": "polygon", "points": [[0, 0], [2, 0], [2, 2], [1, 0], [0, 2]]}, "crosses itself"),
         ({"type": "disk", "center": [0, "x"], "radius": 1}, "shape.center"),
         ({"type": "disk", "center": [0, 0], "radius": 1, "rotate_deg": "a"}, "shape.rotate_deg"),

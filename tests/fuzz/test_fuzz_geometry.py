@@ -64,10 +64,7 @@ def _case(data):
 
 #: defects of geometry/ known and open (not fixed by this campaign's owner): text in the defect
 #: -> where it is; the fuzz reports them apart (tests/test_robustness_geometry.py has them as xfail)
-KNOWN_OPEN = {
-    "unhashable type": "geometry/shapes.py: shape.type (or edges[k].type) given as a list or table",
-    "far points": "geometry/bounded.py: signed distance overflows for coordinates beyond 1e154 (issue 18 item 10)",
-}
+KNOWN_OPEN: dict[str, str] = {}
 
 
 def known(problem: str) -> str | None:
