@@ -148,7 +148,8 @@ def _reader(kind: str):
 
 def _namer(reader):
     """name(sub-shape) -> the name the file gives its entity ('' when none): STEP representation
-    items (MANIFOLD_SOLID_BREP('roller', ...), ADVANCED_FACE('top', ...)), IGES entity names."""
+    items (MANIFOLD_SOLID_BREP('roller', ...), ADVANCED_FACE('top', ...)), the PRODUCT of a solid
+    placed in an assembly, IGES entity names."""
     transfer = reader.WS().TransferReader()
 
     def name(shape, _keep=reader) -> str:  # the reader owns the transfer results: kept alive
@@ -159,7 +160,12 @@ def _namer(reader):
             if hasattr(entity, "HasName"):  # IGES
                 return entity.NameValue().ToCString().strip() if entity.HasName() else ""
             text = entity.Name() if hasattr(entity, "Name") else None
-            return text.ToCString().strip() if text is not None else ""
+            own = text.ToCString().strip() if text is not None else ""
+            if not hasattr(entity, "RelatedProductDefinition"):
+                return own
+            # a solid placed in an assembly: named by the PRODUCT it instances (else the occurrence)
+            product = entity.RelatedProductDefinition().Formation().OfProduct().Name().ToCString().strip()
+            return product or own
         except Exception:  # an entity without a readable name: unnamed
             return ""
 
