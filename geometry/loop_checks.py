@@ -20,7 +20,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .bounded import BoundedCurve, Segment
+from .bounded_curve import BoundedCurve
+from .segments import Segment
 
 __all__ = ["check_loops"]
 

@@ -22,7 +22,8 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 
 from ._base import real_array
-from .bounded import BoundedCurve, BSplineArc
+from .bounded_curve import BoundedCurve
+from .bspline_arc import BSplineArc
 from .loop_checks import check_loops
 
 __all__ = ["Profile", "ProfileProjection", "UnknownEdgeError"]
@@ -480,7 +481,8 @@ def _curve_box(curve: BoundedCurve) -> tuple[np.ndarray, np.ndarray]:
 
 def _derivative_roots(curve: BoundedCurve, axis: int) -> np.ndarray:
     """Parameters where d(coordinate axis)/dt = 0 (axis-extreme points of the curve)."""
-    from .bounded import Segment, _roots_on_grid
+    from ._curve_numerics import _roots_on_grid
+    from .segments import Segment
 
     if isinstance(curve, Segment):
         return np.empty(0)

@@ -15,7 +15,12 @@ from typing import Any
 
 import numpy as np
 
-from .bounded import MAX_COORDINATE, Arc, BoundedCurve, EllipticArc, Segment, _number, _vec2, bounded_curve_from_dict
+from ._base import MAX_COORDINATE
+from ._curve_numerics import _number, _vec2
+from .arcs import Arc, EllipticArc
+from .bounded_curve import BoundedCurve
+from .edge_dicts import bounded_curve_from_dict
+from .segments import Segment
 from .profile import Profile
 
 __all__ = ["profile_from_shape", "SHAPE_TYPES"]
