@@ -14,7 +14,7 @@ pytest.importorskip("OCP")
 
 import test_step_support as S  # noqa: E402
 from geometry.verify import verify_projection  # noqa: E402
-from importers.step import StepFormatError, load_part  # noqa: E402
+from importers.step import load_part  # noqa: E402
 
 REL = 1e-12
 
@@ -195,3 +195,32 @@ def test_tolerance_is_the_users(files):
         assert sag <= 2.0 * tol  # the mesher bounds the edge sag; a centroid may sit up to ~1.7x deeper
     with pytest.raises(ValueError, match="tolerance must be a positive number"):
         load_part(files["sphere"], tolerance=-1.0)
+
+
+def test_an_offset_surface_is_kept_as_tessellation_and_reported(tmp_path):
+    """A face on an offset of the loft's B-spline surface (no geometry primitive): kept with its
+    triangles, reported, never dropped; a lone face is a SHEET body."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.Geom import Geom_OffsetSurface
+    from OCP.TopAbs import TopAbs_ShapeEnum
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    explorer = TopExp_Explorer(S.loft(), TopAbs_ShapeEnum.TopAbs_FACE)
+    surfaces = []
+    while explorer.More():
+        surfaces.append(BRep_Tool.Surface_s(TopoDS.Face(explorer.Current())))
+        explorer.Next()
+    bspline = [s for s in surfaces if type(s).__name__ == "Geom_BSplineSurface"][0]
+    u0, u1, v0, v1 = bspline.Bounds()
+    face = BRepBuilderAPI_MakeFace(Geom_OffsetSurface(bspline, 2.0), u0, u1, v0, v1, 1e-7).Face()
+    path = S.write_step(face, tmp_path / "offset.step")
+    assert "OFFSET_SURFACE" in path.read_text()
+    part = load_part(path)
+    assert part.faces_by_type() == {"OFFSET": 1}
+    f = part.faces["F1"]
+    assert f.surface is None and len(f.mesh.faces) > 100
+    assert "surface OFFSET: kept as tessellation-only: F1" in part.warnings
+    assert [b.body_type for b in part.bodies.values()] == ["SHEET"]
+    assert verify_projection(part)["tessellation_only_faces"] == 1
