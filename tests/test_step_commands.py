@@ -111,6 +111,11 @@ def test_verify_and_info_on_the_file(d, capsys):
     assert main(["verify", str(d / "prism.step")]) == 0
     text = capsys.readouterr().out
     assert "SWEEP" in text and text.rstrip().endswith("OK")
+    # the NURBS of a revolution read from IGES projects to ~1.5e-12 m: accepted below 1e-9 of the size
+    S.write_iges(S.revolved(), d / "revolved.igs")
+    assert main(["verify", str(d / "revolved.igs"), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert 0 < report["max_error"] < 1e-9 * 0.02 and report["max_normal_error"] < 1e-9
     assert main(["info", str(d / "box.igs")]) == 0
     assert "PLANE              6  yes" in capsys.readouterr().out
 
