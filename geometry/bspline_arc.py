@@ -9,7 +9,6 @@ from typing import Any
 
 import numpy as np
 
-from ._base import MAX_COORDINATE
 from .bounded_curve import BoundedCurve, BoundedProjection
 from ._curve_numerics import (
     _params,
@@ -38,51 +37,21 @@ class BSplineArc(BoundedCurve):
     cost = 8
 
     def __post_init__(self) -> None:
+        # the checks and the projection engine of geometry.bspline (one set of value checks)
+        from .bspline import BSplineCurve
+
         owner = f"bspline {self.name!r}"
-        p = self.degree
-        if isinstance(p, bool) or not isinstance(p, (int, np.integer)) and not (isinstance(p, float) and p.is_integer()):
-            raise ValueError(f"{owner}: degree must be a positive integer, got {p!r}")
-        p = int(p)
-        if p < 1:
-            raise ValueError(f"{owner}: degree must be a positive integer, got {p!r}")
         try:
-            cp = np.array(self.control_points, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"{owner}: control_points must be a list of [x, y] points") from None
-        if cp.ndim != 2 or cp.shape[1] != 2 or not np.all(np.isfinite(cp)):
-            raise ValueError(f"{owner}: control_points must be a list of finite [x, y] points, got shape {cp.shape}")
-        if np.any(np.abs(cp) > MAX_COORDINATE):
-            raise ValueError(f"{owner}: control_points must be within +-{MAX_COORDINATE:g}")
-        n = cp.shape[0]
-        if n < p + 1:
-            raise ValueError(f"{owner}: needs at least degree + 1 = {p + 1} control_points, got {n}")
-        try:
-            kn = np.array(self.knots, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"{owner}: knots must be a list of numbers") from None
-        if kn.ndim != 1 or kn.size != n + p + 1:
-            raise ValueError(f"{owner}: knots must have len(control_points) + degree + 1 = {n + p + 1} entries, got {kn.size}")
-        if not np.all(np.isfinite(kn)) or np.any(np.diff(kn) < 0.0):
-            raise ValueError(f"{owner}: knots must be finite and non-decreasing, got {kn.tolist()}")
-        if not kn[-p - 1] > kn[p]:
-            raise ValueError(f"{owner}: knots give an empty parameter domain [{kn[p]}, {kn[-p - 1]}]")
-        w = None
-        if self.weights is not None:
-            try:
-                w = np.array(self.weights, dtype=float)
-            except (TypeError, ValueError):
-                raise ValueError(f"{owner}: weights must be a list of numbers") from None
-            if w.shape != (n,):
-                raise ValueError(f"{owner}: weights must have one entry per control point ({n}), got shape {w.shape}")
-            if not np.all(np.isfinite(w)) or np.any(w <= 0.0):
-                raise ValueError(f"{owner}: weights must be positive, got {w.tolist()}")
-            w.setflags(write=False)
-        for arr in (cp, kn):
-            arr.setflags(write=False)
-        object.__setattr__(self, "degree", p)
-        object.__setattr__(self, "control_points", cp)
-        object.__setattr__(self, "knots", kn)
-        object.__setattr__(self, "weights", w)
+            engine = BSplineCurve(self.degree, self.knots, self.control_points, self.weights)
+        except ValueError as exc:
+            raise ValueError(f"{owner}: {str(exc).removeprefix('bspline_curve: ')}") from None
+        if engine.dim != 2:
+            raise ValueError(f"{owner}: control_points must be a list of [x, y] points, got shape {engine.control_points.shape}")
+        object.__setattr__(self, "degree", engine.degree)
+        object.__setattr__(self, "control_points", engine.control_points)
+        object.__setattr__(self, "knots", engine.knots)
+        object.__setattr__(self, "weights", engine.weights)
+        object.__setattr__(self, "_engine", engine)
 
     @cached_property
     def _splines(self):
@@ -180,13 +149,19 @@ class BSplineArc(BoundedCurve):
         return pr.distances, pr.parameters
 
     def project(self, points: Any) -> BoundedProjection:
-        """Sampling and safeguarded Newton; where the closest point is a corner (a kink at a
-        knot of multiplicity >= degree) the sign of the distance comes from the pseudo-normal
-        n_left + n_right there, as at the vertices of a profile."""
+        """The certified closest-point search of :class:`geometry.bspline.BSplineCurve`
+        (branch and bound over the knot spans, compiled when numba is there); where the
+        closest point is a corner (a kink at a knot of multiplicity >= degree) the sign of the
+        distance comes from the pseudo-normal n_left + n_right there, as at the vertices of a
+        profile."""
         return self._project(_points2(points))
 
     def _project(self, P: np.ndarray, upper: np.ndarray | None = None) -> BoundedProjection:
-        t = self._project_sampled(P, upper)
+        # the certified search of geometry.bspline (compiled when numba is there); ``upper``
+        # is not needed: the search is exact for every point
+        P3 = np.zeros((len(P), 3))
+        P3[:, :2] = P
+        t = np.clip(self._engine.closest_parameters(P3)[0], self.t_start, self.t_end)
         pr = self._projection_at(P, t)
         if self.kinks.size and len(P):
             span = self.t_end - self.t_start
