@@ -1,4 +1,4 @@
-"""Write half_cylinder_on_block.step: the `make demo` geometry (fixtures/onshape/half_cylinder_on_block)
+"""Write fixtures/step/half_cylinder_on_block.step: the `make demo` geometry (fixtures/onshape/half_cylinder_on_block)
 built with OpenCascade, so the STEP import can be compared with the Onshape one.
 
 A half cylinder R = 50 mm (centre (0, 50) mm, its lower half) resting on a 200 x 100 mm block (top at
@@ -39,7 +39,7 @@ def build():
     return compound
 
 
-def write(path: Path = HERE / "half_cylinder_on_block.step") -> Path:
+def write(path: Path = HERE.parents[1] / "fixtures" / "step" / "half_cylinder_on_block.step") -> Path:
     from OCP.Interface import Interface_Static
     from OCP.Message import Message, Message_Gravity
     from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
