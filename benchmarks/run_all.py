@@ -28,6 +28,7 @@ def main(argv: list[str]) -> int:
         ("contact.py", quick),
         ("error_vs_time.py", quick),
         ("linear_solvers.py", ["--quick"] if args.quick else []),
+        ("step_import.py", []),
     ]
     failed = []
     for name, extra in benchmarks:

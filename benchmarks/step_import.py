@@ -3,7 +3,7 @@
 144 tori: 294 faces). Builds the part with OpenCascade, writes it to a temporary STEP file, then
 times ``importers.step.load_part`` (read, mesh, build; median of 3) and ``verify_projection``.
 
-Run: .venv/bin/python examples/step/bench_import.py
+Run: .venv/bin/python benchmarks/step_import.py (also in make bench)
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import tempfile
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 N, PITCH, R_HOLE, R_FILLET = 12, 20.0, 5.0, 1.0
 
