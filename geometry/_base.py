@@ -146,6 +146,9 @@ def vector(value: Any, field: str, owner: str | None = None, dims: tuple[int, ..
 def unit_vector(value: Any, field: str, owner: str | None = None, dims: tuple[int, ...] = (3,)) -> np.ndarray:
     """A vector normalised to unit length; a zero (or denormal) vector is rejected."""
     arr = np.array(vector(value, field, owner, dims))
+    big = float(np.max(np.abs(arr)))
+    if big > 1e150:  # the squares would overflow: scale first (exact, a power of two)
+        arr = arr * 2.0 ** -math.frexp(big)[1]
     norm = float(np.linalg.norm(arr))
     if not norm > 1e-300 or not math.isfinite(norm):
         raise ValueError(f"{_where(field, owner)} must be a non-zero vector, got {value!r}")

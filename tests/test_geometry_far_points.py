@@ -116,3 +116,20 @@ def test_bspline_primitives_refuse_huge_control_points():
     p = np.array([[-1e6, 3.39, 0.0], [1e12, -1e12, 5.0]])
     pr = primitive_from_dict(d).project(p)
     assert np.abs(pr.distances) == pytest.approx(np.hypot.reduce(p - pr.points, axis=1), rel=1e-12)
+
+
+@pytest.mark.parametrize("d, field", [
+    ({"type": "circle", "origin": [0, 0, 0], "normal": [0, 1e300, 1e300], "radius": 1.0}, "normal"),
+    ({"type": "line", "origin": [0, 0, 0], "direction": [1e300, 1e300, 0]}, "direction"),
+    ({"type": "plane", "origin": [0, 0, 0], "normal": [1.7e308, 0, -1.7e308]}, "normal"),
+])
+def test_huge_direction_vectors_are_directions(d, field):
+    """A direction is normalised without squaring numbers that overflow (before: refused as
+    'must be a non-zero vector' after an overflow warning)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        prim = primitive_from_dict(d)
+    given = np.array(d[field], dtype=float)
+    want = given / np.abs(given).max()
+    want /= np.linalg.norm(want)
+    assert np.asarray(prim.to_dict()[field]) == pytest.approx(want, abs=2e-16)
