@@ -5,6 +5,7 @@ overflow-safe norm, signed distances and vectorised bisection / root finding."""
 from __future__ import annotations
 
 import math
+import numbers
 from typing import Any
 
 import numpy as np
@@ -43,10 +44,14 @@ def _params(t: Any) -> np.ndarray:
 
 
 def _vec2(value: Any, field: str) -> np.ndarray:
+    """Two finite real numbers within +-MAX_COORDINATE (bools and strings refused)."""
+    mixed = isinstance(value, (list, tuple)) and any(isinstance(v, (bool, np.bool_, str)) for v in value)
     try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{field} must be a list of 2 numbers, got {value!r}") from None
+        arr = real_array(value, field)
+    except ValueError:
+        mixed = True
+    if mixed:
+        raise ValueError(f"{field} must be a list of 2 numbers, got {value!r}")
     if arr.shape != (2,):
         raise ValueError(f"{field} must be a list of 2 numbers, got {value!r}")
     if not np.all(np.isfinite(arr)):
@@ -59,7 +64,8 @@ def _vec2(value: Any, field: str) -> np.ndarray:
 
 
 def _number(value: Any, field: str) -> float:
-    if isinstance(value, bool):
+    """A finite real number (bools and strings refused)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.ndarray)):
         raise ValueError(f"{field} must be a number, got {value!r}")
     try:
         x = float(value)

@@ -199,7 +199,9 @@ class Profile:
     ``tolerance``, default 1e-6 of the profile's size; curves listed out of order are
     put in order when the listed order does not chain), then orients the outer loop
     counter-clockwise and holes clockwise, so every curve's ``normal`` points out of the
-    material. Edge names stay with their curves and must be unique.
+    material. Edge names stay with their curves and must be unique. The loops must not
+    cross or touch themselves or each other, holes must lie inside the outer loop and not
+    inside each other (:func:`geometry.loop_checks.check_loops`; docs/geometry.md).
     """
 
     def __init__(self, loops: Iterable[Any], tolerance: float | None = None) -> None:
