@@ -214,19 +214,27 @@ def _confirmed(ch: _Chords, i: int, j: int, point: np.ndarray, tol: float, vtx_t
 
 
 def _shared_vertex(ch: _Chords, ea: int, eb: int, p: np.ndarray, tol: float) -> bool:
-    """``p`` is (within ``tol`` of) a vertex where edges ea and eb follow each other."""
+    """``p`` is (within ``tol`` of) a vertex where edges ea and eb follow each other along
+    their loop, directly or across edges shorter than ``tol`` together (tiny CAD edges)."""
     if ch.edge_loop[ea] != ch.edge_loop[eb]:
         return False
     n = ch.loop_len[ch.edge_loop[ea]]
-    A, B = ch.curves[ea], ch.curves[eb]
-    ends = []
-    if ea == eb:
-        ends.append(A.start)  # a closed single edge (a full circle) meets itself there
-    if (ch.edge_pos[ea] + 1) % n == ch.edge_pos[eb]:
-        ends.append(A.end)
-    if (ch.edge_pos[eb] + 1) % n == ch.edge_pos[ea]:
-        ends.append(B.end)
-    return any(np.hypot(*(p - v)) <= tol for v in ends)
+    A = ch.curves[ea]
+    if ea == eb and np.hypot(*(A.end - A.start)) <= tol:  # a closed edge meets itself at its start
+        return bool(np.hypot(*(p - A.start)) <= tol)
+    first = ea - ch.edge_pos[ea]  # the loop's edges are consecutive in ch.curves
+    for x, y in ((ea, eb), (eb, ea)):
+        between = 0.0
+        for step in range(1, n):
+            k = first + (ch.edge_pos[x] + step) % n
+            if k == y:
+                if np.hypot(*(p - ch.curves[x].end)) <= tol + between:
+                    return True
+                break
+            between += ch.curves[k].length
+            if between > tol:
+                break
+    return False
 
 
 def _first_crossing(ch: _Chords, size: float, tol: float) -> tuple[int, int, np.ndarray] | None:

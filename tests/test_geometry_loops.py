@@ -228,3 +228,19 @@ def test_curved_edges_are_checked_fast():
     t0 = time.perf_counter()
     Profile([loop] + holes)
     assert time.perf_counter() - t0 < 1.0
+
+
+@pytest.mark.parametrize("eps", [1e-13, 1e-9, 1e-3])
+def test_tiny_edges_at_a_corner_are_not_crossings(eps):
+    # the corner (0, 1) cut by an edge of length eps * sqrt(2): the sides before and after it
+    # come within eps of each other, and meet the tiny edge only at its ends
+    pts = [[0, 0], [1, 0], [1, 1], [eps, 1], [0, 1 - eps]]
+    prof = profile_from_shape({"type": "polygon", "points": pts})
+    assert prof.area == pytest.approx(1.0 - 0.5 * eps * eps, rel=1e-15)
+
+
+def test_a_vertex_touching_a_side_of_its_loop_is_refused():
+    # the vertex (1, 0) between sides e2 and e3 lies on side e0, from (0, 0) to (2, 0): the
+    # loop pinches there (two triangles touching at a point)
+    msg = refusal({"type": "polygon", "points": [[0, 0], [2, 0], [2, 1], [1, 0], [0, 1]]})
+    assert "outer loop crosses itself (edges 'e0' and 'e2' at [1, 0])" in msg
