@@ -6,7 +6,7 @@ balance. Test-local solids (tests/_solids3d.py, tests/_turned_box.py)."""
 import numpy as np
 import pytest
 
-from solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors
+from solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors, surface_point
 from solver.model import problem as pb
 from solver.reference.theory import hertz_sphere_radius
 from solver.solve import solve
@@ -137,3 +137,33 @@ def test_partial_slip_of_a_half_ball_stick_ellipse_from_the_forces():
     ratio = c["stick_semi_axes"][0] / c["semi_axes"][0]
     assert ratio == pytest.approx((1 - abs(qx) / (0.3 * n)) ** (1 / 3), abs=0.01)
     assert c["checks"]["edge_coefficients"][0] == pytest.approx(c["checks"]["edge_coefficients"][1], abs=0.05)
+
+
+@pytest.mark.parametrize("angle", [90, 180])
+def test_points_on_symmetry_planes_lie_on_the_exact_dome(angle):
+    # a quarter / half ball (revolution of a quarter disc R = 1 about the vertical axis through
+    # (0, 0, 1)) on a flat: lines along the axes lie on its symmetry planes, where the distance is
+    # zero along the whole face above the dome (and +-1e-17 of round-off at 180 degrees); each must
+    # land on the dome, z = 1 - sqrt(1 - r^2), and lines a hair outside a face are not surface
+    from geometry.solids import solid_from_dict
+
+    quarter = {"type": "profile", "edges": [
+        {"type": "line", "start": [0, 0], "end": [1, 0], "name": "flat"},
+        {"type": "arc", "center": [0, 0], "radius": 1, "start_angle": 0, "end_angle": -90, "name": "dome"},
+        {"type": "line", "start": [0, -1], "end": [0, 0], "name": "axis"}]}
+    ball = solid_from_dict({"type": "revolution", "profile": quarter, "axis_origin": [0, 0, 1], "axis": [0, 0, 1],
+                            "angle_deg": angle})
+    block = solid_from_dict({"type": "box", "min": [-1, 0, -1], "max": [1, 1, 0]})
+    frame = contact_frame_3d(ball, block, np.zeros(3), 0.004)
+    r = np.linspace(-0.05, 0.05, 11)
+    for k in (0, 1):
+        s = np.zeros((len(r), 2))
+        s[:, k] = r
+        x, ok = surface_point(ball, frame, s, 0.05)
+        expected = np.where(r >= 0, True, angle == 180 and k == 0) | (r == 0)
+        np.testing.assert_array_equal(ok, expected)
+        np.testing.assert_allclose(x[ok, 2], 1 - np.sqrt(1 - r[ok] ** 2), atol=1e-12)
+    outside = np.array([[0.02, -1e-7], [0.03, -1e-7]])  # just off the plane y = 0, outside the body
+    assert not surface_point(ball, frame, outside, 0.05)[1].any()
+    share = sum(t1 - t0 for t0, t1 in sectors(ball, frame, 0.002, 0.05)) / (2 * np.pi)
+    assert share == pytest.approx(angle / 360.0, abs=1e-9)

@@ -434,3 +434,17 @@ def test_hertz_elliptic_contact_circular_limit_and_johnsons_approximation():
         a, b, p0 = hertz_elliptic_contact(1e4, (100.0, 100.0 * ratio), 1e11)
         assert b / a == pytest.approx(ratio ** (-2.0 / 3.0), rel=0.05)
         assert 2 * np.pi * a * b * p0 / 3 == pytest.approx(1e4)  # the pressure carries N
+
+
+def test_hertz_sphere_axis_shear_peak_is_johnsons():
+    # Johnson, Contact Mechanics 3.4: on the axis the largest shear stress (sigma_r - sigma_z) / 2
+    # peaks at 0.31 p0 at z = 0.48 a (nu = 0.3); at the surface sigma_z = -p0 and
+    # sigma_r = -(1 + 2 nu) p0 / 2
+    from solver.reference.theory import hertz_sphere_axis_stress
+
+    z = np.linspace(0.0, 3.0, 30001)
+    sr, sz = hertz_sphere_axis_stress(z, 1.0, 1.0, 0.3)
+    tau = 0.5 * (sr - sz)
+    k = int(np.argmax(tau))
+    assert tau[k] == pytest.approx(0.31, abs=0.005) and z[k] == pytest.approx(0.48, abs=0.01)
+    assert sz[0] == pytest.approx(-1.0) and sr[0] == pytest.approx(-0.8)

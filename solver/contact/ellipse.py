@@ -504,9 +504,10 @@ def _axis_offsets(ranges, axis: int, s: np.ndarray, shift: float) -> np.ndarray:
     eps = 1e-6
     for sign in (1.0, -1.0):
         theta = (0.0 if axis == 0 else 0.5 * math.pi) + (0.0 if sign > 0 else math.pi)
-        if _inside_ranges(theta, ranges):
+        after, before = _inside_ranges(theta + eps, ranges), _inside_ranges(theta - eps, ranges)
+        if after and before:  # inside a range: no shift (on its edge, whether or not the edge counts)
             continue
-        side = 1.0 if _inside_ranges(theta + eps, ranges) else (-1.0 if _inside_ranges(theta - eps, ranges) else 0.0)
+        side = 1.0 if after else (-1.0 if before else 0.0)
         # rotating by +eps moves the point along the other axis by sign(s) ... towards +theta
         out[np.sign(s) == sign] = side * sign * shift * (1.0 if axis == 0 else -1.0)
     return out

@@ -159,7 +159,12 @@ def surface_point(solid, frame: ContactFrame3D, s: np.ndarray, reach: float) -> 
     mask of the lines that cross the surface there."""
     y = frame.point + s[:, :1] * frame.axes[0] + s[:, 1:] * frame.axes[1]
     n = frame.normal
-    f = solid.signed_distance
+    tol = 1e-12 * reach
+
+    def f(x):  # round-off of a face's distance (a point on a symmetry plane: +-1e-17) is on it
+        v = np.asarray(solid.signed_distance(x), float)
+        return np.where(np.abs(v) <= tol, 0.0, v)
+
     # the first entry into the body going up the line (the line may leave a thin body again)
     t = np.linspace(-reach, reach, 33)
     values = np.asarray(f((y[:, None, :] + t[None, :, None] * n).reshape(-1, 3)), float).reshape(len(s), len(t))
@@ -175,8 +180,11 @@ def surface_point(solid, frame: ContactFrame3D, s: np.ndarray, reach: float) -> 
     side = np.zeros(len(i), dtype=np.int8)
     x = a.copy()
     for _ in range(200):
-        xn = b - fb * (b - a) / np.where(fb != fa, fb - fa, 1.0)
-        done = (np.abs(b - a) <= 1e-13 * reach) | (np.abs(xn - x) <= 1e-16 * reach)
+        # b exactly on the surface: the line may run along a face there (phi = 0 on a stretch, a
+        # quarter model's axis on its symmetry plane), whose lower end is the point: bisect
+        plateau = fb == 0.0
+        xn = np.where(plateau, 0.5 * (a + b), b - fb * (b - a) / np.where(fb != fa, fb - fa, 1.0))
+        done = (np.abs(b - a) <= 1e-13 * reach) | (~plateau & (np.abs(xn - x) <= 1e-16 * reach))
         x = xn
         fx = np.asarray(f(y[i] + x[:, None] * n), float)
         left = (fx < 0.0) == (fa < 0.0)
@@ -188,6 +196,14 @@ def surface_point(solid, frame: ContactFrame3D, s: np.ndarray, reach: float) -> 
         if done.all():
             break
     t[i] = x
+    # a real crossing of the surface: the distance grows across the root (slope >= 1/4 along n).
+    # A line that runs along a face a hair outside it (a symmetry plane at a quarter model's
+    # sector edge) sees only round-off change sign, and its "root" may lie anywhere on the face;
+    # a line on the face itself still crosses the contact surface properly
+    eps = 1e-6 * reach
+    x1 = y[i] + x[:, None] * n
+    up, down = (np.asarray(f(x1 + sign * eps * n), float) for sign in (1.0, -1.0))
+    ok[i] = up - down > 0.5 * eps
     return y + t[:, None] * n, ok
 
 

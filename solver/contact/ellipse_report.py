@@ -4,7 +4,13 @@ forces, and the pressure and shear along both axes.
 The band traction at the quadrature points oscillates from cell to cell (trilinear fields) while
 its integrals are accurate; the profiles written are its weighted least-squares fit by
 sqrt(1 - X^2 - Y^2) times a quadratic in (X, Y) = (s0 / a, s1 / b) (Hertz's pressure is the
-constant term), evaluated along the axes and clipped to compression."""
+constant term), evaluated along the axes and clipped to compression.
+
+The shear of a partial-slip contact follows the structure of its solution: in the slip zone it
+is the friction traction -mu p d (d the slip direction) of the fitted pressure; inside the stick
+ellipse (radius ratio c) the difference of the traction from that is fitted by
+sqrt(1 - (X^2 + Y^2) / c^2) times a quadratic (Cattaneo-Mindlin's correction is its constant
+term), and vanishes at the stick edge. A tied contact's shear takes the pressure's basis."""
 
 from __future__ import annotations
 
@@ -33,6 +39,9 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
            "point": frame.point.tolist(), "normal": frame.normal.tolist(), "axes": frame.axes.tolist(),
            "semi_axes": [float(aa), float(bb)],
            "stick_semi_axes": [float(min(c.stick_ratio, 1.0) * aa), float(min(c.stick_ratio, 1.0) * bb)],
+           # the share of the whole contact the model holds: the angle of body 1's sectors around
+           # the contact point over 2 pi (a quarter model cut by two symmetry planes: 0.25)
+           "model_share": float(sum(t1 - t0 for t0, t1 in c.ranges) / (2.0 * np.pi)),
            "normal_force": float(-on2 @ frame.normal),
            "tangential_force": [float(on2 @ frame.axes[0]), float(on2 @ frame.axes[1])],
            "pressure": {}, "shear": {}}
@@ -44,21 +53,49 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     t1 = c.quadrature_traction(info, u[c.dofs])
     X, Y = pts.s[:, 0] / aa, pts.s[:, 1] / bb
     p = np.einsum("qi,qi->q", t1, pts.normal)
-    fits = {"pressure": fit_profile(X, Y, pts.weights, p)}
-    for k in (0, 1):
-        fits[f"shear{k}"] = fit_profile(X, Y, pts.weights, t1 @ frame.axes[k])
+    fit_p = fit_profile(X, Y, pts.weights, p)
+    shear_at = _shear_profiles(c, X, Y, pts.weights, t1, fit_p)
     for k, reach in ((0, aa), (1, bb)):
         s = np.linspace(-1.25 * reach, 1.25 * reach, 201)
         present = c.on_body1(k, s)
         XY = np.zeros((len(s), 2))
         XY[:, k] = s / reach
-        basis = _basis(XY[:, 0], XY[:, 1])
-        pressure = np.clip(basis @ fits["pressure"], 0.0, None)
-        shear = basis @ fits[f"shear{k}"] if c.kind != "frictionless" else np.zeros(len(s))
+        pressure = np.clip(_basis(XY[:, 0], XY[:, 1]) @ fit_p, 0.0, None)
+        shear = shear_at(k, XY[:, 0], XY[:, 1])
         out["pressure"][f"axis{k}"] = {"s": s[present].tolist(), "value": pressure[present].tolist()}
         out["shear"][f"axis{k}"] = {"s": s[present].tolist(), "value": shear[present].tolist()}
     out["relative_curvatures"] = [float(k) for k in frame.curvatures]
     out["profile_recovery"] = {"method": "least squares on sqrt(1 - X^2 - Y^2) x [1, X, Y, X^2, XY, Y^2]",
-                               "pressure_coefficients": fits["pressure"].tolist(),
+                               "shear": "slip zone: -mu p d; stick zone: + sqrt(1 - R^2 / c^2) x quadratic"
+                               if _partial_slip(c) else "as the pressure",
+                               "pressure_coefficients": fit_p.tolist(),
                                "quadrature_points": int(len(p))}
     return out
+
+
+def _partial_slip(c) -> bool:
+    return c.kind == "frictional" and c.slip_direction is not None and 0.0 < c.stick_ratio < 1.0
+
+
+def _shear_profiles(c, X: np.ndarray, Y: np.ndarray, weights: np.ndarray, t1: np.ndarray, fit_p: np.ndarray):
+    """``shear(k, X, Y)``: the fitted shear component along axis k at normalised points."""
+    axes = c.frame.axes
+    if c.kind == "frictionless":
+        return lambda k, Xs, Ys: np.zeros(len(Xs))
+    if not _partial_slip(c):  # tied, or all stuck / all sliding: the pressure's basis
+        fits = [fit_profile(X, Y, weights, t1 @ axes[k]) for k in (0, 1)]
+        return lambda k, Xs, Ys: _basis(Xs, Ys) @ fits[k]
+    ratio, d = c.stick_ratio, c.slip_direction
+    slip_part = -c.friction * np.clip(_basis(X, Y) @ fit_p, 0.0, None)
+    stuck = np.hypot(X, Y) < ratio
+    fits = []
+    for k in (0, 1):
+        residual = t1[stuck] @ axes[k] - slip_part[stuck] * float(d @ axes[k])
+        fits.append(fit_profile(X[stuck] / ratio, Y[stuck] / ratio, weights[stuck], residual)
+                    if stuck.sum() >= 6 else np.zeros(6))
+
+    def shear(k: int, Xs: np.ndarray, Ys: np.ndarray) -> np.ndarray:
+        slip = -c.friction * np.clip(_basis(Xs, Ys) @ fit_p, 0.0, None) * float(d @ axes[k])
+        return slip + _basis(Xs / ratio, Ys / ratio) @ fits[k]
+
+    return shear

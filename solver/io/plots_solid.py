@@ -57,7 +57,8 @@ def _sections(plt, problem: pb.Problem, solution: pb.Solution, centre: np.ndarra
 
 
 def _hertz(problem: pb.Problem, c: Mapping[str, Any]):
-    """Hertz's semi-axes and p0 for the computed force, when both bodies' moduli and the relative
+    """Hertz's semi-axes and p0 for the computed force of the whole contact (the model's force over
+    its share: a quarter model carries a quarter), when both bodies' moduli and the relative
     curvatures are known (None otherwise)."""
     from solver.reference.theory import hertz_elliptic_contact
 
@@ -66,7 +67,8 @@ def _hertz(problem: pb.Problem, c: Mapping[str, Any]):
         return None
     mats = [problem.body(n).material for n in c["bodies"]]
     e_star = 1.0 / sum((1 - m.poissons_ratio**2) / m.youngs_modulus for m in mats)
-    a, b, p0 = hertz_elliptic_contact(c["normal_force"], tuple(curv), e_star)
+    share = float(c.get("model_share") or 1.0)
+    a, b, p0 = hertz_elliptic_contact(c["normal_force"] / share, tuple(curv), e_star)
     return (a, b, p0) if curv[0] <= curv[1] else (b, a, p0)
 
 
