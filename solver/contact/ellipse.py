@@ -255,6 +255,11 @@ def _locate(b, x, n) -> np.ndarray:
     return cells
 
 
+def _semi_axes_of(pts: RegionPoints) -> np.ndarray:
+    """The largest |s| along each axis of a set of region points (the ellipse they cover)."""
+    return np.abs(pts.s).max(axis=0) if len(pts.s) else np.zeros(2)
+
+
 def _operators(c: EllipseContact, pts: RegionPoints):
     """Jump J and flux F (3q, m) on the contact dofs, and the local size at the points."""
     cells1, cells2 = _locate(c.b1, pts.x1, pts.n1), _locate(c.b2, pts.x2, pts.n2)
@@ -263,8 +268,12 @@ def _operators(c: EllipseContact, pts: RegionPoints):
     bad2 = ~ok2[c.b2.grid.cells[cells2]].all(axis=1)
     if bad1.any() or bad2.any():
         where = pts.x1[bad1][:1].tolist() + pts.x2[bad2][:1].tolist()
-        raise RuntimeError(f"{c.name}: contact terms reach beyond the contact dofs ({int(bad1.sum())} points of "
-                           f"body 1, {int(bad2.sum())} of body 2, e.g. {where}; s = {pts.s[bad1 | bad2][:1].tolist()})")
+        # the region search tried an ellipse that leaves the cells prepared for the contact (the
+        # refinement zone around it, a few cells across on a coarse grid): a model limit, said plainly
+        raise ValueError(f"{c.name}: a trial contact ellipse (semi-axes {np.round(_semi_axes_of(pts), 6).tolist()} m) "
+                         f"reaches beyond the cells prepared for the contact ({int(bad1.sum())} points of body 1, "
+                         f"{int(bad2.sum())} of body 2, e.g. {np.round(where[0], 6).tolist()}); enlarge the contact "
+                         f"refinement radius (now {c.extent:.4g} m of reach) or refine the grid there")
     jump = c.b1.displacement_operator(pts.x1, cells1, map1) - c.b2.displacement_operator(pts.x2, cells2, map2)
     flux = 0.5 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1) + 0.5 * c.b2.traction_operator(
         pts.x2, cells2, pts.n1, map2)
