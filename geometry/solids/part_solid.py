@@ -72,19 +72,36 @@ class _Mesh:
         self.tree = cKDTree(self.centroid)
 
     def distance(self, p: np.ndarray) -> np.ndarray:
-        """Exact distance to the nearest triangle: candidates within (nearest centroid distance
-        + 2 radius) of the point, taken in rounds of the k nearest centroids."""
-        k = min(len(self.tri), 16)
-        dc, idx = self.tree.query(p, k=k)
-        dc, idx = dc.reshape(len(p), k), idx.reshape(len(p), k)
+        """Exact distance to the nearest triangle, in rounds: the k nearest centroids' triangles,
+        and for the points where a triangle beyond them could still be nearer (its centroid
+        closer than the best distance + the largest triangle's radius: big triangles next to
+        small ones, a fan at a cone's tip) four times as many, up to all of them; vectorised
+        over (point, triangle) pairs in chunks."""
+        p = np.asarray(p, dtype=float).reshape(-1, 3)
+        m = len(self.tri)
         best = np.full(len(p), np.inf)
-        for j in range(k):
-            best = np.minimum(best, point_triangle_distance(p, self.tri[idx[:, j]]))
-        short = (dc[:, -1] < best + self.radius) & (k < len(self.tri))
-        for i in np.flatnonzero(short):  # rare: big triangles next to small ones
-            near = self.tree.query_ball_point(p[i], best[i] + self.radius)
-            best[i] = point_triangle_distance(np.repeat(p[i:i + 1], len(near), 0), self.tri[near]).min()
+        todo = np.arange(len(p))
+        k = min(m, 16)
+        while len(todo) and k > 0:
+            dc, idx = self.tree.query(p[todo], k=k)
+            dc, idx = dc.reshape(len(todo), k), idx.reshape(len(todo), k)
+            best[todo] = self._nearest_of(p[todo], idx)
+            if k == m:
+                break
+            todo = todo[dc[:, -1] < best[todo] + self.radius]
+            k = min(m, 4 * k)
         return best
+
+    def _nearest_of(self, p: np.ndarray, idx: np.ndarray, pairs: int = 1 << 18) -> np.ndarray:
+        """Smallest distance (n,) from each point to its candidate triangles idx (n, k)."""
+        n, k = idx.shape
+        out = np.empty(n)
+        step = max(1, pairs // k)
+        for s in range(0, n, step):
+            q, ids = p[s:s + step], idx[s:s + step]
+            d = point_triangle_distance(np.repeat(q, k, axis=0), self.tri[ids.ravel()])
+            out[s:s + step] = d.reshape(len(q), k).min(axis=1)
+        return out
 
 
 def _winding(points: np.ndarray, triangles: np.ndarray, chunk: int = 2000) -> np.ndarray:
