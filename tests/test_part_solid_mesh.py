@@ -39,3 +39,14 @@ def test_point_triangle_distance_against_dense_samples():
         d = point_triangle_distance(q[None], tri)[0]
         sampled = np.linalg.norm(pts - q, axis=1).min()
         assert d <= sampled + 1e-12 and sampled - d < 1e-2
+
+
+def test_within_a_tolerance_agrees_with_the_distance():
+    rng = np.random.default_rng(11)
+    tri = _fan_and_big(rng)
+    mesh = _Mesh(tri)
+    p = np.concatenate([rng.uniform(-25, 25, size=(300, 3)),
+                        np.column_stack([rng.uniform(-1, 1, (200, 2)), rng.normal(scale=0.05, size=200)])])
+    d = mesh.distance(p)
+    for tol in (1e-3, 0.05, 1.0):
+        np.testing.assert_array_equal(mesh.within(p, tol), d <= tol)

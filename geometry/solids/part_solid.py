@@ -72,11 +72,21 @@ class _Mesh:
         self.tree = cKDTree(self.centroid)
 
     def distance(self, p: np.ndarray) -> np.ndarray:
-        """Exact distance to the nearest triangle, in rounds: the k nearest centroids' triangles,
-        and for the points where a triangle beyond them could still be nearer (its centroid
-        closer than the best distance + the largest triangle's radius: big triangles next to
-        small ones, a fan at a cone's tip) four times as many, up to all of them; vectorised
-        over (point, triangle) pairs in chunks."""
+        """Exact distance to the nearest triangle (see :meth:`_rounds`)."""
+        return self._rounds(p, None)
+
+    def within(self, p: np.ndarray, tol: float) -> np.ndarray:
+        """Whether each point lies within ``tol`` of a triangle: as :meth:`distance`, but a point
+        is settled as soon as a triangle within tol is found, or none can be any more."""
+        return self._rounds(p, tol) <= tol
+
+    def _rounds(self, p: np.ndarray, tol: float | None) -> np.ndarray:
+        """Distances in rounds: the k nearest centroids' triangles, then, for the points where a
+        triangle beyond them could still be nearer (its centroid closer than the best distance +
+        the largest triangle's radius: big triangles next to small ones, a fan at a cone's tip),
+        four times as many, up to all; vectorised over (point, triangle) pairs in chunks. With
+        ``tol`` a point leaves once its best is within tol or no farther triangle can reach tol
+        (its value then is only known to exceed tol)."""
         p = np.asarray(p, dtype=float).reshape(-1, 3)
         m = len(self.tri)
         best = np.full(len(p), np.inf)
@@ -88,7 +98,8 @@ class _Mesh:
             best[todo] = self._nearest_of(p[todo], idx)
             if k == m:
                 break
-            todo = todo[dc[:, -1] < best[todo] + self.radius]
+            bound = best[todo] if tol is None else np.where(best[todo] <= tol, -np.inf, tol)
+            todo = todo[dc[:, -1] < bound + self.radius]
             k = min(m, 4 * k)
         return best
 
@@ -137,7 +148,7 @@ class PartFace:
         return np.asarray(pr.points, float), self._normals(pr)
 
     def on_face(self, feet: np.ndarray) -> np.ndarray:
-        return self.mesh.distance(feet) <= self.sag
+        return self.mesh.within(feet, self.sag)
 
     def quadrature(self, resolution: float):
         """Points, weights (area) and outward normals: the triangles split to ``resolution``
