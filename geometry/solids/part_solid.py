@@ -91,7 +91,7 @@ class _Mesh:
         m = len(self.tri)
         best = np.full(len(p), np.inf)
         todo = np.arange(len(p))
-        k = min(m, 16)
+        k = min(m, 16 if tol is None else 4)  # a foot on the face is within tol of a near triangle
         while len(todo) and k > 0:
             dc, idx = self.tree.query(p[todo], k=k)
             dc, idx = dc.reshape(len(todo), k), idx.reshape(len(todo), k)
