@@ -93,3 +93,17 @@ def test_ibfem_run_writes_the_section_7_summary(solids, tmp_path):
     assert len(summary["probes"][0]["stress"]) == 6
     np.testing.assert_allclose(summary["reactions"]["block/z0"], [0, 0, c["normal_force"]], rtol=1e-9, atol=1.0)
     assert {"ball.vtu", "block.vtu", "sections.png", "contact_0.png"} <= set(summary["files"])
+
+
+def test_the_onshape_ball_on_block_example_touches_at_the_caps_pole():
+    # examples/solid/onshape_ball_on_block.toml turns the CAD part cap down about the cap's pole:
+    # the contact point found as the closest points of the two exact solids must be that pole, the
+    # origin on the block's top, and the part's spherical face must pass through it (R = 20 mm)
+    from pathlib import Path
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "examples" / "solid" / "onshape_ball_on_block.toml")
+    np.testing.assert_allclose(scene.problem.contacts[0].point, [0, 0, 0], atol=1e-9)
+    part = scene.problem.body("part").profile
+    probe = np.array([[0.0, 0.0, 1e-4], [0.0, 0.0, -1e-4]])  # just above / below the pole
+    phi = np.asarray(part.signed_distance(probe), float)
+    assert phi[0] == pytest.approx(1e-4, abs=1e-9) and phi[1] == pytest.approx(-1e-4, abs=1e-9)
