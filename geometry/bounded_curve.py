@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ._base import Projection
+from .chord_walk import first_crossing, walk_distances
 from ._curve_numerics import (
     _axis,
     _bisect,
@@ -455,63 +456,50 @@ class BoundedCurve(ABC):
         The first crossing along the walk is returned (where the chord distance is not
         monotone, later crossings are ignored); NaN where the curve ends before the chord
         distance is reached. On a closed curve (full circle or ellipse) the walk wraps around
-        once. The distance is sampled at ``samples`` intervals and each crossing
-        refined by bisection to round-off; a crossing that only touches (tangency between two
-        samples) can be missed.
+        once. The distance is sampled at ``samples`` intervals and each crossing refined to
+        round-off by :mod:`geometry.chord_walk` (safeguarded Newton); a crossing that only
+        touches (tangency between two samples) can be missed.
         """
         origin = _vec2(origin, "origin")
         chord = _params(chord)
         if direction not in (1, -1):
             raise ValueError(f"direction must be +1 or -1, got {direction!r}")
         t_from = float(np.clip(t_from, self.t_start, self.t_end))
-        period = self.t_end - self.t_start
-        closed = self.is_closed
-        # walk variable w >= 0: t = t_from + direction * w, wrapped once around a closed curve
-        if closed:
-            W = period
-        else:
-            W = (self.t_end - t_from) if direction > 0 else (t_from - self.t_start)
-
-        def t_of(w):
-            t = t_from + direction * w
-            if closed:
-                t = self.t_start + np.mod(t - self.t_start, period)
-                t = np.where(w >= W, t_from, t) if W > 0 else t
-            return np.clip(t, self.t_start, self.t_end)
-
         out = np.full(chord.shape, np.nan)
-        if W <= 0.0:
+        segments = self._walk_segments(t_from, direction, int(samples))
+        if not segments:  # t_from at the end the walk goes to
             D0 = float(np.linalg.norm(self.evaluate(t_from)[0] - origin))
             out[np.abs(chord - D0) <= 1e-14 * max(D0, 1.0)] = t_from
             return out
-        w = np.linspace(0.0, W, int(samples) + 1)
-        bp = self._breakpoints()
-        wb = np.mod(direction * (bp - t_from), period) if closed else direction * (bp - t_from)
-        w = np.unique(np.concatenate([w, wb[(wb > 0.0) & (wb < W)]]))
-        X = self.evaluate(t_of(w))
-        D = np.sqrt((X[:, 0] - origin[0]) ** 2 + (X[:, 1] - origin[1]) ** 2)
-        f = D[None, :] - chord[:, None]
-        # distances within round-off of the chord count as hits (origin on the curve, chord 0)
-        f = np.where(np.abs(f) <= 1e-14 * (D.max() + np.abs(chord[:, None])), 0.0, f)
-        hit = (f[:, :-1] == 0.0) | (f[:, :-1] * f[:, 1:] < 0.0)
-        last = f[:, -1] == 0.0
-        found = hit.any(axis=1)
-        j = np.argmax(hit, axis=1)
-        exact = found & (f[np.arange(len(chord)), j] == 0.0)
-        out[exact] = t_of(w[j[exact]])
-        todo = found & ~exact
-        if np.any(todo):
-            c = chord[todo]
-
-            def g(ww):
-                Y = self.evaluate(t_of(ww))
-                return np.sqrt((Y[:, 0] - origin[0]) ** 2 + (Y[:, 1] - origin[1]) ** 2) - c
-
-            jj = j[todo]
-            out[todo] = t_of(_bisect(g, w[jj], w[jj + 1], f[todo, jj]))
-        tail = ~found & last
-        out[tail] = t_of(np.array([W]))[0]
+        todo = np.arange(len(chord))
+        for t in segments:  # the walk's pieces, each continuous in t (a closed curve's seam between)
+            found = first_crossing(self, origin, chord[todo], t, walk_distances(self, origin, t))
+            out[todo] = found
+            todo = todo[np.isnan(found)]
+            if not len(todo):
+                break
         return out
+
+    def _walk_segments(self, t_from: float, direction: int, samples: int) -> list[np.ndarray]:
+        """Parameters of the chord walk from t_from in ``direction`` (to the curve's end; once
+        around a closed curve, split at its seam), ``samples`` intervals plus the breakpoints."""
+        period = self.t_end - self.t_start
+        if self.is_closed:
+            W, seam = period, ((self.t_end - t_from) if direction > 0 else (t_from - self.t_start))
+        else:
+            W = (self.t_end - t_from) if direction > 0 else (t_from - self.t_start)
+            seam = W
+        if W <= 0.0:
+            return []
+        bp = self._breakpoints()
+        wb = np.mod(direction * (bp - t_from), period) if self.is_closed else direction * (bp - t_from)
+        w = np.unique(np.concatenate([np.linspace(0.0, W, samples + 1), wb[(wb > 0.0) & (wb < W)], [seam]]))
+        first = w[w <= seam]
+        segments = [np.clip(t_from + direction * first, self.t_start, self.t_end)]
+        rest = w[w >= seam]
+        if self.is_closed and len(rest) > 1:  # past the seam: the parameter restarts at the other end
+            segments.append(np.clip(t_from + direction * (rest - period), self.t_start, self.t_end))
+        return [t for t in segments if len(t) > 1]
 
     # -- tessellation ----------------------------------------------------------------------
 

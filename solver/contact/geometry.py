@@ -21,6 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from geometry.chord_walk import first_crossing, walk_distances
+
 from ..fem.integration import curve_gauss
 
 __all__ = [
@@ -72,53 +74,23 @@ def closest_parameter(curve, point: np.ndarray, samples: int = 4097) -> float:
 def chord_table(curve, origin: np.ndarray, t_from: float, direction: int, samples: int = 2049,
                 t_to: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Samples (t, chord) of the walk from ``t_from`` in ``direction`` (to the curve's end, or
-    to ``t_to``): the bracketing table of :func:`parameter_at_chord`."""
+    to ``t_to``): the bracketing table of :func:`parameter_at_chord`, computed once per side."""
     end = (float(curve.t_end) if direction > 0 else float(curve.t_start)) if t_to is None else float(t_to)
     t = np.linspace(float(t_from), end, samples)
-    p = np.asarray(curve.evaluate(t), dtype=float).reshape(-1, 2)
-    return t, np.hypot(*(p - origin).T)
+    return t, walk_distances(curve, origin, t)
 
 
 def parameter_at_chord(curve, origin: np.ndarray, chord: np.ndarray, t_from: float, direction: int,
                        samples: int = 2049, table: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
     """Parameters t (m,) of the points whose straight-line distance from ``origin`` is ``chord``,
     walking from ``t_from`` in ``direction`` (+1 increasing t); the first crossing along the
-    walk, NaN where the curve ends first (or beyond a given ``table``'s end). Sampling (or the
-    precomputed ``chord_table``), then safeguarded Newton to round-off (one code path for exact
-    curves and polylines)."""
+    walk, NaN where the curve ends first (or beyond a given ``table``'s end): geometry's chord
+    walk (:mod:`geometry.chord_walk`) on the sampled (or precomputed ``chord_table``) walk, one
+    code path for exact curves and polylines."""
     chord = np.asarray(chord, dtype=float).ravel()
     t, d = table if table is not None else chord_table(curve, origin, t_from, direction, samples)
-    reach = np.maximum.accumulate(d)  # first crossing of the walk = first sample reaching the chord
-    k = np.searchsorted(reach, chord, side="left")
-    found = k < len(t)
-    k = np.clip(k, 1, len(t) - 1)
-    a, b = t[k - 1], t[k]
-    # safeguarded Newton on f(t) = |X(t) - origin|^2 - chord^2 inside the sampled bracket
-    # (bisection where a Newton step leaves it); quadratic convergence, ~6 evaluations
-    da, db = d[k - 1], d[k]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        frac = np.clip(np.where(db > da, (chord - da) / (db - da), 0.5), 0.0, 1.0)
-    t_cur = a + frac * (b - a)  # linear interpolation in the bracket: Newton then needs ~3 steps
-    for _ in range(12):
-        x = np.asarray(curve.evaluate(t_cur), float).reshape(-1, 2) - origin
-        f = np.einsum("ij,ij->i", x, x) - chord**2
-        df = 2.0 * np.einsum("ij,ij->i", x, np.asarray(curve.derivative(t_cur), float).reshape(-1, 2))
-        inside = f < 0.0  # a: walk end with f < 0, b: the end with f >= 0
-        a = np.where(inside, t_cur, a)
-        b = np.where(inside, b, t_cur)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            nt = t_cur - f / df
-        lo_, hi_ = np.minimum(a, b), np.maximum(a, b)
-        ok = np.isfinite(nt) & (nt >= lo_) & (nt <= hi_)
-        nt = np.where(ok, nt, 0.5 * (a + b))
-        if np.all(np.abs(nt - t_cur) <= 1e-15 * np.maximum(1.0, np.abs(nt))):
-            t_cur = nt
-            break
-        t_cur = nt
-    a = b = t_cur
-    out = 0.5 * (a + b)
+    out = first_crossing(curve, origin, chord, t, d)
     out[chord <= 0.0] = float(t_from)
-    out[~found & (chord > 0.0)] = np.nan
     return out
 
 
