@@ -337,6 +337,22 @@ class Profile:
                 edge[better] = k
         return best, edge, tpar, sd
 
+    def _neighbour_sign(self, P: np.ndarray, best: np.ndarray, other: np.ndarray, sign: np.ndarray) -> np.ndarray:
+        """Signs (positive outside) of points whose nearest foot is a vertex: where the other
+        edge at that vertex has its own foot inside it, as near (to round-off), that edge owns
+        the point and its sign holds. (An end curving sharply, a very flat ellipse's tip, turns
+        its normal within round-off of the vertex, where the pseudo-normal of the end normals
+        misjudges points off the tip.)"""
+        out = sign.copy()
+        for k in np.unique(other):
+            sel = np.flatnonzero(other == k)
+            d_k, t_k = self._edge_list[k]._nearest_signed(P[sel])
+            ts, te = self._t_start[k], self._t_end[k]
+            eps = 1e-9 * (te - ts)
+            owns = (t_k > ts + eps) & (t_k < te - eps) & (np.abs(d_k) <= best[sel] * (1.0 + 1e-9) + 1e-300)
+            out[sel[owns]] = np.where(d_k[owns] < 0.0, -1.0, 1.0)
+        return out
+
     def _evaluate_edges(self, edge: np.ndarray, t: np.ndarray, normals: bool = False):
         """Points (and normals) of the edges ``edge`` at parameters ``t`` (one pass per edge)."""
         c = np.empty((len(t), 2))
@@ -376,6 +392,7 @@ class Profile:
             s = np.einsum("ij,ij->i", P[vtx] - cv, pseudo)
             usable = (np.hypot(pseudo[:, 0], pseudo[:, 1]) > 1e-6) & (s != 0.0)
             sign[vtx] = np.where(usable, np.sign(s), sign[vtx])
+            sign[vtx] = self._neighbour_sign(P[vtx], best[vtx], np.where(ae, self._next[e], self._prev[e]), sign[vtx])
         phi = -sign * best  # positive inside
         return phi, edge, tpar, c, nrm
 

@@ -133,3 +133,20 @@ def test_huge_direction_vectors_are_directions(d, field):
     want = given / np.abs(given).max()
     want /= np.linalg.norm(want)
     assert np.asarray(prim.to_dict()[field]) == pytest.approx(want, abs=2e-16)
+
+
+@pytest.mark.parametrize("b", [5e-7, 5e-4, 0.5])
+@pytest.mark.parametrize("side", ["above", "below"])
+def test_points_off_a_flat_half_ellipse_tip_are_outside(b, side):
+    # make fuzz: a half ellipse with semi-axes (2, 5e-7) said (-1e6, 1e6) is inside (phi +1.4e6):
+    # its nearest foot was the flat's end, and the pseudo-normal of the end normals misjudged a
+    # point off the tip, where the arc's normal turns within round-off of the vertex. Every point
+    # beyond the bounds is outside, at its distance from the tip (2, 0) or (-2, 0) to within the
+    # arc's height b
+    prof = profile_from_shape({"type": "half_ellipse", "center": [0, 0], "semi_axes": [2.0, b], "side": side})
+    sy = 1.0 if side == "above" else -1.0
+    P = np.array([[-1e6, sy * 1e6], [1e6, sy * 1e6], [-1e3, sy * 1e3], [1e3, sy * 10.0], [-1e6, -sy * 1e6]])
+    phi = prof.signed_distance(P)
+    assert np.all(phi < 0.0)
+    far_from_tip = np.hypot(np.abs(P[:, 0]) - 2.0, P[:, 1])
+    np.testing.assert_allclose(-phi[:4], far_from_tip[:4], rtol=0.0, atol=b)
