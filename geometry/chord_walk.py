@@ -34,19 +34,22 @@ def first_crossing(curve, origin: np.ndarray, chord: np.ndarray, t: np.ndarray, 
     chord = np.asarray(chord, dtype=float).ravel()
     t, d = np.asarray(t, dtype=float), np.asarray(d, dtype=float)
     out = np.full(chord.shape, np.nan)
-    f = d[None, :] - chord[:, None]
-    f = np.where(np.abs(f) <= 1e-14 * (d.max() + np.abs(chord[:, None])), 0.0, f)
-    hit = (f[:, :-1] == 0.0) | (f[:, :-1] * f[:, 1:] < 0.0)
-    found = hit.any(axis=1)
-    j = np.argmax(hit, axis=1)
-    rows = np.arange(len(chord))
-    exact = found & (f[rows, j] == 0.0)
+    tol = 1e-14 * (d.max() + np.abs(chord))
+    # the first sample on the chord's other side than the walk's start: where the running
+    # maximum (a walk starting nearer than the chord) or minimum (farther) first reaches it
+    up = d[0] < chord - tol
+    j = np.zeros(len(chord), dtype=np.intp)
+    j[up] = np.searchsorted(np.maximum.accumulate(d), chord[up] - tol[up], side="left")
+    down = d[0] > chord + tol
+    j[down] = np.searchsorted(-np.minimum.accumulate(d), -(chord[down] + tol[down]), side="left")
+    found = j < len(t)
+    j = np.minimum(j, len(t) - 1)
+    exact = found & (np.abs(d[j] - chord) <= tol)
     out[exact] = t[j[exact]]
-    out[~found & (f[:, -1] == 0.0)] = t[-1]  # reached at the walk's last sample
     todo = found & ~exact
     if np.any(todo):
         jj = j[todo]
-        out[todo] = _newton_in_bracket(curve, origin, chord[todo], t[jj], t[jj + 1], d[jj], d[jj + 1], iterations)
+        out[todo] = _newton_in_bracket(curve, origin, chord[todo], t[jj - 1], t[jj], d[jj - 1], d[jj], iterations)
     return out
 
 
