@@ -125,8 +125,11 @@ def _where(field: str, owner: str | None) -> str:
     return f"{owner}: field {field!r}" if owner else f"field {field!r}"
 
 
-def vector(value: Any, field: str, owner: str | None = None, dims: tuple[int, ...] = (3,)) -> np.ndarray:
-    """A finite vector as float64; 2-vectors are padded with z = 0 when 3 is wanted and 2 allowed."""
+def vector(value: Any, field: str, owner: str | None = None, dims: tuple[int, ...] = (3,),
+           position: bool = True) -> np.ndarray:
+    """A finite vector as float64; 2-vectors are padded with z = 0 when 3 is wanted and 2 allowed.
+    A ``position`` (an origin) must lie within +-MAX_COORDINATE: query points minus it are
+    squared (a direction of any length is normalised by :func:`unit_vector`)."""
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -136,6 +139,9 @@ def vector(value: Any, field: str, owner: str | None = None, dims: tuple[int, ..
         raise ValueError(f"{_where(field, owner)} must have {want} components, got {value!r}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{_where(field, owner)} must be finite, got {value!r}")
+    if position and np.any(np.abs(arr) > MAX_COORDINATE):
+        raise ValueError(f"{_where(field, owner)} must be within +-{MAX_COORDINATE:g} (squared distances would "
+                         f"overflow), got {value!r}")
     if arr.shape[0] == 2 and 3 in dims:
         arr = np.array([arr[0], arr[1], 0.0])
     arr = arr.copy()
@@ -145,7 +151,7 @@ def vector(value: Any, field: str, owner: str | None = None, dims: tuple[int, ..
 
 def unit_vector(value: Any, field: str, owner: str | None = None, dims: tuple[int, ...] = (3,)) -> np.ndarray:
     """A vector normalised to unit length; a zero (or denormal) vector is rejected."""
-    arr = np.array(vector(value, field, owner, dims))
+    arr = np.array(vector(value, field, owner, dims, position=False))
     big = float(np.max(np.abs(arr)))
     if big > 1e150:  # the squares would overflow: scale first (exact, a power of two)
         arr = arr * 2.0 ** -math.frexp(big)[1]

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from geometry import primitive_from_dict
 from geometry.bounded import bounded_curve_from_dict
 from geometry.shapes import profile_from_shape
 
@@ -39,3 +40,21 @@ def test_edge_values_of_the_wrong_kind(d, words):
 def test_numpy_numbers_are_numbers():
     prof = profile_from_shape({"type": "disk", "center": np.array([0.0, 1.0]), "radius": np.int64(2)})
     assert prof.area == pytest.approx(4 * np.pi, rel=1e-12)
+
+
+@pytest.mark.parametrize("kind", [
+    {"type": "ellipse", "normal": [0, 0, 1], "major_axis": [1, 0, 0], "major_radius": 2.0, "minor_radius": 0.5},
+    {"type": "circle", "normal": [0, 0, 1], "radius": 1.0},
+    {"type": "sphere", "radius": 1.0},
+    {"type": "torus", "axis": [0, 0, 1], "major_radius": 2.0, "minor_radius": 0.5},
+])
+def test_origins_whose_squares_overflow_are_refused_and_large_ones_stay_finite(kind):
+    # make fuzz: an ellipse with origin [1e308, 0, 0] gave NaN distances for every point
+    with pytest.raises(ValueError, match="origin"):
+        primitive_from_dict({**kind, "origin": [1e308, 0, 0]})
+    prim = primitive_from_dict({**kind, "origin": [1e99, 0, 0]})
+    p = np.array([[0.001, 1e12, -1e6], [-1e12, 1e-12, -1e12], [1e99 + 1e85, 0.0, 3e85]])
+    d = prim.project(p).distances
+    assert np.all(np.isfinite(d))
+    # the far points are about 1e99 away; the last is 3.2e85 from the origin, beyond the small shape
+    np.testing.assert_allclose(np.abs(d[:2]), 1e99, rtol=1e-6)
