@@ -204,7 +204,10 @@ def section_profile(part: Part, origin: Any, normal: Any, body: Any = None, x_ax
     perpendicular to the extrusion direction and strictly between the caps."""
     b = _body(part, body)
     n = np.asarray(normal, float)
-    n = n / np.linalg.norm(n)
+    length = float(np.linalg.norm(n))
+    if not (length > 1e-300 and math.isfinite(length)):
+        raise ValueError(f"the section normal must be a non-zero finite vector, got {np.asarray(normal).tolist()}")
+    n = n / length
     origin = np.asarray(origin, float)
     caps, sides = [], []
     for fid in b.face_ids:

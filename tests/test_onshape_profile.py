@@ -176,3 +176,15 @@ def test_non_planar_face_and_non_prism():
         section_profile(part, [0, 0, 0], [0, 0, 1], body="Cone with sphere cap")
     with pytest.raises(ValueError, match=r"shape\.path: .*missing tessellatedfaces.json"):
         profile_from_shape({"type": "onshape", "path": str(FIXTURES), "face": "X"})
+
+
+def test_a_zero_section_normal_is_a_clear_error():
+    # make fuzz: a section normal of [0, 0, 0] divided by zero (RuntimeWarning) before failing
+    import warnings
+
+    shape = {"type": "onshape", "path": str(FIXTURES / "half_cylinder_on_block"),
+             "section": {"origin": [0, 0, 0.01], "normal": [0, 0, 0]}, "body": "Block"}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=r"section.*non-zero"):
+            profile_from_shape(shape)
