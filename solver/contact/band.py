@@ -488,7 +488,9 @@ def _judge(c: BandContact, gap, pressure, inside, a) -> _Verdict:
         tension=bool(a > 0 and p < -p_tol),
         gap=g,
         pressure=p,
-        penetration_count=int((outside & (gap < -g_tol)).sum()),
+        # overlap beyond the edge windows (which the means above judge, the discrete traction's
+        # oscillation at the edge included): a region found too small; without a region, any
+        penetration_count=int((outside & ((np.abs(s) > a + width) | (a <= 0)) & (gap < -g_tol)).sum()),
         tension_count=int((inside & (pressure < -p_tol)).sum()) if p_mean > 0 else 0,
         min_gap=float(gap[outside].min()) if outside.any() else 0.0,
         min_pressure=float(pressure[inside].min()) if inside.any() else 0.0,

@@ -382,7 +382,8 @@ def _judge(c: EllipseContact, gap, pressure, inside, edge_dist) -> _Verdict:
     outside = ~inside
     return _Verdict(
         penetration=bool(g < -g_tol), tension=bool(p < -p_tol), gap=g, pressure=p,
-        penetration_count=int((outside & (gap < -g_tol)).sum()),
+        # overlap beyond the edge windows (judged by the means above); without a region, any
+        penetration_count=int((outside & ((edge_dist > width) | ~inside.any()) & (gap < -g_tol)).sum()),
         tension_count=int((inside & (pressure < -p_tol)).sum()) if p_mean > 0 else 0,
         min_gap=float(gap[outside].min()) if outside.any() else 0.0,
         min_pressure=float(pressure[inside].min()) if inside.any() else 0.0,
