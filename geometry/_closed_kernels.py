@@ -123,7 +123,7 @@ def ellipse_first_quadrant(r0, d, y0e, y1e):
     monotone Newton of geometry.ellipse, for one point."""
     z1 = y1e
     c0 = y0e * r0
-    if z1 == 0.0 and c0 <= d:  # on the major axis inside the evolute, or the centre
+    if z1 <= 1e-100 and c0 <= d:  # on the major axis inside the evolute (or within 1e-100 of it: ellipse.AXIS_HEIGHT)
         v0 = c0 / d if d > 0.0 else 0.0
         v1 = math.sqrt(max(1.0 - v0 * v0, 0.0))
         w = math.sqrt(v0 * v0 + v1 * v1)

@@ -98,6 +98,10 @@ def _newton_step(X: np.ndarray, c0: np.ndarray, z1: np.ndarray, d: float) -> np.
     return w1
 
 
+#: scaled heights above the major axis treated as on it (see _first_quadrant_block)
+AXIS_HEIGHT = 1e-100
+
+
 def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(u0, u1) with closest point (e0 u0, e1 u1) for y0, y1 >= 0 and e0 >= e1 > 0."""
     r0 = (e0 / e1) ** 2
@@ -105,7 +109,9 @@ def _first_quadrant_block(e0: float, e1: float, y0: np.ndarray, y1: np.ndarray) 
     z0 = y0 / e0
     z1 = y1 / e1
     c0 = z0 * r0
-    special = (z1 == 0.0) & (c0 <= d)  # on the major axis inside the evolute, or the centre
+    # on the major axis inside the evolute, or the centre; within 1e-100 of the axis counts as on
+    # it (the foot moves by that much; Newton from a denormal height loses the root)
+    special = (z1 <= AXIS_HEIGHT) & (c0 <= d)
     any_special = special.any()
     if any_special:
         z1[special] = 1.0  # a placeholder keeping X > 0; the answer is set in closed form below

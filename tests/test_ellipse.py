@@ -273,3 +273,21 @@ def test_huge_and_tiny_coordinates():
     assert np.allclose(pr.points[:2], [[2, 0, 0], [0, -1, 0]])
     assert np.allclose(pr.distances[:2], [1e200 - 2, 1e200 - 1], rtol=1e-15)
     assert np.allclose(pr.distances[3:], -1.0) and np.allclose(np.abs(pr.points[3:, 1]), 1.0)
+
+
+@pytest.mark.parametrize("height", [5e-324, 1e-310, 1e-200, 1e-120])
+def test_points_a_hair_off_the_major_axis_inside_the_evolute(height):
+    # make fuzz: (-1, 5e-324, 0) on the ellipse a = 2, b = 0.5 got the foot (-0.941, 0.441) at
+    # 0.4451 instead of (-1.0667, 0.4230) at 0.4282 (Newton from a denormal height); the foot of a
+    # point that close to the axis is the on-axis one (Eberly: x0 = a^2 x / (a^2 - b^2))
+    from geometry import primitive_from_dict
+
+    e = primitive_from_dict({"type": "ellipse", "origin": [0, 0, 0], "normal": [0, 0, 1], "major_axis": [1, 0, 0],
+                             "major_radius": 2.0, "minor_radius": 0.5})
+    pr = e.project(np.array([[-1.0, height, 0.0], [-1.0, -height, 3.0]]))
+    x0 = -1.0 * 4.0 / (4.0 - 0.25)
+    y0 = 0.5 * np.sqrt(1.0 - (x0 / 2.0) ** 2)
+    np.testing.assert_allclose(pr.points[:, 0], [x0, x0], rtol=1e-14)
+    np.testing.assert_allclose(np.abs(pr.points[:, 1]), [y0, y0], rtol=1e-14)
+    gap = np.linalg.norm(np.array([[-1.0, height, 0.0], [-1.0, -height, 3.0]]) - pr.points, axis=1)
+    np.testing.assert_allclose(np.abs(pr.distances), gap, rtol=1e-14)
