@@ -280,6 +280,8 @@ def profile_from_part_shape(shape: dict, where: str, kind: str, load: Callable[[
         raise ValueError(f"{where}.{unknown[0]}: unknown key for {article} {kind} shape (known: {', '.join(SHAPE_KEYS)})")
     if "path" not in shape:
         raise ValueError(f"{where}.path: missing ({path_hint})")
+    if not isinstance(shape["path"], str) or not shape["path"]:
+        raise ValueError(f"{where}.path: expected a file or directory name (a string), got {shape['path']!r}")
     if ("face" in shape) == ("section" in shape):
         raise ValueError(f"{where}: give exactly one of 'face' (a planar face id) or 'section' "
                          f"({{origin, normal}})")
@@ -287,6 +289,8 @@ def profile_from_part_shape(shape: dict, where: str, kind: str, load: Callable[[
         part = load(str(shape["path"]))
     except ValueError as exc:  # the importers' format errors included
         raise ValueError(f"{where}.path: {exc}") from None
+    except OSError as exc:  # a name too long, a directory without permission, ...
+        raise ValueError(f"{where}.path: cannot read {shape['path']!r}: {exc.strerror or exc}") from None
     x_axis = vector(shape["x_axis"], f"{where}.x_axis") if "x_axis" in shape else None
     try:
         if "face" in shape:

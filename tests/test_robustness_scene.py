@@ -309,3 +309,22 @@ def test_class12_a_line_break_in_a_name_keeps_one_line_per_problem(name):
     data["boundary_conditions"][0]["edge"] = "top"
     text = errors(data)
     assert len(text.splitlines()) == len([p for p in text.split("\n")]) and "boundary_conditions[0].edge" in text
+
+
+@pytest.mark.parametrize("example, bad", [
+    ("step/half_cylinder_on_block.toml", ["a" * 300, "yes"]),  # make fuzz: OSError 'File name too long', exit 5
+    ("step/half_cylinder_on_block.toml", "a" * 5000),
+    ("solid/onshape_ball_on_block.toml", "b" * 5000),
+])
+def test_a_cad_path_the_system_cannot_open_is_a_scene_error(example, bad):
+    import copy
+    import tomllib
+    from pathlib import Path
+
+    from solver.io.scene import SceneError, scene_from_dict
+
+    path = Path(__file__).resolve().parents[1] / "examples" / example
+    data = copy.deepcopy(tomllib.loads(path.read_text(encoding="utf-8")))
+    data["bodies"][0]["shape"]["path"] = bad
+    with pytest.raises(SceneError, match=r"bodies\[0\]\.shape.*path.*cannot read"):
+        scene_from_dict(data, label="s.toml", base_dir=path.parent)

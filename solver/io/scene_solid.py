@@ -210,7 +210,12 @@ def _load_part(shape: dict):
         loader = getattr(import_module(module), name)
     except (ImportError, AttributeError) as err:
         raise ValueError(f"type = {shape['type']!r} needs the importer {module}: {err}") from None
-    return loader(shape["path"])
+    if not isinstance(shape.get("path"), str) or not shape["path"]:
+        raise ValueError(f"path: expected a file or directory name (a string), got {shape.get('path')!r}")
+    try:
+        return loader(shape["path"])
+    except OSError as exc:  # a name too long, a directory without permission, ...
+        raise ValueError(f"path: cannot read {shape['path']!r}: {exc.strerror or exc}") from None
 
 
 def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) -> None:
