@@ -1,19 +1,5 @@
-"""Bounded (trimmed) 2D curves: the edges of a :class:`geometry.profile.Profile`.
-
-Every curve is an immutable, oriented piece of curve in the plane with a native parameter
-``t`` that increases along the curve from ``t_start`` to ``t_end``:
-
-- :class:`Segment`: ``t`` is the arc length, ``t`` in [0, length];
-- :class:`Arc` and :class:`EllipticArc`: ``t`` is the angle swept from the start point,
-  ``t`` in [0, |end_angle - start_angle|] (so a clockwise arc still has increasing ``t``);
-- :class:`BSplineArc`: ``t`` is the spline parameter on [knots[p], knots[-p-1]].
-
-The normal is the tangent turned by -90 degrees (the right-hand side): the outward normal
-when the curve belongs to a counter-clockwise outer loop.
-
-Projection is onto the *trimmed* curve, end points included. ``distances`` in the returned
-:class:`BoundedProjection` are signed Euclidean distances ``sign((p - c) . n) * |p - c|``;
-they equal ``(p - c) . n`` wherever the closest point ``c`` is interior to the curve.
+"""Bounded (trimmed) 2D curves, the edges of a :class:`geometry.profile.Profile` (their
+conventions: :mod:`geometry.bounded_curve`).
 
 This module gathers them: the interface (``geometry.bounded_curve``), segments
 (``geometry.segments``), circular and elliptic arcs (``geometry.arcs``), B-spline pieces
