@@ -9,10 +9,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .fem.cut_cells3d import CUT as CUT3
-from .fem.recovery import nodal_stress, patch_recovery
+from .fem.recovery import nodal_stress, patch_recovery, sliding_symmetry
 from .fem.space import BodyDiscretisation
 from .model.elasticity import von_mises
 from .model.options import SolverOptions
+from .model.problem import Sliding
 
 __all__ = ["IBFEMSolution"]
 
@@ -92,14 +93,20 @@ class IBFEMSolution:
         return cache[b.name]
 
     def nodal_stress(self, body: str) -> np.ndarray:
-        """(N, 3) recovered nodal stresses (solver.fem.recovery); computed once."""
+        """(N, 3) or (N, 6) recovered nodal stresses (solver.fem.recovery); computed once."""
         (b,) = self._body(body)
         cache = self.__dict__.setdefault("_nodal_stress", {})
         if b.name not in cache:
             if b.dim == 3:
-                g = b.grid
-                cache[b.name] = patch_recovery(g.cells, g.nodes, g.size, b.inside_volume, b.status == CUT3,
-                                               self.cell_centroids(b.name), self.centroid_stress(b.name))
+                g, centroids = b.grid, self.cell_centroids(b.name)
+                # planar sliding faces are planes of symmetry: the patches there are completed
+                # by their mirror images (solver.fem.recovery.sliding_symmetry)
+                sliding = [bc.edge for bc in getattr(self.problem, "boundary_conditions", ())
+                           if isinstance(bc, Sliding) and bc.body == b.name]
+                planes, cut = sliding_symmetry(b.boundary.faces, sliding, b.boundary.signed_distance, g,
+                                               b.status == CUT3, b.inside_volume, centroids)
+                cache[b.name] = patch_recovery(g.cells, g.nodes, g.size, b.inside_volume, cut, centroids,
+                                               self.centroid_stress(b.name), planes)
             else:
                 cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), self.centroid_stress(b.name))
         return cache[b.name]

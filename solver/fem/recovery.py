@@ -18,16 +18,30 @@ cells' inside areas:
 
 The recovered field is the bilinear interpolation of these nodal values. Both fits reproduce
 linear stress fields exactly.
+
+Planes of symmetry (3D; :func:`sliding_symmetry`): a planar face held by a sliding condition is a
+mirror of the solution (u_n = 0 and no tangential traction: the even reflection continues the
+field), so the patches of the nodes on and near it are completed by the mirror images of the
+centroid stresses (the components with one index normal to the plane change sign), and a cell
+flagged cut only because one of its faces lies on such a plane counts as whole. The nodes on a
+quarter model's symmetry planes and on its axis then take the quadratic fit of a whole patch
+instead of a linear fit over a one-sided one, which is biased by h^2 of the curvature across
+the plane. Measured on examples/solid/sphere_on_flat (11.6 cells along a): the largest shear
+on the axis 0.3070 p0 at 0.5079 a -> 0.3093 p0 at 0.4846 a (Hertz 0.3100 p0 at 0.4847 a);
+the raw stress C B u there peaks at 0.4854 a. Where the grid is not aligned with the plane the
+images share no node with the grid and the recovery is unchanged.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 
 from .grid import CUT, Grid
 
-__all__ = ["nodal_stress", "patch_recovery"]
+__all__ = ["MirrorPlane", "mirrored_patches", "nodal_stress", "patch_recovery", "reflect_stress", "sliding_symmetry"]
 
 
 def nodal_stress(grid: Grid, centroids: np.ndarray, stress: np.ndarray) -> np.ndarray:
@@ -37,9 +51,14 @@ def nodal_stress(grid: Grid, centroids: np.ndarray, stress: np.ndarray) -> np.nd
 
 
 def patch_recovery(cells: np.ndarray, nodes: np.ndarray, sizes: np.ndarray, weights: np.ndarray, cut: np.ndarray,
-                   centroids: np.ndarray, stress: np.ndarray) -> np.ndarray:
+                   centroids: np.ndarray, stress: np.ndarray, mirrors=()) -> np.ndarray:
     """The recovery of any dimension: cells (m, corners) of nodes (N, dim), the cells' sizes,
-    inside measures (the fits' weights) and cut flags; values ``stress`` (m, k) at ``centroids``."""
+    inside measures (the fits' weights) and cut flags; values ``stress`` (m, k) at ``centroids``.
+    ``mirrors``: MirrorPlane's completing the patches at symmetry planes (mirrored_patches)."""
+    if len(mirrors):
+        real = len(nodes)
+        grown = mirrored_patches(cells, nodes, sizes, weights, cut, centroids, stress, mirrors)
+        return patch_recovery(*grown)[:real]
     m, n = len(cells), len(nodes)
     corners = cells.shape[1]
     w = np.asarray(weights, dtype=float)
@@ -62,6 +81,139 @@ def patch_recovery(cells: np.ndarray, nodes: np.ndarray, sizes: np.ndarray, weig
         if len(subset):
             ok, values = _patch_fit(inc, subset, nodes, scale, centroids, stress, w, degree)
             out[subset[ok]] = values
+    return out
+
+
+#: cells mirrored: centroids within this many of their sizes of the plane (a node's two-ring
+#: reaches two cells across it)
+MIRROR_BAND = 2.5
+#: of the cell size: nodes this close coincide, a corner this close to a plane lies on it, a cell
+#: missing no more of its volume is whole
+ALIGNED = 1e-3
+
+
+@dataclass(frozen=True)
+class MirrorPlane:
+    """A plane of mirror symmetry of the solution at the body's boundary (a planar sliding face:
+    u_n = 0 and no tangential traction, so the even reflection continues the field): ``origin``
+    and unit outward ``normal``; ``cells`` (m,) marks the cells whose mirror images may complete
+    the patches there (the caller's: near the face, images outside the body)."""
+
+    origin: np.ndarray
+    normal: np.ndarray
+    cells: np.ndarray
+
+
+def reflect_stress(stress: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Voigt stresses (n, 3) in 2D ([sxx, syy, sxy]) or (n, 6) in 3D ([sxx, syy, szz, syz, sxz,
+    sxy]) mirrored in the plane of unit ``normal``: R s R with R = I - 2 n n^T (aligned with an
+    axis: the shear components with one index along it change sign)."""
+    s = np.asarray(stress, dtype=float)
+    dim = 2 if s.shape[1] == 3 else 3
+    pairs = _VOIGT[dim]
+    t = np.zeros((len(s), dim, dim))
+    for k, (i, j) in enumerate(pairs):
+        t[:, i, j] = t[:, j, i] = s[:, k]
+    n = np.asarray(normal, dtype=float)
+    r = np.eye(dim) - 2.0 * np.outer(n, n)
+    t = r @ t @ r
+    return np.column_stack([t[:, i, j] for i, j in pairs])
+
+
+_VOIGT = {2: ((0, 0), (1, 1), (0, 1)), 3: ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))}
+
+
+def mirrored_patches(cells, nodes, sizes, weights, cut, centroids, stress, planes):
+    """The cells of a grid completed by their mirror images in ``planes`` (each applied in turn
+    to the real and the earlier images, so two planes at right angles fill the quadrant across
+    both): images of the cells within MIRROR_BAND cells of a plane (and marked by it), their corners
+    merged with the grid's nodes where they coincide (a grid aligned with the plane shares its
+    nodes on the plane with the images; elsewhere the images stay apart and change nothing).
+    Returns the same seven arrays, the real cells and nodes first."""
+    cells, nodes = np.asarray(cells), np.asarray(nodes, dtype=float)
+    sizes, weights, cut = (np.asarray(v) for v in (sizes, weights, cut))
+    centroids, stress = np.asarray(centroids, dtype=float), np.asarray(stress, dtype=float)
+    source = np.arange(len(cells))  # the real cell each (real or image) cell comes from
+    tol = ALIGNED * float(np.min(sizes))
+    for plane in planes:
+        n = np.asarray(plane.normal, dtype=float)
+        depth = (np.asarray(plane.origin, dtype=float) - centroids) @ n  # inside: > 0
+        pick = np.nonzero(np.asarray(plane.cells, bool)[source] & (depth > 0.0) & (depth < MIRROR_BAND * sizes)
+                          & (weights > 0))[0]
+        if len(pick) == 0:
+            continue
+        used, local = np.unique(cells[pick], return_inverse=True)
+        images = nodes[used] + 2.0 * ((plane.origin - nodes[used]) @ n)[:, None] * n
+        index = _merge_nodes(nodes, images, tol)
+        fresh = index < 0
+        index[fresh] = len(nodes) + np.arange(fresh.sum())
+        nodes = np.vstack([nodes, images[fresh]])
+        cells = np.vstack([cells, index[local].reshape(cells[pick].shape)])
+        centroids = np.vstack([centroids, centroids[pick] + 2.0 * depth[pick, None] * n])
+        stress = np.vstack([stress, reflect_stress(stress[pick], n)])
+        sizes, weights, cut = (np.concatenate([v, v[pick]]) for v in (sizes, weights, cut))
+        source = np.concatenate([source, source[pick]])
+    return cells, nodes, sizes, weights, cut, centroids, stress
+
+
+def _merge_nodes(nodes: np.ndarray, points: np.ndarray, tol: float) -> np.ndarray:
+    """Index of the node within ``tol`` of each point, -1 where none is."""
+    from scipy.spatial import cKDTree
+
+    dist, index = cKDTree(nodes).query(points, distance_upper_bound=tol)
+    return np.where(np.isfinite(dist), index, -1)
+
+
+def sliding_symmetry(faces: dict, names, signed_distance, grid, status_cut: np.ndarray, inside: np.ndarray,
+                     centroids: np.ndarray) -> tuple[list[MirrorPlane], np.ndarray]:
+    """The mirror planes of a solid's planar sliding faces ``names`` and the cut flags the
+    recovery should use with them: a cell flagged cut only because one of its faces lies on
+    such a plane (whole, every corner on the boundary on a plane) is a whole cell of the
+    mirrored grid, not a cut one."""
+    sizes, cut = grid.size, np.asarray(status_cut, bool).copy()
+    planes = []
+    for name in names:
+        face = faces.get(name)
+        surface = getattr(face, "surface", None)
+        if getattr(surface, "type", None) != "plane":
+            continue  # a curved sliding face is no mirror
+        origin, normal = np.asarray(surface.origin, float), np.asarray(surface.normal, float)
+        normal = normal * _outward(face, origin, normal, signed_distance, float(np.min(sizes)))
+        depth = (origin - centroids) @ normal
+        band = np.nonzero((depth > 0.0) & (depth < MIRROR_BAND * sizes) & (inside > 0))[0]
+        images = centroids[band] + 2.0 * depth[band, None] * normal
+        feet = centroids[band] + depth[band, None] * normal
+        near = np.linalg.norm(face.project(feet).points - feet, axis=1) <= ALIGNED * sizes[band]
+        outside = np.asarray(signed_distance(images), float) < 0.0
+        marked = np.zeros(len(sizes), bool)
+        marked[band[near & outside]] = True
+        planes.append(MirrorPlane(origin, normal, marked))
+    if planes:
+        cut &= ~_on_planes_only(grid, cut, inside, signed_distance, planes)
+    return planes, cut
+
+
+def _outward(face, origin, normal, signed_distance, step: float) -> float:
+    """+1 when ``normal`` points out of the body at the face (a CAD face's surface may be
+    oriented either way), else -1."""
+    foot = np.asarray(face.project(origin[None]).points, float)[0]
+    phi = np.asarray(signed_distance(np.array([foot + step * normal, foot - step * normal])), float)
+    return 1.0 if phi[0] <= phi[1] else -1.0
+
+
+def _on_planes_only(grid, cut, inside, signed_distance, planes) -> np.ndarray:
+    """Whole cut cells whose corners on the boundary all lie on the mirror planes (at least one)."""
+    whole = np.nonzero(cut & (inside >= (1.0 - ALIGNED) * grid.size ** grid.nodes.shape[1]))[0]
+    corners = grid.nodes[grid.cells[whole]]  # (k, corners, dim)
+    tol = ALIGNED * grid.size[whole][:, None]
+    phi = np.asarray(signed_distance(corners.reshape(-1, corners.shape[2])), float).reshape(corners.shape[:2])
+    on_plane = np.zeros(phi.shape, bool)
+    for plane in planes:
+        on_plane |= np.abs((corners - plane.origin) @ plane.normal) <= tol
+    on_boundary = phi <= tol
+    only = np.all(~on_boundary | on_plane, axis=1) & np.any(on_boundary & on_plane, axis=1)
+    out = np.zeros(len(cut), bool)
+    out[whole[only]] = True
     return out
 
 

@@ -1,0 +1,156 @@
+"""Stress recovery at planes of symmetry (solver.fem.recovery, issue 15): a planar sliding face
+is a mirror of the solution, so the patches of the nodes on and near it are completed by the
+mirror images of the cells' centroid stresses. The truth here is a quadratic stress field with
+that symmetry (the components with one index normal to a plane odd across it, the others even):
+the quadratic fit of a whole mirrored patch reproduces it exactly on the symmetry planes and on
+their intersection (the axis of a quarter model), where one-sided patches could not."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from geometry.solids.shapes import Box
+from solver.fem.cut_cells3d import CUT
+from solver.fem.grid import RefinementZone
+from solver.fem.recovery import MirrorPlane, patch_recovery, reflect_stress, sliding_symmetry
+from solver.fem.solid_space import discretise_solid
+from solver.model.problem import Sliding
+from solver.solution import IBFEMSolution
+
+H0 = 0.1
+
+
+def _box(offset=(0.0, 0.0, 0.0), refine: bool = True):
+    zones = (RefinementZone(1, 0.3, np.array([0.0, 0.0, 0.5])),) if refine else ()
+    return discretise_solid("box", Box([0, 0, 0], [1, 1, 1]), (1.0, 1.0), np.eye(6), 0.3, H0, zones, offset=offset)
+
+
+def _field(p):
+    """[sxx, syy, szz, syz, sxz, sxy]: even in x and y except syz (odd in y), sxz (odd in x), sxy
+    (odd in both): the symmetry of a solution with sliding faces on x = 0 and y = 0."""
+    x, y, z = p.T
+    return np.column_stack([1 + x * x + 2 * y * y - z + z * z, 2 - x * x + y * y + 3 * z * z, 0.5 + x * x + y * y - 2 * z,
+                            y * (1 + z), x * (2 - z), x * y])
+
+
+def _recover(body, sliding):
+    cent = body.cell_centroids()
+    planes, cut = sliding_symmetry(body.boundary.faces, sliding, body.boundary.signed_distance, body.grid,
+                                   body.status == CUT, body.inside_volume, cent)
+    g = body.grid
+    return patch_recovery(g.cells, g.nodes, g.size, body.inside_volume, cut, cent, _field(cent), planes), planes
+
+
+def _away_from_other_faces(nodes):
+    """Nodes whose patches (two cells of the coarsest size) stay clear of the faces that are no
+    mirrors (x = 1, y = 1, z = 0, z = 1)."""
+    reach = 3.01 * H0
+    return (nodes[:, 0] <= 1 - reach) & (nodes[:, 1] <= 1 - reach) & (nodes[:, 2] >= reach) & (nodes[:, 2] <= 1 - reach)
+
+
+@pytest.mark.parametrize("refine", [False, True])
+def test_symmetric_quadratic_field_is_recovered_exactly_on_the_symmetry_planes(refine):
+    body = _box(refine=refine)
+    nodes = body.grid.nodes
+    rec, planes = _recover(body, ["x_min", "y_min"])
+    assert len(planes) == 2
+    clear = _away_from_other_faces(nodes)
+    on_planes = clear & ((np.abs(nodes[:, 0]) < 1e-12) | (np.abs(nodes[:, 1]) < 1e-12))
+    axis = clear & (np.abs(nodes[:, 0]) < 1e-12) & (np.abs(nodes[:, 1]) < 1e-12)
+    assert axis.sum() >= 3 and on_planes.sum() > 20
+    assert np.allclose(rec[clear], _field(nodes[clear]), atol=1e-9)
+    # without the mirrors the one-sided patches there are off by O(h^2) of the curvature
+    g = body.grid
+    plain = patch_recovery(g.cells, g.nodes, g.size, body.inside_volume, body.status == CUT, body.cell_centroids(),
+                           _field(body.cell_centroids()))
+    assert np.abs(plain[axis] - _field(nodes[axis])).max() > 1e-3
+
+
+def test_a_curved_or_missing_plane_gives_no_mirror_and_a_misaligned_one_changes_nothing():
+    body = _box(refine=False)
+    g, cent = body.grid, body.cell_centroids()
+    plain = patch_recovery(g.cells, g.nodes, g.size, body.inside_volume, body.status == CUT, cent, _field(cent))
+    rec, planes = _recover(body, [])
+    assert planes == [] and np.array_equal(rec, plain, equal_nan=True)
+    # a grid shifted by fractions of a cell: the planes cut cells, the images share no node with
+    # the grid and the recovery is the plain one (cut cells keep their linear fits)
+    shifted = _box(offset=(0.3, 0.45, 0.1), refine=False)
+    g, cent = shifted.grid, shifted.cell_centroids()
+    plain = patch_recovery(g.cells, g.nodes, g.size, shifted.inside_volume, shifted.status == CUT, cent, _field(cent))
+    rec, planes = _recover(shifted, ["x_min", "y_min"])
+    assert len(planes) == 2 and any(p.cells.any() for p in planes)
+    assert np.allclose(rec, plain, equal_nan=True)
+
+
+def test_reflection_of_stresses():
+    rng = np.random.default_rng(3)
+    s = rng.normal(size=(5, 6))
+    ex = reflect_stress(s, [1.0, 0.0, 0.0])
+    # sxz and sxy change sign, the rest stays
+    assert np.allclose(ex, s * [1, 1, 1, 1, -1, -1])
+    n = rng.normal(size=3)
+    n /= np.linalg.norm(n)
+    t = reflect_stress(s, n)
+    assert np.allclose(reflect_stress(t, n), s)  # an involution
+
+    def tensor(v):
+        return np.array([[v[0], v[5], v[4]], [v[5], v[1], v[3]], [v[4], v[3], v[2]]])
+
+    for a, b in zip(s, t):  # the principal stresses stay
+        assert np.allclose(np.linalg.eigvalsh(tensor(a)), np.linalg.eigvalsh(tensor(b)))
+    # a uniaxial stress along the normal, or across it, is its own image
+    nn = np.outer(n, n)
+    v = np.array([[nn[0, 0], nn[1, 1], nn[2, 2], nn[1, 2], nn[0, 2], nn[0, 1]]])
+    assert np.allclose(reflect_stress(v, n), v)
+    assert np.allclose(reflect_stress(np.array([[1.0, -2.0, 0.5]]), [0.0, 1.0]), [[1.0, -2.0, -0.5]])  # 2D
+
+
+def test_mirror_planes_complete_a_two_dimensional_patch_too():
+    # a uniform 2D grid of squares on [0, 1]^2 with the plane x = 0: the node (0, 0.5) gets the
+    # quadratic fit of its whole mirrored patch, exact for a field even in x
+    n = 8
+    h = 1.0 / n
+    ij = np.stack(np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="ij"), -1).reshape(-1, 2)
+    nodes = ij * h
+    idx = lambda i, j: i * (n + 1) + j  # noqa: E731
+    cells = np.array([[idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)] for i in range(n) for j in range(n)])
+    cent = nodes[cells].mean(axis=1)
+    field = lambda p: np.column_stack([1 + p[:, 0] ** 2 + p[:, 1] ** 2, 3 * p[:, 1] ** 2, p[:, 0] * p[:, 1]])  # noqa: E731
+    border = np.isclose(cent, 0.5 * h) | np.isclose(cent, 1 - 0.5 * h)
+    cut = border[:, 1] | np.isclose(cent[:, 0], 1 - 0.5 * h)  # every side but x = 0 is a boundary
+    plane = MirrorPlane(np.zeros(2), np.array([-1.0, 0.0]), np.ones(len(cells), bool))
+    size, w = np.full(len(cells), h), np.full(len(cells), h * h)
+    rec = patch_recovery(cells, nodes, size, w, cut, cent, field(cent), [plane])
+    on_plane = np.isclose(nodes[:, 0], 0) & (nodes[:, 1] > 2.9 * h) & (nodes[:, 1] < 1 - 2.9 * h)
+    assert on_plane.sum() == 3
+    assert np.allclose(rec[on_plane], field(nodes[on_plane]), atol=1e-12)
+
+
+def test_the_solution_recovers_with_its_sliding_faces():
+    body = _box(refine=False)
+    cent = body.cell_centroids()
+    problem = SimpleNamespace(boundary_conditions=[Sliding("box", "x_min"), Sliding("box", "y_min")])
+    sol = IBFEMSolution(problem=problem, bodies=[body], u=np.zeros(0), converged=True, body_info={}, reactions={},
+                        iterations={}, timings={})
+    sol.__dict__["_centroid_stress"] = {"box": _field(cent)}
+    nodes = body.grid.nodes
+    clear = _away_from_other_faces(nodes)
+    assert np.allclose(sol.nodal_stress("box")[clear], _field(nodes[clear]), atol=1e-9)
+
+
+def test_a_plane_given_with_its_inward_normal_is_turned_outward():
+    # a CAD face's surface may be oriented into the body: the mirror is the same plane
+    from geometry.surfaces import Plane
+
+    body = _box(refine=False)
+    faces = dict(body.boundary.faces)
+    for name in ("x_min", "y_min"):
+        face, plane = faces[name], faces[name].surface
+        faces[name] = SimpleNamespace(surface=Plane(origin=plane.origin, normal=tuple(-np.asarray(plane.normal))),
+                                      project=face.project)
+    cent = body.cell_centroids()
+    planes, _ = sliding_symmetry(faces, ["x_min", "y_min"], body.boundary.signed_distance, body.grid,
+                                 body.status == CUT, body.inside_volume, cent)
+    assert np.allclose(planes[0].normal, [-1, 0, 0]) and np.allclose(planes[1].normal, [0, -1, 0])
+    assert all(p.cells.sum() > 0 for p in planes)
