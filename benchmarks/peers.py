@@ -17,10 +17,18 @@ reported twice: where its gap closes (the definition) and from a fit of the gap 
 ladder (log-log between the last rung above and the first rung at or below the error, on the
 running best error), the ratio NGSolve/ibfem printed beside it, on wall and on CPU time.
 
-    python benchmarks/peers.py [--quick] [--problem steel|aluminium|all] [--repeat N]
+The 3D problem (``--problem sphere3d``, issue 15): examples/solid/sphere_on_flat.toml, a quarter of
+the half ball R = 1 on the block [0, 1] x [0, 1] x [-1, 0], steel on steel, frictionless, the
+symmetry faces sliding; ibfem over element sizes and refinement levels (probes, lines, VTU and
+plots off), NGSolve P2 on curved tetrahedra (``benchmarks/peers_ngsolve3d.py``) over h_c. The error
+in a is against Hertz for each run's own force (:func:`hertz_sphere_radius`, as
+docs/validation-solid.md does), at 1 % and 0.3 %.
+
+    python benchmarks/peers.py [--quick] [--problem steel|aluminium|all|sphere3d] [--repeat N]
     python benchmarks/peers.py --report benchmarks/results/peers.json   # the tables again, no runs
 
-Writes benchmarks/results/peers.json and peers.md. Needs the ``peers`` extra (ngsolve).
+Writes benchmarks/results/peers.json and peers.md (peers3d.json and peers3d.md for sphere3d). Needs
+the ``peers`` extra (ngsolve).
 """
 
 from __future__ import annotations
@@ -59,6 +67,29 @@ NGSOLVE_LADDER = [(0.016, 0.25), (0.008, 0.25), (0.004, 0.2), (0.002, 0.1), (0.0
 QUICK_IBFEM = [(0.1, 3), (0.05, 3)]
 QUICK_NGSOLVE = [(0.004, 0.2), (0.002, 0.1)]
 
+# The 3D problem: the shipped scene, steel on steel; a against Hertz for each run's own force
+SPHERE_SCENE = ROOT / "examples" / "solid" / "sphere_on_flat.toml"
+SPHERE3D = {"E": 2.0e11, "nu": 0.3, "R": 1.0, "model_share": 4, "reference": "Hertz for the run's own force"}
+TARGETS_3D = (0.01, 0.003)
+# (element_size, refinement levels) of both bodies, the refinement radius as shipped (0.07)
+IBFEM_LADDER_3D = [(0.25, 4), (0.25, 5), (0.2, 5), (0.25, 6)]
+# NGSolve: (element size on the contact surfaces h_c, largest element size)
+NGSOLVE_LADDER_3D = [(0.024, 0.2), (0.016, 0.2), (0.012, 0.2), (0.008, 0.2)]
+QUICK_IBFEM_3D = [(0.25, 4), (0.25, 5)]
+QUICK_NGSOLVE_3D = [(0.024, 0.2), (0.016, 0.2)]
+
+
+def hertz_sphere_radius(model_force: float, radius: float, youngs_modulus: float, poissons_ratio: float,
+                        model_share: int = 1) -> float:
+    """Hertz's contact radius of a sphere on a flat of the same material (Johnson eq. 4.22):
+    a = (3 N R / (4 E*))^(1/3), 1/E* = 2 (1 - nu^2) / E, N = model_share x the model's force (4 for
+    a quarter model)."""
+    if not (model_force > 0.0 and radius > 0.0 and youngs_modulus > 0.0 and -1.0 < poissons_ratio < 0.5):
+        raise ValueError(f"Hertz radius needs a positive force, radius and E and -1 < nu < 0.5 (got N "
+                         f"{model_force}, R {radius}, E {youngs_modulus}, nu {poissons_ratio})")
+    e_star = youngs_modulus / (2.0 * (1.0 - poissons_ratio ** 2))
+    return (3.0 * model_share * model_force * radius / (4.0 * e_star)) ** (1.0 / 3.0)
+
 
 def scene_data(problem: str, element_size: float, levels: int) -> dict:
     """The base scene with this problem's materials and this rung's grids, VTU and plots off."""
@@ -75,6 +106,17 @@ def scene_data(problem: str, element_size: float, levels: int) -> dict:
             ref["levels"] = levels
     data["name"] = f"peer {problem} h0 {element_size} levels {levels}"
     data.setdefault("output", {}).update(vtk=False, plots=False)
+    return data
+
+
+def sphere_scene_data(element_size: float, levels: int) -> dict:
+    """sphere_on_flat with this rung's grids (both bodies), VTU, plots, probes and lines off."""
+    data = tomllib.loads(SPHERE_SCENE.read_text())
+    for body in data["bodies"]:
+        body["element_size"] = element_size
+        body["refinement"]["levels"] = levels
+    data["name"] = f"peer sphere3d h0 {element_size} levels {levels}"
+    data["output"] = {"vtk": False, "plots": False}
     return data
 
 
@@ -96,7 +138,8 @@ def run_child(cmd: list[str]) -> tuple[int, str, str, float, float, float]:
 def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> dict:
     tag = f"ibfem_{problem}_{element_size}_{levels}"
     scene = workdir / f"{tag}.json"
-    scene.write_text(json.dumps(scene_data(problem, element_size, levels)))
+    data = sphere_scene_data(element_size, levels) if problem == "sphere3d" else scene_data(problem, element_size, levels)
+    scene.write_text(json.dumps(data))
     out = workdir / tag
     ibfem = Path(sys.executable).with_name("ibfem")
     cmd = [str(ibfem), "run", str(scene), "--out", str(out), "--quiet"]
@@ -109,7 +152,8 @@ def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> 
         return row
     summary = json.loads((out / "summary.json").read_text())
     contact = summary["contacts"][0]
-    row.update(converged=bool(summary["converged"]), a=contact["half_width"], N=contact["normal_force"],
+    a = contact["semi_axes"][0] if "semi_axes" in contact else contact["half_width"]
+    row.update(converged=bool(summary["converged"]), a=a, N=contact["normal_force"],
                dofs=sum(b["dofs"] for b in summary["bodies"].values()),
                iterations=summary["iterations"]["total"], solver_s=summary["timings"].get("solver_total_s"))
     return row
@@ -132,6 +176,22 @@ def run_ngsolve(problem: str, hc: float, hmax: float, order: int = 2, threads: i
     return row
 
 
+def run_ngsolve3d(hc: float, hmax: float, threads: int = 2) -> dict:
+    cmd = [sys.executable, str(HERE / "peers_ngsolve3d.py"), "--hc", str(hc), "--hmax", str(hmax),
+           "--threads", str(threads), "--E", str(SPHERE3D["E"]), "--nu", str(SPHERE3D["nu"])]
+    code, out, err, wall, peak, cpu = run_child(cmd)
+    row = {"code": "NGSolve P2", "problem": "sphere3d", "rung": f"h_c {hc}, h_max {hmax}", "hc": hc,
+           "hmax": hmax, "wall_s": wall, "cpu_s": cpu, "peak_mb": peak, "exit": code}
+    if code != 0:
+        row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
+        return row
+    res = json.loads(out.strip().splitlines()[-1])
+    row.update(converged=True, a=res["a_closing"], a_fit=res["a"], N=res["N"], dofs=res["dofs"],
+               iterations=res["newton_iterations"], solver_s=res["total_in_process_s"],
+               a_lines=res["a_closing_lines"], a_fit_lines=res["a_lines"])
+    return row
+
+
 def best_of(run, repeat: int) -> dict:
     """The run repeated: the fastest of ``repeat`` (the results are deterministic; the machine is shared)."""
     rows = [run() for _ in range(repeat)]
@@ -143,6 +203,8 @@ def best_of(run, repeat: int) -> dict:
 
 
 def add_errors(row: dict) -> dict:
+    if row["problem"] == "sphere3d":
+        return add_hertz_errors(row)
     spec = PROBLEMS[row["problem"]]
     for key in ("a", "a_fit", "N"):
         if key in row:
@@ -150,6 +212,29 @@ def add_errors(row: dict) -> dict:
             if "issue" in spec:
                 row[f"{key}_error_issue"] = row[key] / spec["issue"][key[0]] - 1.0
     return row
+
+
+def add_hertz_errors(row: dict) -> dict:
+    """The 3D rows: a (and NGSolve's fitted a) against Hertz for the row's own force."""
+    if isinstance(row.get("N"), float) and row["N"] > 0.0:
+        s = SPHERE3D
+        row["a_hertz"] = hertz_sphere_radius(row["N"], s["R"], s["E"], s["nu"], s["model_share"])
+        for key in ("a", "a_fit"):
+            if key in row:
+                row[f"{key}_error"] = row[key] / row["a_hertz"] - 1.0
+    return row
+
+
+def cross_check(rows: list[dict]) -> dict | None:
+    """The two codes' finest rungs (most dofs) side by side: a, N, and a / a_Hertz (NGSolve's fitted a)."""
+    ib = [r for r in rows if r["code"] == "ibfem" and "a_error" in r]
+    ng = [r for r in rows if r["code"].startswith("NGSolve") and "a_fit_error" in r]
+    if not ib or not ng:
+        return None
+    i, n = max(ib, key=lambda r: r["dofs"]), max(ng, key=lambda r: r["dofs"])
+    return {"ibfem": i["rung"], "ngsolve": n["rung"], "a_ibfem": i["a"], "a_ngsolve_fit": n["a_fit"],
+            "a_difference": i["a"] / n["a_fit"] - 1.0, "N_difference": i["N"] / n["N"] - 1.0,
+            "a_over_hertz_difference": (1.0 + i["a_error"]) / (1.0 + n["a_fit_error"]) - 1.0}
 
 
 def time_to_error(rows: list[dict], target: float, key: str = "a_error", clock: str = "wall_s") -> dict | None:
@@ -170,12 +255,12 @@ def time_to_error(rows: list[dict], target: float, key: str = "a_error", clock: 
     return None
 
 
-def comparison(rows: list[dict], problem: str, ng_key: str = "a_error") -> list[dict]:
+def comparison(rows: list[dict], problem: str, ng_key: str = "a_error", targets=TARGETS) -> list[dict]:
     """Time to each target error in a, ibfem's a against NGSolve's ``ng_key`` estimate."""
     out = []
     ib = [r for r in rows if r["problem"] == problem and r["code"] == "ibfem"]
     ng = [r for r in rows if r["problem"] == problem and r["code"].startswith("NGSolve")]
-    for target in TARGETS:
+    for target in targets:
         ti, tn = time_to_error(ib, target), time_to_error(ng, target, ng_key)
         ci, cn = time_to_error(ib, target, clock="cpu_s"), time_to_error(ng, target, ng_key, clock="cpu_s")
         out.append({"problem": problem, "ngsolve_a": "gap closing" if ng_key == "a_error" else "gap opening fit",
@@ -191,9 +276,11 @@ def fmt_row(r: dict) -> str:
         return (f"| {r['problem']} | {r['code']} | {r['rung']} | | | {r['wall_s']:.2f} | {r['cpu_s']:.2f} "
                 f"| {r['peak_mb']:.0f} | failed: {r.get('error')} | | |")
     fit = f"{r['a_fit']:.6f} ({100 * r['a_fit_error']:+.3f} %)" if "a_fit" in r else ""
+    unconverged = ", not converged" if r.get("converged") is False else ""
+    force = f"{r['N']:.5e} ({100 * r['N_error']:+.3f} %)" if "N_error" in r else f"{r['N']:.5e}"
     return (f"| {r['problem']} | {r['code']} | {r['rung']} | {r['dofs']} | {r['iterations']} | {r['wall_s']:.2f} "
-            f"| {r['cpu_s']:.2f} | {r['peak_mb']:.0f} | {r['a']:.6f} ({100 * r['a_error']:+.3f} %) | {fit} "
-            f"| {r['N']:.5e} ({100 * r['N_error']:+.3f} %) |")
+            f"| {r['cpu_s']:.2f} | {r['peak_mb']:.0f} | {r['a']:.6f} ({100 * r['a_error']:+.3f} %{unconverged}) | {fit} "
+            f"| {force} |")
 
 
 def fmt_cmp(c: dict) -> str:
@@ -207,7 +294,8 @@ def fmt_cmp(c: dict) -> str:
             f"| {cell(c['ngsolve'])} | {ratio(c['ratio'])} | {ratio(c['ratio_cpu'])} |")
 
 
-def write_results(rows: list[dict], cmps: list[dict], quick: bool) -> str:
+def write_results(rows: list[dict], cmps: list[dict], quick: bool, stem: str = "peers",
+                  references: dict = PROBLEMS, extra: dict | None = None) -> str:
     lines = ["| problem | code | rung | dofs | iterations | wall (s) | CPU (s) | peak (MB) | a (error) "
              "| a, NGSolve's gap-opening fit (error) | N (error) |",
              "|---|---|---|---|---|---|---|---|---|---|---|", *map(fmt_row, rows), "",
@@ -216,10 +304,11 @@ def write_results(rows: list[dict], cmps: list[dict], quick: bool) -> str:
     text = "\n".join(lines)
     RESULTS.mkdir(exist_ok=True)
     suffix = "_quick" if quick else ""
-    (RESULTS / f"peers{suffix}.json").write_text(json.dumps(
-        {"references": PROBLEMS, "rows": rows, "comparison": cmps, "quick": quick}, indent=2))
-    (RESULTS / f"peers{suffix}.md").write_text(
-        f"# Peer study (benchmarks/peers.py{' --quick' if quick else ''})\n\n{text}\n")
+    (RESULTS / f"{stem}{suffix}.json").write_text(json.dumps(
+        {"references": references, "rows": rows, "comparison": cmps, "quick": quick, **(extra or {})}, indent=2))
+    command = "benchmarks/peers.py" + (" --problem sphere3d" if stem == "peers3d" else "") + (" --quick" if quick else "")
+    title = "3D peer study" if stem == "peers3d" else "Peer study"
+    (RESULTS / f"{stem}{suffix}.md").write_text(f"# {title} ({command})\n\n{text}\n")
     return text
 
 
@@ -229,14 +318,62 @@ def check_ngsolve() -> None:
         raise SystemExit("benchmarks/peers.py needs NGSolve: pip install -e '.[peers]' (the `peers` extra)")
 
 
+def warn_load() -> float:
+    load = os.getloadavg()[0]
+    if load > 0.5:
+        print(f"warning: load average {load:.1f} before the runs: wall times include other processes' "
+              "(compare cpu_s in the JSON, or rerun on a quiet machine)", file=sys.stderr)
+    return load
+
+
+def interleaved(problems: list[str], ib_runs: list, ng_runs: list, repeat: int) -> list[dict]:
+    """The two ladders' runs in turn (ibfem rung 1, NGSolve rung 1, ibfem rung 2, ...), each rung
+    ``repeat`` times; ``ib_runs`` / ``ng_runs`` are functions of (problem) -> row."""
+    rows = []
+    for problem in problems:
+        for i in range(max(len(ib_runs), len(ng_runs))):
+            for runs in (ib_runs, ng_runs):
+                if i < len(runs):
+                    rows.append(add_errors(best_of(lambda f=runs[i], p=problem: f(p), repeat)))
+                    print(fmt_row(rows[-1]), flush=True)
+    return rows
+
+
+def study_3d(args, tmp: Path) -> tuple[list[dict], list[dict], dict]:
+    """The sphere_on_flat ladders (or, with --report, their rows again): rows, comparison, extras."""
+    if args.report:
+        data = json.loads(args.report.read_text())
+        rows, extra = [add_errors(r) for r in data["rows"]], {k: data[k] for k in ("load_average",) if k in data}
+    else:
+        extra = {"load_average": warn_load()}
+        ib = QUICK_IBFEM_3D if args.quick else IBFEM_LADDER_3D
+        ng = QUICK_NGSOLVE_3D if args.quick else NGSOLVE_LADDER_3D
+        rows = interleaved(["sphere3d"], [lambda p, r=r: run_ibfem(p, *r, tmp) for r in ib],
+                           [lambda p, r=r: run_ngsolve3d(*r, threads=args.ngsolve_threads) for r in ng], args.repeat)
+        extra["load_average_after"] = os.getloadavg()[0]
+    cmps = [c for key in ("a_error", "a_fit_error") for c in comparison(rows, "sphere3d", key, TARGETS_3D)]
+    extra["cross_check"] = cross_check(rows)
+    return rows, cmps, extra
+
+
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="two rungs per code (a smoke check)")
-    ap.add_argument("--problem", choices=["steel", "aluminium", "all"], default="all")
+    ap.add_argument("--problem", choices=["steel", "aluminium", "all", "sphere3d"], default="all",
+                    help="all: the two 2D problems; sphere3d: the 3D problem (issue 15)")
     ap.add_argument("--repeat", type=int, default=2, help="runs per rung, the fastest kept (default 2: the machine may be shared)")
     ap.add_argument("--ngsolve-threads", type=int, default=2, help="NGSolve's TaskManager threads (default 2)")
     ap.add_argument("--report", type=Path, help="no runs: the tables again from the rows of this peers.json")
     args = ap.parse_args(argv)
+    if args.problem == "sphere3d":
+        if not args.report:
+            check_ngsolve()
+        with tempfile.TemporaryDirectory(prefix="ibfem_peers3d_") as tmp:
+            rows, cmps, extra = study_3d(args, Path(tmp))
+        print()
+        print(write_results(rows, cmps, args.quick, "peers3d", {"sphere3d": SPHERE3D}, extra))
+        print(f"\ncross-check (finest rungs): {json.dumps(extra['cross_check'])}")
+        return 0 if all("a" in r for r in rows) else 1
     problems = ["steel", "aluminium"] if args.problem == "all" else [args.problem]
     if args.report:
         rows = [add_errors(r) for r in json.loads(args.report.read_text())["rows"] if r["problem"] in problems]
@@ -244,24 +381,13 @@ def main(argv: list[str]) -> int:
         print(write_results(rows, cmps, args.quick))
         return 0
     check_ngsolve()
-    load = os.getloadavg()[0]
-    if load > 0.5:
-        print(f"warning: load average {load:.1f} before the runs: wall times include other processes' "
-              "(compare cpu_s in the JSON, or rerun on a quiet machine)", file=sys.stderr)
+    warn_load()
     ib_ladder = QUICK_IBFEM if args.quick else IBFEM_LADDER
     ng_ladder = QUICK_NGSOLVE if args.quick else NGSOLVE_LADDER
-    rows = []
     with tempfile.TemporaryDirectory(prefix="ibfem_peers_") as tmp:
-        for problem in problems:
-            for i in range(max(len(ib_ladder), len(ng_ladder))):
-                runs = []
-                if i < len(ib_ladder):
-                    runs.append(lambda p=problem, r=ib_ladder[i]: run_ibfem(p, *r, Path(tmp)))
-                if i < len(ng_ladder):
-                    runs.append(lambda p=problem, r=ng_ladder[i]: run_ngsolve(p, *r, threads=args.ngsolve_threads))
-                for run in runs:
-                    rows.append(add_errors(best_of(run, args.repeat)))
-                    print(fmt_row(rows[-1]), flush=True)
+        rows = interleaved(problems, [lambda p, r=r: run_ibfem(p, *r, Path(tmp)) for r in ib_ladder],
+                           [lambda p, r=r: run_ngsolve(p, *r, threads=args.ngsolve_threads) for r in ng_ladder],
+                           args.repeat)
     ok = all("a" in r for r in rows)
     previous = RESULTS / f"peers{'_quick' if args.quick else ''}.json"
     if args.problem != "all" and previous.exists():   # keep the other problem's rows
