@@ -154,3 +154,35 @@ def test_a_plane_given_with_its_inward_normal_is_turned_outward():
                                  body.status == CUT, body.inside_volume, cent)
     assert np.allclose(planes[0].normal, [-1, 0, 0]) and np.allclose(planes[1].normal, [0, -1, 0])
     assert all(p.cells.sum() > 0 for p in planes)
+
+
+def test_a_flat_face_of_a_revolution_is_found_plane_from_its_points():
+    # a quarter cylinder turned from the rectangle (r, z) in [0, 1] x [0, 1]: its bottom
+    # ("bottom", a turned line) names no plane, its cut ends ("start", "end") do; all three are
+    # mirrors, and a field symmetric about the three is recovered exactly on them
+    from geometry.solids.build import solid_from_dict
+
+    solid = solid_from_dict({"type": "revolution", "axis_origin": [0, 0, 0], "axis": [0, 0, 1], "angle_deg": 90,
+                             "profile": {"type": "profile", "edges": [
+                                 {"type": "line", "start": [0, 0], "end": [1, 0], "name": "bottom"},
+                                 {"type": "line", "start": [1, 0], "end": [1, 1], "name": "side"},
+                                 {"type": "line", "start": [1, 1], "end": [0, 1], "name": "top"},
+                                 {"type": "line", "start": [0, 1], "end": [0, 0], "name": "axis"}]}})
+    body = discretise_solid("quarter", solid, (1.0, 1.0), np.eye(6), 0.3, H0)
+    cent = body.cell_centroids()
+    planes, cut = sliding_symmetry(body.boundary.faces, ["bottom", "start", "end", "side"], body.boundary.signed_distance,
+                                   body.grid, body.status == CUT, body.inside_volume, cent)
+    normals = sorted(tuple(np.round(p.normal, 12) + 0.0) for p in planes)
+    assert normals == [(-1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0)]  # the curved side is none
+
+    def field(p):
+        x, y, z = p.T
+        return np.column_stack([1 + x * x + y * y + z * z, 2 + x * x - z * z, 3 + y * y + 2 * z * z, y * z, x * z, x * y])
+
+    g = body.grid
+    rec = patch_recovery(g.cells, g.nodes, g.size, body.inside_volume, cut, cent, field(cent), planes)
+    nodes = g.nodes
+    clear = (np.hypot(nodes[:, 0], nodes[:, 1]) <= 1 - 3.01 * H0 - 0.5 * np.sqrt(2) * H0) & (nodes[:, 2] <= 1 - 3.01 * H0)
+    edges = clear & (np.sum(np.abs(nodes) < 1e-6, axis=1) >= 2)
+    assert edges.sum() >= 3  # on the axis and the edges where two planes meet
+    assert np.allclose(rec[clear], field(nodes[clear]), atol=1e-9)
