@@ -97,18 +97,18 @@ class IBFEMSolution:
         (b,) = self._body(body)
         cache = self.__dict__.setdefault("_nodal_stress", {})
         if b.name not in cache:
+            # flat sliding faces (straight sliding edges) are planes of symmetry: the patches
+            # there are completed by their mirror images (solver.fem.recovery.sliding_symmetry)
+            sliding = [bc.edge for bc in getattr(self.problem, "boundary_conditions", ())
+                       if isinstance(bc, Sliding) and bc.body == b.name]
             if b.dim == 3:
                 g, centroids = b.grid, self.cell_centroids(b.name)
-                # planar sliding faces are planes of symmetry: the patches there are completed
-                # by their mirror images (solver.fem.recovery.sliding_symmetry)
-                sliding = [bc.edge for bc in getattr(self.problem, "boundary_conditions", ())
-                           if isinstance(bc, Sliding) and bc.body == b.name]
-                planes, cut = sliding_symmetry(b.boundary.faces, sliding, b.boundary.signed_distance, g,
-                                               b.status == CUT3, b.inside_volume, centroids)
+                planes, cut = sliding_symmetry(b.boundary, sliding, g, b.status == CUT3, b.inside_volume, centroids)
                 cache[b.name] = patch_recovery(g.cells, g.nodes, g.size, b.inside_volume, cut, centroids,
                                                self.centroid_stress(b.name), planes)
             else:
-                cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), self.centroid_stress(b.name))
+                cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), self.centroid_stress(b.name),
+                                             b.boundary, sliding)
         return cache[b.name]
 
     def _evaluate(self, points, body, kind: str, width: int) -> np.ndarray:

@@ -19,7 +19,7 @@ cells' inside areas:
 The recovered field is the bilinear interpolation of these nodal values. Both fits reproduce
 linear stress fields exactly.
 
-Planes of symmetry (3D; :func:`sliding_symmetry`): a planar face held by a sliding condition is a
+Planes of symmetry (:func:`sliding_symmetry`): a flat face (2D: a straight edge) held by a sliding condition is a
 mirror of the solution (u_n = 0 and no tangential traction: the even reflection continues the
 field), so the patches of the nodes on and near it are completed by the mirror images of the
 centroid stresses (the components with one index normal to the plane change sign), and a cell
@@ -48,10 +48,14 @@ from .grid import CUT, Grid
 __all__ = ["MirrorPlane", "mirrored_patches", "nodal_stress", "patch_recovery", "reflect_stress", "sliding_symmetry"]
 
 
-def nodal_stress(grid: Grid, centroids: np.ndarray, stress: np.ndarray) -> np.ndarray:
+def nodal_stress(grid: Grid, centroids: np.ndarray, stress: np.ndarray, boundary=None, sliding=()) -> np.ndarray:
     """(N, k) recovered nodal values of cell values ``stress`` (m, k) given at ``centroids``
-    (a 2D grid: its cells' inside areas weigh the fits)."""
-    return patch_recovery(grid.cells, grid.nodes, grid.size, grid.inside_area, grid.status == CUT, centroids, stress)
+    (a 2D grid: its cells' inside areas weigh the fits); the straight edges of ``boundary``
+    named in ``sliding`` are mirrors (sliding_symmetry)."""
+    planes, cut = [], grid.status == CUT
+    if boundary is not None and len(sliding):
+        planes, cut = sliding_symmetry(boundary, sliding, grid, cut, grid.inside_area, centroids)
+    return patch_recovery(grid.cells, grid.nodes, grid.size, grid.inside_area, cut, centroids, stress, planes)
 
 
 def patch_recovery(cells: np.ndarray, nodes: np.ndarray, sizes: np.ndarray, weights: np.ndarray, cut: np.ndarray,
@@ -169,32 +173,63 @@ def _merge_nodes(nodes: np.ndarray, points: np.ndarray, tol: float) -> np.ndarra
     return np.where(np.isfinite(dist), index, -1)
 
 
-def sliding_symmetry(faces: dict, names, signed_distance, grid, status_cut: np.ndarray, inside: np.ndarray,
+def sliding_symmetry(boundary, names, grid, status_cut: np.ndarray, inside: np.ndarray,
                      centroids: np.ndarray) -> tuple[list[MirrorPlane], np.ndarray]:
-    """The mirror planes of a solid's planar sliding faces ``names`` and the cut flags the
-    recovery should use with them: a cell flagged cut only because one of its faces lies on
-    such a plane (whole, every corner on the boundary on a plane) is a whole cell of the
-    mirrored grid, not a cut one."""
+    """The mirror planes of a body's flat sliding faces (3D: ``boundary.faces``) or straight
+    sliding edges (2D: ``boundary.curves``) named ``names``, and the cut flags the recovery
+    should use with them: a cell flagged cut only because one of its faces lies on such a plane
+    (whole, every corner on the boundary on a plane) is a whole cell of the mirrored grid."""
     sizes, cut = grid.size, np.asarray(status_cut, bool).copy()
+    phi = boundary.signed_distance
+    found = _face_planes(boundary.faces, names, phi, sizes) if hasattr(boundary, "faces") else \
+        _edge_planes(boundary.curves, names, phi, sizes)
     planes = []
-    for name in names:
-        face = faces.get(name)
-        plane = None if face is None else _plane_of(face, signed_distance, sizes)
-        if plane is None:
-            continue  # a curved sliding face is no mirror
-        origin, normal = plane
+    for origin, normal, on_face in found:
         depth = (origin - centroids) @ normal
         band = np.nonzero((depth > 0.0) & (depth < MIRROR_BAND * sizes) & (inside > 0))[0]
         images = centroids[band] + 2.0 * depth[band, None] * normal
-        feet = centroids[band] + depth[band, None] * normal
-        near = np.linalg.norm(face.project(feet).points - feet, axis=1) <= ALIGNED * sizes[band]
-        outside = np.asarray(signed_distance(images), float) < 0.0
+        near = on_face(centroids[band] + depth[band, None] * normal, ALIGNED * sizes[band])
+        outside = np.asarray(phi(images), float) < 0.0
         marked = np.zeros(len(sizes), bool)
         marked[band[near & outside]] = True
         planes.append(MirrorPlane(origin, normal, marked))
     if planes:
-        cut &= ~_on_planes_only(grid, cut, inside, signed_distance, planes)
+        cut &= ~_on_planes_only(grid, cut, inside, phi, planes)
     return planes, cut
+
+
+def _face_planes(faces: dict, names, signed_distance, sizes) -> list:
+    """(origin, outward unit normal, on_face(feet, tol)) of the flat faces among ``names``."""
+    found = []
+    for name in names:
+        face = faces.get(name)
+        plane = None if face is None else _plane_of(face, signed_distance, sizes)
+        if plane is not None:  # a curved sliding face is no mirror
+            found.append(plane + (lambda feet, tol, face=face: np.linalg.norm(face.project(feet).points - feet, axis=1)
+                                  <= tol,))
+    return found
+
+
+def _edge_planes(curves: dict, names, signed_distance, sizes) -> list:
+    """(origin, outward unit normal, on_edge(feet, tol)) of the straight edges among ``names``."""
+    found = []
+    for name in names:
+        curve = curves.get(name)
+        if curve is None:
+            continue
+        points = np.asarray(curve.evaluate(np.linspace(curve.t_start, curve.t_end, 9)), float)
+        start, along = points[0], points[-1] - points[0]
+        length = float(np.linalg.norm(along))
+        if length == 0.0:
+            continue
+        along /= length
+        normal = np.array([along[1], -along[0]])
+        if np.abs((points - start) @ normal).max() > ALIGNED * float(np.min(sizes)):
+            continue  # a curved sliding edge is no mirror
+        normal = normal * _outward(start + 0.5 * length * along, normal, signed_distance, float(np.min(sizes)))
+        found.append((start, normal, lambda feet, tol, s=start, a=along, n=length:
+                      (((feet - s) @ a) >= -tol) & (((feet - s) @ a) <= n + tol)))
+    return found
 
 
 def _plane_of(face, signed_distance, sizes) -> tuple[np.ndarray, np.ndarray] | None:
@@ -203,7 +238,8 @@ def _plane_of(face, signed_distance, sizes) -> tuple[np.ndarray, np.ndarray] | N
     surface = getattr(face, "surface", None)
     if getattr(surface, "type", None) == "plane":
         origin, normal = np.asarray(surface.origin, float), np.asarray(surface.normal, float)
-        return origin, normal * _outward(face, origin, normal, signed_distance, float(np.min(sizes)))
+        foot = np.asarray(face.project(origin[None]).points, float)[0]
+        return origin, normal * _outward(foot, normal, signed_distance, float(np.min(sizes)))
     points, _, normals = face.quadrature(4.0 * float(np.max(sizes)))
     if len(points) == 0:
         return None
@@ -213,10 +249,9 @@ def _plane_of(face, signed_distance, sizes) -> tuple[np.ndarray, np.ndarray] | N
     return (points[0], normal) if flat and np.abs(normals - normal).max() <= 1e-9 else None
 
 
-def _outward(face, origin, normal, signed_distance, step: float) -> float:
-    """+1 when ``normal`` points out of the body at the face (a CAD face's surface may be
-    oriented either way), else -1."""
-    foot = np.asarray(face.project(origin[None]).points, float)[0]
+def _outward(foot, normal, signed_distance, step: float) -> float:
+    """+1 when ``normal`` points out of the body at ``foot`` on its boundary (a CAD face's
+    surface may be oriented either way), else -1."""
     phi = np.asarray(signed_distance(np.array([foot + step * normal, foot - step * normal])), float)
     return 1.0 if phi[0] <= phi[1] else -1.0
 
