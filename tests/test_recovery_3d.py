@@ -64,6 +64,14 @@ def test_symmetric_quadratic_field_is_recovered_exactly_on_the_symmetry_planes(r
     plain = patch_recovery(g.cells, g.nodes, g.size, body.inside_volume, body.status == CUT, body.cell_centroids(),
                            _field(body.cell_centroids()))
     assert np.abs(plain[axis] - _field(nodes[axis])).max() > 1e-3
+    # next to the faces that are no mirrors the linear fits keep their own cells (a mirrored
+    # patch's linear fit would average a boundary's peak across the node)
+    _, cut = sliding_symmetry(body.boundary, ["x_min", "y_min"], g, body.status == CUT, body.inside_volume,
+                              body.cell_centroids())
+    at_boundary = np.zeros(len(nodes), bool)
+    at_boundary[g.cells[cut].ravel()] = True
+    assert at_boundary.sum() > 100
+    assert np.allclose(rec[at_boundary], plain[at_boundary], equal_nan=True)
 
 
 def test_a_curved_or_missing_plane_gives_no_mirror_and_a_misaligned_one_changes_nothing():
