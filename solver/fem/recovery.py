@@ -19,9 +19,9 @@ cells' inside areas:
 The recovered field is the bilinear interpolation of these nodal values. Both fits reproduce
 linear stress fields exactly.
 
-Planes of symmetry (:func:`sliding_symmetry`): a flat face (2D: a straight edge) held by a sliding condition is a
-mirror of the solution (u_n = 0 and no tangential traction: the even reflection continues the
-field), so the patches of the nodes on and near it are completed by the mirror images of the
+Planes of symmetry (:func:`sliding_symmetry`): a flat face (2D: a straight edge) held by a
+sliding condition is a mirror of the solution (u_n = 0 and no tangential traction: the even
+reflection continues the field), so the patches of the nodes on and near it are completed by the mirror images of the
 centroid stresses (the components with one index normal to the plane change sign), and a cell
 flagged cut only because one of its faces lies on such a plane counts as whole. The nodes on a
 quarter model's symmetry planes and on its axis then take the quadratic fit of a whole patch
@@ -135,10 +135,10 @@ _VOIGT = {2: ((0, 0), (1, 1), (0, 1)), 3: ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2
 def mirrored_patches(cells, nodes, sizes, weights, cut, centroids, stress, planes):
     """The cells of a grid completed by their mirror images in ``planes`` (each applied in turn
     to the real and the earlier images, so two planes at right angles fill the quadrant across
-    both): images of the cells within MIRROR_BAND cells of a plane (and marked by it), their corners
-    merged with the grid's nodes where they coincide (a grid aligned with the plane shares its
-    nodes on the plane with the images; elsewhere the images stay apart and change nothing).
-    Returns the same seven arrays, the real cells and nodes first."""
+    both): images of the cells within MIRROR_BAND cells of a plane (and marked by it), their
+    corners merged with the grid's nodes where they coincide (a grid aligned with the plane
+    shares its nodes on the plane with the images; elsewhere the images stay apart and change
+    nothing). Returns the same seven arrays, the real cells and nodes first."""
     cells, nodes = np.asarray(cells), np.asarray(nodes, dtype=float)
     sizes, weights, cut = (np.asarray(v) for v in (sizes, weights, cut))
     centroids, stress = np.asarray(centroids, dtype=float), np.asarray(stress, dtype=float)
