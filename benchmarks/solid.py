@@ -1,10 +1,10 @@
 """3D core (issue 14): Lame's thick sphere octant (examples/solid/lame_sphere.toml) over a ladder
 of element sizes, each in its own process: dofs, grid / assembly / solve times, assembly rate
 in cells per second, peak memory, the largest radial-displacement error over 200 interior
-points against Lame, and the fitted convergence slope. ``--large`` adds h = 0.024 (about 880k
+points against Lame, and the fitted convergence slope. ``--large`` adds h = 0.0228 (about 1.03M
 dofs, AMG-CG).
 
-    python benchmarks/solid.py [--quick] [--large]
+    python benchmarks/solid.py [--quick] [--large] [--sizes H ...]
 
 Prints a table and writes benchmarks/results/solid.json."""
 
@@ -52,11 +52,14 @@ print(json.dumps({"h": h, "dofs": sol.body_info["shell"]["dofs"], "cells": cells
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="two coarse grids only")
-    ap.add_argument("--large", action="store_true", help="add h = 0.024 (about 880k dofs)")
+    ap.add_argument("--large", action="store_true", help="add h = 0.0228 (about 1.03M dofs)")
+    ap.add_argument("--sizes", type=float, nargs="+", metavar="H", help="run these element sizes only")
     args = ap.parse_args(argv)
     sizes = [0.25, 0.125] if args.quick else [0.25, 0.125, 0.0625, 0.045]
     if args.large:
-        sizes.append(0.024)
+        sizes.append(0.0228)
+    if args.sizes:
+        sizes = args.sizes
     scene = ROOT / "examples" / "solid" / "lame_sphere.toml"
     rows = []
     print(f"{'h':>7} {'dofs':>8} {'grid s':>7} {'assem s':>8} {'solve s':>8} {'cells/s':>9} {'MB':>7} {'max err u_r':>12}")

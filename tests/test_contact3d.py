@@ -108,7 +108,8 @@ def test_quarter_model_with_sliding_symmetry_planes_matches_the_full_model():
     a_hertz = hertz_sphere_radius(4 * c["normal_force"], 1.0, E / (2 * (1 - NU**2)))
     assert c["semi_axes"][0] / a_hertz - 1.0 == pytest.approx(-0.037, abs=0.005)
     # measured on finer grids: -1.15 % (a/h 5.7, 8 s) and -0.32 % (a/h 11.6, 26 s, 2.2 GB)
-    assert len(c["pressure"]["axis0"]["s"]) > 0 and min(c["pressure"]["axis0"]["s"]) >= 0.0  # one side only
+    s_axis = c["pressure"]["axis0"]["s"]
+    assert len(s_axis) > 0 and min(s_axis) >= -1e-12 * c["semi_axes"][0]  # one side only (the first on the axis)
 
 
 def test_partial_slip_of_a_half_ball_stick_ellipse_from_the_forces():

@@ -61,7 +61,7 @@ def _points(q, normals):
     et = sp.csr_matrix(rng.normal(size=(2 * q, 2 * q)))
     return BoundaryPoints(
         points=np.zeros((q, 2)), weights=rng.uniform(0.5, 1.0, q), normals=normals,
-        cell_size=np.full(q, 0.1), displacement=eu, traction=et,
+        cell_size=np.full(q, 0.1), displacement_matrix=eu, traction_matrix=et,
     )
 
 

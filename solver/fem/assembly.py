@@ -5,6 +5,8 @@ conditions; the rigid-body check of the assembled stiffness."""
 
 from __future__ import annotations
 
+import functools
+import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -148,7 +150,7 @@ def boundary_terms(
     (their band loads, tractions, pressures, body forces) and the essential terms kept for
     the reactions."""
     n = bodies[0].n_total if bodies else 0
-    k = stiffness
+    bands = []  # summed among themselves first: one addition to the (large) stiffness
     f = np.zeros(n)
     by_name = {b.name: b for b in bodies}
     names = list(by_name)
@@ -167,19 +169,20 @@ def boundary_terms(
             proj = projector(ekind, bp.normals, free)
             target = target_of(bp.normals)
             kb, fa = thin_band_terms(bp, proj, target, b.lam, b.mu, settings.band_fraction, settings.consistency)
-            k = k + kb
+            bands.append(kb)
             f += fa
             essentials.append(EssentialTerm(f"{bc.body}/{bc.edge}", b, bp, proj, target))
         elif isinstance(bc, Traction):
             tr = np.broadcast_to(_finite_vector(bc.value, f"boundary_conditions[{j}].value", b.dim), bp.normals.shape)
-            f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
+            f += bp.load(tr * bp.weights[:, None])
         elif isinstance(bc, Pressure):
             if not np.isfinite(bc.value):
                 raise ValueError(f"boundary_conditions[{j}].value: pressure must be finite, got {bc.value!r}")
             tr = -float(bc.value) * bp.normals
-            f += bp.displacement.T @ (tr * bp.weights[:, None]).ravel()
+            f += bp.load(tr * bp.weights[:, None])
         else:
             raise ValueError(f"boundary_conditions[{j}]: unsupported condition type {type(bc).__name__}")
+    k = stiffness + functools.reduce(operator.add, bands) if bands else stiffness
     return k.tocsr(), f, essentials
 
 

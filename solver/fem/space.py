@@ -25,7 +25,7 @@ from .integration import (
     monomial_stiffness,
 )
 from .assembly_blocks import assemble_blocks
-from .step_boundary import BoundaryPoints
+from .step_boundary import BoundaryPoints, CellBlocks
 from .elasticity_ops import traction_of_voigt
 from .elements import element_for
 
@@ -139,13 +139,31 @@ class BodyDiscretisation:
         node_ok = row_ok.reshape(-1, self.dim).all(axis=1)
         return full[:, dofs].tocsr(), node_ok
 
-    def displacement_operator(self, points, cells, dof_map=None) -> sp.csr_matrix:
-        n, _ = self.shape(points, cells)
+    def _displacement_blocks(self, n: np.ndarray) -> np.ndarray:
+        """(q, d, cell dofs) of shape values n (q, nodes per cell)."""
         d = self.dim
-        v = np.zeros((len(points), d, d * n.shape[1]))
+        v = np.zeros((len(n), d, d * n.shape[1]))
         for k in range(d):
             v[:, k, k::d] = n
-        return self._point_matrix(v, cells, dof_map)
+        return v
+
+    def _traction_blocks(self, g: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """(q, d, cell dofs) sigma(.) n of shape gradients g (q, nodes per cell, d)."""
+        b = element_for(self.dim).strain_matrix(g)  # (q, nv, cell dofs)
+        q, nv, c = b.shape
+        # one matrix product over every point (a (nv, nv) matmul broadcast over q is much slower)
+        s = (self.elasticity @ np.moveaxis(b, 1, 0).reshape(nv, -1)).reshape(nv, q, c)
+        return traction_of_voigt(np.moveaxis(s, 0, 1), normals)
+
+    def cell_blocks(self, points, cells, normals) -> CellBlocks:
+        """The displacement and traction operators at points as per-point cell blocks."""
+        n, g = self.shape(points, cells)
+        return CellBlocks(cells, self.grid.cells[cells], self._displacement_blocks(n),
+                          self._traction_blocks(g, normals), self.node_dof_map)
+
+    def displacement_operator(self, points, cells, dof_map=None) -> sp.csr_matrix:
+        n, _ = self.shape(points, cells)
+        return self._point_matrix(self._displacement_blocks(n), cells, dof_map)
 
     def stress_operator(self, points, cells, dof_map=None) -> sp.csr_matrix:
         """(nv q, n_total): the Voigt stress ([sxx, syy, sxy] in 2D) at the points."""
@@ -155,8 +173,7 @@ class BodyDiscretisation:
     def traction_operator(self, points, cells, normals, dof_map=None) -> sp.csr_matrix:
         """(dim q, n_total): sigma(u_h) n at the points."""
         _, g = self.shape(points, cells)
-        s = self.elasticity @ element_for(self.dim).strain_matrix(g)  # (q, nv, cell dofs)
-        return self._point_matrix(traction_of_voigt(s, normals), cells, dof_map)
+        return self._point_matrix(self._traction_blocks(g, normals), cells, dof_map)
 
     def stiffness(self, alpha: float) -> sp.csr_matrix:
         """Volume stiffness (n_dofs, n_dofs) of the body's free dofs (COO over all cells)."""
@@ -196,8 +213,7 @@ class BodyDiscretisation:
             weights=w,
             normals=nrm,
             cell_size=np.maximum(self.grid.material_thickness[cells], 1e-6 * self.grid.size[cells]),
-            displacement=self.displacement_operator(pts, cells),
-            traction=self.traction_operator(pts, cells, nrm),
+            blocks=self.cell_blocks(pts, cells, nrm),
         )
 
     def points_on(self, points: np.ndarray, weights: np.ndarray, normals: np.ndarray) -> BoundaryPoints:
@@ -215,8 +231,8 @@ class BodyDiscretisation:
             weights=np.asarray(weights, dtype=float).ravel(),
             normals=normals,
             cell_size=np.maximum(self.grid.material_thickness[cells], 1e-6 * self.grid.size[cells]),
-            displacement=self.displacement_operator(points, cells),
-            traction=self.traction_operator(points, cells, normals),
+            displacement_matrix=self.displacement_operator(points, cells),
+            traction_matrix=self.traction_operator(points, cells, normals),
         )
 
     def contains(self, points: np.ndarray) -> np.ndarray:

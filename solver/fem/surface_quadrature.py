@@ -154,12 +154,14 @@ def cell_split_quadrature(face, resolution: float, origin: np.ndarray, spacing: 
     panel_spacing = np.full(len(lower), float(spacing))
     if cell_size is not None:
         lower, upper, local = _graded_panels(face, lower, upper, cell_size, levels)
-        # the planes of the panel's cells and of cells half their size (2:1 balance: no finer
-        # cell can meet a panel no larger than the cells at its corners)
-        panel_spacing = np.maximum(0.5 * local, float(spacing))
+        panel_spacing = np.maximum(local, float(spacing))  # the planes of the panel's own cells
     corners = _rectangles(lower, upper)
     corner_points = face.evaluate(corners.reshape(-1, 2))[0].reshape(-1, 4, 3)
-    poly, count, _ = split_panels(lower, upper, corner_points, np.asarray(origin, dtype=float), panel_spacing)
+    origin = np.asarray(origin, dtype=float)
+    poly, count, owner = split_panels(lower, upper, corner_points, origin, panel_spacing)
+    if cell_size is not None:
+        poly, count = _split_at_finer_cells(face, cell_size, (poly, count, owner), (lower, upper, corner_points),
+                                            origin, panel_spacing, float(spacing))
     uv, w, _ = triangle_nodes(poly, count, order)
     points, normals, jacobian = face.evaluate(uv)
     weights = w * np.asarray(jacobian, dtype=float)
@@ -167,8 +169,34 @@ def cell_split_quadrature(face, resolution: float, origin: np.ndarray, spacing: 
     return points[keep], weights[keep], normals[keep]
 
 
+def _split_at_finer_cells(face, cell_size, pieces, panels, origin, panel_spacing, spacing: float):
+    """Pieces cut at the planes of their panel's cells, cut again where a cell is finer: a
+    piece lies in one lattice box of its panel's spacing, which is one cell, part of a coarser
+    one, or split into finer cells, one of which then holds the piece's centroid (octree cells
+    lie on the lattices origin + j h0 / 2^l). Panels holding such a piece are cut at the finer
+    cells' planes (2:1 balance: once, in practice)."""
+    poly, count, owner = pieces
+    lower, upper, corner_points = panels
+    panel_spacing = panel_spacing.copy()
+    while len(poly):
+        valid = np.arange(MAX_VERTICES)[None, :] < count[:, None]
+        centroid = (poly * valid[:, :, None]).sum(axis=1) / count[:, None]
+        pts, nrm, _ = face.evaluate(centroid)
+        finer = np.full(len(lower), np.inf)
+        np.minimum.at(finer, owner, np.asarray(cell_size(pts, nrm), dtype=float))
+        redo = finer < (1.0 - 1e-9) * panel_spacing
+        if not redo.any():
+            break
+        panel_spacing[redo] = np.maximum(finer[redo], spacing)
+        sel = redo[owner]
+        p2, c2, o2 = clip_to_grid(poly[sel], count[sel], owner[sel], lower, upper, corner_points, origin,
+                                  panel_spacing)
+        poly, count, owner = (np.concatenate([x[~sel], y]) for x, y in ((poly, p2), (count, c2), (owner, o2)))
+    return poly, count
+
+
 def _graded_panels(face, lower, upper, cell_size, levels: int):
-    """Panels split in four while their extent in space exceeds the smallest cell at their
+    """Panels split in four while a side's length in space exceeds the smallest cell at their
     corners and centre."""
     done_lo, done_hi, done_size = [], [], []
     size = np.zeros(len(lower))
@@ -179,8 +207,10 @@ def _graded_panels(face, lower, upper, cell_size, levels: int):
         pts, nrm, _ = face.evaluate(corners.reshape(-1, 2))
         size = np.asarray(cell_size(pts, nrm), dtype=float).reshape(-1, 5).min(axis=1)
         pts = pts.reshape(-1, 5, 3)
-        extent = np.linalg.norm(pts[:, 2] - pts[:, 0], axis=1)
-        extent = np.maximum(extent, np.linalg.norm(pts[:, 3] - pts[:, 1], axis=1))
+        # the longer side (a panel as large as its cells: a cell holds about one panel's piece)
+        extent = np.maximum(np.linalg.norm(pts[:, 1] - pts[:, 0], axis=1), np.linalg.norm(pts[:, 2] - pts[:, 1], axis=1))
+        extent = np.maximum(extent, np.linalg.norm(pts[:, 3] - pts[:, 2], axis=1))
+        extent = np.maximum(extent, np.linalg.norm(pts[:, 0] - pts[:, 3], axis=1))
         split = extent > 1.0001 * size
         done_lo.append(lower[~split])
         done_hi.append(upper[~split])
