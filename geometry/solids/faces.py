@@ -147,10 +147,12 @@ class PlanarRegionFace:
         """Points, weights (area) and normals with lines and segments about ``resolution`` apart."""
         return self.graded_quadrature(resolution, None)
 
-    def graded_quadrature(self, resolution: float, cell_size=None):
+    def graded_quadrature(self, resolution: float, cell_size=None, split=None):
         """As :meth:`quadrature`, with strips and segments no longer than ``cell_size(points
         (n, 3)) -> (n,)`` where that is smaller than ``resolution`` (a cap crossing coarse and
-        fine cells gets its points where the cells are)."""
+        fine cells gets its points where the cells are). ``split(a (n, 3), b (n, 3)) -> (n, k)``
+        (fractions in [0, 1], 1 for none) cuts each inside interval of a line between its ends
+        a and b instead (e.g. at a grid's cell faces, so that every segment lies in one cell)."""
         x, w = np.polynomial.legendre.leggauss(self.order)
         y, wy = self._strips(resolution, x, w, cell_size)
         lines = self._intervals(y, resolution)
@@ -158,7 +160,7 @@ class PlanarRegionFace:
         for k, edges in enumerate(lines):
             for a0, b0 in zip(edges[0::2], edges[1::2]):
                 if b0 > a0:
-                    n = max(1, int(math.ceil((b0 - a0) / resolution)))
+                    n = 1 if split is not None else max(1, int(math.ceil((b0 - a0) / resolution)))
                     seg = np.linspace(a0, b0, n + 1)
                     line.append(np.full(n, k))
                     lo_s.append(seg[:-1])
@@ -166,21 +168,47 @@ class PlanarRegionFace:
         if not line:
             return np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3))
         line, lo_s, hi_s = np.concatenate(line), np.concatenate(lo_s), np.concatenate(hi_s)
-        for _ in range(16 if cell_size is not None else 0):  # split segments longer than their cells
+        if split is not None:
+            line, lo_s, hi_s = self._split_segments(line, lo_s, hi_s, y, split)
+        for _ in range(16 if cell_size is not None and split is None else 0):  # split segments longer than their cells
             mid = 0.5 * (lo_s + hi_s)
             size = np.asarray(cell_size(self._place(np.column_stack([mid, y[line]]))), float)
-            split = hi_s - lo_s > 1.0001 * size
-            if not split.any():
+            split_here = hi_s - lo_s > 1.0001 * size
+            if not split_here.any():
                 break
-            line = np.concatenate([line[~split], line[split], line[split]])
-            lo_s, hi_s = (np.concatenate([lo_s[~split], lo_s[split], mid[split]]),
-                          np.concatenate([hi_s[~split], mid[split], hi_s[split]]))
+            line = np.concatenate([line[~split_here], line[split_here], line[split_here]])
+            lo_s, hi_s = (np.concatenate([lo_s[~split_here], lo_s[split_here], mid[split_here]]),
+                          np.concatenate([hi_s[~split_here], mid[split_here], hi_s[split_here]]))
         half = 0.5 * (hi_s - lo_s)
         xs = (0.5 * (lo_s + hi_s))[:, None] + half[:, None] * x
         ws = half[:, None] * w * wy[line][:, None]
         p = np.column_stack([xs.ravel(), np.repeat(y[line], len(x))])
         points = self._place(p)
         return points, ws.ravel(), np.broadcast_to(self.normal, points.shape).copy()
+
+    def _split_segments(self, line, lo_s, hi_s, y, split):
+        """Segments cut at the fractions ``split`` gives for their ends in space, again on the
+        pieces until it gives no cut inside any (a grid's finer cells seen on the pieces)."""
+        done = []
+        for _ in range(32):
+            a = self._place(np.column_stack([lo_s, y[line]]))
+            b = self._place(np.column_stack([hi_s, y[line]]))
+            cuts = np.asarray(split(a, b), dtype=float).reshape(len(line), -1)
+            inner = (cuts > 1e-12) & (cuts < 1.0 - 1e-12)
+            again = inner.any(axis=1)
+            done.append((line[~again], lo_s[~again], hi_s[~again]))
+            if not again.any():
+                break
+            cuts = np.where(inner, cuts, 1.0)[again]
+            line, lo_s, hi_s = line[again], lo_s[again], hi_s[again]
+            fr = np.sort(np.column_stack([np.zeros(len(line)), cuts, np.ones(len(line))]), axis=1)
+            keep = fr[:, 1:] - fr[:, :-1] > 1e-13
+            length = (hi_s - lo_s)[:, None]
+            lo_s, hi_s = (lo_s[:, None] + fr[:, :-1] * length)[keep], (lo_s[:, None] + fr[:, 1:] * length)[keep]
+            line = np.broadcast_to(line[:, None], keep.shape)[keep]
+        else:
+            done.append((line, lo_s, hi_s))
+        return tuple(np.concatenate(parts) for parts in zip(*done))
 
     def _place(self, p: np.ndarray) -> np.ndarray:
         return self.origin + p[:, :1] * self.e0 + p[:, 1:] * self.e1

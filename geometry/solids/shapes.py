@@ -425,11 +425,12 @@ class _TransformedFace:
         x, w, n = self.face.quadrature(resolution)
         return self.solid._world(x), w, n @ self.solid.rotation.T
 
-    def graded_quadrature(self, resolution: float, cell_size=None):
+    def graded_quadrature(self, resolution: float, cell_size=None, split=None):
         if not hasattr(self.face, "graded_quadrature"):
             return self.quadrature(resolution)
         size = None if cell_size is None else (lambda local: cell_size(self.solid._world(local)))
-        x, w, n = self.face.graded_quadrature(resolution, size)
+        cut = None if split is None else (lambda a, b: split(self.solid._world(a), self.solid._world(b)))
+        x, w, n = self.face.graded_quadrature(resolution, size, cut)
         return self.solid._world(x), w, n @ self.solid.rotation.T
 
     @property

@@ -19,6 +19,7 @@ Corner order of a cell (x fastest): (0,0,0), (1,0,0), (1,1,0), (0,1,0), (0,0,1),
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -50,19 +51,19 @@ class Octree:
     constraint: sp.csr_matrix = field(repr=False, default=None)  # (N, Nf): u_nodes = T u_free
     free_nodes: np.ndarray = field(repr=False, default=None)
 
-    @property
+    @functools.cached_property
     def size(self) -> np.ndarray:
         return self.h0 / 2.0**self.level
 
-    @property
+    @functools.cached_property
     def lower(self) -> np.ndarray:
         return self.origin + self.index * self.size[:, None]
 
-    @property
+    @functools.cached_property
     def center(self) -> np.ndarray:
         return self.lower + 0.5 * self.size[:, None]
 
-    @property
+    @functools.cached_property
     def min_size(self) -> float:
         return float(self.size.min())
 
@@ -70,17 +71,25 @@ class Octree:
     def n_hanging(self) -> int:
         return len(self.nodes) - len(self.free_nodes)
 
-    def locate(self, points: np.ndarray) -> np.ndarray:
-        """Leaf index of each point (n,), -1 where no leaf holds it (points on a shared face go
-        to the cell on its upper side)."""
-        points = np.asarray(points, dtype=float).reshape(-1, 3)
-        cell = np.full(len(points), -1, dtype=np.int64)
+    @functools.cached_property
+    def _level_keys(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
+        """Per level: (level, index dims, sorted keys of its leaves, the leaves in that order)
+        (the octree does not change once built: computed on the first :meth:`locate`)."""
+        out = []
         for lv in np.unique(self.level):
             idx = np.flatnonzero(self.level == lv)
             dims = np.asarray(self.shape, dtype=np.int64) * 2 ** int(lv)
             keys = _keys(self.index[idx], dims)
             order = np.argsort(keys)
-            keys, idx = keys[order], idx[order]
+            out.append((int(lv), dims, keys[order], idx[order]))
+        return out
+
+    def locate(self, points: np.ndarray) -> np.ndarray:
+        """Leaf index of each point (n,), -1 where no leaf holds it (points on a shared face go
+        to the cell on its upper side)."""
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        cell = np.full(len(points), -1, dtype=np.int64)
+        for lv, dims, keys, idx in self._level_keys:
             ijk = np.floor((points - self.origin) / (self.h0 / 2.0**lv)).astype(np.int64)
             ok = np.all((ijk >= 0) & (ijk < dims), axis=1)
             key = _keys(np.where(ok[:, None], ijk, 0), dims)

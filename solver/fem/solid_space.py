@@ -131,12 +131,30 @@ def face_rule(face, tree, order: int = FACE_ORDER) -> tuple[np.ndarray, np.ndarr
 
         return cell_split_quadrature(face, tree.h0, tree.origin, spacing, order, cell_size=cell_size)
     if hasattr(face, "graded_quadrature"):  # points as fine as the cells they fall in
+        inward = -1e-9 * tree.min_size * np.asarray(face.normal, dtype=float)
 
-        def half_cell(points):
-            cells = tree.locate(points - 1e-9 * tree.min_size * face.normal)
-            return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size) / PANELS_PER_CELL
+        def cell_size(points):
+            cells = tree.locate(points + inward)
+            return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size)
 
-        return face.graded_quadrature(tree.h0 / PANELS_PER_CELL, half_cell)
+        def cell_faces(a, b):
+            """Fractions of the segments a -> b where they cross the planes of the cell at
+            their middle (the cells of size s lie between the planes origin + j s)."""
+            spacing = cell_size(0.5 * (a + b))
+            cuts = []
+            for k in range(3):
+                lo, hi = np.minimum(a[:, k], b[:, k]), np.maximum(a[:, k], b[:, k])
+                first = np.floor((lo - tree.origin[k]) / spacing) + 1.0
+                last = np.ceil((hi - tree.origin[k]) / spacing) - 1.0
+                span = np.where(hi > lo, b[:, k] - a[:, k], 1.0)
+                for m in range(int(max(0.0, (last - first).max(initial=-1.0) + 1.0))):
+                    plane = tree.origin[k] + (first + m) * spacing
+                    cuts.append(np.where((first + m <= last) & (hi > lo), (plane - a[:, k]) / span, 1.0))
+            return np.column_stack(cuts) if cuts else np.ones((len(a), 1))
+
+        # strips of half a cell across the lines; along them, one segment per cell crossed
+        return face.graded_quadrature(tree.h0 / PANELS_PER_CELL, lambda p: cell_size(p) / PANELS_PER_CELL,
+                                      split=cell_faces)
     return face.quadrature(tree.min_size / PANELS_PER_CELL)
 
 
