@@ -223,3 +223,18 @@ def test_a_straight_sliding_edge_of_a_2d_body_is_a_mirror():
     assert np.allclose(rec[clear], field(nodes[clear]), atol=1e-9)
     plain = nodal_stress(grid, cent, field(cent))
     assert np.abs(plain[diameter] - field(nodes[diameter])).max() > 1e-3
+
+
+def test_faces_with_quadrature_only_are_mirrors_too():
+    # the solid contract asks a face for its quadrature alone: its plane comes from the points
+    # and the feet on it are judged by the signed distance
+    body = _box(refine=False)
+    faces = {name: SimpleNamespace(quadrature=face.quadrature) for name, face in body.boundary.faces.items()}
+    boundary = SimpleNamespace(faces=faces, signed_distance=body.boundary.signed_distance)
+    cent = body.cell_centroids()
+    planes, cut = sliding_symmetry(boundary, ["x_min", "y_min"], body.grid, body.status == CUT, body.inside_volume, cent)
+    assert np.allclose(planes[0].normal, [-1, 0, 0]) and np.allclose(planes[1].normal, [0, -1, 0])
+    g, nodes = body.grid, body.grid.nodes
+    rec = patch_recovery(g.cells, g.nodes, g.size, body.inside_volume, cut, cent, _field(cent), planes)
+    clear = _away_from_other_faces(nodes)
+    assert np.allclose(rec[clear], _field(nodes[clear]), atol=1e-9)

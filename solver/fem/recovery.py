@@ -199,14 +199,22 @@ def sliding_symmetry(boundary, names, grid, status_cut: np.ndarray, inside: np.n
 
 
 def _face_planes(faces: dict, names, signed_distance, sizes) -> list:
-    """(origin, outward unit normal, on_face(feet, tol)) of the flat faces among ``names``."""
+    """(origin, outward unit normal, on_face(feet, tol)) of the flat faces among ``names``: a
+    foot on the plane is on the face where the face's projection leaves it in place (a face
+    without one: where it is on the body's boundary)."""
     found = []
     for name in names:
         face = faces.get(name)
         plane = None if face is None else _plane_of(face, signed_distance, sizes)
-        if plane is not None:  # a curved sliding face is no mirror
-            found.append(plane + (lambda feet, tol, face=face: np.linalg.norm(face.project(feet).points - feet, axis=1)
-                                  <= tol,))
+        if plane is None:
+            continue  # a curved sliding face is no mirror
+        if hasattr(face, "project"):
+            def on_face(feet, tol, face=face):
+                return np.linalg.norm(np.asarray(face.project(feet).points, float) - feet, axis=1) <= tol
+        else:
+            def on_face(feet, tol):
+                return np.abs(np.asarray(signed_distance(feet), float)) <= tol
+        found.append(plane + (on_face,))
     return found
 
 
@@ -236,11 +244,11 @@ def _plane_of(face, signed_distance, sizes) -> tuple[np.ndarray, np.ndarray] | N
     """(origin, unit outward normal) of a planar face, None for a curved one: its exact plane
     where the face names one, else its quadrature points' (all coplanar, one normal)."""
     surface = getattr(face, "surface", None)
-    if getattr(surface, "type", None) == "plane":
+    if getattr(surface, "type", None) == "plane" and hasattr(face, "project"):
         origin, normal = np.asarray(surface.origin, float), np.asarray(surface.normal, float)
         foot = np.asarray(face.project(origin[None]).points, float)[0]
         return origin, normal * _outward(foot, normal, signed_distance, float(np.min(sizes)))
-    points, _, normals = face.quadrature(4.0 * float(np.max(sizes)))
+    points, _, normals = face.quadrature(4.0 * float(np.max(sizes)))  # normals outward
     if len(points) == 0:
         return None
     normal = normals.mean(axis=0)
