@@ -158,9 +158,12 @@ def amg_cg_solve(k: sp.csr_matrix, f: np.ndarray, bodies, tolerance: float = 1e-
     scale = 1.0 / np.sqrt(np.abs(a.diagonal()))  # Jacobi scaling: cut cells' tiny diagonals
     d = sp.diags(scale)
     a = (d @ a @ d).tocsr()
+    # prolongation smoothed with row-sum (local) weights: no spectral radius estimate, which took
+    # half the setup (Lanczos on D^-1 A at every level); measured on the Lame octant (146k dofs):
+    # setup 10.8 -> 3.5 s, CG 16 -> 23 iterations, 17 -> 12 s in all (machine loaded)
     ml = pyamg.smoothed_aggregation_solver(
         a, B=rigid_body_modes(bodies, a.shape[0]) / scale[:, None], symmetry="symmetric", max_coarse=500,
-        strength=("symmetric", {"theta": 0.0}),
+        strength=("symmetric", {"theta": 0.0}), smooth=("jacobi", {"omega": 4.0 / 3.0, "weighting": "local"}),
     )
     residuals: list[float] = []
     x = ml.solve(scale * f, tol=tolerance, accel="cg", maxiter=max_iterations, residuals=residuals)

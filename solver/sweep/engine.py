@@ -147,6 +147,7 @@ class DaskSession:
         self.client = self.cluster = None
         self.description, self.workers = "", 0
         self.error: BaseException | None = None
+        self.closing: threading.Thread | None = None
         self.thread = threading.Thread(target=self._open, name="ibfem-sweep-connect", daemon=True)
         self.thread.start()
 
@@ -193,6 +194,22 @@ class DaskSession:
 
     def close(self) -> None:
         self.thread.join()
+        if self.closing is not None:
+            self.closing.join()
+            return
+        self._close()
+
+    def close_in_background(self) -> None:
+        """Start closing (workers stopped, the embedded cluster shut down: about half a second)
+        while the driver writes its table and plots; :meth:`close` waits for it."""
+        import threading
+
+        self.thread.join()
+        if self.closing is None:
+            self.closing = threading.Thread(target=self._close, name="ibfem-sweep-close", daemon=True)
+            self.closing.start()
+
+    def _close(self) -> None:
         if self.client is not None:
             self.client.close()
         if self.cluster is not None:

@@ -3,6 +3,7 @@ the cases left run on the engine, each result written as it arrives, table and p
 
 from __future__ import annotations
 
+import threading
 import time
 from collections import Counter
 from dataclasses import dataclass, field
@@ -81,6 +82,16 @@ class _Collector:
             self.last_csv = time.perf_counter()
 
 
+def _import_plotting() -> None:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot  # noqa: F401
+    except ImportError:
+        pass
+
+
 def _started(progress: SweepProgress, what: str, workers: int, quiet: bool) -> None:
     progress.set_slots(workers)
     if not quiet:
@@ -136,7 +147,10 @@ def _run(sweep: Sweep, out: Path, opts: EngineOptions, retry_failed: bool, quiet
         else:
             session.ready()
             _started(progress, session.description, session.workers, quiet)
+            if plots:  # the driver waits on the workers: load the plotting library meanwhile
+                threading.Thread(target=_import_plotting, name="ibfem-sweep-plots", daemon=True).start()
             outcome.engine = session.run(payloads, collect, runner)
+            session.close_in_background()  # overlaps the table and plots
     finally:
         progress.close()
         records.write_csv(cases, sweep.columns)
