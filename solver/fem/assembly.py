@@ -162,8 +162,8 @@ def boundary_terms(
         if isinstance(bc, BodyForce):
             f += b.body_force(_finite_vector(bc.value, f"boundary_conditions[{j}].value", b.dim))
             continue
-        bp = b.edge_points(bc.edge, settings.boundary_order)
         ess = essential_condition(bc, names, b.dim)
+        bp = b.edge_points(bc.edge, settings.boundary_order, traction=ess is not None)
         if ess is not None:
             ekind, free, target_of = ess
             proj = projector(ekind, bp.normals, free)

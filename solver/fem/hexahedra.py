@@ -115,7 +115,11 @@ def full_cube_moments() -> np.ndarray:
 
 def cell_stiffness(moments: np.ndarray, sizes: np.ndarray, k_monomial: np.ndarray) -> np.ndarray:
     """Stiffness (..., 24, 24) of cell parts with local moments (..., 27) in cells of ``sizes``."""
-    return 0.5 * np.asarray(sizes, dtype=float)[..., None, None] * np.einsum("...k,kij->...ij", moments, k_monomial)
+    moments = np.asarray(moments, dtype=float)
+    k = k_monomial.shape
+    flat = moments.reshape(-1, k[0]) @ k_monomial.reshape(k[0], -1)  # one matrix product (BLAS)
+    flat *= 0.5 * np.broadcast_to(np.asarray(sizes, dtype=float), moments.shape[:-1]).reshape(-1, 1)
+    return flat.reshape(moments.shape[:-1] + k[1:])
 
 
 def box_moments(lower: np.ndarray, upper: np.ndarray) -> np.ndarray:

@@ -74,9 +74,10 @@ class SolidDiscretisation(BodyDiscretisation):
             k = (t.T @ k @ t).tocsr()
         return k
 
-    def edge_points(self, face: str, order: int = 2) -> BoundaryPoints:
+    def edge_points(self, face: str, order: int = 2, traction: bool = True) -> BoundaryPoints:
         """Quadrature points on a face of the solid with their operators (the name follows the
-        2D edge_points: boundary conditions call it for their ``edge``, a face name in 3D)."""
+        2D edge_points: boundary conditions call it for their ``edge``, a face name in 3D);
+        without the traction operator when ``traction`` is False (loads on the face)."""
         faces = self.boundary.faces
         if face not in faces:
             raise ValueError(f"body {self.name!r} has no face {face!r}; faces: {', '.join(faces)}")
@@ -86,7 +87,7 @@ class SolidDiscretisation(BodyDiscretisation):
             weights=weights,
             normals=normals,
             cell_size=np.maximum(self.material_thickness[cells], 1e-6 * self.grid.size[cells]),
-            blocks=self.cell_blocks(points, cells, normals),
+            blocks=self.cell_blocks(points, cells, normals, traction),
         )
 
     def contains(self, points: np.ndarray) -> np.ndarray:

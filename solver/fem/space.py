@@ -155,11 +155,12 @@ class BodyDiscretisation:
         s = (self.elasticity @ np.moveaxis(b, 1, 0).reshape(nv, -1)).reshape(nv, q, c)
         return traction_of_voigt(np.moveaxis(s, 0, 1), normals)
 
-    def cell_blocks(self, points, cells, normals) -> CellBlocks:
-        """The displacement and traction operators at points as per-point cell blocks."""
+    def cell_blocks(self, points, cells, normals, traction: bool = True) -> CellBlocks:
+        """The displacement and (unless ``traction`` is False: loads only) traction operators at
+        points as per-point cell blocks."""
         n, g = self.shape(points, cells)
         return CellBlocks(cells, self.grid.cells[cells], self._displacement_blocks(n),
-                          self._traction_blocks(g, normals), self.node_dof_map)
+                          self._traction_blocks(g, normals) if traction else None, self.node_dof_map)
 
     def displacement_operator(self, points, cells, dof_map=None) -> sp.csr_matrix:
         n, _ = self.shape(points, cells)
@@ -198,8 +199,9 @@ class BodyDiscretisation:
         nodal = np.bincount(self.cell_dofs(np.arange(len(g.level))).ravel(), f.ravel(), minlength=self.dim * len(g.nodes))
         return self.node_dof_map.T @ nodal
 
-    def edge_points(self, edge: str, order: int) -> BoundaryPoints:
-        """Gauss points on every piece of an edge (exact curve, or polyline when tessellated)."""
+    def edge_points(self, edge: str, order: int, traction: bool = True) -> BoundaryPoints:
+        """Gauss points on every piece of an edge (exact curve, or polyline when tessellated);
+        without the traction operator when ``traction`` is False (loads on the edge)."""
         pc = self.grid.pieces
         if edge not in pc.curve_names:
             raise ValueError(f"body {self.name!r} has no edge {edge!r}; edges: {', '.join(pc.curve_names)}")
@@ -213,7 +215,7 @@ class BodyDiscretisation:
             weights=w,
             normals=nrm,
             cell_size=np.maximum(self.grid.material_thickness[cells], 1e-6 * self.grid.size[cells]),
-            blocks=self.cell_blocks(pts, cells, nrm),
+            blocks=self.cell_blocks(pts, cells, nrm, traction),
         )
 
     def points_on(self, points: np.ndarray, weights: np.ndarray, normals: np.ndarray) -> BoundaryPoints:

@@ -106,7 +106,7 @@ class CellBlocks:
     cells: np.ndarray  # (q,) cell holding each point
     cell_nodes: np.ndarray  # (q, p) the nodes of that cell
     displacement: np.ndarray  # (q, d, p d) N_q
-    traction: np.ndarray  # (q, d, p d) T_q
+    traction: np.ndarray | None  # (q, d, p d) T_q (None: loads only)
     node_dof_map: sp.csr_matrix  # (d N_nodes, ndof)
 
     @property
@@ -205,6 +205,8 @@ class BoundaryPoints:
     def traction(self) -> sp.csr_matrix:
         """(d q, ndof) sparse operator of sigma(u_h) n at the points."""
         if self.traction_matrix is None:
+            if self.blocks.traction is None:
+                raise ValueError("these boundary points were made for loads only (no traction operator)")
             self.traction_matrix = self.blocks.matrix(self.blocks.traction)
         return self.traction_matrix
 
@@ -217,6 +219,8 @@ class BoundaryPoints:
     def traction_at(self, u: np.ndarray) -> np.ndarray:
         """(q, d) sigma(u_h) n at the points."""
         if self.blocks is not None:
+            if self.blocks.traction is None:
+                raise ValueError("these boundary points were made for loads only (no traction operator)")
             return self.blocks.values(self.blocks.traction, u)
         return (self.traction_matrix @ u).reshape(len(self.points), -1)
 
