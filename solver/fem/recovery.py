@@ -28,7 +28,8 @@ quarter model's symmetry planes and on its axis then take the quadratic fit of a
 (or the mean of a whole one-ring) instead of a linear fit over a one-sided patch, biased by h^2
 of the curvature across the plane. Measured on examples/solid/sphere_on_flat (11.6 cells along
 a): the largest shear on the axis 0.3070 p0 at 0.5079 a -> 0.3093 p0 at 0.4846 a (Hertz
-0.3100 p0 at 0.4847 a; the raw stress C B u peaks at 0.4854 a); on spherical_cavity's
+0.3100 p0 at 0.4847 a; the raw stress C B u peaks at 0.4854 a; one level finer the depth's
+error is +1.02 % -> -0.03 %: the one-sided bias falls as h^2); on spherical_cavity's
 equatorial plane 1 to 6 cells from the cavity, s_zz against Goodier's field +1.9 to +4.1 % ->
 0.0 to +0.7 %. The linear fits next to cut cells keep their own cells: there the mirrored
 patch is symmetric and its linear fit averages a boundary's peak across the node rather than
