@@ -72,9 +72,9 @@ SPHERE_SCENE = ROOT / "examples" / "solid" / "sphere_on_flat.toml"
 SPHERE3D = {"E": 2.0e11, "nu": 0.3, "R": 1.0, "model_share": 4, "reference": "Hertz for the run's own force"}
 TARGETS_3D = (0.01, 0.003)
 # (element_size, refinement levels) of both bodies, the refinement radius as shipped (0.07)
-IBFEM_LADDER_3D = [(0.25, 4), (0.25, 5), (0.2, 5), (0.25, 6)]
+IBFEM_LADDER_3D = [(0.25, 4), (0.25, 5), (0.2, 5), (0.25, 6), (0.2, 6)]
 # NGSolve: (element size on the contact surfaces h_c, largest element size)
-NGSOLVE_LADDER_3D = [(0.024, 0.2), (0.016, 0.2), (0.012, 0.2), (0.008, 0.2)]
+NGSOLVE_LADDER_3D = [(0.024, 0.2), (0.02, 0.2), (0.016, 0.2), (0.012, 0.2), (0.008, 0.2)]
 QUICK_IBFEM_3D = [(0.25, 4), (0.25, 5)]
 QUICK_NGSOLVE_3D = [(0.024, 0.2), (0.016, 0.2)]
 
