@@ -343,7 +343,7 @@ def study_3d(args, tmp: Path) -> tuple[list[dict], list[dict], dict]:
     """The sphere_on_flat ladders (or, with --report, their rows again): rows, comparison, extras."""
     if args.report:
         data = json.loads(args.report.read_text())
-        rows, extra = [add_errors(r) for r in data["rows"]], {k: data[k] for k in ("load_average",) if k in data}
+        rows, extra = [add_errors(r) for r in data["rows"]], {k: data[k] for k in ("load_average", "load_average_after") if k in data}
     else:
         extra = {"load_average": warn_load()}
         ib = QUICK_IBFEM_3D if args.quick else IBFEM_LADDER_3D
