@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-$(shell $(PYTHON) -c "import hashlib,sys;print(hashlib.sha1(open('pyproject.toml','rb').read()).hexdigest()[:12])")
 
-.PHONY: test demo validate bench bench-peers fuzz clean
+.PHONY: test demo validate bench bench-peers bench-peers-3d fuzz clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -29,6 +29,11 @@ bench: $(STAMP)
 bench-peers: $(STAMP)
 	$(PY) -c "import ngsolve" 2>/dev/null || $(PY) -m pip install --quiet -e '.[peers]'
 	MPLBACKEND=Agg $(PY) benchmarks/peers.py
+
+# the 3D peer study of issue 15 (quarter half ball on a block, NGSolve P2 tetrahedra beside ibfem)
+bench-peers-3d: $(STAMP)
+	$(PY) -c "import ngsolve" 2>/dev/null || $(PY) -m pip install --quiet -e '.[peers]'
+	MPLBACKEND=Agg $(PY) benchmarks/peers.py --problem sphere3d
 
 # the long fuzz campaign of issue 18 (FUZZ_MINUTES, default 10)
 fuzz: $(STAMP)
