@@ -86,7 +86,12 @@ def _connect(opts: EngineOptions):
         # Dask starts workers with MALLOC_TRIM_THRESHOLD_=65536, which turns off glibc's adaptive
         # mmap threshold: every large numpy temporary is then mapped and faulted in afresh, and a
         # case runs 1.7x slower (example 4 at 5 levels: 2.7 -> 4.5 s). Our workers keep the default.
-        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+        # The workers' statistical profiler (a stack walk every 10 ms, for the dashboard) and the
+        # system monitor's 0.5 s polls are off / slowed: a sweep's tasks are long and nobody
+        # watches their profile
+        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+                              "distributed.worker.profile.enabled": False,
+                              "distributed.admin.system-monitor.interval": "5s"}):
             cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                                memory_limit=opts.memory_limit or "auto",
                                                dashboard_address=":0", silence_logs=logging.ERROR,
