@@ -137,10 +137,8 @@ def face_rule(face, tree, order: int = FACE_ORDER) -> tuple[np.ndarray, np.ndarr
             order = CURVED_FACE_ORDER
         return cell_split_quadrature(face, tree.h0, tree.origin, spacing, order, cell_size=cell_size)
     if hasattr(face, "graded_quadrature"):  # points as fine as the cells they fall in
-        inward = -1e-9 * tree.min_size * np.asarray(face.normal, dtype=float)
-
-        def cell_size(points):
-            cells = tree.locate(points + inward)
+        def cell_size(points):  # (a wrapped CAD face without a graded rule never asks: no normal)
+            cells = tree.locate(points - 1e-9 * tree.min_size * np.asarray(face.normal, dtype=float))
             return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size)
 
         def cell_faces(a, b):
