@@ -62,6 +62,15 @@ def test_class5_polygon_crossing_is_refused():
     assert _profile_refused({"type": "polygon", "points": [[0, 0], [2, 1], [2, 0], [0, 2]]})
 
 
+@pytest.mark.parametrize("points", [
+    [[0, 0], [1, 0], [1, 1], [1.0 + 1e-15, 1]],  # make fuzz (rotated 30 degrees): a far point got phi > 0
+    [[0, 0], [1e6, 0], [1e6, 1e6 + 1e-5], [1e6, 1e6]],  # a variant at another scale (1e-11 of the size)
+])
+def test_class5_polygon_points_a_hair_apart_are_refused(points):
+    with pytest.raises(ValueError, match=r"apart .*merge them"):
+        profile_from_shape({"type": "polygon", "points": points, "rotate_deg": 30.0})
+
+
 def test_class5_a_valid_profile_with_a_hole_is_accepted():
     prof = profile_from_shape({"type": "profile", "edges": square("o", (0, 0), 2), "holes": [square("h", (0, 0), 1)]})
     assert prof.area == pytest.approx(16.0 - 4.0, rel=1e-12)
