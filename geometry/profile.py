@@ -394,6 +394,13 @@ class Profile:
             sign[vtx] = np.where(usable, np.sign(s), sign[vtx])
             sign[vtx] = self._neighbour_sign(P[vtx], best[vtx], np.where(ae, self._next[e], self._prev[e]), sign[vtx])
         phi = -sign * best  # positive inside
+        # outside the bounding box is outside whatever the nearest feature's normals say (a loop
+        # that folds back on itself within the crossing check's tolerance, e.g. a spike 1e-7 wide,
+        # gave far points the inside sign: make fuzz)
+        lo, hi = self.bounds
+        margin = 1e-9 * self.size
+        beyond = np.any((P < lo - margin) | (P > hi + margin), axis=1)
+        phi = np.where(beyond, -best, phi)
         return phi, edge, tpar, c, nrm
 
     def project(self, points: Any) -> ProfileProjection:

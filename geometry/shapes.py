@@ -122,16 +122,17 @@ def _polygon(d: dict, w: str) -> list[list[BoundedCurve]]:
         if len(set(names)) != n:
             raise ValueError(f"{w}.edge_names must be unique, got {names!r}")
     edges = []
-    # consecutive points closer than this are one vertex typed twice: the edge between them has no
-    # direction to speak of (make fuzz: [1, 1], [1 + 1e-15, 1] gave far points the inside sign)
-    near = 1e-9 * float(np.max(np.ptp(pts, axis=0)))
+    # consecutive points within the round-off of their coordinates are one vertex typed twice: the
+    # edge between them has no direction (make fuzz: [1, 1], [1 + 1e-15, 1] gave far points the
+    # inside sign); a real tiny edge (a chamfer of 1e-13 at a unit corner) is kept
+    near = 64.0 * np.finfo(float).eps * max(float(np.abs(pts).max()), float(np.max(np.ptp(pts, axis=0))))
     for i in range(n):
         a, b = pts[i], pts[(i + 1) % n]
         if np.array_equal(a, b):
             raise ValueError(f"{w}.points[{i}] and {w}.points[{(i + 1) % n}] coincide ({a.tolist()})")
         if float(np.hypot(*(b - a))) <= near:
             raise ValueError(f"{w}.points[{i}] and {w}.points[{(i + 1) % n}] are {float(np.hypot(*(b - a))):.3g} apart "
-                             f"({a.tolist()}, {b.tolist()}), within 1e-9 of the polygon's size: merge them")
+                             f"({a.tolist()}, {b.tolist()}), within the round-off of their coordinates: merge them")
         edges.append(Segment(a, b, names[i]))
     return [edges]
 

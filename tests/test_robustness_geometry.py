@@ -64,11 +64,22 @@ def test_class5_polygon_crossing_is_refused():
 
 @pytest.mark.parametrize("points", [
     [[0, 0], [1, 0], [1, 1], [1.0 + 1e-15, 1]],  # make fuzz (rotated 30 degrees): a far point got phi > 0
-    [[0, 0], [1e6, 0], [1e6, 1e6 + 1e-5], [1e6, 1e6]],  # a variant at another scale (1e-11 of the size)
+    [[0, 0], [1e6, 0], [1e6, 1e6 + 1e-9], [1e6, 1e6]],  # a variant at another scale (1e-15 of it)
 ])
 def test_class5_polygon_points_a_hair_apart_are_refused(points):
     with pytest.raises(ValueError, match=r"apart .*merge them"):
         profile_from_shape({"type": "polygon", "points": points, "rotate_deg": 30.0})
+
+
+@pytest.mark.parametrize("delta", [1e-13, 1e-9, 1e-7])
+def test_class10_a_spike_below_the_crossing_tolerance_leaves_far_points_outside(delta):
+    # [1, 1] -> [1 + delta, 1] -> [0, 0]: the last side crosses side e1 delta below the corner,
+    # inside the loop check's tolerance (accepted); far away the sign must still be outside
+    prof = profile_from_shape({"type": "polygon", "points": [[0, 0], [1, 0], [1, 1], [1.0 + delta, 1]],
+                               "rotate_deg": 30.0})
+    far = np.array([[-1.0, 1e6], [1e6, 0.5], [0.3, -1e3]])
+    assert np.all(prof.signed_distance(far) < 0.0)
+    assert prof.signed_distance(np.array([[0.6, 0.55]]))[0] > 0.0  # inside the (rotated) triangle
 
 
 def test_class5_a_valid_profile_with_a_hole_is_accepted():
