@@ -128,46 +128,52 @@ def face_rule(face, tree, order: int = FACE_ORDER) -> tuple[np.ndarray, np.ndarr
     planar faces), else the face's own rule with panels of PANELS_PER_CELL per finest cell."""
     if hasattr(face, "panels") and hasattr(face, "evaluate"):
         spacing = tree.h0 / 2.0**tree.max_level
-
-        def cell_size(points, normals):
-            cells = tree.locate(points - 1e-9 * tree.min_size * normals)
-            return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size)
-
         if order == FACE_ORDER and not _planar(face):
             order = CURVED_FACE_ORDER
-        return cell_split_quadrature(face, tree.h0, tree.origin, spacing, order, cell_size=cell_size)
+        return cell_split_quadrature(face, tree.h0, tree.origin, spacing, order,
+                                     cell_size=lambda points, normals: _cell_size(tree, points, normals))
     if hasattr(face, "graded_quadrature"):  # points as fine as the cells they fall in
-        def cell_size(points):  # (a wrapped CAD face without a graded rule never asks: no normal)
-            cells = tree.locate(points - 1e-9 * tree.min_size * np.asarray(face.normal, dtype=float))
-            return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size)
-
-        def cell_faces(a, b):
-            """Fractions of the segments a -> b where they cross the planes of the cell at
-            their middle (the cells of size s lie between the planes origin + j s)."""
-            spacing = cell_size(0.5 * (a + b))
-            cuts = []
-            for k in range(3):
-                lo, hi = np.minimum(a[:, k], b[:, k]), np.maximum(a[:, k], b[:, k])
-                first = np.floor((lo - tree.origin[k]) / spacing) + 1.0
-                last = np.ceil((hi - tree.origin[k]) / spacing) - 1.0
-                span = np.where(hi > lo, b[:, k] - a[:, k], 1.0)
-                for m in range(int(max(0.0, (last - first).max(initial=-1.0) + 1.0))):
-                    plane = tree.origin[k] + (first + m) * spacing
-                    cuts.append(np.where((first + m <= last) & (hi > lo), (plane - a[:, k]) / span, 1.0))
-            return np.column_stack(cuts) if cuts else np.ones((len(a), 1))
+        # (a wrapped CAD face without a graded rule of its own never calls these: it has no normal)
+        def cell_size(points):
+            return _cell_size(tree, points, np.asarray(face.normal, dtype=float))
 
         # strips of half a cell across the lines; along them, one segment per cell crossed
         return face.graded_quadrature(tree.h0 / PANELS_PER_CELL, lambda p: cell_size(p) / PANELS_PER_CELL,
-                                      split=cell_faces)
+                                      split=lambda a, b: _cell_plane_cuts(tree.origin, a, b, cell_size(0.5 * (a + b))))
     return face.quadrature(tree.min_size / PANELS_PER_CELL)
+
+
+def _face_cells(tree, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Leaf of each face point, looked up a hair inside the solid (-1: none)."""
+    return tree.locate(points - 1e-9 * tree.min_size * normals)
+
+
+def _cell_size(tree, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+    """Size of the cell holding each face point (the finest size where none does)."""
+    cells = _face_cells(tree, points, normals)
+    return np.where(cells >= 0, tree.size[np.maximum(cells, 0)], tree.min_size)
+
+
+def _cell_plane_cuts(origin: np.ndarray, a: np.ndarray, b: np.ndarray, spacing: np.ndarray) -> np.ndarray:
+    """(n, k) fractions of the segments a -> b where they cross the planes origin + j spacing
+    (the faces of the cells of that size; 1 where there is no crossing)."""
+    cuts = []
+    for k in range(3):
+        lo, hi = np.minimum(a[:, k], b[:, k]), np.maximum(a[:, k], b[:, k])
+        first = np.floor((lo - origin[k]) / spacing) + 1.0
+        last = np.ceil((hi - origin[k]) / spacing) - 1.0
+        span = np.where(hi > lo, b[:, k] - a[:, k], 1.0)
+        for m in range(int(max(0.0, (last - first).max(initial=-1.0) + 1.0))):
+            plane = origin[k] + (first + m) * spacing
+            cuts.append(np.where((first + m <= last) & (hi > lo), (plane - a[:, k]) / span, 1.0))
+    return np.column_stack(cuts) if cuts else np.ones((len(a), 1))
 
 
 def _planar(face) -> bool:
     """Whether a parametric face is flat (its normals at a grid of parameters agree)."""
-    u = np.linspace(face.u0, face.u1, 5) if hasattr(face, "u0") else None
-    if u is None:
+    if not hasattr(face, "u0"):
         return False
-    uu, vv = np.meshgrid(u, np.linspace(face.v0, face.v1, 5), indexing="ij")
+    uu, vv = np.meshgrid(np.linspace(face.u0, face.u1, 5), np.linspace(face.v0, face.v1, 5), indexing="ij")
     _, normals, _ = face.evaluate(np.column_stack([uu.ravel(), vv.ravel()]))
     normals = np.asarray(normals, dtype=float)
     return bool(np.all(np.abs(normals - normals[0]).max(axis=1) < 1e-12))
@@ -176,7 +182,7 @@ def _planar(face) -> bool:
 def located_face_rule(face, tree, order: int = FACE_ORDER):
     """:func:`face_rule` with the cell of each point (points in no cell dropped)."""
     points, weights, normals = face_rule(face, tree, order)
-    cells = tree.locate(points - 1e-9 * tree.min_size * normals)
+    cells = _face_cells(tree, points, normals)
     keep = cells >= 0
     return points[keep], weights[keep], normals[keep], cells[keep]
 

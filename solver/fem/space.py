@@ -25,7 +25,7 @@ from .integration import (
     monomial_stiffness,
 )
 from .assembly_blocks import assemble_blocks
-from .step_boundary import BoundaryPoints, CellBlocks
+from .step_boundary import BoundaryPoints, CellBlocks, point_matrix
 from .elasticity_ops import traction_of_voigt
 from .elements import element_for
 
@@ -118,13 +118,7 @@ class BodyDiscretisation:
     def _point_matrix(self, values: np.ndarray, cells: np.ndarray, dof_map: sp.csr_matrix | None = None) -> sp.csr_matrix:
         """Sparse (rows, n_total) from per-point blocks values (q, r, cell dofs) over cell dofs;
         (rows, m) with a restricted ``dof_map`` (:meth:`restricted_dof_map`)."""
-        q, r, c = values.shape
-        # every row holds the c dofs of its point's cell: CSR directly, no COO sort
-        cols = np.broadcast_to(self.cell_dofs(cells)[:, None, :], values.shape)
-        indptr = np.arange(0, q * r * c + 1, c, dtype=np.int64)
-        m = sp.csr_matrix((values.ravel(), cols.ravel().astype(np.int64), indptr),
-                          shape=(q * r, self.dim * len(self.grid.nodes)))
-        return (m @ (self.node_dof_map if dof_map is None else dof_map)).tocsr()
+        return point_matrix(values, self.cell_dofs(cells), self.node_dof_map if dof_map is None else dof_map)
 
     def restricted_dof_map(self, dofs: np.ndarray) -> tuple[sp.csr_matrix, np.ndarray]:
         """The node-dof map restricted to the global dofs ``dofs`` (sorted): (dim N_nodes, m), and

@@ -19,6 +19,7 @@ between two grids, so the same functions couple two bodies.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,6 +38,7 @@ __all__ = [
     "projector",
     "BoundaryPoints",
     "CellBlocks",
+    "point_matrix",
     "block_diagonal",
     "thin_band_terms",
     "thin_band_traction",
@@ -90,6 +92,17 @@ def projector(kind: str, normals: np.ndarray, free: tuple[bool, ...] | None = No
     raise ValueError(f"unknown essential condition kind {kind!r}")
 
 
+def point_matrix(blocks: np.ndarray, cell_dofs: np.ndarray, dof_map: sp.csr_matrix) -> sp.csr_matrix:
+    """Sparse (q r, columns of ``dof_map``) operator of per-point blocks (q, r, cell dofs) over
+    the node dofs ``cell_dofs`` (q, cell dofs) of each point's cell, mapped by ``dof_map``
+    (node dofs -> global or restricted dofs). Every row holds its cell's dofs: CSR directly."""
+    q, r, c = blocks.shape
+    cols = np.broadcast_to(cell_dofs[:, None, :], blocks.shape).ravel().astype(np.int64)
+    m = sp.csr_matrix((blocks.ravel(), cols, np.arange(0, q * r * c + 1, c, dtype=np.int64)),
+                      shape=(q * r, dof_map.shape[0]))
+    return (m @ dof_map).tocsr()
+
+
 #: points per batch of the cell-block band terms: (batch, p d, p d) temporaries of ~40 MB in 3D
 _BAND_BATCH = 8192
 
@@ -113,6 +126,7 @@ class CellBlocks:
     def dim(self) -> int:
         return self.displacement.shape[1]
 
+    @functools.cached_property
     def cell_dofs(self) -> np.ndarray:
         """(q, p d) node-dof indices of each point's cell, [x0, y0, (z0,) x1, ...]."""
         d = self.dim
@@ -121,21 +135,20 @@ class CellBlocks:
     def values(self, blocks: np.ndarray, u: np.ndarray) -> np.ndarray:
         """(q, d): ``blocks`` (N or T) applied to the global vector u."""
         nodal = self.node_dof_map @ np.asarray(u, dtype=float)
-        return np.einsum("qdc,qc->qd", blocks, nodal[self.cell_dofs()])
+        return np.einsum("qdc,qc->qd", blocks, nodal[self.cell_dofs])
 
     def matrix(self, blocks: np.ndarray) -> sp.csr_matrix:
         """(d q, ndof) sparse operator of ``blocks``."""
-        q, d, c = blocks.shape
-        cols = np.repeat(self.cell_dofs(), d, axis=0).ravel()
-        m = sp.csr_matrix((blocks.ravel(), cols, np.arange(0, q * d * c + 1, c, dtype=np.int64)),
-                          shape=(q * d, self.node_dof_map.shape[0]))
-        return (m @ self.node_dof_map).tocsr()
+        return point_matrix(blocks, self.cell_dofs, self.node_dof_map)
+
+    def _to_dofs(self, per_dof: np.ndarray) -> np.ndarray:
+        """(ndof,) of per-point values (q, p d) on the cells' node dofs, summed and mapped by D^T."""
+        nodal = np.bincount(self.cell_dofs.ravel(), per_dof.ravel(), minlength=self.node_dof_map.shape[0])
+        return np.asarray(self.node_dof_map.T @ nodal).ravel()
 
     def load(self, vectors: np.ndarray) -> np.ndarray:
         """(ndof,): sum_q N_q^T vectors_q (vectors (q, d), weights included)."""
-        per_dof = np.einsum("qdc,qd->qc", self.displacement, vectors)
-        nodal = np.bincount(self.cell_dofs().ravel(), per_dof.ravel(), minlength=self.node_dof_map.shape[0])
-        return np.asarray(self.node_dof_map.T @ nodal).ravel()
+        return self._to_dofs(np.einsum("qdc,qd->qc", self.displacement, vectors))
 
     def band_terms(self, pen: np.ndarray, wp: np.ndarray, target: np.ndarray,
                    consistency: float) -> tuple[sp.csr_matrix, np.ndarray]:
@@ -171,9 +184,8 @@ class CellBlocks:
         per_dof = np.einsum("qdc,qd->qc", n_blocks, vectors) - consistency * np.einsum(
             "qdc,qd->qc", t_blocks, np.einsum("qij,qj->qi", wp, a))
         d_map = self.node_dof_map
-        nodal = np.bincount(self.cell_dofs().ravel(), per_dof.ravel(), minlength=d_map.shape[0])
         k_nodes = assemble_blocks(self.cell_nodes[order[first]], k_cells, d_map.shape[0] // self.dim)
-        return (d_map.T @ k_nodes @ d_map).tocsr(), np.asarray(d_map.T @ nodal).ravel()
+        return (d_map.T @ k_nodes @ d_map).tocsr(), self._to_dofs(per_dof)
 
 
 @dataclass
@@ -205,10 +217,13 @@ class BoundaryPoints:
     def traction(self) -> sp.csr_matrix:
         """(d q, ndof) sparse operator of sigma(u_h) n at the points."""
         if self.traction_matrix is None:
-            if self.blocks.traction is None:
-                raise ValueError("these boundary points were made for loads only (no traction operator)")
-            self.traction_matrix = self.blocks.matrix(self.blocks.traction)
+            self.traction_matrix = self.blocks.matrix(self._traction_blocks())
         return self.traction_matrix
+
+    def _traction_blocks(self) -> np.ndarray:
+        if self.blocks.traction is None:
+            raise ValueError("these boundary points were made for loads only (no traction operator)")
+        return self.blocks.traction
 
     def displacement_at(self, u: np.ndarray) -> np.ndarray:
         """(q, d) u_h at the points."""
@@ -219,9 +234,7 @@ class BoundaryPoints:
     def traction_at(self, u: np.ndarray) -> np.ndarray:
         """(q, d) sigma(u_h) n at the points."""
         if self.blocks is not None:
-            if self.blocks.traction is None:
-                raise ValueError("these boundary points were made for loads only (no traction operator)")
-            return self.blocks.values(self.blocks.traction, u)
+            return self.blocks.values(self._traction_blocks(), u)
         return (self.traction_matrix @ u).reshape(len(self.points), -1)
 
     def load(self, vectors: np.ndarray) -> np.ndarray:

@@ -207,10 +207,9 @@ def _graded_panels(face, lower, upper, cell_size, levels: int):
         pts, nrm, _ = face.evaluate(corners.reshape(-1, 2))
         size = np.asarray(cell_size(pts, nrm), dtype=float).reshape(-1, 5).min(axis=1)
         pts = pts.reshape(-1, 5, 3)
-        # the longer side (a panel as large as its cells: a cell holds about one panel's piece)
-        extent = np.maximum(np.linalg.norm(pts[:, 1] - pts[:, 0], axis=1), np.linalg.norm(pts[:, 2] - pts[:, 1], axis=1))
-        extent = np.maximum(extent, np.linalg.norm(pts[:, 3] - pts[:, 2], axis=1))
-        extent = np.maximum(extent, np.linalg.norm(pts[:, 0] - pts[:, 3], axis=1))
+        # the longest side (a panel as large as its cells: a cell holds about one panel's piece)
+        sides = np.roll(pts[:, :4], -1, axis=1) - pts[:, :4]
+        extent = np.linalg.norm(sides, axis=2).max(axis=1)
         split = extent > 1.0001 * size
         done_lo.append(lower[~split])
         done_hi.append(upper[~split])

@@ -82,7 +82,7 @@ def solid_demo(out: Path) -> bool:
     """The 3D part: a cached Onshape solid on a block against Hertz; whether it converged."""
     from solver.io.output import write_scene_results
     from solver.io.scene import load_scene
-    from solver.reports.validate_solid import circular_reference
+    from solver.reports.validate_solid import centre_pressure, circular_reference
     from solver.solve import solve
 
     print(f"4. 3D contact of a CAD solid: {SOLID_SCENE.relative_to(ROOT)} (about a minute)")
@@ -95,8 +95,7 @@ def solid_demo(out: Path) -> bool:
     c = summary["contacts"][0]
     n_full, a_h, p0_h = circular_reference(scene, c, 1.0 / c["model_share"])
     a = c["semi_axes"][0]
-    prof = c["pressure"]["axis0"]
-    p_centre = prof["value"][min(range(len(prof["s"])), key=lambda k: abs(prof["s"][k]))] if prof["s"] else float("nan")
+    p_centre = centre_pressure(c)
     print(f"   normal force N      {n_full:12.5g} N")
     print(f"   contact radius a    {a:12.5g} m      Hertz {a_h:.5g} m   error {100 * (a / a_h - 1):+.2f} %")
     print(f"   centre pressure p0  {p_centre:12.5g} Pa     Hertz {p0_h:.5g} Pa  error {100 * (p_centre / p0_h - 1):+.2f} %")

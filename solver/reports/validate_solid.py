@@ -110,7 +110,8 @@ def circular_reference(scene, c: dict, coverage: float) -> tuple[float, float, f
     return n_full, a_h, theory.hertz_sphere_peak_pressure(n_full, a_h)
 
 
-def _centre_pressure(c: dict) -> float:
+def centre_pressure(c: dict) -> float:
+    """The pressure of the axis0 profile at the sample nearest the contact point (NaN: no profile)."""
     pr = c["pressure"]["axis0"]
     if not pr["s"]:
         return float("nan")  # no profile along the axis (it leaves the model's sector): a FAIL
@@ -134,7 +135,7 @@ def hertz_rows(scene, summary: dict, coverage: float = 4.0, judged: bool = True)
     axes, the balance of the two bodies' supports (for information only when not ``judged``)."""
     c = summary["contacts"][0]
     n_full, a_h, p0_h = circular_reference(scene, c, coverage)
-    p0 = _centre_pressure(c)
+    p0 = centre_pressure(c)
     err_a, err_p = c["semi_axes"][0] / a_h - 1.0, p0 / p0_h - 1.0
     rms = pressure_rms(c, a_h, p0_h)
     # equilibrium of the two bodies together: every support's reaction sums to zero (the contact
@@ -219,7 +220,7 @@ def turned_rows(turned: dict, upright: dict) -> tuple[list[str], bool]:
     rows, ok = [], True
     ct, cu = turned["contacts"][0], upright["contacts"][0]
     for label, got, want in (("a", ct["semi_axes"][0], cu["semi_axes"][0]), ("N", ct["normal_force"], cu["normal_force"]),
-                             ("p0", _centre_pressure(ct), _centre_pressure(cu))):
+                             ("p0", centre_pressure(ct), centre_pressure(cu))):
         err = got / want - 1.0
         judged = label != "p0"  # the issue's invariants are a, b, c and the forces; p0 is a fit's value
         good = abs(err) <= TURNED_TOL or not judged

@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 import os
 import secrets
+import threading
 from dataclasses import dataclass
 from typing import Any, Callable
 
@@ -145,8 +146,6 @@ class DaskSession:
     cases; :meth:`run` waits for it."""
 
     def __init__(self, opts: EngineOptions, warm: bool = True):
-        import threading
-
         import_dask()
         self.opts, self.warm = opts, warm
         self.client = self.cluster = None
@@ -198,17 +197,13 @@ class DaskSession:
         return self.description
 
     def close(self) -> None:
-        self.thread.join()
-        if self.closing is not None:
-            self.closing.join()
-            return
-        self._close()
+        """Close (or finish closing, when :meth:`close_in_background` started it)."""
+        self.close_in_background()
+        self.closing.join()
 
     def close_in_background(self) -> None:
         """Start closing (workers stopped, the embedded cluster shut down: about half a second)
         while the driver writes its table and plots; :meth:`close` waits for it."""
-        import threading
-
         self.thread.join()
         if self.closing is None:
             self.closing = threading.Thread(target=self._close, name="ibfem-sweep-close", daemon=True)
