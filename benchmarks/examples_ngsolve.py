@@ -210,11 +210,10 @@ def build_mesh(scene: Scene, a: float, hc: float, hmax: float, order: int):
 
 def stress_cf(mesh, gfu):
     import ngsolve as ng
-    from peers_ngsolve import lame
+    from peers_ngsolve import hooke, lame
 
     mu, lam = lame(E, NU)
-    eps = ng.Sym(ng.Grad(gfu))
-    return 2.0 * mu * eps + lam * ng.Trace(eps) * ng.Id(2)
+    return hooke(ng.Sym(ng.Grad(gfu)), mu, lam, 2)
 
 
 def evaluate(mesh, cf, pts, inward=None):

@@ -159,36 +159,34 @@ def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> 
     return row
 
 
+def _ngsolve_row(cmd: list[str], label: str, problem: str, hc: float, hmax: float) -> tuple[dict, dict | None]:
+    """Run one NGSolve child: (the table row, the child's JSON result or None when it failed)."""
+    code, out, err, wall, peak, cpu = run_child(cmd)
+    row = {"code": label, "problem": problem, "rung": f"h_c {hc}, h_max {hmax}", "hc": hc,
+           "hmax": hmax, "wall_s": wall, "cpu_s": cpu, "peak_mb": peak, "exit": code}
+    if code != 0:
+        row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
+        return row, None
+    res = json.loads(out.strip().splitlines()[-1])
+    row.update(converged=True, a=res["a_closing"], a_fit=res["a"], N=res["N"], dofs=res["dofs"],
+               iterations=res["newton_iterations"], solver_s=res["total_in_process_s"])
+    return row, res
+
+
 def run_ngsolve(problem: str, hc: float, hmax: float, order: int = 2, threads: int = 2) -> dict:
     spec = PROBLEMS[problem]
     cmd = [sys.executable, str(HERE / "peers_ngsolve.py"), "--hc", str(hc), "--hmax", str(hmax), "--threads", str(threads),
            "--order", str(order), "--disc-E", str(spec["disc"][0]), "--disc-nu", str(spec["disc"][1]),
            "--block-E", str(spec["block"][0]), "--block-nu", str(spec["block"][1])]
-    code, out, err, wall, peak, cpu = run_child(cmd)
-    row = {"code": f"NGSolve P{order}", "problem": problem, "rung": f"h_c {hc}, h_max {hmax}", "hc": hc,
-           "hmax": hmax, "wall_s": wall, "cpu_s": cpu, "peak_mb": peak, "exit": code}
-    if code != 0:
-        row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
-        return row
-    res = json.loads(out.strip().splitlines()[-1])
-    row.update(converged=True, a=res["a_closing"], a_fit=res["a"], N=res["N"], dofs=res["dofs"],
-               iterations=res["newton_iterations"], solver_s=res["total_in_process_s"])
-    return row
+    return _ngsolve_row(cmd, f"NGSolve P{order}", problem, hc, hmax)[0]
 
 
 def run_ngsolve3d(hc: float, hmax: float, threads: int = 2) -> dict:
     cmd = [sys.executable, str(HERE / "peers_ngsolve3d.py"), "--hc", str(hc), "--hmax", str(hmax),
            "--threads", str(threads), "--E", str(SPHERE3D["E"]), "--nu", str(SPHERE3D["nu"])]
-    code, out, err, wall, peak, cpu = run_child(cmd)
-    row = {"code": "NGSolve P2", "problem": "sphere3d", "rung": f"h_c {hc}, h_max {hmax}", "hc": hc,
-           "hmax": hmax, "wall_s": wall, "cpu_s": cpu, "peak_mb": peak, "exit": code}
-    if code != 0:
-        row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
-        return row
-    res = json.loads(out.strip().splitlines()[-1])
-    row.update(converged=True, a=res["a_closing"], a_fit=res["a"], N=res["N"], dofs=res["dofs"],
-               iterations=res["newton_iterations"], solver_s=res["total_in_process_s"],
-               a_lines=res["a_closing_lines"], a_fit_lines=res["a_lines"])
+    row, res = _ngsolve_row(cmd, "NGSolve P2", "sphere3d", hc, hmax)
+    if res is not None:
+        row.update(a_lines=res["a_closing_lines"], a_fit_lines=res["a_lines"])
     return row
 
 

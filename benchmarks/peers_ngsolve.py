@@ -86,8 +86,16 @@ def lame(E: float, nu: float) -> tuple[float, float]:
     return E / (2.0 * (1.0 + nu)), E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
 
 
+def hooke(eps, mu, lam, dim: int):
+    """sigma = 2 mu eps + lambda tr(eps) I (NGSolve coefficient functions; dim 2 or 3)."""
+    import ngsolve as ng
+
+    return 2.0 * mu * eps + lam * ng.Trace(eps) * ng.Id(dim)
+
+
 def elasticity(mesh, fes, materials: dict):
-    """sigma(u) : eps(v) over both bodies, linear form of the energy."""
+    """sigma(u) : eps(v) over the bodies (``materials``: mesh material name -> (E, nu)), and the
+    energy for the nonlinear form; plane strain on a 2D mesh."""
     import ngsolve as ng
 
     mus = {k: lame(*v)[0] for k, v in materials.items()}
@@ -95,7 +103,7 @@ def elasticity(mesh, fes, materials: dict):
     mu, lam = mesh.MaterialCF(mus), mesh.MaterialCF(lams)
     u, v = fes.TnT()
     eps_u, eps_v = ng.Sym(ng.Grad(u)), ng.Sym(ng.Grad(v))
-    sigma = 2.0 * mu * eps_u + lam * ng.Trace(eps_u) * ng.Id(2)
+    sigma = hooke(eps_u, mu, lam, mesh.dim)
     return ng.InnerProduct(sigma, eps_v) * ng.dx, ng.Variation(0.5 * ng.InnerProduct(sigma, eps_u) * ng.dx)
 
 

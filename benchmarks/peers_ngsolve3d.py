@@ -45,7 +45,7 @@ import math
 import sys
 import time
 
-from peers_ngsolve import _import_ngsolve, lame, newton, opening_fit
+from peers_ngsolve import _import_ngsolve, elasticity, newton, opening_fit
 
 LIFT = 1e-5          # the ball is meshed this far above the block (m)
 DISPLACEMENT = 0.002
@@ -104,17 +104,6 @@ def build_mesh(hc: float, hmax: float, zone: float, grading: float, order: int, 
     return mesh
 
 
-def elasticity(mesh, fes, E: float, nu: float):
-    """sigma(u) : eps(v) over both bodies (one material), and the energy for the nonlinear form."""
-    import ngsolve as ng
-
-    mu, lam = lame(E, nu)
-    u, v = fes.TnT()
-    eps_u, eps_v = ng.Sym(ng.Grad(u)), ng.Sym(ng.Grad(v))
-    sigma = 2.0 * mu * eps_u + lam * ng.Trace(eps_u) * ng.Id(3)
-    return ng.InnerProduct(sigma, eps_v) * ng.dx, ng.Variation(0.5 * ng.InnerProduct(sigma, eps_u) * ng.dx)
-
-
 def space(mesh, order: int):
     """P2 vectors: the bottom and the flat top fixed in all components, the symmetry faces in
     their normal component (sliding)."""
@@ -132,7 +121,7 @@ def solve(args) -> dict:
     mesh = build_mesh(args.hc, args.hmax, args.zone, args.grading, args.order, args.depth)
     t_mesh = time.perf_counter()
     fes = space(mesh, args.order)
-    form, energy = elasticity(mesh, fes, args.E, args.nu)
+    form, energy = elasticity(mesh, fes, {m: (args.E, args.nu) for m in set(mesh.GetMaterials())})
     a = ng.BilinearForm(fes)
     a += energy
     uT = fes.TrialFunction()
