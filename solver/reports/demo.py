@@ -1,4 +1,4 @@
-"""``make demo``: the main job end to end on a cached Onshape part.
+"""``make demo``: the main job end to end on cached Onshape parts (2D, then 3D).
 
 1. Loads the cached part studio ``fixtures/onshape/half_cylinder_on_block`` and checks the
    projection of its tessellated vertices onto the exact surfaces (``ibfem verify``).
