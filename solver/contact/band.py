@@ -19,6 +19,15 @@ The half-width (default ``width_update = "edge"``): the root of the edge coeffic
 int p (4 s^2/a^2 - 1) ds / int p ds, the Chebyshev estimate of p sqrt(a^2 - s^2) at the
 region's ends (zero for the consistent width, > 0 for a punch-like region that is too small,
 < 0 with tension): continuous in a and blind to the grid-periodic traction oscillation.
+
+The region's centre (``region_centre = "pressure"``, the default): the region is
+e - a <= s <= e + a, and e is moved to the centroid of the pressure, int p s ds / int p ds,
+between width searches (as the stick ratio is). The two edge values Q(e +- a) of the same
+Chebyshev fit differ by 2 q_1 with q_1 proportional to int p (s - e) ds, so at the fixed point
+both ends are consistent, not only their mean: a contact whose gap is not symmetric about the
+contact point (a cylinder on an inclined face, example 7: the region reaches 1.02 a up the face
+and 0.98 a down it) gets its own two ends. Symmetric contacts give e = 0 to round-off on the
+first update and cost nothing more. ``region_centre = "point"``: |s| <= a, as the thesis.
 Alternatives: a bracket on the window verdicts (penetration / tension judged on one-cell means
 at the edges) or the thesis's increment rule (sections 5.5.3-5.5.4). The final state is always
 judged by the window verdicts.
@@ -94,11 +103,26 @@ class BandContact:
     # hold completely (solver.fem.space.BodyDiscretisation.restricted_dof_map)
     maps: tuple = ()
     band_fraction: float = 0.25  # the step-boundary band of the terms ([solver].band_fraction)
+    #: the region is centre - a <= s <= centre + a (the pressure's centroid; 0 with region_centre "point")
+    centre: float = 0.0
     _stick_root: object = None
 
     def stick(self, a: float) -> float:
         """Stick half-width c for the half-width a."""
         return math.inf if math.isinf(self.stick_ratio) else self.stick_ratio * a
+
+    def local(self, s: np.ndarray) -> np.ndarray:
+        """Chords measured from the region's centre (the stick zone is centred there too)."""
+        return np.asarray(s, dtype=float) - self.centre
+
+    def region_ends(self, a: float) -> tuple[float, float]:
+        """The region's ends (s_lo, s_hi) for half-width a, within the candidate region."""
+        s_plus, s_minus = self.geom.s_limits
+        return max(self.centre - a, -s_minus), min(self.centre + a, s_plus)
+
+    def a_max(self) -> float:
+        """The largest half-width about the current centre within the candidate region."""
+        return max(self.geom.s_max() - abs(self.centre), 0.0)
 
     # -------------------------------------------------- the formulation protocol
 
@@ -125,15 +149,16 @@ class BandContact:
         o = self.options
         if o.width_update == "edge":
             tol = (o.edge_tolerance if final else o.step_tolerance) * self.h
-            return edge_search(a0, self.h, tol, self.geom.s_max(), step0=0.05 * self.h if estimate else None)
+            return edge_search(a0, self.h, tol, self.a_max(), step0=0.05 * self.h if estimate else None)
         if o.width_update == "thesis":
-            return thesis_search(a0, self.h, o.width_tolerance * self.h, self.geom.s_max(), max_iterations)
+            return thesis_search(a0, self.h, o.width_tolerance * self.h, self.a_max(), max_iterations)
         tol = (o.width_tolerance if final else o.step_tolerance) * self.h
-        return bracket_search(a0, self.h, tol, self.geom.s_max(), final)
+        return bracket_search(a0, self.h, tol, self.a_max(), final)
 
     def region_too_small(self) -> ValueError:
         return ValueError(
-            f"{self.name}: the contact region reaches the end of the candidate region (s = {self.geom.s_max():.4g} m) "
+            f"{self.name}: the contact region reaches the end of the candidate region (s = {self.a_max():.4g} m "
+            f"from the region's centre {self.centre:.4g} m) "
             "and still penetrates; enlarge the contact refinement radius"
         )
 
@@ -176,9 +201,12 @@ class BandContact:
             self._stick_root = StickRoot(self.options.stick_tolerance)
 
 
-    def update_friction(self, x: np.ndarray, a: float, info) -> bool:
-        """After a width search at fixed stick ratio: update c/a from the transmitted forces (root of
-        sqrt(1 - |Q|/(mu N)) - c/a); True when consistent (always for non-frictional contacts)."""
+    def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
+        """After a width search at fixed stick ratio and centre: move the region's centre to the
+        pressure's centroid, then (once the centre has settled) update c/a from the transmitted
+        forces (root of sqrt(1 - |Q|/(mu N)) - c/a); True when both are consistent."""
+        if not self._update_centre(x, a, info, final):
+            return False
         if self.kind != "frictional":
             return True
         on2 = -_contact_force(self, info, x, a)
@@ -194,6 +222,26 @@ class BandContact:
             self.stick_ratio = nxt
         return finished
 
+
+    def _update_centre(self, x: np.ndarray, a: float, info, final: bool) -> bool:
+        """Move the centre to the pressure's centroid; True when it moved by less than the width
+        search's tolerance (``edge_tolerance`` cells in the last load step, ``step_tolerance``
+        before), or when the centre is fixed (``region_centre = "point"``)."""
+        if self.options.region_centre != "pressure" or info is None or a <= 0.0:
+            return True
+        pts = info[0]
+        p = np.einsum("qi,qi->q", _quadrature_traction(self, info, x, a), pts.normal)
+        total = float(pts.weights @ p)
+        if not total > 0.0:
+            return True  # no compression: nothing to centre on (the width search reports it)
+        centroid = float((pts.weights * p) @ pts.s) / total
+        tol = (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
+        lo, hi = -self.geom.s_limits[1] + a, self.geom.s_limits[0] - a  # keep the region in range
+        nxt = float(np.clip(centroid, min(lo, 0.0), max(hi, 0.0)))
+        if abs(nxt - self.centre) <= tol:
+            return True
+        self.centre = nxt
+        return False
 
     def finish(self) -> list[str]:
         """After the last load step: gross slip, reported."""
@@ -318,7 +366,7 @@ def _operators(c: BandContact, pts):
 def _projector(c: BandContact, pts, a: float) -> np.ndarray:
     """Constrained components of the jump per point: all where tied (|s| <= stick half-width,
     eq. 5-20), the contact normal n_c where sliding (eqs. 5-22, 5-23)."""
-    tied = np.abs(pts.s) < c.stick(a)  # strict: with c = 0 (frictionless, gross slip) nothing is tied
+    tied = np.abs(c.local(pts.s)) < c.stick(a)  # strict: with c = 0 (frictionless, gross slip) nothing is tied
     return np.where(tied[:, None, None], projector("fixed", pts.normal), projector("sliding", pts.normal))
 
 
@@ -327,11 +375,11 @@ def _terms(c: BandContact, a: float):
     m = len(c.dofs)
     if a <= 0.0:
         return np.zeros((m, m)), np.zeros(m), None
-    lo, hi = -min(a, c.geom.s_limits[1]), min(a, c.geom.s_limits[0])
+    lo, hi = c.region_ends(a)
     brk = c.breakpoints
     stick = c.stick(a)
     if 0.0 < stick < a:  # the projector changes at the stick zone's ends
-        brk = np.concatenate([brk, [-stick, stick]])
+        brk = np.concatenate([brk, [c.centre - stick, c.centre + stick]])
     pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, c.options.order, brk)
     jump, flux, size = _operators(c, pts)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
@@ -363,7 +411,7 @@ def _slip_mask(c: BandContact, pts, a: float) -> np.ndarray:
     """Points of the slip zone c <= |s| <= a that carry a friction traction."""
     if not (c.friction > 0.0 and c.slip_sign != 0.0) or a <= 0.0:
         return np.zeros(len(pts.s), dtype=bool)
-    r = np.abs(pts.s)
+    r = np.abs(c.local(pts.s))
     return (r >= c.stick(a)) & (r <= a)
 
 
@@ -396,7 +444,7 @@ def _tractions(c: BandContact, samples, e_op: np.ndarray, f_op: np.ndarray, size
     w = (e_op @ x).reshape(-1, 2) + samples.delta
     nc = samples.normal
     gap = np.einsum("qi,qi->q", w, nc)
-    inside = np.abs(samples.s) <= a
+    inside = np.abs(c.local(samples.s)) <= a
     proj = _projector(c, samples, a)
     layer = (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
         proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
@@ -443,8 +491,9 @@ def _quadrature_traction(c: BandContact, info, x: np.ndarray, a: float) -> np.nd
 
 
 def _edge_coefficient(c: BandContact, info, x: np.ndarray, a: float) -> float:
-    """Edge coefficient of the pressure on the region |s| <= a: (Q(a) + Q(-a)) / (2 Q_mean) with
-    Q(s) = p(s) sqrt(a^2 - s^2) fitted by Chebyshev polynomials of degree <= 2.
+    """Edge coefficient of the pressure on the region |s| <= a (s from the region's centre):
+    (Q(a) + Q(-a)) / (2 Q_mean) with Q(s) = p(s) sqrt(a^2 - s^2) fitted by Chebyshev polynomials
+    of degree <= 2.
 
     Every pressure on a region |s| <= a of a contact whose initial gap is quadratic in s
     (Hertz's, Mindlin's) is p(s) = Q(s) / sqrt(a^2 - s^2) with Q a quadratic: Q(+-a) != 0 is
@@ -465,11 +514,11 @@ def _edge_coefficient(c: BandContact, info, x: np.ndarray, a: float) -> float:
     total = float(wp.sum())
     if not total > 0.0:
         return -math.inf  # no compression at all: the region is far too large (or the bodies apart)
-    return float((wp * (4.0 * (pts.s / a) ** 2 - 1.0)).sum() / total)
+    return float((wp * (4.0 * (c.local(pts.s) / a) ** 2 - 1.0)).sum() / total)
 
 
 def _judge(c: BandContact, gap, pressure, inside, a) -> _Verdict:
-    s = c.samples.s
+    s = c.local(c.samples.s)
     p_mean = max(float(np.mean(pressure[inside])) if inside.any() else 0.0, 0.0)
     g_tol = c.options.gap_tolerance * c.h * max(p_mean, 1e-30) / c.e_star
     p_tol = c.options.tension_tolerance * p_mean
@@ -520,7 +569,7 @@ def _friction_checks(c: BandContact, info, x: np.ndarray, a: float, block: dict)
         if slip.any():
             out["slip_direction_violations"] = float(pts.weights[wrong].sum() / pts.weights[slip].sum())
     s = np.asarray(block["shear"]["s"])
-    stick = np.abs(s) <= min(c.stick(a), a)
+    stick = np.abs(c.local(s)) <= min(c.stick(a), a)
     if stick.any():
         q = np.abs(np.asarray(block["shear"]["value"])[stick])
         p = np.asarray(block["pressure"]["value"])[stick]

@@ -304,13 +304,13 @@ class ContactDriver:
             settled = settled and ok
             done = True
             for c, wh, a, info in zip(self.contacts, self.where, self.widths, infos):
-                done = c.update_friction(state[1][wh], a, info) and done
+                done = c.update_stick_and_shape(state[1][wh], a, info, final) and done
             tag += 1
             if done:
                 break
             if tag >= self.max_stick_iterations:
                 settled = False
-                self.messages.append(f"load step {step}: the stick zone did not settle in {tag} iterations")
+                self.messages.append(f"load step {step}: the stick zone / region shape did not settle in {tag} iterations")
                 break
         self.per_step.append(iters)
         if not settled:

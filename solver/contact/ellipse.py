@@ -6,7 +6,7 @@ body 1's exact surface, semi-axes (a, b) along the principal axes of the relativ
 The region is searched as its size a with the shape b / a held, then the shape updated, as the
 2D partial-slip driver iterates the stick ratio: the load-step driver (solver.contact.driver)
 runs the size search (``region_search``, the root of the edge coefficient) and then
-``update_friction``, which here updates b / a and asks for another size search until the shape
+``update_stick_and_shape``, which here updates b / a and asks for another size search until the shape
 settles. Edge coefficients: every Hertzian pressure on the ellipse is
 p = Q(X, Y) / sqrt(1 - X^2 - Y^2) with X = s0/a, Y = s1/b and Q quadratic; with the weights
 5 X^2 - 1 and 5 Y^2 - 1 the moments int p (5 X^2 - 1) dA and int p (5 Y^2 - 1) dA vanish for
@@ -181,7 +181,7 @@ class EllipseContact:
             self.stick_ratio = nxt
         return finished
 
-    def update_friction(self, x: np.ndarray, a: float, info) -> bool:
+    def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
         """After a size search: the shape b / a from the difference of the two edge coefficients
         (secant on log(b / a)); True when it holds (always for a circular contact)."""
         stuck = self._update_stick(x, a, info) if self.kind == "frictional" and info is not None else True

@@ -23,7 +23,8 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
     from .tractions import modes_for, recover_tractions
 
     s_plus, s_minus = c.geom.s_limits
-    out_s = np.linspace(-min(1.25 * a, s_minus), min(1.25 * a, s_plus), 201) if a > 0 else np.zeros(1)
+    e = float(c.centre)
+    out_s = np.linspace(max(e - 1.25 * a, -s_minus), min(e + 1.25 * a, s_plus), 201) if a > 0 else np.zeros(1)
     cell = _contact_cell(c)
     prof = recover_tractions(c, u, a, cell)
     friction = float(getattr(c.model, "friction", 0.0) or 0.0)
@@ -37,6 +38,8 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
         "tangent": tan.tolist(),
         "half_width": float(a),
         "stick_half_width": float(min(c.stick(a), a)),
+        "region_centre": e,
+        "region": [e - float(a), e + float(a)] if a > 0 else [0.0, 0.0],
         "normal_force": float(-on2 @ nrm),
         "tangential_force": float(on2 @ tan),
         "pressure": {"s": out_s.tolist(), "value": prof.pressure(out_s).tolist()},

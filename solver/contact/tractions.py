@@ -67,13 +67,14 @@ class TractionProfile:
     clipped_force: float = 0.0  # |force| removed by clipping tension / shear above mu p
     clipped: float = 0.0  # fraction of the region where the clipping acted
     singular: bool = False  # shear modes T_k / sqrt(1 - x^2) (a tied zone inside a frictionless region)
+    centre: float = 0.0  # the region (and the stick zone) is centred at s = centre
 
     def pressure(self, s: np.ndarray) -> np.ndarray:
-        return np.maximum(_series(self.p_coef, s, self.a), 0.0)
+        return np.maximum(_series(self.p_coef, np.asarray(s, dtype=float) - self.centre, self.a), 0.0)
 
     def shear(self, s: np.ndarray) -> np.ndarray:
-        s = np.asarray(s, dtype=float)
         p = self.pressure(s)
+        s = np.asarray(s, dtype=float) - self.centre
         if self.sign == 0.0:
             q = _series(self.q_coef, s, self.c, singular=self.singular)
             if self.friction > 0.0:
@@ -154,17 +155,17 @@ def modes_for(half: float, cell: float) -> int:
 
 
 def quadrature_tractions(c, u: np.ndarray, a: float):
-    """Quadrature points of the region |s| <= a (split at both grids' lines and the stick zone's
-    ends, as the formulation's terms) with the traction on body 1 there, friction included:
-    (points, pressure, shear) with compression positive and the shear on body 2 along the
-    local tangent."""
+    """Quadrature points of the region |s - e| <= a (e the region's centre; split at both grids'
+    lines and the stick zone's ends, as the formulation's terms) with the traction on body 1
+    there, friction included: (points, pressure, shear) with compression positive and the shear
+    on body 2 along the local tangent."""
     from .band import _operators, _tractions
 
-    lo, hi = -min(a, c.geom.s_limits[1]), min(a, c.geom.s_limits[0])
+    lo, hi = c.region_ends(a)
     brk = c.breakpoints
     stick = c.stick(a)
     if 0.0 < stick < a:
-        brk = np.concatenate([brk, [-stick, stick]])
+        brk = np.concatenate([brk, [c.centre - stick, c.centre + stick]])
     pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, c.options.order, brk)
     jump, flux, size = _operators(c, pts)
     _, t1, _ = _tractions(c, pts, jump, flux, size, u[c.dofs], a)
@@ -183,7 +184,7 @@ def recover_tractions(c, u: np.ndarray, a: float, cell: float) -> TractionProfil
     if not a > 0.0:
         return TractionProfile(a, 0.0, 0.0, friction, np.zeros(0), np.zeros(0), np.zeros(0))
     pts, p, q = quadrature_tractions(c, u, a)
-    s, w = pts.s, pts.weights
+    s, w = c.local(pts.s), pts.weights  # from the region's centre
     p_coef = project(s, w, p, a, modes_for(a, cell))
     stick = min(c.stick(a), a)
     sign = float(c.slip_sign) if (coulomb and stick < a) else 0.0
@@ -196,7 +197,8 @@ def recover_tractions(c, u: np.ndarray, a: float, cell: float) -> TractionProfil
         r = sign * friction * p - q  # zero in the slip zones
         r_coef = project(s, w, r, stick, modes_for(stick, cell)) if stick > 0.0 else np.zeros(0)
         prof = TractionProfile(a, stick, sign, friction, p_coef, np.zeros(0), r_coef)
-    prof.clipped_force = float(abs(w @ prof.pressure(s) - w @ p) + abs(w @ prof.shear(s) - w @ q))
+    prof.centre = float(c.centre)
+    prof.clipped_force = float(abs(w @ prof.pressure(pts.s) - w @ p) + abs(w @ prof.shear(pts.s) - w @ q))
     prof.clipped = _clipped_fraction(prof, np.linspace(-a, a, 401))
     return prof
 

@@ -15,12 +15,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 
-__all__ = ["SolverOptions", "ContactOptions", "OptionError", "WIDTH_UPDATES", "FLUXES", "CONTACT_NORMALS",
+__all__ = ["SolverOptions", "ContactOptions", "OptionError", "WIDTH_UPDATES", "FLUXES", "CONTACT_NORMALS", "REGION_CENTRES",
            "FORMULATION_NAMES"]
 
 WIDTH_UPDATES = ("edge", "bracket", "thesis")
 FLUXES = ("average", "body1", "body1_half")
 CONTACT_NORMALS = ("frame", "pair")
+REGION_CENTRES = ("pressure", "point")
 LINEAR_SOLVERS = ("auto", "direct", "iterative")
 #: the names solver.contact.formulation.FORMULATIONS registers (kept equal by a test; the
 #: contact layer is above this one)
@@ -151,12 +152,16 @@ class ContactOptions:
     contact_normal: str = "frame"
     stick_tolerance: float = 1e-3  # |sqrt(1 - |Q|/(mu N)) - c/a| at the returned state
     max_stick_iterations: int = 30
+    #: the region's centre: "pressure" (e - a <= s <= e + a, e the pressure's centroid: a
+    #: region of its own two ends) or "point" (|s| <= a about the contact point, the thesis's)
+    region_centre: str = "pressure"
 
     def __post_init__(self):
         _choice(self, "formulation", FORMULATION_NAMES)
         _choice(self, "width_update", WIDTH_UPDATES)
         _choice(self, "flux", FLUXES)
         _choice(self, "contact_normal", CONTACT_NORMALS)
+        _choice(self, "region_centre", REGION_CENTRES)
         _integer(self, "order", 1, 20)
         _integer(self, "max_width_iterations", 1, 10_000)
         _integer(self, "max_stick_iterations", 1, 10_000)
