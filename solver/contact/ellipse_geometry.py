@@ -153,10 +153,25 @@ def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
     return ContactFrame3D(point=mid, normal=normal, axes=axes, curvatures=curv)
 
 
+#: secant rounds of the fast path before a line goes through the scan
+SECANT_ROUNDS = 10
+#: the largest ratio of successive distances below the root at which the fast path checks that the
+#: line is outside the body all the way down to -reach (each sample's |phi| clears a ball around it)
+COVER_RATIO = 16.0
+
+
 def surface_point(solid, frame: ContactFrame3D, s: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
     """Points x1 = y + t n (n, 3) of a solid's surface above the tangent-plane points y(s) (s (n, 2)
-    along the frame's axes), the exact zero of its signed distance on t in [-reach, reach], and a
-    mask of the lines that cross the surface there."""
+    along the frame's axes), the exact zero of its signed distance on t in [-reach, reach] (the
+    first entry into the body going up the line), and a mask of the lines that cross the surface
+    there (the distance grows across the root: slope >= 1/4 along n).
+
+    Fast path: a secant from the tangent plane (t = 0), the root then certified as the first entry
+    by the distance's Lipschitz bound (|phi(x)| clears a ball around x: samples below the root at
+    geometrically growing distances whose balls overlap down to -reach) and a strict sign change
+    around it. Lines it cannot certify (no crossing near the plane, a line along a face such as a
+    quarter model's symmetry plane, a steep or re-entrant surface) go through a 33-sample scan of
+    [-reach, reach] and an Illinois regula falsi on the first bracketed entry."""
     y = frame.point + s[:, :1] * frame.axes[0] + s[:, 1:] * frame.axes[1]
     n = frame.normal
     tol = 1e-12 * reach
@@ -165,46 +180,141 @@ def surface_point(solid, frame: ContactFrame3D, s: np.ndarray, reach: float) -> 
         v = np.asarray(solid.signed_distance(x), float)
         return np.where(np.abs(v) <= tol, 0.0, v)
 
-    # the first entry into the body going up the line (the line may leave a thin body again)
+    t, found, rate = _secant_roots(f, y, n, reach)
+    ok = np.zeros(len(s), dtype=bool)
+    i = np.nonzero(found)[0]
+    ok[i], on_face, f_below = _certified(f, y[i], n, t[i], rate[i], reach)
+    j = np.nonzero(on_face)[0]
+    if len(j):  # a face along the line above the root: its lower end, within d below (bisection)
+        d = 1e-10 * reach
+        k = i[j]
+        t[k] = _illinois(f, y[k], n, t[k] - d, t[k], f_below[j], np.zeros(len(k)), reach)
+        ok[k] = _slope_test(f, y[k] + t[k, None] * n, n, reach)
+    rest = np.nonzero(~ok)[0]
+    if len(rest):
+        t[rest], ok[rest] = _scanned_roots(f, y[rest], n, reach)
+    return y + t[:, None] * n, ok
+
+
+def _secant_roots(f, y: np.ndarray, n: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Zeros t (m,) of f(y + t n) by a secant from t = 0 (first step: slope 1, the signed
+    distance's along the normal at the contact point), iterating only the lines not yet on the
+    surface; the mask of lines that reached it (|phi| <= tol) inside [-reach, reach], and the last
+    secant slope of each line (1 where the plane point is on the surface)."""
+    m = len(y)
+    t = np.zeros(m)
+    found = np.zeros(m, dtype=bool)
+    rate = np.ones(m)
+    t0 = np.zeros(m)
+    f0 = f(y)
+    found[f0 == 0.0] = True
+    act = np.nonzero(~found)[0]
+    t1 = t0[act] - f0[act]
+    t0, f0 = t0[act], f0[act]
+    for _ in range(SECANT_ROUNDS):
+        inside = np.abs(t1) <= reach
+        act, t0, f0, t1 = act[inside], t0[inside], f0[inside], t1[inside]
+        if not len(act):
+            break
+        f1 = f(y[act] + t1[:, None] * n)
+        hit = f1 == 0.0
+        t[act[hit]] = t1[hit]
+        found[act[hit]] = True
+        slope = (f1 - f0) / np.where(t1 != t0, t1 - t0, np.inf)
+        rate[act] = slope
+        going = ~hit & (slope >= 0.125)  # a shallow or falling line: the scan decides
+        act, t0, f0, t1, f1, slope = act[going], t1[going], f1[going], t1[going], f1[going], slope[going]
+        t1 = t1 - f1 / slope
+    return t, found, rate
+
+
+def _certified(f, y: np.ndarray, n: np.ndarray, t: np.ndarray, rate: np.ndarray, reach: float):
+    """Whether the zeros t (m,) on the lines y + t n are their first entries into the body in
+    [-reach, reach] with a real crossing: samples at t - d q^k (k = 0, 1, ...; and -reach) all
+    outside (f < 0) with balls of radius |f| overlapping, f > 0 just above (d) and the scan path's
+    slope test. Also: the lines that pass all but f > 0 above (a face along the line from the root
+    up, whose lower end lies within d below t) and f(t - d). The ratio q per line from its slope
+    ``rate`` along the line (|f| ~ rate x distance below the root: balls overlap up to
+    q = (1 + rate) / (1 - rate)), with margins."""
+    m = len(t)
+    if not m:
+        return np.zeros(0, bool), np.zeros(0, bool), np.zeros(0)
+    d, eps = 1e-10 * reach, 1e-6 * reach
+    r = 0.9 * np.clip(rate, 0.0, 1.0)  # a margin for distances that are not exactly Lipschitz-1
+    q = np.clip(0.8 * (1.0 + r) / np.maximum(1.0 - r, 1e-3), 2.0, COVER_RATIO)  # 0.8: slack
+    span = np.maximum(t + reach, d)
+    count = np.ceil(np.log(span / d) / np.log(q)).astype(int)  # d q^count >= span: at -reach
+    k = np.arange(count.max() + 1)
+    below = np.maximum(t[:, None] - d * q[:, None] ** k[None, :], -reach)
+    below[k[None, :] >= count[:, None]] = -reach
+    valid = k[None, :] <= count[:, None]  # the last one at -reach
+    v = np.full(below.shape, -np.inf)
+    extra = np.column_stack([t + d, t + eps, t - eps])
+    chain = (y[:, None, :] + below[:, :, None] * n)[valid]
+    values = f(np.concatenate([chain, (y[:, None, :] + extra[:, :, None] * n).reshape(-1, 3)]))
+    v[valid] = values[:len(chain)]
+    up_d, up, down = values[len(chain):].reshape(m, 3).T
+    radius = np.where(valid, 0.9 * np.abs(v), np.inf)
+    cover = (below[:, :-1] - below[:, 1:] <= radius[:, :-1] + radius[:, 1:]).all(axis=1)
+    first = (v < 0.0).all(axis=1) & cover & (up - down > 0.5 * eps)
+    return first & (up_d > 0.0), first & (up_d == 0.0), v[:, 0]
+
+
+def _slope_test(f, x1: np.ndarray, n: np.ndarray, reach: float) -> np.ndarray:
+    """A real crossing of the surface at x1: the distance grows across it (slope >= 1/4 along n).
+    A line that runs along a face a hair outside it (a symmetry plane at a quarter model's sector
+    edge) sees only round-off change sign, and its "root" may lie anywhere on the face; a line on
+    the face itself still crosses the contact surface properly."""
+    eps = 1e-6 * reach
+    up, down = (np.asarray(f(x1 + sign * eps * n), float) for sign in (1.0, -1.0))
+    return up - down > 0.5 * eps
+
+
+def _scanned_roots(f, y: np.ndarray, n: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
+    """The robust path: the first entry among 33 samples of [-reach, reach], an Illinois regula
+    falsi in it (only the lines not yet converged), and the slope test."""
+    m = len(y)
     t = np.linspace(-reach, reach, 33)
-    values = np.asarray(f((y[:, None, :] + t[None, :, None] * n).reshape(-1, 3)), float).reshape(len(s), len(t))
+    values = np.asarray(f((y[:, None, :] + t[None, :, None] * n).reshape(-1, 3)), float).reshape(m, len(t))
     entry = (values[:, :-1] < 0.0) & (values[:, 1:] >= 0.0)
     ok = entry.any(axis=1)
     first = np.argmax(entry, axis=1)
-    lo, hi = t[first], t[first + 1]
-    rows = np.arange(len(s))
-    flo, fhi = values[rows, first], values[rows, first + 1]
-    t = np.zeros(len(s))
+    rows = np.arange(m)
+    lo, hi, flo, fhi = t[first], t[first + 1], values[rows, first], values[rows, first + 1]
+    t = np.zeros(m)
     i = np.nonzero(ok)[0]
-    a, b, fa, fb = lo[i], hi[i], flo[i], fhi[i]
-    side = np.zeros(len(i), dtype=np.int8)
+    if len(i):
+        t[i] = _illinois(f, y[i], n, lo[i], hi[i], flo[i], fhi[i], reach)
+        ok[i] = _slope_test(f, y[i] + t[i, None] * n, n, reach)
+    return t, ok
+
+
+def _illinois(f, y, n, a, b, fa, fb, reach: float) -> np.ndarray:
+    """Zeros in the brackets [a, b] (f(a) < 0 <= f(b)) on the lines y + t n, each line iterated
+    until its bracket or step is at round-off."""
     x = a.copy()
+    out = np.zeros(len(a))
+    act = np.arange(len(a))
+    side = np.zeros(len(a), dtype=np.int8)
     for _ in range(200):
         # b exactly on the surface: the line may run along a face there (phi = 0 on a stretch, a
         # quarter model's axis on its symmetry plane), whose lower end is the point: bisect
         plateau = fb == 0.0
         xn = np.where(plateau, 0.5 * (a + b), b - fb * (b - a) / np.where(fb != fa, fb - fa, 1.0))
         done = (np.abs(b - a) <= 1e-13 * reach) | (~plateau & (np.abs(xn - x) <= 1e-16 * reach))
-        x = xn
-        fx = np.asarray(f(y[i] + x[:, None] * n), float)
+        out[act] = xn
+        keep = ~done
+        act, a, b, fa, fb, side, x = act[keep], a[keep], b[keep], fa[keep], fb[keep], side[keep], xn[keep]
+        if not len(act):
+            break
+        fx = np.asarray(f(y[act] + x[:, None] * n), float)
         left = (fx < 0.0) == (fa < 0.0)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         fb = np.where(left & (side == 1), 0.5 * fb, fb)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
         fa = np.where(~left & (side == -1), 0.5 * fa, fa)
         side = np.where(left, 1, -1).astype(np.int8)
-        if done.all():
-            break
-    t[i] = x
-    # a real crossing of the surface: the distance grows across the root (slope >= 1/4 along n).
-    # A line that runs along a face a hair outside it (a symmetry plane at a quarter model's
-    # sector edge) sees only round-off change sign, and its "root" may lie anywhere on the face;
-    # a line on the face itself still crosses the contact surface properly
-    eps = 1e-6 * reach
-    x1 = y[i] + x[:, None] * n
-    up, down = (np.asarray(f(x1 + sign * eps * n), float) for sign in (1.0, -1.0))
-    ok[i] = up - down > 0.5 * eps
-    return y + t[:, None] * n, ok
+    return out
 
 
 def sectors(solid1, frame: ContactFrame3D, radius: float, reach: float, samples: int = 720) -> list[tuple[float, float]]:
