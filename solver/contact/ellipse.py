@@ -86,6 +86,9 @@ class EllipseContact:
     slip_direction: np.ndarray | None = None  # unit tangential force on body 2 (the slip zone's traction on body 1 opposes it)
     beta: float = math.nan  # |Q| / N of the last state
     _stick_root: object = None
+    #: the ellipse's centre in the tangent plane (along the axes): the pressure's centroid where
+    #: body 1 has surface all around the contact point and region_centre is "pressure", else 0
+    centre: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     @property
     def name(self) -> str:
@@ -93,6 +96,16 @@ class EllipseContact:
 
     def semi_axes(self, a: float) -> tuple[float, float]:
         return a, self.ratio * a
+
+    def local(self, s: np.ndarray) -> np.ndarray:
+        """Tangent-plane coordinates (n, 2) from the ellipse's centre."""
+        return np.asarray(s, dtype=float) - self.centre
+
+    @property
+    def centred(self) -> bool:
+        """Whether the centre may move: body 1 all around the contact point (a symmetric model's
+        symmetry planes pass through it and hold the centre there)."""
+        return self.options.region_centre == "pressure" and sum(t1 - t0 for t0, t1 in self.ranges) >= 2 * math.pi - 1e-9
 
     # -------------------------------------------------- the formulation protocol
 
@@ -105,7 +118,7 @@ class EllipseContact:
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
         o = self.options
         tol = (o.edge_tolerance if final else o.step_tolerance) * self.h
-        a_max = self.extent / max(1.0, self.ratio)
+        a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / max(1.0, self.ratio)
         return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
 
     def region_too_small(self) -> ValueError:
@@ -118,7 +131,7 @@ class EllipseContact:
             return np.zeros((m, m)), np.zeros(m), None
         aa, bb = self.semi_axes(a)
         pts = region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
-                            self.reach, REGION_ORDER)
+                            self.reach, REGION_ORDER, centre=self.centre)
         jump, flux, size = _operators(self, pts)
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
@@ -181,9 +194,29 @@ class EllipseContact:
             self.stick_ratio = nxt
         return finished
 
+    def _update_centre(self, x: np.ndarray, a: float, info, final: bool) -> bool:
+        """Move the centre to the pressure's centroid (the 2D rule, solver.contact.band); True when
+        it moved by less than the size search's tolerance, or cannot move."""
+        if not self.centred or info is None or a <= 0.0:
+            return True
+        pts = info[0]
+        wp = pts.weights * np.einsum("qi,qi->q", _quadrature_traction(self, info, x), pts.normal)
+        total = float(wp.sum())
+        if not total > 0.0:
+            return True
+        centroid = (wp @ pts.s) / total
+        tol = (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
+        if float(np.abs(centroid - self.centre).max()) <= tol:
+            return True
+        self.centre = centroid
+        return False
+
     def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
-        """After a size search: the shape b / a from the difference of the two edge coefficients
-        (secant on log(b / a)); True when it holds (always for a circular contact)."""
+        """After a size search: the centre at the pressure's centroid, then (once it has settled)
+        the shape b / a from the difference of the two edge coefficients (secant on log(b / a));
+        True when both hold (the shape always for a circular contact)."""
+        if not self._update_centre(x, a, info, final):
+            return False
         stuck = self._update_stick(x, a, info) if self.kind == "frictional" and info is not None else True
         if self.circular or info is None:
             return stuck
@@ -285,7 +318,8 @@ def _operators(c: EllipseContact, pts: RegionPoints):
 
 def _normalised_radius(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
     aa, bb = c.semi_axes(a)
-    return np.hypot(pts.s[:, 0] / aa, pts.s[:, 1] / bb)
+    s = c.local(pts.s)
+    return np.hypot(s[:, 0] / aa, s[:, 1] / bb)
 
 
 def _projector(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
@@ -349,7 +383,8 @@ def _edge_coefficients(c: EllipseContact, info, x: np.ndarray, a: float) -> tupl
     total = float(wp.sum())
     if not total > 0.0:
         return -math.inf, -math.inf
-    X, Y = pts.s[:, 0] / aa, pts.s[:, 1] / bb
+    s = c.local(pts.s)
+    X, Y = s[:, 0] / aa, s[:, 1] / bb
     return float((wp * (5.0 * X**2 - 1.0)).sum() / total), float((wp * (5.0 * Y**2 - 1.0)).sum() / total)
 
 
@@ -358,8 +393,13 @@ def _sample_state(c: EllipseContact, x: np.ndarray, a: float):
     distance beyond the region's edge along its axis (negative inside)."""
     smp = c.samples
     aa, bb = c.semi_axes(a)
-    reach = np.where(c.sample_axis == 0, aa, bb)
-    along = np.abs(smp.s[np.arange(len(smp.s)), c.sample_axis])
+    s = c.local(smp.s)
+    rows = np.arange(len(s))
+    # the chord of the ellipse along each sample's axis line (through the contact point; it misses
+    # the centre by the centre's other coordinate)
+    across = s[rows, 1 - c.sample_axis] / np.where(c.sample_axis == 0, bb, aa)
+    reach = np.where(c.sample_axis == 0, aa, bb) * np.sqrt(np.clip(1.0 - across**2, 0.0, None))
+    along = np.abs(s[rows, c.sample_axis])
     inside = along <= reach
     w = (c.e_samples @ x).reshape(-1, 3) + smp.delta
     gap = np.einsum("qi,qi->q", w, smp.normal)

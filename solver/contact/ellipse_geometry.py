@@ -400,10 +400,11 @@ def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoin
 
 
 def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ranges, grids, panel: float,
-                  reach: float, order: int = 3) -> RegionPoints:
-    """Quadrature of the ellipse (s0/a)^2 + (s1/b)^2 <= 1 on body 1 over the angular ``ranges``,
-    cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at most
-    ``panel`` across."""
+                  reach: float, order: int = 3, centre=(0.0, 0.0)) -> RegionPoints:
+    """Quadrature of the ellipse ((s0 - e0)/a)^2 + ((s1 - e1)/b)^2 <= 1 (``centre`` e in the
+    tangent plane; a symmetric model's sectors only about e = 0) on body 1 over the angular
+    ``ranges``, cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at
+    most ``panel`` across."""
     lowers, uppers = [], []
     n_rho = max(2, int(math.ceil(max(a, b) / panel)))
     for t0, t1 in ranges:
@@ -414,10 +415,10 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
         lowers.append(np.column_stack([r0.ravel(), t_0.ravel()]))
         uppers.append(np.column_stack([r1.ravel(), t_1.ravel()]))
     lower, upper = np.concatenate(lowers), np.concatenate(uppers)
-    scale = np.array([a, b])
+    scale, shift = np.array([a, b]), np.asarray(centre, dtype=float)
 
     def plane(rt):
-        return scale * rt[:, :1] * np.stack([np.cos(rt[:, 1]), np.sin(rt[:, 1])], axis=1)
+        return shift + scale * rt[:, :1] * np.stack([np.cos(rt[:, 1]), np.sin(rt[:, 1])], axis=1)
 
     corners = np.stack([lower, np.column_stack([upper[:, 0], lower[:, 1]]), upper,
                         np.column_stack([lower[:, 0], upper[:, 1]])], axis=1).reshape(-1, 2)

@@ -38,6 +38,8 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     out = {"bodies": list(c.model.bodies), "type": c.kind, "friction": float(getattr(c.model, "friction", 0.0) or 0.0),
            "point": frame.point.tolist(), "normal": frame.normal.tolist(), "axes": frame.axes.tolist(),
            "semi_axes": [float(aa), float(bb)],
+           # the ellipse's centre from the contact point along the axes (the pressure's centroid)
+           "region_centre": [float(v) for v in c.centre],
            "stick_semi_axes": [float(min(c.stick_ratio, 1.0) * aa), float(min(c.stick_ratio, 1.0) * bb)],
            # the share of the whole contact the model holds: the angle of body 1's sectors around
            # the contact point over 2 pi (a quarter model cut by two symmetry planes: 0.25)
@@ -51,15 +53,16 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         return out
     pts = info[0]
     t1 = c.quadrature_traction(info, u[c.dofs])
-    X, Y = pts.s[:, 0] / aa, pts.s[:, 1] / bb
+    local = c.local(pts.s)
+    X, Y = local[:, 0] / aa, local[:, 1] / bb
     p = np.einsum("qi,qi->q", t1, pts.normal)
     fit_p = fit_profile(X, Y, pts.weights, p)
     shear_at = _shear_profiles(c, X, Y, pts.weights, t1, fit_p)
-    for k, reach in ((0, aa), (1, bb)):
-        s = np.linspace(-1.25 * reach, 1.25 * reach, 201)
-        present = c.on_body1(k, s)
+    for k, reach in ((0, aa), (1, bb)):  # along the axis through the ellipse's centre, s from the contact point
+        s = c.centre[k] + np.linspace(-1.25 * reach, 1.25 * reach, 201)
+        present = c.on_body1(k, s) if not np.any(c.centre) else np.ones(len(s), bool)
         XY = np.zeros((len(s), 2))
-        XY[:, k] = s / reach
+        XY[:, k] = (s - c.centre[k]) / reach
         pressure = np.clip(_basis(XY[:, 0], XY[:, 1]) @ fit_p, 0.0, None)
         shear = shear_at(k, XY[:, 0], XY[:, 1])
         out["pressure"][f"axis{k}"] = {"s": s[present].tolist(), "value": pressure[present].tolist()}

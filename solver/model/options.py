@@ -152,8 +152,9 @@ class ContactOptions:
     contact_normal: str = "frame"
     stick_tolerance: float = 1e-3  # |sqrt(1 - |Q|/(mu N)) - c/a| at the returned state
     max_stick_iterations: int = 30
-    #: the region's centre: "pressure" (e - a <= s <= e + a, e the pressure's centroid: a
-    #: region of its own two ends) or "point" (|s| <= a about the contact point, the thesis's)
+    #: the region's centre: "pressure" (2D: e - a <= s <= e + a, e the pressure's centroid: a
+    #: region of its own two ends; 3D: the ellipse centred there) or "point" (about the contact
+    #: point, the thesis's)
     region_centre: str = "pressure"
 
     def __post_init__(self):
