@@ -199,12 +199,9 @@ class EllipseContact:
         it moved by less than the size search's tolerance, or cannot move."""
         if not self.centred or info is None or a <= 0.0:
             return True
-        pts = info[0]
-        wp = pts.weights * np.einsum("qi,qi->q", _quadrature_traction(self, info, x), pts.normal)
-        total = float(wp.sum())
-        if not total > 0.0:
+        centroid = _pressure_centroid(self, info, x)
+        if not np.isfinite(centroid).all():
             return True
-        centroid = (wp @ pts.s) / total
         tol = (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
         if float(np.abs(centroid - self.centre).max()) <= tol:
             return True
@@ -247,6 +244,11 @@ class EllipseContact:
         elif v.penetration_count:
             messages.append(f"{self.name}: the bodies interpenetrate outside the contact ellipse at "
                             f"{v.penetration_count} sample points (smallest gap {v.min_gap:.3g} m)")
+        offset = self._centroid_offset(x, a, info)
+        if offset > CENTROID_TOLERANCE:
+            messages.append(f"{self.name}: the pressure's centroid lies {offset:.3g} of the semi-axes from the contact "
+                            f"ellipse's centre {np.round(self.centre, 9).tolist()} m: the ellipse is off-centre "
+                            "(region_centre = \"pressure\" centres it)")
         if not self.circular and abs(v.edges[0] - v.edges[1]) > 2.0 * SHAPE_TOLERANCE:
             messages.append(f"{self.name}: the ellipse's shape did not settle (edge coefficients {v.edges[0]:.3g}, "
                             f"{v.edges[1]:.3g})")
@@ -254,8 +256,17 @@ class EllipseContact:
                            "edge_gap": v.gap, "edge_pressure": v.pressure, "penetration_points": v.penetration_count,
                            "tension_points": v.tension_count, "min_gap": v.min_gap,
                            "min_pressure": v.min_pressure, "edge_coefficients": list(v.edges),
+                           "centroid_offset": offset,
                            "size_bracket": list(bracket)}
         return messages
+
+    def _centroid_offset(self, x: np.ndarray, a: float, info) -> float:
+        """|pressure centroid - centre| in semi-axes; 0 where body 1 is a symmetric model's sector
+        (its centroid is off the contact point by construction)."""
+        if info is None or a <= 0.0 or sum(t1 - t0 for t0, t1 in self.ranges) < 2 * math.pi - 1e-9:
+            return 0.0
+        d = _pressure_centroid(self, info, x) - self.centre
+        return float(np.hypot(*(d / np.array(self.semi_axes(a)))))
 
     def history_entry(self, v: _Verdict, a: float, step: int, iteration: int, tag: int, ratio: float) -> None:
         self.history.append({"step": step, "iteration": iteration, "semi_axes": list(self.semi_axes(a)),
@@ -371,6 +382,19 @@ def _quadrature_traction(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:
         p = np.einsum("qi,qi->q", t1, pts.normal)
         t1[slip] -= (c.friction * p[slip])[:, None] * c.slip_direction
     return t1
+
+
+#: the final check: the pressure's centroid within this fraction of the semi-axes of the ellipse's
+#: centre (where body 1 surrounds the contact point)
+CENTROID_TOLERANCE = 0.01
+
+
+def _pressure_centroid(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:
+    """int p s dA / int p dA (2,) over the region (nan without compression)."""
+    pts = info[0]
+    wp = pts.weights * np.einsum("qi,qi->q", _quadrature_traction(c, info, x), pts.normal)
+    total = float(wp.sum())
+    return (wp @ pts.s) / total if total > 0.0 else np.full(2, np.nan)
 
 
 def _edge_coefficients(c: EllipseContact, info, x: np.ndarray, a: float) -> tuple[float, float]:
