@@ -19,7 +19,6 @@ import time
 from typing import Callable
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 
 from ..fem.assembly import boundary_terms, essential_reactions, rigid_modes_check
@@ -144,7 +143,7 @@ class ContactDriver:
         self.dofs = np.unique(np.concatenate([c.dofs for c in self.contacts]))
         self.where = [np.searchsorted(self.dofs, c.dofs) for c in self.contacts]
         try:
-            self.lu, self.schur = condensed_factor(self.k0, self.dofs, dof_order(self.bodies, self.k0))
+            self.lu, self.schur, self.g_inverse = condensed_factor(self.k0, self.dofs, dof_order(self.bodies, self.k0))
         except MemoryError:
             raise MemoryError(
                 f"the sparse direct factorisation of the {self.n} x {self.n} stiffness (with {len(self.dofs)} contact "
@@ -154,8 +153,7 @@ class ContactDriver:
         u0 = self.lu.solve(self.f0)
         self.bu0 = u0[self.dofs]
         self.sbu0 = self.schur @ self.bu0
-        # G = S^-1 once: each trial then factors only its active dofs (fem.linalg.SmallSystem)
-        self.g_inverse = sla.cho_solve(sla.cho_factor(self.schur), np.eye(len(self.dofs)))
+        # G = S^-1 (from the factors) once: each trial then factors only its active dofs (fem.linalg.SmallSystem)
         self.u0f0 = float(u0 @ self.f0)
         # contact stiffness already in K0 (None: none)
         self.base_terms = [c.terms(a0)[0] if a0 > 0 else None for c, a0 in zip(self.contacts, self.base)]
