@@ -148,12 +148,17 @@ class BandContact:
         so the edge search starts with a step of a twentieth of a cell instead of half a cell."""
         o = self.options
         if o.width_update == "edge":
-            tol = (o.edge_tolerance if final else o.step_tolerance) * self.h
-            return edge_search(a0, self.h, tol, self.a_max(), step0=0.05 * self.h if estimate else None)
+            step0 = 0.05 * self.h if estimate else None
+            return edge_search(a0, self.h, self._edge_tolerance(final), self.a_max(), step0=step0)
         if o.width_update == "thesis":
             return thesis_search(a0, self.h, o.width_tolerance * self.h, self.a_max(), max_iterations)
         tol = (o.width_tolerance if final else o.step_tolerance) * self.h
         return bracket_search(a0, self.h, tol, self.a_max(), final)
+
+    def _edge_tolerance(self, final: bool) -> float:
+        """How closely the edge coefficient's root (and the region's centre) is settled:
+        ``edge_tolerance`` cells in the last load step, ``step_tolerance`` before."""
+        return (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
 
     def region_too_small(self) -> ValueError:
         return ValueError(
@@ -232,7 +237,7 @@ class BandContact:
         centroid = _pressure_centroid(self, info, x, a)
         if not math.isfinite(centroid):
             return True  # no compression: nothing to centre on (the width search reports it)
-        tol = (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
+        tol = self._edge_tolerance(final)
         lo, hi = -self.geom.s_limits[1] + a, self.geom.s_limits[0] - a  # keep the region in range
         nxt = float(np.clip(centroid, min(lo, 0.0), max(hi, 0.0)))
         if abs(nxt - self.centre) <= tol:
@@ -375,18 +380,25 @@ def _projector(c: BandContact, pts, a: float) -> np.ndarray:
     return np.where(tied[:, None, None], projector("fixed", pts.normal), projector("sliding", pts.normal))
 
 
+def region_quadrature(c: BandContact, a: float):
+    """Quadrature points of the region e - a <= s <= e + a, split at both grids' lines and at the
+    stick zone's ends (where the projector changes), with the jump and flux operators and the
+    local size there: (points, jump, flux, size)."""
+    lo, hi = c.region_ends(a)
+    brk = c.breakpoints
+    stick = c.stick(a)
+    if 0.0 < stick < a:
+        brk = np.concatenate([brk, [c.centre - stick, c.centre + stick]])
+    pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, c.options.order, brk)
+    return (pts,) + _operators(c, pts)
+
+
 def _terms(c: BandContact, a: float):
     """Contact stiffness and load on the contact dofs (dense m x m, m) for half-width a."""
     m = len(c.dofs)
     if a <= 0.0:
         return np.zeros((m, m)), np.zeros(m), None
-    lo, hi = c.region_ends(a)
-    brk = c.breakpoints
-    stick = c.stick(a)
-    if 0.0 < stick < a:  # the projector changes at the stick zone's ends
-        brk = np.concatenate([brk, [c.centre - stick, c.centre + stick]])
-    pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, c.options.order, brk)
-    jump, flux, size = _operators(c, pts)
+    pts, jump, flux, size = region_quadrature(c, a)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
     proj = _projector(c, pts, a)
     k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, c.band_fraction, 1.0, jump=jump)

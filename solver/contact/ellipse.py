@@ -102,10 +102,21 @@ class EllipseContact:
         return np.asarray(s, dtype=float) - self.centre
 
     @property
+    def surrounds_point(self) -> bool:
+        """Whether body 1 has surface all around the contact point (not a symmetric model's
+        sector, whose symmetry planes pass through the point)."""
+        return sum(t1 - t0 for t0, t1 in self.ranges) >= 2 * math.pi - 1e-9
+
+    @property
     def centred(self) -> bool:
         """Whether the centre may move: body 1 all around the contact point (a symmetric model's
-        symmetry planes pass through it and hold the centre there)."""
-        return self.options.region_centre == "pressure" and sum(t1 - t0 for t0, t1 in self.ranges) >= 2 * math.pi - 1e-9
+        symmetry planes hold the centre there)."""
+        return self.options.region_centre == "pressure" and self.surrounds_point
+
+    def _size_tolerance(self, final: bool) -> float:
+        """How closely the size's root (and the ellipse's centre) is settled: ``edge_tolerance``
+        cells in the last load step, ``step_tolerance`` before."""
+        return (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
 
     # -------------------------------------------------- the formulation protocol
 
@@ -116,10 +127,8 @@ class EllipseContact:
         return max(a * load_ratio ** (1.0 / 3.0), 2.0 * self.h)
 
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
-        o = self.options
-        tol = (o.edge_tolerance if final else o.step_tolerance) * self.h
         a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / max(1.0, self.ratio)
-        return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
+        return edge_search(a0, self.h, self._size_tolerance(final), a_max, step0=0.05 * self.h if estimate else None)
 
     def region_too_small(self) -> ValueError:
         return ValueError(f"{self.name}: the contact ellipse reaches the candidate region's edge ({self.extent:.4g} m) "
@@ -202,8 +211,7 @@ class EllipseContact:
         centroid = _pressure_centroid(self, info, x)
         if not np.isfinite(centroid).all():
             return True
-        tol = (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
-        if float(np.abs(centroid - self.centre).max()) <= tol:
+        if float(np.abs(centroid - self.centre).max()) <= self._size_tolerance(final):
             return True
         self.centre = centroid
         return False
@@ -263,7 +271,7 @@ class EllipseContact:
     def _centroid_offset(self, x: np.ndarray, a: float, info) -> float:
         """|pressure centroid - centre| in semi-axes; 0 where body 1 is a symmetric model's sector
         (its centroid is off the contact point by construction)."""
-        if info is None or a <= 0.0 or sum(t1 - t0 for t0, t1 in self.ranges) < 2 * math.pi - 1e-9:
+        if info is None or a <= 0.0 or not self.surrounds_point:
             return 0.0
         d = _pressure_centroid(self, info, x) - self.centre
         return float(np.hypot(*(d / np.array(self.semi_axes(a)))))

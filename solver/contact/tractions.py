@@ -45,8 +45,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import contact_quadrature
-
 __all__ = ["TractionProfile", "recover_tractions", "modes_for"]
 
 #: fewest and most modes of a projection (degree of the Chebyshev polynomials + 1)
@@ -159,15 +157,9 @@ def quadrature_tractions(c, u: np.ndarray, a: float):
     lines and the stick zone's ends, as the formulation's terms) with the traction on body 1
     there, friction included: (points, pressure, shear) with compression positive and the shear
     on body 2 along the local tangent."""
-    from .band import _operators, _tractions
+    from .band import _tractions, region_quadrature
 
-    lo, hi = c.region_ends(a)
-    brk = c.breakpoints
-    stick = c.stick(a)
-    if 0.0 < stick < a:
-        brk = np.concatenate([brk, [c.centre - stick, c.centre + stick]])
-    pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, c.options.order, brk)
-    jump, flux, size = _operators(c, pts)
+    pts, jump, flux, size = region_quadrature(c, a)
     _, t1, _ = _tractions(c, pts, jump, flux, size, u[c.dofs], a)
     nl = pts.normal
     tl = np.stack([-nl[:, 1], nl[:, 0]], axis=1)
