@@ -276,22 +276,11 @@ def solve_ngsolve(scene: Scene, a_est: float, hc: float, hmax: float, order: int
 def reactions(mesh, fes, form, gfu, scene: Scene) -> dict:
     """Support reactions of each body (sum of a(u, phi) over its constrained components) and the
     normal force they give: N = R2 . n = -R1 . n, Q = R2 . t."""
-    import ngsolve as ng
+    from peers_ngsolve import support_reactions
 
-    bf = ng.BilinearForm(fes)
-    bf += form
-    with ng.TaskManager():
-        bf.Assemble()
-    r = gfu.vec.CreateVector()
-    r.data = bf.mat * gfu.vec
-    out = {}
-    for body, (bx, by) in (("1", scene.supports1), ("2", scene.supports2)):
-        comp = []
-        for j, names in enumerate((bx, by)):
-            phi = ng.GridFunction(fes)
-            phi.Set((1.0, 0.0) if j == 0 else (0.0, 1.0), ng.BND, definedon=mesh.Boundaries(names))
-            comp.append(float(ng.InnerProduct(r, phi.vec)))
-        out[body] = np.array(comp)
+    reaction = support_reactions(mesh, fes, form, gfu)
+    out = {body: np.array([reaction(bx, (1.0, 0.0)), reaction(by, (0.0, 1.0))])
+           for body, (bx, by) in (("1", scene.supports1), ("2", scene.supports2))}
     n, t = np.asarray(scene.normal), np.asarray(scene.tangent)
     return {"N": float(out["2"] @ n), "N_body1": float(-out["1"] @ n), "Q": float(out["2"] @ t),
             "R_body2": out["2"].tolist()}

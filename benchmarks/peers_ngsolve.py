@@ -211,9 +211,29 @@ def opening_fit(xs, cf, a_closing: float, hc: float) -> float:
     return float(a_closing + roots[np.argmin(np.abs(roots))]) if len(roots) else float("nan")
 
 
+def support_reactions(mesh, fes, form, gfu):
+    """``reaction(names, direction)``: the force the support on the boundaries ``names`` exerts
+    along ``direction``, <A(u), phi> with phi the unit field along it there (A the assembled
+    form at the solution u; every script here reads its reactions this way)."""
+    import ngsolve as ng
+
+    k = ng.BilinearForm(fes)
+    k += form
+    with ng.TaskManager():
+        k.Assemble()
+    r = gfu.vec.CreateVector()
+    r.data = k.mat * gfu.vec
+
+    def reaction(names: str, direction) -> float:
+        phi = ng.GridFunction(fes)
+        phi.Set(tuple(float(v) for v in direction), ng.BND, definedon=mesh.Boundaries(names))
+        return float(ng.InnerProduct(r, phi.vec))
+
+    return reaction
+
+
 def measure(mesh, fes, form, gfu, hc: float, width: float, pairing: str) -> dict:
     """a from the closing of the gap along the block's top, N from the reactions."""
-    import ngsolve as ng
     import numpy as np
 
     cy = R + LIFT
@@ -241,17 +261,8 @@ def measure(mesh, fes, form, gfu, hc: float, width: float, pairing: str) -> dict
         t = cf[i] / (cf[i] - cf[i + 1])
         closing.append(abs(xs[i] + t * (xs[i + 1] - xs[i])))
         halves.append(opening_fit(np.abs(xs), cf, closing[-1], hc))
-    reactions = {}
-    k = ng.BilinearForm(fes)
-    k += form
-    with ng.TaskManager():
-        k.Assemble()
-    r = gfu.vec.CreateVector()
-    r.data = k.mat * gfu.vec
-    for name in ("flat", "bottom"):
-        phi = ng.GridFunction(fes)
-        phi.Set((0.0, 1.0), ng.BND, definedon=mesh.Boundaries(name))
-        reactions[name] = float(ng.InnerProduct(r, phi.vec))
+    reaction = support_reactions(mesh, fes, form, gfu)
+    reactions = {name: reaction(name, (0.0, 1.0)) for name in ("flat", "bottom")}
     return {"a": float(np.mean(halves)), "a_sides": halves, "a_closing": float(np.mean(closing)), "N": -reactions["flat"],
             "N_bottom": reactions["bottom"]}
 

@@ -45,7 +45,7 @@ import math
 import sys
 import time
 
-from peers_ngsolve import _import_ngsolve, elasticity, newton, opening_fit
+from peers_ngsolve import _import_ngsolve, elasticity, newton, opening_fit, support_reactions
 
 LIFT = 1e-5          # the ball is meshed this far above the block (m)
 DISPLACEMENT = 0.002
@@ -192,7 +192,6 @@ def gap_line(mesh, gfu, theta: float, hc: float, zone: float):
 
 def measure(mesh, fes, form, gfu, hc: float, zone: float) -> dict:
     """a from the closing of the gap along radial lines of the block's top, N from the reactions."""
-    import ngsolve as ng
     import numpy as np
 
     fits, closing = [], []
@@ -207,17 +206,8 @@ def measure(mesh, fes, form, gfu, hc: float, zone: float) -> dict:
         t = cf[i] / (cf[i] - cf[i + 1])
         closing.append(float(rs[i] + t * (rs[i + 1] - rs[i])))
         fits.append(opening_fit(rs, cf, closing[-1], hc))
-    k = ng.BilinearForm(fes)
-    k += form
-    with ng.TaskManager():
-        k.Assemble()
-    r = gfu.vec.CreateVector()
-    r.data = k.mat * gfu.vec
-    reactions = {}
-    for name in ("flat", "bottom"):
-        phi = ng.GridFunction(fes)
-        phi.Set((0.0, 0.0, 1.0), ng.BND, definedon=mesh.Boundaries(name))
-        reactions[name] = float(ng.InnerProduct(r, phi.vec))
+    reaction = support_reactions(mesh, fes, form, gfu)
+    reactions = {name: reaction(name, (0.0, 0.0, 1.0)) for name in ("flat", "bottom")}
     return {"a": float(np.mean(fits)), "a_lines": fits, "a_closing": float(np.mean(closing)),
             "a_closing_lines": closing, "angles_deg": list(ANGLES_DEG), "N": -reactions["flat"],
             "N_bottom": reactions["bottom"]}
