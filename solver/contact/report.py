@@ -34,6 +34,7 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
         "type": c.kind,
         "friction": friction,
         "point": c.geom.point.tolist(),
+        **({} if c.geom.given_point is None else {"given_point": c.geom.given_point.tolist()}),
         "normal": nrm.tolist(),
         "tangent": tan.tolist(),
         "half_width": float(a),

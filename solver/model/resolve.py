@@ -15,7 +15,7 @@ import numpy as np
 from .problem import BodyModel, ContactModel, Problem, check_problem
 
 __all__ = ["CONTACT_SEARCH_SPACING", "closest_boundary_point", "contact_point", "contact_frame", "resolve_problem",
-           "finest_size_at", "corner_distance", "boundary_gap"]
+           "finest_size_at", "corner_distance", "boundary_gap", "refined_maximum"]
 
 #: sampling spacing of the closest-point search, as a fraction of the finer element size
 CONTACT_SEARCH_SPACING = 0.05
@@ -66,7 +66,7 @@ def _resolved_body(body: BodyModel, points: list[np.ndarray]) -> BodyModel:
     return dataclasses.replace(body, refinements=tuple(refs))
 
 
-def _refined_maximum(f, lo: float, hi: float, tol: float, samples: int = 17) -> float:
+def refined_maximum(f, lo: float, hi: float, tol: float, samples: int = 17) -> float:
     """Parameter of the largest value of the vectorised ``f`` on [lo, hi]: sample, keep the
     neighbours of the best sample, repeat while the values still differ by more than round-off,
     then take the vertex of the parabola fitted to the last samples (a smooth maximum is flat
@@ -118,7 +118,7 @@ def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarra
         if phi[k] > best_phi:
             best_phi, best = phi[k], (curve, t[max(k - 1, 0)], t[min(k + 1, n - 1)])
     curve, t0, t1 = best
-    x = _refined_maximum(lambda s: np.asarray(second.signed_distance(curve.evaluate(s)), dtype=float),
+    x = refined_maximum(lambda s: np.asarray(second.signed_distance(curve.evaluate(s)), dtype=float),
                          min(t0, t1), max(t0, t1), 1e-13 * max(abs(curve.t_end - curve.t_start), 1.0))
     x = np.asarray(curve.evaluate(np.array([x]))[0], dtype=float)
     # the bounded search never returns the interval ends: keep a better sample end point
