@@ -1,0 +1,449 @@
+"""The compiled kernels of :mod:`solver.fem.multifrontal` (numba), at module level so that
+numba's on-disk cache (``cache=True``) keeps them between processes. Imported only by
+:mod:`solver.fem.multifrontal` on the first factorisation: importing this module imports numba.
+
+Conventions (all indices int64, columns in the elimination order):
+
+* the matrix is its lower triangle, CSC (``colptr``, ``rowind``, ``values``: rows >= column);
+* a front of F rows is a row-major (F, F) array ``t`` whose row j holds column j of the front's
+  lower triangle: ``t[j, i]`` = entry (i, j), i >= j (the upper part of ``t`` is used);
+* the factor of supernode s (nc columns, F front rows) is an (nc, F) row-major block of the
+  flat ``factor`` array at ``factor_ptr[s]``: row k is column c0 + k of L on the front rows.
+
+References: J. W. H. Liu, "The multifrontal method for sparse matrix solution: theory and
+practice", SIAM Review 34 (1992); the elimination tree by path compression (Liu 1986) and the
+column counts by the skeleton-matrix / least-common-ancestor algorithm of Gilbert, Ng and
+Peyton (1994), as described in T. A. Davis, "Direct Methods for Sparse Linear Systems" (SIAM
+2006), chapter 4. Written here from those descriptions."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+jit = njit(cache=True, nogil=True, error_model="numpy")
+
+#: columns of a panel factored by compiled loops; block columns of a BLAS trailing update
+PANEL = 48
+BLOCK = 256
+#: trailing updates of fewer multiply-adds than this run in compiled loops (no BLAS call)
+SMALL_UPDATE = 32768
+
+
+@jit
+def elimination_tree(rowptr, colind, n):
+    """Parent of every column (-1 for roots) from the lower triangle by rows (CSR: row k
+    holds columns j <= k): Liu's algorithm with path compression."""
+    parent = np.full(n, -1, np.int64)
+    ancestor = np.full(n, -1, np.int64)
+    for k in range(n):
+        for p in range(rowptr[k], rowptr[k + 1]):
+            i = colind[p]
+            while i != -1 and i < k:
+                nxt = ancestor[i]
+                ancestor[i] = k
+                if nxt == -1:
+                    parent[i] = k
+                i = nxt
+    return parent
+
+
+@jit
+def postorder(parent):
+    """A postorder of the forest: children in increasing order, roots in increasing order
+    (so the tree of the last column comes last)."""
+    n = len(parent)
+    head = np.full(n, -1, np.int64)
+    nxt = np.full(n, -1, np.int64)
+    for j in range(n - 1, -1, -1):
+        if parent[j] != -1:
+            nxt[j] = head[parent[j]]
+            head[parent[j]] = j
+    post = np.empty(n, np.int64)
+    stack = np.empty(n, np.int64)
+    k = 0
+    for root in range(n):
+        if parent[root] != -1:
+            continue
+        top = 0
+        stack[0] = root
+        while top >= 0:
+            p = stack[top]
+            child = head[p]
+            if child == -1:
+                top -= 1
+                post[k] = p
+                k += 1
+            else:
+                head[p] = nxt[child]
+                top += 1
+                stack[top] = child
+    return post
+
+
+@jit
+def _leaf(i, j, first, maxfirst, prevleaf, ancestor):
+    """(q, jleaf) of Davis's cs_leaf: whether j is a leaf of row i's subtree, and the least
+    common ancestor of j and the previous leaf."""
+    if i <= j or first[j] <= maxfirst[i]:
+        return -1, 0
+    maxfirst[i] = first[j]
+    jprev = prevleaf[i]
+    prevleaf[i] = j
+    if jprev == -1:
+        return i, 1
+    q = jprev
+    while q != ancestor[q]:
+        q = ancestor[q]
+    s = jprev
+    while s != q:
+        sparent = ancestor[s]
+        ancestor[s] = q
+        s = sparent
+    return q, 2
+
+
+@jit
+def column_counts(colptr, rowind, parent, post, m):
+    """Nonzeros of every column of L (diagonal included) for the lower triangle by columns,
+    with the trailing m x m block taken as dense and every other column whose parent is in it
+    given a virtual entry in row n - m (the root supernode)."""
+    n = len(parent)
+    first = np.full(n, -1, np.int64)
+    delta = np.zeros(n, np.int64)
+    for k in range(n):
+        j = post[k]
+        delta[j] = 1 if first[j] == -1 else 0
+        while j != -1 and first[j] == -1:
+            first[j] = k
+            j = parent[j]
+    maxfirst = np.full(n, -1, np.int64)
+    prevleaf = np.full(n, -1, np.int64)
+    ancestor = np.arange(n)
+    top = n - m
+    for k in range(n):
+        j = post[k]
+        if parent[j] != -1:
+            delta[parent[j]] -= 1
+        extra = 0
+        if m > 0 and j < top and parent[j] == top:
+            extra = 1
+        elif j >= top:
+            extra = n - 1 - j
+        for p in range(colptr[j], colptr[j + 1] + extra):
+            if p < colptr[j + 1]:
+                i = rowind[p]
+            elif j < top:
+                i = top
+            else:
+                i = j + 1 + p - colptr[j + 1]
+            q, jleaf = _leaf(i, j, first, maxfirst, prevleaf, ancestor)
+            if jleaf >= 1:
+                delta[j] += 1
+            if jleaf == 2:
+                delta[q] -= 1
+        if parent[j] != -1:
+            ancestor[j] = parent[j]
+    for j in range(n):
+        if parent[j] != -1:
+            delta[parent[j]] += delta[j]
+    return delta
+
+
+@jit
+def supernodes(parent, counts, m, nrelax, zrelax):
+    """Supernode partition of postordered columns: fundamental supernodes (a chain of single
+    children with nested structures), the last m columns one supernode, then relaxed
+    amalgamation of a child into its parent when their columns are contiguous and the zeros
+    it adds stay small (``nrelax`` three column limits, ``zrelax`` three zero fractions, as in
+    CHOLMOD's defaults). Returns the first column of every supernode (plus n) and the number
+    of front rows below each supernode's columns."""
+    n = len(parent)
+    top = n - m
+    nchild = np.zeros(n, np.int64)
+    for j in range(n):
+        if parent[j] != -1:
+            nchild[parent[j]] += 1
+    start = np.empty(n + 1, np.int64)
+    ns = 0
+    for j in range(n):
+        fresh = j == 0 or j == top
+        if not fresh and j < top:
+            fresh = not (parent[j - 1] == j and counts[j - 1] == counts[j] + 1 and nchild[j] == 1)
+        if fresh:
+            start[ns] = j
+            ns += 1
+    start[ns] = n
+    # per fundamental supernode: columns, rows below, parent supernode, entries in its trapezoid
+    sn_of = np.empty(n, np.int64)
+    for s in range(ns):
+        sn_of[start[s]:start[s + 1]] = s
+    ncol = np.empty(ns, np.int64)
+    nrow = np.empty(ns, np.int64)
+    snp = np.full(ns, -1, np.int64)
+    first = start[:ns].copy()
+    nz = np.empty(ns, np.float64)  # true nonzeros of the (merged) supernode's columns
+    for s in range(ns):
+        ncol[s] = start[s + 1] - start[s]
+        nrow[s] = counts[start[s]] - ncol[s]
+        last = start[s + 1] - 1
+        if parent[last] != -1:
+            snp[s] = sn_of[parent[last]]
+        nz[s] = ncol[s] * (ncol[s] + 1) / 2.0 + ncol[s] * nrow[s]
+    rep = np.arange(ns)
+    for s in range(ns - 2, -1, -1):
+        if snp[s] == -1:
+            continue
+        p = rep[snp[s]]
+        if (m > 0 and p == ns - 1) or start[s + 1] != first[p]:
+            continue
+        nc = ncol[s] + ncol[p]
+        total = nc * (nc + 1) / 2.0 + nc * nrow[p]
+        frac = (total - nz[s] - nz[p]) / total
+        merge = nc <= nrelax[0] or (nc <= nrelax[1] and frac < zrelax[0]) or \
+            (nc <= nrelax[2] and frac < zrelax[1]) or frac < zrelax[2]
+        if merge:
+            rep[s] = p
+            first[p] = first[s]
+            ncol[p] = nc
+            nz[p] += nz[s]
+    out = np.empty(ns + 1, np.int64)
+    below = np.empty(ns, np.int64)
+    k = 0
+    for s in range(ns):
+        if rep[s] == s:
+            out[k] = first[s]
+            below[k] = nrow[s]
+            k += 1
+    out[k] = n
+    return out[: k + 1].copy(), below[:k].copy()
+
+
+@jit
+def row_structure(colptr, rowind, sn_start, sn_below, parent):
+    """Rows below every supernode's columns (sorted, flat with offsets) and the parent
+    supernode of each (-1 for roots): the union of the matrix's rows and the children's
+    rows, by a marker. A mismatch with the counted sizes (a bug) returns an empty parent."""
+    ns = len(sn_below)
+    n = sn_start[ns]
+    row_ptr = np.zeros(ns + 1, np.int64)
+    for s in range(ns):
+        row_ptr[s + 1] = row_ptr[s] + sn_below[s]
+    rows = np.empty(row_ptr[ns], np.int64)
+    sn_of = np.empty(n, np.int64)
+    for s in range(ns):
+        sn_of[sn_start[s]:sn_start[s + 1]] = s
+    sn_parent = np.full(ns, -1, np.int64)
+    head = np.full(ns, -1, np.int64)
+    nxt = np.full(ns, -1, np.int64)
+    for s in range(ns):
+        last = sn_start[s + 1] - 1
+        if parent[last] != -1:
+            p = sn_of[parent[last]]
+            sn_parent[s] = p
+            nxt[s] = head[p]
+            head[p] = s
+    mark = np.full(n, -1, np.int64)
+    for s in range(ns):
+        c1 = sn_start[s + 1]
+        k = row_ptr[s]
+        end = row_ptr[s + 1]
+        for j in range(sn_start[s], c1):
+            for p in range(colptr[j], colptr[j + 1]):
+                i = rowind[p]
+                if i >= c1 and mark[i] != s:
+                    if k == end:
+                        return row_ptr, rows, np.empty(0, np.int64)
+                    mark[i] = s
+                    rows[k] = i
+                    k += 1
+        c = head[s]
+        while c != -1:
+            for p in range(row_ptr[c], row_ptr[c + 1]):
+                i = rows[p]
+                if i >= c1 and mark[i] != s:
+                    if k == end:
+                        return row_ptr, rows, np.empty(0, np.int64)
+                    mark[i] = s
+                    rows[k] = i
+                    k += 1
+            c = nxt[c]
+        if parent[c1 - 1] != -1 and mark[parent[c1 - 1]] != s:
+            # the virtual entry of a child of the root supernode (its first column)
+            if k == end:
+                return row_ptr, rows, np.empty(0, np.int64)
+            mark[parent[c1 - 1]] = s
+            rows[k] = parent[c1 - 1]
+            k += 1
+        if k != end:
+            return row_ptr, rows, np.empty(0, np.int64)
+        rows[row_ptr[s]:end].sort()
+    return row_ptr, rows, sn_parent
+
+
+@jit
+def _panel(t, k0, k1, f):
+    """Right-looking Cholesky of front columns k0..k1-1 (updates inside the panel only).
+    Returns the first column with a non-positive pivot, or -1."""
+    for k in range(k0, k1):
+        d = t[k, k]
+        if not d > 0.0:
+            return k
+        d = math.sqrt(d)
+        t[k, k] = d
+        inv = 1.0 / d
+        for i in range(k + 1, f):
+            t[k, i] *= inv
+        for j in range(k + 1, k1):
+            ljk = t[k, j]
+            if ljk != 0.0:
+                for i in range(j, f):
+                    t[j, i] -= ljk * t[k, i]
+    return -1
+
+
+@jit
+def _trailing(t, k0, k1, f):
+    """Update front columns k1.. (rows >= column) by the panel k0..k1-1: loops when small,
+    else BLAS products by block columns."""
+    r = f - k1
+    if r <= 0:
+        return
+    if (k1 - k0) * r * r < 2 * SMALL_UPDATE:
+        for k in range(k0, k1):
+            for j in range(k1, f):
+                ljk = t[k, j]
+                if ljk != 0.0:
+                    for i in range(j, f):
+                        t[j, i] -= ljk * t[k, i]
+        return
+    q = np.ascontiguousarray(t[k0:k1, k1:f])
+    for j0 in range(k1, f, BLOCK):
+        j1 = min(j0 + BLOCK, f)
+        a1 = np.ascontiguousarray(q[:, j0 - k1:j1 - k1])
+        a2 = np.ascontiguousarray(q[:, j0 - k1:])
+        prod = a1.T @ a2
+        for jj in range(j1 - j0):
+            j = j0 + jj
+            for i in range(j, f):
+                t[j, i] -= prod[jj, i - j0]
+
+
+@jit
+def _partial_cholesky(t, nc, f):
+    """Factor the first nc columns of the front and leave the update matrix in t[nc:, nc:]."""
+    for k0 in range(0, nc, PANEL):
+        k1 = min(k0 + PANEL, nc)
+        bad = _panel(t, k0, k1, f)
+        if bad >= 0:
+            return bad
+        _trailing(t, k0, k1, f)
+    return -1
+
+
+@jit
+def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, stack_size, max_front,
+                 schur):
+    """The numeric factorisation over the supernodes in postorder: assemble each front from the
+    matrix and the children's update matrices (popped off a stack), factor its columns,
+    push its update matrix. The last supernode's assembled front is copied into ``schur``
+    when that has its size (the root of the contact dofs). Returns (factor, failed column or
+    -1)."""
+    ns = len(sn_parent)
+    n = sn_start[ns]
+    factor = np.empty(factor_ptr[ns], np.float64)
+    stack = np.empty(stack_size, np.float64)
+    buf = np.empty(max_front * max_front, np.float64)
+    relpos = np.empty(n, np.int64)
+    st_sn = np.empty(ns, np.int64)
+    st_off = np.empty(ns + 1, np.int64)
+    depth = 0
+    st_off[0] = 0
+    for s in range(ns):
+        c0, c1 = sn_start[s], sn_start[s + 1]
+        nc = c1 - c0
+        nr = row_ptr[s + 1] - row_ptr[s]
+        f = nc + nr
+        t = buf[: f * f].reshape(f, f)
+        for j in range(f):
+            t[j, j:] = 0.0
+        for k in range(nc):
+            relpos[c0 + k] = k
+        for k in range(nr):
+            relpos[rows[row_ptr[s] + k]] = nc + k
+        for j in range(c0, c1):
+            for p in range(colptr[j], colptr[j + 1]):
+                t[j - c0, relpos[rowind[p]]] += values[p]
+        while depth > 0 and sn_parent[st_sn[depth - 1]] == s:
+            c = st_sn[depth - 1]
+            base = st_off[depth - 1]
+            cr = rows[row_ptr[c]:row_ptr[c + 1]]
+            w = len(cr)
+            for a in range(w):
+                pa = relpos[cr[a]]
+                for b in range(a, w):
+                    t[pa, relpos[cr[b]]] += stack[base + a * w + b]
+            depth -= 1
+        if s == ns - 1 and schur.shape[0] == nc and nr == 0:
+            for j in range(nc):
+                for i in range(j, nc):
+                    schur[i, j] = t[j, i]
+                    schur[j, i] = t[j, i]
+        bad = _partial_cholesky(t, nc, f)
+        if bad >= 0:
+            return factor, c0 + bad
+        off = factor_ptr[s]
+        for k in range(nc):
+            for i in range(k):
+                factor[off + k * f + i] = 0.0
+            for i in range(k, f):
+                factor[off + k * f + i] = t[k, i]
+        if nr > 0 and sn_parent[s] != -1:
+            base = st_off[depth]
+            for a in range(nr):
+                for b in range(a, nr):
+                    stack[base + a * nr + b] = t[nc + a, nc + b]
+            st_sn[depth] = s
+            st_off[depth + 1] = base + nr * nr
+            depth += 1
+    return factor, -1
+
+
+@jit
+def solve(factor, factor_ptr, sn_start, row_ptr, rows, b):
+    """Overwrite b (n, r) with K^-1 b: L y = b forward, then L^T x = y backward, supernode
+    by supernode (columns in the factor's numbering)."""
+    ns = len(row_ptr) - 1
+    r = b.shape[1]
+    for s in range(ns):
+        c0, c1 = sn_start[s], sn_start[s + 1]
+        nc = c1 - c0
+        f = nc + row_ptr[s + 1] - row_ptr[s]
+        off = factor_ptr[s]
+        for k in range(nc):
+            j = c0 + k
+            d = factor[off + k * f + k]
+            for q in range(r):
+                b[j, q] /= d
+            for p in range(k + 1, f):
+                g = c0 + p if p < nc else rows[row_ptr[s] + p - nc]
+                l = factor[off + k * f + p]
+                for q in range(r):
+                    b[g, q] -= l * b[j, q]
+    for s in range(ns - 1, -1, -1):
+        c0, c1 = sn_start[s], sn_start[s + 1]
+        nc = c1 - c0
+        f = nc + row_ptr[s + 1] - row_ptr[s]
+        off = factor_ptr[s]
+        for k in range(nc - 1, -1, -1):
+            j = c0 + k
+            for p in range(k + 1, f):
+                g = c0 + p if p < nc else rows[row_ptr[s] + p - nc]
+                l = factor[off + k * f + p]
+                for q in range(r):
+                    b[j, q] -= l * b[g, q]
+            d = factor[off + k * f + k]
+            for q in range(r):
+                b[j, q] /= d

@@ -1,0 +1,212 @@
+"""A supernodal multifrontal sparse Cholesky factorisation K = L L^T of a symmetric positive
+definite matrix, with the Schur complement of a trailing set of dofs (compiled by numba).
+
+The contact drivers condense the elastic system onto the contact dofs (:func:`solver.fem.linalg.
+condensed_factor`). Here the elimination order (a fill-reducing permutation of all dofs, the m
+contact dofs last) is factored as follows:
+
+* symbolic: the elimination tree (Liu's path compression), with the last m columns forced into
+  one chain and every other column whose parent lies in it hung below its first column; a
+  postorder of that forest (an equivalent order: same fill); the column counts of L (the
+  Gilbert-Ng-Peyton skeleton algorithm); fundamental supernodes, then relaxed amalgamation of a
+  child into its parent when few explicit zeros are added (CHOLMOD's default limits); the
+  supernodes' row structures; the factor offsets, the largest front and the depth of the
+  update-matrix stack, all before any number is computed;
+* numeric: one compiled loop over the supernodes in postorder: assemble the front (the matrix's
+  columns and the children's update matrices, popped off a preallocated stack), factor its
+  pivot columns (compiled panels of 48 columns, BLAS products for the trailing update), push
+  the update matrix. The last m dofs form the root supernode: its assembled front is the Schur
+  complement S = K_cc - K_ci K_ii^-1 K_ic, copied before it is factored as the last supernode;
+  its Cholesky factor then gives G = S^-1 by LAPACK's potri;
+* solve: forward and back substitution over the supernodes (compiled), in the original numbering.
+
+Only L is stored (one flat float64 array, an (columns x front rows) block per supernode): about
+half of SuperLU's L and U. A non-positive pivot raises :class:`NotPositiveDefinite` naming the
+dof, so a caller can fall back to a pivoting factorisation.
+
+The kernels live in :mod:`solver.fem._multifrontal_kernels`, imported (with numba) on the first
+factorisation only; :func:`available` says whether they can be (numba importable,
+``IBFEM_NO_JIT`` unset)."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["CholeskyFactor", "NotPositiveDefinite", "available", "condensed_cholesky"]
+
+#: relaxed amalgamation: a merged supernode of at most RELAX_COLUMNS[i] columns is accepted when
+#: its fraction of explicit zeros is below RELAX_ZEROS[i] (any size: below RELAX_ZEROS[2])
+RELAX_COLUMNS = (4, 16, 48)
+RELAX_ZEROS = (0.8, 0.1, 0.05)
+
+
+class NotPositiveDefinite(np.linalg.LinAlgError):
+    """A pivot of the Cholesky factorisation was not positive: the matrix is not positive
+    definite (or too ill-conditioned for Cholesky). ``dof`` is the matrix row of the pivot."""
+
+    def __init__(self, dof: int, n: int):
+        self.dof = dof
+        super().__init__(f"Cholesky factorisation: the pivot of dof {dof} (of {n}) is not positive; "
+                         "the matrix is not positive definite")
+
+
+def available() -> bool:
+    """Whether the compiled kernels can be used: numba importable and ``IBFEM_NO_JIT`` unset."""
+    if os.environ.get("IBFEM_NO_JIT", "") not in ("", "0"):
+        return False
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _kernels():
+    from . import _multifrontal_kernels
+
+    return _multifrontal_kernels
+
+
+def _lower(k: sp.spmatrix, where: np.ndarray, fmt: str):
+    """The lower triangle of P K P^T (``where[old] = new``) as int64-indexed CSC or CSR."""
+    coo = k.tocoo()
+    r, c = where[coo.row], where[coo.col]
+    keep = r >= c
+    shape = k.shape
+    if fmt == "csr":
+        out = sp.csr_matrix((coo.data[keep], (r[keep], c[keep])), shape=shape)
+        ptr, ind = out.indptr, out.indices
+    else:
+        out = sp.csc_matrix((coo.data[keep], (r[keep], c[keep])), shape=shape)
+        out.sum_duplicates()
+        ptr, ind = out.indptr, out.indices
+    return ptr.astype(np.int64), ind.astype(np.int64), out.data.astype(np.float64)
+
+
+class CholeskyFactor:
+    """K = L L^T in the elimination order ``order`` (new index i is dof ``order[i]``), the last
+    ``m`` dofs of the order one root supernode whose assembled front (the Schur complement of
+    those dofs) is kept in ``schur``. ``solve(f)`` for f of shape (n,) or (n, k) in the original
+    numbering.
+
+    Accounting: ``nnz`` (stored entries of L, explicit zeros of the amalgamated supernodes
+    included), ``factor_bytes``, ``n_supernodes``, ``largest_front``, ``stack_bytes``."""
+
+    def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0):
+        n = k.shape[0]
+        if k.ndim != 2 or k.shape[1] != n:
+            raise ValueError(f"the Cholesky factorisation needs a square matrix, got shape {k.shape}")
+        order = np.asarray(order, dtype=np.int64)
+        if order.shape != (n,) or not np.array_equal(np.sort(order), np.arange(n)):
+            raise ValueError(f"the elimination order must be a permutation of the {n} dofs")
+        if not 0 <= m <= n:
+            raise ValueError(f"the root supernode must hold between 0 and {n} dofs, got {m}")
+        self.n, self.m = n, int(m)
+        kern = _kernels()
+        self.order = self._postordered(k, order, kern)
+        self._symbolic(k, kern)
+        self.schur = np.zeros((self.m, self.m))
+        self._numeric(kern)
+
+    def _postordered(self, k, order, kern) -> np.ndarray:
+        """The elimination tree of ``order`` (the root chain forced), its postorder composed
+        with ``order``; keeps the tree and the column counts in the new numbering."""
+        n, m = self.n, self.m
+        where = np.empty(n, dtype=np.int64)
+        where[order] = np.arange(n)
+        rowptr, colind, _ = _lower(k, where, "csr")
+        parent = kern.elimination_tree(rowptr, colind, n)
+        del rowptr, colind
+        top = n - m
+        if m:
+            parent[top:-1] = np.arange(top + 1, n)
+            parent[n - 1] = -1
+            parent[:top][parent[:top] >= top] = top
+        post = kern.postorder(parent)
+        colptr, rowind, _ = _lower(k, where, "csc")
+        counts = kern.column_counts(colptr, rowind, parent, post, m)
+        del colptr, rowind
+        inverse = np.empty(n, dtype=np.int64)
+        inverse[post] = np.arange(n)
+        self._parent = np.where(parent[post] >= 0, inverse[np.maximum(parent[post], 0)], -1)
+        self._counts = counts[post]
+        return order[post]
+
+    def _symbolic(self, k, kern) -> None:
+        """Supernodes, their row structures, the factor offsets, the largest front and the
+        stack of update matrices (sized by a dry run of the numeric phase's pushes and pops)."""
+        n = self.n
+        where = np.empty(n, dtype=np.int64)
+        where[self.order] = np.arange(n)
+        self._colptr, self._rowind, self._values = _lower(k, where, "csc")
+        start, below = kern.supernodes(self._parent, self._counts, self.m, np.array(RELAX_COLUMNS, np.int64),
+                                       np.array(RELAX_ZEROS, np.float64))
+        row_ptr, rows, sn_parent = kern.row_structure(self._colptr, self._rowind, start, below, self._parent)
+        if len(sn_parent) != len(below):
+            raise RuntimeError("multifrontal symbolic factorisation: row structures disagree with the column counts")
+        del self._parent, self._counts
+        ncol = np.diff(start)
+        front = ncol + below
+        self.sn_start, self.row_ptr, self.rows, self.sn_parent = start, row_ptr, rows, sn_parent
+        self.factor_ptr = np.concatenate([[0], np.cumsum(ncol * front)]).astype(np.int64)
+        self.n_supernodes = len(below)
+        self.largest_front = int(front.max()) if len(front) else 0
+        self.stack_size = _stack_size(sn_parent, below)
+        self.nnz = int(self.factor_ptr[-1] - np.sum(ncol * (ncol - 1) // 2))
+        self.factor_bytes = 8 * int(self.factor_ptr[-1])
+        self.stack_bytes = 8 * self.stack_size
+
+    def _numeric(self, kern) -> None:
+        factor, bad = kern.multifrontal(self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr,
+                                        self.rows, self.sn_parent, self.factor_ptr, self.stack_size,
+                                        self.largest_front, self.schur)
+        del self._colptr, self._rowind, self._values
+        if bad >= 0:
+            raise NotPositiveDefinite(int(self.order[bad]), self.n)
+        self.factor = factor
+
+    def solve(self, f: np.ndarray) -> np.ndarray:
+        """K^-1 f for f of shape (n,) or (n, k), in the original numbering."""
+        f = np.asarray(f, dtype=np.float64)
+        if f.shape[:1] != (self.n,) or f.ndim > 2:
+            raise ValueError(f"the right-hand side must have shape ({self.n},) or ({self.n}, k), got {f.shape}")
+        b = np.ascontiguousarray(f[self.order].reshape(self.n, -1))
+        _kernels().solve(self.factor, self.factor_ptr, self.sn_start, self.row_ptr, self.rows, b)
+        out = np.empty_like(b)
+        out[self.order] = b
+        return out.reshape(f.shape)
+
+    def root_factor(self) -> np.ndarray:
+        """The Cholesky factor of the Schur complement (lower triangular, m x m): the root block."""
+        m = self.m
+        return self.factor[self.factor_ptr[-1] - m * m:].reshape(m, m).T
+
+
+def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
+    """Entries of the update-matrix stack at its deepest: each supernode pushes its (rows x rows)
+    update matrix after popping its children's (which are on top, in postorder)."""
+    size = below.astype(np.int64) ** 2
+    size[sn_parent < 0] = 0
+    children = np.zeros(len(below), dtype=np.int64)
+    np.add.at(children, sn_parent[sn_parent >= 0], size[sn_parent >= 0])
+    depth = np.cumsum(size - children)  # after each supernode's pops and push
+    return int(max(depth.max(initial=0), 0))
+
+
+def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int):
+    """(factor, S, G) of K0 in the order ``order`` whose last m dofs are the condensed ones:
+    S their Schur complement, G = S^-1 (LAPACK potri on S's Cholesky factor, the root block)."""
+    from scipy.linalg import lapack
+
+    factor = CholeskyFactor(k0, order, m)
+    schur = factor.schur
+    if m == 0:
+        return factor, schur, np.zeros((0, 0))
+    inverse, info = lapack.dpotri(np.asfortranarray(factor.root_factor()), lower=1)
+    if info != 0:
+        raise NotPositiveDefinite(int(order[len(order) - m + max(info - 1, 0)]), len(order))
+    lower = np.tril(inverse)
+    return factor, schur, lower + np.tril(lower, -1).T
