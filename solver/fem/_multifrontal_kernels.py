@@ -7,8 +7,9 @@ Conventions (all indices int64, columns in the elimination order):
 * the matrix is its lower triangle, CSC (``colptr``, ``rowind``, ``values``: rows >= column);
 * a front of F rows is a row-major (F, F) array ``t`` whose row j holds column j of the front's
   lower triangle: ``t[j, i]`` = entry (i, j), i >= j (the upper part of ``t`` is used);
-* the factor of supernode s (nc columns, F front rows) is an (nc, F) row-major block of the
-  flat ``factor`` array at ``factor_ptr[s]``: row k is column c0 + k of L on the front rows.
+* the factor K = L D L^T (unit L, no pivoting) of supernode s (nc columns, F front rows) is an
+  (nc, F) row-major block of the flat ``factor`` array at ``factor_ptr[s]``: row k is column
+  c0 + k of L on the front rows, D in place of its unit diagonal.
 
 References: J. W. H. Liu, "The multifrontal method for sparse matrix solution: theory and
 practice", SIAM Review 34 (1992); the elimination tree by path compression (Liu 1986) and the
@@ -284,20 +285,17 @@ def row_structure(colptr, rowind, sn_start, sn_below, parent):
 
 
 @jit
-def _panel(t, k0, k1, f):
-    """Right-looking Cholesky of front columns k0..k1-1 (updates inside the panel only).
-    Returns the first column with a non-positive pivot, or -1."""
+def _panel(t, k0, k1, f, definite):
+    """Right-looking L D L^T of front columns k0..k1-1 (updates inside the panel only); the
+    panel's rows keep D L^T (scaled by :func:`_scale` after the trailing update). Returns the
+    first column with a zero or non-finite pivot (non-positive when ``definite``), or -1."""
     for k in range(k0, k1):
         d = t[k, k]
-        if not d > 0.0:
+        if not (d > 0.0 or (not definite and d < 0.0)) or not math.isfinite(d):
             return k
-        d = math.sqrt(d)
-        t[k, k] = d
         inv = 1.0 / d
-        for i in range(k + 1, f):
-            t[k, i] *= inv
         for j in range(k + 1, k1):
-            ljk = t[k, j]
+            ljk = t[k, j] * inv
             if ljk != 0.0:
                 for i in range(j, f):
                     t[j, i] -= ljk * t[k, i]
@@ -306,23 +304,30 @@ def _panel(t, k0, k1, f):
 
 @jit
 def _trailing(t, k0, k1, f):
-    """Update front columns k1.. (rows >= column) by the panel k0..k1-1: loops when small,
-    else BLAS products by block columns."""
+    """Update front columns k1.. (rows >= column) by the panel k0..k1-1 (rows D L^T): loops
+    when small, else BLAS products by block columns."""
     r = f - k1
     if r <= 0:
         return
     if (k1 - k0) * r * r < 2 * SMALL_UPDATE:
         for k in range(k0, k1):
+            inv = 1.0 / t[k, k]
             for j in range(k1, f):
-                ljk = t[k, j]
+                ljk = t[k, j] * inv
                 if ljk != 0.0:
                     for i in range(j, f):
                         t[j, i] -= ljk * t[k, i]
         return
     q = np.ascontiguousarray(t[k0:k1, k1:f])
+    inv = np.empty(k1 - k0)
+    for k in range(k0, k1):
+        inv[k - k0] = 1.0 / t[k, k]
     for j0 in range(k1, f, BLOCK):
         j1 = min(j0 + BLOCK, f)
-        a1 = np.ascontiguousarray(q[:, j0 - k1:j1 - k1])
+        a1 = q[:, j0 - k1:j1 - k1].copy()
+        for k in range(k1 - k0):
+            for jj in range(j1 - j0):
+                a1[k, jj] *= inv[k]
         a2 = np.ascontiguousarray(q[:, j0 - k1:])
         prod = a1.T @ a2
         for jj in range(j1 - j0):
@@ -332,23 +337,29 @@ def _trailing(t, k0, k1, f):
 
 
 @jit
-def _partial_cholesky(t, nc, f):
-    """Factor the first nc columns of the front and leave the update matrix in t[nc:, nc:]."""
+def _partial_ldlt(t, nc, f, definite):
+    """L D L^T of the first nc columns of the front (rows: D on the diagonal, L^T right of
+    it); the update matrix left in t[nc:, nc:]. Returns the failed column or -1."""
     for k0 in range(0, nc, PANEL):
         k1 = min(k0 + PANEL, nc)
-        bad = _panel(t, k0, k1, f)
+        bad = _panel(t, k0, k1, f, definite)
         if bad >= 0:
             return bad
         _trailing(t, k0, k1, f)
+        for k in range(k0, k1):
+            inv = 1.0 / t[k, k]
+            for i in range(k + 1, f):
+                t[k, i] *= inv
     return -1
 
 
 @jit
 def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, stack_size, max_front,
-                 schur):
+                 schur, definite):
     """The numeric factorisation over the supernodes in postorder: assemble each front from the
     matrix and the children's update matrices (popped off a stack), factor its columns,
-    push its update matrix. The last supernode's assembled front is copied into ``schur``
+    push its update matrix (L D L^T without pivoting: D on the factor's diagonal; a zero pivot
+    fails, a negative one too when ``definite``). The last supernode's assembled front is copied into ``schur``
     when that has its size (the root of the contact dofs). Returns (factor, failed column or
     -1)."""
     ns = len(sn_parent)
@@ -391,7 +402,7 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
                 for i in range(j, nc):
                     schur[i, j] = t[j, i]
                     schur[j, i] = t[j, i]
-        bad = _partial_cholesky(t, nc, f)
+        bad = _partial_ldlt(t, nc, f, definite)
         if bad >= 0:
             return factor, c0 + bad
         off = factor_ptr[s]
@@ -413,8 +424,8 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
 
 @jit
 def solve(factor, factor_ptr, sn_start, row_ptr, rows, b):
-    """Overwrite b (n, r) with K^-1 b: L y = b forward, then L^T x = y backward, supernode
-    by supernode (columns in the factor's numbering)."""
+    """Overwrite b (n, r) with K^-1 b: L z = b forward and y = D^-1 z, then L^T x = y
+    backward, supernode by supernode (unit L; columns in the factor's numbering)."""
     ns = len(row_ptr) - 1
     r = b.shape[1]
     for s in range(ns):
@@ -424,14 +435,14 @@ def solve(factor, factor_ptr, sn_start, row_ptr, rows, b):
         off = factor_ptr[s]
         for k in range(nc):
             j = c0 + k
-            d = factor[off + k * f + k]
-            for q in range(r):
-                b[j, q] /= d
             for p in range(k + 1, f):
                 g = c0 + p if p < nc else rows[row_ptr[s] + p - nc]
                 l = factor[off + k * f + p]
                 for q in range(r):
                     b[g, q] -= l * b[j, q]
+            d = factor[off + k * f + k]
+            for q in range(r):
+                b[j, q] /= d
     for s in range(ns - 1, -1, -1):
         c0, c1 = sn_start[s], sn_start[s + 1]
         nc = c1 - c0
@@ -444,6 +455,3 @@ def solve(factor, factor_ptr, sn_start, row_ptr, rows, b):
                 l = factor[off + k * f + p]
                 for q in range(r):
                     b[j, q] -= l * b[g, q]
-            d = factor[off + k * f + k]
-            for q in range(r):
-                b[j, q] /= d

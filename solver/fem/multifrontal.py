@@ -47,10 +47,10 @@ class NotPositiveDefinite(np.linalg.LinAlgError):
     """A pivot of the Cholesky factorisation was not positive: the matrix is not positive
     definite (or too ill-conditioned for Cholesky). ``dof`` is the matrix row of the pivot."""
 
-    def __init__(self, dof: int, n: int):
+    def __init__(self, dof: int, n: int, definite: bool = True):
         self.dof = dof
-        super().__init__(f"Cholesky factorisation: the pivot of dof {dof} (of {n}) is not positive; "
-                         "the matrix is not positive definite")
+        what = "not positive; the matrix is not positive definite" if definite else "zero or not finite"
+        super().__init__(f"sparse Cholesky factorisation: the pivot of dof {dof} (of {n}) is {what}")
 
 
 def available() -> bool:
@@ -95,7 +95,7 @@ class CholeskyFactor:
     Accounting: ``nnz`` (stored entries of L, explicit zeros of the amalgamated supernodes
     included), ``factor_bytes``, ``n_supernodes``, ``largest_front``, ``stack_bytes``."""
 
-    def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0):
+    def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True):
         n = k.shape[0]
         if k.ndim != 2 or k.shape[1] != n:
             raise ValueError(f"the Cholesky factorisation needs a square matrix, got shape {k.shape}")
@@ -104,7 +104,7 @@ class CholeskyFactor:
             raise ValueError(f"the elimination order must be a permutation of the {n} dofs")
         if not 0 <= m <= n:
             raise ValueError(f"the root supernode must hold between 0 and {n} dofs, got {m}")
-        self.n, self.m = n, int(m)
+        self.n, self.m, self.definite = n, int(m), bool(definite)
         kern = _kernels()
         self.order = self._postordered(k, order, kern)
         self._symbolic(k, kern)
@@ -162,10 +162,10 @@ class CholeskyFactor:
     def _numeric(self, kern) -> None:
         factor, bad = kern.multifrontal(self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr,
                                         self.rows, self.sn_parent, self.factor_ptr, self.stack_size,
-                                        self.largest_front, self.schur)
+                                        self.largest_front, self.schur, self.definite)
         del self._colptr, self._rowind, self._values
         if bad >= 0:
-            raise NotPositiveDefinite(int(self.order[bad]), self.n)
+            raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
         self.factor = factor
 
     def solve(self, f: np.ndarray) -> np.ndarray:
@@ -180,9 +180,18 @@ class CholeskyFactor:
         return out.reshape(f.shape)
 
     def root_factor(self) -> np.ndarray:
-        """The Cholesky factor of the Schur complement (lower triangular, m x m): the root block."""
+        """The Cholesky factor W = L sqrt(D) of the Schur complement (lower triangular, m x m,
+        Fortran order) from the root block; NotPositiveDefinite when a pivot of D is not positive."""
         m = self.m
-        return self.factor[self.factor_ptr[-1] - m * m:].reshape(m, m).T
+        block = self.factor[self.factor_ptr[-1] - m * m:].reshape(m, m)  # row k: D_k, then column k of L
+        d = np.diag(block).copy()
+        if m and not d.min() > 0.0:
+            bad = int(np.flatnonzero(~(d > 0.0))[0])
+            raise NotPositiveDefinite(int(self.order[self.n - m + bad]), self.n)
+        root = np.sqrt(d)
+        w = block * root[:, None]
+        w[np.diag_indices(m)] = root
+        return w.T
 
 
 def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
@@ -196,12 +205,15 @@ def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
     return int(max(depth.max(initial=0), 0))
 
 
-def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int):
+def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False):
     """(factor, S, G) of K0 in the order ``order`` whose last m dofs are the condensed ones:
-    S their Schur complement, G = S^-1 (LAPACK potri on S's Cholesky factor, the root block)."""
+    S their Schur complement, G = S^-1 (LAPACK potri on S's Cholesky factor, the root block).
+    ``definite=False`` (the condensed contact systems): K0's interior pivots may be negative
+    (Nitsche and cut-cell terms make some 3D stiffness matrices indefinite), as in SuperLU's
+    factorisation without pivoting; S itself must be positive definite."""
     from scipy.linalg import lapack
 
-    factor = CholeskyFactor(k0, order, m)
+    factor = CholeskyFactor(k0, order, m, definite)
     schur = factor.schur
     if m == 0:
         return factor, schur, np.zeros((0, 0))
