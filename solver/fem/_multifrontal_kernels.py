@@ -360,7 +360,8 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
     matrix and the children's update matrices (popped off a stack), factor its columns,
     push its update matrix (L D L^T without pivoting: D on the factor's diagonal; a zero pivot
     fails, a negative one too when ``definite``). The last supernode's assembled front is copied into ``schur``
-    when that has its size (the root of the contact dofs). Returns (factor, failed column or
+    when that has its size (the root of the contact dofs). ``max_front``: the largest front
+    with an update matrix (the roots are assembled in their factor blocks). Returns (factor, failed column or
     -1)."""
     ns = len(sn_parent)
     n = sn_start[ns]
@@ -377,7 +378,10 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
         nc = c1 - c0
         nr = row_ptr[s + 1] - row_ptr[s]
         f = nc + nr
-        t = buf[: f * f].reshape(f, f)
+        if nr == 0:  # a root: its front is its factor block (no copy)
+            t = factor[factor_ptr[s]:factor_ptr[s] + f * f].reshape(f, f)
+        else:
+            t = buf[: f * f].reshape(f, f)
         for j in range(f):
             t[j, j:] = 0.0
         for k in range(nc):
@@ -409,8 +413,9 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
         for k in range(nc):
             for i in range(k):
                 factor[off + k * f + i] = 0.0
-            for i in range(k, f):
-                factor[off + k * f + i] = t[k, i]
+            if nr > 0:
+                for i in range(k, f):
+                    factor[off + k * f + i] = t[k, i]
         if nr > 0 and sn_parent[s] != -1:
             base = st_off[depth]
             for a in range(nr):
@@ -422,10 +427,58 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
     return factor, -1
 
 
+@njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})
+def _solve_vector(factor, factor_ptr, sn_start, row_ptr, rows, b):
+    """:func:`solve` for one right-hand side: the rows below each supernode gathered into a
+    contiguous buffer, so the inner loops run over contiguous memory (axpys forward, dot
+    products backward; reassociated sums)."""
+    ns = len(row_ptr) - 1
+    nr_max = 0
+    for s in range(ns):
+        nr_max = max(nr_max, row_ptr[s + 1] - row_ptr[s])
+    tmp = np.empty(nr_max, np.float64)
+    for s in range(ns):
+        c0, c1 = sn_start[s], sn_start[s + 1]
+        nc = c1 - c0
+        nr = row_ptr[s + 1] - row_ptr[s]
+        f = nc + nr
+        off = factor_ptr[s]
+        tmp[:nr] = 0.0
+        for k in range(nc):
+            x = b[c0 + k]
+            row = factor[off + k * f:off + (k + 1) * f]
+            for p in range(k + 1, nc):
+                b[c0 + p] -= row[p] * x
+            for p in range(nr):
+                tmp[p] -= row[nc + p] * x
+            b[c0 + k] = x / row[k]
+        for p in range(nr):
+            b[rows[row_ptr[s] + p]] += tmp[p]
+    for s in range(ns - 1, -1, -1):
+        c0, c1 = sn_start[s], sn_start[s + 1]
+        nc = c1 - c0
+        nr = row_ptr[s + 1] - row_ptr[s]
+        f = nc + nr
+        off = factor_ptr[s]
+        for p in range(nr):
+            tmp[p] = b[rows[row_ptr[s] + p]]
+        for k in range(nc - 1, -1, -1):
+            row = factor[off + k * f:off + (k + 1) * f]
+            acc = 0.0
+            for p in range(k + 1, nc):
+                acc += row[p] * b[c0 + p]
+            for p in range(nr):
+                acc += row[nc + p] * tmp[p]
+            b[c0 + k] -= acc
+
+
 @jit
 def solve(factor, factor_ptr, sn_start, row_ptr, rows, b):
     """Overwrite b (n, r) with K^-1 b: L z = b forward and y = D^-1 z, then L^T x = y
     backward, supernode by supernode (unit L; columns in the factor's numbering)."""
+    if b.shape[1] == 1:
+        _solve_vector(factor, factor_ptr, sn_start, row_ptr, rows, b.reshape(b.shape[0]))
+        return
     ns = len(row_ptr) - 1
     r = b.shape[1]
     for s in range(ns):

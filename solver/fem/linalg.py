@@ -1,13 +1,16 @@
 """Linear algebra of the solver, behind small functions the drivers call: the sparse direct
 solve of the whole system (SuperLU, geometric nested dissection for large grids), the condensed
 factorisation of the contact drivers (factor once with the contact dofs last, read the Schur
-complement off the factors), dense blocks embedded into sparse ones, and a guard that runs dense
-linear algebra on one BLAS thread."""
+complement off the factors: the multifrontal Cholesky of :mod:`solver.fem.multifrontal` for
+large systems when numba is installed, else SuperLU; ``IBFEM_CONDENSED_FACTOR`` forces one),
+dense blocks embedded into sparse ones, and a guard that runs dense linear algebra on one BLAS
+thread."""
 
 from __future__ import annotations
 
 import contextlib
 import ctypes
+import os
 
 import numpy as np
 import scipy.linalg as sla
@@ -25,6 +28,8 @@ __all__ = [
     "LinearSolveError",
     "single_threaded_blas",
     "condensed_factor",
+    "CONDENSED_FACTORS",
+    "CHOLESKY_NONZEROS",
     "dof_order",
     "metis_order",
     "condensed_apply",
@@ -307,18 +312,35 @@ class PermutedLU:
         return out
 
 
+#: the factorisations of :func:`condensed_factor` (environment variable IBFEM_CONDENSED_FACTOR)
+CONDENSED_FACTORS = ("auto", "superlu", "cholesky")
+#: "auto" uses the multifrontal Cholesky for a K0 with at least this many stored entries (numba
+#: installed). The Cholesky costs ~0.25 s and ~100 MB once per process (numba and LLVM loaded);
+#: measured break-even (benchmarks/cholesky.py, docs/linear-algebra.md): the 2D 68k-dof peer
+#: scene (0.9 M entries) and the 3D 12k-dof sphere rung (0.7 M); the 3D 32k-dof rung (1.8 M)
+#: factors 2.4x faster in half the memory
+CHOLESKY_NONZEROS = 600_000
+
+
 def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None = None):
     """Factor K0 once with the contact dofs last and read the Schur complement
-    S = K_cc - K_ci K_ii^-1 K_ic off the trailing block of the factors: S = L_cc U_cc. Then
-    G = B K0^-1 B^T = S^-1 without m solves (scipy's SuperLU solves many right-hand sides one
-    by one, ~20 ms each here). Returns (the permuted LU, S, G).
+    S = K_cc - K_ci K_ii^-1 K_ic off the factorisation; G = B K0^-1 B^T = S^-1 from S's
+    Cholesky factor without m solves. Returns (a factor with ``solve(f)`` in the original
+    numbering, S, G).
 
-    ``order``: a fill-reducing order of all dofs (:func:`dof_order`, geometric nested
-    dissection); the interior dofs keep it, the contact dofs go last; SuperLU then factors in
-    that order with diagonal pivots. Without it, SuperLU's minimum degree orders the interior
-    (one more factorisation, of the interior block, only to find the order)."""
+    ``order``: a fill-reducing order of all dofs (:func:`dof_order`); the interior dofs keep
+    it, the contact dofs go last. Without it, SuperLU's minimum degree orders the interior (one
+    more factorisation, of the interior block, only to find the order).
+
+    Two factorisations, chosen by the environment variable ``IBFEM_CONDENSED_FACTOR``:
+    "cholesky" (:func:`solver.fem.multifrontal.condensed_cholesky`: a supernodal multifrontal
+    L D L^T, only L stored, the contact dofs its root front), "superlu" (SuperLU in the same
+    order with diagonal pivots, S from the trailing blocks of L and U), or "auto" (the default:
+    the Cholesky from CHOLESKY_NONZEROS stored entries of K0 on when numba is available, else SuperLU; a zero pivot
+    or a Schur complement that is not positive definite falls back to SuperLU, whose general
+    path handles what can be handled). A forced "cholesky" raises instead of falling back."""
     n = k0.shape[0]
-    m = len(dofs)
+    choice = _condensed_choice(k0.nnz)
     contact = np.zeros(n, dtype=bool)
     contact[dofs] = True
     if order is None:
@@ -330,6 +352,41 @@ def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | No
     else:
         interior = order[~contact[order]]
     order = np.concatenate([interior, dofs])
+    if choice == "cholesky" or choice == "auto":
+        from .multifrontal import NotPositiveDefinite, condensed_cholesky
+
+        try:
+            with single_threaded_blas():  # many mid-size products: threads only spin (x20 slower measured)
+                return condensed_cholesky(k0, order, len(dofs))
+        except NotPositiveDefinite:
+            if choice == "cholesky":
+                raise
+    return _superlu_condensed(k0, order, len(dofs))
+
+
+def _condensed_choice(nonzeros: int) -> str:
+    """"cholesky", "superlu" or "auto" (the Cholesky worth trying) for a K0 of that many entries."""
+    choice = os.environ.get("IBFEM_CONDENSED_FACTOR", "").strip().lower() or "auto"
+    if choice not in CONDENSED_FACTORS:
+        raise ValueError(f"environment variable IBFEM_CONDENSED_FACTOR must be one of "
+                         f"{', '.join(CONDENSED_FACTORS)}, got {choice!r}")
+    if choice == "cholesky":
+        from .multifrontal import available
+
+        if not available():
+            raise ValueError("IBFEM_CONDENSED_FACTOR=cholesky needs numba (pip install 'ibfem[fast]') "
+                             "and IBFEM_NO_JIT unset")
+        return choice
+    if choice == "auto":
+        from .multifrontal import available
+
+        return "auto" if nonzeros >= CHOLESKY_NONZEROS and available() else "superlu"
+    return choice
+
+
+def _superlu_condensed(k0: sp.spmatrix, order: np.ndarray, m: int):
+    """(PermutedLU, S, G) by SuperLU in ``order`` (the m condensed dofs last) without pivoting."""
+    n = k0.shape[0]
     kp = _permuted(k0, order)
     lu = spla.splu(kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     del kp

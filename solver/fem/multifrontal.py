@@ -93,7 +93,9 @@ class CholeskyFactor:
     numbering.
 
     Accounting: ``nnz`` (stored entries of L, explicit zeros of the amalgamated supernodes
-    included), ``factor_bytes``, ``n_supernodes``, ``largest_front``, ``stack_bytes``."""
+    included), ``factor_bytes``, ``n_supernodes``, ``largest_front``, and the work space of
+    the numeric phase: ``stack_bytes`` (update matrices), ``front_bytes`` (the largest front
+    that is not a root; roots are assembled in their factor blocks)."""
 
     def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True):
         n = k.shape[0]
@@ -155,14 +157,16 @@ class CholeskyFactor:
         self.n_supernodes = len(below)
         self.largest_front = int(front.max()) if len(front) else 0
         self.stack_size = _stack_size(sn_parent, below)
+        self._buffer = int(front[below > 0].max(initial=0))
         self.nnz = int(self.factor_ptr[-1] - np.sum(ncol * (ncol - 1) // 2))
         self.factor_bytes = 8 * int(self.factor_ptr[-1])
         self.stack_bytes = 8 * self.stack_size
+        self.front_bytes = 8 * self._buffer ** 2
 
     def _numeric(self, kern) -> None:
         factor, bad = kern.multifrontal(self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr,
                                         self.rows, self.sn_parent, self.factor_ptr, self.stack_size,
-                                        self.largest_front, self.schur, self.definite)
+                                        self._buffer, self.schur, self.definite)
         del self._colptr, self._rowind, self._values
         if bad >= 0:
             raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
@@ -191,7 +195,7 @@ class CholeskyFactor:
         root = np.sqrt(d)
         w = block * root[:, None]
         w[np.diag_indices(m)] = root
-        return w.T
+        return w.T  # Fortran order
 
 
 def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
@@ -217,8 +221,19 @@ def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: boo
     schur = factor.schur
     if m == 0:
         return factor, schur, np.zeros((0, 0))
-    inverse, info = lapack.dpotri(np.asfortranarray(factor.root_factor()), lower=1)
+    inverse, info = lapack.dpotri(factor.root_factor(), lower=1, overwrite_c=1)
     if info != 0:
         raise NotPositiveDefinite(int(order[len(order) - m + max(info - 1, 0)]), len(order))
-    lower = np.tril(inverse)
-    return factor, schur, lower + np.tril(lower, -1).T
+    return factor, schur, _symmetric_from_lower(inverse)
+
+
+def _symmetric_from_lower(a: np.ndarray, block: int = 512) -> np.ndarray:
+    """Fill the upper triangle of ``a`` from its lower one, in place, by row blocks (no m x m
+    temporaries: G is the largest dense array of a 3D run)."""
+    m = len(a)
+    for b0 in range(0, m, block):
+        b1 = min(b0 + block, m)
+        a[b0:b1, b1:] = a[b1:, b0:b1].T
+        diag = a[b0:b1, b0:b1]
+        diag[...] = np.tril(diag) + np.tril(diag, -1).T
+    return a
