@@ -91,7 +91,7 @@ class _Mesh:
         m = len(self.tri)
         best = np.full(len(p), np.inf)
         todo = np.arange(len(p))
-        k = min(m, 16 if tol is None else 4)  # a foot on the face is within tol of a near triangle
+        k = min(m, 16 if tol is None else 1)  # a foot on the face mostly lies on its nearest centroid's triangle
         while len(todo) and k > 0:
             dc, idx = self.tree.query(p[todo], k=k)
             dc, idx = dc.reshape(len(todo), k), idx.reshape(len(todo), k)
@@ -275,25 +275,50 @@ class PartSolid(Solid):
         self.volume = float(((x * n).sum(axis=1) @ w) / 3.0)
 
     def _faces_nearest(self, p: np.ndarray):
-        best = np.full(len(p), np.inf)
-        sign = np.ones(len(p))
-        interior = np.zeros(len(p), bool)
+        """Distance to the nearest face (its exact foot on the trimmed face), the side of that
+        face's normal (+1 inside) and whether such a foot was found. The trimmed-face test (the
+        costly part) is asked only of the face whose untrimmed foot is the nearest still in
+        question for each point: the untrimmed distance bounds the trimmed one from below, so a
+        point is settled by the first face in that order whose foot lies on it (ties go to the
+        face listed first, as a face-by-face sweep would)."""
+        n = len(p)
+        best = np.full(n, np.inf)
+        sign = np.ones(n)
+        interior = np.zeros(n, bool)
+        exact = [f for f in self.faces.values() if f.surface is not None]
         for face in self.faces.values():
-            if face.surface is None:
+            if face.surface is None:  # tessellation only: a lower bound, never interior
                 d = np.maximum(face.mesh.distance(p) - self.tolerance, 0.0)
-                on, s = np.zeros(len(p), bool), np.ones(len(p))
-            else:
-                feet, n = face.project_surface(p)
-                on = face.on_face(feet)
-                r = p - feet
-                d = np.where(on, np.linalg.norm(r, axis=1), np.inf)
-                s = np.where((r * n).sum(1) < 0.0, 1.0, -1.0)  # positive inside
-            better = d < best
-            best[better], sign[better], interior[better] = d[better], s[better], on[better]
+                better = d < best
+                best[better], sign[better] = d[better], 1.0
+        if not exact:
+            return best, sign, interior
+        feet, normals = zip(*[f.project_surface(p) for f in exact])
+        untrimmed = np.stack([np.linalg.norm(p - x, axis=1) for x in feet])  # (faces, n)
+        todo = np.arange(n)
+        while len(todo):
+            which = np.argmin(untrimmed[:, todo], axis=0)
+            d = untrimmed[which, todo]
+            keep = d < best[todo]  # else no face can come nearer than what is found
+            todo, which, d = todo[keep], which[keep], d[keep]
+            settled = np.zeros(len(todo), bool)
+            for i in np.unique(which):
+                sel = np.flatnonzero(which == i)
+                pts = todo[sel]
+                on = exact[i].on_face(feet[i][pts])
+                hit = pts[on]
+                r = p[hit] - feet[i][hit]
+                best[hit], interior[hit] = d[sel[on]], True
+                sign[hit] = np.where((r * normals[i][hit]).sum(1) < 0.0, 1.0, -1.0)
+                settled[sel[on]] = True
+                untrimmed[i, pts[~on]] = np.inf
+            todo = todo[~settled]
         return best, sign, interior
 
-    def _edges_nearest(self, p: np.ndarray) -> np.ndarray:
-        best = np.full(len(p), np.inf)
+    def _edges_nearest(self, p: np.ndarray, bound: np.ndarray) -> np.ndarray:
+        """Distance to the nearest edge or vertex, exact where it is below ``bound`` (the faces'
+        nearest distance); elsewhere only known to be at least ``bound``."""
+        best = np.array(bound, dtype=float)
         for e in self.edges:
             line = np.asarray(e.polyline, float)
             ends = [v for v in (e.start, e.end) if v is not None] or [line[0], line[-1]]
@@ -302,16 +327,19 @@ class PartSolid(Solid):
                 d = np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
             else:
                 pr = e.curve.project(p)
-                feet = np.asarray(pr.points, float)
-                on = _polyline_distance(feet, line) <= self.tolerance
-                d = np.minimum(d, np.where(on, np.abs(np.asarray(pr.distances, float)), np.inf))
+                dc = np.abs(np.asarray(pr.distances, float))
+                ask = np.flatnonzero(dc < np.minimum(best, d))  # only a foot on the edge could be nearer
+                if len(ask):
+                    feet = np.asarray(pr.points, float)[ask]
+                    on = _polyline_distance(feet, line) <= self.tolerance
+                    d[ask[on]] = np.minimum(d[ask[on]], dc[ask[on]])
             best = np.minimum(best, d)
         return best
 
     def signed_distance(self, points) -> np.ndarray:
         p = np.asarray(points, float).reshape(-1, 3)
         best, sign, interior = self._faces_nearest(p)
-        edge = self._edges_nearest(p)
+        edge = self._edges_nearest(p, best)
         at_edge = edge < best
         best = np.minimum(best, edge)
         ask = at_edge | ~interior

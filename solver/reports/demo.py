@@ -6,7 +6,7 @@
    ``examples/onshape/half_cylinder_on_block.toml`` (``ibfem run``).
 3. Prints the contact half-width and peak pressure against Hertz for the force found, and writes
    ``summary.json``, the VTU files and the pictures to ``out/demo`` (or ``--out``).
-4. In 3D (``--no-3d`` skips it, about half a minute): the "Cone with sphere cap" body of the cached
+4. In 3D (``--no-3d`` skips it, about ten seconds): the "Cone with sphere cap" body of the cached
    part studio ``fixtures/onshape/cone_sphere`` pressed cap down onto a block
    (``examples/solid/onshape_ball_on_block.toml``), its contact circle and centre pressure
    against Hertz's sphere on a flat for the force found; results in ``out/demo/solid``.
@@ -28,7 +28,7 @@ SOLID_SCENE = ROOT / "examples" / "solid" / "onshape_ball_on_block.toml"
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m solver.reports.demo", description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default="out/demo", help="output directory (default out/demo)")
-    parser.add_argument("--no-3d", action="store_true", help="skip the 3D part (about half a minute)")
+    parser.add_argument("--no-3d", action="store_true", help="skip the 3D part (about ten seconds)")
     args = parser.parse_args(argv)
     out = Path(args.out)
 
@@ -85,7 +85,7 @@ def solid_demo(out: Path) -> bool:
     from solver.reports.validate_solid import centre_pressure, circular_reference
     from solver.solve import solve
 
-    print(f"4. 3D contact of a CAD solid: {SOLID_SCENE.relative_to(ROOT)} (about half a minute)")
+    print(f"4. 3D contact of a CAD solid: {SOLID_SCENE.relative_to(ROOT)} (about ten seconds)")
     scene = load_scene(SOLID_SCENE)
     t0 = time.perf_counter()
     solution = solve(scene.problem)
