@@ -44,6 +44,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.elasticity import plane_modulus
@@ -394,15 +395,15 @@ def region_quadrature(c: BandContact, a: float):
 
 
 def _terms(c: BandContact, a: float):
-    """Contact stiffness and load on the contact dofs (dense m x m, m) for half-width a."""
+    """Contact stiffness and load on the contact dofs (sparse m x m, m) for half-width a."""
     m = len(c.dofs)
     if a <= 0.0:
-        return np.zeros((m, m)), np.zeros(m), None
+        return sp.csr_matrix((m, m)), np.zeros(m), None
     pts, jump, flux, size = region_quadrature(c, a)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
     proj = _projector(c, pts, a)
     k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, c.band_fraction, 1.0, jump=jump)
-    kc = k.toarray()
+    kc = sp.csr_matrix(k)
     e_q, f_q = jump.toarray(), flux.toarray()
     slip = _slip_mask(c, pts, a)
     if slip.any():
@@ -414,7 +415,7 @@ def _terms(c: BandContact, a: float):
         tdir = -c.slip_sign * c.friction * _tangents(pts.normal)  # (q, 2) per unit pressure
         g = e_q[0::2] * tdir[:, 0:1] + e_q[1::2] * tdir[:, 1:2]  # (q, m)
         wq = np.where(slip, pts.weights, 0.0)
-        kc = kc - g.T @ (wq[:, None] * r)
+        kc = (kc - sp.csr_matrix(g).T @ sp.csr_matrix(wq[:, None] * r)).tocsr()
         f = f + g.T @ (wq * b)
     return kc, f, (pts, bp, proj, e_q, f_q, size)
 
