@@ -44,6 +44,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.elasticity import plane_modulus
@@ -394,16 +395,16 @@ def region_quadrature(c: BandContact, a: float):
 
 
 def _terms(c: BandContact, a: float):
-    """Contact stiffness and load on the contact dofs (dense m x m, m) for half-width a."""
+    """Contact stiffness and load on the contact dofs (sparse m x m, m) for half-width a."""
     m = len(c.dofs)
     if a <= 0.0:
-        return np.zeros((m, m)), np.zeros(m), None
+        return sp.csr_matrix((m, m)), np.zeros(m), None
     pts, jump, flux, size = region_quadrature(c, a)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
     proj = _projector(c, pts, a)
     k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, c.band_fraction, 1.0, jump=jump)
-    kc = k.toarray()
-    e_q, f_q = jump.toarray(), flux.toarray()
+    kc = sp.csr_matrix(k)
+    e_q, f_q = sp.csr_matrix(jump), sp.csr_matrix(flux)
     slip = _slip_mask(c, pts, a)
     if slip.any():
         # friction traction of the slip zone (eq. 5-24), linear in the contact dofs through the
@@ -412,9 +413,9 @@ def _terms(c: BandContact, a: float):
         # g = (-sign mu t_c)^T J (docs/contact.md); exact for the width, no inner iteration
         r, b = _pressure_rows(c, pts, proj, e_q, f_q, size)
         tdir = -c.slip_sign * c.friction * _tangents(pts.normal)  # (q, 2) per unit pressure
-        g = e_q[0::2] * tdir[:, 0:1] + e_q[1::2] * tdir[:, 1:2]  # (q, m)
+        g = _along(e_q, tdir)  # (q, m)
         wq = np.where(slip, pts.weights, 0.0)
-        kc = kc - g.T @ (wq[:, None] * r)
+        kc = (kc - g.T @ (sp.diags(wq) @ r)).tocsr()
         f = f + g.T @ (wq * b)
     return kc, f, (pts, bp, proj, e_q, f_q, size)
 
@@ -433,16 +434,21 @@ def _slip_mask(c: BandContact, pts, a: float) -> np.ndarray:
 
 
 def _pressure_rows(c: BandContact, pts, proj, e_q, f_q, size):
-    """Pressure at points as an affine function of the contact dofs: p = r @ x + b (r (q, m))."""
+    """Pressure at points as an affine function of the contact dofs: p = r @ x + b (r (q, m), sparse)."""
     nc = pts.normal
     layer = (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
         proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
     )
     nl = np.einsum("qi,qij->qj", nc, layer)  # n^T L (q, 2)
     npf = np.einsum("qi,qij->qj", nc, proj)  # n^T P
-    r = -(nl[:, 0:1] * e_q[0::2] + nl[:, 1:2] * e_q[1::2]) + npf[:, 0:1] * f_q[0::2] + npf[:, 1:2] * f_q[1::2]
+    r = (_along(f_q, npf) - _along(e_q, nl)).tocsr()
     b = -np.einsum("qi,qi->q", nl, pts.delta)
     return r, b
+
+
+def _along(op, v: np.ndarray):
+    """Rows v_q . (op x)_q of an operator op (2 q, m) giving a 2-vector per point: (q, m), sparse."""
+    return sp.diags(v[:, 0]) @ op[0::2] + sp.diags(v[:, 1]) @ op[1::2]
 
 
 def _friction_traction(c: BandContact, pts, t1: np.ndarray, a: float) -> np.ndarray:

@@ -178,15 +178,13 @@ class ContactDriver:
             if kb is not None:
                 kc = kc - kb
             return kc, fc, [info]
-        kc = np.zeros((m, m))
-        fc = np.zeros(m)
-        infos = []
+        blocks, fc, infos = [], np.zeros(m), []
         for c, wh, a, kb in zip(self.contacts, self.where, widths, self.base_terms):
             kk, ff, info = c.terms(a)
-            kc[np.ix_(wh, wh)] += kk if kb is None else kk - kb
+            blocks.append(embed(kk if kb is None else kk - kb, wh, m))
             fc[wh] += ff
             infos.append(info)
-        return kc, fc, infos
+        return sum(blocks[1:], blocks[0]).tocsr(), fc, infos
 
     def _solve_small(self, lam, kc, fc):
         """x of the condensed system (S + Kc) x = lam S B U0 + fc, and S + Kc factored (kept

@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.options import ContactOptions
@@ -137,7 +138,7 @@ class EllipseContact:
     def terms(self, a: float):
         m = len(self.dofs)
         if a <= 0.0:
-            return np.zeros((m, m)), np.zeros(m), None
+            return sp.csr_matrix((m, m)), np.zeros(m), None
         aa, bb = self.semi_axes(a)
         pts = region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
                             self.reach, REGION_ORDER, centre=self.centre)
@@ -145,7 +146,7 @@ class EllipseContact:
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
         k, f = thin_band_terms(bp, proj, -pts.delta, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=jump)
-        kc, fc = k.toarray(), np.asarray(f).ravel()
+        kc, fc = sp.csr_matrix(k), np.asarray(f).ravel()
         info = (pts, bp, proj, jump, flux, size, a)
         slip = _slip_mask(self, pts, a)
         if slip.any():
@@ -154,7 +155,7 @@ class EllipseContact:
             r, b = _pressure_rows(self, info)
             g = _blocks(np.broadcast_to(-self.friction * self.slip_direction, pts.x1.shape)) @ jump
             wq = np.where(slip, pts.weights, 0.0)
-            kc = kc - (g.T @ (r.multiply(wq[:, None]))).toarray()
+            kc = (kc - g.T @ sp.csr_matrix(r.multiply(wq[:, None]))).tocsr()
             fc = fc + g.T @ (wq * b)
         return kc, fc, info
 

@@ -216,10 +216,15 @@ def single_threaded_blas():
             put(n)
 
 
-def embed(dense: np.ndarray, dofs: np.ndarray, n: int) -> sp.csr_matrix:
-    """A dense block on the dofs ``dofs`` as an (n, n) sparse matrix."""
-    r, c = np.nonzero(dense)
-    return sp.csr_matrix((dense[r, c], (dofs[r], dofs[c])), shape=(n, n))
+def embed(block, dofs: np.ndarray, n: int) -> sp.csr_matrix:
+    """A block (dense or sparse) on the dofs ``dofs`` as an (n, n) sparse matrix."""
+    if sp.issparse(block):
+        coo = block.tocoo()
+        r, c, v = coo.row, coo.col, coo.data
+    else:
+        r, c = np.nonzero(block)
+        v = block[r, c]
+    return sp.csr_matrix((v, (dofs[r], dofs[c])), shape=(n, n))
 
 
 def scatter(n, dofs, values):
@@ -242,16 +247,20 @@ class SmallSystem:
     #: the active set is used when it holds at most this fraction of the dofs
     ACTIVE_FRACTION = 0.7
 
-    def __init__(self, schur: np.ndarray, kc: np.ndarray, symmetric: bool, g_inverse: np.ndarray | None = None):
-        touched = np.flatnonzero(np.any(kc != 0.0, axis=0) | np.any(kc != 0.0, axis=1))
+    def __init__(self, schur: np.ndarray, kc, symmetric: bool, g_inverse: np.ndarray | None = None):
+        """``kc``: the contact stiffness on the m condensed dofs, sparse (or dense)."""
+        kc = sp.csr_matrix(kc)
+        kc.eliminate_zeros()
+        coo = kc.tocoo()
+        touched = np.unique(np.concatenate([coo.row, coo.col]))
         self.g = g_inverse
         self.cholesky = self.lu = None
-        if g_inverse is not None and len(touched) <= self.ACTIVE_FRACTION * len(kc):
-            self.active, self.kc_aa = touched, kc[np.ix_(touched, touched)]
+        if g_inverse is not None and len(touched) <= self.ACTIVE_FRACTION * kc.shape[0]:
+            self.active, self.kc_aa = touched, kc[touched][:, touched].toarray()
             self._factor_active(symmetric)
         else:
             self.active = None
-            self._factor(schur + kc, symmetric)
+            self._factor(schur + kc.toarray(), symmetric)
 
     def _factor(self, matrix: np.ndarray, symmetric: bool) -> None:
         if symmetric:
