@@ -15,7 +15,10 @@ Scenes: the 68k-dof 2D peer scene (benchmarks/scenes/peer_half_disc.toml) and th
 sphere_on_flat example at element_size 0.2 with 5 levels (12k dofs; ``--large``: the example's
 0.25 / 6 levels, 32k dofs), vtk, plots, probes and lines off.
 
-    python benchmarks/cholesky.py [--repeat 3] [--large] [--bare]
+Scaling (``--grid NX``): the symbolic and numeric phases alone on a 2D grid Laplacian kron I_2
+of 2 NX^2 dofs in METIS order, a grid line of nodes as the root (NX 708: 1M dofs).
+
+    python benchmarks/cholesky.py [--repeat 3] [--large] [--bare] [--grid 708]
 
 Writes benchmarks/results/cholesky.json."""
 
@@ -74,6 +77,50 @@ print("RESULT " + __import__("json").dumps(out))
 """
 
 
+GRID = """
+import resource, sys, time, numpy as np, scipy.sparse as sp
+from solver.fem import multifrontal as mf, linalg
+from solver.fem.linalg import single_threaded_blas
+def rss():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e3
+kern = mf._kernels()
+kern.postorder(np.array([-1], np.int64))
+nx = int(sys.argv[1])
+lap = sp.diags([-np.ones(nx - 1), 2 * np.ones(nx), -np.ones(nx - 1)], [-1, 0, 1])
+grid = sp.kron(lap, sp.eye(nx)) + sp.kron(sp.eye(nx), lap)
+k = (sp.kron(grid, np.array([[1.0, 0.3], [0.3, 1.0]])) + 1e-6 * sp.eye(2 * nx * nx)).tocsr()
+n, m = k.shape[0], 2 * nx
+order = linalg.metis_order(k, 2)
+dofs = np.arange(2 * nx * (nx // 2), 2 * nx * (nx // 2) + m)
+order = np.concatenate([order[~np.isin(order, dofs)], dofs])
+start = rss()
+f = mf.CholeskyFactor.__new__(mf.CholeskyFactor)
+f.n, f.m, f.definite = n, m, True
+t0 = time.perf_counter()
+f.order = f._postordered(k, order, kern)
+t1 = time.perf_counter()
+f._symbolic(k, kern)
+t2 = time.perf_counter()
+symbolic_peak = rss()
+f.schur = np.zeros((m, m))
+with single_threaded_blas():
+    f._numeric(kern)
+t3 = time.perf_counter()
+x = f.solve(np.ones(n))
+t4 = time.perf_counter()
+out = dict(n=n, nnz_k=k.nnz, m=m, tree_counts_s=t1 - t0, supernodes_rows_s=t2 - t1, numeric_s=t3 - t2, solve_s=t4 - t3,
+           nnz_l=f.nnz, factor_mb=f.factor_bytes / 1e6, n_supernodes=f.n_supernodes, largest_front=f.largest_front,
+           rss_start_mb=start, rss_after_symbolic_mb=symbolic_peak, peak_rss_mb=rss(),
+           residual=float(np.abs(k @ x - 1.0).max()))
+print("RESULT " + __import__("json").dumps(out))
+"""
+
+
+def grid_scaling(nx: int) -> dict:
+    done = subprocess.run([sys.executable, "-c", GRID, str(nx)], cwd=ROOT, capture_output=True, text=True, check=True)
+    return json.loads(next(ln for ln in done.stdout.splitlines() if ln.startswith("RESULT "))[len("RESULT "):])
+
+
 def sphere_scene(tmp: Path, element_size: float, levels: int) -> Path:
     """The sphere_on_flat example with the given element size and levels, outputs off."""
     text = (ROOT / "examples/solid/sphere_on_flat.toml").read_text()
@@ -127,8 +174,15 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--large", action="store_true", help="also the 32k-dof sphere rung (15-20 s a run)")
     parser.add_argument("--bare", action="store_true", help="also the bare factorisation of each scene's K0")
+    parser.add_argument("--grid", type=int, default=0, help="only the scaling check on a 2D grid of 2 GRID^2 dofs")
     args = parser.parse_args()
     results: dict = {"runs": {}, "bare": {}}
+    if args.grid:
+        r = grid_scaling(args.grid)
+        print(json.dumps(r, indent=1))
+        (HERE / "results").mkdir(exist_ok=True)
+        (HERE / "results/cholesky_grid.json").write_text(json.dumps(r, indent=1))
+        return
     with tempfile.TemporaryDirectory() as tmpdir:
         tmp = Path(tmpdir)
         scenes = [HERE / "scenes/peer_half_disc.toml", sphere_scene(tmp, 0.2, 5)]

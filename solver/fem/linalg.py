@@ -324,11 +324,12 @@ class PermutedLU:
 #: the factorisations of :func:`condensed_factor` (environment variable IBFEM_CONDENSED_FACTOR)
 CONDENSED_FACTORS = ("auto", "superlu", "cholesky")
 #: "auto" uses the multifrontal Cholesky for a K0 with at least this many stored entries (numba
-#: installed). The Cholesky costs ~0.25 s and ~100 MB once per process (numba and LLVM loaded);
-#: measured break-even (benchmarks/cholesky.py, docs/linear-algebra.md): the 2D 68k-dof peer
-#: scene (0.9 M entries) and the 3D 12k-dof sphere rung (0.7 M); the 3D 32k-dof rung (1.8 M)
-#: factors 2.4x faster in half the memory
-CHOLESKY_NONZEROS = 600_000
+#: installed). The Cholesky costs ~0.25 s and ~100 MB once per process (numba and LLVM loaded).
+#: Measured (benchmarks/cholesky.py, docs/linear-algebra.md), whole runs: the 3D 12k-dof sphere
+#: rung (0.71 M entries) even (factor 0.62 / 0.66 s, 566 / 570 MB), so SuperLU; the 2D 68k-dof
+#: peer scene (0.89 M) as fast in 432 MB instead of 499; the 3D 32k-dof rung (1.8 M) 13.2 s and
+#: 1328 MB instead of 16.4 s and 1725 MB
+CHOLESKY_NONZEROS = 800_000
 
 
 def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None = None):
