@@ -87,10 +87,11 @@ def _lower(k: sp.spmatrix, where: np.ndarray, fmt: str):
 
 
 class CholeskyFactor:
-    """K = L L^T in the elimination order ``order`` (new index i is dof ``order[i]``), the last
-    ``m`` dofs of the order one root supernode whose assembled front (the Schur complement of
-    those dofs) is kept in ``schur``. ``solve(f)`` for f of shape (n,) or (n, k) in the original
-    numbering.
+    """P K P^T = L D L^T (unit L, no pivoting; the Cholesky factor is L D^1/2) in the elimination
+    order ``order`` (new index i is dof ``order[i]``), the last ``m`` dofs of the order one root
+    supernode whose assembled front (the Schur complement of those dofs) is kept in ``schur``.
+    ``definite``: a non-positive pivot raises :class:`NotPositiveDefinite`; else only a zero or
+    non-finite one does. ``solve(f)`` for f of shape (n,) or (n, k) in the original numbering.
 
     Accounting: ``nnz`` (stored entries of L, explicit zeros of the amalgamated supernodes
     included), ``factor_bytes``, ``n_supernodes``, ``largest_front``, and the work space of
@@ -98,6 +99,8 @@ class CholeskyFactor:
     that is not a root; roots are assembled in their factor blocks)."""
 
     def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True):
+        if not sp.issparse(k):
+            k = sp.csr_matrix(np.asarray(k, dtype=np.float64))
         n = k.shape[0]
         if k.ndim != 2 or k.shape[1] != n:
             raise ValueError(f"the Cholesky factorisation needs a square matrix, got shape {k.shape}")
@@ -115,7 +118,7 @@ class CholeskyFactor:
 
     def _postordered(self, k, order, kern) -> np.ndarray:
         """The elimination tree of ``order`` (the root chain forced), its postorder composed
-        with ``order``; keeps the tree and the column counts in the new numbering."""
+        with ``order``; keeps the tree in the new numbering (whose postorder is the identity)."""
         n, m = self.n, self.m
         where = np.empty(n, dtype=np.int64)
         where[order] = np.arange(n)
@@ -128,13 +131,9 @@ class CholeskyFactor:
             parent[n - 1] = -1
             parent[:top][parent[:top] >= top] = top
         post = kern.postorder(parent)
-        colptr, rowind, _ = _lower(k, where, "csc")
-        counts = kern.column_counts(colptr, rowind, parent, post, m)
-        del colptr, rowind
         inverse = np.empty(n, dtype=np.int64)
         inverse[post] = np.arange(n)
         self._parent = np.where(parent[post] >= 0, inverse[np.maximum(parent[post], 0)], -1)
-        self._counts = counts[post]
         return order[post]
 
     def _symbolic(self, k, kern) -> None:
@@ -144,12 +143,13 @@ class CholeskyFactor:
         where = np.empty(n, dtype=np.int64)
         where[self.order] = np.arange(n)
         self._colptr, self._rowind, self._values = _lower(k, where, "csc")
-        start, below = kern.supernodes(self._parent, self._counts, self.m, np.array(RELAX_COLUMNS, np.int64),
+        counts = kern.column_counts(self._colptr, self._rowind, self._parent, np.arange(n), self.m)
+        start, below = kern.supernodes(self._parent, counts, self.m, np.array(RELAX_COLUMNS, np.int64),
                                        np.array(RELAX_ZEROS, np.float64))
         row_ptr, rows, sn_parent = kern.row_structure(self._colptr, self._rowind, start, below, self._parent)
         if len(sn_parent) != len(below):
             raise RuntimeError("multifrontal symbolic factorisation: row structures disagree with the column counts")
-        del self._parent, self._counts
+        del self._parent
         ncol = np.diff(start)
         front = ncol + below
         self.sn_start, self.row_ptr, self.rows, self.sn_parent = start, row_ptr, rows, sn_parent
