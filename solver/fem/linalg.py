@@ -194,7 +194,8 @@ def single_threaded_blas():
     this does nothing."""
     handles = []
     try:
-        paths = {ln.split()[-1] for ln in open("/proc/self/maps") if "openblas" in ln.lower()}
+        with open("/proc/self/maps") as maps:
+            paths = {ln.split()[-1] for ln in maps if "openblas" in ln.lower()}
     except OSError:
         paths = set()
     for path in sorted(paths):

@@ -147,7 +147,7 @@ class CholeskyFactor:
         start, below = kern.supernodes(self._parent, counts, self.m, np.array(RELAX_COLUMNS, np.int64),
                                        np.array(RELAX_ZEROS, np.float64))
         row_ptr, rows, sn_parent = kern.row_structure(self._colptr, self._rowind, start, below, self._parent)
-        if len(sn_parent) != len(below):
+        if len(sn_parent) != len(below) or (self.m and start[-2] != n - self.m):
             raise RuntimeError("multifrontal symbolic factorisation: row structures disagree with the column counts")
         del self._parent
         ncol = np.diff(start)
