@@ -251,7 +251,7 @@ def test_a_contact_scene_is_the_same_with_either_factorisation(monkeypatch):
 
     results, calls = {}, []
     original = mf.condensed_cholesky
-    monkeypatch.setattr(mf, "condensed_cholesky", lambda *a: calls.append(a[0].shape) or original(*a))
+    monkeypatch.setattr(mf, "condensed_cholesky", lambda *a, **kw: calls.append(a[0].shape) or original(*a, **kw))
     for name in ("superlu", "cholesky"):
         monkeypatch.setenv("IBFEM_CONDENSED_FACTOR", name)
         results[name] = solve(cylinder_on_block("frictionless")).contacts[0]

@@ -366,9 +366,8 @@ def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | No
     if choice == "cholesky" or choice == "auto":
         from .multifrontal import NotPositiveDefinite, condensed_cholesky
 
-        try:
-            with single_threaded_blas():  # many mid-size products: threads only spin (x20 slower measured)
-                return condensed_cholesky(k0, order, len(dofs))
+        try:  # the factorisation's many mid-size products on one thread: measured x20 slower with threads
+            return condensed_cholesky(k0, order, len(dofs), guard=single_threaded_blas)
         except NotPositiveDefinite:
             if choice == "cholesky":
                 raise

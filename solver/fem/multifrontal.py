@@ -30,6 +30,7 @@ factorisation only; :func:`available` says whether they can be (numba importable
 
 from __future__ import annotations
 
+import contextlib
 import os
 
 import numpy as np
@@ -209,15 +210,18 @@ def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
     return int(max(depth.max(initial=0), 0))
 
 
-def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False):
+def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False, guard=None):
     """(factor, S, G) of K0 in the order ``order`` whose last m dofs are the condensed ones:
     S their Schur complement, G = S^-1 (LAPACK potri on S's Cholesky factor, the root block).
     ``definite=False`` (the condensed contact systems): K0's interior pivots may be negative
     (Nitsche and cut-cell terms make some 3D stiffness matrices indefinite), as in SuperLU's
-    factorisation without pivoting; S itself must be positive definite."""
+    factorisation without pivoting; S itself must be positive definite. ``guard``: a context
+    manager factory the factorisation runs in (the caller's one-BLAS-thread guard: its many
+    mid-size products gain nothing from threads), not potri (one large product)."""
     from scipy.linalg import lapack
 
-    factor = CholeskyFactor(k0, order, m, definite)
+    with guard() if guard is not None else contextlib.nullcontext():
+        factor = CholeskyFactor(k0, order, m, definite)
     schur = factor.schur
     if m == 0:
         return factor, schur, np.zeros((0, 0))
