@@ -327,9 +327,9 @@ CONDENSED_FACTORS = ("auto", "superlu", "cholesky")
 #: "auto" uses the multifrontal Cholesky for a K0 with at least this many stored entries (numba
 #: installed). The Cholesky costs ~0.25 s and ~100 MB once per process (numba and LLVM loaded).
 #: Measured (benchmarks/cholesky.py, docs/linear-algebra.md), whole runs: the 3D 12k-dof sphere
-#: rung (0.71 M entries) even (factor 0.62 / 0.66 s, 566 / 570 MB), so SuperLU; the 2D 68k-dof
-#: peer scene (0.89 M) as fast in 432 MB instead of 499; the 3D 32k-dof rung (1.8 M) 13.2 s and
-#: 1328 MB instead of 16.4 s and 1725 MB
+#: rung (0.71 M entries) even (5.21 / 5.07 s, 522 / 524 MB), so SuperLU; the 2D 68k-dof peer
+#: scene (0.89 M) 1.77 s and 340 MB instead of 1.93 s and 456 MB; the 3D 32k-dof rung (1.8 M)
+#: 13.0 s and 1302 MB instead of 16.4 s and 1723 MB
 CHOLESKY_NONZEROS = 800_000
 
 
