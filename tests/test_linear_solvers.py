@@ -61,3 +61,27 @@ def test_unknown_linear_solver_is_a_scene_error():
 
     with pytest.raises(SceneError, match=r"solver\.linear_solver = \"cholmod\": must be one of"):
         lame_scene("cholmod")
+
+
+def test_direct_solve_by_the_multifrontal_cholesky_matches_lame(monkeypatch):
+    """A direct solve on the nested-dissection path (its threshold lowered to this grid's size)
+    by the multifrontal L D L^T (forced) and by SuperLU (forced): both Lame's displacement to the
+    discretisation error, and the same discrete solution to round-off."""
+    pytest.importorskip("numba")
+    from solver.fem import linalg
+
+    monkeypatch.setattr(linalg, "NESTED_DISSECTION_DOFS", 5000)
+    points = np.array([[1.2, 0.3], [0.5, 1.6]])
+    points = points @ np.array([[np.cos(np.pi / 6), np.sin(np.pi / 6)], [-np.sin(np.pi / 6), np.cos(np.pi / 6)]])
+    runs = {}
+    for factor in ("cholesky", "superlu"):
+        monkeypatch.setenv("IBFEM_CONDENSED_FACTOR", factor)
+        scene = lame_scene("direct", h=0.02)
+        sol = solve(scene.problem)
+        assert sol.converged
+        assert sol.body_info["ring"]["dofs"] >= linalg.NESTED_DISSECTION_DOFS
+        runs[factor] = sol.displacement(points)
+    exact = lame_radial(np.linalg.norm(points, axis=1))
+    for u in runs.values():
+        np.testing.assert_allclose(np.linalg.norm(u, axis=1), exact, rtol=5e-3)
+    np.testing.assert_allclose(runs["cholesky"], runs["superlu"], rtol=1e-9, atol=1e-18)

@@ -111,14 +111,28 @@ def _has_pyamg() -> bool:
 
 
 def direct_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None) -> np.ndarray:
-    """Sparse direct solve with SuperLU (CHOLMOD is not available). The matrix is symmetric:
-    symmetric mode, no pivoting across the diagonal. Small systems use SuperLU's minimum
-    degree on A + A^T; large ones a fill-reducing order of the bodies' nodes (:func:`dof_order`)."""
+    """Sparse direct solve of the symmetric system. Small systems: SuperLU with its minimum
+    degree on A + A^T, symmetric mode, no pivoting across the diagonal. Large ones (the bodies
+    given, NESTED_DISSECTION_DOFS dofs or more) in a fill-reducing order of the bodies' nodes
+    (:func:`dof_order`): the multifrontal L D L^T (:mod:`solver.fem.multifrontal`, only L stored)
+    when ``IBFEM_CONDENSED_FACTOR`` (default "auto": from CHOLESKY_NONZEROS stored entries with
+    numba) picks it, falling back to SuperLU on a zero pivot; else SuperLU in that order."""
     n = k.shape[0]
     if bodies is None or n < NESTED_DISSECTION_DOFS:
         lu = spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         return lu.solve(f)
     perm = dof_order(bodies)
+    choice = _condensed_choice(k.nnz)
+    if choice != "superlu":
+        from .multifrontal import CholeskyFactor, NotPositiveDefinite
+
+        try:
+            with single_threaded_blas():
+                factor = CholeskyFactor(k, perm, 0, definite=False)
+            return factor.solve(f)
+        except NotPositiveDefinite:
+            if choice == "cholesky":
+                raise
     kp = _permuted(k, perm)
     lu = spla.splu(kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     u = np.empty(n)
