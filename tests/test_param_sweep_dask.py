@@ -136,3 +136,41 @@ def test_scheduler_and_workers_as_subprocesses_survive_a_killed_worker(tmp_path)
     finally:
         for proc in reversed(procs):
             _stop(proc)
+
+
+def _worker_state() -> dict:
+    import os
+    import sys
+
+    return {"threads": {k: os.environ.get(k) for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "IBFEM_THREADS")},
+            "warm": "solver.solve" in sys.modules, "trim": os.environ.get("MALLOC_TRIM_THRESHOLD_")}
+
+
+@pytest.mark.parametrize("start", ["fork server", "spawn"])
+def test_embedded_workers_start_with_one_blas_thread(monkeypatch, start):
+    """Workers forked from the warm fork server (the default where there is one) must still get
+    what Dask's pre-spawn variables give spawned workers, one BLAS thread each (two workers with
+    two threads each would share two cores), and not Dask's malloc trim threshold; with
+    IBFEM_SWEEP_START=spawn every worker is a fresh interpreter."""
+    import multiprocessing
+
+    import cloudpickle
+
+    from solver.sweep.engine import _connect
+
+    if start == "fork server" and "forkserver" not in multiprocessing.get_all_start_methods():
+        pytest.skip("no fork server on this platform")
+    if start == "spawn":
+        monkeypatch.setenv("IBFEM_SWEEP_START", "spawn")
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    client, cluster, _ = _connect(EngineOptions(workers=1))
+    try:
+        client.wait_for_workers(1, timeout=60)
+        (state,) = client.run(_worker_state).values()
+    finally:
+        client.close()
+        cluster.close()
+    assert state["threads"] == {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "IBFEM_THREADS": "1"}
+    assert state["trim"] is None
+    if start == "fork server":
+        assert state["warm"]  # imported and solved once in the server, before the fork

@@ -3,7 +3,9 @@ distributed: an embedded ``LocalCluster`` of worker processes (one thread each) 
 scheduler is named, else the cluster at ``--scheduler-address`` / ``--scheduler-file`` /
 ``DASK_SCHEDULER_ADDRESS`` (a laptop's, or an HPC / Kubernetes cluster's started with
 dask-jobqueue or dask-kubernetes). Dask does the scheduling: a case whose worker dies is given to
-another worker (``distributed.scheduler.allowed-failures`` times, then it is ``killed``)."""
+another worker (``distributed.scheduler.allowed-failures`` times, then it is ``killed``). The
+embedded cluster's workers are forked from a warm fork server where the platform has one
+(:func:`start_fork_server`)."""
 
 from __future__ import annotations
 
@@ -67,6 +69,41 @@ def import_dask():
     return distributed
 
 
+#: the embedded cluster's workers are forked from a warm fork server where the platform has one
+#: (Linux, macOS); ``IBFEM_SWEEP_START=spawn`` keeps Dask's default (each worker a fresh interpreter)
+_FORK_ENV = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1", "IBFEM_THREADS": "1"}
+
+
+def start_fork_server() -> bool:
+    """Start multiprocessing's fork server with the solver imported and warm (module
+    :mod:`solver.sweep._forkserver`) and one BLAS thread (a worker is one case at a time; the
+    variables Dask sets before spawning a worker do not reach processes forked from a server
+    started earlier, so the server gets them); Dask's workers are then forked from it. False
+    where there is no fork server (Windows) or ``IBFEM_SWEEP_START=spawn``."""
+    import multiprocessing
+
+    if os.environ.get("IBFEM_SWEEP_START", "") == "spawn" or "forkserver" not in multiprocessing.get_all_start_methods():
+        return False
+    import dask
+    from distributed.utils import get_mp_context
+    from multiprocessing import forkserver
+
+    with dask.config.set({"distributed.worker.multiprocessing-method": "forkserver"}):
+        ctx = get_mp_context()  # Dask's preload list, set once per process ...
+    ctx.set_forkserver_preload(["solver.sweep._forkserver"])  # ... replaced by ours before the server starts
+    saved = {k: os.environ.get(k) for k in _FORK_ENV}
+    os.environ.update(_FORK_ENV)
+    try:
+        forkserver.ensure_running()
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+    return True
+
+
 def _connect(opts: EngineOptions):
     """(client, cluster or None, description)."""
     distributed = import_dask()
@@ -90,7 +127,9 @@ def _connect(opts: EngineOptions):
         # The workers' statistical profiler (a stack walk every 10 ms, for the dashboard) and the
         # system monitor's 0.5 s polls are off / slowed: a sweep's tasks are long and nobody
         # watches their profile
+        method = "forkserver" if start_fork_server() else "spawn"
         with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+                              "distributed.worker.multiprocessing-method": method,
                               "distributed.worker.profile.enabled": False,
                               "distributed.admin.system-monitor.interval": "5s"}):
             cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
