@@ -247,41 +247,42 @@ def row_structure(colptr, rowind, sn_start, sn_below, parent):
             nxt[s] = head[p]
             head[p] = s
     mark = np.full(n, -1, np.int64)
+    failed = (row_ptr, rows, np.empty(0, np.int64))
     for s in range(ns):
         c1 = sn_start[s + 1]
         k = row_ptr[s]
         end = row_ptr[s + 1]
         for j in range(sn_start[s], c1):
             for p in range(colptr[j], colptr[j + 1]):
-                i = rowind[p]
-                if i >= c1 and mark[i] != s:
-                    if k == end:
-                        return row_ptr, rows, np.empty(0, np.int64)
-                    mark[i] = s
-                    rows[k] = i
-                    k += 1
+                k = _push_row(rowind[p], s, c1, mark, rows, k, end)
+                if k < 0:
+                    return failed
         c = head[s]
         while c != -1:
             for p in range(row_ptr[c], row_ptr[c + 1]):
-                i = rows[p]
-                if i >= c1 and mark[i] != s:
-                    if k == end:
-                        return row_ptr, rows, np.empty(0, np.int64)
-                    mark[i] = s
-                    rows[k] = i
-                    k += 1
+                k = _push_row(rows[p], s, c1, mark, rows, k, end)
+                if k < 0:
+                    return failed
             c = nxt[c]
-        if parent[c1 - 1] != -1 and mark[parent[c1 - 1]] != s:
-            # the virtual entry of a child of the root supernode (its first column)
-            if k == end:
-                return row_ptr, rows, np.empty(0, np.int64)
-            mark[parent[c1 - 1]] = s
-            rows[k] = parent[c1 - 1]
-            k += 1
+        if parent[c1 - 1] != -1:  # the virtual entry of a child of the root supernode (its first column)
+            k = _push_row(parent[c1 - 1], s, c1, mark, rows, k, end)
         if k != end:
-            return row_ptr, rows, np.empty(0, np.int64)
+            return failed
         rows[row_ptr[s]:end].sort()
     return row_ptr, rows, sn_parent
+
+
+@jit
+def _push_row(i, s, c1, mark, rows, k, end):
+    """Append row i (below the supernode's last column c1 - 1, not yet marked for s) to the
+    structure being written at rows[k]; the next k, or -1 when the counted size is exceeded."""
+    if i < c1 or mark[i] == s:
+        return k
+    if k == end:
+        return -1
+    mark[i] = s
+    rows[k] = i
+    return k + 1
 
 
 @jit
