@@ -17,6 +17,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .dense import symmetric_from_lower
+
 __all__ = [
     "NESTED_DISSECTION_DOFS",
     "nested_dissection",
@@ -421,9 +423,8 @@ def _superlu_condensed(k0: sp.spmatrix, order: np.ndarray, m: int):
 
 
 def _symmetric_from_upper(c: np.ndarray) -> np.ndarray:
-    """The symmetric matrix whose upper triangle LAPACK wrote into ``c``."""
-    upper = np.triu(c)
-    return upper + np.triu(c, 1).T
+    """The symmetric matrix whose upper triangle LAPACK wrote into ``c``, in place."""
+    return symmetric_from_lower(c.T).T
 
 
 def _schur_and_inverse(lu, m: int) -> tuple[np.ndarray, np.ndarray]:

@@ -36,6 +36,8 @@ import os
 import numpy as np
 import scipy.sparse as sp
 
+from .dense import symmetric_from_lower
+
 __all__ = ["CholeskyFactor", "NotPositiveDefinite", "available", "condensed_cholesky"]
 
 #: relaxed amalgamation: a merged supernode of at most RELAX_COLUMNS[i] columns is accepted when
@@ -228,16 +230,4 @@ def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: boo
     inverse, info = lapack.dpotri(factor.root_factor(), lower=1, overwrite_c=1)
     if info != 0:
         raise NotPositiveDefinite(int(order[len(order) - m + max(info - 1, 0)]), len(order))
-    return factor, schur, _symmetric_from_lower(inverse)
-
-
-def _symmetric_from_lower(a: np.ndarray, block: int = 512) -> np.ndarray:
-    """Fill the upper triangle of ``a`` from its lower one, in place, by row blocks (no m x m
-    temporaries: G is the largest dense array of a 3D run)."""
-    m = len(a)
-    for b0 in range(0, m, block):
-        b1 = min(b0 + block, m)
-        a[b0:b1, b1:] = a[b1:, b0:b1].T
-        diag = a[b0:b1, b0:b1]
-        diag[...] = np.tril(diag) + np.tril(diag, -1).T
-    return a
+    return factor, schur, symmetric_from_lower(inverse)
