@@ -273,7 +273,7 @@ class SmallSystem:
         self.g = g_inverse
         self.cholesky = self.lu = None
         if g_inverse is not None and len(touched) <= self.ACTIVE_FRACTION * kc.shape[0]:
-            self.active, self.kc_aa = touched, kc[touched][:, touched].toarray()
+            self.active, self.kc_aa = touched, kc[touched][:, touched].tocsr()  # sparse: kept per state
             self._factor_active(symmetric)
         else:
             self.active = None
@@ -294,12 +294,17 @@ class SmallSystem:
         if symmetric:
             try:
                 g_inv = sla.cho_solve(sla.cho_factor(g_aa, check_finite=False), np.eye(len(a)), check_finite=False)
-                self.cholesky = sla.cho_factor(0.5 * (g_inv + g_inv.T) + self.kc_aa, check_finite=False)
+                g_inv += g_inv.T
+                g_inv *= 0.5
+                m = g_inv + self.kc_aa.toarray()
+                self.cholesky = sla.cho_factor(m, overwrite_a=True, check_finite=False)
                 self.g_inv = g_inv
                 return
             except np.linalg.LinAlgError:
                 pass
-        self.lu = sla.lu_factor(np.eye(len(a)) + g_aa @ self.kc_aa, check_finite=False)
+        m = (self.kc_aa.T @ g_aa.T).T  # G_AA Kc_AA, dense
+        m[np.diag_indices_from(m)] += 1.0
+        self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)
 
     def _solve_factored(self, rhs: np.ndarray) -> np.ndarray:
         if self.cholesky is not None:
