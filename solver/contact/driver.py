@@ -250,21 +250,26 @@ class ContactDriver:
         widths = [r[0] for r in results]
         key = tuple(widths) if tuple(widths) in cache else tuple(trial)  # unsettled: the last trial
         state, _, infos = cache[key]
-        if state[3] is None:  # an older trial's matrices were dropped: rebuild them
+        if state[3] is None:  # an older trial's terms were dropped: rebuild them
             kc, fc, infos = self._assemble_trial(list(key))
-            state = state[:3] + (kc, fc, SmallSystem(self.schur, kc, all(c.is_symmetric() for c in self.contacts),
-                                                     self.g_inverse))
+            state = state[:3] + (kc, fc, None)
+        if state[5] is None:  # ... or only its factored small system
+            state = state[:5] + (SmallSystem(self.schur, state[3], all(c.is_symmetric() for c in self.contacts),
+                                              self.g_inverse),)
         return widths, [r[1] for r in results], state, infos, iters, settled
 
     @staticmethod
     def _forget_old_states(cache: dict, keep: int) -> None:
-        """Drop the m x m matrices and the quadrature data of all but the latest ``keep`` trials
-        (memory: tens of MB each at m = 1400); the verdicts and vectors stay, the rest is
-        rebuilt if an older trial is chosen."""
-        for key in list(cache)[:-keep]:
+        """Drop the contact terms and quadrature data of all but the latest ``keep`` trials, and
+        the factored small system (dense, |A|^2 twice: about 20 MB at the 3D 12k-dof
+        sphere_on_flat rung) of all but the latest; the verdicts and vectors stay, the rest is
+        rebuilt if an older trial is chosen (the small system alone: one factorisation)."""
+        for k, key in enumerate(reversed(list(cache))):
             state, verdicts, infos = cache[key]
-            if state[3] is not None:
+            if k >= keep and state[3] is not None:
                 cache[key] = (state[:3] + (None, None, None), verdicts, None)
+            elif k >= 1 and state[5] is not None:
+                cache[key] = (state[:5] + (None,), verdicts, infos)
 
     def _advance(self, gens, results, verdicts) -> list[float]:
         """Send each unsettled search its verdict; the next trial of every contact."""
