@@ -124,17 +124,16 @@ def direct_solve(k: sp.csr_matrix, f: np.ndarray, bodies: list | None = None) ->
         lu = spla.splu(k.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         return lu.solve(f)
     perm = dof_order(bodies)
-    choice = _condensed_choice(k.nnz)
-    if choice != "superlu":
-        from .multifrontal import CholeskyFactor, NotPositiveDefinite
 
-        try:
-            with single_threaded_blas():
-                factor = CholeskyFactor(k, perm, 0, definite=False)
-            return factor.solve(f)
-        except NotPositiveDefinite:
-            if choice == "cholesky":
-                raise
+    def cholesky():
+        from .multifrontal import CholeskyFactor
+
+        with single_threaded_blas():
+            return CholeskyFactor(k, perm, 0, definite=False).solve(f)
+
+    u = _cholesky_or_none(_condensed_choice(k.nnz), cholesky)
+    if u is not None:
+        return u
     kp = _permuted(k, perm)
     lu = spla.splu(kp, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     u = np.empty(n)
@@ -384,35 +383,47 @@ def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | No
     else:
         interior = order[~contact[order]]
     order = np.concatenate([interior, dofs])
-    if choice == "cholesky" or choice == "auto":
-        from .multifrontal import NotPositiveDefinite, condensed_cholesky
 
-        try:  # the factorisation's many mid-size products on one thread: measured x20 slower with threads
-            return condensed_cholesky(k0, order, len(dofs), guard=single_threaded_blas)
-        except NotPositiveDefinite:
-            if choice == "cholesky":
-                raise
-    return _superlu_condensed(k0, order, len(dofs))
+    def cholesky():
+        from .multifrontal import condensed_cholesky
+
+        # the factorisation's many mid-size products on one thread: measured x20 slower with threads
+        return condensed_cholesky(k0, order, len(dofs), guard=single_threaded_blas)
+
+    factored = _cholesky_or_none(choice, cholesky)
+    return factored if factored is not None else _superlu_condensed(k0, order, len(dofs))
 
 
 def _condensed_choice(nonzeros: int) -> str:
-    """"cholesky", "superlu" or "auto" (the Cholesky worth trying) for a K0 of that many entries."""
+    """"cholesky", "superlu" or "auto" (the Cholesky worth trying) for a matrix of that many entries."""
     choice = os.environ.get("IBFEM_CONDENSED_FACTOR", "").strip().lower() or "auto"
     if choice not in CONDENSED_FACTORS:
         raise ValueError(f"environment variable IBFEM_CONDENSED_FACTOR must be one of "
                          f"{', '.join(CONDENSED_FACTORS)}, got {choice!r}")
-    if choice == "cholesky":
-        from .multifrontal import available
-
-        if not available():
-            raise ValueError("IBFEM_CONDENSED_FACTOR=cholesky needs numba (pip install 'ibfem[fast]') "
-                             "and IBFEM_NO_JIT unset")
+    if choice == "superlu":
         return choice
-    if choice == "auto":
-        from .multifrontal import available
+    from .multifrontal import available
 
-        return "auto" if nonzeros >= CHOLESKY_NONZEROS and available() else "superlu"
-    return choice
+    if choice == "cholesky" and not available():
+        raise ValueError("IBFEM_CONDENSED_FACTOR=cholesky needs numba (pip install 'ibfem[fast]') "
+                         "and IBFEM_NO_JIT unset")
+    return choice if choice == "cholesky" or (nonzeros >= CHOLESKY_NONZEROS and available()) else "superlu"
+
+
+def _cholesky_or_none(choice: str, factorise):
+    """``factorise()`` (a multifrontal factorisation) unless ``choice`` is "superlu"; None when it
+    is not taken or meets a zero pivot under "auto" (the caller then uses SuperLU); a forced
+    "cholesky" raises instead."""
+    if choice == "superlu":
+        return None
+    from .multifrontal import NotPositiveDefinite
+
+    try:
+        return factorise()
+    except NotPositiveDefinite:
+        if choice == "cholesky":
+            raise
+        return None
 
 
 def _superlu_condensed(k0: sp.spmatrix, order: np.ndarray, m: int):
