@@ -50,7 +50,7 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor,
 from ..model.elasticity import plane_modulus
 from ..model.options import ContactOptions
 from .geometry import ContactGeometry, contact_geometry, contact_quadrature, grid_breakpoints, sample_points
-from .roots import StickRoot, bracket_search, edge_search, thesis_search
+from .roots import StickRoot, bracket_search, edge_search, settling_tolerance, thesis_search
 
 __all__ = ["BandContact", "build"]
 
@@ -150,16 +150,12 @@ class BandContact:
         o = self.options
         if o.width_update == "edge":
             step0 = 0.05 * self.h if estimate else None
-            return edge_search(a0, self.h, self._edge_tolerance(final), self.a_max(), step0=step0)
+            tol = settling_tolerance(self.options, self.h, final)
+            return edge_search(a0, self.h, tol, self.a_max(), step0=step0)
         if o.width_update == "thesis":
             return thesis_search(a0, self.h, o.width_tolerance * self.h, self.a_max(), max_iterations)
         tol = (o.width_tolerance if final else o.step_tolerance) * self.h
         return bracket_search(a0, self.h, tol, self.a_max(), final)
-
-    def _edge_tolerance(self, final: bool) -> float:
-        """How closely the edge coefficient's root (and the region's centre) is settled:
-        ``edge_tolerance`` cells in the last load step, ``step_tolerance`` before."""
-        return (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
 
     def region_too_small(self) -> ValueError:
         return ValueError(
@@ -238,7 +234,7 @@ class BandContact:
         centroid = _pressure_centroid(self, info, x, a)
         if not math.isfinite(centroid):
             return True  # no compression: nothing to centre on (the width search reports it)
-        tol = self._edge_tolerance(final)
+        tol = settling_tolerance(self.options, self.h, final)
         lo, hi = -self.geom.s_limits[1] + a, self.geom.s_limits[0] - a  # keep the region in range
         nxt = float(np.clip(centroid, min(lo, 0.0), max(hi, 0.0)))
         if abs(nxt - self.centre) <= tol:

@@ -29,7 +29,7 @@ from ..model.options import ContactOptions
 from ..reference.theory import hertz_elliptic_contact
 from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, contact_frame_3d, matched_points,
                                region_points, sectors, surface_point)
-from .roots import edge_search
+from .roots import edge_search, settling_tolerance
 
 __all__ = ["EllipseContact", "build"]
 
@@ -114,11 +114,6 @@ class EllipseContact:
         symmetry planes hold the centre there)."""
         return self.options.region_centre == "pressure" and self.surrounds_point
 
-    def _size_tolerance(self, final: bool) -> float:
-        """How closely the size's root (and the ellipse's centre) is settled: ``edge_tolerance``
-        cells in the last load step, ``step_tolerance`` before."""
-        return (self.options.edge_tolerance if final else self.options.step_tolerance) * self.h
-
     # -------------------------------------------------- the formulation protocol
 
     def initial_region(self) -> float:
@@ -129,7 +124,8 @@ class EllipseContact:
 
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
         a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / max(1.0, self.ratio)
-        return edge_search(a0, self.h, self._size_tolerance(final), a_max, step0=0.05 * self.h if estimate else None)
+        tol = settling_tolerance(self.options, self.h, final)
+        return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
 
     def region_too_small(self) -> ValueError:
         return ValueError(f"{self.name}: the contact ellipse reaches the candidate region's edge ({self.extent:.4g} m) "
@@ -212,7 +208,7 @@ class EllipseContact:
         centroid = _pressure_centroid(self, info, x)
         if not np.isfinite(centroid).all():
             return True
-        if float(np.abs(centroid - self.centre).max()) <= self._size_tolerance(final):
+        if float(np.abs(centroid - self.centre).max()) <= settling_tolerance(self.options, self.h, final):
             return True
         self.centre = centroid
         return False

@@ -8,7 +8,8 @@ import math
 
 import numpy as np
 
-__all__ = ["Bracket", "SecantBracket", "edge_search", "bracket_search", "thesis_search", "StickRoot", "RegionTooSmall"]
+__all__ = ["Bracket", "SecantBracket", "edge_search", "settling_tolerance", "bracket_search", "thesis_search", "StickRoot",
+           "RegionTooSmall"]
 
 
 class Bracket:
@@ -192,6 +193,12 @@ def _next_growing(a: float, step: float, seen: list[tuple[float, float]], a_max:
             root = a2 + g2 * (a2 - a1) / (g1 - g2)
             grown = float(np.clip(a + 1.1 * (root - a), a + step, _MAX_GROWTH * a))
     return min(grown, a_max)
+
+
+def settling_tolerance(options, h: float, final: bool) -> float:
+    """How closely a region's size (edge coefficient root) and centre are settled, in m:
+    ``options.edge_tolerance`` cells of size h in the last load step, ``step_tolerance`` before."""
+    return (options.edge_tolerance if final else options.step_tolerance) * h
 
 
 def edge_search(a0: float, h: float, tol: float, a_max: float, step0: float | None = None):
