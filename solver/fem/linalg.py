@@ -266,9 +266,9 @@ class SmallSystem:
     def __init__(self, schur: np.ndarray, kc, symmetric: bool, g_inverse: np.ndarray | None = None):
         """``kc``: the contact stiffness on the m condensed dofs, sparse (or dense)."""
         kc = sp.csr_matrix(kc)
-        kc.eliminate_zeros()
         coo = kc.tocoo()
-        touched = np.unique(np.concatenate([coo.row, coo.col]))
+        nonzero = coo.data != 0.0  # explicit zeros touch nothing (the caller's matrix is not edited)
+        touched = np.unique(np.concatenate([coo.row[nonzero], coo.col[nonzero]]))
         self.g = g_inverse
         self.cholesky = self.lu = None
         if g_inverse is not None and len(touched) <= self.ACTIVE_FRACTION * kc.shape[0]:
