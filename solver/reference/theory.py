@@ -29,7 +29,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy import optimize
 
 __all__ = [
     "effective_modulus",
@@ -327,6 +326,8 @@ def axis_peak(nu: float = 0.3, measure: str = "von_mises") -> tuple[float, float
         return -float(v)
 
     # scipy's bounded Brent search: the on-axis measure is unimodal on (0, 3a)
+    from scipy import optimize  # here: its import costs 0.1 s of every run
+
     res = optimize.minimize_scalar(negative_measure, bounds=(1e-6, 3.0), method="bounded",
                                    options={"xatol": 1e-10})
     return -float(res.fun), float(res.x)
@@ -350,6 +351,8 @@ def field_peak(stress, nu: float = 0.3, extent: float = 2.0, n: int = 161):
         return -float(von_mises_plane_strain(*stress(v[0], max(v[1], 0.0)), nu))
 
     step = xs[1] - xs[0]
+    from scipy import optimize
+
     res = optimize.minimize(negative, np.array([X[k], Z[k]]), method="Nelder-Mead",
                             options={"xatol": 1e-6 * step, "fatol": 1e-14})
     x_best, z_best = float(res.x[0]), max(float(res.x[1]), 0.0)
@@ -410,6 +413,8 @@ def load_for_approach(delta: float, R_eff: float, E1: float, nu1: float, E2: flo
     lo = hi - 60.0
     if residual(hi) < 0.0:
         raise ValueError(f"delta={delta!r} is too large for a small-strain Hertz estimate")
+    from scipy import optimize
+
     return math.exp(optimize.brentq(residual, lo, hi, xtol=1e-12, rtol=1e-12))
 
 
