@@ -103,8 +103,8 @@ def point_matrix(blocks: np.ndarray, cell_dofs: np.ndarray, dof_map: sp.csr_matr
     return (m @ dof_map).tocsr()
 
 
-#: points per batch of the cell-block band terms: (batch, p d, p d) temporaries of ~40 MB in 3D
-_BAND_BATCH = 8192
+#: points per batch of the cell-block band terms: (batch, p d, p d) temporaries of ~9 MB in 3D
+_BAND_BATCH = 2048
 
 
 @dataclass
