@@ -13,7 +13,12 @@ and edges). Spectral on smooth surfaces: sphere volume and second moment to 2e-1
 below cells of R/4, a torus to 1e-12 (tests/test_octree.py); exact for planes. Leaves still
 kinked at the last level take a plain 3 x 3 line rule: the solid's edges are integrated to about
 1e-5 of the cut cells' volume (a turned box: 7e-6), which is what remains of the patch test
-there (tests/test_solid_patch.py)."""
+there (tests/test_solid_patch.py).
+
+The distance is called on whole batches: two calls per subdivision level, then each rule once for
+the leaves of all levels together (lines along all three axes in one pass, the root searches of
+all lines sharing their calls), LEAF_CHUNK leaves at a time: some fifty to a few hundred calls
+per ``inside_moments`` (tests/test_cut_cells3d.py)."""
 
 from __future__ import annotations
 
@@ -41,13 +46,15 @@ def classify_cells(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
 
 def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedDistance, depth: int = 3) -> np.ndarray:
     """Moments (m, 27) of the inside parts of cells (local coordinates of each cell, the order of
-    hexahedra.STIFFNESS_EXPONENTS)."""
+    hexahedra.STIFFNESS_EXPONENTS). The subdivision runs level by level (two calls of the
+    distance per level); the leaves of all levels then take their rules together."""
     lower = np.asarray(lower, dtype=float).reshape(-1, 3)
     size = np.asarray(size, dtype=float).reshape(-1)
     out = np.zeros((len(size), 27))
     cell = np.arange(len(size))
     lo = np.full((len(size), 3), -1.0)  # sub-cube lower corners in local coordinates
     width = 2.0  # local width of the sub-cubes of this level
+    leaves = []  # per level: cell, lower corner, width, gradient and kink of each leaf
     for level in range(depth + EDGE_DEPTH + 1):
         half = 0.5 * width * 0.5 * size[cell]  # physical half edge of each sub-cube
         centre = lower[cell] + (lo + 0.5 * width + 1.0) * (0.5 * size[cell])[:, None]
@@ -60,11 +67,7 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
             leaf = ~kink if level < depth + EDGE_DEPTH else np.ones(len(kink), dtype=bool)
             rows = np.nonzero(cut)[0]
             done, rows = rows[leaf], rows[~leaf]
-            smooth = ~kink[leaf]  # kinked ones here are at the last level: the plain rule
-            for rule, sel in ((_leaf_moments, smooth), (_simple_leaf, ~smooth)):
-                d = done[sel]
-                np.add.at(out, cell[d], rule(signed_distance, centre[d], phi[d], half[d], lo[d], width,
-                                             0.5 * size[cell[d]], grad[leaf][sel]))
+            leaves.append((cell[done], lo[done], np.full(len(done), width), grad[leaf], kink[leaf]))
             cut = np.zeros(len(cut), dtype=bool)
             cut[rows] = True
             if not cut.any():
@@ -72,6 +75,14 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
         width *= 0.5
         cell = np.repeat(cell[cut], 8)
         lo = (lo[cut][:, None, :] + width * CORNERS[None]).reshape(-1, 3)
+    if leaves:
+        cell, lo, width, grad, kink = (np.concatenate(part) for part in zip(*leaves))
+        # kinked leaves are those of the last level: the plain rule
+        for rule, sel in ((_leaf_moments, ~kink), (_simple_leaf, kink)):
+            for start in range(0, int(sel.sum()), LEAF_CHUNK):
+                d = np.flatnonzero(sel)[start:start + LEAF_CHUNK]
+                np.add.at(out, cell[d], rule(signed_distance, lower[cell[d]], 0.5 * size[cell[d]], lo[d], width[d],
+                                             grad[d]))
     return out
 
 
@@ -82,25 +93,25 @@ EDGE_DEPTH = 4
 #: this share of the half edge (a smooth face of radius R gives about half / R, a right-angled
 #: edge about 1)
 KINK = 0.3
+#: leaves per pass of a rule (bounds the memory of its lines; each pass calls the distance
+#: about a hundred times)
+LEAF_CHUNK = 20000
 
 
 def _linearity(signed_distance: SignedDistance, centre, phi, half):
     """Central-difference gradient (q, 3) of the distance over each sub-cube's half edge, and
     whether the distance bends there: a second difference along an axis, or the deviation of
-    the distance at a corner from the linear model, above KINK of the half edge."""
-    grad = np.empty_like(centre)
-    bend = np.zeros(len(phi))
-    for k in range(3):
-        step = np.zeros(3)
-        step[k] = 1.0
-        plus = np.asarray(signed_distance(centre + half[:, None] * step), float)
-        minus = np.asarray(signed_distance(centre - half[:, None] * step), float)
-        grad[:, k] = (plus - minus) / (2.0 * half)
-        bend = np.maximum(bend, np.abs(plus + minus - 2.0 * phi))
-    for corner in 2.0 * CORNERS - 1.0:
-        offset = half[:, None] * corner
-        linear = phi + (grad * offset).sum(axis=1)
-        bend = np.maximum(bend, np.abs(np.asarray(signed_distance(centre + offset), float) - linear))
+    the distance at a corner from the linear model, above KINK of the half edge. One call of
+    the distance on the 14 q points."""
+    q = len(phi)
+    offsets = np.concatenate([np.vstack([np.eye(3), -np.eye(3)])[[0, 3, 1, 4, 2, 5]], 2.0 * CORNERS - 1.0])
+    offset = half[None, :, None] * offsets[:, None, :]  # (14, q, 3): +-x, +-y, +-z, the corners
+    values = np.asarray(signed_distance((centre[None] + offset).reshape(-1, 3)), float).reshape(14, q)
+    plus, minus = values[0:6:2], values[1:6:2]  # (3, q)
+    grad = ((plus - minus) / (2.0 * half)).T
+    bend = np.abs(plus + minus - 2.0 * phi).max(axis=0, initial=0.0)
+    linear = phi + (grad[None] * offset[6:]).sum(axis=2)  # (8, q)
+    bend = np.maximum(bend, np.abs(values[6:] - linear).max(axis=0, initial=0.0))
     return grad, bend > KINK * half
 
 
@@ -110,183 +121,168 @@ LINE_POINTS = 4
 EDGE_POINTS = 3
 #: regula falsi (Illinois) steps of the root search along each line
 ROOT_STEPS = 30
+#: the two axes across each axis, in increasing order
+_ACROSS = np.array([[1, 2], [0, 2], [0, 1]])
 
 
-def _leaf_moments(signed_distance: SignedDistance, centre, phi, half, lo, width: float, scale, grad) -> np.ndarray:
-    """Moments (q, 27) of the inside parts of the last sub-cubes by dimension reduction (after
-    Saye, SIAM J. Sci. Comput. 37 (2015) A993): lines along the height axis k (largest gradient
-    component) carry the exact zero of the distance and closed-form monomial integrals; their
-    feet are Gauss points of the cross-section, split where the integrand has kinks: along the
-    base height axis j at the zeros of the distance on the sub-cube's two k-faces, and along the
-    last axis i at the zeros on the four edges those faces share with the j-faces. Between the
-    splits everything is smooth, so the rule converges spectrally with LINE_POINTS on smooth
-    surfaces (sphere volume to about 1e-12 at 4 points) and is exact for a plane."""
-    q = len(phi)
-    out = np.zeros((q, 27))
+def _leaf_moments(signed_distance: SignedDistance, cell_lower, scale, lo, width, grad) -> np.ndarray:
+    """Moments (q, 27) of the inside parts of the last sub-cubes (lower corners ``lo`` and widths
+    ``width`` in the local coordinates of cells with lower corners ``cell_lower`` and half edges
+    ``scale``) by dimension reduction (after Saye, SIAM J. Sci. Comput. 37 (2015) A993): lines
+    along the height axis k (largest gradient component) carry the exact zero of the distance and
+    closed-form monomial integrals; their feet are Gauss points of the cross-section, split where
+    the integrand has kinks: along the base height axis j (the larger of the other two gradient
+    components) at the zeros of the distance on the sub-cube's two k-faces, and along the last
+    axis i at the zeros on the four edges those faces share with the j-faces. Between the splits
+    everything is smooth, so the rule converges spectrally with LINE_POINTS on smooth surfaces
+    (sphere volume to about 1e-12 at 4 points) and is exact for a plane. All leaves in one pass
+    whatever their axes."""
+    q = len(lo)
     if q == 0:
-        return out
-    cell_lower = centre - (lo + 0.5 * width + 1.0) * scale[:, None]
+        return np.zeros((0, 27))
     g = np.abs(grad)
-    k_axis = np.argmax(g, axis=1)
-    for k in range(3):
-        others = [a for a in range(3) if a != k]
-        j_first = g[:, others[0]] >= g[:, others[1]]
-        for j, i in ((others[0], others[1]), (others[1], others[0])):
-            rows = np.nonzero((k_axis == k) & (j_first if j == others[0] else ~j_first))[0]
-            if len(rows):
-                out[rows] = _reduced_rule(signed_distance, cell_lower[rows], scale[rows], lo[rows], width, k, j, i)
-    return out
+    k = np.argmax(g, axis=1)
+    across = _ACROSS[k]
+    rows = np.arange(q)
+    j_first = g[rows, across[:, 0]] >= g[rows, across[:, 1]]
+    j = np.where(j_first, across[:, 0], across[:, 1])
+    i = np.where(j_first, across[:, 1], across[:, 0])
+    return _reduced_rule(signed_distance, cell_lower, scale, lo, width, np.stack([k, j, i], axis=1))
 
 
-def _gauss_on(lo_edges: np.ndarray, hi_edges: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss nodes and weights (r, s n) on the intervals [lo_edges, hi_edges] (r, s)."""
+def _gauss_nodes(breaks: np.ndarray, owner: np.ndarray, n: int):
+    """Gauss nodes, weights and owners of n points on each interval between consecutive
+    ``breaks`` (r, s) of rows owned by ``owner`` (r,); the split's empty intervals carry none."""
     x, w = np.polynomial.legendre.leggauss(n)
+    lo_edges, hi_edges = breaks[:, :-1], breaks[:, 1:]
     mid, half = 0.5 * (lo_edges + hi_edges), 0.5 * (hi_edges - lo_edges)
-    nodes = (mid[:, :, None] + half[:, :, None] * x).reshape(len(mid), -1)
-    return nodes, (half[:, :, None] * w).reshape(len(mid), -1)
+    nodes = (mid[:, :, None] + half[:, :, None] * x).ravel()
+    weights = (half[:, :, None] * w).ravel()
+    keep = weights > 0.0
+    return nodes[keep], weights[keep], np.repeat(owner, (len(x) * (breaks.shape[1] - 1)))[keep]
 
 
-def _split_points(f_ends, f, lo_t: np.ndarray, hi_t: np.ndarray) -> np.ndarray:
-    """Sorted break points (r, 2 + F) of [lo_t, hi_t]: the ends and the zero of each of F
-    functions where it changes sign (the lower end where it does not). ``f_ends(which)`` gives
-    (values at lo_t, values at hi_t) of function ``which``; ``f(which, t, rows)`` its values."""
-    points = [lo_t, hi_t]
-    which = 0
-    while True:
-        ends = f_ends(which)
-        if ends is None:
-            break
-        fa, fb = ends
-        root = _bracketed_root(lambda t, rows, w=which: f(w, t, rows), lo_t.copy(), hi_t.copy(), fa.copy(), fb.copy())
-        points.append(np.where((fa < 0.0) != (fb < 0.0), root, lo_t))
-        which += 1
-    return np.sort(np.stack(points, axis=1), axis=1)
+def _split_points(f, lo_t: np.ndarray, hi_t: np.ndarray, count: int) -> np.ndarray:
+    """Sorted break points (r, 2 + count) of the intervals [lo_t, hi_t] (r,): the ends and the
+    zero of each of ``count`` functions where it changes sign (the lower end where it does not).
+    ``f(t, lines)`` gives the values at t on the lines ``lines``, line ``count r + c`` being
+    function c of row r; one root search for all of them."""
+    a, b = np.repeat(lo_t, count), np.repeat(hi_t, count)
+    lines = np.arange(len(a))
+    ends = f(np.concatenate([a, b]), np.concatenate([lines, lines]))
+    fa, fb = ends[: len(a)], ends[len(a):]
+    root = _bracketed_root(f, a.copy(), b.copy(), fa.copy(), fb.copy())
+    roots = np.where((fa < 0.0) != (fb < 0.0), root, a).reshape(-1, count)
+    return np.sort(np.concatenate([lo_t[:, None], hi_t[:, None], roots], axis=1), axis=1)
 
 
-def _reduced_rule(signed_distance, cell_lower, scale, lo, width: float, k: int, j: int, i: int) -> np.ndarray:
-    """_leaf_moments for sub-cubes with height axis k, base height axis j and last axis i."""
+def _reduced_rule(signed_distance, cell_lower, scale, lo, width, axes) -> np.ndarray:
+    """_leaf_moments for sub-cubes with height axis k, base height axis j and last axis i, the
+    columns of ``axes`` (q, 3)."""
     n = LINE_POINTS
     m = len(lo)
-    hi = lo + width
-
-    def phi(local, leaf):
-        return np.asarray(signed_distance(cell_lower[leaf] + (local + 1.0) * scale[leaf, None]), dtype=float)
-
-    # 1. along i: zeros of the distance on the four edges (j end, k end) of the sub-cube
-    corners = [(lo[:, j], lo[:, k]), (hi[:, j], lo[:, k]), (lo[:, j], hi[:, k]), (hi[:, j], hi[:, k])]
-
-    def edge_point(which, t, rows):
-        x = np.empty((len(rows), 3))
-        x[:, i], x[:, j], x[:, k] = t, corners[which][0][rows], corners[which][1][rows]
-        return x
-
-    def edge_f(which, t, rows):
-        return phi(edge_point(which, t, rows), rows)
-
     every = np.arange(m)
-    edge_ends = lambda w: None if w == 4 else (edge_f(w, lo[:, i], every), edge_f(w, hi[:, i], every))  # noqa: E731
-    breaks_i = _split_points(edge_ends, edge_f, lo[:, i].copy(), hi[:, i].copy())
-    ti, wi = _gauss_on(breaks_i[:, :-1], breaks_i[:, 1:], n)  # (m, 5 n)
-    leaf = np.repeat(every, ti.shape[1])
-    keep = wi.ravel() > 0.0  # the split's empty intervals carry no nodes
-    ti, wi, leaf = ti.ravel()[keep], wi.ravel()[keep], leaf[keep]
+    k, j, i = axes.T
+    lo_i, lo_j, lo_k = lo[every, i], lo[every, j], lo[every, k]
+    hi_i, hi_j, hi_k = lo_i + width, lo_j + width, lo_k + width
+
+    def lines(leaf, ti, tj, tk, along):  # lines along axis ``along`` through local points (ti, tj, tk)
+        local = np.empty((len(leaf), 3))
+        r = np.arange(len(leaf))
+        local[r, i[leaf]], local[r, j[leaf]], local[r, k[leaf]] = ti, tj, tk
+        return _line_function(signed_distance, cell_lower[leaf], scale[leaf], local, along[leaf])
+
+    # 1. along i: zeros of the distance on the four edges (j end, k end) of each sub-cube
+    le, corner = np.repeat(every, 4), np.tile(np.arange(4), m)
+    ej = np.where(corner % 2 == 1, hi_j[le], lo_j[le])
+    ek = np.where(corner // 2 == 1, hi_k[le], lo_k[le])
+    breaks_i = _split_points(lines(le, lo_i[le], ej, ek, i), lo_i, hi_i, 4)
+    ti, wi, leaf = _gauss_nodes(breaks_i, every, n)
     # 2. along j at each node of i: zeros of the distance on the two k-faces
-    kface = [lo[leaf, k], hi[leaf, k]]
-    rows_all = np.arange(len(leaf))
-
-    def face_f(which, t, rows):
-        x = np.empty((len(rows), 3))
-        x[:, i], x[:, j], x[:, k] = ti[rows], t, kface[which][rows]
-        return phi(x, leaf[rows])
-
-    face_ends = lambda w: None if w == 2 else (face_f(w, lo[leaf, j], rows_all), face_f(w, hi[leaf, j], rows_all))  # noqa: E731
-    breaks_j = _split_points(face_ends, face_f, lo[leaf, j].copy(), hi[leaf, j].copy())
-    tj, wj = _gauss_on(breaks_j[:, :-1], breaks_j[:, 1:], n)  # (M, 3 n)
-    per = tj.shape[1]
-    keep = wj.ravel() > 0.0
-    leaf2 = np.repeat(leaf, per)[keep]
-    ti2, w2 = np.repeat(ti, per)[keep], (np.repeat(wi, per) * wj.ravel())[keep]
-    tj2 = tj.ravel()[keep]
+    lf, face = np.repeat(np.arange(len(leaf)), 2), np.tile(np.arange(2), len(leaf))
+    fk = np.where(face == 1, hi_k[leaf[lf]], lo_k[leaf[lf]])
+    breaks_j = _split_points(lines(leaf[lf], ti[lf], lo_j[leaf[lf]], fk, j), lo_j[leaf], hi_j[leaf], 2)
+    tj, wj, node = _gauss_nodes(breaks_j, np.arange(len(leaf)), n)
+    leaf2, ti2, w2 = leaf[node], ti[node], wi[node] * wj
     # 3. along k: the inside interval between the zero and the end where the distance is positive
-    base = np.empty((len(leaf2), 3))
-    base[:, i], base[:, j] = ti2, tj2
+    t0, t1 = _inside_interval(lines(leaf2, ti2, tj, lo_k[leaf2], k), lo_k[leaf2], hi_k[leaf2])
+    return _monomial_sums(t0, t1, ti2, tj, w2, axes[leaf2], leaf2, m)
 
-    def line_f(t, rows):
-        x = base[rows].copy()
-        x[:, k] = t
-        return phi(x, leaf2[rows])
 
-    a, b = lo[leaf2, k].copy(), hi[leaf2, k].copy()
-    everything = np.arange(len(leaf2))
-    fa, fb = line_f(a, everything), line_f(b, everything)
+def _line_function(signed_distance, cell_lower, scale, local, axis):
+    """``f(t, lines)``: the distance at the local coordinate t along ``axis`` (r,) of lines
+    through the local points ``local`` (r, 3) of cells with lower corners ``cell_lower`` (r, 3)
+    and half edges ``scale`` (r,); ``lines`` picks the lines."""
+    rows = np.arange(len(axis))
+    start = cell_lower + (local + 1.0) * scale[:, None]
+    lower = cell_lower[rows, axis]
+
+    def f(t, s):
+        x = start[s]
+        x[np.arange(len(s)), axis[s]] = lower[s] + (t + 1.0) * scale[s]
+        return np.asarray(signed_distance(x), dtype=float)
+
+    return f
+
+
+def _inside_interval(line_f, a: np.ndarray, b: np.ndarray):
+    """Ends (t0, t1) of the inside part of the lines [a, b] (one crossing at most): the zero of
+    ``line_f(t, lines)`` by a bracketed root search, the end where the distance is positive."""
+    everything = np.arange(len(a))
+    ends = line_f(np.concatenate([a, b]), np.concatenate([everything, everything]))
+    fa, fb = ends[: len(a)], ends[len(a):]
     root = _bracketed_root(line_f, a.copy(), b.copy(), fa.copy(), fb.copy())
     t0 = np.where(fa >= 0.0, a, np.where(fb >= 0.0, root, b))
     t1 = np.maximum(np.where(fb >= 0.0, b, np.where(fa >= 0.0, root, a)), t0)
-    e = STIFFNESS_EXPONENTS
-    along = np.stack([(t1 ** (p + 1) - t0 ** (p + 1)) / (p + 1) for p in range(3)], axis=1)
-    pi = np.stack([ti2**p for p in range(3)], axis=1)
-    pj = np.stack([tj2**p for p in range(3)], axis=1)
-    vals = along[:, e[:, k]] * pi[:, e[:, i]] * pj[:, e[:, j]] * w2[:, None]
-    starts = np.flatnonzero(np.r_[True, leaf2[1:] != leaf2[:-1]])  # each leaf's nodes are contiguous
-    out = np.zeros((m, 27))
-    out[leaf2[starts]] = np.add.reduceat(vals, starts, axis=0)
-    return out
+    return t0, t1
 
 
-def _simple_leaf(signed_distance: SignedDistance, centre, phi, half, lo, width: float, scale, grad) -> np.ndarray:
+def _monomial_sums(t0, t1, t_first, t_second, weight, axes, owner, m: int) -> np.ndarray:
+    """Moments (m, 27): the closed-form integrals of the monomials along each line over [t0, t1]
+    (along axes[:, 0]) times the weight and the powers of the line's foot (t_first along
+    axes[:, 2], t_second along axes[:, 1]), summed over the lines of each owner (contiguous)."""
+    out = np.zeros((m, 3, 9))
+    if len(owner) == 0:
+        return out.reshape(m, 27)
+    powers = np.empty((len(owner), 3, 3))  # (line, axis, exponent)
+    r = np.arange(len(owner))
+    powers[r, axes[:, 0]] = np.stack([(t1 ** (p + 1) - t0 ** (p + 1)) / (p + 1) for p in range(3)], axis=1)
+    powers[r, axes[:, 2]] = np.stack([t_first**p for p in range(3)], axis=1)
+    powers[r, axes[:, 1]] = np.stack([t_second**p for p in range(3)], axis=1)
+    starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
+    yz = (powers[:, 1, :, None] * powers[:, 2, None, :]).reshape(-1, 9) * weight[:, None]
+    for a in range(3):  # monomial 9 a + 3 b + c is x^a y^b z^c (hexahedra.STIFFNESS_EXPONENTS)
+        out[owner[starts], a] = np.add.reduceat(powers[:, 0, a, None] * yz, starts, axis=0)
+    return out.reshape(m, 27)
+
+
+def _simple_leaf(signed_distance: SignedDistance, cell_lower, scale, lo, width, grad) -> np.ndarray:
     """Moments (q, 27) of the inside parts of sub-cubes where the distance bends (the solid's
-    edges, at the last subdivision level) by a plain height-function rule: lines
-    along the axis of the largest component of the distance's gradient, through LINE_POINTS^2
-    Gauss points of the cross-section; on each line the exact zero of the signed distance (a
-    bracketed root search) bounds the inside interval, over which the monomials are integrated in
-    closed form. Exact where the boundary crosses every line of a sub-cube along a plane, high order
-    on smooth curved faces."""
-    q = len(phi)
+    edges, at the last subdivision level) by a plain height-function rule: lines along the axis
+    of the largest component of the distance's gradient, through EDGE_POINTS^2 Gauss points of
+    the cross-section; on each line the exact zero of the signed distance (a bracketed root
+    search) bounds the inside interval, over which the monomials are integrated in closed form.
+    Exact where the boundary crosses every line of a sub-cube along a plane, high order on smooth
+    curved faces. All sub-cubes in one pass whatever their axes."""
+    q = len(lo)
     if q == 0:
         return np.zeros((0, 27))
-    axis = np.argmax(np.abs(grad), axis=1)
     x, w = np.polynomial.legendre.leggauss(EDGE_POINTS)
-    gu, gv = np.meshgrid(x, x, indexing="ij")
-    gw = np.outer(w, w).ravel() * (0.5 * width) ** 2  # local units (EDGE_POINTS per direction)
-    gu, gv = gu.ravel(), gv.ravel()
-    n_line = len(gw)
-    out = np.zeros((q, 27))
-    for k in range(3):
-        rows = np.nonzero(axis == k)[0]
-        if len(rows):
-            out[rows] = _lines_along(k, signed_distance, lo[rows], width, scale[rows], centre[rows], half[rows],
-                                     gu, gv, gw, n_line)
-    return out
-
-
-def _lines_along(k: int, signed_distance: SignedDistance, lo, width, scale, centre, half, gu, gv, gw, n_line):
-    """_simple_leaf for sub-cubes whose lines run along axis k."""
-    u, v = [j for j in range(3) if j != k]
-    m = len(lo)
-    local = np.repeat(lo, n_line, axis=0)  # (m n, 3) local coordinates of each line's start
-    local[:, u] += 0.5 * width * (np.tile(gu, m) + 1.0)
-    local[:, v] += 0.5 * width * (np.tile(gv, m) + 1.0)
-    cell_lower = np.repeat(centre - (lo + 0.5 * width + 1.0) * scale[:, None], n_line, axis=0)
-    sc = np.repeat(scale, n_line)
-
-    def phi_at(t, rows=slice(None)):  # t: local coordinate along k, on the lines ``rows``
-        pts = local[rows].copy()
-        pts[:, k] = t
-        return np.asarray(signed_distance(cell_lower[rows] + (pts + 1.0) * sc[rows, None]), dtype=float)
-
-    a = local[:, k].copy()
-    b = a + width
-    fa, fb = phi_at(a), phi_at(b)
-    root = _bracketed_root(phi_at, a.copy(), b.copy(), fa.copy(), fb.copy())
-    t0 = np.where(fa >= 0.0, a, np.where(fb >= 0.0, root, b))  # inside interval [t0, t1]
-    t1 = np.where(fb >= 0.0, b, np.where(fa >= 0.0, root, a))
-    t1 = np.maximum(t1, t0)
-    powers = np.stack([(t1 ** (p + 1) - t0 ** (p + 1)) / (p + 1) for p in range(3)], axis=1)  # (m n, 3)
-    pu = np.stack([local[:, u] ** p for p in range(3)], axis=1)
-    pv = np.stack([local[:, v] ** p for p in range(3)], axis=1)
-    e = STIFFNESS_EXPONENTS
-    vals = powers[:, e[:, k]] * pu[:, e[:, u]] * pv[:, e[:, v]] * np.tile(gw, m)[:, None]
-    return vals.reshape(m, n_line, 27).sum(axis=1)
+    gu, gv = (g.ravel() for g in np.meshgrid(x, x, indexing="ij"))
+    n_line = len(gu)
+    k = np.argmax(np.abs(grad), axis=1)
+    axes = np.column_stack([k, _ACROSS[k][:, ::-1]])  # height k, then v, then u (as k, j, i)
+    line = np.repeat(np.arange(q), n_line)
+    half_width = 0.5 * width[line]
+    r = np.arange(len(line))
+    local = lo[line].copy()  # (q n, 3) local coordinates of each line's start
+    local[r, axes[line, 2]] += half_width * (np.tile(gu, q) + 1.0)
+    local[r, axes[line, 1]] += half_width * (np.tile(gv, q) + 1.0)
+    gw = np.tile(np.outer(w, w).ravel(), q) * half_width**2  # local units
+    a = local[r, axes[line, 0]]
+    f = _line_function(signed_distance, cell_lower[line], scale[line], local, axes[line, 0])
+    t0, t1 = _inside_interval(f, a, a + width[line])
+    return _monomial_sums(t0, t1, local[r, axes[line, 2]], local[r, axes[line, 1]], gw, axes[line], line, q)
 
 
 def _bracketed_root(f, a, b, fa, fb):
