@@ -287,8 +287,9 @@ def _simple_leaf(signed_distance: SignedDistance, cell_lower, scale, lo, width, 
 
 def _bracketed_root(f, a, b, fa, fb):
     """Zeros of f(t, rows) on [a, b] where fa, fb differ in sign (Illinois regula falsi,
-    vectorised over the lines still active, to a step of 1e-14 of the interval); the lower end
-    elsewhere (unused there)."""
+    vectorised over the lines still active, to a step of 1e-14 of the interval: a line whose
+    next step is below it takes that step without evaluating f there); the lower end elsewhere
+    (unused there)."""
     x = a.copy()
     side = np.zeros(len(a), dtype=np.int8)
     i = np.nonzero((fa < 0.0) != (fb < 0.0))[0]
@@ -300,6 +301,10 @@ def _bracketed_root(f, a, b, fa, fb):
         xi = np.clip(b[i] - fb[i] * (b[i] - a[i]) / denom, np.minimum(a[i], b[i]), np.maximum(a[i], b[i]))
         step = np.abs(xi - x[i])
         x[i] = xi
+        moving = step > tol[i]  # the others have converged: no call for them
+        i, xi = i[moving], xi[moving]
+        if len(i) == 0:
+            break
         fx = f(xi, i)
         left = (fx < 0.0) == (fa[i] < 0.0)  # the root lies in [x, b]
         li, ri = i[left], i[~left]
@@ -309,5 +314,5 @@ def _bracketed_root(f, a, b, fa, fb):
         b[ri], fb[ri] = xi[~left], fx[~left]
         fa[ri[side[ri] == -1]] *= 0.5
         side[ri] = -1
-        i = i[(step > tol[i]) & (fx != 0.0) & (np.abs(b[i] - a[i]) > tol[i])]
+        i = i[(fx != 0.0) & (np.abs(b[i] - a[i]) > tol[i])]
     return x
