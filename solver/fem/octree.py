@@ -11,7 +11,9 @@ diagonal outside the body) are dropped as they are made.
 Nodes are the corners of the leaves. A node hangs when it lies inside an edge of a coarser leaf
 (then u = (u_a + u_b) / 2 with the edge's ends) or inside one of its faces (u = the mean of the
 face's four corners); chains are resolved by composing the constraints, as in 2D. The constraint
-matrix T (nodes x free nodes) gives u = T u_free, so trilinear fields stay conforming.
+matrix T (nodes x free nodes) gives u = T u_free, so trilinear fields stay conforming. A body's
+aggregation of its ill-supported cut cells (solver.fem.aggregation) then takes the unknowns of
+some free nodes away (:meth:`Octree.extend`): T stays the map from the unknowns to every node.
 
 Corner order of a cell (x fastest): (0,0,0), (1,0,0), (1,1,0), (0,1,0), (0,0,1), (1,0,1),
 (1,1,1), (0,1,1), the reference corners of solver.fem.hexahedra.
@@ -69,7 +71,16 @@ class Octree:
 
     @property
     def n_hanging(self) -> int:
+        """Nodes without an unknown of their own (hanging, or extended by an aggregation)."""
         return len(self.nodes) - len(self.free_nodes)
+
+    def extend(self, extension: sp.csr_matrix, kept: np.ndarray) -> None:
+        """Give up the unknowns of some free nodes: u_free = E u_kept with ``extension`` E (free
+        nodes x kept) and ``kept`` the positions of the kept ones among the free nodes
+        (solver.fem.aggregation); the constraint becomes T E, so hanging nodes whose parents
+        are extended follow them."""
+        self.constraint = (self.constraint @ extension).tocsr()
+        self.free_nodes = self.free_nodes[np.asarray(kept)]
 
     @functools.cached_property
     def _level_keys(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from .aggregation import AGGREGATION_THRESHOLD, aggregate, aggregate_thickness
 from .assembly_blocks import assemble_blocks
 from .cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
 from .grid import RefinementZone
@@ -55,15 +56,18 @@ class SolidDiscretisation(BodyDiscretisation):
     #: per face: (points, weights, normals, cells) of its quadrature on this octree (computed
     #: once, for the areas and for the conditions on the face)
     face_rules: dict = field(default=None, repr=False)
+    #: (m,) root cell of each cell's aggregate (solver.fem.aggregation; None: not aggregated)
+    root: np.ndarray = field(default=None, repr=False)
 
     @property
     def material_thickness(self) -> np.ndarray:
         """Local size available to a boundary band: min(h, 2 V / A) with V the inside volume and
-        A the boundary area in the cell (h for a cell cut in half by a plane, the sliver's
-        thickness for a sliver), as in 2D (solver.fem.grid.Grid.material_thickness)."""
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(self.boundary_area > 0, 2.0 * self.inside_volume / self.boundary_area, np.inf)
-        return np.minimum(self.grid.size, t)
+        A the boundary area (h for a cell cut in half by a plane, the sliver's thickness for a
+        sliver), as in 2D (solver.fem.grid.Grid.material_thickness), taken over the cell's
+        aggregate when the cells are aggregated (a sliver's points then see its root cell's
+        field: their band is sized by the aggregate, not by the sliver)."""
+        root = self.root if self.root is not None else np.full(len(self.grid.size), -1)
+        return aggregate_thickness(root, self.grid.size, self.inside_volume, self.boundary_area)
 
     def stiffness(self, alpha: float) -> sp.csr_matrix:
         """Volume stiffness of the free dofs: moment-fitted cube parts, cut cells plus ``alpha``
@@ -189,9 +193,11 @@ def located_face_rule(face, tree, order: int = FACE_ORDER):
 
 def discretise_solid(name: str, solid, material_lame: tuple[float, float], elasticity: np.ndarray,
                      poissons_ratio: float, element_size: float, zones: tuple[RefinementZone, ...] = (),
-                     index: int = 0, offset=(0.0, 0.0, 0.0), depth: int = CUT_DEPTH) -> SolidDiscretisation:
+                     index: int = 0, offset=(0.0, 0.0, 0.0), depth: int = CUT_DEPTH,
+                     aggregation_threshold: float | None = AGGREGATION_THRESHOLD) -> SolidDiscretisation:
     """The octree over ``solid`` (cells farther outside than their half diagonal dropped), the
-    status and inside moments of its cells."""
+    status and inside moments of its cells, the cells whose inside part is less than
+    ``aggregation_threshold`` of the cube aggregated to well-supported ones (None: not at all)."""
     phi = solid.signed_distance
     reach = 0.5 * np.sqrt(3.0) * (1.0 + 1e-9)
 
@@ -204,6 +210,11 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
     moments[status == INSIDE] = full_cube_moments()
     cut = status == CUT
     moments[cut] = inside_moments(tree.lower[cut], tree.size[cut], phi, depth)
+    root = None
+    if aggregation_threshold is not None:
+        aggregation = aggregate(tree, moments[:, 0] / 8.0, aggregation_threshold)
+        tree.extend(aggregation.extension, aggregation.kept)
+        root = aggregation.root
     lam, mu = material_lame
     area = np.zeros(len(tree.size))
     rules = {}
@@ -214,7 +225,7 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
     return SolidDiscretisation(
         name=name, index=index, grid=tree, boundary=solid, profile=solid, lam=lam, mu=mu, elasticity=elasticity,
         model="solid", poissons_ratio=poissons_ratio, element_size=float(element_size), status=status,
-        moments=moments, boundary_area=area, face_rules=rules,
+        moments=moments, boundary_area=area, face_rules=rules, root=root,
     )
 
 

@@ -1,0 +1,164 @@
+"""Cell aggregation for the octree's cut cells, after Badia, Verdugo and Martin, "The aggregated
+unfitted finite element method for elliptic problems", CMAME 336 (2018) 533-553.
+
+A cut cell whose inside part is a tiny share of the cube (a sliver left where a face lies a
+hair inside a grid plane, a corner clipped by a curved face) gives its nodes almost no stiffness;
+a node all of whose cells are like that is ill supported: the stiffness is nearly singular there,
+and the boundary terms of a face in such a cell (sized by the sliver's thickness) can outweigh
+it and make the matrix indefinite. Aggregation removes those nodes' unknowns:
+
+- a cell is *well supported* when its inside volume is at least ``threshold`` of its cube;
+- every other cell joins the *aggregate* of a well-supported *root* cell, grown layer by layer
+  through cells that share an unknown (the aggregates follow the material: they never jump a
+  gap the cells do not bridge);
+- a free node is kept when a well-supported cell depends on it (through the hanging-node
+  constraints too); the others are *extended*: their displacement is the root cell's trilinear
+  field evaluated (extrapolated) at the node, u_f = sum_a N_a^root(x_f) u_a.
+
+The extension is exact for linear fields (a trilinear cell reproduces them everywhere), so the
+patch test is kept, and it composes with the hanging-node constraint T (nodes x free nodes) of
+:mod:`solver.fem.octree` as T' = T E, with E (free nodes x kept nodes). A node whose cells
+reach no well-supported cell at all (a piece of the body thinner than ``threshold`` of a cell
+everywhere) keeps its unknown.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .hexahedra import shape_functions
+
+__all__ = ["AGGREGATION_THRESHOLD", "Aggregation", "aggregate", "aggregate_thickness"]
+
+#: inside volume share of its cube below which a cell joins an aggregate (see
+#: docs/solid-3d.md, "Aggregated cut cells", for the measurements behind it)
+AGGREGATION_THRESHOLD = 0.05
+
+
+@dataclass(frozen=True)
+class Aggregation:
+    """The aggregates of an octree's cells and the extension of the ill-supported nodes."""
+
+    #: (m,) root cell of each cell (itself when well supported; -1 when it reaches none)
+    root: np.ndarray
+    #: (free nodes, kept nodes): free-node displacements from the kept ones
+    extension: sp.csr_matrix
+    #: (kept,) positions of the kept nodes among the free nodes
+    kept: np.ndarray
+
+    @property
+    def n_extended(self) -> int:
+        return self.extension.shape[0] - len(self.kept)
+
+
+def aggregate(tree, fraction: np.ndarray, threshold: float = AGGREGATION_THRESHOLD) -> Aggregation:
+    """Aggregates of the leaves of ``tree`` (an :class:`solver.fem.octree.Octree`) from each
+    cell's inside volume ``fraction`` (m,) of its cube."""
+    if not 0.0 <= threshold < 1.0:
+        raise ValueError(f"aggregation threshold must lie in [0, 1), got {threshold!r}")
+    fraction = np.asarray(fraction, dtype=float)
+    well = fraction >= threshold
+    support = _cell_support(tree)  # (m, free nodes) pattern
+    root = _roots(tree, well, support)
+    supported = np.asarray(support[well].sum(axis=0)).ravel() > 0
+    ill = np.flatnonzero(~supported)
+    node_root = _node_roots(tree, ill, root, support)
+    extended = ill[node_root >= 0]
+    n_free = support.shape[1]
+    kept = np.setdiff1d(np.arange(n_free), extended)
+    return Aggregation(root, _extension(tree, extended, node_root[node_root >= 0], kept), kept)
+
+
+def aggregate_thickness(root: np.ndarray, size: np.ndarray, volume: np.ndarray, area: np.ndarray) -> np.ndarray:
+    """(m,) local size of each cell for a boundary band: min(h, 2 V / A) of its aggregate (the
+    sums of the inside volumes V and boundary areas A over the cells with the same root, h the
+    root's size), and never more than the cell's own size; a cell without root keeps its own."""
+    m = len(size)
+    own = root < 0
+    key = np.where(own, np.arange(m), root)
+    v = np.bincount(key, volume, minlength=m)
+    a = np.bincount(key, area, minlength=m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(a > 0, 2.0 * v / a, np.inf)
+    return np.minimum(size, np.minimum(size[key], t[key]))
+
+
+def _cell_support(tree) -> sp.csr_matrix:
+    """(m, free nodes) 0/1: the free nodes each cell's field depends on (hanging nodes through
+    their parents)."""
+    m = len(tree.level)
+    incidence = sp.csr_matrix((np.ones(8 * m), (np.repeat(np.arange(m), 8), tree.cells.ravel())),
+                              shape=(m, len(tree.nodes)))
+    pattern = tree.constraint.copy()
+    pattern.data = np.ones_like(pattern.data)
+    s = (incidence @ pattern).tocsr()
+    s.data = np.ones_like(s.data)
+    return s
+
+
+def _roots(tree, well: np.ndarray, support: sp.csr_matrix) -> np.ndarray:
+    """Root cell of each cell: the well-supported cells are their own; the others take, layer
+    after layer, the root nearest to their centre among the cells they share a free node with."""
+    root = np.where(well, np.arange(len(well)), -1)
+    centre = tree.center
+    while True:
+        open_cells = np.flatnonzero(root < 0)
+        if not len(open_cells):
+            break
+        touch = (support[open_cells] @ support.T).tocoo()
+        rooted = root[touch.col] >= 0
+        rows, cols = open_cells[touch.row[rooted]], touch.col[rooted]
+        if not len(rows):
+            break
+        candidate = root[cols]
+        distance = np.linalg.norm(centre[rows] - centre[candidate], axis=1)
+        best = _first_per_group(rows, distance, candidate)
+        root[rows[best]] = candidate[best]
+    return root
+
+
+def _node_roots(tree, ill: np.ndarray, root: np.ndarray, support: sp.csr_matrix) -> np.ndarray:
+    """Root cell of each ill-supported free node (-1: none): among the roots of the cells that
+    depend on it, the one whose centre is nearest the node."""
+    out = np.full(len(ill), -1)
+    if not len(ill):
+        return out
+    touch = support[:, ill].tocoo()  # rows: cells, cols: position in ill
+    ok = root[touch.row] >= 0
+    node, candidate = touch.col[ok], root[touch.row[ok]]
+    x = tree.nodes[tree.free_nodes[ill[node]]]
+    distance = np.linalg.norm(x - tree.center[candidate], axis=1)
+    best = _first_per_group(node, distance, candidate)
+    out[node[best]] = candidate[best]
+    return out
+
+
+def _first_per_group(group: np.ndarray, distance: np.ndarray, tie: np.ndarray) -> np.ndarray:
+    """Index of the smallest distance in each group (ties to the smallest ``tie``)."""
+    order = np.lexsort((tie, distance, group))
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = group[order][1:] != group[order][:-1]
+    return order[first]
+
+
+def _extension(tree, extended: np.ndarray, roots: np.ndarray, kept: np.ndarray) -> sp.csr_matrix:
+    """E (free nodes, kept): identity on the kept nodes, the root cells' trilinear fields
+    evaluated at the extended nodes (through the constraint of the roots' own nodes)."""
+    n_free = len(tree.free_nodes)
+    column = np.full(n_free, -1)
+    column[kept] = np.arange(len(kept))
+    x = tree.nodes[tree.free_nodes[extended]]
+    local = tree.local_coordinates(x, roots)
+    n, _ = shape_functions(local)  # (e, 8), extrapolated outside [-1, 1]^3
+    weights = sp.csr_matrix((n.ravel(), (np.repeat(np.arange(len(extended)), 8), tree.cells[roots].ravel())),
+                            shape=(len(extended), len(tree.nodes)))
+    rows = (weights @ tree.constraint).tocoo()  # (e, free nodes), only kept columns by construction
+    if (column[rows.col] < 0).any():  # pragma: no cover - a root's nodes are kept by definition
+        raise RuntimeError("aggregation: a root cell depends on an extended node")
+    r = np.concatenate([kept, extended[rows.row]])
+    c = np.concatenate([np.arange(len(kept)), column[rows.col]])
+    v = np.concatenate([np.ones(len(kept)), rows.data])
+    return sp.csr_matrix((v, (r, c)), shape=(n_free, len(kept)))
