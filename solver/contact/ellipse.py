@@ -27,9 +27,10 @@ import scipy.sparse as sp
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.options import ContactOptions
 from ..reference.theory import hertz_elliptic_contact
-from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, contact_frame_3d, matched_points,
+from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, matched_points,
                                region_points, sectors, surface_point)
 from .roots import edge_search, settling_tolerance
+from .touching3d import touching_frame_3d
 
 __all__ = ["EllipseContact", "build"]
 
@@ -90,6 +91,8 @@ class EllipseContact:
     #: the ellipse's centre in the tangent plane (along the axes): the pressure's centroid where
     #: body 1 has surface all around the contact point and region_centre is "pressure", else 0
     centre: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    #: the scene's point where the frame moved to the touching point nearest it (else None)
+    given_point: np.ndarray | None = None
 
     @property
     def name(self) -> str:
@@ -510,10 +513,10 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
     opts = model.options
     solids = (b1.boundary, b2.boundary)
     h = float(min(b1.grid.min_size, b2.grid.min_size))
-    frame = contact_frame_3d(*solids, np.asarray(model.point, dtype=float), h,
-                             getattr(model, "tangential_direction", None))
     extent = _extent(problem, model, opts.extent_fraction)
     reach = 0.5 * extent
+    frame, moved = touching_frame_3d(*solids, np.asarray(model.point, dtype=float), h, reach,
+                                     getattr(model, "tangential_direction", None))
     ranges = sectors(solids[0], frame, 0.5 * h, reach)
     e1 = 1.0 / (1.0 / _modulus(b1) + 1.0 / _modulus(b2))
     k0, k1 = frame.curvatures
@@ -539,6 +542,7 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
                        options=opts, stick_ratio={"tied": math.inf, "frictionless": 0.0}.get(model.type, 1.0),
                        friction=float(model.friction or 0.0) if model.type == "frictional" else 0.0)
     c.grids = [(b.grid.origin, b.grid.h0 / 2.0**b.grid.max_level) for b in (b1, b2)]
+    c.given_point = np.asarray(model.point, dtype=float) if moved else None
     c.reach = reach
     full = _dense_disc(solids, frame, extent, ranges, 0.25 * h, reach)
     cells1 = np.concatenate([_near_cells(b1, p.x1, p.n1) for p in (full, samples)])

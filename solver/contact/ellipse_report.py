@@ -47,6 +47,8 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
            "normal_force": float(-on2 @ frame.normal),
            "tangential_force": [float(on2 @ frame.axes[0]), float(on2 @ frame.axes[1])],
            "pressure": {}, "shear": {}}
+    if c.given_point is not None:  # the frame sits at the touching point nearest the scene's point
+        out["given_point"] = c.given_point.tolist()
     if info is None or a <= 0.0:
         for key in ("pressure", "shear"):
             out[key] = {f"axis{k}": {"s": [], "value": []} for k in (0, 1)}
