@@ -54,6 +54,7 @@ class _Verdict:
     min_pressure: float
     edge: float = math.nan
     edges: tuple = (math.nan, math.nan)
+    overlap: float = math.nan  # how far out the bodies overlap beyond a too small region (_overlap_extent)
 
 
 @dataclass
@@ -163,6 +164,7 @@ class EllipseContact:
         v = _judge(self, gap, pressure, inside, edge_dist)
         v.edges = _edge_coefficients(self, info, x, a)
         v.edge = 0.5 * (v.edges[0] + v.edges[1])
+        v.overlap = _overlap_extent(self, gap, inside)
         return v
 
     def force(self, x: np.ndarray, a: float, info) -> np.ndarray:
@@ -418,6 +420,17 @@ def _edge_coefficients(c: EllipseContact, info, x: np.ndarray, a: float) -> tupl
     s = c.local(pts.s)
     X, Y = s[:, 0] / aa, s[:, 1] / bb
     return float((wp * (5.0 * X**2 - 1.0)).sum() / total), float((wp * (5.0 * Y**2 - 1.0)).sum() / total)
+
+
+def _overlap_extent(c: EllipseContact, gap: np.ndarray, inside: np.ndarray) -> float:
+    """How far out along the axes (in units of the first semi-axis) the bodies still overlap
+    outside the region: the region search's hint where a trial is too small (nan: nowhere)."""
+    over = (gap < 0.0) & ~inside
+    if not over.any():
+        return math.nan
+    s = np.abs(c.local(c.samples.s))[over]
+    axis = c.sample_axis[over]
+    return float(np.max(np.where(axis == 0, s[:, 0], s[:, 1] / c.ratio)))
 
 
 def _sample_state(c: EllipseContact, x: np.ndarray, a: float):

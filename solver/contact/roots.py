@@ -182,16 +182,26 @@ class SecantBracket(Bracket):
 _MAX_GROWTH = 4.0
 
 
-def _next_growing(a: float, step: float, seen: list[tuple[float, float]], a_max: float) -> float:
+#: the contact radius over the radius out to which a too small trial region leaves the bodies
+#: overlapping: Hertz's a^2 = R delta against the rigid overlap's r^2 = 2 R delta
+OVERLAP_SHARE = math.sqrt(0.5)
+
+
+def _next_growing(a: float, step: float, seen: list[tuple[float, float]], a_max: float,
+                  overlap: float = math.nan) -> float:
     """The next trial while every trial so far was too small (g > 0): 10 % beyond where the
     secant through the last two trials crosses zero (to bracket the root), at least the current
-    step and at most four times a further; the step itself where g does not decrease yet."""
+    step and at most four times a further; the step itself where g does not decrease yet. Where
+    the verdict tells how far out the bodies still overlap (``overlap`` > a), at least
+    OVERLAP_SHARE of the way there."""
     grown = a + step
     if len(seen) >= 2:
         (a1, g1), (a2, g2) = seen[-2:]
         if np.isfinite(g1) and np.isfinite(g2) and g2 < g1 and a2 > a1:
             root = a2 + g2 * (a2 - a1) / (g1 - g2)
             grown = float(np.clip(a + 1.1 * (root - a), a + step, _MAX_GROWTH * a))
+    if np.isfinite(overlap) and overlap > a:
+        grown = max(grown, a + OVERLAP_SHARE * (overlap - a))
     return min(grown, a_max)
 
 
@@ -224,7 +234,7 @@ def edge_search(a0: float, h: float, tol: float, a_max: float, step0: float | No
             if hi is None:
                 if a >= a_max:
                     raise RegionTooSmall()
-                a = _next_growing(a, step, seen, a_max)
+                a = _next_growing(a, step, seen, a_max, getattr(v, "overlap", math.nan))
         else:
             hi, ghi = a, g
             if lo is None:
