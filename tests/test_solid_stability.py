@@ -7,9 +7,10 @@ constant stress stays exact."""
 import numpy as np
 import pytest
 
-from solver.fem.aggregation import AGGREGATION_THRESHOLD
+from solver.fem.aggregation import AGGREGATION_THRESHOLD, aggregate
 from solver.fem.assembly import boundary_terms
 from solver.fem.grid import RefinementZone
+from solver.fem.octree import build_octree
 from solver.fem.solid_space import discretise_solid
 from solver.fem.space import number_dofs
 from solver.model import problem as pb
@@ -117,3 +118,28 @@ def test_constant_stress_exact_with_a_layer_of_slivers():
 def test_threshold_out_of_range_is_refused():
     with pytest.raises(ValueError, match="aggregation threshold"):
         _body(_sliver_box(1e-9), H, threshold=1.5)
+
+
+def test_aggregates_follow_the_material_across_a_gap():
+    # a row of eight cells: part A (a full cell, a sliver), an empty cell, part B (four slivers,
+    # a full cell). B's first sliver is nearer A's root (3 cells) than B's (4 cells), but only
+    # through the empty cell: its root, and the extension of the nodes on the gap's B side, come
+    # from B
+    tree = build_octree(((0.0, 0.0, 0.0), (7.5, 0.5, 0.5)), 1.0)
+    assert len(tree.level) == 8
+    order = np.argsort(tree.index[:, 0])
+    fraction = np.empty(8)
+    fraction[order] = [1.0, 1e-9, 0.0, 1e-9, 1e-9, 1e-9, 1e-9, 1.0]
+    agg = aggregate(tree, fraction, 0.05)
+    np.testing.assert_array_equal(tree.index[agg.root[order], 0], [0, 0, 0, 7, 7, 7, 7, 7])
+    # the nodes on the planes x = 2 ... 6 are extended: x = 2 from A's nodes (x <= 1), the
+    # others from B's (x >= 7), each reproducing x itself
+    x_free = tree.nodes[tree.free_nodes, 0]
+    x_kept = x_free[agg.kept]
+    e = agg.extension.tocoo()
+    extended = np.setdiff1d(np.arange(len(x_free)), agg.kept)
+    np.testing.assert_array_equal(np.unique(x_free[extended]), [2, 3, 4, 5, 6])
+    rows = ~np.isin(e.row, agg.kept)
+    from_a = x_free[e.row[rows]] == 2
+    assert (x_kept[e.col[rows][from_a]] <= 1).all() and (x_kept[e.col[rows][~from_a]] >= 7).all()
+    np.testing.assert_allclose(agg.extension @ x_kept, x_free, atol=1e-12)

@@ -9,8 +9,9 @@ it and make the matrix indefinite. Aggregation removes those nodes' unknowns:
 
 - a cell is *well supported* when its inside volume is at least ``threshold`` of its cube;
 - every other cell joins the *aggregate* of a well-supported *root* cell, grown layer by layer
-  through cells that share an unknown (the aggregates follow the material: they never jump a
-  gap the cells do not bridge);
+  through cells that share an unknown; cells wholly outside (kept near the surface) receive a
+  root but pass none on, so the aggregates follow the material and do not jump a gap that no
+  cell with material bridges;
 - a free node is kept when a well-supported cell depends on it (through the hanging-node
   constraints too); the others are *extended*: their displacement is the root cell's trilinear
   field evaluated (extrapolated) at the node, u_f = sum_a N_a^root(x_f) u_a.
@@ -62,10 +63,11 @@ def aggregate(tree, fraction: np.ndarray, threshold: float = AGGREGATION_THRESHO
     fraction = np.asarray(fraction, dtype=float)
     well = fraction >= threshold
     support = _cell_support(tree)  # (m, free nodes) pattern
-    root = _roots(tree, well, support)
+    material = fraction > 0.0
+    root = _roots(tree, well, material, support)
     supported = np.asarray(support[well].sum(axis=0)).ravel() > 0
     ill = np.flatnonzero(~supported)
-    node_root = _node_roots(tree, ill, root, support)
+    node_root = _node_roots(tree, ill, root, material, support)
     extended = ill[node_root >= 0]
     n_free = support.shape[1]
     kept = np.setdiff1d(np.arange(n_free), extended)
@@ -99,9 +101,11 @@ def _cell_support(tree) -> sp.csr_matrix:
     return s
 
 
-def _roots(tree, well: np.ndarray, support: sp.csr_matrix) -> np.ndarray:
+def _roots(tree, well: np.ndarray, material: np.ndarray, support: sp.csr_matrix) -> np.ndarray:
     """Root cell of each cell: the well-supported cells are their own; the others take, layer
-    after layer, the root nearest to their centre among the cells they share a free node with."""
+    after layer, the root nearest to their centre among the cells they share a free node with.
+    Only cells with material pass a root on (cells wholly outside receive one but do not bridge a
+    gap), unless nothing else is left."""
     root = np.where(well, np.arange(len(well)), -1)
     centre = tree.center
     while True:
@@ -109,8 +113,10 @@ def _roots(tree, well: np.ndarray, support: sp.csr_matrix) -> np.ndarray:
         if not len(open_cells):
             break
         touch = (support[open_cells] @ support.T).tocoo()
-        rooted = root[touch.col] >= 0
-        rows, cols = open_cells[touch.row[rooted]], touch.col[rooted]
+        source = root[touch.col] >= 0
+        through = source & material[touch.col]
+        source = through if through.any() else source
+        rows, cols = open_cells[touch.row[source]], touch.col[source]
         if not len(rows):
             break
         candidate = root[cols]
@@ -120,14 +126,18 @@ def _roots(tree, well: np.ndarray, support: sp.csr_matrix) -> np.ndarray:
     return root
 
 
-def _node_roots(tree, ill: np.ndarray, root: np.ndarray, support: sp.csr_matrix) -> np.ndarray:
-    """Root cell of each ill-supported free node (-1: none): among the roots of the cells that
-    depend on it, the one whose centre is nearest the node."""
+def _node_roots(tree, ill: np.ndarray, root: np.ndarray, material: np.ndarray, support: sp.csr_matrix) -> np.ndarray:
+    """Root cell of each ill-supported free node (-1: none): among the roots of the cells with
+    material that depend on it (of any cell when none has material), the one whose centre is
+    nearest the node."""
     out = np.full(len(ill), -1)
     if not len(ill):
         return out
     touch = support[:, ill].tocoo()  # rows: cells, cols: position in ill
     ok = root[touch.row] >= 0
+    inside = ok & material[touch.row]
+    has_inside = np.bincount(touch.col[inside], minlength=len(ill)) > 0
+    ok &= inside | ~has_inside[touch.col]
     node, candidate = touch.col[ok], root[touch.row[ok]]
     x = tree.nodes[tree.free_nodes[ill[node]]]
     distance = np.linalg.norm(x - tree.center[candidate], axis=1)
