@@ -1,5 +1,11 @@
-"""Cell aggregation for the octree's cut cells, after Badia, Verdugo and Martin, "The aggregated
-unfitted finite element method for elliptic problems", CMAME 336 (2018) 533-553.
+"""Cell aggregation for the cut cells of the quadtree (2D) and the octree (3D), after Badia,
+Verdugo and Martin, "The aggregated unfitted finite element method for elliptic problems", CMAME
+336 (2018) 533-553. One implementation for both: the dimension comes from the grid's nodes (d
+coordinates), the cell type from its cell table (2^d corners), and the shape functions are the
+multilinear ones of that corner order (those of :mod:`solver.fem.elements`: the bilinear square,
+the trilinear cube; evaluated here from the corner signs, since the quadtree aggregates its cells
+with this module and :mod:`solver.fem.elements` imports the grids). A "cube" below is the square
+cell in 2D, a "face" an edge.
 
 A cut cell whose inside part is a tiny share of the cube (a sliver left where a face lies a
 hair inside a grid plane, a corner clipped by a curved face) gives its nodes almost no stiffness;
@@ -14,13 +20,13 @@ it and make the matrix indefinite. Aggregation removes those nodes' unknowns:
   cell with material bridges;
 - a free node is kept when a well-supported cell depends on it (through the hanging-node
   constraints too); the others are *extended*: their displacement is the root cell's trilinear
-  field evaluated (extrapolated) at the node, u_f = sum_a N_a^root(x_f) u_a.
+  field (bilinear in 2D) evaluated (extrapolated) at the node, u_f = sum_a N_a^root(x_f) u_a.
 
-The extension is exact for linear fields (a trilinear cell reproduces them everywhere), so the
+The extension is exact for linear fields (a multilinear cell reproduces them everywhere), so the
 patch test is kept, and it composes with the hanging-node constraint T (nodes x free nodes) of
-:mod:`solver.fem.octree` as T' = T E, with E (free nodes x kept nodes). A node whose cells
-reach no well-supported cell at all (a piece of the body thinner than ``threshold`` of a cell
-everywhere) keeps its unknown.
+:mod:`solver.fem.grid` / :mod:`solver.fem.octree` as T' = T E, with E (free nodes x kept
+nodes). A node whose cells reach no well-supported cell at all (a piece of the body thinner
+than ``threshold`` of a cell everywhere) keeps its unknown.
 """
 
 from __future__ import annotations
@@ -30,18 +36,17 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .hexahedra import shape_functions
-
 __all__ = ["AGGREGATION_THRESHOLD", "Aggregation", "aggregate", "aggregate_thickness"]
 
-#: inside volume share of its cube below which a cell joins an aggregate (see
-#: docs/solid-3d.md, "Aggregated cut cells", for the measurements behind it)
+#: inside volume share of its cube below which a cell joins an aggregate (see docs/solids.md,
+#: "Ill-supported cut cells: aggregation", and docs/formulation.md, "Aggregated cut cells", for
+#: the measurements behind it)
 AGGREGATION_THRESHOLD = 0.05
 
 
 @dataclass(frozen=True)
 class Aggregation:
-    """The aggregates of an octree's cells and the extension of the ill-supported nodes."""
+    """The aggregates of a grid's cells and the extension of the ill-supported nodes."""
 
     #: (m,) root cell of each cell (itself when well supported; -1 when it reaches none)
     root: np.ndarray
@@ -56,8 +61,9 @@ class Aggregation:
 
 
 def aggregate(tree, fraction: np.ndarray, threshold: float = AGGREGATION_THRESHOLD) -> Aggregation:
-    """Aggregates of the leaves of ``tree`` (an :class:`solver.fem.octree.Octree`) from each
-    cell's inside volume ``fraction`` (m,) of its cube."""
+    """Aggregates of the leaves of ``tree`` (a :class:`solver.fem.grid.Grid` or an
+    :class:`solver.fem.octree.Octree`) from each cell's inside volume ``fraction`` (m,) of its
+    cube (area of its square in 2D)."""
     if not 0.0 <= threshold < 1.0:
         raise ValueError(f"aggregation threshold must lie in [0, 1), got {threshold!r}")
     fraction = np.asarray(fraction, dtype=float)
@@ -76,8 +82,9 @@ def aggregate(tree, fraction: np.ndarray, threshold: float = AGGREGATION_THRESHO
 
 def aggregate_thickness(root: np.ndarray, size: np.ndarray, volume: np.ndarray, area: np.ndarray) -> np.ndarray:
     """(m,) local size of each cell for a boundary band: min(h, 2 V / A) of its aggregate (the
-    sums of the inside volumes V and boundary areas A over the cells with the same root, h the
-    root's size), and never more than the cell's own size; a cell without root keeps its own."""
+    sums of the inside volumes V and boundary areas A, in 2D areas and boundary lengths, over the
+    cells with the same root, h the root's size), and never more than the cell's own size; a cell
+    without root keeps its own."""
     m = len(size)
     own = root < 0
     key = np.where(own, np.arange(m), root)
@@ -91,8 +98,8 @@ def aggregate_thickness(root: np.ndarray, size: np.ndarray, volume: np.ndarray, 
 def _cell_support(tree) -> sp.csr_matrix:
     """(m, free nodes) 0/1: the free nodes each cell's field depends on (hanging nodes through
     their parents)."""
-    m = len(tree.level)
-    incidence = sp.csr_matrix((np.ones(8 * m), (np.repeat(np.arange(m), 8), tree.cells.ravel())),
+    m, k = tree.cells.shape
+    incidence = sp.csr_matrix((np.ones(k * m), (np.repeat(np.arange(m), k), tree.cells.ravel())),
                               shape=(m, len(tree.nodes)))
     pattern = tree.constraint.copy()
     pattern.data = np.ones_like(pattern.data)
@@ -155,16 +162,16 @@ def _first_per_group(group: np.ndarray, distance: np.ndarray, tie: np.ndarray) -
 
 
 def _extension(tree, extended: np.ndarray, roots: np.ndarray, kept: np.ndarray) -> sp.csr_matrix:
-    """E (free nodes, kept): identity on the kept nodes, the root cells' trilinear fields
+    """E (free nodes, kept): identity on the kept nodes, the root cells' multilinear fields
     evaluated at the extended nodes (through the constraint of the roots' own nodes)."""
     n_free = len(tree.free_nodes)
     column = np.full(n_free, -1)
     column[kept] = np.arange(len(kept))
     x = tree.nodes[tree.free_nodes[extended]]
     local = tree.local_coordinates(x, roots)
-    n, _ = shape_functions(local)  # (e, 8), extrapolated outside [-1, 1]^3
-    weights = sp.csr_matrix((n.ravel(), (np.repeat(np.arange(len(extended)), 8), tree.cells[roots].ravel())),
-                            shape=(len(extended), len(tree.nodes)))
+    n = _multilinear(local, _reference_corners(tree))  # (e, 2^d), extrapolated outside [-1, 1]^d
+    entry = np.repeat(np.arange(len(extended)), n.shape[1])
+    weights = sp.csr_matrix((n.ravel(), (entry, tree.cells[roots].ravel())), shape=(len(extended), len(tree.nodes)))
     rows = (weights @ tree.constraint).tocoo()  # (e, free nodes), only kept columns by construction
     if (column[rows.col] < 0).any():  # pragma: no cover - a root's nodes are kept by definition
         raise RuntimeError("aggregation: a root cell depends on an extended node")
@@ -172,3 +179,16 @@ def _extension(tree, extended: np.ndarray, roots: np.ndarray, kept: np.ndarray) 
     c = np.concatenate([np.arange(len(kept)), column[rows.col]])
     v = np.concatenate([np.ones(len(kept)), rows.data])
     return sp.csr_matrix((v, (r, c)), shape=(n_free, len(kept)))
+
+
+def _reference_corners(tree) -> np.ndarray:
+    """(2^d, d) the corners of the cells in reference coordinates (-1 or 1), in the order of the
+    grid's cell table (read off its first cell)."""
+    first = np.zeros(tree.cells.shape[1], dtype=int)
+    return np.sign(tree.local_coordinates(tree.nodes[tree.cells[0]], first))
+
+
+def _multilinear(local: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """(q, 2^d) multilinear shape functions N_a = prod_k (1 + c_ak xi_k) / 2 of the cell whose
+    reference corners are ``corners`` at local coordinates (q, d) (any, inside the cell or not)."""
+    return np.prod(0.5 * (1.0 + local[:, None, :] * corners[None, :, :]), axis=2)

@@ -15,7 +15,15 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..model.options import SolverOptions
-from .grid import CUT, Boundary, Grid, RefinementZone, assign_to_material_side, build_grid
+from .grid import (
+    CUT,
+    QUADTREE_AGGREGATION_THRESHOLD,
+    Boundary,
+    Grid,
+    RefinementZone,
+    assign_to_material_side,
+    build_grid,
+)
 from .integration import (
     Polyline,
     body_force_vectors,
@@ -252,8 +260,11 @@ def body_zones(body) -> tuple[RefinementZone, ...]:
     return tuple(zones)
 
 
-def discretise_body(body, index: int, model: str, exact_geometry: bool, settings: SolverOptions) -> BodyDiscretisation:
-    """Grid, classification and cut-cell moments of one body."""
+def discretise_body(body, index: int, model: str, exact_geometry: bool, settings: SolverOptions,
+                    aggregation_threshold: float | None = QUADTREE_AGGREGATION_THRESHOLD) -> BodyDiscretisation:
+    """Grid, classification and cut-cell moments of one body, the cells whose inside part is
+    less than ``aggregation_threshold`` of the square aggregated to well-supported ones
+    (solver.fem.aggregation; None: not at all)."""
     h0 = float(body.element_size)
     if exact_geometry:
         boundary = exact_boundary(body.profile)
@@ -262,7 +273,8 @@ def discretise_body(body, index: int, model: str, exact_geometry: bool, settings
         boundary = tessellated_boundary(body.profile, chord)
     if len(settings.grid_offset) != 2:
         raise ValueError(f"solver.grid_offset = {list(settings.grid_offset)}: a 2D grid takes two fractions [fx, fy]")
-    grid = build_grid(boundary, h0, body_zones(body), tuple(settings.grid_offset), settings.curve_order)
+    grid = build_grid(boundary, h0, body_zones(body), tuple(settings.grid_offset), settings.curve_order,
+                      aggregation_threshold)
     lam, mu = body.material.lame(model)
     return BodyDiscretisation(
         name=body.name,
