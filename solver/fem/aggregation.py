@@ -36,12 +36,31 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["AGGREGATION_THRESHOLD", "Aggregation", "aggregate", "aggregate_thickness"]
+__all__ = ["AGGREGATION_THRESHOLD", "Aggregation", "ExtendableNodes", "aggregate", "aggregate_thickness"]
 
 #: inside volume share of its cube below which a cell joins an aggregate (see docs/solids.md,
 #: "Ill-supported cut cells: aggregation", and docs/formulation.md, "Aggregated cut cells", for
 #: the measurements behind it)
 AGGREGATION_THRESHOLD = 0.05
+
+
+class ExtendableNodes:
+    """What the quadtree (solver.fem.grid.Grid) and the octree (solver.fem.octree.Octree) share
+    for their unknowns: ``nodes``, the ``free_nodes`` that carry one and the ``constraint`` T
+    (nodes x free nodes: hanging nodes from their parents), extended by an aggregation."""
+
+    @property
+    def n_hanging(self) -> int:
+        """Nodes without an unknown of their own (hanging, or extended by an aggregation)."""
+        return len(self.nodes) - len(self.free_nodes)
+
+    def extend(self, extension: sp.csr_matrix, kept: np.ndarray) -> None:
+        """Give up the unknowns of some free nodes: u_free = E u_kept with ``extension`` E (free
+        nodes x kept) and ``kept`` the positions of the kept ones among the free nodes; the
+        constraint becomes T E, so hanging nodes whose parents are extended follow them. Called
+        while the grid is built, never after."""
+        self.constraint = (self.constraint @ extension).tocsr()
+        self.free_nodes = self.free_nodes[np.asarray(kept)]
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,7 @@ from typing import Callable, Protocol
 import numpy as np
 import scipy.sparse as sp
 
-from .aggregation import aggregate, aggregate_thickness
+from .aggregation import ExtendableNodes, aggregate, aggregate_thickness
 from .integration import (
     Polyline,
     curve_gauss,
@@ -138,7 +138,7 @@ class Pieces:
 
 
 @dataclass
-class Grid:
+class Grid(ExtendableNodes):
     origin: np.ndarray
     h0: float
     shape: tuple[int, int]
@@ -193,19 +193,6 @@ class Grid:
     @property
     def min_size(self) -> float:
         return float(self.size.min())
-
-    @property
-    def n_hanging(self) -> int:
-        """Nodes without an unknown of their own (hanging, or extended by an aggregation)."""
-        return len(self.nodes) - len(self.free_nodes)
-
-    def extend(self, extension: sp.csr_matrix, kept: np.ndarray) -> None:
-        """Give up the unknowns of some free nodes: u_free = E u_kept with ``extension`` E (free
-        nodes x kept) and ``kept`` the positions of the kept ones among the free nodes
-        (solver.fem.aggregation); the constraint becomes T E, so hanging nodes whose parents
-        are extended follow them."""
-        self.constraint = (self.constraint @ extension).tocsr()
-        self.free_nodes = self.free_nodes[np.asarray(kept)]
 
     def locate(self, points: np.ndarray) -> np.ndarray:
         """Leaf index of each point (n,), -1 where no active cell holds it. Points on a shared

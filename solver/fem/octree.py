@@ -28,6 +28,7 @@ from typing import Callable
 import numpy as np
 import scipy.sparse as sp
 
+from .aggregation import ExtendableNodes
 from .grid import RefinementZone, refinement_radii
 
 __all__ = ["Octree", "build_octree", "level_jumps", "CORNERS"]
@@ -41,7 +42,7 @@ FACES = np.array([[0, 3, 7, 4], [1, 2, 6, 5], [0, 1, 5, 4], [3, 2, 6, 7], [0, 1,
 
 
 @dataclass
-class Octree:
+class Octree(ExtendableNodes):
     origin: np.ndarray  # (3,)
     h0: float
     shape: tuple[int, int, int]
@@ -68,19 +69,6 @@ class Octree:
     @functools.cached_property
     def min_size(self) -> float:
         return float(self.size.min())
-
-    @property
-    def n_hanging(self) -> int:
-        """Nodes without an unknown of their own (hanging, or extended by an aggregation)."""
-        return len(self.nodes) - len(self.free_nodes)
-
-    def extend(self, extension: sp.csr_matrix, kept: np.ndarray) -> None:
-        """Give up the unknowns of some free nodes: u_free = E u_kept with ``extension`` E (free
-        nodes x kept) and ``kept`` the positions of the kept ones among the free nodes
-        (solver.fem.aggregation); the constraint becomes T E, so hanging nodes whose parents
-        are extended follow them."""
-        self.constraint = (self.constraint @ extension).tocsr()
-        self.free_nodes = self.free_nodes[np.asarray(kept)]
 
     @functools.cached_property
     def _level_keys(self) -> list[tuple[int, np.ndarray, np.ndarray, np.ndarray]]:
