@@ -4,8 +4,8 @@
 A scene's contact ``point`` need not be where the two surfaces touch. The contact frame takes the
 normal of body 2 at the point of body 2 closest to it, so a point off the touching point by d tilts
 the normal by about d / R2 on a curved body 2, and the ellipse is laid on a tilted tangent plane
-(measured: a full ball on a ball, the point 0.011 m off with a = 0.031 m: semi-axes -0.06 %, N
--0.09 %, the normal 0.64 degrees off). Here the point moves to where body 2's signed distance is
+(measured: a full ball on a ball, the point 0.011 m off with a = 0.031 m, the same grid: the normal
+0.64 degrees off, b -0.014 %, N -0.008 %). Here the point moves to where body 2's signed distance is
 greatest over body 1's surface (zero where the bodies touch, positive where they overlap): a
 stationary point of the overlap phi_2(x_1(s)) over the tangent-plane coordinates s.
 
