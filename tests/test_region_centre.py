@@ -151,10 +151,13 @@ def test_an_off_centre_ellipse_is_not_reported_as_converged(monkeypatch):
     # before the touching-point search): the edge windows pass on this coarse grid (a / h = 2.8)
     # but the force is 2.3 % low; the centroid check refuses it
     import solver.contact.ellipse as ellipse
-    from solver.contact.ellipse_geometry import contact_frame_3d
+    from solver.contact.ellipse_geometry import contact_frame_3d, sectors
 
-    monkeypatch.setattr(ellipse, "touching_frame_3d",
-                        lambda s1, s2, point, scale, reach, hint=None: (contact_frame_3d(s1, s2, point, scale, hint), False))
+    def pinned(s1, s2, point, scale, reach, hint=None):
+        frame = contact_frame_3d(s1, s2, point, scale, hint)
+        return frame, False, sectors(s1, frame, 0.5 * scale, reach)
+
+    monkeypatch.setattr(ellipse, "touching_frame_3d", pinned)
     sol = _ball_on_block([0.008, 0.0, 0.0], region_centre="point")
     assert not sol.converged
     assert any("centroid" in m for m in sol.iterations["messages"])

@@ -30,8 +30,8 @@ def test_off_point_moves_to_the_touching_point_of_two_balls(offset):
     given = np.array([offset[0], offset[1], 0.0])
     tilted = contact_frame_3d(upper, lower, given, 0.005)
     assert np.degrees(np.arccos(min(1.0, tilted.normal @ [0, 0, 1]))) > 0.5  # the defect this fixes
-    frame, moved = touching_frame_3d(upper, lower, given, 0.005, 0.05)
-    assert moved
+    frame, moved, ranges = touching_frame_3d(upper, lower, given, 0.005, 0.05)
+    assert moved and ranges == [(0.0, 2 * np.pi)]  # body 1 all around the point it moved to
     np.testing.assert_allclose(frame.normal, [0, 0, 1], atol=1e-8)
     np.testing.assert_allclose(frame.point, [0, 0, 0.5 * gap], atol=1e-8)
     np.testing.assert_allclose(frame.curvatures, [3.0, 3.0], rtol=1e-4)  # 1/R1 + 1/R2
@@ -39,10 +39,11 @@ def test_off_point_moves_to_the_touching_point_of_two_balls(offset):
 
 def test_the_touching_point_itself_and_a_quarter_model_stay():
     upper, lower = _half_ball(1.0 + 1e-4, below=True), _half_ball(-1.0, below=False)
-    frame, moved = touching_frame_3d(upper, lower, np.zeros(3), 0.005, 0.05)
+    frame, moved, _ = touching_frame_3d(upper, lower, np.zeros(3), 0.005, 0.05)
     assert not moved
     np.testing.assert_allclose(frame.normal, [0, 0, 1], atol=1e-12)
     # a quarter model: body 1 is not all around the point (its symmetry planes pass through it)
     quarter = _half_ball(1.0 + 1e-4, below=True, angle=90)
-    _, moved = touching_frame_3d(quarter, _half_ball(-1.0, below=False, angle=90), np.zeros(3), 0.005, 0.05)
+    _, moved, ranges = touching_frame_3d(quarter, _half_ball(-1.0, below=False, angle=90), np.zeros(3), 0.005, 0.05)
     assert not moved
+    assert sum(t1 - t0 for t0, t1 in ranges) == pytest.approx(np.pi / 2, abs=1e-6)  # the quarter's sector

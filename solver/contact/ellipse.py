@@ -28,7 +28,7 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor,
 from ..model.options import ContactOptions
 from ..reference.theory import hertz_elliptic_contact
 from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, matched_points,
-                               region_points, sectors, surface_point)
+                               region_points, surface_point, surrounds)
 from .roots import edge_search, settling_tolerance
 from .touching3d import touching_frame_3d
 
@@ -110,7 +110,7 @@ class EllipseContact:
     def surrounds_point(self) -> bool:
         """Whether body 1 has surface all around the contact point (not a symmetric model's
         sector, whose symmetry planes pass through the point)."""
-        return sum(t1 - t0 for t0, t1 in self.ranges) >= 2 * math.pi - 1e-9
+        return surrounds(self.ranges)
 
     @property
     def centred(self) -> bool:
@@ -528,9 +528,8 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
     h = float(min(b1.grid.min_size, b2.grid.min_size))
     extent = _extent(problem, model, opts.extent_fraction)
     reach = 0.5 * extent
-    frame, moved = touching_frame_3d(*solids, np.asarray(model.point, dtype=float), h, reach,
-                                     getattr(model, "tangential_direction", None))
-    ranges = sectors(solids[0], frame, 0.5 * h, reach)
+    frame, moved, ranges = touching_frame_3d(*solids, np.asarray(model.point, dtype=float), h, reach,
+                                             getattr(model, "tangential_direction", None))
     e1 = 1.0 / (1.0 / _modulus(b1) + 1.0 / _modulus(b2))
     k0, k1 = frame.curvatures
     _require_point_contact(model, frame)

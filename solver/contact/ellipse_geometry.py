@@ -27,6 +27,7 @@ import numpy as np
 from ..fem.surface_quadrature import MAX_VERTICES, clip_to_grid, triangle_nodes
 
 __all__ = ["ContactFrame3D", "RegionPoints", "contact_frame_3d", "region_points", "axis_points", "sectors",
+           "sector_share", "surrounds",
            "surface_point", "closest_on", "matched_points"]
 
 
@@ -313,6 +314,17 @@ def _illinois(f, y, n, a, b, fa, fb, reach: float) -> np.ndarray:
         fa = np.where(~left & (side == -1), 0.5 * fa, fa)
         side = np.where(left, 1, -1).astype(np.int8)
     return out
+
+
+def sector_share(ranges: list[tuple[float, float]]) -> float:
+    """The share of the full turn the angular ranges of :func:`sectors` cover (1 where body 1 is
+    all around the contact point, 0.25 for a quarter model)."""
+    return float(sum(t1 - t0 for t0, t1 in ranges) / (2.0 * math.pi))
+
+
+def surrounds(ranges: list[tuple[float, float]]) -> bool:
+    """Whether the ranges of :func:`sectors` cover the full turn (body 1 all around the point)."""
+    return sector_share(ranges) >= 1.0 - 1e-9 / (2.0 * math.pi)
 
 
 def sectors(solid1, frame: ContactFrame3D, radius: float, reach: float, samples: int = 720) -> list[tuple[float, float]]:

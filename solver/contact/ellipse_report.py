@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .ellipse_geometry import sector_share
+
 __all__ = ["ellipse_block", "fit_profile"]
 
 
@@ -43,7 +45,7 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
            "stick_semi_axes": [float(min(c.stick_ratio, 1.0) * aa), float(min(c.stick_ratio, 1.0) * bb)],
            # the share of the whole contact the model holds: the angle of body 1's sectors around
            # the contact point over 2 pi (a quarter model cut by two symmetry planes: 0.25)
-           "model_share": float(sum(t1 - t0 for t0, t1 in c.ranges) / (2.0 * np.pi)),
+           "model_share": sector_share(c.ranges),
            "normal_force": float(-on2 @ frame.normal),
            "tangential_force": [float(on2 @ frame.axes[0]), float(on2 @ frame.axes[1])],
            "pressure": {}, "shear": {}}

@@ -19,11 +19,9 @@ symmetry.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from .ellipse_geometry import ContactFrame3D, contact_frame_3d, sectors, surface_point
+from .ellipse_geometry import ContactFrame3D, contact_frame_3d, sectors, surface_point, surrounds
 
 __all__ = ["touching_frame_3d", "TOUCH_ROUNDS"]
 
@@ -34,23 +32,31 @@ TOUCH_TOLERANCE = 1e-7
 
 
 def touching_frame_3d(solid1, solid2, point: np.ndarray, scale: float, reach: float,
-                      tangential_direction: np.ndarray | None = None) -> tuple[ContactFrame3D, bool]:
-    """The contact frame at the touching point nearest ``point`` (``scale``: the finest cell,
-    ``reach``: how far along the normal body 1's surface is looked for), and whether the point
-    moved. The given point's frame where the refinement does not apply: body 1 not all around
-    it, a relative curvature that is not positive (no isolated touching point), or an overlap
-    that does not grow along the Newton steps."""
-    given = np.asarray(point, dtype=float)
-    frame = contact_frame_3d(solid1, solid2, given, scale, tangential_direction)
-    if sum(t1 - t0 for t0, t1 in sectors(solid1, frame, 0.5 * scale, reach)) < 2 * math.pi - 1e-9:
-        return frame, False
+                      tangential_direction: np.ndarray | None = None):
+    """(frame, moved, ranges): the contact frame at the touching point nearest ``point``
+    (``scale``: the finest cell, ``reach``: how far along the normal body 1's surface is looked
+    for), whether the point moved, and body 1's angular ranges around the frame's point
+    (:func:`sectors` at half a cell, which the contact uses too). The given point's frame where
+    the refinement does not apply: body 1 not all around it, a relative curvature that is not
+    positive (no isolated touching point), or an overlap that does not grow along the Newton
+    steps."""
+    frame = contact_frame_3d(solid1, solid2, np.asarray(point, dtype=float), scale, tangential_direction)
+    ranges = sectors(solid1, frame, 0.5 * scale, reach)
+    if not surrounds(ranges):
+        return frame, False, ranges
+    frame, moved = _newton(solid1, solid2, frame, scale, reach, tangential_direction)
+    return frame, moved, sectors(solid1, frame, 0.5 * scale, reach) if moved else ranges
+
+
+def _newton(solid1, solid2, frame: ContactFrame3D, scale: float, reach: float, tangential_direction):
+    """(frame, moved) of the Newton steps towards the overlap's maximum from ``frame``."""
     step = 1e-2 * scale
     moved = False
     for _ in range(TOUCH_ROUNDS):
         k0, k1 = frame.curvatures
         if not (k0 > 0.0 and k1 > 0.0):
             break
-        gradient, x0, overlap0 = _overlap_gradient(solid1, solid2, frame, step, reach)
+        gradient, overlap0 = _overlap_gradient(solid1, solid2, frame, step, reach)
         if gradient is None:
             break
         s = gradient / np.array([k0, k1])  # the overlap's maximum: -K s + gradient = 0
@@ -67,12 +73,12 @@ def touching_frame_3d(solid1, solid2, point: np.ndarray, scale: float, reach: fl
 
 
 def _overlap_gradient(solid1, solid2, frame: ContactFrame3D, step: float, reach: float):
-    """(gradient (2,) of phi_2 over body 1's surface along the frame's axes, x1 at s = 0, the
-    overlap there), or (None, None, None) where body 1's surface is missing around the point."""
+    """(gradient (2,) of phi_2 over body 1's surface along the frame's axes, the overlap at the
+    frame's point), or (None, None) where body 1's surface is missing around the point."""
     s = np.array([[0.0, 0.0], [step, 0.0], [-step, 0.0], [0.0, step], [0.0, -step]])
     x1, ok = surface_point(solid1, frame, s, reach)
     if not ok.all():
-        return None, None, None
+        return None, None
     phi = np.asarray(solid2.signed_distance(x1), dtype=float)
     gradient = np.array([phi[1] - phi[2], phi[3] - phi[4]]) / (2.0 * step)
-    return gradient, x1[0], float(phi[0])
+    return gradient, float(phi[0])
