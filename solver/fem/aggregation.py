@@ -49,6 +49,22 @@ class ExtendableNodes:
     for their unknowns: ``nodes``, the ``free_nodes`` that carry one and the ``constraint`` T
     (nodes x free nodes: hanging nodes from their parents), extended by an aggregation."""
 
+    #: (m,) root cell of each cell's aggregate once :meth:`aggregate_cells` ran (None: not aggregated)
+    root: np.ndarray | None = None
+
+    def aggregate_cells(self, fraction: np.ndarray, threshold: float = AGGREGATION_THRESHOLD) -> None:
+        """Aggregate the cells whose inside part is less than ``threshold`` of their cube
+        (``fraction`` (m,)): the ill-supported nodes' unknowns given up (:meth:`extend`), the
+        aggregates' roots kept in ``root``. Called while the grid is built, never after."""
+        aggregation = aggregate(self, fraction, threshold)
+        self.extend(aggregation.extension, aggregation.kept)
+        self.root = aggregation.root
+
+    @property
+    def cell_roots(self) -> np.ndarray:
+        """(m,) ``root``, or -1 for every cell when the cells were not aggregated."""
+        return self.root if self.root is not None else np.full(len(self.size), -1)
+
     @property
     def n_hanging(self) -> int:
         """Nodes without an unknown of their own (hanging, or extended by an aggregation)."""

@@ -34,7 +34,7 @@ from typing import Callable, Protocol
 import numpy as np
 import scipy.sparse as sp
 
-from .aggregation import ExtendableNodes, aggregate, aggregate_thickness
+from .aggregation import ExtendableNodes, aggregate_thickness
 from .integration import (
     Polyline,
     curve_gauss,
@@ -153,8 +153,6 @@ class Grid(ExtendableNodes):
     cells: np.ndarray = field(repr=False, default=None)  # (m, 4) CCW node indices
     constraint: sp.csr_matrix = field(repr=False, default=None)  # (N, Nf): u_nodes = T u_free
     free_nodes: np.ndarray = field(repr=False, default=None)
-    #: (m,) root cell of each cell's aggregate (solver.fem.aggregation; None: not aggregated)
-    root: np.ndarray = field(repr=False, default=None)
 
     @property
     def size(self) -> np.ndarray:
@@ -187,8 +185,7 @@ class Grid(ExtendableNodes):
         the boundary length (h for a cell cut in half by a straight line, the sliver's width for a
         sliver), taken over the cell's aggregate when the cells are aggregated (a sliver's points
         then see its root cell's field: their band is sized by the aggregate, not by the sliver)."""
-        root = self.root if self.root is not None else np.full(len(self.level), -1)
-        return aggregate_thickness(root, self.size, self.inside_area, self.boundary_length)
+        return aggregate_thickness(self.cell_roots, self.size, self.inside_area, self.boundary_length)
 
     @property
     def min_size(self) -> float:
@@ -307,9 +304,7 @@ def build_grid(
     _cut_moments(grid, boundary, curve_order)
     _nodes_and_constraints(grid)
     if aggregation_threshold is not None:
-        aggregation = aggregate(grid, grid.inside_fraction, aggregation_threshold)
-        grid.extend(aggregation.extension, aggregation.kept)
-        grid.root = aggregation.root
+        grid.aggregate_cells(grid.inside_fraction, aggregation_threshold)
     return grid
 
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .aggregation import AGGREGATION_THRESHOLD, aggregate, aggregate_thickness
+from .aggregation import AGGREGATION_THRESHOLD, aggregate_thickness
 from .assembly_blocks import assemble_blocks
 from .cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
 from .grid import RefinementZone
@@ -56,8 +56,6 @@ class SolidDiscretisation(BodyDiscretisation):
     #: per face: (points, weights, normals, cells) of its quadrature on this octree (computed
     #: once, for the areas and for the conditions on the face)
     face_rules: dict = field(default=None, repr=False)
-    #: (m,) root cell of each cell's aggregate (solver.fem.aggregation; None: not aggregated)
-    root: np.ndarray = field(default=None, repr=False)
 
     @property
     def material_thickness(self) -> np.ndarray:
@@ -66,8 +64,7 @@ class SolidDiscretisation(BodyDiscretisation):
         sliver), as in 2D (solver.fem.grid.Grid.material_thickness), taken over the cell's
         aggregate when the cells are aggregated (a sliver's points then see its root cell's
         field: their band is sized by the aggregate, not by the sliver)."""
-        root = self.root if self.root is not None else np.full(len(self.grid.size), -1)
-        return aggregate_thickness(root, self.grid.size, self.inside_volume, self.boundary_area)
+        return aggregate_thickness(self.grid.cell_roots, self.grid.size, self.inside_volume, self.boundary_area)
 
     def stiffness(self, alpha: float) -> sp.csr_matrix:
         """Volume stiffness of the free dofs: moment-fitted cube parts, cut cells plus ``alpha``
@@ -210,11 +207,8 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
     moments[status == INSIDE] = full_cube_moments()
     cut = status == CUT
     moments[cut] = inside_moments(tree.lower[cut], tree.size[cut], phi, depth)
-    root = None
     if aggregation_threshold is not None:
-        aggregation = aggregate(tree, moments[:, 0] / 8.0, aggregation_threshold)
-        tree.extend(aggregation.extension, aggregation.kept)
-        root = aggregation.root
+        tree.aggregate_cells(moments[:, 0] / 8.0, aggregation_threshold)
     lam, mu = material_lame
     area = np.zeros(len(tree.size))
     rules = {}
@@ -225,7 +219,7 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
     return SolidDiscretisation(
         name=name, index=index, grid=tree, boundary=solid, profile=solid, lam=lam, mu=mu, elasticity=elasticity,
         model="solid", poissons_ratio=poissons_ratio, element_size=float(element_size), status=status,
-        moments=moments, boundary_area=area, face_rules=rules, root=root,
+        moments=moments, boundary_area=area, face_rules=rules,
     )
 
 
