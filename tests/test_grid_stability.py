@@ -18,6 +18,8 @@ from solver.model import problem as pb
 from solver.model.options import SolverOptions
 from solver.solve import solve
 
+from _conditioning import conditioning
+
 E, NU = 2.0e11, 0.3
 MATERIAL = pb.Material("m", E, NU)
 H = 0.2
@@ -44,12 +46,6 @@ def _k0(model, body, bcs=HELD):
     return k.toarray()
 
 
-def _conditioning(k):
-    """(smallest eigenvalue, largest diagonal / smallest eigenvalue)."""
-    w = np.linalg.eigvalsh(k)
-    return w[0], np.diag(k).max() / w[0]
-
-
 @pytest.mark.parametrize("gap", [1e-9, 1e-5])
 def test_edge_a_hair_above_a_grid_line_gives_a_positive_definite_stiffness(gap):
     model = _sliver_plate(gap)
@@ -59,7 +55,7 @@ def test_edge_a_hair_above_a_grid_line_gives_a_positive_definite_stiffness(gap):
     assert g.n_hanging == 6  # their upper nodes, extended from the cells below
     k = _k0(model, body)
     np.linalg.cholesky(k)  # raises unless positive definite
-    smallest, ratio = _conditioning(k)
+    smallest, ratio = conditioning(k)
     assert smallest > 0 and ratio < 1e3  # measured 26 (1e-9 and 1e-5 alike)
     # the top edge's band is sized by the aggregate (a sliver and the full cell below it:
     # 2 A / L = 2 H (1 + gap) in the middle, H (1 + gap) / (1 + gap / 2) at the corners, where
@@ -72,10 +68,10 @@ def test_edge_a_hair_above_a_grid_line_gives_a_positive_definite_stiffness(gap):
 def test_without_aggregation_the_slivers_make_the_stiffness_indefinite_or_ill_conditioned():
     # the defect the aggregation removes (the same plate and conditions as above)
     model = _sliver_plate(1e-9)
-    smallest, _ = _conditioning(_k0(model, _body(model, threshold=None)))
+    smallest, _ = conditioning(_k0(model, _body(model, threshold=None)))
     assert smallest < 0
     model = _sliver_plate(1e-5)
-    smallest, ratio = _conditioning(_k0(model, _body(model, threshold=None)))
+    smallest, ratio = conditioning(_k0(model, _body(model, threshold=None)))
     assert ratio > 1e10 or smallest < 0  # measured 4e11
 
 
@@ -94,7 +90,7 @@ def test_hanging_nodes_and_extended_nodes_reproduce_linear_fields():
     np.testing.assert_allclose(u, g.nodes @ a.T + b, atol=1e-12)
     k = _k0(model, body)
     np.linalg.cholesky(k)
-    smallest, ratio = _conditioning(k)
+    smallest, ratio = conditioning(k)
     assert smallest > 0 and ratio < 1e3  # measured 64
 
 
