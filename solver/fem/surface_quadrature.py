@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-__all__ = ["split_panels", "clip_to_grid", "triangle_nodes", "cell_split_quadrature", "MAX_VERTICES"]
+__all__ = ["split_panels", "clip_to_grid", "triangle_nodes", "cell_split_quadrature", "gauss_jacobi", "MAX_VERTICES"]
 
 #: most vertices of a clipped panel (a rectangle cut by six lines has at most ten)
 MAX_VERTICES = 12
