@@ -16,11 +16,11 @@ test: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m pytest -m "not slow"
 
 demo: $(STAMP)
-	MPLBACKEND=Agg $(PY) -m solver.reports.demo
+	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.demo
 
 validate: $(STAMP)
-	MPLBACKEND=Agg $(PY) -m solver.reports.validate
-	MPLBACKEND=Agg $(PY) -m solver.reports.validate_solid
+	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate
+	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_solid
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(PY) benchmarks/run_all.py

@@ -28,11 +28,11 @@ LARGE_SIZES = [0.004]
 def run_one(h: float) -> dict:
     import numpy as np
 
-    from geometry.shapes import profile_from_shape
-    from solver.fem.space import discretise_body
-    from solver.model.options import SolverOptions
-    from solver.solve import solve
-    from solver.model.problem import BodyModel, Material, Problem, Sliding, Traction
+    from ibfem.geometry.shapes import profile_from_shape
+    from ibfem.solver.fem.space import discretise_body
+    from ibfem.solver.model.options import SolverOptions
+    from ibfem.solver.solve import solve
+    from ibfem.solver.model.problem import BodyModel, Material, Problem, Sliding, Traction
 
     prof = profile_from_shape({"type": "profile", "edges": [
         {"name": "bottom", "type": "line", "start": [0.5, 0.0], "end": [4.0, 0.0]},

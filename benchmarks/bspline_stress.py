@@ -19,7 +19,7 @@ import time
 import numpy as np
 from scipy.spatial import cKDTree
 
-from geometry.bspline import BSplineCurve, BSplineSurface
+from ibfem.geometry.bspline import BSplineCurve, BSplineSurface
 
 
 def clustered_knots(rng, count):

@@ -40,14 +40,14 @@ BACKENDS = ("superlu", "cholesky")
 
 CAPTURE = """
 import sys, numpy as np, scipy.sparse as sp
-import solver.contact.driver as driver
+import ibfem.solver.contact.driver as driver
 original = driver.condensed_factor
 def capture(k0, dofs, order=None):
     sp.save_npz(sys.argv[2] + "/k0.npz", k0.tocsr())
     np.savez(sys.argv[2] + "/dofs.npz", dofs=dofs, order=order)
     raise SystemExit(0)
 driver.condensed_factor = capture
-from solver.cli import main
+from ibfem.solver.cli import main
 main(["run", sys.argv[1], "--quiet", "--out", sys.argv[2] + "/out"])
 """
 
@@ -57,7 +57,7 @@ def rss():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e3
 k0 = sp.load_npz(sys.argv[1] + "/k0.npz")
 z = np.load(sys.argv[1] + "/dofs.npz", allow_pickle=True)
-from solver.fem.linalg import condensed_factor
+from ibfem.solver.fem.linalg import condensed_factor
 before = rss()
 t0 = time.perf_counter()
 factor, schur, g = condensed_factor(k0, z["dofs"], z["order"])
@@ -79,8 +79,8 @@ print("RESULT " + __import__("json").dumps(out))
 
 GRID = """
 import resource, sys, time, numpy as np, scipy.sparse as sp
-from solver.fem import multifrontal as mf, linalg
-from solver.fem.linalg import single_threaded_blas
+from ibfem.solver.fem import multifrontal as mf, linalg
+from ibfem.solver.fem.linalg import single_threaded_blas
 def rss():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e3
 kern = mf._kernels()
@@ -136,7 +136,7 @@ def sphere_scene(tmp: Path, element_size: float, levels: int) -> Path:
 
 def run_scene(scene: Path, backend: str, out: Path) -> dict:
     env = dict(os.environ, IBFEM_CONDENSED_FACTOR=backend, MPLBACKEND="Agg")
-    cmd = ["/usr/bin/time", "-f", "TIME %e %M", sys.executable, "-m", "solver.cli", "run", str(scene), "--quiet",
+    cmd = ["/usr/bin/time", "-f", "TIME %e %M", sys.executable, "-m", "ibfem.solver.cli", "run", str(scene), "--quiet",
            "--out", str(out)]
     done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env)
     if done.returncode != 0:

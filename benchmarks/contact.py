@@ -102,9 +102,9 @@ def _scene_dict(spec: dict) -> dict:
 def run_one(spec: dict) -> dict:
     import numpy as np
 
-    from solver.reference import theory
-    from solver.io.scene import scene_from_dict
-    from solver.solve import solve
+    from ibfem.solver.reference import theory
+    from ibfem.solver.io.scene import scene_from_dict
+    from ibfem.solver.solve import solve
 
     data = _scene_dict(spec)
     problem = scene_from_dict(data, label=spec["file"], base_dir=EXAMPLES).problem
@@ -160,7 +160,7 @@ def run_one(spec: dict) -> dict:
         "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
     }
     if c["type"] == "frictional":
-        from solver.reports.validate import compare_contact
+        from ibfem.solver.reports.validate import compare_contact
 
         m = compare_contact(problem, c, {})  # Cattaneo-Mindlin for the computed N and Q
         mu = c["friction"]

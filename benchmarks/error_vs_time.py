@@ -33,7 +33,7 @@ KEYS = ["scene", "level_shift", "converged", "dofs", "min_element_size", "iterat
 
 def run_single(scene: str, shift: int) -> dict:
     """One scene with its innermost refinement shifted by ``shift`` levels (this process)."""
-    from solver.reports.validate import compare_contact, run_scene_data
+    from ibfem.solver.reports.validate import compare_contact, run_scene_data
 
     path = ROOT / "examples" / f"{scene}.toml"
     data = tomllib.loads(path.read_text())

@@ -144,7 +144,7 @@ def paired1(scene: Scene, q):
 
 def hertz_reference(N: float, r_eff: float) -> dict:
     """Hertz's a and p0 and McEwen's von Mises peak (value, x / a, depth / a) for the force N."""
-    from solver.reference import theory
+    from ibfem.solver.reference import theory
 
     e_eff = theory.effective_modulus(E, NU, E, NU)
     a = theory.hertz_half_width(N, r_eff, e_eff)
@@ -347,7 +347,7 @@ def pressure_profile(mesh, gfu, scene: Scene, a: float, k: float) -> dict:
 def vm_peak(mesh, gfu, scene: Scene, a: float) -> dict:
     """Largest plane-strain von Mises stress of body 2 in the window x in [-1.5, 1.5] a, depth
     [0.05, 1.6] a (as benchmarks/tractions.py), refined by tractions._quadratic_vertex."""
-    from solver.reference import theory
+    from ibfem.solver.reference import theory
     from tractions import _quadratic_vertex
 
     P, n, t = (np.asarray(v, dtype=float) for v in (scene.point, scene.normal, scene.tangent))
@@ -406,7 +406,7 @@ def scene_data(scene: Scene, extra_levels: int = 0) -> dict:
 def ibfem_case(scene: Scene, out_dir: Path, extra_levels: int = 0) -> dict:
     """Solve the example with ibfem (summary.json in out_dir) and find its von Mises peak as
     benchmarks/tractions.py does."""
-    from solver.reports.validate import compare_contact, run_scene_data
+    from ibfem.solver.reports.validate import compare_contact, run_scene_data
     from tractions import _vm_peak
 
     t = time.perf_counter()
@@ -453,7 +453,7 @@ def compare(scene: Scene, ib: dict, ng: dict, ng_coarse: dict, ng_stiff: dict) -
     s_ib, p_ib = flip * np.asarray(ib["pressure"]["s"]), np.asarray(ib["pressure"]["value"])
     a_ng, p0_ng = ng["a"], ng["p0"]
     h_ng, h_ib = hertz_reference(ng["N"], scene.r_eff), hertz_reference(ib["N"], scene.r_eff)
-    from solver.reference import theory
+    from ibfem.solver.reference import theory
 
     def vs_hertz(s, p, h):
         return pressure_rms_difference(s, theory.hertz_pressure(s, h["a"], h["p0"]), s, p, h["a"], h["p0"])

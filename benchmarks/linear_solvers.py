@@ -21,7 +21,7 @@ ROOT = HERE.parent
 CHILD = r"""
 import json, resource, sys, time, tomllib
 import numpy as np
-import solver
+from ibfem import solver
 h, method = float(sys.argv[1]), sys.argv[2]
 d = tomllib.load(open(sys.argv[3], "rb"))
 d["bodies"][0]["element_size"] = h

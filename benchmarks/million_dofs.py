@@ -39,7 +39,7 @@ def run(levels: int, radius: float) -> dict:
         scene = Path(tmp) / "million.toml"
         scene.write_text(scene_text(levels, radius))
         t0 = time.perf_counter()
-        done = subprocess.run([sys.executable, "-m", "solver.cli", "run", str(scene), "--quiet"], cwd=tmp,
+        done = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(scene), "--quiet"], cwd=tmp,
                               capture_output=True, text=True, env=dict(os.environ, MPLBACKEND="Agg"))
         wall = time.perf_counter() - t0
         peak_kb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss

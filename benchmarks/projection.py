@@ -52,9 +52,9 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import geometry  # noqa: E402
-from geometry import _jit  # noqa: E402
-from geometry._base import _REGISTRY  # noqa: E402  (the list of registered primitive types)
+from ibfem import geometry  # noqa: E402
+from ibfem.geometry import _jit  # noqa: E402
+from ibfem.geometry._base import _REGISTRY  # noqa: E402  (the list of registered primitive types)
 
 GOLD = (math.sqrt(5.0) - 1.0) / 2.0
 

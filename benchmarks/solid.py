@@ -22,9 +22,9 @@ ROOT = HERE.parent
 CHILD = r"""
 import json, resource, sys, time, tomllib
 import numpy as np
-from solver.io.scene import load_scene
-from solver.solve import solve
-from solver.reference.theory import lame_sphere
+from ibfem.solver.io.scene import load_scene
+from ibfem.solver.solve import solve
+from ibfem.solver.reference.theory import lame_sphere
 h = float(sys.argv[1])
 d = tomllib.load(open(sys.argv[2], "rb"))
 d["bodies"][0]["element_size"] = h

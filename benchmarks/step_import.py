@@ -54,9 +54,9 @@ def plate_with_holes():
 def main() -> None:
     from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
 
-    from geometry.verify import verify_projection
-    from importers.step import load_part
-    from importers.step.reader import _quiet_messenger
+    from ibfem.geometry.verify import verify_projection
+    from ibfem.importers.step import load_part
+    from ibfem.importers.step.reader import _quiet_messenger
 
     _quiet_messenger()
     t0 = time.perf_counter()

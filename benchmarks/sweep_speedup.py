@@ -49,7 +49,7 @@ columns = ["converged", "contacts.0.normal_force", "contacts.0.tangential_force"
 
 
 def run_once(sweep: Path, out: Path, serial: bool, workers: int) -> tuple[float, list[dict]]:
-    cmd = [sys.executable, "-m", "solver.cli", "sweep", str(sweep), "--out", str(out), "--quiet"]
+    cmd = [sys.executable, "-m", "ibfem.solver.cli", "sweep", str(sweep), "--out", str(out), "--quiet"]
     cmd += ["--serial"] if serial else ["--workers", str(workers)]
     t0 = time.perf_counter()
     done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=dict(os.environ, MPLBACKEND="Agg"))

@@ -163,8 +163,8 @@ def _quadratic_vertex(f, x0: float, z0: float, step: float) -> tuple[float, floa
 def _vm_peak(problem, solution, block, m) -> dict:
     """Largest recovered von Mises stress below the contact against theory's field peak."""
     import numpy as np
-    from solver.reference import theory
-    from solver.reports.validate import reference_field
+    from ibfem.solver.reference import theory
+    from ibfem.solver.reports.validate import reference_field
 
     a, p0 = m["a_hertz"], m["p0"]
     point, normal, tangent = (np.asarray(block[k], dtype=float) for k in ("point", "normal", "tangent"))
@@ -203,9 +203,9 @@ def run_one(spec: dict) -> dict:
 def _run(spec: dict) -> dict:
     import numpy as np
 
-    from solver.io.scene import scene_from_dict
-    from solver.reports.validate import compare_contact
-    from solver.solve import solve
+    from ibfem.solver.io.scene import scene_from_dict
+    from ibfem.solver.reports.validate import compare_contact
+    from ibfem.solver.solve import solve
 
     data = _scene_dict(spec)
     problem = scene_from_dict(data, label=spec["file"], base_dir=EXAMPLES).problem

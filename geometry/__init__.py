@@ -31,4 +31,4 @@ def __getattr__(name: str):
         from . import solids
 
         return getattr(solids, name)
-    raise AttributeError(f"module 'geometry' has no attribute {name!r}")
+    raise AttributeError(f"module 'ibfem.geometry' has no attribute {name!r}")

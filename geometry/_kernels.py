@@ -1,6 +1,6 @@
 """The compiled kernels of :mod:`geometry._jit` (numba), at module level so that numba's
 on-disk cache (``cache=True``, in ``__pycache__``) keeps them between processes. Imported
-only through :mod:`geometry._jit` (never by ``import geometry``): importing this module
+only through :mod:`geometry._jit` (never by ``from ibfem import geometry``): importing this module
 imports numba. See :mod:`geometry._jit` for the tables the kernels read.
 
 The two projection kernels (curves, surfaces) write their traversal loop out each: moved

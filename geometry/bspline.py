@@ -121,7 +121,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from scipy.spatial import cKDTree
 
 # scipy.interpolate takes ~0.6 s to import; it (and scipy.spatial) are imported when the
-# first spline is built, so that ``import geometry`` stays light
+# first spline is built, so that ``from ibfem import geometry`` stays light
 
 
 def _bspline_classes():

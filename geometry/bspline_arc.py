@@ -55,7 +55,7 @@ class BSplineArc(BoundedCurve):
 
     @cached_property
     def _splines(self):
-        from scipy.interpolate import BSpline  # lazy: keeps `import geometry` light
+        from scipy.interpolate import BSpline  # lazy: keeps `from ibfem import geometry` light
 
         if self.weights is None:
             c = self.control_points
@@ -185,7 +185,7 @@ class BSplineArc(BoundedCurve):
         inserted up to multiplicity ``degree`` at t0 and t1 (exact, scipy's FITPACK insertion,
         in homogeneous coordinates for NURBS), then the control points between them. The
         parameter keeps its values (the piece's domain is [t0, t1]); the name is kept."""
-        from scipy.interpolate import insert  # lazy: keeps `import geometry` light
+        from scipy.interpolate import insert  # lazy: keeps `from ibfem import geometry` light
 
         t0, t1 = float(t0), float(t1)
         if not (self.t_start <= t0 < t1 <= self.t_end):

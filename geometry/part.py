@@ -2,7 +2,7 @@
 the CAD system told us, their exact primitive; loops of coedges link faces to edges.
 
 This module only holds data; ``trimesh`` is imported lazily by whoever builds the meshes
-(the importers), so ``import geometry`` stays light.
+(the importers), so ``from ibfem import geometry`` stays light.
 """
 
 from __future__ import annotations

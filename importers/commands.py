@@ -72,7 +72,7 @@ def _is_step(path: str) -> bool:
     if p.suffix.lower() in STEP_SUFFIXES:
         return True
     if p.is_dir():
-        from importers.step.cache import is_cache
+        from ibfem.importers.step.cache import is_cache
 
         return is_cache(p)
     return False
@@ -81,20 +81,20 @@ def _is_step(path: str) -> bool:
 def _load(path: str):
     p = Path(path)
     if p.is_file() and p.suffix.lower() in (".stl", ".obj", ".ply", ".off"):
-        from importers.mesh import load_mesh_part
+        from ibfem.importers.mesh import load_mesh_part
 
         return load_mesh_part(p)
     if _is_step(path):
-        from importers.step import load_part as load_step
+        from ibfem.importers.step import load_part as load_step
 
         return load_step(p)
-    from importers.onshape import load_part
+    from ibfem.importers.onshape import load_part
 
     return load_part(p)
 
 
 def _import_step(args: argparse.Namespace) -> int:
-    from importers.step import load_part, write_cache
+    from ibfem.importers.step import load_part, write_cache
 
     try:
         part = load_part(args.url, tolerance=args.chord_tolerance, angular_tolerance=args.angle_tolerance)
@@ -113,8 +113,8 @@ def _import_step(args: argparse.Namespace) -> int:
 def _import(args: argparse.Namespace) -> int:
     if _is_step(args.url):
         return _import_step(args)
-    from importers import OnshapeError
-    from importers.onshape import OnshapeClient, load_part
+    from ibfem.importers import OnshapeError
+    from ibfem.importers.onshape import OnshapeClient, load_part
 
     try:
         client = OnshapeClient(auth=args.auth, api_version=args.api_version or None,
@@ -133,7 +133,7 @@ def _import(args: argparse.Namespace) -> int:
 
 
 def _verify(args: argparse.Namespace) -> int:
-    from geometry.verify import verify_projection
+    from ibfem.geometry.verify import verify_projection
 
     try:
         part = _load(args.directory)
@@ -161,7 +161,7 @@ def _position_tolerances(part, path: str) -> dict:
     free-form faces of a STEP/IGES part (issue 17: 1e-9 of the part's size)."""
     if not _is_step(path):
         return {}
-    from importers.step.acceptance import position_tolerances
+    from ibfem.importers.step.acceptance import position_tolerances
 
     return position_tolerances(part, POSITION_TOLERANCE)
 

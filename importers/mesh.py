@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from geometry import Body, Face, Part
+from ibfem.geometry import Body, Face, Part
 
 __all__ = ["load_mesh_part", "MESH_SURFACE_TYPE"]
 

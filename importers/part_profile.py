@@ -31,9 +31,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from geometry import Part
-from geometry.bounded import Arc, BSplineArc, EllipticArc, Segment
-from geometry.profile import Profile
+from ibfem.geometry import Part
+from ibfem.geometry.bounded import Arc, BSplineArc, EllipticArc, Segment
+from ibfem.geometry.profile import Profile
 
 __all__ = ["profile_from_part_shape", "face_profile", "section_profile", "plane_frame", "edge_curve_2d", "vector",
            "SHAPE_KEYS"]

@@ -3,7 +3,7 @@ geometry, two-body contact, scenes, results and the ``ibfem`` command line.
 
 Public API (everything else is internal and may move)::
 
-    import solver
+    from ibfem import solver
     scene = solver.load_scene("examples/cylinder_on_flat_partial_slip.toml")   # or a dict
     solution = solver.solve(scene.problem)
     summary = solver.write_results("out/case", scene, solution)
@@ -18,7 +18,7 @@ Public API (everything else is internal and may move)::
 - Types: ``Scene``, ``Problem``, ``Solution``, ``SceneError``, ``SolverOptions`` (the
   ``[solver]`` table), ``ContactOptions`` (the numerical keys of a ``[[contacts]]`` table).
 
-Names are imported lazily, so ``import solver`` loads no numerics.
+Names are imported lazily, so ``from ibfem import solver`` loads no numerics.
 """
 
 from __future__ import annotations
@@ -40,16 +40,16 @@ __all__ = [
 ]
 
 _WHERE = {
-    "load_scene": ("solver.io.scene", "load_scene"),
-    "scene_from_dict": ("solver.io.scene", "scene_from_dict"),
-    "Scene": ("solver.io.scene", "Scene"),
-    "SceneError": ("solver.io.scene", "SceneError"),
-    "solve": ("solver.solve", "solve"),
-    "write_results": ("solver.io.output", "write_scene_results"),
-    "Problem": ("solver.model.problem", "Problem"),
-    "Solution": ("solver.model.problem", "Solution"),
-    "SolverOptions": ("solver.model.options", "SolverOptions"),
-    "ContactOptions": ("solver.model.options", "ContactOptions"),
+    "load_scene": ("ibfem.solver.io.scene", "load_scene"),
+    "scene_from_dict": ("ibfem.solver.io.scene", "scene_from_dict"),
+    "Scene": ("ibfem.solver.io.scene", "Scene"),
+    "SceneError": ("ibfem.solver.io.scene", "SceneError"),
+    "solve": ("ibfem.solver.solve", "solve"),
+    "write_results": ("ibfem.solver.io.output", "write_scene_results"),
+    "Problem": ("ibfem.solver.model.problem", "Problem"),
+    "Solution": ("ibfem.solver.model.problem", "Solution"),
+    "SolverOptions": ("ibfem.solver.model.options", "SolverOptions"),
+    "ContactOptions": ("ibfem.solver.model.options", "ContactOptions"),
 }
 
 
@@ -57,7 +57,7 @@ def __getattr__(name: str) -> Any:
     try:
         module, attr = _WHERE[name]
     except KeyError:
-        raise AttributeError(f"module 'solver' has no attribute {name!r}") from None
+        raise AttributeError(f"module 'ibfem.solver' has no attribute {name!r}") from None
     value = getattr(import_module(module), attr)
     globals()[name] = value
     return value

@@ -9,7 +9,7 @@ import sys
 from importlib import import_module
 
 # modules that each add sub-commands with ``register(subparsers)``, in ``--help`` order
-COMMAND_MODULES = ("solver.commands", "solver.sweep.commands", "importers.commands")
+COMMAND_MODULES = ("ibfem.solver.commands", "ibfem.solver.sweep.commands", "ibfem.importers.commands")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -18,6 +18,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Immersed-boundary finite elements with exact CAD geometry: contact stresses "
         "from CAD parts (see README.md).",
     )
+    from ibfem import __version__
+
+    parser.add_argument("--version", action="version", version=f"ibfem {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMAND_MODULES:
         import_module(name).register(sub)

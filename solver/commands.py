@@ -33,7 +33,7 @@ def register(sub: "argparse._SubParsersAction") -> None:
 
 #: exit code of an internal error (solver.cli has the same)
 INTERNAL_ERROR = 5
-_OURS = ("geometry", "importers", "solver")
+_OURS = "ibfem"
 #: numerical libraries whose ValueErrors mean the solver handed them something broken
 LIBRARIES = ("numpy", "scipy", "pyamg", "pymetis", "numba", "trimesh", "matplotlib", "pyvista")
 
@@ -45,7 +45,7 @@ def error_origin(err: BaseException) -> tuple[str | None, str]:
     ours, last = "the solver", ""
     while tb is not None:
         module = str(tb.tb_frame.f_globals.get("__name__", ""))
-        if module.split(".")[0] in _OURS:
+        if module.split(".")[0] == _OURS:
             ours = f"{module}.{tb.tb_frame.f_code.co_name}"
         last = module
         tb = tb.tb_next
@@ -65,7 +65,7 @@ def default_out_dir(scene_path: str | Path) -> Path:
 
 def _run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
-    from solver.io.scene import SceneError, load_scene
+    from ibfem.solver.io.scene import SceneError, load_scene
 
     try:
         scene = load_scene(args.scene)
@@ -75,19 +75,19 @@ def _run(args: argparse.Namespace) -> int:
     for note in scene.warnings:
         _err(f"warning: {note}")
     if args.check:
-        from solver.model.estimate import estimate_size
+        from ibfem.solver.model.estimate import estimate_size
 
         print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies; "
               f"{estimate_size(scene.problem)})")
         return 0
     try:
-        from solver.solve import solve
+        from ibfem.solver.solve import solve
     except ImportError as err:
         _err(f"the solver core (solver.solve.solve) is not available: {err}")
         return 3
 
-    from solver.io.progress import ProgressReporter, silent
-    from solver.io.output import write_scene_results
+    from ibfem.solver.io.progress import ProgressReporter, silent
+    from ibfem.solver.io.output import write_scene_results
 
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name

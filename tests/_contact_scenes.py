@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-from solver.io.scene import scene_from_dict
+from ibfem.solver.io.scene import scene_from_dict
 
 E, NU = 2.0e11, 0.3
 

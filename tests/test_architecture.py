@@ -20,25 +20,25 @@ PACKAGES = ("geometry", "importers", "solver")
 
 # solver's layers, bottom first: each may import the ones before it (and itself)
 LAYERS = [
-    ("solver.reference",),
-    ("solver.model",),
-    ("solver.fem",),
-    ("solver.solution",),
-    ("solver.contact",),
-    ("solver.solve",),
-    ("solver.io",),
-    ("solver.commands", "solver.cli"),
-    ("solver.reports", "solver.sweep"),
+    ("ibfem.solver.reference",),
+    ("ibfem.solver.model",),
+    ("ibfem.solver.fem",),
+    ("ibfem.solver.solution",),
+    ("ibfem.solver.contact",),
+    ("ibfem.solver.solve",),
+    ("ibfem.solver.io",),
+    ("ibfem.solver.commands", "ibfem.solver.cli"),
+    ("ibfem.solver.reports", "ibfem.solver.sweep"),
 ]
 # the package's own __init__ names the public API lazily (strings), so it sits on top
-TOP = ("solver",)
+TOP = ("ibfem.solver",)
 
 
 def _modules() -> dict[str, Path]:
     out = {}
     for pkg in PACKAGES:
         for path in (ROOT / pkg).rglob("*.py"):
-            name = ".".join(path.relative_to(ROOT).with_suffix("").parts)
+            name = ".".join(("ibfem",) + path.relative_to(ROOT).with_suffix("").parts)
             out[name.removesuffix(".__init__")] = path
     return out
 
@@ -86,20 +86,20 @@ def _layer(module: str) -> int:
 def test_packages_import_downwards():
     wrong = []
     for name, deps in GRAPH.items():
-        top = name.split(".")[0]
+        top = name.split(".")[1]
         allowed = {"geometry": {"geometry"}, "importers": {"geometry", "importers"}, "solver": set(PACKAGES)}[top]
-        wrong += [f"{name} imports {d}" for d in deps if d.split(".")[0] not in allowed]
+        wrong += [f"{name} imports {d}" for d in deps if d.split(".")[1] not in allowed]
     assert not wrong, "\n".join(wrong)
 
 
 def test_solver_layers_import_downwards():
     wrong = []
     for name, deps in GRAPH.items():
-        if not name.startswith("solver"):
+        if not name.startswith("ibfem.solver"):
             continue
         mine = _layer(name)
         wrong += [f"{name} (layer {mine}) imports {d} (layer {_layer(d)})"
-                  for d in deps if d.startswith("solver") and _layer(d) > mine]
+                  for d in deps if d.startswith("ibfem.solver") and _layer(d) > mine]
     assert not wrong, "\n".join(wrong)
 
 
@@ -125,7 +125,7 @@ def test_no_import_cycles():
     assert not cycles, "\n".join(cycles)
 
 
-@pytest.mark.parametrize("module", ["solver.contact.driver", "solver.fem.space", "solver.model.problem"])
+@pytest.mark.parametrize("module", ["ibfem.solver.contact.driver", "ibfem.solver.fem.space", "ibfem.solver.model.problem"])
 def test_the_contract_sees_real_imports(module):
     """Guard against a checker that passes because it reads nothing."""
     assert GRAPH[module], f"no imports found for {module}"

@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver.fem.bodies import discretise
-from solver.fem.step_boundary import BoundaryPoints, projector, thin_band_terms, thin_band_traction
-from solver.io.scene import load_scene
+from ibfem.solver.fem.bodies import discretise
+from ibfem.solver.fem.step_boundary import BoundaryPoints, projector, thin_band_terms, thin_band_traction
+from ibfem.solver.io.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -6,8 +6,8 @@ from math import comb
 import numpy as np
 import pytest
 
-from geometry import _bernstein
-from geometry.bspline import BSplineCurve
+from ibfem.geometry import _bernstein
+from ibfem.geometry.bspline import BSplineCurve
 
 
 def _evaluate(B, s):

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.special import ellipeinc
 
-from geometry.bounded import Arc, BSplineArc, EllipticArc, Segment, bounded_curve_from_dict
+from ibfem.geometry.bounded import Arc, BSplineArc, EllipticArc, Segment, bounded_curve_from_dict
 
 RNG = np.random.default_rng(20261122)
 
@@ -385,7 +385,7 @@ def test_parameter_at_chord_not_monotone_returns_the_first_crossing():
     np.testing.assert_allclose(t, [2 * math.pi - 2 * math.asin(0.25)], atol=1e-13)
     # origin off the curve: the distance first falls to the chord, then rises again
     seg = Segment((-2.0, 0.0), (2.0, 0.0), "s")
-    from geometry.bounded import BoundedCurve
+    from ibfem.geometry.bounded import BoundedCurve
 
     for method in (seg.parameter_at_chord, lambda *a: BoundedCurve.parameter_at_chord(seg, *a)):
         t = method((0.0, 1.0), np.array([1.5, 0.5, 3.0]), 0.0, 1)

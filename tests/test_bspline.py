@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from geometry import primitive_from_dict
-from geometry.bspline import BSplineCurve, BSplineSurface
+from ibfem.geometry import primitive_from_dict
+from ibfem.geometry.bspline import BSplineCurve, BSplineSurface
 
 W = np.sqrt(0.5)
 RNG = np.random.default_rng(20261122)
@@ -483,7 +483,7 @@ def test_curve_case_seed_12264_two_minima_in_one_cell(jit, monkeypatch):
     global one is inside (8.3e-5 of the size closer than the end). A cell-wise Newton that
     trusted one minimum per cell ended at the end (session 2); the stationary points are
     now isolated by the Bernstein coefficients of C'.(C - p) over the cell."""
-    from geometry import _jit
+    from ibfem.geometry import _jit
 
     if jit and not _jit.enabled():
         pytest.skip("numba not installed")
@@ -496,7 +496,7 @@ def test_surface_case_seed_9591474_compiled(monkeypatch):
     """A surface case hypothesis found where the old numpy path (Newton from the nearest
     sample, then a global check) missed the global minimum; the compiled kernel (cell edges
     solved in 1D where the 2D Newton does not converge inside) finds it."""
-    from geometry import _jit
+    from ibfem.geometry import _jit
 
     if not _jit.enabled():
         pytest.skip("numba not installed")

@@ -13,8 +13,8 @@ from scipy.spatial import cKDTree
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import bspline_stress  # noqa: E402
 
-from geometry import _jit  # noqa: E402
-from geometry.bspline import BSplineSurface  # noqa: E402
+from ibfem.geometry import _jit  # noqa: E402
+from ibfem.geometry.bspline import BSplineSurface  # noqa: E402
 
 
 @pytest.fixture(params=[False, True], ids=["numpy", "compiled"])
@@ -180,7 +180,7 @@ def test_no_points_to_project(jit):
 def test_non_finite_points_are_rejected(jit):
     """A NaN or infinite query point is an error naming the row (the search would return
     an arbitrary point for it), on both paths, and for a sweep of a B-spline profile."""
-    from geometry import primitive_from_dict
+    from ibfem.geometry import primitive_from_dict
 
     rng = np.random.default_rng(0)
     c, _, _ = bspline_stress.curve_case(rng, 3)

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from _scene_standins import FieldBody, FieldSolution
-from solver.cli import main
-from solver.io.progress import ProgressReporter
+from ibfem.solver.cli import main
+from ibfem.solver.io.progress import ProgressReporter
 
 ROOT = Path(__file__).resolve().parents[1]
 LAME = ROOT / "examples" / "single_body" / "lame_quarter_annulus.toml"
@@ -56,7 +56,7 @@ def test_scene_error_is_one_line_per_problem_and_exit_code_2(tmp_path, capsys):
 
 def test_scene_error_through_the_console_script_has_no_traceback(tmp_path):
     path = write_plate(tmp_path, material="stel")
-    r = subprocess.run([sys.executable, "-m", "solver.cli", "run", str(path)], capture_output=True, text=True, cwd=tmp_path)
+    r = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(path)], capture_output=True, text=True, cwd=tmp_path)
     assert r.returncode == 2
     assert "Traceback" not in r.stderr and r.stderr.count("\n") == 1 and "bodies[0].material" in r.stderr
 
@@ -79,7 +79,8 @@ def fake_solution(converged):
 
 
 def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     calls = []
 
@@ -103,7 +104,8 @@ def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypat
 
 
 def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     def solved(problem, progress=None):
         sol = fake_solution(converged=True)
@@ -122,7 +124,8 @@ def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypat
 
 
 def test_solver_value_error_is_a_one_line_scene_error(tmp_path, capsys, monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     def refuse(problem, progress=None):
         raise ValueError("body 'plate' is not held against rigid-body motion")
@@ -133,7 +136,7 @@ def test_solver_value_error_is_a_one_line_scene_error(tmp_path, capsys, monkeypa
 
 
 def test_missing_solver_core(tmp_path, capsys, monkeypatch):
-    monkeypatch.setitem(sys.modules, "solver.solve", None)
+    monkeypatch.setitem(sys.modules, "ibfem.solver.solve", None)
     assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 3
     assert "solver core" in capsys.readouterr().err
 
@@ -188,7 +191,7 @@ def test_end_to_end_lame_quarter_annulus(tmp_path):
     path = tmp_path / "lame.toml"
     path.write_text(scene)
     out = tmp_path / "out"
-    r = subprocess.run([sys.executable, "-m", "solver.cli", "run", str(path), "--out", str(out)],
+    r = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(path), "--out", str(out)],
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     data = json.loads((out / "summary.json").read_text())
@@ -214,7 +217,8 @@ def test_end_to_end_lame_quarter_annulus(tmp_path):
 
 
 def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     monkeypatch.setattr(solver.solve, "solve", lambda problem, progress=None: fake_solution(converged=True))
     blocker = tmp_path / "file"
@@ -225,7 +229,8 @@ def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
 
 
 def test_missing_pyvista_skips_the_vtu_files_with_a_warning(tmp_path, capsys, monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     monkeypatch.setattr(solver.solve, "solve", lambda problem, progress=None: fake_solution(converged=True))
     monkeypatch.setitem(sys.modules, "pyvista", None)
@@ -258,7 +263,8 @@ def test_progress_on_a_terminal_rewrites_one_line():
 
 def test_an_unexpected_error_is_one_line_with_its_own_exit_code(tmp_path, capsys, monkeypatch):
     # issue 18 item 3: exit 1 means "not converged, summary written"; a bug gets 5 and one line
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     def crash(problem, progress=None):
         raise IndexError("index 7 is out of bounds for axis 0 with size 3")
@@ -273,7 +279,8 @@ def test_an_unexpected_error_is_one_line_with_its_own_exit_code(tmp_path, capsys
 
 
 def test_running_out_of_memory_is_reported_as_such(tmp_path, capsys, monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     def starve(problem, progress=None):
         raise MemoryError()

@@ -17,8 +17,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-import geometry
-from geometry import primitive_from_dict
+from ibfem import geometry
+from ibfem.geometry import primitive_from_dict
 
 EPS = np.finfo(float).eps
 SETTINGS = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -592,7 +592,7 @@ def test_huge_and_tiny_coordinates(kind):
 
 def evaluate_at_parameters(d, params):
     """The documented parametrisations (frames from geometry._base.orthonormal_frame)."""
-    from geometry._base import orthonormal_frame
+    from ibfem.geometry._base import orthonormal_frame
 
     o = np.asarray(d["origin"], dtype=float)
     kind = d["type"]

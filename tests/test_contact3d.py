@@ -6,10 +6,10 @@ balance. Test-local solids (tests/_solids3d.py, tests/_turned_box.py)."""
 import numpy as np
 import pytest
 
-from solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors, surface_point
-from solver.model import problem as pb
-from solver.reference.theory import hertz_sphere_radius
-from solver.solve import solve
+from ibfem.solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors, surface_point
+from ibfem.solver.model import problem as pb
+from ibfem.solver.reference.theory import hertz_sphere_radius
+from ibfem.solver.solve import solve
 
 from _solids3d import HalfBall
 from _turned_box import TurnedBox
@@ -30,8 +30,8 @@ def test_a_line_contact_is_refused_with_its_curvatures():
     """A cylinder lying on a flat has relative curvatures 0 (along its axis) and 1/R: no ellipse
     exists; the run stops with the curvatures found and the 2D alternative, not after searching
     the region out to the refinement zone's edge."""
-    from geometry.solids import solid_from_dict
-    from solver.contact.ellipse import _require_point_contact
+    from ibfem.geometry.solids import solid_from_dict
+    from ibfem.solver.contact.ellipse import _require_point_contact
 
     roller = solid_from_dict({"type": "half_cylinder", "center": [0, 0, 0.5 + 1e-4], "axis": [1, 0, 0],
                               "radius": 0.5, "length": 1.0, "side": "below"})
@@ -116,7 +116,7 @@ def test_partial_slip_of_a_half_ball_stick_ellipse_from_the_forces():
     # a half model (the plane y = 0 slides) pushed 2 mm down and 0.25 mm along x, mu = 0.3: the
     # stick circle c = a (1 - |Q| / (mu N))^(1/3) (Mindlin) for the transmitted forces, the
     # slip zone carrying mu p against the slip; Q along x by symmetry
-    from geometry.solids import solid_from_dict
+    from ibfem.geometry.solids import solid_from_dict
 
     quarter = {"type": "profile", "edges": [
         {"type": "line", "start": [0, 0], "end": [1, 0], "name": "flat"},
@@ -146,7 +146,7 @@ def test_points_on_symmetry_planes_lie_on_the_exact_dome(angle):
     # (0, 0, 1)) on a flat: lines along the axes lie on its symmetry planes, where the distance is
     # zero along the whole face above the dome (and +-1e-17 of round-off at 180 degrees); each must
     # land on the dome, z = 1 - sqrt(1 - r^2), and lines a hair outside a face are not surface
-    from geometry.solids import solid_from_dict
+    from ibfem.geometry.solids import solid_from_dict
 
     quarter = {"type": "profile", "edges": [
         {"type": "line", "start": [0, 0], "end": [1, 0], "name": "flat"},

@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver.reference import theory
-from solver.reports import validate
-from solver.solve import solve as solve_contact
-from solver.io.scene import load_scene
+from ibfem.solver.reference import theory
+from ibfem.solver.reports import validate
+from ibfem.solver.solve import solve as solve_contact
+from ibfem.solver.io.scene import load_scene
 
 from _contact_scenes import cylinder_on_block
 
@@ -31,7 +31,7 @@ def frictional_scene(mu=0.3, ux=2.0e-4, uy=-2.0e-3, load_steps=2, turn=0.0):
 
 
 def metrics(problem, sol):
-    """solver.reports.validate's comparison with Hertz / Cattaneo-Mindlin for the computed N and Q."""
+    """ibfem.solver.reports.validate's comparison with Hertz / Cattaneo-Mindlin for the computed N and Q."""
     return validate.compare_contact(problem, sol.contacts[0], {})
 
 

@@ -9,12 +9,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from geometry.bounded import Arc
-from geometry.shapes import profile_from_shape
-from solver.contact.geometry import contact_geometry, contact_quadrature, parameter_at_chord, sample_points
-from solver.fem.grid import RefinementZone, build_grid
-from solver.fem.space import exact_boundary
-from solver.fem.integration import Polyline
+from ibfem.geometry.bounded import Arc
+from ibfem.geometry.shapes import profile_from_shape
+from ibfem.solver.contact.geometry import contact_geometry, contact_quadrature, parameter_at_chord, sample_points
+from ibfem.solver.fem.grid import RefinementZone, build_grid
+from ibfem.solver.fem.space import exact_boundary
+from ibfem.solver.fem.integration import Polyline
 
 
 def _body(shape, h=0.1, levels=3):

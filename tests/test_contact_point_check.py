@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from solver.io.scene import SceneError, load_scene
+from ibfem.solver.io.scene import SceneError, load_scene
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "cylinder_on_cylinder_frictionless.toml"
 

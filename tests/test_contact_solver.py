@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver.reference import theory
-from solver.model.options import ContactOptions
-from solver.solve import solve as solve_contact
-from solver.io.scene import load_scene, scene_from_dict
+from ibfem.solver.reference import theory
+from ibfem.solver.model.options import ContactOptions
+from ibfem.solver.solve import solve as solve_contact
+from ibfem.solver.io.scene import load_scene, scene_from_dict
 
 from _contact_scenes import cylinder_on_block
 
@@ -114,7 +114,7 @@ def test_body_held_only_by_a_tied_contact():
     applied force to the block's support."""
     import dataclasses
 
-    from solver.model.problem import Pressure
+    from ibfem.solver.model.problem import Pressure
 
     base = small_scene("tied")
     problem = dataclasses.replace(base, boundary_conditions=(Pressure("cyl", "flat", 4.0e7), base.boundary_conditions[1]))
@@ -133,7 +133,7 @@ def test_initial_gap_and_contact_point_found_from_the_geometry():
     remaining approach gives (checked through Hertz for the computed force)."""
     import dataclasses
 
-    from geometry.shapes import profile_from_shape
+    from ibfem.geometry.shapes import profile_from_shape
 
     base = small_scene("frictionless")
     lifted = profile_from_shape({"type": "half_disk", "center": [0, 1.0002], "radius": 1.0, "side": "below"})

@@ -5,9 +5,9 @@ and a bound on the calls of the signed distance (the rules batch every leaf of e
 import numpy as np
 import pytest
 
-import solver.fem.cut_cells3d as cc
-from solver.fem.hexahedra import full_cube_moments
-from solver.fem.octree import build_octree
+import ibfem.solver.fem.cut_cells3d as cc
+from ibfem.solver.fem.hexahedra import full_cube_moments
+from ibfem.solver.fem.octree import build_octree
 
 CENTRE = np.array([0.05, -0.03, 0.02])
 RADIUS = 1.0

@@ -1,12 +1,12 @@
-"""solver.fem.dense.symmetric_from_lower (in place, by row blocks) and linalg's upper variant
+"""ibfem.solver.fem.dense.symmetric_from_lower (in place, by row blocks) and linalg's upper variant
 against numpy's triangle arithmetic, for blocks that do and do not divide the size, on C- and
 Fortran-ordered arrays (LAPACK's results are Fortran-ordered)."""
 
 import numpy as np
 import pytest
 
-from solver.fem.dense import symmetric_from_lower
-from solver.fem.linalg import _symmetric_from_upper
+from ibfem.solver.fem.dense import symmetric_from_lower
+from ibfem.solver.fem.linalg import _symmetric_from_upper
 
 
 @pytest.mark.parametrize("m, block", [(1, 512), (20, 7), (21, 7), (64, 64), (300, 512)])

@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from geometry import _jit, primitive_from_dict
+from ibfem.geometry import _jit, primitive_from_dict
 
 @pytest.fixture(params=[False, True], ids=["numpy", "compiled"])
 def path(request, monkeypatch):

@@ -12,7 +12,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from geometry import Ellipse, ellipse_closest_point_2d, primitive_from_dict
+from ibfem.geometry import Ellipse, ellipse_closest_point_2d, primitive_from_dict
 
 EPS = np.finfo(float).eps
 GOLD = (math.sqrt(5.0) - 1.0) / 2.0
@@ -280,7 +280,7 @@ def test_points_a_hair_off_the_major_axis_inside_the_evolute(height):
     # make fuzz: (-1, 5e-324, 0) on the ellipse a = 2, b = 0.5 got the foot (-0.941, 0.441) at
     # 0.4451 instead of (-1.0667, 0.4230) at 0.4282 (Newton from a denormal height); the foot of a
     # point that close to the axis is the on-axis one (Eberly: x0 = a^2 x / (a^2 - b^2))
-    from geometry import primitive_from_dict
+    from ibfem.geometry import primitive_from_dict
 
     e = primitive_from_dict({"type": "ellipse", "origin": [0, 0, 0], "normal": [0, 0, 1], "major_axis": [1, 0, 0],
                              "major_radius": 2.0, "minor_radius": 0.5})

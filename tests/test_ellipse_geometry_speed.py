@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from geometry.solids import solid_from_dict
-from solver.contact.ellipse_geometry import ContactFrame3D, surface_point
+from ibfem.geometry.solids import solid_from_dict
+from ibfem.solver.contact.ellipse_geometry import ContactFrame3D, surface_point
 
 REACH = 0.03
 

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver.io.scene import scene_from_dict
-from solver.solve import solve
+from ibfem.solver.io.scene import scene_from_dict
+from ibfem.solver.solve import solve
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.special import roots_jacobi
 
-from solver.fem.surface_quadrature import gauss_jacobi
+from ibfem.solver.fem.surface_quadrature import gauss_jacobi
 
 
 @pytest.mark.parametrize("alpha,beta", [(1.0, 0.0), (0.5, 1.5), (2.0, 3.0), (0.0, 1.0)])

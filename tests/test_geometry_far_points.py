@@ -10,9 +10,9 @@ import warnings
 import numpy as np
 import pytest
 
-from geometry import primitive_from_dict
-from geometry.bounded import Arc, Segment
-from geometry.shapes import profile_from_shape
+from ibfem.geometry import primitive_from_dict
+from ibfem.geometry.bounded import Arc, Segment
+from ibfem.geometry.shapes import profile_from_shape
 
 RECT = {"type": "rectangle", "min": [-2, -2], "max": [2, 0]}
 

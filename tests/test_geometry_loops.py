@@ -11,10 +11,10 @@ import time
 import numpy as np
 import pytest
 
-from geometry import Profile
-from geometry.bounded import Arc, BSplineArc, EllipticArc, Segment
-from geometry.loop_checks import check_loops
-from geometry.shapes import profile_from_shape
+from ibfem.geometry import Profile
+from ibfem.geometry.bounded import Arc, BSplineArc, EllipticArc, Segment
+from ibfem.geometry.loop_checks import check_loops
+from ibfem.geometry.shapes import profile_from_shape
 
 
 def line(name, a, b):

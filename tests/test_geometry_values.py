@@ -7,9 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from geometry import primitive_from_dict
-from geometry.bounded import bounded_curve_from_dict
-from geometry.shapes import profile_from_shape
+from ibfem.geometry import primitive_from_dict
+from ibfem.geometry.bounded import bounded_curve_from_dict
+from ibfem.geometry.shapes import profile_from_shape
 
 
 @pytest.mark.parametrize("d, words", [

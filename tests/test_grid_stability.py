@@ -7,16 +7,16 @@ nodes), so a constant stress stays exact (the 2D counterpart of tests/test_solid
 import numpy as np
 import pytest
 
-from geometry.shapes import profile_from_shape
-from solver.fem.aggregation import _multilinear, _reference_corners
-from solver.fem.assembly import boundary_terms
-from solver.fem.elements import element_for
-from solver.fem.grid import QUADTREE_AGGREGATION_THRESHOLD, build_grid, polyline_boundary
-from solver.fem.octree import build_octree
-from solver.fem.space import discretise_body, number_dofs
-from solver.model import problem as pb
-from solver.model.options import SolverOptions
-from solver.solve import solve
+from ibfem.geometry.shapes import profile_from_shape
+from ibfem.solver.fem.aggregation import _multilinear, _reference_corners
+from ibfem.solver.fem.assembly import boundary_terms
+from ibfem.solver.fem.elements import element_for
+from ibfem.solver.fem.grid import QUADTREE_AGGREGATION_THRESHOLD, build_grid, polyline_boundary
+from ibfem.solver.fem.octree import build_octree
+from ibfem.solver.fem.space import discretise_body, number_dofs
+from ibfem.solver.model import problem as pb
+from ibfem.solver.model.options import SolverOptions
+from ibfem.solver.solve import solve
 
 from _conditioning import conditioning
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from geometry.shapes import profile_from_shape
-from solver.fem.grid import CUT, INSIDE, RefinementZone, build_grid, polyline_boundary
-from solver.fem.space import exact_boundary
+from ibfem.geometry.shapes import profile_from_shape
+from ibfem.solver.fem.grid import CUT, INSIDE, RefinementZone, build_grid, polyline_boundary
+from ibfem.solver.fem.space import exact_boundary
 
 
 def _area(grid):

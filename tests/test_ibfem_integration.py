@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from geometry.shapes import profile_from_shape
-from solver.fem.grid import CUT, build_grid
-from solver.fem.space import exact_boundary, tessellated_boundary
-from solver.fem.integration import (
+from ibfem.geometry.shapes import profile_from_shape
+from ibfem.solver.fem.grid import CUT, build_grid
+from ibfem.solver.fem.space import exact_boundary, tessellated_boundary
+from ibfem.solver.fem.integration import (
     cell_stiffness,
     full_cell_moments,
     gauss_legendre,

@@ -2,10 +2,10 @@
 
 import numpy as np
 
-from geometry.shapes import profile_from_shape
-from solver.fem.grid import RefinementZone, build_grid
-from solver.fem.space import exact_boundary
-from solver.fem.recovery import nodal_stress
+from ibfem.geometry.shapes import profile_from_shape
+from ibfem.solver.fem.grid import RefinementZone, build_grid
+from ibfem.solver.fem.space import exact_boundary
+from ibfem.solver.fem.recovery import nodal_stress
 
 
 def test_linear_cell_field_is_recovered_exactly_at_every_node():

@@ -4,9 +4,9 @@ convergence rates, equilibrium of the reactions, and input errors."""
 import numpy as np
 import pytest
 
-from geometry.shapes import profile_from_shape
-from solver.solve import solve
-from solver.model.problem import (
+from ibfem.geometry.shapes import profile_from_shape
+from ibfem.solver.solve import solve
+from ibfem.solver.model.problem import (
     BodyForce,
     BodyModel,
     Displacement,
@@ -348,7 +348,7 @@ def test_unknown_edge_and_unresolved_refinement_are_clear_errors():
 
 
 def test_nested_dissection_solve_path_matches_minimum_degree(monkeypatch):
-    import solver.fem.linalg as ibfem
+    import ibfem.solver.fem.linalg as ibfem
 
     prob = _lame_problem(27.3, 0.1)
     ref = solve(prob)
@@ -459,7 +459,7 @@ def test_bad_load_values_are_clear_errors():
 
 
 def test_solution_has_every_member_of_the_protocol():
-    from solver.model.problem import Solution
+    from ibfem.solver.model.problem import Solution
 
     sol = solve(_lame_problem(0.0, 0.2))
     members = [m for m in vars(Solution) if not m.startswith("_")] + list(Solution.__annotations__)

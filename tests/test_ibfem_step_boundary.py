@@ -3,8 +3,8 @@
 import numpy as np
 import scipy.sparse as sp
 
-from solver.fem.integration import gauss_legendre
-from solver.fem.step_boundary import (
+from ibfem.solver.fem.integration import gauss_legendre
+from ibfem.solver.fem.step_boundary import (
     BoundaryPoints,
     acoustic_tensor,
     band_integrals,
@@ -96,10 +96,10 @@ def test_acoustic_tensor():
 
 
 def test_points_on_a_body_give_the_same_operators_as_its_edge_quadrature():
-    from geometry.shapes import profile_from_shape
-    from solver.fem.bodies import discretise
-    from solver.model.options import SolverOptions as Settings
-    from solver.model.problem import BodyModel, Material, Problem
+    from ibfem.geometry.shapes import profile_from_shape
+    from ibfem.solver.fem.bodies import discretise
+    from ibfem.solver.model.options import SolverOptions as Settings
+    from ibfem.solver.model.problem import BodyModel, Material, Problem
 
     prof = profile_from_shape({"type": "disk", "center": [0, 0], "radius": 1.0})
     prob = Problem("d", "plane_strain", 1.0, (BodyModel("d", prof, Material("s", 1.0, 0.3), 0.2),))

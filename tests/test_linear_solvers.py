@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver.io.scene import scene_from_dict
-from solver.solve import solve
+from ibfem.solver.io.scene import scene_from_dict
+from ibfem.solver.solve import solve
 
 pytest.importorskip("pyamg")
 
@@ -45,9 +45,9 @@ def test_iterative_solve_matches_direct_and_lame():
 
 
 def test_iterative_solver_that_cannot_converge_reports_its_history():
-    from solver.fem import linalg
-    from solver.fem.assembly import assemble
-    from solver.fem.bodies import discretise
+    from ibfem.solver.fem import linalg
+    from ibfem.solver.fem.assembly import assemble
+    from ibfem.solver.fem.bodies import discretise
 
     problem = lame_scene("iterative").problem
     bodies = discretise(problem, problem.options)
@@ -57,7 +57,7 @@ def test_iterative_solver_that_cannot_converge_reports_its_history():
 
 
 def test_unknown_linear_solver_is_a_scene_error():
-    from solver.io.scene import SceneError
+    from ibfem.solver.io.scene import SceneError
 
     with pytest.raises(SceneError, match=r"solver\.linear_solver = \"cholmod\": must be one of"):
         lame_scene("cholmod")
@@ -68,7 +68,7 @@ def test_direct_solve_by_the_multifrontal_cholesky_matches_lame(monkeypatch):
     by the multifrontal L D L^T (forced) and by SuperLU (forced): both Lame's displacement to the
     discretisation error, and the same discrete solution to round-off."""
     pytest.importorskip("numba")
-    from solver.fem import linalg
+    from ibfem.solver.fem import linalg
 
     monkeypatch.setattr(linalg, "NESTED_DISSECTION_DOFS", 5000)
     points = np.array([[1.2, 0.3], [0.5, 1.6]])

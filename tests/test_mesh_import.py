@@ -8,8 +8,8 @@ import pytest
 
 trimesh = pytest.importorskip("trimesh")
 
-from geometry.verify import verify_projection  # noqa: E402
-from importers.mesh import load_mesh_part  # noqa: E402
+from ibfem.geometry.verify import verify_projection  # noqa: E402
+from ibfem.importers.mesh import load_mesh_part  # noqa: E402
 from test_onshape_support import body_volume  # noqa: E402
 
 
@@ -45,7 +45,7 @@ def test_units_scale_and_verify_reports_tessellation_only(tmp_path):
 
 
 def test_info_command_on_a_mesh(tmp_path, capsys):
-    from solver.cli import main
+    from ibfem.solver.cli import main
 
     path = _write(tmp_path, trimesh.creation.box(extents=(1, 1, 1)), "cube.stl")
     assert main(["info", str(path)]) == 0

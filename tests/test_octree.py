@@ -10,11 +10,11 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from solver.fem.assembly_blocks import assemble_blocks
-from solver.fem.grid import RefinementZone
-from solver.fem.hexahedra import cube_body_force, cube_stiffness, shape_functions, strain_matrix
-from solver.fem.octree import build_octree, level_jumps
-from solver.model.elasticity import elasticity_matrix, lame_parameters
+from ibfem.solver.fem.assembly_blocks import assemble_blocks
+from ibfem.solver.fem.grid import RefinementZone
+from ibfem.solver.fem.hexahedra import cube_body_force, cube_stiffness, shape_functions, strain_matrix
+from ibfem.solver.fem.octree import build_octree, level_jumps
+from ibfem.solver.model.elasticity import elasticity_matrix, lame_parameters
 
 C = elasticity_matrix(*lame_parameters(2.0e11, 0.3, "solid"), 3)
 
@@ -99,7 +99,7 @@ def test_patch_test_on_a_graded_octree():
 def test_step_boundary_terms_are_written_once_for_both_dimensions():
     """The band's acoustic tensor and projectors in 3D: A_n n = (lambda + 2 mu) n, A_n t = mu t
     for a tangent t; the sliding projector is n n^T, the fixed one the identity."""
-    from solver.fem.step_boundary import acoustic_tensor, block_diagonal, projector
+    from ibfem.solver.fem.step_boundary import acoustic_tensor, block_diagonal, projector
 
     rng = np.random.default_rng(3)
     n = rng.normal(size=(5, 3))
@@ -120,7 +120,7 @@ def test_step_boundary_terms_are_written_once_for_both_dimensions():
 def test_point_operators_of_a_3d_body_reproduce_a_linear_field():
     """The function space's displacement, stress and traction operators on an octree with hanging
     nodes: for u = G x + c they give u, C eps(G) and (C eps(G)) n exactly at any points."""
-    from solver.fem.space import BodyDiscretisation, number_dofs
+    from ibfem.solver.fem.space import BodyDiscretisation, number_dofs
 
     tree = unit_box_tree(levels=2, centre=(0.3, 0.6, 0.2), radius=0.2)
     lam, mu = lame_parameters(2.0e11, 0.3, "solid")
@@ -146,7 +146,7 @@ def test_point_operators_of_a_3d_body_reproduce_a_linear_field():
 
 
 def test_monomial_stiffness_reproduces_the_cube_stiffness():
-    from solver.fem.hexahedra import box_moments, cell_stiffness, full_cube_moments, monomial_stiffness
+    from ibfem.solver.fem.hexahedra import box_moments, cell_stiffness, full_cube_moments, monomial_stiffness
 
     km = monomial_stiffness(C)
     for h in (1.0, 0.3):
@@ -159,8 +159,8 @@ def test_monomial_stiffness_reproduces_the_cube_stiffness():
 
 
 def test_cut_moments_exact_for_a_face_parallel_plane_and_spectral_on_a_sphere():
-    from solver.fem.cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
-    from solver.fem.hexahedra import box_moments, full_cube_moments
+    from ibfem.solver.fem.cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
+    from ibfem.solver.fem.hexahedra import box_moments, full_cube_moments
 
     # the half-space z < 0.3 cuts cells of a unit grid; every cut cell's moments are exact
     lower = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, -0.5]])
@@ -181,8 +181,8 @@ def test_cut_moments_exact_for_a_face_parallel_plane_and_spectral_on_a_sphere():
 def _volume_and_izz(phi, centre, depth):
     """Volume and int (z - centre_z)^2 dV of the region phi > 0 from the cut-cell moments on a
     uniform grid of h = 0.25 (cells classified by the distance at their centres)."""
-    from solver.fem.cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
-    from solver.fem.hexahedra import full_cube_moments
+    from ibfem.solver.fem.cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
+    from ibfem.solver.fem.hexahedra import full_cube_moments
 
     tree = build_octree(([-1.5] * 3, [1.5] * 3), 0.25, (), lambda lo, s: phi(lo + 0.5 * s[:, None]) > -0.87 * s)
     status = classify_cells(tree.lower, tree.size, phi)
@@ -200,7 +200,7 @@ def _volume_and_izz(phi, centre, depth):
 def test_cut_moments_of_a_torus_converge_to_round_off(monkeypatch):
     # issue 14: volume and second moments of a sphere and a torus exact to 1e-10 (the torus's
     # tube, radius 0.35 against cells of 0.25, needs two levels and six points per piece)
-    import solver.fem.cut_cells3d as cc
+    import ibfem.solver.fem.cut_cells3d as cc
 
     monkeypatch.setattr(cc, "LINE_POINTS", 6)
     centre = np.array([0.05, -0.03, 0.02])

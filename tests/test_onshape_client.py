@@ -17,8 +17,8 @@ from pathlib import Path
 
 import pytest
 
-from importers import OnshapeError
-from importers.onshape import OnshapeClient, load_part, parse_document_url
+from ibfem.importers import OnshapeError
+from ibfem.importers.onshape import OnshapeClient, load_part, parse_document_url
 from test_onshape_support import FIXTURES
 
 pytest.importorskip("requests")
@@ -242,7 +242,7 @@ def test_missing_keys(monkeypatch, tmp_path):
 
 
 def test_cli_import_with_keys_from_the_environment(tmp_path, monkeypatch, capsys):
-    from solver.cli import main
+    from ibfem.solver.cli import main
 
     monkeypatch.setenv("ONSHAPE_ACCESS_KEY", ACCESS)
     monkeypatch.setenv("ONSHAPE_SECRET_KEY", SECRET)

@@ -7,7 +7,7 @@ from collections import Counter
 
 import pytest
 
-from solver.cli import main
+from ibfem.solver.cli import main
 from test_onshape_support import FIXTURES, copy_studio, edit_json
 
 SPEC_FACE_KEYS = {"id", "type", "vertices", "max_error", "max_normal_error"}

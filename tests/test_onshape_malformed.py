@@ -8,10 +8,10 @@ import json
 import numpy as np
 import pytest
 
-from importers import OnshapeFormatError
-from importers.onshape import load_part
-from importers.onshape.models import CurveDesc
-from importers.onshape.parser import bcurve_control_points
+from ibfem.importers import OnshapeFormatError
+from ibfem.importers.onshape import load_part
+from ibfem.importers.onshape.models import CurveDesc
+from ibfem.importers.onshape.parser import bcurve_control_points
 from test_onshape_support import copy_studio, edit_json, registered
 
 A = "half_cylinder_on_block"  # format A, inline vertices
@@ -189,7 +189,7 @@ def test_facets_wound_against_their_normal_are_rewound(tmp_path):
 
 
 def test_cli_reports_bad_input_without_a_traceback(tmp_path, capsys):
-    from solver.cli import main
+    from ibfem.solver.cli import main
 
     d = copy_studio(A, tmp_path)
     (d / "bodydetails.json").write_text("{")
@@ -244,7 +244,7 @@ def test_rational_layouts():
     ({"controlPoints": [1, "x", 3]}, "c.controlPoints[1]: expected a number, got 'x'"),
 ])
 def test_bad_bcurves(kw, msg):
-    from importers.onshape.parser import _Fail
+    from ibfem.importers.onshape.parser import _Fail
 
     with pytest.raises(_Fail) as info:
         bcurve_control_points(_desc(**kw), "c")
@@ -255,8 +255,8 @@ def test_bad_bcurves(kw, msg):
 def test_the_cartesian_reading_is_chosen_when_the_data_says_so():
     """A rational curve sent as Cartesian (x, y, z, w): the reading that puts the edge's own
     points on the curve wins, and it is noted."""
-    from geometry import primitive_from_dict
-    from importers.onshape.parser import curve_primitive
+    from ibfem.geometry import primitive_from_dict
+    from ibfem.importers.onshape.parser import curve_primitive
 
     true = primitive_from_dict({"type": "bspline_curve", "degree": 2, "knots": KNOTS,
                                 "control_points": CTRL.tolist(), "weights": W.tolist()})

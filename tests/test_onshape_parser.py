@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from importers.onshape import load_part
+from ibfem.importers.onshape import load_part
 from test_onshape_support import FIXTURES, STUDIOS, body_volume, cached_part, generator, missing_primitives
 
 

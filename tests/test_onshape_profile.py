@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from importers.onshape.profile import face_profile, profile_from_shape, section_profile
+from ibfem.importers.onshape.profile import face_profile, profile_from_shape, section_profile
 from test_onshape_support import FIXTURES, cached_part, generator
 
 

@@ -28,7 +28,7 @@ def generator():
 
 
 def registered(name: str) -> bool:
-    from geometry._base import _REGISTRY
+    from ibfem.geometry._base import _REGISTRY
 
     return name in _REGISTRY
 
@@ -76,6 +76,6 @@ def body_volume(part, body_id: str) -> float:
 @lru_cache(maxsize=None)
 def cached_part(studio: str):
     """load_part of a shipped fixture, loaded once per test session (do not mutate it)."""
-    from importers.onshape import load_part
+    from ibfem.importers.onshape import load_part
 
     return load_part(FIXTURES / studio)

@@ -9,9 +9,9 @@ import tomllib
 
 import pytest
 
-from solver.io.scene import SceneError, scene_from_dict
-from solver.model.options import ContactOptions, SolverOptions
-from solver.solve import solve
+from ibfem.solver.io.scene import SceneError, scene_from_dict
+from ibfem.solver.model.options import ContactOptions, SolverOptions
+from ibfem.solver.solve import solve
 
 SCENE = """
 name = "small cylinder on block"

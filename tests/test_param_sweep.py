@@ -14,12 +14,12 @@ from pathlib import Path
 
 import pytest
 
-from solver.sweep.cases import build_cases, case_hash, expand, pack_files
-from solver.sweep.engine import EngineError, EngineOptions
-from solver.sweep.paths import PathError, get_path, set_path
-from solver.sweep.run import run_sweep
-from solver.sweep.spec import SweepError, load_sweep, sweep_from_dict
-from solver.sweep.worker import run_case
+from ibfem.solver.sweep.cases import build_cases, case_hash, expand, pack_files
+from ibfem.solver.sweep.engine import EngineError, EngineOptions
+from ibfem.solver.sweep.paths import PathError, get_path, set_path
+from ibfem.solver.sweep.run import run_sweep
+from ibfem.solver.sweep.spec import SweepError, load_sweep, sweep_from_dict
+from ibfem.solver.sweep.worker import run_case
 
 ROOT = Path(__file__).resolve().parents[1]
 E, NU = 2.0e11, 0.3
@@ -122,7 +122,7 @@ def test_bad_sweep_files_name_key_and_value(tmp_path, change, expected):
 
 
 def test_dry_run_lists_cases_and_invalid_ones(tmp_path, capsys):
-    from solver.cli import main
+    from ibfem.solver.cli import main
 
     path = write_sweep(tmp_path, block_scene(), {**GRID, "parameters": {"materials.steel.poissons_ratio": [0.3, 0.7]}})
     assert main(["sweep", str(path), "--dry-run", "--out", str(tmp_path / "out")]) == 0
@@ -196,7 +196,7 @@ def test_worker_with_another_build_refuses_the_case():
 
 
 def test_without_dask_serial_runs_and_other_modes_name_the_extra(tmp_path, monkeypatch, capsys):
-    from solver.cli import main
+    from ibfem.solver.cli import main
 
     monkeypatch.setitem(sys.modules, "distributed", None)  # import distributed -> ImportError
     path = write_sweep(tmp_path, block_scene(), {**GRID, "parameters": {"thickness": [1.0]}})
@@ -209,8 +209,8 @@ def test_without_dask_serial_runs_and_other_modes_name_the_extra(tmp_path, monke
 def test_files_of_a_scene_travel_with_the_case(tmp_path):
     import tomllib
 
-    from solver.io.scene import scene_from_dict
-    from solver.sweep.worker import _write_files
+    from ibfem.solver.io.scene import scene_from_dict
+    from ibfem.solver.sweep.worker import _write_files
 
     source = ROOT / "examples" / "onshape" / "half_cylinder_on_block.toml"
     scene = tomllib.loads(source.read_text())
@@ -227,7 +227,7 @@ def test_interrupted_driver_resumes_without_losing_or_repeating_cases(tmp_path):
         "mode": "grid", "parameters": {"boundary_conditions.b/top.value.1": [-1e-3, -2e-3, -3e-3, -4e-3, -5e-3, -6e-3]},
         "outputs": {"columns": ["reactions.b/top.1"]}})
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "solver.cli", "sweep", str(sweep_path), "--serial", "--out", str(out), "--no-plots"]
+    cmd = [sys.executable, "-m", "ibfem.solver.cli", "sweep", str(sweep_path), "--serial", "--out", str(out), "--no-plots"]
     proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     jsonl = out / "results.jsonl"
     deadline = time.time() + 30

@@ -19,10 +19,10 @@ pytest.importorskip("distributed")
 
 from test_param_sweep import ROOT, contact_scene  # noqa: E402
 
-from solver.sweep.engine import EngineOptions  # noqa: E402
-from solver.sweep.run import run_sweep  # noqa: E402
-from solver.sweep.spec import sweep_from_dict  # noqa: E402
-from solver.sweep.worker import run_case  # noqa: E402
+from ibfem.solver.sweep.engine import EngineOptions  # noqa: E402
+from ibfem.solver.sweep.run import run_sweep  # noqa: E402
+from ibfem.solver.sweep.spec import sweep_from_dict  # noqa: E402
+from ibfem.solver.sweep.worker import run_case  # noqa: E402
 
 COLUMNS = ["converged", "reactions.cyl/flat.1", "reactions.block/bottom.1", "contacts.0.normal_force"]
 BIN = Path(sys.executable).parent
@@ -30,7 +30,8 @@ BIN = Path(sys.executable).parent
 
 def failing_runner(payload: dict) -> dict:
     """The real task, with the solver made to raise for the scene named "raises"."""
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     if payload["scene"].get("name") != "raises":
         return run_case(payload)
@@ -117,7 +118,7 @@ def test_scheduler_and_workers_as_subprocesses_survive_a_killed_worker(tmp_path)
             f"{json.dumps(uys)}\n[sweep.outputs]\ncolumns = {json.dumps(COLUMNS)}\n")
         out = tmp_path / "out"
         env = dict(os.environ, DASK_SCHEDULER_ADDRESS=address)
-        driver = subprocess.Popen([sys.executable, "-m", "solver.cli", "sweep", str(tmp_path / "sweep.toml"),
+        driver = subprocess.Popen([sys.executable, "-m", "ibfem.solver.cli", "sweep", str(tmp_path / "sweep.toml"),
                                    "--out", str(out), "--no-plots"], cwd=ROOT, env=env,
                                   stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         jsonl = out / "results.jsonl"
@@ -143,7 +144,7 @@ def _worker_state() -> dict:
     import sys
 
     return {"threads": {k: os.environ.get(k) for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "IBFEM_THREADS")},
-            "warm": "solver.solve" in sys.modules, "trim": os.environ.get("MALLOC_TRIM_THRESHOLD_")}
+            "warm": "ibfem.solver.solve" in sys.modules, "trim": os.environ.get("MALLOC_TRIM_THRESHOLD_")}
 
 
 @pytest.mark.parametrize("start", ["fork server", "spawn"])
@@ -156,7 +157,7 @@ def test_embedded_workers_start_with_one_blas_thread(monkeypatch, start):
 
     import cloudpickle
 
-    from solver.sweep.engine import _connect
+    from ibfem.solver.sweep.engine import _connect
 
     if start == "fork server" and "forkserver" not in multiprocessing.get_all_start_methods():
         pytest.skip("no fork server on this platform")

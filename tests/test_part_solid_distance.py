@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from solver.io.scene import load_scene
+from ibfem.solver.io.scene import load_scene
 
 FIXTURE = Path(__file__).resolve().parent.parent / "fixtures" / "onshape" / "cone_sphere"
 R0, R, H = 0.01, 0.02, 0.03

@@ -5,7 +5,7 @@ nearest centroids do not hold the nearest triangle."""
 
 import numpy as np
 
-from geometry.solids.part_solid import _Mesh, point_triangle_distance
+from ibfem.geometry.solids.part_solid import _Mesh, point_triangle_distance
 
 
 def _fan_and_big(rng):

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from solver.io.scene import scene_from_dict
+from ibfem.solver.io.scene import scene_from_dict
 
 BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
 

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from solver.io.scene import SceneError, load_scene
-from solver.model.estimate import estimate_size
+from ibfem.solver.io.scene import SceneError, load_scene
+from ibfem.solver.model.estimate import estimate_size
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
@@ -31,7 +31,7 @@ def test_grids_that_cannot_fit_are_refused(changes):
 
 
 def test_estimate_against_the_built_grids():
-    from solver.fem.bodies import discretise
+    from ibfem.solver.fem.bodies import discretise
 
     scene = load_scene(_scene(), label="s.toml", base_dir=EXAMPLES)
     size = estimate_size(scene.problem)

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from matplotlib.path import Path
 
-from geometry.bounded import Arc, BSplineArc, EllipticArc, Segment
-from geometry.profile import Profile, UnknownEdgeError
+from ibfem.geometry.bounded import Arc, BSplineArc, EllipticArc, Segment
+from ibfem.geometry.profile import Profile, UnknownEdgeError
 
 RNG = np.random.default_rng(7)
 

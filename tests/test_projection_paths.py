@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from geometry import Projection, _jit, primitive_from_dict
+from ibfem.geometry import Projection, _jit, primitive_from_dict
 
 KINDS = {
     "line": {"type": "line", "origin": [0.3, -0.2, 0.1], "direction": [1.0, 2.0, 2.0]},

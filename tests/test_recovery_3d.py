@@ -10,13 +10,13 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from geometry.solids.shapes import Box
-from solver.fem.cut_cells3d import CUT
-from solver.fem.grid import RefinementZone
-from solver.fem.recovery import MirrorPlane, patch_recovery, reflect_stress, sliding_symmetry
-from solver.fem.solid_space import discretise_solid
-from solver.model.problem import Sliding
-from solver.solution import IBFEMSolution
+from ibfem.geometry.solids.shapes import Box
+from ibfem.solver.fem.cut_cells3d import CUT
+from ibfem.solver.fem.grid import RefinementZone
+from ibfem.solver.fem.recovery import MirrorPlane, patch_recovery, reflect_stress, sliding_symmetry
+from ibfem.solver.fem.solid_space import discretise_solid
+from ibfem.solver.model.problem import Sliding
+from ibfem.solver.solution import IBFEMSolution
 
 H0 = 0.1
 
@@ -148,7 +148,7 @@ def test_the_solution_recovers_with_its_sliding_faces():
 
 def test_a_plane_given_with_its_inward_normal_is_turned_outward():
     # a CAD face's surface may be oriented into the body: the mirror is the same plane
-    from geometry.surfaces import Plane
+    from ibfem.geometry.surfaces import Plane
 
     body = _box(refine=False)
     faces = dict(body.boundary.faces)
@@ -167,7 +167,7 @@ def test_a_flat_face_of_a_revolution_is_found_plane_from_its_points():
     # a quarter cylinder turned from the rectangle (r, z) in [0, 1] x [0, 1]: its bottom
     # ("bottom", a turned line) names no plane, its cut ends ("start", "end") do; all three are
     # mirrors, and a field symmetric about the three is recovered exactly on them
-    from geometry.solids.build import solid_from_dict
+    from ibfem.geometry.solids.build import solid_from_dict
 
     solid = solid_from_dict({"type": "revolution", "axis_origin": [0, 0, 0], "axis": [0, 0, 1], "angle_deg": 90,
                              "profile": {"type": "profile", "edges": [
@@ -198,11 +198,11 @@ def test_a_flat_face_of_a_revolution_is_found_plane_from_its_points():
 def test_a_straight_sliding_edge_of_a_2d_body_is_a_mirror():
     # a half disk on its diameter (y = 0, on the grid's lines): a field even in y (sxy odd) is
     # recovered exactly on the diameter away from the arc; the arc is no mirror
-    from geometry.shapes import profile_from_shape
-    from solver.fem.grid import CUT as CUT2
-    from solver.fem.grid import build_grid
-    from solver.fem.recovery import nodal_stress
-    from solver.fem.space import exact_boundary
+    from ibfem.geometry.shapes import profile_from_shape
+    from ibfem.solver.fem.grid import CUT as CUT2
+    from ibfem.solver.fem.grid import build_grid
+    from ibfem.solver.fem.recovery import nodal_stress
+    from ibfem.solver.fem.space import exact_boundary
 
     boundary = exact_boundary(profile_from_shape({"type": "half_disk", "center": [0, 0], "radius": 1.0, "side": "above"}))
     grid = build_grid(boundary, 0.1, (RefinementZone(1, 0.3, np.array([0.2, 0.0])),))

@@ -5,10 +5,10 @@ boundary keep the linear fit, exact for linear fields (tests/test_ibfem_recovery
 
 import numpy as np
 
-from geometry.shapes import profile_from_shape
-from solver.fem.grid import CUT, RefinementZone, build_grid
-from solver.fem.recovery import nodal_stress
-from solver.fem.space import exact_boundary
+from ibfem.geometry.shapes import profile_from_shape
+from ibfem.solver.fem.grid import CUT, RefinementZone, build_grid
+from ibfem.solver.fem.recovery import nodal_stress
+from ibfem.solver.fem.space import exact_boundary
 
 
 def _grid():

@@ -14,8 +14,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from solver.model.options import ContactOptions, OptionError
-from solver.solve import solve
+from ibfem.solver.model.options import ContactOptions, OptionError
+from ibfem.solver.solve import solve
 
 from _contact_scenes import cylinder_on_block
 
@@ -83,7 +83,7 @@ def test_the_region_about_the_contact_point_is_refused_when_the_pressure_is_off_
     import tomllib
     from pathlib import Path
 
-    from solver.io.scene import scene_from_dict
+    from ibfem.solver.io.scene import scene_from_dict
 
     data = tomllib.loads((Path(__file__).resolve().parents[1] / "examples/cylinder_on_wedge_frictionless.toml")
                          .read_text())
@@ -111,7 +111,7 @@ def test_region_centre_option_is_checked():
 def _ball_on_block(point, region_centre="pressure"):
     from _solids3d import HalfBall
     from _turned_box import TurnedBox
-    from solver.model import problem as pb
+    from ibfem.solver.model import problem as pb
 
     ball = HalfBall([0, 0, 1.0], 1.0)
     block = TurnedBox([2, 2, 1], shift=(-1, -1, -1))
@@ -150,8 +150,8 @@ def test_an_off_centre_ellipse_is_not_reported_as_converged(monkeypatch):
     # the region about a point 0.18 a beside the touching point, the frame pinned there (as
     # before the touching-point search): the edge windows pass on this coarse grid (a / h = 2.8)
     # but the force is 2.3 % low; the centroid check refuses it
-    import solver.contact.ellipse as ellipse
-    from solver.contact.ellipse_geometry import contact_frame_3d, sectors
+    import ibfem.solver.contact.ellipse as ellipse
+    from ibfem.solver.contact.ellipse_geometry import contact_frame_3d, sectors
 
     def pinned(s1, s2, point, scale, reach, hint=None):
         frame = contact_frame_3d(s1, s2, point, scale, hint)

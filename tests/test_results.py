@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from _scene_standins import E, NU, FieldBody, FieldSolution, plane_strain_stress
-from solver.model import problem as pb
-from solver.io import output, results
+from ibfem.solver.model import problem as pb
+from ibfem.solver.io import output, results
 
 STEEL = pb.Material("steel", E, NU)
 UPPER = FieldBody("upper", (0.0, 0.0), (1.0, 1.0), a=1e-4, b=-2e-4)

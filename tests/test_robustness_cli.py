@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver.cli import INTERNAL_ERROR, main
-from solver.commands import error_origin
-from solver.io.scene import SceneError, load_scene
+from ibfem.solver.cli import INTERNAL_ERROR, main
+from ibfem.solver.commands import error_origin
+from ibfem.solver.io.scene import SceneError, load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "examples" / "cylinder_on_cylinder_frictionless.toml"
@@ -39,7 +39,8 @@ def _key_failure(problem, progress=None):
 @pytest.mark.parametrize("crash", [KeyError("JQX"), ZeroDivisionError("float division by zero"),
                                    RecursionError("maximum recursion depth exceeded")])
 def test_class3_unexpected_errors_exit_5_with_one_line(tmp_path, capsys, monkeypatch, crash):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     def fail(problem, progress=None):
         raise crash
@@ -53,7 +54,8 @@ def test_class3_unexpected_errors_exit_5_with_one_line(tmp_path, capsys, monkeyp
 
 
 def test_class3_traceback_option_shows_it(monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     monkeypatch.setattr(solver.solve, "solve", _numpy_failure)
     with pytest.raises(ValueError, match="fp and xp"):
@@ -68,7 +70,7 @@ def test_class3_exit_1_always_has_its_summary(tmp_path):
     data["output"] = {"vtk": False, "plots": False}
     scene = tmp_path / "s.json"
     scene.write_text(json.dumps(data))
-    r = subprocess.run([sys.executable, "-m", "solver.cli", "run", str(scene), "--quiet", "--out", str(tmp_path / "o")],
+    r = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(scene), "--quiet", "--out", str(tmp_path / "o")],
                        capture_output=True, text=True, cwd=tmp_path)
     assert r.returncode == 1, r.stderr
     assert json.loads((tmp_path / "o" / "summary.json").read_text())["converged"] is False
@@ -79,7 +81,8 @@ def test_class3_exit_1_always_has_its_summary(tmp_path):
 
 
 def test_class4_a_numpy_failure_is_an_internal_error_naming_the_solver_function(tmp_path, capsys, monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     monkeypatch.setattr(solver.solve, "solve", _numpy_failure)
     assert main(["run", str(LAME), "--quiet", "--out", str(tmp_path / "o")]) == 5
@@ -88,7 +91,8 @@ def test_class4_a_numpy_failure_is_an_internal_error_naming_the_solver_function(
 
 
 def test_class4_the_solvers_own_value_errors_stay_scene_errors(tmp_path, capsys, monkeypatch):
-    import solver.solve
+    import ibfem.solver.solve
+    from ibfem import solver
 
     monkeypatch.setattr(solver.solve, "solve", _key_failure)
     assert main(["run", str(LAME), "--quiet"]) == 2
@@ -105,12 +109,12 @@ def test_class4_error_origin():
         _key_failure(None)
     except ValueError as err:
         assert error_origin(err)[0] is None
-    from solver.model.resolve import finest_size_at
+    from ibfem.solver.model.resolve import finest_size_at
 
     try:  # a project function whose numpy call fails: the library and the function are named
         finest_size_at(None, np.zeros(2))
     except AttributeError as err:
-        assert error_origin(err) == (None, "solver.model.resolve.finest_size_at")
+        assert error_origin(err) == (None, "ibfem.solver.model.resolve.finest_size_at")
 
 
 @pytest.mark.parametrize("mutate, key", [
@@ -138,7 +142,7 @@ def test_class4_the_issues_numpy_reproducers_are_scene_errors_with_their_key(mut
 
 def test_class3_every_command_takes_traceback():
     """The internal-error line tells the user to rerun with --traceback: every command takes it."""
-    from solver.cli import build_parser
+    from ibfem.solver.cli import build_parser
 
     sub = next(a for a in build_parser()._actions if a.dest == "command")
     for name, command in sub.choices.items():

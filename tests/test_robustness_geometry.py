@@ -9,8 +9,8 @@ import warnings
 import numpy as np
 import pytest
 
-from geometry import primitive_from_dict
-from geometry.shapes import profile_from_shape
+from ibfem.geometry import primitive_from_dict
+from ibfem.geometry.shapes import profile_from_shape
 
 
 def line(name, a, b):

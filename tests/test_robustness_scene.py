@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from solver.io.scene import MAX_MAGNITUDE, SceneError, load_scene
+from ibfem.solver.io.scene import MAX_MAGNITUDE, SceneError, load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
@@ -109,7 +109,7 @@ def test_class6_an_onshape_cache_in_millimetres_with_the_demos_grid(tmp_path):
 
 
 def test_class6_check_prints_the_estimate(tmp_path, capsys):
-    from solver.cli import main
+    from ibfem.solver.cli import main
 
     assert main(["run", str(EXAMPLES / "cylinder_on_cylinder_frictionless.toml"), "--check"]) == 0
     out = capsys.readouterr().out
@@ -321,7 +321,7 @@ def test_a_cad_path_the_system_cannot_open_is_a_scene_error(example, bad):
     import tomllib
     from pathlib import Path
 
-    from solver.io.scene import SceneError, scene_from_dict
+    from ibfem.solver.io.scene import SceneError, scene_from_dict
 
     path = Path(__file__).resolve().parents[1] / "examples" / example
     data = copy.deepcopy(tomllib.loads(path.read_text(encoding="utf-8")))

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from fuzz._transform import moved
-from solver.io.scene import scene_from_dict
-from solver.solve import solve
+from ibfem.solver.io.scene import scene_from_dict
+from ibfem.solver.solve import solve
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 
@@ -102,7 +102,7 @@ def test_class3_the_tessellated_ellipse_turned_180_degrees_solves():
 def test_class3_cut_pieces_cover_the_boundary_in_any_position(example, turn, shift):
     """The variants the fuzz campaign found crashing: every body's grid holds its whole boundary,
     the cut pieces' lengths summing to the boundary curves' length (an invariant of the moved scene)."""
-    from solver.fem.bodies import discretise
+    from ibfem.solver.fem.bodies import discretise
 
     data = tomllib.loads((EXAMPLES / f"{example}.toml").read_text())
     problem = scene_from_dict(moved(data, turn, shift), label="m.toml").problem

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from solver.model import problem as pb
-from solver.io.scene import SceneError, load_scene, rigid_body_modes, scene_from_dict
+from ibfem.solver.model import problem as pb
+from ibfem.solver.io.scene import SceneError, load_scene, rigid_body_modes, scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -263,9 +263,10 @@ def test_onshape_shape_errors_name_the_key(monkeypatch):
     (msg,) = errors_of(data)
     assert msg.startswith("scene.toml: bodies[0].shape.path: ") and "none" in msg
     # without the importer: one clear line, no traceback
-    import importers.onshape
+    import ibfem.importers.onshape
+    from ibfem import importers
 
-    monkeypatch.setitem(sys.modules, "importers.onshape.profile", None)
+    monkeypatch.setitem(sys.modules, "ibfem.importers.onshape.profile", None)
     monkeypatch.delattr(importers.onshape, "profile", raising=False)
     (msg,) = errors_of(data)
     assert msg.startswith("scene.toml: bodies[0].shape") and "needs the Onshape importer" in msg
@@ -366,7 +367,7 @@ def test_body_held_only_through_contacts():
 
 
 def test_contact_point_found_as_closest_points_with_a_gap():
-    from solver.model.resolve import contact_frame as _contact_frame
+    from ibfem.solver.model.resolve import contact_frame as _contact_frame
 
     data = two_cylinders("frictionless", [{"body": "top", "edge": "flat", "type": "fixed"}])
     data["bodies"][0]["shape"]["center"] = [0.2, 1.01]  # a gap of 0.01 at x = 0.1
@@ -405,7 +406,7 @@ def test_examples_load():
 def test_solver_section_accepts_options_the_solver_adds(monkeypatch):
     import dataclasses
 
-    from solver.io import scene as sc
+    from ibfem.solver.io import scene as sc
 
     @dataclasses.dataclass(frozen=True)
     class Options(pb.SolverOptions):
@@ -433,7 +434,7 @@ def test_modulus_that_looks_like_gpa_is_a_warning_not_an_error():
 def test_contact_point_on_long_straight_edges(order, shape):
     """A curved body touching a long flat one at (0.3, 0): the finder must not be fooled by
     the flat edge having no interior tessellation vertices, whichever body comes first."""
-    from solver.model.resolve import contact_frame as _contact_frame
+    from ibfem.solver.model.resolve import contact_frame as _contact_frame
 
     data = {"materials": [dict(STEEL)],
             "bodies": [{"name": "pin", "material": "steel", "element_size": 0.05, "shape": shape},
@@ -451,7 +452,7 @@ def test_contact_point_on_long_straight_edges(order, shape):
 def test_onshape_shape_goes_to_the_importer_with_its_path_resolved(tmp_path, monkeypatch):
     import types
 
-    from geometry.shapes import profile_from_shape
+    from ibfem.geometry.shapes import profile_from_shape
 
     seen = {}
 
@@ -459,10 +460,11 @@ def test_onshape_shape_goes_to_the_importer_with_its_path_resolved(tmp_path, mon
         seen.update(shape=dict(shape), where=where)
         return profile_from_shape({"type": "rectangle", "min": [0, 0], "max": [2, 1]})
 
-    fake = types.ModuleType("importers.onshape.profile")
+    fake = types.ModuleType("ibfem.importers.onshape.profile")
     fake.profile_from_shape = fake_profile_from_shape
-    monkeypatch.setitem(sys.modules, "importers.onshape.profile", fake)
-    import importers.onshape
+    monkeypatch.setitem(sys.modules, "ibfem.importers.onshape.profile", fake)
+    import ibfem.importers.onshape
+    from ibfem import importers
 
     monkeypatch.setattr(importers.onshape, "profile", fake, raising=False)
     data = plate()
@@ -480,7 +482,7 @@ def test_onshape_fixture_scene_with_a_relative_path(tmp_path):
     contact point found from the exact section curves is the touching point (0, 0)."""
     import os
 
-    from solver.model.resolve import contact_frame as _contact_frame
+    from ibfem.solver.model.resolve import contact_frame as _contact_frame
 
     fixture = ROOT / "fixtures" / "onshape" / "half_cylinder_on_block"
     if not (fixture / "bodydetails.json").exists():
@@ -496,7 +498,7 @@ def test_onshape_fixture_scene_with_a_relative_path(tmp_path):
                        {"name": "block", "material": "steel", "element_size": 0.005, "shape": shape("Block")}],
             "contacts": [{"bodies": ["cylinder", "block"], "type": "frictionless"}]}
     # find the edges by geometry: the cylinder's flat top and the block's bottom
-    from importers.onshape.profile import profile_from_shape as onshape_profile
+    from ibfem.importers.onshape.profile import profile_from_shape as onshape_profile
 
     cyl = onshape_profile({**shape("Half cylinder"), "path": str(fixture)})
     block = onshape_profile({**shape("Block"), "path": str(fixture)})
@@ -521,7 +523,7 @@ def test_onshape_fixture_scene_with_a_relative_path(tmp_path):
 
 
 def test_numerical_solver_options_reach_the_problem():
-    from solver.model.options import SolverOptions
+    from ibfem.solver.model.options import SolverOptions
 
     data = plate()
     data["solver"] = {"consistency": 0.5, "band_fraction": 0.05, "chord_tolerance": 1e-3}

@@ -10,7 +10,7 @@ import types
 import numpy as np
 import pytest
 
-from solver.io.scene import SceneError, load_scene
+from ibfem.solver.io.scene import SceneError, load_scene
 
 from _solids3d import HalfBall
 from _turned_box import TurnedBox
@@ -26,9 +26,9 @@ def solids(monkeypatch):
             return TurnedBox(hi - lo, shift=lo)
         raise ValueError(f"{where}.type = {shape['type']!r}: unknown")
 
-    fake = types.ModuleType("geometry.solids")
+    fake = types.ModuleType("ibfem.geometry.solids")
     fake.solid_from_dict = solid_from_dict
-    monkeypatch.setitem(sys.modules, "geometry.solids", fake)
+    monkeypatch.setitem(sys.modules, "ibfem.geometry.solids", fake)
 
 
 def _scene(levels=3):
@@ -80,7 +80,7 @@ def test_contact_point_found_as_the_closest_points(solids):
 
 
 def test_ibfem_run_writes_the_section_7_summary(solids, tmp_path):
-    from solver.cli import main
+    from ibfem.solver.cli import main
 
     path = tmp_path / "ball.json"
     path.write_text(json.dumps(_scene()))

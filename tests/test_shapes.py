@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from geometry.shapes import profile_from_shape
+from ibfem.geometry.shapes import profile_from_shape
 
 RNG = np.random.default_rng(11)
 

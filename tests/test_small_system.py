@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from solver.fem.linalg import SmallSystem
+from ibfem.solver.fem.linalg import SmallSystem
 
 
 def _system(m, active, symmetric, seed):

@@ -11,12 +11,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from geometry.quadrature import gauss_legendre
-from solver.fem.linalg import linear_solve
-from solver.fem.solid_space import discretise_solid
-from solver.fem.space import number_dofs
-from solver.fem.step_boundary import projector, thin_band_terms
-from solver.model.elasticity import elasticity_matrix, lame_parameters
+from ibfem.geometry.quadrature import gauss_legendre
+from ibfem.solver.fem.linalg import linear_solve
+from ibfem.solver.fem.solid_space import discretise_solid
+from ibfem.solver.fem.space import number_dofs
+from ibfem.solver.fem.step_boundary import projector, thin_band_terms
+from ibfem.solver.model.elasticity import elasticity_matrix, lame_parameters
 
 E, NU, P, A, B = 2.0e11, 0.3, 1.0e8, 1.0, 2.0
 
@@ -119,7 +119,7 @@ def test_volume_of_the_shell_octant_from_the_cut_cells():
 
 
 def test_a_3d_body_held_on_one_symmetry_face_only_can_move_rigidly():
-    from solver.fem.assembly import rigid_modes_check
+    from ibfem.solver.fem.assembly import rigid_modes_check
 
     lam, mu = lame_parameters(E, NU, "solid")
     body = discretise_solid("shell", ShellOctant(), (lam, mu), elasticity_matrix(lam, mu, 3), NU, 0.25)

@@ -5,10 +5,10 @@ split at the octree's planes integrates trilinear fields exactly on a turned pla
 import numpy as np
 import pytest
 
-from solver.fem.octree import build_octree
-from solver.fem.surface_quadrature import cell_split_quadrature
-from solver.model import problem as pb
-from solver.solve import solve
+from ibfem.solver.fem.octree import build_octree
+from ibfem.solver.fem.surface_quadrature import cell_split_quadrature
+from ibfem.solver.model import problem as pb
+from ibfem.solver.solve import solve
 
 from _turned_box import TurnedBox, rotation
 
@@ -67,7 +67,7 @@ def test_split_rule_integrates_a_trilinear_field_on_a_turned_face_exactly():
     cells = tree.locate(pts - 1e-12 * n)
     assert (cells >= 0).all()
     local = tree.local_coordinates(pts, cells)
-    from solver.fem.hexahedra import shape_functions
+    from ibfem.solver.fem.hexahedra import shape_functions
 
     shape, _ = shape_functions(local)
     interp = np.einsum("qa,qa->q", shape, f(tree.nodes[tree.cells[cells]].reshape(-1, 3)).reshape(-1, 8))

@@ -7,15 +7,15 @@ constant stress stays exact."""
 import numpy as np
 import pytest
 
-from solver.fem.aggregation import AGGREGATION_THRESHOLD, aggregate
-from solver.fem.assembly import boundary_terms
-from solver.fem.grid import RefinementZone
-from solver.fem.octree import build_octree
-from solver.fem.solid_space import discretise_solid
-from solver.fem.space import number_dofs
-from solver.model import problem as pb
-from solver.model.options import SolverOptions
-from solver.solve import solve
+from ibfem.solver.fem.aggregation import AGGREGATION_THRESHOLD, aggregate
+from ibfem.solver.fem.assembly import boundary_terms
+from ibfem.solver.fem.grid import RefinementZone
+from ibfem.solver.fem.octree import build_octree
+from ibfem.solver.fem.solid_space import discretise_solid
+from ibfem.solver.fem.space import number_dofs
+from ibfem.solver.model import problem as pb
+from ibfem.solver.model.options import SolverOptions
+from ibfem.solver.solve import solve
 
 from _conditioning import conditioning
 from _turned_box import TurnedBox, rotation

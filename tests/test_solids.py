@@ -1,4 +1,4 @@
-"""geometry.solids (SPEC section 7 shapes): every face's quadrature against the divergence
+"""ibfem.geometry.solids (SPEC section 7 shapes): every face's quadrature against the divergence
 theorem (volume = 1/3 sum x.n dA, exact volumes in closed form), signed distances against a
 brute force over dense samples of the exact faces, turning and moving, and input errors that
 name the key."""
@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from geometry.solids import solid_from_dict
+from ibfem.geometry.solids import solid_from_dict
 
 QUARTER_ANNULUS = {"type": "profile", "edges": [
     {"type": "line", "start": [1, 0], "end": [2, 0], "name": "equator"},

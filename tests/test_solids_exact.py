@@ -1,4 +1,4 @@
-"""geometry.solids, second part (issue 14 item 1): ellipsoids and half ellipsoids, full
+"""ibfem.geometry.solids, second part (issue 14 item 1): ellipsoids and half ellipsoids, full
 revolutions whose profile touches the axis, faces' closest points and curvatures, outward
 normals, points on edges and vertices, and the solid of a CAD part (Onshape fixtures).
 
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from geometry.solids import solid_from_dict
+from ibfem.geometry.solids import solid_from_dict
 
 QUARTER = math.sqrt(0.5)
 # a profile with a rational B-spline edge (an exact quarter circle of radius 1 about the origin)
@@ -191,7 +191,7 @@ def test_bad_shapes_name_the_key_and_value(shape, message):
 
 @pytest.fixture(scope="module")
 def cone_sphere():
-    importers = pytest.importorskip("importers.onshape")
+    importers = pytest.importorskip("ibfem.importers.onshape")
     return importers.load_part("fixtures/onshape/cone_sphere")
 
 

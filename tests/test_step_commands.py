@@ -15,13 +15,13 @@ import pytest
 pytest.importorskip("OCP")
 
 import test_step_support as S  # noqa: E402
-from importers.step import StepFormatError, StepUnavailableError, load_part  # noqa: E402
-from solver.cli import main  # noqa: E402
+from ibfem.importers.step import StepFormatError, StepUnavailableError, load_part  # noqa: E402
+from ibfem.solver.cli import main  # noqa: E402
 
 
 @pytest.fixture(scope="module")
 def d(tmp_path_factory):
-    from importers.step.reader import _quiet_messenger
+    from ibfem.importers.step.reader import _quiet_messenger
 
     _quiet_messenger()
     out = tmp_path_factory.mktemp("stepcmd")
@@ -131,7 +131,7 @@ def test_without_ocp_the_error_names_the_extra(d, monkeypatch, capsys):
 
 
 def test_scene_with_a_step_face_profile(d):
-    from solver.io.scene import load_scene
+    from ibfem.solver.io.scene import load_scene
 
     scene = {"name": "disk", "model": "plane_stress", "thickness": 1.0,
              "materials": [{"name": "steel", "youngs_modulus": 2e11, "poissons_ratio": 0.3}],
@@ -147,8 +147,8 @@ def test_scene_with_a_step_face_profile(d):
 
 
 def test_scene_with_a_step_section_and_a_solid(d):
-    from geometry.solids import PartSolid
-    from importers.step.profile import profile_from_shape
+    from ibfem.geometry.solids import PartSolid
+    from ibfem.importers.step.profile import profile_from_shape
 
     prof = profile_from_shape({"type": "step", "path": str(d / "prism.step"),
                                "section": {"origin": [0, 0, 0.005], "normal": [0, 0, 1]}})
@@ -176,8 +176,8 @@ def test_scene_with_a_step_section_and_a_solid(d):
 def test_names_in_the_file_name_bodies_and_faces(d, tmp_path):
     """MANIFOLD_SOLID_BREP('roller', ...) names the body, ADVANCED_FACE('flat end', ...) the face;
     the scene shape takes the face by its name."""
-    from geometry.solids import PartSolid
-    from importers.step.profile import profile_from_shape
+    from ibfem.geometry.solids import PartSolid
+    from ibfem.importers.step.profile import profile_from_shape
 
     text = (d / "cylinder.step").read_text()
     assert text.count("MANIFOLD_SOLID_BREP('',") == 1

@@ -13,15 +13,15 @@ import pytest
 pytest.importorskip("OCP")
 
 import test_step_support as S  # noqa: E402
-from geometry.verify import verify_projection  # noqa: E402
-from importers.step import load_part  # noqa: E402
+from ibfem.geometry.verify import verify_projection  # noqa: E402
+from ibfem.importers.step import load_part  # noqa: E402
 
 REL = 1e-12
 
 
 @pytest.fixture(scope="module")
 def shapes():
-    from importers.step.reader import _quiet_messenger
+    from ibfem.importers.step.reader import _quiet_messenger
 
     _quiet_messenger()
     return S.primitives()
@@ -159,7 +159,7 @@ def test_volumes_and_areas_against_closed_forms(parts, files):
     a, b, c = (x * S.MM for x in S.BOX)
     exact = S.rounded_box_volume(a, b, c, S.FILLET * S.MM)
     assert volume(parts["fillet"]) == pytest.approx(exact, rel=3 * parts["fillet"].metadata["tolerance"] / 3e-3)
-    from importers.step.profile import profile_from_shape
+    from ibfem.importers.step.profile import profile_from_shape
 
     prof = profile_from_shape({"type": "step", "path": str(files["cylinder"]), "face": "F2"})
     assert prof.area == pytest.approx(math.pi * (S.CYLINDER["radius"] * S.MM) ** 2, rel=1e-12)

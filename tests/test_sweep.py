@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-import geometry
-from geometry import primitive_from_dict
-from geometry.sweep import Sweep
+from ibfem import geometry
+from ibfem.geometry import primitive_from_dict
+from ibfem.geometry.sweep import Sweep
 
 RNG = np.random.default_rng(7)
 W = np.sqrt(0.5)

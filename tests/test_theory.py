@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from solver.reference import theory as th
+from ibfem.solver.reference import theory as th
 
 E, NU = 2.0e11, 0.3
 E_STAR = th.effective_modulus(E, NU, E, NU)
@@ -354,11 +354,12 @@ def test_every_validation_scene_is_present():
 
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_scene_loads_and_has_the_stated_geometry(name):
-    scene_mod = pytest.importorskip("solver.io.scene")
+    scene_mod = pytest.importorskip("ibfem.solver.io.scene")
     try:
-        import geometry.shapes  # noqa: F401  (the loader builds profiles with it)
+        import ibfem.geometry.shapes  # noqa: F401  (the loader builds profiles with it)
+        from ibfem import geometry
     except ImportError:
-        pytest.skip("geometry.shapes not available yet")
+        pytest.skip("ibfem.geometry.shapes not available yet")
     path = EXAMPLES / f"{name}.toml"
     scene = scene_mod.load_scene(path)
     raw = tomllib.loads(path.read_text())
@@ -404,7 +405,7 @@ def test_scene_loads_and_has_the_stated_geometry(name):
 
 
 def test_lame_sphere_satisfies_equilibrium_and_the_boundary_pressures():
-    from solver.reference.theory import lame_sphere
+    from ibfem.solver.reference.theory import lame_sphere
 
     r = np.linspace(1.0, 2.0, 2001)
     u, srr, stt = lame_sphere(r, 1.0, 2.0, 1e8, 2e11, 0.3)
@@ -417,14 +418,14 @@ def test_lame_sphere_satisfies_equilibrium_and_the_boundary_pressures():
 
 
 def test_goodier_concentration_of_a_spherical_cavity():
-    from solver.reference.theory import goodier_concentration
+    from ibfem.solver.reference.theory import goodier_concentration
 
     assert goodier_concentration(0.3) == pytest.approx(45.0 / 22.0)  # 2.045
     assert goodier_concentration(0.0) == pytest.approx(27.0 / 14.0)
 
 
 def test_hertz_elliptic_contact_circular_limit_and_johnsons_approximation():
-    from solver.reference.theory import hertz_elliptic_contact, hertz_sphere_radius
+    from ibfem.solver.reference.theory import hertz_elliptic_contact, hertz_sphere_radius
 
     a, b, p0 = hertz_elliptic_contact(1e4, (100.0, 100.0), 1e11)
     assert a == b == pytest.approx(hertz_sphere_radius(1e4, 0.01, 1e11))
@@ -440,7 +441,7 @@ def test_hertz_sphere_axis_shear_peak_is_johnsons():
     # Johnson, Contact Mechanics 3.4: on the axis the largest shear stress (sigma_r - sigma_z) / 2
     # peaks at 0.31 p0 at z = 0.48 a (nu = 0.3); at the surface sigma_z = -p0 and
     # sigma_r = -(1 + 2 nu) p0 / 2
-    from solver.reference.theory import hertz_sphere_axis_stress
+    from ibfem.solver.reference.theory import hertz_sphere_axis_stress
 
     z = np.linspace(0.0, 3.0, 30001)
     sr, sz = hertz_sphere_axis_stress(z, 1.0, 1.0, 0.3)

@@ -5,9 +5,9 @@ exact touching geometry), not body 2's normal at the given point."""
 import numpy as np
 import pytest
 
-from geometry.solids import solid_from_dict
-from solver.contact.ellipse_geometry import contact_frame_3d
-from solver.contact.touching3d import touching_frame_3d
+from ibfem.geometry.solids import solid_from_dict
+from ibfem.solver.contact.ellipse_geometry import contact_frame_3d
+from ibfem.solver.contact.touching3d import touching_frame_3d
 
 
 def _half_ball(centre_z, below, radius=1.0, angle=360):

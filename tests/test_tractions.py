@@ -11,8 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from solver.contact import tractions as T
-from solver.reference import theory
+from ibfem.solver.contact import tractions as T
+from ibfem.solver.reference import theory
 
 from _contact_scenes import cylinder_on_block
 
@@ -100,7 +100,7 @@ def test_tension_is_not_reported():
 
 @pytest.fixture(scope="module")
 def turned_frictionless():
-    from solver.solve import solve
+    from ibfem.solver.solve import solve
 
     problem = cylinder_on_block("frictionless", turn=25.0)
     return solve(problem)
@@ -133,7 +133,7 @@ def test_reported_pressure_of_a_turned_scene_against_hertz(turned_frictionless):
 
 
 def test_reported_shear_of_a_turned_partial_slip_against_cattaneo_mindlin():
-    from solver.solve import solve
+    from ibfem.solver.solve import solve
 
     sol = solve(cylinder_on_block("frictional", ux=4.1e-4, turn=25.0, friction=0.3))
     c = sol.contacts[0]
@@ -150,7 +150,7 @@ def test_reported_shear_of_a_turned_partial_slip_against_cattaneo_mindlin():
 
 
 def test_plots_know_when_a_contact_is_hertzian(turned_frictionless):
-    from solver.io.plots import hertz_reference
+    from ibfem.solver.io.plots import hertz_reference
 
     c = turned_frictionless.contacts[0]
     ref = hertz_reference(turned_frictionless.problem, c)

@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from geometry import Face, Part, primitive_from_dict
-from geometry.verify import angle_between, verify_projection
+from ibfem.geometry import Face, Part, primitive_from_dict
+from ibfem.geometry.verify import angle_between, verify_projection
 from test_onshape_support import STUDIOS, cached_part, missing_primitives
 
 POSITION_TOL, NORMAL_TOL = 1e-12, 1e-9

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.reference.theory import cattaneo_mindlin_stick_ratio
+from ibfem.solver.reference.theory import cattaneo_mindlin_stick_ratio
 
 
 def read(out: Path) -> list[dict]:

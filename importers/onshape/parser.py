@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 from pydantic import TypeAdapter, ValidationError
 
-from geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
+from ibfem.geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
 
 from .. import OnshapeFormatError
 from . import models as M
@@ -314,7 +314,7 @@ class _Unavailable(Exception):
 
 
 def _build(d: dict, path: str):
-    from geometry._base import _REGISTRY
+    from ibfem.geometry._base import _REGISTRY
 
     if d["type"] not in _REGISTRY or (d["type"] == "sweep" and d["profile"]["type"] not in _REGISTRY):
         raise _Unavailable(d["type"])

@@ -11,8 +11,8 @@ import os
 from functools import lru_cache
 from pathlib import Path
 
-from geometry import Part
-from geometry.profile import Profile
+from ibfem.geometry import Part
+from ibfem.geometry.profile import Profile
 
 from ..part_profile import SHAPE_KEYS, face_profile, plane_frame, profile_from_part_shape, section_profile
 

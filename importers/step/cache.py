@@ -18,7 +18,7 @@ from typing import Any, Optional
 import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
+from ibfem.geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
 
 from .errors import StepFormatError
 

@@ -6,7 +6,7 @@ import math
 import time
 from pathlib import Path
 
-from geometry import Part
+from ibfem.geometry import Part
 
 from .errors import StepFormatError
 

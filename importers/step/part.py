@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
+from ibfem.geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
 
 from .curves import edge_curve, edge_polyline
 from .surfaces import surface_dict

@@ -15,8 +15,8 @@ import os
 from functools import lru_cache
 from pathlib import Path
 
-from geometry import Part
-from geometry.profile import Profile
+from ibfem.geometry import Part
+from ibfem.geometry.profile import Profile
 
 from ..part_profile import SHAPE_KEYS, profile_from_part_shape
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from geometry.chord_walk import first_crossing, walk_distances
+from ibfem.geometry.chord_walk import first_crossing, walk_distances
 
 from ..fem.integration import curve_gauss
 from ..model.resolve import refined_maximum

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from geometry.quadrature import gauss_legendre
+from ibfem.geometry.quadrature import gauss_legendre
 
 from .octree import CORNERS
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geometry.quadrature import gauss_legendre
+from ibfem.geometry.quadrature import gauss_legendre
 
 __all__ = [
     "REFERENCE_NODES",

@@ -74,19 +74,21 @@ def _kernels():
 
 
 def _lower(k: sp.spmatrix, where: np.ndarray, fmt: str):
-    """The lower triangle of P K P^T (``where[old] = new``) as int64-indexed CSC or CSR."""
+    """The lower triangle of P (K + K^T)/2 P^T (``where[old] = new``) as int64-indexed CSC or CSR.
+
+    Assembled stiffness matrices are symmetric only to round-off: a coupling that cancels to
+    3.7e-9 on one side may be absent on the other. The symbolic phase reads the lower triangle
+    in one numbering and the numeric phase in another (the postorder), so both must see one
+    structurally symmetric matrix: every entry is folded onto the lower triangle with half its
+    weight (the diagonal whole), which factors K's symmetric part."""
     coo = k.tocoo()
     r, c = where[coo.row], where[coo.col]
-    keep = r >= c
+    data = np.where(r == c, coo.data, 0.5 * coo.data)
+    r, c = np.maximum(r, c), np.minimum(r, c)
     shape = k.shape
-    if fmt == "csr":
-        out = sp.csr_matrix((coo.data[keep], (r[keep], c[keep])), shape=shape)
-        ptr, ind = out.indptr, out.indices
-    else:
-        out = sp.csc_matrix((coo.data[keep], (r[keep], c[keep])), shape=shape)
-        out.sum_duplicates()
-        ptr, ind = out.indptr, out.indices
-    return ptr.astype(np.int64), ind.astype(np.int64), out.data.astype(np.float64)
+    out = (sp.csr_matrix if fmt == "csr" else sp.csc_matrix)((data, (r, c)), shape=shape)
+    out.sum_duplicates()
+    return out.indptr.astype(np.int64), out.indices.astype(np.int64), out.data.astype(np.float64)
 
 
 class CholeskyFactor:

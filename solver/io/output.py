@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
-from solver.model import problem as pb
+from ibfem.solver.model import problem as pb
 
 from .results import build_summary, write_summary, write_vtu
 

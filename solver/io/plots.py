@@ -11,7 +11,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from solver.model import problem as pb
+from ibfem.solver.model import problem as pb
 
 from .results import _body_mesh, _file_stem, json_safe
 
@@ -173,7 +173,7 @@ def hertz_reference(problem: pb.Problem, c: Mapping[str, Any]) -> dict | None:
     """Hertz (and, frictional, Cattaneo-Mindlin) for the computed forces of a contact block when
     the contact is Hertzian: both radii of curvature known at the contact point, a convex pair
     (k1 + k2 > 0), a compressive force. Returns a, p0, R*, E* and the stick ratio, or None."""
-    from solver.reference import theory
+    from ibfem.solver.reference import theory
 
     try:
         b1, b2 = (problem.body(n) for n in c["bodies"])
@@ -198,7 +198,7 @@ def hertz_reference(problem: pb.Problem, c: Mapping[str, Any]) -> dict | None:
 
 
 def _reference_curves(ax, ref: dict, s: np.ndarray) -> None:
-    from solver.reference import theory
+    from ibfem.solver.reference import theory
 
     x = np.linspace(min(s.min(), -1.3 * ref["a"]), max(s.max(), 1.3 * ref["a"]), 600)
     ax.plot(x, theory.hertz_pressure(x, ref["a"], ref["p0"]), "k--", lw=1.2,

@@ -10,7 +10,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from solver.model import problem as pb
+from ibfem.solver.model import problem as pb
 
 __all__ = ["write_solid_plots", "section_grid"]
 
@@ -60,7 +60,7 @@ def _hertz(problem: pb.Problem, c: Mapping[str, Any]):
     """Hertz's semi-axes and p0 for the computed force of the whole contact (the model's force over
     its share: a quarter model carries a quarter), when both bodies' moduli and the relative
     curvatures are known (None otherwise)."""
-    from solver.reference.theory import hertz_elliptic_contact
+    from ibfem.solver.reference.theory import hertz_elliptic_contact
 
     curv = c.get("relative_curvatures")
     if not curv or min(curv) <= 0 or not c.get("normal_force"):

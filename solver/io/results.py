@@ -15,8 +15,8 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
-from solver.model import problem as pb
-from solver.model.elasticity import von_mises
+from ibfem.solver.model import problem as pb
+from ibfem.solver.model.elasticity import von_mises
 
 __all__ = [
     "von_mises",

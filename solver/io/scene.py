@@ -43,12 +43,12 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
-from solver.model import problem as pb
-from solver.model.problem import MAX_REFINEMENT_LEVELS
-from solver.model.options import ContactOptions, OptionError, SolverOptions
-from solver.model.resolve import (CONTACT_SEARCH_SPACING, boundary_gap, contact_frame, contact_point,
+from ibfem.solver.model import problem as pb
+from ibfem.solver.model.problem import MAX_REFINEMENT_LEVELS
+from ibfem.solver.model.options import ContactOptions, OptionError, SolverOptions
+from ibfem.solver.model.resolve import (CONTACT_SEARCH_SPACING, boundary_gap, contact_frame, contact_point,
                                   corner_distance, finest_size_at, resolve_problem)
-from solver.model.rigid import rigid_body_modes
+from ibfem.solver.model.rigid import rigid_body_modes
 
 __all__ = [
     "SceneError",
@@ -682,7 +682,7 @@ def _build_profiles(spec: SceneSpec, label: str, base_dir: Path) -> dict[str, An
 
 #: 2D shape types read by an importer (imported only when a scene uses them) -> its module,
 #: which provides ``profile_from_shape(shape, where=...)``
-IMPORTED_SHAPES = {"onshape": "importers.onshape.profile", "step": "importers.step.profile"}
+IMPORTED_SHAPES = {"onshape": "ibfem.importers.onshape.profile", "step": "ibfem.importers.step.profile"}
 
 
 def _profile(shape: dict[str, Any], base_dir: Path, where: str = "shape") -> Any:
@@ -706,7 +706,7 @@ def _profile(shape: dict[str, Any], base_dir: Path, where: str = "shape") -> Any
         if "where" in inspect.signature(build).parameters:
             return build(shape, where=where)
         return build(shape)
-    from geometry.shapes import profile_from_shape
+    from ibfem.geometry.shapes import profile_from_shape
 
     return profile_from_shape(shape, where=where)
 
@@ -870,7 +870,7 @@ def _check_geometry(spec: SceneSpec, problem: pb.Problem, label: str) -> None:
 def size_problems(problem: pb.Problem, label: str) -> list[str]:
     """The grid must fit in the machine's memory (estimated before anything is built:
     solver.model.estimate); the message says how much it would need."""
-    from solver.model.estimate import available_memory, estimate_size
+    from ibfem.solver.model.estimate import available_memory, estimate_size
 
     size = estimate_size(problem)
     have = available_memory()

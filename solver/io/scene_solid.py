@@ -15,10 +15,10 @@ from typing import Annotated, Any, Literal, Union
 from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, field_validator
 from pydantic_core import PydanticCustomError
 
-from solver.model import problem as pb
-from solver.model.options import ContactOptions, SolverOptions
-from solver.model.solid_contact import SolidContactModel
-from solver.model.resolve import resolve_problem
+from ibfem.solver.model import problem as pb
+from ibfem.solver.model.options import ContactOptions, SolverOptions
+from ibfem.solver.model.solid_contact import SolidContactModel
+from ibfem.solver.model.resolve import resolve_problem
 
 from .scene import (
     SCENE_MODELS,
@@ -177,7 +177,7 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
 
 def _build_solids(spec: SolidSceneSpec, label: str, base_dir: Path) -> dict[str, Any]:
     try:
-        from geometry.solids import solid_from_dict
+        from ibfem.geometry.solids import solid_from_dict
     except ImportError as err:  # pragma: no cover - part of the package
         raise SceneError([f"{label}: 3D solids need geometry.solids: {err}"]) from None
     problems, solids = [], {}
@@ -198,7 +198,7 @@ def _build_solids(spec: SolidSceneSpec, label: str, base_dir: Path) -> dict[str,
 
 
 #: the importer of each CAD shape type (imported when a scene uses it): module, function
-CAD_LOADERS = {"onshape": ("importers.onshape", "load_part"), "step": ("importers.step", "load_part")}
+CAD_LOADERS = {"onshape": ("ibfem.importers.onshape", "load_part"), "step": ("ibfem.importers.step", "load_part")}
 
 
 def _load_part(shape: dict):
@@ -298,7 +298,7 @@ def _contact(c, k: int, solids: dict[str, Any], bodies, label: str) -> SolidCont
     (alternating exact projections from the middle of their nearest bounding-box corners)."""
     import numpy as np
 
-    from solver.contact.ellipse_geometry import closest_on
+    from ibfem.solver.contact.ellipse_geometry import closest_on
 
     options = _options(ContactOptions, c, f"contacts[{k}]", label)
     first, second = solids[c.bodies[0]], solids[c.bodies[1]]

@@ -14,7 +14,7 @@ from typing import Literal, Protocol
 
 import numpy as np
 
-from geometry.profile import Profile
+from ibfem.geometry.profile import Profile
 
 from .elasticity import Model, dimension, elasticity_matrix, lame_parameters
 from .options import ContactOptions, SolverOptions

@@ -26,14 +26,14 @@ SOLID_SCENE = ROOT / "examples" / "solid" / "onshape_ball_on_block.toml"
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m solver.reports.demo", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m ibfem.solver.reports.demo", description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default="out/demo", help="output directory (default out/demo)")
     parser.add_argument("--no-3d", action="store_true", help="skip the 3D part (about ten seconds)")
     args = parser.parse_args(argv)
     out = Path(args.out)
 
-    from geometry.verify import verify_projection
-    from importers.onshape import load_part
+    from ibfem.geometry.verify import verify_projection
+    from ibfem.importers.onshape import load_part
 
     print(f"1. Onshape part studio (cached): {FIXTURE.relative_to(ROOT)}")
     part = load_part(FIXTURE)
@@ -44,11 +44,11 @@ def main(argv: list[str] | None = None) -> int:
         f" projection of tessellated vertices: max position error {report['max_error']:.2e} m"
     )
 
-    from solver.reference import theory
-    from solver.solve import solve
-    from solver.io.output import write_scene_results
-    from solver.io.scene import SceneError, load_scene
-    from solver.reports.validate import effective_properties
+    from ibfem.solver.reference import theory
+    from ibfem.solver.solve import solve
+    from ibfem.solver.io.output import write_scene_results
+    from ibfem.solver.io.scene import SceneError, load_scene
+    from ibfem.solver.reports.validate import effective_properties
 
     print(f"2. Contact scene: {SCENE.relative_to(ROOT)}")
     try:
@@ -80,10 +80,10 @@ def main(argv: list[str] | None = None) -> int:
 
 def solid_demo(out: Path) -> bool:
     """The 3D part: a cached Onshape solid on a block against Hertz; whether it converged."""
-    from solver.io.output import write_scene_results
-    from solver.io.scene import load_scene
-    from solver.reports.validate_solid import centre_pressure, circular_reference
-    from solver.solve import solve
+    from ibfem.solver.io.output import write_scene_results
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.reports.validate_solid import centre_pressure, circular_reference
+    from ibfem.solver.solve import solve
 
     print(f"4. 3D contact of a CAD solid: {SOLID_SCENE.relative_to(ROOT)} (about ten seconds)")
     scene = load_scene(SOLID_SCENE)

@@ -6,7 +6,7 @@ references of :mod:`solver.reference.theory` *for the forces the solver computed
 Hertz, c/a with Cattaneo-Mindlin, the pressure and shear sampled on the exact contact curve, and
 the subsurface von Mises stress on the ``subsurface`` line with McEwen's field.
 
-Usage: ``python -m solver.reports.validate [--quick] [--only NAME ...] [--report PATH]``.
+Usage: ``python -m ibfem.solver.reports.validate [--quick] [--only NAME ...] [--report PATH]``.
 ``--quick`` skips the load and grid sweeps of example 2.
 """
 
@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from solver.reference import theory
-from solver.reference.converged import vm_peak_for_force
+from ibfem.solver.reference import theory
+from ibfem.solver.reference.converged import vm_peak_for_force
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
@@ -74,9 +74,9 @@ class Result:
 
 def run_scene_data(data: dict, label: str, out_dir: Path, base_dir: Path = EXAMPLES) -> tuple[Any, Any, dict]:
     """Validate, solve and write one scene given as a dict; returns (scene, solution, summary)."""
-    from solver.solve import solve
-    from solver.io.output import write_scene_results
-    from solver.io.scene import scene_from_dict
+    from ibfem.solver.solve import solve
+    from ibfem.solver.io.output import write_scene_results
+    from ibfem.solver.io.scene import scene_from_dict
 
     t0 = time.perf_counter()
     scene = scene_from_dict(data, label=label, base_dir=base_dir)
@@ -267,7 +267,7 @@ def validate_scene(path: Path, out_root: Path, fig_dir: Path) -> Result:
 
 def _sweep_engine():
     """The embedded Dask cluster when the ``sweep`` extra is installed, else one case at a time."""
-    from solver.sweep.engine import EngineOptions
+    from ibfem.solver.sweep.engine import EngineOptions
 
     try:
         import distributed  # noqa: F401
@@ -279,9 +279,9 @@ def _sweep_engine():
 def run_example_sweep(name: str, out_root: Path) -> list[tuple[dict, dict]]:
     """Run ``examples/sweeps/<name>.toml`` through the sweep module (``ibfem sweep``; earlier
     results removed first) and compare each case's contact with theory: (parameters, metrics)."""
-    from solver.io.scene import scene_from_dict
-    from solver.sweep.run import run_sweep
-    from solver.sweep.spec import load_sweep
+    from ibfem.solver.io.scene import scene_from_dict
+    from ibfem.solver.sweep.run import run_sweep
+    from ibfem.solver.sweep.spec import load_sweep
 
     sweep = load_sweep(SWEEPS / f"{name}.toml")
     out = out_root / "sweeps" / name
@@ -438,7 +438,7 @@ def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir
     lines = [
         "# Validation report",
         "",
-        "Written by `make validate` (`python -m solver.reports.validate`): every scene of SPEC section 5 in",
+        "Written by `make validate` (`python -m ibfem.solver.reports.validate`): every scene of SPEC section 5 in",
         "`examples/`, solved as it is, compared with theory for the forces the solver computed",
         "(`solver/reference/theory.py`). Acceptance (issues 5, 6 and 13): a within 2 % of Hertz, c/a within",
         "0.02 of Cattaneo-Mindlin, pressure RMS within 2 % of p0 inside 0.9 a and no reported pressure",
@@ -461,7 +461,7 @@ def write_report(results: list[Result], sweeps: dict | None, path: Path, fig_dir
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m solver.reports.validate", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="python -m ibfem.solver.reports.validate", description=__doc__.split("\n\n")[0])
     parser.add_argument("--quick", action="store_true", help="skip the load and grid sweeps of example 2")
     parser.add_argument("--only", nargs="*", default=None, help="scene names (file stems) to run")
     parser.add_argument("--report", default=str(ROOT / "docs" / "validation.md"), help="report path")

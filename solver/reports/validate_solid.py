@@ -20,7 +20,7 @@ them with theory; writes ``docs/validation-solid.md`` and copies each scene's pi
 - ``sphere_on_flat_partial_slip`` (half model, mu 0.3): c/a against Mindlin's
   (1 - |Q| / (mu N))^(1/3) (0.01), the shear along the slip against Cattaneo-Mindlin (RMS 5 % of mu p0).
 
-Usage: ``python -m solver.reports.validate_solid [--only NAME ...] [--report PATH]``.
+Usage: ``python -m ibfem.solver.reports.validate_solid [--only NAME ...] [--report PATH]``.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from solver.reference import theory
+from ibfem.solver.reference import theory
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples" / "solid"
@@ -52,9 +52,9 @@ TURNED_TOL = 0.005  # a, N, p0 of a turned scene against the upright one on the 
 
 
 def _run(name: str, out_root: Path) -> tuple[object, dict, float]:
-    from solver.io.output import write_results
-    from solver.io.scene import load_scene
-    from solver.solve import solve
+    from ibfem.solver.io.output import write_results
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.solve import solve
 
     scene = load_scene(EXAMPLES / f"{name}.toml")
     t = time.perf_counter()
@@ -239,8 +239,8 @@ def upright_on_same_grid(turned_scene, offset=None) -> dict:
     its grid shifted by ``offset`` (fractions of the coarse cell) when given."""
     import tomllib
 
-    from solver.io.scene import scene_from_dict
-    from solver.solve import solve
+    from ibfem.solver.io.scene import scene_from_dict
+    from ibfem.solver.solve import solve
 
     data = tomllib.loads((EXAMPLES / "sphere_on_flat.toml").read_text(encoding="utf-8"))
     zone = turned_scene.problem.bodies[0].refinements[0]
@@ -328,7 +328,7 @@ def scene_rows(name: str, scene, summary: dict) -> tuple[list[str], bool]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m solver.reports.validate_solid", description=__doc__.split("\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m ibfem.solver.reports.validate_solid", description=__doc__.split("\n")[0])
     ap.add_argument("--only", nargs="*", default=None, help=f"scene names (default: {' '.join(SCENES)})")
     ap.add_argument("--report", default=str(ROOT / "docs" / "validation-solid.md"))
     args = ap.parse_args(argv)
@@ -337,7 +337,7 @@ def main(argv: list[str] | None = None) -> int:
     fig_dir = ROOT / "docs" / "validation" / "solid"
     fig_dir.mkdir(parents=True, exist_ok=True)
     lines = ["# Validation in 3D (SPEC section 7)", "",
-             "Written by `make validate` (`python -m solver.reports.validate_solid`); scenes in `examples/solid/`.", ""]
+             "Written by `make validate` (`python -m ibfem.solver.reports.validate_solid`); scenes in `examples/solid/`.", ""]
     all_ok = True
     for name in names:
         scene, summary, elapsed = _run(name, out_root)

@@ -66,7 +66,7 @@ def case_scene(base: dict, params: dict[str, Any]) -> dict:
 def build_cases(sweep: Sweep, validate: bool = True) -> list[Case]:
     """Every case with its scene data; with ``validate`` each scene goes through the scene
     loader and a case that fails is marked ``invalid`` with the loader's message."""
-    from solver.io.scene import SceneError, scene_from_dict
+    from ibfem.solver.io.scene import SceneError, scene_from_dict
 
     cases, seen = [], {}
     for i, params in enumerate(expand(sweep)):

@@ -90,7 +90,7 @@ def start_fork_server() -> bool:
 
     with dask.config.set({"distributed.worker.multiprocessing-method": "forkserver"}):
         ctx = get_mp_context()  # Dask's preload list, set once per process ...
-    ctx.set_forkserver_preload(["solver.sweep._forkserver"])  # ... replaced by ours before the server starts
+    ctx.set_forkserver_preload(["ibfem.solver.sweep._forkserver"])  # ... replaced by ours before the server starts
     saved = {k: os.environ.get(k) for k in _FORK_ENV}
     os.environ.update(_FORK_ENV)
     try:

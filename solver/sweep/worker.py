@@ -4,7 +4,7 @@
 ``--serial``). The case travels as data (scene dict, and the files its shapes read); the
 result travels back as data (status, message, summary and the files of the case's result
 directory), so workers need no disk shared with the driver. With a time limit the case runs
-in a child process (``python -m solver.sweep.worker DIR``) that is killed when the limit
+in a child process (``python -m ibfem.solver.sweep.worker DIR``) that is killed when the limit
 passes; a child killed by a signal (the kernel's out-of-memory killer, a crash) is a ``killed``
 case and the worker lives on.
 """
@@ -79,7 +79,7 @@ def _load_factor_kernels() -> None:
     import numpy as np
     import scipy.sparse as sp
 
-    from solver.fem import multifrontal
+    from ibfem.solver.fem import multifrontal
 
     if not multifrontal.available():
         return
@@ -121,9 +121,9 @@ def _first_line(err: BaseException) -> str:
 
 def solve_case(scene_data: dict, label: str, base_dir: Path, out: Path) -> tuple[str, str, dict | None]:
     """Validate, solve and write one case: (status, message, summary)."""
-    from solver.io.output import write_scene_results
-    from solver.io.scene import SceneError, scene_from_dict
-    from solver.solve import solve
+    from ibfem.solver.io.output import write_scene_results
+    from ibfem.solver.io.scene import SceneError, scene_from_dict
+    from ibfem.solver.solve import solve
 
     t0 = time.perf_counter()
     try:
@@ -172,7 +172,7 @@ def _in_child(payload: dict, timeout: float) -> dict:
         with open(Path(tmp) / "payload.pkl", "wb") as f:
             pickle.dump(payload, f)
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
-        child = subprocess.Popen([sys.executable, "-m", "solver.sweep.worker", tmp], env=env,
+        child = subprocess.Popen([sys.executable, "-m", "ibfem.solver.sweep.worker", tmp], env=env,
                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         try:
             _, err = child.communicate(timeout=timeout)
@@ -211,7 +211,7 @@ def run_case(payload: dict) -> dict[str, Any]:
 
 
 def _child_main(directory: str) -> int:
-    """``python -m solver.sweep.worker DIR``: run DIR/payload.pkl, write DIR/result.pkl."""
+    """``python -m ibfem.solver.sweep.worker DIR``: run DIR/payload.pkl, write DIR/result.pkl."""
     d = Path(directory)
     with open(d / "payload.pkl", "rb") as f:
         payload = pickle.load(f)

@@ -21,7 +21,7 @@ CHECK_SECONDS = 30.0
 
 def run_cli(argv: list[str]) -> tuple[int | str, str, str, float]:
     """``ibfem`` in this process: (exit code or the escaped exception, stdout, stderr, seconds)."""
-    from solver.cli import main
+    from ibfem.solver.cli import main
 
     out, err = io.StringIO(), io.StringIO()
     t0 = time.perf_counter()
@@ -71,8 +71,8 @@ def check_scene_file(path: Path, allowed=(0, 2)) -> list[str]:
 def check_part_directory(directory: Path, verify: bool) -> list[str]:
     """load_part raises only OnshapeFormatError; ``ibfem verify --json`` exits 0, 1 or 2 and
     prints strict JSON."""
-    from importers import OnshapeFormatError
-    from importers.onshape.parser import load_part
+    from ibfem.importers import OnshapeFormatError
+    from ibfem.importers.onshape.parser import load_part
 
     problems = []
     try:
@@ -109,7 +109,7 @@ def run_scene(path: Path, out: Path, timeout: float) -> tuple[list[str], dict | 
     problems: list[str] = []
     env = dict(os.environ, MPLBACKEND="Agg", OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
     try:
-        r = subprocess.run([sys.executable, "-m", "solver.cli", "run", str(path), "--quiet", "--out", str(out)],
+        r = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(path), "--quiet", "--out", str(out)],
                            capture_output=True, text=True, timeout=timeout, env=env, preexec_fn=_limit_memory)
     except subprocess.TimeoutExpired:
         return [f"run timed out after {timeout:.0f} s"], None

@@ -49,8 +49,8 @@ odd_arrays = st.sampled_from([
 
 
 def _build(kind, d):
-    from geometry import primitive_from_dict
-    from geometry.shapes import profile_from_shape
+    from ibfem.geometry import primitive_from_dict
+    from ibfem.geometry.shapes import profile_from_shape
 
     return primitive_from_dict(d) if kind == "primitive" else profile_from_shape(d)
 
@@ -159,7 +159,7 @@ def test_fuzz_long_geometry(findings):
 
 def test_geometry_oracle_sees_a_wrong_sign():
     """The oracle itself: a profile whose phi is +inf far away is reported (class 10)."""
-    from geometry.shapes import profile_from_shape
+    from ibfem.geometry.shapes import profile_from_shape
 
     class Broken:
         def __init__(self):
