@@ -17,12 +17,12 @@ from .bspline import *  # noqa: F401,F403  bspline_curve, bspline_surface
 from .sweep import *  # noqa: F401,F403
 from .bounded import *  # noqa: F401,F403  2D segments, arcs, elliptic arcs, B-spline pieces
 from .profile import *  # noqa: F401,F403  closed 2D profiles
-from .shapes import *  # noqa: F401,F403  SPEC section 4 shapes -> profiles
+from .shapes import *  # noqa: F401,F403  scene-file 2D shapes -> profiles
 from .verify import *  # noqa: F401,F403  verify_projection
 
 __version__ = "0.1.0"
 
-#: names of geometry.solids (SPEC section 7 solids) reachable from the package, imported on first use
+#: names of geometry.solids (the 3D shapes of a scene) reachable from the package, imported on first use
 _SOLIDS = ("solid_from_dict", "PartSolid", "SOLID_TYPES")
 
 

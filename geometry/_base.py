@@ -41,7 +41,7 @@ MAX_COORDINATE = 1e100
 class Projection:
     """Closest points on a primitive, the unit normals there, and signed distances.
 
-    ``distances`` are signed Euclidean distances (SPEC section 2):
+    ``distances`` are signed Euclidean distances:
     ``|distances[i]| == |p_i - points[i]|``, with the sign of ``(p_i - points[i]) . normals[i]``
     (the two agree where the foot is interior to a surface; they differ for a curve in 3D off
     its plane and where the foot lies on the boundary of a bounded patch). Arrays have the
@@ -59,7 +59,7 @@ class Projection:
 class Primitive(ABC):
     """An exact, immutable CAD primitive.
 
-    Subclasses are frozen dataclasses registered under their SPEC ``type`` name with
+    Subclasses are frozen dataclasses registered under their ``type`` name with
     :func:`register_primitive`; they build themselves from a plain dict with
     :meth:`from_dict` (validating every field) and write it back with :meth:`to_dict`.
     """
@@ -70,11 +70,11 @@ class Primitive(ABC):
     @classmethod
     @abstractmethod
     def from_dict(cls, d: dict[str, Any]) -> "Primitive":
-        """Build from the SPEC dict; raise ``ValueError`` naming the field on bad input."""
+        """Build from the plain dict; raise ``ValueError`` naming the field on bad input."""
 
     @abstractmethod
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC dict (``type`` included), JSON-serialisable, round-trips through from_dict."""
+        """The plain dict (``type`` included), JSON-serialisable, round-trips through from_dict."""
 
     @abstractmethod
     def project(self, points: Any) -> Projection:
@@ -103,7 +103,7 @@ def register_primitive(cls: type[Primitive]) -> type[Primitive]:
 
 
 def primitive_from_dict(d: Any) -> Primitive:
-    """Build any primitive of SPEC section 2 from its plain dict; ``d["type"]`` selects it."""
+    """Build any primitive from its plain dict; ``d["type"]`` selects it."""
     if not isinstance(d, dict):
         raise ValueError(f"primitive definition must be a dict, got {type(d).__name__}")
     kind = d.get("type")
@@ -247,7 +247,7 @@ def signed_hypot(s: np.ndarray, h: Any) -> np.ndarray:
 
 
 def signed_lengths(r: np.ndarray, normals: np.ndarray) -> np.ndarray:
-    """Signed Euclidean distances of SPEC section 2 from the offsets ``r = p - closest`` and
+    """Signed Euclidean distances from the offsets ``r = p - closest`` and
     the normals (both (n, d)): ``|r|`` with the sign of ``r . normal`` (plus where that is 0).
     The length is overflow- and underflow-safe (rows rescaled by their largest component)."""
     d = np.sqrt(np.einsum("ij,ij->i", r, r))

@@ -92,7 +92,7 @@ class BoundedCurve(ABC):
 
     @abstractmethod
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC section 4 profile edge dict."""
+        """The edge dict of a ``profile`` scene shape."""
 
     def renamed(self, name: str) -> "BoundedCurve":
         from dataclasses import replace

@@ -82,12 +82,12 @@ tests with clustered knots, weights 0.2-5 and points 1-100 % of the size away
 (``benchmarks/bspline_stress.py``, hypothesis) find no miss on either path. Cost: far points
 (near centres of curvature) have more candidate cells than points near the surface.
 
-Distances (SPEC section 2) are signed Euclidean distances, ``|p - closest|`` with the sign
+Distances are signed Euclidean distances, ``|p - closest|`` with the sign
 of ``(p - closest) . normal``: where the foot is on a surface's edge or corner, or beyond
 the end of an open curve, ``p - closest`` is not along the normal and the dot product would
 be shorter than the distance.
 
-Normal conventions (SPEC section 2 leaves free-form normals to the primitive):
+Normal conventions (free-form normals are the primitive's own):
 
 * surfaces: ``unit(S_u x S_v)``; where that vanishes (degenerate patch corners) the
   direction to the point, or +z for points on such a corner;

@@ -1,15 +1,15 @@
-"""Closed-form curves: the infinite line and the circle (thesis 4.2.1 and 4.2.2).
+"""Closed-form curves: the infinite line and the circle.
 
 Both accept (n, 3) query points and, when they lie in the z = 0 plane, (n, 2) points.
 
-Normals (SPEC section 2):
+Normals:
 
 - ``Line``, 2D query: the direction turned by -90 degrees, ``(d_y, -d_x)``; distances are signed.
   3D query: the unit vector from the closest point toward the query point, so distances are
   the (non-negative) Euclidean distances; on the line itself a fixed unit vector perpendicular
   to the direction is used (distance 0).
 - ``Circle``: the in-plane radial direction away from the centre, for 2D and 3D queries alike.
-  Distances are signed Euclidean distances (SPEC section 2): ``hypot(rho - radius, height)``
+  Distances are signed Euclidean distances: ``hypot(rho - radius, height)``
   with the sign of ``rho - radius``, where ``rho`` is the distance of the query point from the
   circle's axis and ``height`` its distance from the circle's plane (0 for 2D queries, where
   the distance is ``rho - radius``). On the axis a fixed in-plane direction is used.

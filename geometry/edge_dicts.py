@@ -1,4 +1,4 @@
-"""Bounded curves from the SPEC section 4 profile edge dicts (angles in degrees)."""
+"""Bounded curves from the edge dicts of a ``profile`` scene shape (angles in degrees)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from ._curve_numerics import (
 __all__ = ["bounded_curve_from_dict"]
 
 # ---------------------------------------------------------------------------------------
-# from the SPEC section 4 edge dict
+# from the edge dict of a profile
 # ---------------------------------------------------------------------------------------
 
 _EDGE_KEYS = {
@@ -35,7 +35,7 @@ _EDGE_REQUIRED = {
 
 
 def bounded_curve_from_dict(d: Any, where: str = "edge") -> BoundedCurve:
-    """Build a bounded curve from a SPEC section 4 profile edge dict (angles in degrees).
+    """Build a bounded curve from a profile edge dict (angles in degrees).
 
     Errors are ``ValueError`` messages starting with ``where`` (e.g. "shape.edges[2]") and
     naming the key."""

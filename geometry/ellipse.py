@@ -1,4 +1,4 @@
-"""The ellipse (thesis 4.2.3) and its robust, vectorised 2D closest-point kernel.
+"""The ellipse and its robust, vectorised 2D closest-point kernel.
 
 Kernel (``ellipse_closest_point_2d``). Following Eberly, "Distance from a point to an ellipse,
 an ellipsoid, or a hyperellipsoid" (Geometric Tools, 2013), reflect the query point into the

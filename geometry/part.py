@@ -36,7 +36,7 @@ class Loop:
 class Face:
     """One face. ``surface`` is None for tessellation-only faces (``surface_type`` then says
     what the CAD system called it). ``orientation`` is +1 when the outward normal of the
-    solid equals the surface's own normal (SPEC section 2 convention), -1 when opposite."""
+    solid equals the surface's own normal (the convention of every importer), -1 when opposite."""
 
     id: str
     surface_type: str

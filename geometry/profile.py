@@ -483,7 +483,7 @@ class Profile:
         return [[self._edge_list[k] for k in np.flatnonzero(self.edge_loop == li)] for li in range(len(self.loops))]
 
     def to_dict(self) -> dict[str, Any]:
-        """The SPEC section 4 ``profile`` shape dict (edges and holes)."""
+        """The ``profile`` scene shape dict (edges and holes)."""
         given = self._given_loops()
         d: dict[str, Any] = {"type": "profile", "edges": [c.to_dict() for c in given[0]]}
         if len(given) > 1:

@@ -1,8 +1,8 @@
-"""The profile shapes of SPEC section 4 built from their plain dicts.
+"""The 2D profile shapes of a scene file built from their plain dicts.
 
 ``profile_from_shape(d)`` turns ``{"type": "rectangle", "min": [...], "max": [...]}`` (and
 half_disk, disk, half_ellipse, polygon, profile) into a :class:`geometry.profile.Profile`
-with the SPEC's edge names. Every shape also takes ``rotate_deg`` (about ``pivot``, default
+with their documented edge names. Every shape also takes ``rotate_deg`` (about ``pivot``, default
 [0, 0]) and then ``translate``. Bad input raises ``ValueError`` whose message names the key
 as ``shape.<key>`` (the scene loader prefixes the file name). Keys set to ``None`` count as
 absent (pydantic models dumped with defaults).
@@ -171,7 +171,7 @@ _BUILDERS = {
 
 
 def profile_from_shape(d: Any, where: str = "shape") -> Profile:
-    """Build the :class:`Profile` of a SPEC section 4 shape dict (``onshape`` shapes are
+    """Build the :class:`Profile` of a 2D scene shape dict (``onshape`` shapes are
     built by the importers, not here)."""
     if not isinstance(d, dict):
         raise ValueError(f"{where} must be a table/dict, got {type(d).__name__}")

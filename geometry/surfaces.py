@@ -1,4 +1,4 @@
-"""Closed-form surfaces: plane, sphere, cylinder, cone, torus (thesis 4.2.1, 4.2.2, 4.2.4-4.2.6).
+"""Closed-form surfaces: plane, sphere, cylinder, cone, torus (closest points in closed form).
 
 Every projection works in the primitive's local frame (e1, e2, axis) and reduces to a problem
 in the meridian half-plane (rho >= 0, t) of the query point, where rho is the distance from the

@@ -22,9 +22,9 @@ the major axis about the normal) and h = (p - C(t)) . d.
 
 Normals (unit, perpendicular to d):
 
-* line and B-spline profiles: ``unit(C'(t) x d)``, i.e. ``unit(S_t x S_h)``, the SPEC
+* line and B-spline profiles: ``unit(C'(t) x d)``, i.e. ``unit(S_t x S_h)``, the
   surface convention for the parametrisation (t, h);
-* circle and ellipse profiles: away from the sweep's axis (like a cylinder, SPEC section 2),
+* circle and ellipse profiles: away from the sweep's axis (like a cylinder),
   whatever the sense of the profile's normal.
 
 Distances are signed Euclidean distances: ``|p - closest|`` with the sign of

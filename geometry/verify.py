@@ -3,7 +3,7 @@
 Every vertex of a face's tessellation lies on the exact surface. Offsetting it by a small
 distance along the exact outward normal and projecting the offset point back must return
 the vertex itself, with the same normal; anything else is projection error (or a
-tessellation that is not on the surface it claims). SPEC section 3 fixes the report format.
+tessellation that is not on the surface it claims). ``ibfem verify --json`` prints this report.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ def verify_projection(part: Any, offset: float = 1e-4) -> dict:
     along its exact outward normal (negative: into the solid), back onto the surface.
 
     Returns ``{"faces": [{"id", "type", "vertices", "max_error", "max_normal_error", ...}],
-    "max_error": float, ...}`` (SPEC section 3). Per exact face: ``max_error`` is the largest
+    "max_error": float, ...}``. Per exact face: ``max_error`` is the largest
     distance (m) between a projected point and its vertex, ``max_normal_error`` the largest
     angle (rad) between the normal returned for the offset point and the exact outward
     normal at the vertex. Extra keys: ``exact`` (false for tessellation-only faces, whose

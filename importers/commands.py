@@ -12,7 +12,7 @@ import json
 import sys
 from pathlib import Path
 
-# Acceptance of SPEC section 3 / issue 3 on exact faces
+# accepted errors of `ibfem verify` on exact faces
 POSITION_TOLERANCE = 1e-12  # m
 NORMAL_TOLERANCE = 1e-9  # rad
 
@@ -39,13 +39,13 @@ def register(sub: "argparse._SubParsersAction") -> None:
     p.add_argument("--force", action="store_true", help="fetch even if DIR holds this microversion")
     p.set_defaults(handler=_import)
 
-    p = sub.add_parser("verify", help="check projection onto the exact faces of an imported part (thesis 4.2.7)",
+    p = sub.add_parser("verify", help="check projection onto the exact faces of an imported part",
                        description="Offset every tessellated vertex along its exact outward normal, project it back "
                        "and report per face the largest position and normal error.")
     p.add_argument("directory", help="cached import (ibfem import --out DIR, or fixtures/onshape/<studio>), "
                    "or a .step/.stp/.iges/.igs file")
     p.add_argument("--json", action="store_true",
-                   help='print the report as JSON (SPEC section 3): {"faces": [{"id", "type", "vertices", '
+                   help='print the report as JSON: {"faces": [{"id", "type", "vertices", '
                    '"max_error", "max_normal_error", "exact"}], "max_error", "max_normal_error"}; tessellation-only '
                    'faces have "exact": false and null errors')
     p.add_argument("--details", action="store_true",
@@ -158,7 +158,7 @@ def _verify(args: argparse.Namespace) -> int:
 
 def _position_tolerances(part, path: str) -> dict:
     """Per surface type, the largest position error accepted: POSITION_TOLERANCE, except the
-    free-form faces of a STEP/IGES part (issue 17: 1e-9 of the part's size)."""
+    free-form faces of a STEP/IGES part (1e-9 of the part's size: their projection is iterative)."""
     if not _is_step(path):
         return {}
     from ibfem.importers.step.acceptance import position_tolerances
@@ -170,7 +170,7 @@ FACE_KEYS = ("id", "type", "vertices", "max_error", "max_normal_error", "exact")
 
 
 def spec_report(report: dict) -> dict:
-    """The SPEC section 3 JSON: per face id, type, vertices, max_error, max_normal_error
+    """The JSON report of ``ibfem verify --json``: per face id, type, vertices, max_error, max_normal_error
     (plus ``exact``, false for tessellation-only faces whose errors are null)."""
     return {"faces": [{k: f[k] for k in FACE_KEYS} for f in report["faces"]],
             "max_error": report["max_error"], "max_normal_error": report["max_normal_error"]}

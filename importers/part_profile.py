@@ -1,5 +1,5 @@
-"""2D profiles from any imported ``geometry.Part`` (the ``onshape`` and ``step`` shapes of SPEC
-sections 4 and 9): the builders both importers share.
+"""2D profiles from any imported ``geometry.Part`` (the ``onshape`` and ``step`` shapes of a
+scene file): the builders both importers share.
 
 Two ways to get a closed 2D region with exact edges:
 

@@ -20,8 +20,8 @@ def register(sub: "argparse._SubParsersAction") -> None:
     p = sub.add_parser(
         "run",
         help="solve a scene file (TOML or JSON) and write results",
-        description="Solve a scene (SPEC section 4, docs/scene-format.md) and write summary.json, "
-        "one VTU file per body and, when the scene asks, PNG plots.",
+        description="Solve a scene (2D, or 3D with model = \"solid\") and write summary.json, one VTU file "
+        "per body and, when the scene asks, PNG plots.",
     )
     p.add_argument("scene", help="scene file (.toml, or .json with the same structure)")
     p.add_argument("--out", default=None, help="output directory (default: out/<scene file name>)")
@@ -140,7 +140,7 @@ def _contact_line(c: dict) -> str:
         v = c.get(key)
         return f"{key} = {float(v):.6g} {unit}" if isinstance(v, (int, float)) and v == v else f"{key} = n/a"
 
-    if "semi_axes" in c:  # a contact between solids (SPEC section 7): forces in N
+    if "semi_axes" in c:  # a contact between solids: forces in N
         def pair(key: str) -> str:
             v = c.get(key) or []
             return f"{key} = [" + ", ".join(f"{float(x):.6g}" for x in v) + "]"

@@ -1,4 +1,4 @@
-"""Exact solids (SPEC section 7): signed distances (positive inside), bounds, volumes and named
+"""Exact solids (the 3D shapes of a scene): signed distances (positive inside), bounds, volumes and named
 faces with exact surfaces (quadrature, closest points, curvatures), for the 3D solver.
 ``solid_from_dict`` builds the shapes of a scene file; ``PartSolid`` the solid of a CAD part's
 body. Imports numpy (scipy within functions) and geometry's own modules only."""

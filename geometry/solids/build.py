@@ -1,4 +1,4 @@
-"""``solid_from_dict``: the SPEC section 7 shape dicts into solids, with errors naming the key
+"""``solid_from_dict``: the 3D scene shape dicts into solids, with errors naming the key
 path (``where``) and the value."""
 
 from __future__ import annotations
@@ -140,7 +140,7 @@ def _cad_solid(d: dict, where: str, load_part):
 
 
 def solid_from_dict(shape: Any, where: str = "shape", load_part=None):
-    """The solid of a SPEC section 7 shape dict (``rotate = {axis, angle_deg}`` about ``pivot``,
+    """The solid of a 3D scene shape dict (``rotate = {axis, angle_deg}`` about ``pivot``,
     then ``translate``). ``onshape`` / ``step`` shapes need ``load_part(shape dict) ->
     geometry.Part`` (an importer: geometry reads no files of CAD systems itself)."""
     if not isinstance(shape, dict):

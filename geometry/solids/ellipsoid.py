@@ -1,4 +1,4 @@
-"""Ellipsoids and half ellipsoids (SPEC section 7) with exact Euclidean signed distances.
+"""Ellipsoids and half ellipsoids with exact Euclidean signed distances.
 
 The closest point of an ellipse or an ellipsoid follows D. Eberly, "Distance from a Point to an
 Ellipse, an Ellipsoid, or a Hyperellipsoid" (Geometric Tools, 2013-2020): in the first octant,

@@ -1,5 +1,5 @@
 """Closest points and principal curvatures on a parametric face X(u, v) over its parameter
-rectangle (the trimming of every face of the SPEC section 7 shapes).
+rectangle (the trimming of every face of the 3D scene shapes).
 
 Projection: seeds from the nearest of a grid of samples, then Gauss-Newton steps in (u, v) with
 the rectangle as bounds (a coordinate at a bound whose step leaves the rectangle is held there;

@@ -1,4 +1,4 @@
-"""The solid shapes of SPEC section 7 with exact signed distances (positive inside) and named
+"""The solid shapes of a 3D scene with exact signed distances (positive inside) and named
 faces: box, sphere, half_sphere, cylinder, half_cylinder, extrusion (of any 2D profile),
 revolution (of a 2D profile in the (r, z) half-plane), each optionally turned and moved
 (:class:`Transformed`).
@@ -169,7 +169,7 @@ def _mirrored(face: ParametricFace, centre, flip) -> ParametricFace:
 
 def _frame(axis) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(e_r, e_s, a): a the unit axis, e_r the first of x, y, z not parallel to it projected
-    perpendicular to it, e_s = a x e_r (SPEC section 7's revolution frame)."""
+    perpendicular to it, e_s = a x e_r (the frame of a ``revolution`` shape)."""
     a = np.asarray(axis, float)
     n = np.linalg.norm(a)
     if not n > 0:

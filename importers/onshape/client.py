@@ -1,7 +1,7 @@
 """Onshape REST client: document URLs, API-key authentication (HMAC request signing or HTTP
-Basic), timeouts, bounded retries, and the on-disk cache of SPEC section 3.
+Basic), timeouts, bounded retries, and the on-disk cache (one directory per part studio).
 
-Only these endpoints are called (``shared/ONSHAPE.md`` section 1):
+Only these endpoints are called:
 
 * ``GET /api/{v}/documents/d/{did}/w/{wid}/currentmicroversion`` (resolve a workspace to an
   immutable microversion, so the cache is keyed by it);

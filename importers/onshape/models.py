@@ -1,5 +1,5 @@
 """pydantic models of the Onshape responses the importer reads, covering both wire formats
-of ``shared/ONSHAPE.md``:
+the Onshape REST API sends:
 
 * format A ("BT"): objects with ``btType`` discriminators, vectors ``{"x", "y", "z"}``,
   UPPERCASE enums, tessellation responses as objects holding ``bodies``;

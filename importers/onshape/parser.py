@@ -60,7 +60,7 @@ TESSELLATION_ONLY_SURFACES = ("SPUN", "BSURFACE", "OFFSET", "BLEND", "OTHER", "U
 EXACT_CURVES = ("LINE", "CIRCLE", "ELLIPSE", "BCURVE")
 TESSELLATION_ONLY_CURVES = ("ICURVE", "OTHER", "UNKNOWN")
 LEGACY_NAMES = {"REVOLVED": "SPUN", "EXTRUDED": "SWEEP"}
-# surface types whose Onshape normal is the SPEC section 2 normal of the primitive we build
+# surface types whose Onshape normal is the own normal of the primitive we build
 FLAG_CONVENTION_KNOWN = ("PLANE", "CYLINDER", "CONE", "SPHERE", "TORUS")
 
 
@@ -425,7 +425,7 @@ def _orientation_vote(surface, vertices, triangles, facet_normals) -> float:
 
 
 def load_part(directory: str | Path) -> Part:
-    """Read a cached part studio/part directory (SPEC section 3) into a ``geometry.Part``."""
+    """Read a cached part studio/part directory into a ``geometry.Part``."""
     directory = Path(directory)
     if not directory.is_dir():
         raise OnshapeFormatError(f"{directory}: not a directory (expected a cached Onshape import)")

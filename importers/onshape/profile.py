@@ -1,4 +1,4 @@
-"""2D profiles from a cached Onshape import (the ``onshape`` shape of SPEC section 4):
+"""2D profiles from a cached Onshape import (the ``onshape`` shape of a scene):
 ``{type = "onshape", path, face = "<face id>"}`` or ``{type = "onshape", path, section = {origin,
 normal}, body = "<id or name>"}``, optional ``x_axis``, ``rotate_deg``, ``pivot``, ``translate``.
 The face and section builders work on any ``geometry.Part`` (:mod:`importers.part_profile`,

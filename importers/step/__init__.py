@@ -1,4 +1,4 @@
-"""STEP and IGES import (SPEC section 9): ``load_part(path) -> geometry.Part`` with every face's
+"""STEP and IGES import: ``load_part(path) -> geometry.Part`` with every face's
 exact surface and orientation, every edge's exact curve, the loops and a tessellation, lengths
 in metres; ``profile_from_shape`` builds the 2D profile of a ``{type = "step", ...}`` scene shape.
 

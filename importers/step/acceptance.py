@@ -1,4 +1,4 @@
-"""Acceptance of ``ibfem verify`` on a STEP/IGES part (issue 17): analytic faces at round-off
+"""Acceptance of ``ibfem verify`` on a STEP/IGES part: analytic faces at round-off
 (the command's absolute tolerance), free-form faces (B-spline, NURBS of revolution, sweeps of
 B-splines) whose projection is iterative below 1e-9 of the part's size."""
 

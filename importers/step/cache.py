@@ -2,7 +2,7 @@
 PART.step --out DIR``).
 
 ``DIR/part.json`` holds the source file's path and SHA-256, the mesher's tolerances, the bodies,
-and per face / edge its type, exact primitive (``to_dict()`` of SPEC section 2, or null),
+and per face / edge its type, exact primitive (its ``to_dict()``, or null),
 orientation, loops and notes; ``DIR/meshes.npz`` the arrays: ``<face id>.vertices``,
 ``<face id>.triangles`` and ``<edge id>.polyline``. ``load_cached(DIR)`` reads it back; when the
 source file still exists and its hash changed, the file is parsed again and the cache rewritten.

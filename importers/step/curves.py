@@ -1,5 +1,5 @@
 """OpenCascade curves (of edges, and the profiles of extrusion surfaces) -> ``geometry`` curve
-dicts (SPEC section 2), exactly: lines, circles, ellipses, B-splines (NURBS with weights;
+dicts, exactly: lines, circles, ellipses, B-splines (NURBS with weights;
 Bezier curves as single-span B-splines). Periodic B-splines are written as their clamped,
 non-periodic equivalent (same curve, OpenCascade's ``SetNotPeriodic``); an edge that uses part
 of a B-spline gets the B-spline cut to its range (``Segment``, exact), so every B-spline edge

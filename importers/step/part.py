@@ -4,7 +4,7 @@ Ids are stable for a given file: faces ``F1..Fn`` and edges ``E1..Em`` in the or
 OpenCascade's ``TopExp::MapShapes`` meets them (the order of the file's topology), bodies
 ``B1..`` (solids first, then free shells and free faces as ``SHEET`` bodies).
 
-Orientation (SPEC section 2 convention: +1 when the solid's outward normal is the primitive's
+Orientation (+1 when the solid's outward normal is the primitive's
 own normal): OpenCascade's outward normal is ``S_u x S_v`` of the face's surface, negated on a
 ``REVERSED`` face; it is compared with the primitive's normal at the middle of the face's
 parameter range. The triangles (wound outward) vote as a check: a disagreement is a warning.

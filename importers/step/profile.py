@@ -1,4 +1,4 @@
-"""2D profiles from a STEP/IGES part: the ``step`` scene shape of SPEC sections 4 and 9.
+"""2D profiles from a STEP/IGES part: the 2D ``step`` scene shape.
 
 ``{type = "step", path, face = "F3"}`` (a face id, or the face's name in the file) or ``{type = "step", path, section = {origin, normal},
 body = "B1"}``, with the same keys, frame and meaning as the ``onshape`` shape

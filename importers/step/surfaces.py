@@ -1,4 +1,4 @@
-"""OpenCascade surfaces -> ``geometry`` surface dicts (SPEC section 2), exactly.
+"""OpenCascade surfaces -> ``geometry`` surface dicts, exactly.
 
 =====================  =====================  =================================================
 OpenCascade            Part type label        geometry primitive
@@ -18,7 +18,7 @@ OffsetSurface          OFFSET                 none: tessellation-only, reported
 other                  OTHER                  none: tessellation-only, reported
 =====================  =====================  =================================================
 
-The normal of each primitive is its own (SPEC section 2); whether the solid's outward normal
+The normal of each primitive is its own; whether the solid's outward normal
 is that one or its opposite is decided by the part builder (``orientation``).
 """
 

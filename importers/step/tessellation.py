@@ -5,7 +5,7 @@ Each face's triangulation is read with its nodes' (u, v) parameters; the vertice
 surface evaluated there, ``S(u, v)``. For nodes inside the face this is what the mesher computed
 anyway; for nodes on the face's edges it puts them on this face's surface (the edge's 3D curve
 may stray from it by up to the edge's tolerance, 1e-7 m typically), so every vertex lies on the
-exact surface the face carries, as the projection check of SPEC section 3 expects. Triangles of
+exact surface the face carries, as the projection check of ``ibfem verify`` expects. Triangles of
 reversed faces are re-wound, so every face's triangles are wound with the solid's outward normal;
 triangles of zero area (two nodes at a pole) are dropped.
 """

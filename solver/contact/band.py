@@ -93,7 +93,7 @@ class BandContact:
     breakpoints: np.ndarray
     history: list = field(default_factory=list)
     # stick ratio c/a: tied (P = I) for |s| <= c, sliding (P = n_c n_c^T) for c < |s| <= a.
-    # Tied contact: inf; frictionless: 0; frictional (issue 6): sqrt(1 - |beta| / mu), iterated.
+    # Tied contact: inf; frictionless: 0; frictional (Cattaneo-Mindlin): sqrt(1 - |beta| / mu), iterated.
     stick_ratio: float = 0.0
     friction: float = 0.0  # mu: the slip zone carries mu p along -slip_sign t_c on body 1
     slip_sign: float = 0.0  # sign of the tangential force on body 2 (0: no friction traction)

@@ -43,7 +43,7 @@ __all__ = ["ContactDriver", "solve_contact"]
 
 def solve_contact(problem, progress: Callable | None = None) -> IBFEMSolution:
     """Solve a (resolved) problem with contacts; returns an IBFEMSolution whose ``contacts``
-    holds the SPEC section 4 contact blocks."""
+    holds the contact blocks of summary.json."""
     if not problem.contacts:
         raise ValueError("the problem has no contacts")
     with single_threaded_blas():

@@ -1,4 +1,4 @@
-"""The ellipse formulation of a contact between two solids (issue 15; the thesis's section 7.2):
+"""The ellipse formulation of a contact between two solids (the thesis's section 7.2):
 the band terms of the 2D formulation (solver.contact.band) on an elliptical contact region of
 body 1's exact surface, semi-axes (a, b) along the principal axes of the relative curvature
 (solver.contact.ellipse_geometry), tied or frictionless.
@@ -292,7 +292,7 @@ class EllipseContact:
         return _on_body1(self.solids[0], self.frame, axis, s, self.reach)
 
     def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
-        """SPEC section 7's contact block."""
+        """The summary.json contact block of a contact between solids."""
         from .ellipse_report import ellipse_block
 
         return ellipse_block(self, a, on2, u, info)
@@ -517,7 +517,7 @@ def _require_point_contact(model, frame: ContactFrame3D) -> None:
         max(abs(k0), abs(k1), 1e-300) or k1 <= 0.0 else "a line contact"
     raise ValueError(f"contact {name}: the relative curvatures at {np.round(frame.point, 6).tolist()} are "
                      f"{k0:.4g} and {k1:.4g} 1/m (smaller along {axis}): {kind}, not a point contact. A 3D "
-                     "contact is an ellipse found from both curvatures (SPEC section 7); model a line contact "
+                     "contact is an ellipse found from both curvatures; model a line contact "
                      "(parallel cylinders, a cylinder on a flat) as a plane-strain 2D scene")
 
 

@@ -1,4 +1,4 @@
-"""Geometry of a contact between two solids (issue 15, SPEC section 7): the contact frame and
+"""Geometry of a contact between two solids: the contact frame and
 the points of an elliptical contact region on the exact surfaces.
 
 Frame: at the contact point, ``normal`` is the outward unit normal of body 2 (pointing into

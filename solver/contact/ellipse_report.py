@@ -1,4 +1,4 @@
-"""SPEC section 7's contact block of a contact between solids: the frame, the semi-axes, the
+"""The summary.json contact block of a contact between solids: the frame, the semi-axes, the
 forces, and the pressure and shear along both axes.
 
 The band traction at the quadrature points oscillates from cell to cell (trilinear fields) while

@@ -2,7 +2,7 @@
 chord-length matching of the two boundaries, Delta between matched points (eq. 5-2) and the
 quadrature of body 1's contact curve split at both grids' cell lines.
 
-Conventions (SPEC section 4): ``normal`` is the outward unit normal of the SECOND body at the
+Conventions (those of summary.json): ``normal`` is the outward unit normal of the SECOND body at the
 contact point, ``tangent`` = (-n_y, n_x). A point of body 1's contact curve is labelled by its
 signed chord s: |s| is the straight-line distance from body 1's contact point c1, the sign that
 of the side along ``tangent``. Its matched point on body 2's curve has the same chord from c2

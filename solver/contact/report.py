@@ -1,4 +1,4 @@
-"""The SPEC section 4 contact block of a contact's final state: forces, the contact frame, and
+"""The summary.json contact block of a contact's final state: forces, the contact frame, and
 the pressure and shear profiles sampled on the exact contact curve from the formulation's
 tractions (``traction_samples``)."""
 
@@ -10,7 +10,7 @@ __all__ = ["contact_block"]
 
 
 def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
-    """SPEC section 4 contact block with pressure and shear sampled on the exact contact curve.
+    """The 2D contact block of summary.json, with pressure and shear sampled on the exact contact curve.
 
     The traction of the thin-band terms is discontinuous from cell to cell (bilinear fields:
     sigma jumps across cell sides, w is piecewise smooth), so its point values oscillate with

@@ -1,4 +1,4 @@
-"""Cut cells of the octree (issue 14): which leaves the boundary of a solid crosses, and the
+"""Cut cells of the octree: which leaves the boundary of a solid crosses, and the
 moments of their inside parts, from the solid's exact signed distance.
 
 Adaptive subdivision: a sub-cube whose centre is farther inside than its half diagonal

@@ -1,5 +1,5 @@
 """Background grid of a 3D body: a 2:1-graded octree of cube cells (the quadtree of
-solver.fem.grid in one more dimension; issue 14).
+solver.fem.grid in one more dimension).
 
 Refinement follows the same rule as in 2D (``grid.refinement_radii``): around each zone's
 centre, cells of level l (size h0 / 2^l) are split while their box is closer than R_l to the

@@ -1,4 +1,4 @@
-"""A 3D body's function space (issue 14): the octree over a solid with exact cut cells, trilinear
+"""A 3D body's function space: the octree over a solid with exact cut cells, trilinear
 cubes, and boundary points on the solid's faces for the step-boundary terms and loads.
 
 The solid is anything with ``signed_distance(points (n, 3)) -> (n,)`` (positive inside),

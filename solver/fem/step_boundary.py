@@ -114,7 +114,7 @@ class CellBlocks:
     u_c the cell's node dofs of D u (D the body's node-dof map). The band terms of a
     single-body condition are summed over each cell's points into cell matrices and assembled
     once, as the volume stiffness is, instead of through sparse products of (d q, ndof)
-    operators (issue 14: 1M dofs in 3D)."""
+    operators (3D problems reach a million dofs)."""
 
     cells: np.ndarray  # (q,) cell holding each point
     cell_nodes: np.ndarray  # (q, p) the nodes of that cell

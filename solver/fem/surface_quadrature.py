@@ -1,4 +1,4 @@
-"""Quadrature on a parametric surface split at the planes of the octree (issue 14): the
+"""Quadrature on a parametric surface split at the planes of the octree: the
 boundary integrals of the step-boundary method and of 3D contact integrate trilinear fields,
 which have kinks on every cell face, so a rule is exact only on pieces that lie in one cell.
 

@@ -1,4 +1,4 @@
-"""Result files of a run (SPEC section 4): ``summary.json``, one VTU file per body and PNG
+"""Result files of a run: ``summary.json``, one VTU file per body and PNG
 plots. Everything here relies only on the :class:`solver.model.problem.Solution` protocol.
 
 ``pyvista`` and ``matplotlib`` are imported only when their files are written.
@@ -127,7 +127,7 @@ def build_summary(
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """The ``summary.json`` document of SPEC section 4 (plain Python, NaN kept as float NaN;
+    """The ``summary.json`` document (plain Python, NaN kept as float NaN;
     :func:`json_safe` turns it into JSON). ``lines`` items have name, start, end, n (objects
     or dicts). Extensions: probes carry ``body``, lines carry ``s`` (distance from start) and
     ``body``; ``timings`` keeps the solver's own entries beside ``total_s``; ``extra`` keys
@@ -180,7 +180,7 @@ _CONTACT_KEYS_3D = (
 
 
 def _contact_block(problem: pb.Problem, k: int, block: Mapping[str, Any]) -> dict[str, Any]:
-    """A contact block with every SPEC key, in SPEC order (section 4 in 2D, section 7 in 3D):
+    """A contact block with every documented key, in the documented order (2D or 3D):
     what the scene defines (bodies, type, friction) is filled in from the problem, ``tangent``
     from its definition (-n_y, n_x), and a missing result is null (an empty profile for
     pressure and shear); further keys the solver adds follow."""

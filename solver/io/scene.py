@@ -1,4 +1,4 @@
-"""Scene files (SPEC section 4): TOML, or JSON with the same structure, validated into
+"""Scene files: TOML, or JSON with the same structure, validated into
 pydantic models and turned into a :class:`solver.model.problem.Problem`.
 
 Validation happens in three stages, all before any assembly, and every error names the
@@ -82,7 +82,7 @@ class SceneError(ValueError):
 
 
 # ---------------------------------------------------------------------------------------
-# pydantic models of the file (SPEC section 4)
+# pydantic models of the file
 # ---------------------------------------------------------------------------------------
 
 
@@ -465,7 +465,7 @@ def scene_from_dict(
     if problems:
         raise SceneError(problems)
     loader = SCENE_MODELS.get(data["model"]) if isinstance(data.get("model"), str) else None
-    if loader is not None:  # e.g. model = "solid" (SPEC section 7): solver/io/scene_solid.py
+    if loader is not None:  # e.g. model = "solid": solver/io/scene_solid.py
         return loader(data, label=label, base_dir=Path(base_dir), path=path)
     try:
         spec = SceneSpec.model_validate(data)
@@ -890,7 +890,7 @@ CONTACT_GAP_CELLS = 2.0
 
 def _contact_point_problems(spec: SceneSpec, problem: pb.Problem, label: str) -> list[str]:
     """A ``point`` given for a contact must lie on (or within CONTACT_POINT_REACH cells of) both
-    bodies' boundaries, where the bodies are closest (issue 18: a mistyped point inside a body,
+    bodies' boundaries, where the bodies are closest (unchecked, a mistyped point inside a body,
     or one off the touching point, gave a converged zero force); given or found, it must not sit
     at a corner of either body (the run needs an edge on each side of it)."""
     problems = []

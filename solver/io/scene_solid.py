@@ -1,5 +1,5 @@
-"""3D scenes (``model = "solid"``, SPEC section 7): the file's pydantic models and the solver's
-problem with solids for bodies (issue 14).
+"""3D scenes (``model = "solid"``): the file's pydantic models and the solver's
+problem with solids for bodies.
 
 The 2D scene's vocabulary carries over (materials, ``[solver]``, output), with 3-vectors, solid
 shapes (built by :func:`geometry.solids.solid_from_dict`) and boundary conditions naming a
@@ -59,7 +59,7 @@ class RefinementSpec3(RefinementSpec):
 
 
 class SolidBodySpec(BodySpec):
-    """A body of SPEC section 7: the 2D body's keys, refinement centres in 3D."""
+    """A body of a 3D scene: the 2D body's keys, refinement centres in 3D."""
 
     refinement: list[RefinementSpec3] = []
 
@@ -157,7 +157,7 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
     """Validate a 3D scene given as plain data; errors name the key path and value."""
     if "thickness" in data:
         raise SceneError([f"{label}: thickness = {_show(data['thickness'])}: not used by model = \"solid\" "
-                          "(forces are in N, SPEC section 7); remove it"])
+                          "(3D forces are in N, not per unit thickness); remove it"])
     try:
         spec = SolidSceneSpec.model_validate(data)
     except ValidationError as err:

@@ -1,4 +1,4 @@
-"""Size of a problem before anything is built (issue 18 item 6): cells, dofs and memory from
+"""Size of a problem before anything is built: cells, dofs and memory from
 the bodies' boxes, element sizes and refinement zones, so ``--check`` can refuse a grid that
 cannot fit in the machine and say how much it would need.
 

@@ -61,7 +61,7 @@ def _choice(obj, name: str, allowed: tuple[str, ...]) -> None:
 
 @dataclass(frozen=True)
 class SolverOptions:
-    """The ``[solver]`` table (SPEC section 4 and the README's extensions)."""
+    """The ``[solver]`` table of a scene file (every key is documented in the scene-file reference)."""
 
     load_steps: int = 10
     #: a state counts as converged when the residual work of its discrete equations, |u . r| /

@@ -202,7 +202,7 @@ class Solution(Protocol):
     # {"total": int, "per_step": list[int]} and any history worth keeping
     iterations: dict
     timings: dict[str, float]
-    contacts: list[dict]  # SPEC section 4 contact blocks (issue 5)
+    contacts: list[dict]  # the contact blocks of summary.json
 
     def body_at(self, points: np.ndarray) -> np.ndarray:
         """Index of the body containing each point (n,), -1 outside all bodies."""

@@ -1,4 +1,4 @@
-"""A contact between two solids (SPEC section 7): the 2D contact model plus the direction that
+"""A contact between two solids: the 2D contact model plus the direction that
 fixes the contact frame's first axis where the geometry does not (a circular contact)."""
 
 from __future__ import annotations

@@ -20,7 +20,7 @@ Sources (formulas only; numbers quoted are the published ones):
   of tangential friction)", Phil. Mag. 40 (1949) 454-459: closed-form field for a Hertz
   pressure plus a proportional tangential traction q = f p, in terms of the functions m, n.
 * C. Cattaneo (1938), R. D. Mindlin (1949): the stick/slip solution; thesis eqs. 2-25 to 2-29.
-* The thesis (``shared/seed/thesis.txt``), eqs. 2-19 to 2-23 (Hertz) and 6-1/6-2 (ellipse
+* The thesis (J. Dews-Flick, MSc thesis, University of Florida, 2022), eqs. 2-19 to 2-23 (Hertz) and 6-1/6-2 (ellipse
   curvature; eq. 6-1 there is misprinted with sin^2 twice, the correct form is used here).
 """
 
@@ -419,7 +419,7 @@ def load_for_approach(delta: float, R_eff: float, E1: float, nu1: float, E2: flo
 
 
 # ------------------------------------------------------------------------------------------
-# three dimensions (SPEC section 7)
+# three dimensions (contact between solids)
 # ------------------------------------------------------------------------------------------
 
 

@@ -1,4 +1,4 @@
-"""``make validate``, 3D part (SPEC section 7): run the scenes of ``examples/solid/`` and compare
+"""``make validate``, 3D part: run the scenes of ``examples/solid/`` and compare
 them with theory; writes ``docs/validation-solid.md`` and copies each scene's pictures to
 ``docs/validation/solid/``.
 
@@ -37,7 +37,7 @@ from ibfem.solver.reference import theory
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples" / "solid"
-#: acceptance (issues 14 and 15)
+#: acceptance against the closed-form references
 LAME_DISPLACEMENT_TOL = 0.002
 LAME_STRESS_TOL = 0.01  # of p
 HERTZ_A_TOL = 0.01
@@ -336,7 +336,7 @@ def main(argv: list[str] | None = None) -> int:
     out_root = ROOT / "out" / "validation" / "solid"
     fig_dir = ROOT / "docs" / "validation" / "solid"
     fig_dir.mkdir(parents=True, exist_ok=True)
-    lines = ["# Validation in 3D (SPEC section 7)", "",
+    lines = ["# Validation in 3D", "",
              "Written by `make validate` (`python -m ibfem.solver.reports.validate_solid`); scenes in `examples/solid/`.", ""]
     all_ok = True
     for name in names:

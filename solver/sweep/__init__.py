@@ -1,1 +1,1 @@
-"""Parameter sweeps (SPEC section 8): ``ibfem sweep SWEEP.toml`` on Dask (issue 16)."""
+"""Parameter sweeps: ``ibfem sweep SWEEP.toml`` runs many variants of one scene on Dask."""

@@ -1,4 +1,4 @@
-"""``ibfem sweep SWEEP.toml``: many variants of one scene on Dask (SPEC section 8, docs/sweeps.md).
+"""``ibfem sweep SWEEP.toml``: many variants of one scene on Dask.
 
 Exit codes: 0 every case ok; 1 some case not ok (not converged, error, timeout, invalid,
 killed: see results.csv); 2 the sweep file is invalid; 3 the engine cannot run (Dask not
@@ -13,8 +13,8 @@ from pathlib import Path
 
 def register(sub: "argparse._SubParsersAction") -> None:
     p = sub.add_parser(
-        "sweep", help="run a parameter sweep of a scene (SPEC section 8)",
-        description="Run every case of a sweep file (SPEC section 8, docs/sweeps.md) on an embedded Dask "
+        "sweep", help="run a parameter sweep of a scene",
+        description="Run every case of a sweep file ([sweep] name, scene, mode; [sweep.parameters]; [sweep.outputs]) on an embedded Dask "
         "cluster, an existing one (--scheduler-address, --scheduler-file, DASK_SCHEDULER_ADDRESS) or in this "
         "process (--serial). Results: OUT/results.jsonl, OUT/results.csv, OUT/cases/<hash>/, OUT/plots/.")
     p.add_argument("sweep_file", help="sweep description (TOML)")

@@ -1,4 +1,4 @@
-"""Dotted paths into scene and summary data (SPEC section 8).
+"""Dotted paths into scene and summary data (the parameters and output columns of a sweep).
 
 A path is a string of segments joined by ``.``: ``contacts.0.friction``,
 ``boundary_conditions.cylinder/flat.value.1``, ``bodies.*.element_size``. Inside a dict a segment

@@ -1,4 +1,4 @@
-"""The sweep file (SPEC section 8): pydantic models, and :func:`load_sweep` which reads it with
+"""The sweep file: pydantic models, and :func:`load_sweep` which reads it with
 its base scene.
 
 ```toml

@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-#: statuses of a case (SPEC section 8; ``killed``: its worker or process died running it)
+#: statuses of a case (``killed``: its worker or process died running it)
 STATUSES = ("ok", "not_converged", "error", "timeout", "invalid", "killed")
 
 
