@@ -207,7 +207,7 @@ def _set(path, value):
          'bodies[0].refinement[0].around = "contact": body "plate" has no contact'),
         (_set(("bodies", 0, "shape"), {"type": "rectangle", "min": [0, 0], "max": [0, 1]}), "bodies[0].shape.max must exceed"),
         (_set(("bodies", 0, "shape"), {"type": "square", "min": [0, 0]}), "bodies[0].shape.type must be one of onshape, "),
-        (_set(("model",), "plane"), "model = \"plane\": input should be 'plane_strain' or 'plane_stress'"),
+        (_set(("model",), "plane"), "model = \"plane\": input should be 'plane_strain', 'plane_stress', 'solid'"),
         (_set(("thickness",), 0), "thickness = 0: input should be greater than 0"),
         (_set(("solver",), {"load_steps": 0}), "solver.load_steps = 0"),
         (_set(("solver",), {"tolerance": float("nan")}), "solver.tolerance = NaN: input should be a finite number"),

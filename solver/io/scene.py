@@ -558,6 +558,8 @@ def _format_errors(err: ValidationError, data: Any, label: str) -> list[str]:
         elif kind == "union_tag_not_found":
             problems.append(f"{label}: {_key_path(loc)}: missing key 'type' (one of: {', '.join(_BC_TYPES)})")
             continue
+        elif kind == "literal_error" and loc == ("model",):
+            msg = f"input should be {', '.join(repr(m) for m in ('plane_strain', 'plane_stress', *SCENE_MODELS))}"
         elif kind.startswith("value_error") and msg.startswith("Value error, "):
             msg = msg[len("Value error, "):]
         found, value = _lookup(data, loc)
