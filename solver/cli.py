@@ -16,7 +16,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="ibfem",
         description="Immersed-boundary finite elements with exact CAD geometry: contact stresses "
-        "from CAD parts (see README.md).",
+        "from CAD parts. 'ibfem COMMAND --help' describes each command.",
     )
     from ibfem import __version__
 
