@@ -1,10 +1,10 @@
-# Commands of SPEC section 1. Each creates .venv when missing and installs the project into it.
+# The project's commands. Each creates .venv when missing and installs the project into it.
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed-$(shell $(PYTHON) -c "import hashlib,sys;print(hashlib.sha1(open('pyproject.toml','rb').read()).hexdigest()[:12])")
 
-.PHONY: test demo validate bench bench-peers bench-peers-3d fuzz clean
+.PHONY: test demo validate bench bench-peers bench-peers-3d fuzz docs clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -25,19 +25,25 @@ validate: $(STAMP)
 bench: $(STAMP)
 	MPLBACKEND=Agg $(PY) benchmarks/run_all.py
 
-# the peer study of issue 12 (NGSolve beside ibfem); installs the `peers` extra on first use
+# the peer study (NGSolve beside ibfem, docs/peers.md); installs the `peers` extra on first use
 bench-peers: $(STAMP)
 	$(PY) -c "import ngsolve" 2>/dev/null || $(PY) -m pip install --quiet -e '.[peers]'
 	MPLBACKEND=Agg $(PY) benchmarks/peers.py
 
-# the 3D peer study of issue 15 (quarter half ball on a block, NGSolve P2 tetrahedra beside ibfem)
+# the 3D peer study (quarter half ball on a block, NGSolve P2 tetrahedra beside ibfem)
 bench-peers-3d: $(STAMP)
 	$(PY) -c "import ngsolve" 2>/dev/null || $(PY) -m pip install --quiet -e '.[peers]'
 	MPLBACKEND=Agg $(PY) benchmarks/peers.py --problem sphere3d
 
-# the long fuzz campaign of issue 18 (FUZZ_MINUTES, default 10)
+# the long fuzz campaign (FUZZ_MINUTES, default 10)
 fuzz: $(STAMP)
 	MPLBACKEND=Agg IBFEM_FUZZ_MINUTES=$${FUZZ_MINUTES:-10} $(PY) -m pytest tests/fuzz -m "fuzz_long or not slow" -p no:cacheprovider
 
+# the documentation site (MkDocs) into site/, warnings and broken links as errors; installs the `docs`
+# extra on first use
+docs: $(STAMP)
+	$(PY) -c "import mkdocs, material, mkdocstrings_handlers.python" 2>/dev/null || $(PY) -m pip install --quiet -e '.[docs]'
+	NO_MKDOCS_2_WARNING=1 $(PY) -m mkdocs build --strict --quiet
+
 clean:
-	rm -rf $(VENV) build *.egg-info .pytest_cache .hypothesis
+	rm -rf $(VENV) build site *.egg-info .pytest_cache .hypothesis
