@@ -1,5 +1,5 @@
-"""Every command and code example of the README, the getting-started page and the tutorials runs
-on the shipped scenes and does what the text says.
+"""Every command and code example of the README, the getting-started page, the tutorials and the
+API pages runs on the shipped scenes and does what the text says.
 
 In each document, in order and in one working directory (holding links to ``examples/`` and
 ``fixtures/``): a ``sh`` block's lines are ``ibfem`` commands, run in this process and required to
@@ -25,7 +25,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCUMENTS = ["README.md", "docs/getting-started.md"] + sorted(
-    str(p.relative_to(ROOT)) for p in (ROOT / "docs" / "tutorials").glob("*.md")
+    str(p.relative_to(ROOT)) for folder in ("tutorials", "api") for p in (ROOT / "docs" / folder).glob("*.md")
 )
 MARKER = re.compile(r"^<!-- (slow|not run: .+|file: \S+) -->$")
 FENCE = re.compile(r"^```(\w*)\s*$")
