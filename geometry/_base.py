@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = [
     "Projection",
@@ -77,9 +78,13 @@ class Primitive(ABC):
         """The plain dict (``type`` included), JSON-serialisable, round-trips through from_dict."""
 
     @abstractmethod
-    def project(self, points: Any) -> Projection:
+    def project(self, points: ArrayLike) -> Projection:
         """Closest points, unit normals and signed distances for an (n, 3) array of points
-        (curves also accept (n, 2), meaning the z = 0 plane). Vectorised over n."""
+        (curves also accept (n, 2), meaning the z = 0 plane). Vectorised over n.
+
+        :raises ValueError: ``points`` is not an array of that shape; or, for B-spline curves
+            and surfaces (and sweeps of B-splines), a row holds NaN or an infinite coordinate
+            (the message names the row)."""
 
     def signed_distance(self, points: Any) -> np.ndarray:
         return self.project(points).distances
@@ -103,7 +108,11 @@ def register_primitive(cls: type[Primitive]) -> type[Primitive]:
 
 
 def primitive_from_dict(d: Any) -> Primitive:
-    """Build any primitive from its plain dict; ``d["type"]`` selects it."""
+    """Build any primitive from its plain dict; ``d["type"]`` selects it.
+
+    :raises ValueError: ``d`` is not a dict, its ``type`` is unknown (the message lists the
+        known types), or a field is missing or invalid (a zero vector, a negative radius, a
+        minor radius above the major one, ...): the message names the field."""
     if not isinstance(d, dict):
         raise ValueError(f"primitive definition must be a dict, got {type(d).__name__}")
     kind = d.get("type")

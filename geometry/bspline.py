@@ -116,6 +116,7 @@ from functools import cached_property
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:  # pragma: no cover
     from scipy.spatial import cKDTree
@@ -740,7 +741,7 @@ class BSplineCurve(Curve):
         C, C1 = _curve_cells.piece_values(_cols(coef, cell), x, self.degree, 1)
         return self._wrap(mids[cell] + x), C, C1
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: ArrayLike) -> Projection:
         p, dim = as_points(points, dims=(2, 3), finite=True)
         if dim == 2 and not self.planar_z:
             raise ValueError("bspline_curve: 2D query points need a curve in the z = 0 plane")
@@ -1129,7 +1130,7 @@ class BSplineSurface(Surface):
             )
         return uv.T, S.T
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: ArrayLike) -> Projection:
         p, _ = as_points(points, dims=(3,), finite=True)
         uv, d = self.closest_parameters(p)
         S = d[(0, 0)]

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import _jit
 from ._base import (
@@ -225,7 +226,7 @@ class Line(Curve):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "line", "origin": list(self.origin), "direction": list(self.direction)}
 
-    def project(self, points: Any, out: Projection | None = None) -> Projection:
+    def project(self, points: ArrayLike, out: Projection | None = None) -> Projection:
         """See the module doc; ``out``: a Projection of as many 3D points from an earlier
         call to write the results into (3D queries)."""
         pts, dim = as_points(points, dims=(2, 3))
@@ -297,7 +298,7 @@ class Circle(Curve):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "circle", "origin": list(self.origin), "normal": list(self.normal), "radius": self.radius}
 
-    def project(self, points: Any, out: Projection | None = None) -> Projection:
+    def project(self, points: ArrayLike, out: Projection | None = None) -> Projection:
         """See the module doc; ``out``: a Projection of as many 3D points from an earlier
         call to write the results into (3D queries)."""
         pts, dim = as_points(points, dims=(2, 3))

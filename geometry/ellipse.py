@@ -41,6 +41,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._base import (
     Curve,
@@ -260,7 +261,7 @@ class Ellipse(Curve):
             "minor_radius": self.minor_radius,
         }
 
-    def project(self, points: Any, out: Projection | None = None) -> Projection:
+    def project(self, points: ArrayLike, out: Projection | None = None) -> Projection:
         """See the class doc; ``out``: a Projection of as many 3D points from an earlier
         call to write the results into (3D queries)."""
         pts, dim = as_points(points, dims=(2, 3))

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._base import (
     Projection,
@@ -70,7 +71,7 @@ class _Revolved(Surface):
         parameter for meridian-plane points (rho, t); the first four may be scalars."""
         raise NotImplementedError
 
-    def project(self, points: Any, out: Projection | None = None) -> Projection:
+    def project(self, points: ArrayLike, out: Projection | None = None) -> Projection:
         """Closest points, normals, signed distances, parameters; ``out``: a Projection of as
         many points from an earlier call to write the results into."""
         pts, _ = as_points(points)
@@ -123,7 +124,7 @@ class Plane(Surface):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "plane", "origin": list(self.origin), "normal": list(self.normal)}
 
-    def project(self, points: Any, out: Projection | None = None) -> Projection:
+    def project(self, points: ArrayLike, out: Projection | None = None) -> Projection:
         """Closest points, normals, signed distances, parameters; ``out``: a Projection of as
         many points from an earlier call to write the results into."""
         pts, _ = as_points(points)
@@ -174,7 +175,7 @@ class Sphere(Surface):
     def to_dict(self) -> dict[str, Any]:
         return {"type": "sphere", "origin": list(self.origin), "radius": self.radius}
 
-    def project(self, points: Any, out: Projection | None = None) -> Projection:
+    def project(self, points: ArrayLike, out: Projection | None = None) -> Projection:
         """Closest points, normals, signed distances, parameters; ``out``: a Projection of as
         many points from an earlier call to write the results into."""
         pts, _ = as_points(points)

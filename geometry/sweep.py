@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._base import (
     Curve,
@@ -211,7 +212,7 @@ class Sweep(Surface):
 
     # -- projection -------------------------------------------------------------------------
 
-    def project(self, points: Any) -> Projection:
+    def project(self, points: ArrayLike) -> Projection:
         p, _ = as_points(points, dims=(3,), finite=self._kind == "bspline_curve")
         d = self.direction
         height = p @ d

@@ -5,7 +5,7 @@ contact load-step driver. The only module that imports both."""
 from __future__ import annotations
 
 import time
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -17,13 +17,23 @@ from .fem.space import body_info
 from .model.resolve import resolve_problem
 from .solution import IBFEMSolution
 
+if TYPE_CHECKING:
+    from .model.problem import Problem
+
 __all__ = ["solve"]
 
 
-def solve(problem, progress: Callable[..., None] | None = None) -> IBFEMSolution:
+def solve(problem: Problem, progress: Callable[..., None] | None = None) -> IBFEMSolution:
     """Solve a linear elastic :class:`solver.model.Problem` with IBFEM (every numerical choice is
     in ``problem.options`` and each contact's ``options``). ``progress(stage, fraction)`` is
-    called between stages."""
+    called between stages.
+
+    A run that does not converge raises nothing: the returned solution has ``converged`` false
+    and keeps its iteration history.
+
+    :raises ValueError: the problem cannot be solved as given (the solver's own checks on its
+        input); the message says why.
+    :raises MemoryError: the grid does not fit in the machine's memory."""
     problem = resolve_problem(problem)
     if problem.contacts:
         return solve_contact(problem, progress=progress)

@@ -4,9 +4,12 @@ PNG pictures (solver.io.plots) the scene's ``[output]`` asks for."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import TYPE_CHECKING, Any, Iterable, Mapping
 
 from ibfem.solver.model import problem as pb
+
+if TYPE_CHECKING:
+    from .scene import Scene
 
 from .results import build_summary, write_summary, write_vtu
 
@@ -53,13 +56,17 @@ def write_results(
 
 def write_scene_results(
     out_dir: str | Path,
-    scene: Any,
+    scene: Scene,
     solution: pb.Solution,
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """:func:`write_results` with the probes, lines and file choices of a loaded
-    :class:`solver.io.scene.Scene`'s ``[output]`` table."""
+    :class:`solver.io.scene.Scene`'s ``[output]`` table: writes ``summary.json`` (and the VTU
+    files and pictures the table asks for) into ``out_dir``, created when missing, and returns
+    the summary as a dict.
+
+    :raises OSError: ``out_dir`` or a file in it cannot be written."""
     output = scene.output
     return write_results(
         out_dir,

@@ -380,7 +380,10 @@ def load_scene(
 ) -> Scene:
     """Read and validate a TOML (or JSON, by extension ``.json``) scene file, or a scene given
     as parsed data (a dict: ``label`` names it in errors, relative paths are taken from
-    ``base_dir``, default the working directory)."""
+    ``base_dir``, default the working directory).
+
+    :raises SceneError: the file cannot be read or parsed, or the scene is invalid; one line
+        per problem, each naming the file, the key path and the value."""
     if isinstance(source, dict):
         return scene_from_dict(source, label=label or "scene", base_dir=base_dir or ".")
     path = Path(source)
@@ -458,7 +461,11 @@ def scene_from_dict(
     data: Any, label: str = "scene", base_dir: str | Path = ".", path: Path | None = None
 ) -> Scene:
     """Validate a scene given as plain data (the parsed file). ``label`` names the file in
-    errors; relative paths in the scene (``onshape`` shapes) are taken from ``base_dir``."""
+    errors; relative paths in the scene (``onshape`` and ``step`` shapes) are taken from
+    ``base_dir``.
+
+    :raises SceneError: the scene is invalid; one line per problem, each naming ``label``, the
+        key path and the value."""
     if not isinstance(data, dict):
         raise SceneError([f"{label}: the scene must be a table/object, got {type(data).__name__}"])
     problems = _input_problems(data, label)
