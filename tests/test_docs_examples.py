@@ -1,5 +1,5 @@
-"""Every command and code example of the README, the getting-started page, the tutorials and the
-API pages runs on the shipped scenes and does what the text says.
+"""Every command and code example of the README and the documentation pages runs on the shipped
+scenes and does what the text says.
 
 In each document, in order and in one working directory (holding links to ``examples/`` and
 ``fixtures/``): a ``sh`` block's lines are ``ibfem`` commands, run in this process and required to
@@ -7,7 +7,9 @@ exit with 0; a ``python`` block is executed (the blocks of a document share thei
 block reads what an earlier one computed); a block after ``<!-- file: NAME -->`` is written to NAME.
 A block after ``<!-- slow -->`` runs only in the slow variant (``make validate``-sized runs); one
 after ``<!-- not run: REASON -->`` never runs (installs, network access, a cluster) and must give
-its reason. Where a ``text`` block follows a command, the output it shows must be what the command
+its reason. Blocks without a language and ``text`` blocks are command synopses (with placeholders
+such as SCENE.toml) and printed output; ``toml`` blocks without a file marker are fragments.
+Where a ``text`` block follows a command, the output it shows must be what the command
 prints now: every ``key = number`` pair (half_width, normal_force, semi_axes, ...) to the printed
 digits, timings excepted.
 """
@@ -24,8 +26,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCUMENTS = ["README.md", "docs/getting-started.md"] + sorted(
-    str(p.relative_to(ROOT)) for folder in ("tutorials", "api") for p in (ROOT / "docs" / folder).glob("*.md")
+DOCUMENTS = ["README.md"] + sorted(
+    str(p.relative_to(ROOT)) for p in (ROOT / "docs").rglob("*.md") if "hooks" not in p.parts
 )
 MARKER = re.compile(r"^<!-- (slow|not run: .+|file: \S+) -->$")
 FENCE = re.compile(r"^```(\w*)\s*$")
