@@ -3,11 +3,11 @@ scenes and does what the text says.
 
 In each document, in order and in one working directory (holding links to ``examples/`` and
 ``fixtures/``): a ``sh`` block's lines are ``ibfem`` commands, run in this process and required to
-exit with 0; a ``python`` block is executed (the blocks of a document share their names, so a later
-block reads what an earlier one computed); a block after ``<!-- file: NAME -->`` is written to NAME.
-A block after ``<!-- slow -->`` runs only in the slow variant (``make validate``-sized runs); one
-after ``<!-- not run: REASON -->`` never runs (installs, network access, a cluster) and must give
-its reason. Blocks without a language and ``text`` blocks are command synopses (with placeholders
+exit with 0; a ``python`` block is executed in a separate interpreter, one per document (its
+blocks share their names, so a later block reads what an earlier one computed); a block after
+``<!-- file: NAME -->`` is written to NAME. A block after ``<!-- slow -->`` runs only in the slow
+variant (``make validate``-sized runs); one after ``<!-- not run: REASON -->`` never runs
+(installs, network access, a cluster) and must give its reason. Blocks without a language and ``text`` blocks are command synopses (with placeholders
 such as SCENE.toml) and printed output; ``toml`` blocks without a file marker are fragments.
 Where a ``text`` block follows a command, the output it shows must be what the command
 prints now: every ``key = number`` pair (half_width, normal_force, semi_axes, ...) to the printed
@@ -20,6 +20,8 @@ import contextlib
 import io
 import re
 import shlex
+import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -98,34 +100,77 @@ def _check_output(shown: str, printed: str, where: str) -> None:
             assert g == pytest.approx(v, rel=1e-5, abs=1e-12), f"{where}: {key} shown {v}, printed now {g}"
 
 
-def run_document(document: str, tmp_path: Path, with_slow: bool) -> None:
-    from ibfem import solver
+#: a fresh interpreter that runs a document's Python blocks in one namespace, as a reader's Python
+#: session would: each request is a line with the code's length in characters, the code, and a
+#: line naming the block; the answer is the length of the status ("ok" or the traceback) and the
+#: status. What the blocks print goes to stderr.
+PYTHON_SESSION = r"""
+import contextlib, sys, traceback
+namespace = {"__name__": "__docs__"}
+answer = sys.stdout
+for line in sys.stdin:
+    code = sys.stdin.read(int(line))
+    where = sys.stdin.readline().strip()
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            exec(compile(code, where, "exec"), namespace)
+        status = "ok"
+    except BaseException:
+        status = traceback.format_exc()
+    answer.write(f"{len(status)}\n{status}")
+    answer.flush()
+"""
 
-    # A user runs the commands in a shell and the Python in a fresh interpreter. Here both share
-    # one process, and importing the module ibfem.solver.solve (as `ibfem run` does) before the
-    # first use of solver.solve would bind the module, not the function, to that name: resolve
-    # the function first, as a fresh interpreter's first `solver.solve` does.
-    assert callable(solver.solve)
+
+class PythonSession:
+    """The reader's Python: blocks run in another process, so what the in-process ``ibfem``
+    commands imported does not leak into them (a reader runs those in a shell)."""
+
+    def __init__(self, cwd: Path):
+        self.log = open(cwd / "python_session.log", "w")
+        self.process = subprocess.Popen([sys.executable, "-c", PYTHON_SESSION], cwd=cwd, text=True,
+                                        stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self.log)
+
+    def run(self, code: str, where: str) -> None:
+        self.process.stdin.write(f"{len(code)}\n{code}{where}\n")
+        self.process.stdin.flush()
+        size = self.process.stdout.readline()
+        assert size, f"{where}: the Python session ended (see {self.log.name})"
+        status = self.process.stdout.read(int(size))
+        assert status == "ok", f"{where}: {status}"
+
+    def close(self) -> None:
+        self.process.stdin.close()
+        self.process.wait(timeout=60)
+        self.log.close()
+
+
+def run_document(document: str, tmp_path: Path, with_slow: bool) -> None:
     path = ROOT / document
     for name in ("examples", "fixtures"):
         (tmp_path / name).symlink_to(ROOT / name)
-    namespace: dict = {"__name__": "__docs__"}
-    for block in blocks(path):
-        where = f"{document}:{block.line}"
-        marker = block.marker or ""
-        if marker.startswith("not run:"):
-            assert len(marker) > len("not run: "), f"{where}: a block that is not run must say why"
-            continue
-        if marker == "slow" and not with_slow:
-            continue
-        if marker.startswith("file: "):
-            (tmp_path / marker[len("file: "):]).write_text(block.text)
-        elif block.language == "sh":
-            printed = "".join(_run_command(line, where) for line in block.text.splitlines())
-            if block.output is not None and " converged in " in block.output:
-                _check_output(block.output, printed, where)
-        elif block.language == "python":
-            exec(compile(block.text, where, "exec"), namespace)
+    session = None
+    try:
+        for block in blocks(path):
+            where = f"{document}:{block.line}"
+            marker = block.marker or ""
+            if marker.startswith("not run:"):
+                assert len(marker) > len("not run: "), f"{where}: a block that is not run must say why"
+                continue
+            if marker == "slow" and not with_slow:
+                continue
+            if marker.startswith("file: "):
+                (tmp_path / marker[len("file: "):]).write_text(block.text)
+            elif block.language == "sh":
+                printed = "".join(_run_command(line, where) for line in block.text.splitlines())
+                if block.output is not None and " converged in " in block.output:
+                    _check_output(block.output, printed, where)
+            elif block.language == "python":
+                session = session or PythonSession(tmp_path)
+                session.run(block.text, where)
+    finally:
+        if session is not None:
+            session.close()
 
 
 def _has_slow(document: str) -> bool:
