@@ -7,8 +7,9 @@ exit with 0; a ``python`` block is executed in a separate interpreter, one per d
 blocks share their names, so a later block reads what an earlier one computed); a block after
 ``<!-- file: NAME -->`` is written to NAME. A block after ``<!-- slow -->`` runs only in the slow
 variant (``make validate``-sized runs); one after ``<!-- not run: REASON -->`` never runs
-(installs, network access, a cluster) and must give its reason. Blocks without a language and ``text`` blocks are command synopses (with placeholders
-such as SCENE.toml) and printed output; ``toml`` blocks without a file marker are fragments.
+(installs, network access, a cluster) and must give its reason. Blocks without a language and
+``text`` blocks are command synopses (with placeholders such as SCENE.toml) and printed output;
+``toml`` blocks without a file marker are fragments.
 Where a ``text`` block follows a command, the output it shows must be what the command
 prints now: every ``key = number`` pair (half_width, normal_force, semi_axes, ...) to the printed
 digits, timings excepted.
