@@ -64,6 +64,8 @@ class SolverOptions:
     """The ``[solver]`` table (SPEC section 4 and the README's extensions)."""
 
     load_steps: int = 10
+    #: with load paths: load steps per unit of the load parameter t (None: load_steps per unit)
+    steps_per_unit: int | None = None
     #: a state counts as converged when the residual work of its discrete equations, |u . r| /
     #: |u . f| with r = f - K u, is below this (and the contact region search settled)
     tolerance: float = 1e-10
@@ -90,6 +92,8 @@ class SolverOptions:
 
     def __post_init__(self):
         _integer(self, "load_steps", 1, MAX_LOAD_STEPS)
+        if self.steps_per_unit is not None:
+            _integer(self, "steps_per_unit", 1, MAX_LOAD_STEPS)
         _integer(self, "max_iterations", 1, 100_000)
         _integer(self, "boundary_order", 1, 20)
         _integer(self, "curve_order", 1, 40)
