@@ -126,11 +126,19 @@ class ContactDriver:
         self.k0 = (k0 + k_ess).tocsr()
         by_name = {b.name: b for b in self.bodies}
         self.contacts = [
-            formulation(cm.options.formulation, self.problem.dim)(self.problem, cm, by_name[cm.bodies[0]],
-                                                                  by_name[cm.bodies[1]], self.options)
+            self._builder(cm)(self.problem, cm, by_name[cm.bodies[0]], by_name[cm.bodies[1]], self.options)
             for cm in self.problem.contacts
         ]
         self.timings["assembly_s"] = time.perf_counter() - t
+
+    def _builder(self, cm):
+        """The formulation of a contact: frictional contacts under load paths keep a friction history
+        (2D); without paths (proportional loading) the history cannot matter and is not kept."""
+        if self.problem.history is not None and cm.type == "frictional" and self.problem.dim == 2:
+            from .friction_history import build
+
+            return build
+        return formulation(cm.options.formulation, self.problem.dim)
 
     def _factor(self) -> None:
         """K0 factored with the contact dofs last. A body held only through a contact makes K0
