@@ -306,6 +306,7 @@ class HistoryBandContact(BandContact):
         inside = np.abs(self.local(self.samples.s)) <= a
         return {"friction_work": self.step_work, "slip_points": int(np.count_nonzero(self.zone)),
                 "profile": {"s": self.samples.s, "pressure": self.step_pressure, "shear": self.shear_prev,
+                            "points": self.samples.x2, "normal": self.samples.normal, "tangential_jump": self.w_ref,
                             "zone": np.where(inside, self.zone, 0.0), "slip_increment": self.step_increment,
                             "accumulated_slip": self.accumulated_slip.copy(), "inside": inside}}
 

@@ -70,7 +70,22 @@ def step_record(driver, t: float, u: np.ndarray, factors: dict) -> dict:
             entry.update(extra(u, a, info))
         contacts.append(entry)
     return {"t": float(t), "reactions": {k: np.asarray(v).tolist() for k, v in reactions.items()},
-            "contacts": contacts, "field": u}
+            "face_displacements": face_displacements(driver, u), "contacts": contacts, "field": u}
+
+
+def face_displacements(driver, u: np.ndarray) -> dict:
+    """"body/edge" -> the mean displacement of each edge with an essential condition (for a
+    prescribed face, its prescribed motion; the rigid displacement of a loaded face)."""
+    cache = driver.__dict__.setdefault("_face_points", {})
+    out = {}
+    for e in driver.essentials:
+        if e.key not in cache:
+            cache[e.key] = e.body.edge_points(e.edge, driver.options.boundary_order)
+        bp = cache[e.key]
+        disp = bp.displacement_at(u)
+        out[e.key] = (disp * bp.weights[:, None]).sum(axis=0) / bp.weights.sum()
+        out[e.key] = out[e.key].tolist()
+    return out
 
 
 def step_field(driver, state, f0) -> np.ndarray:
