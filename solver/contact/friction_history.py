@@ -39,11 +39,8 @@ SLIP_MARGIN = 1e-3
 MAX_REFINEMENTS = 12
 #: the edge singularity is fitted over this many cells of the stick side
 EDGE_CELLS = 2.0
-#: ... or, in a step's first zone update (every point stuck: the elastic predictor), when its shear
-#: grows in its own direction and exceeds this fraction of mu p: the zones are then found from
-#: below (too much slip, taken back where the slip runs backwards), decided by the smooth slip
-#: increments, not by the shear's cell means (their cell blurs the stick zone's edge)
-PREDICTOR_RELEASE = 0.5
+#: a boundary between stick and slip is settled when its secant step is below this many finest cells
+BOUNDARY_TOLERANCE = 0.02
 #: a slipping point sticks when its increment runs against its sign by more than this fraction
 #: of the largest increment of the step
 REVERSAL_MARGIN = 1e-3
@@ -69,6 +66,8 @@ class HistoryBandContact(BandContact):
     bounds: np.ndarray = field(default_factory=lambda: np.zeros(0))
     values: np.ndarray = field(default_factory=lambda: np.zeros(1))
     refining: bool = False  # the zones' order is settled; their boundaries are being refined
+    hold_width: bool = False  # the next width search keeps the width (a zone iteration)
+    width_held: bool = False  # a width was kept in this step: search it once more at the end
     secant: dict = field(default_factory=dict)  # boundary index -> (position, edge singularity) of the last try
     w_ref: np.ndarray = field(default_factory=lambda: np.zeros(0))  # tangential jump at the last step's end
     accumulated_slip: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -76,6 +75,7 @@ class HistoryBandContact(BandContact):
     step_increment: np.ndarray = field(default_factory=lambda: np.zeros(0))  # dw_t of the last step
     step_work: float = 0.0  # friction work of the last step (J/m), from the local tractions and slips
     shear_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # mean shear at the last step's end
+    raw_shear_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # point shear at the last step's end
     zone_changes: int = 0
     refinements: int = 0  # secant steps of the boundaries in the current step
     unsettled_steps: list = field(default_factory=list)  # steps whose boundaries stopped at MAX_REFINEMENTS
@@ -92,6 +92,7 @@ class HistoryBandContact(BandContact):
         self.last_direction = np.zeros(n)
         self.step_increment = np.zeros(n)
         self.shear_prev = np.zeros(n)
+        self.raw_shear_prev = np.zeros(n)
         self.stick_ratio = 1.0
         self.slip_sign = 0.0
 
@@ -182,13 +183,34 @@ class HistoryBandContact(BandContact):
         self._set_zones(np.zeros(len(self.zone)))  # the elastic predictor: every point stuck
         self.restuck = np.zeros(len(self.zone), dtype=bool)
         self.refining, self.secant, self.refinements = False, {}, 0
+        self.hold_width = self.width_held = False
         self.step_count += 1
+
+    def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
+        """The width search; between zone updates of a step the width is kept (the zones barely move
+        it: one solve instead of a search), and searched again once the zones have settled."""
+        if self.hold_width:
+            return _hold(a0)
+        return super().region_search(a0, final, max_iterations, estimate)
 
     def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
         """Centre, then the zones: a stick point above mu p slips against its shear; a slipping
-        point whose increment reverses sticks. True when nothing changed."""
+        point whose increment reverses sticks. True when nothing changed (and the width was
+        searched with the settled zones)."""
         if not self._update_centre(x, a, info, final):
             return False
+        settled = self._update_zones(x, a)
+        if not settled:
+            self.hold_width = self.width_held = True
+            return False
+        self.hold_width = False
+        if self.width_held:  # zones settled at a kept width: search the width once more, then check
+            self.width_held = False
+            return False
+        return True
+
+    def _update_zones(self, x: np.ndarray, a: float) -> bool:
+        """One zone update (see update_stick_and_shape); True when nothing changed."""
         if self.refining:
             return self._refine_bounds(x, a)
         p, q, wt, inside = self.sample_state(x, a)
@@ -197,10 +219,7 @@ class HistoryBandContact(BandContact):
         zone = np.where(inside, self.zone, 0.0)  # outside the region: no zone
         outside = ~inside
         inside = inside & (p > 0.0)
-        if self.zone_updates == 0:
-            over = inside & (np.abs(q) > mu * p * PREDICTOR_RELEASE) & (q * (q - self.shear_prev) > 0.0)
-        else:
-            over = inside & (zone == 0.0) & ~self.restuck & (np.abs(q) > mu * p * (1.0 + SLIP_MARGIN))
+        over = inside & (zone == 0.0) & ~self.restuck & (np.abs(q) > mu * p * (1.0 + SLIP_MARGIN))
         self.zone_updates += 1
         scale = max(float(np.abs(dw[inside]).max()) if inside.any() else 0.0, 1e-300)
         back = (zone != 0.0) & (dw * zone < -REVERSAL_MARGIN * scale)
@@ -248,7 +267,7 @@ class HistoryBandContact(BandContact):
         self.zone = np.where(np.abs(self.local(self.samples.s)) <= a, self.zone_at(self.samples.s), 0.0)
         self.stick_ratio = self.stick(a) / a if a > 0 else 1.0
         self.refinements += 1
-        settled = not moves or max(moves) <= self.options.stick_tolerance * a
+        settled = not moves or max(moves) <= BOUNDARY_TOLERANCE * self.h
         if not settled and self.refinements >= MAX_REFINEMENTS:
             self.unsettled_steps.append(self.step_count)
             return True
@@ -285,8 +304,11 @@ class HistoryBandContact(BandContact):
         self.accumulated_slip = self.accumulated_slip + np.abs(dw)
         self.last_direction = np.where(self.zone != 0.0, self.zone, self.last_direction)
         self.step_increment = dw
-        self.w_ref = wt
+        # a stuck point keeps its reference (the tie's elastic stretch is recoverable, not slip);
+        # slipping and open points take their current jump
+        self.w_ref = np.where((self.zone != 0.0) | ~inside | (p <= 0.0), wt, self.w_ref)
         self.shear_prev = np.where(inside, q, 0.0)
+        self.raw_shear_prev = self._raw[1].copy()
         self.step_pressure = np.where(inside, p, 0.0)
 
     def slip_zones(self, a: float) -> list[list[float]]:
@@ -339,6 +361,12 @@ class HistoryBandContact(BandContact):
                                 "zone_changes_last_step": self.zone_changes})
         block["gross_slip"] = bool(np.all(self.zone[np.abs(s) <= a] != 0.0)) if a > 0 else False
         return []
+
+
+def _hold(a: float):
+    """A width search that keeps the width a (one trial)."""
+    yield a
+    return a, (a, a)
 
 
 def build(problem, model, b1, b2, options) -> HistoryBandContact:
