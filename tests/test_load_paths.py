@@ -126,3 +126,19 @@ def test_frictionless_contact_is_path_independent():
     # the overshoot step carries 1.5 times the load: N grows (Hertz: a ~ sqrt(N))
     n1 = b.steps[0]["contacts"][0]["normal_force"]
     assert n1 > 1.3 * cb["normal_force"]
+
+
+def test_paths_without_contact_scale_each_component():
+    """A plate pulled by a traction whose x component follows a cycle and y a ramp: each step's
+    reaction at the fixed edge balances the traction's resultant at that t (equilibrium)."""
+    from ibfem.solver.solve import solve
+
+    sc = _scene([{"name": "cyc", "cycle": {"amplitude": 1.0, "cycles": 1, "points_per_cycle": 4}},
+                 {"name": "ramp", "points": [[0, 0], [1, 1]]}], ["cyc", "ramp"], {"steps_per_unit": 4})
+    sol = solve(sc.problem)
+    assert sol.converged and [st["t"] for st in sol.steps] == [0.25, 0.5, 0.75, 1.0]
+    factors_x = [1.0, 0.0, -1.0, 0.0]
+    for st, fx in zip(sol.steps, factors_x):
+        applied = np.array([1.0e6 * fx, 2.0e5 * st["t"]]) * 1.0  # traction x the right edge's length (1 m)
+        reaction = np.asarray(st["reactions"]["plate/left"])
+        assert np.allclose(reaction, -applied, atol=1e-6 * 1.0e6), (st["t"], reaction, applied)
