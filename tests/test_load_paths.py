@@ -142,3 +142,24 @@ def test_paths_without_contact_scale_each_component():
         applied = np.array([1.0e6 * fx, 2.0e5 * st["t"]]) * 1.0  # traction x the right edge's length (1 m)
         reaction = np.asarray(st["reactions"]["plate/left"])
         assert np.allclose(reaction, -applied, atol=1e-6 * 1.0e6), (st["t"], reaction, applied)
+
+
+def test_step_files(tmp_path):
+    """summary.json steps, steps.csv and a ParaView series with one dataset per step and body."""
+    import json
+
+    from ibfem.solver.io.output import write_scene_results
+    from ibfem.solver.solve import solve
+
+    sc = _scene([{"name": "ramp", "points": [[0, 0], [1, 1], [2, 0.5]]}], "ramp", {"steps_per_unit": 2})
+    summary = write_scene_results(tmp_path, sc, solve(sc.problem))
+    assert [s["t"] for s in summary["steps"]] == [0.5, 1.0, 1.5, 2.0]
+    assert "field" not in summary["steps"][0]
+    on_disk = json.loads((tmp_path / "summary.json").read_text())
+    assert on_disk["steps"][2]["reactions"]["plate/left"][0] == pytest.approx(-0.75e6, rel=1e-6)
+    rows = np.loadtxt(tmp_path / "steps.csv", delimiter=",", skiprows=1, ndmin=2)
+    assert rows.shape[0] == 4
+    pvd = (tmp_path / "steps.pvd").read_text()
+    assert pvd.count("<DataSet ") == 4 and 'timestep="1.5"' in pvd
+    for k in range(1, 5):
+        assert (tmp_path / "steps" / f"step_{k:04d}" / "plate.vtu").is_file()

@@ -28,13 +28,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..fem.step_boundary import PENALTY_FACTOR
 from .band import BandContact, _tangents, _tractions, build as band_build
 from .report import contact_block
 
 __all__ = ["HistoryBandContact", "build"]
 
 #: a stick point starts slipping when its mean shear exceeds mu p by this fraction
-SLIP_MARGIN = 1e-3
+SLIP_MARGIN = 0.02
 #: a step's boundary refinement stops after this many secant steps (counted in ``unsettled_steps``)
 MAX_REFINEMENTS = 12
 #: the edge singularity is fitted over this many cells of the stick side
@@ -69,7 +70,8 @@ class HistoryBandContact(BandContact):
     hold_width: bool = False  # the next width search keeps the width (a zone iteration)
     width_held: bool = False  # a width was kept in this step: search it once more at the end
     secant: dict = field(default_factory=dict)  # boundary index -> (position, edge singularity) of the last try
-    w_ref: np.ndarray = field(default_factory=lambda: np.zeros(0))  # tangential jump at the last step's end
+    w_ref: np.ndarray = field(default_factory=lambda: np.zeros(0))  # the jump a stuck point is held at
+    w_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # tangential jump at the last step's end
     accumulated_slip: np.ndarray = field(default_factory=lambda: np.zeros(0))
     last_direction: np.ndarray = field(default_factory=lambda: np.zeros(0))
     step_increment: np.ndarray = field(default_factory=lambda: np.zeros(0))  # dw_t of the last step
@@ -88,6 +90,7 @@ class HistoryBandContact(BandContact):
         n = len(self.samples.s)
         self.zone = np.zeros(n)
         self.w_ref = np.zeros(n)
+        self.w_prev = np.zeros(n)
         self.accumulated_slip = np.zeros(n)
         self.last_direction = np.zeros(n)
         self.step_increment = np.zeros(n)
@@ -214,7 +217,7 @@ class HistoryBandContact(BandContact):
         if self.refining:
             return self._refine_bounds(x, a)
         p, q, wt, inside = self.sample_state(x, a)
-        dw = wt - self.w_ref
+        dw = wt - self.w_prev  # the step's slip where slipping
         mu = self.friction
         zone = np.where(inside, self.zone, 0.0)  # outside the region: no zone
         outside = ~inside
@@ -297,7 +300,7 @@ class HistoryBandContact(BandContact):
     def end_step(self, x: np.ndarray, a: float, info) -> None:
         """Carry the step's state: the slips, their work, the new reference jumps."""
         p, q, wt, inside = self.sample_state(x, a)
-        dw = np.where(self.zone != 0.0, wt - self.w_ref, 0.0)
+        dw = np.where(self.zone != 0.0, wt - self.w_prev, 0.0)
         ds = np.gradient(self.samples.s)
         # friction work: -int (q_old + q_new)/2 . dw ds over the slipping points (positive: dissipated)
         self.step_work = float(-np.sum(0.5 * (self.shear_prev + q) * dw * ds))
@@ -305,11 +308,23 @@ class HistoryBandContact(BandContact):
         self.last_direction = np.where(self.zone != 0.0, self.zone, self.last_direction)
         self.step_increment = dw
         # a stuck point keeps its reference (the tie's elastic stretch is recoverable, not slip);
-        # slipping and open points take their current jump
-        self.w_ref = np.where((self.zone != 0.0) | ~inside | (p <= 0.0), wt, self.w_ref)
+        # a slipping or open point takes the reference at which the tie, were it stuck now, would
+        # carry the traction it carries (Coulomb's, or none): the traction stays continuous when
+        # the point sticks
+        free = (self.zone != 0.0) | ~inside | (p <= 0.0)
+        self.w_ref = np.where(free, wt - self._tie_offset(x, np.where(inside, self._raw[1], 0.0)), self.w_ref)
         self.shear_prev = np.where(inside, q, 0.0)
         self.raw_shear_prev = self._raw[1].copy()
+        self.w_prev = wt
         self.step_pressure = np.where(inside, p, 0.0)
+
+    def _tie_offset(self, x: np.ndarray, shear: np.ndarray) -> np.ndarray:
+        """(f_t - q) / L_tt at the samples: the tangential stretch of the tie whose traction
+        -L_tt stretch + f_t (the layer plus the flux along t_c) is the shear q."""
+        tan = _tangents(self.samples.normal)
+        flux = np.einsum("qi,qi->q", (self.f_samples @ x).reshape(-1, 2), tan)
+        layer = PENALTY_FACTOR / (self.band_fraction * self.size_samples) * self.b1.mu
+        return (flux - shear) / layer
 
     def slip_zones(self, a: float) -> list[list[float]]:
         """[s_lo, s_hi, direction] of each run of slipping samples within the region."""
@@ -328,7 +343,7 @@ class HistoryBandContact(BandContact):
         inside = np.abs(self.local(self.samples.s)) <= a
         return {"friction_work": self.step_work, "slip_points": int(np.count_nonzero(self.zone)),
                 "profile": {"s": self.samples.s, "pressure": self.step_pressure, "shear": self.shear_prev,
-                            "points": self.samples.x2, "normal": self.samples.normal, "tangential_jump": self.w_ref,
+                            "points": self.samples.x2, "normal": self.samples.normal, "tangential_jump": self.w_prev,
                             "zone": np.where(inside, self.zone, 0.0), "slip_increment": self.step_increment,
                             "accumulated_slip": self.accumulated_slip.copy(), "inside": inside}}
 

@@ -20,32 +20,41 @@ A cycle is two consecutive branches of Q between its turning points, after the f
 from __future__ import annotations
 
 import dataclasses
+import math
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["write_fretting_files", "cycles_of", "loop_energy"]
+__all__ = ["write_fretting_files", "cycles_of", "loop_energy", "turning_steps"]
 
 
-def _turning_steps(q: np.ndarray) -> list[int]:
-    """Indices of the steps where Q changes direction (its extremes)."""
-    dq = np.diff(q)
-    scale = max(float(np.abs(q).max()), 1e-300)
-    sign = np.sign(np.where(np.abs(dq) > 1e-9 * scale, dq, 0.0))
-    turns, last = [], 0.0
-    for k, sg in enumerate(sign):
-        if sg == 0.0:
+#: a turning point of Q is an extreme from which Q then moves back by this fraction of its largest
+#: magnitude (steps of solver noise about a held load are not cycles)
+TURN_PROMINENCE = 0.02
+
+
+def turning_steps(q: np.ndarray, prominence: float = TURN_PROMINENCE) -> list[int]:
+    """Indices of the steps where Q changes direction (its extremes, by prominence)."""
+    q = np.asarray(q, dtype=float)
+    tol = prominence * max(float(np.abs(q).max()), 1e-300) if len(q) else 0.0
+    turns, k_ext, direction = [], 0, 0.0
+    for k in range(1, len(q)):
+        if direction == 0.0:
+            if abs(q[k] - q[0]) > tol:
+                direction, k_ext = math.copysign(1.0, q[k] - q[0]), k
             continue
-        if last != 0.0 and sg != last:
-            turns.append(k)
-        last = sg
+        if (q[k] - q[k_ext]) * direction > 0.0:
+            k_ext = k
+        elif (q[k_ext] - q[k]) * direction > tol:
+            turns.append(k_ext)
+            direction, k_ext = -direction, k
     return turns
 
 
 def cycles_of(q: np.ndarray) -> list[tuple[int, int]]:
     """(first, last) step indices of each complete cycle of Q: from a turning point to the turning
     point two branches later."""
-    turns = _turning_steps(np.asarray(q, dtype=float))
+    turns = turning_steps(np.asarray(q, dtype=float))
     return [(turns[i], turns[i + 2]) for i in range(0, len(turns) - 2, 2)]
 
 

@@ -40,7 +40,8 @@ def write_results(
     if getattr(solution, "steps", None):  # load paths: the step series and the history's tables
         from .step_outputs import write_step_files
 
-        files += write_step_files(out_dir, problem, solution, summary, vtk=vtk, plots=plots, missing=missing)
+        files += write_step_files(out_dir, problem, solution, summary, write_vtu=write_vtu if vtk else None,
+                                  plots=plots, missing=missing)
     if plots:
         try:
             from .plots import write_plots

@@ -37,9 +37,7 @@ def write_pvd(path: Path, entries: list[tuple[float, int, str]]) -> Path:
     return path
 
 
-def _write_series(out_dir: Path, problem, solution) -> list[Path]:
-    from .results import write_vtu
-
+def _write_series(out_dir: Path, problem, solution, write_vtu) -> list[Path]:
     files, entries = [], []
     for k, st in enumerate(solution.steps, start=1):
         folder = out_dir / "steps" / f"step_{k:04d}"
@@ -67,14 +65,15 @@ def _write_csv(out_dir: Path, steps: list[dict]) -> Path:
     return path
 
 
-def write_step_files(out_dir: Path, problem, solution, summary: dict, vtk: bool = True, plots: bool = False,
+def write_step_files(out_dir: Path, problem, solution, summary: dict, write_vtu=None, plots: bool = False,
                      missing: list[str] | None = None) -> list[Path]:
-    """Every file of a run with paths; a missing optional library is noted in ``missing``."""
+    """Every file of a run with paths; ``write_vtu(folder, problem, solution)`` writes one step's
+    VTU files (None: no series); a missing optional library is noted in ``missing``."""
     out_dir = Path(out_dir)
     files = [_write_csv(out_dir, solution.steps)]
-    if vtk:
+    if write_vtu is not None:
         try:
-            files += _write_series(out_dir, problem, solution)
+            files += _write_series(out_dir, problem, solution, write_vtu)
         except ImportError as err:
             if missing is not None:
                 missing.append(f"the VTU step series was not written: pyvista is not installed ({err})")

@@ -20,21 +20,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..io.fretting_outputs import turning_steps
 from ..reference.fretting import energy_per_cycle, history_shear
 from ..reference.theory import effective_modulus, plane_strain_modulus
 
 __all__ = ["compare", "main"]
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "fretting" / "cylinder_on_flat_fretting.toml"
-
-
-def _branches(q: np.ndarray, start: int) -> list[int]:
-    """Indices of the turning points of Q from step ``start`` on (its local extremes)."""
-    turns = []
-    for k in range(start + 1, len(q) - 1):
-        if (q[k] - q[k - 1]) * (q[k + 1] - q[k]) < 0.0:
-            turns.append(k)
-    return turns
 
 
 def compare(summary: dict, profiles: dict, radius: float, youngs_modulus: float, poissons_ratio: float,
@@ -46,7 +38,7 @@ def compare(summary: dict, profiles: dict, radius: float, youngs_modulus: float,
     n_all = np.array([st["contacts"][contact]["normal_force"] for st in steps])
     start = int(np.flatnonzero(np.abs(q_all) > 1e-6 * n_all.max())[0])  # the first step with shear
     sign = 1.0  # Q along the contact's tangent; the shear on body 1 is along -t for Q > 0 on body 2
-    turns = _branches(q_all, start)
+    turns = [k for k in turning_steps(q_all) if k >= start]
     e_star = effective_modulus(youngs_modulus, poissons_ratio, youngs_modulus, poissons_ratio)
     s = np.asarray(profiles["s"])
     rows = []
