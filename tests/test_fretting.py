@@ -23,6 +23,7 @@ def _run(tmp_path: Path, points_per_cycle: int, cycles: int, steps_per_unit: int
     data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
     data["solver"]["steps_per_unit"] = steps_per_unit
     data["paths"][1]["cycle"].update(points_per_cycle=points_per_cycle, cycles=cycles)
+    data["paths"][0]["points"][-1][0] = 1.0 + cycles  # the run ends with the last cycle
     data["output"] = {"vtk": False, "plots": False}
     sc = scene_from_dict(data, label="fretting.toml")
     solution = solve(sc.problem)
@@ -39,18 +40,18 @@ def _after_reversal(rows: list[dict]) -> list[bool]:
 def test_one_cycle_coarse(tmp_path):
     """One cycle at 8 steps: the summary's steps and fretting block, the branch ends' stick
     half-widths, the shear and the energy of the cycle against the superposition."""
-    summary, result = _run(tmp_path, points_per_cycle=8, cycles=1.25, steps_per_unit=2)
+    summary, result = _run(tmp_path, points_per_cycle=8, cycles=1.5, steps_per_unit=1)
     assert summary["iterations"]["friction_history"] == [
         "incremental Coulomb: stick/slip state and accumulated slip carried per point"]
     steps = summary["steps"]
-    assert [round(s["t"], 6) for s in steps][:3] == [0.5, 1.0, 1.125]
+    assert [round(s["t"], 6) for s in steps][:3] == [1.0, 1.125, 1.25]
     zones = [z for s in steps for z in s["contacts"][0]["slip_zones"]]
     assert {z[2] for z in zones} == {-1.0, 1.0}  # both directions of slip are found
     rows = result["steps"]
     ends = [r for r, nxt in zip(rows, rows[1:] + [None]) if nxt is not None and nxt["branch"] != r["branch"]]
-    assert len(ends) == 2  # the first loading and the first reversal
+    assert len(ends) == 3  # the first loading and two reversals
     for r in ends:  # the turning points: the widest slip annulus of each branch
-        assert abs(r["c_error_over_a"]) < 0.03, r
+        assert abs(r["c_error_over_a"]) < 0.04, r
     assert max(r["shear_rms_over_mu_p0"] for r in rows) < 0.07
     (cycle,) = result["cycles"]
     assert cycle["friction_error"] == pytest.approx(0.0, abs=0.05)

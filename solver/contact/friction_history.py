@@ -224,7 +224,10 @@ class HistoryBandContact(BandContact):
         inside = inside & (p > 0.0)
         over = inside & (zone == 0.0) & ~self.restuck & (np.abs(q) > mu * p * (1.0 + SLIP_MARGIN))
         self.zone_updates += 1
-        scale = max(float(np.abs(dw[inside]).max()) if inside.any() else 0.0, 1e-300)
+        # the largest slip of the step, or (a step that hardly moves, a held load) a ten-thousandth
+        # of the contact's elastic tangential displacement mu p_max a / E*: noise is no reversal
+        floor = 1e-4 * mu * max(float(p.max()), 0.0) * a / self.e_star
+        scale = max(float(np.abs(dw[inside]).max()) if inside.any() else 0.0, floor, 1e-300)
         back = (zone != 0.0) & (dw * zone < -REVERSAL_MARGIN * scale)
         zone[over] = -np.sign(q[over])
         zone[back] = 0.0
@@ -302,8 +305,9 @@ class HistoryBandContact(BandContact):
         p, q, wt, inside = self.sample_state(x, a)
         dw = np.where(self.zone != 0.0, wt - self.w_prev, 0.0)
         ds = np.gradient(self.samples.s)
-        # friction work: -int (q_old + q_new)/2 . dw ds over the slipping points (positive: dissipated)
-        self.step_work = float(-np.sum(0.5 * (self.shear_prev + q) * dw * ds))
+        # friction work: -int q dw ds over the slipping points (positive: dissipated), q the step's
+        # end shear, Coulomb's limit while slipping (a point slips once its shear reached it)
+        self.step_work = float(-np.sum(q * dw * ds))
         self.accumulated_slip = self.accumulated_slip + np.abs(dw)
         self.last_direction = np.where(self.zone != 0.0, self.zone, self.last_direction)
         self.step_increment = dw

@@ -7,7 +7,7 @@
   +-1 slipping along +-t), the slip increment, the accumulated slip and the tangential jump;
 - the ``fretting`` block of summary.json: per complete cycle of Q the energy dissipated, from the
   loop (the integral of Q d delta over the cycle) and from the local friction work (the sum over
-  slipping points and steps of mean shear times slip increment), both; and along the contact
+  slipping points and steps of the step's end shear times its slip increment), both; and along the contact
   (``fretting_<k>.csv``) the slip amplitude delta_s (half the range of the tangential jump over the
   last cycle), the largest shear |q|, the largest surface stress along the contact in the second
   body sigma_t, the fretting damage parameter |q| delta_s and Ruiz's parameter
