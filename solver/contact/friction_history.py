@@ -69,6 +69,7 @@ class HistoryBandContact(BandContact):
     refining: bool = False  # the zones' order is settled; their boundaries are being refined
     hold_width: bool = False  # the next width search keeps the width (a zone iteration)
     width_held: bool = False  # a width was kept in this step: search it once more at the end
+    held_edge: float = math.nan  # the edge coefficient at the kept width
     secant: dict = field(default_factory=dict)  # boundary index -> (position, edge singularity) of the last try
     w_ref: np.ndarray = field(default_factory=lambda: np.zeros(0))  # the jump a stuck point is held at
     w_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # tangential jump at the last step's end
@@ -191,9 +192,10 @@ class HistoryBandContact(BandContact):
 
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
         """The width search; between zone updates of a step the width is kept (the zones barely move
-        it: one solve instead of a search), and searched again once the zones have settled."""
+        it: one solve instead of a search), and searched again once the zones have settled unless
+        the kept width's edge coefficient shows it consistent."""
         if self.hold_width:
-            return _hold(a0)
+            return _hold(self, a0)
         return super().region_search(a0, final, max_iterations, estimate)
 
     def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
@@ -207,9 +209,11 @@ class HistoryBandContact(BandContact):
             self.hold_width = self.width_held = True
             return False
         self.hold_width = False
-        if self.width_held:  # zones settled at a kept width: search the width once more, then check
+        if self.width_held:  # zones settled at a kept width: search it once more, unless it is consistent
             self.width_held = False
-            return False
+            # the edge coefficient moves by about the relative change of the width: within the width
+            # search's tolerance (edge_tolerance cells) the kept width is the searched one
+            return abs(self.held_edge) <= self.options.edge_tolerance * self.h / a
         return True
 
     def _update_zones(self, x: np.ndarray, a: float) -> bool:
@@ -382,9 +386,10 @@ class HistoryBandContact(BandContact):
         return []
 
 
-def _hold(a: float):
-    """A width search that keeps the width a (one trial)."""
-    yield a
+def _hold(c: HistoryBandContact, a: float):
+    """A width search that keeps the width a (one trial); its edge coefficient is kept."""
+    verdict = yield a
+    c.held_edge = float(verdict.edge)
     return a, (a, a)
 
 
