@@ -187,7 +187,8 @@ class HistoryBandContact(BandContact):
         self._set_zones(np.zeros(len(self.zone)))  # the elastic predictor: every point stuck
         self.restuck = np.zeros(len(self.zone), dtype=bool)
         self.refining, self.secant, self.refinements = False, {}, 0
-        self.hold_width = self.width_held = False
+        # the step starts at the last step's width (one solve), searched only if it proves inconsistent
+        self.hold_width = self.width_held = self.step_count > 0
         self.step_count += 1
 
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
