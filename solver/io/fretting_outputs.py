@@ -109,7 +109,8 @@ def _damage(problem, solution, steps, k: int, block: dict, cycle: tuple[int, int
     window = steps[first:last + 1]
     jump = np.array([st["contacts"][k]["profile"]["tangential_jump"] for st in window])
     shear = np.array([st["contacts"][k]["profile"]["shear"] for st in window])
-    amplitude = 0.5 * (jump.max(axis=0) - jump.min(axis=0))
+    touching = np.array([st["contacts"][k]["profile"]["inside"] for st in window]).any(axis=0)
+    amplitude = np.where(touching, 0.5 * (jump.max(axis=0) - jump.min(axis=0)), 0.0)  # open points: none
     tau = np.abs(shear).max(axis=0)
     sigma_t = _surface_stress(problem, solution, window, k, block["bodies"][1]).max(axis=0)
     return {"s": np.asarray(steps[0]["contacts"][k]["profile"]["s"]), "slip_amplitude": amplitude,
@@ -118,17 +119,24 @@ def _damage(problem, solution, steps, k: int, block: dict, cycle: tuple[int, int
 
 
 def _write_plot(path: Path, delta: np.ndarray, q: np.ndarray, title: str) -> Path:
+    """The loop, and beside it the loop less the initial elastic line (delta - Q / k, k the slope
+    of the first step that carries shear): the part of the motion that hysteresis opens."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(5.5, 4.0))
-    ax.plot(delta * 1e6, q, "o-", ms=3)
-    ax.set_xlabel("relative tangential displacement of the faces (um)")
-    ax.set_ylabel("tangential force Q (N/m)")
-    ax.set_title(title)
-    ax.grid(True, alpha=0.3)
+    moving = np.flatnonzero(np.abs(np.diff(delta)) > 1e-12 * max(float(np.abs(delta).max()), 1e-300))
+    k = (q[moving[0] + 1] - q[moving[0]]) / (delta[moving[0] + 1] - delta[moving[0]]) if len(moving) else 0.0
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.0))
+    axes[0].plot(delta * 1e6, q, "o-", ms=3)
+    axes[0].set_xlabel("relative tangential displacement of the faces (um)")
+    axes[1].plot((delta - q / k) * 1e6 if k else delta * 1e6, q, "o-", ms=3)
+    axes[1].set_xlabel("the same less Q / k, k the initial slope (um)")
+    for ax in axes:
+        ax.set_ylabel("tangential force Q (N/m)")
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
