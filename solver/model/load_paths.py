@@ -111,16 +111,3 @@ class LoadHistory:
         if len(names) == 1:
             return (names[0],) * components
         return tuple(names)
-
-    def is_proportional(self) -> bool:
-        """Whether every condition follows one common monotone factor from 0 (then the path is the
-        ramp of a proportional run and history cannot matter)."""
-        used = {n for names in self.assignments if names for n in names}
-        if not used:
-            return True
-        if len(used) > 1 or any(not names for names in self.assignments):
-            return False
-        p = self.paths[used.pop()].points
-        f = np.concatenate([[0.0], p[:, 1]]) if p[0, 0] > 0.0 else p[:, 1]
-        d = np.diff(f)
-        return bool(f[0] == 0.0 and (np.all(d >= 0.0) or np.all(d <= 0.0)))
