@@ -64,8 +64,6 @@ class SolverOptions:
     """The ``[solver]`` table (SPEC section 4 and the README's extensions)."""
 
     load_steps: int = 10
-    #: with load paths: load steps per unit of the load parameter t (None: load_steps per unit)
-    steps_per_unit: int | None = None
     #: a state counts as converged when the residual work of its discrete equations, |u . r| /
     #: |u . f| with r = f - K u, is below this (and the contact region search settled)
     tolerance: float = 1e-10
@@ -89,6 +87,8 @@ class SolverOptions:
     #: aggregation AMG, pyamg), "auto" (iterative from 400k dofs when pyamg is installed);
     #: contact problems always factor directly (their condensation needs the factors)
     linear_solver: str = "auto"
+    #: with load paths: load steps per unit of the load parameter t (None: load_steps per unit)
+    steps_per_unit: int | None = None
 
     def __post_init__(self):
         _integer(self, "load_steps", 1, MAX_LOAD_STEPS)
