@@ -40,6 +40,11 @@ SLIP_MARGIN = 0.02
 MAX_REFINEMENTS = 12
 #: the edge singularity is fitted over this many cells of the stick side
 EDGE_CELLS = 2.0
+#: ... and a point stuck again in the same step when its mean shear exceeds mu p by this fraction
+RESLIP_MARGIN = 0.1
+#: a step's state breaks Coulomb's law when more than this share of its stick points carries a mean
+#: shear above (1 + RESLIP_MARGIN) mu p (reported: the run is then not converged)
+COULOMB_SHARE = 0.02
 #: a boundary between stick and slip is settled when its secant step is below this many finest cells
 BOUNDARY_TOLERANCE = 0.02
 #: a slipping point sticks when its increment runs against its sign by more than this fraction
@@ -83,6 +88,7 @@ class HistoryBandContact(BandContact):
     refinements: int = 0  # secant steps of the boundaries in the current step
     unsettled_steps: list = field(default_factory=list)  # steps whose boundaries stopped at MAX_REFINEMENTS
     step_count: int = 0
+    coulomb_violations: list = field(default_factory=list)  # (step, share of stick points above the limit)
     zone_updates: int = 0  # zone updates in the current step
     restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # stuck again in this step
     history_rule = "incremental Coulomb: stick/slip state and accumulated slip carried per point"
@@ -227,7 +233,9 @@ class HistoryBandContact(BandContact):
         zone = np.where(inside, self.zone, 0.0)  # outside the region: no zone
         outside = ~inside
         inside = inside & (p > 0.0)
-        over = inside & (zone == 0.0) & ~self.restuck & (np.abs(q) > mu * p * (1.0 + SLIP_MARGIN))
+        # a point stuck again in this step slips again only well above the limit (no chatter at it)
+        margin = np.where(self.restuck, RESLIP_MARGIN, SLIP_MARGIN)
+        over = inside & (zone == 0.0) & (np.abs(q) > mu * p * (1.0 + margin))
         self.zone_updates += 1
         # the largest slip of the step, or (a step that hardly moves, a held load) a ten-thousandth
         # of the contact's elastic tangential displacement mu p_max a / E*: noise is no reversal
@@ -308,6 +316,10 @@ class HistoryBandContact(BandContact):
     def end_step(self, x: np.ndarray, a: float, info) -> None:
         """Carry the step's state: the slips, their work, the new reference jumps."""
         p, q, wt, inside = self.sample_state(x, a)
+        stuck = inside & (p > 0.0) & (self.zone == 0.0)
+        share = float(np.mean(np.abs(q[stuck]) > self.friction * p[stuck] * (1.0 + RESLIP_MARGIN))) if stuck.any() else 0.0
+        if share > COULOMB_SHARE:
+            self.coulomb_violations.append((self.step_count, share))
         dw = np.where(self.zone != 0.0, wt - self.w_prev, 0.0)
         ds = np.gradient(self.samples.s)
         # friction work: -int q dw ds over the slipping points (positive: dissipated), q the step's
@@ -384,7 +396,10 @@ class HistoryBandContact(BandContact):
                                 "stick_shear_above_mu_p": float(excess.sum() / max(stick.sum(), 1)),
                                 "zone_changes_last_step": self.zone_changes})
         block["gross_slip"] = bool(np.all(self.zone[np.abs(s) <= a] != 0.0)) if a > 0 else False
-        return []
+        block["checks"]["steps_breaking_coulomb"] = [[k, v] for k, v in self.coulomb_violations]
+        return [f"{self.name}: load step {k}: {v:.1%} of the stick zone carries a shear above "
+                f"{1.0 + RESLIP_MARGIN:g} mu p (the zones did not find Coulomb's state)"
+                for k, v in self.coulomb_violations]
 
 
 def _hold(c: HistoryBandContact, a: float):
