@@ -21,6 +21,7 @@ demo: $(STAMP)
 validate: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_solid
+	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_fretting --out out/validation_fretting
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(PY) benchmarks/run_all.py

@@ -30,6 +30,7 @@ def main(argv: list[str]) -> int:
         ("error_vs_time.py", quick),
         ("linear_solvers.py", ["--quick"] if args.quick else []),
         ("step_import.py", []),
+        ("fretting.py", []),
     ] + ([("million_dofs.py", [])] if args.large else [])
     failed = []
     for name, extra in benchmarks:

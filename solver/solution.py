@@ -33,6 +33,8 @@ class IBFEMSolution:
     contacts: list[dict] = field(default_factory=list)
     settings: SolverOptions = field(default_factory=SolverOptions)
     boundary_tractions: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]] = field(default_factory=dict)
+    #: with load paths: one record per solved load step (summary.json "steps")
+    steps: list = field(default_factory=list)
 
     def _body(self, body: str | None) -> list[BodyDiscretisation]:
         if body is None:

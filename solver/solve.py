@@ -10,8 +10,9 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from .contact.driver import solve_contact
-from .fem.assembly import assemble, rigid_modes_check
+from .fem.assembly import assemble, essential_reactions, rigid_modes_check
 from .fem.linalg import linear_solve
+from .fem.path_loads import path_loads
 from .fem.bodies import discretise
 from .fem.space import body_info
 from .model.resolve import resolve_problem
@@ -57,6 +58,9 @@ def _solve_linear(problem, progress) -> IBFEMSolution:
     rigid_modes_check(system.stiffness, bodies)
     report("solve", 0.6)
     t = time.perf_counter()
+    steps, factors = [], 1.0
+    if problem.history is not None:  # load paths: the state at the end; each step a sum of the columns' fields
+        system, steps, factors = _path_steps(problem, bodies, system)
     u = linear_solve(system.stiffness, system.load, bodies, options.linear_solver, tolerance=1e-10)
     timings["solve_s"] = time.perf_counter() - t
     k, f = system.stiffness, system.load
@@ -67,7 +71,7 @@ def _solve_linear(problem, progress) -> IBFEMSolution:
     messages = [] if work <= options.tolerance else [
         f"the residual work of the solution is {work:.3g}, above solver.tolerance = {options.tolerance:g}"
     ]
-    reactions, tractions = system.reactions(u)
+    reactions, tractions = essential_reactions(system.essentials, u, options, factors)
     timings["total_s"] = time.perf_counter() - t_start
     report("done", 1.0)
     return IBFEMSolution(
@@ -83,4 +87,25 @@ def _solve_linear(problem, progress) -> IBFEMSolution:
         contacts=[],
         settings=options,
         boundary_tractions=tractions,
+        steps=steps,
     )
+
+
+def _path_steps(problem, bodies, system):
+    """Under load paths without contact: the system at the end of the run, the step records
+    (t, reactions, field: the columns' fields combined with the factors at t) and the essential
+    conditions' factors at the end."""
+    import dataclasses
+
+    loads = path_loads(problem, bodies, problem.options)
+    fields = np.column_stack([linear_solve(system.stiffness, loads.columns[:, j], bodies, problem.options.linear_solver,
+                                           tolerance=1e-10) for j in range(loads.columns.shape[1])])
+    times = problem.history.times()
+    steps = []
+    for t in times:
+        u = fields @ loads.weights(t)
+        reactions, _ = essential_reactions(system.essentials, u, problem.options, loads.essential_factors(t))
+        steps.append({"t": float(t), "reactions": {k: np.asarray(v).tolist() for k, v in reactions.items()},
+                      "contacts": [], "field": u})
+    end = float(times[-1])
+    return dataclasses.replace(system, load=loads.load(end)), steps, loads.essential_factors(end)

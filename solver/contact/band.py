@@ -121,6 +121,28 @@ class BandContact:
         s_plus, s_minus = self.geom.s_limits
         return max(self.centre - a, -s_minus), min(self.centre + a, s_plus)
 
+    # the zones of the region's points; a formulation with friction history overrides these four
+    def tied_mask(self, s: np.ndarray, a: float) -> np.ndarray:
+        """Points (chords s) whose full jump is constrained (the stick zone)."""
+        return np.abs(self.local(s)) < self.stick(a)  # strict: with c = 0 (frictionless, gross slip) nothing is tied
+
+    def slip_signs(self, s: np.ndarray, a: float) -> np.ndarray:
+        """Per point the direction of slip of body 1 on body 2 along t_c where the friction traction
+        -sign mu p t_c acts (0: none)."""
+        if not (self.friction > 0.0 and self.slip_sign != 0.0) or a <= 0.0:
+            return np.zeros(len(s))
+        r = np.abs(self.local(s))
+        return np.where((r >= self.stick(a)) & (r <= a), self.slip_sign, 0.0)
+
+    def zone_breakpoints(self, a: float) -> list[float]:
+        """Chords where the zones change (the quadrature's pieces end there)."""
+        stick = self.stick(a)
+        return [self.centre - stick, self.centre + stick] if 0.0 < stick < a else []
+
+    def with_offset(self, pts):
+        """Contact points whose gap ``delta`` includes a prescribed tangential offset (none here)."""
+        return pts
+
     def a_max(self) -> float:
         """The largest half-width about the current centre within the candidate region."""
         return max(self.geom.s_max() - abs(self.centre), 0.0)
@@ -185,7 +207,7 @@ class BandContact:
     def traction_samples(self, u: np.ndarray, a: float, s: np.ndarray):
         """Traction on body 1 (q, 2) at the chords ``s`` of the contact curve for the field u,
         with the sample points (their ``normal`` is the contact normal used)."""
-        pts = sample_points(self.geom, s)
+        pts = self.with_offset(sample_points(self.geom, s))
         jump, flux, size = _operators(self, pts)
         _, t1, _ = _tractions(self, pts, jump, flux, size, u[self.dofs], a)
         return pts, t1
@@ -291,15 +313,22 @@ class BandContact:
                            "half_width_bracket": list(bracket), "force_on_first": force1.tolist(),
                            "edge_coefficient": v.edge}
         if self.kind == "frictional":
-            nf, qf = float(-on2 @ nrm), float(on2 @ tan)
-            ca = math.sqrt(max(0.0, 1.0 - abs(qf) / (self.friction * nf))) if nf > 0 else math.nan
-            block["checks"].update({"stick_ratio": self.stick_ratio, "stick_ratio_from_forces": ca,
-                                    "force_ratio": qf / nf if nf > 0 else math.nan,
-                                    "friction_traction": self.options.friction_traction})
-            block["checks"].update(_friction_checks(self, info, x, a, block))
-            block["gross_slip"] = self.gross_slip
-            if not abs(ca - self.stick_ratio) <= 2.0 * self.options.stick_tolerance:
-                messages.append(f"{self.name}: c/a = {self.stick_ratio:.4g} but the forces give sqrt(1 - |Q|/(mu N)) = {ca:.4g}")
+            messages += self.friction_checks(x, a, info, on2, block)
+        return messages
+
+    def friction_checks(self, x: np.ndarray, a: float, info, on2: np.ndarray, block: dict) -> list[str]:
+        """Coulomb's checks of the final state into ``block`` (and ``gross_slip``); their messages."""
+        messages = []
+        nrm, tan = self.geom.normal, self.geom.tangent
+        nf, qf = float(-on2 @ nrm), float(on2 @ tan)
+        ca = math.sqrt(max(0.0, 1.0 - abs(qf) / (self.friction * nf))) if nf > 0 else math.nan
+        block["checks"].update({"stick_ratio": self.stick_ratio, "stick_ratio_from_forces": ca,
+                                "force_ratio": qf / nf if nf > 0 else math.nan,
+                                "friction_traction": self.options.friction_traction})
+        block["checks"].update(_friction_checks(self, info, x, a, block))
+        block["gross_slip"] = self.gross_slip
+        if not abs(ca - self.stick_ratio) <= 2.0 * self.options.stick_tolerance:
+            messages.append(f"{self.name}: c/a = {self.stick_ratio:.4g} but the forces give sqrt(1 - |Q|/(mu N)) = {ca:.4g}")
         return messages
 
 
@@ -373,7 +402,7 @@ def _operators(c: BandContact, pts):
 def _projector(c: BandContact, pts, a: float) -> np.ndarray:
     """Constrained components of the jump per point: all where tied (|s| <= stick half-width,
     eq. 5-20), the contact normal n_c where sliding (eqs. 5-22, 5-23)."""
-    tied = np.abs(c.local(pts.s)) < c.stick(a)  # strict: with c = 0 (frictionless, gross slip) nothing is tied
+    tied = c.tied_mask(pts.s, a)
     return np.where(tied[:, None, None], projector("fixed", pts.normal), projector("sliding", pts.normal))
 
 
@@ -382,11 +411,8 @@ def region_quadrature(c: BandContact, a: float):
     stick zone's ends (where the projector changes), with the jump and flux operators and the
     local size there: (points, jump, flux, size)."""
     lo, hi = c.region_ends(a)
-    brk = c.breakpoints
-    stick = c.stick(a)
-    if 0.0 < stick < a:
-        brk = np.concatenate([brk, [c.centre - stick, c.centre + stick]])
-    pts = contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, c.options.order, brk)
+    brk = np.concatenate([c.breakpoints, c.zone_breakpoints(a)])
+    pts = c.with_offset(contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, c.options.order, brk))
     return (pts,) + _operators(c, pts)
 
 
@@ -408,7 +434,7 @@ def _terms(c: BandContact, a: float):
         # virtual work moves to the left side as the non-symmetric K_f = sum w g^T r with
         # g = (-sign mu t_c)^T J (docs/contact.md); exact for the width, no inner iteration
         r, b = _pressure_rows(c, pts, proj, e_q, f_q, size)
-        tdir = -c.slip_sign * c.friction * _tangents(pts.normal)  # (q, 2) per unit pressure
+        tdir = -(c.slip_signs(pts.s, a) * c.friction)[:, None] * _tangents(pts.normal)  # (q, 2) per unit pressure
         g = _along(e_q, tdir)  # (q, m)
         wq = np.where(slip, pts.weights, 0.0)
         kc = (kc - g.T @ (sp.diags(wq) @ r)).tocsr()
@@ -423,10 +449,7 @@ def _tangents(normal: np.ndarray) -> np.ndarray:
 
 def _slip_mask(c: BandContact, pts, a: float) -> np.ndarray:
     """Points of the slip zone c <= |s| <= a that carry a friction traction."""
-    if not (c.friction > 0.0 and c.slip_sign != 0.0) or a <= 0.0:
-        return np.zeros(len(pts.s), dtype=bool)
-    r = np.abs(c.local(pts.s))
-    return (r >= c.stick(a)) & (r <= a)
+    return c.slip_signs(pts.s, a) != 0.0
 
 
 def _pressure_rows(c: BandContact, pts, proj, e_q, f_q, size):
@@ -449,11 +472,12 @@ def _along(op, v: np.ndarray):
 
 def _friction_traction(c: BandContact, pts, t1: np.ndarray, a: float) -> np.ndarray:
     """Friction traction (q, 2) on body 1 in the slip zone: -sign mu p t_c with p = t1 . n_c."""
-    slip = _slip_mask(c, pts, a)
+    signs = c.slip_signs(pts.s, a)
+    slip = signs != 0.0
     out = np.zeros_like(t1)
     if slip.any():
         p = np.einsum("qi,qi->q", t1, pts.normal)
-        out[slip] = (-c.slip_sign * c.friction * p[slip])[:, None] * _tangents(pts.normal[slip])
+        out[slip] = (-signs[slip] * c.friction * p[slip])[:, None] * _tangents(pts.normal[slip])
     return out
 
 

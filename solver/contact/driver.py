@@ -35,6 +35,7 @@ from ..fem.bodies import discretise
 from ..fem.space import body_info
 from ..solution import IBFEMSolution
 from .formulation import formulation
+from .load_history import PathSteps, step_field, step_record
 from .report import contact_block
 from .roots import RegionTooSmall
 
@@ -61,6 +62,9 @@ def load_steps(problem) -> tuple[int, str]:
     not depend on the loading path: their final load is solved directly. Frictional contact
     keeps the requested steps (the slip direction and the stick zone follow the load history)."""
     requested = problem.options.load_steps
+    if getattr(problem, "history", None) is not None:
+        n = len(problem.history.times())
+        return n, f"load paths: {n} steps to t = {problem.history.end:g}, every step solved and recorded"
     if any(c.type == "frictional" for c in problem.contacts):
         return requested, "frictional contact: the requested load steps (the stick zone follows the load history)"
     return 1, ("tied / frictionless contact, proportional loading: path-independent, the final load solved directly"
@@ -83,6 +87,8 @@ class ContactDriver:
         self.last = None  # (lam, x, y, kc, fc, small) of the last trial state
         self.ref_work = None
         self.steps, self.step_rule = load_steps(problem)
+        self.path_steps = None  # PathSteps of a run with load paths
+        self.step_records: list[dict] = []
 
     # ------------------------------------------------------------------ set-up
 
@@ -120,11 +126,19 @@ class ContactDriver:
         self.k0 = (k0 + k_ess).tocsr()
         by_name = {b.name: b for b in self.bodies}
         self.contacts = [
-            formulation(cm.options.formulation, self.problem.dim)(self.problem, cm, by_name[cm.bodies[0]],
-                                                                  by_name[cm.bodies[1]], self.options)
+            self._builder(cm)(self.problem, cm, by_name[cm.bodies[0]], by_name[cm.bodies[1]], self.options)
             for cm in self.problem.contacts
         ]
         self.timings["assembly_s"] = time.perf_counter() - t
+
+    def _builder(self, cm):
+        """The formulation of a contact: frictional contacts under load paths keep a friction history
+        (2D); without paths (proportional loading) the history cannot matter and is not kept."""
+        if self.problem.history is not None and cm.type == "frictional" and self.problem.dim == 2:
+            from .friction_history import build
+
+            return build
+        return formulation(cm.options.formulation, self.problem.dim)
 
     def _factor(self) -> None:
         """K0 factored with the contact dofs last. A body held only through a contact makes K0
@@ -150,6 +164,9 @@ class ContactDriver:
                 "dofs condensed) does not fit in memory (SuperLU also limits its factors to 2^31 entries): coarsen "
                 "the grid (element_size, refinement levels or radii)"
             ) from None
+        if self.problem.history is not None:
+            self.path_steps = PathSteps(self.problem, self.bodies, self.options, self.lu, self.dofs, self.schur)
+            self.f0 = self.path_steps.at(self.path_steps.times[-1])[0]
         u0 = self.lu.solve(self.f0)
         self.bu0 = u0[self.dofs]
         self.sbu0 = self.schur @ self.bu0
@@ -293,6 +310,10 @@ class ContactDriver:
         steps = self.steps
         lam = step / steps
         final = step == steps
+        if self.path_steps is not None:  # the step's load replaces the proportional one; every step is final
+            t = self.path_steps.times[step - 1]
+            self.f0, self.bu0, self.sbu0, self.u0f0 = self.path_steps.at(t)
+            lam, final = 1.0, True
         self.report(f"load step {step}/{steps}", 0.3 + 0.6 * (step - 1) / steps)
         if self.prev is not None and self.prev[0] > 0:
             self.widths = [c.next_region(a, lam / self.prev[0]) for a, c in zip(self.widths, self.contacts)]
@@ -318,6 +339,12 @@ class ContactDriver:
             self.converged = False
             self.messages.append(f"load step {step}: the contact width did not settle in {iters} iterations")
         self.prev, self.prev_infos = state, infos
+        if self.path_steps is not None:
+            t = self.path_steps.times[step - 1]
+            for c, wh, a, info in zip(self.contacts, self.where, self.widths, infos):
+                getattr(c, "end_step", lambda *args: None)(state[1][wh], a, info)
+            u = step_field(self, state, self.f0)
+            self.step_records.append(step_record(self, t, u, self.path_steps.essential_factors(t)))
 
     # ------------------------------------------------------------------ the final state
 
@@ -338,7 +365,8 @@ class ContactDriver:
 
     def _results(self) -> IBFEMSolution:
         u, lam, residual, work = self._final_field()
-        reactions, tractions = essential_reactions(self.essentials, u, self.options, lam)
+        factors = lam if self.path_steps is None else self.path_steps.essential_factors(self.path_steps.times[-1])
+        reactions, tractions = essential_reactions(self.essentials, u, self.options, factors)
         blocks = []
         for c, a, info, bracket in zip(self.contacts, self.widths, self.prev_infos, self.brackets):
             on2 = -c.force(u[c.dofs], a, info)
@@ -358,6 +386,7 @@ class ContactDriver:
             "total": int(sum(self.per_step)),
             "per_step": self.per_step,
             "load_steps": {"requested": self.options.load_steps, "solved": self.steps, "rule": self.step_rule},
+            "friction_history": [getattr(c, "history_rule", "none") for c in self.contacts],
             "linear_residual": residual,
             "residual_work": work,
             "width_update": [c.options.width_update for c in self.contacts][0],
@@ -378,4 +407,5 @@ class ContactDriver:
             contacts=blocks,
             settings=self.options,
             boundary_tractions=tractions,
+            steps=self.step_records,
         )

@@ -97,12 +97,14 @@ class EssentialTerm:
     target: np.ndarray
 
     def traction(self, u: np.ndarray, settings: SolverOptions, load_factor: float = 1.0) -> np.ndarray:
-        """Traction along the edge with the prescribed values scaled by ``load_factor``."""
+        """Traction along the edge with the prescribed values scaled by ``load_factor`` (a number, or
+        one per component of the prescribed value)."""
         b = self.body
         bp = b.edge_points(self.edge, settings.boundary_order)
         if len(bp.weights) != len(self.weights):
             raise RuntimeError(f"the points of {self.key} changed between assembly and the reaction")
-        target = self.target if load_factor == 1.0 else load_factor * self.target
+        factor = np.asarray(load_factor, dtype=float)
+        target = self.target if np.all(factor == 1.0) else factor * self.target
         return thin_band_traction(bp, self.projector, target, b.lam, b.mu, u, settings.band_fraction,
                                   settings.consistency)
 
@@ -111,11 +113,13 @@ def essential_reactions(
     essentials: list[EssentialTerm], u: np.ndarray, settings: SolverOptions, load_factor: float = 1.0
 ) -> tuple[dict[str, np.ndarray], dict]:
     """Force (dim,) each essential condition exerts on its body (summed over terms with the same
-    "body/edge" key), and the (points, weights, traction) along it."""
+    "body/edge" key), and the (points, weights, traction) along it. ``load_factor``: one for all,
+    or a dict "body/edge" -> the factor of that condition (load paths)."""
     reactions: dict[str, np.ndarray] = {}
     tractions = {}
     for e in essentials:
-        tr = e.traction(u, settings, load_factor)
+        factor = load_factor.get(e.key, 1.0) if isinstance(load_factor, dict) else load_factor
+        tr = e.traction(u, settings, factor)
         force = (tr * e.weights[:, None]).sum(axis=0)
         reactions[e.key] = reactions.get(e.key, np.zeros_like(force)) + force
         tractions[e.key] = (e.points, e.weights, tr)

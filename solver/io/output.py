@@ -40,6 +40,11 @@ def write_results(
             files += write_vtu(out_dir, problem, solution)
         except ImportError as err:
             missing.append(f"VTU files not written: pyvista is not installed ({err}); pip install 'ibfem[pictures]'")
+    if getattr(solution, "steps", None):  # load paths: the step series and the history's tables
+        from .step_outputs import write_step_files
+
+        files += write_step_files(out_dir, problem, solution, summary, write_vtu=write_vtu if vtk else None,
+                                  plots=plots, missing=missing)
     if plots:
         try:
             from .plots import write_plots

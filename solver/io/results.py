@@ -162,6 +162,10 @@ def build_summary(
         "iterations": iterations,
         "timings": timings,
     }
+    if getattr(solution, "steps", None):  # load paths: one record per step (solver.io.step_outputs)
+        from .step_outputs import steps_block
+
+        out["steps"] = steps_block(solution.steps)
     if extra:
         out.update(extra)
     return out

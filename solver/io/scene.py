@@ -50,6 +50,8 @@ from ibfem.solver.model.resolve import (CONTACT_SEARCH_SPACING, boundary_gap, co
                                   corner_distance, finest_size_at, resolve_problem)
 from ibfem.solver.model.rigid import rigid_body_modes
 
+from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
+
 __all__ = [
     "SceneError",
     "SceneSpec",
@@ -139,7 +141,7 @@ Num = Annotated[float, BeforeValidator(_number)]
 Int = Annotated[int, BeforeValidator(_integer)]
 Bool = Annotated[bool, BeforeValidator(_boolean)]
 #: the scene types of the options dataclasses' fields (strict: no strings for numbers, no "yes")
-_STRICT_TYPES = {float: Num, int: Int, bool: Bool, float | None: Num | None}
+_STRICT_TYPES = {float: Num, int: Int, bool: Bool, float | None: Num | None, int | None: Int | None}
 Vec2 = tuple[Num, Num]
 Component = Annotated[Union[float, None], BeforeValidator(_component)]
 
@@ -237,6 +239,7 @@ class DisplacementSpec(_Strict):
     body: str
     edge: str
     value: tuple[Component, Component]
+    path: PathRef | None = None  # load path name(s): docs/load-paths.md
 
     @field_validator("value")
     @classmethod
@@ -251,6 +254,7 @@ class SlidingSpec(_Strict):
     body: str
     edge: str
     normal_displacement: Num = 0.0
+    path: PathRef | None = None  # load path name(s): docs/load-paths.md
 
 
 class TractionSpec(_Strict):
@@ -258,6 +262,7 @@ class TractionSpec(_Strict):
     body: str
     edge: str
     value: Vec2
+    path: PathRef | None = None  # load path name(s): docs/load-paths.md
 
 
 class PressureSpec(_Strict):
@@ -265,12 +270,14 @@ class PressureSpec(_Strict):
     body: str
     edge: str
     value: Num
+    path: PathRef | None = None  # load path name(s): docs/load-paths.md
 
 
 class BodyForceSpec(_Strict):
     type: Literal["body_force"]
     body: str
     value: Vec2
+    path: PathRef | None = None  # load path name(s): docs/load-paths.md
 
 
 BoundaryConditionSpec = Annotated[
@@ -344,6 +351,7 @@ class SceneSpec(_Strict):
     boundary_conditions: list[BoundaryConditionSpec] = []
     contacts: list[ContactSpec] = []
     output: OutputSpec = OutputSpec()
+    paths: list[PathSpec] = []
 
 
 # ---------------------------------------------------------------------------------------
@@ -479,6 +487,8 @@ def scene_from_dict(
     except ValidationError as err:
         raise SceneError(_format_errors(err, data, label)) from None
     _check_references(spec, label)
+    if history_problems(spec.paths, spec.boundary_conditions, label):
+        raise SceneError(history_problems(spec.paths, spec.boundary_conditions, label))
     profiles = _build_profiles(spec, label, Path(base_dir))
     problem = _problem(spec, profiles, Path(label).stem if path is None else path.stem, label)
     try:
@@ -789,6 +799,7 @@ def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str, label
         boundary_conditions=tuple(conditions),
         contacts=contacts,
         options=options,
+        history=load_history(spec.paths, spec.boundary_conditions, options.steps_per_unit, options.load_steps),
     )
 
 

@@ -87,9 +87,13 @@ class SolverOptions:
     #: aggregation AMG, pyamg), "auto" (iterative from 400k dofs when pyamg is installed);
     #: contact problems always factor directly (their condensation needs the factors)
     linear_solver: str = "auto"
+    #: with load paths: load steps per unit of the load parameter t (None: load_steps per unit)
+    steps_per_unit: int | None = None
 
     def __post_init__(self):
         _integer(self, "load_steps", 1, MAX_LOAD_STEPS)
+        if self.steps_per_unit is not None:
+            _integer(self, "steps_per_unit", 1, MAX_LOAD_STEPS)
         _integer(self, "max_iterations", 1, 100_000)
         _integer(self, "boundary_order", 1, 20)
         _integer(self, "curve_order", 1, 40)

@@ -167,6 +167,8 @@ class Problem:
     boundary_conditions: tuple[BoundaryCondition, ...] = ()
     contacts: tuple[ContactModel, ...] = ()
     options: SolverOptions = field(default_factory=SolverOptions)
+    #: load paths (solver.model.load_paths.LoadHistory); None: proportional loading to the values
+    history: object | None = None
 
     def body(self, name: str) -> BodyModel:
         for b in self.bodies:

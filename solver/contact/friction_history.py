@@ -1,0 +1,417 @@
+"""Partial slip with memory (2D): the band formulation (solver.contact.band) whose stick and slip
+zones are found point by point from Coulomb's law on the increments of a load path.
+
+State, kept on the contact's sample chords s_k (spacing ``sample_spacing`` finest cells) from
+step to step: the tangential jump w_t (the relative tangential displacement of body 1 on body 2
+along t_c) at the end of the last step, the zone of the current step (0 stick, +1 / -1 slipping
+along +t_c / -t_c), the accumulated slip sum |dw_t| and the last slip direction.
+
+In a step, a stick point keeps its tangential jump, w_t = w_t(previous step) (the band terms tie
+the jump to that offset), and a slipping point carries Coulomb's traction -sign mu p t_c on
+body 1, the sign that of its slip increment dw_t. The zones are an active set: after each
+solve a stick point whose shear exceeds mu p starts slipping against its shear, and a slipping
+point whose increment runs against its sign sticks; repeated until no point changes (the
+width search runs inside, as for any stick update). Shear and pressure are judged on their means
+over one cell (``window``) around each sample: the point traction of the band terms oscillates
+with the grid, its cell means do not. Zones of any number and direction follow (stick, forward
+slip, reversed slip), none is assumed.
+
+Reference: K. L. Johnson, Contact Mechanics (1985), sections 7.2 and 7.3 (Cattaneo-Mindlin and
+Mindlin-Deresiewicz); the closed forms for the cylinder are in solver.reference.fretting.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..fem.step_boundary import PENALTY_FACTOR
+from .band import BandContact, _tangents, _tractions, build as band_build
+from .report import contact_block
+
+__all__ = ["HistoryBandContact", "build"]
+
+#: a stick point starts slipping when its mean shear exceeds mu p by this fraction
+SLIP_MARGIN = 0.02
+#: a step's boundary refinement stops after this many secant steps (counted in ``unsettled_steps``)
+MAX_REFINEMENTS = 12
+#: the edge singularity is fitted over this many cells of the stick side
+EDGE_CELLS = 2.0
+#: ... and a point stuck again in the same step when its mean shear exceeds mu p by this fraction
+RESLIP_MARGIN = 0.1
+#: a step's state breaks Coulomb's law when more than this share of its stick points carries a mean
+#: shear above (1 + RESLIP_MARGIN) mu p (reported: the run is then not converged)
+COULOMB_SHARE = 0.02
+#: a boundary between stick and slip is settled when its secant step is below this many finest cells
+BOUNDARY_TOLERANCE = 0.02
+#: a slipping point sticks when its increment runs against its sign by more than this fraction
+#: of the largest increment of the step
+REVERSAL_MARGIN = 1e-3
+
+
+@dataclass
+class _Offset:
+    """Contact points with the stick offset folded into their gap (the fields the band terms read)."""
+
+    base: object
+    delta: np.ndarray
+
+    def __getattr__(self, name):
+        return getattr(self.base, name)
+
+
+@dataclass
+class HistoryBandContact(BandContact):
+    """Band contact with Coulomb friction on increments; see the module's docstring."""
+
+    zone: np.ndarray = field(default_factory=lambda: np.zeros(0))  # per sample: 0 stick, +-1 slipping
+    #: the zones as intervals: boundaries (sorted chords) and the zone of each interval (one more)
+    bounds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    values: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    refining: bool = False  # the zones' order is settled; their boundaries are being refined
+    hold_width: bool = False  # the next width search keeps the width (a zone iteration)
+    width_held: bool = False  # a width was kept in this step: search it once more at the end
+    held_edge: float = math.nan  # the edge coefficient at the kept width
+    secant: dict = field(default_factory=dict)  # boundary index -> (position, edge singularity) of the last try
+    w_ref: np.ndarray = field(default_factory=lambda: np.zeros(0))  # the jump a stuck point is held at
+    w_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # tangential jump at the last step's end
+    accumulated_slip: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    last_direction: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    step_increment: np.ndarray = field(default_factory=lambda: np.zeros(0))  # dw_t of the last step
+    step_work: float = 0.0  # friction work of the last step (J/m), from the local tractions and slips
+    shear_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # mean shear at the last step's end
+    raw_shear_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # point shear at the last step's end
+    zone_changes: int = 0
+    refinements: int = 0  # secant steps of the boundaries in the current step
+    unsettled_steps: list = field(default_factory=list)  # steps whose boundaries stopped at MAX_REFINEMENTS
+    step_count: int = 0
+    coulomb_violations: list = field(default_factory=list)  # (step, share of stick points above the limit)
+    zone_updates: int = 0  # zone updates in the current step
+    restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # stuck again in this step
+    history_rule = "incremental Coulomb: stick/slip state and accumulated slip carried per point"
+
+    def start_history(self) -> None:
+        n = len(self.samples.s)
+        self.zone = np.zeros(n)
+        self.w_ref = np.zeros(n)
+        self.w_prev = np.zeros(n)
+        self.accumulated_slip = np.zeros(n)
+        self.last_direction = np.zeros(n)
+        self.step_increment = np.zeros(n)
+        self.shear_prev = np.zeros(n)
+        self.raw_shear_prev = np.zeros(n)
+        self.stick_ratio = 1.0
+        self.slip_sign = 0.0
+
+    # ------------------------------------------------------------------ the zones at any chord
+
+    def _nearest(self, s: np.ndarray) -> np.ndarray:
+        ks = self.samples.s
+        return np.clip(np.searchsorted(0.5 * (ks[1:] + ks[:-1]), s), 0, len(ks) - 1)
+
+    def zone_at(self, s: np.ndarray) -> np.ndarray:
+        """The zone (0 stick, +-1 slipping) at chords s."""
+        return self.values[np.searchsorted(self.bounds, np.asarray(s, dtype=float))]
+
+    def _set_zones(self, zone: np.ndarray) -> None:
+        """Zones from their values at the samples: the boundaries half-way between samples."""
+        ks = self.samples.s
+        change = np.flatnonzero(np.diff(zone) != 0.0)
+        self.bounds = 0.5 * (ks[change] + ks[change + 1])
+        self.values = np.concatenate([zone[:1], zone[change + 1]])
+        self.zone = zone
+
+    def tied_mask(self, s: np.ndarray, a: float) -> np.ndarray:
+        return self.zone_at(s) == 0.0
+
+    def slip_signs(self, s: np.ndarray, a: float) -> np.ndarray:
+        s = np.asarray(s, dtype=float)
+        inside = np.abs(self.local(s)) <= a
+        return np.where(inside, self.zone_at(s), 0.0)
+
+    def zone_breakpoints(self, a: float) -> list[float]:
+        return self.bounds.tolist()
+
+    def with_offset(self, pts):
+        """The stick offset: a tied point's jump is held at w_ref t_c (delta less w_ref t_c)."""
+        w = np.interp(pts.s, self.samples.s, self.w_ref)
+        return _Offset(pts, pts.delta - w[:, None] * _tangents(pts.normal))
+
+    def stick(self, a: float) -> float:
+        """Half-length of the stick zone about the region's centre (the central stick interval)."""
+        if not len(self.zone):
+            return super().stick(a)
+        s = self.local(self.samples.s)
+        slipping = (self.zone != 0.0) & (np.abs(s) <= a)
+        right = s[(s >= 0.0) & slipping]
+        left = s[(s <= 0.0) & slipping]
+        hi = right.min() if len(right) else a
+        lo = -left.max() if len(left) else a
+        return float(min(0.5 * (hi + lo), a))
+
+    def is_symmetric(self) -> bool:
+        return not bool(np.any(self.zone != 0.0))
+
+    # ------------------------------------------------------------------ states at the samples
+
+    def sample_state(self, x: np.ndarray, a: float):
+        """Cell means of pressure and shear (on body 1, along t_c) at the samples, and the tangential
+        jump w_t there: (p, q, w_t, inside)."""
+        pts = self.with_offset(self.samples)
+        _, t1, inside = _tractions(self, pts, self.e_samples, self.f_samples, self.size_samples, x, a)
+        tan = _tangents(self.samples.normal)
+        p = np.einsum("qi,qi->q", t1, self.samples.normal)
+        q = np.einsum("qi,qi->q", t1, tan)
+        w = (self.e_samples @ x).reshape(-1, 2) + self.samples.delta
+        wt = np.einsum("qi,qi->q", w, tan)
+        same = [self.zone == z for z in (-1.0, 0.0, 1.0)]
+        self._raw = (p, q)
+        return self._zone_mean(p, same), self._zone_mean(q, same), wt, inside
+
+    def _zone_mean(self, v: np.ndarray, masks: list[np.ndarray]) -> np.ndarray:
+        """Mean of v over one cell (``window``) about each sample, over the samples of its own zone
+        only: a stick point's mean never mixes in the slip zone's Coulomb traction (which would
+        hold a stick zone's boundary where a cell straddles it)."""
+        ds = float(np.median(np.diff(self.samples.s)))
+        k = max(int(round(self.options.window * self.h / ds)), 1)
+        kernel = np.ones(k)
+        out = np.zeros_like(v)
+        for m in masks:
+            num = np.convolve(np.where(m, v, 0.0), kernel, mode="same")
+            den = np.convolve(m.astype(float), kernel, mode="same")
+            out = np.where(m, num / np.maximum(den, 1.0), out)
+        return out
+
+    # ------------------------------------------------------------------ the driver's protocol
+
+    def start_step(self) -> None:
+        self.zone_changes = 0
+        self.zone_updates = 0
+        self._set_zones(np.zeros(len(self.zone)))  # the elastic predictor: every point stuck
+        self.restuck = np.zeros(len(self.zone), dtype=bool)
+        self.refining, self.secant, self.refinements = False, {}, 0
+        # the step starts at the last step's width (one solve), searched only if it proves inconsistent
+        self.hold_width = self.width_held = self.step_count > 0
+        self.step_count += 1
+
+    def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
+        """The width search; between zone updates of a step the width is kept (the zones barely move
+        it: one solve instead of a search), and searched again once the zones have settled unless
+        the kept width's edge coefficient shows it consistent."""
+        if self.hold_width:
+            return _hold(self, a0)
+        return super().region_search(a0, final, max_iterations, estimate)
+
+    def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
+        """Centre, then the zones: a stick point above mu p slips against its shear; a slipping
+        point whose increment reverses sticks. True when nothing changed (and the width was
+        searched with the settled zones)."""
+        if not self._update_centre(x, a, info, final):
+            return False
+        settled = self._update_zones(x, a)
+        if not settled:
+            self.hold_width = self.width_held = True
+            return False
+        self.hold_width = False
+        if self.width_held:  # zones settled at a kept width: search it once more, unless it is consistent
+            self.width_held = False
+            # the edge coefficient moves by about the relative change of the width: within the width
+            # search's tolerance (edge_tolerance cells) the kept width is the searched one
+            return abs(self.held_edge) <= self.options.edge_tolerance * self.h / a
+        return True
+
+    def _update_zones(self, x: np.ndarray, a: float) -> bool:
+        """One zone update (see update_stick_and_shape); True when nothing changed."""
+        if self.refining:
+            return self._refine_bounds(x, a)
+        p, q, wt, inside = self.sample_state(x, a)
+        dw = wt - self.w_prev  # the step's slip where slipping
+        mu = self.friction
+        zone = np.where(inside, self.zone, 0.0)  # outside the region: no zone
+        outside = ~inside
+        inside = inside & (p > 0.0)
+        # a point stuck again in this step slips again only well above the limit (no chatter at it)
+        margin = np.where(self.restuck, RESLIP_MARGIN, SLIP_MARGIN)
+        over = inside & (zone == 0.0) & (np.abs(q) > mu * p * (1.0 + margin))
+        self.zone_updates += 1
+        # the largest slip of the step, or (a step that hardly moves, a held load) a ten-thousandth
+        # of the contact's elastic tangential displacement mu p_max a / E*: noise is no reversal
+        floor = 1e-4 * mu * max(float(p.max()), 0.0) * a / self.e_star
+        scale = max(float(np.abs(dw[inside]).max()) if inside.any() else 0.0, floor, 1e-300)
+        back = (zone != 0.0) & (dw * zone < -REVERSAL_MARGIN * scale)
+        zone[over] = -np.sign(q[over])
+        zone[back] = 0.0
+        self.restuck |= back
+        zone[outside] = 0.0
+        changed = int(np.count_nonzero(zone != self.zone))
+        self._set_zones(zone)
+        self.zone_changes += changed
+        self.stick_ratio = self.stick(a) / a if a > 0 else 1.0
+        slipping = zone[zone != 0.0]
+        self.slip_sign = float(np.sign(slipping.sum())) if len(slipping) else 0.0
+        if changed == 0:
+            self.refining = True
+            return self._refine_bounds(x, a)
+        return False
+
+    def _refine_bounds(self, x: np.ndarray, a: float) -> bool:
+        """Move each stick/slip boundary to the root of its edge singularity (secant steps); True
+        when every boundary moved by less than ``stick_tolerance`` a."""
+        self.sample_state(x, a)
+        p, q = self._raw
+        moves = []
+        for i, b in enumerate(self.bounds):
+            left, right = self.values[i], self.values[i + 1]
+            if (left == 0.0) == (right == 0.0) or abs(self.local(b)) >= a - 0.5 * self.h:
+                continue  # not between stick and slip, or the slip zone's end at the region's edge
+            into_stick = -1.0 if left == 0.0 else 1.0
+            sigma = right if left == 0.0 else left
+            beta = self._edge_singularity(b, into_stick, sigma, p, q)
+            if not math.isfinite(beta):
+                continue
+            last = self.secant.get(i)
+            step = -into_stick * math.copysign(0.1 * self.h, beta)  # beta < 0: shrink the stick zone
+            if last is not None and last[1] != beta and last[0] != b:
+                step = -beta * (b - last[0]) / (beta - last[1])
+            step = float(np.clip(step, -0.5 * self.h, 0.5 * self.h))
+            self.secant[i] = (b, beta)
+            moves.append(abs(step))
+            self.bounds[i] = b + step
+        order_kept = bool(np.all(np.diff(self.bounds) > 0.0))
+        if not order_kept:  # a zone vanished: back to the zones of the samples
+            self.bounds = np.sort(self.bounds)
+        self.zone = np.where(np.abs(self.local(self.samples.s)) <= a, self.zone_at(self.samples.s), 0.0)
+        self.stick_ratio = self.stick(a) / a if a > 0 else 1.0
+        self.refinements += 1
+        settled = not moves or max(moves) <= BOUNDARY_TOLERANCE * self.h
+        if not settled and self.refinements >= MAX_REFINEMENTS:
+            self.unsettled_steps.append(self.step_count)
+            return True
+        return settled
+
+    def _edge_singularity(self, b: float, into_stick: float, sigma: float, p: np.ndarray, q: np.ndarray) -> float:
+        """The coefficient beta of D ~ beta / sqrt(d) + alpha sqrt(d), fitted by its first two moments
+        over one cell of the stick side (d the distance from the boundary b), of the stick zone's
+        deficit D = mu p + sigma q (zero in the adjacent slip zone of direction sigma), relative to
+        mu p sqrt(cell): zero at a consistent boundary, < 0 where the stick zone is too large (its
+        shear exceeds mu p, singular at its end), > 0 where too small (a finite deficit at its end)."""
+        s = self.samples.s
+        w = EDGE_CELLS * self.options.window * self.h
+        d = into_stick * (s - b)
+        near = (d > 0.0) & (d <= w)
+        if np.count_nonzero(near) < 4:
+            return math.nan
+        dd, dv = d[near], (self.friction * p + sigma * q)[near]
+        order = np.argsort(dd)
+        dd, dv = np.concatenate([[0.0], dd[order]]), np.concatenate([[dv[order][0]], dv[order]])
+        m0 = float(np.trapezoid(dv, dd))
+        m1 = float(np.trapezoid(dv * dd, dd))
+        beta = (0.4 * m0 * w - (2.0 / 3.0) * m1) / ((0.8 - 4.0 / 9.0) * w ** 1.5)
+        scale = self.friction * max(float(np.mean(p[near])), 1e-300) * math.sqrt(w)
+        return beta / scale
+
+    def end_step(self, x: np.ndarray, a: float, info) -> None:
+        """Carry the step's state: the slips, their work, the new reference jumps."""
+        p, q, wt, inside = self.sample_state(x, a)
+        stuck = inside & (p > 0.0) & (self.zone == 0.0)
+        share = float(np.mean(np.abs(q[stuck]) > self.friction * p[stuck] * (1.0 + RESLIP_MARGIN))) if stuck.any() else 0.0
+        if share > COULOMB_SHARE:
+            self.coulomb_violations.append((self.step_count, share))
+        dw = np.where(self.zone != 0.0, wt - self.w_prev, 0.0)
+        ds = np.gradient(self.samples.s)
+        # friction work: -int q dw ds over the slipping points (positive: dissipated), q the step's
+        # end shear, Coulomb's limit while slipping (a point slips once its shear reached it)
+        self.step_work = float(-np.sum(q * dw * ds))
+        self.accumulated_slip = self.accumulated_slip + np.abs(dw)
+        self.last_direction = np.where(self.zone != 0.0, self.zone, self.last_direction)
+        self.step_increment = dw
+        # a stuck point keeps its reference (the tie's elastic stretch is recoverable, not slip);
+        # a slipping or open point takes the reference at which the tie, were it stuck now, would
+        # carry the traction it carries (Coulomb's, or none): the traction stays continuous when
+        # the point sticks
+        free = (self.zone != 0.0) | ~inside | (p <= 0.0)
+        self.w_ref = np.where(free, wt - self._tie_offset(x, np.where(inside, self._raw[1], 0.0)), self.w_ref)
+        self.shear_prev = np.where(inside, q, 0.0)
+        self.raw_shear_prev = self._raw[1].copy()
+        self.w_prev = wt
+        self.step_pressure = np.where(inside, p, 0.0)
+
+    def _tie_offset(self, x: np.ndarray, shear: np.ndarray) -> np.ndarray:
+        """(f_t - q) / L_tt at the samples: the tangential stretch of the tie whose traction
+        -L_tt stretch + f_t (the layer plus the flux along t_c) is the shear q."""
+        tan = _tangents(self.samples.normal)
+        flux = np.einsum("qi,qi->q", (self.f_samples @ x).reshape(-1, 2), tan)
+        layer = PENALTY_FACTOR / (self.band_fraction * self.size_samples) * self.b1.mu
+        return (flux - shear) / layer
+
+    def slip_zones(self, a: float) -> list[list[float]]:
+        """[s_lo, s_hi, direction] of each run of slipping samples within the region."""
+        s = self.samples.s
+        inside = np.abs(self.local(s)) <= a
+        z = np.where(inside, self.zone, 0.0)
+        out = []
+        edges = np.flatnonzero(np.diff(np.concatenate([[0.0], z, [0.0]])) != 0.0)
+        for lo, hi in zip(edges[:-1], edges[1:]):
+            if lo < len(z) and z[lo] != 0.0:
+                out.append([float(s[lo]), float(s[hi - 1]), float(z[lo])])
+        return out
+
+    def step_fields(self, u: np.ndarray, a: float, info) -> dict:
+        """The per-step record beside the forces: friction work, and the profiles (for the files)."""
+        inside = np.abs(self.local(self.samples.s)) <= a
+        return {"friction_work": self.step_work, "slip_points": int(np.count_nonzero(self.zone)),
+                "profile": {"s": self.samples.s, "pressure": self.step_pressure, "shear": self.shear_prev,
+                            "points": self.samples.x2, "normal": self.samples.normal, "tangential_jump": self.w_prev,
+                            "zone": np.where(inside, self.zone, 0.0), "slip_increment": self.step_increment,
+                            "accumulated_slip": self.accumulated_slip.copy(), "inside": inside}}
+
+    def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
+        """The contact block with the profiles of the history: pressure recovered as without
+        history, shear the cell means (Coulomb's -sign mu p where slipping)."""
+        block = contact_block(self, a, on2, u)
+        s = np.asarray(block["shear"]["s"])
+        p = np.asarray(block["pressure"]["value"])
+        q = np.interp(s, self.samples.s, self.shear_prev)
+        zone = self.slip_signs(s, a)
+        q = np.where(zone != 0.0, -zone * self.friction * p, np.clip(q, -self.friction * p, self.friction * p))
+        block["shear"] = {"s": s.tolist(), "value": np.where(np.abs(self.local(s)) <= a, q, 0.0).tolist()}
+        block["slip_zones"] = self.slip_zones(a)
+        block["friction_history"] = self.history_rule
+        block["accumulated_slip"] = {"s": s.tolist(),
+                                     "value": np.interp(s, self.samples.s, self.accumulated_slip).tolist()}
+        return block
+
+    def friction_checks(self, x: np.ndarray, a: float, info, on2: np.ndarray, block: dict) -> list[str]:
+        nrm, tan = self.geom.normal, self.geom.tangent
+        nf, qf = float(-on2 @ nrm), float(on2 @ tan)
+        s = self.local(self.samples.s)
+        stick = (np.abs(s) <= a) & (self.zone == 0.0)
+        p = getattr(self, "step_pressure", np.zeros(len(s)))
+        excess = stick & (np.abs(self.shear_prev) > 1.02 * self.friction * np.maximum(p, 0.0))
+        block["checks"].update({"force_ratio": qf / nf if nf > 0 else math.nan,
+                                "steps_with_unsettled_zone_boundaries": list(self.unsettled_steps),
+                                "stick_shear_above_mu_p": float(excess.sum() / max(stick.sum(), 1)),
+                                "zone_changes_last_step": self.zone_changes})
+        block["gross_slip"] = bool(np.all(self.zone[np.abs(s) <= a] != 0.0)) if a > 0 else False
+        block["checks"]["steps_breaking_coulomb"] = [[k, v] for k, v in self.coulomb_violations]
+        return [f"{self.name}: load step {k}: {v:.1%} of the stick zone carries a shear above "
+                f"{1.0 + RESLIP_MARGIN:g} mu p (the zones did not find Coulomb's state)"
+                for k, v in self.coulomb_violations]
+
+
+def _hold(c: HistoryBandContact, a: float):
+    """A width search that keeps the width a (one trial); its edge coefficient is kept."""
+    verdict = yield a
+    c.held_edge = float(verdict.edge)
+    return a, (a, a)
+
+
+def build(problem, model, b1, b2, options) -> HistoryBandContact:
+    """The band formulation of ``model`` with friction history (see :mod:`solver.contact.band`)."""
+    base = band_build(problem, model, b1, b2, options)
+    c = HistoryBandContact(**{f.name: getattr(base, f.name) for f in dataclasses.fields(BandContact)})
+    c.start_history()
+    return c

@@ -1,0 +1,204 @@
+"""Fretting results of a run with load paths and friction history (2D), per frictional contact:
+
+- ``hysteresis_<k>.csv`` (and ``hysteresis_<k>.png`` with plots): the tangential force Q against
+  the relative tangential displacement delta of the two bodies' held or loaded faces (the mean
+  displacements of the edges with essential conditions, along the contact's tangent), per step;
+- ``profiles_<k>.npz``: per step and sample chord s the pressure, the shear, the zone (0 stick,
+  +-1 slipping along +-t), the slip increment, the accumulated slip and the tangential jump;
+- the ``fretting`` block of summary.json: per complete cycle of Q the energy dissipated, from the
+  loop (the integral of Q d delta over the cycle) and from the local friction work (the sum over
+  slipping points and steps of the step's end shear times its slip increment), both; and along the contact
+  (``fretting_<k>.csv``) the slip amplitude delta_s (half the range of the tangential jump over the
+  last cycle), the largest shear |q|, the largest surface stress along the contact in the second
+  body sigma_t, the fretting damage parameter |q| delta_s and Ruiz's parameter
+  sigma_t |q| delta_s (D. W. Ruiz, P. H. B. Boddington, K. C. Chen, Exp. Mech. 24 (1984) 208-217),
+  taken as max(sigma_t, 0) (tension opens cracks).
+
+A cycle is two consecutive branches of Q between its turning points, after the first loading.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["write_fretting_files", "cycles_of", "loop_energy", "turning_steps"]
+
+
+#: a turning point of Q is an extreme from which Q then moves back by this fraction of its largest
+#: magnitude (steps of solver noise about a held load are not cycles)
+TURN_PROMINENCE = 0.02
+
+
+def turning_steps(q: np.ndarray, prominence: float = TURN_PROMINENCE) -> list[int]:
+    """Indices of the steps where Q changes direction (its extremes, by prominence)."""
+    q = np.asarray(q, dtype=float)
+    tol = prominence * max(float(np.abs(q).max()), 1e-300) if len(q) else 0.0
+    turns, k_ext, direction = [], 0, 0.0
+    for k in range(1, len(q)):
+        if direction == 0.0:
+            if abs(q[k] - q[0]) > tol:
+                direction, k_ext = math.copysign(1.0, q[k] - q[0]), k
+            continue
+        if (q[k] - q[k_ext]) * direction > 0.0:
+            k_ext = k
+        elif (q[k_ext] - q[k]) * direction > tol:
+            turns.append(k_ext)
+            direction, k_ext = -direction, k
+    return turns
+
+
+def cycles_of(q: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) step indices of each complete cycle of Q: from a turning point to the turning
+    point two branches later."""
+    turns = turning_steps(np.asarray(q, dtype=float))
+    return [(turns[i], turns[i + 2]) for i in range(0, len(turns) - 2, 2)]
+
+
+def loop_energy(q: np.ndarray, delta: np.ndarray, first: int, last: int) -> float:
+    """The integral of Q d delta from step ``first`` to ``last`` (trapezoids)."""
+    q, d = np.asarray(q[first:last + 1]), np.asarray(delta[first:last + 1])
+    return float(np.sum(0.5 * (q[1:] + q[:-1]) * np.diff(d)))
+
+
+def _faces(problem, contact_bodies: tuple[str, str], faces: dict) -> tuple[str | None, str | None]:
+    """The essential face of each body of a contact (the first listed)."""
+    pick = []
+    for name in contact_bodies:
+        keys = [k for k in faces if k.split("/")[0] == name]
+        pick.append(keys[0] if keys else None)
+    return pick[0], pick[1]
+
+
+def _relative_displacement(steps: list[dict], k: int, block: dict, problem) -> np.ndarray:
+    tangent = np.asarray(block["tangent"], dtype=float)
+    f1, f2 = _faces(problem, tuple(block["bodies"]), steps[0]["face_displacements"])
+    out = np.zeros(len(steps))
+    for i, st in enumerate(steps):
+        u1 = np.asarray(st["face_displacements"][f1]) if f1 else np.zeros(2)
+        u2 = np.asarray(st["face_displacements"][f2]) if f2 else np.zeros(2)
+        out[i] = float((u1 - u2) @ tangent)
+    return out
+
+
+def _surface_stress(problem, solution, steps, k: int, second: str) -> np.ndarray:
+    """Per step and sample the stress along the contact's tangent in the second body, half a
+    finest cell inside its surface (cell stresses, not recovered)."""
+    rows = []
+    for st in steps:
+        prof = st["contacts"][k]["profile"]
+        n = np.asarray(prof["normal"])
+        t = np.stack([-n[:, 1], n[:, 0]], axis=1)
+        inside = np.asarray(prof["inside"])
+        pts = np.asarray(prof["points"])[inside] - 1e-3 * np.ptp(prof["s"]) * n[inside]
+        row = np.zeros(len(inside))
+        if len(pts):
+            sig = dataclasses.replace(solution, u=st["field"]).stress(pts, second, recovered=False)
+            sxx, syy, sxy = sig[:, 0], sig[:, 1], sig[:, 2]
+            tt = t[inside]
+            row[inside] = sxx * tt[:, 0] ** 2 + syy * tt[:, 1] ** 2 + 2.0 * sxy * tt[:, 0] * tt[:, 1]
+        rows.append(row)
+    return np.asarray(rows)
+
+
+def _damage(problem, solution, steps, k: int, block: dict, cycle: tuple[int, int] | None) -> dict:
+    first, last = cycle if cycle is not None else (0, len(steps) - 1)
+    window = steps[first:last + 1]
+    jump = np.array([st["contacts"][k]["profile"]["tangential_jump"] for st in window])
+    shear = np.array([st["contacts"][k]["profile"]["shear"] for st in window])
+    touching = np.array([st["contacts"][k]["profile"]["inside"] for st in window]).any(axis=0)
+    amplitude = np.where(touching, 0.5 * (jump.max(axis=0) - jump.min(axis=0)), 0.0)  # open points: none
+    tau = np.abs(shear).max(axis=0)
+    sigma_t = _surface_stress(problem, solution, window, k, block["bodies"][1]).max(axis=0)
+    return {"s": np.asarray(steps[0]["contacts"][k]["profile"]["s"]), "slip_amplitude": amplitude,
+            "max_shear": tau, "max_surface_stress": sigma_t, "fretting_damage": tau * amplitude,
+            "ruiz": np.maximum(sigma_t, 0.0) * tau * amplitude}
+
+
+def _write_plot(path: Path, delta: np.ndarray, q: np.ndarray, title: str) -> Path:
+    """The loop, and beside it the loop less the initial elastic line (delta - Q / k, k the slope
+    of the first step that carries shear): the part of the motion that hysteresis opens."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    moving = np.flatnonzero(np.abs(np.diff(delta)) > 1e-12 * max(float(np.abs(delta).max()), 1e-300))
+    k = (q[moving[0] + 1] - q[moving[0]]) / (delta[moving[0] + 1] - delta[moving[0]]) if len(moving) else 0.0
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.0))
+    axes[0].plot(delta * 1e6, q, "o-", ms=3)
+    axes[0].set_xlabel("relative tangential displacement of the faces (um)")
+    axes[1].plot((delta - q / k) * 1e6 if k else delta * 1e6, q, "o-", ms=3)
+    axes[1].set_xlabel("the same less Q / k, k the initial slope (um)")
+    for ax in axes:
+        ax.set_ylabel("tangential force Q (N/m)")
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _contact_files(out_dir: Path, problem, solution, summary: dict, k: int, plots: bool) -> tuple[list[Path], dict]:
+    steps = solution.steps
+    block = summary["contacts"][k]
+    q = np.array([st["contacts"][k]["tangential_force"] for st in steps])
+    n = np.array([st["contacts"][k]["normal_force"] for st in steps])
+    delta = _relative_displacement(steps, k, block, problem)
+    work = np.array([st["contacts"][k]["friction_work"] for st in steps])
+    t = np.array([st["t"] for st in steps])
+    files = []
+    path = out_dir / f"hysteresis_{k}.csv"
+    np.savetxt(path, np.column_stack([t, delta, q, n, work]), delimiter=",", comments="", fmt="%.10g",
+               header="t,relative_displacement,tangential_force,normal_force,friction_work_of_step")
+    files.append(path)
+    profiles = {key: np.array([st["contacts"][k]["profile"][key] for st in steps])
+                for key in ("pressure", "shear", "zone", "slip_increment", "accumulated_slip", "tangential_jump")}
+    path = out_dir / f"profiles_{k}.npz"
+    np.savez_compressed(path, t=t, s=np.asarray(steps[0]["contacts"][k]["profile"]["s"]), **profiles)
+    files.append(path)
+    cycles = cycles_of(q)
+    entry = {"cycles": [{"t": [float(t[i]), float(t[j])], "energy_loop": loop_energy(q, delta, i, j),
+                         "energy_friction": float(work[i + 1:j + 1].sum()),
+                         "tangential_force_range": [float(q[i:j + 1].min()), float(q[i:j + 1].max())]}
+                        for i, j in cycles],
+             "relative_displacement": "mean tangential displacement of the first body's essential face less the "
+                                      "second body's"}
+    damage = _damage(problem, solution, steps, k, block, cycles[-1] if cycles else None)
+    path = out_dir / f"fretting_{k}.csv"
+    names = list(damage)
+    np.savetxt(path, np.column_stack([damage[m] for m in names]), delimiter=",", comments="", fmt="%.10g",
+               header=",".join(names))
+    files.append(path)
+    entry["ruiz_max"] = float(damage["ruiz"].max()) if len(damage["ruiz"]) else 0.0
+    entry["ruiz_max_at"] = float(damage["s"][int(np.argmax(damage["ruiz"]))]) if len(damage["ruiz"]) else 0.0
+    entry["slip_amplitude_max"] = float(damage["slip_amplitude"].max()) if len(damage["s"]) else 0.0
+    if plots:
+        files.append(_write_plot(out_dir / f"hysteresis_{k}.png", delta, q, f"contact {k}: fretting loop"))
+    return files, entry
+
+
+def write_fretting_files(out_dir, problem, solution, summary: dict, plots: bool = False,
+                         missing: list[str] | None = None) -> list[Path]:
+    """The files above for every contact with friction history; adds summary["fretting"]."""
+    out_dir = Path(out_dir)
+    files, blocks = [], []
+    steps = solution.steps
+    for k in range(len(summary.get("contacts", []))):
+        if not steps or "profile" not in steps[0]["contacts"][k]:
+            continue
+        try:
+            more, entry = _contact_files(out_dir, problem, solution, summary, k, plots)
+        except ImportError as err:
+            if missing is not None:
+                missing.append(f"the fretting plot was not written: matplotlib is not installed ({err})")
+            continue
+        files += more
+        blocks.append({"contact": k, **entry})
+    if blocks:
+        summary["fretting"] = blocks
+    return files
