@@ -142,6 +142,10 @@ class EllipseContact:
         aa, bb = self.semi_axes(a)
         pts = region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
                             self.reach, REGION_ORDER, centre=self.centre)
+        if not len(pts.s):
+            raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse (semi-axes "
+                             f"{np.round([aa, bb], 6).tolist()} m) about {np.round(self.frame.point, 6).tolist()}: "
+                             "the contact point is not where the bodies touch; give the contact's point")
         jump, flux, size = _operators(self, pts)
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
@@ -251,6 +255,8 @@ class EllipseContact:
         if v.penetration or v.tension:
             messages.append(f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and "
                             f"tension {v.tension} (edge pressure {v.pressure:.3g} Pa) at semi-axes {self.semi_axes(a)}")
+        elif v.penetration_count and a <= 0.0:
+            messages.append(self._unresolved(v))
         elif v.penetration_count:
             messages.append(f"{self.name}: the bodies interpenetrate outside the contact ellipse at "
                             f"{v.penetration_count} sample points (smallest gap {v.min_gap:.3g} m)")
@@ -269,6 +275,17 @@ class EllipseContact:
                            "centroid_offset": offset,
                            "size_bracket": list(bracket)}
         return messages
+
+    def _unresolved(self, v: _Verdict) -> str:
+        """The final state has no region while the bodies overlap: the region the edge coefficient
+        asks for is below half the finest cell (the search's smallest region). Hertz's estimate
+        from the overlap (a^2 = delta / k for the relative curvature k) says how small."""
+        k = float(np.sqrt(max(self.frame.curvatures[0], 0.0) * max(self.frame.curvatures[1], 0.0)))
+        size = f"about {math.sqrt(-v.min_gap / k):.3g} m by Hertz's estimate from the overlap, " if k > 0 else ""
+        return (f"{self.name}: no contact region of at least half the finest cell ({0.5 * self.h:.3g} m) carries "
+                f"compression, yet the bodies overlap by up to {-v.min_gap:.3g} m at {v.penetration_count} sample "
+                f"points: the contact ({size}smaller than the grid resolves) needs a finer grid there (more "
+                "refinement levels around the contact, or a smaller element_size)")
 
     def _centroid_offset(self, x: np.ndarray, a: float, info) -> float:
         """|pressure centroid - centre| in semi-axes; 0 where body 1 is a symmetric model's sector
@@ -440,12 +457,15 @@ def _sample_state(c: EllipseContact, x: np.ndarray, a: float):
     aa, bb = c.semi_axes(a)
     s = c.local(smp.s)
     rows = np.arange(len(s))
-    # the chord of the ellipse along each sample's axis line (through the contact point; it misses
-    # the centre by the centre's other coordinate)
-    across = s[rows, 1 - c.sample_axis] / np.where(c.sample_axis == 0, bb, aa)
-    reach = np.where(c.sample_axis == 0, aa, bb) * np.sqrt(np.clip(1.0 - across**2, 0.0, None))
     along = np.abs(s[rows, c.sample_axis])
-    inside = along <= reach
+    if a > 0.0:
+        # the chord of the ellipse along each sample's axis line (through the contact point; it
+        # misses the centre by the centre's other coordinate)
+        across = s[rows, 1 - c.sample_axis] / np.where(c.sample_axis == 0, bb, aa)
+        reach = np.where(c.sample_axis == 0, aa, bb) * np.sqrt(np.clip(1.0 - across**2, 0.0, None))
+        inside = along <= reach
+    else:  # no region: every sample outside it, at its distance from the centre
+        reach, inside = np.zeros(len(s)), np.zeros(len(s), dtype=bool)
     w = (c.e_samples @ x).reshape(-1, 3) + smp.delta
     gap = np.einsum("qi,qi->q", w, smp.normal)
     proj = _projector(c, smp, a)

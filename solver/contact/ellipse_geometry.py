@@ -26,7 +26,7 @@ import numpy as np
 
 from ..fem.surface_quadrature import MAX_VERTICES, clip_to_grid, triangle_nodes
 
-__all__ = ["ContactFrame3D", "RegionPoints", "contact_frame_3d", "region_points", "axis_points", "sectors",
+__all__ = ["ContactFrame3D", "RegionPoints", "contact_frame_3d", "tangent_basis", "region_points", "axis_points", "sectors",
            "sector_share", "surrounds",
            "surface_point", "closest_on", "matched_points"]
 
@@ -113,7 +113,7 @@ class ContactFrame3D:
     curvatures: np.ndarray  # (2,) relative principal curvatures along the axes (1/R'_0 <= 1/R'_1)
 
 
-def _tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
+def tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
     candidates = ([] if hint is None else [np.asarray(hint, float)]) + list(np.eye(3))
     for c in candidates:
         t = c - (c @ normal) * normal
@@ -133,7 +133,7 @@ def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
     s2 = smooth_point(solid2, x2[0], step, centres[0] - x2[0])  # on a symmetry edge: just inside the face
     g = _gradient(solid2.signed_distance, s2[None], step)[0]
     normal = -g / np.linalg.norm(g)
-    basis = _tangent_basis(normal, tangential_direction)
+    basis = tangent_basis(normal, tangential_direction)
     hstep = 1e-2 * scale
     k = np.zeros((2, 2))
     for solid, x, other in ((solid1, x1[0], centres[1]), (solid2, x2[0], centres[0])):
