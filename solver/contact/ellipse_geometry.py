@@ -412,15 +412,18 @@ def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoin
 
 
 def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ranges, grids, panel: float,
-                  reach: float, order: int = 3, centre=(0.0, 0.0)) -> RegionPoints:
+                  reach: float, order: int = 3, centre=(0.0, 0.0), radius=None, largest: float = 1.0) -> RegionPoints:
     """Quadrature of the ellipse ((s0 - e0)/a)^2 + ((s1 - e1)/b)^2 <= 1 (``centre`` e in the
     tangent plane; a symmetric model's sectors only about e = 0) on body 1 over the angular
     ``ranges``, cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at
-    most ``panel`` across."""
+    most ``panel`` across. With ``radius`` (a function rho(phi) of the angle, at most
+    ``largest``), the star-shaped region s = e + r rho(phi) (a cos phi, b sin phi), r <= 1 (area
+    element a b rho^2 r dr dphi); where body 1's surface ends inside it (a free edge), the
+    points beyond the edge are dropped."""
     lowers, uppers = [], []
-    n_rho = max(2, int(math.ceil(max(a, b) / panel)))
+    n_rho = max(2, int(math.ceil(largest * max(a, b) / panel)))
     for t0, t1 in ranges:
-        n_theta = max(2, int(math.ceil((t1 - t0) * max(a, b) / panel)))
+        n_theta = max(2, int(math.ceil((t1 - t0) * largest * max(a, b) / panel)))
         r, t = np.linspace(0.0, 1.0, n_rho + 1), np.linspace(t0, t1, n_theta + 1)
         r0, t_0 = np.meshgrid(r[:-1], t[:-1], indexing="ij")
         r1, t_1 = np.meshgrid(r[1:], t[1:], indexing="ij")
@@ -430,7 +433,8 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
     scale, shift = np.array([a, b]), np.asarray(centre, dtype=float)
 
     def plane(rt):
-        return shift + scale * rt[:, :1] * np.stack([np.cos(rt[:, 1]), np.sin(rt[:, 1])], axis=1)
+        r = rt[:, :1] if radius is None else rt[:, :1] * radius(rt[:, 1])[:, None]
+        return shift + scale * r * np.stack([np.cos(rt[:, 1]), np.sin(rt[:, 1])], axis=1)
 
     corners = np.stack([lower, np.column_stack([upper[:, 0], lower[:, 1]]), upper,
                         np.column_stack([lower[:, 0], upper[:, 1]])], axis=1).reshape(-1, 2)
@@ -447,7 +451,8 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
     keep = w > 1e-12 * w.max()  # slivers cut off at a plane through a range's edge: nothing to integrate
     rt, w = rt[keep], w[keep]
     s = plane(rt)
-    pts = matched_points(solid1, solid2, frame, s, w * a * b * rt[:, 0], reach, step)
+    jacobian = a * b * rt[:, 0] if radius is None else a * b * rt[:, 0] * radius(rt[:, 1]) ** 2
+    pts = matched_points(solid1, solid2, frame, s, w * jacobian, reach, step)
     cos = np.abs(np.einsum("qi,i->q", pts.n1, frame.normal))
     pts.weights = pts.weights / np.maximum(cos, 1e-12)
     return pts
