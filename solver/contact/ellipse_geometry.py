@@ -411,24 +411,61 @@ def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoin
                         normal=np.broadcast_to(frame.normal, x1.shape).copy())
 
 
-def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ranges, grids, panel: float,
-                  reach: float, order: int = 3, centre=(0.0, 0.0), radius=None, largest: float = 1.0) -> RegionPoints:
-    """Quadrature of the ellipse ((s0 - e0)/a)^2 + ((s1 - e1)/b)^2 <= 1 (``centre`` e in the
-    tangent plane; a symmetric model's sectors only about e = 0) on body 1 over the angular
-    ``ranges``, cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at
-    most ``panel`` across. With ``radius`` (a function rho(phi) of the angle, at most
-    ``largest``), the star-shaped region s = e + r rho(phi) (a cos phi, b sin phi), r <= 1 (area
-    element a b rho^2 r dr dphi); where body 1's surface ends inside it (a free edge), the
-    points beyond the edge are dropped."""
+def _ellipse_panels(ranges, a: float, b: float, panel: float) -> tuple[list, list]:
+    """(r, phi) panels of the ellipse: a product grid per angular range."""
     lowers, uppers = [], []
-    n_rho = max(2, int(math.ceil(largest * max(a, b) / panel)))
+    n_rho = max(2, int(math.ceil(max(a, b) / panel)))
     for t0, t1 in ranges:
-        n_theta = max(2, int(math.ceil((t1 - t0) * largest * max(a, b) / panel)))
+        n_theta = max(2, int(math.ceil((t1 - t0) * max(a, b) / panel)))
         r, t = np.linspace(0.0, 1.0, n_rho + 1), np.linspace(t0, t1, n_theta + 1)
         r0, t_0 = np.meshgrid(r[:-1], t[:-1], indexing="ij")
         r1, t_1 = np.meshgrid(r[1:], t[1:], indexing="ij")
         lowers.append(np.column_stack([r0.ravel(), t_0.ravel()]))
         uppers.append(np.column_stack([r1.ravel(), t_1.ravel()]))
+    return lowers, uppers
+
+
+#: angles per range on which a star-shaped region's edge length is measured
+EDGE_SAMPLES = 2048
+
+
+def _star_panels(ranges, a: float, b: float, radius, panel: float) -> tuple[list, list]:
+    """(r, phi) panels of the star-shaped region s = r rho(phi) (a cos phi, b sin phi) at most
+    about ``panel`` across in the tangent plane: angular strips cut every ``panel`` of the edge's
+    length (an elongated region has short strips at its ends and long ones along its sides), each
+    strip cut radially into pieces of its own ray's length over ``panel``."""
+    lowers, uppers = [], []
+    for t0, t1 in ranges:
+        phi = np.linspace(t0, t1, EDGE_SAMPLES + 1)
+        edge = radius(phi)[:, None] * np.stack([a * np.cos(phi), b * np.sin(phi)], axis=1)
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(edge, axis=0), axis=1))])
+        n_theta = max(2, int(math.ceil(arc[-1] / panel)))
+        cuts = np.interp(np.linspace(0.0, arc[-1], n_theta + 1), arc, phi)
+        ray = np.linalg.norm(edge, axis=1)
+        strip = np.clip(np.searchsorted(cuts, phi, side="right") - 1, 0, n_theta - 1)
+        longest = np.zeros(n_theta)
+        np.maximum.at(longest, strip, ray)
+        for k in range(n_theta):
+            n_rho = max(2, int(math.ceil(longest[k] / panel)))
+            r = np.linspace(0.0, 1.0, n_rho + 1)
+            lowers.append(np.column_stack([r[:-1], np.full(n_rho, cuts[k])]))
+            uppers.append(np.column_stack([r[1:], np.full(n_rho, cuts[k + 1])]))
+    return lowers, uppers
+
+
+def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ranges, grids, panel: float,
+                  reach: float, order: int = 3, centre=(0.0, 0.0), radius=None) -> RegionPoints:
+    """Quadrature of the ellipse ((s0 - e0)/a)^2 + ((s1 - e1)/b)^2 <= 1 (``centre`` e in the
+    tangent plane; a symmetric model's sectors only about e = 0) on body 1 over the angular
+    ``ranges``, cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at
+    most ``panel`` across. With ``radius`` (a function rho(phi) of the angle), the
+    star-shaped region s = e + r rho(phi) (a cos phi, b sin phi), r <= 1 (area
+    element a b rho^2 r dr dphi); where body 1's surface ends inside it (a free edge), the
+    points beyond the edge are dropped."""
+    if radius is None:
+        lowers, uppers = _ellipse_panels(ranges, a, b, panel)
+    else:
+        lowers, uppers = _star_panels(ranges, a, b, radius, panel)
     lower, upper = np.concatenate(lowers), np.concatenate(uppers)
     scale, shift = np.array([a, b]), np.asarray(centre, dtype=float)
 

@@ -123,9 +123,8 @@ class StarRegionContact(EllipseContact):
 
     def region_quadrature(self, a: float):
         aa, bb = self.semi_axes(a)
-        largest = float(np.exp(self.log_rho.max())) * 1.05
         return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
-                             self.reach, REGION_ORDER, centre=self.centre, radius=self.rho, largest=largest)
+                             self.reach, REGION_ORDER, centre=self.centre, radius=self.rho)
 
     def sample_edges(self, s: np.ndarray, axis: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
         """(inside, distance beyond the edge along the ray from the centre) of samples."""
