@@ -105,3 +105,60 @@ def test_coarse_roller_reaches_its_end_and_follows_hertz_at_mid_length():
     # equilibrium: the contact force is the roller's reaction and the block's
     assert sol.reactions["roller/flat"][2] == pytest.approx(-c["normal_force"], rel=1e-8)
     assert sol.reactions["block/z_min"][2] == pytest.approx(c["normal_force"], rel=1e-6)
+
+
+def _turned(data: dict, axis, angle_deg: float) -> dict:
+    """The scene turned rigidly about ``axis`` through the origin (the contact point): each
+    shape's rotation composed with the turn, its translation and the prescribed displacement
+    turned."""
+    from scipy.spatial.transform import Rotation
+
+    turn = Rotation.from_rotvec(np.radians(angle_deg) * np.asarray(axis, float) / np.linalg.norm(axis))
+    for body in data["bodies"]:
+        shape = body["shape"]
+        own = shape.get("rotate")
+        r = turn if own is None else turn * Rotation.from_rotvec(np.radians(own["angle_deg"]) * np.asarray(own["axis"], float))
+        vec = r.as_rotvec()
+        shape["rotate"] = {"axis": (vec / np.linalg.norm(vec)).tolist(), "angle_deg": float(np.degrees(np.linalg.norm(vec)))}
+        shape["translate"] = turn.apply(np.asarray(shape.get("translate", [0, 0, 0]), float)).tolist()
+    for bc in data["boundary_conditions"]:
+        if bc["type"] == "displacement":
+            bc["value"] = turn.apply(np.asarray(bc["value"], float)).tolist()
+    return data
+
+
+@pytest.mark.slow
+def test_turned_roller_gives_the_same_region():
+    """A rigid turn changes nothing physical: extents, area and force within 0.5 %."""
+    upright = solve(scene_from_dict(_scene(0.06, 3, 0.08), label="roller.toml").problem).contacts[0]
+    sol = solve(scene_from_dict(_turned(_scene(0.06, 3, 0.08), [1.0, -2.0, 0.5], 33.0), label="turned.toml").problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    np.testing.assert_allclose(sorted(c["extents"]), sorted(upright["extents"]), rtol=5e-3)
+    assert c["area"] == pytest.approx(upright["area"], rel=5e-3)
+    assert c["normal_force"] == pytest.approx(upright["normal_force"], rel=5e-3)
+
+
+@pytest.mark.slow
+def test_roller_mid_length_against_the_plane_strain_section():
+    """The example's roller (a band of 3.1 mm cells, 7.5 across the half-width) against the 2D
+    solver on its cross-section: b / sqrt(P') and p0 / sqrt(P') at mid-length within 2 % (the
+    plane-strain line contact's invariants: Hertz's b^2 = 4 P' R / (pi E*), p0 = 2 P' / (pi b))."""
+    from ibfem.solver.io.scene import load_scene
+
+    section = solve(load_scene(EXAMPLE.parent / "roller_section_2d.toml").problem).contacts[0]
+    data = tomllib.loads(EXAMPLE.read_text())
+    sol = solve(scene_from_dict(data, label="roller_on_flat.toml").problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    load, width = _mid_length(c, 0.02)
+    m = c["pressure_map"]
+    s, value, area = np.array(m["s"]), np.array(m["value"]), np.array(m["area"])
+    near = s[:, 0] < 0.02
+    shape = np.sqrt(np.clip(1.0 - (s[near, 1] / width) ** 2, 0.0, None))
+    p0 = float((area[near] * value[near] * shape).sum() / (area[near] * shape**2).sum())
+    load_2d, width_2d = section["normal_force"], section["half_width"]
+    p0_2d = max(section["pressure"]["value"])
+    assert width / math.sqrt(load) == pytest.approx(width_2d / math.sqrt(load_2d), rel=0.02)
+    assert p0 / math.sqrt(load) == pytest.approx(p0_2d / math.sqrt(load_2d), rel=0.02)
+    assert c["complete_contact"] and c["peak_at"][0] > 0.09  # the end peak, at the end face x = 0.1

@@ -50,16 +50,18 @@ def boundary_polyline(c, a: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def cell_means(s: np.ndarray, weights: np.ndarray, values: np.ndarray, size: float):
-    """(centres (m, 2), means (m,), areas (m,)) of values over squares of side ``size`` of the
-    tangent plane: int v dA / int dA over each square holding quadrature points."""
-    key = np.floor(s / size).astype(np.int64)
+    """(centres (m, 2), means (m,), areas (m,), keys (m, 2)) of values over the squares of side
+    ``size`` of the tangent plane, [k size, (k + 1) size) along each axis from the contact point
+    (points a round-off below a square's edge, such as those on a symmetry plane, count in it):
+    int v dA / int dA over each square holding quadrature points, the squares' integer keys k."""
+    key = np.floor(s / size + 1e-6).astype(np.int64)
     uniq, inverse = np.unique(key, axis=0, return_inverse=True)
     inverse = inverse.ravel()
     area = np.bincount(inverse, weights=weights, minlength=len(uniq))
     total = np.bincount(inverse, weights=weights * values, minlength=len(uniq))
     centre = np.stack([np.bincount(inverse, weights=weights * s[:, k], minlength=len(uniq)) for k in (0, 1)], axis=1)
     good = area > 0.0
-    return centre[good] / area[good, None], total[good] / area[good], area[good]
+    return centre[good] / area[good, None], total[good] / area[good], area[good], uniq[good]
 
 
 def _principal(s: np.ndarray, weights: np.ndarray, boundary: np.ndarray):
@@ -74,11 +76,12 @@ def _principal(s: np.ndarray, weights: np.ndarray, boundary: np.ndarray):
     return directions, span.max(axis=0) - span.min(axis=0)
 
 
-def _profiles(c, centres: np.ndarray, means: np.ndarray, size: float) -> dict:
-    """The cell means along each axis through the contact point (the cells the axis crosses)."""
+def _profiles(centres: np.ndarray, means: np.ndarray, keys: np.ndarray) -> dict:
+    """The cell means along each axis through the contact point: the squares beside the axis
+    (keys -1 and 0 across it), by their centroid along it."""
     out = {}
     for k in (0, 1):
-        on = np.abs(centres[:, 1 - k]) <= size
+        on = np.isin(keys[:, 1 - k], (-1, 0))
         order = np.argsort(centres[on, k])
         out[f"axis{k}"] = {"s": centres[on, k][order].tolist(), "value": means[on][order].tolist()}
     return out
@@ -105,7 +108,7 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     p = np.einsum("qi,qi->q", c.quadrature_traction(info, u[c.dofs]), pts.normal)
     s_edge, x_edge, free = boundary_polyline(c, a)
     directions, extents = _principal(pts.s, pts.weights, s_edge)
-    centres, means, areas = cell_means(pts.s, pts.weights, p, c.h)
+    centres, means, areas, keys = cell_means(pts.s, pts.weights, p, c.h)
     peak = int(np.argmax(means))
     peak_x = surface_point(c.solids[0], frame, centres[peak:peak + 1], c.reach)[0][0]
     half = [float(np.abs(s_edge[:, k]).max()) for k in (0, 1)]
@@ -121,7 +124,7 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         "centroid": (pts.weights @ pts.x1 / pts.weights.sum()).tolist(),
         "peak_pressure": float(means[peak]), "peak_at": peak_x.tolist(),
         "pressure_map": {"cell": c.h, "s": centres.tolist(), "value": means.tolist(), "area": areas.tolist()},
-        "pressure": _profiles(c, centres, means, 0.5 * c.h),
-        "shear": {},
+        "pressure": _profiles(centres, means, keys),
+        "shear": {f"axis{k}": {"s": [], "value": []} for k in (0, 1)},
     })
     return out
