@@ -41,7 +41,10 @@ __all__ = ["StarRegionContact", "free_edge_distance", "KNOTS", "KNOT_TOLERANCE"]
 #: knots of the edge's spline over the full turn (15 degrees apart)
 KNOTS = 24
 #: the knots' edge moments agree with their mean to this (the shape has settled)
-KNOT_TOLERANCE = 0.02
+KNOT_TOLERANCE = 0.005
+#: a knot at a free edge whose moment (measured to the free edge) is below minus this has a
+#: pressure falling to zero before the edge (a crowned roller): its edge moves inside
+END_MOMENT = 0.05
 #: the largest step of a knot's log rho per shape update
 KNOT_STEP = 0.3
 #: rays around the contact point on which body 1's free edge is located
@@ -161,17 +164,21 @@ class StarRegionContact(EllipseContact):
 
     def _moments(self, info, x: np.ndarray, a: float) -> np.ndarray:
         """Each knot's edge moment (nan where its stretch carries no compression; -inf without a
-        region); also marks the knots whose ray ends at body 1's free edge."""
+        region); also marks the knots whose ray ends at body 1's free edge. On a ray that ends at
+        a free edge, r is measured to the free edge: there the moment tells whether the pressure
+        still grows towards the edge (complete contact, >= 0) or falls to zero before it (< 0)."""
         if info is None or a <= 0.0:
             return np.full(len(self.knots), -math.inf)
         pts = info[0]
         p = np.einsum("qi,qi->q", _quadrature_traction(self, info, x), pts.normal)
         r, phi = self.polar(pts.s, a)
+        to_end = r / np.minimum(1.0, self.end_radius(phi, a))
         hat = _hats(self.knots, phi)  # (q, K)
         wp = (pts.weights * p)[:, None] * hat
         total = wp.sum(axis=0)
-        moment = (wp * (2.5 * r**2 - 1.0)[:, None]).sum(axis=0)
         self.free_knots = self.end_radius(self.knots, a) < 1.0
+        moment = np.where(self.free_knots, (wp * (2.5 * to_end**2 - 1.0)[:, None]).sum(axis=0),
+                          (wp * (2.5 * r**2 - 1.0)[:, None]).sum(axis=0))
         out = np.full(len(self.knots), math.nan)
         ok = total > 0.0
         out[ok] = moment[ok] / total[ok]
@@ -186,7 +193,13 @@ class StarRegionContact(EllipseContact):
         if info is None or a <= 0.0:
             return stuck
         m = self._moments(info, x, a)
-        smooth = ~self.free_knots & np.isfinite(m) & _knots_inside(self.knots, self.ranges)
+        inside = _knots_inside(self.knots, self.ranges)
+        retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
+        if retreat.any():  # the pressure ends before the free edge there: a smooth edge, just inside it
+            self.log_rho[retreat] += np.log(0.97 * self.end_radius(self.knots[retreat], a))
+            self._mirror_outside()
+            return False
+        smooth = ~self.free_knots & np.isfinite(m) & inside
         if not smooth.any():
             return stuck
         d = np.where(smooth, m - float(np.mean(m[smooth])), 0.0)
@@ -255,8 +268,10 @@ def configure_line_contact(c: StarRegionContact) -> StarRegionContact:
     """Fix the scale A (body 1's free edge along the line) and the first edge, the rectangle
     rho = min(1 / |sin phi|, 1.15 / |cos phi|) reaching past the free edges."""
     c.edge_psi, c.edge_distance = free_edge_distance(c.solids[0], c.frame, c.ranges, c.reach, c.extent, c.h)
-    along = c.edge_distance[np.isin(np.rint(c.edge_psi / (0.5 * math.pi)) * 0.5 * math.pi, [0.0, math.pi])
-                            & (np.abs(np.sin(c.edge_psi)) < 1e-9) & (c.edge_distance > 0.0)]
+    # the rays within about 6 degrees of the line inside body 1's sectors (a symmetric model's
+    # symmetry plane may hold the line itself): the free edge's distance along the line
+    near = (np.abs(np.sin(c.edge_psi)) <= 0.1) & (c.edge_distance > 0.0)
+    along = c.edge_distance[near] * np.abs(np.cos(c.edge_psi[near]))
     if not len(along) or not np.isfinite(along).all():
         raise ValueError(f"{c.name}: a line contact along {np.round(c.frame.axes[0], 6).tolist()} runs beyond the "
                          f"candidate region ({c.extent:.4g} m from the contact point): body 1 has no free end within "
