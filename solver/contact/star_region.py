@@ -36,7 +36,7 @@ from .ellipse import PANELS_PER_CELL, REGION_ORDER, EllipseContact, _quadrature_
 from .ellipse_geometry import region_points, surface_point
 from .roots import edge_search, settling_tolerance
 
-__all__ = ["StarRegionContact", "free_edge_distance", "KNOTS", "KNOT_TOLERANCE"]
+__all__ = ["StarRegionContact", "free_edge_distance", "knots_inside", "KNOTS", "KNOT_TOLERANCE"]
 
 #: knots of the edge's spline over the full turn (15 degrees apart)
 KNOTS = 24
@@ -155,7 +155,7 @@ class StarRegionContact(EllipseContact):
         gap, pressure, inside, edge_dist = _sample_state(self, x, a)
         v = _judge(self, gap, pressure, inside, edge_dist)
         self.knot_moments = self._moments(info, x, a)
-        smooth = ~self.free_knots & np.isfinite(self.knot_moments)
+        smooth = ~self.free_knots & np.isfinite(self.knot_moments) & knots_inside(self.knots, self.ranges)
         v.edge = float(np.mean(self.knot_moments[smooth])) if smooth.any() else -math.inf
         v.edges = (v.edge, v.edge)
         over = (gap < 0.0) & ~inside & (self.sample_axis == 1)
@@ -176,7 +176,8 @@ class StarRegionContact(EllipseContact):
         hat = _hats(self.knots, phi)  # (q, K)
         wp = (pts.weights * p)[:, None] * hat
         total = wp.sum(axis=0)
-        self.free_knots = self.end_radius(self.knots, a) < 1.0
+        # free: the knot's ray ends at body 1's free edge (outside body 1's sectors: no edge at all)
+        self.free_knots = (self.end_radius(self.knots, a) < 1.0) | ~knots_inside(self.knots, self.ranges)
         moment = np.where(self.free_knots, (wp * (2.5 * to_end**2 - 1.0)[:, None]).sum(axis=0),
                           (wp * (2.5 * r**2 - 1.0)[:, None]).sum(axis=0))
         out = np.full(len(self.knots), math.nan)
@@ -193,7 +194,7 @@ class StarRegionContact(EllipseContact):
         if info is None or a <= 0.0:
             return stuck
         m = self._moments(info, x, a)
-        inside = _knots_inside(self.knots, self.ranges)
+        inside = knots_inside(self.knots, self.ranges)
         retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
         if retreat.any():  # the pressure ends before the free edge there: a smooth edge, just inside it
             self.log_rho[retreat] += np.log(0.97 * self.end_radius(self.knots[retreat], a))
@@ -219,7 +220,7 @@ class StarRegionContact(EllipseContact):
     def _mirror_outside(self) -> None:
         """Knots outside body 1's angular ranges (a symmetric model) take the value of the nearest
         knot inside, which keeps the spline flat across the symmetry plane."""
-        inside = _knots_inside(self.knots, self.ranges)
+        inside = knots_inside(self.knots, self.ranges)
         if inside.all() or not inside.any():
             return
         gaps = np.abs((self.knots[:, None] - self.knots[None, inside] + math.pi) % (2.0 * math.pi) - math.pi)
@@ -236,7 +237,7 @@ class StarRegionContact(EllipseContact):
     def check_final(self, u: np.ndarray, a: float, info, bracket, block: dict) -> list[str]:
         messages = super().check_final(u, a, info, bracket, block)
         m = self._moments(info, u[self.dofs], a)
-        smooth = ~self.free_knots & np.isfinite(m) & _knots_inside(self.knots, self.ranges)
+        smooth = ~self.free_knots & np.isfinite(m) & knots_inside(self.knots, self.ranges)
         spread = float(np.abs(m[smooth] - m[smooth].mean()).max()) if smooth.any() else 0.0
         if spread > 2.0 * KNOT_TOLERANCE:
             messages.append(f"{self.name}: the region's shape did not settle (its knots' edge moments differ from "
@@ -257,21 +258,35 @@ def _hats(knots: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return np.clip(1.0 - d, 0.0, None)
 
 
-def _knots_inside(knots: np.ndarray, ranges) -> np.ndarray:
+def knots_inside(knots: np.ndarray, ranges) -> np.ndarray:
     inside = np.zeros(len(knots), dtype=bool)
     for t0, t1 in ranges:
         inside |= (knots - t0) % (2.0 * math.pi) <= (t1 - t0) + 1e-9
     return inside
 
 
+def _filled_outside(distance: np.ndarray) -> np.ndarray:
+    """The free edge's distance per ray, the rays outside body 1's sectors (distance 0) given
+    their nearest inside ray's: the region's points and boundary on a sector's edge (a symmetry
+    plane) look up the ray nearest them, which may fall just outside."""
+    inside = np.flatnonzero(distance > 0.0)
+    if not len(inside) or len(inside) == len(distance):
+        return distance
+    n = len(distance)
+    gap = np.abs(np.arange(n)[:, None] - inside[None, :])
+    nearest = inside[np.argmin(np.minimum(gap, n - gap), axis=1)]
+    return np.where(distance > 0.0, distance, distance[nearest])
+
+
 def configure_line_contact(c: StarRegionContact) -> StarRegionContact:
     """Fix the scale A (body 1's free edge along the line) and the first edge, the rectangle
     rho = min(1 / |sin phi|, 1.15 / |cos phi|) reaching past the free edges."""
-    c.edge_psi, c.edge_distance = free_edge_distance(c.solids[0], c.frame, c.ranges, c.reach, c.extent, c.h)
+    c.edge_psi, distance = free_edge_distance(c.solids[0], c.frame, c.ranges, c.reach, c.extent, c.h)
+    c.edge_distance = _filled_outside(distance)
     # the rays within about 6 degrees of the line inside body 1's sectors (a symmetric model's
     # symmetry plane may hold the line itself): the free edge's distance along the line
-    near = (np.abs(np.sin(c.edge_psi)) <= 0.1) & (c.edge_distance > 0.0)
-    along = c.edge_distance[near] * np.abs(np.cos(c.edge_psi[near]))
+    near = (np.abs(np.sin(c.edge_psi)) <= 0.1) & (distance > 0.0)
+    along = distance[near] * np.abs(np.cos(c.edge_psi[near]))
     if not len(along) or not np.isfinite(along).all():
         raise ValueError(f"{c.name}: a line contact along {np.round(c.frame.axes[0], 6).tolist()} runs beyond the "
                          f"candidate region ({c.extent:.4g} m from the contact point): body 1 has no free end within "
