@@ -553,14 +553,17 @@ def _require_point_contact(model, frame: ContactFrame3D) -> None:
         return
     name = "/".join(model.bodies)
     axis = np.round(frame.axes[0], 6).tolist()
+    what = ("a line contact, which an ellipse cannot describe" if is_line_contact(frame) else
+            "conforming surfaces (the gap closes or opens the wrong way), neither a point nor a line contact")
     raise ValueError(f"contact {name}: the relative curvatures at {np.round(frame.point, 6).tolist()} are "
-                     f"{k0:.4g} and {k1:.4g} 1/m (smaller along {axis}): conforming surfaces (the gap closes or "
-                     "opens the wrong way), neither a point nor a line contact. A 3D contact needs surfaces that "
+                     f"{k0:.4g} and {k1:.4g} 1/m (smaller along {axis}): {what}. A 3D contact needs surfaces that "
                      "curve apart across at least one axis at the contact point")
 
 
-def build(problem, model, b1, b2, options) -> EllipseContact:
-    """The ellipse formulation of a contact between two discretised solids."""
+def build(problem, model, b1, b2, options, line_contact=None) -> EllipseContact:
+    """The ellipse formulation of a contact between two discretised solids; a line contact takes
+    ``line_contact`` = (the formulation's class, its set-up), a region of general shape
+    (solver.contact.contact3d passes solver.contact.star_region's), and is refused without."""
     opts = model.options
     solids = (b1.boundary, b2.boundary)
     h = float(min(b1.grid.min_size, b2.grid.min_size))
@@ -570,9 +573,9 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
                                              getattr(model, "tangential_direction", None))
     e1 = 1.0 / (1.0 / _modulus(b1) + 1.0 / _modulus(b2))
     k0, k1 = frame.curvatures
-    line = is_line_contact(frame)
-    if line:  # a region of general shape (solver.contact.star_region) ending at body 1's free edges
-        from .star_region import StarRegionContact as kind
+    line = is_line_contact(frame) and line_contact is not None
+    if line:  # a region of general shape ending at body 1's free edges
+        kind, configure = line_contact
     else:
         kind = EllipseContact
         _require_point_contact(model, frame)
@@ -606,9 +609,7 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
     c.maps = b1.restricted_dof_map(c.dofs) + b2.restricted_dof_map(c.dofs)
     c.e_samples, c.f_samples, c.size_samples = _operators(c, samples)
     if line:
-        from .star_region import configure_line_contact
-
-        configure_line_contact(c)
+        configure(c)
     return c
 
 

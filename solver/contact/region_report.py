@@ -14,7 +14,6 @@ import math
 import numpy as np
 
 from .ellipse_geometry import sector_share, surface_point
-from .star_region import knots_inside
 
 __all__ = ["region_block", "boundary_polyline", "cell_means"]
 
@@ -100,7 +99,7 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
            "tangential_force": [float(on2 @ frame.axes[0]), float(on2 @ frame.axes[1])],
            "knots": {"phi": c.knots.tolist(), "rho": np.exp(c.log_rho).tolist(),
                      "free_edge": [bool(v) for v in c.free_knots],
-                     "inside": [bool(v) for v in knots_inside(c.knots, c.ranges)]}}
+                     "inside": [bool(v) for v in c.inside_knots]}}
     if c.given_point is not None:
         out["given_point"] = c.given_point.tolist()
     if info is None or a <= 0.0:

@@ -98,6 +98,11 @@ class StarRegionContact(EllipseContact):
     def semi_axes(self, a: float) -> tuple[float, float]:
         return self.length, a
 
+    @property
+    def inside_knots(self) -> np.ndarray:
+        """(K,) whether each knot's angle lies in body 1's sectors about the contact point."""
+        return knots_inside(self.knots, self.ranges)
+
     def rho(self, phi: np.ndarray) -> np.ndarray:
         """The edge's normalised radius rho(phi): a periodic cubic spline of log rho."""
         values = np.append(self.log_rho, self.log_rho[0])
