@@ -30,10 +30,10 @@ def test_rectangle_integral_matches_a_quadrature_away_from_it():
 def test_sphere_on_flat_against_hertz():
     R, e_star, force = 1.0, 1.0989e11, 1.0e6
     a = hertz_sphere_radius(force, R, e_star)
-    x = np.linspace(-1.3 * a, 1.3 * a, 41)
+    x = np.linspace(-1.3 * a, 1.3 * a, 31)
     result = halfspace_contact(lambda X, Y: (X**2 + Y**2) / (2 * R), x, x, e_star, force=force)
     assert result.force == pytest.approx(force, rel=1e-10)
-    assert np.sqrt(result.area / np.pi) == pytest.approx(a, rel=0.02)
+    assert np.sqrt(result.area / np.pi) == pytest.approx(a, rel=0.01)  # measured +0.33 %
     p0 = 3 * force / (2 * np.pi * a**2)
-    assert result.pressure.max() == pytest.approx(p0, rel=0.03)
-    assert result.approach == pytest.approx(a**2 / R, rel=0.02)  # Hertz's approach delta = a^2 / R
+    assert result.pressure.max() == pytest.approx(p0, rel=0.01)  # measured +0.03 %
+    assert result.approach == pytest.approx(a**2 / R, rel=0.01)  # Hertz's approach delta = a^2 / R

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from .ellipse import PANELS_PER_CELL, REGION_ORDER, EllipseContact, _quadrature_traction
+from .ellipse import PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state
 from .ellipse_geometry import region_points, surface_point
 from .roots import edge_search, settling_tolerance
 
@@ -92,6 +92,7 @@ class StarRegionContact(EllipseContact):
     _knot_history: list = field(default_factory=list)  # (log_rho, moments less their mean) per shape update
     knot_moments: np.ndarray = field(default_factory=lambda: np.full(KNOTS, math.nan))
     free_knots: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
+    _spline: tuple | None = None  # (log_rho bytes, the spline of log rho)
 
     # ------------------------------------------------------------------ the region's shape
 
@@ -104,10 +105,13 @@ class StarRegionContact(EllipseContact):
         return knots_inside(self.knots, self.ranges)
 
     def rho(self, phi: np.ndarray) -> np.ndarray:
-        """The edge's normalised radius rho(phi): a periodic cubic spline of log rho."""
-        values = np.append(self.log_rho, self.log_rho[0])
-        spline = CubicSpline(np.append(self.knots, 2.0 * math.pi), values, bc_type="periodic")
-        return np.exp(spline(np.mod(phi, 2.0 * math.pi)))
+        """The edge's normalised radius rho(phi): a periodic cubic spline of log rho (made once
+        per set of knot values)."""
+        key = self.log_rho.tobytes()
+        if self._spline is None or self._spline[0] != key:
+            values = np.append(self.log_rho, self.log_rho[0])
+            self._spline = (key, CubicSpline(np.append(self.knots, 2.0 * math.pi), values, bc_type="periodic"))
+        return np.exp(self._spline[1](np.mod(phi, 2.0 * math.pi)))
 
     def polar(self, s: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
         """(r, phi) of tangent-plane points: r = 1 on the region's edge."""
@@ -155,8 +159,6 @@ class StarRegionContact(EllipseContact):
                           "across the line and still penetrates; enlarge the contact refinement radius")
 
     def judge(self, x: np.ndarray, a: float, info):
-        from .ellipse import _judge, _sample_state
-
         gap, pressure, inside, edge_dist = _sample_state(self, x, a)
         v = _judge(self, gap, pressure, inside, edge_dist)
         self.knot_moments = self._moments(info, x, a)
