@@ -26,12 +26,12 @@ def test_frame_normal_and_relative_curvature_of_a_ball_on_a_flat():
     assert np.cross(frame.axes[0], frame.axes[1]) @ frame.normal == pytest.approx(1.0)
 
 
-def test_a_line_contact_is_refused_with_its_curvatures():
-    """A cylinder lying on a flat has relative curvatures 0 (along its axis) and 1/R: no ellipse
-    exists; the run stops with the curvatures found and the 2D alternative, not after searching
-    the region out to the refinement zone's edge."""
+def test_a_line_contact_is_told_from_a_point_contact_by_its_curvatures():
+    """A cylinder lying on a flat has relative curvatures 0 (along its axis) and 1/R: a line
+    contact (a region of general shape, solver.contact.star_region), not an ellipse; a ball on
+    the flat is a point contact."""
     from ibfem.geometry.solids import solid_from_dict
-    from ibfem.solver.contact.ellipse import _require_point_contact
+    from ibfem.solver.contact.ellipse import _require_point_contact, is_line_contact
 
     roller = solid_from_dict({"type": "half_cylinder", "center": [0, 0, 0.5 + 1e-4], "axis": [1, 0, 0],
                               "radius": 0.5, "length": 1.0, "side": "below"})
@@ -39,11 +39,12 @@ def test_a_line_contact_is_refused_with_its_curvatures():
     frame = contact_frame_3d(roller, block, np.zeros(3), 0.01)
     np.testing.assert_allclose(sorted(frame.curvatures), [0.0, 2.0], atol=1e-4)
     np.testing.assert_allclose(np.abs(frame.axes[0]), [1, 0, 0], atol=1e-6)  # the smaller along the axis
-    model = pb.ContactModel(bodies=("roller", "block"), type="frictionless")
-    with pytest.raises(ValueError, match=r"contact roller/block: .* a line contact, not a point contact.*plane-strain"):
-        _require_point_contact(model, frame)
+    assert is_line_contact(frame)
     ball = HalfBall([0.0, 0.0, 2.0 + 1e-4], 2.0)
-    _require_point_contact(model, contact_frame_3d(ball, block, np.zeros(3), 0.01))  # a point contact passes
+    point = contact_frame_3d(ball, block, np.zeros(3), 0.01)
+    assert not is_line_contact(point)
+    model = pb.ContactModel(bodies=("roller", "block"), type="frictionless")
+    _require_point_contact(model, point)  # a point contact passes
 
 
 def test_region_quadrature_is_the_exact_cap_area_and_cut_at_both_grids():

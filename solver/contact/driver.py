@@ -34,6 +34,7 @@ from ..fem.linalg import (
 from ..fem.bodies import discretise
 from ..fem.space import body_info
 from ..solution import IBFEMSolution
+from .follow import solve_following
 from .formulation import formulation
 from .load_history import PathSteps, step_field, step_record
 from .report import contact_block
@@ -47,8 +48,8 @@ def solve_contact(problem, progress: Callable | None = None) -> IBFEMSolution:
     holds the contact blocks of summary.json."""
     if not problem.contacts:
         raise ValueError("the problem has no contacts")
-    with single_threaded_blas():
-        return ContactDriver(problem, progress).run()
+    with single_threaded_blas():  # line contacts: a coarse pass, then a band along the region
+        return solve_following(problem, lambda p: ContactDriver(p, progress).run())
 
 
 def _silent(stage, fraction=None) -> None:

@@ -102,6 +102,29 @@ class EllipseContact:
     def semi_axes(self, a: float) -> tuple[float, float]:
         return a, self.ratio * a
 
+    def normalised_radius(self, s: np.ndarray, a: float) -> np.ndarray:
+        """(n,) the region's radial coordinate of tangent-plane points: 1 on its edge."""
+        aa, bb = self.semi_axes(a)
+        local = self.local(s)
+        return np.hypot(local[:, 0] / aa, local[:, 1] / bb)
+
+    def region_quadrature(self, a: float) -> RegionPoints:
+        """Quadrature points of the region of size a on body 1, matched on body 2."""
+        aa, bb = self.semi_axes(a)
+        return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
+                             self.reach, REGION_ORDER, centre=self.centre)
+
+    def sample_edges(self, s: np.ndarray, axis: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
+        """(inside, distance beyond the edge) of samples at local points s along the frame's axes
+        (``axis`` 0 or 1 each): the ellipse's chord along each sample's axis line (through the
+        contact point; it misses the centre by the centre's other coordinate)."""
+        aa, bb = self.semi_axes(a)
+        rows = np.arange(len(s))
+        along = np.abs(s[rows, axis])
+        across = s[rows, 1 - axis] / np.where(axis == 0, bb, aa)
+        reach = np.where(axis == 0, aa, bb) * np.sqrt(np.clip(1.0 - across**2, 0.0, None))
+        return along <= reach, along - reach
+
     def local(self, s: np.ndarray) -> np.ndarray:
         """Tangent-plane coordinates (n, 2) from the ellipse's centre."""
         return np.asarray(s, dtype=float) - self.centre
@@ -140,8 +163,11 @@ class EllipseContact:
         if a <= 0.0:
             return sp.csr_matrix((m, m)), np.zeros(m), None
         aa, bb = self.semi_axes(a)
-        pts = region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
-                            self.reach, REGION_ORDER, centre=self.centre)
+        pts = self.region_quadrature(a)
+        if not len(pts.s):
+            raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse (semi-axes "
+                             f"{np.round([aa, bb], 6).tolist()} m) about {np.round(self.frame.point, 6).tolist()}: "
+                             "the contact point is not where the bodies touch; give the contact's point")
         jump, flux, size = _operators(self, pts)
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
@@ -251,6 +277,8 @@ class EllipseContact:
         if v.penetration or v.tension:
             messages.append(f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and "
                             f"tension {v.tension} (edge pressure {v.pressure:.3g} Pa) at semi-axes {self.semi_axes(a)}")
+        elif v.penetration_count and a <= 0.0:
+            messages.append(self._unresolved(v))
         elif v.penetration_count:
             messages.append(f"{self.name}: the bodies interpenetrate outside the contact ellipse at "
                             f"{v.penetration_count} sample points (smallest gap {v.min_gap:.3g} m)")
@@ -269,6 +297,17 @@ class EllipseContact:
                            "centroid_offset": offset,
                            "size_bracket": list(bracket)}
         return messages
+
+    def _unresolved(self, v: _Verdict) -> str:
+        """The final state has no region while the bodies overlap: the region the edge coefficient
+        asks for is below half the finest cell (the search's smallest region). Hertz's estimate
+        from the overlap (a^2 = delta / k for the relative curvature k) says how small."""
+        k = float(np.sqrt(max(self.frame.curvatures[0], 0.0) * max(self.frame.curvatures[1], 0.0)))
+        size = f"about {math.sqrt(-v.min_gap / k):.3g} m by Hertz's estimate from the overlap, " if k > 0 else ""
+        return (f"{self.name}: no contact region of at least half the finest cell ({0.5 * self.h:.3g} m) carries "
+                f"compression, yet the bodies overlap by up to {-v.min_gap:.3g} m at {v.penetration_count} sample "
+                f"points: the contact ({size}smaller than the grid resolves) needs a finer grid there (more "
+                "refinement levels around the contact, or a smaller element_size)")
 
     def _centroid_offset(self, x: np.ndarray, a: float, info) -> float:
         """|pressure centroid - centre| in semi-axes; 0 where body 1 is a symmetric model's sector
@@ -338,9 +377,7 @@ def _operators(c: EllipseContact, pts: RegionPoints):
 
 
 def _normalised_radius(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
-    aa, bb = c.semi_axes(a)
-    s = c.local(pts.s)
-    return np.hypot(s[:, 0] / aa, s[:, 1] / bb)
+    return c.normalised_radius(pts.s, a)
 
 
 def _projector(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
@@ -437,22 +474,18 @@ def _sample_state(c: EllipseContact, x: np.ndarray, a: float):
     """Normal gap and pressure at the axis samples, whether each lies in the region, and its
     distance beyond the region's edge along its axis (negative inside)."""
     smp = c.samples
-    aa, bb = c.semi_axes(a)
     s = c.local(smp.s)
-    rows = np.arange(len(s))
-    # the chord of the ellipse along each sample's axis line (through the contact point; it misses
-    # the centre by the centre's other coordinate)
-    across = s[rows, 1 - c.sample_axis] / np.where(c.sample_axis == 0, bb, aa)
-    reach = np.where(c.sample_axis == 0, aa, bb) * np.sqrt(np.clip(1.0 - across**2, 0.0, None))
-    along = np.abs(s[rows, c.sample_axis])
-    inside = along <= reach
+    if a > 0.0:
+        inside, beyond = c.sample_edges(s, c.sample_axis, a)
+    else:  # no region: every sample outside it, at its distance from the centre
+        inside, beyond = np.zeros(len(s), dtype=bool), np.abs(s[np.arange(len(s)), c.sample_axis])
     w = (c.e_samples @ x).reshape(-1, 3) + smp.delta
     gap = np.einsum("qi,qi->q", w, smp.normal)
     proj = _projector(c, smp, a)
     t1 = -np.einsum("qij,qj->qi", _layer(c, smp.normal, proj, c.size_samples), w)
     t1 = t1 + np.einsum("qij,qj->qi", proj, (c.f_samples @ x).reshape(-1, 3))
     pressure = np.where(inside, np.einsum("qi,qi->q", t1, smp.normal), 0.0)
-    return gap, pressure, inside, along - reach
+    return gap, pressure, inside, beyond
 
 
 #: cells of the inner edge window on which tension is judged in 3D, at least: the trilinear band's
@@ -505,24 +538,32 @@ def _extent(problem, contact, factor: float) -> float:
 LINE_CONTACT_RATIO = 1e-3
 
 
+def is_line_contact(frame: ContactFrame3D) -> bool:
+    """The surfaces curve apart across one axis only (a cylinder on a flat, parallel cylinders):
+    the smaller relative curvature vanishes to LINE_CONTACT_RATIO of the larger."""
+    k0, k1 = (float(k) for k in frame.curvatures)
+    return k1 > 0.0 and abs(k0) <= LINE_CONTACT_RATIO * k1
+
+
 def _require_point_contact(model, frame: ContactFrame3D) -> None:
-    """An elliptical region needs the surfaces to curve apart along both axes: refuse a line
-    contact (a cylinder on a flat) or conforming surfaces with what was found and what to do."""
+    """An elliptical region needs the surfaces to curve apart along both axes (a line contact
+    takes a region of general shape instead): refuse conforming surfaces with what was found."""
     k0, k1 = (float(k) for k in frame.curvatures)
     if k1 > 0.0 and k0 > LINE_CONTACT_RATIO * k1:
         return
     name = "/".join(model.bodies)
     axis = np.round(frame.axes[0], 6).tolist()
-    kind = "conforming surfaces (the gap closes or opens the wrong way)" if min(k0, k1) < -LINE_CONTACT_RATIO * \
-        max(abs(k0), abs(k1), 1e-300) or k1 <= 0.0 else "a line contact"
+    what = ("a line contact, which an ellipse cannot describe" if is_line_contact(frame) else
+            "conforming surfaces (the gap closes or opens the wrong way), neither a point nor a line contact")
     raise ValueError(f"contact {name}: the relative curvatures at {np.round(frame.point, 6).tolist()} are "
-                     f"{k0:.4g} and {k1:.4g} 1/m (smaller along {axis}): {kind}, not a point contact. A 3D "
-                     "contact is an ellipse found from both curvatures; model a line contact "
-                     "(parallel cylinders, a cylinder on a flat) as a plane-strain 2D scene")
+                     f"{k0:.4g} and {k1:.4g} 1/m (smaller along {axis}): {what}. A 3D contact needs surfaces that "
+                     "curve apart across at least one axis at the contact point")
 
 
-def build(problem, model, b1, b2, options) -> EllipseContact:
-    """The ellipse formulation of a contact between two discretised solids."""
+def build(problem, model, b1, b2, options, line_contact=None) -> EllipseContact:
+    """The ellipse formulation of a contact between two discretised solids; a line contact takes
+    ``line_contact`` = (the formulation's class, its set-up), a region of general shape
+    (solver.contact.contact3d passes solver.contact.star_region's), and is refused without."""
     opts = model.options
     solids = (b1.boundary, b2.boundary)
     h = float(min(b1.grid.min_size, b2.grid.min_size))
@@ -532,9 +573,14 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
                                              getattr(model, "tangential_direction", None))
     e1 = 1.0 / (1.0 / _modulus(b1) + 1.0 / _modulus(b2))
     k0, k1 = frame.curvatures
-    _require_point_contact(model, frame)
+    line = is_line_contact(frame) and line_contact is not None
+    if line:  # a region of general shape ending at body 1's free edges
+        kind, configure = line_contact
+    else:
+        kind = EllipseContact
+        _require_point_contact(model, frame)
     circular = abs(k1 - k0) <= 1e-4 * max(abs(k1), abs(k0), 1e-300)
-    ratio = 1.0 if circular or min(k0, k1) <= 0 else hertz_elliptic_contact(1.0, (k0, k1), e1)[1] / \
+    ratio = 1.0 if line or circular or min(k0, k1) <= 0 else hertz_elliptic_contact(1.0, (k0, k1), e1)[1] / \
         hertz_elliptic_contact(1.0, (k0, k1), e1)[0]
     # sample points along both axes, both signs, at the driver's sample spacing
     ds = opts.sample_spacing * h
@@ -548,7 +594,7 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
         axis.append(np.full(len(pts.s), k))
     samples = RegionPoints(*(np.concatenate([getattr(p, f) for p in parts]) for f in
                              ("s", "x1", "x2", "n1", "n2", "weights", "normal")))
-    c = EllipseContact(model=model, frame=frame, solids=solids, b1=b1, b2=b2, kind=model.type, dofs=np.zeros(0, int),
+    c = kind(model=model, frame=frame, solids=solids, b1=b1, b2=b2, kind=model.type, dofs=np.zeros(0, int),
                        maps=(), h=h, extent=extent, ranges=ranges, samples=samples, sample_axis=np.concatenate(axis),
                        ratio=float(ratio), circular=bool(circular), band_fraction=options.band_fraction, e_star=e1,
                        options=opts, stick_ratio={"tied": math.inf, "frictionless": 0.0}.get(model.type, 1.0),
@@ -562,6 +608,8 @@ def build(problem, model, b1, b2, options) -> EllipseContact:
     c.dofs = np.union1d(_cell_dofs_global(b1, cells1), _cell_dofs_global(b2, cells2))
     c.maps = b1.restricted_dof_map(c.dofs) + b2.restricted_dof_map(c.dofs)
     c.e_samples, c.f_samples, c.size_samples = _operators(c, samples)
+    if line:
+        configure(c)
     return c
 
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..fem.surface_quadrature import MAX_VERTICES, clip_to_grid, triangle_nodes
 
-__all__ = ["ContactFrame3D", "RegionPoints", "contact_frame_3d", "region_points", "axis_points", "sectors",
+__all__ = ["ContactFrame3D", "RegionPoints", "contact_frame_3d", "tangent_basis", "region_points", "axis_points", "sectors",
            "sector_share", "surrounds",
            "surface_point", "closest_on", "matched_points"]
 
@@ -113,7 +113,7 @@ class ContactFrame3D:
     curvatures: np.ndarray  # (2,) relative principal curvatures along the axes (1/R'_0 <= 1/R'_1)
 
 
-def _tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
+def tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
     candidates = ([] if hint is None else [np.asarray(hint, float)]) + list(np.eye(3))
     for c in candidates:
         t = c - (c @ normal) * normal
@@ -133,7 +133,7 @@ def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
     s2 = smooth_point(solid2, x2[0], step, centres[0] - x2[0])  # on a symmetry edge: just inside the face
     g = _gradient(solid2.signed_distance, s2[None], step)[0]
     normal = -g / np.linalg.norm(g)
-    basis = _tangent_basis(normal, tangential_direction)
+    basis = tangent_basis(normal, tangential_direction)
     hstep = 1e-2 * scale
     k = np.zeros((2, 2))
     for solid, x, other in ((solid1, x1[0], centres[1]), (solid2, x2[0], centres[0])):
@@ -411,12 +411,8 @@ def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoin
                         normal=np.broadcast_to(frame.normal, x1.shape).copy())
 
 
-def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ranges, grids, panel: float,
-                  reach: float, order: int = 3, centre=(0.0, 0.0)) -> RegionPoints:
-    """Quadrature of the ellipse ((s0 - e0)/a)^2 + ((s1 - e1)/b)^2 <= 1 (``centre`` e in the
-    tangent plane; a symmetric model's sectors only about e = 0) on body 1 over the angular
-    ``ranges``, cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at
-    most ``panel`` across."""
+def _ellipse_panels(ranges, a: float, b: float, panel: float) -> tuple[list, list]:
+    """(r, phi) panels of the ellipse: a product grid per angular range."""
     lowers, uppers = [], []
     n_rho = max(2, int(math.ceil(max(a, b) / panel)))
     for t0, t1 in ranges:
@@ -426,11 +422,56 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
         r1, t_1 = np.meshgrid(r[1:], t[1:], indexing="ij")
         lowers.append(np.column_stack([r0.ravel(), t_0.ravel()]))
         uppers.append(np.column_stack([r1.ravel(), t_1.ravel()]))
+    return lowers, uppers
+
+
+#: angles per range on which a star-shaped region's edge length is measured
+EDGE_SAMPLES = 2048
+
+
+def _star_panels(ranges, a: float, b: float, radius, panel: float) -> tuple[list, list]:
+    """(r, phi) panels of the star-shaped region s = r rho(phi) (a cos phi, b sin phi) at most
+    about ``panel`` across in the tangent plane: angular strips cut every ``panel`` of the edge's
+    length (an elongated region has short strips at its ends and long ones along its sides), each
+    strip cut radially into pieces of its own ray's length over ``panel``."""
+    lowers, uppers = [], []
+    for t0, t1 in ranges:
+        phi = np.linspace(t0, t1, EDGE_SAMPLES + 1)
+        edge = radius(phi)[:, None] * np.stack([a * np.cos(phi), b * np.sin(phi)], axis=1)
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(edge, axis=0), axis=1))])
+        n_theta = max(2, int(math.ceil(arc[-1] / panel)))
+        cuts = np.interp(np.linspace(0.0, arc[-1], n_theta + 1), arc, phi)
+        ray = np.linalg.norm(edge, axis=1)
+        strip = np.clip(np.searchsorted(cuts, phi, side="right") - 1, 0, n_theta - 1)
+        longest = np.zeros(n_theta)
+        np.maximum.at(longest, strip, ray)
+        for k in range(n_theta):
+            n_rho = max(2, int(math.ceil(longest[k] / panel)))
+            r = np.linspace(0.0, 1.0, n_rho + 1)
+            lowers.append(np.column_stack([r[:-1], np.full(n_rho, cuts[k])]))
+            uppers.append(np.column_stack([r[1:], np.full(n_rho, cuts[k + 1])]))
+    return lowers, uppers
+
+
+def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ranges, grids, panel: float,
+                  reach: float, order: int = 3, centre=(0.0, 0.0), radius=None) -> RegionPoints:
+    """Quadrature of the ellipse ((s0 - e0)/a)^2 + ((s1 - e1)/b)^2 <= 1 (``centre`` e in the
+    tangent plane; a symmetric model's sectors only about e = 0) on body 1 over the angular
+    ``ranges``, cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at
+    most ``panel`` across. With ``radius`` (a function rho(phi) of the angle), the
+    star-shaped region s = e + r rho(phi) (a cos phi, b sin phi), r <= 1 (area
+    element a b rho^2 r dr dphi); where body 1's surface ends inside it (a free edge), the
+    points beyond the edge are dropped."""
+    if radius is None:
+        lowers, uppers = _ellipse_panels(ranges, a, b, panel)
+    else:
+        lowers, uppers = _star_panels(ranges, a, b, radius, panel)
     lower, upper = np.concatenate(lowers), np.concatenate(uppers)
     scale, shift = np.array([a, b]), np.asarray(centre, dtype=float)
 
     def plane(rt):
-        return shift + scale * rt[:, :1] * np.stack([np.cos(rt[:, 1]), np.sin(rt[:, 1])], axis=1)
+        r = rt[:, :1] if radius is None else rt[:, :1] * radius(rt[:, 1])[:, None]
+        return shift + scale * r * np.stack([np.cos(rt[:, 1]), np.sin(rt[:, 1])], axis=1)
 
     corners = np.stack([lower, np.column_stack([upper[:, 0], lower[:, 1]]), upper,
                         np.column_stack([lower[:, 0], upper[:, 1]])], axis=1).reshape(-1, 2)
@@ -447,7 +488,8 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
     keep = w > 1e-12 * w.max()  # slivers cut off at a plane through a range's edge: nothing to integrate
     rt, w = rt[keep], w[keep]
     s = plane(rt)
-    pts = matched_points(solid1, solid2, frame, s, w * a * b * rt[:, 0], reach, step)
+    jacobian = a * b * rt[:, 0] if radius is None else a * b * rt[:, 0] * radius(rt[:, 1]) ** 2
+    pts = matched_points(solid1, solid2, frame, s, w * jacobian, reach, step)
     cos = np.abs(np.einsum("qi,i->q", pts.n1, frame.normal))
     pts.weights = pts.weights / np.maximum(cos, 1e-12)
     return pts

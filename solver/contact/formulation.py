@@ -16,7 +16,7 @@ import numpy as np
 __all__ = ["ContactFormulation", "FORMULATIONS", "FORMULATIONS_3D", "formulation"]
 
 #: name -> "module:builder", imported on first use
-FORMULATIONS = {"band": "ibfem.solver.contact.band:build", "ellipse": "ibfem.solver.contact.ellipse:build"}
+FORMULATIONS = {"band": "ibfem.solver.contact.band:build", "ellipse": "ibfem.solver.contact.contact3d:build"}
 #: the formulation a name means in 3D (the band terms on an elliptical region)
 FORMULATIONS_3D = {"band": "ellipse"}
 

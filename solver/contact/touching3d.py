@@ -21,9 +21,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .ellipse_geometry import ContactFrame3D, contact_frame_3d, sectors, surface_point, surrounds
+from .ellipse_geometry import (ContactFrame3D, closest_on, contact_frame_3d, sectors, surface_point, surrounds,
+                               tangent_basis)
 
-__all__ = ["touching_frame_3d", "TOUCH_ROUNDS"]
+__all__ = ["touching_frame_3d", "closest_points_3d", "TOUCH_ROUNDS"]
 
 #: Newton rounds at most
 TOUCH_ROUNDS = 8
@@ -82,3 +83,101 @@ def _overlap_gradient(solid1, solid2, frame: ContactFrame3D, step: float, reach:
     phi = np.asarray(solid2.signed_distance(x1), dtype=float)
     gradient = np.array([phi[1] - phi[2], phi[3] - phi[4]]) / (2.0 * step)
     return gradient, float(phi[0])
+
+
+#: alternating projections of the closest-point search before its Newton steps
+PROJECTION_ROUNDS = 20
+#: Newton rounds of the closest-point search at most
+CLOSEST_ROUNDS = 30
+
+
+def closest_points_3d(solid1, solid2, start: np.ndarray, size: float) -> np.ndarray:
+    """The midpoint of the two solids' closest points (the touching point of touching solids, the
+    deepest point of overlapping ones) from ``start`` (``size``: the scene's element size).
+
+    Alternating exact projections bring the point onto both surfaces near the contact; they alone
+    converge sublinearly for surfaces that touch tangentially (each round moves a point at
+    distance d from the touching point by about d^3 / (4 R^2)). Newton steps then find the
+    maximum of body 2's signed distance phi_2 over body 1's surface (zero at a touching point,
+    positive where the bodies overlap): its gradient and Hessian over the tangent-plane
+    coordinates of body 1's surface by central differences, a step along the directions where
+    phi_2 curves down, halved until phi_2 grows. A step leaving body 1's surface (a symmetric
+    model's symmetry plane, a free edge) stops at the surface's edge, found by bisection: the
+    closest point of a symmetric model lies on its symmetry plane."""
+    x = np.asarray(start, dtype=float).reshape(3)
+    step = 1e-6 * size
+    for _ in range(PROJECTION_ROUNDS):
+        x1, _ = closest_on(solid1, x[None], step)
+        x2, _ = closest_on(solid2, x1, step)
+        new = 0.5 * (x1[0] + x2[0])
+        if np.linalg.norm(new - x) <= 1e-12 * size:
+            break
+        x = new
+    x1 = closest_on(solid1, x[None], step)[0][0]
+    for _ in range(CLOSEST_ROUNDS):
+        frame = _surface_frame(solid1, x1, step)
+        s = _newton_step(solid1, solid2, frame, size)
+        if s is None:
+            break
+        x1 = surface_point(solid1, frame, s[None], size)[0][0]
+        if float(np.hypot(*s)) <= 1e-9 * size:
+            break
+    x2 = closest_on(solid2, x1[None], step)[0][0]
+    return 0.5 * (x1 + x2)
+
+
+def _surface_frame(solid, x1: np.ndarray, step: float) -> ContactFrame3D:
+    """A frame on a solid's surface at x1: its normal into the solid (the direction
+    :func:`surface_point` looks along), any tangent axes."""
+    _, n1 = closest_on(solid, x1[None], step, sweeps=1)
+    normal = -n1[0]
+    axes = tangent_basis(normal, None)
+    return ContactFrame3D(point=x1, normal=normal, axes=axes, curvatures=np.zeros(2))
+
+
+def _newton_step(solid1, solid2, frame: ContactFrame3D, size: float) -> np.ndarray | None:
+    """The tangent-plane step (2,) towards the maximum of phi_2 over body 1's surface, or None
+    where there is none (phi_2 flat or stationary, body 1's surface missing around the point)."""
+    d = 1e-3 * size
+    grid = np.array([(i, j) for i in (-1, 0, 1) for j in (-1, 0, 1)], dtype=float) * d
+    x, ok = surface_point(solid1, frame, grid, size)
+    if not ok.all():
+        return None
+    f = np.asarray(solid2.signed_distance(x), dtype=float).reshape(3, 3)
+    gradient = np.array([f[2, 1] - f[0, 1], f[1, 2] - f[1, 0]]) / (2.0 * d)
+    hessian = np.array([[f[2, 1] + f[0, 1] - 2.0 * f[1, 1], 0.25 * (f[2, 2] - f[2, 0] - f[0, 2] + f[0, 0])],
+                        [0.0, f[1, 2] + f[1, 0] - 2.0 * f[1, 1]]]) / d**2
+    hessian[1, 0] = hessian[0, 1]
+    values, vectors = np.linalg.eigh(hessian)
+    scale = float(np.abs(values).max())
+    if not scale > 0.0:
+        return None
+    down = values < -1e-6 * scale  # phi_2 curves down: Newton; flat or up: no step
+    g = vectors.T @ gradient
+    s = vectors @ np.where(down, -g / np.where(down, values, 1.0), 0.0)
+    length = float(np.hypot(*s))
+    if not length > 0.0:
+        return None
+    s *= min(1.0, size / length)  # at most one element per round
+    return _accepted(solid1, solid2, frame, s, float(f[1, 1]), size)
+
+
+def _accepted(solid1, solid2, frame: ContactFrame3D, s: np.ndarray, f0: float, size: float) -> np.ndarray | None:
+    """The step s, or the part of it on body 1's surface (the surface's edge by bisection), halved
+    until phi_2 does not fall; None where no part of it helps."""
+    x, ok = surface_point(solid1, frame, s[None], size)
+    if not ok[0]:
+        lo, hi = 0.0, 1.0  # surface at lo, none at hi
+        for _ in range(45):
+            mid = 0.5 * (lo + hi)
+            if surface_point(solid1, frame, (mid * s)[None], size)[1][0]:
+                lo = mid
+            else:
+                hi = mid
+        s = lo * s
+    for _ in range(30):
+        x, ok = surface_point(solid1, frame, s[None], size)
+        if ok[0] and float(np.asarray(solid2.signed_distance(x), dtype=float)[0]) >= f0 - 1e-14 * size:
+            return s
+        s = 0.5 * s
+    return None

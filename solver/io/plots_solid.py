@@ -120,7 +120,11 @@ def write_solid_plots(out_dir: Path, figs: Any, problem: pb.Problem, solution: p
     centre = np.asarray(contacts[0]["point"], dtype=float) if contacts else 0.5 * (lower + upper)
     figs.save(_sections(figs.plt, problem, solution, centre), "sections.png")
     for k, c in enumerate(summary.get("contacts", [])):
-        if c.get("semi_axes") and c["semi_axes"][0]:
+        if c.get("boundary"):  # a region of general shape (a line contact)
+            from .plots_region import region_figure
+
+            figs.save(region_figure(figs.plt, problem.name, c), f"contact_{k}.png")
+        elif c.get("semi_axes") and c["semi_axes"][0]:
             figs.save(_contact_figure(figs.plt, problem, c), f"contact_{k}.png")
     for name, line in summary.get("lines", {}).items():
         s = np.asarray(line["s"], dtype=float)

@@ -295,10 +295,11 @@ def _problem(spec: SolidSceneSpec, solids: dict[str, Any], default_name: str, la
 
 def _contact(c, k: int, solids: dict[str, Any], bodies, label: str) -> SolidContactModel:
     """The contact model; without a ``point``, the midpoint of the two solids' closest points
-    (alternating exact projections from the middle of their nearest bounding-box corners)."""
+    (solver.contact.touching3d.closest_points_3d from the middle of their nearest bounding-box
+    corners)."""
     import numpy as np
 
-    from ibfem.solver.contact.ellipse_geometry import closest_on
+    from ibfem.solver.contact.touching3d import closest_points_3d
 
     options = _options(ContactOptions, c, f"contacts[{k}]", label)
     first, second = solids[c.bodies[0]], solids[c.bodies[1]]
@@ -309,14 +310,7 @@ def _contact(c, k: int, solids: dict[str, Any], bodies, label: str) -> SolidCont
         lo1, hi1 = (np.asarray(v, float) for v in first.bounds)
         lo2, hi2 = (np.asarray(v, float) for v in second.bounds)
         x = 0.5 * (np.clip(0.5 * (lo2 + hi2), lo1, hi1) + np.clip(0.5 * (lo1 + hi1), lo2, hi2))
-        for _ in range(50):
-            x1, _ = closest_on(first, x[None], 1e-6 * size)
-            x2, _ = closest_on(second, x1, 1e-6 * size)
-            new = 0.5 * (x1[0] + x2[0])
-            if np.linalg.norm(new - x) <= 1e-12 * size:
-                break
-            x = new
-        point = x
+        point = closest_points_3d(first, second, x, size)
     tangent = None if c.tangential_direction is None else np.array(c.tangential_direction, dtype=float)
     return SolidContactModel(bodies=tuple(c.bodies), type=c.type, friction=float(c.friction), point=point,
                              options=options, point_given=c.point is not None, tangential_direction=tangent)

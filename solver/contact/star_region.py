@@ -1,0 +1,306 @@
+"""A contact region of general shape between two solids: star-shaped about the touching point,
+its edge r(phi) a periodic cubic spline through knots, each knot fixed by the pressure at its own
+stretch of the edge; the region ends at body 1's free edges where it reaches them (complete
+contact). It takes the contacts the ellipse (solver.contact.ellipse) cannot: line contacts of
+finite length, such as a roller on a flat, where one relative curvature vanishes.
+
+Coordinates: along the frame's axes, normalised by the scales (A, B): X = s0 / A, Y = s1 / B. A
+is fixed: the distance from the contact point to body 1's free edge along axis 0 (the line's
+end: a roller's end face); B is the size the region search finds (the half-width across the
+line). The region is r <= rho(phi) in the normalised polar coordinates (r, phi) of (X, Y):
+s = r rho(phi) (A cos phi, B sin phi), the area element A B rho^2 r dr dphi.
+
+Edge conditions. Every pressure of the band formulation near a smooth edge behaves as
+Q / sqrt(1 - r^2) along a ray, with Q = q0 + q2 r^2 a smooth factor; Hertz's pressure (of a line
+contact: p0 sqrt(1 - y^2 / b^2)) has Q(1) = q0 + q2 = 0, the edge's square-root coefficient. The
+moment of the pressure along a ray with the weight 5/2 r^2 - 1 in the measure r dr is
+2/3 (q0 + q2) (int_0^1 r / sqrt(1 - r^2) dr = 1, of r^3: 2/3, of r^5: 8/15): zero exactly when the
+edge is smooth, positive for a punch-like pressure (the region too small there). Each knot's
+moment is taken over its stretch of the edge (the quadrature points weighted by the knot's hat
+function in phi), normalised by the pressure's integral there. The region search sets B by the
+mean moment of the knots with a smooth edge; then each such knot's log rho moves by a secant on
+its moment less the mean, until all agree to KNOT_TOLERANCE. A knot whose ray leaves body 1's
+surface before its edge (the region reaches body 1's free edge there) has no edge condition: the
+contact is complete there (the pressure is singular at a sharp edge), and it is reported as such.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from .ellipse import PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state
+from .ellipse_geometry import region_points, surface_point
+from .roots import edge_search, settling_tolerance
+
+__all__ = ["StarRegionContact", "free_edge_distance", "knots_inside", "KNOTS", "KNOT_TOLERANCE"]
+
+#: knots of the edge's spline over the full turn (15 degrees apart)
+KNOTS = 24
+#: the knots' edge moments agree with their mean to this (the shape has settled)
+KNOT_TOLERANCE = 0.005
+#: a knot at a free edge whose moment (measured to the free edge) is below minus this has a
+#: pressure falling to zero before the edge (a crowned roller): its edge moves inside
+END_MOMENT = 0.05
+#: the largest step of a knot's log rho per shape update
+KNOT_STEP = 0.3
+#: rays around the contact point on which body 1's free edge is located
+EDGE_RAYS = 720
+
+
+def free_edge_distance(solid1, frame, ranges, reach: float, extent: float, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """(psi (EDGE_RAYS,), distance (EDGE_RAYS,)): along each direction psi of the tangent plane
+    (from axis 0 towards axis 1), how far from the contact point body 1's surface goes before it
+    ends (a free edge; inf: beyond ``extent``; 0 outside the angular ``ranges``). The first
+    missing sample of 48 along the ray, then bisection to a thousandth of ``scale``."""
+    psi = np.linspace(0.0, 2.0 * math.pi, EDGE_RAYS, endpoint=False)
+    inside = np.zeros(len(psi), dtype=bool)
+    for t0, t1 in ranges:
+        inside |= ((psi - t0) % (2.0 * math.pi) <= (t1 - t0) + 1e-12)
+    direction = np.stack([np.cos(psi), np.sin(psi)], axis=1)
+    t = np.linspace(0.0, extent, 49)[1:]
+    s = (t[None, :, None] * direction[:, None, :]).reshape(-1, 2)
+    ok = surface_point(solid1, frame, s, reach)[1].reshape(len(psi), len(t))
+    missing = ~ok
+    first = np.where(missing.any(axis=1), np.argmax(missing, axis=1), len(t))
+    distance = np.full(len(psi), math.inf)
+    ends = np.nonzero(inside & (first < len(t)))[0]
+    lo = np.where(first[ends] > 0, t[np.maximum(first[ends] - 1, 0)], 0.0)
+    hi = t[first[ends]]
+    while len(ends) and float(np.max(hi - lo)) > 1e-3 * scale:
+        mid = 0.5 * (lo + hi)
+        has = surface_point(solid1, frame, mid[:, None] * direction[ends], reach)[1]
+        lo, hi = np.where(has, mid, lo), np.where(has, hi, mid)
+    distance[ends] = lo
+    distance[~inside] = 0.0
+    return psi, distance
+
+
+@dataclass
+class StarRegionContact(EllipseContact):
+    """The band terms on a star-shaped region (see the module's docstring): ``a`` is the scale B
+    across the line, ``length`` the fixed scale A along it."""
+
+    length: float = 1.0
+    knots: np.ndarray = field(default_factory=lambda: np.linspace(0.0, 2.0 * math.pi, KNOTS, endpoint=False))
+    log_rho: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS))
+    edge_psi: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    edge_distance: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    _knot_history: list = field(default_factory=list)  # (log_rho, moments less their mean) per shape update
+    knot_moments: np.ndarray = field(default_factory=lambda: np.full(KNOTS, math.nan))
+    free_knots: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
+    _spline: tuple | None = None  # (log_rho bytes, the spline of log rho)
+
+    # ------------------------------------------------------------------ the region's shape
+
+    def semi_axes(self, a: float) -> tuple[float, float]:
+        return self.length, a
+
+    @property
+    def inside_knots(self) -> np.ndarray:
+        """(K,) whether each knot's angle lies in body 1's sectors about the contact point."""
+        return knots_inside(self.knots, self.ranges)
+
+    def rho(self, phi: np.ndarray) -> np.ndarray:
+        """The edge's normalised radius rho(phi): a periodic cubic spline of log rho (made once
+        per set of knot values)."""
+        key = self.log_rho.tobytes()
+        if self._spline is None or self._spline[0] != key:
+            values = np.append(self.log_rho, self.log_rho[0])
+            self._spline = (key, CubicSpline(np.append(self.knots, 2.0 * math.pi), values, bc_type="periodic"))
+        return np.exp(self._spline[1](np.mod(phi, 2.0 * math.pi)))
+
+    def polar(self, s: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
+        """(r, phi) of tangent-plane points: r = 1 on the region's edge."""
+        aa, bb = self.semi_axes(a)
+        local = self.local(s)
+        X, Y = local[:, 0] / aa, local[:, 1] / bb
+        phi = np.arctan2(Y, X)
+        return np.hypot(X, Y) / self.rho(phi), phi
+
+    def normalised_radius(self, s: np.ndarray, a: float) -> np.ndarray:
+        return self.polar(s, a)[0]
+
+    def end_radius(self, phi: np.ndarray, a: float) -> np.ndarray:
+        """The normalised radius r at which the ray at phi leaves body 1's surface (a free edge;
+        inf where it does not within the candidate region)."""
+        aa, bb = self.semi_axes(a)
+        direction = np.stack([aa * np.cos(phi), bb * np.sin(phi)], axis=1)
+        psi = np.mod(np.arctan2(direction[:, 1], direction[:, 0]), 2.0 * math.pi)
+        k = np.rint(psi / (2.0 * math.pi) * len(self.edge_psi)).astype(int) % len(self.edge_psi)
+        return self.edge_distance[k] / (np.hypot(direction[:, 0], direction[:, 1]) * self.rho(phi))
+
+    def region_quadrature(self, a: float):
+        aa, bb = self.semi_axes(a)
+        return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
+                             self.reach, REGION_ORDER, centre=self.centre, radius=self.rho)
+
+    def sample_edges(self, s: np.ndarray, axis: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
+        """(inside, distance beyond the edge along the ray from the centre) of samples."""
+        r = self.polar(s + self.centre, a)[0]
+        length = np.hypot(s[:, 0], s[:, 1])
+        return r <= 1.0, length * (1.0 - 1.0 / np.maximum(r, 1e-300))
+
+    # -------------------------------------------------- the formulation protocol
+
+    def next_region(self, a: float, load_ratio: float) -> float:
+        return max(a * load_ratio ** 0.5, 2.0 * self.h)  # a line contact's width grows as sqrt(load)
+
+    def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
+        a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / float(np.exp(self.log_rho.max()))
+        tol = settling_tolerance(self.options, self.h, final)
+        return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
+
+    def region_too_small(self) -> ValueError:
+        return ValueError(f"{self.name}: the contact region reaches the candidate region's edge ({self.extent:.4g} m) "
+                          "across the line and still penetrates; enlarge the contact refinement radius")
+
+    def judge(self, x: np.ndarray, a: float, info):
+        gap, pressure, inside, edge_dist = _sample_state(self, x, a)
+        v = _judge(self, gap, pressure, inside, edge_dist)
+        self.knot_moments = self._moments(info, x, a)
+        smooth = ~self.free_knots & np.isfinite(self.knot_moments) & knots_inside(self.knots, self.ranges)
+        v.edge = float(np.mean(self.knot_moments[smooth])) if smooth.any() else -math.inf
+        v.edges = (v.edge, v.edge)
+        over = (gap < 0.0) & ~inside & (self.sample_axis == 1)
+        v.overlap = float(np.abs(self.local(self.samples.s)[over, 1]).max()) if over.any() else math.nan
+        return v
+
+    def _moments(self, info, x: np.ndarray, a: float) -> np.ndarray:
+        """Each knot's edge moment (nan where its stretch carries no compression; -inf without a
+        region); also marks the knots whose ray ends at body 1's free edge. On a ray that ends at
+        a free edge, r is measured to the free edge: there the moment tells whether the pressure
+        still grows towards the edge (complete contact, >= 0) or falls to zero before it (< 0)."""
+        if info is None or a <= 0.0:
+            return np.full(len(self.knots), -math.inf)
+        pts = info[0]
+        p = np.einsum("qi,qi->q", _quadrature_traction(self, info, x), pts.normal)
+        r, phi = self.polar(pts.s, a)
+        to_end = r / np.minimum(1.0, self.end_radius(phi, a))
+        hat = _hats(self.knots, phi)  # (q, K)
+        wp = (pts.weights * p)[:, None] * hat
+        total = wp.sum(axis=0)
+        # free: the knot's ray ends at body 1's free edge (outside body 1's sectors: no edge at all)
+        self.free_knots = (self.end_radius(self.knots, a) < 1.0) | ~knots_inside(self.knots, self.ranges)
+        moment = np.where(self.free_knots, (wp * (2.5 * to_end**2 - 1.0)[:, None]).sum(axis=0),
+                          (wp * (2.5 * r**2 - 1.0)[:, None]).sum(axis=0))
+        out = np.full(len(self.knots), math.nan)
+        ok = total > 0.0
+        out[ok] = moment[ok] / total[ok]
+        return out
+
+    def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
+        """After a size search: the centre (as the ellipse), then each knot with a smooth edge
+        moved by a secant on its moment less the mean; True when they agree to KNOT_TOLERANCE."""
+        if not self._update_centre(x, a, info, final):
+            return False
+        stuck = self._update_stick(x, a, info) if self.kind == "frictional" and info is not None else True
+        if info is None or a <= 0.0:
+            return stuck
+        m = self._moments(info, x, a)
+        inside = knots_inside(self.knots, self.ranges)
+        retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
+        if retreat.any():  # the pressure ends before the free edge there: a smooth edge, just inside it
+            self.log_rho[retreat] += np.log(0.97 * self.end_radius(self.knots[retreat], a))
+            self._mirror_outside()
+            return False
+        smooth = ~self.free_knots & np.isfinite(m) & inside
+        if not smooth.any():
+            return stuck
+        d = np.where(smooth, m - float(np.mean(m[smooth])), 0.0)
+        self._knot_history.append((self.log_rho.copy(), d))
+        if float(np.abs(d).max()) <= KNOT_TOLERANCE:
+            return stuck
+        step = 0.5 * d  # the first update: rho up where the edge is punch-like (d > 0)
+        if len(self._knot_history) >= 2:  # then a secant per knot where rho up made its moment fall
+            (l0, d0), (l1, d1) = self._knot_history[-2], self._knot_history[-1]
+            change = d1 - d0
+            slope = (l1 - l0) / np.where(np.abs(change) > 1e-12, change, np.inf)
+            step = np.where(slope < 0.0, -d1 * slope, step)
+        self.log_rho = self.log_rho + np.where(smooth, np.clip(step, -KNOT_STEP, KNOT_STEP), 0.0)
+        self._mirror_outside()
+        return False
+
+    def _mirror_outside(self) -> None:
+        """Knots outside body 1's angular ranges (a symmetric model) take the value of the nearest
+        knot inside, which keeps the spline flat across the symmetry plane."""
+        inside = knots_inside(self.knots, self.ranges)
+        if inside.all() or not inside.any():
+            return
+        gaps = np.abs((self.knots[:, None] - self.knots[None, inside] + math.pi) % (2.0 * math.pi) - math.pi)
+        self.log_rho[~inside] = self.log_rho[inside][np.argmin(gaps[~inside], axis=1)]
+
+    def start_step(self) -> None:
+        super().start_step()
+        self._knot_history = []
+
+    def history_entry(self, v, a: float, step: int, iteration: int, tag: int, ratio: float) -> None:
+        super().history_entry(v, a, step, iteration, tag, ratio)
+        self.history[-1]["knot_rho"] = np.exp(self.log_rho).tolist()
+
+    def check_final(self, u: np.ndarray, a: float, info, bracket, block: dict) -> list[str]:
+        messages = super().check_final(u, a, info, bracket, block)
+        m = self._moments(info, u[self.dofs], a)
+        smooth = ~self.free_knots & np.isfinite(m) & knots_inside(self.knots, self.ranges)
+        spread = float(np.abs(m[smooth] - m[smooth].mean()).max()) if smooth.any() else 0.0
+        if spread > 2.0 * KNOT_TOLERANCE:
+            messages.append(f"{self.name}: the region's shape did not settle (its knots' edge moments differ from "
+                            f"their mean by up to {spread:.3g})")
+        block["checks"]["knot_moments"] = [None if not np.isfinite(v) else float(v) for v in m]
+        return messages
+
+    def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
+        from .region_report import region_block
+
+        return region_block(self, a, on2, u, info)
+
+
+def _hats(knots: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """(q, K) periodic hat functions of equally spaced knots at the angles phi (they sum to 1)."""
+    spacing = 2.0 * math.pi / len(knots)
+    d = np.abs((phi[:, None] - knots[None, :] + math.pi) % (2.0 * math.pi) - math.pi) / spacing
+    return np.clip(1.0 - d, 0.0, None)
+
+
+def knots_inside(knots: np.ndarray, ranges) -> np.ndarray:
+    inside = np.zeros(len(knots), dtype=bool)
+    for t0, t1 in ranges:
+        inside |= (knots - t0) % (2.0 * math.pi) <= (t1 - t0) + 1e-9
+    return inside
+
+
+def _filled_outside(distance: np.ndarray) -> np.ndarray:
+    """The free edge's distance per ray, the rays outside body 1's sectors (distance 0) given
+    their nearest inside ray's: the region's points and boundary on a sector's edge (a symmetry
+    plane) look up the ray nearest them, which may fall just outside."""
+    inside = np.flatnonzero(distance > 0.0)
+    if not len(inside) or len(inside) == len(distance):
+        return distance
+    n = len(distance)
+    gap = np.abs(np.arange(n)[:, None] - inside[None, :])
+    nearest = inside[np.argmin(np.minimum(gap, n - gap), axis=1)]
+    return np.where(distance > 0.0, distance, distance[nearest])
+
+
+def configure_line_contact(c: StarRegionContact) -> StarRegionContact:
+    """Fix the scale A (body 1's free edge along the line) and the first edge, the rectangle
+    rho = min(1 / |sin phi|, 1.15 / |cos phi|) reaching past the free edges."""
+    c.edge_psi, distance = free_edge_distance(c.solids[0], c.frame, c.ranges, c.reach, c.extent, c.h)
+    c.edge_distance = _filled_outside(distance)
+    # the rays within about 6 degrees of the line inside body 1's sectors (a symmetric model's
+    # symmetry plane may hold the line itself): the free edge's distance along the line
+    near = (np.abs(np.sin(c.edge_psi)) <= 0.1) & (distance > 0.0)
+    along = distance[near] * np.abs(np.cos(c.edge_psi[near]))
+    if not len(along) or not np.isfinite(along).all():
+        raise ValueError(f"{c.name}: a line contact along {np.round(c.frame.axes[0], 6).tolist()} runs beyond the "
+                         f"candidate region ({c.extent:.4g} m from the contact point): body 1 has no free end within "
+                         "it; enlarge the contact refinement radius to cover the whole line")
+    c.length = float(along.max())
+    sin, cos = np.abs(np.sin(c.knots)), np.abs(np.cos(c.knots))
+    c.log_rho = np.log(np.minimum(1.0 / np.maximum(sin, 1e-12), 1.15 / np.maximum(cos, 1e-12)))
+    c.ratio = 1.0
+    c.circular = False
+    return c

@@ -1,0 +1,191 @@
+"""Line contacts of finite length in 3D (solver.contact.star_region): the star-shaped region's
+quadrature and free edges on exact solids, and a straight roller with sharp ends on a flat against
+the plane-strain line contact: Hertz's width for the mid-length line load (Johnson, Contact
+Mechanics, eq. 4.43: b^2 = 4 P' R / (pi E*)), the region reaching the roller's end (complete
+contact) with the pressure's peak there, and equilibrium. The slow test runs the same roller on a
+band of finer cells against the 2D solver on its cross-section, and a turned copy of the coarse
+roller against the upright one."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ibfem.geometry.solids import solid_from_dict
+from ibfem.solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors
+from ibfem.solver.contact.star_region import free_edge_distance
+from ibfem.solver.io.scene import scene_from_dict
+from ibfem.solver.solve import solve
+
+from _solids3d import HalfBall
+from _turned_box import TurnedBox
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "contact3d" / "roller_on_flat.toml"
+E_STAR = 2.0e11 / (2 * (1 - 0.3**2))
+R = 0.5
+
+
+def test_star_quadrature_of_a_constant_radius_is_the_exact_cap():
+    """rho = 2 on scales a / 2 is the disc of radius a: the sphere's area over it, exactly."""
+    radius, a = 1.0, 0.05
+    ball = HalfBall([0, 0, radius + 1e-4], radius)
+    block = TurnedBox([2, 2, 1], shift=(-1, -1, -1))
+    frame = contact_frame_3d(ball, block, np.zeros(3), 0.01)
+    grids = [(np.array([-1.0, -1, -1]), 0.01), (np.array([-1.003, -1.0, -1.0]), 0.0125)]
+    pts = region_points(ball, block, frame, 0.5 * a, 0.5 * a, sectors(ball, frame, 0.01, 0.1), grids, 0.01, 0.1,
+                        radius=lambda phi: np.full(len(phi), 2.0))
+    cap = 2 * np.pi * radius * (radius - np.sqrt(radius**2 - a**2))
+    assert pts.weights.sum() == pytest.approx(cap, rel=1e-8)
+
+
+def _roller(length: float):
+    profile = {"type": "profile", "edges": [
+        {"type": "line", "start": [0, 0], "end": [R, 0], "name": "sym"},
+        {"type": "arc", "center": [0, 0], "radius": R, "start_angle": 0, "end_angle": 90, "name": "arc"},
+        {"type": "line", "start": [0, R], "end": [0, 0], "name": "flat"}]}
+    return solid_from_dict({"type": "extrusion", "z0": 0.0, "height": length, "profile": profile,
+                            "rotate": {"axis": [0, 1, 0], "angle_deg": 90}, "translate": [0, 0, R + 1e-5]})
+
+
+def test_free_edge_of_a_quarter_roller():
+    """Along the roller's axis its end face at x = L; across it (y) the surface goes on past the
+    candidate region; outside the quarter nothing."""
+    roller = _roller(0.06)
+    block = solid_from_dict({"type": "box", "min": [0, 0, -0.3], "max": [0.3, 0.3, 0]})
+    frame = contact_frame_3d(roller, block, np.zeros(3), 0.01)
+    ranges = sectors(roller, frame, 0.005, 0.05)
+    psi, distance = free_edge_distance(roller, frame, ranges, 0.05, 0.08, 0.01)
+    along = np.abs(psi - (0.0 if frame.axes[0] @ [1, 0, 0] > 0 else math.pi)) < 1e-9
+    assert distance[along][0] == pytest.approx(0.06, abs=1e-5)
+    inside = distance > 0
+    assert np.isinf(distance[inside]).any()  # across the line: no free edge within reach
+    assert inside.sum() == pytest.approx(len(psi) / 4, abs=2)  # a quarter model
+
+
+def _scene(length: float, levels: int, radius: float, band: list | None = None) -> dict:
+    data = tomllib.loads(EXAMPLE.read_text())
+    roller, block = data["bodies"]
+    roller["shape"]["height"] = length
+    zones = [{"levels": levels, "around": "contact", "radius": radius}] + (band or [])
+    for body in (roller, block):
+        body["refinement"] = zones
+    block["shape"].update(min=[0, 0, -0.3], max=[0.3, 0.3, 0])
+    data["boundary_conditions"][0]["value"] = [0, 0, -0.002]
+    data["output"] = {"vtk": False, "plots": False}
+    return data
+
+
+def _mid_width(c: dict) -> float:
+    """The edge's reach across the line at phi = +-90 degrees (the knot inside the model)."""
+    phi, rho = np.array(c["knots"]["phi"]), np.array(c["knots"]["rho"])
+    inside = np.array(c["knots"]["inside"])
+    across = np.flatnonzero((np.abs(np.abs(phi - math.pi) - 0.5 * math.pi) < 1e-9) & inside)
+    return c["scales"][1] * float(rho[across[0]])
+
+
+def _mid_length(c: dict, strip: float) -> tuple[float, float]:
+    """(full line load P', width b) at mid-length: the quarter's force per unit length over the
+    rows of cells from x = 0 to about ``strip``, doubled, and the edge's reach across the line at
+    phi = 90 degrees."""
+    m = c["pressure_map"]
+    s, value, area = np.array(m["s"]), np.array(m["value"]), np.array(m["area"])
+    rows = max(1, int(round(strip / m["cell"])))
+    near = np.floor(s[:, 0] / m["cell"]) < rows
+    load = 2.0 * float((value[near] * area[near]).sum()) / (rows * m["cell"])
+    return load, _mid_width(c)
+
+
+def test_coarse_roller_reaches_its_end_and_follows_hertz_at_mid_length():
+    length = 0.06
+    sol = solve(scene_from_dict(_scene(length, 3, 0.08), label="roller.toml").problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    h = 0.1 / 2**3
+    assert c["complete_contact"] and c["semi_axes"][0] == pytest.approx(length, abs=1e-6)
+    assert c["peak_at"][0] > length - 1.5 * h  # the pressure peaks at the sharp end
+    load, width = _mid_length(c, 2 * h)
+    hertz = math.sqrt(4 * load * R / (math.pi * E_STAR))
+    assert width == pytest.approx(hertz, rel=0.10)  # 2 cells across the half-width
+    # equilibrium: the contact force is the roller's reaction and the block's
+    assert sol.reactions["roller/flat"][2] == pytest.approx(-c["normal_force"], rel=1e-8)
+    assert sol.reactions["block/z_min"][2] == pytest.approx(c["normal_force"], rel=1e-6)
+
+
+def _turned(data: dict, axis, angle_deg: float) -> dict:
+    """The scene turned rigidly about ``axis`` through the origin (the contact point): each
+    shape's rotation composed with the turn, its translation and the prescribed displacement
+    turned."""
+    from scipy.spatial.transform import Rotation
+
+    turn = Rotation.from_rotvec(np.radians(angle_deg) * np.asarray(axis, float) / np.linalg.norm(axis))
+    for body in data["bodies"]:
+        shape = body["shape"]
+        own = shape.get("rotate")
+        r = turn if own is None else turn * Rotation.from_rotvec(np.radians(own["angle_deg"]) * np.asarray(own["axis"], float))
+        vec = r.as_rotvec()
+        shape["rotate"] = {"axis": (vec / np.linalg.norm(vec)).tolist(), "angle_deg": float(np.degrees(np.linalg.norm(vec)))}
+        shape["translate"] = turn.apply(np.asarray(shape.get("translate", [0, 0, 0]), float)).tolist()
+        for zone in body["refinement"]:
+            if zone["around"] != "contact":
+                zone["around"] = turn.apply(np.asarray(zone["around"], float)).tolist()
+    for bc in data["boundary_conditions"]:
+        if bc["type"] == "displacement":
+            bc["value"] = turn.apply(np.asarray(bc["value"], float)).tolist()
+    return data
+
+
+def _band(levels: int, radius: float) -> list:
+    """A chain of refinement balls along the roller's line (x = 0 to its end at 0.1 m)."""
+    return [{"levels": levels, "around": [x, 0.0, 0.0], "radius": radius} for x in (0.0, 0.025, 0.05, 0.075, 0.1)]
+
+
+@pytest.mark.slow
+def test_turned_roller_gives_the_same_region():
+    """A rigid turn changes nothing physical: the example's roller on a band of 6.25 mm cells (3.8
+    across the half-width; the grid stays axis-aligned, so the turned roller lies obliquely on
+    it): the mid-length width, area and force within 0.5 %. The extents (their width is the
+    widest point, at the bulge near the end) differed by 2.1 % on this grid: within 3 % here, the
+    0.5 % the method aims at is not reached yet."""
+    def roller():
+        data = tomllib.loads(EXAMPLE.read_text())
+        for body in data["bodies"]:
+            body["refinement"] = [{"levels": 2, "around": "contact", "radius": 0.13}] + _band(4, 0.03)
+        return data
+
+    upright = solve(scene_from_dict(roller(), label="roller.toml").problem).contacts[0]
+    sol = solve(scene_from_dict(_turned(roller(), [1.0, -2.0, 0.5], 33.0), label="turned.toml").problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    assert _mid_width(c) == pytest.approx(_mid_width(upright), rel=5e-3)
+    np.testing.assert_allclose(sorted(c["extents"]), sorted(upright["extents"]), rtol=3e-2)
+    assert c["area"] == pytest.approx(upright["area"], rel=5e-3)
+    assert c["normal_force"] == pytest.approx(upright["normal_force"], rel=5e-3)
+
+
+@pytest.mark.slow
+def test_roller_mid_length_against_the_plane_strain_section():
+    """The example's roller (a band of 3.1 mm cells, 7.5 across the half-width) against the 2D
+    solver on its cross-section: b / sqrt(P') and p0 / sqrt(P') at mid-length within 2 % (the
+    plane-strain line contact's invariants: Hertz's b^2 = 4 P' R / (pi E*), p0 = 2 P' / (pi b))."""
+    from ibfem.solver.io.scene import load_scene
+
+    section = solve(load_scene(EXAMPLE.parent / "roller_section_2d.toml").problem).contacts[0]
+    data = tomllib.loads(EXAMPLE.read_text())
+    sol = solve(scene_from_dict(data, label="roller_on_flat.toml").problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    load, width = _mid_length(c, 0.02)
+    m = c["pressure_map"]
+    s, value, area = np.array(m["s"]), np.array(m["value"]), np.array(m["area"])
+    near = np.floor(s[:, 0] / m["cell"]) < round(0.02 / m["cell"])
+    shape = np.sqrt(np.clip(1.0 - (s[near, 1] / width) ** 2, 0.0, None))
+    p0 = float((area[near] * value[near] * shape).sum() / (area[near] * shape**2).sum())
+    load_2d, width_2d = section["normal_force"], section["half_width"]
+    p0_2d = max(section["pressure"]["value"])
+    assert width / math.sqrt(load) == pytest.approx(width_2d / math.sqrt(load_2d), rel=0.02)
+    assert p0 / math.sqrt(load) == pytest.approx(p0_2d / math.sqrt(load_2d), rel=0.02)
+    assert c["complete_contact"] and c["peak_at"][0] > 0.09  # the end peak, at the end face x = 0.1
