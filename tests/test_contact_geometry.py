@@ -78,8 +78,10 @@ def test_quadrature_length_and_pieces_inside_cells():
         assert np.all(cells == cells[:, :1])
 
 
-def test_contact_point_at_edge_end_is_rejected():
+def test_contact_point_on_a_corner_of_both_sides_is_rejected():
+    # the point sits on body 1's corner, which bounds the region on both sides: no room, and
+    # the message names the corner (not an edge's end or the refinement radius)
     seg = _body({"type": "rectangle", "min": [0.0, 0.0], "max": [1.0, 1.0]})
-    other = _body({"type": "rectangle", "min": [0.0, -1.0], "max": [1.0, 0.0]})
-    with pytest.raises(ValueError, match="end of edge"):
+    other = _body({"type": "rectangle", "min": [-1.0, -1.0], "max": [1.0, 0.0]})
+    with pytest.raises(ValueError, match="corner of body 'a'"):
         contact_geometry((seg, other), ("a", "b"), np.array([0.0, 0.0]), 0.1)

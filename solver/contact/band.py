@@ -49,7 +49,8 @@ import scipy.sparse as sp
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.elasticity import plane_modulus
 from ..model.options import ContactOptions
-from .geometry import ContactGeometry, contact_geometry, contact_quadrature, grid_breakpoints, sample_points
+from .geometry import (ContactGeometry, chain_pieces, contact_geometry, contact_quadrature, grid_breakpoints,
+                       sample_points)
 from .roots import StickRoot, bracket_search, edge_search, settling_tolerance, thesis_search
 
 __all__ = ["BandContact", "build"]
@@ -619,7 +620,7 @@ def _setup_contact(model, geom, b1, b2, band_fraction: float) -> BandContact:
     s_plus, s_minus = geom.s_limits
     bk = grid_breakpoints(geom, (b1.grid, b2.grid), -s_minus, s_plus)
     # finest cell along the candidate region of body 1
-    near = b1.grid.pieces.of(geom.edges[0])
+    near = chain_pieces(geom, 0, b1.grid, -s_minus, s_plus)
     h = float(min(b1.grid.size[b1.grid.pieces.cell[near]].min(), b2.grid.min_size))
     # dofs of every cell the candidate region touches: the pieces of both curves in range and
     # the cells of the (dense) sample points
