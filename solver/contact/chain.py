@@ -61,6 +61,10 @@ class ContactChain:
         """Chain parameter of the parameter ``t`` of edge k of the chain."""
         return k + (np.asarray(t, dtype=float) - self._lo[k]) / self._span[k]
 
+    def local(self, k: int, T) -> np.ndarray:
+        """Edge k's own parameter at chain parameters T (extrapolated beyond k <= T <= k + 1)."""
+        return self._lo[k] + (np.asarray(T, dtype=float) - k) * self._span[k]
+
     def split(self, T) -> tuple[np.ndarray, np.ndarray]:
         """Edge index (n,) and the edge's own parameter (n,) of chain parameters T."""
         T = np.asarray(T, dtype=float).ravel()
@@ -125,3 +129,28 @@ def contact_chain(profile, curves: dict, edge: str) -> ContactChain:
         turns.append(_turn(da / np.linalg.norm(da), db / np.linalg.norm(db)))
     return ContactChain(names=tuple(c.name for c in order), curves=tuple(curves[c.name] for c in order),
                         turns=np.array(turns), middle=m)
+
+
+def junction_near(profile, point: np.ndarray) -> tuple[float, tuple[str, str]]:
+    """The junction of ``profile``'s loops nearest ``point``: the tangent's turn there (rad,
+    positive at a convex corner) and the names of the two edges meeting there."""
+    best, out = np.inf, (0.0, ("", ""))
+    point = np.asarray(point, dtype=float).reshape(2)
+    for loop in profile.loops:
+        for a, b in zip(loop, loop[1:] + loop[:1]):
+            x = np.asarray(a.evaluate(np.array([float(a.t_end)])), dtype=float).reshape(2)
+            d = float(np.hypot(*(x - point)))
+            if d < best:
+                da = np.asarray(a.derivative(np.array([float(a.t_end)])), dtype=float).reshape(2)
+                db = np.asarray(b.derivative(np.array([float(b.t_start)])), dtype=float).reshape(2)
+                best, out = d, (_turn(da / np.linalg.norm(da), db / np.linalg.norm(db)), (a.name, b.name))
+    return out
+
+
+def contact_allowed_at_junction(profile, point: np.ndarray, symmetry_edges) -> bool:
+    """Whether a contact point at the junction nearest ``point`` is valid: a tangent (G1)
+    junction (the contact curve runs smoothly through it), or a corner where one of the two
+    edges is a symmetry line (``symmetry_edges``: the edges with a sliding condition; a half
+    model cut through the contact)."""
+    turn, edges = junction_near(profile, point)
+    return abs(turn) <= CORNER_ANGLE or any(e in symmetry_edges for e in edges)

@@ -17,6 +17,7 @@ and Delta (the thesis's non-projected results).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -25,7 +26,7 @@ from ibfem.geometry.chord_walk import first_crossing, walk_distances
 
 from ..fem.integration import curve_gauss
 from ..model.resolve import refined_maximum
-from .chain import contact_chain
+from .chain import CORNER_ANGLE, contact_chain
 
 __all__ = [
     "chord_table",
@@ -210,9 +211,19 @@ def touching_point(bodies, point: np.ndarray, extent: float, samples: int = 257)
     return 0.5 * (x1 + x2)
 
 
-def _side_limit(chain, c: np.ndarray, t0: float, direction: int, body: str, first: bool) -> SideLimit:
+def _leaves_along(chain, t0: float, direction: int, along: np.ndarray) -> bool:
+    """Whether the walk from ``t0`` in ``direction`` starts along the unit vector ``along``
+    (within CORNER_ANGLE): at a corner on the contact point, the side the region extends to."""
+    d = direction * np.asarray(chain.derivative(np.array([t0 + direction * 1e-9])), dtype=float).reshape(2)
+    return float(d @ along) >= math.cos(CORNER_ANGLE) * float(np.linalg.norm(d))
+
+
+def _side_limit(chain, c: np.ndarray, t0: float, direction: int, body: str, first: bool,
+                along: np.ndarray) -> SideLimit:
     """How far the walk from ``t0`` along ``direction`` may go: to body 1's first convex corner
-    (``first``), else to where the chord from ``c`` stops growing (the far side of the body)."""
+    (``first``; a corner on the point itself only where the walk does not start ``along`` the
+    contact's tangent on that side), else to where the chord from ``c`` stops growing (the far
+    side of the body)."""
     end = chain.t_end if direction > 0 else chain.t_start
     t = np.linspace(t0, end, 8193)
     d = walk_distances(chain, c, t)
@@ -221,7 +232,8 @@ def _side_limit(chain, c: np.ndarray, t0: float, direction: int, body: str, firs
     far = SideLimit(0.98 * float(d[k_far]), f"far side of body {body!r}")
     if first:
         span = 1e-9 * max(abs(end - t0), 1.0)
-        corners = [T for T in chain.corners() if direction * (T - t0) >= -span]
+        corners = [T for T in chain.corners() if direction * (T - t0) > span
+                   or (abs(T - t0) <= span and not _leaves_along(chain, t0, direction, along))]
         if corners:
             T = min(corners, key=lambda T: direction * (T - t0))
             if direction * (T - t[k_far]) <= 0.0:
@@ -256,7 +268,7 @@ def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: 
         origins.append(c)
         ts.append(t0)
         dirs.append(direction)
-        limits.append([_side_limit(chain, c, t0, sgn * direction, name, which == 0) for sgn in (1, -1)])
+        limits.append([_side_limit(chain, c, t0, sgn * direction, name, which == 0, sgn * tangent) for sgn in (1, -1)])
     sides = []
     for k in range(2):  # candidate chord per side: the extent, within both bodies
         options = [SideLimit(extent, "refinement radius")] + [limits[0][k], limits[1][k]]
@@ -372,7 +384,7 @@ def chain_pieces(geom: ContactGeometry, which: int, grid, s_lo: float, s_hi: flo
     out = []
     for k in range(int(np.floor(lo_T)), int(np.floor(hi_T)) + 1):
         k = min(max(k, 0), len(chain.curves) - 1)
-        a, b = chain.split(np.array([max(lo_T, k), min(hi_T, k + 1)]))[1]
+        a, b = chain.local(k, np.array([max(lo_T, k), min(hi_T, k + 1)]))
         lo_t, hi_t = min(a, b), max(a, b)
         sel = pc.of(chain.names[k])
         out.append(sel[(np.maximum(pc.t0[sel], pc.t1[sel]) >= lo_t) & (np.minimum(pc.t0[sel], pc.t1[sel]) <= hi_t)])
