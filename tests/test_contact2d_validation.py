@@ -1,0 +1,64 @@
+"""Validation of the 2D contacts CAD makes (slow: `make validate`, pytest -m slow), against
+closed forms on the grids of examples/contact2d (finest cell 0.04 / 2^7 = 3.1e-4 m):
+
+- the rounded flat punch (Ciavarella, Hills and Monno 1998; solver.reference.punch) for
+  a / b = 1.1, 1.5 and 3, turned by 20 degrees, and as a half model: a within 0.5 %, the
+  pressure within 2 % of its peak (RMS over the region);
+- the sharp flat punch 100 times stiffer than the block (Sadowsky; one level finer, 1.6e-4 m):
+  the pressure within 2 % of
+  P / (2 b) on |x| < 0.9 b, each corner's stress intensity P / sqrt(pi b) within 3 %.
+
+The fast tests (tests/test_contact2d.py) run the same scenes on grids 2 to 4 times coarser."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from ibfem.solver.io.scene import scene_from_dict
+from ibfem.solver.reference.punch import (flat_punch_pressure, flat_punch_stress_intensity, rounded_punch_half_width,
+                                          rounded_punch_pressure)
+from ibfem.solver.solve import solve
+
+from _contact2d_scenes import E_STAR, EDGE_RADIUS, HALF_FLAT, punch_on_block
+
+B, R = HALF_FLAT, EDGE_RADIUS
+
+#: approach of the punch for a / b ~ 1.1, 1.5 and 3 (radius: of the contact refinement)
+ROUNDED = {1.1: dict(approach=7e-6, radius=0.02), 1.5: dict(approach=8.5e-5), 3.0: dict(approach=7.8e-4)}
+
+
+def _rounded(c, factor):
+    a_ref = rounded_punch_half_width(factor * c["normal_force"], B, R, E_STAR)
+    s, p = np.array(c["pressure"]["s"]), np.array(c["pressure"]["value"])
+    inside = np.abs(s) < a_ref
+    ref = rounded_punch_pressure(np.abs(s), a_ref, B, R, E_STAR)
+    return c["half_width"] / a_ref - 1.0, float(np.sqrt(np.mean((p - ref)[inside] ** 2)) / ref.max())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("ratio,turn,half", [(1.1, 0.0, False), (1.5, 0.0, False), (3.0, 0.0, False),
+                                             (1.5, 20.0, False), (1.5, 0.0, True)])
+def test_rounded_flat_punch(ratio, turn, half):
+    sol = solve(scene_from_dict(punch_on_block(levels=7, turn=turn, half=half, **ROUNDED[ratio])).problem)
+    c = sol.contacts[0]
+    assert sol.converged
+    assert c["half_width"] / B == pytest.approx(ratio, rel=0.1)
+    error, rms = _rounded(c, 2.0 if half else 1.0)
+    assert abs(error) < 0.005 and rms < 0.02
+
+
+@pytest.mark.slow
+def test_sharp_flat_punch():
+    sol = solve(scene_from_dict(punch_on_block(2e-4, levels=8, sharp=True, punch_modulus=100 * 2.0e11)).problem)
+    c = sol.contacts[0]
+    assert sol.converged
+    load = c["normal_force"]
+    s, p = np.array(c["pressure"]["s"]), np.array(c["pressure"]["value"])
+    inner = np.abs(s) < 0.9 * B
+    assert np.abs(p - flat_punch_pressure(s, load, B))[inner].max() < 0.02 * load / (2 * B)
+    for end in c["ends"]:
+        assert end["type"] == "complete"
+        assert end["stress_intensity"] == pytest.approx(flat_punch_stress_intensity(load, B), rel=0.03)
