@@ -24,7 +24,7 @@ from ibfem.solver.reference.punch import (flat_punch_pressure, flat_punch_stress
                                           rounded_punch_load, rounded_punch_pressure)
 from ibfem.solver.solve import solve
 
-from _contact2d_scenes import E_STAR, EDGE_RADIUS, HALF_FLAT, _punch_edges, pin_in_bore, punch_on_block
+from _contact2d_scenes import E_STAR, EDGE_RADIUS, EDGE_TURN, HALF_FLAT, _punch_edges, pin_in_bore, punch_on_block
 
 B, R = HALF_FLAT, EDGE_RADIUS
 
@@ -46,11 +46,11 @@ def test_chain_joins_the_loop_and_finds_only_real_corners():
     span = float(edge.t_end) - float(edge.t_start)
     np.testing.assert_allclose(chain.derivative(k + t), np.asarray(edge.derivative(chain.local(k, k + t))) * span,
                                rtol=1e-14)
-    # the flat -> arc -> flank junctions are tangent; the flank -> top junctions are convex corners (150 deg)
+    # the flat -> arc -> flank junctions are tangent; the flank -> top junctions are convex corners
     corners = {chain.edge_at(T - 0.5) + ">" + chain.edge_at(T + 0.5) for T in chain.corners()}
     assert corners == {"flank_right>top", "top>flank_left"}
     assert np.all(np.abs(chain.turns[np.abs(chain.turns) <= CORNER_ANGLE]) < 1e-12)
-    np.testing.assert_allclose(chain.turns[chain.turns > CORNER_ANGLE], math.radians(150.0), rtol=1e-12)
+    np.testing.assert_allclose(chain.turns[chain.turns > CORNER_ANGLE], math.radians(180.0 - EDGE_TURN), rtol=1e-12)
 
 
 def test_chain_of_a_full_circle_crosses_its_seam():

@@ -5,14 +5,12 @@ closed forms on the grids of examples/contact2d (finest cell 0.04 / 2^7 = 3.1e-4
   a / b = 1.1, 1.5 and 3, turned by 20 degrees, and as a half model: a within 0.5 %, the
   pressure within 2 % of its peak (RMS over the region);
 - the sharp flat punch 100 times stiffer than the block (Sadowsky; one level finer, 1.6e-4 m):
-  the pressure within 2 % of
-  P / (2 b) on |x| < 0.9 b, each corner's stress intensity P / sqrt(pi b) within 3 %.
+  the pressure within 2 % of P / (2 b) on |x| < 0.9 b, each corner's stress intensity
+  P / sqrt(pi b) within 3 %.
 
 The fast tests (tests/test_contact2d.py) run the same scenes on grids 2 to 4 times coarser."""
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 import pytest
