@@ -51,7 +51,7 @@ from ..model.elasticity import plane_modulus
 from ..model.options import ContactOptions
 from .geometry import (ContactGeometry, chain_pieces, contact_geometry, contact_quadrature, grid_breakpoints,
                        sample_points)
-from .ends import chebyshev_ends, gap_slope_coefficients, mirrored
+from .ends import GAP_NODES, chebyshev_ends, gap_slope_coefficients, mirrored
 from .roots import StickRoot, bracket_search, edge_search, settling_tolerance, thesis_search
 
 __all__ = ["BandContact", "build"]
@@ -581,6 +581,10 @@ def _end_values(c: BandContact, info, x: np.ndarray, a: float):
 def _gap_coefficients(c: BandContact, a: float) -> np.ndarray:
     """The Chebyshev coefficients b_k of (E*/2) times the initial normal gap's slope over the
     region (solver.contact.ends; cached per region)."""
+    if _faceted(c):
+        # the thesis's variant on tessellated boundaries: a faceted gap's slope jumps at every
+        # vertex, and its "shape" is the tessellation's error, not the part's: the degree-2 sum
+        return np.zeros(GAP_NODES)
     key = (round(c.centre / c.h, 9), round(a / c.h, 9))
     if key not in c._gap_cache:
         eps = 1e-6 * a
@@ -595,6 +599,11 @@ def _gap_coefficients(c: BandContact, a: float) -> np.ndarray:
             c._gap_cache.clear()
         c._gap_cache[key] = gap_slope_coefficients(slope, c.centre, a, c.e_star, c.mirror)
     return c._gap_cache[key]
+
+
+def _faceted(c: BandContact) -> bool:
+    """Whether the contact curves are tessellated polylines (``exact_geometry = false``)."""
+    return any(getattr(getattr(b, "boundary", None), "tolerance", 0.0) > 0.0 for b in (c.b1, c.b2))
 
 
 def _edge_coefficient(c: BandContact, info, x: np.ndarray, a: float) -> float:
