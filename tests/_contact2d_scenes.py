@@ -92,8 +92,9 @@ def punch_on_block(approach: float, levels: int = 6, radius: float = 0.05, sharp
 
 
 def pin_in_bore(load_displacement: float, pin_radius: float = 0.5, clearance: float = 5e-4, plate: float = 10.0,
-                element_size: float = 0.25, levels: int = 4, radius: float = 0.8, seam: float = -90.0) -> dict:
-    """A pin (radius ``pin_radius``, loaded through a hub of radius 0.1 moved down by
+                element_size: float = 0.25, levels: int = 4, radius: float = 0.8, seam: float = -90.0,
+                hub: float = 0.1) -> dict:
+    """A pin (radius ``pin_radius``, loaded through a hub of radius ``hub`` moved down by
     ``load_displacement``) in a bore ``clearance`` larger in a square plate of side ``plate``
     (fixed on its outer edges); both full circles have their seam at ``seam`` degrees (-90: at the
     contact point). The pin touches the bore at its lowest point."""
@@ -106,10 +107,11 @@ def pin_in_bore(load_displacement: float, pin_radius: float = 0.5, clearance: fl
         "name": "pin in a bore", "model": "plane_strain", "thickness": 1.0, "solver": {"load_steps": 1},
         "materials": [{"name": "steel", "youngs_modulus": E, "poissons_ratio": NU}],
         "bodies": [
-            {"name": "pin", "material": "steel", "element_size": element_size / 4.0, "refinement": refinement,
+            {"name": "pin", "material": "steel", "element_size": element_size / 4.0,
+             "refinement": [dict(r, levels=max(r["levels"] - 2, 1)) for r in refinement],  # the plate's finest cell
              "shape": {"type": "profile",
                        "edges": [{"name": "rim", "center": [0.0, cy], "radius": pin_radius, **circle}],
-                       "holes": [[{"name": "hub", "type": "arc", "center": [0.0, cy], "radius": 0.1,
+                       "holes": [[{"name": "hub", "type": "arc", "center": [0.0, cy], "radius": hub,
                                    "start_angle": 0.0, "end_angle": 360.0}]]}},
             {"name": "plate", "material": "steel", "element_size": element_size, "refinement": refinement,
              "shape": {"type": "profile", "edges": [

@@ -6,7 +6,9 @@ closed forms on the grids of examples/contact2d (finest cell 0.04 / 2^7 = 3.1e-4
   pressure within 2 % of its peak (RMS over the region);
 - the sharp flat punch 100 times stiffer than the block (Sadowsky; one level finer, 1.6e-4 m):
   the pressure within 2 % of P / (2 b) on |x| < 0.9 b, each corner's stress intensity
-  P / sqrt(pi b) within 3 %.
+  P / sqrt(pi b) within 3 %;
+- the pin in a bore (Persson's problem, solver.reference.pin): the contact semi-angle within
+  0.5 % (reached up to about 0.4 rad; the larger angles are expected failures, see PIN_LOADS).
 
 The fast tests (tests/test_contact2d.py) run the same scenes on grids 2 to 4 times coarser."""
 
@@ -60,3 +62,27 @@ def test_sharp_flat_punch():
     for end in c["ends"]:
         assert end["type"] == "complete"
         assert end["stress_intensity"] == pytest.approx(flat_punch_stress_intensity(load, B), rel=0.03)
+
+
+#: hub displacements of the pin for contact semi-angles of about 0.18, 0.36, 0.72, 1.0 and 1.24 rad;
+#: measured errors -0.29, +0.16, +0.59, +1.0 and +1.3 %: beyond about 0.6 rad the region is found too
+#: large (the final check reports tension at its ends and the run as not converged)
+_TOO_LARGE = pytest.mark.xfail(strict=True, reason="conformal contact beyond ~0.6 rad: region 0.6-1.3 % too large")
+PIN_LOADS = [3e-5, 1e-4, pytest.param(4e-4, marks=_TOO_LARGE), pytest.param(1e-3, marks=_TOO_LARGE),
+             pytest.param(2.5e-3, marks=_TOO_LARGE)]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("displacement", PIN_LOADS)
+def test_pin_in_bore(displacement):
+    """Pin R = 0.5 m in a bore 0.5 mm larger, plate 40 R square, hub R / 12.5, finest cell 7.8e-3 m,
+    pairs along their own normals: the contact semi-angle within 0.5 % of Persson's problem's
+    solution (solver.reference.pin) for the computed load."""
+    from ibfem.solver.reference.pin import pin_in_bore_angle
+
+    from _contact2d_scenes import pin_in_bore
+
+    sol = solve(scene_from_dict(pin_in_bore(displacement, plate=20.0, element_size=0.5, levels=6, hub=0.04)).problem)
+    c = sol.contacts[0]
+    angle = 2.0 * np.arcsin(c["half_width"] / (2.0 * 0.5))
+    assert angle / pin_in_bore_angle(c["normal_force"], 5e-4, E_STAR) - 1.0 == pytest.approx(0.0, abs=0.005)
