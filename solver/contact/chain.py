@@ -73,6 +73,10 @@ class ContactChain:
 
     def _each(self, T, method: str, scaled: bool) -> np.ndarray:
         k, t = self.split(T)
+        if len(k) and k.min() == k.max():  # all on one edge (the common case): no masks
+            j = int(k[0])
+            v = np.asarray(getattr(self.curves[j], method)(t), dtype=float).reshape(-1, 2)
+            return v * self._span[j] if scaled else v
         out = np.empty((len(t), 2))
         for j in np.unique(k):
             sel = k == j
@@ -87,13 +91,17 @@ class ContactChain:
         """dX/dT (the edge's derivative times its parameter span)."""
         return self._each(T, "derivative", True)
 
-    def axis_crossings(self, axis: int, value: float) -> np.ndarray:
-        out = []
-        for k, c in enumerate(self.curves):
-            t = np.asarray(c.axis_crossings(axis, value), dtype=float).ravel()
+    def axis_crossings(self, axis: int, value: float, lo: float | None = None, hi: float | None = None) -> np.ndarray:
+        """Chain parameters where coordinate ``axis`` equals ``value`` (within [lo, hi] when given:
+        only the edges overlapping it are asked)."""
+        lo = 0.0 if lo is None else max(float(lo), 0.0)
+        hi = self.t_end if hi is None else min(float(hi), self.t_end)
+        out = [np.zeros(0)]
+        for k in range(int(np.floor(lo)), min(int(np.floor(hi)), len(self.curves) - 1) + 1):
+            t = np.asarray(self.curves[k].axis_crossings(axis, value), dtype=float).ravel()
             out.append(self.to_chain(k, t))
-        T = np.concatenate(out) if out else np.zeros(0)
-        return np.unique(T[(T >= 0.0) & (T <= self.t_end)])
+        T = np.concatenate(out)
+        return np.unique(T[(T >= lo) & (T <= hi)])
 
     def breakpoints(self) -> np.ndarray:
         """Junctions (T = 1 ... K - 1) and each edge's own kinks: quadrature must not straddle them."""

@@ -47,6 +47,9 @@ __all__ = ["GAP_NODES", "EndValues", "chebyshev_ends", "gap_pressure", "gap_slop
 #: Gauss-Chebyshev nodes for the gap's slope coefficients (even: no node at the centre); the
 #: gap's pressure shape (traction recovery) uses all of them, the end values b_2 and b_3
 GAP_NODES = 128
+_THETA = (np.arange(GAP_NODES) + 0.5) * np.pi / GAP_NODES
+_NODES = np.cos(_THETA)
+_COSINES = np.cos(np.outer(np.arange(GAP_NODES), _THETA))  # cos(k theta_j), the discrete cosine transform
 
 
 @dataclass
@@ -83,14 +86,12 @@ def gap_slope_coefficients(slope, e: float, a: float, e_star: float, mirror: int
     (``slope(s)`` = h'(s), vectorised) by Gauss-Chebyshev quadrature on GAP_NODES nodes.
     ``mirror`` (+1 / -1): a half model's region on that side of s = 0, its slope extended as an
     odd function."""
-    theta = (np.arange(GAP_NODES) + 0.5) * np.pi / GAP_NODES
-    x = np.cos(theta)
+    x = _NODES
     if mirror:
         hp = np.asarray(slope(mirror * a * np.abs(x)), dtype=float) * np.sign(x) * mirror
     else:
         hp = np.asarray(slope(e + a * x), dtype=float)
-    k = np.arange(GAP_NODES)
-    return 0.5 * e_star * (2.0 / GAP_NODES) * (np.cos(np.outer(k, theta)) @ hp)
+    return 0.5 * e_star * (2.0 / GAP_NODES) * (_COSINES @ hp)
 
 
 def gap_pressure(b: np.ndarray, x: np.ndarray) -> np.ndarray:

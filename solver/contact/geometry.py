@@ -155,7 +155,7 @@ class ContactGeometry:
             curve, c, t0 = self.curves[which], self.origins[which], self.t_origin[which]
             direction = sgn * self.directions[which]
             reach = 1.05 * max(self.s_limits[0 if sgn > 0 else 1], 1e-12)
-            t_end = parameter_at_chord(curve, c, np.array([reach]), t0, direction, samples=8193)[0]
+            t_end = parameter_at_chord(curve, c, np.array([reach]), t0, direction, samples=4097)[0]
             self.tables[key] = chord_table(curve, c, t0, direction, 2049, None if np.isnan(t_end) else t_end)
         return self.tables[key]
 
@@ -185,7 +185,7 @@ def touching_point(bodies, point: np.ndarray, extent: float, samples: int = 257)
     point = np.asarray(point, dtype=float)
     curve, t0 = _on_chain(b1, point)
     c = np.asarray(curve.evaluate(np.array([t0])), dtype=float).reshape(2)
-    ends = [parameter_at_chord(curve, c, np.array([extent]), t0, sgn, samples=8193)[0] for sgn in (1, -1)]
+    ends = [parameter_at_chord(curve, c, np.array([extent]), t0, sgn, samples=4097)[0] for sgn in (1, -1)]
     lo = float(curve.t_start) if np.isnan(ends[1]) else float(ends[1])
     hi = float(curve.t_end) if np.isnan(ends[0]) else float(ends[0])
     corners = curve.corners()
@@ -225,7 +225,7 @@ def _side_limit(chain, c: np.ndarray, t0: float, direction: int, body: str, firs
     contact's tangent on that side), else to where the chord from ``c`` stops growing (the far
     side of the body)."""
     end = chain.t_end if direction > 0 else chain.t_start
-    t = np.linspace(t0, end, 8193)
+    t = np.linspace(t0, end, 2049)
     d = walk_distances(chain, c, t)
     falls = np.nonzero(np.diff(d) <= 0.0)[0]
     k_far = int(falls[0]) if len(falls) else len(d) - 1
@@ -403,8 +403,8 @@ def grid_breakpoints(geom: ContactGeometry, grids, s_lo: float, s_hi: float) -> 
         if len(near) == 0:
             continue
         xs, ys = _grid_lines_near(grid, grid.pieces.cell[near])
-        ts = [np.asarray(curve.axis_crossings(0, float(v)), dtype=float).ravel() for v in xs]
-        ts += [np.asarray(curve.axis_crossings(1, float(v)), dtype=float).ravel() for v in ys]
+        ts = [np.asarray(curve.axis_crossings(0, float(v), lo_t, hi_t), dtype=float).ravel() for v in xs]
+        ts += [np.asarray(curve.axis_crossings(1, float(v), lo_t, hi_t), dtype=float).ravel() for v in ys]
         ts.append(np.asarray(curve.breakpoints(), dtype=float))
         t = np.concatenate(ts)
         t = t[(t > lo_t) & (t < hi_t)]
