@@ -49,6 +49,7 @@ import scipy.sparse as sp
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.elasticity import plane_modulus
 from ..model.options import ContactOptions
+from ..model.problem import Sliding
 from .geometry import (ContactGeometry, chain_pieces, contact_geometry, contact_quadrature, grid_breakpoints,
                        sample_points)
 from .ends import GAP_NODES, chebyshev_ends, gap_slope_coefficients, mirrored
@@ -771,8 +772,7 @@ def _symmetry_side(problem, geom: ContactGeometry, body: str) -> int:
         return 0
     chain = geom.curves[0]
     edge = chain.edge_at(geom.t_origin[0] - 0.5 * side * geom.directions[0])
-    sliding = any(type(bc).__name__ == "Sliding" and bc.body == body and bc.edge == edge
-                  for bc in problem.boundary_conditions)
+    sliding = any(isinstance(bc, Sliding) and bc.body == body and bc.edge == edge for bc in problem.boundary_conditions)
     if not sliding:
         raise ValueError(
             f"contact {geom.bodies[0]}/{geom.bodies[1]}: the contact point {geom.point.tolist()} lies on a corner of "
