@@ -50,8 +50,8 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor,
 from ..model.elasticity import plane_modulus
 from ..model.options import ContactOptions
 from ..model.problem import Sliding
-from .geometry import (ContactGeometry, chain_pieces, contact_geometry, contact_quadrature, grid_breakpoints,
-                       sample_points)
+from .geometry import (ContactGeometry, chain_pieces, chord_weights, contact_geometry, contact_quadrature,
+                       grid_breakpoints, sample_points)
 from .ends import GAP_NODES, chebyshev_ends, gap_slope_coefficients, mirrored
 from .roots import StickRoot, bracket_search, edge_search, settling_tolerance, thesis_search
 
@@ -575,7 +575,7 @@ def _end_values(c: BandContact, info, x: np.ndarray, a: float):
         return None
     pts = info[0]
     p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
-    s, w, p = mirrored(c.local(pts.s), pts.weights, p, c.mirror)
+    s, w, p = mirrored(c.local(pts.s), chord_weights(c.geom, pts), p, c.mirror)
     return chebyshev_ends(s / a, w, p, a, _gap_coefficients(c, a))
 
 
@@ -638,7 +638,7 @@ def _pressure_centroid(c: BandContact, info, x: np.ndarray, a: float) -> float:
     if info is None or a <= 0.0:
         return math.nan
     pts = info[0]
-    wp = pts.weights * np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
+    wp = chord_weights(c.geom, pts) * np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
     total = float(wp.sum())
     return float(wp @ pts.s) / total if total > 0.0 else math.nan
 

@@ -41,6 +41,7 @@ __all__ = [
     "sample_points",
     "contact_quadrature",
     "chain_pieces",
+    "chord_weights",
     "grid_breakpoints",
 ]
 
@@ -426,3 +427,16 @@ def contact_quadrature(geom: ContactGeometry, grids, s_lo: float, s_hi: float, o
     pts = match_points(geom, tq.ravel())
     pts.weights = w.ravel()
     return pts
+
+
+def chord_weights(geom: ContactGeometry, pts: ContactPoints) -> np.ndarray:
+    """The quadrature weights (q,) in the chord coordinate s: ds = |cos| of the angle between the
+    chord from c1 and the curve's tangent times the arc length (1 at the contact point; cos(theta / 2)
+    on a circle at the angle theta from it). Moments in s (the region's end values and centre) need
+    them; forces take the arc length."""
+    d = pts.x1 - geom.origins[0]
+    r = np.hypot(d[:, 0], d[:, 1])
+    tangent = np.stack([-pts.n1[:, 1], pts.n1[:, 0]], axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = np.abs(np.einsum("qi,qi->q", d, tangent)) / r
+    return pts.weights * np.where(r > 0.0, cos, 1.0)
