@@ -72,11 +72,14 @@ class ContactChain:
         return k, self._lo[k] + (T - k) * self._span[k]
 
     def _each(self, T, method: str, scaled: bool) -> np.ndarray:
+        T = np.asarray(T, dtype=float).ravel()
+        if T.size:
+            j = min(max(int(T[0]), 0), len(self.curves) - 1)
+            if j <= T.min() and T.max() <= j + 1:  # all on one edge (the common case): no masks
+                v = np.asarray(getattr(self.curves[j], method)(self._lo[j] + (T - j) * self._span[j]),
+                               dtype=float).reshape(-1, 2)
+                return v * self._span[j] if scaled else v
         k, t = self.split(T)
-        if len(k) and k.min() == k.max():  # all on one edge (the common case): no masks
-            j = int(k[0])
-            v = np.asarray(getattr(self.curves[j], method)(t), dtype=float).reshape(-1, 2)
-            return v * self._span[j] if scaled else v
         out = np.empty((len(t), 2))
         for j in np.unique(k):
             sel = k == j
