@@ -78,8 +78,16 @@ def test_quadrature_length_and_pieces_inside_cells():
         assert np.all(cells == cells[:, :1])
 
 
-def test_contact_point_at_edge_end_is_rejected():
+def test_contact_point_on_a_corner_closes_one_side():
+    # the point sits on body 1's corner: the side along the contact's tangent (body 1's bottom
+    # edge) stays open, the other is closed by the corner (a half model's symmetry line), and
+    # its cause names the corner (not an edge's end or the refinement radius)
     seg = _body({"type": "rectangle", "min": [0.0, 0.0], "max": [1.0, 1.0]})
-    other = _body({"type": "rectangle", "min": [0.0, -1.0], "max": [1.0, 0.0]})
-    with pytest.raises(ValueError, match="end of edge"):
-        contact_geometry((seg, other), ("a", "b"), np.array([0.0, 0.0]), 0.1)
+    other = _body({"type": "rectangle", "min": [-1.0, -1.0], "max": [1.0, 0.0]})
+    geom = contact_geometry((seg, other), ("a", "b"), np.array([0.0, 0.0]), 0.1)
+    side = geom.mirror_side()
+    assert side != 0
+    closed = geom.limits[0 if side < 0 else 1]
+    assert closed.corner and closed.chord == 0.0 and "corner of body 'a'" in closed.cause
+    opened = geom.limits[0 if side > 0 else 1]
+    assert opened.chord == pytest.approx(0.1) and opened.cause == "refinement radius"

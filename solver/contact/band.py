@@ -49,7 +49,10 @@ import scipy.sparse as sp
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.elasticity import plane_modulus
 from ..model.options import ContactOptions
-from .geometry import ContactGeometry, contact_geometry, contact_quadrature, grid_breakpoints, sample_points
+from ..model.problem import Sliding
+from .geometry import (ContactGeometry, chain_pieces, chord_weights, contact_geometry, contact_quadrature,
+                       grid_breakpoints, sample_points)
+from .ends import GAP_NODES, chebyshev_ends, gap_slope_coefficients, mirrored
 from .roots import StickRoot, bracket_search, edge_search, settling_tolerance, thesis_search
 
 __all__ = ["BandContact", "build"]
@@ -106,6 +109,9 @@ class BandContact:
     band_fraction: float = 0.25  # the step-boundary band of the terms ([solver].band_fraction)
     #: the region is centre - a <= s <= centre + a (the pressure's centroid; 0 with region_centre "point")
     centre: float = 0.0
+    #: a half model (+1 / -1): the region runs from the symmetry line s = 0 to that side, mirrored there
+    mirror: int = 0
+    _gap_cache: dict = field(default_factory=dict)
     _stick_root: object = None
 
     def stick(self, a: float) -> float:
@@ -117,8 +123,13 @@ class BandContact:
         return np.asarray(s, dtype=float) - self.centre
 
     def region_ends(self, a: float) -> tuple[float, float]:
-        """The region's ends (s_lo, s_hi) for half-width a, within the candidate region."""
+        """The region's ends (s_lo, s_hi) for half-width a, within the candidate region (a half
+        model's region runs from the symmetry line, s = 0, to one side)."""
         s_plus, s_minus = self.geom.s_limits
+        if self.mirror > 0:
+            return 0.0, min(a, s_plus)
+        if self.mirror < 0:
+            return max(-a, -s_minus), 0.0
         return max(self.centre - a, -s_minus), min(self.centre + a, s_plus)
 
     # the zones of the region's points; a formulation with friction history overrides these four
@@ -145,7 +156,31 @@ class BandContact:
 
     def a_max(self) -> float:
         """The largest half-width about the current centre within the candidate region."""
+        if self.mirror:
+            return self.geom.s_limits[0 if self.mirror > 0 else 1]
         return max(self.geom.s_max() - abs(self.centre), 0.0)
+
+    def _limit(self):
+        """The SideLimit that bounds the largest region about the current centre."""
+        plus, minus = self.geom.limits
+        if self.mirror:
+            return plus if self.mirror > 0 else minus
+        return plus if plus.chord - self.centre <= minus.chord + self.centre else minus
+
+    def end_types(self, a: float) -> tuple[str, str]:
+        """Type of the region's (lower, upper) end for half-width a: "symmetry" (a half model's
+        symmetry line), "complete" (at a corner of body 1) or "incomplete" (inside a smooth
+        stretch of the boundary, the pressure vanishing there)."""
+        lo, hi = self.region_ends(a)
+        out = []
+        for end, lim, sgn in ((lo, self.geom.limits[1], -1), (hi, self.geom.limits[0], 1)):
+            if self.mirror == -sgn and end == 0.0:
+                out.append("symmetry")
+            elif lim.corner and abs(sgn * end - lim.chord) <= 1e-9 * max(lim.chord, self.h):
+                out.append("complete")
+            else:
+                out.append("incomplete")
+        return out[0], out[1]
 
     # -------------------------------------------------- the formulation protocol
 
@@ -173,17 +208,20 @@ class BandContact:
         if o.width_update == "edge":
             step0 = 0.05 * self.h if estimate else None
             tol = settling_tolerance(self.options, self.h, final)
-            return edge_search(a0, self.h, tol, self.a_max(), step0=step0)
+            return edge_search(a0, self.h, tol, self.a_max(), step0=step0, cap_is_end=self._limit().corner)
         if o.width_update == "thesis":
             return thesis_search(a0, self.h, o.width_tolerance * self.h, self.a_max(), max_iterations)
         tol = (o.width_tolerance if final else o.step_tolerance) * self.h
         return bracket_search(a0, self.h, tol, self.a_max(), final)
 
     def region_too_small(self) -> ValueError:
+        lim = self._limit()
+        fix = {"refinement radius": "enlarge the radius of the contact refinement (around = \"contact\")"}.get(
+            lim.cause, "the bodies are too small for this load, or the contact point or load is wrong")
         return ValueError(
             f"{self.name}: the contact region reaches the end of the candidate region (s = {self.a_max():.4g} m "
-            f"from the region's centre {self.centre:.4g} m) "
-            "and still penetrates; enlarge the contact refinement radius"
+            f"from the region's centre {self.centre:.4g} m, bounded by the {lim.cause}) "
+            f"and still penetrates; {fix}"
         )
 
 
@@ -251,7 +289,7 @@ class BandContact:
         """Move the centre to the pressure's centroid; True when it moved by less than the width
         search's tolerance (``edge_tolerance`` cells in the last load step, ``step_tolerance``
         before), or when the centre is fixed (``region_centre = "point"``)."""
-        if self.options.region_centre != "pressure" or info is None or a <= 0.0:
+        if self.options.region_centre != "pressure" or info is None or a <= 0.0 or self.mirror:
             return True
         centroid = _pressure_centroid(self, info, x, a)
         if not math.isfinite(centroid):
@@ -298,7 +336,7 @@ class BandContact:
                 f"sample points (smallest gap {v.min_gap:.3g} m) at a = {a:.6g} m: the region search did not "
                 "find the contact (refine the grid near the contact, or check the contact point and loads)"
             )
-        offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if a > 0.0 else 0.0
+        offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if a > 0.0 and not self.mirror else 0.0
         if abs(offset) > CENTROID_TOLERANCE:
             messages.append(
                 f"{self.name}: the pressure's centroid lies {offset:+.3g} a from the contact region's centre "
@@ -312,6 +350,7 @@ class BandContact:
                            "tension_points": v.tension_count, "min_gap": v.min_gap, "min_pressure": v.min_pressure,
                            "half_width_bracket": list(bracket), "force_on_first": force1.tolist(),
                            "edge_coefficient": v.edge}
+        block["ends"] = self.ends_block(x, a, info)
         if self.kind == "frictional":
             messages += self.friction_checks(x, a, info, on2, block)
         return messages
@@ -331,6 +370,26 @@ class BandContact:
             messages.append(f"{self.name}: c/a = {self.stick_ratio:.4g} but the forces give sqrt(1 - |Q|/(mu N)) = {ca:.4g}")
         return messages
 
+
+    def gap_shape(self, a: float) -> np.ndarray:
+        """Coefficients of the half-plane pressure of the initial gap's shape over the region
+        of half-width a (solver.contact.ends.gap_pressure): the traction recovery adds it to
+        its modes, so a gap that is not quadratic (a rounded punch) keeps its pressure's shape."""
+        return _gap_coefficients(self, a)
+
+    def ends_block(self, x: np.ndarray, a: float, info) -> list[dict]:
+        """The region's two ends for the summary: where (s), their type, the edge coefficient
+        Q / (c_0 / 2) and, at a complete end, the stress intensity K = lim p sqrt(2 pi r)."""
+        values = _end_values(self, info, x, a)
+        out = []
+        for which, end, kind in zip((-1, 1), self.region_ends(a), self.end_types(a)):
+            item = {"s": float(end), "type": kind}
+            if values is not None and kind != "symmetry":
+                item["edge_coefficient"] = values.coefficient(which)
+                if kind == "complete":
+                    item["stress_intensity"] = values.stress_intensity(which, a)
+            out.append(item)
+        return out
 
     def history_entry(self, v: _Verdict, a: float, step: int, iteration: int, tag: int, ratio: float) -> None:
         self.history.append({"step": step, "iteration": iteration, "a": a, "penetration": v.penetration,
@@ -533,31 +592,63 @@ def _quadrature_traction(c: BandContact, info, x: np.ndarray, a: float) -> np.nd
     return t1 + _friction_traction(c, pts, t1, a)
 
 
-def _edge_coefficient(c: BandContact, info, x: np.ndarray, a: float) -> float:
-    """Edge coefficient of the pressure on the region |s| <= a (s from the region's centre):
-    (Q(a) + Q(-a)) / (2 Q_mean) with Q(s) = p(s) sqrt(a^2 - s^2) fitted by Chebyshev polynomials
-    of degree <= 2.
-
-    Every pressure on a region |s| <= a of a contact whose initial gap is quadratic in s
-    (Hertz's, Mindlin's) is p(s) = Q(s) / sqrt(a^2 - s^2) with Q a quadratic: Q(+-a) != 0 is
-    the square-root singularity of a region too small (Q > 0: a punch's edges) or the tension
-    of one too large (Q < 0); the consistent width has Q(+-a) = 0. With s = a cos(theta) the
-    Chebyshev coefficients of Q are moments of p, q_k = (2 / pi) int p T_k(s/a) ds (q_0 half
-    that), so that (q_0 + q_2) / q_0 = int p (4 s^2/a^2 - 1) ds / int p ds: an integral of
-    the traction over the whole region. Unlike point or cell values it does not see the
-    grid-periodic oscillation of the discrete traction, and its quadrature points move
-    continuously with a (the pieces end at +-a exactly): a continuous, grid-position
-    independent function of a whose root is the width (Hertz: int sqrt(1 - x^2)(4x^2 - 1) dx
-    = 0)."""
+def _end_values(c: BandContact, info, x: np.ndarray, a: float):
+    """Q at the region's two ends (solver.contact.ends) of the pressure at the quadrature points,
+    the truncation of the gap's own shape removed; None without compression."""
     if info is None or a <= 0.0:
-        return math.inf
+        return None
     pts = info[0]
     p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
-    wp = pts.weights * p
-    total = float(wp.sum())
-    if not total > 0.0:
-        return -math.inf  # no compression at all: the region is far too large (or the bodies apart)
-    return float((wp * (4.0 * (c.local(pts.s) / a) ** 2 - 1.0)).sum() / total)
+    s, w, p = mirrored(c.local(pts.s), chord_weights(c.geom, pts), p, c.mirror)
+    return chebyshev_ends(s / a, w, p, a, _gap_coefficients(c, a))
+
+
+def _gap_coefficients(c: BandContact, a: float) -> np.ndarray:
+    """The Chebyshev coefficients b_k of (E*/2) times the initial normal gap's slope over the
+    region (solver.contact.ends), the slope interpolated in the sample points' (every 1/16 cell)."""
+    if _faceted(c):
+        # the thesis's variant on tessellated boundaries: a faceted gap's slope jumps at every
+        # vertex, and its "shape" is the tessellation's error, not the part's: the degree-2 sum
+        return np.zeros(GAP_NODES)
+    s, slope = _gap_slope(c)
+    return gap_slope_coefficients(lambda x: np.interp(x, s, slope), c.centre, a, c.e_star, c.mirror)
+
+
+def _gap_slope(c: BandContact) -> tuple[np.ndarray, np.ndarray]:
+    """The initial normal gap's slope dh/ds at the sample chords (central differences; exact for a
+    gap quadratic in s), computed once."""
+    if "slope" not in c._gap_cache:
+        s = c.samples.s
+        h = np.einsum("qi,qi->q", c.samples.delta, c.samples.normal)
+        order = np.argsort(s)
+        s, h = s[order], h[order]
+        keep = np.concatenate([[True], np.diff(s) > 0.0])
+        s, h = s[keep], h[keep]
+        c._gap_cache["slope"] = (s, np.gradient(h, s) if len(s) > 2 else np.zeros_like(s))
+    return c._gap_cache["slope"]
+
+
+def _faceted(c: BandContact) -> bool:
+    """Whether the contact curves are tessellated polylines (``exact_geometry = false``)."""
+    return any(getattr(getattr(b, "boundary", None), "tolerance", 0.0) > 0.0 for b in (c.b1, c.b2))
+
+
+def _edge_coefficient(c: BandContact, info, x: np.ndarray, a: float) -> float:
+    """Mean edge coefficient of the region's two ends, (Q(e + a) + Q(e - a)) / (2 Q_mean) with Q
+    the pressure times sqrt(a^2 - (s - e)^2), from the pressure's Chebyshev moments of degree
+    <= 2 less what the gap's own shape contributes to them (solver.contact.ends; for a gap
+    quadratic in s, Hertz's and Mindlin's, nothing: int p (4 x^2 - 1) ds / int p ds).
+
+    Q(+-a) != 0 is the square-root singularity of a region too small (Q > 0: a punch's edges) or
+    the tension of one too large (Q < 0); the consistent width has Q(+-a) = 0. An integral of
+    the traction over the whole region: unlike point or cell values it does not see the
+    grid-periodic oscillation of the discrete traction, and its quadrature points move
+    continuously with a (the pieces end at +-a exactly): a continuous, grid-position
+    independent function of a whose root is the width."""
+    values = _end_values(c, info, x, a)
+    if values is None:
+        return -math.inf if info is not None and a > 0.0 else math.inf
+    return values.edge()
 
 
 #: the final check: the pressure's centroid within this fraction of a of the region's centre (a
@@ -571,7 +662,7 @@ def _pressure_centroid(c: BandContact, info, x: np.ndarray, a: float) -> float:
     if info is None or a <= 0.0:
         return math.nan
     pts = info[0]
-    wp = pts.weights * np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
+    wp = chord_weights(c.geom, pts) * np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
     total = float(wp.sum())
     return float(wp @ pts.s) / total if total > 0.0 else math.nan
 
@@ -643,7 +734,7 @@ def _setup_contact(model, geom, b1, b2, band_fraction: float) -> BandContact:
     s_plus, s_minus = geom.s_limits
     bk = grid_breakpoints(geom, (b1.grid, b2.grid), -s_minus, s_plus)
     # finest cell along the candidate region of body 1
-    near = b1.grid.pieces.of(geom.edges[0])
+    near = chain_pieces(geom, 0, b1.grid, -s_minus, s_plus)
     h = float(min(b1.grid.size[b1.grid.pieces.cell[near]].min(), b2.grid.min_size))
     # dofs of every cell the candidate region touches: the pieces of both curves in range and
     # the cells of the (dense) sample points
@@ -691,4 +782,25 @@ def build(problem, model, b1, b2, options) -> BandContact:
     geom = contact_geometry((b1, b2), model.bodies, np.asarray(model.point, dtype=float),
                             _contact_extent(problem, model, opts.extent_fraction))
     geom.normal_mode = opts.contact_normal
-    return _setup_contact(model, geom, b1, b2, options.band_fraction)
+    contact = _setup_contact(model, geom, b1, b2, options.band_fraction)
+    contact.mirror = _symmetry_side(problem, geom, model.bodies[0])
+    return contact
+
+
+def _symmetry_side(problem, geom: ContactGeometry, body: str) -> int:
+    """+1 / -1 when the contact point lies on a corner of body 1 that bounds one side of the
+    region (a half model cut through the contact), after checking that the edge beyond it is a
+    symmetry line (a sliding condition holds there); 0 otherwise."""
+    side = geom.mirror_side()
+    if not side:
+        return 0
+    chain = geom.curves[0]
+    edge = chain.edge_at(geom.t_origin[0] - 0.5 * side * geom.directions[0])
+    sliding = any(isinstance(bc, Sliding) and bc.body == body and bc.edge == edge for bc in problem.boundary_conditions)
+    if not sliding:
+        raise ValueError(
+            f"contact {geom.bodies[0]}/{geom.bodies[1]}: the contact point {geom.point.tolist()} lies on a corner of "
+            f"body {body!r} (edges {geom.edges[0]!r} and {edge!r}); a contact region can end there only on a "
+            f"symmetry line, which needs a sliding condition on edge {edge!r} (or give a point inside an edge)"
+        )
+    return side

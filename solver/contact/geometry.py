@@ -17,6 +17,7 @@ and Delta (the thesis's non-projected results).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -25,10 +26,12 @@ from ibfem.geometry.chord_walk import first_crossing, walk_distances
 
 from ..fem.integration import curve_gauss
 from ..model.resolve import refined_maximum
+from .chain import CORNER_ANGLE, contact_chain
 
 __all__ = [
     "chord_table",
     "ContactGeometry",
+    "SideLimit",
     "ContactPoints",
     "closest_parameter",
     "parameter_at_chord",
@@ -37,6 +40,9 @@ __all__ = [
     "match_points",
     "sample_points",
     "contact_quadrature",
+    "chain_pieces",
+    "chord_weights",
+    "grid_breakpoints",
 ]
 
 
@@ -97,6 +103,16 @@ def parameter_at_chord(curve, origin: np.ndarray, chord: np.ndarray, t_from: flo
 
 
 @dataclass
+class SideLimit:
+    """How far the candidate region reaches on one side of the contact point: the chord and
+    what bounds it ("refinement radius", "corner of body 1", "far side of body <name>")."""
+
+    chord: float
+    cause: str
+    corner: bool = False  # a convex corner of body 1 ends the region there (a complete contact end)
+
+
+@dataclass
 class ContactGeometry:
     """One contact: frame, the two contact curves and where on them the contact point lies."""
 
@@ -104,21 +120,34 @@ class ContactGeometry:
     point: np.ndarray  # reported contact point: where the two curves are closest (the chords' origin)
     normal: np.ndarray  # outward normal of body 2 at the point
     tangent: np.ndarray  # (-n_y, n_x)
-    edges: tuple[str, str]  # contact edge of each body
-    curves: tuple  # the curves (exact or polyline) of those edges
+    edges: tuple[str, str]  # the edge of each body through the contact point
+    curves: tuple  # the contact curves: each body's chain of edges (solver.contact.chain)
     origins: tuple[np.ndarray, np.ndarray]  # c1, c2: the contact point on each curve
     t_origin: tuple[float, float]
     directions: tuple[int, int]  # parameter direction of +s (along tangent) on each curve
-    s_limits: tuple[float, float]  # usable chord range on each side (candidate region), > 0
+    s_limits: tuple[float, float]  # usable chord range on each side (candidate region), >= 0
     tables: dict = field(default_factory=dict)  # (curve, side) -> chord_table over the candidate region
     # "frame": every pair is constrained along the contact frame's normal (the small-strain,
     # half-space assumption of Hertz theory: frictionless tractions have no component along
     # the tangent); "pair": along each matched pair's bisector normal (ContactPoints.normal)
     normal_mode: str = "frame"
     given_point: np.ndarray | None = None  # the scene's point, when the touching point lies off it
+    limits: tuple = ()  # SideLimit of the + and - side
 
     def s_max(self) -> float:
         return min(self.s_limits)
+
+    def mirror_side(self) -> int:
+        """+1 / -1: the side the region extends to when the contact point lies on a corner of
+        body 1 (a half model's symmetry line: the region is mirrored there); 0 otherwise."""
+        if not self.limits:
+            return 0
+        plus, minus = self.limits
+        if minus.corner and minus.chord <= 0.0 < plus.chord:
+            return 1
+        if plus.corner and plus.chord <= 0.0 < minus.chord:
+            return -1
+        return 0
 
     def table(self, which: int, sgn: int):
         """Chord table of curve ``which`` on side ``sgn`` covering the candidate region."""
@@ -126,10 +155,22 @@ class ContactGeometry:
         if key not in self.tables:
             curve, c, t0 = self.curves[which], self.origins[which], self.t_origin[which]
             direction = sgn * self.directions[which]
-            reach = 1.05 * self.s_limits[0 if sgn > 0 else 1]
-            t_end = parameter_at_chord(curve, c, np.array([reach]), t0, direction)[0]
+            reach = 1.05 * max(self.s_limits[0 if sgn > 0 else 1], 1e-12)
+            t_end = parameter_at_chord(curve, c, np.array([reach]), t0, direction, samples=4097)[0]
             self.tables[key] = chord_table(curve, c, t0, direction, 2049, None if np.isnan(t_end) else t_end)
         return self.tables[key]
+
+
+def _body_chain(body, edge: str):
+    return contact_chain(body.profile, body.boundary.curves, edge)
+
+
+def _on_chain(body, point: np.ndarray):
+    """(chain, T) of the point of ``body``'s boundary closest to ``point``."""
+    edge = body.profile.edge_names[int(body.profile.project(point[None, :]).edge_index[0])]
+    chain = _body_chain(body, edge)
+    k = chain.middle
+    return chain, float(chain.to_chain(k, closest_parameter(chain.curves[k], point)))
 
 
 def touching_point(bodies, point: np.ndarray, extent: float, samples: int = 257) -> np.ndarray:
@@ -143,18 +184,21 @@ def touching_point(bodies, point: np.ndarray, extent: float, samples: int = 257)
     every point is closest) or where the closest point lies at the search's end (none nearby)."""
     b1, b2 = bodies
     point = np.asarray(point, dtype=float)
-    edge = b1.profile.edge_names[int(b1.profile.project(point[None, :]).edge_index[0])]
-    curve = b1.boundary.curves[edge]
-    t0 = closest_parameter(curve, point)
+    curve, t0 = _on_chain(b1, point)
     c = np.asarray(curve.evaluate(np.array([t0])), dtype=float).reshape(2)
-    ends = [parameter_at_chord(curve, c, np.array([extent]), t0, sgn)[0] for sgn in (1, -1)]
+    ends = [parameter_at_chord(curve, c, np.array([extent]), t0, sgn, samples=4097)[0] for sgn in (1, -1)]
     lo = float(curve.t_start) if np.isnan(ends[1]) else float(ends[1])
     hi = float(curve.t_end) if np.isnan(ends[0]) else float(ends[0])
+    corners = curve.corners()
+    lo = max([lo] + [t for t in corners if t <= t0])  # the search stays between body 1's corners
+    hi = min([hi] + [t for t in corners if t >= t0])
 
     def phi(t):
         return np.asarray(b2.profile.signed_distance(np.asarray(curve.evaluate(t), dtype=float).reshape(-1, 2)),
                           dtype=float)
 
+    if not hi > lo:
+        return point
     t = np.linspace(min(lo, hi), max(lo, hi), samples)
     values = phi(t)
     k = int(np.argmax(values))
@@ -168,10 +212,46 @@ def touching_point(bodies, point: np.ndarray, extent: float, samples: int = 257)
     return 0.5 * (x1 + x2)
 
 
+def _leaves_along(chain, t0: float, direction: int, along: np.ndarray) -> bool:
+    """Whether the walk from ``t0`` in ``direction`` starts along the unit vector ``along``
+    (within CORNER_ANGLE): at a corner on the contact point, the side the region extends to."""
+    d = direction * np.asarray(chain.derivative(np.array([t0 + direction * 1e-9])), dtype=float).reshape(2)
+    return float(d @ along) >= math.cos(CORNER_ANGLE) * float(np.linalg.norm(d))
+
+
+def _side_limit(chain, c: np.ndarray, t0: float, direction: int, body: str, first: bool,
+                along: np.ndarray) -> SideLimit:
+    """How far the walk from ``t0`` along ``direction`` may go: to body 1's first convex corner
+    (``first``; a corner on the point itself only where the walk does not start ``along`` the
+    contact's tangent on that side), else to where the chord from ``c`` stops growing (the far
+    side of the body)."""
+    end = chain.t_end if direction > 0 else chain.t_start
+    t = np.linspace(t0, end, 2049)
+    d = walk_distances(chain, c, t)
+    falls = np.nonzero(np.diff(d) <= 0.0)[0]
+    k_far = int(falls[0]) if len(falls) else len(d) - 1
+    far = SideLimit(0.98 * float(d[k_far]), f"far side of body {body!r}")
+    if first:
+        span = 1e-9 * max(abs(end - t0), 1.0)
+        corners = [T for T in chain.corners() if direction * (T - t0) > span
+                   or (abs(T - t0) <= span and not _leaves_along(chain, t0, direction, along))]
+        if corners:
+            T = min(corners, key=lambda T: direction * (T - t0))
+            if direction * (T - t[k_far]) <= 0.0:
+                x = np.asarray(chain.evaluate(np.array([T])), dtype=float).reshape(2)
+                chord = float(np.hypot(*(x - c)))
+                return SideLimit(chord if chord > 1e-9 * max(float(d.max()), 1e-300) else 0.0,
+                                 f"corner of body {body!r} (edge {chain.edge_at(T - 0.5 * direction)!r} ends)",
+                                 corner=True)
+    return far
+
+
 def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: float) -> ContactGeometry:
     """Frame and curves of the contact of ``names`` (two BodyDiscretisation-like objects with
     ``profile`` and ``boundary.curves``) at the touching point near ``point``
-    (:func:`touching_point`); ``extent`` caps the candidate chord."""
+    (:func:`touching_point`); ``extent`` caps the candidate chord. Each body's contact curve is
+    the chain of its edges through the point (:mod:`solver.contact.chain`): the region may cross
+    junctions and seams; it ends at a corner of body 1."""
     given = np.asarray(point, dtype=float)
     b1, b2 = bodies
     point = touching_point(bodies, given, extent)
@@ -179,34 +259,22 @@ def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: 
     n2 /= np.linalg.norm(n2)
     tangent = np.array([-n2[1], n2[0]])
     edges, curves, origins, ts, dirs, limits = [], [], [], [], [], []
-    for b in (b1, b2):
-        proj = b.profile.project(point[None, :])
-        edge = b.profile.edge_names[int(proj.edge_index[0])]
-        curve = b.boundary.curves[edge]
-        t0 = closest_parameter(curve, point)
-        c = np.asarray(curve.evaluate(np.array([t0])), dtype=float).reshape(2)
-        d = np.asarray(curve.derivative(np.array([t0])), dtype=float).reshape(2)
+    for which, (b, name) in enumerate(zip((b1, b2), names)):
+        chain, t0 = _on_chain(b, point)
+        c = np.asarray(chain.evaluate(np.array([t0])), dtype=float).reshape(2)
+        d = np.asarray(chain.derivative(np.array([t0])), dtype=float).reshape(2)
         direction = 1 if float(d @ tangent) >= 0.0 else -1
-        lim = []
-        for sgn in (1, -1):  # how far the edge reaches on each side (chord to its end)
-            end = curve.t_end if sgn * direction > 0 else curve.t_start
-            e = np.asarray(curve.evaluate(np.array([float(end)])), dtype=float).reshape(2)
-            lim.append(float(np.hypot(*(e - c))))
-        edges.append(edge)
-        curves.append(curve)
+        edges.append(chain.edge_at(t0))
+        curves.append(chain)
         origins.append(c)
         ts.append(t0)
         dirs.append(direction)
-        limits.append(lim)
-    # candidate chord per side: the extent, within both edges (a little short of their ends)
-    s_plus = min(extent, 0.98 * limits[0][0], 0.98 * limits[1][0])
-    s_minus = min(extent, 0.98 * limits[0][1], 0.98 * limits[1][1])
-    if not (s_plus > 0 and s_minus > 0):
-        raise ValueError(
-            f"contact {names[0]}/{names[1]}: the contact point {point.tolist()} sits at the end of edge "
-            f"{edges[0]!r} or {edges[1]!r}; give a point inside an edge"
-        )
-    return ContactGeometry(
+        limits.append([_side_limit(chain, c, t0, sgn * direction, name, which == 0, sgn * tangent) for sgn in (1, -1)])
+    sides = []
+    for k in range(2):  # candidate chord per side: the extent, within both bodies
+        options = [SideLimit(extent, "refinement radius")] + [limits[0][k], limits[1][k]]
+        sides.append(min(options, key=lambda lim: (lim.chord, not lim.corner)))
+    geom = ContactGeometry(
         bodies=tuple(names),
         point=point,
         normal=n2,
@@ -216,9 +284,18 @@ def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: 
         origins=tuple(origins),
         t_origin=tuple(ts),
         directions=tuple(dirs),
-        s_limits=(s_plus, s_minus),
+        s_limits=(sides[0].chord, sides[1].chord),
         given_point=None if np.array_equal(point, given) else given,
+        limits=tuple(sides),
     )
+    if not (sides[0].chord > 0.0 or sides[1].chord > 0.0) or (min(geom.s_limits) <= 0.0 and not geom.mirror_side()):
+        why = " and ".join(f"{lim.cause} at the point on the {side} side" for side, lim in zip("+-", sides)
+                           if lim.chord <= 0.0)
+        raise ValueError(
+            f"contact {names[0]}/{names[1]}: no room for a contact region at the contact point {point.tolist()} "
+            f"(edges {edges[0]!r} / {edges[1]!r}): {why}"
+        )
+    return geom
 
 
 def _parameters_at_s(geom: ContactGeometry, which: int, s: np.ndarray) -> np.ndarray:
@@ -277,7 +354,9 @@ def match_points(geom: ContactGeometry, t1: np.ndarray) -> ContactPoints:
     s = _s_of_parameters(geom, 0, t1)
     t2 = _parameters_at_s(geom, 1, s)
     if np.isnan(t2).any():
-        raise ValueError(f"contact {geom.bodies}: body 2's edge {geom.edges[1]!r} ends inside the candidate region")
+        raise ValueError(f"contact {geom.bodies[0]}/{geom.bodies[1]}: no point of body {geom.bodies[1]!r}'s boundary "
+                         f"lies at chord {float(np.abs(s[np.isnan(t2)]).max()):.4g} m from the contact point on that "
+                         "side (the body is smaller than the candidate region)")
     x2 = np.asarray(geom.curves[1].evaluate(t2), dtype=float).reshape(-1, 2)
     frame = np.asarray(geom.normal, dtype=float) if geom.normal_mode == "frame" else None
     return ContactPoints(s=s, x1=x1, n1=_unit_normal(c1, t1), x2=x2, n2=_unit_normal(geom.curves[1], t2),
@@ -296,26 +375,39 @@ def _grid_lines_near(grid, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return xs, ys
 
 
+def chain_pieces(geom: ContactGeometry, which: int, grid, s_lo: float, s_hi: float) -> np.ndarray:
+    """Indices of the grid's boundary pieces (``grid.pieces``) on curve ``which``'s chain
+    between the chords s_lo < s_hi."""
+    chain = geom.curves[which]
+    T = _parameters_at_s(geom, which, np.array([s_lo, s_hi]))
+    lo_T, hi_T = np.nanmin(T), np.nanmax(T)
+    pc = grid.pieces
+    out = []
+    for k in range(int(np.floor(lo_T)), int(np.floor(hi_T)) + 1):
+        k = min(max(k, 0), len(chain.curves) - 1)
+        a, b = chain.local(k, np.array([max(lo_T, k), min(hi_T, k + 1)]))
+        lo_t, hi_t = min(a, b), max(a, b)
+        sel = pc.of(chain.names[k])
+        out.append(sel[(np.maximum(pc.t0[sel], pc.t1[sel]) >= lo_t) & (np.minimum(pc.t0[sel], pc.t1[sel]) <= hi_t)])
+    return np.unique(np.concatenate(out)) if out else np.zeros(0, dtype=np.intp)
+
+
 def grid_breakpoints(geom: ContactGeometry, grids, s_lo: float, s_hi: float) -> np.ndarray:
     """Signed chords in (s_lo, s_hi) where body 1's curve or the matched points of body 2's
-    curve cross a cell line of their own grid: the integrand's kinks."""
+    curve cross a cell line of their own grid, or an edge junction or kink: the integrand's kinks."""
     out = []
     for which, grid in enumerate(grids):
         curve = geom.curves[which]
         tl = _parameters_at_s(geom, which, np.array([s_lo, s_hi]))
         lo_t, hi_t = np.nanmin(tl), np.nanmax(tl)
-        pc = grid.pieces
-        sel = pc.of(geom.edges[which])
-        near = sel[(np.maximum(pc.t0[sel], pc.t1[sel]) >= lo_t) & (np.minimum(pc.t0[sel], pc.t1[sel]) <= hi_t)]
+        near = chain_pieces(geom, which, grid, s_lo, s_hi)
         if len(near) == 0:
             continue
-        xs, ys = _grid_lines_near(grid, pc.cell[near])
-        ts = [np.asarray(curve.axis_crossings(0, float(v)), dtype=float).ravel() for v in xs]
-        ts += [np.asarray(curve.axis_crossings(1, float(v)), dtype=float).ravel() for v in ys]
-        brk = getattr(curve, "breakpoints", None)
-        if brk is not None:
-            ts.append(np.asarray(brk(), dtype=float))
-        t = np.concatenate(ts) if ts else np.zeros(0)
+        xs, ys = _grid_lines_near(grid, grid.pieces.cell[near])
+        ts = [np.asarray(curve.axis_crossings(0, float(v), lo_t, hi_t), dtype=float).ravel() for v in xs]
+        ts += [np.asarray(curve.axis_crossings(1, float(v), lo_t, hi_t), dtype=float).ravel() for v in ys]
+        ts.append(np.asarray(curve.breakpoints(), dtype=float))
+        t = np.concatenate(ts)
         t = t[(t > lo_t) & (t < hi_t)]
         s = _s_of_parameters(geom, which, t)
         out.append(s[(s > s_lo) & (s < s_hi)])
@@ -335,3 +427,16 @@ def contact_quadrature(geom: ContactGeometry, grids, s_lo: float, s_hi: float, o
     pts = match_points(geom, tq.ravel())
     pts.weights = w.ravel()
     return pts
+
+
+def chord_weights(geom: ContactGeometry, pts: ContactPoints) -> np.ndarray:
+    """The quadrature weights (q,) in the chord coordinate s: ds = |cos| of the angle between the
+    chord from c1 and the curve's tangent times the arc length (1 at the contact point; cos(theta / 2)
+    on a circle at the angle theta from it). Moments in s (the region's end values and centre) need
+    them; forces take the arc length."""
+    d = pts.x1 - geom.origins[0]
+    r = np.hypot(d[:, 0], d[:, 1])
+    tangent = np.stack([-pts.n1[:, 1], pts.n1[:, 0]], axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = np.abs(np.einsum("qi,qi->q", d, tangent)) / r
+    return pts.weights * np.where(r > 0.0, cos, 1.0)

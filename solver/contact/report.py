@@ -24,7 +24,9 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
 
     s_plus, s_minus = c.geom.s_limits
     e = float(c.centre)
-    out_s = np.linspace(max(e - 1.25 * a, -s_minus), min(e + 1.25 * a, s_plus), 201) if a > 0 else np.zeros(1)
+    lo, hi = c.region_ends(a) if hasattr(c, "region_ends") else (e - a, e + a)
+    margin = 0.25 * a
+    out_s = np.linspace(max(lo - margin, -s_minus), min(hi + margin, s_plus), 201) if a > 0 else np.zeros(1)
     cell = _contact_cell(c)
     prof = recover_tractions(c, u, a, cell)
     friction = float(getattr(c.model, "friction", 0.0) or 0.0)
@@ -40,7 +42,7 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
         "half_width": float(a),
         "stick_half_width": float(min(c.stick(a), a)),
         "region_centre": e,
-        "region": [e - float(a), e + float(a)] if a > 0 else [0.0, 0.0],
+        "region": [float(lo), float(hi)] if a > 0 else [0.0, 0.0],
         "normal_force": float(-on2 @ nrm),
         "tangential_force": float(on2 @ tan),
         "pressure": {"s": out_s.tolist(), "value": prof.pressure(out_s).tolist()},

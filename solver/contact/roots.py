@@ -211,7 +211,8 @@ def settling_tolerance(options, h: float, final: bool) -> float:
     return (options.edge_tolerance if final else options.step_tolerance) * h
 
 
-def edge_search(a0: float, h: float, tol: float, a_max: float, step0: float | None = None):
+def edge_search(a0: float, h: float, tol: float, a_max: float, step0: float | None = None,
+                cap_is_end: bool = False):
     """Generator of trial half-widths for the root of the edge coefficient g(a) (> 0: a too
     small); receives the verdict of each trial, returns the width and the final bracket.
 
@@ -219,7 +220,9 @@ def edge_search(a0: float, h: float, tol: float, a_max: float, step0: float | No
     step until g decreases), or shrink by a doubling step, until g changes sign; then close the
     bracket to ``tol`` by the safeguarded secant of :class:`SecantBracket`. Without compression
     (g = -inf) the trial is treated as too large. ``step0``: the first step (default the larger
-    of a twentieth of a0 and half a cell; smaller where a0 is a close estimate)."""
+    of a twentieth of a0 and half a cell; smaller where a0 is a close estimate). ``cap_is_end``:
+    a_max is where the region must end (a corner of body 1: a complete contact), so a region
+    still too small there is the answer, not a failure."""
     step = max(0.05 * a0, 0.5 * h) if step0 is None else step0
     lo = hi = None
     glo = ghi = None
@@ -233,6 +236,8 @@ def edge_search(a0: float, h: float, tol: float, a_max: float, step0: float | No
             lo, glo = a, g
             if hi is None:
                 if a >= a_max:
+                    if cap_is_end:
+                        return a_max, (a_max, a_max)
                     raise RegionTooSmall()
                 a = _next_growing(a, step, seen, a_max, getattr(v, "overlap", math.nan))
         else:

@@ -912,7 +912,10 @@ def _contact_point_problems(spec: SceneSpec, problem: pb.Problem, label: str) ->
     """A ``point`` given for a contact must lie on (or within CONTACT_POINT_REACH cells of) both
     bodies' boundaries, where the bodies are closest (unchecked, a mistyped point inside a body,
     or one off the touching point, gave a converged zero force); given or found, it must not sit
-    at a corner of either body (the run needs an edge on each side of it)."""
+    at a corner of either body (the run needs the boundary to continue smoothly on each side of it),
+    unless that corner lies on a symmetry line (a sliding condition on one of its edges)."""
+    from ibfem.solver.contact.chain import contact_allowed_at_junction
+
     problems = []
     for k, (given, c) in enumerate(zip(spec.contacts, problem.contacts)):
         p = np.asarray(c.point, dtype=float)
@@ -925,12 +928,14 @@ def _contact_point_problems(spec: SceneSpec, problem: pb.Problem, label: str) ->
             body = problem.body(name)
             h = finest_size_at(body, p)
             distance, edge = corner_distance(body.profile, p)
-            if distance < h:
+            symmetry = {bc.edge for bc in problem.boundary_conditions if isinstance(bc, pb.Sliding) and bc.body == name}
+            if distance < h and not contact_allowed_at_junction(body.profile, p, symmetry):
                 where = (f"contacts[{k}].point = {_show(list(given.point))}" if given.point is not None else
                          f"contacts[{k}]: the closest points of the two bodies ({_show([round(float(x), 9) for x in p])})")
                 problems.append(f"{label}: {where}: at a corner of body {name!r} ({distance:.3g} from the end of its "
                                 f"edge {edge!r}, less than the finest cell there, {h:.3g}); the contact needs a point "
-                                "inside one edge of each body")
+                                "inside one edge of each body, at a tangent junction of two edges, or on a symmetry "
+                                "line (a corner with a sliding condition on one of its edges)")
                 break
     return problems
 

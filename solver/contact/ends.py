@@ -1,0 +1,120 @@
+"""The two ends of a 2D contact region: how the pressure behaves there, from its Chebyshev
+moments and the gap's shape.
+
+On a region e - a <= s <= e + a (x = (s - e) / a = cos(theta)) every pressure of a
+half-plane-like contact has the form p = Q(x) / (a sqrt(1 - x^2)), and Q(+-1) says what happens
+at each end: Q = 0 an incomplete end (the pressure vanishes like a square root: the region's
+consistent end on a smooth surface), Q > 0 a square-root singular end (the region is too small,
+or it ends at a corner of body 1: a complete contact, the punch's edge), Q < 0 tension (the
+region is too large). The Chebyshev coefficients of Q are moments of the pressure,
+
+    c_k = (2 / pi) int p T_k(x) ds,        Q = c_0 / 2 + c_1 T_1 + c_2 T_2 + ...
+
+an integral over the whole region (blind to the grid-periodic oscillation of the discrete
+traction, continuous in a). The degree-2 sum Q_2(+-1) = c_0/2 +- c_1 + c_2 is exact for a gap
+quadratic in s (Hertz, Mindlin). For any other gap (a rounded punch: flat, then arcs) the
+truncation errs by what the gap's own bounded pressure contributes, and that is known: with the
+half-plane relation int p(t) / (s - t) dt = (pi E* / 2) h'(s) (h the initial gap, E* the
+composite plane modulus; e.g. Johnson, Contact Mechanics, 1985, eq. 2.25; Barber, Contact
+Mechanics, 2018, ch. 8) and the finite Hilbert transform pair
+(1/pi) int sqrt(1 - t^2) U_(k-1)(t) / (x - t) dt = T_k(x), the bounded pressure of a gap with
+(E* / 2) h'(e + a x) = sum_k b_k T_k(x) is sqrt(1 - x^2) sum_k b_k U_(k-1)(x), whose moments give
+
+    Q_2(+1) = a (b_2 + b_3) / 2,     Q_2(-1) = a (b_3 - b_2) / 2
+
+although its Q(+-1) is zero. Subtracting them gives the end values for any gap shape:
+
+    Q(+-1) = c_0/2 +- c_1 + c_2 - a (b_3 +- b_2) / 2
+
+(checked against the rounded flat punch's closed form, which the degree-2 sum alone puts 8 to 14 %
+off in a). Near an end p ~ Q(+-1) / sqrt(2 a r) (r the distance from the end), so a complete
+end's stress intensity K = lim p sqrt(2 pi r) = Q(+-1) sqrt(pi / a) (Sadowsky's flat punch:
+Q = P / pi, K = P / sqrt(pi a)).
+
+A half model's region [0, a] on a symmetry line is the mirrored region [-a, a]: the pressure
+is even, the gap's slope odd.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["GAP_NODES", "EndValues", "chebyshev_ends", "gap_pressure", "gap_slope_coefficients", "mirrored"]
+
+#: Gauss-Chebyshev nodes for the gap's slope coefficients (even: no node at the centre); the
+#: gap's pressure shape (traction recovery) uses all of them, the end values b_2 and b_3
+GAP_NODES = 128
+_THETA = (np.arange(GAP_NODES) + 0.5) * np.pi / GAP_NODES
+_NODES = np.cos(_THETA)
+_COSINES = np.cos(np.outer(np.arange(GAP_NODES), _THETA))  # cos(k theta_j), the discrete cosine transform
+
+
+@dataclass
+class EndValues:
+    """Q at the region's two ends (upper x = +1, lower x = -1) and the mean c_0 / 2 (= the
+    force / pi); ``coefficient`` the edge coefficient of each end, Q / (c_0 / 2)."""
+
+    upper: float
+    lower: float
+    mean: float
+
+    def coefficient(self, which: int) -> float:
+        return (self.upper if which > 0 else self.lower) / self.mean
+
+    def edge(self) -> float:
+        """The two ends' mean edge coefficient (> 0: the region is too small)."""
+        return 0.5 * (self.upper + self.lower) / self.mean
+
+    def stress_intensity(self, which: int, a: float) -> float:
+        """K = Q sqrt(pi / a) of an end (Pa m^0.5)."""
+        return (self.upper if which > 0 else self.lower) * math.sqrt(math.pi / a)
+
+
+def mirrored(s: np.ndarray, weights: np.ndarray, p: np.ndarray, mirror: int):
+    """The points of a half model's region with their mirror images (s about 0): the full
+    region's quadrature."""
+    if not mirror:
+        return s, weights, p
+    return np.concatenate([s, -s]), np.concatenate([weights, weights]), np.concatenate([p, p])
+
+
+def gap_slope_coefficients(slope, e: float, a: float, e_star: float, mirror: int = 0) -> np.ndarray:
+    """b_k (k = 0 .. GAP_NODES - 1): the Chebyshev coefficients of (E*/2) h'(e + a x)
+    (``slope(s)`` = h'(s), vectorised) by Gauss-Chebyshev quadrature on GAP_NODES nodes.
+    ``mirror`` (+1 / -1): a half model's region on that side of s = 0, its slope extended as an
+    odd function."""
+    x = _NODES
+    if mirror:
+        hp = np.asarray(slope(mirror * a * np.abs(x)), dtype=float) * np.sign(x) * mirror
+    else:
+        hp = np.asarray(slope(e + a * x), dtype=float)
+    return 0.5 * e_star * (2.0 / GAP_NODES) * (_COSINES @ hp)
+
+
+def gap_pressure(b: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The half-plane pressure of the gap whose slope has the coefficients b (bounded at both
+    ends): sqrt(1 - x^2) sum_k b_k U_(k-1)(x) = sum_k b_k sin(k theta); zero for |x| >= 1."""
+    x = np.asarray(x, dtype=float)
+    theta = np.arccos(np.clip(x, -1.0, 1.0))
+    out = np.sin(np.outer(theta, np.arange(len(b)))) @ b
+    return np.where(np.abs(x) < 1.0, out, 0.0)
+
+
+def chebyshev_ends(x: np.ndarray, weights: np.ndarray, p: np.ndarray, a: float,
+                   gap: np.ndarray | None = None) -> EndValues | None:
+    """Q(+-1) of the pressure ``p`` at points x (in the region's units, -1..1) with weights ds;
+    ``gap`` = the b_k of the gap's slope (None: the degree-2 sum alone, exact for a quadratic gap).
+    None without compression."""
+    wp = weights * p
+    total = float(wp.sum())
+    if not total > 0.0:
+        return None
+    c0h = total / math.pi
+    c1 = 2.0 / math.pi * float(wp @ x)
+    c2 = 2.0 / math.pi * float(wp @ (2.0 * x * x - 1.0))
+    b2, b3 = (0.0, 0.0) if gap is None else (float(gap[2]), float(gap[3]))
+    return EndValues(upper=c0h + c1 + c2 - 0.5 * a * (b3 + b2), lower=c0h - c1 + c2 - 0.5 * a * (b3 - b2),
+                     mean=c0h)

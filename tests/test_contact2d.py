@@ -1,0 +1,211 @@
+"""2D contacts as CAD makes them: contact curves that are chains of edges (tangent junctions,
+corners, a full circle's seam), the two kinds of region ends (incomplete on a smooth surface,
+complete at a corner of body 1) and half models on a symmetry line.
+
+The references are closed forms (solver.reference.punch): the rounded flat punch of Ciavarella,
+Hills and Monno (1998) and Sadowsky's sharp flat punch. The FE runs here use coarse grids
+(finest cell b / 16 to b / 32) with tolerances to match; the validation grids are in
+tests/test_contact2d_validation.py (slow)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from numpy.polynomial.legendre import leggauss
+
+from ibfem.geometry.shapes import profile_from_shape
+from ibfem.solver.contact.chain import CORNER_ANGLE, contact_chain
+from ibfem.solver.contact.ends import chebyshev_ends, gap_pressure, gap_slope_coefficients
+from ibfem.solver.io.scene import SceneError, scene_from_dict
+from ibfem.solver.reference.punch import (flat_punch_pressure, flat_punch_stress_intensity, rounded_punch_half_width,
+                                          rounded_punch_load, rounded_punch_pressure)
+from ibfem.solver.solve import solve
+
+from _contact2d_scenes import E_STAR, EDGE_RADIUS, EDGE_TURN, HALF_FLAT, _punch_edges, pin_in_bore, punch_on_block
+
+B, R = HALF_FLAT, EDGE_RADIUS
+
+
+# ------------------------------------------------------------------ chains of edges
+
+
+def test_chain_joins_the_loop_and_finds_only_real_corners():
+    profile = profile_from_shape({"type": "profile", "edges": _punch_edges(B, R, 0.1, sharp=False)})
+    chain = contact_chain(profile, dict(profile.edges), "flat")
+    k = chain.middle
+    assert chain.names[k] == "flat" and len(chain.names) == 2 * 6 + 1
+    # continuous through every junction, and dX/dT is the edge's derivative times its span
+    for j in range(1, len(chain.names)):
+        left, right = chain.evaluate(np.array([j - 1e-12, j + 1e-12]))
+        assert np.hypot(*(left - right)) < 1e-9
+    t = np.array([0.3])
+    edge = chain.curves[k]
+    span = float(edge.t_end) - float(edge.t_start)
+    np.testing.assert_allclose(chain.derivative(k + t), np.asarray(edge.derivative(chain.local(k, k + t))) * span,
+                               rtol=1e-14)
+    # the flat -> arc -> flank junctions are tangent; the flank -> top junctions are convex corners
+    corners = {chain.edge_at(T - 0.5) + ">" + chain.edge_at(T + 0.5) for T in chain.corners()}
+    assert corners == {"flank_right>top", "top>flank_left"}
+    assert np.all(np.abs(chain.turns[np.abs(chain.turns) <= CORNER_ANGLE]) < 1e-12)
+    np.testing.assert_allclose(chain.turns[chain.turns > CORNER_ANGLE], math.radians(180.0 - EDGE_TURN), rtol=1e-12)
+
+
+def test_chain_of_a_full_circle_crosses_its_seam():
+    profile = profile_from_shape({"type": "profile", "edges": [
+        {"name": "rim", "type": "arc", "center": [0.0, 0.0], "radius": 0.5, "start_angle": -90.0, "end_angle": 270.0}]})
+    chain = contact_chain(profile, dict(profile.edges), "rim")
+    assert chain.names == ("rim",) * 3 and chain.corners().size == 0
+    # across the seam (T = 1, 2) the points run on around the circle
+    T = np.linspace(0.9, 2.1, 13)
+    x = chain.evaluate(T)
+    np.testing.assert_allclose(np.hypot(*x.T), 0.5, rtol=1e-14)
+    angle = np.unwrap(np.arctan2(x[:, 1], x[:, 0]))
+    np.testing.assert_allclose(np.diff(angle), 0.1 * 2 * math.pi, rtol=1e-12)
+
+
+# ------------------------------------------------------------------ the ends of a region
+
+
+def _gauss(lo, hi, pieces=400, order=8):
+    x, w = leggauss(order)
+    edges = np.linspace(lo, hi, pieces + 1)
+    mid, half = 0.5 * (edges[1:] + edges[:-1]), 0.5 * np.diff(edges)
+    return (mid[:, None] + half[:, None] * x).ravel(), (half[:, None] * w).ravel()
+
+
+def _cos_nodes(a, n=4000):
+    theta = (np.arange(n) + 0.5) * np.pi / n
+    return a * np.cos(theta), a * np.sin(theta) * np.pi / n  # Gauss-Chebyshev: exact for p sqrt(a^2 - s^2) smooth
+
+
+def test_end_values_of_hertz_and_sadowsky():
+    a, load = 0.02, 1.0e6
+    s, w = _cos_nodes(a)
+    hertz = 2 * load / (math.pi * a) * np.sqrt(1 - (s / a) ** 2)
+    v = chebyshev_ends(s / a, w, hertz, a)
+    assert abs(v.coefficient(1)) < 1e-12 and abs(v.coefficient(-1)) < 1e-12
+    v = chebyshev_ends(s / a, w, flat_punch_pressure(s, load, a), a)
+    assert v.upper == pytest.approx(load / math.pi, rel=1e-12)
+    assert v.stress_intensity(1, a) == pytest.approx(flat_punch_stress_intensity(load, a), rel=1e-12)
+
+
+@pytest.mark.parametrize("ratio", [1.1, 1.5, 3.0])
+def test_end_values_of_the_rounded_punch_need_the_gap_shape(ratio):
+    # at the closed form's own width both ends are incomplete (Q = 0); the degree-2 Chebyshev sum
+    # alone sees them as singular, the gap's truncation removed it does not
+    a = ratio * B
+    s, w = _cos_nodes(a)
+    p = rounded_punch_pressure(s, a, B, R, E_STAR)
+    slope = lambda x: np.sign(x) * np.maximum(np.abs(x) - B, 0.0) / R  # noqa: E731
+    gap = gap_slope_coefficients(slope, 0.0, a, E_STAR)
+    assert chebyshev_ends(s / a, w, p, a).coefficient(1) > 0.02
+    assert abs(chebyshev_ends(s / a, w, p, a, gap).coefficient(1)) < 5e-4  # GAP_NODES quadrature of the kinked slope
+    # the gap's own half-plane pressure is the closed form's (a series of GAP_NODES terms: RMS)
+    assert np.sqrt(np.average((gap_pressure(gap, s / a) - p) ** 2, weights=w)) < 3e-3 * p.max()
+
+
+# ------------------------------------------------------------------ the closed forms
+
+
+def test_rounded_punch_closed_form():
+    a = 1.5 * B
+    s, w = _gauss(-a, a)
+    p = rounded_punch_pressure(s, a, B, R, E_STAR)
+    assert w @ p == pytest.approx(rounded_punch_load(a, B, R, E_STAR), rel=1e-6)
+    assert rounded_punch_half_width(rounded_punch_load(a, B, R, E_STAR), B, R, E_STAR) == pytest.approx(a, rel=1e-12)
+    # its defining principal value: with t = a cos(u), PV int_0^pi du / (cos u - cos u0) = 0, so
+    # PV int h'(t) dt / (sqrt(a^2 - t^2) (t - x)) = int_0^pi (h'(a cos u) - h'(x)) / (a cos u - x) du
+    ub = math.acos(B / a)
+    u, wu = np.concatenate([_gauss(0, ub)[0], _gauss(ub, math.pi - ub)[0], _gauss(math.pi - ub, math.pi)[0]]), \
+        np.concatenate([_gauss(0, ub)[1], _gauss(ub, math.pi - ub)[1], _gauss(math.pi - ub, math.pi)[1]])
+    slope = lambda t: np.sign(t) * np.maximum(np.abs(t) - B, 0.0) / R  # noqa: E731
+    for x in (0.0, 0.3 * a, 0.8 * a):
+        t = a * np.cos(u)
+        pv = wu @ ((slope(t) - slope(x)) / (t - x))
+        assert rounded_punch_pressure(np.array([x]), a, B, R, E_STAR)[0] == pytest.approx(
+            E_STAR / (2 * math.pi) * math.sqrt(a * a - x * x) * pv, rel=1e-8)
+    # b -> 0: Hertz's cylinder
+    s = np.linspace(-0.9 * a, 0.9 * a, 7)
+    np.testing.assert_allclose(rounded_punch_pressure(s, a, 0.0, R, E_STAR),
+                               E_STAR / (2 * R) * np.sqrt(a * a - s * s), rtol=1e-12)
+
+
+# ------------------------------------------------------------------ coarse FE runs
+
+
+def _run(scene: dict):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no numpy warnings
+        sol = solve(scene_from_dict(scene).problem)
+    return sol, sol.contacts[0]
+
+
+def _rounded_check(c, factor, a_tol, rms_tol):
+    a_ref = rounded_punch_half_width(factor * c["normal_force"], B, R, E_STAR)
+    assert c["half_width"] == pytest.approx(a_ref, rel=a_tol)
+    s, p = np.array(c["pressure"]["s"]), np.array(c["pressure"]["value"])
+    inside = np.abs(s) < a_ref
+    ref = rounded_punch_pressure(np.abs(s), a_ref, B, R, E_STAR)
+    assert np.sqrt(np.mean((p - ref)[inside] ** 2)) < rms_tol * ref.max()
+
+
+def test_rounded_punch_region_crosses_the_tangent_junctions():
+    sol, c = _run(punch_on_block(8.1e-5, levels=6))  # a / b ~ 1.5, a / h ~ 24
+    assert sol.converged
+    assert 1.4 < c["half_width"] / B < 1.7  # the region reaches onto both rounded edges
+    assert [e["type"] for e in c["ends"]] == ["incomplete", "incomplete"]
+    _rounded_check(c, 1.0, 0.005, 0.03)
+
+
+def test_half_model_on_the_symmetry_line():
+    sol, c = _run(punch_on_block(8.1e-5, levels=6, half=True))
+    assert sol.converged
+    lo, hi = c["region"]
+    assert min(abs(lo), abs(hi)) == 0.0 and max(abs(lo), abs(hi)) == pytest.approx(c["half_width"])
+    assert sorted(e["type"] for e in c["ends"]) == ["incomplete", "symmetry"]
+    _rounded_check(c, 2.0, 0.005, 0.03)
+
+
+def test_half_model_needs_a_sliding_condition():
+    with pytest.raises(SceneError, match="symmetry line"):
+        scene_from_dict(punch_on_block(8.1e-5, levels=6, half=True, sliding=False))
+
+
+def test_sharp_punch_is_a_complete_contact():
+    sol, c = _run(punch_on_block(2e-4, levels=6, sharp=True, punch_modulus=100 * 2.0e11))
+    assert sol.converged
+    assert c["half_width"] == pytest.approx(B, rel=1e-12)
+    load = c["normal_force"]
+    for end in c["ends"]:
+        assert end["type"] == "complete"
+        assert end["stress_intensity"] == pytest.approx(flat_punch_stress_intensity(load, B), rel=0.06)
+    s, p = np.array(c["pressure"]["s"]), np.array(c["pressure"]["value"])
+    inner = np.abs(s) < 0.9 * B
+    assert np.abs(p - flat_punch_pressure(s, load, B))[inner].max() < 0.06 * load / (2 * B)
+
+
+def test_region_too_large_names_the_refinement_radius():
+    # the region (a ~ 0.015 m) does not fit in the candidate region of a 0.01 m refinement radius
+    with pytest.raises(ValueError, match="refinement radius"):
+        _run(punch_on_block(8.1e-5, levels=4, radius=0.01))
+
+
+# ------------------------------------------------------------------ the pin in a bore
+
+
+def test_pin_in_bore_reference():
+    from ibfem.solver.reference.pin import _dimensionless_load, pin_in_bore_angle, pin_in_bore_load
+
+    # small angles: Hertz's cylinder in a bore, P = pi E* dR alpha^2 / 4 (R* = R (R + dR) / dR)
+    assert _dimensionless_load(0.01) == pytest.approx(math.pi * 0.01**2 / 4, rel=1e-4)
+    # converged in the series' terms and harmonics, and monotone up to 1.3 rad
+    assert _dimensionless_load(1.3) == pytest.approx(_dimensionless_load(1.3, terms=20, harmonics=3000), rel=1e-6)
+    loads = [_dimensionless_load(t) for t in np.linspace(0.05, 1.3, 12)]
+    assert np.all(np.diff(loads) > 0)
+    assert pin_in_bore_angle(pin_in_bore_load(0.89, 5e-4, E_STAR), 5e-4, E_STAR) == pytest.approx(0.89, rel=1e-10)
+    # conformity stiffens the contact: at 0.55 rad Hertz's angle for Persson's load is 9 % larger
+    hertz = math.sqrt(4 * _dimensionless_load(0.55) / math.pi)
+    assert hertz / 0.55 == pytest.approx(1.0907, abs=5e-4)

@@ -1,0 +1,87 @@
+"""Validation of the 2D contacts CAD makes (slow: `make validate`, pytest -m slow), against
+closed forms on the grids of examples/contact2d (finest cell 0.04 / 2^7 = 3.1e-4 m):
+
+- the rounded flat punch (Ciavarella, Hills and Monno 1998; solver.reference.punch) for
+  a / b = 1.1, 1.5 and 3, turned by 20 degrees, and as a half model: a within 0.5 %, the
+  pressure within 2 % of its peak (RMS over the region);
+- the sharp flat punch 100 times stiffer than the block (Sadowsky; one level finer, 1.6e-4 m):
+  the pressure within 2 % of P / (2 b) on |x| < 0.9 b, each corner's stress intensity
+  P / sqrt(pi b) within 3 %;
+- the pin in a bore (Persson's problem, solver.reference.pin): the contact semi-angle within
+  0.5 % (reached up to about 0.7 rad; the larger angles are expected failures, see PIN_LOADS).
+
+The fast tests (tests/test_contact2d.py) run the same scenes on grids 2 to 4 times coarser."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ibfem.solver.io.scene import scene_from_dict
+from ibfem.solver.reference.punch import (flat_punch_pressure, flat_punch_stress_intensity, rounded_punch_half_width,
+                                          rounded_punch_pressure)
+from ibfem.solver.solve import solve
+
+from _contact2d_scenes import E_STAR, EDGE_RADIUS, HALF_FLAT, punch_on_block
+
+B, R = HALF_FLAT, EDGE_RADIUS
+
+#: approach of the punch for a / b ~ 1.1, 1.5 and 3 (radius: of the contact refinement)
+ROUNDED = {1.1: dict(approach=7e-6, radius=0.02), 1.5: dict(approach=8.5e-5), 3.0: dict(approach=7.8e-4)}
+
+
+def _rounded(c, factor):
+    a_ref = rounded_punch_half_width(factor * c["normal_force"], B, R, E_STAR)
+    s, p = np.array(c["pressure"]["s"]), np.array(c["pressure"]["value"])
+    inside = np.abs(s) < a_ref
+    ref = rounded_punch_pressure(np.abs(s), a_ref, B, R, E_STAR)
+    return c["half_width"] / a_ref - 1.0, float(np.sqrt(np.mean((p - ref)[inside] ** 2)) / ref.max())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("ratio,turn,half", [(1.1, 0.0, False), (1.5, 0.0, False), (3.0, 0.0, False),
+                                             (1.5, 20.0, False), (1.5, 0.0, True)])
+def test_rounded_flat_punch(ratio, turn, half):
+    sol = solve(scene_from_dict(punch_on_block(levels=7, turn=turn, half=half, **ROUNDED[ratio])).problem)
+    c = sol.contacts[0]
+    assert sol.converged
+    assert c["half_width"] / B == pytest.approx(ratio, rel=0.1)
+    error, rms = _rounded(c, 2.0 if half else 1.0)
+    assert abs(error) < 0.005 and rms < 0.02
+
+
+@pytest.mark.slow
+def test_sharp_flat_punch():
+    sol = solve(scene_from_dict(punch_on_block(2e-4, levels=8, sharp=True, punch_modulus=100 * 2.0e11)).problem)
+    c = sol.contacts[0]
+    assert sol.converged
+    load = c["normal_force"]
+    s, p = np.array(c["pressure"]["s"]), np.array(c["pressure"]["value"])
+    inner = np.abs(s) < 0.9 * B
+    assert np.abs(p - flat_punch_pressure(s, load, B))[inner].max() < 0.02 * load / (2 * B)
+    for end in c["ends"]:
+        assert end["type"] == "complete"
+        assert end["stress_intensity"] == pytest.approx(flat_punch_stress_intensity(load, B), rel=0.03)
+
+
+#: hub displacements of the pin for contact semi-angles of about 0.18, 0.35, 0.71, 0.99 and 1.21 rad;
+#: measured errors -0.33, -0.03, -0.24, -0.67 and -1.35 %: beyond about 0.9 rad the region is found
+#: too small (at 1.21 rad the final check reports penetration beyond its ends: not converged)
+_TOO_SMALL = pytest.mark.xfail(strict=True, reason="conformal contact beyond ~0.9 rad: region 0.7-1.4 % too small")
+PIN_LOADS = [3e-5, 1e-4, 4e-4, pytest.param(1e-3, marks=_TOO_SMALL), pytest.param(2.5e-3, marks=_TOO_SMALL)]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("displacement", PIN_LOADS)
+def test_pin_in_bore(displacement):
+    """Pin R = 0.5 m in a bore 0.5 mm larger, plate 40 R square, hub R / 12.5, finest cell 7.8e-3 m,
+    pairs along their own normals: the contact semi-angle within 0.5 % of Persson's problem's
+    solution (solver.reference.pin) for the computed load."""
+    from ibfem.solver.reference.pin import pin_in_bore_angle
+
+    from _contact2d_scenes import pin_in_bore
+
+    sol = solve(scene_from_dict(pin_in_bore(displacement, plate=20.0, element_size=0.5, levels=6, hub=0.04)).problem)
+    c = sol.contacts[0]
+    angle = 2.0 * np.arcsin(c["half_width"] / (2.0 * 0.5))
+    assert angle / pin_in_bore_angle(c["normal_force"], 5e-4, E_STAR) - 1.0 == pytest.approx(0.0, abs=0.005)
