@@ -17,6 +17,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .block_diagonal import BlockDiagonal, BlockFactor, uncoupled_groups
 from .dense import symmetric_from_lower
 
 __all__ = [
@@ -277,7 +278,7 @@ class SmallSystem:
             self._factor_active()
         else:
             self.active = None
-            self._factor(schur + kc.toarray(), symmetric)
+            self._factor(_dense(schur) + kc.toarray(), symmetric)
 
     def _factor(self, matrix: np.ndarray, symmetric: bool) -> None:
         if symmetric:
@@ -290,7 +291,7 @@ class SmallSystem:
 
     def _factor_active(self) -> None:
         a = self.active
-        g_aa = self.g[np.ix_(a, a)]
+        g_aa = self.g[np.ix_(a, a)] if isinstance(self.g, np.ndarray) else self.g.take(a, a)
         m = (self.kc_aa.T @ g_aa.T).T  # G_AA Kc_AA, dense
         del g_aa
         m[np.diag_indices_from(m)] += 1.0
@@ -307,7 +308,15 @@ class SmallSystem:
         a = self.active
         g_r = self.g @ rhs
         x_a = self._solve_factored(g_r[a])  # (I + G_AA Kc_AA) x_A = (G r)_A
-        return g_r - self.g[:, a] @ (self.kc_aa @ x_a)
+        y = self.kc_aa @ x_a
+        if isinstance(self.g, np.ndarray):
+            return g_r - self.g[:, a] @ y
+        return g_r - self.g @ scatter(len(rhs), a, y)
+
+
+def _dense(matrix) -> np.ndarray:
+    """A dense array of a matrix held as an array or as an operator with ``toarray``."""
+    return matrix if isinstance(matrix, np.ndarray) else matrix.toarray()
 
 
 def condensed_apply(lu, small: SmallSystem, schur, dofs, kc, r):
@@ -357,9 +366,41 @@ def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | No
     order with diagonal pivots, S from the trailing blocks of L and U), or "auto" (the default:
     the Cholesky from CHOLESKY_NONZEROS stored entries of K0 on when numba is available, else SuperLU; a zero pivot
     or a Schur complement that is not positive definite falls back to SuperLU, whose general
-    path handles what can be handled). A forced "cholesky" raises instead of falling back."""
-    n = k0.shape[0]
+    path handles what can be handled). A forced "cholesky" raises instead of falling back.
+
+    When K0 couples no two bodies that hold contact dofs (the usual case: the bodies meet only
+    through the contact), each such body is factored on its own with its contact dofs last, and
+    S and G are :class:`~solver.fem.block_diagonal.BlockDiagonal`: two blocks of (m/2)^2 entries
+    instead of m^2, a quarter of the dense work."""
+    groups = uncoupled_groups(k0, dofs)
+    if groups is None:
+        return _condensed_one(k0, dofs, order, _condensed_choice(k0.nnz))
+    return _condensed_blocks(k0, dofs, order, groups)
+
+
+def _condensed_blocks(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None, groups: np.ndarray):
+    """:func:`condensed_factor` of each uncoupled group of dofs on its own."""
     choice = _condensed_choice(k0.nnz)
+    k0 = k0.tocsr()
+    parts, factors, schurs, inverses, positions = [], [], [], [], []
+    for g in range(int(groups.max()) + 1):
+        idx = np.flatnonzero(groups == g)
+        local = np.full(k0.shape[0], -1, dtype=np.int64)
+        local[idx] = np.arange(len(idx))
+        pos = np.flatnonzero(groups[dofs] == g)
+        sub_order = None if order is None else local[order[groups[order] == g]]
+        factor, schur, inverse = _condensed_one(k0[idx][:, idx], local[dofs[pos]], sub_order, choice)
+        parts.append(idx)
+        factors.append(factor)
+        schurs.append(schur)
+        inverses.append(inverse)
+        positions.append(pos)
+    return BlockFactor(parts, factors), BlockDiagonal(schurs, positions), BlockDiagonal(inverses, positions)
+
+
+def _condensed_one(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None, choice: str):
+    """:func:`condensed_factor` of one block (factored as a whole)."""
+    n = k0.shape[0]
     contact = np.zeros(n, dtype=bool)
     contact[dofs] = True
     if order is None:
