@@ -22,9 +22,12 @@ import numpy as np
 
 __all__ = ["ProblemSize", "estimate_size", "available_memory"]
 
-#: bytes per dof measured (rounded up): 2D, 3D (the sparse part; a 3D contact's dense arrays are
-#: counted from its contact dofs)
+#: bytes per dof measured (rounded up): 2D, 3D without contact (AMG-CG solves)
 BYTES_PER_DOF = {2: 8_000, 3: 6_000}
+#: 3D contact, the sparse part: the direct factor of K0 with the contact dofs last and K0 itself
+#: (measured on the full crossed cylinders, 236k dofs: the bodies' factors 14 KB per dof without
+#: their dense roots); the dense arrays are counted from the contact dofs
+BYTES_PER_DOF_3D_CONTACT = 14_000
 #: free dofs per cell (3D: hanging and aggregated nodes carry none; measured 2.4-2.8 on octrees)
 DOFS_PER_CELL = {3: 2.7}
 #: a 3D contact's condensed dofs per body and finest cell face in its candidate disc (measured
@@ -142,16 +145,19 @@ def _estimate(problem) -> ProblemSize:
             body_cells = _sampled_body_cells(body, centres, lo, hi, rng)
         cells += body_cells
     dofs = DOFS_PER_CELL.get(dim, dim) * cells
-    memory = dofs * BYTES_PER_DOF[dim] + 200e6
     if dim == 3 and problem.contacts:
-        memory += _dense_contact_bytes(problem)
+        memory = dofs * BYTES_PER_DOF_3D_CONTACT + _dense_contact_bytes(problem) + 400e6
+    else:
+        memory = dofs * BYTES_PER_DOF[dim] + 200e6
     return ProblemSize(cells, dofs, memory)
 
 
 def _dense_contact_bytes(problem) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b (CONTACT_DOFS_PER_FACET
     per finest cell face the candidate disc covers) hold m_b^2 entries twice (the Schur
-    complement's factor and its inverse), and one more m_b^2 while the inverse is formed."""
+    complement's factor and its inverse), and while the last body is factored about three more
+    m_b^2 are work space (the update matrices of the root's children, the largest front below the
+    root, the copy the inverse is formed in; measured 1.7, 1.2 and 1 on the crossed cylinders)."""
     total = 0.0
     for c in problem.contacts:
         bodies = [b for b in problem.bodies if b.name in c.bodies]
@@ -160,7 +166,7 @@ def _dense_contact_bytes(problem) -> float:
                      for b in bodies)
         extent = c.options.extent_fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
         m_b = CONTACT_DOFS_PER_FACET * math.pi * extent**2 / h_fine**2
-        total += 8.0 * m_b**2 * (2 * len(bodies) + 1)
+        total += 8.0 * m_b**2 * (2 * len(bodies) + 3)
     return total
 
 
