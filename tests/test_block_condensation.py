@@ -78,3 +78,37 @@ def test_a_coupled_matrix_is_factored_as_a_whole():
     assert uncoupled_groups(coupled, dofs) is None
     # dofs in one body only: one group (the other body joins it)
     assert uncoupled_groups(k, dofs[dofs < n1]) is None
+
+
+def test_the_trailing_inverse_gives_every_entry_of_g(monkeypatch):
+    """Large blocks keep only the trailing part of G = S^-1 (the dofs nearest the contact
+    point, ordered last): its entries, those outside it, the products G x and the condensed
+    system must equal the dense inverse's."""
+    mf = pytest.importorskip("ibfem.solver.fem.multifrontal")
+    if not mf.available():
+        pytest.skip("the compiled kernels (numba) are not available")
+    monkeypatch.setenv("IBFEM_CONDENSED_FACTOR", "cholesky")
+    monkeypatch.setattr(linalg, "TRAILING_INVERSE_DOFS", 20)
+    k, dofs, n1 = two_bodies()
+    nearness = np.random.default_rng(6).standard_normal(len(dofs))
+    factor, schur, g = linalg.condensed_factor(k, dofs, linalg.metis_order(k, 3), nearness)
+    assert all(isinstance(b, mf.RootInverse) for b in g.blocks)
+    kd = k.toarray()
+    truth = np.linalg.inv(dense_schur(kd, np.setdiff1d(np.arange(k.shape[0]), dofs), dofs))
+    scale = np.abs(truth).max()
+    np.testing.assert_allclose(np.asarray(g), truth, rtol=0, atol=1e-10 * scale)
+    x = np.random.default_rng(7).standard_normal((len(dofs), 2))
+    np.testing.assert_allclose(g @ x[:, 0], truth @ x[:, 0], rtol=0, atol=1e-10 * np.abs(truth @ x[:, 0]).max())
+    np.testing.assert_allclose(g @ x, truth @ x, rtol=0, atol=1e-10 * np.abs(truth @ x).max())
+    near = np.argsort(nearness)[-12:]  # in the trailing blocks
+    far = np.argsort(nearness)[:5]
+    for rows, cols in ((near, near), (far, near), (np.concatenate([far, near]), far)):
+        np.testing.assert_allclose(g.take(rows, cols), truth[np.ix_(rows, cols)], rtol=0, atol=1e-10 * scale)
+    kc = np.zeros((len(dofs), len(dofs)))
+    block = np.random.default_rng(8).standard_normal((12, 12))
+    kc[np.ix_(near, near)] = 1e3 / scale * (block @ block.T)
+    r = np.random.default_rng(9).standard_normal(len(dofs))
+    exact = np.linalg.solve(np.linalg.inv(truth) + kc, r)
+    system = linalg.SmallSystem(schur, sp.csr_matrix(kc), True, g)
+    assert system.active is not None
+    np.testing.assert_allclose(system.solve(r), exact, rtol=0, atol=1e-9 * np.abs(exact).max())

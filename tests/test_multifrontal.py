@@ -273,9 +273,9 @@ def test_the_condensed_3d_stiffness_is_the_same_with_either_factorisation(monkey
     captured = {}
     original = driver.condensed_factor
 
-    def capture(k0, dofs, order=None):
+    def capture(k0, dofs, order=None, nearness=None):
         captured.update(k0=k0, dofs=dofs, order=order)
-        return original(k0, dofs, order)
+        return original(k0, dofs, order, nearness)
 
     monkeypatch.setattr(driver, "condensed_factor", capture)
     monkeypatch.setenv("IBFEM_CONDENSED_FACTOR", "superlu")

@@ -70,13 +70,15 @@ class BlockDiagonal:
         return out
 
     def take(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-        """The dense sub-matrix on ``rows`` x ``cols`` (zeros between blocks; dense blocks only)."""
+        """The dense sub-matrix on ``rows`` x ``cols`` (zeros between blocks; a block that is not
+        an array gives its entries by its own ``take``)."""
         out = np.zeros((len(rows), len(cols)))
         for k, block in enumerate(self.blocks):
             r = np.flatnonzero(self._block_of[rows] == k)
             c = np.flatnonzero(self._block_of[cols] == k)
             if len(r) and len(c):
-                out[np.ix_(r, c)] = block[np.ix_(self._local[rows[r]], self._local[cols[c]])]
+                lr, lc = self._local[rows[r]], self._local[cols[c]]
+                out[np.ix_(r, c)] = block[np.ix_(lr, lc)] if isinstance(block, np.ndarray) else block.take(lr, lc)
         return out
 
     def toarray(self) -> np.ndarray:

@@ -254,6 +254,70 @@ class RootSchur:
         return self.toarray()[key]
 
 
+class RootInverse:
+    """G = S^-1 of a root block (S = L D L^T) without forming all of it.
+
+    Products G x are solves with the block's factors (2 m^2 flops). Entries of G are read from
+    the trailing p x p block of G, formed once: L is lower triangular, so L^-1's trailing block is
+    the inverse of L's, and the trailing block of G = L^-T D^-1 L^-1 is (L_TT D_T L_TT^T)^-1,
+    LAPACK's potri on the trailing block of S's Cholesky factor ((2/3) p^3 flops and p^2 entries
+    instead of (2/3) m^3 and m^2). Entries outside it come from Y = L_QQ^-1 E (the trailing
+    block Q from the first index asked): G_uv = Y_u^T D^-1 Y_v. The contact drivers order the
+    condensed dofs nearest the contact point last, so a trial region's dofs fall in the trailing
+    block."""
+
+    def __init__(self, block: np.ndarray, trailing: int):
+        from scipy.linalg import lapack
+
+        m = len(block)
+        self.lower = block.T  # Fortran order: unit lower triangular L with D on its diagonal
+        self.d = np.diag(block).copy()
+        self.shape, self.ndim = block.shape, 2
+        self.start = m - int(min(max(trailing, 0), m))
+        w = np.tril(self.lower[self.start:, self.start:], -1)
+        w[np.diag_indices_from(w)] = 1.0
+        w *= np.sqrt(self.d[self.start:])[None, :]
+        inverse, info = lapack.dpotri(np.asfortranarray(w), lower=1, overwrite_c=1)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"the trailing block of the Schur complement is singular (LAPACK info {info})")
+        self.trailing = symmetric_from_lower(inverse)
+
+    def __matmul__(self, x: np.ndarray) -> np.ndarray:
+        from scipy.linalg import blas
+
+        x = np.asarray(x, dtype=np.float64)
+        if x.ndim == 1:
+            y = blas.dtrsv(self.lower, x, lower=1, trans=0, diag=1) / self.d
+            return blas.dtrsv(self.lower, y, lower=1, trans=1, diag=1, overwrite_x=1)
+        y = blas.dtrsm(1.0, self.lower, x, side=0, lower=1, trans_a=0, diag=1) / self.d[:, None]
+        return blas.dtrsm(1.0, self.lower, y, side=0, lower=1, trans_a=1, diag=1, overwrite_b=1)
+
+    def take(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+        """The dense sub-matrix G[rows][:, cols]."""
+        from scipy.linalg import blas
+
+        rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
+        if not len(rows) or not len(cols):
+            return np.zeros((len(rows), len(cols)))
+        q = int(min(rows.min(), cols.min()))
+        if q >= self.start:
+            return self.trailing[np.ix_(rows - self.start, cols - self.start)]
+        both, inverse = np.unique(np.concatenate([rows, cols]), return_inverse=True)
+        e = np.zeros((len(self.d) - q, len(both)), order="F")
+        e[both - q, np.arange(len(both))] = 1.0
+        y = blas.dtrsm(1.0, self.lower[q:, q:], e, side=0, lower=1, trans_a=0, diag=1, overwrite_b=1)
+        g = y.T @ (y / self.d[q:, None])
+        return g[np.ix_(inverse[:len(rows)], inverse[len(rows):])]
+
+    def toarray(self) -> np.ndarray:
+        every = np.arange(len(self.d))
+        return self.take(every, every)
+
+    def __array__(self, dtype=None, copy=None):
+        a = self.toarray()
+        return a if dtype is None else a.astype(dtype)
+
+
 def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
     """Entries of the update-matrix stack at its deepest: each supernode pushes its (rows x rows)
     update matrix after popping its children's (which are on top, in postorder)."""
@@ -265,7 +329,8 @@ def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
     return int(max(depth.max(initial=0), 0))
 
 
-def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False, guard=None):
+def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False, guard=None,
+                       trailing: int | None = None):
     """(factor, S, G) of K0 in the order ``order`` whose last m dofs are the condensed ones:
     S their Schur complement (a :class:`RootSchur` on the factor's root block: no m x m copy),
     G = S^-1 (LAPACK potri on S's Cholesky factor, the root block).
@@ -273,7 +338,9 @@ def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: boo
     (Nitsche and cut-cell terms make some 3D stiffness matrices indefinite), as in SuperLU's
     factorisation without pivoting; S itself must be positive definite. ``guard``: a context
     manager factory the factorisation runs in (the caller's one-BLAS-thread guard: its many
-    mid-size products gain nothing from threads), not potri (one large product)."""
+    mid-size products gain nothing from threads), not potri (one large product). ``trailing``: G
+    as a :class:`RootInverse` holding only its trailing ``trailing`` x ``trailing`` block (None:
+    all of G, dense)."""
     from scipy.linalg import lapack
 
     with guard() if guard is not None else contextlib.nullcontext():
@@ -281,6 +348,10 @@ def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: boo
     if m == 0:
         return factor, np.zeros((0, 0)), np.zeros((0, 0))
     schur = factor.schur_operator()
+    if trailing is not None and trailing < m:
+        if not np.all(schur.d > 0.0):
+            factor.root_factor()  # raises NotPositiveDefinite naming the dof
+        return factor, schur, RootInverse(factor._root_block(), trailing)
     inverse, info = lapack.dpotri(factor.root_factor(), lower=1, overwrite_c=1)
     if info != 0:
         raise NotPositiveDefinite(int(order[len(order) - m + max(info - 1, 0)]), len(order))
