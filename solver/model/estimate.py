@@ -154,10 +154,11 @@ def _estimate(problem) -> ProblemSize:
 
 def _dense_contact_bytes(problem) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b (CONTACT_DOFS_PER_FACET
-    per finest cell face the candidate disc covers) hold m_b^2 entries twice (the Schur
-    complement's factor and its inverse), and while the last body is factored about three more
-    m_b^2 are work space (the update matrices of the root's children, the largest front below the
-    root, the copy the inverse is formed in; measured 1.7, 1.2 and 1 on the crossed cylinders)."""
+    per finest cell face the candidate disc covers) hold m_b^2 entries in the root of the factor
+    and a quarter of that in the kept block of the inverse (all of it for blocks below 4000
+    dofs, where it is small), and while the last body is factored about
+    three more m_b^2 are work space (the factorisation's update-matrix stack and largest front:
+    measured 1.7 and 1.2 m_b^2 on the crossed cylinders)."""
     total = 0.0
     for c in problem.contacts:
         bodies = [b for b in problem.bodies if b.name in c.bodies]
@@ -166,7 +167,7 @@ def _dense_contact_bytes(problem) -> float:
                      for b in bodies)
         extent = c.options.extent_fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
         m_b = CONTACT_DOFS_PER_FACET * math.pi * extent**2 / h_fine**2
-        total += 8.0 * m_b**2 * (2 * len(bodies) + 3)
+        total += 8.0 * m_b**2 * (1.25 * len(bodies) + 3)
     return total
 
 
