@@ -42,7 +42,7 @@ CAPTURE = """
 import sys, numpy as np, scipy.sparse as sp
 import ibfem.solver.contact.driver as driver
 original = driver.condensed_factor
-def capture(k0, dofs, order=None):
+def capture(k0, dofs, order=None, nearness=None):
     sp.save_npz(sys.argv[2] + "/k0.npz", k0.tocsr())
     np.savez(sys.argv[2] + "/dofs.npz", dofs=dofs, order=order)
     raise SystemExit(0)

@@ -26,6 +26,7 @@ from ..fem.linalg import (
     SmallSystem,
     condensed_apply,
     condensed_factor,
+    contact_nearness,
     dof_order,
     embed,
     scatter,
@@ -158,7 +159,11 @@ class ContactDriver:
         self.dofs = np.unique(np.concatenate([c.dofs for c in self.contacts]))
         self.where = [np.searchsorted(self.dofs, c.dofs) for c in self.contacts]
         try:
-            self.lu, self.schur, self.g_inverse = condensed_factor(self.k0, self.dofs, dof_order(self.bodies, self.k0))
+            # the contact dofs nearest the contact points last: a trial region's dofs are then those
+            # of the trailing block of G = S^-1, the only part kept for large blocks
+            near = contact_nearness(self.bodies, self.dofs, [c.point for c in self.problem.contacts])
+            self.lu, self.schur, self.g_inverse = condensed_factor(self.k0, self.dofs, dof_order(self.bodies, self.k0),
+                                                                   near)
         except MemoryError:
             raise MemoryError(
                 f"the sparse direct factorisation of the {self.n} x {self.n} stiffness (with {len(self.dofs)} contact "

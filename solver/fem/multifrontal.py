@@ -101,9 +101,13 @@ class CholeskyFactor:
     Accounting: ``nnz`` (stored entries of L, explicit zeros of the amalgamated supernodes
     included), ``factor_bytes``, ``n_supernodes``, ``largest_front``, and the work space of
     the numeric phase: ``stack_bytes`` (update matrices), ``front_bytes`` (the largest front
-    that is not a root; roots are assembled in their factor blocks)."""
+    that is not a root; roots are assembled in their factor blocks).
 
-    def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True):
+    ``keep_schur=False``: S is not copied out of the root front (an m x m array less);
+    :meth:`schur_operator` applies it from the factor's root block instead."""
+
+    def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True,
+                 keep_schur: bool = True):
         if not sp.issparse(k):
             k = sp.csr_matrix(np.asarray(k, dtype=np.float64))
         n = k.shape[0]
@@ -118,7 +122,7 @@ class CholeskyFactor:
         kern = _kernels()
         self.order = self._postordered(k, order, kern)
         self._symbolic(k, kern)
-        self.schur = np.zeros((self.m, self.m))
+        self.schur = np.zeros((self.m, self.m) if keep_schur else (0, 0))
         self._numeric(kern)
 
     def _postordered(self, k, order, kern) -> np.ndarray:
@@ -188,11 +192,20 @@ class CholeskyFactor:
         out[self.order] = b
         return out.reshape(f.shape)
 
+    def _root_block(self) -> np.ndarray:
+        """The root supernode's m x m block of the factor (row k: D_k, then column k of L)."""
+        m = self.m
+        return self.factor[self.factor_ptr[-1] - m * m:].reshape(m, m)
+
+    def schur_operator(self) -> "RootSchur":
+        """S = L_cc D_c L_cc^T of the root block as an operator (no m x m copy)."""
+        return RootSchur(self._root_block())
+
     def root_factor(self) -> np.ndarray:
         """The Cholesky factor W = L sqrt(D) of the Schur complement (lower triangular, m x m,
         Fortran order) from the root block; NotPositiveDefinite when a pivot of D is not positive."""
         m = self.m
-        block = self.factor[self.factor_ptr[-1] - m * m:].reshape(m, m)  # row k: D_k, then column k of L
+        block = self._root_block()
         d = np.diag(block).copy()
         if m and not d.min() > 0.0:
             bad = int(np.flatnonzero(~(d > 0.0))[0])
@@ -201,6 +214,108 @@ class CholeskyFactor:
         w = block * root[:, None]
         w[np.diag_indices(m)] = root
         return w.T  # Fortran order
+
+
+class RootSchur:
+    """The Schur complement S = L D L^T held by a root block of the factor (``block[k, k]`` = D_k,
+    ``block[k, i]`` = L_ik below the diagonal): products S x by two triangular products
+    (2 m^2 flops, nothing m x m allocated); :meth:`toarray` forms it (the rare dense use)."""
+
+    def __init__(self, block: np.ndarray):
+        self.lower = block.T  # Fortran order: unit lower triangular L with D on its diagonal
+        self.d = np.diag(block).copy()
+        self.shape = block.shape
+        self.ndim = 2
+
+    def __matmul__(self, x: np.ndarray) -> np.ndarray:
+        from scipy.linalg import blas
+
+        x = np.asarray(x, dtype=np.float64)
+        if x.ndim == 1:
+            y = blas.dtrmv(self.lower, x, trans=1, lower=1, diag=1) * self.d
+            return blas.dtrmv(self.lower, y, trans=0, lower=1, diag=1, overwrite_x=1)
+        y = blas.dtrmm(1.0, self.lower, x, side=0, lower=1, trans_a=1, diag=1) * self.d[:, None]
+        return blas.dtrmm(1.0, self.lower, y, side=0, lower=1, trans_a=0, diag=1, overwrite_b=1)
+
+    def toarray(self) -> np.ndarray:
+        from scipy.linalg import blas
+
+        w = np.tril(self.lower, -1) + np.eye(len(self.d))
+        w *= np.sqrt(np.abs(self.d))[None, :]
+        if np.all(self.d > 0.0):
+            return symmetric_from_lower(blas.dsyrk(1.0, np.asfortranarray(w), lower=1))
+        return (w * np.sign(self.d)[None, :]) @ w.T
+
+    def __array__(self, dtype=None, copy=None):
+        a = self.toarray()
+        return a if dtype is None else a.astype(dtype)
+
+    def __getitem__(self, key):
+        return self.toarray()[key]
+
+
+class RootInverse:
+    """G = S^-1 of a root block (S = L D L^T) without forming all of it.
+
+    Products G x are solves with the block's factors (2 m^2 flops). Entries of G are read from
+    the trailing p x p block of G, formed once: L is lower triangular, so L^-1's trailing block is
+    the inverse of L's, and the trailing block of G = L^-T D^-1 L^-1 is (L_TT D_T L_TT^T)^-1,
+    LAPACK's potri on the trailing block of S's Cholesky factor ((2/3) p^3 flops and p^2 entries
+    instead of (2/3) m^3 and m^2). Entries outside it come from Y = L_QQ^-1 E (the trailing
+    block Q from the first index asked): G_uv = Y_u^T D^-1 Y_v. The contact drivers order the
+    condensed dofs nearest the contact point last, so a trial region's dofs fall in the trailing
+    block."""
+
+    def __init__(self, block: np.ndarray, trailing: int):
+        from scipy.linalg import lapack
+
+        m = len(block)
+        self.lower = block.T  # Fortran order: unit lower triangular L with D on its diagonal
+        self.d = np.diag(block).copy()
+        self.shape, self.ndim = block.shape, 2
+        self.start = m - int(min(max(trailing, 0), m))
+        w = np.tril(self.lower[self.start:, self.start:], -1)
+        w[np.diag_indices_from(w)] = 1.0
+        w *= np.sqrt(self.d[self.start:])[None, :]
+        inverse, info = lapack.dpotri(np.asfortranarray(w), lower=1, overwrite_c=1)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"the trailing block of the Schur complement is singular (LAPACK info {info})")
+        self.trailing = symmetric_from_lower(inverse)
+
+    def __matmul__(self, x: np.ndarray) -> np.ndarray:
+        from scipy.linalg import blas
+
+        x = np.asarray(x, dtype=np.float64)
+        if x.ndim == 1:
+            y = blas.dtrsv(self.lower, x, lower=1, trans=0, diag=1) / self.d
+            return blas.dtrsv(self.lower, y, lower=1, trans=1, diag=1, overwrite_x=1)
+        y = blas.dtrsm(1.0, self.lower, x, side=0, lower=1, trans_a=0, diag=1) / self.d[:, None]
+        return blas.dtrsm(1.0, self.lower, y, side=0, lower=1, trans_a=1, diag=1, overwrite_b=1)
+
+    def take(self, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+        """The dense sub-matrix G[rows][:, cols]."""
+        from scipy.linalg import blas
+
+        rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
+        if not len(rows) or not len(cols):
+            return np.zeros((len(rows), len(cols)))
+        q = int(min(rows.min(), cols.min()))
+        if q >= self.start:
+            return self.trailing[np.ix_(rows - self.start, cols - self.start)]
+        both, inverse = np.unique(np.concatenate([rows, cols]), return_inverse=True)
+        e = np.zeros((len(self.d) - q, len(both)), order="F")
+        e[both - q, np.arange(len(both))] = 1.0
+        y = blas.dtrsm(1.0, self.lower[q:, q:], e, side=0, lower=1, trans_a=0, diag=1, overwrite_b=1)
+        g = y.T @ (y / self.d[q:, None])
+        return g[np.ix_(inverse[:len(rows)], inverse[len(rows):])]
+
+    def toarray(self) -> np.ndarray:
+        every = np.arange(len(self.d))
+        return self.take(every, every)
+
+    def __array__(self, dtype=None, copy=None):
+        a = self.toarray()
+        return a if dtype is None else a.astype(dtype)
 
 
 def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
@@ -214,21 +329,29 @@ def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
     return int(max(depth.max(initial=0), 0))
 
 
-def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False, guard=None):
+def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False, guard=None,
+                       trailing: int | None = None):
     """(factor, S, G) of K0 in the order ``order`` whose last m dofs are the condensed ones:
-    S their Schur complement, G = S^-1 (LAPACK potri on S's Cholesky factor, the root block).
+    S their Schur complement (a :class:`RootSchur` on the factor's root block: no m x m copy),
+    G = S^-1 (LAPACK potri on S's Cholesky factor, the root block).
     ``definite=False`` (the condensed contact systems): K0's interior pivots may be negative
     (Nitsche and cut-cell terms make some 3D stiffness matrices indefinite), as in SuperLU's
     factorisation without pivoting; S itself must be positive definite. ``guard``: a context
     manager factory the factorisation runs in (the caller's one-BLAS-thread guard: its many
-    mid-size products gain nothing from threads), not potri (one large product)."""
+    mid-size products gain nothing from threads), not potri (one large product). ``trailing``: G
+    as a :class:`RootInverse` holding only its trailing ``trailing`` x ``trailing`` block (None:
+    all of G, dense)."""
     from scipy.linalg import lapack
 
     with guard() if guard is not None else contextlib.nullcontext():
-        factor = CholeskyFactor(k0, order, m, definite)
-    schur = factor.schur
+        factor = CholeskyFactor(k0, order, m, definite, keep_schur=False)
     if m == 0:
-        return factor, schur, np.zeros((0, 0))
+        return factor, np.zeros((0, 0)), np.zeros((0, 0))
+    schur = factor.schur_operator()
+    if trailing is not None and trailing < m:
+        if not np.all(schur.d > 0.0):
+            factor.root_factor()  # raises NotPositiveDefinite naming the dof
+        return factor, schur, RootInverse(factor._root_block(), trailing)
     inverse, info = lapack.dpotri(factor.root_factor(), lower=1, overwrite_c=1)
     if info != 0:
         raise NotPositiveDefinite(int(order[len(order) - m + max(info - 1, 0)]), len(order))

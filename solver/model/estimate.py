@@ -1,13 +1,17 @@
-"""Size of a problem before anything is built: cells, dofs and memory from
-the bodies' boxes, element sizes and refinement zones, so ``--check`` can refuse a grid that
-cannot fit in the machine and say how much it would need.
+"""Size of a problem before anything is built: cells, dofs and memory from the bodies' boxes,
+element sizes and refinement zones, so ``--check`` can refuse a grid that cannot fit in the
+machine and say how much it would need.
 
-Cells: the box's area (volume in 3D) over h0^d, plus per zone and level the disc (ball) of the
-level's reach over that level's cell size (the grids refine every cell of level l closer than
-R_l = radius + 2 sum of the finer sizes to the centre: solver.fem.grid.refinement_radii). Dofs:
-d per cell (one node per cell on a regular grid). Memory: measured per dof on this machine's
-runs (2D contact 68k dofs: 495 MB; 3D linear 880k dofs: 4.5 GB; 3D contact 32k dofs: 2.2 GB),
-rounded up."""
+Cells in 2D: the box's area over h0^2 filled by the body's share of it, plus per zone and level
+the disc of the level's reach over that level's cell size (the grids refine every cell of level
+l closer than R_l = radius + 2 sum of the finer sizes to the centre: solver.fem.grid.
+refinement_radii). Cells in 3D: the octree keeps only cells whose centre lies within their half
+diagonal of the part, whatever its orientation, so the estimate asks the part's signed distance
+the same question: at every level-0 centre of the box (or a sample of them), then per zone and
+level at SAMPLES points of the ball in which cells are split (the kept children less the split
+parents). Dofs: DOFS_PER_CELL per cell. Memory: measured bytes per dof for the sparse part, and
+for a 3D contact the dense arrays of its condensed dofs (the candidate disc's finest cell faces
+times CONTACT_DOFS_PER_FACET per body, each body's block held twice and formed once more)."""
 
 from __future__ import annotations
 
@@ -18,9 +22,21 @@ import numpy as np
 
 __all__ = ["ProblemSize", "estimate_size", "available_memory"]
 
-#: bytes per dof measured (rounded up): 2D, 3D without contact, 3D with contact
+#: bytes per dof measured (rounded up): 2D, 3D without contact (AMG-CG solves)
 BYTES_PER_DOF = {2: 8_000, 3: 6_000}
-BYTES_PER_DOF_3D_CONTACT = 70_000
+#: 3D contact, the sparse part: the direct factor of K0 with the contact dofs last and K0 itself
+#: (measured on the full crossed cylinders, 236k dofs: the bodies' factors 14 KB per dof without
+#: their dense roots); the dense arrays are counted from the contact dofs
+BYTES_PER_DOF_3D_CONTACT = 14_000
+#: free dofs per cell (3D: hanging and aggregated nodes carry none; measured 2.4-2.8 on octrees)
+DOFS_PER_CELL = {3: 2.7}
+#: a 3D contact's condensed dofs per body and finest cell face in its candidate disc (measured
+#: 2.8 node layers x 3 on the full crossed cylinders at 3 levels)
+CONTACT_DOFS_PER_FACET = 8.5
+#: points of the signed distance per level and body when counting a 3D body's kept cells
+SAMPLES = 2000
+#: bodies estimated above this many cells are not sampled (the box's fill by volume is used)
+SAMPLED_CELLS = 5e6
 #: the grading reach of a refinement level in cells (solver.fem.grid.GRADING_CELLS)
 GRADING_CELLS = 2
 
@@ -41,11 +57,66 @@ def _zone_cells(radius: float, levels: int, h0: float, dim: int, centre, lo, hi)
     total = 0.0
     centre = np.zeros(dim) if centre is None else np.asarray(centre, dtype=float)
     for lv in range(levels):
-        reach = radius + GRADING_CELLS * h[lv + 1:].sum() + h[lv]
+        reach = _reach(radius, h, lv)
         measure = math.pi * reach**2 if dim == 2 else 4.0 / 3.0 * math.pi * reach**3
         overlap = np.clip(np.minimum(centre + reach, hi) - np.maximum(centre - reach, lo), 0.0, None) / (2 * reach)
         total += float(np.prod(overlap)) * measure / h[lv + 1] ** dim * (1.0 - 0.5**dim) if measure else 0.0
     return total
+
+
+def _reach(radius: float, h: np.ndarray, lv: int) -> float:
+    """Distance from a zone's centre within which cells of level lv are split (their centres)."""
+    return radius + GRADING_CELLS * h[lv + 1:-1].sum() + h[lv]
+
+
+def _kept(phi, points: np.ndarray, size: float) -> np.ndarray:
+    """The grids' rule: a cell is kept unless its centre lies farther outside the body than its
+    half diagonal."""
+    return np.asarray(phi(points), dtype=float) > -0.5 * math.sqrt(3.0) * size
+
+
+def _sampled_body_cells(body, centres: list, lo: np.ndarray, hi: np.ndarray, rng) -> float:
+    """Cells of a 3D body's octree from its signed distance: the kept cells of level 0 (every
+    centre tested, or SAMPLES of them), then per refinement zone and level the kept children
+    less their kept parents, from SAMPLES points uniform in the zone's ball of that level."""
+    phi = body.profile.signed_distance
+    h0 = float(body.element_size)
+    shape = np.floor((hi - lo) / h0).astype(np.int64) + 1
+    total = float(np.prod(shape))
+    if total <= SAMPLES:
+        axes = [lo[k] + h0 * (np.arange(shape[k]) + 0.5) for k in range(3)]
+        pts = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+        cells = float(_kept(phi, pts, h0).sum())
+    else:
+        pts = lo + rng.random((SAMPLES, 3)) * shape * h0
+        cells = total * float(_kept(phi, pts, h0).mean())
+    corners = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], dtype=float)
+    for zone, centre in zip(body.refinements, centres):
+        h = h0 / 2.0 ** np.arange(int(zone.levels) + 1)
+        radius = float(zone.radius)
+        for lv in range(int(zone.levels)):
+            split_radius = radius + GRADING_CELLS * h[lv + 1:-1].sum()  # of the boxes (solver.fem.grid)
+            reach = split_radius + 0.5 * math.sqrt(3.0) * h[lv]  # of their centres
+            direction = rng.standard_normal((SAMPLES, 3))
+            direction /= np.linalg.norm(direction, axis=1)[:, None]
+            pts = centre + direction * (reach * rng.random(SAMPLES) ** (1.0 / 3.0))[:, None]
+            gap = np.maximum(np.abs(pts - centre) - 0.5 * h[lv], 0.0)
+            split = (np.sqrt((gap * gap).sum(axis=1)) < split_radius) & np.all((pts >= lo) & (pts <= hi + h0), axis=1)
+            split &= _kept(phi, pts, h[lv])
+            # two of each split cell's eight children, at random corners
+            corner = corners[rng.integers(0, 8, (int(split.sum()), 2))]
+            children = (pts[split][:, None, :] + 0.25 * h[lv] * corner).reshape(-1, 3)
+            new = 4.0 * float(_kept(phi, children, h[lv + 1]).sum()) - float(split.sum()) if split.any() else 0.0
+            cells += 4.0 / 3.0 * math.pi * reach**3 / h[lv] ** 3 * new / SAMPLES
+    return cells
+
+
+def _zone_centres(problem, body) -> list:
+    """Each refinement zone's centre: its own, else the point of a contact of the body (when the
+    scene gives one), else the origin."""
+    points = [c.point for c in problem.contacts if body.name in c.bodies and c.point is not None]
+    default = np.asarray(points[0], dtype=float) if points else np.zeros(problem.dim)
+    return [default if z.center is None else np.asarray(z.center, dtype=float) for z in body.refinements]
 
 
 def estimate_size(problem) -> ProblemSize:
@@ -58,6 +129,7 @@ def estimate_size(problem) -> ProblemSize:
 def _estimate(problem) -> ProblemSize:
     dim = problem.dim
     cells = 0.0
+    rng = np.random.default_rng(0)
     for body in problem.bodies:
         lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
         h0 = float(body.element_size)
@@ -65,12 +137,38 @@ def _estimate(problem) -> ProblemSize:
         measure = float(getattr(body.profile, "volume" if dim == 3 else "area", box) or box)
         fill = min(1.0, max(measure / box, 0.05)) if math.isfinite(measure) else 1.0
         per_axis = np.maximum(hi - lo, h0) / h0  # cells along each axis (inf for absurd sizes)
-        cells += fill * float(np.prod(per_axis)) + float(np.sum(per_axis + 1.0)) ** (dim - 1)  # inside + cut
-        for zone in body.refinements:
-            cells += _zone_cells(float(zone.radius), int(zone.levels), h0, dim, zone.center, lo, hi)
-    dofs = dim * cells
-    per_dof = BYTES_PER_DOF_3D_CONTACT if dim == 3 and problem.contacts else BYTES_PER_DOF[dim]
-    return ProblemSize(cells, dofs, dofs * per_dof + 200e6)
+        body_cells = fill * float(np.prod(per_axis)) + float(np.sum(per_axis + 1.0)) ** (dim - 1)  # inside + cut
+        centres = _zone_centres(problem, body)
+        for zone, centre in zip(body.refinements, centres):
+            body_cells += _zone_cells(float(zone.radius), int(zone.levels), h0, dim, centre, lo, hi)
+        if dim == 3 and body_cells <= SAMPLED_CELLS and hasattr(body.profile, "signed_distance"):
+            body_cells = _sampled_body_cells(body, centres, lo, hi, rng)
+        cells += body_cells
+    dofs = DOFS_PER_CELL.get(dim, dim) * cells
+    if dim == 3 and problem.contacts:
+        memory = dofs * BYTES_PER_DOF_3D_CONTACT + _dense_contact_bytes(problem) + 400e6
+    else:
+        memory = dofs * BYTES_PER_DOF[dim] + 200e6
+    return ProblemSize(cells, dofs, memory)
+
+
+def _dense_contact_bytes(problem) -> float:
+    """The dense arrays of a 3D contact: per body, its contact dofs m_b (CONTACT_DOFS_PER_FACET
+    per finest cell face the candidate disc covers) hold m_b^2 entries in the root of the factor
+    and a quarter of that in the kept block of the inverse (all of it for blocks below 4000
+    dofs, where it is small), and while the last body is factored about
+    three more m_b^2 are work space (the factorisation's update-matrix stack and largest front:
+    measured 1.7 and 1.2 m_b^2 on the crossed cylinders)."""
+    total = 0.0
+    for c in problem.contacts:
+        bodies = [b for b in problem.bodies if b.name in c.bodies]
+        radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
+        h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
+                     for b in bodies)
+        extent = c.options.extent_fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
+        m_b = CONTACT_DOFS_PER_FACET * math.pi * extent**2 / h_fine**2
+        total += 8.0 * m_b**2 * (1.25 * len(bodies) + 3)
+    return total
 
 
 def available_memory() -> float:

@@ -1,0 +1,114 @@
+"""3D contact at scale: the full-model scenes of examples/solid/full (a ball on a block with
+friction, the same pair turned with an aluminium ball, crossed cylinders), each solved in its own
+process: wall and CPU time, peak memory (``/usr/bin/time``), dofs, contact dofs, the driver's
+stage times, and the answer against theory: the semi-axes a, b against Hertz for the computed
+normal force (Johnson 1985 sections 4.2 and 4.2.2, solver.reference.theory) and the stick ratio
+c/a against Mindlin's (1 - Q / (mu N))^(1/3) (Johnson section 7.2).
+
+``--levels L`` solves every scene with L refinement levels instead of the scene's own (a smaller
+rung of the same scene: the acceptance targets are for the scenes as written).
+
+    python benchmarks/full_3d.py [--scenes ball_on_block crossed_cylinders ...] [--levels 3]
+
+Prints a table and writes benchmarks/results/full_3d.json (or --out)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+SCENES = ("ball_on_block", "ball_on_block_turned", "crossed_cylinders")
+
+CHILD = r"""
+import json, math, sys, time, tomllib
+import numpy as np
+from ibfem.solver.io.scene import load_scene
+from ibfem.solver.model.estimate import estimate_size
+from ibfem.solver.solve import solve
+from ibfem.solver.reference import theory
+path, levels = sys.argv[1], int(sys.argv[2])
+d = tomllib.load(open(path, "rb"))
+d["output"] = {"vtk": False, "plots": False}
+if levels >= 0:
+    for b in d["bodies"]:
+        for zone in b.get("refinement", []):
+            zone["levels"] = levels
+scene = load_scene(d, label=path, base_dir=str(__import__("pathlib").Path(path).parent))
+problem = scene.problem
+estimate = estimate_size(problem)
+t, c = time.perf_counter(), time.process_time()
+sol = solve(problem)
+wall, cpu = time.perf_counter() - t, time.process_time() - c
+block = sol.contacts[0]
+n = float(block["normal_force"])
+a, b = (float(v) for v in block["semi_axes"])
+mats = {m["name"]: m for m in d["materials"]}
+e = [(mats[x["material"]]["youngs_modulus"], mats[x["material"]]["poissons_ratio"]) for x in d["bodies"]]
+e_star = theory.effective_modulus(e[0][0], e[0][1], e[1][0], e[1][1])
+shapes = [x["shape"] for x in d["bodies"]]
+if shapes[0]["type"] == "half_cylinder":
+    radii = sorted(s["radius"] for s in shapes)
+    a_h, b_h, _ = theory.hertz_elliptic_contact(n, (1.0 / radii[1], 1.0 / radii[0]), e_star)
+else:
+    a_h = b_h = theory.hertz_sphere_radius(n, shapes[0]["radius"], e_star)
+row = dict(scene=path, levels=levels, dofs=int(sum(v["dofs"] for v in sol.body_info.values())),
+           estimated_dofs=float(estimate.dofs), estimated_memory_gb=float(estimate.memory) / 2**30,
+           contact_dofs=int(sol.iterations["contact_dofs"]), converged=bool(sol.converged),
+           iterations=int(sol.iterations["total"]), wall_s=wall, cpu_s=cpu, timings=sol.timings,
+           normal_force=n, a=a, b=b, hertz_a=a_h, hertz_b=b_h, a_error=a / a_h - 1.0, b_error=b / b_h - 1.0)
+friction = d["contacts"][0].get("friction")
+if friction:
+    q = float(np.linalg.norm(block["tangential_force"]))
+    stick = block.get("stick_semi_axes") or [0.0, 0.0]
+    row.update(tangential_force=q, stick_ratio=float(stick[0]) / a,
+               mindlin_stick_ratio=float(theory.mindlin_sphere_stick_ratio(q, n, friction)))
+print("RESULT " + json.dumps(row))
+"""
+
+
+def run(scene: Path, levels: int) -> dict:
+    cmd = ["/usr/bin/time", "-f", "TIME %e %U %S %M", sys.executable, "-c", CHILD, str(scene), str(levels)]
+    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    lines = (done.stdout + done.stderr).splitlines()
+    result = next((ln for ln in lines if ln.startswith("RESULT ")), None)
+    if done.returncode != 0 or result is None:
+        sys.stderr.write(done.stderr[-3000:])
+        return {"scene": str(scene), "levels": levels, "failed": True}
+    row = json.loads(result[len("RESULT "):])
+    wall, user, system, peak_kb = next(ln for ln in lines if ln.startswith("TIME ")).split()[1:]
+    row.update(process_wall_s=float(wall), process_cpu_s=float(user) + float(system), peak_gb=float(peak_kb) / 2**20)
+    return row
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scenes", nargs="+", default=list(SCENES), choices=SCENES)
+    ap.add_argument("--levels", type=int, default=-1, help="refinement levels of every zone (default: the scene's)")
+    ap.add_argument("--out", type=Path, default=HERE / "results" / "full_3d.json")
+    args = ap.parse_args(argv)
+    rows = []
+    print(f"{'scene':22} {'dofs':>8} {'est':>8} {'m':>6} {'wall s':>7} {'cpu s':>7} {'GB':>5} {'est GB':>6} "
+          f"{'a err':>7} {'b err':>7} {'c/a':>6} {'Mindlin':>7}")
+    for name in args.scenes:
+        row = run(ROOT / "examples" / "solid" / "full" / f"{name}.toml", args.levels)
+        rows.append(row)
+        if row.get("failed"):
+            print(f"{name:22} failed")
+            continue
+        stick = f"{row['stick_ratio']:6.3f} {row['mindlin_stick_ratio']:7.3f}" if "stick_ratio" in row else f"{'-':>6} {'-':>7}"
+        print(f"{name:22} {row['dofs']:8d} {row['estimated_dofs']:8.0f} {row['contact_dofs']:6d} {row['process_wall_s']:7.1f} "
+              f"{row['process_cpu_s']:7.1f} {row['peak_gb']:5.2f} {row['estimated_memory_gb']:6.2f} "
+              f"{100 * row['a_error']:6.2f}% {100 * row['b_error']:6.2f}% {stick}"
+              + ("" if row["converged"] else "  NOT CONVERGED"), flush=True)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(rows, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))
