@@ -119,21 +119,33 @@ def test_vtu_files_hold_the_field(tmp_path):
     pv = pytest.importorskip("pyvista")
     problem = make_problem()
     summary = output.write_results(tmp_path, problem, make_solution(), vtk=True)
-    assert summary["files"] == ["lower.vtu", "upper.vtu"]
+    assert summary["files"] == ["lower.vtu", "result.vtm", "upper.vtu"]
     for body in (UPPER, LOWER):
         grid = pv.read(tmp_path / f"{body.name}.vtu")
         assert grid.n_cells == 8 and grid.n_points == 15
         pts = np.asarray(grid.points)[:, :2]
         assert np.allclose(np.asarray(grid.point_data["displacement"])[:, :2], body.displacement(pts), rtol=1e-14)
         assert np.allclose(np.asarray(grid.point_data["displacement"])[:, 2], 0.0)
+        # point stress: the field at the points, in VTK's tensor order with szz = nu (sxx + syy)
+        expected = plane_strain_stress(body.strain(pts))
+        tensor = np.asarray(grid.point_data["stress"])
+        assert np.allclose(tensor[:, [0, 1, 3]], expected, rtol=1e-12)
+        assert np.allclose(tensor[:, 2], NU * (expected[:, 0] + expected[:, 1]), rtol=1e-12)
+        assert np.allclose(tensor[:, [4, 5]], 0.0)
+        assert np.allclose(grid.point_data["von_mises"], [vm_reference(s) for s in expected], rtol=1e-12)
+        # principal stresses are the tensor's eigenvalues: their sum is its trace
+        principal = np.asarray(grid.point_data["principal_stress"])
+        assert np.all(np.diff(principal, axis=1) <= 1e-6 * np.abs(principal).max())
+        assert np.allclose(principal.sum(axis=1), tensor[:, :3].sum(axis=1), rtol=1e-10)
         centres = np.asarray(grid.cell_centers().points)[:, :2]
-        expected = plane_strain_stress(body.strain(centres))
-        assert np.allclose(np.asarray(grid.cell_data["stress"]), expected, rtol=1e-12)
-        assert np.allclose(np.asarray(grid.cell_data["syy"]), expected[:, 1], rtol=1e-12)
-        assert np.allclose(grid.cell_data["von_mises"], [vm_reference(s) for s in expected], rtol=1e-12)
+        raw = plane_strain_stress(body.strain(centres))
+        assert np.allclose(np.asarray(grid.cell_data["cell_stress"])[:, [0, 1, 3]], raw, rtol=1e-12)
+        assert np.allclose(grid.cell_data["cell_von_mises"], [vm_reference(s) for s in raw], rtol=1e-12)
         # the cells tile the body: total area = the rectangle's
         areas = grid.compute_cell_sizes(length=False, volume=False)["Area"]
         assert np.sum(areas) == pytest.approx((body.hi[0] - body.lo[0]) * (body.hi[1] - body.lo[1]))
+    index = pv.read(tmp_path / "result.vtm")
+    assert index.n_blocks == 2
 
 
 def test_plots_are_png_images(tmp_path):

@@ -1,5 +1,6 @@
-"""Writing a run's results: ``summary.json`` (solver.io.results), one VTU file per body and the
-PNG pictures (solver.io.plots) the scene's ``[output]`` asks for."""
+"""Writing a run's results: ``summary.json`` (solver.io.results), the VTK files of the bodies
+and contact regions (solver.io.vtu) and the PNG pictures (solver.io.plots) the scene's
+``[output]`` asks for."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ from typing import Any, Iterable, Mapping
 
 from ibfem.solver.model import problem as pb
 
-from .results import build_summary, write_summary, write_vtu
+from .results import build_summary, json_safe, write_summary
+from .vtu import write_vtk_files
 
 __all__ = ["write_results", "write_scene_results"]
 
@@ -32,11 +34,8 @@ def write_results(
     files: list[Path] = []
     missing: list[str] = []
     # a missing optional library costs its files, not the summary
-    if vtk:
-        try:
-            files += write_vtu(out_dir, problem, solution)
-        except ImportError as err:
-            missing.append(f"VTU files not written: pyvista is not installed ({err}); pip install 'ibfem[pictures]'")
+    if vtk:  # VTK's XML format written directly: no optional library needed
+        files += write_vtk_files(out_dir, problem, solution, json_safe(summary))
     if plots:
         try:
             from .plots import write_plots

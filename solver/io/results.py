@@ -1,8 +1,6 @@
-"""Result files of a run (SPEC section 4): ``summary.json``, one VTU file per body and PNG
-plots. Everything here relies only on the :class:`solver.model.problem.Solution` protocol.
-
-``pyvista`` and ``matplotlib`` are imported only when their files are written.
-"""
+"""``summary.json`` of a run: the document, its probes and lines sampled from the solution,
+JSON-safe values and the atomic writer. Everything here relies only on the
+:class:`solver.model.problem.Solution` protocol."""
 
 from __future__ import annotations
 
@@ -25,7 +23,6 @@ __all__ = [
     "build_summary",
     "json_safe",
     "write_summary",
-    "write_vtu",
 ]
 
 
@@ -256,37 +253,3 @@ def _body_mesh(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) -
     fraction = np.asarray(m.get("cell_inside_fraction", np.ones(len(cells))), dtype=float).reshape(-1)
     vm = von_mises(stress, problem.model, body.material.poissons_ratio)
     return {"nodes": nodes, "cells": cells, "displacement": disp, "stress": stress, "fraction": fraction, "von_mises": vm}
-
-
-def write_vtu(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
-    """One ``<body>.vtu`` per body: quadrilateral cells (z = 0) in 2D, hexahedra in 3D, with point
-    data ``displacement`` (3 components, z = 0 in 2D, so viewers can warp by it) and cell data
-    ``stress`` (Voigt: [sxx, syy, sxy] in 2D, [sxx, syy, szz, syz, sxz, sxy] in 3D), one array per
-    component, ``von_mises`` and ``inside_fraction`` (the part of a cut cell inside the body)."""
-    import pyvista as pv
-
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    written = []
-    three_d = problem.dim == 3
-    names = ("sxx", "syy", "szz", "syz", "sxz", "sxy") if three_d else ("sxx", "syy", "sxy")
-    for body in problem.bodies:
-        m = _body_mesh(problem, solution, body)
-        points, disp = m["nodes"], m["displacement"]
-        if not three_d:
-            points = np.column_stack([points, np.zeros(len(points))])
-            disp = np.column_stack([disp, np.zeros(len(points))])
-        corners = m["cells"].shape[1]
-        cells = np.column_stack([np.full(len(m["cells"]), corners, dtype=np.int64), m["cells"]]).ravel()
-        kind = pv.CellType.HEXAHEDRON if three_d else pv.CellType.QUAD  # both in solver.fem's corner order
-        grid = pv.UnstructuredGrid(cells, np.full(len(m["cells"]), kind, dtype=np.uint8), points)
-        grid.point_data["displacement"] = disp
-        grid.cell_data["stress"] = m["stress"]
-        for k, name in enumerate(names):
-            grid.cell_data[name] = m["stress"][:, k]
-        grid.cell_data["von_mises"] = m["von_mises"]
-        grid.cell_data["inside_fraction"] = m["fraction"]
-        path = out_dir / f"{_file_stem(body.name)}.vtu"
-        grid.save(str(path))
-        written.append(path)
-    return written
