@@ -130,22 +130,8 @@ def _run(args: argparse.Namespace) -> int:
         f"{scene.name}: converged in {iterations} iterations, {summary['timings']['total_s']:.2f} s; "
         f"results in {out}/"
     )
+    from ibfem.solver.io.result_line import contact_line
+
     for c in summary["contacts"]:
-        print("  contact " + " / ".join(c.get("bodies") or []) + ": " + _contact_line(c))
+        print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
     return 0
-
-
-def _contact_line(c: dict) -> str:
-    def num(key: str, unit: str) -> str:
-        v = c.get(key)
-        return f"{key} = {float(v):.6g} {unit}" if isinstance(v, (int, float)) and v == v else f"{key} = n/a"
-
-    if "semi_axes" in c:  # a contact between solids (SPEC section 7): forces in N
-        def pair(key: str) -> str:
-            v = c.get(key) or []
-            return f"{key} = [" + ", ".join(f"{float(x):.6g}" for x in v) + "]"
-
-        return ", ".join([pair("semi_axes") + " m", pair("stick_semi_axes") + " m", num("normal_force", "N"),
-                          pair("tangential_force") + " N"])
-    return ", ".join([num("half_width", "m"), num("stick_half_width", "m"), num("normal_force", "N/m"),
-                      num("tangential_force", "N/m")])

@@ -55,7 +55,15 @@ def test_summary_has_exactly_the_spec_keys_and_values(tmp_path):
     data = json.loads((tmp_path / "summary.json").read_text())
     spec_keys = {"name", "converged", "model", "bodies", "reactions", "contacts", "probes", "lines", "iterations", "timings"}
     assert spec_keys <= set(data)
-    assert set(data) - spec_keys == {"files"}  # the one documented extension at top level
+    # the documented extensions at top level: the files written, the version, the time, the units
+    assert set(data) - spec_keys == {"files", "ibfem_version", "created", "units"}
+    from importlib import metadata
+    from datetime import datetime, timezone
+
+    assert data["ibfem_version"] == metadata.version("ibfem")
+    created = datetime.fromisoformat(data["created"])
+    assert created.tzinfo is not None and abs((datetime.now(timezone.utc) - created).total_seconds()) < 600
+    assert data["units"]["force"] == "N/m" and data["units"]["stress"] == "Pa" and data["units"]["length"] == "m"
     assert data == json.loads(json.dumps(results.json_safe(written)))
     assert data["name"] == "two blocks" and data["converged"] is True and data["model"] == "plane_strain"
     assert data["bodies"]["upper"] == {"elements": 8, "dofs": 30, "element_size": 0.25, "min_element_size": 0.125}
@@ -177,3 +185,33 @@ def test_contact_blocks_get_every_spec_key_in_order(tmp_path):
     assert c["tangent"] == [-0.8, 0.6]  # SPEC: tangent = (-n_y, n_x)
     assert c["half_width"] is None and c["pressure"] == {"s": [], "value": []}
     assert c["normal_force"] == 5.0 and c["width_iterations"] == 4
+
+
+def test_contact_blocks_hold_only_the_keys_of_their_type(tmp_path):
+    problem = make_problem()
+    block = {"normal": [0.0, 1.0], "normal_force": 5.0, "half_width": 0.01, "stick_half_width": 0.0,
+             "tangential_force": 0.0, "model_share": 0.5,
+             "checks": {"tension": False, "tension_points": 4, "min_pressure": -2.0}}
+    for kind, absent in (("frictionless", {"friction", "stick_half_width", "tangential_force", "shear"}),
+                         ("tied", {"friction", "stick_half_width"}), ("frictional", set())):
+        contacts = (pb.ContactModel(bodies=("upper", "lower"), type=kind, friction=0.3 if kind == "frictional" else None),)
+        p = pb.Problem(name="p", model="plane_strain", thickness=1.0, bodies=problem.bodies, contacts=contacts)
+        output.write_results(tmp_path, p, make_solution(contacts=[dict(block)]), vtk=False)
+        (c,) = json.loads((tmp_path / "summary.json").read_text())["contacts"]
+        assert absent.isdisjoint(c) and {"half_width", "normal_force", "pressure"} <= set(c)
+        assert c["full_contact"] == {"model_share": 0.5, "normal_force": 10.0}  # a half model carries half
+        assert c["checks"] == {"tension_at_region_edges": False, "tensile_samples_inside_region": 4,
+                               "smallest_pressure_inside_region": -2.0}
+
+
+def test_the_result_line_names_the_models_share_and_the_full_force():
+    from ibfem.solver.io.result_line import contact_line
+
+    quarter = {"bodies": ["ball", "block"], "type": "frictionless", "semi_axes": [0.04, 0.04], "normal_force": 3.42e6,
+               "model_share": 0.25, "full_contact": {"model_share": 0.25, "normal_force": 1.368e7}}
+    line = contact_line(quarter)
+    assert "normal_force (quarter model) = 3.42e+06 N; full contact 1.368e+07 N" in line
+    assert "stick" not in line and "tangential" not in line
+    frictional = {"half_width": 0.01, "stick_half_width": 0.007, "normal_force": 2.0, "tangential_force": 0.1}
+    assert contact_line(frictional) == ("half_width = 0.01 m, stick_half_width = 0.007 m, normal_force = 2 N/m, "
+                                        "tangential_force = 0.1 N/m")

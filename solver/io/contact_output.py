@@ -115,8 +115,11 @@ def region_polydata(c: Mapping[str, Any], dim: int, signed_distance=None) -> dic
     local = np.column_stack([centre[0] + half[0] * X, centre[1] + half[1] * Y])
     x = point + local @ axes
     polys = _polar_triangles(RINGS, SPOKES)
-    stuck = (X * half[0] / max(stick[0], 1e-300)) ** 2 + (Y * half[1] / max(stick[1], 1e-300)) ** 2 <= 1.0
-    data = {"pressure": _ellipse_pressure(c, X, Y), "stick": (stuck & np.all(stick > 0)).astype(np.uint8)}
+    if np.all(stick > 0):
+        stuck = (X * half[0] / stick[0]) ** 2 + (Y * half[1] / stick[1]) ** 2 <= 1.0
+    else:
+        stuck = np.zeros(len(X), dtype=bool)
+    data = {"pressure": _ellipse_pressure(c, X, Y), "stick": stuck.astype(np.uint8)}
     return {"points": _onto_surface(x, normal, signed_distance), "polys": polys, "point_data": data}
 
 

@@ -4,6 +4,7 @@ and contact regions (solver.io.vtu) and the PNG pictures (solver.io.plots) the s
 
 from __future__ import annotations
 
+import hashlib
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
@@ -31,6 +32,9 @@ def write_results(
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     summary = build_summary(problem, solution, probes, lines, total_s=total_s, extra=extra)
+    scene = Path(str(summary.get("scene") or ""))
+    if summary.get("scene") and scene.is_file():  # the scene file's fingerprint, to tell runs apart
+        summary["scene_sha256"] = hashlib.sha256(scene.read_bytes()).hexdigest()
     files: list[Path] = []
     missing: list[str] = []
     # a missing optional library costs its files, not the summary

@@ -8,6 +8,8 @@ import json
 import math
 import os
 import re
+from datetime import datetime, timezone
+from importlib import metadata
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
@@ -116,6 +118,19 @@ def _timings_block(solver_timings: Mapping[str, float], total_s: float | None) -
     return timings
 
 
+def _version() -> str:
+    try:
+        return metadata.version("ibfem")
+    except metadata.PackageNotFoundError:  # a source tree that was never installed
+        return "unknown"
+
+
+def units(dim: int) -> dict[str, str]:
+    """The units of the summary's numbers: SI throughout; in 2D forces are per unit thickness."""
+    return {"length": "m", "displacement": "m", "stress": "Pa", "pressure": "Pa", "traction": "Pa",
+            "force": "N" if dim == 3 else "N/m", "area": "m^2" if dim == 3 else "m", "time": "s"}
+
+
 def build_summary(
     problem: pb.Problem,
     solution: pb.Solution,
@@ -151,6 +166,9 @@ def build_summary(
         "name": problem.name,
         "converged": bool(solution.converged),
         "model": problem.model,
+        "ibfem_version": _version(),
+        "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "units": units(problem.dim),
         "bodies": bodies,
         "reactions": {k: np.asarray(v, dtype=float).reshape(problem.dim).tolist() for k, v in solution.reactions.items()},
         "contacts": [_contact_block(problem, k, c) for k, c in enumerate(solution.contacts)],
@@ -176,29 +194,56 @@ _CONTACT_KEYS_3D = (
 )
 
 
+#: keys a contact type does not have: no friction coefficient or stick region for tied and
+#: frictionless contacts, no tangential force or shear for frictionless ones
+_NOT_OF_TYPE = {
+    "frictionless": ("friction", "stick_half_width", "stick_semi_axes", "tangential_force", "shear"),
+    "tied": ("friction", "stick_half_width", "stick_semi_axes"),
+}
+#: the solver's verdicts renamed to say what they count or compare
+CHECK_NAMES = {
+    "penetration": "penetration_found",
+    "tension": "tension_at_region_edges",
+    "edge_penetration": "penetration_at_region_edges",
+    "edge_gap": "gap_beyond_region_edges",
+    "edge_pressure": "pressure_inside_region_edges",
+    "penetration_points": "overlapping_samples_outside_region",
+    "tension_points": "tensile_samples_inside_region",
+    "min_gap": "smallest_gap_outside_region",
+    "min_pressure": "smallest_pressure_inside_region",
+}
+
+
 def _contact_block(problem: pb.Problem, k: int, block: Mapping[str, Any]) -> dict[str, Any]:
-    """A contact block with every SPEC key, in SPEC order (section 4 in 2D, section 7 in 3D):
-    what the scene defines (bodies, type, friction) is filled in from the problem, ``tangent``
-    from its definition (-n_y, n_x), and a missing result is null (an empty profile for
-    pressure and shear); further keys the solver adds follow."""
+    """A contact block with the keys of its type, in the documented order (2D: half widths; 3D:
+    semi-axes): what the scene defines (bodies, type, friction) is filled in from the problem,
+    ``tangent`` from its definition (-n_y, n_x), and a missing result is null (an empty profile
+    for pressure and shear); further keys the solver adds follow, its ``checks`` renamed
+    (CHECK_NAMES); a symmetric model's block has ``full_contact``."""
     block = dict(block)
-    if problem.dim == 3:
-        out = {key: block.pop(key, None) for key in _CONTACT_KEYS_3D}
-        out.update(block)
-        return out
     model = problem.contacts[k] if k < len(problem.contacts) else None
     if model is not None:
         block.setdefault("bodies", list(model.bodies))
         block.setdefault("type", model.type)
         block.setdefault("friction", model.friction)
-    if block.get("tangent") is None and block.get("normal") is not None:
+    if problem.dim == 2 and block.get("tangent") is None and block.get("normal") is not None:
         n = np.asarray(block["normal"], dtype=float).reshape(2)
         block["tangent"] = [-n[1], n[0]]
+    empty = {f"axis{j}": {"s": [], "value": []} for j in (0, 1)} if problem.dim == 3 else {"s": [], "value": []}
     for key in ("pressure", "shear"):
         if block.get(key) is None:
-            block[key] = {"s": [], "value": []}
-    out = {key: block.pop(key, None) for key in _CONTACT_KEYS}
+            block[key] = empty
+    order = _CONTACT_KEYS_3D if problem.dim == 3 else _CONTACT_KEYS
+    dropped = _NOT_OF_TYPE.get(str(block.get("type")), ())
+    out = {key: block.pop(key, None) for key in order if key not in dropped}
+    for key in dropped:
+        block.pop(key, None)
+    if isinstance(block.get("checks"), Mapping):
+        block["checks"] = {CHECK_NAMES.get(name, name): value for name, value in block["checks"].items()}
     out.update(block)
+    share = out.get("model_share")
+    if isinstance(share, (int, float)) and 0.0 < share < 1.0 - 1e-6 and isinstance(out.get("normal_force"), (int, float)):
+        out["full_contact"] = {"model_share": float(share), "normal_force": float(out["normal_force"]) / float(share)}
     return out
 
 
