@@ -187,21 +187,18 @@ def test_contact_blocks_get_every_spec_key_in_order(tmp_path):
     assert c["normal_force"] == 5.0 and c["width_iterations"] == 4
 
 
-def test_contact_blocks_hold_only_the_keys_of_their_type(tmp_path):
+def test_contact_checks_say_what_they_count_and_a_half_model_names_the_full_force(tmp_path):
     problem = make_problem()
     block = {"normal": [0.0, 1.0], "normal_force": 5.0, "half_width": 0.01, "stick_half_width": 0.0,
              "tangential_force": 0.0, "model_share": 0.5,
              "checks": {"tension": False, "tension_points": 4, "min_pressure": -2.0}}
-    for kind, absent in (("frictionless", {"friction", "stick_half_width", "tangential_force", "shear"}),
-                         ("tied", {"friction", "stick_half_width"}), ("frictional", set())):
-        contacts = (pb.ContactModel(bodies=("upper", "lower"), type=kind, friction=0.3 if kind == "frictional" else None),)
-        p = pb.Problem(name="p", model="plane_strain", thickness=1.0, bodies=problem.bodies, contacts=contacts)
-        output.write_results(tmp_path, p, make_solution(contacts=[dict(block)]), vtk=False)
-        (c,) = json.loads((tmp_path / "summary.json").read_text())["contacts"]
-        assert absent.isdisjoint(c) and {"half_width", "normal_force", "pressure"} <= set(c)
-        assert c["full_contact"] == {"model_share": 0.5, "normal_force": 10.0}  # a half model carries half
-        assert c["checks"] == {"tension_at_region_edges": False, "tensile_samples_inside_region": 4,
-                               "smallest_pressure_inside_region": -2.0}
+    contacts = (pb.ContactModel(bodies=("upper", "lower"), type="frictionless"),)
+    p = pb.Problem(name="p", model="plane_strain", thickness=1.0, bodies=problem.bodies, contacts=contacts)
+    output.write_results(tmp_path, p, make_solution(contacts=[dict(block)]), vtk=False)
+    (c,) = json.loads((tmp_path / "summary.json").read_text())["contacts"]
+    assert c["checks"] == {"tension_at_region_edges": False, "tensile_samples_inside_region": 4,
+                           "smallest_pressure_inside_region": -2.0}
+    assert c["full_contact"] == {"model_share": 0.5, "normal_force": 10.0}  # a half model carries half
 
 
 def test_the_result_line_names_the_models_share_and_the_full_force():
@@ -212,6 +209,9 @@ def test_the_result_line_names_the_models_share_and_the_full_force():
     line = contact_line(quarter)
     assert "normal_force (quarter model) = 3.42e+06 N; full contact 1.368e+07 N" in line
     assert "stick" not in line and "tangential" not in line
-    frictional = {"half_width": 0.01, "stick_half_width": 0.007, "normal_force": 2.0, "tangential_force": 0.1}
+    quarter["stick_semi_axes"], quarter["tangential_force"] = [0.0, 0.0], [0.0, 0.0]
+    assert contact_line(quarter) == line  # a frictionless contact has neither
+    frictional = {"type": "frictional", "half_width": 0.01, "stick_half_width": 0.007, "normal_force": 2.0,
+                  "tangential_force": 0.1}
     assert contact_line(frictional) == ("half_width = 0.01 m, stick_half_width = 0.007 m, normal_force = 2 N/m, "
                                         "tangential_force = 0.1 N/m")

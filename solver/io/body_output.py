@@ -18,7 +18,7 @@ import numpy as np
 from ibfem.solver.model import problem as pb
 from ibfem.solver.model.elasticity import von_mises
 
-from .clipped_cells import VTK_TYPES, clip_cells
+from .clipped_cells import VTK_TYPES, clip_cells, unique_rows
 
 __all__ = ["BodyOutput", "body_output", "full_stress", "principal_stresses", "clip_tolerance"]
 
@@ -113,12 +113,7 @@ def _signed_distance(body: pb.BodyModel):
 
 def _merge(points: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray]:
     """Indices of the distinct points (first occurrence kept) and each point's distinct one."""
-    keys = np.round(points / scale).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    order = np.argsort(first)  # keep the first occurrences in their order
-    rank = np.empty_like(order)
-    rank[order] = np.arange(len(order))
-    return first[order], rank[inverse.reshape(-1)]
+    return unique_rows(np.round(points / scale).astype(np.int64))
 
 
 def body_output(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) -> BodyOutput:

@@ -28,13 +28,12 @@ centroid lies in the body. Points shared by several cells are merged.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from itertools import permutations
 from typing import Callable
 
 import numpy as np
 
-__all__ = ["ClippedCells", "clip_cells", "CELL_CORNERS", "VTK_TYPES"]
+__all__ = ["clip_cells", "unique_rows", "CELL_CORNERS", "VTK_TYPES"]
 
 #: corners of a unit cell in VTK's (and the grids') order: quadrilateral in 2D, hexahedron in 3D
 CELL_CORNERS = {
@@ -61,6 +60,25 @@ def _chunked(signed_distance: Callable) -> Callable:
     return phi
 
 
+def unique_rows(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The first occurrence of each distinct row (in order of first occurrence) and each row's
+    index among them (a lexicographic sort: several times faster than np.unique(axis=0))."""
+    keys = np.asarray(keys)
+    if not len(keys):
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
+    order = np.lexsort(keys.T[::-1])
+    s = keys[order]
+    new = np.concatenate([[True], np.any(s[1:] != s[:-1], axis=1)])
+    group = np.cumsum(new) - 1
+    first = order[new]  # the sort is stable: a group's first row is its first occurrence
+    rank = np.empty(len(first), dtype=np.int64)
+    by_first = np.argsort(first, kind="stable")
+    rank[by_first] = np.arange(len(first))
+    inverse = np.empty(len(keys), dtype=np.int64)
+    inverse[order] = rank[group]
+    return first[by_first], inverse
+
+
 def _kuhn_simplices(dim: int) -> np.ndarray:
     """(dim!, dim + 1) corner indices (CELL_CORNERS order) of Kuhn's simplices of the unit cell:
     the paths from corner 0 to the opposite corner, one axis at a time."""
@@ -75,44 +93,6 @@ def _kuhn_simplices(dim: int) -> np.ndarray:
             path.append(index[tuple(p)])
         out.append(path)
     return np.array(out)
-
-
-@dataclass
-class ClippedCells:
-    """The output cells of one body: ``points`` (n, dim); ``boxes`` (k, 2^dim) and ``simplices``
-    (j, dim + 1) as indices into points; the background cell each came from (``box_parent``,
-    ``simplex_parent``); ``surface`` flags the points on the exact surface."""
-
-    points: np.ndarray
-    boxes: np.ndarray
-    box_parent: np.ndarray
-    simplices: np.ndarray
-    simplex_parent: np.ndarray
-    surface: np.ndarray
-
-    @property
-    def dim(self) -> int:
-        return self.points.shape[1]
-
-    def measures(self) -> tuple[np.ndarray, np.ndarray]:
-        """Volumes (areas in 2D) of the boxes and of the simplices."""
-        p = self.points
-        if len(self.boxes):
-            span = p[self.boxes].max(axis=1) - p[self.boxes].min(axis=1)
-            boxes = np.prod(span, axis=1)
-        else:
-            boxes = np.zeros(0)
-        if len(self.simplices):
-            v = p[self.simplices]
-            edges = v[:, 1:] - v[:, :1]
-            simplices = np.abs(np.linalg.det(edges)) / (2.0 if self.dim == 2 else 6.0)
-        else:
-            simplices = np.zeros(0)
-        return boxes, simplices
-
-    def centroids(self) -> tuple[np.ndarray, np.ndarray]:
-        """Centroids of the boxes and of the simplices."""
-        return self.points[self.boxes].mean(axis=1), self.points[self.simplices].mean(axis=1)
 
 
 def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_distance: Callable,
@@ -235,11 +215,7 @@ def _piece_table(dim: int, count: int, pairs: list[tuple[int, int]]) -> list[lis
 def _edge_roots(a: np.ndarray, b: np.ndarray, fa: np.ndarray, fb: np.ndarray, signed_distance: Callable) -> np.ndarray:
     """Zero of the signed distance on each segment a -> b (fa >= 0 > fb): Illinois' false
     position, all segments in one call per step; each distinct segment searched once."""
-    key = np.concatenate([a, b], axis=1)
-    unique, inverse = np.unique(key, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    first = np.zeros(len(unique), dtype=np.int64)
-    first[inverse] = np.arange(len(key))
+    first, inverse = unique_rows(np.concatenate([a, b], axis=1))
     a, b, fa, fb = a[first], b[first], fa[first].copy(), fb[first].copy()
     hi = np.ones(len(a))
     side = np.zeros(len(a), dtype=np.int8)

@@ -78,7 +78,7 @@ def _contact_figure(plt, problem: pb.Problem, c: Mapping[str, Any]) -> Any:
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5), constrained_layout=True)
     hertz = _hertz(problem, c)
     for k, style in ((0, "-"), (1, "--")):
-        pr, sh = c["pressure"][f"axis{k}"], c["shear"][f"axis{k}"]
+        pr, sh = c["pressure"][f"axis{k}"], (c.get("shear") or {}).get(f"axis{k}") or {"s": [], "value": []}
         ax.plot(pr["s"], pr["value"], style, color="C0", label=f"pressure, axis {k}")
         if any(sh["value"]):
             ax.plot(sh["s"], sh["value"], style, color="C1", label=f"shear, axis {k}")

@@ -29,7 +29,12 @@ def _vector(value: Any, unit: str) -> str:
 
 
 def contact_line(c: Mapping[str, Any]) -> str:
-    """One contact block of the summary (JSON-safe) as a line of text."""
+    """One contact block of the summary (JSON-safe) as a line of text: the stick region only for
+    a frictional contact, the tangential force not for a frictionless one."""
+    kind = c.get("type")
+    c = {k: v for k, v in c.items()
+         if not (k.startswith("stick_") and kind in ("tied", "frictionless"))
+         and not (k == "tangential_force" and kind == "frictionless")}
     three_d = "semi_axes" in c
     force_unit = "N" if three_d else "N/m"
     parts = []

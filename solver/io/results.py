@@ -194,12 +194,6 @@ _CONTACT_KEYS_3D = (
 )
 
 
-#: keys a contact type does not have: no friction coefficient or stick region for tied and
-#: frictionless contacts, no tangential force or shear for frictionless ones
-_NOT_OF_TYPE = {
-    "frictionless": ("friction", "stick_half_width", "stick_semi_axes", "tangential_force", "shear"),
-    "tied": ("friction", "stick_half_width", "stick_semi_axes"),
-}
 #: the solver's verdicts renamed to say what they count or compare
 CHECK_NAMES = {
     "penetration": "penetration_found",
@@ -215,10 +209,12 @@ CHECK_NAMES = {
 
 
 def _contact_block(problem: pb.Problem, k: int, block: Mapping[str, Any]) -> dict[str, Any]:
-    """A contact block with the keys of its type, in the documented order (2D: half widths; 3D:
-    semi-axes): what the scene defines (bodies, type, friction) is filled in from the problem,
-    ``tangent`` from its definition (-n_y, n_x), and a missing result is null (an empty profile
-    for pressure and shear); further keys the solver adds follow, its ``checks`` renamed
+    """A contact block with every documented key, in order (2D: half widths; 3D: semi-axes;
+    every type has them all: the stick size of a tied contact is its size, of a frictionless one
+    zero, and a frictionless contact's tangential force and shear are the computed ones, the
+    check that none passes): what the scene defines (bodies, type, friction) is filled in from the
+    problem, ``tangent`` from its definition (-n_y, n_x), and a missing result is null (an empty
+    profile for pressure and shear); further keys the solver adds follow, its ``checks`` renamed
     (CHECK_NAMES); a symmetric model's block has ``full_contact``."""
     block = dict(block)
     model = problem.contacts[k] if k < len(problem.contacts) else None
@@ -234,10 +230,7 @@ def _contact_block(problem: pb.Problem, k: int, block: Mapping[str, Any]) -> dic
         if block.get(key) is None:
             block[key] = empty
     order = _CONTACT_KEYS_3D if problem.dim == 3 else _CONTACT_KEYS
-    dropped = _NOT_OF_TYPE.get(str(block.get("type")), ())
-    out = {key: block.pop(key, None) for key in order if key not in dropped}
-    for key in dropped:
-        block.pop(key, None)
+    out = {key: block.pop(key, None) for key in order}
     if isinstance(block.get("checks"), Mapping):
         block["checks"] = {CHECK_NAMES.get(name, name): value for name, value in block["checks"].items()}
     out.update(block)
