@@ -94,6 +94,8 @@ def _run(args: argparse.Namespace) -> int:
     try:
         solution = solve(scene.problem, progress=progress)
     except ValueError as err:  # the solver's own checks on the input: a scene problem
+        if not args.quiet:
+            progress.close()
         if args.traceback:
             raise
         library, where = error_origin(err)
@@ -104,19 +106,24 @@ def _run(args: argparse.Namespace) -> int:
         _err(f"{label}: the solver failed in {where}: {library} reported \"{str(err).splitlines()[0] if str(err) else type(err).__name__}\". "
              "This is a bug (an input the scene check lets through): rerun with --traceback and report it.")
         return INTERNAL_ERROR
-    finally:
+    except BaseException:
         if not args.quiet:
             progress.close()
+        raise
 
     out = Path(args.out) if args.out else default_out_dir(args.scene)
     extra = {"scene": str(Path(args.scene))}
     if scene.warnings:
         extra["warnings"] = list(scene.warnings)
-    try:
-        summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0, extra=extra)
+    try:  # the progress display goes on while the results are written
+        summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0, extra=extra,
+                                      progress=progress)
     except OSError as err:
         _err(f"cannot write results to {out}: {err.strerror or err}")
         return 4
+    finally:
+        if not args.quiet:
+            progress.close()
     for note in summary.get("warnings", [])[len(scene.warnings):]:
         _err(f"warning: {note}")
     iterations = summary["iterations"]["total"]

@@ -40,7 +40,7 @@ def test_a_clipped_ball_has_the_balls_volume_and_no_cell_outside():
     volume, centroids, surface = _clip(phi, 0.25, 5, 3)
     assert volume == pytest.approx(4.0 / 3.0 * math.pi, rel=1e-3)
     assert phi(centroids).min() >= 0.0
-    assert np.abs(phi(surface)).max() < 1e-12  # the vertices made by the clipping lie on the sphere
+    assert np.abs(phi(surface)).max() < 1e-9 * 0.25  # the vertices made by the clipping lie on the sphere
 
 
 def test_a_concave_surface_leaves_no_centroid_outside():
@@ -60,7 +60,7 @@ def test_a_clipped_disc_in_2d():
 
     area, centroids, surface = _clip(phi, 0.1, 10, 2)
     assert area == pytest.approx(math.pi * 0.49, rel=1e-3)
-    assert phi(centroids).min() >= 0.0 and np.abs(phi(surface)).max() < 1e-12
+    assert phi(centroids).min() >= 0.0 and np.abs(phi(surface)).max() < 1e-9 * 0.1
 
 
 def test_stress_in_vtk_order_and_principal_stresses():

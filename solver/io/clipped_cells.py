@@ -43,8 +43,9 @@ CELL_CORNERS = {
 }
 #: VTK cell type numbers: (box, simplex) per dimension
 VTK_TYPES = {2: (9, 5), 3: (12, 10)}
-#: Illinois steps of the root search on each clipped edge (superlinear: round-off on smooth surfaces)
-ROOT_STEPS = 40
+#: Illinois steps of the root search on each clipped edge, and the distance from the surface (in
+#: edge lengths) that ends it: far below the chords' sagitta, a few steps on smooth surfaces
+ROOT_STEPS, ROOT_TOLERANCE = 40, 1e-9
 #: points per call of the signed distance (bounds the memory of a CAD solid's distance)
 CHUNK = 20000
 
@@ -114,7 +115,7 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
         if not len(cell):
             break
         at = lo[:, None, :] + s[:, None, None] * corners[None]
-        phi_corner = np.asarray(signed_distance(at.reshape(-1, dim)), dtype=float).reshape(len(cell), -1)
+        phi_corner = _shared_values(at.reshape(-1, dim), s.min(), signed_distance).reshape(len(cell), -1)
         phi_centre = np.asarray(signed_distance(lo + 0.5 * s[:, None]), dtype=float)
         reach = 0.5 * np.sqrt(dim) * s * (1.0 + 1e-9)
         inside, outside = phi_centre >= reach, phi_centre <= -reach
@@ -139,15 +140,24 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
         s = np.repeat(half, len(corners))
         cell = np.repeat(cell[split], len(corners))
     simplices, simplex_parent, on_surface = _clip_leaves(leaves, dim, signed_distance)
-    if len(simplices):  # where the surface is concave its chords leave the body: drop those slivers
-        inside = signed_distance(simplices.mean(axis=1)) >= 0.0
-        simplices, simplex_parent, on_surface = simplices[inside], simplex_parent[inside], on_surface[inside]
+    touching = np.nonzero(on_surface.any(axis=1))[0]
+    if len(touching):  # where the surface is concave its chords leave the body: drop those slivers
+        keep = np.ones(len(simplices), dtype=bool)
+        keep[touching] = signed_distance(simplices[touching].mean(axis=1)) >= 0.0
+        simplices, simplex_parent, on_surface = simplices[keep], simplex_parent[keep], on_surface[keep]
     pieces = [
         np.concatenate(boxes) if boxes else np.zeros((0, len(corners), dim)),
         np.concatenate(box_parent) if box_parent else np.zeros(0, dtype=np.int64),
         simplices, simplex_parent, on_surface,
     ]
     return np.sort(np.concatenate(kept)), pieces
+
+
+def _shared_values(points: np.ndarray, spacing: float, signed_distance: Callable) -> np.ndarray:
+    """The signed distance at points many of which coincide (the corners sub-cubes share), each
+    distinct point evaluated once (points closer than 1e-9 of the spacing are one)."""
+    first, inverse = unique_rows(np.round(points / (1e-9 * spacing)).astype(np.int64))
+    return np.asarray(signed_distance(points[first]), dtype=float)[inverse]
 
 
 def _clip_leaves(leaves, dim: int, signed_distance: Callable):
@@ -234,7 +244,7 @@ def _edge_roots(a: np.ndarray, b: np.ndarray, fa: np.ndarray, fb: np.ndarray, si
         i_pos, i_neg = idx[pos], idx[~pos]
         lo[i_pos], fa[i_pos] = t[i_pos], ft[pos]
         hi[i_neg], fb[i_neg] = t[i_neg], ft[~pos]
-        converged = np.abs(ft) <= 1e-14 * length[idx]
+        converged = np.abs(ft) <= ROOT_TOLERANCE * length[idx]
         lo[idx[converged]] = t[idx[converged]]
         active[idx[converged]] = False
         # Illinois: halve the value kept twice in a row on the same side

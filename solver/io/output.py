@@ -5,8 +5,9 @@ and contact regions (solver.io.vtu) and the PNG pictures (solver.io.plots) the s
 from __future__ import annotations
 
 import hashlib
+import time
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any, Callable, Iterable, Mapping
 
 from ibfem.solver.model import problem as pb
 
@@ -26,30 +27,46 @@ def write_results(
     plots: bool = False,
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
+    progress: Callable[..., None] | None = None,
 ) -> dict[str, Any]:
     """Write every requested file into ``out_dir``; returns the summary written. The summary
-    lists the other files under ``files`` (names relative to ``out_dir``)."""
+    lists the other files under ``files`` (names relative to ``out_dir``) and the time each kind
+    of output took under ``timings`` (``summary_s``, ``vtk_s``, ``plots_s``, together
+    ``output_s``; ``total_s``, the run's time until now, includes them). ``progress`` is told
+    which file is being written."""
+    report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    clock = {"start": time.perf_counter()}
+    report("results: summary (probes, lines)")
     summary = build_summary(problem, solution, probes, lines, total_s=total_s, extra=extra)
     scene = Path(str(summary.get("scene") or ""))
     if summary.get("scene") and scene.is_file():  # the scene file's fingerprint, to tell runs apart
         summary["scene_sha256"] = hashlib.sha256(scene.read_bytes()).hexdigest()
+    output_times = {"summary_s": time.perf_counter() - clock["start"]}
     files: list[Path] = []
     missing: list[str] = []
-    # a missing optional library costs its files, not the summary
     if vtk:  # VTK's XML format written directly: no optional library needed
-        files += write_vtk_files(out_dir, problem, solution, json_safe(summary))
-    if plots:
+        t0 = time.perf_counter()
+        files += write_vtk_files(out_dir, problem, solution, json_safe(summary), progress=report)
+        output_times["vtk_s"] = time.perf_counter() - t0
+    if plots:  # a missing optional library costs its files, not the summary
+        t0 = time.perf_counter()
+        report("results: plots")
         try:
             from .plots import write_plots
 
             files += write_plots(out_dir, problem, solution, summary)
         except ImportError as err:
             missing.append(f"plots not written: matplotlib is not installed ({err}); pip install 'ibfem[pictures]'")
+        output_times["plots_s"] = time.perf_counter() - t0
     if missing:
         summary["warnings"] = list(summary.get("warnings", [])) + missing
     summary["files"] = sorted(str(p.relative_to(out_dir)) for p in files)
+    output_times["output_s"] = time.perf_counter() - clock["start"]
+    summary["timings"].update(output_times)
+    if total_s is not None:
+        summary["timings"]["total_s"] = float(total_s) + output_times["output_s"]
     write_summary(out_dir / "summary.json", summary)
     return summary
 
@@ -60,6 +77,7 @@ def write_scene_results(
     solution: pb.Solution,
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
+    progress: Callable[..., None] | None = None,
 ) -> dict[str, Any]:
     """:func:`write_results` with the probes, lines and file choices of a loaded
     :class:`solver.io.scene.Scene`'s ``[output]`` table."""
@@ -74,4 +92,5 @@ def write_scene_results(
         plots=output.plots,
         total_s=total_s,
         extra=extra,
+        progress=progress,
     )

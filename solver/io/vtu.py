@@ -47,14 +47,17 @@ def _contact_pressure(problem: pb.Problem, body: pb.BodyModel, points: np.ndarra
 
 
 def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution,
-                    summary: Mapping[str, Any]) -> list[Path]:
+                    summary: Mapping[str, Any], progress=None) -> list[Path]:
     """Every body's VTU file, every contact region's VTP file and the index; returns the paths.
-    ``summary`` is the run's summary (JSON-safe: lists, None for missing values)."""
+    ``summary`` is the run's summary (JSON-safe: lists, None for missing values); ``progress``
+    is told each file's name before it is made."""
+    report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     written, blocks = [], []
     contacts = summary.get("contacts") or []
     for body in problem.bodies:
+        report(f"results: {file_stem(body.name)}.vtu (cells clipped at the surface)")
         mesh = body_output(problem, solution, body)
         mesh.point_data["contact_pressure"] = _contact_pressure(problem, body, mesh.points, contacts)
         path = write_unstructured_grid(out_dir / f"{file_stem(body.name)}.vtu", mesh.points, mesh.connectivity,
