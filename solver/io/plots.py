@@ -13,6 +13,7 @@ import numpy as np
 
 from ibfem.solver.model import problem as pb
 
+from .plot_units import length_unit, stress_unit
 from .results import _body_mesh, _file_stem, json_safe
 
 __all__ = ["write_plots"]
@@ -58,11 +59,16 @@ class _Figures:
         self.plt.close(fig)
         self.written.append(path)
 
-    def save_line_plot(self, fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str) -> None:
+    def save_line_plot(self, fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str,
+                       outside: bool = False) -> None:
+        """Labels, legend (beside the axes when ``outside``: it never hides a curve), grid."""
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
         ax.set_title(title)
-        ax.legend()
+        if outside:
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+        else:
+            ax.legend()
         ax.grid(alpha=0.3)
         self.save(fig, name)
 
@@ -90,28 +96,34 @@ def _colour_range(meshes: list[dict], values: list[np.ndarray], window) -> tuple
 
 
 def _draw_field(fig: Any, ax: Any, meshes, outlines, key: str, label: str, title: str, window) -> None:
+    """Cells coloured by their value, clipped by the exact outlines; the colour scale spans the
+    values of the cells with material in ``window``; stresses and lengths in the units that fit."""
     from matplotlib.collections import PolyCollection
     from matplotlib.patches import PathPatch
+    from matplotlib.transforms import Affine2D
 
     values = [_cell_values(m, key) for m in meshes]
     vmin, vmax = _colour_range(meshes, values, window)
+    x0, x1, y0, y1 = window
+    lname, lscale = length_unit(max(x1 - x0, y1 - y0))
+    uname, uscale = stress_unit(max(abs(vmin), abs(vmax))) if key == "von_mises" else length_unit(vmax)
+    shrink = Affine2D().scale(1.0 / lscale) + ax.transData
     for m, v, outline in zip(meshes, values, outlines):
-        poly = PolyCollection(m["nodes"][m["cells"]], array=v, cmap="viridis", edgecolors="none")
-        poly.set_clim(vmin, vmax)
+        poly = PolyCollection(m["nodes"][m["cells"]] / lscale, array=v / uscale, cmap="viridis", edgecolors="none")
+        poly.set_clim(vmin / uscale, vmax / uscale)
         ax.add_collection(poly)
         if outline is not None:  # cut cells drawn only inside the exact boundary
-            patch = PathPatch(outline, facecolor="none", edgecolor="k", lw=0.6)
+            patch = PathPatch(outline, facecolor="none", edgecolor="k", lw=0.6, transform=shrink)
             ax.add_patch(patch)
             poly.set_clip_path(patch)
-    x0, x1, y0, y1 = window
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y0, y1)
-    fig.colorbar(poly, ax=ax, shrink=0.8)
+    ax.set_xlim(x0 / lscale, x1 / lscale)
+    ax.set_ylim(y0 / lscale, y1 / lscale)
+    fig.colorbar(poly, ax=ax, shrink=0.8, label=f"{label} [{uname}]")
     ax.set_aspect("equal")
     ax.locator_params(nbins=5)
-    ax.set_title(f"{title}: {label}", fontsize=10)
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+    ax.set_title(title, fontsize=10)
+    ax.set_xlabel(f"x [{lname}]")
+    ax.set_ylabel(f"y [{lname}]")
 
 
 def _field_figure(plt, meshes, outlines, title: str, window) -> Any:
@@ -119,8 +131,8 @@ def _field_figure(plt, meshes, outlines, title: str, window) -> Any:
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
     allnodes = np.concatenate([m["nodes"] for m in meshes])
     window = window or (allnodes[:, 0].min(), allnodes[:, 0].max(), allnodes[:, 1].min(), allnodes[:, 1].max())
-    for ax, key, label in ((axes[0], "von_mises", "von Mises stress [Pa]"),
-                           (axes[1], "displacement", "displacement magnitude [m]")):
+    for ax, key, label in ((axes[0], "von_mises", "von Mises stress"),
+                           (axes[1], "displacement", "displacement magnitude")):
         _draw_field(fig, ax, meshes, outlines, key, label, title, window)
     return fig
 
@@ -197,34 +209,62 @@ def hertz_reference(problem: pb.Problem, c: Mapping[str, Any]) -> dict | None:
     return out
 
 
-def _reference_curves(ax, ref: dict, s: np.ndarray) -> None:
+def _reference_curves(ax, ref: dict, s: np.ndarray, lscale: float = 1.0, sscale: float = 1.0) -> None:
     from ibfem.solver.reference import theory
 
     x = np.linspace(min(s.min(), -1.3 * ref["a"]), max(s.max(), 1.3 * ref["a"]), 600)
-    ax.plot(x, theory.hertz_pressure(x, ref["a"], ref["p0"]), "k--", lw=1.2,
+    ax.plot(x / lscale, theory.hertz_pressure(x, ref["a"], ref["p0"]) / sscale, "k--", lw=1.2,
             label=f"Hertz for the computed N (R* = {ref['R_eff']:.4g} m)")
     if "mu" in ref:
         q = theory.cattaneo_mindlin_shear(x, ref["a"], ref["stick_ratio"] * ref["a"], ref["mu"], ref["p0"], sign=ref["sign"])
-        ax.plot(x, q, "k:", lw=1.2, label="Cattaneo-Mindlin for the computed Q, N")
+        ax.plot(x / lscale, q / sscale, "k:", lw=1.2, label="Cattaneo-Mindlin for the computed Q, N")
+
+
+def _contact_numbers(c: Mapping[str, Any], ref: dict | None, lscale: float, lname: str, sscale: float, sname: str) -> str:
+    """a, c and p0 with their theory values (Hertz, Cattaneo-Mindlin) where a theory applies."""
+    p0 = max((c.get("pressure") or {}).get("value") or [0.0])
+    rows = [("a", c.get("half_width"), None if ref is None else ref["a"], lscale, lname),
+            ("p0", p0, None if ref is None else ref["p0"], sscale, sname)]
+    if c.get("type") == "frictional":
+        rows.insert(1, ("c", c.get("stick_half_width"), None if ref is None or "stick_ratio" not in ref
+                        else ref["stick_ratio"] * ref["a"], lscale, lname))
+    out = []
+    for name, value, theory, scale, unit in rows:
+        if value is None:
+            continue
+        text = f"{name} = {value / scale:.4g} {unit}"
+        if theory:
+            text += f"  (theory {theory / scale:.4g}, {100.0 * (value / theory - 1.0):+.2f} %)"
+        out.append(text)
+    return "\n".join(out)
 
 
 def _contact_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any]) -> None:
     """Pressure and shear of every contact; Hertz / Cattaneo-Mindlin beside them when the
-    contact is Hertzian (:func:`hertz_reference`), the legend says which curve is which."""
+    contact is Hertzian (:func:`hertz_reference`), the legend says which curve is which, and a,
+    c, p0 are written with their theory values."""
     for k, c in enumerate(summary.get("contacts", [])):
         pressure, shear = c.get("pressure") or {}, c.get("shear") or {}
         if not (pressure.get("s") or shear.get("s")):
             continue
-        fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+        s_all = np.asarray(pressure.get("s") or shear.get("s"), float)
+        lname, lscale = length_unit(float(np.ptp(s_all)) or 1.0)
+        sname, sscale = stress_unit(max(np.abs(pressure.get("value") or [0.0]).max(), 1e-300))
+        fig, ax = figs.plt.subplots(figsize=(10.5, 4.8), constrained_layout=True)
         if pressure.get("s"):
-            ax.plot(np.asarray(pressure["s"], float), np.asarray(pressure["value"], float), lw=2, label="pressure (computed)")
+            ax.plot(np.asarray(pressure["s"], float) / lscale, np.asarray(pressure["value"], float) / sscale, lw=2,
+                    label="pressure (computed)")
         if shear.get("s"):
-            ax.plot(np.asarray(shear["s"], float), np.asarray(shear["value"], float), lw=2, label="shear (computed)")
+            ax.plot(np.asarray(shear["s"], float) / lscale, np.asarray(shear["value"], float) / sscale, lw=2,
+                    label="shear (computed)")
         ref = hertz_reference(problem, c)
         if ref is not None:
-            _reference_curves(ax, ref, np.asarray(pressure.get("s") or shear.get("s"), float))
+            _reference_curves(ax, ref, s_all, lscale, sscale)
+        for line in _contact_numbers(c, ref, lscale, lname, sscale, sname).splitlines():
+            ax.plot([], [], " ", label=line)  # the numbers listed in the legend, beside the axes
         title = f"{problem.name}: contact {' / '.join(c.get('bodies', []))}"
-        figs.save_line_plot(fig, ax, "s along the contact curve [m]", "traction [Pa]", title, f"contact_{k}.png")
+        figs.save_line_plot(fig, ax, f"s along the contact curve [{lname}]", f"traction [{sname}]", title,
+                            f"contact_{k}.png", outside=True)
 
 
 def write_plots(

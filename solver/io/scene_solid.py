@@ -231,11 +231,11 @@ def _load_part(shape: dict):
 
 def _select_faces(spec: SolidSceneSpec, solids: dict[str, Any], label: str) -> SolidSceneSpec:
     """The spec with every face selector replaced by the name of the face it picks."""
-    from .face_selectors import select_face
-
     conditions, problems = [], []
     for j, bc in enumerate(spec.boundary_conditions):
         if isinstance(getattr(bc, "face", None), FaceSelector) and bc.body in solids:
+            from .face_selectors import select_face
+
             selector = bc.face.model_dump()
             try:
                 bc = bc.model_copy(update={"face": select_face(solids[bc.body], selector)})
