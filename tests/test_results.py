@@ -124,7 +124,7 @@ def test_contacts_pass_through_json_safe(tmp_path):
     data = json.loads((tmp_path / "summary.json").read_text())
     c = data["contacts"][0]
     assert c["point"] == [0.5, 0.0] and c["half_width"] == 0.01 and c["pressure"]["value"] == [1.0] * 5
-    assert data["files"] == ["contact_0.png", "contact_0_fields.png", "fields.png"]
+    assert data["files"] == ["contact_0.png", "contact_0_fields.png", "fields.png", "report.html"]
 
 
 def test_vtu_files_hold_the_field(tmp_path):
@@ -163,8 +163,10 @@ def test_vtu_files_hold_the_field(tmp_path):
 def test_plots_are_png_images(tmp_path):
     lines = [{"name": "across body", "start": [0.0, 0.5], "end": [1.0, 0.5], "n": 20}]
     summary = output.write_results(tmp_path, make_problem(), make_solution(), lines=lines, vtk=False, plots=True)
-    assert summary["files"] == ["fields.png", "line_across_body.png"]
-    for name in summary["files"]:
+    assert summary["files"] == ["fields.png", "line_across_body.png", "report.html"]
+    page = (tmp_path / "report.html").read_text()
+    assert page.count("data:image/png;base64,") == 2 and "src=\"http" not in page  # self-contained
+    for name in summary["files"][:2]:
         head = (tmp_path / name).read_bytes()[:8]
         assert head == b"\x89PNG\r\n\x1a\n" and (tmp_path / name).stat().st_size > 5000
 

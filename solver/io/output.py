@@ -1,6 +1,6 @@
 """Writing a run's results: ``summary.json`` (solver.io.results), the VTK files of the bodies
-and contact regions (solver.io.vtu) and the PNG pictures (solver.io.plots) the scene's
-``[output]`` asks for."""
+and contact regions (solver.io.vtu), and the PNG pictures (solver.io.plots) with ``report.html``
+(solver.io.report_html) when the scene's ``[output]`` asks for plots."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from typing import Any, Callable, Iterable, Mapping
 
 from ibfem.solver.model import problem as pb
 
+from .report_html import write_report
 from .results import build_summary, json_safe, write_summary
 from .vtu import write_vtk_files
 
@@ -62,11 +63,17 @@ def write_results(
         output_times["plots_s"] = time.perf_counter() - t0
     if missing:
         summary["warnings"] = list(summary.get("warnings", [])) + missing
+    if plots:  # the page that shows the run: numbers and pictures in one file
+        scene_text = scene.read_text(encoding="utf-8", errors="replace") if summary.get("scene") and scene.is_file() else None
+        pictures = sorted(p for p in files if p.suffix == ".png")
+        files.append(out_dir / "report.html")
     summary["files"] = sorted(str(p.relative_to(out_dir)) for p in files)
     output_times["output_s"] = time.perf_counter() - clock["start"]
     summary["timings"].update(output_times)
     if total_s is not None:
         summary["timings"]["total_s"] = float(total_s) + output_times["output_s"]
+    if plots:
+        write_report(out_dir, json_safe(summary), pictures, scene_text)
     write_summary(out_dir / "summary.json", summary)
     return summary
 
