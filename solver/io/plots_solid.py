@@ -13,13 +13,14 @@ from typing import Any, Mapping
 import numpy as np
 
 from ibfem.solver.model import problem as pb
+from ibfem.solver.model.elasticity import von_mises
 
 from .plot_units import length_unit, stress_unit
 
 __all__ = ["write_solid_plots", "section_grid", "section_planes"]
 
 #: samples along each side of a section picture
-SECTION_SAMPLES = 160
+SECTION_SAMPLES = 140
 _VOIGT = ("sxx", "syy", "szz", "syz", "sxz", "sxy")
 
 
@@ -72,14 +73,23 @@ def section_planes(problem: pb.Problem, contacts) -> list[dict]:
     ]
 
 
-def _section_values(solution: pb.Solution, plane: dict, n: int = SECTION_SAMPLES):
+def _section_values(problem: pb.Problem, solution: pb.Solution, plane: dict, n: int | None = None):
+    """Samples (n x n) of von Mises and |u| on a plane, each point in the body that holds it
+    (one look-up of the bodies for both fields); NaN outside every body."""
+    n = n or SECTION_SAMPLES
     su = np.linspace(-plane["half"][0], plane["half"][0], n)
     sv = np.linspace(-plane["half"][1], plane["half"][1], n)
     gu, gv = np.meshgrid(su, sv, indexing="xy")
     pts = plane["origin"] + gu.reshape(-1, 1) * plane["u"] + gv.reshape(-1, 1) * plane["v"]
-    vm = np.asarray(solution.von_mises(pts), dtype=float).reshape(n, n)
-    disp = np.linalg.norm(np.asarray(solution.displacement(pts), dtype=float), axis=1).reshape(n, n)
-    return su, sv, vm, disp
+    which = np.asarray(solution.body_at(pts), dtype=int).reshape(-1)
+    vm, disp = np.full(len(pts), np.nan), np.full(len(pts), np.nan)
+    for k, body in enumerate(problem.bodies):
+        sel = np.nonzero(which == k)[0]
+        if len(sel):
+            stress = np.asarray(solution.stress(pts[sel], body=body.name), dtype=float)
+            vm[sel] = von_mises(stress, problem.model, body.material.poissons_ratio)
+            disp[sel] = np.linalg.norm(np.asarray(solution.displacement(pts[sel], body=body.name), dtype=float), axis=1)
+    return su, sv, vm.reshape(n, n), disp.reshape(n, n)
 
 
 def _crop(ax, su: np.ndarray, sv: np.ndarray, values: np.ndarray) -> None:
@@ -94,9 +104,10 @@ def _sections(plt, problem: pb.Problem, solution: pb.Solution, contacts) -> Any:
     """von Mises and |u| on the section planes (:func:`section_planes`), each panel's colour
     scale from 0 to the largest value it shows; numbers in MPa / GPa and mm / um as they fit."""
     planes = section_planes(problem, contacts)
-    fig, axes = plt.subplots(2, 3, figsize=(15, 9.5), constrained_layout=True)
+    fig, axes = plt.subplots(2, 3, figsize=(15, 9.5))
+    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.07, top=0.92, wspace=0.45, hspace=0.3)  # fixed: fast
     for k, plane in enumerate(planes):
-        su, sv, vm, disp = _section_values(solution, plane)
+        su, sv, vm, disp = _section_values(problem, solution, plane)
         lname, lscale = length_unit(2.0 * max(plane["half"]))
         extent = (su[0] / lscale, su[-1] / lscale, sv[0] / lscale, sv[-1] / lscale)
         for row, values in enumerate((vm, disp)):
