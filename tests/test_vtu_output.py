@@ -141,3 +141,38 @@ def test_a_solved_2d_body_in_its_vtu_file(tmp_path):
         point = np.array([[*probe["point"], 0.0]])
         got = np.asarray(pv.PolyData(point).sample(grid).point_data["stress"])[0]
         assert np.allclose(got[[0, 1, 3]], probe["stress"], rtol=1e-9, atol=1e-9 * 1e8)
+
+
+def test_the_contact_region_carries_the_transmitted_force(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from _contact_scenes import cylinder_on_block
+    from ibfem.solver.io.output import write_results
+    from ibfem.solver.solve import solve
+
+    problem = cylinder_on_block("frictional", ux=2e-4, friction=0.3)
+    summary = write_results(tmp_path, problem, solve(problem), vtk=True)
+    assert {"contact_0.vtp", "cyl.vtu", "block.vtu", "result.vtm"} <= set(summary["files"])
+    c = summary["contacts"][0]
+    region = pv.read(tmp_path / "contact_0.vtp")
+    pts = np.asarray(region.points)[:, :2]
+    ds = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    p, q = np.asarray(region.point_data["pressure"]), np.asarray(region.point_data["shear"])
+    # equilibrium: the pressure and shear over the region are the transmitted forces (trapezoids)
+    assert np.sum(0.5 * (p[1:] + p[:-1]) * ds) == pytest.approx(c["normal_force"], rel=2e-3)
+    assert np.sum(0.5 * (q[1:] + q[:-1]) * ds) == pytest.approx(c["tangential_force"], rel=2e-2)
+    stick = np.asarray(region.point_data["stick"]).astype(bool)
+    s = (pts - c["point"]) @ np.asarray(c["tangent"])
+    assert np.ptp(s[stick]) == pytest.approx(2 * c["stick_half_width"], rel=0.02)
+    # the points lie on the first body's exact surface
+    assert np.abs(problem.body("cyl").profile.signed_distance(pts)).max() < 1e-9
+    # each body's surface points in the region carry the pressure; none elsewhere
+    for name in ("cyl", "block"):
+        body = pv.read(tmp_path / f"{name}.vtu")
+        on = np.asarray(body.point_data["contact_pressure"])
+        assert on.max() == pytest.approx(max(c["pressure"]["value"]), rel=0.02)
+        far = np.abs(np.asarray(body.points)[:, 0] - c["point"][0]) > 1.3 * c["half_width"]
+        assert np.all(on[far] == 0.0)
