@@ -47,9 +47,10 @@ def write_results(
     output_times = {"summary_s": time.perf_counter() - clock["start"]}
     files: list[Path] = []
     missing: list[str] = []
+    outputs: dict[str, Any] = {}  # the bodies' output meshes, made once for the files and pictures
     if vtk:  # VTK's XML format written directly: no optional library needed
         t0 = time.perf_counter()
-        files += write_vtk_files(out_dir, problem, solution, json_safe(summary), progress=report)
+        files += write_vtk_files(out_dir, problem, solution, json_safe(summary), progress=report, outputs=outputs)
         output_times["vtk_s"] = time.perf_counter() - t0
     if plots:  # a missing optional library costs its files, not the summary
         t0 = time.perf_counter()
@@ -57,7 +58,7 @@ def write_results(
         try:
             from .plots import write_plots
 
-            files += write_plots(out_dir, problem, solution, summary)
+            files += write_plots(out_dir, problem, solution, summary, outputs)
         except ImportError as err:
             missing.append(f"plots not written: matplotlib is not installed ({err}); pip install 'ibfem[pictures]'")
         output_times["plots_s"] = time.perf_counter() - t0

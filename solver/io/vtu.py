@@ -47,10 +47,11 @@ def _contact_pressure(problem: pb.Problem, body: pb.BodyModel, points: np.ndarra
 
 
 def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution,
-                    summary: Mapping[str, Any], progress=None) -> list[Path]:
+                    summary: Mapping[str, Any], progress=None, outputs: dict | None = None) -> list[Path]:
     """Every body's VTU file, every contact region's VTP file and the index; returns the paths.
     ``summary`` is the run's summary (JSON-safe: lists, None for missing values); ``progress``
-    is told each file's name before it is made."""
+    is told each file's name before it is made; ``outputs`` (a dict) receives each body's output
+    mesh by name, for the pictures."""
     report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -59,6 +60,8 @@ def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solut
     for body in problem.bodies:
         report(f"results: {file_stem(body.name)}.vtu (cells clipped at the surface)")
         mesh = body_output(problem, solution, body)
+        if outputs is not None:
+            outputs[body.name] = mesh
         mesh.point_data["contact_pressure"] = _contact_pressure(problem, body, mesh.points, contacts)
         path = write_unstructured_grid(out_dir / f"{file_stem(body.name)}.vtu", mesh.points, mesh.connectivity,
                                        mesh.offsets, mesh.types, mesh.point_data, mesh.cell_data, _COMPONENTS)
