@@ -20,23 +20,6 @@ from .results import _file_stem, json_safe
 __all__ = ["write_plots"]
 
 
-def _outline_path(body: pb.BodyModel) -> Any:
-    """The body's boundary (outer loop and holes) as a matplotlib compound path, or None."""
-    tessellate = getattr(body.profile, "tessellate", None)
-    if tessellate is None:
-        return None
-    from matplotlib.path import Path as MplPath
-
-    verts, codes = [], []
-    for points, _ in tessellate(1e-3 * body.element_size):  # sagitta: smooth to the eye
-        pts = np.asarray(points, dtype=float)
-        verts.append(np.vstack([pts, pts[:1]]))
-        c = np.full(len(pts) + 1, MplPath.LINETO, dtype=np.uint8)
-        c[0], c[-1] = MplPath.MOVETO, MplPath.CLOSEPOLY
-        codes.append(c)
-    return MplPath(np.concatenate(verts), np.concatenate(codes)) if verts else None
-
-
 def _pyplot():
     import matplotlib
 

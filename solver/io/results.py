@@ -279,15 +279,3 @@ def write_summary(path: str | Path, summary: Mapping[str, Any]) -> Path:
 
 def _file_stem(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "body"
-
-
-def _body_mesh(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) -> dict[str, np.ndarray]:
-    m = solution.mesh(body.name)
-    dim = problem.dim
-    nodes = np.asarray(m["nodes"], dtype=float).reshape(-1, dim)
-    cells = np.asarray(m["cells"], dtype=np.int64).reshape(-1, 2**dim)
-    disp = np.asarray(m["displacement"], dtype=float).reshape(-1, dim)
-    stress = np.asarray(m["cell_stress"], dtype=float).reshape(-1, dim * (dim + 1) // 2)
-    fraction = np.asarray(m.get("cell_inside_fraction", np.ones(len(cells))), dtype=float).reshape(-1)
-    vm = von_mises(stress, problem.model, body.material.poissons_ratio)
-    return {"nodes": nodes, "cells": cells, "displacement": disp, "stress": stress, "fraction": fraction, "von_mises": vm}
