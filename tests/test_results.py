@@ -221,3 +221,11 @@ def test_the_result_line_names_the_models_share_and_the_full_force():
                   "tangential_force": 0.1}
     assert contact_line(frictional) == ("half_width = 0.01 m, stick_half_width = 0.007 m, normal_force = 2 N/m, "
                                         "tangential_force = 0.1 N/m")
+
+
+def test_progress_names_every_output_being_written(tmp_path):
+    messages = []
+    output.write_results(tmp_path, make_problem(), make_solution(), vtk=True, plots=True,
+                         progress=lambda *a, **k: messages.append(" ".join(map(str, a))))
+    assert messages[0].startswith("results: summary")
+    assert {"results: upper.vtu", "results: lower.vtu", "results: plots"} <= {m.split(" (")[0] for m in messages}
