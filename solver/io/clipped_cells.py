@@ -140,6 +140,11 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
         s = np.repeat(half, len(corners))
         cell = np.repeat(cell[split], len(corners))
     simplices, simplex_parent, on_surface = _clip_leaves(leaves, dim, signed_distance)
+    if len(simplices):  # pieces of no measure (all vertices on a face the grid's planes hold)
+        edges = simplices[:, 1:] - simplices[:, :1]
+        scale = np.max(np.abs(edges), axis=(1, 2)) ** dim
+        solid = np.abs(np.linalg.det(edges)) > 1e-12 * scale
+        simplices, simplex_parent, on_surface = simplices[solid], simplex_parent[solid], on_surface[solid]
     touching = np.nonzero(on_surface.any(axis=1))[0]
     if len(touching):  # where the surface is concave its chords leave the body: drop those slivers
         keep = np.ones(len(simplices), dtype=bool)
