@@ -67,9 +67,15 @@ def unique_rows(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     keys = np.asarray(keys)
     if not len(keys):
         return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64)
-    order = np.lexsort(keys.T[::-1])
-    s = keys[order]
-    new = np.concatenate([[True], np.any(s[1:] != s[:-1], axis=1)])
+    packed = _packed(keys)
+    if packed is not None:  # integer rows in a small box: one sort of one column
+        order = np.argsort(packed, kind="stable")
+        s = packed[order]
+        new = np.concatenate([[True], s[1:] != s[:-1]])
+    else:
+        order = np.lexsort(keys.T[::-1])
+        s = keys[order]
+        new = np.concatenate([[True], np.any(s[1:] != s[:-1], axis=1)])
     group = np.cumsum(new) - 1
     first = order[new]  # the sort is stable: a group's first row is its first occurrence
     rank = np.empty(len(first), dtype=np.int64)
@@ -78,6 +84,21 @@ def unique_rows(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     inverse = np.empty(len(keys), dtype=np.int64)
     inverse[order] = rank[group]
     return first[by_first], inverse
+
+
+def _packed(keys: np.ndarray) -> np.ndarray | None:
+    """Integer rows as one int64 each (mixed radix over the rows' ranges), None when they are not
+    integers or their box has more than 2^62 cells."""
+    if keys.dtype.kind not in "iu":
+        return None
+    low = keys.min(axis=0)
+    span = (keys.max(axis=0) - low + 1).astype(float)
+    if np.prod(span) >= 2.0**62:
+        return None
+    packed = np.zeros(len(keys), dtype=np.int64)
+    for k in range(keys.shape[1]):
+        packed = packed * np.int64(span[k]) + (keys[:, k] - low[k])
+    return packed
 
 
 def _kuhn_simplices(dim: int) -> np.ndarray:
@@ -160,8 +181,9 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
 
 def _shared_values(points: np.ndarray, spacing: float, signed_distance: Callable) -> np.ndarray:
     """The signed distance at points many of which coincide (the corners sub-cubes share), each
-    distinct point evaluated once (points closer than 1e-9 of the spacing are one)."""
-    first, inverse = unique_rows(np.round(points / (1e-9 * spacing)).astype(np.int64))
+    distinct point evaluated once: the corners lie on the lattice of the finest sub-cubes
+    (``spacing``), so rounding to a quarter of it tells them apart."""
+    first, inverse = unique_rows(np.round(points / (0.25 * spacing)).astype(np.int64))
     return np.asarray(signed_distance(points[first]), dtype=float)[inverse]
 
 
