@@ -84,15 +84,18 @@ def test_ambiguous_and_unmatched_selectors_list_the_candidates():
 
 
 def test_selectors_on_a_cad_part():
+    from ibfem.geometry.solids.part_solid import PartSolid
+    from ibfem.importers.onshape import load_part
     from ibfem.solver.io.face_selectors import select_face
 
-    scene = load_scene(ROOT / "examples" / "solid" / "onshape_ball_on_block.toml")
-    part = scene.problem.body("part").profile
+    part = PartSolid(load_part(ROOT / "fixtures" / "onshape" / "cone_sphere"), "JIP")  # a cone with a spherical cap
     table = {f["id"]: f for f in face_summaries(part)}
-    cap = select_face(part, {"type": "sphere", "radius": 0.02})
+    cap = select_face(part, {"type": "sphere", "radius": 0.02}, list(table.values()))
     assert table[cap]["type"] == "sphere" and table[cap]["radius"] == pytest.approx(0.02)
-    # the cap's pole is the part's lowest point (the contact point at the origin)
-    assert select_face(part, {"nearest": [0.0, 0.0, -0.001]}) == cap
+    # the cap's sphere is centred at [0, -0.04, 0.02]: its pole along -y is the part's end
+    assert select_face(part, {"nearest": [0.0, -0.061, 0.02]}, list(table.values())) == cap
+    flat = select_face(part, {"normal": [0, 1, 0]}, list(table.values()))
+    assert table[flat]["type"] == "plane" and np.allclose(table[flat]["normal"], [0, 1, 0])
 
 
 def test_info_lists_every_face_with_its_geometry(capsys):
