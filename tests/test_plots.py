@@ -75,7 +75,6 @@ SOLID = {
 }
 
 
-@pytest.mark.slow  # a 3D solve and six section panels: some 10 s
 def test_3d_sections_reach_the_peak_and_name_theory(tmp_path):
     problem = scene_from_dict(SOLID).problem
     solution = solve(problem)
