@@ -12,6 +12,8 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
 # accepted errors of `ibfem verify` on exact faces
 POSITION_TOLERANCE = 1e-12  # m
 NORMAL_TOLERANCE = 1e-9  # rad
@@ -55,6 +57,9 @@ def register(sub: "argparse._SubParsersAction") -> None:
 
     p = sub.add_parser("info", help="summarise an imported part: bodies, faces by surface type, edges by curve type")
     p.add_argument("directory", help="cached import directory, a .step/.stp/.iges/.igs file, or an .stl/.obj mesh file")
+    p.add_argument("--faces", action="store_true",
+                   help="list every face of every solid body: id, surface type, area, centroid, outward normal "
+                   "(flat faces) or axis and radius, the values a scene's face selector matches")
     p.set_defaults(handler=_info)
 
 
@@ -205,7 +210,40 @@ def _info(args: argparse.Namespace) -> int:
     except (ValueError, OSError) as exc:
         return _fail("info", str(exc))
     print(format_info(part, args.directory))
+    if getattr(args, "faces", False):
+        print("")
+        print(format_faces(part))
     return 0
+
+
+def format_faces(part) -> str:
+    """Every face of every solid body with its geometry (geometry.solids.face_summary); a body
+    whose faces cannot make a solid (no tessellation) is named with the reason."""
+    from ibfem.geometry.solids.face_summary import face_summary
+    from ibfem.geometry.solids.part_solid import PartSolid
+
+    def vec(v) -> str:
+        if v is None:
+            return "-"
+        a = np.asarray(v, dtype=float)
+        a = np.where(np.abs(a) > 1e-12 * (1.0 + np.abs(a).max()), a, 0.0)
+        return "[" + ", ".join(f"{x:.4g}" for x in a) + "]"
+
+    lines = [f"{'body':<8} {'face':<10} {'type':<11} {'area (m^2)':>11}  {'centroid (m)':<30} "
+             f"{'normal / axis':<24} {'radius (m)':>10}"]
+    for b in part.bodies.values():
+        try:
+            solid = PartSolid(part, b.id)
+        except ValueError as exc:
+            lines.append(f"{b.id:<8} (no solid: {exc})")
+            continue
+        for name, face in solid.faces.items():
+            f = face_summary(name, face)
+            direction = vec(f.get("normal")) if f["type"] == "plane" else vec(f.get("axis"))
+            radius = f"{f['radius']:.6g}" if isinstance(f.get("radius"), float) else "-"
+            lines.append(f"{b.id:<8} {name:<10} {f['type']:<11} {f['area']:>11.5g}  {vec(f.get('centroid')):<30} "
+                         f"{direction:<24} {radius:>10}")
+    return "\n".join(lines)
 
 
 def format_info(part, title: str = "") -> str:

@@ -94,6 +94,8 @@ def _run(args: argparse.Namespace) -> int:
     try:
         solution = solve(scene.problem, progress=progress)
     except ValueError as err:  # the solver's own checks on the input: a scene problem
+        if not args.quiet:
+            progress.close()
         if args.traceback:
             raise
         library, where = error_origin(err)
@@ -104,19 +106,24 @@ def _run(args: argparse.Namespace) -> int:
         _err(f"{label}: the solver failed in {where}: {library} reported \"{str(err).splitlines()[0] if str(err) else type(err).__name__}\". "
              "This is a bug (an input the scene check lets through): rerun with --traceback and report it.")
         return INTERNAL_ERROR
-    finally:
+    except BaseException:
         if not args.quiet:
             progress.close()
+        raise
 
     out = Path(args.out) if args.out else default_out_dir(args.scene)
     extra = {"scene": str(Path(args.scene))}
     if scene.warnings:
         extra["warnings"] = list(scene.warnings)
-    try:
-        summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0, extra=extra)
+    try:  # the progress display goes on while the results are written
+        summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0, extra=extra,
+                                      progress=progress)
     except OSError as err:
         _err(f"cannot write results to {out}: {err.strerror or err}")
         return 4
+    finally:
+        if not args.quiet:
+            progress.close()
     for note in summary.get("warnings", [])[len(scene.warnings):]:
         _err(f"warning: {note}")
     iterations = summary["iterations"]["total"]
@@ -130,22 +137,8 @@ def _run(args: argparse.Namespace) -> int:
         f"{scene.name}: converged in {iterations} iterations, {summary['timings']['total_s']:.2f} s; "
         f"results in {out}/"
     )
+    from ibfem.solver.io.result_line import contact_line
+
     for c in summary["contacts"]:
-        print("  contact " + " / ".join(c.get("bodies") or []) + ": " + _contact_line(c))
+        print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
     return 0
-
-
-def _contact_line(c: dict) -> str:
-    def num(key: str, unit: str) -> str:
-        v = c.get(key)
-        return f"{key} = {float(v):.6g} {unit}" if isinstance(v, (int, float)) and v == v else f"{key} = n/a"
-
-    if "semi_axes" in c:  # a contact between solids: forces in N
-        def pair(key: str) -> str:
-            v = c.get(key) or []
-            return f"{key} = [" + ", ".join(f"{float(x):.6g}" for x in v) + "]"
-
-        return ", ".join([pair("semi_axes") + " m", pair("stick_semi_axes") + " m", num("normal_force", "N"),
-                          pair("tangential_force") + " N"])
-    return ", ".join([num("half_width", "m"), num("stick_half_width", "m"), num("normal_force", "N/m"),
-                      num("tangential_force", "N/m")])

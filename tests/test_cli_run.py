@@ -213,7 +213,7 @@ def test_end_to_end_lame_quarter_annulus(tmp_path):
     radius = np.hypot(pts[:, 0], pts[:, 1])
     u_r = np.einsum("ij,ij->i", np.array(line["displacement"]), pts / radius[:, None])
     assert np.allclose(u_r, lame(radius)[2], rtol=0.01)
-    assert (out / "ring.vtu").stat().st_size > 1000 and data["files"] == ["ring.vtu"]
+    assert (out / "ring.vtu").stat().st_size > 1000 and data["files"] == ["result.vtm", "ring.vtu"]
 
 
 def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
@@ -228,18 +228,21 @@ def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
     assert err.startswith("ibfem run: cannot write results to") and err.count("\n") == 1
 
 
-def test_missing_pyvista_skips_the_vtu_files_with_a_warning(tmp_path, capsys, monkeypatch):
+def test_vtu_files_are_written_without_pyvista(tmp_path, capsys, monkeypatch):
     import ibfem.solver.solve
     from ibfem import solver
 
     monkeypatch.setattr(solver.solve, "solve", lambda problem, progress=None: fake_solution(converged=True))
     monkeypatch.setitem(sys.modules, "pyvista", None)
+    monkeypatch.setitem(sys.modules, "vtk", None)
     path = tmp_path / "plate.toml"
     path.write_text(PLATE.format(material="steel").replace("vtk = false", "vtk = true"))
     assert main(["run", str(path), "--quiet", "--out", str(tmp_path / "out")]) == 0
-    assert "warning: VTU files not written: pyvista is not installed" in capsys.readouterr().err
+    assert "warning" not in capsys.readouterr().err
     data = json.loads((tmp_path / "out" / "summary.json").read_text())
-    assert data["files"] == [] and "pyvista" in data["warnings"][0]
+    assert data["files"] == ["plate.vtu", "result.vtm"] and "warnings" not in data
+    head = (tmp_path / "out" / "plate.vtu").read_bytes()[:200]
+    assert b'<VTKFile type="UnstructuredGrid"' in head
 
 
 def test_progress_on_a_terminal_rewrites_one_line():

@@ -55,13 +55,25 @@ def test_summary_has_exactly_the_spec_keys_and_values(tmp_path):
     data = json.loads((tmp_path / "summary.json").read_text())
     spec_keys = {"name", "converged", "model", "bodies", "reactions", "contacts", "probes", "lines", "iterations", "timings"}
     assert spec_keys <= set(data)
-    assert set(data) - spec_keys == {"files"}  # the one documented extension at top level
+    # the documented extensions at top level: the files written, the version, the time, the units
+    assert set(data) - spec_keys == {"files", "ibfem_version", "created", "units"}
+    from importlib import metadata
+    from datetime import datetime, timezone
+
+    assert data["ibfem_version"] == metadata.version("ibfem")
+    created = datetime.fromisoformat(data["created"])
+    assert created.tzinfo is not None and abs((datetime.now(timezone.utc) - created).total_seconds()) < 600
+    assert data["units"]["force"] == "N/m" and data["units"]["stress"] == "Pa" and data["units"]["length"] == "m"
     assert data == json.loads(json.dumps(results.json_safe(written)))
     assert data["name"] == "two blocks" and data["converged"] is True and data["model"] == "plane_strain"
     assert data["bodies"]["upper"] == {"elements": 8, "dofs": 30, "element_size": 0.25, "min_element_size": 0.125}
     assert data["reactions"] == {"upper/top": [1.5, -2.0], "lower/bottom": [-1.5, 2.0]}
     assert data["iterations"] == {"total": 3, "per_step": [1, 2]}
-    assert data["timings"] == {"total_s": 1.5, "assembly_s": 0.1, "solver_total_s": 0.25}
+    timings = data["timings"]
+    assert {k: timings[k] for k in ("assembly_s", "solver_total_s")} == {"assembly_s": 0.1, "solver_total_s": 0.25}
+    # the run's total includes the output written, and says how long that took
+    assert timings["output_s"] >= timings["summary_s"] > 0.0 and "vtk_s" not in timings
+    assert timings["total_s"] == pytest.approx(1.5 + timings["output_s"], abs=1e-12)
 
     # probes: the closed-form field of the body containing each point
     p0, p1, p2 = data["probes"]
@@ -112,35 +124,49 @@ def test_contacts_pass_through_json_safe(tmp_path):
     data = json.loads((tmp_path / "summary.json").read_text())
     c = data["contacts"][0]
     assert c["point"] == [0.5, 0.0] and c["half_width"] == 0.01 and c["pressure"]["value"] == [1.0] * 5
-    assert data["files"] == ["contact_0.png", "contact_0_fields.png", "fields.png"]
+    assert data["files"] == ["contact_0.png", "contact_0_fields.png", "fields.png", "report.html"]
 
 
 def test_vtu_files_hold_the_field(tmp_path):
     pv = pytest.importorskip("pyvista")
     problem = make_problem()
     summary = output.write_results(tmp_path, problem, make_solution(), vtk=True)
-    assert summary["files"] == ["lower.vtu", "upper.vtu"]
+    assert summary["files"] == ["lower.vtu", "result.vtm", "upper.vtu"]
     for body in (UPPER, LOWER):
         grid = pv.read(tmp_path / f"{body.name}.vtu")
         assert grid.n_cells == 8 and grid.n_points == 15
         pts = np.asarray(grid.points)[:, :2]
         assert np.allclose(np.asarray(grid.point_data["displacement"])[:, :2], body.displacement(pts), rtol=1e-14)
         assert np.allclose(np.asarray(grid.point_data["displacement"])[:, 2], 0.0)
+        # point stress: the field at the points, in VTK's tensor order with szz = nu (sxx + syy)
+        expected = plane_strain_stress(body.strain(pts))
+        tensor = np.asarray(grid.point_data["stress"])
+        assert np.allclose(tensor[:, [0, 1, 3]], expected, rtol=1e-12)
+        assert np.allclose(tensor[:, 2], NU * (expected[:, 0] + expected[:, 1]), rtol=1e-12)
+        assert np.allclose(tensor[:, [4, 5]], 0.0)
+        assert np.allclose(grid.point_data["von_mises"], [vm_reference(s) for s in expected], rtol=1e-12)
+        # principal stresses are the tensor's eigenvalues: their sum is its trace
+        principal = np.asarray(grid.point_data["principal_stress"])
+        assert np.all(np.diff(principal, axis=1) <= 1e-6 * np.abs(principal).max())
+        assert np.allclose(principal.sum(axis=1), tensor[:, :3].sum(axis=1), rtol=1e-10)
         centres = np.asarray(grid.cell_centers().points)[:, :2]
-        expected = plane_strain_stress(body.strain(centres))
-        assert np.allclose(np.asarray(grid.cell_data["stress"]), expected, rtol=1e-12)
-        assert np.allclose(np.asarray(grid.cell_data["syy"]), expected[:, 1], rtol=1e-12)
-        assert np.allclose(grid.cell_data["von_mises"], [vm_reference(s) for s in expected], rtol=1e-12)
+        raw = plane_strain_stress(body.strain(centres))
+        assert np.allclose(np.asarray(grid.cell_data["cell_stress"])[:, [0, 1, 3]], raw, rtol=1e-12)
+        assert np.allclose(grid.cell_data["cell_von_mises"], [vm_reference(s) for s in raw], rtol=1e-12)
         # the cells tile the body: total area = the rectangle's
         areas = grid.compute_cell_sizes(length=False, volume=False)["Area"]
         assert np.sum(areas) == pytest.approx((body.hi[0] - body.lo[0]) * (body.hi[1] - body.lo[1]))
+    index = pv.read(tmp_path / "result.vtm")
+    assert index.n_blocks == 2
 
 
 def test_plots_are_png_images(tmp_path):
     lines = [{"name": "across body", "start": [0.0, 0.5], "end": [1.0, 0.5], "n": 20}]
     summary = output.write_results(tmp_path, make_problem(), make_solution(), lines=lines, vtk=False, plots=True)
-    assert summary["files"] == ["fields.png", "line_across_body.png"]
-    for name in summary["files"]:
+    assert summary["files"] == ["fields.png", "line_across_body.png", "report.html"]
+    page = (tmp_path / "report.html").read_text()
+    assert page.count("data:image/png;base64,") == 2 and "src=\"http" not in page  # self-contained
+    for name in summary["files"][:2]:
         head = (tmp_path / name).read_bytes()[:8]
         assert head == b"\x89PNG\r\n\x1a\n" and (tmp_path / name).stat().st_size > 5000
 
@@ -165,3 +191,41 @@ def test_contact_blocks_get_every_spec_key_in_order(tmp_path):
     assert c["tangent"] == [-0.8, 0.6]  # SPEC: tangent = (-n_y, n_x)
     assert c["half_width"] is None and c["pressure"] == {"s": [], "value": []}
     assert c["normal_force"] == 5.0 and c["width_iterations"] == 4
+
+
+def test_contact_checks_say_what_they_count_and_a_half_model_names_the_full_force(tmp_path):
+    problem = make_problem()
+    block = {"normal": [0.0, 1.0], "normal_force": 5.0, "half_width": 0.01, "stick_half_width": 0.0,
+             "tangential_force": 0.0, "model_share": 0.5,
+             "checks": {"tension": False, "tension_points": 4, "min_pressure": -2.0}}
+    contacts = (pb.ContactModel(bodies=("upper", "lower"), type="frictionless"),)
+    p = pb.Problem(name="p", model="plane_strain", thickness=1.0, bodies=problem.bodies, contacts=contacts)
+    output.write_results(tmp_path, p, make_solution(contacts=[dict(block)]), vtk=False)
+    (c,) = json.loads((tmp_path / "summary.json").read_text())["contacts"]
+    assert c["checks"] == {"tension_at_region_edges": False, "tensile_samples_inside_region": 4,
+                           "smallest_pressure_inside_region": -2.0}
+    assert c["full_contact"] == {"model_share": 0.5, "normal_force": 10.0}  # a half model carries half
+
+
+def test_the_result_line_names_the_models_share_and_the_full_force():
+    from ibfem.solver.io.result_line import contact_line
+
+    quarter = {"bodies": ["ball", "block"], "type": "frictionless", "semi_axes": [0.04, 0.04], "normal_force": 3.42e6,
+               "model_share": 0.25, "full_contact": {"model_share": 0.25, "normal_force": 1.368e7}}
+    line = contact_line(quarter)
+    assert "normal_force (quarter model) = 3.42e+06 N; full contact 1.368e+07 N" in line
+    assert "stick" not in line and "tangential" not in line
+    quarter["stick_semi_axes"], quarter["tangential_force"] = [0.0, 0.0], [0.0, 0.0]
+    assert contact_line(quarter) == line  # a frictionless contact has neither
+    frictional = {"type": "frictional", "half_width": 0.01, "stick_half_width": 0.007, "normal_force": 2.0,
+                  "tangential_force": 0.1}
+    assert contact_line(frictional) == ("half_width = 0.01 m, stick_half_width = 0.007 m, normal_force = 2 N/m, "
+                                        "tangential_force = 0.1 N/m")
+
+
+def test_progress_names_every_output_being_written(tmp_path):
+    messages = []
+    output.write_results(tmp_path, make_problem(), make_solution(), vtk=True, plots=True,
+                         progress=lambda *a, **k: messages.append(" ".join(map(str, a))))
+    assert messages[0].startswith("results: summary")
+    assert {"results: upper.vtu", "results: lower.vtu", "results: plots"} <= {m.split(" (")[0] for m in messages}

@@ -1,19 +1,31 @@
-"""Writing a run's results: ``summary.json`` (solver.io.results), one VTU file per body and the
-PNG pictures (solver.io.plots) the scene's ``[output]`` asks for."""
+"""Writing a run's results: ``summary.json`` (solver.io.results), the VTK files of the bodies
+and contact regions (solver.io.vtu), and the PNG pictures (solver.io.plots) with ``report.html``
+(solver.io.report_html) when the scene's ``[output]`` asks for plots."""
 
 from __future__ import annotations
 
+import hashlib
+import time
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Iterable, Mapping
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping
 
 from ibfem.solver.model import problem as pb
+
+from .report_html import write_report
+from .results import build_summary, json_safe, write_summary
+from .vtu import write_vtk_files
 
 if TYPE_CHECKING:
     from .scene import Scene
 
-from .results import build_summary, write_summary, write_vtu
-
 __all__ = ["write_results", "write_scene_results"]
+
+
+def _step_bodies(folder: Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
+    """One load step's body files (VTU, clipped at the exact surfaces) for the ``steps.pvd`` series;
+    the contact regions of a step are in ``summary.json``'s ``steps``, not in the series."""
+    written = write_vtk_files(folder, problem, solution, {"contacts": []})
+    return [p for p in written if p.suffix == ".vtu"]
 
 
 def write_results(
@@ -26,35 +38,58 @@ def write_results(
     plots: bool = False,
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
+    progress: Callable[..., None] | None = None,
 ) -> dict[str, Any]:
     """Write every requested file into ``out_dir``; returns the summary written. The summary
-    lists the other files under ``files`` (names relative to ``out_dir``)."""
+    lists the other files under ``files`` (names relative to ``out_dir``) and the time each kind
+    of output took under ``timings`` (``summary_s``, ``vtk_s``, ``plots_s``, together
+    ``output_s``; ``total_s``, the run's time until now, includes them). ``progress`` is told
+    which file is being written."""
+    report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    clock = {"start": time.perf_counter()}
+    report("results: summary (probes, lines)")
     summary = build_summary(problem, solution, probes, lines, total_s=total_s, extra=extra)
+    scene = Path(str(summary.get("scene") or ""))
+    if summary.get("scene") and scene.is_file():  # the scene file's fingerprint, to tell runs apart
+        summary["scene_sha256"] = hashlib.sha256(scene.read_bytes()).hexdigest()
+    output_times = {"summary_s": time.perf_counter() - clock["start"]}
     files: list[Path] = []
     missing: list[str] = []
-    # a missing optional library costs its files, not the summary
-    if vtk:
-        try:
-            files += write_vtu(out_dir, problem, solution)
-        except ImportError as err:
-            missing.append(f"VTU files not written: pyvista is not installed ({err}); pip install 'ibfem[pictures]'")
+    outputs: dict[str, Any] = {}  # the bodies' output meshes, made once for the files and pictures
+    if vtk:  # VTK's XML format written directly: no optional library needed
+        t0 = time.perf_counter()
+        files += write_vtk_files(out_dir, problem, solution, json_safe(summary), progress=report, outputs=outputs)
+        output_times["vtk_s"] = time.perf_counter() - t0
     if getattr(solution, "steps", None):  # load paths: the step series and the history's tables
         from .step_outputs import write_step_files
 
-        files += write_step_files(out_dir, problem, solution, summary, write_vtu=write_vtu if vtk else None,
+        files += write_step_files(out_dir, problem, solution, summary, write_vtu=_step_bodies if vtk else None,
                                   plots=plots, missing=missing)
-    if plots:
+    if plots:  # a missing optional library costs its files, not the summary
+        t0 = time.perf_counter()
+        report("results: plots")
         try:
             from .plots import write_plots
 
-            files += write_plots(out_dir, problem, solution, summary)
+            files += write_plots(out_dir, problem, solution, summary, outputs)
         except ImportError as err:
             missing.append(f"plots not written: matplotlib is not installed ({err}); pip install 'ibfem[pictures]'")
+        output_times["plots_s"] = time.perf_counter() - t0
     if missing:
         summary["warnings"] = list(summary.get("warnings", [])) + missing
+    if plots:  # the page that shows the run: numbers and pictures in one file
+        scene_text = scene.read_text(encoding="utf-8", errors="replace") if summary.get("scene") and scene.is_file() else None
+        pictures = sorted(p for p in files if p.suffix == ".png")
+        files.append(out_dir / "report.html")
     summary["files"] = sorted(str(p.relative_to(out_dir)) for p in files)
+    output_times["output_s"] = time.perf_counter() - clock["start"]
+    summary["timings"].update(output_times)
+    if total_s is not None:
+        summary["timings"]["total_s"] = float(total_s) + output_times["output_s"]
+    if plots:
+        write_report(out_dir, json_safe(summary), pictures, scene_text)
     write_summary(out_dir / "summary.json", summary)
     return summary
 
@@ -65,6 +100,7 @@ def write_scene_results(
     solution: pb.Solution,
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
+    progress: Callable[..., None] | None = None,
 ) -> dict[str, Any]:
     """:func:`write_results` with the probes, lines and file choices of a loaded
     :class:`solver.io.scene.Scene`'s ``[output]`` table: writes ``summary.json`` (and the VTU
@@ -83,4 +119,5 @@ def write_scene_results(
         plots=output.plots,
         total_s=total_s,
         extra=extra,
+        progress=progress,
     )

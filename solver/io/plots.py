@@ -13,26 +13,11 @@ import numpy as np
 
 from ibfem.solver.model import problem as pb
 
-from .results import _body_mesh, _file_stem, json_safe
+from .plot_units import length_unit, stress_unit
+from .body_output import body_output
+from .results import _file_stem, json_safe
 
 __all__ = ["write_plots"]
-
-
-def _outline_path(body: pb.BodyModel) -> Any:
-    """The body's boundary (outer loop and holes) as a matplotlib compound path, or None."""
-    tessellate = getattr(body.profile, "tessellate", None)
-    if tessellate is None:
-        return None
-    from matplotlib.path import Path as MplPath
-
-    verts, codes = [], []
-    for points, _ in tessellate(1e-3 * body.element_size):  # sagitta: smooth to the eye
-        pts = np.asarray(points, dtype=float)
-        verts.append(np.vstack([pts, pts[:1]]))
-        c = np.full(len(pts) + 1, MplPath.LINETO, dtype=np.uint8)
-        c[0], c[-1] = MplPath.MOVETO, MplPath.CLOSEPOLY
-        codes.append(c)
-    return MplPath(np.concatenate(verts), np.concatenate(codes)) if verts else None
 
 
 def _pyplot():
@@ -58,30 +43,50 @@ class _Figures:
         self.plt.close(fig)
         self.written.append(path)
 
-    def save_line_plot(self, fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str) -> None:
+    def save_line_plot(self, fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str,
+                       outside: bool = False) -> None:
+        """Labels, legend (beside the axes when ``outside``: it never hides a curve), grid."""
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
         ax.set_title(title)
-        ax.legend()
+        if outside:
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+        else:
+            ax.legend()
         ax.grid(alpha=0.3)
         self.save(fig, name)
 
 
-def _cell_values(m: dict, key: str) -> np.ndarray:
+def _triangles(out) -> np.ndarray:
+    """(k, 3) triangles of a 2D output mesh (solver.io.body_output): quadrilaterals split in two."""
+    starts = np.concatenate([[0], out.offsets[:-1]])
+    sizes = out.offsets - starts
+    tris = []
+    quads = np.nonzero(sizes == 4)[0]
+    if len(quads):
+        q = out.connectivity[starts[quads, None] + np.arange(4)]
+        tris += [q[:, [0, 1, 2]], q[:, [0, 2, 3]]]
+    simplices = np.nonzero(sizes == 3)[0]
+    if len(simplices):
+        tris.append(out.connectivity[starts[simplices, None] + np.arange(3)])
+    return np.concatenate(tris) if tris else np.zeros((0, 3), dtype=np.int64)
+
+
+def _point_values(out, key: str) -> np.ndarray:
     if key == "von_mises":
-        return m["von_mises"]
-    return np.linalg.norm(m["displacement"], axis=1)[m["cells"]].mean(axis=1)  # node magnitudes onto cells
+        return np.asarray(out.point_data["von_mises"], dtype=float)
+    return np.linalg.norm(np.asarray(out.point_data["displacement"], dtype=float)[:, :2], axis=1)
 
 
-def _colour_range(meshes: list[dict], values: list[np.ndarray], window) -> tuple[float, float]:
-    """Colour scale from the cells with material in ``window`` (x0, x1, y0, y1)."""
+def _colour_range(outputs, values: list[np.ndarray], window) -> tuple[float, float]:
+    """Colour scale from the smallest to the largest value at the points in ``window`` (x0, x1,
+    y0, y1): the field's peak there is always on the scale."""
     x0, x1, y0, y1 = window
     shown = []
-    for m, v in zip(meshes, values):
-        lo, hi = m["nodes"][m["cells"]].min(axis=1), m["nodes"][m["cells"]].max(axis=1)
-        seen = (hi[:, 0] >= x0) & (lo[:, 0] <= x1) & (hi[:, 1] >= y0) & (lo[:, 1] <= y1)
-        shown.append(v[seen & (m["fraction"] > 0)])
-    finite = np.concatenate(shown)
+    for out, v in zip(outputs, values):
+        p = out.points
+        shown.append(v[(p[:, 0] >= x0) & (p[:, 0] <= x1) & (p[:, 1] >= y0) & (p[:, 1] <= y1)])
+    finite = np.concatenate(shown) if shown else np.zeros(0)
     finite = finite[np.isfinite(finite)]
     vmin, vmax = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
     if vmax <= vmin:
@@ -89,48 +94,52 @@ def _colour_range(meshes: list[dict], values: list[np.ndarray], window) -> tuple
     return vmin, vmax
 
 
-def _draw_field(fig: Any, ax: Any, meshes, outlines, key: str, label: str, title: str, window) -> None:
-    from matplotlib.collections import PolyCollection
-    from matplotlib.patches import PathPatch
-
-    values = [_cell_values(m, key) for m in meshes]
-    vmin, vmax = _colour_range(meshes, values, window)
-    for m, v, outline in zip(meshes, values, outlines):
-        poly = PolyCollection(m["nodes"][m["cells"]], array=v, cmap="viridis", edgecolors="none")
-        poly.set_clim(vmin, vmax)
-        ax.add_collection(poly)
-        if outline is not None:  # cut cells drawn only inside the exact boundary
-            patch = PathPatch(outline, facecolor="none", edgecolor="k", lw=0.6)
-            ax.add_patch(patch)
-            poly.set_clip_path(patch)
+def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, title: str, window) -> None:
+    """The recovered field over the bodies as they are (cells clipped at the exact boundary),
+    drawn on the deformed shape at true scale (touching bodies close over the contact), smoothly
+    shaded between the points; lengths and stresses in the units that fit."""
+    values = [_point_values(out, key) for out in outputs]
+    vmin, vmax = _colour_range(outputs, values, window)
     x0, x1, y0, y1 = window
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y0, y1)
-    fig.colorbar(poly, ax=ax, shrink=0.8)
+    lname, lscale = length_unit(max(x1 - x0, y1 - y0))
+    uname, uscale = stress_unit(max(abs(vmin), abs(vmax))) if key == "von_mises" else length_unit(vmax)
+    image = None
+    for out, v in zip(outputs, values):
+        xy = (out.points + np.asarray(out.point_data["displacement"], dtype=float)[:, :2]) / lscale
+        tris = _triangles(out)
+        ok = np.all(np.isfinite(v[tris]), axis=1)
+        if not ok.any():
+            continue
+        image = ax.tripcolor(xy[:, 0], xy[:, 1], tris[ok], np.nan_to_num(v) / uscale, shading="gouraud",
+                             cmap="viridis", vmin=vmin / uscale, vmax=vmax / uscale)
+    ax.set_xlim(x0 / lscale, x1 / lscale)
+    ax.set_ylim(y0 / lscale, y1 / lscale)
+    if image is not None:
+        fig.colorbar(image, ax=ax, shrink=0.8, label=f"{label} [{uname}]")
     ax.set_aspect("equal")
     ax.locator_params(nbins=5)
-    ax.set_title(f"{title}: {label}", fontsize=10)
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+    ax.set_title(f"{title} (deformed, true scale)", fontsize=10)
+    ax.set_xlabel(f"x [{lname}]")
+    ax.set_ylabel(f"y [{lname}]")
 
 
-def _field_figure(plt, meshes, outlines, title: str, window) -> Any:
+def _field_figure(plt, outputs, title: str, window) -> Any:
     """von Mises and displacement magnitude side by side over ``window`` (the whole scene when None)."""
     fig, axes = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
-    allnodes = np.concatenate([m["nodes"] for m in meshes])
-    window = window or (allnodes[:, 0].min(), allnodes[:, 0].max(), allnodes[:, 1].min(), allnodes[:, 1].max())
-    for ax, key, label in ((axes[0], "von_mises", "von Mises stress [Pa]"),
-                           (axes[1], "displacement", "displacement magnitude [m]")):
-        _draw_field(fig, ax, meshes, outlines, key, label, title, window)
+    allpoints = np.concatenate([out.points for out in outputs])
+    window = window or (allpoints[:, 0].min(), allpoints[:, 0].max(), allpoints[:, 1].min(), allpoints[:, 1].max())
+    for ax, key, label in ((axes[0], "von_mises", "von Mises stress"),
+                           (axes[1], "displacement", "displacement magnitude")):
+        _draw_field(fig, ax, outputs, key, label, title, window)
     return fig
 
 
-def _field_figures(figs: _Figures, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]) -> None:
-    meshes = [_body_mesh(problem, solution, b) for b in problem.bodies]
-    outlines = [_outline_path(b) for b in problem.bodies]
-    if not meshes:
+def _field_figures(figs: _Figures, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any],
+                   outputs: Mapping[str, Any]) -> None:
+    bodies = [outputs.get(b.name) or body_output(problem, solution, b) for b in problem.bodies]
+    if not bodies:
         return
-    figs.save(_field_figure(figs.plt, meshes, outlines, problem.name, None), "fields.png")
+    figs.save(_field_figure(figs.plt, bodies, problem.name, None), "fields.png")
     # a close-up of each contact: 4 half-widths (at least 8 of the finest cells) around it
     finest = min(float(summary["bodies"].get(b.name, {}).get("min_element_size") or b.element_size)
                  for b in problem.bodies)
@@ -140,8 +149,7 @@ def _field_figures(figs: _Figures, problem: pb.Problem, solution: pb.Solution, s
         half = max(4.0 * float(c.get("half_width") or 0.0), 8.0 * finest)
         px, py = c["point"]
         window = (px - half, px + half, py - half, py + half)
-        figs.save(_field_figure(figs.plt, meshes, outlines, f"{problem.name}, contact {k}", window),
-                  f"contact_{k}_fields.png")
+        figs.save(_field_figure(figs.plt, bodies, f"{problem.name}, contact {k}", window), f"contact_{k}_fields.png")
 
 
 def _line_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any]) -> None:
@@ -197,40 +205,70 @@ def hertz_reference(problem: pb.Problem, c: Mapping[str, Any]) -> dict | None:
     return out
 
 
-def _reference_curves(ax, ref: dict, s: np.ndarray) -> None:
+def _reference_curves(ax, ref: dict, s: np.ndarray, lscale: float = 1.0, sscale: float = 1.0) -> None:
     from ibfem.solver.reference import theory
 
     x = np.linspace(min(s.min(), -1.3 * ref["a"]), max(s.max(), 1.3 * ref["a"]), 600)
-    ax.plot(x, theory.hertz_pressure(x, ref["a"], ref["p0"]), "k--", lw=1.2,
+    ax.plot(x / lscale, theory.hertz_pressure(x, ref["a"], ref["p0"]) / sscale, "k--", lw=1.2,
             label=f"Hertz for the computed N (R* = {ref['R_eff']:.4g} m)")
     if "mu" in ref:
         q = theory.cattaneo_mindlin_shear(x, ref["a"], ref["stick_ratio"] * ref["a"], ref["mu"], ref["p0"], sign=ref["sign"])
-        ax.plot(x, q, "k:", lw=1.2, label="Cattaneo-Mindlin for the computed Q, N")
+        ax.plot(x / lscale, q / sscale, "k:", lw=1.2, label="Cattaneo-Mindlin for the computed Q, N")
+
+
+def _contact_numbers(c: Mapping[str, Any], ref: dict | None, lscale: float, lname: str, sscale: float, sname: str) -> str:
+    """a, c and p0 with their theory values (Hertz, Cattaneo-Mindlin) where a theory applies."""
+    p0 = max((c.get("pressure") or {}).get("value") or [0.0])
+    rows = [("a", c.get("half_width"), None if ref is None else ref["a"], lscale, lname),
+            ("p0", p0, None if ref is None else ref["p0"], sscale, sname)]
+    if c.get("type") == "frictional":
+        rows.insert(1, ("c", c.get("stick_half_width"), None if ref is None or "stick_ratio" not in ref
+                        else ref["stick_ratio"] * ref["a"], lscale, lname))
+    out = []
+    for name, value, theory, scale, unit in rows:
+        if value is None:
+            continue
+        text = f"{name} = {value / scale:.4g} {unit}"
+        if theory:
+            text += f"  (theory {theory / scale:.4g}, {100.0 * (value / theory - 1.0):+.2f} %)"
+        out.append(text)
+    return "\n".join(out)
 
 
 def _contact_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any]) -> None:
     """Pressure and shear of every contact; Hertz / Cattaneo-Mindlin beside them when the
-    contact is Hertzian (:func:`hertz_reference`), the legend says which curve is which."""
+    contact is Hertzian (:func:`hertz_reference`), the legend says which curve is which, and a,
+    c, p0 are written with their theory values."""
     for k, c in enumerate(summary.get("contacts", [])):
         pressure, shear = c.get("pressure") or {}, c.get("shear") or {}
         if not (pressure.get("s") or shear.get("s")):
             continue
-        fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
+        s_all = np.asarray(pressure.get("s") or shear.get("s"), float)
+        lname, lscale = length_unit(float(np.ptp(s_all)) or 1.0)
+        sname, sscale = stress_unit(max(np.abs(pressure.get("value") or [0.0]).max(), 1e-300))
+        fig, ax = figs.plt.subplots(figsize=(10.5, 4.8), constrained_layout=True)
         if pressure.get("s"):
-            ax.plot(np.asarray(pressure["s"], float), np.asarray(pressure["value"], float), lw=2, label="pressure (computed)")
+            ax.plot(np.asarray(pressure["s"], float) / lscale, np.asarray(pressure["value"], float) / sscale, lw=2,
+                    label="pressure (computed)")
         if shear.get("s"):
-            ax.plot(np.asarray(shear["s"], float), np.asarray(shear["value"], float), lw=2, label="shear (computed)")
+            ax.plot(np.asarray(shear["s"], float) / lscale, np.asarray(shear["value"], float) / sscale, lw=2,
+                    label="shear (computed)")
         ref = hertz_reference(problem, c)
         if ref is not None:
-            _reference_curves(ax, ref, np.asarray(pressure.get("s") or shear.get("s"), float))
+            _reference_curves(ax, ref, s_all, lscale, sscale)
+        for line in _contact_numbers(c, ref, lscale, lname, sscale, sname).splitlines():
+            ax.plot([], [], " ", label=line)  # the numbers listed in the legend, beside the axes
         title = f"{problem.name}: contact {' / '.join(c.get('bodies', []))}"
-        figs.save_line_plot(fig, ax, "s along the contact curve [m]", "traction [Pa]", title, f"contact_{k}.png")
+        figs.save_line_plot(fig, ax, f"s along the contact curve [{lname}]", f"traction [{sname}]", title,
+                            f"contact_{k}.png", outside=True)
 
 
 def write_plots(
-    out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]
+    out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any],
+    outputs: Mapping[str, Any] | None = None,
 ) -> list[Path]:
-    """Write the PNG pictures; returns their paths."""
+    """Write the PNG pictures; returns their paths. ``outputs``: the bodies' output meshes
+    (solver.io.body_output) already made for the VTU files, by body name."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     figs = _Figures(out_dir)
@@ -240,7 +278,7 @@ def write_plots(
 
         write_solid_plots(out_dir, figs, problem, solution, summary)
         return figs.written
-    _field_figures(figs, problem, solution, summary)
+    _field_figures(figs, problem, solution, summary, outputs or {})
     _line_figures(figs, problem, summary)
     _contact_figures(figs, problem, summary)
     return figs.written

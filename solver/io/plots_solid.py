@@ -1,7 +1,9 @@
 """PNG pictures of a 3D run (``[output] plots = true``, model = "solid"), headless: the von Mises
-stress and the displacement magnitude on the three section planes through the scene's centre
-(``sections.png``; through the contact point when there is one), and one plot per output line
-with the six stress components and von Mises."""
+stress and the displacement magnitude on three section planes (``sections.png``: about the
+contact region when there is one, see :func:`section_planes`; else through the scene's centre),
+the contact's pressure and shear beside Hertz with the computed and theory values of the semi-axes
+and peak pressure (``contact_<k>.png``), and one plot per output line with the six stress
+components and von Mises. Numbers in the units that fit them (solver.io.plot_units)."""
 
 from __future__ import annotations
 
@@ -11,11 +13,14 @@ from typing import Any, Mapping
 import numpy as np
 
 from ibfem.solver.model import problem as pb
+from ibfem.solver.model.elasticity import von_mises
 
-__all__ = ["write_solid_plots", "section_grid"]
+from .plot_units import length_unit, stress_unit
+
+__all__ = ["write_solid_plots", "section_grid", "section_planes"]
 
 #: samples along each side of a section picture
-SECTION_SAMPLES = 160
+SECTION_SAMPLES = 140
 _VOIGT = ("sxx", "syy", "szz", "syz", "sxz", "sxy")
 
 
@@ -36,22 +41,98 @@ def _scene_box(problem: pb.Problem) -> tuple[np.ndarray, np.ndarray]:
     return np.min(lows, axis=0), np.max(highs, axis=0)
 
 
-def _sections(plt, problem: pb.Problem, solution: pb.Solution, centre: np.ndarray) -> Any:
-    lower, upper = _scene_box(problem)
-    fig, axes = plt.subplots(2, 3, figsize=(15, 9), constrained_layout=True)
-    for k in range(3):
-        pts, (a, b), (sa, sb) = section_grid(lower, upper, k, float(centre[k]))
-        vm = solution.von_mises(pts).reshape(len(sb), len(sa))
-        disp = np.linalg.norm(solution.displacement(pts), axis=1).reshape(len(sb), len(sa))
-        for row, (values, label) in enumerate(((vm, "von Mises [Pa]"), (disp, "|u| [m]"))):
+def section_planes(problem: pb.Problem, contacts) -> list[dict]:
+    """The planes of ``sections.png``: about the first contact with a region, the two planes
+    through the contact point along each axis of the region and the normal, and the plane
+    parallel to the contact at the depth of the largest shear (0.48 a) in the second body, each
+    4 semi-axes (and at least 8 of the finest cells) on either side; without one, the three
+    coordinate planes through the scene's centre. Each: title, origin, in-plane unit vectors
+    ``u``, ``v`` and half-extents."""
+    c = next((c for c in contacts if c.get("semi_axes") and c["semi_axes"][0]), None)
+    if c is None:
+        lower, upper = _scene_box(problem)
+        centre, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
+        eye = np.eye(3)
+        return [{"title": f"{'xyz'[k]} = {centre[k]:.4g} m", "origin": centre,
+                 "u": eye[[j for j in range(3) if j != k][0]], "v": eye[[j for j in range(3) if j != k][1]],
+                 "half": (half[[j for j in range(3) if j != k][0]], half[[j for j in range(3) if j != k][1]]),
+                 "labels": tuple("xyz"[j] for j in range(3) if j != k)} for k in range(3)]
+    point, normal = np.asarray(c["point"], float), np.asarray(c["normal"], float)
+    axes, semi = np.asarray(c["axes"], float), np.asarray(c["semi_axes"], float)
+    finest = min(float(b.element_size) / 2 ** max([z.levels for z in b.refinements] or [0]) for b in problem.bodies)
+    w = max(4.0 * float(semi.max()), 8.0 * finest)
+    depth = 0.48 * float(semi.min())
+    second = c["bodies"][1]
+    return [
+        {"title": "along axis 0 and the normal", "origin": point, "u": axes[0], "v": normal, "half": (w, w),
+         "labels": ("axis 0", "normal"), "semi": float(semi[0])},
+        {"title": "along axis 1 and the normal", "origin": point, "u": axes[1], "v": normal, "half": (w, w),
+         "labels": ("axis 1", "normal"), "semi": float(semi[1])},
+        {"title": f"parallel to the contact, 0.48 b into {second}", "origin": point - depth * normal,
+         "u": axes[0], "v": axes[1], "half": (w, w), "labels": ("axis 0", "axis 1"), "semi": None},
+    ]
+
+
+def _section_values(problem: pb.Problem, solution: pb.Solution, plane: dict, n: int | None = None):
+    """Samples (n x n) of von Mises and |u| on a plane, each point in the body that holds it
+    (one look-up of the bodies for both fields); NaN outside every body."""
+    n = n or SECTION_SAMPLES
+    su = np.linspace(-plane["half"][0], plane["half"][0], n)
+    sv = np.linspace(-plane["half"][1], plane["half"][1], n)
+    gu, gv = np.meshgrid(su, sv, indexing="xy")
+    pts = plane["origin"] + gu.reshape(-1, 1) * plane["u"] + gv.reshape(-1, 1) * plane["v"]
+    which = np.asarray(solution.body_at(pts), dtype=int).reshape(-1)
+    vm, disp = np.full(len(pts), np.nan), np.full(len(pts), np.nan)
+    for k, body in enumerate(problem.bodies):
+        sel = np.nonzero(which == k)[0]
+        if len(sel):
+            stress = np.asarray(solution.stress(pts[sel], body=body.name), dtype=float)
+            vm[sel] = von_mises(stress, problem.model, body.material.poissons_ratio)
+            disp[sel] = np.linalg.norm(np.asarray(solution.displacement(pts[sel], body=body.name), dtype=float), axis=1)
+    return su, sv, vm.reshape(n, n), disp.reshape(n, n)
+
+
+def _crop(ax, su: np.ndarray, sv: np.ndarray, values: np.ndarray) -> None:
+    """Limits to the part of the panel that holds material (a symmetric model fills a part of it)."""
+    rows, cols = np.nonzero(np.isfinite(values).any(axis=1))[0], np.nonzero(np.isfinite(values).any(axis=0))[0]
+    if len(rows) and len(cols):
+        ax.set_xlim(su[cols[0]], su[cols[-1]])
+        ax.set_ylim(sv[rows[0]], sv[rows[-1]])
+
+
+def _sections(plt, problem: pb.Problem, solution: pb.Solution, contacts) -> Any:
+    """von Mises and |u| on the section planes (:func:`section_planes`), each panel's colour
+    scale from 0 to the largest value it shows; numbers in MPa / GPa and mm / um as they fit."""
+    planes = section_planes(problem, contacts)
+    fig, axes = plt.subplots(2, 3, figsize=(15, 9.5))
+    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.07, top=0.92, wspace=0.45, hspace=0.3)  # fixed: fast
+    for k, plane in enumerate(planes):
+        su, sv, vm, disp = _section_values(problem, solution, plane)
+        lname, lscale = length_unit(2.0 * max(plane["half"]))
+        extent = (su[0] / lscale, su[-1] / lscale, sv[0] / lscale, sv[-1] / lscale)
+        for row, values in enumerate((vm, disp)):
             ax = axes[row, k]
-            image = ax.imshow(np.ma.masked_invalid(values), origin="lower", cmap="viridis",
-                              extent=(sa[0], sa[-1], sb[0], sb[-1]), interpolation="nearest")
-            fig.colorbar(image, ax=ax, shrink=0.8)
-            ax.set_xlabel(f"{'xyz'[a]} [m]")
-            ax.set_ylabel(f"{'xyz'[b]} [m]")
-            ax.set_title(f"{label} on {'xyz'[k]} = {centre[k]:.4g}", fontsize=10)
+            finite = values[np.isfinite(values)]
+            top = float(finite.max()) if finite.size else 1.0
+            if row == 0:
+                uname, uscale = stress_unit(top)
+                label = f"von Mises [{uname}]"
+            else:
+                uname, uscale = length_unit(top)
+                label = f"|u| [{uname}]"
+            image = ax.imshow(np.ma.masked_invalid(values / uscale), origin="lower", cmap="viridis",
+                              extent=extent, interpolation="bilinear", vmin=0.0, vmax=top / uscale or 1.0)
+            fig.colorbar(image, ax=ax, shrink=0.85, label=label)
+            if plane.get("semi"):
+                ax.plot([-plane["semi"] / lscale, plane["semi"] / lscale], [0.0, 0.0], "w-", lw=2.0,
+                        label="contact region")
+                ax.legend(loc="upper right", fontsize=7, framealpha=0.6)
+            _crop(ax, su / lscale, sv / lscale, values)
+            ax.set_xlabel(f"{plane['labels'][0]} [{lname}]")
+            ax.set_ylabel(f"{plane['labels'][1]} [{lname}]")
+            ax.set_title(plane["title"], fontsize=10)
             ax.set_aspect("equal")
+            ax.locator_params(nbins=5)
     fig.suptitle(problem.name)
     return fig
 
@@ -72,43 +153,75 @@ def _hertz(problem: pb.Problem, c: Mapping[str, Any]):
     return (a, b, p0) if curv[0] <= curv[1] else (b, a, p0)
 
 
+def contact_numbers(problem: pb.Problem, c: Mapping[str, Any]) -> list[tuple[str, float, float | None]]:
+    """(name, computed, Hertz or None) of the semi-axes a, b (m) and the peak pressure p0 (Pa,
+    the largest of the pressure profiles) of a 3D contact block."""
+    hertz = _hertz(problem, c)
+    a, b = (float(v) for v in c["semi_axes"])
+    peaks = [max(c["pressure"][f"axis{k}"]["value"] or [0.0]) for k in (0, 1)]
+    rows = [("a", a, None if hertz is None else hertz[0]), ("b", b, None if hertz is None else hertz[1]),
+            ("p0", float(max(peaks)), None if hertz is None else hertz[2])]
+    return rows
+
+
+def _annotation(rows, lscale: float, lname: str, sscale: float, sname: str) -> str:
+    lines = []
+    for name, value, theory in rows:
+        scale, unit = (sscale, sname) if name == "p0" else (lscale, lname)
+        text = f"{name} = {value / scale:.4g} {unit}"
+        if theory:
+            text += f"  (Hertz {theory / scale:.4g}, {100.0 * (value / theory - 1.0):+.2f} %)"
+        lines.append(text)
+    return "\n".join(lines)
+
+
 def _contact_figure(plt, problem: pb.Problem, c: Mapping[str, Any]) -> Any:
     """Pressure and shear along both axes (Hertz beside them) and the pressure over the patch
-    with the computed and Hertz ellipses."""
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5), constrained_layout=True)
+    with the computed and Hertz ellipses; a, b and p0 with their Hertz values written on it."""
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5.2), constrained_layout=True)
     hertz = _hertz(problem, c)
-    for k, style in ((0, "-"), (1, "--")):
-        pr, sh = c["pressure"][f"axis{k}"], c["shear"][f"axis{k}"]
-        ax.plot(pr["s"], pr["value"], style, color="C0", label=f"pressure, axis {k}")
-        if any(sh["value"]):
-            ax.plot(sh["s"], sh["value"], style, color="C1", label=f"shear, axis {k}")
-        if hertz is not None:
-            s = np.asarray(pr["s"], dtype=float)
-            ax.plot(s, hertz[2] * np.sqrt(np.clip(1 - (s / hertz[k]) ** 2, 0, None)), style, color="k", lw=0.8,
-                    label=f"Hertz, axis {k}")
-    ax.set_xlabel("s along the axis [m]")
-    ax.set_ylabel("traction [Pa]")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
     a, b = c["semi_axes"]
+    rows = contact_numbers(problem, c)
+    lname, lscale = length_unit(2.5 * max(a, b))
+    sname, sscale = stress_unit(rows[2][1])
+    for k, style in ((0, "-"), (1, "--")):
+        pr = c["pressure"][f"axis{k}"]
+        sh = (c.get("shear") or {}).get(f"axis{k}") or {"s": [], "value": []}
+        s = np.asarray(pr["s"], dtype=float)
+        ax.plot(s / lscale, np.asarray(pr["value"], float) / sscale, style, color="C0", label=f"pressure, axis {k}")
+        if any(sh["value"]):
+            ax.plot(np.asarray(sh["s"], float) / lscale, np.asarray(sh["value"], float) / sscale, style, color="C1",
+                    label=f"shear, axis {k}")
+        if hertz is not None:
+            ax.plot(s / lscale, hertz[2] * np.sqrt(np.clip(1 - (s / hertz[k]) ** 2, 0, None)) / sscale, style,
+                    color="k", lw=0.8, label=f"Hertz, axis {k}")
+    ax.set_xlabel(f"s along the axis [{lname}]")
+    ax.set_ylabel(f"traction [{sname}]")
+    ax.legend(fontsize=8, loc="upper right")
+    ax.grid(alpha=0.3)
+    ax.text(0.02, 0.03, _annotation(rows, lscale, lname, sscale, sname), transform=ax.transAxes, va="bottom",
+            fontsize=8, family="monospace", bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "0.7"})
     coef = np.asarray(c.get("profile_recovery", {}).get("pressure_coefficients", []), dtype=float)
     g0, g1 = np.meshgrid(np.linspace(-1.3 * a, 1.3 * a, 161), np.linspace(-1.3 * b, 1.3 * b, 161))
     X, Y = g0 / a, g1 / b
     if coef.size == 6:
         root = np.sqrt(np.clip(1 - X**2 - Y**2, 0, None))
         p = root * (coef[0] + coef[1] * X + coef[2] * Y + coef[3] * X**2 + coef[4] * X * Y + coef[5] * Y**2)
-        image = ax2.imshow(np.clip(p, 0, None), origin="lower", extent=(g0.min(), g0.max(), g1.min(), g1.max()),
-                           cmap="viridis")
-        fig.colorbar(image, ax=ax2, shrink=0.8, label="pressure [Pa]")
+        image = ax2.imshow(np.clip(p, 0, None) / sscale, origin="lower", cmap="viridis",
+                           extent=(g0.min() / lscale, g0.max() / lscale, g1.min() / lscale, g1.max() / lscale))
+        fig.colorbar(image, ax=ax2, shrink=0.85, label=f"pressure [{sname}]")
     t = np.linspace(0, 2 * np.pi, 361)
-    ax2.plot(a * np.cos(t), b * np.sin(t), "w-", lw=1.5, label="computed")
+    ax2.plot(a * np.cos(t) / lscale, b * np.sin(t) / lscale, "w-", lw=1.5, label="computed")
     if hertz is not None:
-        ax2.plot(hertz[0] * np.cos(t), hertz[1] * np.sin(t), "r--", lw=1.0, label="Hertz")
+        ax2.plot(hertz[0] * np.cos(t) / lscale, hertz[1] * np.sin(t) / lscale, "r--", lw=1.0, label="Hertz")
     ax2.set_aspect("equal")
-    ax2.set_xlabel("axis 0 [m]")
-    ax2.set_ylabel("axis 1 [m]")
-    ax2.legend(fontsize=8)
-    fig.suptitle(f"{problem.name}: contact {'/'.join(c['bodies'])}, semi-axes {a:.4g} x {b:.4g} m")
+    ax2.set_xlabel(f"axis 0 [{lname}]")
+    ax2.set_ylabel(f"axis 1 [{lname}]")
+    ax2.legend(fontsize=8, loc="upper right")
+    share = c.get("full_contact")
+    force = f"N = {c['normal_force']:.4g} N" + (f" ({share['model_share']:.3g} of the contact; full {share['normal_force']:.4g} N)"
+                                                if share else "")
+    fig.suptitle(f"{problem.name}: contact {' / '.join(c['bodies'])}, {force}")
     return fig
 
 
@@ -116,9 +229,7 @@ def write_solid_plots(out_dir: Path, figs: Any, problem: pb.Problem, solution: p
                       summary: Mapping[str, Any]) -> None:
     """Section pictures and line plots into ``figs`` (solver.io.plots._Figures)."""
     contacts = [c for c in summary.get("contacts", []) if c.get("point") and None not in c["point"]]
-    lower, upper = _scene_box(problem)
-    centre = np.asarray(contacts[0]["point"], dtype=float) if contacts else 0.5 * (lower + upper)
-    figs.save(_sections(figs.plt, problem, solution, centre), "sections.png")
+    figs.save(_sections(figs.plt, problem, solution, contacts), "sections.png")
     for k, c in enumerate(summary.get("contacts", [])):
         if c.get("boundary"):  # a region of general shape (a line contact)
             from .plots_region import region_figure

@@ -82,6 +82,7 @@ class ProgressReporter:
             self.stream.write("\n")
             self.stream.flush()
         self.pending = None
+        self.width = 0  # closing twice adds nothing
 
 
 def _short(v: Any) -> str:

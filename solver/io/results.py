@@ -1,8 +1,6 @@
-"""Result files of a run: ``summary.json``, one VTU file per body and PNG
-plots. Everything here relies only on the :class:`solver.model.problem.Solution` protocol.
-
-``pyvista`` and ``matplotlib`` are imported only when their files are written.
-"""
+"""``summary.json`` of a run: the document, its probes and lines sampled from the solution,
+JSON-safe values and the atomic writer. Everything here relies only on the
+:class:`solver.model.problem.Solution` protocol."""
 
 from __future__ import annotations
 
@@ -10,6 +8,8 @@ import json
 import math
 import os
 import re
+from datetime import datetime, timezone
+from importlib import metadata
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
@@ -25,7 +25,6 @@ __all__ = [
     "build_summary",
     "json_safe",
     "write_summary",
-    "write_vtu",
 ]
 
 
@@ -119,6 +118,19 @@ def _timings_block(solver_timings: Mapping[str, float], total_s: float | None) -
     return timings
 
 
+def _version() -> str:
+    try:
+        return metadata.version("ibfem")
+    except metadata.PackageNotFoundError:  # a source tree that was never installed
+        return "unknown"
+
+
+def units(dim: int) -> dict[str, str]:
+    """The units of the summary's numbers: SI throughout; in 2D forces are per unit thickness."""
+    return {"length": "m", "displacement": "m", "stress": "Pa", "pressure": "Pa", "traction": "Pa",
+            "force": "N" if dim == 3 else "N/m", "area": "m^2" if dim == 3 else "m", "time": "s"}
+
+
 def build_summary(
     problem: pb.Problem,
     solution: pb.Solution,
@@ -154,6 +166,9 @@ def build_summary(
         "name": problem.name,
         "converged": bool(solution.converged),
         "model": problem.model,
+        "ibfem_version": _version(),
+        "created": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "units": units(problem.dim),
         "bodies": bodies,
         "reactions": {k: np.asarray(v, dtype=float).reshape(problem.dim).tolist() for k, v in solution.reactions.items()},
         "contacts": [_contact_block(problem, k, c) for k, c in enumerate(solution.contacts)],
@@ -183,29 +198,49 @@ _CONTACT_KEYS_3D = (
 )
 
 
+#: the solver's verdicts renamed to say what they count or compare
+CHECK_NAMES = {
+    "penetration": "penetration_found",
+    "tension": "tension_at_region_edges",
+    "edge_penetration": "penetration_at_region_edges",
+    "edge_gap": "gap_beyond_region_edges",
+    "edge_pressure": "pressure_inside_region_edges",
+    "penetration_points": "overlapping_samples_outside_region",
+    "tension_points": "tensile_samples_inside_region",
+    "min_gap": "smallest_gap_outside_region",
+    "min_pressure": "smallest_pressure_inside_region",
+}
+
+
 def _contact_block(problem: pb.Problem, k: int, block: Mapping[str, Any]) -> dict[str, Any]:
-    """A contact block with every documented key, in the documented order (2D or 3D):
-    what the scene defines (bodies, type, friction) is filled in from the problem, ``tangent``
-    from its definition (-n_y, n_x), and a missing result is null (an empty profile for
-    pressure and shear); further keys the solver adds follow."""
+    """A contact block with every documented key, in order (2D: half widths; 3D: semi-axes;
+    every type has them all: the stick size of a tied contact is its size, of a frictionless one
+    zero, and a frictionless contact's tangential force and shear are the computed ones, the
+    check that none passes): what the scene defines (bodies, type, friction) is filled in from the
+    problem, ``tangent`` from its definition (-n_y, n_x), and a missing result is null (an empty
+    profile for pressure and shear); further keys the solver adds follow, its ``checks`` renamed
+    (CHECK_NAMES); a symmetric model's block has ``full_contact``."""
     block = dict(block)
-    if problem.dim == 3:
-        out = {key: block.pop(key, None) for key in _CONTACT_KEYS_3D}
-        out.update(block)
-        return out
     model = problem.contacts[k] if k < len(problem.contacts) else None
     if model is not None:
         block.setdefault("bodies", list(model.bodies))
         block.setdefault("type", model.type)
         block.setdefault("friction", model.friction)
-    if block.get("tangent") is None and block.get("normal") is not None:
+    if problem.dim == 2 and block.get("tangent") is None and block.get("normal") is not None:
         n = np.asarray(block["normal"], dtype=float).reshape(2)
         block["tangent"] = [-n[1], n[0]]
+    empty = {f"axis{j}": {"s": [], "value": []} for j in (0, 1)} if problem.dim == 3 else {"s": [], "value": []}
     for key in ("pressure", "shear"):
         if block.get(key) is None:
-            block[key] = {"s": [], "value": []}
-    out = {key: block.pop(key, None) for key in _CONTACT_KEYS}
+            block[key] = empty
+    order = _CONTACT_KEYS_3D if problem.dim == 3 else _CONTACT_KEYS
+    out = {key: block.pop(key, None) for key in order}
+    if isinstance(block.get("checks"), Mapping):
+        block["checks"] = {CHECK_NAMES.get(name, name): value for name, value in block["checks"].items()}
     out.update(block)
+    share = out.get("model_share")
+    if isinstance(share, (int, float)) and 0.0 < share < 1.0 - 1e-6 and isinstance(out.get("normal_force"), (int, float)):
+        out["full_contact"] = {"model_share": float(share), "normal_force": float(out["normal_force"]) / float(share)}
     return out
 
 
@@ -248,49 +283,3 @@ def write_summary(path: str | Path, summary: Mapping[str, Any]) -> Path:
 
 def _file_stem(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "body"
-
-
-def _body_mesh(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) -> dict[str, np.ndarray]:
-    m = solution.mesh(body.name)
-    dim = problem.dim
-    nodes = np.asarray(m["nodes"], dtype=float).reshape(-1, dim)
-    cells = np.asarray(m["cells"], dtype=np.int64).reshape(-1, 2**dim)
-    disp = np.asarray(m["displacement"], dtype=float).reshape(-1, dim)
-    stress = np.asarray(m["cell_stress"], dtype=float).reshape(-1, dim * (dim + 1) // 2)
-    fraction = np.asarray(m.get("cell_inside_fraction", np.ones(len(cells))), dtype=float).reshape(-1)
-    vm = von_mises(stress, problem.model, body.material.poissons_ratio)
-    return {"nodes": nodes, "cells": cells, "displacement": disp, "stress": stress, "fraction": fraction, "von_mises": vm}
-
-
-def write_vtu(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
-    """One ``<body>.vtu`` per body: quadrilateral cells (z = 0) in 2D, hexahedra in 3D, with point
-    data ``displacement`` (3 components, z = 0 in 2D, so viewers can warp by it) and cell data
-    ``stress`` (Voigt: [sxx, syy, sxy] in 2D, [sxx, syy, szz, syz, sxz, sxy] in 3D), one array per
-    component, ``von_mises`` and ``inside_fraction`` (the part of a cut cell inside the body)."""
-    import pyvista as pv
-
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    written = []
-    three_d = problem.dim == 3
-    names = ("sxx", "syy", "szz", "syz", "sxz", "sxy") if three_d else ("sxx", "syy", "sxy")
-    for body in problem.bodies:
-        m = _body_mesh(problem, solution, body)
-        points, disp = m["nodes"], m["displacement"]
-        if not three_d:
-            points = np.column_stack([points, np.zeros(len(points))])
-            disp = np.column_stack([disp, np.zeros(len(points))])
-        corners = m["cells"].shape[1]
-        cells = np.column_stack([np.full(len(m["cells"]), corners, dtype=np.int64), m["cells"]]).ravel()
-        kind = pv.CellType.HEXAHEDRON if three_d else pv.CellType.QUAD  # both in solver.fem's corner order
-        grid = pv.UnstructuredGrid(cells, np.full(len(m["cells"]), kind, dtype=np.uint8), points)
-        grid.point_data["displacement"] = disp
-        grid.cell_data["stress"] = m["stress"]
-        for k, name in enumerate(names):
-            grid.cell_data[name] = m["stress"][:, k]
-        grid.cell_data["von_mises"] = m["von_mises"]
-        grid.cell_data["inside_fraction"] = m["fraction"]
-        path = out_dir / f"{_file_stem(body.name)}.vtu"
-        grid.save(str(path))
-        written.append(path)
-    return written

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal, Optional, Union
 
 from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, field_validator
 from pydantic_core import PydanticCustomError
@@ -64,9 +64,19 @@ class SolidBodySpec(BodySpec):
     refinement: list[RefinementSpec3] = []
 
 
+class FaceSelector(_Strict):
+    """A face picked by its geometry (solver.io.face_selectors): every key given must hold."""
+
+    normal: Optional[Vec3] = None
+    nearest: Optional[Vec3] = None
+    type: Optional[str] = None
+    radius: Optional[float] = Field(None, gt=0)
+    axis: Optional[Vec3] = None
+
+
 class _FaceCondition(_Strict):
     body: str
-    face: str
+    face: Union[str, FaceSelector]
 
 
 class Fixed3(_FaceCondition):
@@ -163,6 +173,7 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
     except ValidationError as err:
         raise SceneError(_format_errors(err, data, label)) from None
     solids = _build_solids(spec, label, base_dir)
+    spec = _select_faces(spec, solids, label)
     _check_references(spec, solids, label)
     problem = _problem(spec, solids, Path(label).stem if path is None else path.stem, label)
     try:
@@ -216,6 +227,25 @@ def _load_part(shape: dict):
         return loader(shape["path"])
     except OSError as exc:  # a name too long, a directory without permission, ...
         raise ValueError(f"path: cannot read {shape['path']!r}: {exc.strerror or exc}") from None
+
+
+def _select_faces(spec: SolidSceneSpec, solids: dict[str, Any], label: str) -> SolidSceneSpec:
+    """The spec with every face selector replaced by the name of the face it picks."""
+    conditions, problems = [], []
+    for j, bc in enumerate(spec.boundary_conditions):
+        if isinstance(getattr(bc, "face", None), FaceSelector) and bc.body in solids:
+            from .face_selectors import select_face
+
+            selector = bc.face.model_dump()
+            try:
+                bc = bc.model_copy(update={"face": select_face(solids[bc.body], selector)})
+            except ValueError as err:
+                shown = ", ".join(f"{k} = {_show(v)}" for k, v in selector.items() if v is not None)
+                problems.append(f"{label}: boundary_conditions[{j}].face = {{ {shown} }} (body {bc.body!r}): {err}")
+        conditions.append(bc)
+    if problems:
+        raise SceneError(problems)
+    return spec.model_copy(update={"boundary_conditions": conditions})
 
 
 def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) -> None:

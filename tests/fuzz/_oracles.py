@@ -97,7 +97,8 @@ def check_part_directory(directory: Path, verify: bool) -> list[str]:
 
 def contact_consistent(contact: dict) -> bool:
     checks = contact.get("checks") or {}
-    return not checks.get("penetration") and not checks.get("tension") and not checks.get("penetration_points")
+    return (not checks.get("penetration_found") and not checks.get("tension_at_region_edges")
+            and not checks.get("overlapping_samples_outside_region"))
 
 
 def run_scene(path: Path, out: Path, timeout: float) -> tuple[list[str], dict | None]:

@@ -1,0 +1,58 @@
+"""The lines ``ibfem run`` prints per contact: the contact's size and forces in the units of the
+summary, only the quantities its type has, and for a symmetric model the force of the whole
+contact beside the model's own ("quarter model: 3.42e+06 N; full contact 1.37e+07 N")."""
+
+from __future__ import annotations
+
+from typing import Any, Mapping
+
+__all__ = ["contact_line", "share_name"]
+
+_SHARES = {1.0: "full", 0.5: "half", 0.25: "quarter", 0.125: "eighth"}
+
+
+def share_name(share: float) -> str:
+    """'half model', 'quarter model', ... or 'model holding 0.3 of the contact'."""
+    for value, name in _SHARES.items():
+        if abs(share - value) <= 1e-6 * value:
+            return f"{name} model"
+    return f"model holding {share:.3g} of the contact"
+
+
+def _number(value: Any, unit: str) -> str:
+    return f"{float(value):.6g} {unit}" if isinstance(value, (int, float)) and value == value else "n/a"
+
+
+def _vector(value: Any, unit: str) -> str:
+    items = value if isinstance(value, (list, tuple)) else []
+    return "[" + ", ".join(f"{float(x):.6g}" if x is not None else "n/a" for x in items) + f"] {unit}"
+
+
+def contact_line(c: Mapping[str, Any]) -> str:
+    """One contact block of the summary (JSON-safe) as a line of text: the stick region only for
+    a frictional contact, the tangential force not for a frictionless one."""
+    kind = c.get("type")
+    c = {k: v for k, v in c.items()
+         if not (k.startswith("stick_") and kind in ("tied", "frictionless"))
+         and not (k == "tangential_force" and kind == "frictionless")}
+    three_d = "semi_axes" in c
+    force_unit = "N" if three_d else "N/m"
+    parts = []
+    if three_d:
+        parts.append(f"semi_axes = {_vector(c.get('semi_axes'), 'm')}")
+        if "stick_semi_axes" in c:
+            parts.append(f"stick_semi_axes = {_vector(c.get('stick_semi_axes'), 'm')}")
+    else:
+        parts.append(f"half_width = {_number(c.get('half_width'), 'm')}")
+        if "stick_half_width" in c:
+            parts.append(f"stick_half_width = {_number(c.get('stick_half_width'), 'm')}")
+    full = c.get("full_contact")
+    if full:
+        parts.append(f"normal_force ({share_name(full['model_share'])}) = {_number(c.get('normal_force'), force_unit)}; "
+                     f"full contact {_number(full.get('normal_force'), force_unit)}")
+    else:
+        parts.append(f"normal_force = {_number(c.get('normal_force'), force_unit)}")
+    if "tangential_force" in c:
+        q = c.get("tangential_force")
+        parts.append("tangential_force = " + (_vector(q, force_unit) if isinstance(q, list) else _number(q, force_unit)))
+    return ", ".join(parts)

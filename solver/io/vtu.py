@@ -1,0 +1,80 @@
+"""The VTK files of a run: ``<body>.vtu`` per body (solver.io.body_output: the cells clipped by
+the exact surface, point and cell data), ``contact_<k>.vtp`` per contact with a region
+(solver.io.contact_output) and ``result.vtm``, the index that opens all of them at once in
+ParaView. Written directly in VTK's XML format (solver.io.vtk_xml): no VTK library is needed."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from ibfem.solver.model import problem as pb
+
+from .body_output import body_output
+from .contact_output import region_polydata, surface_pressure
+from .vtk_xml import TENSOR_COMPONENTS, write_multiblock, write_polydata, write_unstructured_grid
+
+__all__ = ["write_vtk_files", "file_stem", "INDEX_NAME"]
+
+#: the multiblock index of every file of a run
+INDEX_NAME = "result.vtm"
+_COMPONENTS = {"stress": TENSOR_COMPONENTS, "cell_stress": TENSOR_COMPONENTS,
+               "principal_stress": ("s1", "s2", "s3"), "displacement": ("x", "y", "z")}
+
+
+def file_stem(name: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "body"
+
+
+def _on_surface(body: pb.BodyModel, tolerance: float):
+    phi = getattr(body.profile, "signed_distance", None)
+    if phi is None:
+        return lambda p: np.zeros(len(p), dtype=bool)
+    return lambda p: np.abs(np.asarray(phi(p), dtype=float)) <= tolerance
+
+
+def _contact_pressure(problem: pb.Problem, body: pb.BodyModel, points: np.ndarray, contacts) -> np.ndarray:
+    """Pressure of every contact the body takes part in at its surface points (0 elsewhere)."""
+    out = np.zeros(len(points))
+    on_surface = _on_surface(body, 1e-6 * float(body.element_size))
+    for c in contacts:
+        if body.name in (c.get("bodies") or []):
+            out = np.maximum(out, surface_pressure(c, points, on_surface))
+    return out
+
+
+def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution,
+                    summary: Mapping[str, Any], progress=None, outputs: dict | None = None) -> list[Path]:
+    """Every body's VTU file, every contact region's VTP file and the index; returns the paths.
+    ``summary`` is the run's summary (JSON-safe: lists, None for missing values); ``progress``
+    is told each file's name before it is made; ``outputs`` (a dict) receives each body's output
+    mesh by name, for the pictures."""
+    report = progress or (lambda *a, **k: None)
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    written, blocks = [], []
+    contacts = summary.get("contacts") or []
+    for body in problem.bodies:
+        report(f"results: {file_stem(body.name)}.vtu (cells clipped at the surface)")
+        mesh = body_output(problem, solution, body)
+        if outputs is not None:
+            outputs[body.name] = mesh
+        mesh.point_data["contact_pressure"] = _contact_pressure(problem, body, mesh.points, contacts)
+        path = write_unstructured_grid(out_dir / f"{file_stem(body.name)}.vtu", mesh.points, mesh.connectivity,
+                                       mesh.offsets, mesh.types, mesh.point_data, mesh.cell_data, _COMPONENTS)
+        written.append(path)
+        blocks.append((body.name, path.name))
+    for k, c in enumerate(contacts):
+        body1 = problem.body(c["bodies"][0]) if c.get("bodies") else None
+        region = region_polydata(c, problem.dim, getattr(getattr(body1, "profile", None), "signed_distance", None))
+        if region is None:
+            continue
+        path = write_polydata(out_dir / f"contact_{k}.vtp", region["points"], polys=region.get("polys"),
+                              lines=region.get("lines"), point_data=region["point_data"])
+        written.append(path)
+        blocks.append((f"contact {k}: {' / '.join(c['bodies'])}", path.name))
+    written.append(write_multiblock(out_dir / INDEX_NAME, blocks))
+    return written

@@ -1,0 +1,178 @@
+"""The bodies as they are in the VTK files: the cells clipped by the exact surface tile the body
+(measure against the closed form, every cell's centroid inside), the file format read back by an
+independent reader (pyvista / VTK), and on a solved scene the point stress at a probe read from
+the file equals the summary's probe to round-off."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from ibfem.solver.io.clipped_cells import clip_cells
+from ibfem.solver.io.body_output import principal_stresses, full_stress
+from ibfem.solver.io.vtk_xml import write_multiblock, write_polydata, write_unstructured_grid
+
+
+def _grid(h, n, dim, offset=0.0):
+    ij = np.stack(np.meshgrid(*[np.arange(-n, n)] * dim, indexing="ij"), -1).reshape(-1, dim)
+    return ij * h + offset, np.full(len(ij), h)
+
+
+def _clip(phi, h, n, dim, offset=0.0, tolerance=6e-4):
+    lower, size = _grid(h, n, dim, offset)
+    reach = 0.5 * math.sqrt(dim) * h
+    centre_phi = phi(lower + 0.5 * h)
+    keep = centre_phi > -reach
+    lower, size, centre_phi = lower[keep], size[keep], centre_phi[keep]
+    kept, (boxes, _, simplices, _, on_surface) = clip_cells(lower, size, centre_phi >= reach, phi, tolerance,
+                                                             0.5 * h, max_depth=4)
+    volume = len(kept) * h**dim + np.prod(boxes.max(1) - boxes.min(1), axis=1).sum()
+    volume += np.abs(np.linalg.det(simplices[:, 1:] - simplices[:, :1])).sum() / math.factorial(dim)
+    centroids = np.concatenate([lower[kept] + 0.5 * h, boxes.mean(axis=1), simplices.mean(axis=1)])
+    return volume, centroids, simplices[on_surface]
+
+
+def test_a_clipped_ball_has_the_balls_volume_and_no_cell_outside():
+    def phi(p):
+        return 1.0 - np.linalg.norm(p - 0.013, axis=1)  # unit ball, off the grid's planes
+
+    volume, centroids, surface = _clip(phi, 0.25, 5, 3)
+    assert volume == pytest.approx(4.0 / 3.0 * math.pi, rel=1e-3)
+    assert phi(centroids).min() >= 0.0
+    assert np.abs(phi(surface)).max() < 1e-9 * 0.25  # the vertices made by the clipping lie on the sphere
+
+
+def test_a_concave_surface_leaves_no_centroid_outside():
+    # a box with a spherical cavity: the cavity's chords pass outside the material
+    def phi(p):
+        box = np.min(1.0 - np.abs(p), axis=1)
+        return np.minimum(box, np.linalg.norm(p - 0.02, axis=1) - 0.6)
+
+    volume, centroids, _ = _clip(phi, 0.25, 4, 3)
+    assert volume == pytest.approx(8.0 - 4.0 / 3.0 * math.pi * 0.6**3, rel=1e-3)
+    assert phi(centroids).min() >= 0.0
+
+
+def test_a_clipped_disc_in_2d():
+    def phi(p):
+        return 0.7 - np.linalg.norm(p - [0.011, -0.02], axis=1)
+
+    area, centroids, surface = _clip(phi, 0.1, 10, 2)
+    assert area == pytest.approx(math.pi * 0.49, rel=1e-3)
+    assert phi(centroids).min() >= 0.0 and np.abs(phi(surface)).max() < 1e-9 * 0.1
+
+
+def test_stress_in_vtk_order_and_principal_stresses():
+    rng = np.random.default_rng(3)
+    voigt = rng.normal(size=(20, 6))  # [sxx, syy, szz, syz, sxz, sxy]
+    tensor = full_stress(voigt, "solid", 0.3)
+    m = np.zeros((20, 3, 3))
+    m[:, 0, 0], m[:, 1, 1], m[:, 2, 2] = voigt[:, 0], voigt[:, 1], voigt[:, 2]
+    m[:, 1, 2] = m[:, 2, 1] = voigt[:, 3]
+    m[:, 0, 2] = m[:, 2, 0] = voigt[:, 4]
+    m[:, 0, 1] = m[:, 1, 0] = voigt[:, 5]
+    # VTK's symmetric tensor order: XX, YY, ZZ, XY, YZ, XZ
+    assert np.array_equal(tensor, m[:, [0, 1, 2, 0, 1, 0], [0, 1, 2, 1, 2, 2]])
+    s = principal_stresses(tensor)
+    assert np.allclose(s.sum(axis=1), np.trace(m, axis1=1, axis2=2))
+    assert np.allclose(np.prod(s, axis=1), np.linalg.det(m))
+    plane = full_stress(np.array([[1.0, 2.0, 0.5]]), "plane_strain", 0.3)
+    assert np.allclose(plane, [[1.0, 2.0, 0.9, 0.5, 0.0, 0.0]])
+
+
+def test_the_xml_files_read_back_with_vtk(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1],
+                       [0.5, 0.5, 2.0]], dtype=float)
+    conn = np.array([0, 1, 2, 3, 4, 5, 6, 7, 4, 5, 6, 8])
+    stress = np.arange(54, dtype=float).reshape(9, 6)
+    write_unstructured_grid(tmp_path / "a.vtu", points, conn, [8, 12], [12, 10],
+                            point_data={"stress": stress, "von_mises": stress[:, 0]},
+                            cell_data={"cell": np.array([7, 9], dtype=np.int32)},
+                            components={"stress": ("XX", "YY", "ZZ", "XY", "YZ", "XZ")})
+    grid = pv.read(tmp_path / "a.vtu")
+    assert grid.n_cells == 2 and np.array_equal(grid.points, points)
+    assert np.array_equal(grid.point_data["stress"], stress) and np.array_equal(grid.cell_data["cell"], [7, 9])
+    assert grid.volume == pytest.approx(1.0 + 1.0 / 6.0)  # cube + tetrahedron (base 1/2, height 1)
+    write_polydata(tmp_path / "b.vtp", points[:4], polys=np.array([[0, 1, 2], [0, 2, 3]]),
+                   point_data={"pressure": np.arange(4.0)})
+    poly = pv.read(tmp_path / "b.vtp")
+    assert poly.n_cells == 2 and poly.area == pytest.approx(1.0)
+    write_multiblock(tmp_path / "all.vtm", [("body", "a.vtu"), ("contact", "b.vtp")])
+    blocks = pv.read(tmp_path / "all.vtm")
+    assert blocks.n_blocks == 2 and blocks[0].n_cells == 2 and blocks[1].n_cells == 2
+
+
+LAME_2D = {
+    "name": "quarter annulus", "model": "plane_strain", "thickness": 1.0,
+    "materials": [{"name": "steel", "youngs_modulus": 2e11, "poissons_ratio": 0.3}],
+    "bodies": [{"name": "ring", "material": "steel", "element_size": 0.1, "shape": {
+        "type": "profile", "edges": [
+            {"name": "xs", "type": "line", "start": [1.0, 0.0], "end": [2.0, 0.0]},
+            {"name": "outer", "type": "arc", "center": [0.0, 0.0], "radius": 2.0, "start_angle": 0.0, "end_angle": 90.0},
+            {"name": "ys", "type": "line", "start": [0.0, 2.0], "end": [0.0, 1.0]},
+            {"name": "inner", "type": "arc", "center": [0.0, 0.0], "radius": 1.0, "start_angle": 90.0, "end_angle": 0.0},
+        ]}}],
+    "boundary_conditions": [{"body": "ring", "edge": "xs", "type": "sliding"},
+                            {"body": "ring", "edge": "ys", "type": "sliding"},
+                            {"body": "ring", "edge": "inner", "type": "pressure", "value": 1e8}],
+}
+
+
+def test_a_solved_2d_body_in_its_vtu_file(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    from ibfem.solver.io.output import write_results
+    from ibfem.solver.io.scene import scene_from_dict
+    from ibfem.solver.solve import solve
+
+    problem = scene_from_dict(LAME_2D).problem
+    probes = [[1.234, 0.91], [0.31, 1.52]]
+    summary = write_results(tmp_path, problem, solve(problem), probes=probes, vtk=True)
+    assert summary["files"] == ["result.vtm", "ring.vtu"]
+    grid = pv.read(tmp_path / "ring.vtu")
+    area = grid.compute_cell_sizes(length=False, volume=False)["Area"]
+    assert np.sum(np.abs(area)) == pytest.approx(0.75 * math.pi, rel=1e-3)  # the quarter annulus
+    radius = np.linalg.norm(np.asarray(grid.cell_centers().points)[:, :2], axis=1)
+    assert radius.min() >= 1.0 and radius.max() <= 2.0
+    tensor = np.asarray(grid.point_data["stress"])
+    assert np.allclose(tensor[:, 2], 0.3 * (tensor[:, 0] + tensor[:, 1]))  # plane strain's szz
+    for probe in summary["probes"]:
+        point = np.array([[*probe["point"], 0.0]])
+        got = np.asarray(pv.PolyData(point).sample(grid).point_data["stress"])[0]
+        assert np.allclose(got[[0, 1, 3]], probe["stress"], rtol=1e-9, atol=1e-9 * 1e8)
+
+
+def test_the_contact_region_carries_the_transmitted_force(tmp_path):
+    pv = pytest.importorskip("pyvista")
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from _contact_scenes import cylinder_on_block
+    from ibfem.solver.io.output import write_results
+    from ibfem.solver.solve import solve
+
+    problem = cylinder_on_block("frictional", ux=2e-4, friction=0.3)
+    summary = write_results(tmp_path, problem, solve(problem), vtk=True)
+    assert {"contact_0.vtp", "cyl.vtu", "block.vtu", "result.vtm"} <= set(summary["files"])
+    c = summary["contacts"][0]
+    region = pv.read(tmp_path / "contact_0.vtp")
+    pts = np.asarray(region.points)[:, :2]
+    ds = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    p, q = np.asarray(region.point_data["pressure"]), np.asarray(region.point_data["shear"])
+    # equilibrium: the pressure and shear over the region are the transmitted forces (trapezoids)
+    assert np.sum(0.5 * (p[1:] + p[:-1]) * ds) == pytest.approx(c["normal_force"], rel=2e-3)
+    assert np.sum(0.5 * (q[1:] + q[:-1]) * ds) == pytest.approx(c["tangential_force"], rel=2e-2)
+    stick = np.asarray(region.point_data["stick"]).astype(bool)
+    s = (pts - c["point"]) @ np.asarray(c["tangent"])
+    assert np.ptp(s[stick]) == pytest.approx(2 * c["stick_half_width"], rel=0.02)
+    # the points lie on the first body's exact surface
+    assert np.abs(problem.body("cyl").profile.signed_distance(pts)).max() < 1e-9
+    # each body's surface points in the region carry the pressure; none elsewhere
+    for name in ("cyl", "block"):
+        body = pv.read(tmp_path / f"{name}.vtu")
+        on = np.asarray(body.point_data["contact_pressure"])
+        assert on.max() == pytest.approx(max(c["pressure"]["value"]), rel=0.02)
+        far = np.abs(np.asarray(body.points)[:, 0] - c["point"][0]) > 1.3 * c["half_width"]
+        assert np.all(on[far] == 0.0)
