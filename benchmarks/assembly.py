@@ -31,7 +31,7 @@ def run_one(h: float) -> dict:
     from ibfem.geometry.shapes import profile_from_shape
     from ibfem.solver.fem.space import discretise_body
     from ibfem.solver.model.options import SolverOptions
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
     from ibfem.solver.model.problem import BodyModel, Material, Problem, Sliding, Traction
 
     prof = profile_from_shape({"type": "profile", "edges": [

@@ -104,7 +104,7 @@ def run_one(spec: dict) -> dict:
 
     from ibfem.solver.reference import theory
     from ibfem.solver.io.scene import scene_from_dict
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     data = _scene_dict(spec)
     problem = scene_from_dict(data, label=spec["file"], base_dir=EXAMPLES).problem

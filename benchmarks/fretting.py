@@ -36,7 +36,7 @@ def _child(scene: str) -> None:
     import numpy as np
 
     from ibfem.solver.io.scene import load_scene
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     sc = load_scene(scene)
     t0 = time.perf_counter()

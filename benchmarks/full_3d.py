@@ -29,7 +29,7 @@ import json, math, sys, time, tomllib
 import numpy as np
 from ibfem.solver.io.scene import load_scene
 from ibfem.solver.model.estimate import estimate_size
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 from ibfem.solver.reference import theory
 path, levels = sys.argv[1], int(sys.argv[2])
 d = tomllib.load(open(path, "rb"))

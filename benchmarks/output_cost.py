@@ -53,7 +53,7 @@ def run(scene_path: str, out: Path) -> None:
 
     from ibfem.solver.io.output import write_results
     from ibfem.solver.io.scene import load_scene
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     t0 = time.perf_counter()
     scene = load_scene(scene_path)

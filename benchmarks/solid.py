@@ -23,7 +23,7 @@ CHILD = r"""
 import json, resource, sys, time, tomllib
 import numpy as np
 from ibfem.solver.io.scene import load_scene
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 from ibfem.solver.reference.theory import lame_sphere
 h = float(sys.argv[1])
 d = tomllib.load(open(sys.argv[2], "rb"))

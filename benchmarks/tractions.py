@@ -205,7 +205,7 @@ def _run(spec: dict) -> dict:
 
     from ibfem.solver.io.scene import scene_from_dict
     from ibfem.solver.reports.validate import compare_contact
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     data = _scene_dict(spec)
     problem = scene_from_dict(data, label=spec["file"], base_dir=EXAMPLES).problem

@@ -44,7 +44,7 @@ _WHERE = {
     "scene_from_dict": ("ibfem.solver.io.scene", "scene_from_dict"),
     "Scene": ("ibfem.solver.io.scene", "Scene"),
     "SceneError": ("ibfem.solver.io.scene", "SceneError"),
-    "solve": ("ibfem.solver.solve", "solve"),
+    "solve": ("ibfem.solver.solving", "solve"),
     "write_results": ("ibfem.solver.io.output", "write_scene_results"),
     "Problem": ("ibfem.solver.model.problem", "Problem"),
     "Solution": ("ibfem.solver.model.problem", "Solution"),

@@ -81,9 +81,9 @@ def _run(args: argparse.Namespace) -> int:
               f"{estimate_size(scene.problem)})")
         return 0
     try:
-        from ibfem.solver.solve import solve
+        from ibfem.solver.solving import solve
     except ImportError as err:
-        _err(f"the solver core (solver.solve.solve) is not available: {err}")
+        _err(f"the solver core (solver.solving.solve) is not available: {err}")
         return 3
 
     from ibfem.solver.io.progress import ProgressReporter, silent

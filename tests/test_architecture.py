@@ -25,7 +25,7 @@ LAYERS = [
     ("ibfem.solver.fem",),
     ("ibfem.solver.solution",),
     ("ibfem.solver.contact",),
-    ("ibfem.solver.solve",),
+    ("ibfem.solver.solving",),
     ("ibfem.solver.io",),
     ("ibfem.solver.commands", "ibfem.solver.cli"),
     ("ibfem.solver.reports", "ibfem.solver.sweep"),

@@ -79,7 +79,7 @@ def fake_solution(converged):
 
 
 def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
     calls = []
@@ -89,7 +89,7 @@ def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypat
         progress("load step", 0.5)
         return fake_solution(converged=False)
 
-    monkeypatch.setattr(solver.solve, "solve", fake_solve)
+    monkeypatch.setattr(solver.solving, "solve", fake_solve)
     out = tmp_path / "out"
     assert main(["run", str(write_plate(tmp_path)), "--out", str(out), "--quiet"]) == 1
     err = capsys.readouterr().err
@@ -104,7 +104,7 @@ def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypat
 
 
 def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
     def solved(problem, progress=None):
@@ -112,7 +112,7 @@ def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypat
         sol.contacts = [{"bodies": ["plate", "pin"], "half_width": 0.0125, "normal_force": 2.5e6}]
         return sol
 
-    monkeypatch.setattr(solver.solve, "solve", solved)
+    monkeypatch.setattr(solver.solving, "solve", solved)
     path = write_plate(tmp_path)
     monkeypatch.chdir(tmp_path)
     assert main(["run", str(path), "--quiet"]) == 0
@@ -124,19 +124,19 @@ def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypat
 
 
 def test_solver_value_error_is_a_one_line_scene_error(tmp_path, capsys, monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
     def refuse(problem, progress=None):
         raise ValueError("body 'plate' is not held against rigid-body motion")
 
-    monkeypatch.setattr(solver.solve, "solve", refuse)
+    monkeypatch.setattr(solver.solving, "solve", refuse)
     assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 2
     assert capsys.readouterr().err == "ibfem run: plate.toml: body 'plate' is not held against rigid-body motion\n"
 
 
 def test_missing_solver_core(tmp_path, capsys, monkeypatch):
-    monkeypatch.setitem(sys.modules, "ibfem.solver.solve", None)
+    monkeypatch.setitem(sys.modules, "ibfem.solver.solving", None)
     assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 3
     assert "solver core" in capsys.readouterr().err
 
@@ -217,10 +217,10 @@ def test_end_to_end_lame_quarter_annulus(tmp_path):
 
 
 def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
-    monkeypatch.setattr(solver.solve, "solve", lambda problem, progress=None: fake_solution(converged=True))
+    monkeypatch.setattr(solver.solving, "solve", lambda problem, progress=None: fake_solution(converged=True))
     blocker = tmp_path / "file"
     blocker.write_text("")
     assert main(["run", str(write_plate(tmp_path)), "--quiet", "--out", str(blocker / "out")]) == 4
@@ -229,10 +229,10 @@ def test_unwritable_output_directory(tmp_path, capsys, monkeypatch):
 
 
 def test_vtu_files_are_written_without_pyvista(tmp_path, capsys, monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
-    monkeypatch.setattr(solver.solve, "solve", lambda problem, progress=None: fake_solution(converged=True))
+    monkeypatch.setattr(solver.solving, "solve", lambda problem, progress=None: fake_solution(converged=True))
     monkeypatch.setitem(sys.modules, "pyvista", None)
     monkeypatch.setitem(sys.modules, "vtk", None)
     path = tmp_path / "plate.toml"
@@ -266,13 +266,13 @@ def test_progress_on_a_terminal_rewrites_one_line():
 
 def test_an_unexpected_error_is_one_line_with_its_own_exit_code(tmp_path, capsys, monkeypatch):
     # issue 18 item 3: exit 1 means "not converged, summary written"; a bug gets 5 and one line
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
     def crash(problem, progress=None):
         raise IndexError("index 7 is out of bounds for axis 0 with size 3")
 
-    monkeypatch.setattr(solver.solve, "solve", crash)
+    monkeypatch.setattr(solver.solving, "solve", crash)
     assert main(["run", str(write_plate(tmp_path)), "--quiet", "--out", str(tmp_path / "o")]) == 5
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "internal error (IndexError" in err and "--traceback" in err
@@ -282,12 +282,12 @@ def test_an_unexpected_error_is_one_line_with_its_own_exit_code(tmp_path, capsys
 
 
 def test_running_out_of_memory_is_reported_as_such(tmp_path, capsys, monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
     def starve(problem, progress=None):
         raise MemoryError()
 
-    monkeypatch.setattr(solver.solve, "solve", starve)
+    monkeypatch.setattr(solver.solving, "solve", starve)
     assert main(["run", str(write_plate(tmp_path)), "--quiet"]) == 6
     assert "out of memory" in capsys.readouterr().err

@@ -22,7 +22,7 @@ from ibfem.solver.contact.ends import chebyshev_ends, gap_pressure, gap_slope_co
 from ibfem.solver.io.scene import SceneError, scene_from_dict
 from ibfem.solver.reference.punch import (flat_punch_pressure, flat_punch_stress_intensity, rounded_punch_half_width,
                                           rounded_punch_load, rounded_punch_pressure)
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 from _contact2d_scenes import E_STAR, EDGE_RADIUS, EDGE_TURN, HALF_FLAT, _punch_edges, pin_in_bore, punch_on_block
 

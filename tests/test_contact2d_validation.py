@@ -20,7 +20,7 @@ import pytest
 from ibfem.solver.io.scene import scene_from_dict
 from ibfem.solver.reference.punch import (flat_punch_pressure, flat_punch_stress_intensity, rounded_punch_half_width,
                                           rounded_punch_pressure)
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 from _contact2d_scenes import E_STAR, EDGE_RADIUS, HALF_FLAT, punch_on_block
 

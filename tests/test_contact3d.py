@@ -9,7 +9,7 @@ import pytest
 from ibfem.solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors, surface_point
 from ibfem.solver.model import problem as pb
 from ibfem.solver.reference.theory import hertz_sphere_radius
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 from _solids3d import HalfBall
 from _turned_box import TurnedBox

@@ -15,7 +15,7 @@ import pytest
 
 from ibfem.solver.reference import theory
 from ibfem.solver.reports import validate
-from ibfem.solver.solve import solve as solve_contact
+from ibfem.solver.solving import solve as solve_contact
 from ibfem.solver.io.scene import load_scene
 
 from _contact_scenes import cylinder_on_block

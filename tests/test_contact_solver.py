@@ -14,7 +14,7 @@ import pytest
 
 from ibfem.solver.reference import theory
 from ibfem.solver.model.options import ContactOptions
-from ibfem.solver.solve import solve as solve_contact
+from ibfem.solver.solving import solve as solve_contact
 from ibfem.solver.io.scene import load_scene, scene_from_dict
 
 from _contact_scenes import cylinder_on_block

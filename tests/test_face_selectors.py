@@ -58,7 +58,7 @@ def test_a_scene_with_selectors_is_the_scene_with_ids():
                  {"nearest": [0.3, -0.1, 0.5]}]
     by_geometry = scene_from_dict(_scene(selectors))
     assert by_geometry.problem.boundary_conditions == by_id.problem.boundary_conditions
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     a, b = solve(by_id.problem), solve(by_geometry.problem)
     for key in a.reactions:

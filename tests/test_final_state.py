@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from ibfem.solver.io.scene import scene_from_dict
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

@@ -16,7 +16,7 @@ import pytest
 from ibfem.solver.io.output import write_scene_results
 from ibfem.solver.io.scene import scene_from_dict
 from ibfem.solver.reports.validate_fretting import EXAMPLE, compare
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 
 def _run(tmp_path: Path, points_per_cycle: int, cycles: int, steps_per_unit: int):

@@ -16,7 +16,7 @@ from ibfem.solver.fem.octree import build_octree
 from ibfem.solver.fem.space import discretise_body, number_dofs
 from ibfem.solver.model import problem as pb
 from ibfem.solver.model.options import SolverOptions
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 from _conditioning import conditioning
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from ibfem.geometry.shapes import profile_from_shape
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 from ibfem.solver.model.problem import (
     BodyForce,
     BodyModel,

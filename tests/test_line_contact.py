@@ -19,7 +19,7 @@ from ibfem.geometry.solids import solid_from_dict
 from ibfem.solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors
 from ibfem.solver.contact.star_region import free_edge_distance
 from ibfem.solver.io.scene import scene_from_dict
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 from _solids3d import HalfBall
 from _turned_box import TurnedBox

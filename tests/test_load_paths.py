@@ -104,7 +104,7 @@ def test_load_columns_sum_to_the_assembled_load():
 def test_frictionless_contact_is_path_independent():
     """Frictionless contact under a path that overshoots and comes back ends in the state of
     proportional loading to the same loads (summary steps record every step)."""
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
 
 
@@ -131,7 +131,7 @@ def test_frictionless_contact_is_path_independent():
 def test_paths_without_contact_scale_each_component():
     """A plate pulled by a traction whose x component follows a cycle and y a ramp: each step's
     reaction at the fixed edge balances the traction's resultant at that t (equilibrium)."""
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     sc = _scene([{"name": "cyc", "cycle": {"amplitude": 1.0, "cycles": 1, "points_per_cycle": 4}},
                  {"name": "ramp", "points": [[0, 0], [1, 1]]}], ["cyc", "ramp"], {"steps_per_unit": 4})
@@ -149,7 +149,7 @@ def test_step_files(tmp_path):
     import json
 
     from ibfem.solver.io.output import write_scene_results
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     sc = _scene([{"name": "ramp", "points": [[0, 0], [1, 1], [2, 0.5]]}], "ramp", {"steps_per_unit": 2})
     summary = write_scene_results(tmp_path, sc, solve(sc.problem))

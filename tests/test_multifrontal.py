@@ -247,7 +247,7 @@ def quarter_ball_on_block():
 
 def test_a_contact_scene_is_the_same_with_either_factorisation(monkeypatch):
     from _contact_scenes import cylinder_on_block
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     results, calls = {}, []
     original = mf.condensed_cholesky
@@ -268,7 +268,7 @@ def test_the_condensed_3d_stiffness_is_the_same_with_either_factorisation(monkey
     compared: they move by 4e-5 relative when K0 is multiplied by 1 + 2^-52 (SuperLU alone,
     measured), a round-off sensitivity of the contact iteration, not of the factorisations."""
     import ibfem.solver.contact.driver as driver
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     captured = {}
     original = driver.condensed_factor

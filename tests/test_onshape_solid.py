@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from ibfem.solver.io.scene import load_scene
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 FIXTURE = Path(__file__).resolve().parent.parent / "fixtures" / "onshape" / "cone_sphere"
 E, NU, B = 2.0e11, 0.3, -1.0e9

@@ -11,7 +11,7 @@ import pytest
 
 from ibfem.solver.io.scene import SceneError, scene_from_dict
 from ibfem.solver.model.options import ContactOptions, SolverOptions
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 SCENE = """
 name = "small cylinder on block"

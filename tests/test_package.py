@@ -43,3 +43,12 @@ def test_version_from_metadata(tmp_path):
 def test_cli_help_runs(tmp_path):
     r = subprocess.run([sys.executable, "-m", "ibfem", "--help"], capture_output=True, text=True, cwd=tmp_path)
     assert r.returncode == 0 and "run" in r.stdout and "usage: ibfem" in r.stdout
+
+
+def test_solve_is_the_function_after_the_cli_ran(tmp_path):
+    """The public ``ibfem.solver.solve`` stays the function once the module that defines it has
+    been imported (the command line imports it): no submodule shadows a public name."""
+    code = ("import ibfem.solver.solving, ibfem.solver.commands\n"
+            "from ibfem import solver\nfrom ibfem.solver import solve\n"
+            "print(callable(solve) and solve is solver.solve and solve.__module__ == 'ibfem.solver.solving')")
+    assert _run(code, tmp_path).strip() == "True"

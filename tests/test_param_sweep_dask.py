@@ -30,21 +30,21 @@ BIN = Path(sys.executable).parent
 
 def failing_runner(payload: dict) -> dict:
     """The real task, with the solver made to raise for the scene named "raises"."""
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
     if payload["scene"].get("name") != "raises":
         return run_case(payload)
-    original = solver.solve.solve
+    original = solver.solving.solve
 
     def broken(problem, progress=None):
         raise RuntimeError("injected failure inside solve")
 
-    solver.solve.solve = broken
+    solver.solving.solve = broken
     try:
         return run_case(payload)
     finally:
-        solver.solve.solve = original
+        solver.solving.solve = original
 
 
 def _assert_balanced(outputs: dict) -> None:
@@ -144,7 +144,7 @@ def _worker_state() -> dict:
     import sys
 
     return {"threads": {k: os.environ.get(k) for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "IBFEM_THREADS")},
-            "warm": "ibfem.solver.solve" in sys.modules, "trim": os.environ.get("MALLOC_TRIM_THRESHOLD_")}
+            "warm": "ibfem.solver.solving" in sys.modules, "trim": os.environ.get("MALLOC_TRIM_THRESHOLD_")}
 
 
 @pytest.mark.parametrize("start", ["fork server", "spawn"])

@@ -13,7 +13,7 @@ from ibfem.solver.io.output import write_results  # noqa: E402
 from ibfem.solver.io.plot_units import length_unit, stress_unit  # noqa: E402
 from ibfem.solver.io.results import json_safe  # noqa: E402
 from ibfem.solver.io.scene import scene_from_dict  # noqa: E402
-from ibfem.solver.solve import solve  # noqa: E402
+from ibfem.solver.solving import solve  # noqa: E402
 
 image = pytest.importorskip("matplotlib.image")
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from ibfem.solver.model.options import ContactOptions, OptionError
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 from _contact_scenes import cylinder_on_block
 

@@ -39,13 +39,13 @@ def _key_failure(problem, progress=None):
 @pytest.mark.parametrize("crash", [KeyError("JQX"), ZeroDivisionError("float division by zero"),
                                    RecursionError("maximum recursion depth exceeded")])
 def test_class3_unexpected_errors_exit_5_with_one_line(tmp_path, capsys, monkeypatch, crash):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
     def fail(problem, progress=None):
         raise crash
 
-    monkeypatch.setattr(solver.solve, "solve", fail)
+    monkeypatch.setattr(solver.solving, "solve", fail)
     code = main(["run", str(LAME), "--quiet", "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert code == INTERNAL_ERROR == 5
@@ -54,10 +54,10 @@ def test_class3_unexpected_errors_exit_5_with_one_line(tmp_path, capsys, monkeyp
 
 
 def test_class3_traceback_option_shows_it(monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
-    monkeypatch.setattr(solver.solve, "solve", _numpy_failure)
+    monkeypatch.setattr(solver.solving, "solve", _numpy_failure)
     with pytest.raises(ValueError, match="fp and xp"):
         main(["run", str(LAME), "--quiet", "--traceback"])
 
@@ -81,20 +81,20 @@ def test_class3_exit_1_always_has_its_summary(tmp_path):
 
 
 def test_class4_a_numpy_failure_is_an_internal_error_naming_the_solver_function(tmp_path, capsys, monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
-    monkeypatch.setattr(solver.solve, "solve", _numpy_failure)
+    monkeypatch.setattr(solver.solving, "solve", _numpy_failure)
     assert main(["run", str(LAME), "--quiet", "--out", str(tmp_path / "o")]) == 5
     err = capsys.readouterr().err
     assert "numpy reported" in err and "fp and xp" in err and "bug" in err and err.count("\n") == 1
 
 
 def test_class4_the_solvers_own_value_errors_stay_scene_errors(tmp_path, capsys, monkeypatch):
-    import ibfem.solver.solve
+    import ibfem.solver.solving
     from ibfem import solver
 
-    monkeypatch.setattr(solver.solve, "solve", _key_failure)
+    monkeypatch.setattr(solver.solving, "solve", _key_failure)
     assert main(["run", str(LAME), "--quiet"]) == 2
     assert "contacts[0]" in capsys.readouterr().err
 

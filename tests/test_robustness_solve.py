@@ -14,7 +14,7 @@ import pytest
 
 from fuzz._transform import moved
 from ibfem.solver.io.scene import scene_from_dict
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

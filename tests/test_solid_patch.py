@@ -8,7 +8,7 @@ import pytest
 from ibfem.solver.fem.octree import build_octree
 from ibfem.solver.fem.surface_quadrature import cell_split_quadrature
 from ibfem.solver.model import problem as pb
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 from _turned_box import TurnedBox, rotation
 

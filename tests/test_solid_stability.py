@@ -15,7 +15,7 @@ from ibfem.solver.fem.solid_space import discretise_solid
 from ibfem.solver.fem.space import number_dofs
 from ibfem.solver.model import problem as pb
 from ibfem.solver.model.options import SolverOptions
-from ibfem.solver.solve import solve
+from ibfem.solver.solving import solve
 
 from _conditioning import conditioning
 from _turned_box import TurnedBox, rotation

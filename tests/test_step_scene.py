@@ -11,7 +11,7 @@ import pytest
 pytest.importorskip("OCP")
 
 from ibfem.solver.io.scene import load_scene  # noqa: E402
-from ibfem.solver.solve import solve  # noqa: E402
+from ibfem.solver.solving import solve  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 STEP_SCENE = ROOT / "examples" / "step" / "half_cylinder_on_block.toml"

@@ -100,7 +100,7 @@ def test_tension_is_not_reported():
 
 @pytest.fixture(scope="module")
 def turned_frictionless():
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     problem = cylinder_on_block("frictionless", turn=25.0)
     return solve(problem)
@@ -133,7 +133,7 @@ def test_reported_pressure_of_a_turned_scene_against_hertz(turned_frictionless):
 
 
 def test_reported_shear_of_a_turned_partial_slip_against_cattaneo_mindlin():
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     sol = solve(cylinder_on_block("frictional", ux=4.1e-4, turn=25.0, friction=0.3))
     c = sol.contacts[0]

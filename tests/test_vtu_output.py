@@ -124,7 +124,7 @@ def test_a_solved_2d_body_in_its_vtu_file(tmp_path):
     pv = pytest.importorskip("pyvista")
     from ibfem.solver.io.output import write_results
     from ibfem.solver.io.scene import scene_from_dict
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     problem = scene_from_dict(LAME_2D).problem
     probes = [[1.234, 0.91], [0.31, 1.52]]
@@ -151,7 +151,7 @@ def test_the_contact_region_carries_the_transmitted_force(tmp_path):
     sys.path.insert(0, str(Path(__file__).parent))
     from _contact_scenes import cylinder_on_block
     from ibfem.solver.io.output import write_results
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     problem = cylinder_on_block("frictional", ux=2e-4, friction=0.3)
     summary = write_results(tmp_path, problem, solve(problem), vtk=True)

@@ -45,7 +45,7 @@ def main(argv: list[str] | None = None) -> int:
     )
 
     from ibfem.solver.reference import theory
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
     from ibfem.solver.io.output import write_scene_results
     from ibfem.solver.io.scene import SceneError, load_scene
     from ibfem.solver.reports.validate import effective_properties
@@ -83,7 +83,7 @@ def solid_demo(out: Path) -> bool:
     from ibfem.solver.io.output import write_scene_results
     from ibfem.solver.io.scene import load_scene
     from ibfem.solver.reports.validate_solid import centre_pressure, circular_reference
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     print(f"4. 3D contact of a CAD solid: {SOLID_SCENE.relative_to(ROOT)} (about ten seconds)")
     scene = load_scene(SOLID_SCENE)

@@ -74,7 +74,7 @@ class Result:
 
 def run_scene_data(data: dict, label: str, out_dir: Path, base_dir: Path = EXAMPLES) -> tuple[Any, Any, dict]:
     """Validate, solve and write one scene given as a dict; returns (scene, solution, summary)."""
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
     from ibfem.solver.io.output import write_scene_results
     from ibfem.solver.io.scene import scene_from_dict
 

@@ -81,7 +81,7 @@ def _table(result: dict) -> str:
 def run(scene: Path, out: Path) -> dict:
     from ..io.output import write_scene_results
     from ..io.scene import load_scene
-    from ..solve import solve
+    from ..solving import solve
 
     sc = load_scene(scene)
     solution = solve(sc.problem)

@@ -54,7 +54,7 @@ TURNED_TOL = 0.005  # a, N, p0 of a turned scene against the upright one on the 
 def _run(name: str, out_root: Path) -> tuple[object, dict, float]:
     from ibfem.solver.io.output import write_results
     from ibfem.solver.io.scene import load_scene
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     scene = load_scene(EXAMPLES / f"{name}.toml")
     t = time.perf_counter()
@@ -240,7 +240,7 @@ def upright_on_same_grid(turned_scene, offset=None) -> dict:
     import tomllib
 
     from ibfem.solver.io.scene import scene_from_dict
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     data = tomllib.loads((EXAMPLES / "sphere_on_flat.toml").read_text(encoding="utf-8"))
     zone = turned_scene.problem.bodies[0].refinements[0]

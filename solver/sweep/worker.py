@@ -123,7 +123,7 @@ def solve_case(scene_data: dict, label: str, base_dir: Path, out: Path) -> tuple
     """Validate, solve and write one case: (status, message, summary)."""
     from ibfem.solver.io.output import write_scene_results
     from ibfem.solver.io.scene import SceneError, scene_from_dict
-    from ibfem.solver.solve import solve
+    from ibfem.solver.solving import solve
 
     t0 = time.perf_counter()
     try:
