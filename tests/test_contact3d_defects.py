@@ -53,7 +53,7 @@ def test_half_model_without_a_point_converges_at_the_touching_point(tmp_path):
     c = summary["contacts"][0]
     np.testing.assert_allclose(c["point"], 0.0, atol=1e-9)  # the ball's lowest point, on the symmetry plane
     assert c["model_share"] == pytest.approx(0.5, abs=1e-6)
-    assert not c["checks"]["penetration"] and not c["checks"]["tension"]
+    assert not c["checks"]["penetration_found"] and not c["checks"]["tension_at_region_edges"]
     assert c["semi_axes"][0] == pytest.approx(c["semi_axes"][1], rel=1e-9)  # a ball on a flat: a circle
 
 
