@@ -8,7 +8,9 @@ the file's unit (mm, inch, m, ...).
 Errors: the reader's parse messages go to the C++ streams; they are captured (file
 descriptors 1 and 2 redirected for the read) and the first one is put in the
 :class:`StepFormatError`, with the file name. Failed checks of entities after a successful
-parse name the entity (``#12 CARTESIAN_POINT`` in STEP, the directory entry number in IGES).
+parse are sorted by :mod:`.checks`: entities of the geometry are errors, the others (presentation,
+annotations, units' derived attributes) warnings; each is named by its ``#12`` label in STEP, its
+directory entry in IGES.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
+from .checks import describe, failed_checks, split_failures
 from .errors import StepFormatError, require_ocp
 
 __all__ = ["read_shape", "STEP_SUFFIXES", "IGES_SUFFIXES", "CAD_SUFFIXES", "cad_format"]
@@ -101,41 +104,6 @@ def _check_path(path: Path) -> str:
     return kind
 
 
-def _entity_label(reader, kind: str, check, number: int) -> str:
-    entity = check.Entity() if check.HasEntity() else None
-    if entity is None or number <= 0:
-        return ""
-    name = entity.DynamicType().Name()
-    if kind == "step":
-        try:
-            ident = reader.StepModel().IdentLabel(entity)
-        except Exception:  # pragma: no cover - bindings without IdentLabel
-            ident = 0
-        where = f"#{ident}" if ident > 0 else f"number {number} (in file order)"
-        return f"entity {where} ({name.removeprefix('StepGeom_').removeprefix('StepShape_')})"
-    return f"directory entry {2 * number - 1} ({name.removeprefix('IGESGeom_').removeprefix('IGESSolid_')})"
-
-
-def _first_failure(reader, kind: str) -> tuple[str, int] | None:
-    """(message naming the entity, number of failed entities) of the model's checks, if any."""
-    checks = reader.WS().ModelCheckList()
-    checks.Start()
-    first, general, count = None, None, 0
-    while checks.More():
-        check = checks.Value()
-        if check.NbFails():
-            count += 1
-            label = _entity_label(reader, kind, check, checks.Number())
-            msg = check.CFail(1, True)
-            if label and first is None:  # the first failure of a named entity says most
-                first = f"{label}: {msg}"
-            elif not label and general is None:
-                general = msg
-        checks.Next()
-    first = first or general
-    return (first, count) if first is not None else None
-
-
 def _reader(kind: str):
     if kind == "step":
         from OCP.STEPControl import STEPControl_Reader
@@ -192,15 +160,17 @@ def read_shape(path: str | Path):
         said = [ln for ln in printed if "ERR" in ln or "rror" in ln or "Incorrect" in ln]
         detail = said[0].replace("ERR ", "") if said else status.name.replace("IFSelect_Ret", "status ")
         raise StepFormatError(f"{path}: not a readable {fmt} file: {detail}")
-    failure = _first_failure(reader, kind)
-    if failure is not None and (kind == "step" or not roots):
-        first, count = failure
-        more = f" (and {count - 1} more entities)" if count > 1 else ""
-        raise StepFormatError(f"{path}: {fmt} {first}{more}")
+    errors, harmless = split_failures(failed_checks(reader, kind, path))
+    if kind == "iges" and roots:  # IGES checks are advisory once the roots transfer
+        errors, harmless = [], errors + harmless
+    if errors:
+        raise StepFormatError(f"{path}: {fmt} entity checks failed on the geometry ({len(errors)}): "
+                              f"{describe(errors)}")
     if shape is None or shape.IsNull():
         raise StepFormatError(f"{path}: the {fmt} file holds no shape OpenCascade can transfer "
                               f"({reader.NbRootsForTransfer()} roots, none transferred)")
     warnings = []
-    if failure is not None:
-        warnings.append(f"{path.name}: {failure[1]} {fmt} entities failed their checks, first: {failure[0]}")
+    if harmless:
+        warnings.append(f"{path.name}: {len(harmless)} {fmt} entities that the shapes do not use failed their "
+                        f"checks (ignored): {describe(harmless)}")
     return shape, {"format": kind, "roots": int(roots), "warnings": warnings, "names": _namer(reader)}
