@@ -70,3 +70,42 @@ def test_a_failed_check_on_the_geometry_is_an_error_naming_the_label(shapes, tmp
     path.write_text(text.replace(m.group(0), m.group(0) + "zz,", 1))
     with pytest.raises(StepFormatError, match=rf"cone\.step: .*#{m.group(1)} \(CartesianPoint\)"):
         load_part(path)
+
+
+def _slow_on(tessellation, monkeypatch, stalls):
+    """Make the mesher stall (sleep far past the guard's limit) whenever ``stalls(face number,
+    chord, angle)`` is true; the guard runs the mesher in a forked child, which sees the patch."""
+    import time
+
+    real, faces = tessellation.mesh_face, {}
+
+    def mesh_face(face, chord, angle):
+        number = next(k for k, f in faces.items() if f.IsSame(face))
+        if stalls(number, chord, angle):
+            time.sleep(30.0)
+        return real(face, chord, angle)
+
+    monkeypatch.setattr(tessellation, "mesh_face", mesh_face)
+    return faces
+
+
+def test_a_face_that_stalls_the_mesher_is_meshed_again_coarser(shapes, monkeypatch):
+    from ibfem.importers.step import tessellation as T
+
+    shape = shapes["fillet"]
+    faces = _slow_on(T, monkeypatch, lambda n, chord, angle: n == 3 and angle < 0.5)
+    faces.update({k + 1: f for k, f in enumerate(T._faces(shape))})
+    meshes, warnings = T.mesh_shape(shape, 0.05, 0.25, time_limit=0.5)
+    assert sorted(meshes) == list(range(1, len(faces) + 1))
+    assert all(m is not None and len(m[1]) for m in meshes.values())
+    assert len(warnings) == 1 and warnings[0].startswith("face F3 ") and "0.5 rad" in warnings[0], warnings
+
+
+def test_a_face_the_mesher_never_finishes_is_an_error_naming_it(shapes, monkeypatch):
+    from ibfem.importers.step import tessellation as T
+
+    shape = shapes["cylinder"]
+    faces = _slow_on(T, monkeypatch, lambda n, chord, angle: n == 1)
+    faces.update({k + 1: f for k, f in enumerate(T._faces(shape))})
+    with pytest.raises(StepFormatError, match=r"face F1 \(Cylinder\).*no triangles within 0.5 s"):
+        T.mesh_shape(shape, 0.05, 0.25, time_limit=0.5)

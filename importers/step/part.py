@@ -102,7 +102,7 @@ def _make_mesh(data):
     return trimesh.Trimesh(vertices=data[0], faces=data[1], process=False)
 
 
-def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dict) -> Face:
+def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dict, triangles) -> Face:
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.GeomAdaptor import GeomAdaptor_Surface
@@ -110,7 +110,7 @@ def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dic
 
     face = TopoDS.Face(face)
     evaluator = BRepAdaptor_Surface(face, False)
-    mesh = face_triangles(face, evaluator)
+    mesh = face_triangles(face, evaluator, triangles)
     loops = _loops(face, edge_index)
     d, kind, note = surface_dict(GeomAdaptor_Surface(BRep_Tool.Surface_s(face)))
     notes = [note] if note else []
@@ -178,8 +178,9 @@ def _bodies(shape) -> list[tuple[str, object, list]]:
     return bodies
 
 
-def build_part(shape, path: Path, names=None, deflection: float = 1e-4) -> Part:
-    """The Part of a meshed shape (see the module docstring); ``names(sub-shape)``: the name the
+def build_part(shape, path: Path, names=None, deflection: float = 1e-4, meshes=None) -> Part:
+    """The Part of a shape (see the module docstring); ``meshes``: {face number: (uv, triangles)}
+    from :func:`~.tessellation.mesh_shape`; ``names(sub-shape)``: the name the
     file gives a solid, shell or face ('' when none). Face names are kept in
     ``part.metadata["face_names"]`` ({face id: name}) and in the face's notes."""
     names = names or (lambda s: "")
@@ -196,7 +197,7 @@ def build_part(shape, path: Path, names=None, deflection: float = 1e-4) -> Part:
         fids = [f"F{face_index(f)}" for f in bfaces]
         eids = sorted({edge_index(e) for f in bfaces for e in _indexed(f, S.TopAbs_EDGE)})
         for f, fid in zip(bfaces, fids):
-            face = _face(f, fid, bid, edge_index, part, unsupported)
+            face = _face(f, fid, bid, edge_index, part, unsupported, (meshes or {}).get(face_index(f)))
             label = names(f)
             if label:
                 part.metadata.setdefault("face_names", {})[fid] = label
