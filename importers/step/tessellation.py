@@ -29,8 +29,8 @@ import pickle
 import select
 import signal
 import struct
-import threading
 import time
+import warnings
 
 import numpy as np
 
@@ -117,7 +117,9 @@ def _guarded_pass(faces, indices, tolerance, angular, limit, results) -> int | N
     of the face that took longer than ``limit`` seconds or crashed the mesher, None when all
     finished."""
     r, w = os.pipe()
-    pid = os.fork()
+    with warnings.catch_warnings():  # Python >= 3.12 warns about fork with threads: the child
+        warnings.simplefilter("ignore", DeprecationWarning)  # only meshes and writes to the pipe
+        pid = os.fork()
     if pid == 0:  # pragma: no cover - the child (coverage does not follow it)
         os.close(r)
         code = 0
@@ -182,7 +184,7 @@ def fallbacks(tolerance: float, angular: float) -> list[tuple[float, float]]:
 def _mesh_guarded(faces, tolerance, angular, limit, results) -> list[str]:
     """All faces in one child; a face that stalls the child, crashes it or gets no triangles is
     meshed again on its own (:func:`_retry_alone`) and the rest continue in a new child."""
-    warnings = []
+    notes = []
     pending = list(range(len(faces)))
     while pending:
         stuck = _guarded_pass(faces, pending, tolerance, angular, limit, results)
@@ -194,8 +196,8 @@ def _mesh_guarded(faces, tolerance, angular, limit, results) -> list[str]:
         if results.get(i) is None:
             note = _retry_alone(faces, i, tolerance, angular, limit, results)
             if note:
-                warnings.append(note)
-    return warnings
+                notes.append(note)
+    return notes
 
 
 def mesh_shape(shape, tolerance: float, angular_tolerance: float = DEFAULT_ANGULAR_TOLERANCE,
@@ -208,13 +210,13 @@ def mesh_shape(shape, tolerance: float, angular_tolerance: float = DEFAULT_ANGUL
     BRepTools.Clean_s(shape)  # a triangulation stored in the file or by an earlier call is replaced
     faces = _faces(shape)
     results: dict[int, tuple | None] = {}
-    warnings: list[str] = []
-    if time_limit is not None and hasattr(os, "fork") and threading.active_count() == 1:
-        warnings = _mesh_guarded(faces, tolerance, angular_tolerance, float(time_limit), results)
+    notes: list[str] = []
+    if time_limit is not None and hasattr(os, "fork"):
+        notes = _mesh_guarded(faces, tolerance, angular_tolerance, float(time_limit), results)
     else:
         for i, face in enumerate(faces):
             results[i] = mesh_face(face, tolerance, angular_tolerance)
-    return {i + 1: data for i, data in results.items()}, warnings
+    return {i + 1: data for i, data in results.items()}, notes
 
 
 def face_triangles(face, surface, data) -> tuple[np.ndarray, np.ndarray] | None:
