@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 import re
 
+import numpy as np
 import pytest
 
 pytest.importorskip("OCP")
@@ -109,3 +110,62 @@ def test_a_face_the_mesher_never_finishes_is_an_error_naming_it(shapes, monkeypa
     faces.update({k + 1: f for k, f in enumerate(T._faces(shape))})
     with pytest.raises(StepFormatError, match=r"face F1 \(Cylinder\).*no triangles within 0.5 s"):
         T.mesh_shape(shape, 0.05, 0.25, time_limit=0.5)
+
+
+def _parabolic_sheet(length: float):
+    """The B-spline surface z = x^2 / 10 (mm) over x in [0, 10 length], y in [0, 10]: degree 2
+    in u = x / 10 on one span [0, length], degree 1 in v."""
+    from OCP.collections import Array1_double, Array1_int, Array2_gp_Pnt
+    from OCP.Geom import Geom_BSplineSurface
+    from OCP.gp import gp_Pnt
+
+    poles = Array2_gp_Pnt(1, 3, 1, 2)
+    for i, (x, z) in enumerate(((0.0, 0.0), (length / 2, 0.0), (length, length**2)), 1):
+        for j, y in enumerate((0.0, 1.0), 1):
+            poles.SetValue(i, j, gp_Pnt(10 * x, 10 * y, 10 * z))
+    knots_u, knots_v, mult_u, mult_v = Array1_double(1, 2), Array1_double(1, 2), Array1_int(1, 2), Array1_int(1, 2)
+    for arr, values in ((knots_u, (0.0, length)), (knots_v, (0.0, 1.0)), (mult_u, (3, 3)), (mult_v, (2, 2))):
+        for k, value in enumerate(values, 1):
+            arr.SetValue(k, value)
+    return Geom_BSplineSurface(poles, knots_u, knots_v, mult_u, mult_v, 2, 1)
+
+
+def _shrink_surface(text: str, length: float) -> str:
+    """The STEP text with the face's surface replaced by the same polynomial on u in [0, length]
+    only (its control points and knots), its trimming curves (3D and parameter curves) unchanged:
+    the face then runs beyond the surface's parameter domain, as some exporters write."""
+    m = re.search(r"B_SPLINE_SURFACE_WITH_KNOTS\('',2,1,\(\s*(.*?)\),\.UNSPECIFIED\.,\.F\.,\.F\.,\.F\.,"
+                  r"\(3,3\),\(2,2\),\(0\.,([0-9.]+)\)", text, re.S)
+    refs = re.findall(r"#(\d+)", m.group(1))
+    rows = [(0.0, 0.0), (length / 2, 0.0), (length, length**2)]
+    for k, ref in enumerate(refs):
+        x, z = rows[k // 2]
+        y = float(k % 2)
+        text = re.sub(rf"#{ref} = CARTESIAN_POINT\('',\([^)]*\)\);",
+                      f"#{ref} = CARTESIAN_POINT('',({10 * x!r},{10 * y!r},{10 * z!r}));", text)
+    return text.replace(m.group(0), m.group(0).replace(f"(0.,{m.group(2)})", f"(0.,{length!r})"))
+
+
+def test_a_face_trimmed_beyond_its_surface_gets_the_surface_extended(tmp_path):
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from ibfem.geometry import primitive_from_dict
+    from ibfem.geometry.verify import verify_projection
+
+    face = BRepBuilderAPI_MakeFace(_parabolic_sheet(1.2), 0.0, 1.2, 0.0, 1.0, 1e-7).Face()
+    path = S.write_step(face, tmp_path / "sheet.step")
+    path.write_text(_shrink_surface(path.read_text(), 1.0))
+    part = load_part(path)
+    (f,) = part.faces.values()
+    assert any("extended beyond its parameter domain" in n for n in f.notes), f.notes
+    V = np.asarray(f.mesh.vertices)
+    assert V[:, 0].max() == pytest.approx(0.012, rel=1e-9)  # the face reaches x = 12 mm
+    parabola = np.column_stack([np.linspace(0.0, 0.012, 41), np.full(41, 0.004), np.zeros(41)])
+    parabola[:, 2] = 100.0 * parabola[:, 0] ** 2  # z = x^2 / 10 in mm
+    assert np.abs(f.surface.project(parabola).distances).max() < 1e-12
+    # the surface as the file gives it, clamped to u <= 1, misses the face's far part
+    clamped = primitive_from_dict(dict(f.surface.to_dict(), knots_u=[0.0] * 3 + [1.0] * 3,
+                                       control_points=[[[0, 0, 0], [0, 0.01, 0]], [[0.005, 0, 0], [0.005, 0.01, 0]],
+                                                       [[0.01, 0, 0.01], [0.01, 0.01, 0.01]]]))
+    assert np.abs(clamped.project(parabola).distances).max() > 1e-4
+    report = verify_projection(part)
+    assert report["verdict"] == "pass", report["reason"]

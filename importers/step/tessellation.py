@@ -10,7 +10,9 @@ A guard keeps the mesher from hanging an import: on systems with ``fork`` the fa
 in a child process that sends each face's triangles back as it finishes. A face that takes more
 than ``time_limit`` seconds, crashes the mesher or gets no triangles is meshed again on its own,
 then with a coarser angle, then with a chord tolerance ``COARSER`` times larger (with a warning
-saying which); when none works the import stops with an error naming the face. Without ``fork`` (or with ``time_limit=None``) the faces are meshed in this
+saying which); when a face stalled and none of these gives it triangles the import stops with an
+error naming the face (a face the mesher finishes without triangles is reported by the part
+builder and kept without a tessellation). Without ``fork`` (or with ``time_limit=None``) the faces are meshed in this
 process, unguarded.
 
 Each face's triangulation is read with its nodes' (u, v) parameters; the vertices are the face's
@@ -69,14 +71,11 @@ def _faces(shape) -> list:
     return [TopoDS.Face(m.FindKey(i)) for i in range(1, m.Extent() + 1)]
 
 
-def mesh_face(face, tolerance: float, angular_tolerance: float) -> tuple[np.ndarray, np.ndarray] | None:
-    """(uv (n, 2), triangles (m, 3), 0-based) of one face meshed by OpenCascade; None when the
-    mesher makes no triangles."""
+def _triangles(face) -> tuple[np.ndarray, np.ndarray] | None:
+    """(uv, triangles) of a face's stored triangulation, None without one."""
     from OCP.BRep import BRep_Tool
-    from OCP.BRepMesh import BRepMesh_IncrementalMesh
     from OCP.TopLoc import TopLoc_Location
 
-    BRepMesh_IncrementalMesh(face, float(tolerance), False, float(angular_tolerance), False)
     tri = BRep_Tool.Triangulation_s(face, TopLoc_Location())
     if tri is None or tri.NbTriangles() == 0 or not tri.HasUVNodes():
         return None
@@ -85,12 +84,22 @@ def mesh_face(face, tolerance: float, angular_tolerance: float) -> tuple[np.ndar
     return uv, triangles
 
 
-def _child(faces, indices, tolerance, angular, fd) -> None:
-    """In the forked child: mesh the faces in order, writing (index, data) records to ``fd``."""
+def mesh_face(face, tolerance: float, angular_tolerance: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """(uv (n, 2), triangles (m, 3), 0-based) of one face meshed by OpenCascade on its own; None
+    when the mesher makes no triangles."""
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+
+    BRepMesh_IncrementalMesh(face, float(tolerance), False, float(angular_tolerance), False)
+    return _triangles(face)
+
+
+def _child(work, indices, fd) -> None:
+    """In the forked child: ``work(i)`` for each face in order, writing (index, data) records to
+    ``fd``."""
     with os.fdopen(fd, "wb") as out:
         for i in indices:
             try:
-                data = mesh_face(faces[i], tolerance, angular)
+                data = work(i)
             except Exception:  # OpenCascade's Standard_Failure: the face gets no triangles
                 data = None
             blob = pickle.dumps((i, data), protocol=pickle.HIGHEST_PROTOCOL)
@@ -112,10 +121,10 @@ def _read_exactly(fd, n: int, deadline: float) -> bytes | None:
     return b"".join(chunks)
 
 
-def _guarded_pass(faces, indices, tolerance, angular, limit, results) -> int | None:
-    """Mesh ``indices`` in a forked child; store finished faces in ``results``. Returns the index
-    of the face that took longer than ``limit`` seconds or crashed the mesher, None when all
-    finished."""
+def _guarded_pass(work, indices, limit, results) -> int | None:
+    """``work(i)`` for the faces ``indices`` in a forked child; finished faces go to ``results``.
+    Returns the index of the face that took longer than ``limit`` seconds or crashed the mesher,
+    None when all finished."""
     r, w = os.pipe()
     with warnings.catch_warnings():  # Python >= 3.12 warns about fork with threads: the child
         warnings.simplefilter("ignore", DeprecationWarning)  # only meshes and writes to the pipe
@@ -124,7 +133,7 @@ def _guarded_pass(faces, indices, tolerance, angular, limit, results) -> int | N
         os.close(r)
         code = 0
         try:
-            _child(faces, indices, tolerance, angular, w)
+            _child(work, indices, w)
         except BaseException:
             code = 1
         os._exit(code)
@@ -156,22 +165,6 @@ def _face_label(faces, i: int) -> str:
     return f"face F{i + 1} ({kind})"
 
 
-def _retry_alone(faces, i, tolerance, angular, limit, results) -> str | None:
-    """Mesh face ``i`` on its own in a fresh child (none of its neighbours meshed) with the
-    settings of :func:`fallbacks` in turn; a warning when other settings than the user's were
-    needed. Raises when none finishes with triangles."""
-    ladder = fallbacks(tolerance, angular)
-    for k, (chord, angle) in enumerate(ladder):
-        if _guarded_pass(faces, [i], chord, angle, limit, results) is None and results.get(i) is not None:
-            if k == 0:
-                return None
-            return (f"{_face_label(faces, i)}: the mesher failed or took over {limit:g} s at chord tolerance "
-                    f"{tolerance:.3g} m and angle {angular:g} rad; meshed at {chord:.3g} m and {angle:g} rad")
-    tried = ", ".join(f"{c:.3g} m / {a:g} rad" for c, a in ladder)
-    raise StepFormatError(f"{_face_label(faces, i)}: OpenCascade's mesher gives no triangles within {limit:g} s "
-                          f"at any of the chord / angle tolerances {tried}; try a larger chord tolerance")
-
-
 def fallbacks(tolerance: float, angular: float) -> list[tuple[float, float]]:
     """The (chord, angle) tolerances a face is meshed with in turn: the user's, a coarser angle
     (OpenCascade's mesher fails on some B-spline faces at small angles), then a chord tolerance
@@ -181,22 +174,44 @@ def fallbacks(tolerance: float, angular: float) -> list[tuple[float, float]]:
     return [step for k, step in enumerate(ladder) if step not in ladder[:k]]
 
 
-def _mesh_guarded(faces, tolerance, angular, limit, results) -> list[str]:
+def _retry_alone(faces, i, tolerance, angular, limit, results) -> tuple[str | None, bool]:
+    """Mesh face ``i`` on its own in a fresh child (none of its neighbours meshed) with the
+    settings of :func:`fallbacks` in turn. Returns (a note when other settings than the user's
+    were needed, whether an attempt stalled)."""
+    stalled = False
+    for k, (chord, angle) in enumerate(fallbacks(tolerance, angular)):
+        stuck = _guarded_pass(lambda j, c=chord, a=angle: mesh_face(faces[j], c, a), [i], limit, results)
+        stalled |= stuck is not None
+        if stuck is None and results.get(i) is not None:
+            return (None if k == 0 else f"{_face_label(faces, i)}: the mesher failed or took over {limit:g} s at "
+                    f"chord tolerance {tolerance:.3g} m and angle {angular:g} rad; meshed at {chord:.3g} m and "
+                    f"{angle:g} rad"), stalled
+    return None, stalled
+
+
+def _mesh_guarded(shape, faces, tolerance, angular, limit, results) -> list[str]:
     """All faces in one child; a face that stalls the child, crashes it or gets no triangles is
-    meshed again on its own (:func:`_retry_alone`) and the rest continue in a new child."""
-    notes = []
+    meshed again on its own (:func:`_retry_alone`) and the rest continue in a new child. A face
+    that stalled and got no triangles in the end is an error; one the mesher finishes without
+    triangles is left for the part builder to report."""
+    notes, stalled = [], set()
     pending = list(range(len(faces)))
     while pending:
-        stuck = _guarded_pass(faces, pending, tolerance, angular, limit, results)
+        stuck = _guarded_pass(lambda j: mesh_face(faces[j], tolerance, angular), pending, limit, results)
         if stuck is None:
             break
         pending = pending[pending.index(stuck) + 1:]
         results.pop(stuck, None)
-    for i in range(len(faces)):
-        if results.get(i) is None:
-            note = _retry_alone(faces, i, tolerance, angular, limit, results)
-            if note:
-                notes.append(note)
+    for i in [i for i in range(len(faces)) if results.get(i) is None]:
+        note, hung = _retry_alone(faces, i, tolerance, angular, limit, results)
+        notes += [note] if note else []
+        stalled |= {i} if hung else set()
+    hung = [i for i in sorted(stalled) if results.get(i) is None]
+    if hung:
+        tried = ", ".join(f"{c:.3g} m / {a:g} rad" for c, a in fallbacks(tolerance, angular))
+        raise StepFormatError(f"{_face_label(faces, hung[0])}: OpenCascade's mesher gives no triangles within "
+                              f"{limit:g} s at any of the chord / angle tolerances {tried}; try a larger chord "
+                              "tolerance")
     return notes
 
 
@@ -212,10 +227,13 @@ def mesh_shape(shape, tolerance: float, angular_tolerance: float = DEFAULT_ANGUL
     results: dict[int, tuple | None] = {}
     notes: list[str] = []
     if time_limit is not None and hasattr(os, "fork"):
-        notes = _mesh_guarded(faces, tolerance, angular_tolerance, float(time_limit), results)
-    else:
+        notes = _mesh_guarded(shape, faces, tolerance, angular_tolerance, float(time_limit), results)
+    else:  # unguarded: the same fallbacks in this process
         for i, face in enumerate(faces):
-            results[i] = mesh_face(face, tolerance, angular_tolerance)
+            for chord, angle in fallbacks(tolerance, angular_tolerance):
+                results[i] = mesh_face(face, chord, angle)
+                if results[i] is not None:
+                    break
     return {i + 1: data for i, data in results.items()}, notes
 
 
