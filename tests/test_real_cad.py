@@ -169,3 +169,34 @@ def test_a_face_trimmed_beyond_its_surface_gets_the_surface_extended(tmp_path):
     assert np.abs(clamped.project(parabola).distances).max() > 1e-4
     report = verify_projection(part)
     assert report["verdict"] == "pass", report["reason"]
+
+
+def test_step_string_escapes_decode():
+    from ibfem.importers.step.step_text import decode_step_string
+
+    # ISO 10303-21 escapes: \S\ shifts by 128, \X\ one ISO 8859-1 byte, \X2\ UTF-16, '' a quote
+    assert decode_step_string(b"caf\\S\\i") == "caf\u00e9"
+    assert decode_step_string(b"\\X\\C4hre") == "\u00c4hre"
+    assert decode_step_string(b"\\X2\\041F04400438043C0435044004310443\\X0\\ 1") == "\u041f\u0440\u0438\u043c\u0435\u0440\u0431\u0443 1"
+    assert decode_step_string(b"it''s") == "it's"
+    assert decode_step_string("Größe".encode("utf-8")) == "Größe"  # UTF-8 as written by recent exporters
+
+
+@pytest.mark.parametrize("written, expected", [
+    ("Деталь1".encode("cp1251"), "Деталь1"),  # the Windows code page, unescaped (SolidWorks)
+    ("Деталь1".encode("utf-8"), "Деталь1"),
+    (b"\\X2\\0414043504420430043B044C\\X0\\1", "Деталь1"),
+])
+def test_non_ascii_names_come_out_as_written(shapes, tmp_path, written, expected):
+    path = S.write_step(shapes["cylinder"], tmp_path / "cylinder.step")
+    raw = path.read_bytes().replace(b"MANIFOLD_SOLID_BREP('',", b"MANIFOLD_SOLID_BREP('" + written + b"',")
+    path.write_bytes(raw)
+    assert [b.name for b in load_part(path).bodies.values()] == [expected]
+
+
+def test_an_unnamed_solid_takes_its_products_name(shapes, tmp_path):
+    path = S.write_step(shapes["cylinder"], tmp_path / "cylinder.step")
+    text = re.sub(r"PRODUCT\('[^']*',\s*'[^']*'", "PRODUCT('R-12','roller'", path.read_text(), count=1)
+    path.write_text(text)
+    assert "MANIFOLD_SOLID_BREP('',"in text
+    assert [b.name for b in load_part(path).bodies.values()] == ["roller"]

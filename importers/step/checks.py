@@ -12,15 +12,12 @@ wrongly). Every entity is named by its ``#n`` label in the file (its directory e
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
-from pathlib import Path
 
-__all__ = ["Failure", "failed_checks", "split_failures", "describe", "step_labels"]
+__all__ = ["Failure", "failed_checks", "split_failures", "describe"]
 
 # OpenCascade class prefixes of the entities a B-rep is built from
 _GEOMETRY_FAMILIES = ("StepGeom_", "StepShape_", "IGESGeom_", "IGESSolid_")
-_STEP_TOKEN = re.compile(r"'(?:[^']|'')*'|/\*.*?\*/|(#\d+)\s*=", re.S)
 _LISTED = 8
 
 
@@ -55,24 +52,15 @@ class Failure:
         return f"{self.label} ({self.entity_type}): {'; '.join(self.messages)}"
 
 
-def step_labels(path: Path) -> list[str]:
-    """The ``#n`` labels of a STEP file's data section in file order (OpenCascade numbers the
-    entities 1, 2, ... in this order). Strings and comments are skipped."""
-    text = Path(path).read_bytes().decode("latin-1")
-    start = text.find("DATA;")
-    if start < 0:
-        return []
-    return [m.group(1) for m in _STEP_TOKEN.finditer(text, start) if m.group(1)]
-
-
 def _family(type_name: str) -> tuple[str, str]:
     head, sep, tail = type_name.partition("_")
     return (head + sep, tail) if sep else ("", type_name)
 
 
-def failed_checks(reader, kind: str, path: Path) -> list[Failure]:
-    """Every entity whose check failed after the reader loaded ``path`` (general failures,
-    not tied to an entity, are labelled ``file``)."""
+def failed_checks(reader, kind: str, text=None) -> list[Failure]:
+    """Every entity whose check failed after the reader loaded the file (general failures, not
+    tied to an entity, are labelled ``file``); ``text``: the file's :class:`~.step_text.StepText`
+    (STEP), which gives the ``#n`` labels."""
     checks = reader.WS().ModelCheckList()
     checks.Start()
     raw = []
@@ -84,14 +72,14 @@ def failed_checks(reader, kind: str, path: Path) -> list[Failure]:
             messages = tuple(check.CFail(i, True) for i in range(1, check.NbFails() + 1))
             raw.append((checks.Number() if entity is not None else 0, name, messages))
         checks.Next()
-    labels = step_labels(path) if kind == "step" and any(n > 0 for n, _, _ in raw) else []
     out = []
     for number, name, messages in raw:
         family, short = _family(name)
         if number <= 0:
             label = "file"
         elif kind == "step":
-            label = labels[number - 1] if number <= len(labels) else f"entity {number} (in file order)"
+            n = text.label(number) if text is not None else None
+            label = f"#{n}" if n is not None else f"entity {number} (in file order)"
         else:
             label = f"directory entry {2 * number - 1}"
         out.append(Failure(label, short or "entity", family, messages))

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from .checks import describe, failed_checks, split_failures
 from .errors import StepFormatError, require_ocp
+from .step_text import StepText
 
 __all__ = ["read_shape", "STEP_SUFFIXES", "IGES_SUFFIXES", "CAD_SUFFIXES", "cad_format"]
 
@@ -114,26 +115,56 @@ def _reader(kind: str):
     return IGESControl_Reader()
 
 
-def _namer(reader):
-    """name(sub-shape) -> the name the file gives its entity ('' when none): STEP representation
-    items (MANIFOLD_SOLID_BREP('roller', ...), ADVANCED_FACE('top', ...)), the PRODUCT of a solid
-    placed in an assembly, IGES entity names."""
+def _unlocated(shape):
+    from OCP.TopLoc import TopLoc_Location
+
+    return shape.Located(TopLoc_Location())
+
+
+def _step_namer(reader, text):
+    """name(sub-shape) for a STEP file: the name of the entity OpenCascade made the sub-shape from,
+    read from the file (:class:`~.step_text.StepText`: decoded; a solid without a name of its own,
+    or placed in an assembly, named by its product). Faces are looked up only when the file names
+    some ``ADVANCED_FACE`` (the look-up is slow on large files)."""
+    from OCP.TopAbs import TopAbs_ShapeEnum
+
+    transfer = reader.WS().TransferReader()
+    model = reader.StepModel()
+    entities = [model.Value(i) for i in range(1, model.NbEntities() + 1)]  # kept alive: ids stay unique
+    number = {id(e): i for i, e in enumerate(entities, 1)}
+    faces_named = text.any_named("ADVANCED_FACE")
+
+    def name(shape, _keep=(reader, entities)) -> str:  # the reader owns the transfer results
+        if shape.ShapeType() == TopAbs_ShapeEnum.TopAbs_FACE and not faces_named:
+            return ""
+        entity = None
+        for key, mode in ((shape, 1), (_unlocated(shape), -1)):  # as placed, then its prototype
+            try:
+                entity = transfer.EntityFromShapeResult(key, mode)
+            except Exception:  # OpenCascade's Standard_OutOfRange: no entity for this shape
+                entity = None
+            if entity is not None:
+                break
+        label = text.label(number.get(id(entity), 0)) if entity is not None else None
+        if label is None:
+            return ""
+        if entity.DynamicType().Name() == "StepRepr_NextAssemblyUsageOccurrence":
+            return text.occurrence_name(label)
+        return text.solid_name(label)
+
+    return name
+
+
+def _iges_namer(reader):
+    """name(sub-shape) for an IGES file: the entity's name, when it has one."""
     transfer = reader.WS().TransferReader()
 
     def name(shape, _keep=reader) -> str:  # the reader owns the transfer results: kept alive
         try:
             entity = transfer.EntityFromShapeResult(shape, 1)
-            if entity is None:
+            if entity is None or not hasattr(entity, "HasName") or not entity.HasName():
                 return ""
-            if hasattr(entity, "HasName"):  # IGES
-                return entity.NameValue().ToCString().strip() if entity.HasName() else ""
-            text = entity.Name() if hasattr(entity, "Name") else None
-            own = text.ToCString().strip() if text is not None else ""
-            if not hasattr(entity, "RelatedProductDefinition"):
-                return own
-            # a solid placed in an assembly: named by the PRODUCT it instances (else the occurrence)
-            product = entity.RelatedProductDefinition().Formation().OfProduct().Name().ToCString().strip()
-            return product or own
+            return entity.NameValue().ToCString().strip()
         except Exception:  # an entity without a readable name: unnamed
             return ""
 
@@ -160,7 +191,8 @@ def read_shape(path: str | Path):
         said = [ln for ln in printed if "ERR" in ln or "rror" in ln or "Incorrect" in ln]
         detail = said[0].replace("ERR ", "") if said else status.name.replace("IFSelect_Ret", "status ")
         raise StepFormatError(f"{path}: not a readable {fmt} file: {detail}")
-    errors, harmless = split_failures(failed_checks(reader, kind, path))
+    text = StepText(path) if kind == "step" else None
+    errors, harmless = split_failures(failed_checks(reader, kind, text))
     if kind == "iges" and roots:  # IGES checks are advisory once the roots transfer
         errors, harmless = [], errors + harmless
     if errors:
@@ -173,4 +205,4 @@ def read_shape(path: str | Path):
     if harmless:
         warnings.append(f"{path.name}: {len(harmless)} {fmt} entities that the shapes do not use failed their "
                         f"checks (ignored): {describe(harmless)}")
-    return shape, {"format": kind, "roots": int(roots), "warnings": warnings, "names": _namer(reader)}
+    return shape, {"format": kind, "roots": int(roots), "warnings": warnings, "names": _step_namer(reader, text) if text is not None else _iges_namer(reader)}
