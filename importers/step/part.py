@@ -20,7 +20,7 @@ import numpy as np
 from ibfem.geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
 
 from .curves import edge_curve, edge_polyline
-from .surfaces import covering, surface_dict
+from .surfaces import covering, covering_sweep, surface_dict
 from .tessellation import face_triangles
 
 __all__ = ["build_part"]
@@ -126,6 +126,9 @@ def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dic
     notes = [note] if note else []
     if d is not None and d["type"] == "bspline_surface" and kind == "BSURFACE":
         d, grown = covering(d, geom, _face_parameters(face, triangles))
+        notes += [grown] if grown else []
+    elif d is not None and d["type"] == "sweep":
+        d, grown = covering_sweep(d, _face_parameters(face, triangles)[:, 0])
         notes += [grown] if grown else []
     surface = None
     if d is not None:

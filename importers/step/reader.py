@@ -138,7 +138,9 @@ def _step_namer(reader, text):
         if shape.ShapeType() == TopAbs_ShapeEnum.TopAbs_FACE and not faces_named:
             return ""
         entity = None
-        for key, mode in ((shape, 1), (_unlocated(shape), -1)):  # as placed, then its prototype
+        tries = ((shape, 1),) if shape.ShapeType() == TopAbs_ShapeEnum.TopAbs_FACE else \
+            ((shape, 1), (_unlocated(shape), -1))  # a body as placed, then its prototype
+        for key, mode in tries:
             try:
                 entity = transfer.EntityFromShapeResult(key, mode)
             except Exception:  # OpenCascade's Standard_OutOfRange: no entity for this shape
