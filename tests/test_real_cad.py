@@ -200,3 +200,83 @@ def test_an_unnamed_solid_takes_its_products_name(shapes, tmp_path):
     path.write_text(text)
     assert "MANIFOLD_SOLID_BREP('',"in text
     assert [b.name for b in load_part(path).bodies.values()] == ["roller"]
+
+
+def _box_faces():
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox
+    from OCP.TopAbs import TopAbs_ShapeEnum
+    from OCP.TopExp import TopExp_Explorer
+
+    box = BRepPrimAPI_MakeBox(20.0, 30.0, 10.0).Shape()
+    explorer, faces = TopExp_Explorer(box, TopAbs_ShapeEnum.TopAbs_FACE), []
+    while explorer.More():
+        faces.append(explorer.Current())
+        explorer.Next()
+    return faces
+
+
+def _solid_of(faces):
+    from OCP.BRep import BRep_Builder
+    from OCP.TopoDS import TopoDS_Shell, TopoDS_Solid
+
+    builder, shell, solid = BRep_Builder(), TopoDS_Shell(), TopoDS_Solid()
+    builder.MakeShell(shell)
+    for f in faces:
+        builder.Add(shell, f)
+    builder.MakeSolid(solid)
+    builder.Add(solid, shell)
+    return solid
+
+
+def test_an_open_shell_is_a_sheet_and_no_solid(shapes, tmp_path):
+    from ibfem.geometry.solids import PartSolid
+
+    path = S.write_step(_solid_of(_box_faces()[:5]), tmp_path / "open_box.step")  # a box without its top
+    part = load_part(path)
+    assert [b.body_type for b in part.bodies.values()] == ["SHEET"] and len(part.faces) == 5
+    with pytest.raises(ValueError, match="sheet body .*not a closed solid"):
+        PartSolid(part)
+
+
+def test_a_solid_oriented_inward_is_reversed(shapes):
+    from pathlib import Path
+
+    from ibfem.importers.step.part import build_part
+    from ibfem.importers.step.tessellation import mesh_shape
+
+    solid = _solid_of([f.Reversed() for f in _box_faces()])  # every face's normal points into the box
+    meshes, _ = mesh_shape(solid, 0.5, 0.25)
+    part = build_part(solid, Path("inward"), meshes=meshes)
+    assert any("oriented inward" in w and "reversed" in w for w in part.warnings), part.warnings
+    assert part.metadata["volumes"]["B1"] == pytest.approx(20.0 * 30.0 * 10.0, rel=1e-12)  # built in mm here
+    centre = np.array([10.0, 15.0, 5.0])
+    for face in part.faces.values():  # outward: away from the box's centre
+        V = np.asarray(face.mesh.vertices)
+        outward = face.surface.project(V).normals * face.orientation
+        assert np.all(np.einsum("ij,ij->i", outward, V - centre) > 0), face.id
+
+
+def test_bodies_sharing_a_name_are_chosen_by_number(shapes, tmp_path):
+    from OCP.BRep import BRep_Builder
+    from OCP.gp import gp_Trsf, gp_Vec
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS_Compound
+
+    from ibfem.geometry.solids import PartSolid
+
+    builder, compound = BRep_Builder(), TopoDS_Compound()
+    builder.MakeCompound(compound)
+    for dx in (0.0, 100.0):
+        move = gp_Trsf()
+        move.SetTranslation(gp_Vec(dx, 0.0, 0.0))
+        builder.Add(compound, shapes["sphere"].Moved(TopLoc_Location(move)))
+    path = S.write_step(compound, tmp_path / "two.step")  # an assembly placing one part twice
+    text = path.read_text()
+    part_product = re.findall(r"PRODUCT\('[^']*',\s*'[^']*'", text)[-1]  # the first is the assembly's
+    path.write_text(text.replace(part_product, "PRODUCT('ball','ball'"))
+    part = load_part(path)
+    assert [b.name for b in part.bodies.values()] == ["ball", "ball"]
+    with pytest.raises(ValueError, match=r"2 bodies have this name; choose one: ball#1 \(B1\), ball#2 \(B2\)"):
+        PartSolid(part, "ball")
+    second = PartSolid(part, "ball#2")
+    assert second.body.id == "B2" and second.bounds[0][0] > 0.05  # the one moved 100 mm along x
