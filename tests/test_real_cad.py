@@ -280,3 +280,37 @@ def test_bodies_sharing_a_name_are_chosen_by_number(shapes, tmp_path):
         PartSolid(part, "ball")
     second = PartSolid(part, "ball#2")
     assert second.body.id == "B2" and second.bounds[0][0] > 0.05  # the one moved 100 mm along x
+
+
+def test_an_extrusion_beyond_its_profile_curve_gets_the_curve_extended(tmp_path):
+    """A face of a surface of linear extrusion whose B-spline profile (the parabola z = x^2 / 10 mm)
+    the file cuts short at x = 10 mm while the face runs to x = 12 mm."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakePrism
+    from OCP.collections import Array1_double, Array1_gp_Pnt, Array1_int
+    from OCP.Geom import Geom_BSplineCurve
+    from OCP.gp import gp_Pnt, gp_Vec
+
+    from ibfem.geometry.verify import verify_projection
+
+    poles, knots, mults = Array1_gp_Pnt(1, 3), Array1_double(1, 2), Array1_int(1, 2)
+    for i, (x, z) in enumerate(((0.0, 0.0), (0.6, 0.0), (1.2, 1.44)), 1):
+        poles.SetValue(i, gp_Pnt(10 * x, 0.0, 10 * z))
+    for k, (t, m) in enumerate(((0.0, 3), (1.2, 3)), 1):
+        knots.SetValue(k, t)
+        mults.SetValue(k, m)
+    edge = BRepBuilderAPI_MakeEdge(Geom_BSplineCurve(poles, knots, mults, 2)).Edge()
+    path = S.write_step(BRepPrimAPI_MakePrism(edge, gp_Vec(0.0, 10.0, 0.0)).Shape(), tmp_path / "sweep.step")
+    text = path.read_text()
+    swept = re.search(r"SURFACE_OF_LINEAR_EXTRUSION\('',#(\d+),", text).group(1)
+    curve = re.search(rf"#{swept} = B_SPLINE_CURVE_WITH_KNOTS\('',2,\(#(\d+),#(\d+),#(\d+)\)[^;]*;", text)
+    for ref, xyz in zip(curve.groups(), ("0.,0.,0.", "5.,0.,0.", "10.,0.,10.")):  # the same parabola, u <= 1
+        text = re.sub(rf"#{ref} = CARTESIAN_POINT\('',\([^)]*\)\);", f"#{ref} = CARTESIAN_POINT('',({xyz}));", text)
+    path.write_text(text.replace(curve.group(0), curve.group(0).replace("(0.,1.2)", "(0.,1.)")))
+    part = load_part(path)
+    (f,) = [f for f in part.faces.values() if f.surface_type == "SWEEP"]
+    assert any("profile curve extended" in n for n in f.notes), f.notes
+    x = np.linspace(0.0, 0.012, 41)
+    parabola = np.column_stack([x, np.full(41, 0.005), 100.0 * x**2])
+    assert np.abs(f.surface.project(parabola).distances).max() < 1e-12
+    assert verify_projection(part)["verdict"] == "pass"
