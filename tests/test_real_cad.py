@@ -186,7 +186,7 @@ def test_step_string_escapes_decode():
     ("Деталь1".encode("cp1251"), "Деталь1"),  # the Windows code page, unescaped (SolidWorks)
     ("Деталь1".encode("utf-8"), "Деталь1"),
     (b"\\X2\\0414043504420430043B044C\\X0\\1", "Деталь1"),
-])
+], ids=["windows-1251", "utf-8", "X2-escape"])
 def test_non_ascii_names_come_out_as_written(shapes, tmp_path, written, expected):
     path = S.write_step(shapes["cylinder"], tmp_path / "cylinder.step")
     raw = path.read_bytes().replace(b"MANIFOLD_SOLID_BREP('',", b"MANIFOLD_SOLID_BREP('" + written + b"',")

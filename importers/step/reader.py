@@ -124,15 +124,15 @@ def _unlocated(shape):
 def _step_namer(reader, text):
     """name(sub-shape) for a STEP file: the name of the entity OpenCascade made the sub-shape from,
     read from the file (:class:`~.step_text.StepText`: decoded; a solid without a name of its own,
-    or placed in an assembly, named by its product). Faces are looked up only when the file names
-    some ``ADVANCED_FACE`` (the look-up is slow on large files)."""
+    or placed in an assembly, named by its product). Faces are looked up only when the names of the
+    file's ``ADVANCED_FACE`` entities tell faces apart (the look-up is slow on large files)."""
     from OCP.TopAbs import TopAbs_ShapeEnum
 
     transfer = reader.WS().TransferReader()
     model = reader.StepModel()
     entities = [model.Value(i) for i in range(1, model.NbEntities() + 1)]  # kept alive: ids stay unique
     number = {id(e): i for i, e in enumerate(entities, 1)}
-    faces_named = text.any_named("ADVANCED_FACE")
+    faces_named = text.names_tell_apart("ADVANCED_FACE")
 
     def name(shape, _keep=(reader, entities)) -> str:  # the reader owns the transfer results
         if shape.ShapeType() == TopAbs_ShapeEnum.TopAbs_FACE and not faces_named:

@@ -10,7 +10,8 @@ UTF-16 code units (4 hex digits each), ``\\X4\\...\\X0\\`` code points (8 hex di
 ``\\P?\\`` page directives are dropped. Several exporters write the system's code page instead
 of escapes: bytes that are valid UTF-8 are read as UTF-8; otherwise, when every byte above 127
 is a Cyrillic letter of Windows-1251 (0xC0 to 0xFF, and 0xA8 / 0xB8 for Yo / yo) and they form
-words of two or more letters, as Windows-1251; else as ISO 8859-1.
+words of two or more letters, as Windows-1251; else as ISO 8859-1. The name ``NONE`` (SolidWorks'
+word for no name) is no name.
 
 Products. A solid (``MANIFOLD_SOLID_BREP``, ``BREP_WITH_VOIDS``) without a name of its own is
 named by its product: the representation that lists it as an item, the
@@ -36,6 +37,7 @@ _ESCAPE = re.compile(r"\\X2\\((?:[0-9A-Fa-f]{4})*)\\X0\\|\\X4\\((?:[0-9A-Fa-f]{8
                      r"|\\S\\(.)|\\P[A-I]\\|\\\\", re.S)
 _CYRILLIC_1251 = set(range(0xC0, 0x100)) | {0xA8, 0xB8}
 _SOLIDS = (b"MANIFOLD_SOLID_BREP", b"BREP_WITH_VOIDS")
+_NO_NAME = "NONE"  # what SolidWorks writes for an item without a name
 
 
 def _raw_text(raw: bytes) -> str:
@@ -111,9 +113,11 @@ class StepText:
         return m.group(1).decode() if m else ""
 
     def name(self, n: int) -> str:
-        """The first string parameter of entity ``#n`` (its name for representation items), decoded."""
+        """The first string parameter of entity ``#n`` (its name for representation items), decoded;
+        '' for ``NONE``."""
         m = _STRING.search(self._entities[1].get(n, b""))
-        return decode_step_string(m.group(1)).strip() if m else ""
+        name = decode_step_string(m.group(1)).strip() if m else ""
+        return "" if name == _NO_NAME else name
 
     def _refs(self, n: int) -> list[int]:
         return [int(r) for r in _REF.findall(self._entities[1].get(n, b""))]
@@ -171,11 +175,14 @@ class StepText:
             n = refs[ref]
         return ""
 
-    def any_named(self, kind: str) -> bool:
-        """Whether some entity of type ``kind`` has a non-empty name."""
+    def names_tell_apart(self, kind: str) -> bool:
+        """Whether the names of the entities of type ``kind`` tell some apart: some entity has a
+        name, and not every one the same (CATIA writes the body's name on every face)."""
         target = kind.encode()
-        return any(b.startswith(target) and not b[len(target):].lstrip().startswith(b"(''")
-                   for b in self._entities[1].values())
+        names = [self.name(n) for n, b in self._entities[1].items() if b.startswith(target)
+                 and b[len(target):].lstrip().startswith(b"(")]
+        named = [n for n in names if n]
+        return bool(named) and not (len(named) == len(names) and len(set(named)) == 1)
 
     def occurrence_name(self, n: int) -> str:
         """The product placed by the assembly occurrence ``#n`` (NEXT_ASSEMBLY_USAGE_OCCURRENCE), else
