@@ -50,7 +50,8 @@ def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _all_vertices(part: Any) -> np.ndarray:
-    pts = [np.asarray(f.mesh.vertices, float) for f in part.faces.values() if f.mesh is not None and len(f.mesh.vertices)]
+    pts = [np.asarray(f.mesh.vertices, float) for f in part.faces.values()
+           if f.mesh is not None and len(f.mesh.vertices)]
     return np.concatenate(pts) if pts else np.zeros((0, 3))
 
 
@@ -125,8 +126,11 @@ def _verdict(faces: list[dict]) -> tuple[str, str]:
     if not failed:
         exact = sum(1 for f in faces if f["exact"] and f["max_error"] is not None)
         return "pass", f"all {exact} exact faces within their tolerances"
-    worst = max(failed, key=lambda f: max(f["max_error"] / f["tolerance"], f["max_normal_error"] / f["normal_tolerance"],
-                                          f["max_vertex_distance"] / f["tolerance"]))
+    def excess(f):
+        return max(f["max_error"] / f["tolerance"], f["max_normal_error"] / f["normal_tolerance"],
+                   f["max_vertex_distance"] / f["tolerance"])
+
+    worst = max(failed, key=excess)
     return "fail", (f"{len(failed)} exact faces outside their tolerances; worst {worst['id']} ({worst['type']}): "
                     f"position error {worst['max_error']:.3g} m (tolerance {worst['tolerance']:.3g} m), normal error "
                     f"{worst['max_normal_error']:.3g} rad (tolerance {worst['normal_tolerance']:.3g} rad), vertex "

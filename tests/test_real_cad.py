@@ -177,7 +177,7 @@ def test_step_string_escapes_decode():
     # ISO 10303-21 escapes: \S\ shifts by 128, \X\ one ISO 8859-1 byte, \X2\ UTF-16, '' a quote
     assert decode_step_string(b"caf\\S\\i") == "caf\u00e9"
     assert decode_step_string(b"\\X\\C4hre") == "\u00c4hre"
-    assert decode_step_string(b"\\X2\\041F04400438043C0435044004310443\\X0\\ 1") == "\u041f\u0440\u0438\u043c\u0435\u0440\u0431\u0443 1"
+    assert decode_step_string(b"\\X2\\041F0440043804300440\\X0\\ 1") == "\u041f\u0440\u0438\u0430\u0440 1"
     assert decode_step_string(b"it''s") == "it's"
     assert decode_step_string("Größe".encode("utf-8")) == "Größe"  # UTF-8 as written by recent exporters
 

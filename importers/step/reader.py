@@ -207,4 +207,5 @@ def read_shape(path: str | Path):
     if harmless:
         warnings.append(f"{path.name}: {len(harmless)} {fmt} entities that the shapes do not use failed their "
                         f"checks (ignored): {describe(harmless)}")
-    return shape, {"format": kind, "roots": int(roots), "warnings": warnings, "names": _step_namer(reader, text) if text is not None else _iges_namer(reader)}
+    names = _step_namer(reader, text) if text is not None else _iges_namer(reader)
+    return shape, {"format": kind, "roots": int(roots), "warnings": warnings, "names": names}
