@@ -1,6 +1,9 @@
-"""What real exporters write (issue 33), reproduced with parts OpenCascade writes inside the test and
-then edits the way other CAD systems write them: presentation and unit entities OpenCascade's parser
-does not accept, ... Each test checks the import against the parameters the part was built with."""
+"""What real exporters write, reproduced with parts OpenCascade writes inside the test and then
+edits the way other CAD systems write them: presentation and unit entities OpenCascade's parser
+refuses (warnings named by #n label; geometry failures stay errors), a mesher that stalls on a face
+(the guard's fallbacks and its error), faces trimmed beyond their B-spline surface or extrusion
+profile (extended exactly), non-ASCII and product names, open shells, solids oriented inward, and
+bodies sharing a name. Each test checks the import against what the part was built with."""
 
 from __future__ import annotations
 
