@@ -317,3 +317,15 @@ def test_an_extrusion_beyond_its_profile_curve_gets_the_curve_extended(tmp_path)
     parabola = np.column_stack([x, np.full(41, 0.005), 100.0 * x**2])
     assert np.abs(f.surface.project(parabola).distances).max() < 1e-12
     assert verify_projection(part)["verdict"] == "pass"
+
+
+def test_a_triangulation_of_part_of_a_face_is_not_taken(shapes):
+    """OpenCascade's mesher sometimes returns triangles over part of a face only (an Inventor
+    spring's helical face: 7 % of its area): the triangles' area is compared with the face's."""
+    from ibfem.importers.step import tessellation as T
+
+    face = T._faces(shapes["torus"])[0]
+    data = T.mesh_face(face, 0.05, 0.25)
+    assert data is not None and T._covers(face, data)
+    uv, triangles = data
+    assert not T._covers(face, (uv, triangles[: len(triangles) // 2]))

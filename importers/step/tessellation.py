@@ -8,7 +8,8 @@ Inventor); a face meshed on its own does not depend on its neighbours' choices.
 
 A guard keeps the mesher from hanging an import: on systems with ``fork`` the faces are meshed
 in a child process that sends each face's triangles back as it finishes. A face that takes more
-than ``time_limit`` seconds, crashes the mesher or gets no triangles is meshed again on its own,
+than ``time_limit`` seconds, crashes the mesher or gets no triangles (or triangles over part of
+it only: their area off the face's by more than ``COVERED``) is meshed again on its own,
 then with a coarser angle, then with a chord tolerance ``COARSER`` times larger (with a warning
 saying which); when a face stalled and none of these gives it triangles the import stops with an
 error naming the face (a face the mesher finishes without triangles is reported by the part
@@ -45,6 +46,7 @@ DEFAULT_ANGULAR_TOLERANCE = 0.25  # rad
 DEFAULT_RELATIVE_TOLERANCE = 1e-3  # of the bounding box diagonal
 FACE_TIME_LIMIT = 20.0  # s, for one face
 COARSER = 10.0  # chord tolerance factor of the second attempt at a face
+COVERED = 0.1  # largest relative difference between the triangles' area and the face's
 _HEADER = struct.Struct("<Q")
 
 
@@ -84,13 +86,33 @@ def _triangles(face) -> tuple[np.ndarray, np.ndarray] | None:
     return uv, triangles
 
 
+def _covers(face, data, share: float = COVERED) -> bool:
+    """Whether the triangles' area is within ``share`` of the face's area (OpenCascade's integral,
+    to 1e-3): the mesher sometimes returns a triangulation of part of a face."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+    from OCP.TopLoc import TopLoc_Location
+
+    tri = BRep_Tool.Triangulation_s(face, TopLoc_Location())
+    nodes = np.array([(p.X(), p.Y(), p.Z()) for p in (tri.Node(i) for i in range(1, tri.NbNodes() + 1))])
+    P = nodes[data[1]]
+    meshed = 0.5 * float(np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1).sum())
+    props = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(face, props, 1e-3)
+    exact = abs(props.Mass())
+    return exact == 0.0 or abs(meshed - exact) <= share * exact
+
+
 def mesh_face(face, tolerance: float, angular_tolerance: float) -> tuple[np.ndarray, np.ndarray] | None:
     """(uv (n, 2), triangles (m, 3), 0-based) of one face meshed by OpenCascade on its own; None
-    when the mesher makes no triangles."""
+    when the mesher makes no triangles, or triangles whose area differs from the face's by more
+    than ``COVERED`` of it."""
     from OCP.BRepMesh import BRepMesh_IncrementalMesh
 
     BRepMesh_IncrementalMesh(face, float(tolerance), False, float(angular_tolerance), False)
-    return _triangles(face)
+    data = _triangles(face)
+    return data if data is not None and _covers(face, data) else None
 
 
 def _child(work, indices, fd) -> None:
