@@ -104,15 +104,19 @@ def _covers(face, data, share: float = COVERED) -> bool:
     return exact == 0.0 or abs(meshed - exact) <= share * exact
 
 
-def mesh_face(face, tolerance: float, angular_tolerance: float) -> tuple[np.ndarray, np.ndarray] | None:
-    """(uv (n, 2), triangles (m, 3), 0-based) of one face meshed by OpenCascade on its own; None
-    when the mesher makes no triangles, or triangles whose area differs from the face's by more
-    than ``COVERED`` of it."""
+def mesh_face(face, tolerance: float, angular_tolerance: float) -> tuple[np.ndarray, np.ndarray, bool] | None:
+    """(uv (n, 2), triangles (m, 3), 0-based, covered) of one face meshed by OpenCascade on its
+    own; ``covered`` is false when the triangles' area differs from the face's by more than
+    ``COVERED`` of it; None when the mesher makes no triangles."""
     from OCP.BRepMesh import BRepMesh_IncrementalMesh
 
     BRepMesh_IncrementalMesh(face, float(tolerance), False, float(angular_tolerance), False)
     data = _triangles(face)
-    return data if data is not None and _covers(face, data) else None
+    return None if data is None else (*data, _covers(face, data))
+
+
+def _good(data) -> bool:
+    return data is not None and bool(data[2])
 
 
 def _child(work, indices, fd) -> None:
@@ -200,14 +204,19 @@ def _retry_alone(faces, i, tolerance, angular, limit, results) -> tuple[str | No
     """Mesh face ``i`` on its own in a fresh child (none of its neighbours meshed) with the
     settings of :func:`fallbacks` in turn. Returns (a note when other settings than the user's
     were needed, whether an attempt stalled)."""
-    stalled = False
+    stalled, partial = False, results.get(i)
     for k, (chord, angle) in enumerate(fallbacks(tolerance, angular)):
         stuck = _guarded_pass(lambda j, c=chord, a=angle: mesh_face(faces[j], c, a), [i], limit, results)
         stalled |= stuck is not None
-        if stuck is None and results.get(i) is not None:
+        if stuck is None and _good(results.get(i)):
             return (None if k == 0 else f"{_face_label(faces, i)}: the mesher failed or took over {limit:g} s at "
                     f"chord tolerance {tolerance:.3g} m and angle {angular:g} rad; meshed at {chord:.3g} m and "
                     f"{angle:g} rad"), stalled
+        partial = partial or results.get(i)
+    results[i] = partial
+    if partial is not None:
+        return (f"{_face_label(faces, i)}: at every setting the mesher's triangles cover part of the face only "
+                f"(their area more than {COVERED:.0%} off the face's); the first kept"), stalled
     return None, stalled
 
 
@@ -224,7 +233,7 @@ def _mesh_guarded(shape, faces, tolerance, angular, limit, results) -> list[str]
             break
         pending = pending[pending.index(stuck) + 1:]
         results.pop(stuck, None)
-    for i in [i for i in range(len(faces)) if results.get(i) is None]:
+    for i in [i for i in range(len(faces)) if not _good(results.get(i))]:
         note, hung = _retry_alone(faces, i, tolerance, angular, limit, results)
         notes += [note] if note else []
         stalled |= {i} if hung else set()
@@ -253,10 +262,11 @@ def mesh_shape(shape, tolerance: float, angular_tolerance: float = DEFAULT_ANGUL
     else:  # unguarded: the same fallbacks in this process
         for i, face in enumerate(faces):
             for chord, angle in fallbacks(tolerance, angular_tolerance):
-                results[i] = mesh_face(face, chord, angle)
-                if results[i] is not None:
+                data = mesh_face(face, chord, angle)
+                results[i] = data if _good(data) else results.get(i) or data
+                if _good(data):
                     break
-    return {i + 1: data for i, data in results.items()}, notes
+    return {i + 1: None if data is None else data[:2] for i, data in results.items()}, notes
 
 
 def face_triangles(face, surface, data) -> tuple[np.ndarray, np.ndarray] | None:
