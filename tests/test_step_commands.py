@@ -93,7 +93,8 @@ def test_import_caches_and_reparses_a_changed_file(d, tmp_path, capsys):
     # verify and info accept the directory
     assert main(["verify", str(out), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert set(report) == {"faces", "max_error", "max_normal_error"} and report["max_error"] < 1e-15
+    assert set(report) == {"faces", "max_error", "max_normal_error", "verdict", "reason"} and report["max_error"] < 1e-15
+    assert report["verdict"] == "pass"
     assert main(["info", str(out)]) == 0 and "SPHERE" in capsys.readouterr().out
 
 

@@ -349,14 +349,31 @@ class PartSolid(Solid):
 
 
 def _pick_body(part, body):
+    """The body ``body`` names: its id, its name, or ``name#k`` (the k-th body of that name, in id
+    order) when several share the name. A sheet body (open shell, loose faces) is no solid."""
     bodies = list(part.bodies.values())
+    listing = ", ".join(f"{b.id} ({b.name})" for b in bodies)
     if body is None:
         if len(bodies) != 1:
-            raise ValueError(f"the part has {len(bodies)} bodies; choose one by id or name: "
-                             + ", ".join(f"{b.id} ({b.name})" for b in bodies))
-        return bodies[0]
-    for b in bodies:
-        if body in (b.id, b.name):
-            return b
-    raise ValueError(f"body = {body!r}: no such body; the part's bodies: "
-                     + ", ".join(f"{b.id} ({b.name})" for b in bodies))
+            raise ValueError(f"the part has {len(bodies)} bodies; choose one by id or name: {listing}")
+        return _solid_body(bodies[0])
+    by_id = [b for b in bodies if b.id == body]
+    name, _, k = str(body).rpartition("#") if "#" in str(body) else (str(body), "", "")
+    named = [b for b in bodies if b.name == (name if k else body)]
+    if by_id:
+        return _solid_body(by_id[0])
+    if k.isdigit() and 1 <= int(k) <= len(named):
+        return _solid_body(named[int(k) - 1])
+    if len(named) == 1 and not k:
+        return _solid_body(named[0])
+    if len(named) > 1 and not k:
+        choices = ", ".join(f"{body}#{i} ({b.id})" for i, b in enumerate(named, 1))
+        raise ValueError(f"body = {body!r}: {len(named)} bodies have this name; choose one: {choices}")
+    raise ValueError(f"body = {body!r}: no such body; the part's bodies: {listing}")
+
+
+def _solid_body(b):
+    if b.body_type != "SOLID":
+        raise ValueError(f"body {b.id!r} ({b.name}) is a {b.body_type.lower()} body (an open shell or loose faces), "
+                         "not a closed solid: it bounds no volume")
+    return b

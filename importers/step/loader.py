@@ -35,14 +35,14 @@ def parse_file(path: str | Path, *, tolerance: float | None = None, angular_tole
     shape, info = read_shape(path)
     t1 = time.perf_counter()
     chord = tolerance or default_tolerance(shape)
-    mesh_shape(shape, chord, angular)
+    meshes, mesh_warnings = mesh_shape(shape, chord, angular)
     t2 = time.perf_counter()
-    part = build_part(shape, path, names=info["names"], deflection=chord)
+    part = build_part(shape, path, names=info["names"], deflection=chord, meshes=meshes)
     if not part.faces:
         raise StepFormatError(f"{path}: the {info['format'].upper()} file holds no solids or faces "
                               "(only wires or points): nothing to import")
     t3 = time.perf_counter()
-    part.warnings[:0] = info["warnings"]
+    part.warnings[:0] = info["warnings"] + mesh_warnings
     part.metadata.update({
         "source": {"file": str(path.resolve()), "format": info["format"], "sha256": file_hash(path),
                    "length_unit": "m (converted from the file's unit by OpenCascade)"},

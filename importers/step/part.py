@@ -20,7 +20,7 @@ import numpy as np
 from ibfem.geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
 
 from .curves import edge_curve, edge_polyline
-from .surfaces import surface_dict
+from .surfaces import covering, covering_sweep, surface_dict
 from .tessellation import face_triangles
 
 __all__ = ["build_part"]
@@ -102,7 +102,16 @@ def _make_mesh(data):
     return trimesh.Trimesh(vertices=data[0], faces=data[1], process=False)
 
 
-def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dict) -> Face:
+def _face_parameters(face, triangles) -> np.ndarray:
+    """(u, v) of the corners of the face's trimming box and of its mesh nodes."""
+    from OCP.BRepTools import BRepTools
+
+    u0, u1, v0, v1 = BRepTools.UVBounds_s(face)
+    corners = np.array([[u0, v0], [u1, v1]])
+    return corners if triangles is None else np.concatenate([corners, triangles[0]])
+
+
+def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dict, triangles) -> Face:
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.GeomAdaptor import GeomAdaptor_Surface
@@ -110,10 +119,17 @@ def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dic
 
     face = TopoDS.Face(face)
     evaluator = BRepAdaptor_Surface(face, False)
-    mesh = face_triangles(face, evaluator)
+    mesh = face_triangles(face, evaluator, triangles)
     loops = _loops(face, edge_index)
-    d, kind, note = surface_dict(GeomAdaptor_Surface(BRep_Tool.Surface_s(face)))
+    geom = BRep_Tool.Surface_s(face)
+    d, kind, note = surface_dict(GeomAdaptor_Surface(geom))
     notes = [note] if note else []
+    if d is not None and d["type"] == "bspline_surface" and kind == "BSURFACE":
+        d, grown = covering(d, geom, _face_parameters(face, triangles))
+        notes += [grown] if grown else []
+    elif d is not None and d["type"] == "sweep":
+        d, grown = covering_sweep(d, _face_parameters(face, triangles)[:, 0])
+        notes += [grown] if grown else []
     surface = None
     if d is not None:
         try:
@@ -178,8 +194,55 @@ def _bodies(shape) -> list[tuple[str, object, list]]:
     return bodies
 
 
-def build_part(shape, path: Path, names=None, deflection: float = 1e-4) -> Part:
-    """The Part of a meshed shape (see the module docstring); ``names(sub-shape)``: the name the
+def _solid_volume(solid) -> float:
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(solid, props)
+    return float(props.Mass())
+
+
+def _checked_solid(sub, bid: str, name: str, part: Part):
+    """(body type, solid) of a SOLID of the file: reversed (with a warning) when its faces are
+    oriented inward (negative volume, as some exporters write); a SHEET, with a warning, when a
+    shell is open or the volume is zero. OpenCascade's volume is kept in ``part.metadata["volumes"]``."""
+    from OCP.BRep import BRep_Tool
+    from OCP.TopAbs import TopAbs_ShapeEnum as S
+
+    label = f"body {bid}" + (f" ({name})" if name else "")
+    open_shells = [k for k, shell in enumerate(_indexed(sub, S.TopAbs_SHELL), 1) if not BRep_Tool.IsClosed_s(shell)]
+    if open_shells:
+        part.warnings.append(f"{label}: shell {', '.join(map(str, open_shells))} is open (an edge bounds only one "
+                             "face): imported as a sheet (its faces as surfaces), not as a solid")
+        return "SHEET", sub
+    volume = _solid_volume(sub)
+    scale = _box_diagonal(sub) ** 3
+    if not abs(volume) > 1e-12 * scale:
+        part.warnings.append(f"{label}: zero volume ({volume:.3g} m^3): imported as a sheet, not as a solid")
+        return "SHEET", sub
+    if volume < 0:
+        part.warnings.append(f"{label}: faces oriented inward in the file (volume {volume:.4g} m^3): reversed")
+        sub, volume = sub.Reversed(), -volume
+    part.metadata.setdefault("volumes", {})[bid] = volume
+    return "SOLID", sub
+
+
+def _box_diagonal(shape) -> float:
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    box = Bnd_Box()
+    BRepBndLib.Add_s(shape, box)
+    if box.IsVoid():
+        return 0.0
+    lo, hi = box.CornerMin(), box.CornerMax()
+    return float(np.linalg.norm([hi.X() - lo.X(), hi.Y() - lo.Y(), hi.Z() - lo.Z()]))
+
+
+def build_part(shape, path: Path, names=None, deflection: float = 1e-4, meshes=None) -> Part:
+    """The Part of a shape (see the module docstring); ``meshes``: {face number: (uv, triangles)}
+    from :func:`~.tessellation.mesh_shape`; ``names(sub-shape)``: the name the
     file gives a solid, shell or face ('' when none). Face names are kept in
     ``part.metadata["face_names"]`` ({face id: name}) and in the face's notes."""
     names = names or (lambda s: "")
@@ -193,10 +256,14 @@ def build_part(shape, path: Path, names=None, deflection: float = 1e-4) -> Part:
     edge_body: dict[int, str] = {}
     for b, (btype, sub, bfaces) in enumerate(_bodies(shape), 1):
         bid = f"B{b}"
+        name = names(sub) if sub is not None else ""
+        if btype == "SOLID":
+            btype, sub = _checked_solid(sub, bid, name, part)
+            bfaces = _indexed(sub, S.TopAbs_FACE)
         fids = [f"F{face_index(f)}" for f in bfaces]
         eids = sorted({edge_index(e) for f in bfaces for e in _indexed(f, S.TopAbs_EDGE)})
         for f, fid in zip(bfaces, fids):
-            face = _face(f, fid, bid, edge_index, part, unsupported)
+            face = _face(f, fid, bid, edge_index, part, unsupported, (meshes or {}).get(face_index(f)))
             label = names(f)
             if label:
                 part.metadata.setdefault("face_names", {})[fid] = label
@@ -204,7 +271,6 @@ def build_part(shape, path: Path, names=None, deflection: float = 1e-4) -> Part:
             part.faces[fid] = face
         for e in eids:
             edge_body.setdefault(e, bid)
-        name = names(sub) if sub is not None else ""
         part.bodies[bid] = Body(bid, name, btype, tuple(fids), tuple(f"E{e}" for e in eids))
     part.faces = dict(sorted(part.faces.items(), key=lambda kv: int(kv[0][1:])))
     for i, e in enumerate(edges, 1):

@@ -8,7 +8,9 @@ the file's unit (mm, inch, m, ...).
 Errors: the reader's parse messages go to the C++ streams; they are captured (file
 descriptors 1 and 2 redirected for the read) and the first one is put in the
 :class:`StepFormatError`, with the file name. Failed checks of entities after a successful
-parse name the entity (``#12 CARTESIAN_POINT`` in STEP, the directory entry number in IGES).
+parse are sorted by :mod:`.checks`: entities of the geometry are errors, the others (presentation,
+annotations, units' derived attributes) warnings; each is named by its ``#12`` label in STEP, its
+directory entry in IGES.
 """
 
 from __future__ import annotations
@@ -20,7 +22,9 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
+from .checks import describe, failed_checks, split_failures
 from .errors import StepFormatError, require_ocp
+from .step_text import StepText
 
 __all__ = ["read_shape", "STEP_SUFFIXES", "IGES_SUFFIXES", "CAD_SUFFIXES", "cad_format"]
 
@@ -101,41 +105,6 @@ def _check_path(path: Path) -> str:
     return kind
 
 
-def _entity_label(reader, kind: str, check, number: int) -> str:
-    entity = check.Entity() if check.HasEntity() else None
-    if entity is None or number <= 0:
-        return ""
-    name = entity.DynamicType().Name()
-    if kind == "step":
-        try:
-            ident = reader.StepModel().IdentLabel(entity)
-        except Exception:  # pragma: no cover - bindings without IdentLabel
-            ident = 0
-        where = f"#{ident}" if ident > 0 else f"number {number} (in file order)"
-        return f"entity {where} ({name.removeprefix('StepGeom_').removeprefix('StepShape_')})"
-    return f"directory entry {2 * number - 1} ({name.removeprefix('IGESGeom_').removeprefix('IGESSolid_')})"
-
-
-def _first_failure(reader, kind: str) -> tuple[str, int] | None:
-    """(message naming the entity, number of failed entities) of the model's checks, if any."""
-    checks = reader.WS().ModelCheckList()
-    checks.Start()
-    first, general, count = None, None, 0
-    while checks.More():
-        check = checks.Value()
-        if check.NbFails():
-            count += 1
-            label = _entity_label(reader, kind, check, checks.Number())
-            msg = check.CFail(1, True)
-            if label and first is None:  # the first failure of a named entity says most
-                first = f"{label}: {msg}"
-            elif not label and general is None:
-                general = msg
-        checks.Next()
-    first = first or general
-    return (first, count) if first is not None else None
-
-
 def _reader(kind: str):
     if kind == "step":
         from OCP.STEPControl import STEPControl_Reader
@@ -146,26 +115,58 @@ def _reader(kind: str):
     return IGESControl_Reader()
 
 
-def _namer(reader):
-    """name(sub-shape) -> the name the file gives its entity ('' when none): STEP representation
-    items (MANIFOLD_SOLID_BREP('roller', ...), ADVANCED_FACE('top', ...)), the PRODUCT of a solid
-    placed in an assembly, IGES entity names."""
+def _unlocated(shape):
+    from OCP.TopLoc import TopLoc_Location
+
+    return shape.Located(TopLoc_Location())
+
+
+def _step_namer(reader, text):
+    """name(sub-shape) for a STEP file: the name of the entity OpenCascade made the sub-shape from,
+    read from the file (:class:`~.step_text.StepText`: decoded; a solid without a name of its own,
+    or placed in an assembly, named by its product). Faces are looked up only when the names of the
+    file's ``ADVANCED_FACE`` entities tell faces apart (the look-up is slow on large files)."""
+    from OCP.TopAbs import TopAbs_ShapeEnum
+
+    transfer = reader.WS().TransferReader()
+    model = reader.StepModel()
+    entities = [model.Value(i) for i in range(1, model.NbEntities() + 1)]  # kept alive: ids stay unique
+    number = {id(e): i for i, e in enumerate(entities, 1)}
+    faces_named = text.names_tell_apart("ADVANCED_FACE")
+
+    def name(shape, _keep=(reader, entities)) -> str:  # the reader owns the transfer results
+        if shape.ShapeType() == TopAbs_ShapeEnum.TopAbs_FACE and not faces_named:
+            return ""
+        entity = None
+        tries = ((shape, 1),) if shape.ShapeType() == TopAbs_ShapeEnum.TopAbs_FACE else \
+            ((shape, 1), (_unlocated(shape), -1))  # a body as placed, then its prototype
+        for key, mode in tries:
+            try:
+                entity = transfer.EntityFromShapeResult(key, mode)
+            except Exception:  # OpenCascade's Standard_OutOfRange: no entity for this shape
+                entity = None
+            if entity is not None:
+                break
+        label = text.label(number.get(id(entity), 0)) if entity is not None else None
+        if label is None:
+            return ""
+        if entity.DynamicType().Name() == "StepRepr_NextAssemblyUsageOccurrence":
+            return text.occurrence_name(label)
+        return text.solid_name(label)
+
+    return name
+
+
+def _iges_namer(reader):
+    """name(sub-shape) for an IGES file: the entity's name, when it has one."""
     transfer = reader.WS().TransferReader()
 
     def name(shape, _keep=reader) -> str:  # the reader owns the transfer results: kept alive
         try:
             entity = transfer.EntityFromShapeResult(shape, 1)
-            if entity is None:
+            if entity is None or not hasattr(entity, "HasName") or not entity.HasName():
                 return ""
-            if hasattr(entity, "HasName"):  # IGES
-                return entity.NameValue().ToCString().strip() if entity.HasName() else ""
-            text = entity.Name() if hasattr(entity, "Name") else None
-            own = text.ToCString().strip() if text is not None else ""
-            if not hasattr(entity, "RelatedProductDefinition"):
-                return own
-            # a solid placed in an assembly: named by the PRODUCT it instances (else the occurrence)
-            product = entity.RelatedProductDefinition().Formation().OfProduct().Name().ToCString().strip()
-            return product or own
+            return entity.NameValue().ToCString().strip()
         except Exception:  # an entity without a readable name: unnamed
             return ""
 
@@ -192,15 +193,19 @@ def read_shape(path: str | Path):
         said = [ln for ln in printed if "ERR" in ln or "rror" in ln or "Incorrect" in ln]
         detail = said[0].replace("ERR ", "") if said else status.name.replace("IFSelect_Ret", "status ")
         raise StepFormatError(f"{path}: not a readable {fmt} file: {detail}")
-    failure = _first_failure(reader, kind)
-    if failure is not None and (kind == "step" or not roots):
-        first, count = failure
-        more = f" (and {count - 1} more entities)" if count > 1 else ""
-        raise StepFormatError(f"{path}: {fmt} {first}{more}")
+    text = StepText(path) if kind == "step" else None
+    errors, harmless = split_failures(failed_checks(reader, kind, text))
+    if kind == "iges" and roots:  # IGES checks are advisory once the roots transfer
+        errors, harmless = [], errors + harmless
+    if errors:
+        raise StepFormatError(f"{path}: {fmt} entity checks failed on the geometry ({len(errors)}): "
+                              f"{describe(errors)}")
     if shape is None or shape.IsNull():
         raise StepFormatError(f"{path}: the {fmt} file holds no shape OpenCascade can transfer "
                               f"({reader.NbRootsForTransfer()} roots, none transferred)")
     warnings = []
-    if failure is not None:
-        warnings.append(f"{path.name}: {failure[1]} {fmt} entities failed their checks, first: {failure[0]}")
-    return shape, {"format": kind, "roots": int(roots), "warnings": warnings, "names": _namer(reader)}
+    if harmless:
+        warnings.append(f"{path.name}: {len(harmless)} {fmt} entities that the shapes do not use failed their "
+                        f"checks (ignored): {describe(harmless)}")
+    names = _step_namer(reader, text) if text is not None else _iges_namer(reader)
+    return shape, {"format": kind, "roots": int(roots), "warnings": warnings, "names": names}

@@ -26,9 +26,11 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from .curves import curve_dict, xyz
 
-__all__ = ["surface_dict", "bspline_surface_dict", "SURFACE_KINDS"]
+__all__ = ["surface_dict", "bspline_surface_dict", "covering", "covering_sweep", "SURFACE_KINDS"]
 
 SURFACE_KINDS = {"GeomAbs_Plane": "PLANE", "GeomAbs_Cylinder": "CYLINDER", "GeomAbs_Cone": "CONE",
                  "GeomAbs_Sphere": "SPHERE", "GeomAbs_Torus": "TORUS", "GeomAbs_BSplineSurface": "BSURFACE",
@@ -125,3 +127,65 @@ def _revolution(adaptor) -> tuple[dict | None, str, str | None]:
     except Exception as exc:  # OpenCascade raises Standard_Failure subclasses
         return None, "SPUN", f"surface of revolution not convertible to a B-spline: {exc}"
     return bspline_surface_dict(bs), "SPUN", "surface of revolution as its exact rational B-spline"
+
+
+def covering_sweep(d: dict[str, Any], u: np.ndarray) -> tuple[dict[str, Any], str | None]:
+    """The ``sweep`` dict ``d`` with its B-spline profile extended (exactly, as in :func:`covering`)
+    so that its domain covers the face's curve parameters ``u``."""
+    from ibfem.geometry.bspline_extend import extend_clamped
+
+    profile = d["profile"]
+    if profile.get("type") != "bspline_curve" or profile.get("periodic"):
+        return d, None
+    knots, degree = profile["knots"], int(profile["degree"])
+    a, b = float(knots[degree]), float(knots[len(knots) - degree - 1])
+    lo, hi, margin = float(np.min(u)), float(np.max(u)), 1e-3 * (b - a)
+    need = (lo - margin if lo < a - 1e-12 * (b - a) else a, hi + margin if hi > b + 1e-12 * (b - a) else b)
+    if need == (a, b):
+        return d, None
+    P = np.asarray(profile["control_points"], float)
+    w = np.asarray(profile["weights"], float) if profile.get("weights") is not None else None
+    H = P if w is None else np.column_stack([P * w[:, None], w])
+    try:
+        t, H = extend_clamped(knots, degree, H, *need)
+    except ValueError as exc:
+        return d, f"the face runs beyond its profile curve's parameter domain and the curve cannot be extended: {exc}"
+    out = dict(profile, knots=t.tolist())
+    if w is None:
+        out["control_points"] = H.tolist()
+    elif not H[:, -1].min() > 0:
+        return d, "the face runs beyond its profile curve's domain; extending it makes a weight non-positive"
+    else:
+        out.update(control_points=(H[:, :-1] / H[:, -1:]).tolist(), weights=H[:, -1].tolist())
+    return dict(d, profile=out), (f"profile curve extended beyond its parameter domain to cover the face: "
+                                  f"[{a:.6g}, {b:.6g}] -> [{need[0]:.6g}, {need[1]:.6g}]")
+
+
+def covering(d: dict[str, Any], geom, uv: list[tuple[float, float]]) -> tuple[dict[str, Any], str | None]:
+    """The ``bspline_surface`` dict ``d`` of the OpenCascade surface ``geom``, extended (exactly:
+    the end spans carried on, :mod:`geometry.bspline_extend`) so that its domain covers the
+    parameters ``uv`` of the face (its trimming curves' box and its mesh nodes) with a margin of
+    1e-3 of the domain's width. Periodic directions are not extended. Returns (dict, note)."""
+    from ibfem.geometry.bspline_extend import extend_surface_dict
+
+    uv = np.asarray(uv, float).reshape(-1, 2)
+    periodic = (geom.IsUPeriodic(), geom.IsVPeriodic())
+    ranges, grown = [], []
+    for axis, (knots, degree) in enumerate(((d["knots_u"], d["degree_u"]), (d["knots_v"], d["degree_v"]))):
+        a, b = float(knots[degree]), float(knots[len(knots) - degree - 1])
+        lo, hi = float(uv[:, axis].min()), float(uv[:, axis].max())
+        margin = 1e-3 * (b - a)
+        need_lo = lo - margin if lo < a - 1e-12 * (b - a) and not periodic[axis] else a
+        need_hi = hi + margin if hi > b + 1e-12 * (b - a) and not periodic[axis] else b
+        ranges.append((need_lo, need_hi))
+        if need_lo < a or need_hi > b:
+            grown.append(f"{'uv'[axis]} [{a:.6g}, {b:.6g}] -> [{need_lo:.6g}, {need_hi:.6g}]")
+    if not grown:
+        return d, None
+    try:
+        out = extend_surface_dict(d, *ranges)
+    except ValueError as exc:
+        return d, f"the face is trimmed beyond the surface's parameter domain and the surface cannot be extended: {exc}"
+    if "weights" in out and not np.min(out["weights"]) > 0:
+        return d, "the face is trimmed beyond the surface's parameter domain; extending it makes a weight non-positive"
+    return out, "surface extended beyond its parameter domain to cover the trimmed face: " + ", ".join(grown)
