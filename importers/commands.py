@@ -12,6 +12,9 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
+
 def register(sub: "argparse._SubParsersAction") -> None:
     p = sub.add_parser("import", help="fetch an Onshape part studio (or part), or read a STEP/IGES file, and cache it",
                        description="Fetch tessellated faces, tessellated edges and body details of an Onshape "

@@ -18,46 +18,23 @@ from __future__ import annotations
 
 from typing import Any, Union
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+from pydantic import BeforeValidator, Field, model_validator
 from pydantic_core import PydanticCustomError
 from typing import Annotated
 
+from .strict_model import StrictTable, integer, number
 from ..model.load_paths import LoadHistory, LoadPath, cycle_points
 
 __all__ = ["CycleSpec", "PathSpec", "PathRef", "history_problems", "load_history"]
 
 
-def _number(v: Any) -> Any:
-    if isinstance(v, (bool, str)):
-        raise PydanticCustomError("number", "must be a number")
-    return v
-
-
-def _integer(v: Any) -> Any:
-    if isinstance(v, (bool, str)) or (isinstance(v, float) and not v.is_integer()):
-        raise PydanticCustomError("integer", "must be a whole number")
-    return v
-
+_number, _integer = number, integer
 
 _Num = Annotated[float, BeforeValidator(_number)]
 _Int = Annotated[int, BeforeValidator(_integer)]
 
 
-class _Table(BaseModel):
-    """Unknown keys are errors listing the known ones (the scene's error format)."""
-
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _known_keys(cls, data: Any) -> Any:
-        if isinstance(data, dict):
-            for key in data:
-                if key not in cls.model_fields:
-                    raise PydanticCustomError("unknown_key", "unknown key (known: {known})",
-                                              {"key": str(key), "value": data[key],
-                                               "known": ", ".join(cls.model_fields)})
-        return data
+_Table = StrictTable
 
 
 class CycleSpec(_Table):

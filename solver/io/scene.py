@@ -33,13 +33,11 @@ import numpy as np
 from pydantic import (
     BaseModel,
     BeforeValidator,
-    ConfigDict,
     Field,
     ValidationError,
     ValidationInfo,
     create_model,
     field_validator,
-    model_validator,
 )
 from pydantic_core import PydanticCustomError
 
@@ -50,6 +48,7 @@ from ibfem.solver.model.resolve import (CONTACT_SEARCH_SPACING, boundary_gap, co
                                   corner_distance, finest_size_at, resolve_problem)
 from ibfem.solver.model.rigid import rigid_body_modes
 
+from .strict_model import StrictTable, integer, number
 from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
 
 __all__ = [
@@ -88,24 +87,7 @@ class SceneError(ValueError):
 # ---------------------------------------------------------------------------------------
 
 
-class _Strict(BaseModel):
-    """Unknown keys are errors that list the known ones; no NaN or infinity anywhere."""
-
-    model_config = ConfigDict(extra="forbid", allow_inf_nan=False, frozen=True)
-
-    @model_validator(mode="before")
-    @classmethod
-    def _known_keys(cls, data: Any) -> Any:
-        if isinstance(data, dict):
-            known = list(cls.model_fields)
-            for key in data:
-                if key not in cls.model_fields:
-                    raise PydanticCustomError(
-                        "unknown_key",
-                        "unknown key (known: {known})",
-                        {"key": str(key), "value": data[key], "known": ", ".join(known)},
-                    )
-        return data
+_Strict = StrictTable
 
 
 def _component(v: Any) -> Any:
@@ -119,16 +101,8 @@ def _component(v: Any) -> Any:
     return v
 
 
-def _number(v: Any) -> Any:
-    if isinstance(v, (bool, str)):  # TOML true is not 1.0, "0.04" is not 0.04
-        raise PydanticCustomError("number", "must be a number")
-    return v
-
-
-def _integer(v: Any) -> Any:
-    if isinstance(v, (bool, str)) or (isinstance(v, float) and not v.is_integer()):
-        raise PydanticCustomError("integer", "must be a whole number")
-    return v
+_number = number
+_integer = integer
 
 
 def _boolean(v: Any) -> Any:
