@@ -25,6 +25,7 @@ def main(argv: list[str]) -> int:
     benchmarks = [
         ("import_time.py", []),
         ("projection.py", quick),
+        ("loop_checks.py", []),
         ("assembly.py", ["--large"] if args.large else []),
         ("contact.py", quick),
         ("error_vs_time.py", quick),

@@ -224,7 +224,7 @@ def test_files_of_a_scene_travel_with_the_case(tmp_path):
 
 def test_interrupted_driver_resumes_without_losing_or_repeating_cases(tmp_path):
     sweep_path = write_sweep(tmp_path, block_scene(h=0.006), {
-        "mode": "grid", "parameters": {"boundary_conditions.b/top.value.1": [-1e-3, -2e-3, -3e-3, -4e-3, -5e-3, -6e-3]},
+        "mode": "grid", "parameters": {"boundary_conditions.b/top.value.1": [-1e-3 * k for k in range(1, 13)]},
         "outputs": {"columns": ["reactions.b/top.1"]}})
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "ibfem.solver.cli", "sweep", str(sweep_path), "--serial", "--out", str(out), "--no-plots"]
@@ -236,11 +236,12 @@ def test_interrupted_driver_resumes_without_losing_or_repeating_cases(tmp_path):
     proc.send_signal(signal.SIGINT)
     proc.communicate(timeout=30)
     done = len(jsonl.read_text().splitlines())
-    assert 2 <= done < 6, f"interrupted after {done} cases"
+    # twelve cases: on a loaded machine the interrupt may land several cases after the second
+    assert 2 <= done < 12, f"interrupted after {done} cases"
     resumed = run_sweep(load_sweep(sweep_path), out, EngineOptions(serial=True), quiet=True, plots=False)
-    assert resumed.skipped == done and resumed.ran == 6 - done and resumed.all_ok
+    assert resumed.skipped == done and resumed.ran == 12 - done and resumed.all_ok
     hashes = [json.loads(line)["hash"] for line in jsonl.read_text().splitlines()]
-    assert len(hashes) == len(set(hashes)) == 6
+    assert len(hashes) == len(set(hashes)) == 12
     for case in resumed.cases:
         uy = case.params["boundary_conditions.b/top.value.1"]
         assert resumed.record(case)["outputs"]["reactions.b/top.1"] == pytest.approx(_reaction(E, uy), rel=1e-9)
