@@ -6,7 +6,9 @@ polygon sides."""
 from __future__ import annotations
 
 import math
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +17,9 @@ from ibfem.geometry import Profile
 from ibfem.geometry.bounded import Arc, BSplineArc, EllipticArc, Segment
 from ibfem.geometry.loop_checks import check_loops
 from ibfem.geometry.shapes import profile_from_shape
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import loop_checks  # noqa: E402  (the benchmark's loops and timer)
 
 
 def line(name, a, b):
@@ -204,33 +209,14 @@ def test_random_polygons_agree_with_brute_force():
 # --- speed --------------------------------------------------------------------------------------
 
 
-def _loop(kind: str, n: int) -> list:
-    if kind == "circle":
-        th = np.linspace(0, 2 * np.pi, n, endpoint=False)
-        pts = np.c_[np.cos(th), np.sin(th)]
-    else:
-        x = np.linspace(0, 1, n)
-        pts = np.vstack([np.c_[x, np.where(np.arange(n) % 2, 1.0, 0.0)], [[1, -1], [0, -1]]])
-    return [Segment(pts[i], pts[(i + 1) % len(pts)], f"e{i}") for i in range(len(pts))]
-
-
-def _best_time(segs: list, repeat: int = 5) -> float:
-    best = math.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        check_loops([segs], 2.83, 1e-6)
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
 @pytest.mark.parametrize("kind", ["circle", "zigzag"])
 def test_loop_checks_scale_nearly_linearly(kind):
     """Checking a loop of n segments costs about n log n, not n^2: 4x the segments take well
     under 10x the time (16x for a quadratic search). A ratio of two timings in one process holds
     on a loaded machine; the absolute speed (about 0.02 s for 10,000 segments) is a benchmark's."""
-    small, large = _loop(kind, 2_500), _loop(kind, 10_000)
-    _best_time(small, 1)  # warm caches
-    ratio = min(_best_time(large) / _best_time(small) for _ in range(2))
+    small, large = loop_checks.loop(kind, 2_500), loop_checks.loop(kind, 10_000)
+    loop_checks.best_time(small, 1)  # warm caches
+    ratio = min(loop_checks.best_time(large) / loop_checks.best_time(small) for _ in range(2))
     assert ratio < 10.0, f"4x the segments took {ratio:.1f}x the time"
 
 
