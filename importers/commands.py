@@ -12,8 +12,6 @@ import json
 import sys
 from pathlib import Path
 
-import numpy as np
-
 
 def register(sub: "argparse._SubParsersAction") -> None:
     p = sub.add_parser("import", help="fetch an Onshape part studio (or part), or read a STEP/IGES file, and cache it",
@@ -211,6 +209,8 @@ def _info(args: argparse.Namespace) -> int:
 def format_faces(part) -> str:
     """Every face of every solid body with its geometry (geometry.solids.face_summary); a body
     whose faces cannot make a solid (no tessellation) is named with the reason."""
+    import numpy as np
+
     from ibfem.geometry.solids.face_summary import face_summary
     from ibfem.geometry.solids.part_solid import PartSolid
 
