@@ -2,6 +2,8 @@
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
+# pytest-xdist processes for `make test` (the suite runs on both cores of the reference machine)
+TEST_WORKERS ?= 2
 STAMP := $(VENV)/.installed-$(shell $(PYTHON) -c "import hashlib,sys;print(hashlib.sha1(open('pyproject.toml','rb').read()).hexdigest()[:12])")
 
 .PHONY: test demo validate bench bench-peers bench-peers-3d fuzz docs clean
@@ -13,7 +15,7 @@ $(STAMP): pyproject.toml
 	rm -f $(VENV)/.installed-* && touch $(STAMP)
 
 test: $(STAMP)
-	MPLBACKEND=Agg $(PY) -m pytest -m "not slow"
+	MPLBACKEND=Agg $(PY) -m pytest -m "not slow" -n $(TEST_WORKERS) --dist worksteal
 
 demo: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.demo
