@@ -98,6 +98,9 @@ class HistoryBandContact(BandContact):
     restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # stuck again in this step
     #: slip direction d -> the deficit mu p + d q (point values) at the end of the last step with slip along d
     reversal_deficit: dict = field(default_factory=dict)
+    #: d beta / d(move of a boundary into its stick side): the median of the last secants (0: none yet)
+    edge_slope: float = 0.0
+    slopes: list = field(default_factory=list)
     #: (lo, hi) -> quadrature and operators of one piece of the region between cuts (see region_points)
     pieces: dict = field(default_factory=dict)
     history_rule = "incremental Coulomb: stick/slip state and accumulated slip carried per point"
@@ -323,9 +326,16 @@ class HistoryBandContact(BandContact):
             if not math.isfinite(beta):
                 continue
             last = self.secant.get(i)
-            step = -into_stick * math.copysign(0.1 * self.h, beta)  # beta < 0: shrink the stick zone
+            # beta < 0: shrink the stick zone; beta grows by edge_slope per unit move into the stick
+            # side (the last steps' secants), a tenth of a cell until one is known
+            step = -into_stick * (beta / self.edge_slope if self.edge_slope > 0.0
+                                  else math.copysign(0.1 * self.h, beta))
             if last is not None and last[1] != beta and last[0] != b:
                 step = -beta * (b - last[0]) / (beta - last[1])
+                slope = (beta - last[1]) / (into_stick * (b - last[0]))
+                if slope > 0.0:
+                    self.slopes = (self.slopes + [slope])[-8:]
+                    self.edge_slope = float(np.median(self.slopes))
             step = float(np.clip(step, -0.5 * self.h, 0.5 * self.h))
             self.secant[i] = (b, beta)
             moves.append(abs(step))
