@@ -154,10 +154,6 @@ class BandContact:
         """Contact points whose gap ``delta`` includes a prescribed tangential offset (none here)."""
         return pts
 
-    def region_points(self, a: float):
-        """The region's quadrature with its operators (see :func:`region_quadrature`)."""
-        return region_quadrature(self, a)
-
     def a_max(self) -> float:
         """The largest half-width about the current centre within the candidate region."""
         if self.mirror:
@@ -484,7 +480,7 @@ def _terms(c: BandContact, a: float):
     m = len(c.dofs)
     if a <= 0.0:
         return sp.csr_matrix((m, m)), np.zeros(m), None
-    pts, jump, flux, size = c.region_points(a)
+    pts, jump, flux, size = region_quadrature(c, a)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
     proj = _projector(c, pts, a)
     k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, c.band_fraction, 1.0, jump=jump)

@@ -27,12 +27,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..fem.step_boundary import PENALTY_FACTOR
-from .band import BandContact, _operators, _tangents, _tractions, build as band_build
-from ..fem.integration import curve_gauss
-from .geometry import _parameters_at_s, match_points
+from .band import BandContact, _tangents, _tractions, build as band_build
+from .history_terms import RegionPieces, history_terms
 from .report import contact_block
 
 __all__ = ["HistoryBandContact", "build"]
@@ -53,9 +51,6 @@ BOUNDARY_TOLERANCE = 0.02
 #: a slipping point sticks when its increment runs against its sign by more than this fraction
 #: of the largest increment of the step
 REVERSAL_MARGIN = 1e-3
-#: the per-point fields of contact points (concatenated and split by the region's pieces)
-_POINT_FIELDS = ("s", "x1", "n1", "x2", "n2", "delta", "weights")
-
 
 @dataclass
 class _Offset:
@@ -101,8 +96,7 @@ class HistoryBandContact(BandContact):
     #: d beta / d(move of a boundary into its stick side): the median of the last secants (0: none yet)
     edge_slope: float = 0.0
     slopes: list = field(default_factory=list)
-    #: (lo, hi) -> quadrature and operators of one piece of the region between cuts (see region_points)
-    pieces: dict = field(default_factory=dict)
+    region_pieces: object = None  # the cache of the region's pieces (solver.contact.history_terms)
     history_rule = "incremental Coulomb: stick/slip state and accumulated slip carried per point"
 
     def start_history(self) -> None:
@@ -152,41 +146,10 @@ class HistoryBandContact(BandContact):
         w = np.interp(pts.s, self.samples.s, self.w_ref)
         return _Offset(pts, pts.delta - w[:, None] * _tangents(pts.normal))
 
-    def region_points(self, a: float):
-        """The region's quadrature and operators, assembled from pieces between consecutive cuts
-        (the grids' lines, the region's ends and the zones' boundaries), each computed once: a zone
-        update moves a few boundaries and keeps the width, so only the pieces at the moved
-        boundaries are new (the same rule and points as one quadrature over the whole region)."""
-        lo, hi = self.region_ends(a)
-        brk = np.concatenate([self.breakpoints, self.bounds])
-        cuts = np.unique(np.concatenate([[lo, hi], brk[(brk > lo) & (brk < hi)]]))
-        keys = list(zip(cuts[:-1].tolist(), cuts[1:].tolist()))
-        missing = [k for k in keys if k not in self.pieces]
-        if missing:
-            self._add_pieces(missing)
-        parts = [self.pieces[k] for k in keys]
-        if len(self.pieces) > 8 * len(keys):  # forget the pieces of boundaries long gone
-            self.pieces = dict(zip(keys, parts))
-        pts = dataclasses.replace(parts[0][0], **{f: np.concatenate([getattr(p[0], f) for p in parts])
-                                                  for f in _POINT_FIELDS})
-        jump = sp.vstack([p[1] for p in parts], format="csr")
-        flux = sp.vstack([p[2] for p in parts], format="csr")
-        return self.with_offset(pts), jump, flux, np.concatenate([p[3] for p in parts])
-
-    def _add_pieces(self, keys: list[tuple[float, float]]) -> None:
-        """Quadrature and operators of the pieces ``keys`` (one evaluation for all, split per piece)."""
-        ends = np.array(keys, dtype=float)
-        t = _parameters_at_s(self.geom, 0, ends.ravel()).reshape(-1, 2)
-        _, w, _, tq = curve_gauss(self.geom.curves[0], t[:, 0], t[:, 1], self.options.order)
-        pts = match_points(self.geom, tq.ravel())
-        pts.weights = w.ravel()
-        jump, flux, size = _operators(self, pts)
-        n = w.shape[1]
-        for i, k in enumerate(keys):
-            sel = slice(i * n, (i + 1) * n)
-            rows = slice(2 * i * n, 2 * (i + 1) * n)
-            piece = dataclasses.replace(pts, **{f: getattr(pts, f)[sel] for f in _POINT_FIELDS})
-            self.pieces[k] = (piece, jump[rows], flux[rows], size[sel])
+    def terms(self, a: float):
+        """Stiffness, load and quadrature data of the region at half-width a (the band terms with the
+        zones of this contact, assembled from cached pieces: solver.contact.history_terms)."""
+        return history_terms(self, a)
 
     def stick(self, a: float) -> float:
         """Half-length of the stick zone about the region's centre: the mean distance from the centre
@@ -485,5 +448,6 @@ def build(problem, model, b1, b2, options) -> HistoryBandContact:
     """The band formulation of ``model`` with friction history (see :mod:`solver.contact.band`)."""
     base = band_build(problem, model, b1, b2, options)
     c = HistoryBandContact(**{f.name: getattr(base, f.name) for f in dataclasses.fields(BandContact)})
+    c.region_pieces = RegionPieces(c)
     c.start_history()
     return c
