@@ -234,7 +234,13 @@ class HistoryBandContact(BandContact):
             self.width_held = False
             # the edge coefficient moves by about the relative change of the width: within the width
             # search's tolerance (edge_tolerance cells) the kept width is the searched one
-            return abs(self.held_edge) <= self.options.edge_tolerance * self.h / a
+            if abs(self.held_edge) <= self.options.edge_tolerance * self.h / a:
+                return True
+            # the width moves (the normal load changed): the points it adds or removes are judged
+            # again by zone updates before the boundaries are refined (a point entering contact
+            # beside an edge slip zone would otherwise stay stuck above Coulomb's limit)
+            self.refining, self.secant = False, {}
+            return False
         return True
 
     def _update_zones(self, x: np.ndarray, a: float) -> bool:
