@@ -91,8 +91,8 @@ class HistoryBandContact(BandContact):
     coulomb_violations: list = field(default_factory=list)  # (step, share of stick points above the limit)
     zone_updates: int = 0  # zone updates in the current step
     restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # stuck again in this step
-    #: slip direction d -> the deficit mu p + d q (point values) at the end of the last step with slip along d
-    reversal_deficit: dict = field(default_factory=dict)
+    #: slip direction d -> the point shear q at the end of the last step with slip along d
+    reversal_shear: dict = field(default_factory=dict)
     #: d beta / d(move of a boundary into its stick side): the median of the last secants (0: none yet)
     edge_slope: float = 0.0
     slopes: list = field(default_factory=list)
@@ -290,7 +290,9 @@ class HistoryBandContact(BandContact):
                                                    and abs(self.local(b)) >= a - 0.5 * self.h):
                 continue  # not between stick and slip, or the slip zone's end at the region's edge
             sigma = right if left == 0.0 else left
-            deficit = self.friction * p + sigma * q + self.reversal_deficit.get(-sigma, 0.0)
+            deficit = self.friction * p + sigma * q
+            if -sigma in self.reversal_shear:  # the increment since slip last ran against sigma
+                deficit = deficit + np.where(p > 0.0, self.friction * p - sigma * self.reversal_shear[-sigma], 0.0)
             beta = self._edge_singularity(b, into_stick, deficit, p)
             if not math.isfinite(beta):
                 continue
@@ -376,7 +378,7 @@ class HistoryBandContact(BandContact):
         p_raw, q_raw = self._raw
         for d in (-1.0, 1.0):
             if np.any(inside & (self.zone == d)):
-                self.reversal_deficit[d] = np.where(inside, self.friction * p_raw + d * q_raw, 0.0)
+                self.reversal_shear[d] = np.where(inside, q_raw, 0.0)
         self.w_prev = wt
         self.step_pressure = np.where(inside, p, 0.0)
 
