@@ -91,8 +91,9 @@ class HistoryBandContact(BandContact):
     coulomb_violations: list = field(default_factory=list)  # (step, share of stick points above the limit)
     zone_updates: int = 0  # zone updates in the current step
     restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # stuck again in this step
-    #: slip direction d -> the point shear q at the end of the last step with slip along d
-    reversal_shear: dict = field(default_factory=dict)
+    #: slip direction d -> (the deficit mu p + d q at the points, the zones) at the end of the last
+    #: step with slip along d
+    reversal: dict = field(default_factory=dict)
     #: d beta / d(move of a boundary into its stick side): the median of the last secants (0: none yet)
     edge_slope: float = 0.0
     slopes: list = field(default_factory=list)
@@ -291,8 +292,9 @@ class HistoryBandContact(BandContact):
                 continue  # not between stick and slip, or the slip zone's end at the region's edge
             sigma = right if left == 0.0 else left
             deficit = self.friction * p + sigma * q
-            if -sigma in self.reversal_shear:  # the increment since slip last ran against sigma
-                deficit = deficit + np.where(p > 0.0, self.friction * p - sigma * self.reversal_shear[-sigma], 0.0)
+            earlier = self.reversal.get(-sigma)  # the last state that slipped against sigma
+            if earlier is not None and self._near_slip(earlier[1], b, into_stick, -sigma, a):
+                deficit = deficit + earlier[0]  # that slip zone is within the fit's width: the increment's
             beta = self._edge_singularity(b, into_stick, deficit, p)
             if not math.isfinite(beta):
                 continue
@@ -323,6 +325,13 @@ class HistoryBandContact(BandContact):
             return True
         return settled
 
+    def _near_slip(self, zone: np.ndarray, b: float, into_stick: float, direction: float, a: float) -> bool:
+        """Whether the zones ``zone`` (at the samples) slip along ``direction`` at the boundary b or
+        within the edge fit's width of it on its slip side (beyond the region: taken as slipping)."""
+        beside = b - into_stick * EDGE_CELLS * self.options.window * self.h
+        at = zone[self._nearest(np.array([b, beside]))]
+        return bool(at[0] == direction or at[1] == direction or abs(self.local(beside)) > a)
+
     def _edge_singularity(self, b: float, into_stick: float, deficit: np.ndarray, p: np.ndarray) -> float:
         """The coefficient beta of D ~ beta / sqrt(d) + alpha sqrt(d), fitted by its first two moments
         over ``EDGE_CELLS`` cells of the stick side (d the distance from the boundary b), of the
@@ -333,10 +342,15 @@ class HistoryBandContact(BandContact):
         D is the deficit of the increment since slip last ran the other way (Mindlin and
         Deresiewicz: after a reversal the change of the tractions is a Cattaneo problem with twice
         the friction coefficient), D = mu p + sigma q + (mu p_r - sigma q_r), p_r and q_r the
-        tractions at the end of the last step with slip against sigma (nothing before any). The
-        deficit mu p + sigma q alone carries the locked-in stick edge of that earlier slip, a
-        second square root a fraction of a cell away while the new slip annulus is thin, which
-        the two-term fit reads as a too small stick zone (measured: c' up to 0.024 a too large)."""
+        tractions at the end of the last step with slip against sigma, where that step's slip zone
+        lies within the fit's width of the boundary on its slip side (nothing before any such
+        step). The deficit mu p + sigma q alone
+        carries the locked-in stick edge of that earlier slip, a second square root a fraction of
+        a cell away while the new slip annulus is thin, which the two-term fit reads as a too
+        small stick zone (measured: c' up to 0.024 a too large). A boundary deeper inside the
+        earlier stick zone (a normal load that fell since: the new slip zone reaches into it) is fitted on
+        mu p + sigma q: there the earlier deficit is a smooth positive background that would hold
+        the stick zone above Coulomb's limit."""
         s = self.samples.s
         w = EDGE_CELLS * self.options.window * self.h
         d = into_stick * (s - b)
@@ -378,7 +392,7 @@ class HistoryBandContact(BandContact):
         p_raw, q_raw = self._raw
         for d in (-1.0, 1.0):
             if np.any(inside & (self.zone == d)):
-                self.reversal_shear[d] = np.where(inside, q_raw, 0.0)
+                self.reversal[d] = (np.where(inside, self.friction * p_raw + d * q_raw, 0.0), self.zone.copy())
         self.w_prev = wt
         self.step_pressure = np.where(inside, p, 0.0)
 
