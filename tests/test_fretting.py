@@ -125,3 +125,21 @@ def test_point_assembly_equals_sparse_assembly(monkeypatch, tmp_path):
     assert any(slip for slip, _, _ in seen) and not all(slip for slip, _, _ in seen)
     assert max(dk for _, dk, _ in seen) < 1e-12
     assert max(df for _, _, df in seen) < 1e-12
+
+
+@pytest.mark.slow
+def test_varying_normal_load_keeps_coulomb(tmp_path):
+    """The shipped scene with N and Q cycled together: every step converges with its stick points
+    within Coulomb's limit (no step in checks.steps_breaking_coulomb: at most 2 % of the stick
+    points above 1.1 mu p), and the transmitted forces obey |Q| < mu N at every step."""
+    from ibfem.solver.io.scene import load_scene
+
+    sc = load_scene(EXAMPLE.with_name("cylinder_on_flat_varying_normal.toml"))
+    solution = solve(sc.problem)
+    assert solution.converged, solution.iterations["messages"]
+    summary = write_scene_results(tmp_path, sc, solution)
+    assert summary["contacts"][0]["checks"]["steps_breaking_coulomb"] == []
+    forces = np.array([[s["contacts"][0]["normal_force"], s["contacts"][0]["tangential_force"]]
+                       for s in summary["steps"] if s["t"] >= 1.0])
+    assert forces[:, 0].max() / forces[:, 0].min() > 1.5  # the normal load cycles (0.78 to 1.23 of its mean)
+    assert np.all(np.abs(forces[:, 1]) < 0.3 * forces[:, 0])
