@@ -24,7 +24,7 @@ validate: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_solid
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_fretting --out out/validation_fretting
-	MPLBACKEND=Agg $(PY) -m pytest -m slow -q tests/test_contact2d_validation.py
+	MPLBACKEND=Agg $(PY) -m pytest -m slow -q tests/test_contact2d_validation.py tests/test_fretting.py
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(PY) benchmarks/run_all.py

@@ -5,10 +5,13 @@ accuracy against the Mindlin-Deresiewicz superposition (solver.reports.validate_
 largest error of the stick half-width over the steps (in a), the largest shear RMS (in mu p0),
 the energy per cycle from the friction work and from the loop against the closed form.
 
-Target: the run within 10 s on this machine. Each run is its own subprocess (its peak memory its
-own); with ``--repeat n`` the runs alternate with a run of the proportional example 4
+Target: the run within 10 s on this machine. The solve runs on one core (single-threaded BLAS),
+so on an idle machine its wall time is its CPU time; on a shared machine the wall time mostly
+measures the wait for a core, and the CPU time of the solve (``cpu_s``, process time) is the
+number held to the target. Each run is its own subprocess (its peak memory its own); with
+``--repeat n`` the runs alternate with a run of the proportional example 4
 (examples/cylinder_on_flat_partial_slip.toml), so that the ratio of the two is reported beside
-the wall times (a shared machine's timings drift; a ratio of alternating runs is fairer).
+the times (a shared machine's timings drift; a ratio of alternating runs is fairer).
 
     .venv/bin/python benchmarks/fretting.py [--repeat 2]
 
@@ -39,10 +42,10 @@ def _child(scene: str) -> None:
     from ibfem.solver.solving import solve
 
     sc = load_scene(scene)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     solution = solve(sc.problem)
-    wall = time.perf_counter() - t0
-    out = {"scene": Path(scene).name, "wall_s": wall, "converged": bool(solution.converged),
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    out = {"scene": Path(scene).name, "wall_s": wall, "cpu_s": cpu, "converged": bool(solution.converged),
            "iterations": int(solution.iterations["total"]), "steps": len(solution.steps),
            "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0}
     if solution.steps:
@@ -81,12 +84,12 @@ def main(argv: list[str] | None = None) -> int:
     for _ in range(args.repeat):
         fret = _run(SCENE)
         prop = _run(PROPORTIONAL)
-        runs.append({"fretting": fret, "proportional": prop, "ratio": fret["wall_s"] / prop["wall_s"]})
-        print(f"fretting {fret['wall_s']:.2f} s ({fret['steps']} steps, {fret['iterations']} solves, "
-              f"{fret['peak_rss_mb']:.0f} MB), proportional example 4 {prop['wall_s']:.2f} s, ratio "
-              f"{runs[-1]['ratio']:.1f}; target {TARGET_S:g} s")
-    best = min(r["fretting"]["wall_s"] for r in runs)
-    result = {"target_s": TARGET_S, "best_s": best, "within_target": best <= TARGET_S, "runs": runs}
+        runs.append({"fretting": fret, "proportional": prop, "ratio": fret["cpu_s"] / prop["cpu_s"]})
+        print(f"fretting {fret['cpu_s']:.2f} s CPU, {fret['wall_s']:.2f} s wall ({fret['steps']} steps, "
+              f"{fret['iterations']} solves, {fret['peak_rss_mb']:.0f} MB), proportional example 4 "
+              f"{prop['cpu_s']:.2f} s CPU, ratio {runs[-1]['ratio']:.1f}; target {TARGET_S:g} s")
+    best = min(r["fretting"]["cpu_s"] for r in runs)
+    result = {"target_s": TARGET_S, "best_cpu_s": best, "within_target": best <= TARGET_S, "runs": runs}
     out = HERE / "results"
     out.mkdir(exist_ok=True)
     (out / "fretting.json").write_text(json.dumps(result, indent=1), encoding="utf-8")

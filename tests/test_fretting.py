@@ -30,6 +30,7 @@ def _run(tmp_path: Path, points_per_cycle: int, cycles: int, steps_per_unit: int
     assert solution.converged, solution.iterations["messages"]
     summary = write_scene_results(tmp_path, sc, solution)
     profiles = dict(np.load(tmp_path / "profiles_0.npz"))
+    _run.solution = solution
     return summary, compare(summary, profiles, 1.0, 2.0e11, 0.3)
 
 
@@ -51,23 +52,44 @@ def test_one_cycle_coarse(tmp_path):
     ends = [r for r, nxt in zip(rows, rows[1:] + [None]) if nxt is not None and nxt["branch"] != r["branch"]]
     assert len(ends) == 3  # the first loading and two reversals
     for r in ends:  # the turning points: the widest slip annulus of each branch
-        assert abs(r["c_error_over_a"]) < 0.04, r
+        assert abs(r["c_error_over_a"]) < 0.01, r
+    assert max(abs(r["c_error_over_a"]) for r in rows) < 0.02  # 8 steps per cycle: measured 0.013
     assert max(r["shear_rms_over_mu_p0"] for r in rows) < 0.07
     (cycle,) = result["cycles"]
     assert cycle["friction_error"] == pytest.approx(0.0, abs=0.05)
     assert cycle["energy_loop"] == pytest.approx(cycle["energy_friction"], rel=0.1)
+    _check_step_polyline(tmp_path, _run.solution.steps[3])  # t = 1.375: the first branch after a reversal
+
+
+def _check_step_polyline(tmp_path: Path, step: dict) -> None:
+    """The step's contact polyline (the VTU series' contact part): its pressure and shear,
+    integrated along it, balance the step's normal and tangential forces."""
+    pv = pytest.importorskip("pyvista")
+    from ibfem.solver.io.step_outputs import _write_contact_profiles
+
+    (path,) = _write_contact_profiles(tmp_path, step)
+    line = pv.read(path)
+    ds = np.linalg.norm(np.diff(line.points, axis=0), axis=1)
+
+    def integral(v):
+        return float(np.sum(0.5 * (v[1:] + v[:-1]) * ds))
+
+    c = step["contacts"][0]
+    assert {"pressure", "shear", "zone", "accumulated_slip"} <= set(line.point_data.keys())
+    assert set(np.unique(line.point_data["zone"])) >= {0.0}
+    assert integral(line.point_data["pressure"]) == pytest.approx(c["normal_force"], rel=0.02)
+    assert -integral(line.point_data["shear"]) == pytest.approx(c["tangential_force"], rel=0.03)
 
 
 @pytest.mark.slow
 def test_example_three_cycles(tmp_path):
-    """The shipped example: every branch against the superposition (see docs/load-paths.md for
-    the table); the first step after each reversal (a slip annulus thinner than one sample
-    spacing) is reported but not held to the stick half-width bound."""
+    """The shipped example: on every branch and at every step the stick half-width within 0.01 a
+    of the superposition's, the shear within 5 % of mu p0 (RMS over the branch), the energy per
+    cycle within 1 % of the closed form from the friction work (1.5 % from the loop; see
+    docs/load-paths.md for the table)."""
     summary, result = _run(tmp_path, points_per_cycle=20, cycles=3, steps_per_unit=4)
     rows = result["steps"]
-    first = _after_reversal(rows)
-    errors = [abs(r["c_error_over_a"]) for r, f in zip(rows, first) if not f]
-    assert max(errors) < 0.03
+    assert max(abs(r["c_error_over_a"]) for r in rows) < 0.01
     branches = {}
     for r in rows:
         branches.setdefault(r["branch"], []).append(r["shear_rms_over_mu_p0"])
@@ -75,5 +97,49 @@ def test_example_three_cycles(tmp_path):
         assert float(np.sqrt(np.mean(np.square(values)))) < 0.05, (b, values)
     assert len(result["cycles"]) == 2
     for c in result["cycles"]:
-        assert abs(c["friction_error"]) < 0.03, c
-        assert abs(c["loop_error"]) < 0.08, c
+        assert abs(c["friction_error"]) < 0.01, c
+        # the loop's area on 20 points a cycle: measured +0.92 % and -0.07 % for two equal cycles
+        assert abs(c["loop_error"]) < 0.015, c
+
+
+@pytest.mark.slow
+def test_point_assembly_equals_sparse_assembly(monkeypatch, tmp_path):
+    """The history contact's terms, summed from per-point blocks over cached pieces of the region,
+    equal the band formulation's sparse-operator assembly of the same points in every trial of
+    a run (stiffness and load to round-off), with and without slip zones."""
+    import ibfem.solver.contact.friction_history as fh
+    from ibfem.solver.contact.band import _terms
+    from ibfem.solver.contact.history_terms import history_terms
+
+    seen = []
+
+    def both(self, a):
+        k1, f1, info = history_terms(self, a)
+        k2, f2, _ = _terms(self, a)
+        seen.append((bool(np.any(self.zone)), abs(k1 - k2).max() / abs(k2).max(),
+                     float(np.abs(f1 - f2).max() / np.abs(f2).max())))
+        return k1, f1, info
+
+    monkeypatch.setattr(fh.HistoryBandContact, "terms", both)
+    _run(tmp_path, points_per_cycle=8, cycles=1, steps_per_unit=1)
+    assert any(slip for slip, _, _ in seen) and not all(slip for slip, _, _ in seen)
+    assert max(dk for _, dk, _ in seen) < 1e-12
+    assert max(df for _, _, df in seen) < 1e-12
+
+
+@pytest.mark.slow
+def test_varying_normal_load_keeps_coulomb(tmp_path):
+    """The shipped scene with N and Q cycled together: every step converges with its stick points
+    within Coulomb's limit (no step in checks.steps_breaking_coulomb: at most 2 % of the stick
+    points above 1.1 mu p), and the transmitted forces obey |Q| < mu N at every step."""
+    from ibfem.solver.io.scene import load_scene
+
+    sc = load_scene(EXAMPLE.with_name("cylinder_on_flat_varying_normal.toml"))
+    solution = solve(sc.problem)
+    assert solution.converged, solution.iterations["messages"]
+    summary = write_scene_results(tmp_path, sc, solution)
+    assert summary["contacts"][0]["checks"]["steps_breaking_coulomb"] == []
+    forces = np.array([[s["contacts"][0]["normal_force"], s["contacts"][0]["tangential_force"]]
+                       for s in summary["steps"] if s["t"] >= 1.0])
+    assert forces[:, 0].max() / forces[:, 0].min() > 1.5  # the normal load cycles (0.78 to 1.23 of its mean)
+    assert np.all(np.abs(forces[:, 1]) < 0.3 * forces[:, 0])

@@ -30,6 +30,7 @@ import numpy as np
 
 from ..fem.step_boundary import PENALTY_FACTOR
 from .band import BandContact, _tangents, _tractions, build as band_build
+from .history_terms import RegionPieces, history_terms
 from .report import contact_block
 
 __all__ = ["HistoryBandContact", "build"]
@@ -50,7 +51,6 @@ BOUNDARY_TOLERANCE = 0.02
 #: a slipping point sticks when its increment runs against its sign by more than this fraction
 #: of the largest increment of the step
 REVERSAL_MARGIN = 1e-3
-
 
 @dataclass
 class _Offset:
@@ -91,6 +91,13 @@ class HistoryBandContact(BandContact):
     coulomb_violations: list = field(default_factory=list)  # (step, share of stick points above the limit)
     zone_updates: int = 0  # zone updates in the current step
     restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # stuck again in this step
+    #: slip direction d -> (the deficit mu p + d q at the points, the zones) at the end of the last
+    #: step with slip along d
+    reversal: dict = field(default_factory=dict)
+    #: d beta / d(move of a boundary into its stick side): the median of the last secants (0: none yet)
+    edge_slope: float = 0.0
+    slopes: list = field(default_factory=list)
+    region_pieces: object = None  # the cache of the region's pieces (solver.contact.history_terms)
     history_rule = "incremental Coulomb: stick/slip state and accumulated slip carried per point"
 
     def start_history(self) -> None:
@@ -140,16 +147,24 @@ class HistoryBandContact(BandContact):
         w = np.interp(pts.s, self.samples.s, self.w_ref)
         return _Offset(pts, pts.delta - w[:, None] * _tangents(pts.normal))
 
+    def terms(self, a: float):
+        """Stiffness, load and quadrature data of the region at half-width a (the band terms with the
+        zones of this contact, assembled from cached pieces: solver.contact.history_terms)."""
+        return history_terms(self, a)
+
     def stick(self, a: float) -> float:
-        """Half-length of the stick zone about the region's centre (the central stick interval)."""
+        """Half-length of the stick zone about the region's centre: the mean distance from the centre
+        to the nearest slip zone on either side (a where none), read at the zones' boundaries (which
+        the refinement places between samples); 0 when the centre slips."""
         if not len(self.zone):
             return super().stick(a)
-        s = self.local(self.samples.s)
-        slipping = (self.zone != 0.0) & (np.abs(s) <= a)
-        right = s[(s >= 0.0) & slipping]
-        left = s[(s <= 0.0) & slipping]
-        hi = right.min() if len(right) else a
-        lo = -left.max() if len(left) else a
+        if self.zone_at(np.array([self.centre]))[0] != 0.0:
+            return 0.0
+        r = self.local(self.bounds)
+        right = r[(r > 0.0) & (self.values[1:] != 0.0) & (r <= a)]  # slip begins to the right of b
+        left = r[(r < 0.0) & (self.values[:-1] != 0.0) & (r >= -a)]  # slip ends at b from the left
+        hi = float(right.min()) if len(right) else a
+        lo = float(-left.max()) if len(left) else a
         return float(min(0.5 * (hi + lo), a))
 
     def is_symmetric(self) -> bool:
@@ -220,7 +235,13 @@ class HistoryBandContact(BandContact):
             self.width_held = False
             # the edge coefficient moves by about the relative change of the width: within the width
             # search's tolerance (edge_tolerance cells) the kept width is the searched one
-            return abs(self.held_edge) <= self.options.edge_tolerance * self.h / a
+            if abs(self.held_edge) <= self.options.edge_tolerance * self.h / a:
+                return True
+            # the width moves (the normal load changed): the points it adds or removes are judged
+            # again by zone updates before the boundaries are refined (a point entering contact
+            # beside an edge slip zone would otherwise stay stuck above Coulomb's limit)
+            self.refining, self.secant = False, {}
+            return False
         return True
 
     def _update_zones(self, x: np.ndarray, a: float) -> bool:
@@ -265,17 +286,29 @@ class HistoryBandContact(BandContact):
         moves = []
         for i, b in enumerate(self.bounds):
             left, right = self.values[i], self.values[i + 1]
-            if (left == 0.0) == (right == 0.0) or abs(self.local(b)) >= a - 0.5 * self.h:
-                continue  # not between stick and slip, or the slip zone's end at the region's edge
             into_stick = -1.0 if left == 0.0 else 1.0
+            if (left == 0.0) == (right == 0.0) or (into_stick * self.local(b) > 0.0
+                                                   and abs(self.local(b)) >= a - 0.5 * self.h):
+                continue  # not between stick and slip, or the slip zone's end at the region's edge
             sigma = right if left == 0.0 else left
-            beta = self._edge_singularity(b, into_stick, sigma, p, q)
+            deficit = self.friction * p + sigma * q
+            earlier = self.reversal.get(-sigma)  # the last state that slipped against sigma
+            if earlier is not None and self._near_slip(earlier[1], b, into_stick, -sigma, a):
+                deficit = deficit + earlier[0]  # that slip zone is within the fit's width: the increment's
+            beta = self._edge_singularity(b, into_stick, deficit, p)
             if not math.isfinite(beta):
                 continue
             last = self.secant.get(i)
-            step = -into_stick * math.copysign(0.1 * self.h, beta)  # beta < 0: shrink the stick zone
+            # beta < 0: shrink the stick zone; beta grows by edge_slope per unit move into the stick
+            # side (the last steps' secants), a tenth of a cell until one is known
+            step = -into_stick * (beta / self.edge_slope if self.edge_slope > 0.0
+                                  else math.copysign(0.1 * self.h, beta))
             if last is not None and last[1] != beta and last[0] != b:
                 step = -beta * (b - last[0]) / (beta - last[1])
+                slope = (beta - last[1]) / (into_stick * (b - last[0]))
+                if slope > 0.0:
+                    self.slopes = (self.slopes + [slope])[-8:]
+                    self.edge_slope = float(np.median(self.slopes))
             step = float(np.clip(step, -0.5 * self.h, 0.5 * self.h))
             self.secant[i] = (b, beta)
             moves.append(abs(step))
@@ -292,19 +325,39 @@ class HistoryBandContact(BandContact):
             return True
         return settled
 
-    def _edge_singularity(self, b: float, into_stick: float, sigma: float, p: np.ndarray, q: np.ndarray) -> float:
+    def _near_slip(self, zone: np.ndarray, b: float, into_stick: float, direction: float, a: float) -> bool:
+        """Whether the zones ``zone`` (at the samples) slip along ``direction`` at the boundary b or
+        within the edge fit's width of it on its slip side (beyond the region: taken as slipping)."""
+        beside = b - into_stick * EDGE_CELLS * self.options.window * self.h
+        at = zone[self._nearest(np.array([b, beside]))]
+        return bool(at[0] == direction or at[1] == direction or abs(self.local(beside)) > a)
+
+    def _edge_singularity(self, b: float, into_stick: float, deficit: np.ndarray, p: np.ndarray) -> float:
         """The coefficient beta of D ~ beta / sqrt(d) + alpha sqrt(d), fitted by its first two moments
-        over one cell of the stick side (d the distance from the boundary b), of the stick zone's
-        deficit D = mu p + sigma q (zero in the adjacent slip zone of direction sigma), relative to
-        mu p sqrt(cell): zero at a consistent boundary, < 0 where the stick zone is too large (its
-        shear exceeds mu p, singular at its end), > 0 where too small (a finite deficit at its end)."""
+        over ``EDGE_CELLS`` cells of the stick side (d the distance from the boundary b), of the
+        stick zone's deficit D (zero in the adjacent slip zone), relative to mu p sqrt(cell): zero at
+        a consistent boundary, < 0 where the stick zone is too large (its shear exceeds mu p,
+        singular at its end), > 0 where too small (a finite deficit at its end).
+
+        D is the deficit of the increment since slip last ran the other way (Mindlin and
+        Deresiewicz: after a reversal the change of the tractions is a Cattaneo problem with twice
+        the friction coefficient), D = mu p + sigma q + (mu p_r - sigma q_r), p_r and q_r the
+        tractions at the end of the last step with slip against sigma, where that step's slip zone
+        lies within the fit's width of the boundary on its slip side (nothing before any such
+        step). The deficit mu p + sigma q alone
+        carries the locked-in stick edge of that earlier slip, a second square root a fraction of
+        a cell away while the new slip annulus is thin, which the two-term fit reads as a too
+        small stick zone (measured: c' up to 0.024 a too large). A boundary deeper inside the
+        earlier stick zone (a normal load that fell since: the new slip zone reaches into it) is fitted on
+        mu p + sigma q: there the earlier deficit is a smooth positive background that would hold
+        the stick zone above Coulomb's limit."""
         s = self.samples.s
         w = EDGE_CELLS * self.options.window * self.h
         d = into_stick * (s - b)
         near = (d > 0.0) & (d <= w)
         if np.count_nonzero(near) < 4:
             return math.nan
-        dd, dv = d[near], (self.friction * p + sigma * q)[near]
+        dd, dv = d[near], deficit[near]
         order = np.argsort(dd)
         dd, dv = np.concatenate([[0.0], dd[order]]), np.concatenate([[dv[order][0]], dv[order]])
         m0 = float(np.trapezoid(dv, dd))
@@ -336,6 +389,10 @@ class HistoryBandContact(BandContact):
         self.w_ref = np.where(free, wt - self._tie_offset(x, np.where(inside, self._raw[1], 0.0)), self.w_ref)
         self.shear_prev = np.where(inside, q, 0.0)
         self.raw_shear_prev = self._raw[1].copy()
+        p_raw, q_raw = self._raw
+        for d in (-1.0, 1.0):
+            if np.any(inside & (self.zone == d)):
+                self.reversal[d] = (np.where(inside, self.friction * p_raw + d * q_raw, 0.0), self.zone.copy())
         self.w_prev = wt
         self.step_pressure = np.where(inside, p, 0.0)
 
@@ -413,5 +470,6 @@ def build(problem, model, b1, b2, options) -> HistoryBandContact:
     """The band formulation of ``model`` with friction history (see :mod:`solver.contact.band`)."""
     base = band_build(problem, model, b1, b2, options)
     c = HistoryBandContact(**{f.name: getattr(base, f.name) for f in dataclasses.fields(BandContact)})
+    c.region_pieces = RegionPieces(c)
     c.start_history()
     return c

@@ -1,6 +1,7 @@
 """The outputs of a run with load paths: the ``steps`` block of ``summary.json``, a VTU series
-over the steps (``steps.pvd`` for ParaView, one folder of VTU files per step) and ``steps.csv``
-(t, forces, half-width, stick half-width of every contact per step)."""
+over the steps (``steps.pvd`` for ParaView, one folder of VTU files per step, with the contact
+tractions of each frictional contact with memory as a polyline ``contact_k.vtp``) and
+``steps.csv`` (t, forces, half-width, stick half-width of every contact per step)."""
 
 from __future__ import annotations
 
@@ -37,11 +38,36 @@ def write_pvd(path: Path, entries: list[tuple[float, int, str]]) -> Path:
     return path
 
 
+#: the per-point arrays of a contact profile written to the step's polyline
+_PROFILE_FIELDS = ("pressure", "shear", "zone", "slip_increment", "accumulated_slip", "tangential_jump")
+
+
+def _write_contact_profiles(folder: Path, st: dict) -> list[Path]:
+    """One polyline per contact with a profile (friction with memory): the sample points of the
+    region on the second body's surface with the pressure, the shear on the first body along the
+    contact's tangent, the zone (0 stick, +-1 slipping), the step's slip, the accumulated slip and
+    the tangential jump."""
+    from .vtk_xml import write_polydata
+
+    out = []
+    for k, c in enumerate(st.get("contacts", [])):
+        prof = c.get("profile")
+        if prof is None or not np.any(prof["inside"]):
+            continue
+        inside = np.asarray(prof["inside"], dtype=bool)
+        points = np.asarray(prof["points"], dtype=float)[inside]
+        data = {name: np.asarray(prof[name], dtype=float)[inside] for name in _PROFILE_FIELDS}
+        data["normal"] = np.asarray(prof["normal"], dtype=float)[inside]
+        out.append(write_polydata(folder / f"contact_{k}.vtp", points, lines=np.arange(len(points)), point_data=data))
+    return out
+
+
 def _write_series(out_dir: Path, problem, solution, write_vtu) -> list[Path]:
     files, entries = [], []
     for k, st in enumerate(solution.steps, start=1):
         folder = out_dir / "steps" / f"step_{k:04d}"
         written = write_vtu(folder, problem, dataclasses.replace(solution, u=st["field"]))
+        written += _write_contact_profiles(folder, st)
         files += written
         entries += [(st["t"], part, str(p.relative_to(out_dir))) for part, p in enumerate(written)]
     files.append(write_pvd(out_dir / "steps.pvd", entries))
