@@ -18,7 +18,8 @@ from numpy.polynomial.legendre import leggauss
 
 from ibfem.geometry.shapes import profile_from_shape
 from ibfem.solver.contact.chain import CORNER_ANGLE, contact_chain
-from ibfem.solver.contact.ends import chebyshev_ends, gap_pressure, gap_slope_coefficients
+from ibfem.solver.contact.ends import (CONFORMAL_CELLS, chebyshev_ends, conformal_weight, gap_pressure,
+                                      gap_slope_coefficients)
 from ibfem.solver.io.scene import SceneError, scene_from_dict
 from ibfem.solver.reference.punch import (flat_punch_pressure, flat_punch_stress_intensity, rounded_punch_half_width,
                                           rounded_punch_load, rounded_punch_pressure)
@@ -102,7 +103,8 @@ def test_end_values_of_the_rounded_punch_need_the_gap_shape(ratio):
     slope = lambda x: np.sign(x) * np.maximum(np.abs(x) - B, 0.0) / R  # noqa: E731
     gap = gap_slope_coefficients(slope, 0.0, a, E_STAR)
     assert chebyshev_ends(s / a, w, p, a).coefficient(1) > 0.02
-    assert abs(chebyshev_ends(s / a, w, p, a, gap).coefficient(1)) < 5e-4  # GAP_NODES quadrature of the kinked slope
+    for higher in (0.0, 1.0):  # the degree-2 and degree-4 sums (GAP_NODES quadrature of the kinked slope)
+        assert abs(chebyshev_ends(s / a, w, p, a, gap, higher).coefficient(1)) < 5e-4
     # the gap's own half-plane pressure is the closed form's (a series of GAP_NODES terms: RMS)
     assert np.sqrt(np.average((gap_pressure(gap, s / a) - p) ** 2, weights=w)) < 3e-3 * p.max()
 
@@ -187,10 +189,39 @@ def test_sharp_punch_is_a_complete_contact():
     assert np.abs(p - flat_punch_pressure(s, load, B))[inner].max() < 0.06 * load / (2 * B)
 
 
-def test_region_too_large_names_the_refinement_radius():
+def test_refinement_follows_a_region_beyond_its_radius():
     # the region (a ~ 0.015 m) does not fit in the candidate region of a 0.01 m refinement radius
-    with pytest.raises(ValueError, match="refinement radius"):
-        _run(punch_on_block(8.1e-5, levels=4, radius=0.01))
+    # (0.008 m): a coarse pass finds it, the refinement is widened about it and the scene solved
+    sol, c = _run(punch_on_block(8.1e-5, levels=4, radius=0.01))
+    assert sol.converged
+    grown = sol.iterations["refinement"]
+    assert grown["coarse_passes"][-1]["region"] is not None
+    assert 0.8 * 0.01 * grown["radius_factor"] > c["half_width"]  # the fine pass's candidate region holds it
+    _rounded_check(c, 1.0, 0.005, 0.05)
+
+
+def test_growing_refinement_refuses_other_causes():
+    from ibfem.solver.contact.band import CandidateRegionExceeded
+    from ibfem.solver.contact.grow import MAX_COARSE_PASSES, solve_growing
+
+    problem = scene_from_dict(punch_on_block(8.1e-5, levels=4, radius=0.01)).problem
+    calls = []
+
+    def run(cause):
+        def attempt(p):
+            calls.append(min(r.radius for r in p.body("punch").refinements if r.around_contact))
+            raise CandidateRegionExceeded(("punch", "block"), cause, f"bounded by the {cause}")
+        return attempt
+
+    # a region bounded by a body's far side: the bodies are too small, no coarse pass
+    with pytest.raises(CandidateRegionExceeded, match="far side"):
+        solve_growing(problem, run("far side of body 'block'"))
+    assert len(calls) == 1
+    # a region that runs off every widened refinement is refused with the widening said
+    calls.clear()
+    with pytest.raises(CandidateRegionExceeded, match="still after widening the contact refinement 16 times"):
+        solve_growing(problem, run("refinement radius"))
+    assert len(calls) == 1 + MAX_COARSE_PASSES and calls[-1] == pytest.approx(16 * calls[0])
 
 
 # ------------------------------------------------------------------ the pin in a bore
@@ -209,3 +240,30 @@ def test_pin_in_bore_reference():
     # conformity stiffens the contact: at 0.55 rad Hertz's angle for Persson's load is 9 % larger
     hertz = math.sqrt(4 * _dimensionless_load(0.55) / math.pi)
     assert hertz / 0.55 == pytest.approx(1.0907, abs=5e-4)
+
+
+def test_pin_in_bore_pressure_and_its_end_values():
+    from ibfem.solver.reference.pin import pin_in_bore_load, pin_in_bore_pressure
+
+    radius, clearance = 0.5, 5e-4
+    # a small angle: Hertz's cylinder in a bore, p = (E* / (2 R*)) sqrt(a^2 - s^2), R* = R (R + dR) / dR
+    angle = 0.02
+    theta = np.linspace(-0.95, 0.95, 9) * angle
+    hertz = E_STAR * clearance / (2 * radius * (radius + clearance)) * radius * np.sqrt(angle**2 - theta**2)
+    np.testing.assert_allclose(pin_in_bore_pressure(theta, angle, radius, clearance, E_STAR), hertz, rtol=2e-3)
+    # at 1.3 rad: its resultant is the load, P = int p cos(theta) R dtheta
+    angle = 1.3
+    theta, dtheta = _cos_nodes(angle)
+    p = pin_in_bore_pressure(theta, angle, radius, clearance, E_STAR)
+    assert (dtheta * p) @ np.cos(theta) * radius == pytest.approx(pin_in_bore_load(angle, clearance, E_STAR), rel=1e-6)
+    # at its own angle the ends are incomplete (Q = 0). In the chord coordinate the gap is quadratic
+    # (h = dR s^2 / (2 R^2)) but the conformal pressure is not the half-plane's: the degree-2
+    # Chebyshev sum sees tension at the ends (-2.3e-2), the degree-4 sum (a conformal contact's, on a
+    # region of enough cells) is within 5e-4
+    s, w = 2 * radius * np.sin(theta / 2), radius * np.cos(theta / 2) * dtheta  # chord, ds
+    a = 2 * radius * math.sin(angle / 2)
+    v2, v4 = (chebyshev_ends(s / a, w, p, a, higher=h) for h in (0.0, 1.0))
+    assert v2.coefficient(1) < -0.02 and abs(v4.coefficient(1)) < 5e-4
+    # half way between CONFORMAL_CELLS: half of the degree-4 terms
+    mid = chebyshev_ends(s / a, w, p, a, higher=conformal_weight(a, a / (0.5 * sum(CONFORMAL_CELLS))))
+    assert mid.upper == pytest.approx(0.5 * (v2.upper + v4.upper), rel=1e-12)

@@ -52,10 +52,19 @@ from ..model.options import ContactOptions
 from ..model.problem import Sliding
 from .geometry import (ContactGeometry, chain_pieces, chord_weights, contact_geometry, contact_quadrature,
                        grid_breakpoints, sample_points)
-from .ends import GAP_NODES, chebyshev_ends, gap_slope_coefficients, mirrored
+from .ends import GAP_NODES, chebyshev_ends, conformal_weight, gap_slope_coefficients, mirrored
 from .roots import StickRoot, bracket_search, edge_search, settling_tolerance, thesis_search
 
-__all__ = ["BandContact", "build"]
+__all__ = ["BandContact", "CandidateRegionExceeded", "build"]
+
+
+class CandidateRegionExceeded(ValueError):
+    """The contact region reaches the end of the candidate region and still penetrates; ``cause``
+    names what bounds it ("refinement radius", a corner or far side of a body)."""
+
+    def __init__(self, bodies: tuple[str, str], cause: str, message: str):
+        super().__init__(message)
+        self.bodies, self.cause = tuple(bodies), cause
 
 
 def _contact_extent(problem, contact, factor: float) -> float:
@@ -218,7 +227,8 @@ class BandContact:
         lim = self._limit()
         fix = {"refinement radius": "enlarge the radius of the contact refinement (around = \"contact\")"}.get(
             lim.cause, "the bodies are too small for this load, or the contact point or load is wrong")
-        return ValueError(
+        return CandidateRegionExceeded(
+            self.geom.bodies, lim.cause,
             f"{self.name}: the contact region reaches the end of the candidate region (s = {self.a_max():.4g} m "
             f"from the region's centre {self.centre:.4g} m, bounded by the {lim.cause}) "
             f"and still penetrates; {fix}"
@@ -594,13 +604,16 @@ def _quadrature_traction(c: BandContact, info, x: np.ndarray, a: float) -> np.nd
 
 def _end_values(c: BandContact, info, x: np.ndarray, a: float):
     """Q at the region's two ends (solver.contact.ends) of the pressure at the quadrature points,
-    the truncation of the gap's own shape removed; None without compression."""
+    the truncation of the gap's own shape removed; a conformal contact (pairs along their own
+    normals) takes in the degree-4 moments as far as the grid resolves them. None without
+    compression."""
     if info is None or a <= 0.0:
         return None
     pts = info[0]
     p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
     s, w, p = mirrored(c.local(pts.s), chord_weights(c.geom, pts), p, c.mirror)
-    return chebyshev_ends(s / a, w, p, a, _gap_coefficients(c, a))
+    higher = conformal_weight(a, c.h) if c.geom.normal_mode == "pair" and not _faceted(c) else 0.0
+    return chebyshev_ends(s / a, w, p, a, _gap_coefficients(c, a), higher)
 
 
 def _gap_coefficients(c: BandContact, a: float) -> np.ndarray:
