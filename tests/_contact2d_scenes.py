@@ -37,6 +37,22 @@ def _punch_edges(b: float, radius: float, height: float, sharp: bool) -> list[di
     ]
 
 
+def _one_sharp_edges(b: float, radius: float, height: float) -> list[dict]:
+    """A flat of half-width b with a sharp right corner (a vertical side) and a left edge rounded
+    with ``radius`` turning EDGE_TURN degrees into a straight flank."""
+    th = math.radians(EDGE_TURN)
+    xe, ye = b + radius * math.sin(th), radius * (1.0 - math.cos(th))
+    xt = xe + (height - ye) / math.tan(th)
+    return [
+        {"name": "flat", "type": "line", "start": [-b, 0.0], "end": [b, 0.0]},
+        {"name": "right", "type": "line", "start": [b, 0.0], "end": [b, height]},
+        {"name": "top", "type": "line", "start": [b, height], "end": [-xt, height]},
+        {"name": "flank_left", "type": "line", "start": [-xt, height], "end": [-xe, ye]},
+        {"name": "round_left", "type": "arc", "center": [-b, radius], "radius": radius, "start_angle": -90.0 - EDGE_TURN,
+         "end_angle": -90.0},
+    ]
+
+
 def _halved(edges: list[dict], height: float) -> list[dict]:
     """The right half (x >= 0) of a symmetric punch, closed by the symmetry line x = 0."""
     out = []
@@ -50,14 +66,16 @@ def _halved(edges: list[dict], height: float) -> list[dict]:
 
 
 def punch_on_block(approach: float, levels: int = 6, radius: float = 0.05, sharp: bool = False, half: bool = False,
-                   punch_modulus: float = E, turn: float = 0.0, sliding: bool = True) -> dict:
+                   punch_modulus: float = E, turn: float = 0.0, sliding: bool = True, one_sharp: bool = False) -> dict:
     """A punch (flat half-width HALF_FLAT, edges rounded with EDGE_RADIUS unless ``sharp``) pressed
     ``approach`` into a 1.2 m block (its top edge moved down; the block's bottom fixed). ``levels``
     of refinement within ``radius`` of the contact (finest cell 0.04 / 2^levels); ``half``: the
     half model x >= 0 with sliding conditions on x = 0 (``sliding`` false: none, an invalid model);
-    ``turn``: everything turned by this many degrees about the contact point."""
-    b, height, width = HALF_FLAT, (0.1 if sharp else PUNCH_HEIGHT), 0.6
-    edges = _punch_edges(b, EDGE_RADIUS, height, sharp)
+    ``turn``: everything turned by this many degrees about the contact point; ``one_sharp``: the
+    right edge sharp, the left rounded (a region with one complete and one incomplete end)."""
+    cornered = sharp or one_sharp
+    b, height, width = HALF_FLAT, (0.1 if cornered else PUNCH_HEIGHT), 0.6
+    edges = _one_sharp_edges(b, EDGE_RADIUS, height) if one_sharp else _punch_edges(b, EDGE_RADIUS, height, sharp)
     refinement = [{"levels": 2, "around": "contact", "radius": 6.0 * radius},
                   {"levels": levels, "around": "contact", "radius": radius}]
     rot = {"rotate_deg": turn} if turn else {}
@@ -68,21 +86,21 @@ def punch_on_block(approach: float, levels: int = 6, radius: float = 0.05, sharp
                  "edge_names": ["bottom", "right", "top", "symmetry"], **rot}
     else:
         block = {"type": "rectangle", "min": [-width, -width], "max": [width, 0.0], **rot}
-    punch_size = 0.005 if sharp else 0.04  # the grid must resolve the body (a sharp punch is 2 b wide)
-    punch_levels = levels - 3 if sharp else levels
+    punch_size = 0.005 if cornered else 0.04  # the grid must resolve the body (a sharp punch is 2 b wide)
+    punch_levels = levels - 3 if cornered else levels
     bcs = [{"body": "punch", "edge": "top", "type": "displacement",
             "value": ["free" if half else s * approach, -c * approach]},
            {"body": "block", "edge": "bottom", "type": "fixed"}]
     if half and sliding:
         bcs += [{"body": n, "edge": "symmetry", "type": "sliding", "normal_displacement": 0.0} for n in ("punch", "block")]
     return {
-        "name": f"{'sharp' if sharp else 'rounded'} flat punch on a block{' (half model)' if half else ''}",
+        "name": f"{'one-sharp' if one_sharp else 'sharp' if sharp else 'rounded'} flat punch on a block{' (half model)' if half else ''}",
         "model": "plane_strain", "thickness": 1.0, "solver": {"load_steps": 1},
         "materials": [{"name": "steel", "youngs_modulus": E, "poissons_ratio": NU},
                       {"name": "punch", "youngs_modulus": punch_modulus, "poissons_ratio": NU}],
         "bodies": [
             {"name": "punch", "material": "punch", "element_size": punch_size,
-             "refinement": [{"levels": punch_levels, "around": "contact", "radius": radius}] if sharp else refinement,
+             "refinement": [{"levels": punch_levels, "around": "contact", "radius": radius}] if cornered else refinement,
              "shape": {"type": "profile", "edges": edges, **rot}},
             {"name": "block", "material": "steel", "element_size": 0.04, "refinement": refinement, "shape": block},
         ],

@@ -267,3 +267,53 @@ def test_pin_in_bore_pressure_and_its_end_values():
     # half way between CONFORMAL_CELLS: half of the degree-4 terms
     mid = chebyshev_ends(s / a, w, p, a, higher=conformal_weight(a, a / (0.5 * sum(CONFORMAL_CELLS))))
     assert mid.upper == pytest.approx(0.5 * (v2.upper + v4.upper), rel=1e-12)
+
+
+# ------------------------------------------------------------------ one complete and one incomplete end
+
+
+def test_one_sided_reference_is_the_tilted_flat_punch():
+    # a flat punch tilted by eps toward its upper corner: p = (E* eps / 2) sqrt((1 + x) / (1 - x)),
+    # P = pi E* eps a / 2 (Johnson, Contact Mechanics, 1985, sec. 2.8), and K = E* eps sqrt(pi a)
+    from ibfem.solver.reference.one_sided import one_sided_load, one_sided_pressure, one_sided_stress_intensity
+
+    eps, a = 1e-3, 0.01
+    slope = lambda s: np.full_like(s, -eps)  # noqa: E731
+    s = np.linspace(-0.99, 0.99, 9) * a
+    closed = E_STAR * eps / 2 * np.sqrt((a + s) / (a - s))
+    np.testing.assert_allclose(one_sided_pressure(s, slope, -a, a, E_STAR), closed, rtol=1e-10)
+    assert one_sided_load(slope, -a, a, E_STAR) == pytest.approx(math.pi * E_STAR * eps * a / 2, rel=1e-12)
+    assert one_sided_stress_intensity(slope, -a, a, E_STAR) == pytest.approx(E_STAR * eps * math.sqrt(math.pi * a),
+                                                                            rel=1e-12)
+    # mirrored: the lower end complete
+    np.testing.assert_allclose(one_sided_pressure(-s, lambda t: -slope(t), -a, a, E_STAR, complete=-1), closed,
+                               rtol=1e-10)
+
+
+def _one_sharp_reference(load, e_star):
+    from ibfem.solver.reference.one_sided import one_sided_region, one_sided_stress_intensity
+
+    # the punch's flat ends at its sharp corner (x = b) and on its rounded edge (x = -b); the
+    # chord s of the region runs along -x, so the corner is at s = -b and the gap grows for s > b
+    def slope(s):
+        t = np.maximum(np.asarray(s, dtype=float) - B, 0.0)
+        return t / np.sqrt(R * R - t * t)
+
+    lo, hi = one_sided_region(load, slope, -B, e_star, complete=-1, longest=0.1)
+    return lo, hi, one_sided_stress_intensity(slope, lo, hi, e_star, complete=-1)
+
+
+def test_punch_with_one_sharp_edge_pins_the_region_at_its_corner():
+    # one sharp and one rounded edge, the punch 100 times stiffer than the block: the region runs
+    # from the sharp corner (complete end) onto the rounded edge (incomplete end); its length and
+    # the corner's stress intensity against the half-plane reference (solver.reference.one_sided)
+    from _contact2d_scenes import NU
+
+    sol, c = _run(punch_on_block(2e-4, levels=6, one_sharp=True, punch_modulus=100 * 2.0e11))
+    e_star = 1.0 / ((1 - NU**2) / 2.0e11 + (1 - NU**2) / (100 * 2.0e11))
+    lo, hi, k = _one_sharp_reference(c["normal_force"], e_star)
+    assert [e["type"] for e in c["ends"]] == ["complete", "incomplete"]
+    assert c["ends"][0]["s"] == pytest.approx(-B, rel=1e-9)
+    assert (c["region"][1] - c["region"][0]) / (hi - lo) == pytest.approx(1.0, abs=0.005)
+    assert c["ends"][0]["stress_intensity"] == pytest.approx(k, rel=0.03)
+    assert not c["checks"]["penetration"] and c["checks"]["centroid_offset"] == 0.0

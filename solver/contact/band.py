@@ -120,6 +120,10 @@ class BandContact:
     centre: float = 0.0
     #: a half model (+1 / -1): the region runs from the symmetry line s = 0 to that side, mirrored there
     mirror: int = 0
+    #: a region pinned at a corner of body 1 on its + (+1) or - (-1) side: that end is the corner (a
+    #: complete end) for every half-width, the centre is the corner -+ a and the width is found
+    #: from the other (incomplete) end alone
+    pinned: int = 0
     _gap_cache: dict = field(default_factory=dict)
     _stick_root: object = None
 
@@ -165,6 +169,8 @@ class BandContact:
 
     def a_max(self) -> float:
         """The largest half-width about the current centre within the candidate region."""
+        if self.pinned:
+            return 0.5 * sum(self.geom.s_limits)
         if self.mirror:
             return self.geom.s_limits[0 if self.mirror > 0 else 1]
         return max(self.geom.s_max() - abs(self.centre), 0.0)
@@ -172,6 +178,8 @@ class BandContact:
     def _limit(self):
         """The SideLimit that bounds the largest region about the current centre."""
         plus, minus = self.geom.limits
+        if self.pinned:
+            return minus if self.pinned > 0 else plus
         if self.mirror:
             return plus if self.mirror > 0 else minus
         return plus if plus.chord - self.centre <= minus.chord + self.centre else minus
@@ -235,8 +243,16 @@ class BandContact:
         )
 
 
+    def at_width(self, a: float) -> None:
+        """A pinned region's centre for the half-width a (the corner -+ a)."""
+        if self.pinned > 0:
+            self.centre = self.geom.s_limits[0] - a
+        elif self.pinned < 0:
+            self.centre = a - self.geom.s_limits[1]
+
     def judge(self, x: np.ndarray, a: float, info) -> _Verdict:
         """Verdict of a trial state (contact dof values x at half-width a), edge coefficient included."""
+        self.at_width(a)
         gap, pres, inside = _sample_state(self, x, a)
         v = _judge(self, gap, pres, inside, a)
         v.edge = _edge_coefficient(self, info, x, a)
@@ -246,6 +262,7 @@ class BandContact:
     def terms(self, a: float):
         """Contact stiffness (m, m) and load (m,) on the contact dofs for half-width a, and the
         quadrature data the other methods take as ``info``."""
+        self.at_width(a)
         return _terms(self, a)
 
     def force(self, x: np.ndarray, a: float, info) -> np.ndarray:
@@ -301,6 +318,11 @@ class BandContact:
         before), or when the centre is fixed (``region_centre = "point"``)."""
         if self.options.region_centre != "pressure" or info is None or a <= 0.0 or self.mirror:
             return True
+        if self.pinned:
+            self.at_width(a)
+            return True
+        if self._pin(x, a, info):
+            return False
         centroid = _pressure_centroid(self, info, x, a)
         if not math.isfinite(centroid):
             return True  # no compression: nothing to centre on (the width search reports it)
@@ -311,6 +333,21 @@ class BandContact:
             return True
         self.centre = nxt
         return False
+
+    def _pin(self, x: np.ndarray, a: float, info) -> bool:
+        """Pin the region at a corner of body 1 when one end has reached it (a complete end) while
+        the other, incomplete end is still too small (its end value positive): the region then
+        grows away from the corner (a punch with one sharp and one rounded edge, a tilted punch)."""
+        kinds = self.end_types(a)
+        if sorted(kinds) != ["complete", "incomplete"]:
+            return False
+        values = _end_values(self, info, x, a)
+        free = -1 if kinds[0] == "incomplete" else 1
+        if values is None or not values.coefficient(free) > 0.0:
+            return False
+        self.pinned = -free
+        self.at_width(a)
+        return True
 
     def finish(self) -> list[str]:
         """After the last load step: gross slip, reported."""
@@ -346,7 +383,7 @@ class BandContact:
                 f"sample points (smallest gap {v.min_gap:.3g} m) at a = {a:.6g} m: the region search did not "
                 "find the contact (refine the grid near the contact, or check the contact point and loads)"
             )
-        offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if a > 0.0 and not self.mirror else 0.0
+        offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if a > 0.0 and not (self.mirror or self.pinned) else 0.0
         if abs(offset) > CENTROID_TOLERANCE:
             messages.append(
                 f"{self.name}: the pressure's centroid lies {offset:+.3g} a from the contact region's centre "
@@ -661,7 +698,7 @@ def _edge_coefficient(c: BandContact, info, x: np.ndarray, a: float) -> float:
     values = _end_values(c, info, x, a)
     if values is None:
         return -math.inf if info is not None and a > 0.0 else math.inf
-    return values.edge()
+    return values.coefficient(-c.pinned) if c.pinned else values.edge()
 
 
 #: the final check: the pressure's centroid within this fraction of a of the region's centre (a
