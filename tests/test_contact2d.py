@@ -300,7 +300,7 @@ def _one_sharp_reference(load, e_star):
         return t / np.sqrt(R * R - t * t)
 
     lo, hi = one_sided_region(load, slope, -B, e_star, complete=-1, longest=0.1)
-    return lo, hi, one_sided_stress_intensity(slope, lo, hi, e_star, complete=-1)
+    return lo, hi, one_sided_stress_intensity(slope, lo, hi, e_star, complete=-1), slope
 
 
 def test_punch_with_one_sharp_edge_pins_the_region_at_its_corner():
@@ -311,9 +311,16 @@ def test_punch_with_one_sharp_edge_pins_the_region_at_its_corner():
 
     sol, c = _run(punch_on_block(2e-4, levels=6, one_sharp=True, punch_modulus=100 * 2.0e11))
     e_star = 1.0 / ((1 - NU**2) / 2.0e11 + (1 - NU**2) / (100 * 2.0e11))
-    lo, hi, k = _one_sharp_reference(c["normal_force"], e_star)
+    lo, hi, k, slope = _one_sharp_reference(c["normal_force"], e_star)
     assert [e["type"] for e in c["ends"]] == ["complete", "incomplete"]
     assert c["ends"][0]["s"] == pytest.approx(-B, rel=1e-9)
     assert (c["region"][1] - c["region"][0]) / (hi - lo) == pytest.approx(1.0, abs=0.005)
     assert c["ends"][0]["stress_intensity"] == pytest.approx(k, rel=0.03)
     assert not c["checks"]["penetration"] and c["checks"]["centroid_offset"] == 0.0
+    # the recovered pressure (the gap's half-plane shape and singular modes) away from the corner
+    from ibfem.solver.reference.one_sided import one_sided_pressure
+
+    s, p = np.array(c["pressure"]["s"]), np.array(c["pressure"]["value"])
+    inner = (s > lo + 0.1 * (hi - lo)) & (s < hi)
+    ref = one_sided_pressure(s, slope, lo, hi, e_star, complete=-1)
+    assert np.sqrt(np.mean((p - ref)[inner] ** 2)) < 0.02 * c["normal_force"] / (hi - lo)
