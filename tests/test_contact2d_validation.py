@@ -7,6 +7,8 @@ closed forms on the grids of examples/contact2d (finest cell 0.04 / 2^7 = 3.1e-4
 - the sharp flat punch 100 times stiffer than the block (Sadowsky; one level finer, 1.6e-4 m):
   the pressure within 2 % of P / (2 b) on |x| < 0.9 b, each corner's stress intensity
   P / sqrt(pi b) within 3 %;
+- a punch with one sharp and one rounded edge (solver.reference.one_sided): the region length
+  within 0.5 %, the corner's stress intensity within 3 %;
 - the pin in a bore (Persson's problem, solver.reference.pin): the contact semi-angle within
   0.5 % from 0.18 to 1.31 rad, converged.
 
@@ -83,3 +85,34 @@ def test_pin_in_bore(displacement):
     assert sol.converged
     angle = 2.0 * np.arcsin(c["half_width"] / (2.0 * 0.5))
     assert angle / pin_in_bore_angle(c["normal_force"], 5e-4, E_STAR) - 1.0 == pytest.approx(0.0, abs=0.005)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("approach", [1e-4, 2e-4])
+def test_punch_with_one_sharp_edge(approach):
+    """One sharp and one rounded edge (R = 1 m), the punch 100 times stiffer, finest cell 3.1e-4 m:
+    the region from the sharp corner onto the rounded edge within 0.5 % of the half-plane
+    reference's length (solver.reference.one_sided), the corner's stress intensity within 3 %, the
+    recovered pressure within 2 % of the mean pressure (RMS, the 90 % of the region away from the
+    corner)."""
+    from ibfem.solver.reference.one_sided import one_sided_pressure, one_sided_region, one_sided_stress_intensity
+
+    from _contact2d_scenes import NU
+
+    sol = solve(scene_from_dict(punch_on_block(approach, levels=7, one_sharp=True, punch_modulus=100 * 2.0e11)).problem)
+    c = sol.contacts[0]
+    e_star = 1.0 / ((1 - NU**2) / 2.0e11 + (1 - NU**2) / (100 * 2.0e11))
+
+    def slope(s):  # the chord s runs from the sharp corner (s = -b) onto the rounded edge (s > b)
+        t = np.maximum(np.asarray(s, dtype=float) - B, 0.0)
+        return t / np.sqrt(R * R - t * t)
+
+    lo, hi = one_sided_region(c["normal_force"], slope, -B, e_star, complete=-1, longest=0.1)
+    assert [e["type"] for e in c["ends"]] == ["complete", "incomplete"]
+    assert (c["region"][1] - c["region"][0]) / (hi - lo) == pytest.approx(1.0, abs=0.005)
+    k = one_sided_stress_intensity(slope, lo, hi, e_star, complete=-1)
+    assert c["ends"][0]["stress_intensity"] == pytest.approx(k, rel=0.03)
+    s, p = np.array(c["pressure"]["s"]), np.array(c["pressure"]["value"])
+    inner = (s > lo + 0.1 * (hi - lo)) & (s < hi)
+    ref = one_sided_pressure(s, slope, lo, hi, e_star, complete=-1)
+    assert np.sqrt(np.mean((p - ref)[inner] ** 2)) < 0.02 * c["normal_force"] / (hi - lo)
