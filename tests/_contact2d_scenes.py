@@ -144,3 +144,62 @@ def pin_in_bore(load_displacement: float, pin_radius: float = 0.5, clearance: fl
         "contacts": [{"bodies": ["pin", "plate"], "type": "frictionless", "point": [0.0, -(pin_radius + clearance)],
                       "contact_normal": "pair"}],
     }
+
+
+def filleted_punch_step(path, thickness: float = 0.02) -> None:
+    """Write a STEP file (millimetres) of the punch of punch_on_block made as CAD makes it: a
+    trapezoid (the flat meets the flanks at sharp corners, turning EDGE_TURN degrees) whose two
+    lower corners are rounded by OpenCascade's 2D fillet of radius EDGE_RADIUS (the fillet's
+    tangent points lie R tan(turn / 2) from the corner: on the flat at +-HALF_FLAT), and of the
+    block; both extruded by ``thickness``, the solids named "punch" and "block"."""
+    import re
+    from pathlib import Path
+
+    from OCP.BRep import BRep_Builder, BRep_Tool
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeFillet2d
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakePrism
+    from OCP.gp import gp_Pnt, gp_Vec
+    from OCP.Interface import Interface_Static
+    from OCP.Message import Message, Message_Gravity
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+    from OCP.TopAbs import TopAbs_VERTEX
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS, TopoDS_Compound
+
+    mm, th = 1000.0, math.radians(EDGE_TURN)
+    b, radius, height = HALF_FLAT * mm, EDGE_RADIUS * mm, PUNCH_HEIGHT * mm
+    corner = b + radius * math.tan(th / 2.0)
+    top = corner + height / math.tan(th)
+    polygon = BRepBuilderAPI_MakePolygon()
+    for x, y in ((-corner, 0.0), (corner, 0.0), (top, height), (-top, height)):
+        polygon.Add(gp_Pnt(x, y, 0.0))
+    polygon.Close()
+    face = BRepBuilderAPI_MakeFace(polygon.Wire(), True).Face()
+    fillet = BRepFilletAPI_MakeFillet2d(face)
+    explorer, done = TopExp_Explorer(face, TopAbs_VERTEX), set()
+    while explorer.More():
+        vertex = TopoDS.Vertex_s(explorer.Current()) if hasattr(TopoDS, "Vertex_s") else TopoDS.Vertex(explorer.Current())
+        p = BRep_Tool.Pnt_s(vertex)
+        if abs(p.Y()) < 1e-9 and round(p.X(), 6) not in done:
+            done.add(round(p.X(), 6))
+            fillet.AddFillet(vertex, radius)
+        explorer.Next()
+    fillet.Build()
+    depth = thickness * mm
+    punch = BRepPrimAPI_MakePrism(fillet.Shape(), gp_Vec(0.0, 0.0, depth)).Shape()
+    block = BRepPrimAPI_MakeBox(gp_Pnt(-600.0, -600.0, 0.0), gp_Pnt(600.0, 0.0, depth)).Shape()
+    compound, builder = TopoDS_Compound(), BRep_Builder()
+    builder.MakeCompound(compound)
+    builder.Add(compound, punch)
+    builder.Add(compound, block)
+    for printer in Message.DefaultMessenger_s().Printers():
+        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+    writer = STEPControl_Writer()
+    Interface_Static.SetCVal_s("write.step.unit", "MM")
+    writer.Transfer(compound, STEPControl_AsIs)
+    writer.Write(str(path))
+    text = Path(path).read_text()
+    for k, name in enumerate(("punch", "block"), 1):  # the products of the solids, in order
+        text = re.sub(rf"PRODUCT\('[^']*translator[^']* 1\.{k}',\s*'[^']*'", f"PRODUCT('{name}','{name}'", text)
+    Path(path).write_text(text)

@@ -324,3 +324,4 @@ def test_punch_with_one_sharp_edge_pins_the_region_at_its_corner():
     inner = (s > lo + 0.1 * (hi - lo)) & (s < hi)
     ref = one_sided_pressure(s, slope, lo, hi, e_star, complete=-1)
     assert np.sqrt(np.mean((p - ref)[inner] ** 2)) < 0.02 * c["normal_force"] / (hi - lo)
+

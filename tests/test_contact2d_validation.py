@@ -9,6 +9,8 @@ closed forms on the grids of examples/contact2d (finest cell 0.04 / 2^7 = 3.1e-4
   P / sqrt(pi b) within 3 %;
 - a punch with one sharp and one rounded edge (solver.reference.one_sided): the region length
   within 0.5 %, the corner's stress intensity within 3 %;
+- a CAD profile with fillets (OpenCascade's 2D fillet, through STEP) against the same geometry
+  as an analytic profile: a and N to 1e-6;
 - the pin in a bore (Persson's problem, solver.reference.pin): the contact semi-angle within
   0.5 % from 0.18 to 1.31 rad, converged.
 
@@ -116,3 +118,34 @@ def test_punch_with_one_sharp_edge(approach):
     inner = (s > lo + 0.1 * (hi - lo)) & (s < hi)
     ref = one_sided_pressure(s, slope, lo, hi, e_star, complete=-1)
     assert np.sqrt(np.mean((p - ref)[inner] ** 2)) < 0.02 * c["normal_force"] / (hi - lo)
+
+
+@pytest.mark.slow
+def test_cad_fillets_give_the_analytic_profiles_contact(tmp_path):
+    # the rounded punch drawn as CAD draws it (a trapezoid whose lower corners OpenCascade rounds
+    # with a 2D fillet), written to STEP and read back through a section: the region crosses the
+    # junctions of the flat and the fillets (a / b ~ 1.5) and gives the analytic profile's a and N
+    # to 1e-6 (on the grid of the fast tests)
+    pytest.importorskip("OCP")
+    from ibfem.importers.step import profile_from_shape as step_profile
+
+    from _contact2d_scenes import filleted_punch_step
+
+    path = tmp_path / "filleted_punch.step"
+    filleted_punch_step(path)
+    analytic = punch_on_block(8.1e-5, levels=6)
+    cad = punch_on_block(8.1e-5, levels=6)
+    for body, bc, y in zip(cad["bodies"], cad["boundary_conditions"], (0.3, -0.6)):  # top of punch, bottom of block
+        body["shape"] = {"type": "step", "path": str(path), "body": body["name"],
+                         "section": {"origin": [0.0, 0.0, 0.01], "normal": [0.0, 0.0, 1.0]}}
+        edges = dict(step_profile(body["shape"]).edges)
+        bc["edge"], = [n for n, e in edges.items()
+                       if np.allclose(np.asarray(e.evaluate(np.array([float(e.t_start), float(e.t_end)])))[:, 1], y)]
+    fillets = [e for e in dict(step_profile(cad["bodies"][0]["shape"]).edges).values() if hasattr(e, "radius")]
+    assert len(fillets) == 2 and all(e.radius == pytest.approx(R, rel=1e-12) for e in fillets)
+    a = solve(scene_from_dict(analytic).problem).contacts[0]
+    sol = solve(scene_from_dict(cad).problem)
+    c = sol.contacts[0]
+    assert sol.converged and 1.4 < c["half_width"] / B < 1.7
+    assert c["half_width"] == pytest.approx(a["half_width"], rel=1e-6)
+    assert c["normal_force"] == pytest.approx(a["normal_force"], rel=1e-6)
