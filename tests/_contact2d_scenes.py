@@ -48,8 +48,8 @@ def _one_sharp_edges(b: float, radius: float, height: float) -> list[dict]:
         {"name": "right", "type": "line", "start": [b, 0.0], "end": [b, height]},
         {"name": "top", "type": "line", "start": [b, height], "end": [-xt, height]},
         {"name": "flank_left", "type": "line", "start": [-xt, height], "end": [-xe, ye]},
-        {"name": "round_left", "type": "arc", "center": [-b, radius], "radius": radius, "start_angle": -90.0 - EDGE_TURN,
-         "end_angle": -90.0},
+        {"name": "round_left", "type": "arc", "center": [-b, radius], "radius": radius,
+         "start_angle": -90.0 - EDGE_TURN, "end_angle": -90.0},
     ]
 
 
@@ -94,13 +94,15 @@ def punch_on_block(approach: float, levels: int = 6, radius: float = 0.05, sharp
     if half and sliding:
         bcs += [{"body": n, "edge": "symmetry", "type": "sliding", "normal_displacement": 0.0} for n in ("punch", "block")]
     return {
-        "name": f"{'one-sharp' if one_sharp else 'sharp' if sharp else 'rounded'} flat punch on a block{' (half model)' if half else ''}",
+        "name": (f"{'one-sharp' if one_sharp else 'sharp' if sharp else 'rounded'} flat punch on a block"
+                 f"{' (half model)' if half else ''}"),
         "model": "plane_strain", "thickness": 1.0, "solver": {"load_steps": 1},
         "materials": [{"name": "steel", "youngs_modulus": E, "poissons_ratio": NU},
                       {"name": "punch", "youngs_modulus": punch_modulus, "poissons_ratio": NU}],
         "bodies": [
             {"name": "punch", "material": "punch", "element_size": punch_size,
-             "refinement": [{"levels": punch_levels, "around": "contact", "radius": radius}] if cornered else refinement,
+             "refinement": ([{"levels": punch_levels, "around": "contact", "radius": radius}] if cornered
+                            else refinement),
              "shape": {"type": "profile", "edges": edges, **rot}},
             {"name": "block", "material": "steel", "element_size": 0.04, "refinement": refinement, "shape": block},
         ],
@@ -179,7 +181,8 @@ def filleted_punch_step(path, thickness: float = 0.02) -> None:
     fillet = BRepFilletAPI_MakeFillet2d(face)
     explorer, done = TopExp_Explorer(face, TopAbs_VERTEX), set()
     while explorer.More():
-        vertex = TopoDS.Vertex_s(explorer.Current()) if hasattr(TopoDS, "Vertex_s") else TopoDS.Vertex(explorer.Current())
+        to_vertex = TopoDS.Vertex_s if hasattr(TopoDS, "Vertex_s") else TopoDS.Vertex
+        vertex = to_vertex(explorer.Current())
         p = BRep_Tool.Pnt_s(vertex)
         if abs(p.Y()) < 1e-9 and round(p.X(), 6) not in done:
             done.add(round(p.X(), 6))

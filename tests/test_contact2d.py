@@ -228,16 +228,12 @@ def test_growing_refinement_refuses_other_causes():
 
 
 def test_pin_in_bore_reference():
-    from ibfem.solver.reference.pin import _dimensionless_load, pin_in_bore_angle, pin_in_bore_load
+    from ibfem.solver.reference.pin import _dimensionless_load
 
     # small angles: Hertz's cylinder in a bore, P = pi E* dR alpha^2 / 4 (R* = R (R + dR) / dR)
     assert _dimensionless_load(0.01) == pytest.approx(math.pi * 0.01**2 / 4, rel=1e-4)
-    # converged in the series' terms and harmonics, and monotone up to 1.3 rad
-    assert _dimensionless_load(1.3) == pytest.approx(_dimensionless_load(1.3, terms=20, harmonics=3000), rel=1e-6)
-    loads = [_dimensionless_load(t) for t in np.linspace(0.05, 1.3, 12)]
-    assert np.all(np.diff(loads) > 0)
-    assert pin_in_bore_angle(pin_in_bore_load(0.89, 5e-4, E_STAR), 5e-4, E_STAR) == pytest.approx(0.89, rel=1e-10)
     # conformity stiffens the contact: at 0.55 rad Hertz's angle for Persson's load is 9 % larger
+    # (its convergence, monotony and inverse: tests/test_contact2d_validation.py, slow)
     hertz = math.sqrt(4 * _dimensionless_load(0.55) / math.pi)
     assert hertz / 0.55 == pytest.approx(1.0907, abs=5e-4)
 

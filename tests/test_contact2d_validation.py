@@ -73,6 +73,18 @@ PIN_LOADS = [3e-5, 1e-4, 4e-4, 1e-3, 2.5e-3, 4e-3]
 
 
 @pytest.mark.slow
+def test_pin_in_bore_reference_converges():
+    """Persson's load converged in the series' terms and harmonics, monotone in the angle up to
+    1.3 rad, and its inverse."""
+    from ibfem.solver.reference.pin import _dimensionless_load, pin_in_bore_angle, pin_in_bore_load
+
+    assert _dimensionless_load(1.3) == pytest.approx(_dimensionless_load(1.3, terms=20, harmonics=3000), rel=1e-6)
+    loads = [_dimensionless_load(t) for t in np.linspace(0.05, 1.3, 12)]
+    assert np.all(np.diff(loads) > 0)
+    assert pin_in_bore_angle(pin_in_bore_load(0.89, 5e-4, E_STAR), 5e-4, E_STAR) == pytest.approx(0.89, rel=1e-10)
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("displacement", PIN_LOADS)
 def test_pin_in_bore(displacement):
     """Pin R = 0.5 m in a bore 0.5 mm larger, plate 40 R square, hub R / 12.5, finest cell 7.8e-3 m,

@@ -383,7 +383,8 @@ class BandContact:
                 f"sample points (smallest gap {v.min_gap:.3g} m) at a = {a:.6g} m: the region search did not "
                 "find the contact (refine the grid near the contact, or check the contact point and loads)"
             )
-        offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if a > 0.0 and not (self.mirror or self.pinned) else 0.0
+        centred = a > 0.0 and not (self.mirror or self.pinned)  # a pinned region's centre is not its centroid
+        offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if centred else 0.0
         if abs(offset) > CENTROID_TOLERANCE:
             messages.append(
                 f"{self.name}: the pressure's centroid lies {offset:+.3g} a from the contact region's centre "
