@@ -57,13 +57,13 @@ def _scaled(problem, names, factor: float, levels_fewer: int):
     return dataclasses.replace(problem, bodies=bodies)
 
 
-def _finest(problem, names, factor: float = 1.0) -> tuple[float, float]:
-    """The smallest ``around = "contact"`` radius of the bodies ``names`` (times ``factor``) and
-    the finest cell it makes."""
+def _finest(problem, names) -> tuple[float, float]:
+    """The smallest ``around = "contact"`` radius of the bodies ``names`` and the finest cell
+    their refinement makes."""
     radius = min(r.radius for n in names for r in problem.body(n).refinements if r.around_contact)
     cell = min(problem.body(n).element_size / 2.0 ** max([r.levels for r in problem.body(n).refinements
                                                           if r.around_contact], default=0) for n in names)
-    return radius * factor, cell
+    return radius, cell
 
 
 def _coarse_passes(problem, run: Callable, k: int, names):
