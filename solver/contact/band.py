@@ -337,7 +337,7 @@ class BandContact:
     def _pin(self, x: np.ndarray, a: float, info) -> bool:
         """Pin the region at a corner of body 1 when one end has reached it (a complete end) while
         the other, incomplete end is still too small (its end value positive): the region then
-        grows away from the corner (a punch with one sharp and one rounded edge, a tilted punch)."""
+        grows away from the corner (a punch with one sharp and one rounded edge)."""
         kinds = self.end_types(a)
         if sorted(kinds) != ["complete", "incomplete"]:
             return False
