@@ -37,6 +37,22 @@ def _punch_edges(b: float, radius: float, height: float, sharp: bool) -> list[di
     ]
 
 
+def _one_sharp_edges(b: float, radius: float, height: float) -> list[dict]:
+    """A flat of half-width b with a sharp right corner (a vertical side) and a left edge rounded
+    with ``radius`` turning EDGE_TURN degrees into a straight flank."""
+    th = math.radians(EDGE_TURN)
+    xe, ye = b + radius * math.sin(th), radius * (1.0 - math.cos(th))
+    xt = xe + (height - ye) / math.tan(th)
+    return [
+        {"name": "flat", "type": "line", "start": [-b, 0.0], "end": [b, 0.0]},
+        {"name": "right", "type": "line", "start": [b, 0.0], "end": [b, height]},
+        {"name": "top", "type": "line", "start": [b, height], "end": [-xt, height]},
+        {"name": "flank_left", "type": "line", "start": [-xt, height], "end": [-xe, ye]},
+        {"name": "round_left", "type": "arc", "center": [-b, radius], "radius": radius,
+         "start_angle": -90.0 - EDGE_TURN, "end_angle": -90.0},
+    ]
+
+
 def _halved(edges: list[dict], height: float) -> list[dict]:
     """The right half (x >= 0) of a symmetric punch, closed by the symmetry line x = 0."""
     out = []
@@ -50,14 +66,16 @@ def _halved(edges: list[dict], height: float) -> list[dict]:
 
 
 def punch_on_block(approach: float, levels: int = 6, radius: float = 0.05, sharp: bool = False, half: bool = False,
-                   punch_modulus: float = E, turn: float = 0.0, sliding: bool = True) -> dict:
+                   punch_modulus: float = E, turn: float = 0.0, sliding: bool = True, one_sharp: bool = False) -> dict:
     """A punch (flat half-width HALF_FLAT, edges rounded with EDGE_RADIUS unless ``sharp``) pressed
     ``approach`` into a 1.2 m block (its top edge moved down; the block's bottom fixed). ``levels``
     of refinement within ``radius`` of the contact (finest cell 0.04 / 2^levels); ``half``: the
     half model x >= 0 with sliding conditions on x = 0 (``sliding`` false: none, an invalid model);
-    ``turn``: everything turned by this many degrees about the contact point."""
-    b, height, width = HALF_FLAT, (0.1 if sharp else PUNCH_HEIGHT), 0.6
-    edges = _punch_edges(b, EDGE_RADIUS, height, sharp)
+    ``turn``: everything turned by this many degrees about the contact point; ``one_sharp``: the
+    right edge sharp, the left rounded (a region with one complete and one incomplete end)."""
+    cornered = sharp or one_sharp
+    b, height, width = HALF_FLAT, (0.1 if cornered else PUNCH_HEIGHT), 0.6
+    edges = _one_sharp_edges(b, EDGE_RADIUS, height) if one_sharp else _punch_edges(b, EDGE_RADIUS, height, sharp)
     refinement = [{"levels": 2, "around": "contact", "radius": 6.0 * radius},
                   {"levels": levels, "around": "contact", "radius": radius}]
     rot = {"rotate_deg": turn} if turn else {}
@@ -68,21 +86,23 @@ def punch_on_block(approach: float, levels: int = 6, radius: float = 0.05, sharp
                  "edge_names": ["bottom", "right", "top", "symmetry"], **rot}
     else:
         block = {"type": "rectangle", "min": [-width, -width], "max": [width, 0.0], **rot}
-    punch_size = 0.005 if sharp else 0.04  # the grid must resolve the body (a sharp punch is 2 b wide)
-    punch_levels = levels - 3 if sharp else levels
+    punch_size = 0.005 if cornered else 0.04  # the grid must resolve the body (a sharp punch is 2 b wide)
+    punch_levels = levels - 3 if cornered else levels
     bcs = [{"body": "punch", "edge": "top", "type": "displacement",
             "value": ["free" if half else s * approach, -c * approach]},
            {"body": "block", "edge": "bottom", "type": "fixed"}]
     if half and sliding:
         bcs += [{"body": n, "edge": "symmetry", "type": "sliding", "normal_displacement": 0.0} for n in ("punch", "block")]
     return {
-        "name": f"{'sharp' if sharp else 'rounded'} flat punch on a block{' (half model)' if half else ''}",
+        "name": (f"{'one-sharp' if one_sharp else 'sharp' if sharp else 'rounded'} flat punch on a block"
+                 f"{' (half model)' if half else ''}"),
         "model": "plane_strain", "thickness": 1.0, "solver": {"load_steps": 1},
         "materials": [{"name": "steel", "youngs_modulus": E, "poissons_ratio": NU},
                       {"name": "punch", "youngs_modulus": punch_modulus, "poissons_ratio": NU}],
         "bodies": [
             {"name": "punch", "material": "punch", "element_size": punch_size,
-             "refinement": [{"levels": punch_levels, "around": "contact", "radius": radius}] if sharp else refinement,
+             "refinement": ([{"levels": punch_levels, "around": "contact", "radius": radius}] if cornered
+                            else refinement),
              "shape": {"type": "profile", "edges": edges, **rot}},
             {"name": "block", "material": "steel", "element_size": 0.04, "refinement": refinement, "shape": block},
         ],
@@ -126,3 +146,63 @@ def pin_in_bore(load_displacement: float, pin_radius: float = 0.5, clearance: fl
         "contacts": [{"bodies": ["pin", "plate"], "type": "frictionless", "point": [0.0, -(pin_radius + clearance)],
                       "contact_normal": "pair"}],
     }
+
+
+def filleted_punch_step(path, thickness: float = 0.02) -> None:
+    """Write a STEP file (millimetres) of the punch of punch_on_block made as CAD makes it: a
+    trapezoid (the flat meets the flanks at sharp corners, turning EDGE_TURN degrees) whose two
+    lower corners are rounded by OpenCascade's 2D fillet of radius EDGE_RADIUS (the fillet's
+    tangent points lie R tan(turn / 2) from the corner: on the flat at +-HALF_FLAT), and of the
+    block; both extruded by ``thickness``, the solids named "punch" and "block"."""
+    import re
+    from pathlib import Path
+
+    from OCP.BRep import BRep_Builder, BRep_Tool
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
+    from OCP.BRepFilletAPI import BRepFilletAPI_MakeFillet2d
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakePrism
+    from OCP.gp import gp_Pnt, gp_Vec
+    from OCP.Interface import Interface_Static
+    from OCP.Message import Message, Message_Gravity
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+    from OCP.TopAbs import TopAbs_VERTEX
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS, TopoDS_Compound
+
+    mm, th = 1000.0, math.radians(EDGE_TURN)
+    b, radius, height = HALF_FLAT * mm, EDGE_RADIUS * mm, PUNCH_HEIGHT * mm
+    corner = b + radius * math.tan(th / 2.0)
+    top = corner + height / math.tan(th)
+    polygon = BRepBuilderAPI_MakePolygon()
+    for x, y in ((-corner, 0.0), (corner, 0.0), (top, height), (-top, height)):
+        polygon.Add(gp_Pnt(x, y, 0.0))
+    polygon.Close()
+    face = BRepBuilderAPI_MakeFace(polygon.Wire(), True).Face()
+    fillet = BRepFilletAPI_MakeFillet2d(face)
+    explorer, done = TopExp_Explorer(face, TopAbs_VERTEX), set()
+    while explorer.More():
+        to_vertex = TopoDS.Vertex_s if hasattr(TopoDS, "Vertex_s") else TopoDS.Vertex
+        vertex = to_vertex(explorer.Current())
+        p = BRep_Tool.Pnt_s(vertex)
+        if abs(p.Y()) < 1e-9 and round(p.X(), 6) not in done:
+            done.add(round(p.X(), 6))
+            fillet.AddFillet(vertex, radius)
+        explorer.Next()
+    fillet.Build()
+    depth = thickness * mm
+    punch = BRepPrimAPI_MakePrism(fillet.Shape(), gp_Vec(0.0, 0.0, depth)).Shape()
+    block = BRepPrimAPI_MakeBox(gp_Pnt(-600.0, -600.0, 0.0), gp_Pnt(600.0, 0.0, depth)).Shape()
+    compound, builder = TopoDS_Compound(), BRep_Builder()
+    builder.MakeCompound(compound)
+    builder.Add(compound, punch)
+    builder.Add(compound, block)
+    for printer in Message.DefaultMessenger_s().Printers():
+        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+    writer = STEPControl_Writer()
+    Interface_Static.SetCVal_s("write.step.unit", "MM")
+    writer.Transfer(compound, STEPControl_AsIs)
+    writer.Write(str(path))
+    text = Path(path).read_text()
+    for k, name in enumerate(("punch", "block"), 1):  # the products of the solids, in order
+        text = re.sub(rf"PRODUCT\('[^']*translator[^']* 1\.{k}',\s*'[^']*'", f"PRODUCT('{name}','{name}'", text)
+    Path(path).write_text(text)

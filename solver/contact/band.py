@@ -52,10 +52,19 @@ from ..model.options import ContactOptions
 from ..model.problem import Sliding
 from .geometry import (ContactGeometry, chain_pieces, chord_weights, contact_geometry, contact_quadrature,
                        grid_breakpoints, sample_points)
-from .ends import GAP_NODES, chebyshev_ends, gap_slope_coefficients, mirrored
+from .ends import GAP_NODES, chebyshev_ends, conformal_weight, gap_slope_coefficients, mirrored
 from .roots import StickRoot, bracket_search, edge_search, settling_tolerance, thesis_search
 
-__all__ = ["BandContact", "build"]
+__all__ = ["BandContact", "CandidateRegionExceeded", "build"]
+
+
+class CandidateRegionExceeded(ValueError):
+    """The contact region reaches the end of the candidate region and still penetrates; ``cause``
+    names what bounds it ("refinement radius", a corner or far side of a body)."""
+
+    def __init__(self, bodies: tuple[str, str], cause: str, message: str):
+        super().__init__(message)
+        self.bodies, self.cause = tuple(bodies), cause
 
 
 def _contact_extent(problem, contact, factor: float) -> float:
@@ -111,6 +120,10 @@ class BandContact:
     centre: float = 0.0
     #: a half model (+1 / -1): the region runs from the symmetry line s = 0 to that side, mirrored there
     mirror: int = 0
+    #: a region pinned at a corner of body 1 on its + (+1) or - (-1) side: that end is the corner (a
+    #: complete end) for every half-width, the centre is the corner -+ a and the width is found
+    #: from the other (incomplete) end alone
+    pinned: int = 0
     _gap_cache: dict = field(default_factory=dict)
     _stick_root: object = None
 
@@ -156,6 +169,8 @@ class BandContact:
 
     def a_max(self) -> float:
         """The largest half-width about the current centre within the candidate region."""
+        if self.pinned:
+            return 0.5 * sum(self.geom.s_limits)
         if self.mirror:
             return self.geom.s_limits[0 if self.mirror > 0 else 1]
         return max(self.geom.s_max() - abs(self.centre), 0.0)
@@ -163,6 +178,8 @@ class BandContact:
     def _limit(self):
         """The SideLimit that bounds the largest region about the current centre."""
         plus, minus = self.geom.limits
+        if self.pinned:
+            return minus if self.pinned > 0 else plus
         if self.mirror:
             return plus if self.mirror > 0 else minus
         return plus if plus.chord - self.centre <= minus.chord + self.centre else minus
@@ -218,15 +235,24 @@ class BandContact:
         lim = self._limit()
         fix = {"refinement radius": "enlarge the radius of the contact refinement (around = \"contact\")"}.get(
             lim.cause, "the bodies are too small for this load, or the contact point or load is wrong")
-        return ValueError(
+        return CandidateRegionExceeded(
+            self.geom.bodies, lim.cause,
             f"{self.name}: the contact region reaches the end of the candidate region (s = {self.a_max():.4g} m "
             f"from the region's centre {self.centre:.4g} m, bounded by the {lim.cause}) "
             f"and still penetrates; {fix}"
         )
 
 
+    def at_width(self, a: float) -> None:
+        """A pinned region's centre for the half-width a (the corner -+ a)."""
+        if self.pinned > 0:
+            self.centre = self.geom.s_limits[0] - a
+        elif self.pinned < 0:
+            self.centre = a - self.geom.s_limits[1]
+
     def judge(self, x: np.ndarray, a: float, info) -> _Verdict:
         """Verdict of a trial state (contact dof values x at half-width a), edge coefficient included."""
+        self.at_width(a)
         gap, pres, inside = _sample_state(self, x, a)
         v = _judge(self, gap, pres, inside, a)
         v.edge = _edge_coefficient(self, info, x, a)
@@ -236,6 +262,7 @@ class BandContact:
     def terms(self, a: float):
         """Contact stiffness (m, m) and load (m,) on the contact dofs for half-width a, and the
         quadrature data the other methods take as ``info``."""
+        self.at_width(a)
         return _terms(self, a)
 
     def force(self, x: np.ndarray, a: float, info) -> np.ndarray:
@@ -291,6 +318,11 @@ class BandContact:
         before), or when the centre is fixed (``region_centre = "point"``)."""
         if self.options.region_centre != "pressure" or info is None or a <= 0.0 or self.mirror:
             return True
+        if self.pinned:
+            self.at_width(a)
+            return True
+        if self._pin(x, a, info):
+            return False
         centroid = _pressure_centroid(self, info, x, a)
         if not math.isfinite(centroid):
             return True  # no compression: nothing to centre on (the width search reports it)
@@ -301,6 +333,21 @@ class BandContact:
             return True
         self.centre = nxt
         return False
+
+    def _pin(self, x: np.ndarray, a: float, info) -> bool:
+        """Pin the region at a corner of body 1 when one end has reached it (a complete end) while
+        the other, incomplete end is still too small (its end value positive): the region then
+        grows away from the corner (a punch with one sharp and one rounded edge)."""
+        kinds = self.end_types(a)
+        if sorted(kinds) != ["complete", "incomplete"]:
+            return False
+        values = _end_values(self, info, x, a)
+        free = -1 if kinds[0] == "incomplete" else 1
+        if values is None or not values.coefficient(free) > 0.0:
+            return False
+        self.pinned = -free
+        self.at_width(a)
+        return True
 
     def finish(self) -> list[str]:
         """After the last load step: gross slip, reported."""
@@ -336,7 +383,8 @@ class BandContact:
                 f"sample points (smallest gap {v.min_gap:.3g} m) at a = {a:.6g} m: the region search did not "
                 "find the contact (refine the grid near the contact, or check the contact point and loads)"
             )
-        offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if a > 0.0 and not self.mirror else 0.0
+        centred = a > 0.0 and not (self.mirror or self.pinned)  # a pinned region's centre is not its centroid
+        offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if centred else 0.0
         if abs(offset) > CENTROID_TOLERANCE:
             messages.append(
                 f"{self.name}: the pressure's centroid lies {offset:+.3g} a from the contact region's centre "
@@ -594,13 +642,16 @@ def _quadrature_traction(c: BandContact, info, x: np.ndarray, a: float) -> np.nd
 
 def _end_values(c: BandContact, info, x: np.ndarray, a: float):
     """Q at the region's two ends (solver.contact.ends) of the pressure at the quadrature points,
-    the truncation of the gap's own shape removed; None without compression."""
+    the truncation of the gap's own shape removed; a conformal contact (pairs along their own
+    normals) takes in the degree-4 moments as far as the grid resolves them. None without
+    compression."""
     if info is None or a <= 0.0:
         return None
     pts = info[0]
     p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
     s, w, p = mirrored(c.local(pts.s), chord_weights(c.geom, pts), p, c.mirror)
-    return chebyshev_ends(s / a, w, p, a, _gap_coefficients(c, a))
+    higher = conformal_weight(a, c.h) if c.geom.normal_mode == "pair" and not _faceted(c) else 0.0
+    return chebyshev_ends(s / a, w, p, a, _gap_coefficients(c, a), higher)
 
 
 def _gap_coefficients(c: BandContact, a: float) -> np.ndarray:
@@ -648,7 +699,7 @@ def _edge_coefficient(c: BandContact, info, x: np.ndarray, a: float) -> float:
     values = _end_values(c, info, x, a)
     if values is None:
         return -math.inf if info is not None and a > 0.0 else math.inf
-    return values.edge()
+    return values.coefficient(-c.pinned) if c.pinned else values.edge()
 
 
 #: the final check: the pressure's centroid within this fraction of a of the region's centre (a

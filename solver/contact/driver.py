@@ -37,6 +37,7 @@ from ..fem.space import body_info
 from ..solution import IBFEMSolution
 from .follow import solve_following
 from .formulation import formulation
+from .grow import solve_growing
 from .load_history import PathSteps, step_field, step_record
 from .report import contact_block
 from .roots import RegionTooSmall
@@ -49,8 +50,9 @@ def solve_contact(problem, progress: Callable | None = None) -> IBFEMSolution:
     holds the contact blocks of summary.json."""
     if not problem.contacts:
         raise ValueError("the problem has no contacts")
-    with single_threaded_blas():  # line contacts: a coarse pass, then a band along the region
-        return solve_following(problem, lambda p: ContactDriver(p, progress).run())
+    with single_threaded_blas():  # line contacts: a coarse pass, then a band along the region; a 2D
+        # region beyond its refinement: coarse passes, then the refinement widened about it
+        return solve_following(problem, lambda p: solve_growing(p, lambda q: ContactDriver(q, progress).run()))
 
 
 def _silent(stage, fraction=None) -> None:

@@ -198,7 +198,7 @@ def recover_tractions(c, u: np.ndarray, a: float, cell: float) -> TractionProfil
     s, w, p = mirrored(c.local(pts.s), pts.weights, p, mirror)  # from the region's centre (a half model mirrored)
     q = mirrored(pts.s, pts.weights, q, mirror)[2] * (np.repeat([1.0, -1.0], len(pts.s)) if mirror else 1.0)
     complete = "complete" in c.end_types(a) if hasattr(c, "end_types") else False
-    shape = np.zeros(0) if complete or not hasattr(c, "gap_shape") else c.gap_shape(a)
+    shape = np.zeros(0) if not hasattr(c, "gap_shape") else c.gap_shape(a)  # a complete end: the rest singular
     shape = shape if np.any(shape) else np.zeros(0)
     rest = p - gap_pressure(shape, s / a) if len(shape) else p
     # a complete end's discrete pressure errs within a few cells of the corner by O(1) of its

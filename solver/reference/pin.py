@@ -33,19 +33,22 @@ too large.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import brentq
 
-__all__ = ["MAX_ANGLE", "pin_in_bore_load", "pin_in_bore_angle"]
+__all__ = ["MAX_ANGLE", "pin_in_bore_load", "pin_in_bore_angle", "pin_in_bore_pressure"]
 
 #: the largest contact semi-angle (rad) solved: towards pi / 2 the load grows without bound and
 #: the truncated series loses accuracy (the solution is monotone and converged to 1e-8 up to here)
 MAX_ANGLE = 1.4
 
 
-def _dimensionless_load(alpha: float, terms: int = 12, harmonics: int = 1500, nodes: int = 8192) -> float:
-    """P / (E* dR) for the contact semi-angle alpha (independent of R)."""
+@lru_cache(maxsize=16)
+def _solution(alpha: float, terms: int = 12, harmonics: int = 1500, nodes: int = 8192):
+    """The pressure's coefficients c_k (k = 1, 3, ..: p / (E* dR / R) = sum c_k sin(k u),
+    y = b cos(u)) and P / (E* dR) for the contact semi-angle alpha (independent of R)."""
     b = math.tan(0.5 * alpha)
     tau = (np.arange(nodes) + 0.5) * np.pi / nodes
     phi = 2.0 * np.arctan(b * np.cos(tau))
@@ -67,7 +70,12 @@ def _dimensionless_load(alpha: float, terms: int = 12, harmonics: int = 1500, no
     a[m, :terms] = 0.5 * pn[:, 0] + 2.0 * pn[:, 2:] @ (higher / (higher**2 - 1.0))
     a[m, terms] = -1.0
     solution = np.linalg.lstsq(a, rhs, rcond=None)[0]
-    return math.pi * float(solution[:terms] @ pn[:, 1])
+    return solution[:terms], math.pi * float(solution[:terms] @ pn[:, 1])
+
+
+def _dimensionless_load(alpha: float, terms: int = 12, harmonics: int = 1500) -> float:
+    """P / (E* dR) for the contact semi-angle alpha."""
+    return _solution(float(alpha), terms, harmonics)[1]
 
 
 def pin_in_bore_load(angle: float, clearance: float, e_star: float) -> float:
@@ -86,3 +94,16 @@ def pin_in_bore_angle(load: float, clearance: float, e_star: float) -> float:
         raise ValueError(f"the load {load} N/m makes a contact semi-angle beyond {MAX_ANGLE} rad (not tabulated)")
     return float(brentq(lambda t: pin_in_bore_load(t, clearance, e_star) - load, 1e-4, MAX_ANGLE,
                         xtol=1e-13, rtol=1e-13))
+
+
+def pin_in_bore_pressure(theta, angle: float, radius: float, clearance: float, e_star: float) -> np.ndarray:
+    """The contact pressure (Pa) at the angles ``theta`` (rad, from the contact's centre) for the
+    contact semi-angle ``angle``, pin ``radius`` R and radial ``clearance`` dR: sum_k c_k sin(k u)
+    with tan(theta / 2) = tan(angle / 2) cos(u), times E* dR / R; zero outside the region."""
+    if not 0.0 < angle <= MAX_ANGLE:
+        raise ValueError(f"the contact semi-angle must lie in (0, {MAX_ANGLE}] rad, got {angle}")
+    coefficients = _solution(float(angle))[0]
+    x = np.tan(0.5 * np.asarray(theta, dtype=float)) / math.tan(0.5 * angle)
+    u = np.arccos(np.clip(x, -1.0, 1.0))
+    p = np.sin(np.outer(u, np.arange(1, 2 * len(coefficients), 2))) @ coefficients
+    return np.where(np.abs(x) < 1.0, p.reshape(np.shape(x)) * e_star * clearance / radius, 0.0)
