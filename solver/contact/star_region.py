@@ -170,8 +170,8 @@ class StarRegionContact(EllipseContact):
         return v
 
     def _moments(self, info, x: np.ndarray, a: float) -> np.ndarray:
-        """Each knot's edge moment (nan where its stretch carries no compression; -inf without a
-        region); also marks the knots whose ray ends at body 1's free edge. On a ray that ends at
+        """Each knot's edge moment (nan where its stretch has no points; -inf where it carries net
+        tension, or without a region); also marks the knots whose ray ends at body 1's free edge. On a ray that ends at
         a free edge, r is measured to the free edge: there the moment tells whether the pressure
         still grows towards the edge (complete contact, >= 0) or falls to zero before it (< 0)."""
         if info is None or a <= 0.0:
@@ -190,6 +190,7 @@ class StarRegionContact(EllipseContact):
         out = np.full(len(self.knots), math.nan)
         ok = total > 0.0
         out[ok] = moment[ok] / total[ok]
+        out[(total < 0.0) & (hat.sum(axis=0) > 0.0)] = -math.inf  # net tension: the region too large there
         return out
 
     def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
@@ -202,6 +203,12 @@ class StarRegionContact(EllipseContact):
             return stuck
         m = self._moments(info, x, a)
         inside = knots_inside(self.knots, self.ranges)
+        tense = inside & (m == -math.inf)
+        if tense.any():  # a stretch of the edge in net tension: the region is too large there
+            self.log_rho[tense] -= KNOT_STEP
+            self._mirror_outside()
+            self._knot_history = []
+            return False
         retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
         if retreat.any():  # the pressure ends before the free edge there: a smooth edge, just inside it
             self.log_rho[retreat] += np.log(0.97 * self.end_radius(self.knots[retreat], a))
