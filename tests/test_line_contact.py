@@ -189,3 +189,36 @@ def test_roller_mid_length_against_the_plane_strain_section():
     assert width / math.sqrt(load) == pytest.approx(width_2d / math.sqrt(load_2d), rel=0.02)
     assert p0 / math.sqrt(load) == pytest.approx(p0_2d / math.sqrt(load_2d), rel=0.02)
     assert c["complete_contact"] and c["peak_at"][0] > 0.09  # the end peak, at the end face x = 0.1
+
+
+def _quarter_of_a_bulging_region(turn: float):
+    """Quadrature points and boundary of the quarter x, y >= 0 of the region |y| <= w(x) =
+    0.02 (1 + x^2 / L^2), |x| <= L = 0.1 (wider at its ends), turned by ``turn`` in the tangent
+    plane, with the quarter's angular range turned alike."""
+    n = 100
+    x = (np.arange(n) + 0.5) / n * 0.1  # the last at 0.0995
+    width = 0.02 * (1 + x**2 / 0.01)
+    t = (np.arange(n) + 0.5) / n
+    s = np.stack([np.repeat(x, n), (width[:, None] * t[None, :]).ravel()], axis=1)
+    weights = np.repeat(width / n * 0.1 / n, n)
+    edge = np.vstack([[0.0, 0.0], np.stack([x, width], axis=1), [[0.1, 0.0]]])
+    rot = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+    return s @ rot.T, weights, edge @ rot.T, [(turn, turn + 0.5 * math.pi)]
+
+
+def test_principal_directions_of_a_quarter_model_are_its_symmetry_planes():
+    """A quarter model of a region wider at its ends: the quarter's own second moment tilts its
+    principal directions, and the width's span along a tilted direction picks up the length times
+    the tilt; the whole region (the quarter and its mirror images) has the symmetry planes as
+    principal directions: the extents are the half-length and the widest half-width, turned or
+    not."""
+    from ibfem.solver.contact.region_report import _principal, mirror_images
+
+    assert len(mirror_images([(0.0, 0.5 * math.pi)])) == 4 and len(mirror_images([(1.0, 1.0 + math.pi)])) == 2
+    for turn in (0.0, 0.7, 2.9):
+        s, w, edge, ranges = _quarter_of_a_bulging_region(turn)
+        directions, extents = _principal(s, w, edge, ranges)
+        assert abs(directions[0] @ [math.cos(turn), math.sin(turn)]) == pytest.approx(1.0, abs=1e-12)
+        np.testing.assert_allclose(extents, [0.1, 0.02 * (1 + 0.0995**2 / 0.01)], rtol=1e-9)
+    _, tilted = _principal(*_quarter_of_a_bulging_region(0.0)[:3])  # the quarter alone
+    assert abs(tilted[1] / extents[1] - 1.0) > 5e-3  # the tilt changes the width's span
