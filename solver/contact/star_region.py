@@ -45,6 +45,8 @@ KNOT_TOLERANCE = 0.005
 #: a knot at a free edge whose moment (measured to the free edge) is below minus this has a
 #: pressure falling to zero before the edge (a crowned roller): its edge moves inside
 END_MOMENT = 0.05
+#: the edge moment's window next to the edge along a ray, in cells (the whole ray if shorter)
+EDGE_WINDOW_CELLS = 3.0
 #: the largest step of a knot's log rho per shape update
 KNOT_STEP = 0.3
 #: rays around the contact point on which body 1's free edge is located
@@ -133,6 +135,11 @@ class StarRegionContact(EllipseContact):
         k = np.rint(psi / (2.0 * math.pi) * len(self.edge_psi)).astype(int) % len(self.edge_psi)
         return self.edge_distance[k] / (np.hypot(direction[:, 0], direction[:, 1]) * self.rho(phi))
 
+    def ray_length(self, phi: np.ndarray, a: float) -> np.ndarray:
+        """The physical length of the ray at phi from the centre to the region's edge."""
+        aa, bb = self.semi_axes(a)
+        return self.rho(phi) * np.hypot(aa * np.cos(phi), bb * np.sin(phi))
+
     def region_quadrature(self, a: float):
         aa, bb = self.semi_axes(a)
         return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
@@ -185,8 +192,9 @@ class StarRegionContact(EllipseContact):
         total = wp.sum(axis=0)
         # free: the knot's ray ends at body 1's free edge (outside body 1's sectors: no edge at all)
         self.free_knots = (self.end_radius(self.knots, a) < 1.0) | ~knots_inside(self.knots, self.ranges)
-        moment = np.where(self.free_knots, (wp * (2.5 * to_end**2 - 1.0)[:, None]).sum(axis=0),
-                          (wp * (2.5 * r**2 - 1.0)[:, None]).sum(axis=0))
+        reach = self.ray_length(phi, a) * np.minimum(1.0, self.end_radius(phi, a))
+        moment = np.where(self.free_knots, (wp * _edge_weight(to_end, reach, self.h)[:, None]).sum(axis=0),
+                          (wp * _edge_weight(r, reach, self.h)[:, None]).sum(axis=0))
         out = np.full(len(self.knots), math.nan)
         ok = total > 0.0
         out[ok] = moment[ok] / total[ok]
@@ -263,6 +271,21 @@ class StarRegionContact(EllipseContact):
         from .region_report import region_block
 
         return region_block(self, a, on2, u, info)
+
+
+def _edge_weight(r: np.ndarray, reach: np.ndarray, h: float) -> np.ndarray:
+    """The edge moment's weight along a ray of physical length ``reach``, at the normalised radii
+    r (1 at the edge): 5/2 (3T/5 - t) / T^(3/2) on the window t = 1 - r^2 <= T next to the edge,
+    0 inside it. For Q(r) / sqrt(1 - r^2) with Q = q0 + q2 r^2 its moment in r dr is
+    2/3 (q0 + q2) for every T (int_0^T t^(-1/2) (3T/5 - t) dt / 2 = 4/15 T^(3/2)), so only the
+    window sees the pressure. The window spans the last EDGE_WINDOW_CELLS cells of the ray (the
+    whole ray, T = 1 and the weight 5/2 r^2 - 1, when it is shorter): a pressure that is not
+    Hertzian further inside (a crowned roller's peak where the crown starts) does not bias the
+    edge."""
+    inner = np.clip(1.0 - EDGE_WINDOW_CELLS * h / np.maximum(reach, 1e-300), 0.0, None)
+    T = 1.0 - np.minimum(inner, 1.0) ** 2
+    t = 1.0 - r**2
+    return np.where(t <= T, 2.5 * (0.6 * T - t) / T**1.5, 0.0)
 
 
 def _hats(knots: np.ndarray, phi: np.ndarray) -> np.ndarray:
