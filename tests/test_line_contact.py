@@ -244,3 +244,50 @@ def test_windowed_edge_moment_is_the_square_root_coefficient():
             assert moment == pytest.approx(2 / 3 * (q0 + q2), abs=1e-9)
             if inner > 0.5:  # a peak inside, outside the window
                 assert quad(lambda r: f(r, 2.0), 0.0, 1.0, points=[inner], limit=200)[0] == pytest.approx(moment, abs=1e-9)
+
+
+CROWNED = EXAMPLE.parent / "crowned_roller.toml"
+
+
+def _crowned_gap(X, Y, crown_radius=0.5, straight=0.05, length=0.1):
+    """The crowned roller's height above the flat at (X, Y) (X along its axis from mid-length):
+    the surface of revolution of the radius R less the circular crown's drop beyond |X| = straight;
+    no material beyond the end faces."""
+    over = np.clip(np.abs(X) - straight, 0.0, None)
+    radius = R - (crown_radius - np.sqrt(crown_radius**2 - np.minimum(over, crown_radius) ** 2))
+    return np.where(np.abs(X) > length, 1.0, R - np.sqrt(np.maximum(radius**2 - Y**2, 0.0)))
+
+
+def _halfspace_length(result) -> float:
+    """The half-space region's end along the axis: p^2 of the loaded centres on the axis row,
+    linear in x next to the edge (p ~ sqrt(end - x)), fitted over its last four and taken to 0."""
+    row = result.pressure[:, 0]
+    loaded = np.flatnonzero(row > 0.0)[-4:]
+    slope, offset = np.polyfit(result.x[loaded], row[loaded] ** 2, 1)
+    return -offset / slope
+
+
+@pytest.mark.slow
+def test_crowned_roller_against_the_half_space_and_the_section():
+    """The crowned roller example (straight middle, circular crowns of radius 0.5 m over its outer
+    2 x 0.05 m; a band of 6.25 mm cells) against the frictionless half-space solution of the same
+    gap and force (Boussinesq's influence coefficients, Johnson 1985 section 5.9, on 1 x 0.8 mm
+    rectangles): the region ends on the crown (no complete contact), its length and the peak
+    pressure's position along the line within 2 % of the length, and at mid-length b / sqrt(P')
+    within 4 % of the plane-strain 2D solver's on the cross-section."""
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.reference.halfspace import halfspace_contact
+
+    sol = solve(load_scene(CROWNED).problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    assert not c["complete_contact"]
+    x, y = np.arange(0.0005, 0.09, 0.001), np.arange(0.0004, 0.032, 0.0008)
+    ref = halfspace_contact(_crowned_gap, x, y, E_STAR, force=c["normal_force"], symmetric=True)
+    length = _halfspace_length(ref)
+    assert c["semi_axes"][0] == pytest.approx(length, rel=0.02)
+    peak_x = x[np.unravel_index(ref.pressure.argmax(), ref.pressure.shape)[0]]
+    assert c["peak_at"][0] == pytest.approx(peak_x, abs=0.02 * length)
+    section = solve(load_scene(EXAMPLE.parent / "roller_section_2d.toml").problem).contacts[0]
+    load, width = _mid_length(c, 0.025)
+    assert width / math.sqrt(load) == pytest.approx(section["half_width"] / math.sqrt(section["normal_force"]), rel=0.04)
