@@ -95,6 +95,7 @@ class StarRegionContact(EllipseContact):
     knot_moments: np.ndarray = field(default_factory=lambda: np.full(KNOTS, math.nan))
     free_knots: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
     _spline: tuple | None = None  # (log_rho bytes, the spline of log rho)
+    _raw_moments: tuple = (np.zeros(0), np.zeros(0))  # (moment, pressure) per knot, not normalised
 
     # ------------------------------------------------------------------ the region's shape
 
@@ -170,11 +171,19 @@ class StarRegionContact(EllipseContact):
         v = _judge(self, gap, pressure, inside, edge_dist)
         self.knot_moments = self._moments(info, x, a)
         smooth = ~self.free_knots & np.isfinite(self.knot_moments) & knots_inside(self.knots, self.ranges)
-        v.edge = float(np.mean(self.knot_moments[smooth])) if smooth.any() else -math.inf
+        # the smooth knots' moments pooled by their pressure (a knot whose stretch carries little
+        # pressure has a normalised moment dominated by noise: it must not steer the size)
+        v.edge = self._pooled(smooth)
         v.edges = (v.edge, v.edge)
         over = (gap < 0.0) & ~inside & (self.sample_axis == 1)
         v.overlap = float(np.abs(self.local(self.samples.s)[over, 1]).max()) if over.any() else math.nan
         return v
+
+    def _pooled(self, smooth: np.ndarray) -> float:
+        """The knots' edge moment pooled over the ``smooth`` ones by their pressure (-inf without)."""
+        moment, total = self._raw_moments
+        pool = float(total[smooth].sum()) if smooth.any() else 0.0
+        return float(moment[smooth].sum()) / pool if pool > 0.0 else -math.inf
 
     def _moments(self, info, x: np.ndarray, a: float) -> np.ndarray:
         """Each knot's edge moment (nan where its stretch has no points; -inf where it carries net
@@ -195,6 +204,7 @@ class StarRegionContact(EllipseContact):
         reach = self.ray_length(phi, a) * np.minimum(1.0, self.end_radius(phi, a))
         moment = np.where(self.free_knots, (wp * _edge_weight(to_end, reach, self.h)[:, None]).sum(axis=0),
                           (wp * _edge_weight(r, reach, self.h)[:, None]).sum(axis=0))
+        self._raw_moments = (moment, total)
         out = np.full(len(self.knots), math.nan)
         ok = total > 0.0
         out[ok] = moment[ok] / total[ok]
@@ -225,7 +235,7 @@ class StarRegionContact(EllipseContact):
         smooth = ~self.free_knots & np.isfinite(m) & inside
         if not smooth.any():
             return stuck
-        d = np.where(smooth, m - float(np.mean(m[smooth])), 0.0)
+        d = np.where(smooth, m - self._pooled(smooth), 0.0)
         self._knot_history.append((self.log_rho.copy(), d))
         if float(np.abs(d).max()) <= KNOT_TOLERANCE:
             return stuck
@@ -260,7 +270,7 @@ class StarRegionContact(EllipseContact):
         messages = super().check_final(u, a, info, bracket, block)
         m = self._moments(info, u[self.dofs], a)
         smooth = ~self.free_knots & np.isfinite(m) & knots_inside(self.knots, self.ranges)
-        spread = float(np.abs(m[smooth] - m[smooth].mean()).max()) if smooth.any() else 0.0
+        spread = float(np.abs(m[smooth] - self._pooled(smooth)).max()) if smooth.any() else 0.0
         if spread > 2.0 * KNOT_TOLERANCE:
             messages.append(f"{self.name}: the region's shape did not settle (its knots' edge moments differ from "
                             f"their mean by up to {spread:.3g})")
