@@ -292,3 +292,20 @@ def test_crowned_roller_against_the_half_space_and_the_section():
     section = solve(load_scene(EXAMPLE.parent / "roller_section_2d.toml").problem).contacts[0]
     load, width = _mid_length(c, 0.025)
     assert width / math.sqrt(load) == pytest.approx(section["half_width"] / math.sqrt(section["normal_force"]), rel=0.06)
+
+
+def test_refusals_name_what_the_curvatures_say():
+    """At a contact point where the surfaces do not curve apart along both axes the ellipse is
+    refused with what was found: a line contact (one curvature 0), flat against flat (both 0:
+    a flat punch), or conforming surfaces (a curvature towards each other)."""
+    from types import SimpleNamespace
+
+    from ibfem.solver.contact.ellipse import _require_point_contact
+
+    model = SimpleNamespace(bodies=("a", "b"))
+    for curvatures, words in (((0.0, 2.0), "a line contact"), ((0.0, 0.0), "flat against each other"),
+                              ((-0.5, 2.0), "conforming surfaces")):
+        frame = SimpleNamespace(curvatures=np.array(curvatures), axes=np.eye(3)[:2], point=np.zeros(3))
+        with pytest.raises(ValueError, match=words):
+            _require_point_contact(model, frame)
+    _require_point_contact(model, SimpleNamespace(curvatures=np.array([1.0, 2.0]), axes=np.eye(3)[:2], point=np.zeros(3)))
