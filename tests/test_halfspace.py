@@ -37,3 +37,17 @@ def test_sphere_on_flat_against_hertz():
     p0 = 3 * force / (2 * np.pi * a**2)
     assert result.pressure.max() == pytest.approx(p0, rel=0.01)  # measured +0.03 %
     assert result.approach == pytest.approx(a**2 / R, rel=0.01)  # Hertz's approach delta = a^2 / R
+
+
+def test_quarter_grid_with_mirror_images_is_the_full_grid():
+    """A gap even in x and y: the quarter x, y > 0 with its three mirror images per rectangle
+    gives the full grid's pressures (symmetry), and Hertz's sphere within 3 % on this coarse grid."""
+    R, e_star, force = 1.0, 1.0989e11, 1.0e6
+    a = hertz_sphere_radius(force, R, e_star)
+    x = np.linspace(-1.3 * a, 1.3 * a, 20)  # an even count: no centre on the axes
+    gap = lambda X, Y: (X**2 + Y**2) / (2 * R)  # noqa: E731
+    full = halfspace_contact(gap, x, x, e_star, force=force)
+    quarter = halfspace_contact(gap, x[10:], x[10:], e_star, force=force / 4, symmetric=True)
+    np.testing.assert_allclose(quarter.pressure, full.pressure[10:, 10:], rtol=1e-9, atol=1e-9 * full.pressure.max())
+    assert quarter.approach == pytest.approx(full.approach, rel=1e-9)
+    assert np.sqrt(4 * quarter.area / np.pi) == pytest.approx(a, rel=0.03)

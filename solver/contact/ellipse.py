@@ -553,8 +553,13 @@ def _require_point_contact(model, frame: ContactFrame3D) -> None:
         return
     name = "/".join(model.bodies)
     axis = np.round(frame.axes[0], 6).tolist()
-    what = ("a line contact, which an ellipse cannot describe" if is_line_contact(frame) else
-            "conforming surfaces (the gap closes or opens the wrong way), neither a point nor a line contact")
+    if is_line_contact(frame):
+        what = "a line contact, which an ellipse cannot describe"
+    elif k0 == 0.0 and k1 == 0.0:
+        what = ("the surfaces are flat against each other there (a flat punch or face on a flat: the region's "
+                "size is set by the edges of the flat, not by curvature), neither a point nor a line contact")
+    else:
+        what = "conforming surfaces (the gap closes or opens the wrong way), neither a point nor a line contact"
     raise ValueError(f"contact {name}: the relative curvatures at {np.round(frame.point, 6).tolist()} are "
                      f"{k0:.4g} and {k1:.4g} 1/m (smaller along {axis}): {what}. A 3D contact needs surfaces that "
                      "curve apart across at least one axis at the contact point")

@@ -45,6 +45,8 @@ KNOT_TOLERANCE = 0.005
 #: a knot at a free edge whose moment (measured to the free edge) is below minus this has a
 #: pressure falling to zero before the edge (a crowned roller): its edge moves inside
 END_MOMENT = 0.05
+#: the edge moment's window next to the edge along a ray, in cells (the whole ray if shorter)
+EDGE_WINDOW_CELLS = 3.0
 #: the largest step of a knot's log rho per shape update
 KNOT_STEP = 0.3
 #: rays around the contact point on which body 1's free edge is located
@@ -93,6 +95,7 @@ class StarRegionContact(EllipseContact):
     knot_moments: np.ndarray = field(default_factory=lambda: np.full(KNOTS, math.nan))
     free_knots: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
     _spline: tuple | None = None  # (log_rho bytes, the spline of log rho)
+    _raw_moments: tuple = (np.zeros(0), np.zeros(0))  # (moment, pressure) per knot, not normalised
 
     # ------------------------------------------------------------------ the region's shape
 
@@ -133,6 +136,11 @@ class StarRegionContact(EllipseContact):
         k = np.rint(psi / (2.0 * math.pi) * len(self.edge_psi)).astype(int) % len(self.edge_psi)
         return self.edge_distance[k] / (np.hypot(direction[:, 0], direction[:, 1]) * self.rho(phi))
 
+    def ray_length(self, phi: np.ndarray, a: float) -> np.ndarray:
+        """The physical length of the ray at phi from the centre to the region's edge."""
+        aa, bb = self.semi_axes(a)
+        return self.rho(phi) * np.hypot(aa * np.cos(phi), bb * np.sin(phi))
+
     def region_quadrature(self, a: float):
         aa, bb = self.semi_axes(a)
         return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
@@ -163,15 +171,23 @@ class StarRegionContact(EllipseContact):
         v = _judge(self, gap, pressure, inside, edge_dist)
         self.knot_moments = self._moments(info, x, a)
         smooth = ~self.free_knots & np.isfinite(self.knot_moments) & knots_inside(self.knots, self.ranges)
-        v.edge = float(np.mean(self.knot_moments[smooth])) if smooth.any() else -math.inf
+        # the smooth knots' moments pooled by their pressure (a knot whose stretch carries little
+        # pressure has a normalised moment dominated by noise: it must not steer the size)
+        v.edge = self._pooled(smooth)
         v.edges = (v.edge, v.edge)
         over = (gap < 0.0) & ~inside & (self.sample_axis == 1)
         v.overlap = float(np.abs(self.local(self.samples.s)[over, 1]).max()) if over.any() else math.nan
         return v
 
+    def _pooled(self, smooth: np.ndarray) -> float:
+        """The knots' edge moment pooled over the ``smooth`` ones by their pressure (-inf without)."""
+        moment, total = self._raw_moments
+        pool = float(total[smooth].sum()) if smooth.any() else 0.0
+        return float(moment[smooth].sum()) / pool if pool > 0.0 else -math.inf
+
     def _moments(self, info, x: np.ndarray, a: float) -> np.ndarray:
-        """Each knot's edge moment (nan where its stretch carries no compression; -inf without a
-        region); also marks the knots whose ray ends at body 1's free edge. On a ray that ends at
+        """Each knot's edge moment (nan where its stretch has no points; -inf where it carries net
+        tension, or without a region); also marks the knots whose ray ends at body 1's free edge. On a ray that ends at
         a free edge, r is measured to the free edge: there the moment tells whether the pressure
         still grows towards the edge (complete contact, >= 0) or falls to zero before it (< 0)."""
         if info is None or a <= 0.0:
@@ -185,11 +201,14 @@ class StarRegionContact(EllipseContact):
         total = wp.sum(axis=0)
         # free: the knot's ray ends at body 1's free edge (outside body 1's sectors: no edge at all)
         self.free_knots = (self.end_radius(self.knots, a) < 1.0) | ~knots_inside(self.knots, self.ranges)
-        moment = np.where(self.free_knots, (wp * (2.5 * to_end**2 - 1.0)[:, None]).sum(axis=0),
-                          (wp * (2.5 * r**2 - 1.0)[:, None]).sum(axis=0))
+        reach = self.ray_length(phi, a) * np.minimum(1.0, self.end_radius(phi, a))
+        moment = np.where(self.free_knots, (wp * _edge_weight(to_end, reach, self.h)[:, None]).sum(axis=0),
+                          (wp * _edge_weight(r, reach, self.h)[:, None]).sum(axis=0))
+        self._raw_moments = (moment, total)
         out = np.full(len(self.knots), math.nan)
         ok = total > 0.0
         out[ok] = moment[ok] / total[ok]
+        out[(total < 0.0) & (hat.sum(axis=0) > 0.0)] = -math.inf  # net tension: the region too large there
         return out
 
     def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
@@ -202,6 +221,12 @@ class StarRegionContact(EllipseContact):
             return stuck
         m = self._moments(info, x, a)
         inside = knots_inside(self.knots, self.ranges)
+        tense = inside & (m == -math.inf)
+        if tense.any():  # a stretch of the edge in net tension: the region is too large there
+            self.log_rho[tense] -= KNOT_STEP
+            self._mirror_outside()
+            self._knot_history = []
+            return False
         retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
         if retreat.any():  # the pressure ends before the free edge there: a smooth edge, just inside it
             self.log_rho[retreat] += np.log(0.97 * self.end_radius(self.knots[retreat], a))
@@ -210,7 +235,7 @@ class StarRegionContact(EllipseContact):
         smooth = ~self.free_knots & np.isfinite(m) & inside
         if not smooth.any():
             return stuck
-        d = np.where(smooth, m - float(np.mean(m[smooth])), 0.0)
+        d = np.where(smooth, m - self._pooled(smooth), 0.0)
         self._knot_history.append((self.log_rho.copy(), d))
         if float(np.abs(d).max()) <= KNOT_TOLERANCE:
             return stuck
@@ -245,7 +270,7 @@ class StarRegionContact(EllipseContact):
         messages = super().check_final(u, a, info, bracket, block)
         m = self._moments(info, u[self.dofs], a)
         smooth = ~self.free_knots & np.isfinite(m) & knots_inside(self.knots, self.ranges)
-        spread = float(np.abs(m[smooth] - m[smooth].mean()).max()) if smooth.any() else 0.0
+        spread = float(np.abs(m[smooth] - self._pooled(smooth)).max()) if smooth.any() else 0.0
         if spread > 2.0 * KNOT_TOLERANCE:
             messages.append(f"{self.name}: the region's shape did not settle (its knots' edge moments differ from "
                             f"their mean by up to {spread:.3g})")
@@ -256,6 +281,21 @@ class StarRegionContact(EllipseContact):
         from .region_report import region_block
 
         return region_block(self, a, on2, u, info)
+
+
+def _edge_weight(r: np.ndarray, reach: np.ndarray, h: float) -> np.ndarray:
+    """The edge moment's weight along a ray of physical length ``reach``, at the normalised radii
+    r (1 at the edge): 5/2 (3T/5 - t) / T^(3/2) on the window t = 1 - r^2 <= T next to the edge,
+    0 inside it. For Q(r) / sqrt(1 - r^2) with Q = q0 + q2 r^2 its moment in r dr is
+    2/3 (q0 + q2) for every T (int_0^T t^(-1/2) (3T/5 - t) dt / 2 = 4/15 T^(3/2)), so only the
+    window sees the pressure. The window spans the last EDGE_WINDOW_CELLS cells of the ray (the
+    whole ray, T = 1 and the weight 5/2 r^2 - 1, when it is shorter): a pressure that is not
+    Hertzian further inside (a crowned roller's peak where the crown starts) does not bias the
+    edge."""
+    inner = np.clip(1.0 - EDGE_WINDOW_CELLS * h / np.maximum(reach, 1e-300), 0.0, None)
+    T = 1.0 - np.minimum(inner, 1.0) ** 2
+    t = 1.0 - r**2
+    return np.where(t <= T, 2.5 * (0.6 * T - t) / T**1.5, 0.0)
 
 
 def _hats(knots: np.ndarray, phi: np.ndarray) -> np.ndarray:

@@ -41,12 +41,18 @@ def rectangle_integral(x: np.ndarray, y: np.ndarray, x1, x2, y1, y2) -> np.ndarr
     return (_corner(x - x1, y - y1) - _corner(x - x2, y - y1) - _corner(x - x1, y - y2) + _corner(x - x2, y - y2))
 
 
-def influence_matrix(xc: np.ndarray, yc: np.ndarray, dx: float, dy: float, e_star: float) -> np.ndarray:
+def influence_matrix(xc: np.ndarray, yc: np.ndarray, dx: float, dy: float, e_star: float,
+                     symmetric: bool = False) -> np.ndarray:
     """(n, n): the normal displacement at the centres (xc, yc) (n,) of rectangles dx x dy under a
-    unit pressure on each (1 / (pi E*) times the rectangle integral)."""
-    X = xc[:, None] - xc[None, :]
-    Y = yc[:, None] - yc[None, :]
-    return rectangle_integral(X, Y, -0.5 * dx, 0.5 * dx, -0.5 * dy, 0.5 * dy) / (np.pi * e_star)
+    unit pressure on each (1 / (pi E*) times the rectangle integral). ``symmetric``: the pressure
+    is even in x and in y, the rectangles cover the quarter x, y > 0, and each carries its three
+    mirror images (-x, y), (x, -y), (-x, -y)."""
+    out = np.zeros((len(xc), len(xc)))
+    for sx, sy in ((1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)) if symmetric else ((1.0, 1.0),):
+        X = xc[:, None] - sx * xc[None, :]
+        Y = yc[:, None] - sy * yc[None, :]
+        out += rectangle_integral(X, Y, -0.5 * dx, 0.5 * dx, -0.5 * dy, 0.5 * dy)
+    return out / (np.pi * e_star)
 
 
 @dataclass
@@ -74,16 +80,19 @@ class HalfSpaceContact:
 
 
 def halfspace_contact(gap, x: np.ndarray, y: np.ndarray, e_star: float, force: float | None = None,
-                      approach: float | None = None, max_iterations: int = 200) -> HalfSpaceContact:
+                      approach: float | None = None, max_iterations: int = 200,
+                      symmetric: bool = False) -> HalfSpaceContact:
     """The contact of a gap function ``gap(X, Y)`` (the initial separation of the two surfaces at
     the grid's centres, X, Y (nx, ny)) on the equally spaced centres x (nx,), y (ny,), under a total
-    ``force`` or a prescribed ``approach``."""
+    ``force`` or a prescribed ``approach``. ``symmetric``: a gap even in x and in y solved on the
+    quarter x, y > 0 (the centres there, the first at half a spacing from 0); ``force`` and the
+    result's force are then the quarter's."""
     if (force is None) == (approach is None):
         raise ValueError("give exactly one of force and approach")
     dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
     X, Y = np.meshgrid(x, y, indexing="ij")
     g = np.asarray(gap(X, Y), dtype=float).ravel()
-    c = influence_matrix(X.ravel(), Y.ravel(), dx, dy, e_star)
+    c = influence_matrix(X.ravel(), Y.ravel(), dx, dy, e_star, symmetric)
     area = dx * dy
     active = g <= np.sort(g)[min(len(g) - 1, 8)]  # the few closest points first
     for it in range(1, max_iterations + 1):
