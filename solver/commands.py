@@ -28,6 +28,8 @@ def register(sub: "argparse._SubParsersAction") -> None:
     p.add_argument("--quiet", action="store_true", help="no progress display")
     p.add_argument("--check", action="store_true", help="validate the scene only, solve nothing")
     p.add_argument("--traceback", action="store_true", help="show tracebacks of solver errors")
+    p.add_argument("--no-estimate", action="store_true",
+                   help="skip the error estimate (a second solve on a grid twice as coarse) of the contacts' results")
     p.set_defaults(handler=_run)
 
 
@@ -93,6 +95,11 @@ def _run(args: argparse.Namespace) -> int:
     label = Path(args.scene).name
     try:
         solution = solve(scene.problem, progress=progress)
+        if solution.contacts and solution.converged and not args.no_estimate:
+            from ibfem.solver.solving import estimate_errors
+
+            progress("error estimate", 0.95)
+            estimate_errors(scene.problem, solution)
     except ValueError as err:  # the solver's own checks on the input: a scene problem
         if not args.quiet:
             progress.close()
@@ -139,6 +146,13 @@ def _run(args: argparse.Namespace) -> int:
     )
     from ibfem.solver.io.result_line import contact_line
 
+    from ibfem.solver.model.accuracy import WARN_ABOVE, largest_error
+
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
+        key, value = largest_error(c.get("estimated_error") or {})
+        if value > WARN_ABOVE:
+            _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: the estimated error of {key} is "
+                 f"{100 * value:.2g} %, above {100 * WARN_ABOVE:g} %: refine the grid around the contact "
+                 "(more refinement levels)")
     return 0

@@ -1,6 +1,7 @@
 """The lines ``ibfem run`` prints per contact: the contact's size and forces in the units of the
 summary, only the quantities its type has, and for a symmetric model the force of the whole
-contact beside the model's own ("quarter model: 3.42e+06 N; full contact 1.37e+07 N")."""
+contact beside the model's own ("quarter model: 3.42e+06 N; full contact 1.37e+07 N"), then the
+estimated relative error of each quantity when the run estimated it."""
 
 from __future__ import annotations
 
@@ -55,4 +56,13 @@ def contact_line(c: Mapping[str, Any]) -> str:
     if "tangential_force" in c:
         q = c.get("tangential_force")
         parts.append("tangential_force = " + (_vector(q, force_unit) if isinstance(q, list) else _number(q, force_unit)))
+    errors = c.get("estimated_error")
+    if isinstance(errors, Mapping):
+        parts.append("estimated error " + ", ".join(f"{key} {_percent(value)}" for key, value in errors.items()))
     return ", ".join(parts)
+
+
+def _percent(value: Any) -> str:
+    items = value if isinstance(value, (list, tuple)) else [value]
+    text = "/".join(f"{100 * float(v):.2g} %" if isinstance(v, (int, float)) and v == v else "n/a" for v in items)
+    return text
