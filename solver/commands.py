@@ -94,8 +94,14 @@ def _run(args: argparse.Namespace) -> int:
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name
     try:
-        solution = solve(scene.problem, progress=progress)
-        if solution.contacts and solution.converged and not args.no_estimate:
+        ladder = None
+        if scene.problem.options.accuracy is not None and scene.problem.contacts:
+            from ibfem.solver.solving import solve_to_accuracy
+
+            solution, ladder = solve_to_accuracy(scene.problem, progress=progress)
+        else:
+            solution = solve(scene.problem, progress=progress)
+        if ladder is None and solution.contacts and solution.converged and not args.no_estimate:
             from ibfem.solver.solving import estimate_errors
 
             progress("error estimate", 0.95)
@@ -120,6 +126,8 @@ def _run(args: argparse.Namespace) -> int:
 
     out = Path(args.out) if args.out else default_out_dir(args.scene)
     extra = {"scene": str(Path(args.scene))}
+    if ladder is not None:
+        extra["accuracy"] = ladder
     if scene.warnings:
         extra["warnings"] = list(scene.warnings)
     try:  # the progress display goes on while the results are written
@@ -147,11 +155,16 @@ def _run(args: argparse.Namespace) -> int:
     from ibfem.solver.io.result_line import contact_line
 
     from ibfem.solver.model.accuracy import WARN_ABOVE, largest_error
+    from ibfem.solver.io.result_line import accuracy_line
 
+    if ladder is not None:
+        print("  " + accuracy_line(ladder))
+        if not ladder["reached"]:
+            _err(f"warning: the accuracy target {ladder['target']:g} was not reached: {ladder['note']}")
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
         key, value = largest_error(c.get("estimated_error") or {})
-        if value > WARN_ABOVE:
+        if ladder is None and value > WARN_ABOVE:
             _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: the estimated error of {key} is "
                  f"{100 * value:.2g} %, above {100 * WARN_ABOVE:g} %: refine the grid around the contact "
                  "(more refinement levels)")

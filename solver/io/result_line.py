@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Any, Mapping
 
-__all__ = ["contact_line", "share_name"]
+__all__ = ["contact_line", "share_name", "accuracy_line"]
 
 _SHARES = {1.0: "full", 0.5: "half", 0.25: "quarter", 0.125: "eighth"}
 
@@ -66,3 +66,12 @@ def _percent(value: Any) -> str:
     items = value if isinstance(value, (list, tuple)) else [value]
     text = "/".join(f"{100 * float(v):.2g} %" if isinstance(v, (int, float)) and v == v else "n/a" for v in items)
     return text
+
+
+def accuracy_line(ladder: Mapping[str, Any]) -> str:
+    """The ladder a run with an accuracy target ran: each rung's dofs and largest estimated error."""
+    rungs = ladder.get("rungs") or []
+    steps = "; ".join(f"{r.get('dofs')} dofs, {_percent(r.get('largest_error'))}"
+                      + (f" ({r['quantity']})" if r.get("quantity") else "") for r in rungs)
+    verdict = "reached" if ladder.get("reached") else "not reached"
+    return f"accuracy {100 * float(ladder.get('target', float('nan'))):g} % {verdict} in {len(rungs)} rung(s): {steps}"
