@@ -128,6 +128,8 @@ def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
     within 1.5 a along the tangent and from 0.05 a to 2 a deep along the normal on either side;
     3D on the normal through the contact point (where Hertz's maximum lies), at the same depths
     (a quarter or half model's symmetry planes: the line moved off them by 1e-6 a into the model)."""
+    if block.get("point") is None or block.get("normal") is None:
+        return math.nan
     point = np.asarray(block.get("point"), dtype=float).reshape(dim)
     normal = np.asarray(block.get("normal"), dtype=float).reshape(dim)
     size = block.get("semi_axes") if dim == 3 else block.get("half_width")
