@@ -11,8 +11,7 @@ import pytest
 
 from ibfem.geometry.bounded import Arc
 from ibfem.geometry.shapes import profile_from_shape
-from ibfem.solver.contact.geometry import (chord_weights, contact_geometry, contact_quadrature, parameter_at_chord,
-                                           sample_points)
+from ibfem.solver.contact.geometry import contact_geometry, contact_quadrature, parameter_at_chord, sample_points
 from ibfem.solver.fem.grid import RefinementZone, build_grid
 from ibfem.solver.fem.space import exact_boundary
 from ibfem.solver.fem.integration import Polyline
@@ -48,21 +47,15 @@ def test_matching_of_two_equal_cylinders_gives_normal_delta():
     np.testing.assert_allclose(geom.tangent, [-1.0, 0.0], atol=1e-12)
     s = np.linspace(-0.08, 0.08, 17)
     pts = sample_points(geom, s)
-    # the frame's normal pairs points straight across: s is the offset along the tangent (-x)
-    np.testing.assert_allclose(pts.x1[:, 0], -s, atol=1e-14)
-    np.testing.assert_allclose(pts.x2[:, 0], -s, atol=1e-14)
-    # Delta = X1 - X2 (eq. 5-2): vertical, 2 (1 - sqrt(1 - s^2))
-    np.testing.assert_allclose(pts.delta[:, 0], 0.0, atol=1e-15)
-    np.testing.assert_allclose(pts.delta[:, 1], 2 * s**2 / (1 + np.sqrt(1 - s**2)), atol=1e-15)
-    # with each pair's own normal: chord matching, both points at chord |s| from the origin
-    geom.normal_mode = "pair"
-    geom.tables.clear()
-    pts = sample_points(geom, s)
+    # chord matching: both points at chord |s| from the origin, on the same side (x of equal sign)
     np.testing.assert_allclose(np.hypot(*pts.x1.T), np.abs(s), atol=1e-14)
     np.testing.assert_allclose(np.hypot(*pts.x2.T), np.abs(s), atol=1e-14)
     np.testing.assert_allclose(pts.x1[:, 0], pts.x2[:, 0], atol=1e-14)
+    # s is positive along the tangent (-x here)
     assert np.all(np.sign(pts.x1[s != 0, 0]) == -np.sign(s[s != 0]))
+    # Delta = X1 - X2 (eq. 5-2): vertical, 2 (1 - cos(theta)) with chord = 2 sin(theta / 2)
     theta = 2 * np.arcsin(np.abs(s) / 2)
+    np.testing.assert_allclose(pts.delta[:, 0], 0.0, atol=1e-15)
     np.testing.assert_allclose(pts.delta[:, 1], 2 * (1 - np.cos(theta)), atol=1e-15)
     # the contact normal of the matched pairs is the global normal for mirror-image curves
     np.testing.assert_allclose(pts.normal, np.tile([0.0, 1.0], (len(s), 1)), atol=1e-12)
@@ -74,10 +67,8 @@ def test_quadrature_length_and_pieces_inside_cells():
     geom = contact_geometry((cyl, block), ("cyl", "block"), np.zeros(2), 0.12)
     a = 0.05
     q = contact_quadrature(geom, (cyl.grid, block.grid), -a, a, order=4)
-    # arc length between the offsets -a and a on a unit circle
-    assert q.weights.sum() == pytest.approx(2 * math.asin(a), rel=1e-13)
-    # the weights in s: the offset's measure, x from -a to a
-    assert chord_weights(geom, q).sum() == pytest.approx(2 * a, rel=1e-13)
+    # arc length between chords -a and a on a unit circle
+    assert q.weights.sum() == pytest.approx(2 * 2 * math.asin(a / 2), rel=1e-13)
     # flat block: the matched point lies straight below along the frame's normal (same x) on
     # y = 0, and Delta is the initial gap of Hertz's setting, 1 - sqrt(1 - x^2), all normal
     np.testing.assert_allclose(q.x2[:, 0], q.x1[:, 0], atol=1e-14)
@@ -91,8 +82,8 @@ def test_quadrature_length_and_pieces_inside_cells():
 
 
 def test_pairing_along_the_normal_of_two_unequal_circles():
-    # frame mode: pairs at equal tangential offset (x), labelled by it; pair mode: equal chords
-    # from the contact point (circles of radius 1 and 3 touching at the origin)
+    # frame mode: pairs at equal tangential offset (x); pair mode: equal chords from the
+    # contact point (circles of radius 1 and 3 touching at the origin)
     small = _body({"type": "half_disk", "center": [0.0, 1.0], "radius": 1.0, "side": "below"})
     large = _body({"type": "half_disk", "center": [0.0, -3.0], "radius": 3.0, "side": "above"})
     s = np.linspace(-0.1, 0.1, 21)
@@ -100,8 +91,9 @@ def test_pairing_along_the_normal_of_two_unequal_circles():
     pts = sample_points(geom, s)
     np.testing.assert_allclose(pts.x2[:, 0], pts.x1[:, 0], atol=1e-14)
     np.testing.assert_allclose(pts.x2[:, 1], -3.0 + np.sqrt(9.0 - pts.x1[:, 0] ** 2), atol=1e-14)
-    np.testing.assert_allclose(pts.x1[:, 0], -s, atol=1e-14)  # s: the offset along the tangent (-x)
-    geom = contact_geometry((small, large), ("small", "large"), np.zeros(2), 0.12, normal_mode="pair")
+    np.testing.assert_allclose(np.hypot(*pts.x1.T), np.abs(s), atol=1e-14)  # s stays body 1's chord
+    geom = contact_geometry((small, large), ("small", "large"), np.zeros(2), 0.12)
+    geom.normal_mode = "pair"
     pts = sample_points(geom, s)
     np.testing.assert_allclose(np.hypot(*pts.x2.T), np.abs(s), atol=1e-14)
 

@@ -780,7 +780,8 @@ def build(problem, model, b1, b2, options) -> BandContact:
     discretised bodies b1, b2; ``options`` the problem's SolverOptions."""
     opts = model.options
     geom = contact_geometry((b1, b2), model.bodies, np.asarray(model.point, dtype=float),
-                            _contact_extent(problem, model, opts.extent_fraction), opts.contact_normal)
+                            _contact_extent(problem, model, opts.extent_fraction))
+    geom.normal_mode = opts.contact_normal
     contact = _setup_contact(model, geom, b1, b2, options.band_fraction)
     contact.mirror = _symmetry_side(problem, geom, model.bodies[0])
     return contact

@@ -108,9 +108,8 @@ def parameter_at_chord(curve, origin: np.ndarray, chord: np.ndarray, t_from: flo
 
 @dataclass
 class SideLimit:
-    """How far the candidate region reaches on one side of the contact point: the reach in the
-    label s (a chord, or a tangential offset with the frame's normal) and what bounds it
-    ("refinement radius", "corner of body 1", "far side of body <name>")."""
+    """How far the candidate region reaches on one side of the contact point: the chord and
+    what bounds it ("refinement radius", "corner of body 1", "far side of body <name>")."""
 
     chord: float
     cause: str
@@ -130,7 +129,7 @@ class ContactGeometry:
     origins: tuple[np.ndarray, np.ndarray]  # c1, c2: the contact point on each curve
     t_origin: tuple[float, float]
     directions: tuple[int, int]  # parameter direction of +s (along tangent) on each curve
-    s_limits: tuple[float, float]  # usable range of the label s on each side (candidate region), >= 0
+    s_limits: tuple[float, float]  # usable chord range on each side (candidate region), >= 0
     tables: dict = field(default_factory=dict)  # (curve, side) -> chord_table over the candidate region
     # "frame": every pair is constrained along the contact frame's normal (the small-strain,
     # half-space assumption of Hertz theory: frictionless tractions have no component along
@@ -160,8 +159,7 @@ class ContactGeometry:
         if key not in self.tables:
             curve, c, t0 = self.curves[which], self.origins[which], self.t_origin[which]
             direction = sgn * self.directions[which]
-            # an offset s lies within chord s / cos of the point: the frame's labels reach further
-            reach = (1.05 if self.normal_mode != "frame" else 1.5) * max(self.s_limits[0 if sgn > 0 else 1], 1e-12)
+            reach = 1.05 * max(self.s_limits[0 if sgn > 0 else 1], 1e-12)
             t_end = parameter_at_chord(curve, c, np.array([reach]), t0, direction, samples=4097)[0]
             self.tables[key] = chord_table(curve, c, t0, direction, 2049, None if np.isnan(t_end) else t_end)
         return self.tables[key]
@@ -252,34 +250,7 @@ def _side_limit(chain, c: np.ndarray, t0: float, direction: int, body: str, firs
     return far
 
 
-def _offset_reach(chain, c: np.ndarray, t0: float, direction: int, along: np.ndarray, chord: float) -> float:
-    """The largest tangential offset (X - c) . along of the walk from ``t0`` in ``direction`` up to
-    the point at ``chord`` from ``c`` (the whole walk where the curve ends first)."""
-    if not chord > 0.0:
-        return 0.0
-    t_end = parameter_at_chord(chain, c, np.array([chord]), t0, direction, samples=4097)[0]
-    if np.isnan(t_end):
-        t_end = chain.t_end if direction > 0 else chain.t_start
-    t = np.linspace(t0, float(t_end), 2049)
-    p = np.asarray(chain.evaluate(t), dtype=float).reshape(-1, 2)
-    return max(float(((p - c) @ along).max()), 0.0)
-
-
-def _side_limits(limits, extent: float, frame: bool, walks) -> list[SideLimit]:
-    """The candidate range of each side: the smallest of the extent and the two bodies' limits,
-    in chords ("pair") or converted to tangential offsets along each body's walk ("frame")."""
-    sides = []
-    for k in range(2):
-        options = [(SideLimit(extent, "refinement radius"), 0), (limits[0][k], 0), (limits[1][k], 1)]
-        if frame:
-            options = [(SideLimit(_offset_reach(*walks[which][k], lim.chord), lim.cause, lim.corner), which)
-                       for lim, which in options]
-        sides.append(min((lim for lim, _ in options), key=lambda lim: (lim.chord, not lim.corner)))
-    return sides
-
-
-def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: float,
-                     normal_mode: str = "frame") -> ContactGeometry:
+def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: float) -> ContactGeometry:
     """Frame and curves of the contact of ``names`` (two BodyDiscretisation-like objects with
     ``profile`` and ``boundary.curves``) at the touching point near ``point``
     (:func:`touching_point`); ``extent`` caps the candidate chord. Each body's contact curve is
@@ -291,7 +262,7 @@ def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: 
     n2 = np.asarray(b2.profile.project(point[None, :]).normals[0], dtype=float)
     n2 /= np.linalg.norm(n2)
     tangent = np.array([-n2[1], n2[0]])
-    edges, curves, origins, ts, dirs, limits, walks = [], [], [], [], [], [], []
+    edges, curves, origins, ts, dirs, limits = [], [], [], [], [], []
     for which, (b, name) in enumerate(zip((b1, b2), names)):
         chain, t0 = _on_chain(b, point)
         c = np.asarray(chain.evaluate(np.array([t0])), dtype=float).reshape(2)
@@ -303,8 +274,10 @@ def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: 
         ts.append(t0)
         dirs.append(direction)
         limits.append([_side_limit(chain, c, t0, sgn * direction, name, which == 0, sgn * tangent) for sgn in (1, -1)])
-        walks.append([(chain, c, t0, sgn * direction, sgn * tangent) for sgn in (1, -1)])
-    sides = _side_limits(limits, extent, normal_mode == "frame", walks)
+    sides = []
+    for k in range(2):  # candidate chord per side: the extent, within both bodies
+        options = [SideLimit(extent, "refinement radius")] + [limits[0][k], limits[1][k]]
+        sides.append(min(options, key=lambda lim: (lim.chord, not lim.corner)))
     geom = ContactGeometry(
         bodies=tuple(names),
         point=point,
@@ -318,7 +291,6 @@ def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: 
         s_limits=(sides[0].chord, sides[1].chord),
         given_point=None if np.array_equal(point, given) else given,
         limits=tuple(sides),
-        normal_mode=normal_mode,
     )
     if not (sides[0].chord > 0.0 or sides[1].chord > 0.0) or (min(geom.s_limits) <= 0.0 and not geom.mirror_side()):
         why = " and ".join(f"{lim.cause} at the point on the {side} side" for side, lim in zip("+-", sides)
@@ -393,19 +365,19 @@ def _offset_parameters(geom: ContactGeometry, which: int, offset: np.ndarray, it
 
 
 def _parameters_at_s(geom: ContactGeometry, which: int, s: np.ndarray) -> np.ndarray:
-    """Parameters on curve ``which`` of the points labelled ``s``: the tangential offset from its
-    origin ("frame": the two curves' points of equal s lie across each other along the frame's
-    normal) or the signed chord ("pair": cord-length matching)."""
-    if geom.normal_mode == "frame":
-        return _offset_parameters(geom, which, s)
-    return _chord_parameters(geom, which, s)
+    """Parameters on curve ``which`` of the points labelled ``s`` (body 1's signed chord): on
+    body 1 the chord itself; on body 2 the matched point, at the same tangential offset
+    ("frame": along the frame's normal) or at the same chord ("pair")."""
+    if which == 0 or geom.normal_mode != "frame":
+        return _chord_parameters(geom, which, s)
+    return _offset_parameters(geom, 1, _offsets(geom, 0, _chord_parameters(geom, 0, s)))
 
 
 def _s_of_parameters(geom: ContactGeometry, which: int, t: np.ndarray) -> np.ndarray:
-    """The label s of curve ``which``'s points at parameters ``t`` (see :func:`_parameters_at_s`)."""
-    if geom.normal_mode == "frame":
-        return _offsets(geom, which, t)
-    return _chord_of_parameters(geom, which, t)
+    """The label s (body 1's signed chord) of curve ``which``'s points at parameters ``t``."""
+    if which == 0 or geom.normal_mode != "frame":
+        return _chord_of_parameters(geom, which, t)
+    return _chord_of_parameters(geom, 0, _offset_parameters(geom, 0, _offsets(geom, 1, t)))
 
 
 @dataclass
@@ -523,16 +495,13 @@ def contact_quadrature(geom: ContactGeometry, grids, s_lo: float, s_hi: float, o
 
 
 def chord_weights(geom: ContactGeometry, pts: ContactPoints) -> np.ndarray:
-    """The quadrature weights (q,) in the label s: ds = |cos| of the angle between the curve's
-    tangent and the frame's tangent ("frame": s the tangential offset) or the chord from c1
-    ("pair": s the chord; cos(theta / 2) on a circle at the angle theta from the point), times
-    the arc length (1 at the contact point). Moments in s (the region's end values and centre)
-    need them; forces take the arc length."""
-    tangent = np.stack([-pts.n1[:, 1], pts.n1[:, 0]], axis=1)
-    if geom.normal_mode == "frame":
-        return pts.weights * np.abs(tangent @ np.asarray(geom.tangent, dtype=float))
+    """The quadrature weights (q,) in the chord coordinate s: ds = |cos| of the angle between the
+    chord from c1 and the curve's tangent times the arc length (1 at the contact point; cos(theta / 2)
+    on a circle at the angle theta from it). Moments in s (the region's end values and centre) need
+    them; forces take the arc length."""
     d = pts.x1 - geom.origins[0]
     r = np.hypot(d[:, 0], d[:, 1])
+    tangent = np.stack([-pts.n1[:, 1], pts.n1[:, 0]], axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
         cos = np.abs(np.einsum("qi,qi->q", d, tangent)) / r
     return pts.weights * np.where(r > 0.0, cos, 1.0)
