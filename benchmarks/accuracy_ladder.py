@@ -28,6 +28,12 @@ import peers  # noqa: E402
 REFERENCE_2D = {"steel": {"N": 5.09163e8, "a": (0.07664, 0.07673)}}
 
 
+def along_flat(chord: float, radius: float = 1.0) -> float:
+    """The half width along the block's flat top of a region whose end lies at ``chord`` from the
+    disc's lowest point (summary.json's half_width: body 1's chord): x = R sin(2 asin(s / 2R))."""
+    return radius * math.sin(2.0 * math.asin(chord / (2.0 * radius)))
+
+
 def richardson(values: list[float]) -> tuple[float, float]:
     """(limit, observed order) from the last three values of a ladder refined by 2 per rung:
     p = log2(d1 / d2) of the successive differences, limit = last + d2 / (2^p - 1)."""
@@ -58,8 +64,8 @@ def main(argv: list[str]) -> int:
             rows.append(row)
             print(json.dumps(row), flush=True)
     ref = REFERENCE_2D.get(args.problem)
-    print("\n| h0, levels | dofs | a (m) | a - previous | N (N/m) | N error | wall (s) | peak (MB) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("\n| h0, levels | dofs | a (m) | a - previous | a along the flat (m) | N (N/m) | N error | CPU (s) | wall (s) | peak (MB) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     prev = None
     for r in rows:
         if "a" not in r:
@@ -67,7 +73,9 @@ def main(argv: list[str]) -> int:
             continue
         da = "" if prev is None else f"{r['a'] - prev:+.3e}"
         ne = f"{(r['N'] / ref['N'] - 1) * 100:+.4f} %" if ref else ""
-        print(f"| {r['rung']} | {r['dofs']} | {r['a']:.6f} | {da} | {r['N']:.6e} | {ne} | {r['wall_s']:.1f} | {r['peak_mb']:.0f} |")
+        flat = f"{along_flat(r['a']):.6f}" if ref else ""
+        print(f"| {r['rung']} | {r['dofs']} | {r['a']:.6f} | {da} | {flat} | {r['N']:.6e} | {ne} | {r['cpu_s']:.1f} | "
+              f"{r['wall_s']:.1f} | {r['peak_mb']:.0f} |")
         prev = r["a"]
     good = [r for r in rows if "a" in r]
     if len(good) >= 3:
