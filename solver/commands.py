@@ -28,6 +28,8 @@ def register(sub: "argparse._SubParsersAction") -> None:
     p.add_argument("--quiet", action="store_true", help="no progress display")
     p.add_argument("--check", action="store_true", help="validate the scene only, solve nothing")
     p.add_argument("--traceback", action="store_true", help="show tracebacks of solver errors")
+    p.add_argument("--no-estimate", action="store_true",
+                   help="skip the error estimate (a second solve on a grid twice as coarse) of the contacts' results")
     p.set_defaults(handler=_run)
 
 
@@ -92,7 +94,18 @@ def _run(args: argparse.Namespace) -> int:
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name
     try:
-        solution = solve(scene.problem, progress=progress)
+        ladder = None
+        if scene.problem.options.accuracy is not None and scene.problem.contacts:
+            from ibfem.solver.solving import solve_to_accuracy
+
+            solution, ladder = solve_to_accuracy(scene.problem, progress=progress)
+        else:
+            solution = solve(scene.problem, progress=progress)
+        if ladder is None and solution.contacts and solution.converged and not args.no_estimate:
+            from ibfem.solver.solving import estimate_errors
+
+            progress("error estimate", 0.95)
+            estimate_errors(scene.problem, solution)
     except ValueError as err:  # the solver's own checks on the input: a scene problem
         if not args.quiet:
             progress.close()
@@ -113,6 +126,8 @@ def _run(args: argparse.Namespace) -> int:
 
     out = Path(args.out) if args.out else default_out_dir(args.scene)
     extra = {"scene": str(Path(args.scene))}
+    if ladder is not None:
+        extra["accuracy"] = ladder
     if scene.warnings:
         extra["warnings"] = list(scene.warnings)
     try:  # the progress display goes on while the results are written
@@ -139,6 +154,18 @@ def _run(args: argparse.Namespace) -> int:
     )
     from ibfem.solver.io.result_line import contact_line
 
+    from ibfem.solver.model.accuracy import WARN_ABOVE, largest_error
+    from ibfem.solver.io.result_line import accuracy_line
+
+    if ladder is not None:
+        print("  " + accuracy_line(ladder))
+        if not ladder["reached"]:
+            _err(f"warning: the accuracy target {ladder['target']:g} was not reached: {ladder['note']}")
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
+        key, value = largest_error(c.get("estimated_error") or {})
+        if ladder is None and value > WARN_ABOVE:
+            _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: the estimated error of {key} is "
+                 f"{100 * value:.2g} %, above {100 * WARN_ABOVE:g} %: refine the grid around the contact "
+                 "(more refinement levels)")
     return 0

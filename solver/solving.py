@@ -1,9 +1,12 @@
 """``solve(problem) -> Solution``: the one entry of the numerics. Resolves what the problem leaves
 implicit (contact points, refinement centres), then runs the linear solve (no contacts) or the
-contact load-step driver. The only module that imports both."""
+contact load-step driver. The only module that imports both. ``estimate_errors`` adds the
+estimated error of each contact's results from a second solve on a grid twice as coarse."""
 
 from __future__ import annotations
 
+import dataclasses
+import math
 import time
 from typing import TYPE_CHECKING, Callable
 
@@ -15,13 +18,15 @@ from .fem.linalg import linear_solve
 from .fem.path_loads import path_loads
 from .fem.bodies import discretise
 from .fem.space import body_info
+from .model.accuracy import contact_quantities, largest_error, relative_errors
+from .model.estimate import available_memory, estimate_size
 from .model.resolve import resolve_problem
 from .solution import IBFEMSolution
 
 if TYPE_CHECKING:
     from .model.problem import Problem
 
-__all__ = ["solve"]
+__all__ = ["solve", "estimate_errors", "solve_to_accuracy", "coarser", "max_von_mises"]
 
 
 def solve(problem: Problem, progress: Callable[..., None] | None = None) -> IBFEMSolution:
@@ -109,3 +114,140 @@ def _path_steps(problem, bodies, system):
                       "contacts": [], "field": u})
     end = float(times[-1])
     return dataclasses.replace(system, load=loads.load(end)), steps, loads.essential_factors(end)
+
+
+def coarser(problem: Problem, factor: float = 2.0) -> Problem:
+    """The problem on a grid ``factor`` times coarser everywhere: every body's element size times
+    ``factor``, its refinement levels and radii kept (every cell ``factor`` times larger)."""
+    bodies = tuple(dataclasses.replace(b, element_size=b.element_size * factor) for b in problem.bodies)
+    return dataclasses.replace(problem, bodies=bodies)
+
+
+def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
+    """The largest von Mises stress below the contact, in both bodies: 2D on a grid of points
+    within 1.5 a along the tangent and from 0.05 a to 2 a deep along the normal on either side;
+    3D on the normal through the contact point (where Hertz's maximum lies), at the same depths
+    (a quarter or half model's symmetry planes: the line moved off them by 1e-6 a into the model)."""
+    if block.get("point") is None or block.get("normal") is None:
+        return math.nan
+    point = np.asarray(block.get("point"), dtype=float).reshape(dim)
+    normal = np.asarray(block.get("normal"), dtype=float).reshape(dim)
+    size = block.get("semi_axes") if dim == 3 else block.get("half_width")
+    a = max(size) if isinstance(size, (list, tuple)) else size
+    if a is None or not a > 0.0:
+        return math.nan
+    depth = np.concatenate([-np.geomspace(2.0, 0.05, samples), np.geomspace(0.05, 2.0, samples)]) * a
+    if dim == 2:
+        tangent = np.array([-normal[1], normal[0]])
+        along = np.linspace(-1.5, 1.5, samples) * a
+        pts = (point + along[:, None, None] * tangent + depth[None, :, None] * normal).reshape(-1, 2)
+        candidates = [pts]
+    else:
+        axes = np.asarray(block.get("axes"), dtype=float).reshape(2, 3)
+        line = point + depth[:, None] * normal
+        candidates = [line + 1e-6 * a * (i * axes[0] + j * axes[1]) for i in (1, -1) for j in (1, -1)]
+    best = math.nan
+    for pts in candidates:
+        inside = np.asarray(solution.body_at(pts)) >= 0
+        if inside.any():
+            vm = np.asarray(solution.von_mises(pts[inside]), dtype=float)
+            vm = vm[np.isfinite(vm)]
+            if len(vm):
+                best = float(vm.max()) if not best == best else max(best, float(vm.max()))
+    return best
+
+
+def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, note: str | None) -> None:
+    """Each contact block of ``fine`` gets ``max_pressure``, ``max_von_mises`` and
+    ``estimated_error`` against ``coarse`` (a solution on a grid twice as coarse), or a null
+    estimate and ``estimate_note``."""
+    for block in fine.contacts:
+        block["max_pressure"] = contact_quantities(block).get("max_pressure")
+        block["max_von_mises"] = max_von_mises(fine, block, dim)
+    for k, block in enumerate(fine.contacts):
+        other = coarse.contacts[k] if coarse is not None and k < len(coarse.contacts) else None
+        if note is None and other is not None:
+            other = dict(other, max_von_mises=other.get("max_von_mises", max_von_mises(coarse, other, dim)))
+            block["estimated_error"] = relative_errors(contact_quantities(block), contact_quantities(other))
+            block.pop("estimate_note", None)
+        else:
+            block["estimated_error"] = None
+            block["estimate_note"] = note or "the coarser grid found no such contact"
+
+
+def _solve_quietly(problem: Problem) -> tuple[IBFEMSolution | None, str | None]:
+    """(solution, None), or (None or the solution, why it cannot serve as an estimate's partner)."""
+    try:
+        solution = solve(problem)
+    except (ValueError, MemoryError) as err:
+        return None, f"the solve on the grid with element sizes {_sizes(problem)} failed: {err}"
+    if not solution.converged:
+        return solution, f"the solve on the grid with element sizes {_sizes(problem)} did not converge"
+    return solution, None
+
+
+def _sizes(problem: Problem) -> str:
+    return ", ".join(f"{b.name} {b.element_size:.4g} m" for b in problem.bodies)
+
+
+def estimate_errors(problem: Problem, solution: IBFEMSolution, factor: float = 2.0) -> None:
+    """Adds to each contact block of ``solution`` its ``max_pressure``, ``max_von_mises`` and
+    ``estimated_error`` (relative, per quantity: solver.model.accuracy) from a second solve of
+    ``problem`` on a grid ``factor`` times coarser; ``estimate_s`` to the timings. A coarse
+    problem that cannot be solved or does not converge leaves ``estimated_error`` null and
+    says why in ``estimate_note``."""
+    t = time.perf_counter()
+    coarse, note = _solve_quietly(coarser(problem, factor))
+    _add_estimates(solution, coarse, problem.dim, note)
+    solution.timings["estimate_s"] = time.perf_counter() - t
+
+
+def _rung(problem: Problem, solution: IBFEMSolution, seconds: float) -> dict:
+    errors = [largest_error(c.get("estimated_error") or {}) for c in solution.contacts]
+    worst = max(errors, key=lambda e: e[1], default=(None, math.nan))
+    return {"element_sizes": {b.name: b.element_size for b in problem.bodies},
+            "dofs": int(sum(v.get("dofs", 0) for v in solution.body_info.values())),
+            "largest_error": worst[1] if worst[0] is not None else None, "quantity": worst[0],
+            "converged": bool(solution.converged), "wall_s": seconds}
+
+
+def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = None,
+                      max_rungs: int = 6) -> tuple[IBFEMSolution, dict]:
+    """Solve ``problem`` on its own grid and on one twice as coarse, then halve every cell
+    (element sizes halved, refinement levels and radii kept) until the estimated relative error
+    of every contact quantity is below ``problem.options.accuracy``: each new rung's estimate
+    takes the previous rung as its coarse partner, so every rung is solved once. Stops, saying
+    why, when a rung does not converge, when the next rung would not fit in memory
+    (solver.model.estimate) or after ``max_rungs`` rungs. Returns the last solution (with its
+    estimates) and the record of the ladder ({target, reached, rungs, note})."""
+    target = float(problem.options.accuracy)
+    report = progress or (lambda *a, **k: None)
+    t = time.perf_counter()
+    coarse, note = _solve_quietly(coarser(problem))
+    fine, fine_note = _solve_quietly(problem)
+    if fine is None:
+        raise ValueError(fine_note)
+    _add_estimates(fine, coarse, problem.dim, note)
+    rungs = [_rung(problem, fine, time.perf_counter() - t)]
+    note = fine_note
+    while note is None and not (rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target):
+        if len(rungs) >= max_rungs:
+            note = f"stopped after {max_rungs} rungs"
+            break
+        finer = coarser(problem, 0.5)
+        size = estimate_size(finer)
+        if size.memory > 0.5 * available_memory():
+            note = f"the next grid ({size}) would not fit in half the machine's memory"
+            break
+        report(f"accuracy rung {len(rungs) + 1}", min(0.9, 0.1 * len(rungs)))
+        t = time.perf_counter()
+        solution, note = _solve_quietly(finer)
+        if solution is None:
+            break
+        for block in fine.contacts:  # the partner's stress peak, already sampled
+            block.setdefault("max_von_mises", max_von_mises(fine, block, problem.dim))
+        _add_estimates(solution, fine, problem.dim, note)
+        problem, fine = finer, solution
+        rungs.append(_rung(problem, fine, time.perf_counter() - t))
+    reached = rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target
+    return fine, {"target": target, "reached": bool(reached), "rungs": rungs, "note": note}

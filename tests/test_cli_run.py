@@ -115,7 +115,7 @@ def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypat
     monkeypatch.setattr(solver.solving, "solve", solved)
     path = write_plate(tmp_path)
     monkeypatch.chdir(tmp_path)
-    assert main(["run", str(path), "--quiet"]) == 0
+    assert main(["run", str(path), "--quiet", "--no-estimate"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("plate: converged in 7 iterations")
     assert out[1] == ("  contact plate / pin: half_width = 0.0125 m, stick_half_width = n/a, "

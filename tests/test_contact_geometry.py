@@ -69,13 +69,33 @@ def test_quadrature_length_and_pieces_inside_cells():
     q = contact_quadrature(geom, (cyl.grid, block.grid), -a, a, order=4)
     # arc length between chords -a and a on a unit circle
     assert q.weights.sum() == pytest.approx(2 * 2 * math.asin(a / 2), rel=1e-13)
-    # flat block: the matched point has the same chord on the line y = 0
-    np.testing.assert_allclose(np.abs(q.x2[:, 0]), np.abs(q.s), atol=1e-14)
+    # flat block: the matched point lies straight below along the frame's normal (same x) on
+    # y = 0, and Delta is the initial gap of Hertz's setting, 1 - sqrt(1 - x^2), all normal
+    np.testing.assert_allclose(q.x2[:, 0], q.x1[:, 0], atol=1e-14)
     np.testing.assert_allclose(q.x2[:, 1], 0.0, atol=1e-15)
+    np.testing.assert_allclose(q.delta[:, 0], 0.0, atol=1e-15)
+    np.testing.assert_allclose(q.delta[:, 1], q.x1[:, 0] ** 2 / (1.0 + np.sqrt(1.0 - q.x1[:, 0] ** 2)), atol=1e-15)
     # split at both grids' lines: the 4 points of each piece share a cell in each grid
     for grid, x, n in ((cyl.grid, q.x1, q.n1), (block.grid, q.x2, q.n2)):
         cells = grid.locate(x - 1e-9 * n).reshape(-1, 4)
         assert np.all(cells == cells[:, :1])
+
+
+def test_pairing_along_the_normal_of_two_unequal_circles():
+    # frame mode: pairs at equal tangential offset (x); pair mode: equal chords from the
+    # contact point (circles of radius 1 and 3 touching at the origin)
+    small = _body({"type": "half_disk", "center": [0.0, 1.0], "radius": 1.0, "side": "below"})
+    large = _body({"type": "half_disk", "center": [0.0, -3.0], "radius": 3.0, "side": "above"})
+    s = np.linspace(-0.1, 0.1, 21)
+    geom = contact_geometry((small, large), ("small", "large"), np.zeros(2), 0.12)
+    pts = sample_points(geom, s)
+    np.testing.assert_allclose(pts.x2[:, 0], pts.x1[:, 0], atol=1e-14)
+    np.testing.assert_allclose(pts.x2[:, 1], -3.0 + np.sqrt(9.0 - pts.x1[:, 0] ** 2), atol=1e-14)
+    np.testing.assert_allclose(np.hypot(*pts.x1.T), np.abs(s), atol=1e-14)  # s stays body 1's chord
+    geom = contact_geometry((small, large), ("small", "large"), np.zeros(2), 0.12)
+    geom.normal_mode = "pair"
+    pts = sample_points(geom, s)
+    np.testing.assert_allclose(np.hypot(*pts.x2.T), np.abs(s), atol=1e-14)
 
 
 def test_contact_point_on_a_corner_closes_one_side():

@@ -105,6 +105,8 @@ def test_solver_tolerance_is_the_residual_work_of_the_final_state():
         ("consistency = 1.5", "", r"solver\.consistency = 1\.5: must lie in \[0, 1\]"),
         ("chord_tolerance = -1e-3", "", r"solver\.chord_tolerance = -0\.001"),
         ("load_steps = 1000000000000", "", r"solver\.load_steps = 1000000000000: must be an integer in \[1, 10000\]"),
+        ("accuracy = 0.0", "", r"solver\.accuracy = 0\.0: must lie in \[1e-5, 1\)"),
+        ('accuracy = "fine"', "", r"solver\.accuracy"),
         ("", "window = 0.0", r"contacts\[0\]\.window = 0\.0: must be a positive number"),
         ("", 'width_update = "newton"', r"contacts\[0\]\.width_update = \"newton\": must be one of"),
         ("", "sliver_fraction = 1.5", r"contacts\[0\]\.sliver_fraction = 1\.5: must lie in \[0, 1\)"),

@@ -1,13 +1,17 @@
 """Contact geometry of two bodies (thesis sections 5.1-5.2): the contact point and frame, the
-chord-length matching of the two boundaries, Delta between matched points (eq. 5-2) and the
+pairing of the two boundaries' points, Delta between matched points (eq. 5-2) and the
 quadrature of body 1's contact curve split at both grids' cell lines.
 
 Conventions (those of summary.json): ``normal`` is the outward unit normal of the SECOND body at the
 contact point, ``tangent`` = (-n_y, n_x). A point of body 1's contact curve is labelled by its
 signed chord s: |s| is the straight-line distance from body 1's contact point c1, the sign that
-of the side along ``tangent``. Its matched point on body 2's curve has the same chord from c2
-on the same side (cord-length matching of section 5.2); Delta = X1 - X2 (eq. 5-2), so contact
-means u1 - u2 + Delta = 0 (eq. 5-3).
+of the side along ``tangent``. Its matched point on body 2's curve depends on the contact normal
+(``ContactGeometry.normal_mode``): with the frame's normal ("frame", the default: Hertz's
+small-strain gap) it lies straight across along that normal, at the same tangential offset
+(X - c) . tangent from c2 as the point from c1, so Delta = X1 - X2 is the initial gap along the
+normal and has no tangential part; with each pair's own normal ("pair", conformal contacts) it
+has the same chord from c2 on the same side (cord-length matching of section 5.2). Contact means
+u1 - u2 + Delta = 0 (eq. 5-3).
 
 Everything works on any curve with ``evaluate``/``derivative``/``axis_crossings`` and
 ``t_start``/``t_end``: the exact ``geometry.bounded`` curves, or the ``Polyline`` of the
@@ -298,7 +302,8 @@ def contact_geometry(bodies, names: tuple[str, str], point: np.ndarray, extent: 
     return geom
 
 
-def _parameters_at_s(geom: ContactGeometry, which: int, s: np.ndarray) -> np.ndarray:
+def _chord_parameters(geom: ContactGeometry, which: int, s: np.ndarray) -> np.ndarray:
+    """Parameters on curve ``which`` of the points at signed chord ``s`` from its own origin."""
     s = np.asarray(s, dtype=float)
     out = np.empty(len(s))
     curve, c, t0, d = geom.curves[which], geom.origins[which], geom.t_origin[which], geom.directions[which]
@@ -309,10 +314,70 @@ def _parameters_at_s(geom: ContactGeometry, which: int, s: np.ndarray) -> np.nda
     return out
 
 
-def _s_of_parameters(geom: ContactGeometry, which: int, t: np.ndarray) -> np.ndarray:
+def _chord_of_parameters(geom: ContactGeometry, which: int, t: np.ndarray) -> np.ndarray:
     curve, c, t0, d = geom.curves[which], geom.origins[which], geom.t_origin[which], geom.directions[which]
     p = np.asarray(curve.evaluate(np.asarray(t, dtype=float)), dtype=float).reshape(-1, 2)
     return np.sign((np.asarray(t) - t0) * d) * np.hypot(*(p - c).T)
+
+
+def _offsets(geom: ContactGeometry, which: int, t: np.ndarray) -> np.ndarray:
+    """Tangential offsets (X(t) - c) . tangent of curve ``which``'s points from its origin."""
+    p = np.asarray(geom.curves[which].evaluate(np.asarray(t, dtype=float)), dtype=float).reshape(-1, 2)
+    return (p - geom.origins[which]) @ np.asarray(geom.tangent, dtype=float)
+
+
+def _offset_parameters(geom: ContactGeometry, which: int, offset: np.ndarray, iterations: int = 30) -> np.ndarray:
+    """Parameters on curve ``which`` of the points at tangential ``offset`` from its origin: the
+    first crossing along the candidate region's walk on each side (bracketed on its sampled
+    table), refined by safeguarded Newton on (X(t) - c) . tangent - offset. NaN where the walk
+    does not reach the offset."""
+    offset = np.asarray(offset, dtype=float).ravel()
+    out = np.full(offset.shape, np.nan)
+    curve, tangent = geom.curves[which], np.asarray(geom.tangent, dtype=float)
+    out[offset == 0.0] = geom.t_origin[which]
+    for sgn in (1, -1):
+        sel = np.nonzero(sgn * offset > 0.0)[0]
+        if len(sel) == 0:
+            continue
+        t, _ = geom.table(which, sgn)
+        reach = np.maximum.accumulate(sgn * _offsets(geom, which, t))
+        target = sgn * offset[sel]
+        j = np.searchsorted(reach, target, side="left")
+        ok = (j > 0) & (j < len(t))
+        sel, target, j = sel[ok], target[ok], j[ok]
+        a, b = t[j - 1], t[j]
+        fa, fb = reach[j - 1] - target, reach[j] - target
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = np.where(fb != fa, a - fa * (b - a) / (fb - fa), 0.5 * (a + b))
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        for _ in range(iterations):
+            f = sgn * _offsets(geom, which, x) - target
+            df = sgn * (np.asarray(curve.derivative(x), dtype=float).reshape(-1, 2) @ tangent)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                nx = x - f / df
+            nx = np.where(np.isfinite(nx) & (nx >= lo) & (nx <= hi), nx, 0.5 * (lo + hi))
+            done = np.abs(nx - x) <= 1e-15 * np.maximum(1.0, np.abs(nx))
+            x = nx
+            if np.all(done):
+                break
+        out[sel] = x
+    return out
+
+
+def _parameters_at_s(geom: ContactGeometry, which: int, s: np.ndarray) -> np.ndarray:
+    """Parameters on curve ``which`` of the points labelled ``s`` (body 1's signed chord): on
+    body 1 the chord itself; on body 2 the matched point, at the same tangential offset
+    ("frame": along the frame's normal) or at the same chord ("pair")."""
+    if which == 0 or geom.normal_mode != "frame":
+        return _chord_parameters(geom, which, s)
+    return _offset_parameters(geom, 1, _offsets(geom, 0, _chord_parameters(geom, 0, s)))
+
+
+def _s_of_parameters(geom: ContactGeometry, which: int, t: np.ndarray) -> np.ndarray:
+    """The label s (body 1's signed chord) of curve ``which``'s points at parameters ``t``."""
+    if which == 0 or geom.normal_mode != "frame":
+        return _chord_of_parameters(geom, which, t)
+    return _chord_of_parameters(geom, 0, _offset_parameters(geom, 0, _offsets(geom, 1, t)))
 
 
 @dataclass

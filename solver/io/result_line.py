@@ -1,12 +1,13 @@
 """The lines ``ibfem run`` prints per contact: the contact's size and forces in the units of the
 summary, only the quantities its type has, and for a symmetric model the force of the whole
-contact beside the model's own ("quarter model: 3.42e+06 N; full contact 1.37e+07 N")."""
+contact beside the model's own ("quarter model: 3.42e+06 N; full contact 1.37e+07 N"), then the
+estimated relative error of each quantity when the run estimated it."""
 
 from __future__ import annotations
 
 from typing import Any, Mapping
 
-__all__ = ["contact_line", "share_name"]
+__all__ = ["contact_line", "share_name", "accuracy_line"]
 
 _SHARES = {1.0: "full", 0.5: "half", 0.25: "quarter", 0.125: "eighth"}
 
@@ -55,4 +56,22 @@ def contact_line(c: Mapping[str, Any]) -> str:
     if "tangential_force" in c:
         q = c.get("tangential_force")
         parts.append("tangential_force = " + (_vector(q, force_unit) if isinstance(q, list) else _number(q, force_unit)))
+    errors = c.get("estimated_error")
+    if isinstance(errors, Mapping):
+        parts.append("estimated error " + ", ".join(f"{key} {_percent(value)}" for key, value in errors.items()))
     return ", ".join(parts)
+
+
+def _percent(value: Any) -> str:
+    items = value if isinstance(value, (list, tuple)) else [value]
+    text = "/".join(f"{100 * float(v):.2g} %" if isinstance(v, (int, float)) and v == v else "n/a" for v in items)
+    return text
+
+
+def accuracy_line(ladder: Mapping[str, Any]) -> str:
+    """The ladder a run with an accuracy target ran: each rung's dofs and largest estimated error."""
+    rungs = ladder.get("rungs") or []
+    steps = "; ".join(f"{r.get('dofs')} dofs, {_percent(r.get('largest_error'))}"
+                      + (f" ({r['quantity']})" if r.get("quantity") else "") for r in rungs)
+    verdict = "reached" if ladder.get("reached") else "not reached"
+    return f"accuracy {100 * float(ladder.get('target', float('nan'))):g} % {verdict} in {len(rungs)} rung(s): {steps}"

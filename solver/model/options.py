@@ -89,6 +89,9 @@ class SolverOptions:
     linear_solver: str = "auto"
     #: with load paths: load steps per unit of the load parameter t (None: load_steps per unit)
     steps_per_unit: int | None = None
+    #: relative accuracy target of the contacts' results: the grid is refined (every cell
+    #: halved) until the estimated error of each is below it (None: the scene's grid as given)
+    accuracy: float | None = None
 
     def __post_init__(self):
         _integer(self, "load_steps", 1, MAX_LOAD_STEPS)
@@ -116,6 +119,9 @@ class SolverOptions:
             raise OptionError("fictitious_stiffness", f"must lie in [0, {MAX_FICTITIOUS_STIFFNESS:g}] (more changes the "
                               f"body's stiffness: 0.99 moved a contact force by 1.5 %), got {f!r}")
         _choice(self, "linear_solver", LINEAR_SOLVERS)
+        acc = self.accuracy
+        if acc is not None and (isinstance(acc, bool) or not isinstance(acc, (int, float)) or not 1e-5 <= acc < 1.0):
+            raise OptionError("accuracy", f"must lie in [1e-5, 1) (a relative error: 0.005 is 0.5 %), got {acc!r}")
         off = self.grid_offset
         if len(off) not in (2, 3) or not all(
             isinstance(x, (int, float)) and not isinstance(x, bool) and -1.0 <= x <= 1.0 for x in off

@@ -1,0 +1,99 @@
+"""The error estimate (``ibfem run``'s ``estimated_error``: a second solve on a grid twice as
+coarse, Richardson with the orders of solver.model.accuracy) beside the true error on the shipped
+examples: 2D contacts against Hertz for the computed force (a; the peak pressure p0; c against
+Cattaneo-Mindlin's c/a times Hertz's a for the computed forces), 3D circular contacts against
+Hertz for the computed force (a, p0). Each scene solved in this process: the solve's and the
+estimate's wall time are both printed (the estimate's cost). Prints a markdown table
+(docs/accuracy.md).
+
+    python benchmarks/accuracy_estimates.py examples/mesh_convergence.toml ...
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ibfem.solver.io.scene import load_scene
+from ibfem.solver.reference import theory
+from ibfem.solver.reports.validate import effective_properties
+from ibfem.solver.solving import estimate_errors, solve
+
+
+def true_errors_2d(problem, c: dict) -> dict:
+    """Relative errors of a, p0 and (frictional) c against Hertz / Cattaneo-Mindlin for the
+    computed forces."""
+    r_eff, e_eff = effective_properties(problem, c)
+    N, a = float(c["normal_force"]), float(c["half_width"])
+    a_h = theory.hertz_half_width(N, r_eff, e_eff)
+    out = {"half_width": a / a_h - 1.0,
+           "max_pressure": c["max_pressure"] / theory.hertz_peak_pressure(N, a_h) - 1.0}
+    if c["type"] == "frictional":
+        ca = theory.cattaneo_mindlin_stick_ratio(float(c["tangential_force"]), N, float(c["friction"]),
+                                                 allow_gross_slip=True)
+        if ca > 0:
+            out["stick_half_width"] = float(c["stick_half_width"]) / (ca * a_h) - 1.0
+    return out
+
+
+def true_errors_3d(problem, c: dict) -> dict:
+    """Relative errors of the semi-axes and p0 against Hertz for the computed force (circular contacts)."""
+    share = float(c.get("model_share", 1.0))
+    mats = [problem.body(n).material for n in c["bodies"]]
+    e_star = 1.0 / sum((1 - m.poissons_ratio ** 2) / m.youngs_modulus for m in mats)
+    curv = c.get("relative_curvatures") or [math.nan, math.nan]
+    if abs(curv[0] - curv[1]) > 1e-3 * abs(curv[0]):
+        return {}
+    n_full = float(c["normal_force"]) / share
+    a_h = theory.hertz_sphere_radius(n_full, 1.0 / curv[0], e_star)
+    return {"semi_axes": [s / a_h - 1.0 for s in c["semi_axes"]],
+            "max_pressure": c["max_pressure"] / theory.hertz_sphere_peak_pressure(n_full, a_h) - 1.0}
+
+
+def _pct(v) -> str:
+    if isinstance(v, list):
+        return " / ".join(_pct(x) for x in v)
+    return "n/a" if v is None or not math.isfinite(v) else f"{100 * v:.3g} %"
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("scenes", nargs="+", type=Path)
+    ap.add_argument("--json", type=Path, default=None)
+    args = ap.parse_args(argv)
+    rows = []
+    for path in args.scenes:
+        scene = load_scene(path)
+        t0 = time.perf_counter()
+        solution = solve(scene.problem)
+        t1 = time.perf_counter()
+        estimate_errors(scene.problem, solution)
+        t2 = time.perf_counter()
+        for c in solution.contacts:
+            true = (true_errors_3d if scene.problem.dim == 3 else true_errors_2d)(scene.problem, c)
+            row = {"scene": str(path), "solve_s": t1 - t0, "estimate_s": t2 - t1, "type": c["type"],
+                   "estimated": c.get("estimated_error"), "true": true}
+            rows.append(row)
+            print(json.dumps(row, default=float), flush=True)
+    print("\n| example | quantity | true error | estimated | estimated / true | solve (s) | estimate (s) |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        for key, true in r["true"].items():
+            est = (r["estimated"] or {}).get(key)
+            ts, es = (true if isinstance(true, list) else [true]), (est if isinstance(est, list) else [est])
+            ratio = " / ".join("n/a" if e is None or not t else f"{e / abs(t):.2f}" for e, t in zip(es, ts))
+            print(f"| {Path(r['scene']).stem} | {key} | {_pct(true)} | {_pct(est)} | {ratio} | "
+                  f"{r['solve_s']:.1f} | {r['estimate_s']:.1f} |")
+    if args.json:
+        args.json.write_text(json.dumps(rows, indent=1, default=float))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))

@@ -1,0 +1,103 @@
+"""Error estimates of a contact result from a second solution on a grid twice as coarse
+(Richardson extrapolation, e.g. Roache, Verification and Validation in Computational Science
+and Engineering, 1998, ch. 5): a quantity q that converges like q_h = q + C h^p has the error
+
+    q_h - q = (q_h - q_2h) / (2^p - 1)
+
+on the finer grid. The orders p are those of bilinear / trilinear elements where the fields are
+smooth, and of the contact's edge where they are not:
+
+- 2 for the normal force (a reaction: an integral of the stresses, superconvergent like the
+  energy), the peak pressure (the traction in the region's smooth interior) and the largest von
+  Mises stress (the recovered stresses, below the surface where the field is smooth);
+- 3/2 for the contact's sizes (half widths, semi-axes, stick sizes): they are where the pressure's
+  end values vanish, and the end values are moments of the pressure, which falls like
+  sqrt(a - x) at the edge: the cell containing the edge interpolates it with an error of
+  O(h^(1/2)) of the peak pressure over a length h, so the moments and the edge err by O(h^(3/2))
+  (the smooth rest by O(h^2)).
+
+Each estimate is relative, |q_h - q_2h| / ((2^p - 1) |q_h|). Measured against exact theory on the
+shipped examples (docs/accuracy.md).
+
+Pure functions on the summary's contact blocks: the solves are the caller's."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+import numpy as np
+
+__all__ = ["ORDERS", "WARN_ABOVE", "contact_quantities", "relative_errors", "largest_error"]
+
+#: convergence order of each quantity on Q1 elements
+ORDERS = {"half_width": 1.5, "stick_half_width": 1.5, "semi_axes": 1.5, "stick_semi_axes": 1.5,
+          "normal_force": 2.0, "max_pressure": 2.0, "max_von_mises": 2.0}
+#: runs without an accuracy target warn above this estimated relative error
+WARN_ABOVE = 0.01
+
+
+def _profile_max(profile: Any) -> float:
+    """The largest value of a pressure profile ({"s", "value"} in 2D, one per axis in 3D)."""
+    if not isinstance(profile, Mapping):
+        return math.nan
+    parts = [profile] if "value" in profile else [p for p in profile.values() if isinstance(p, Mapping)]
+    values = [np.asarray(p.get("value") or [], dtype=float) for p in parts]
+    values = [v[np.isfinite(v)] for v in values]
+    return max((float(v.max()) for v in values if len(v)), default=math.nan)
+
+
+def contact_quantities(block: Mapping[str, Any]) -> dict[str, Any]:
+    """The estimated quantities of one contact block: sizes (2D half widths, 3D semi-axes as a
+    list), the normal force, the peak pressure (``max_pressure``) and ``max_von_mises`` where
+    the block has it. A frictionless contact has no stick size; a zero size is left out."""
+    out: dict[str, Any] = {}
+    for key in ("half_width", "stick_half_width", "semi_axes", "stick_semi_axes", "normal_force", "max_von_mises"):
+        value = block.get(key)
+        if value is None:
+            continue
+        if isinstance(value, (list, tuple)):
+            value = [float(v) if v is not None else math.nan for v in value]
+            if all(v > 0.0 for v in value):
+                out[key] = value
+        elif float(value) != 0.0 and math.isfinite(float(value)):
+            out[key] = float(value)
+    if block.get("type") in ("frictionless", "tied"):  # no stick zone of its own
+        out.pop("stick_half_width", None)
+        out.pop("stick_semi_axes", None)
+    p0 = _profile_max(block.get("pressure"))
+    if p0 > 0.0:
+        out["max_pressure"] = p0
+    return out
+
+
+def _relative(fine: float, coarse: float, order: float) -> float:
+    if not (math.isfinite(fine) and math.isfinite(coarse)) or fine == 0.0:
+        return math.nan
+    return abs(fine - coarse) / ((2.0 ** order - 1.0) * abs(fine))
+
+
+def relative_errors(fine: Mapping[str, Any], coarse: Mapping[str, Any]) -> dict[str, Any]:
+    """Estimated relative error of each quantity present in both (lists element by element);
+    a quantity the coarse solution lacks (no stick zone there) is None."""
+    out: dict[str, Any] = {}
+    for key, value in fine.items():
+        other = coarse.get(key)
+        order = ORDERS[key]
+        if other is None:
+            out[key] = None
+        elif isinstance(value, list):
+            out[key] = [_relative(f, c, order) for f, c in zip(value, other)]
+        else:
+            out[key] = _relative(value, float(other), order)
+    return out
+
+
+def largest_error(errors: Mapping[str, Any]) -> tuple[str | None, float]:
+    """(quantity, value) of the largest estimated relative error."""
+    best: tuple[str | None, float] = (None, 0.0)
+    for key, value in errors.items():
+        for v in value if isinstance(value, list) else [value]:
+            if v is not None and math.isfinite(v) and v > best[1]:
+                best = (key, float(v))
+    return best

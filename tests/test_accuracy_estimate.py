@@ -1,0 +1,86 @@
+"""The error estimate's arithmetic (solver.model.accuracy): Richardson's estimate is exact on a
+sequence converging at the assumed order, and the summary's blocks are read as documented; the
+accuracy target's ladder (slow) meets its target against Hertz's theory."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from ibfem.solver.io.result_line import accuracy_line, contact_line
+from ibfem.solver.io.scene import scene_from_dict
+from ibfem.solver.model.accuracy import ORDERS, contact_quantities, largest_error, relative_errors
+from ibfem.solver.reference import theory
+from ibfem.solver.reports.validate import effective_properties
+from ibfem.solver.solving import solve_to_accuracy
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.mark.parametrize("key", sorted(ORDERS))
+def test_richardson_exact_at_the_assumed_order(key):
+    # q_h = q + C h^p with p the assumed order: the estimate is the true error of q_h
+    p, q, c, h = ORDERS[key], 3.7, 0.8, 0.01
+    fine, coarse = q + c * h ** p, q + c * (2 * h) ** p
+    if key in ("semi_axes", "stick_semi_axes"):
+        est = relative_errors({key: [fine, fine]}, {key: [coarse, coarse]})[key]
+        assert est == pytest.approx([abs(fine - q) / fine] * 2, rel=1e-9)
+    else:
+        assert relative_errors({key: fine}, {key: coarse})[key] == pytest.approx(abs(fine - q) / fine, rel=1e-9)
+
+
+def test_quantities_of_a_block():
+    block = {"type": "frictionless", "half_width": 0.03, "stick_half_width": 0.0, "normal_force": 1e8,
+             "pressure": {"s": [-0.01, 0.0, 0.01], "value": [1.0e9, 2.0e9, 1.5e9]}, "max_von_mises": 1.1e9}
+    q = contact_quantities(block)
+    assert q == {"half_width": 0.03, "normal_force": 1e8, "max_pressure": 2.0e9, "max_von_mises": 1.1e9}
+    block3d = {"type": "frictional", "semi_axes": [0.04, 0.05], "stick_semi_axes": [0.02, 0.025], "normal_force": 1e6,
+               "pressure": {"axis0": {"s": [0.0], "value": [3e9]}, "axis1": {"s": [0.0], "value": [3.1e9]}}}
+    q = contact_quantities(block3d)
+    assert q["semi_axes"] == [0.04, 0.05] and q["stick_semi_axes"] == [0.02, 0.025] and q["max_pressure"] == 3.1e9
+
+
+def test_missing_coarse_quantity_and_largest():
+    errors = relative_errors({"normal_force": 1.0, "stick_half_width": 0.5}, {"normal_force": 1.03})
+    assert errors["stick_half_width"] is None and errors["normal_force"] == pytest.approx(0.01)
+    assert largest_error(errors) == ("normal_force", pytest.approx(0.01))
+    assert largest_error({"half_width": math.nan}) == (None, 0.0)
+
+
+def test_result_line_prints_the_estimate():
+    line = contact_line({"type": "frictionless", "half_width": 0.03, "normal_force": 1e8,
+                         "estimated_error": {"half_width": 0.0042, "normal_force": 0.0003}})
+    assert "estimated error half_width 0.42 %, normal_force 0.03 %" in line
+
+
+def test_accuracy_line_lists_the_ladder():
+    line = accuracy_line({"target": 0.005, "reached": True, "rungs": [
+        {"dofs": 4444, "largest_error": 0.0841, "quantity": "max_von_mises"},
+        {"dofs": 16576, "largest_error": 0.0041, "quantity": "half_width"}]})
+    assert line == ("accuracy 0.5 % reached in 2 rung(s): 4444 dofs, 8.4 % (max_von_mises); "
+                    "16576 dofs, 0.41 % (half_width)")
+
+
+@pytest.mark.slow
+def test_accuracy_target_is_met_against_hertz():
+    # a cylinder on a block from a grid too coarse for 2 %: the ladder refines until the estimate
+    # is below the target, and the true error of a against Hertz for the computed force is too
+    data = tomllib.loads((ROOT / "examples" / "mesh_convergence.toml").read_text())
+    for body in data["bodies"]:
+        body["element_size"] = 0.1
+        for ref in body["refinement"]:
+            ref["levels"] = min(ref["levels"], 3)
+    data["solver"].update(accuracy=0.02, load_steps=1)
+    data["output"] = {"vtk": False, "plots": False}
+    scene = scene_from_dict(data, label="accuracy", base_dir=ROOT / "examples")
+    solution, ladder = solve_to_accuracy(scene.problem)
+    errors = [r["largest_error"] for r in ladder["rungs"]]
+    assert ladder["reached"] and len(errors) >= 2 and errors[-1] <= 0.02 < errors[0]
+    assert all(b < a for a, b in zip(errors, errors[1:]))
+    c = solution.contacts[0]
+    r_eff, e_eff = effective_properties(scene.problem, c)
+    a_hertz = theory.hertz_half_width(c["normal_force"], r_eff, e_eff)
+    assert abs(c["half_width"] / a_hertz - 1.0) < 0.02
