@@ -200,23 +200,49 @@ def sliding_symmetry(boundary, names, grid, status_cut: np.ndarray, inside: np.n
 
 
 def _face_planes(faces: dict, names, signed_distance, sizes) -> list:
-    """(origin, outward unit normal, on_face(feet, tol)) of the flat faces among ``names``: a
-    foot on the plane is on the face where the face's projection leaves it in place (a face
-    without one: where it is on the body's boundary)."""
+    """(origin, outward unit normal, on_face(feet, tol)) of the flat faces among ``names``. A
+    foot on the plane is on the face where it is on the body's boundary (|signed distance| <=
+    tol): the only face of the body in that plane holds it. Where another face of the body lies
+    in the same plane (a plane split into faces), the face's projection must leave the foot in
+    place (about a thousand times dearer than the signed distance)."""
     found = []
     for name in names:
         face = faces.get(name)
         plane = None if face is None else _plane_of(face, signed_distance, sizes)
         if plane is None:
             continue  # a curved sliding face is no mirror
-        if hasattr(face, "project"):
+        if hasattr(face, "project") and _shares_plane(faces, name, *plane, float(np.max(sizes))):
             def on_face(feet, tol, face=face):
-                return np.linalg.norm(np.asarray(face.project(feet).points, float) - feet, axis=1) <= tol
+                near = np.abs(np.asarray(signed_distance(feet), float)) <= tol
+                hit = np.nonzero(near)[0]
+                if len(hit):
+                    foot = np.asarray(face.project(feet[hit]).points, float)
+                    near[hit] = np.linalg.norm(foot - feet[hit], axis=1) <= tol[hit]
+                return near
         else:
             def on_face(feet, tol):
                 return np.abs(np.asarray(signed_distance(feet), float)) <= tol
         found.append(plane + (on_face,))
     return found
+
+
+def _shares_plane(faces: dict, name: str, origin: np.ndarray, normal: np.ndarray, size: float) -> bool:
+    """Whether a face other than ``name`` lies in the plane (origin, normal): all its
+    quadrature points on it (a plane face by its exact plane)."""
+    tol = ALIGNED * size
+    for other, face in faces.items():
+        if other == name:
+            continue
+        surface = getattr(face, "surface", None)
+        if getattr(surface, "type", None) == "plane":
+            o, n = np.asarray(surface.origin, float), np.asarray(surface.normal, float)
+            if abs(abs(float(n @ normal)) - 1.0) <= 1e-9 and abs(float((o - origin) @ normal)) <= tol:
+                return True
+            continue
+        points = np.asarray(face.quadrature(4.0 * size)[0], float)
+        if len(points) and np.abs((points - origin) @ normal).max() <= tol:
+            return True
+    return False
 
 
 def _edge_planes(curves: dict, names, signed_distance, sizes) -> list:

@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping
 
 from ibfem.solver.model import problem as pb
 
+from .body_output import body_output
+from .parallel_plots import PlotJob
 from .report_html import write_report
 from .results import build_summary, json_safe, write_summary
 from .vtu import write_vtk_files
@@ -39,12 +41,14 @@ def write_results(
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
     progress: Callable[..., None] | None = None,
+    parallel: bool = True,
 ) -> dict[str, Any]:
     """Write every requested file into ``out_dir``; returns the summary written. The summary
     lists the other files under ``files`` (names relative to ``out_dir``) and the time each kind
     of output took under ``timings`` (``summary_s``, ``vtk_s``, ``plots_s``, together
     ``output_s``; ``total_s``, the run's time until now, includes them). ``progress`` is told
-    which file is being written."""
+    which file is being written. The pictures are rendered in a second process while the VTK
+    files are written (solver.io.parallel_plots), unless ``parallel`` is false."""
     report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -58,6 +62,14 @@ def write_results(
     files: list[Path] = []
     missing: list[str] = []
     outputs: dict[str, Any] = {}  # the bodies' output meshes, made once for the files and pictures
+    job = None
+    if plots:  # rendered in a second process while this one writes the VTK files
+        for body in problem.bodies if hasattr(solution, "nodal_stress") else ():
+            solution.nodal_stress(body.name)  # recovered once, before the fork: both processes use it
+        if vtk and problem.dim == 2:  # the 2D pictures draw the bodies' output meshes
+            outputs.update((b.name, body_output(problem, solution, b)) for b in problem.bodies)
+        job = PlotJob(out_dir, problem, solution, summary, outputs, parallel)
+        report("results: plots" + (" (rendered beside the other files)" if job.parallel else ""))
     if vtk:  # VTK's XML format written directly: no optional library needed
         t0 = time.perf_counter()
         files += write_vtk_files(out_dir, problem, solution, json_safe(summary), progress=report, outputs=outputs)
@@ -67,16 +79,11 @@ def write_results(
 
         files += write_step_files(out_dir, problem, solution, summary, write_vtu=_step_bodies if vtk else None,
                                   plots=plots, missing=missing)
-    if plots:  # a missing optional library costs its files, not the summary
-        t0 = time.perf_counter()
+    if job is not None:  # a missing optional library costs its files, not the summary
         report("results: plots")
-        try:
-            from .plots import write_plots
-
-            files += write_plots(out_dir, problem, solution, summary, outputs)
-        except ImportError as err:
-            missing.append(f"plots not written: matplotlib is not installed ({err}); pip install 'ibfem[pictures]'")
-        output_times["plots_s"] = time.perf_counter() - t0
+        pictures, reason, output_times["plots_s"] = job.result()
+        files += pictures
+        missing += [reason] if reason else []
     if missing:
         summary["warnings"] = list(summary.get("warnings", [])) + missing
     if plots:  # the page that shows the run: numbers and pictures in one file

@@ -125,7 +125,10 @@ def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, title: str, wi
 
 def _field_figure(plt, outputs, title: str, window) -> Any:
     """von Mises and displacement magnitude side by side over ``window`` (the whole scene when None)."""
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5), constrained_layout=True)
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5))
+    # fixed margins (a quarter of the rendering time less than a computed layout): room for the
+    # tick labels, the colour bars' labels and a title over each panel
+    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.1, top=0.92, wspace=0.3)
     allpoints = np.concatenate([out.points for out in outputs])
     window = window or (allpoints[:, 0].min(), allpoints[:, 0].max(), allpoints[:, 1].min(), allpoints[:, 1].max())
     for ax, key, label in ((axes[0], "von_mises", "von Mises stress"),

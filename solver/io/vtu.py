@@ -51,7 +51,7 @@ def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solut
     """Every body's VTU file, every contact region's VTP file and the index; returns the paths.
     ``summary`` is the run's summary (JSON-safe: lists, None for missing values); ``progress``
     is told each file's name before it is made; ``outputs`` (a dict) receives each body's output
-    mesh by name, for the pictures."""
+    mesh by name, for the pictures (a mesh already in it is written as it is)."""
     report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -59,7 +59,7 @@ def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solut
     contacts = summary.get("contacts") or []
     for body in problem.bodies:
         report(f"results: {file_stem(body.name)}.vtu (cells clipped at the surface)")
-        mesh = body_output(problem, solution, body)
+        mesh = (outputs or {}).get(body.name) or body_output(problem, solution, body)
         if outputs is not None:
             outputs[body.name] = mesh
         mesh.point_data["contact_pressure"] = _contact_pressure(problem, body, mesh.points, contacts)
