@@ -15,7 +15,7 @@ from .body_output import body_output
 from .parallel_plots import PlotJob
 from .report_html import write_report
 from .results import build_summary, json_safe, write_summary
-from .vtu import write_vtk_files
+from .vtu import step_contacts, write_step_bodies, write_vtk_files
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -23,11 +23,16 @@ if TYPE_CHECKING:
 __all__ = ["write_results", "write_scene_results"]
 
 
-def _step_bodies(folder: Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
-    """One load step's body files (VTU, clipped at the exact surfaces) for the ``steps.pvd`` series;
-    the contact regions of a step are in ``summary.json``'s ``steps``, not in the series."""
-    written = write_vtk_files(folder, problem, solution, {"contacts": []})
-    return [p for p in written if p.suffix == ".vtu"]
+def _step_writer(summary: Mapping[str, Any]):
+    """The VTU writer of the load-step series: each step's bodies with that step's contact
+    pressure (the step is the one whose field the solution it is given carries)."""
+    final = json_safe(summary).get("contacts") or []
+
+    def write(folder: Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
+        step = next((st for st in getattr(solution, "steps", None) or [] if st.get("field") is solution.u), {})
+        return write_step_bodies(folder, problem, solution, step_contacts(final, step))
+
+    return write
 
 
 def write_results(
@@ -77,7 +82,7 @@ def write_results(
     if getattr(solution, "steps", None):  # load paths: the step series and the history's tables
         from .step_outputs import write_step_files
 
-        files += write_step_files(out_dir, problem, solution, summary, write_vtu=_step_bodies if vtk else None,
+        files += write_step_files(out_dir, problem, solution, summary, write_vtu=_step_writer(summary) if vtk else None,
                                   plots=plots, missing=missing)
     if job is not None:  # a missing optional library costs its files, not the summary
         report("results: plots")
