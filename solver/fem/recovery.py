@@ -318,17 +318,40 @@ def _patch_fit(inc, nodes, points, scale, centroids, stress, w, degree: int):
     if degree == 2:
         terms += [d[:, i] * d[:, j] for i in range(dim) for j in range(i, dim)]
     basis = np.column_stack(terms)
-    k = basis.shape[1]
-    local = ring2.row
-    wk = w[cell]
-    mat = np.zeros((len(nodes), k, k))
-    rhs = np.zeros((len(nodes), k, stress.shape[1]))
-    for i in range(k):
-        for j in range(i, k):
-            mat[:, i, j] = mat[:, j, i] = np.bincount(local, wk * basis[:, i] * basis[:, j], minlength=len(nodes))
-        for c in range(stress.shape[1]):
-            rhs[:, i, c] = np.bincount(local, wk * basis[:, i] * stress[cell, c], minlength=len(nodes))
+    order = np.argsort(ring2.row, kind="stable")  # each node's entries together
+    local, cell, basis = ring2.row[order], cell[order], basis[order]
+    wb = w[cell][:, None] * basis
+    mat = _node_sums(local, len(nodes), wb, basis)
+    rhs = _node_sums(local, len(nodes), wb, stress[cell])
     ev = np.linalg.eigvalsh(mat)
     ok = ev[:, 0] > 1e-8 * ev[:, -1]
     coef = np.linalg.solve(mat[ok], rhs[ok])
     return ok, coef[:, 0, :]
+
+
+#: entries per block of :func:`_node_sums`, padded patches included (bounds its work arrays to
+#: about 30 MB)
+_BLOCK = 1 << 22
+
+
+def _node_sums(local: np.ndarray, n: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+    """(n, a, b): the sum over each node's entries of left[e, :, None] * right[e, None, :]
+    (``local``, sorted, the node of each entry): each node's entries padded with zeros to the
+    largest patch, then one batched matrix product left^T right per block of nodes."""
+    a, b = left.shape[1], right.shape[1]
+    counts = np.bincount(local, minlength=n)
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    width = max(int(counts.max(initial=0)), 1)
+    position = np.arange(len(local)) - starts[local]
+    out = np.zeros((n, a, b))
+    step = max(1, _BLOCK // (width * max(a, b)))
+    for first in range(0, n, step):
+        last = min(n, first + step)
+        sel = slice(starts[first], starts[last - 1] + counts[last - 1])
+        rows, cols = local[sel] - first, position[sel]
+        padded_left = np.zeros((last - first, a, width))  # transposed: a contiguous product
+        padded_right = np.zeros((last - first, width, b))
+        padded_left[rows, :, cols] = left[sel]
+        padded_right[rows, cols] = right[sel]
+        out[first:last] = np.matmul(padded_left, padded_right)
+    return out
