@@ -3,8 +3,9 @@
     python benchmarks/output_cost.py examples/solid/sphere_on_flat.toml [more scenes] [--out DIR] [--vtk]
 
 Each scene is loaded, solved and written as ``ibfem run`` does it: the files its ``[output]``
-table asks for (``--vtk``: the VTU files too), the pictures rendered in a second process beside
-the VTU files (``--serial``: after them, in this process, for comparison). The
+table asks for (``--vtk``: the VTU files too), the pictures rendered in other processes beside
+the VTU files when the machine has idle cores (``--serial``: after them, in this process, for
+comparison). The
 summary's ``timings`` give the share of the run the output took (summary sampling, VTU files,
 plots: these two overlap). The VTU files are then read back with pyvista (the ``pictures`` extra) and checked
 against the exact solids: every cell's centroid inside the body (signed distance <= 0, negative

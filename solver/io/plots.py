@@ -266,12 +266,18 @@ def _contact_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, 
                             f"contact_{k}.png", outside=True)
 
 
+#: the kinds of pictures, which can be rendered apart: the fields over the bodies (2D: fields.png
+#: and the contact close-ups; 3D: sections.png) and the profiles (contacts and output lines)
+GROUPS = ("fields", "profiles")
+
+
 def write_plots(
     out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any],
-    outputs: Mapping[str, Any] | None = None,
+    outputs: Mapping[str, Any] | None = None, groups=GROUPS,
 ) -> list[Path]:
-    """Write the PNG pictures; returns their paths. ``outputs``: the bodies' output meshes
-    (solver.io.body_output) already made for the VTU files, by body name."""
+    """Write the PNG pictures of ``groups`` (:data:`GROUPS`); returns their paths. ``outputs``:
+    the bodies' output meshes (solver.io.body_output) already made for the VTU files, by body
+    name."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     figs = _Figures(out_dir)
@@ -279,9 +285,11 @@ def write_plots(
     if problem.dim == 3:
         from .plots_solid import write_solid_plots
 
-        write_solid_plots(out_dir, figs, problem, solution, summary)
+        write_solid_plots(out_dir, figs, problem, solution, summary, groups)
         return figs.written
-    _field_figures(figs, problem, solution, summary, outputs or {})
-    _line_figures(figs, problem, summary)
-    _contact_figures(figs, problem, summary)
+    if "fields" in groups:
+        _field_figures(figs, problem, solution, summary, outputs or {})
+    if "profiles" in groups:
+        _line_figures(figs, problem, summary)
+        _contact_figures(figs, problem, summary)
     return figs.written

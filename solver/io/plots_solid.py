@@ -226,10 +226,14 @@ def _contact_figure(plt, problem: pb.Problem, c: Mapping[str, Any]) -> Any:
 
 
 def write_solid_plots(out_dir: Path, figs: Any, problem: pb.Problem, solution: pb.Solution,
-                      summary: Mapping[str, Any]) -> None:
-    """Section pictures and line plots into ``figs`` (solver.io.plots._Figures)."""
-    contacts = [c for c in summary.get("contacts", []) if c.get("point") and None not in c["point"]]
-    figs.save(_sections(figs.plt, problem, solution, contacts), "sections.png")
+                      summary: Mapping[str, Any], groups=("fields", "profiles")) -> None:
+    """Section pictures (group ``fields``), contact and line plots (``profiles``) into ``figs``
+    (solver.io.plots._Figures)."""
+    if "fields" in groups:
+        contacts = [c for c in summary.get("contacts", []) if c.get("point") and None not in c["point"]]
+        figs.save(_sections(figs.plt, problem, solution, contacts), "sections.png")
+    if "profiles" not in groups:
+        return
     for k, c in enumerate(summary.get("contacts", [])):
         if c.get("boundary"):  # a region of general shape (a line contact)
             from .plots_region import region_figure
