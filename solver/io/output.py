@@ -52,8 +52,9 @@ def write_results(
     lists the other files under ``files`` (names relative to ``out_dir``) and the time each kind
     of output took under ``timings`` (``summary_s``, ``vtk_s``, ``plots_s``, together
     ``output_s``; ``total_s``, the run's time until now, includes them). ``progress`` is told
-    which file is being written. The pictures are rendered in a second process while the VTK
-    files are written (solver.io.parallel_plots), unless ``parallel`` is false."""
+    which file is being written. The pictures are rendered in other processes while the VTK
+    files are written when the machine has idle cores (solver.io.parallel_plots), unless
+    ``parallel`` is false."""
     report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -68,7 +69,7 @@ def write_results(
     missing: list[str] = []
     outputs: dict[str, Any] = {}  # the bodies' output meshes, made once for the files and pictures
     job = None
-    if plots:  # rendered in a second process while this one writes the VTK files
+    if plots:  # rendered in other processes while this one writes the VTK files (idle cores)
         for body in problem.bodies if hasattr(solution, "nodal_stress") else ():
             solution.nodal_stress(body.name)  # recovered once, before the fork: both processes use it
         if vtk and problem.dim == 2:  # the 2D pictures draw the bodies' output meshes
