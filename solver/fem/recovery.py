@@ -329,29 +329,27 @@ def _patch_fit(inc, nodes, points, scale, centroids, stress, w, degree: int):
     return ok, coef[:, 0, :]
 
 
-#: entries per block of :func:`_node_sums`, padded patches included (bounds its work arrays to
-#: about 30 MB)
-_BLOCK = 1 << 22
+#: nodes per block of :func:`_node_sums`
+_NODES = 2048
 
 
 def _node_sums(local: np.ndarray, n: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
     """(n, a, b): the sum over each node's entries of left[e, :, None] * right[e, None, :]
-    (``local``, sorted, the node of each entry): each node's entries padded with zeros to the
-    largest patch, then one batched matrix product left^T right per block of nodes."""
+    (``local``, sorted, the node of each entry). The nodes are taken in blocks of similar patch
+    size, each node's entries padded with zeros to the block's largest patch, and each block
+    summed by one batched matrix product left^T right."""
     a, b = left.shape[1], right.shape[1]
     counts = np.bincount(local, minlength=n)
     starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    width = max(int(counts.max(initial=0)), 1)
-    position = np.arange(len(local)) - starts[local]
+    by_size = np.argsort(counts, kind="stable")
     out = np.zeros((n, a, b))
-    step = max(1, _BLOCK // (width * max(a, b)))
-    for first in range(0, n, step):
-        last = min(n, first + step)
-        sel = slice(starts[first], starts[last - 1] + counts[last - 1])
-        rows, cols = local[sel] - first, position[sel]
-        padded_left = np.zeros((last - first, a, width))  # transposed: a contiguous product
-        padded_right = np.zeros((last - first, width, b))
-        padded_left[rows, :, cols] = left[sel]
-        padded_right[rows, cols] = right[sel]
-        out[first:last] = np.matmul(padded_left, padded_right)
+    for first in range(0, n, _NODES):
+        block = by_size[first:first + _NODES]
+        width = max(int(counts[block[-1]]), 1)
+        position = np.arange(width)
+        used = position[None, :] < counts[block, None]
+        entry = np.where(used, starts[block, None] + position[None, :], 0)
+        padded_left = np.where(used[:, None, :], left[entry].transpose(0, 2, 1), 0.0)  # (k, a, width)
+        padded_right = np.where(used[:, :, None], right[entry], 0.0)  # (k, width, b)
+        out[block] = np.matmul(padded_left, padded_right)
     return out
