@@ -49,7 +49,7 @@ def _run(scene_path: str, out: Path) -> tuple[dict, float, float]:
 def row(scene_path: str, out: Path, max_memory: float) -> str:
     from ibfem.solver.io.scene import SceneError
 
-    name = Path(scene_path).stem
+    name = str(Path(scene_path).with_suffix("")).removeprefix("examples/")  # subfolders tell scenes apart
     try:
         est = _estimate(scene_path)
     except SceneError as err:  # the scene check refuses a grid larger than the machine
