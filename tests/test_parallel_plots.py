@@ -5,6 +5,7 @@ and message, and a child that dies has its pictures rendered in the caller. The 
 is replaced here by a stand-in that writes one file per group naming the process that wrote it."""
 
 import os
+import threading
 
 import pytest
 
@@ -34,6 +35,8 @@ def _job(tmp_path, parallel=True, idle=2):
 
 def test_each_group_of_pictures_is_rendered_in_a_process_of_its_own(tmp_path, monkeypatch):
     _stand_in(monkeypatch, lambda parent: None)
+    if threading.active_count() > 1:  # another test left a thread: this process does not fork
+        pytest.skip("a thread of another test is alive; the fallback is tested below")
     job = _job(tmp_path)
     assert job.parallel
     files, reason, seconds = job.result()
@@ -79,3 +82,19 @@ def test_a_child_that_dies_leaves_the_pictures_to_the_caller(tmp_path, monkeypat
 
 def test_the_idle_cores_are_counted_from_the_load():
     assert 0 <= parallel_plots.idle_cores() <= (os.cpu_count() or 1)
+
+
+def test_a_process_with_another_thread_renders_here(tmp_path, monkeypatch):
+    # forking copies one thread only (a lock another holds stays locked in the child)
+    _stand_in(monkeypatch, lambda parent: None)
+    release = threading.Event()
+    thread = threading.Thread(target=release.wait)
+    thread.start()
+    try:
+        job = _job(tmp_path)
+        assert not job.parallel
+        files, _, _ = job.result()
+    finally:
+        release.set()
+        thread.join()
+    assert {int(f.read_text()) for f in files} == {os.getpid()} and len(files) == 2
