@@ -1,10 +1,13 @@
 """What a run's output costs and whether it shows the bodies as they are, per scene:
 
-    python benchmarks/output_cost.py examples/solid/sphere_on_flat.toml [more scenes] [--out DIR]
+    python benchmarks/output_cost.py examples/solid/sphere_on_flat.toml [more scenes] [--out DIR] [--vtk]
 
-Each scene is loaded, solved and written with its VTU files (and the plots it asks for); the
+Each scene is loaded, solved and written as ``ibfem run`` does it: the files its ``[output]``
+table asks for (``--vtk``: the VTU files too), the pictures rendered in other processes beside
+the VTU files when the machine has idle cores (``--serial``: after them, in this process, for
+comparison). The
 summary's ``timings`` give the share of the run the output took (summary sampling, VTU files,
-plots). The VTU files are then read back with pyvista (the ``pictures`` extra) and checked
+plots: these two overlap). The VTU files are then read back with pyvista (the ``pictures`` extra) and checked
 against the exact solids: every cell's centroid inside the body (signed distance <= 0, negative
 inside), the cells' volume against the solid's (the divergence theorem on its faces'
 quadrature), and the stress read from the file at each probe against summary.json's."""
@@ -48,23 +51,27 @@ def _check_probe(pv, out: Path, probe: dict) -> str:
     return f"  probe {probe['point']}: |file - summary| / |stress| = {np.abs(got - want).max() / np.abs(want).max():.1e}"
 
 
-def run(scene_path: str, out: Path) -> None:
-    import pyvista as pv
-
+def run(scene_path: str, out: Path, force_vtk: bool, serial: bool = False) -> None:
     from ibfem.solver.io.output import write_results
     from ibfem.solver.io.scene import load_scene
     from ibfem.solver.solving import solve
 
     t0 = time.perf_counter()
     scene = load_scene(scene_path)
-    solution = solve(scene.problem)
     o = scene.output
-    summary = write_results(out, scene.problem, solution, probes=o.probes, lines=o.lines, vtk=True, plots=o.plots,
-                            total_s=time.perf_counter() - t0, extra={"scene": scene_path})
+    solution = solve(scene.problem)
+    vtk = o.vtk or force_vtk
+    summary = write_results(out, scene.problem, solution, probes=o.probes, lines=o.lines, vtk=vtk, plots=o.plots,
+                            total_s=time.perf_counter() - t0, extra={"scene": scene_path}, parallel=not serial)
     t = summary["timings"]
-    print(f"{scene_path}: run {t['total_s']:.2f} s, output {t['output_s']:.2f} s = "
+    print(f"{scene_path}{' (serial)' if serial else ''}: run {t['total_s']:.2f} s, output {t['output_s']:.2f} s = "
           f"{100 * t['output_s'] / t['total_s']:.1f} % (summary {t['summary_s']:.2f}, VTU {t.get('vtk_s', 0.0):.2f}, "
-          f"plots {t.get('plots_s', 0.0):.2f} s)")
+          f"plots {t.get('plots_s', 0.0):.2f} s; VTU {'written' if vtk else 'not asked'}, "
+          f"plots {'written' if o.plots else 'not asked'}; solver {t.get('solver_total_s', 0.0):.2f} s)")
+    if not vtk:
+        return
+    import pyvista as pv
+
     if scene.problem.dim == 3:
         for body in scene.problem.bodies:
             print(_check_body(pv, out, body))
@@ -73,14 +80,39 @@ def run(scene_path: str, out: Path) -> None:
             print(_check_probe(pv, out, probe))
 
 
+def _alternate(path: str, out: Path, force_vtk: bool, pairs: int) -> None:
+    """Serial and parallel runs alternating, each in a fresh interpreter; prints each run's line and the ratios of their output and run times."""
+    import subprocess
+
+    shares = {True: [], False: []}
+    for _ in range(pairs):
+        for serial in (True, False):
+            cmd = [sys.executable, __file__, path, "--out", str(out)] + ["--vtk"] * force_vtk + ["--serial"] * serial
+            line = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout.splitlines()[0]
+            print(line)
+            run_s, output_s = (float(line.split(key)[1].split()[0]) for key in ("run ", "output "))
+            shares[serial].append((run_s, output_s))
+    for k in range(pairs):
+        (r0, o0), (r1, o1) = shares[True][k], shares[False][k]
+        print(f"  pair {k + 1}: output parallel / serial = {o1 / o0:.2f}, run parallel / serial = {r1 / r0:.2f}")
+
+
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scenes", nargs="+")
     ap.add_argument("--out", default=None, help="output folder (default: a temporary one)")
+    ap.add_argument("--vtk", action="store_true", help="write (and check) the VTU files even where the scene does not ask")
+    ap.add_argument("--serial", action="store_true",
+                    help="the pictures after the VTU files, in this process (for comparison)")
+    ap.add_argument("--alternate", type=int, default=0, metavar="N",
+                    help="N pairs of runs of each scene, serial and parallel alternating (timing ratios on a loaded machine)")
     args = ap.parse_args(argv)
     root = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="ibfem-output-"))
     for path in args.scenes:
-        run(path, root / Path(path).stem)
+        if args.alternate:
+            _alternate(path, root / Path(path).stem, args.vtk, args.alternate)
+        else:
+            run(path, root / Path(path).stem, args.vtk, args.serial)
     return 0
 
 

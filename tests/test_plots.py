@@ -94,3 +94,30 @@ def test_3d_sections_reach_the_peak_and_name_theory(tmp_path):
     # the contact picture names the semi-axes and p0 beside Hertz's for the computed force
     rows = plots_solid.contact_numbers(problem, contacts[0])
     assert [r[0] for r in rows] == ["a", "b", "p0"] and all(r[2] is not None and r[2] > 0 for r in rows)
+
+
+def test_sections_without_a_contact_pass_through_the_largest_von_mises_inside_a_body():
+    # a stand-in solution: s_xx = 1 / (0.1 + |x - x0|), peaked at x0 inside the unit ball, and a
+    # larger value at a grid node outside the ball (extrapolated there) that must not count
+    from types import SimpleNamespace
+
+    g = np.linspace(-1.5, 1.5, 13)
+    nodes = np.stack(np.meshgrid(g, g, g, indexing="ij"), axis=-1).reshape(-1, 3)
+    peak = np.array([0.5, -0.25, 0.0])
+    stress = np.zeros((len(nodes), 6))
+    stress[:, 0] = 1.0 / (0.1 + np.linalg.norm(nodes - peak, axis=1))
+    outside = np.argmax(np.linalg.norm(nodes, axis=1))
+    stress[outside, 0] = 1e3
+    ball = SimpleNamespace(name="ball", grid=SimpleNamespace(nodes=nodes),
+                           contains=lambda p: np.linalg.norm(p, axis=1) <= 1.0)
+    solution = SimpleNamespace(bodies=[ball], nodal_stress=lambda name: stress)
+    material = SimpleNamespace(poissons_ratio=0.3)
+    problem = SimpleNamespace(model="solid", body=lambda name: SimpleNamespace(material=material),
+                              bodies=[SimpleNamespace(profile=SimpleNamespace(bounds=([-1, -1, -1], [1, 1, 1])))])
+    point = plots_solid._peak(problem, solution)
+    assert np.allclose(point, peak)
+    planes = plots_solid.section_planes(problem, [], point)
+    for k, plane in enumerate(planes):  # the plane x_k = peak_k, the axes in absolute coordinates
+        assert plane["origin"][k] == pytest.approx(peak[k]) and plane["title"].startswith("xyz"[k])
+        a, b = (j for j in range(3) if j != k)
+        assert plane["offset"] == (plane["origin"][a], plane["origin"][b]) == (0.0, 0.0)

@@ -238,3 +238,35 @@ def test_faces_with_quadrature_only_are_mirrors_too():
     rec = patch_recovery(g.cells, g.nodes, g.size, body.inside_volume, cut, cent, _field(cent), planes)
     clear = _away_from_other_faces(nodes)
     assert np.allclose(rec[clear], _field(nodes[clear]), atol=1e-9)
+
+
+def _half_face(z0, z1):
+    """The part z0 <= z <= z1 of the box's face x = 0: its quadrature and its projection."""
+    def quadrature(resolution):
+        y, z = np.meshgrid(np.linspace(0.05, 0.95, 10), np.linspace(z0 + 0.025, z1 - 0.025, 10))
+        points = np.column_stack([np.zeros(y.size), y.ravel(), z.ravel()])
+        return points, np.full(y.size, (z1 - z0) / y.size), np.tile([-1.0, 0.0, 0.0], (y.size, 1))
+
+    def project(points):
+        feet = np.column_stack([np.zeros(len(points)), np.clip(points[:, 1], 0, 1), np.clip(points[:, 2], z0, z1)])
+        return SimpleNamespace(points=feet)
+
+    return SimpleNamespace(quadrature=quadrature, project=project)
+
+
+def test_a_face_sharing_its_plane_with_another_mirrors_only_its_own_part():
+    # the face x = 0 split at z = 0.5: sliding on the lower half mirrors the cells whose feet lie
+    # on it (z <= 0.5), none above; the whole face, alone in its plane, mirrors the whole band
+    body = _box(refine=False)
+    faces = dict(body.boundary.faces)
+    whole = faces.pop("x_min")
+    split = dict(faces, low=_half_face(0.0, 0.5), high=_half_face(0.5, 1.0))
+    cent = body.cell_centroids()
+    args = (body.grid, body.status == CUT, body.inside_volume, cent)
+    lower, _ = sliding_symmetry(SimpleNamespace(faces=split, signed_distance=body.boundary.signed_distance), ["low"], *args)
+    full, _ = sliding_symmetry(SimpleNamespace(faces=dict(faces, x_min=whole),
+                                               signed_distance=body.boundary.signed_distance), ["x_min"], *args)
+    low_cells, all_cells = np.nonzero(lower[0].cells)[0], np.nonzero(full[0].cells)[0]
+    assert len(all_cells) > 0 and set(low_cells) <= set(all_cells)
+    assert cent[low_cells, 2].max() <= 0.5 + 1e-9
+    assert set(low_cells) == set(all_cells[cent[all_cells, 2] <= 0.5])

@@ -229,3 +229,18 @@ def test_progress_names_every_output_being_written(tmp_path):
                          progress=lambda *a, **k: messages.append(" ".join(map(str, a))))
     assert messages[0].startswith("results: summary")
     assert {"results: upper.vtu", "results: lower.vtu", "results: plots"} <= {m.split(" (")[0] for m in messages}
+
+
+def test_the_reports_checks_carry_their_units(tmp_path):
+    # the documented units of the checks: gaps and brackets in m, pressures in Pa, the force on
+    # the first body in the summary's force unit; counts and flags bare
+    from ibfem.solver.io.report_html import write_report
+
+    checks = {"gap_beyond_region_edges": 2.5e-05, "pressure_inside_region_edges": 6.5e8, "size_bracket": [0.045, 0.046],
+              "force_on_first": [0.0, -3.0e6], "tensile_samples_inside_region": 12, "penetration_found": False}
+    summary = {"name": "t", "units": {"force": "N"}, "bodies": {},
+               "contacts": [{"bodies": ["a", "b"], "type": "frictionless", "semi_axes": [0.045, 0.045],
+                             "normal_force": 3.0e6, "checks": checks}]}
+    page = write_report(tmp_path, summary, [], None).read_text()
+    for text in ("2.5e-05 m", "6.5e+08 Pa", "[0.045, 0.046] m", "[0, -3e+06] N", "<td>12</td>", "<td>false</td>"):
+        assert text in page

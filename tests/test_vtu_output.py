@@ -176,3 +176,43 @@ def test_the_contact_region_carries_the_transmitted_force(tmp_path):
         assert on.max() == pytest.approx(max(c["pressure"]["value"]), rel=0.02)
         far = np.abs(np.asarray(body.points)[:, 0] - c["point"][0]) > 1.3 * c["half_width"]
         assert np.all(on[far] == 0.0)
+
+
+def test_a_load_steps_bodies_carry_that_steps_contact_pressure(tmp_path):
+    # a step whose profile is p0 sqrt(1 - (s/a)^2) (1 + s / (2 a)) (lopsided, so the direction
+    # of s counts): each body's surface points in the region carry it at their s along the
+    # tangent, every other point none (the far side of a body included); a step without a profile gives no pressure
+    pv = pytest.importorskip("pyvista")
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from _contact_scenes import cylinder_on_block
+    from ibfem.solver.io.results import build_summary, json_safe
+    from ibfem.solver.io.vtu import step_contacts, write_step_bodies
+    from ibfem.solver.solving import solve
+
+    problem = cylinder_on_block("frictionless")
+    solution = solve(problem)
+    final = json_safe(build_summary(problem, solution, (), ()))["contacts"]
+    a, p0 = 0.02, 1.0e9
+    s = np.linspace(-1.5 * a, 1.5 * a, 3001)
+    pressure = p0 * np.sqrt(np.clip(1 - (s / a) ** 2, 0, None)) * (1 + 0.5 * s / a)
+    step = {"contacts": [{"half_width": a, "region_centre": 0.0, "stick_half_width": 0.0,
+                          "profile": {"s": s, "pressure": pressure, "shear": 0 * s}}], "field": solution.u}
+    written = write_step_bodies(tmp_path / "with", problem, solution, step_contacts(final, step))
+    assert sorted(p.name for p in written) == ["block.vtu", "cyl.vtu"]
+    tangent, normal, point = (np.asarray(final[0][k]) for k in ("tangent", "normal", "point"))
+    for name in ("cyl", "block"):
+        body = pv.read(tmp_path / "with" / f"{name}.vtu")
+        pts, got = np.asarray(body.points)[:, :2], np.asarray(body.point_data["contact_pressure"])
+        on_surface = np.abs(problem.body(name).profile.signed_distance(pts)) <= 1e-6 * 0.1
+        sp = (pts - point) @ tangent
+        region = on_surface & (np.abs(sp) <= a) & (np.abs((pts - point) @ normal) <= a)  # not the far side
+        want = p0 * np.sqrt(np.clip(1 - (sp / a) ** 2, 0, None)) * (1 + 0.5 * sp / a)
+        assert region.sum() >= 5
+        assert np.abs(got[region] - want[region]).max() <= 2e-3 * p0
+        assert np.all(got[~region] == 0.0)
+    bare = {"contacts": [{"half_width": a, "region_centre": 0.0, "stick_half_width": 0.0}], "field": solution.u}
+    write_step_bodies(tmp_path / "bare", problem, solution, step_contacts(final, bare))
+    assert np.all(np.asarray(pv.read(tmp_path / "bare" / "block.vtu").point_data["contact_pressure"]) == 0.0)

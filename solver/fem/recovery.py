@@ -200,23 +200,49 @@ def sliding_symmetry(boundary, names, grid, status_cut: np.ndarray, inside: np.n
 
 
 def _face_planes(faces: dict, names, signed_distance, sizes) -> list:
-    """(origin, outward unit normal, on_face(feet, tol)) of the flat faces among ``names``: a
-    foot on the plane is on the face where the face's projection leaves it in place (a face
-    without one: where it is on the body's boundary)."""
+    """(origin, outward unit normal, on_face(feet, tol)) of the flat faces among ``names``. A
+    foot on the plane is on the face where it is on the body's boundary (|signed distance| <=
+    tol): the only face of the body in that plane holds it. Where another face of the body lies
+    in the same plane (a plane split into faces), the face's projection must leave the foot in
+    place (about a thousand times dearer than the signed distance)."""
     found = []
     for name in names:
         face = faces.get(name)
         plane = None if face is None else _plane_of(face, signed_distance, sizes)
         if plane is None:
             continue  # a curved sliding face is no mirror
-        if hasattr(face, "project"):
+        if hasattr(face, "project") and _shares_plane(faces, name, *plane, float(np.max(sizes))):
             def on_face(feet, tol, face=face):
-                return np.linalg.norm(np.asarray(face.project(feet).points, float) - feet, axis=1) <= tol
+                near = np.abs(np.asarray(signed_distance(feet), float)) <= tol
+                hit = np.nonzero(near)[0]
+                if len(hit):
+                    foot = np.asarray(face.project(feet[hit]).points, float)
+                    near[hit] = np.linalg.norm(foot - feet[hit], axis=1) <= tol[hit]
+                return near
         else:
             def on_face(feet, tol):
                 return np.abs(np.asarray(signed_distance(feet), float)) <= tol
         found.append(plane + (on_face,))
     return found
+
+
+def _shares_plane(faces: dict, name: str, origin: np.ndarray, normal: np.ndarray, size: float) -> bool:
+    """Whether a face other than ``name`` lies in the plane (origin, normal): all its
+    quadrature points on it (a plane face by its exact plane)."""
+    tol = ALIGNED * size
+    for other, face in faces.items():
+        if other == name:
+            continue
+        surface = getattr(face, "surface", None)
+        if getattr(surface, "type", None) == "plane":
+            o, n = np.asarray(surface.origin, float), np.asarray(surface.normal, float)
+            if abs(abs(float(n @ normal)) - 1.0) <= 1e-9 and abs(float((o - origin) @ normal)) <= tol:
+                return True
+            continue
+        points = np.asarray(face.quadrature(4.0 * size)[0], float)
+        if len(points) and np.abs((points - origin) @ normal).max() <= tol:
+            return True
+    return False
 
 
 def _edge_planes(curves: dict, names, signed_distance, sizes) -> list:
@@ -292,17 +318,38 @@ def _patch_fit(inc, nodes, points, scale, centroids, stress, w, degree: int):
     if degree == 2:
         terms += [d[:, i] * d[:, j] for i in range(dim) for j in range(i, dim)]
     basis = np.column_stack(terms)
-    k = basis.shape[1]
-    local = ring2.row
-    wk = w[cell]
-    mat = np.zeros((len(nodes), k, k))
-    rhs = np.zeros((len(nodes), k, stress.shape[1]))
-    for i in range(k):
-        for j in range(i, k):
-            mat[:, i, j] = mat[:, j, i] = np.bincount(local, wk * basis[:, i] * basis[:, j], minlength=len(nodes))
-        for c in range(stress.shape[1]):
-            rhs[:, i, c] = np.bincount(local, wk * basis[:, i] * stress[cell, c], minlength=len(nodes))
+    order = np.argsort(ring2.row, kind="stable")  # each node's entries together
+    local, cell, basis = ring2.row[order], cell[order], basis[order]
+    wb = w[cell][:, None] * basis
+    mat = _node_sums(local, len(nodes), wb, basis)
+    rhs = _node_sums(local, len(nodes), wb, stress[cell])
     ev = np.linalg.eigvalsh(mat)
     ok = ev[:, 0] > 1e-8 * ev[:, -1]
     coef = np.linalg.solve(mat[ok], rhs[ok])
     return ok, coef[:, 0, :]
+
+
+#: nodes per block of :func:`_node_sums`
+_NODES = 2048
+
+
+def _node_sums(local: np.ndarray, n: int, left: np.ndarray, right: np.ndarray) -> np.ndarray:
+    """(n, a, b): the sum over each node's entries of left[e, :, None] * right[e, None, :]
+    (``local``, sorted, the node of each entry). The nodes are taken in blocks of similar patch
+    size, each node's entries padded with zeros to the block's largest patch, and each block
+    summed by one batched matrix product left^T right."""
+    a, b = left.shape[1], right.shape[1]
+    counts = np.bincount(local, minlength=n)
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    by_size = np.argsort(counts, kind="stable")
+    out = np.zeros((n, a, b))
+    for first in range(0, n, _NODES):
+        block = by_size[first:first + _NODES]
+        width = max(int(counts[block[-1]]), 1)
+        position = np.arange(width)
+        used = position[None, :] < counts[block, None]
+        entry = np.where(used, starts[block, None] + position[None, :], 0)
+        padded_left = np.where(used[:, None, :], left[entry].transpose(0, 2, 1), 0.0)  # (k, a, width)
+        padded_right = np.where(used[:, :, None], right[entry], 0.0)  # (k, width, b)
+        out[block] = np.matmul(padded_left, padded_right)
+    return out

@@ -11,6 +11,7 @@ linear between them."""
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -116,6 +117,12 @@ def _merge(points: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray]:
     return unique_rows(np.round(points / scale).astype(np.int64))
 
 
+#: the clipped cells of the last few grids (a load-step series writes the same bodies once per
+#: step: the cells are clipped once, the fields sampled per step)
+_CLIPPED: dict = {}
+_CLIPPED_KEPT = 4
+
+
 def body_output(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) -> BodyOutput:
     """The body's cells as they are with every field (see the module's description)."""
     dim = problem.dim
@@ -125,6 +132,27 @@ def body_output(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) 
     fraction = np.asarray(m.get("cell_inside_fraction", np.ones(len(cells))), dtype=float).reshape(-1)
     lower = nodes[cells].min(axis=1)
     size = (nodes[cells].max(axis=1) - lower)[:, 0]
+    geometry, used, origin = _clipped(body, dim, nodes, cells, fraction, lower, size)
+    out = BodyOutput(**geometry, point_data={}, cell_data={})
+    _point_fields(out, problem, solution, body, m, used, origin, lower, size)
+    _cell_fields(out, problem, body, m, fraction)
+    return out
+
+
+def _clipped(body: pb.BodyModel, dim: int, nodes, cells, fraction, lower, size):
+    """The output cells of a grid (points, connectivity, offsets, types, parent), the grid nodes
+    used and each point's origin (-1: a grid node, else the background cell of a new point);
+    kept for the last few grids, told apart by their nodes, cells, inside fractions and body."""
+    key = (id(body.profile), hashlib.sha1(b"".join(np.ascontiguousarray(a).tobytes()
+                                                    for a in (nodes, cells, fraction))).hexdigest())
+    if key not in _CLIPPED:
+        while len(_CLIPPED) >= _CLIPPED_KEPT:
+            _CLIPPED.pop(next(iter(_CLIPPED)))
+        _CLIPPED[key] = (body.profile, _clip(body, dim, nodes, cells, fraction, lower, size))
+    return _CLIPPED[key][1]
+
+
+def _clip(body: pb.BodyModel, dim: int, nodes, cells, fraction, lower, size):
     whole = fraction >= 1.0 - 1e-12
     phi = _signed_distance(body)
     if phi is None:  # nothing to clip with: the cells as they are
@@ -146,14 +174,12 @@ def body_output(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) 
             index[len(used) + n_box * 2**dim + np.arange(n_simplex * (dim + 1))]]
     counts = np.concatenate([np.full(len(kept) + n_box, 2**dim), np.full(n_simplex, dim + 1)])
     box_type, simplex_type = VTK_TYPES[dim]
-    out = BodyOutput(
-        points=all_points[first], connectivity=np.concatenate(conn), offsets=np.cumsum(counts),
-        types=np.concatenate([np.full(len(kept) + n_box, box_type), np.full(n_simplex, simplex_type)]).astype(np.uint8),
-        parent=np.concatenate([kept, box_parent, simplex_parent]), point_data={}, cell_data={})
+    geometry = {"points": all_points[first], "connectivity": np.concatenate(conn), "offsets": np.cumsum(counts),
+                "types": np.concatenate([np.full(len(kept) + n_box, box_type),
+                                         np.full(n_simplex, simplex_type)]).astype(np.uint8),
+                "parent": np.concatenate([kept, box_parent, simplex_parent])}
     origin = np.concatenate([np.full(len(used), -1), new_parent])[first]
-    _point_fields(out, problem, solution, body, m, used, origin, lower, size)
-    _cell_fields(out, problem, body, m, fraction)
-    return out
+    return geometry, used, origin
 
 
 def _point_fields(out: BodyOutput, problem, solution, body, m, used, origin, lower, size) -> None:

@@ -11,9 +11,11 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping
 
 from ibfem.solver.model import problem as pb
 
+from .body_output import body_output
+from .parallel_plots import PlotJob
 from .report_html import write_report
 from .results import build_summary, json_safe, write_summary
-from .vtu import write_vtk_files
+from .vtu import step_contacts, write_step_bodies, write_vtk_files
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -21,11 +23,16 @@ if TYPE_CHECKING:
 __all__ = ["write_results", "write_scene_results"]
 
 
-def _step_bodies(folder: Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
-    """One load step's body files (VTU, clipped at the exact surfaces) for the ``steps.pvd`` series;
-    the contact regions of a step are in ``summary.json``'s ``steps``, not in the series."""
-    written = write_vtk_files(folder, problem, solution, {"contacts": []})
-    return [p for p in written if p.suffix == ".vtu"]
+def _step_writer(summary: Mapping[str, Any]):
+    """The VTU writer of the load-step series: each step's bodies with that step's contact
+    pressure (the step is the one whose field the solution it is given carries)."""
+    final = json_safe(summary).get("contacts") or []
+
+    def write(folder: Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
+        step = next((st for st in getattr(solution, "steps", None) or [] if st.get("field") is solution.u), {})
+        return write_step_bodies(folder, problem, solution, step_contacts(final, step))
+
+    return write
 
 
 def write_results(
@@ -39,12 +46,15 @@ def write_results(
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
     progress: Callable[..., None] | None = None,
+    parallel: bool = True,
 ) -> dict[str, Any]:
     """Write every requested file into ``out_dir``; returns the summary written. The summary
     lists the other files under ``files`` (names relative to ``out_dir``) and the time each kind
     of output took under ``timings`` (``summary_s``, ``vtk_s``, ``plots_s``, together
     ``output_s``; ``total_s``, the run's time until now, includes them). ``progress`` is told
-    which file is being written."""
+    which file is being written. The pictures are rendered in other processes while the VTK
+    files are written when the machine has idle cores (solver.io.parallel_plots), unless
+    ``parallel`` is false."""
     report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -58,25 +68,32 @@ def write_results(
     files: list[Path] = []
     missing: list[str] = []
     outputs: dict[str, Any] = {}  # the bodies' output meshes, made once for the files and pictures
+    job = None
+    if plots:  # rendered in other processes while this one writes the VTK files (idle cores)
+        t0 = time.perf_counter()
+        for body in problem.bodies if hasattr(solution, "nodal_stress") else ():
+            solution.nodal_stress(body.name)  # recovered once, before the fork: both processes use it
+        output_times["summary_s"] += time.perf_counter() - t0  # the recovery, as the probes' is
+        t0 = time.perf_counter()
+        if vtk and problem.dim == 2:  # the 2D pictures draw the bodies' output meshes (the VTU files' cells)
+            outputs.update((b.name, body_output(problem, solution, b)) for b in problem.bodies)
+            output_times["vtk_s"] = time.perf_counter() - t0
+        job = PlotJob(out_dir, problem, solution, summary, outputs, parallel)
+        report("results: plots" + (" (rendered beside the other files)" if job.parallel else ""))
     if vtk:  # VTK's XML format written directly: no optional library needed
         t0 = time.perf_counter()
         files += write_vtk_files(out_dir, problem, solution, json_safe(summary), progress=report, outputs=outputs)
-        output_times["vtk_s"] = time.perf_counter() - t0
+        output_times["vtk_s"] = output_times.get("vtk_s", 0.0) + time.perf_counter() - t0
     if getattr(solution, "steps", None):  # load paths: the step series and the history's tables
         from .step_outputs import write_step_files
 
-        files += write_step_files(out_dir, problem, solution, summary, write_vtu=_step_bodies if vtk else None,
+        files += write_step_files(out_dir, problem, solution, summary, write_vtu=_step_writer(summary) if vtk else None,
                                   plots=plots, missing=missing)
-    if plots:  # a missing optional library costs its files, not the summary
-        t0 = time.perf_counter()
+    if job is not None:  # a missing optional library costs its files, not the summary
         report("results: plots")
-        try:
-            from .plots import write_plots
-
-            files += write_plots(out_dir, problem, solution, summary, outputs)
-        except ImportError as err:
-            missing.append(f"plots not written: matplotlib is not installed ({err}); pip install 'ibfem[pictures]'")
-        output_times["plots_s"] = time.perf_counter() - t0
+        pictures, reason, output_times["plots_s"] = job.result()
+        files += pictures
+        missing += [reason] if reason else []
     if missing:
         summary["warnings"] = list(summary.get("warnings", [])) + missing
     if plots:  # the page that shows the run: numbers and pictures in one file

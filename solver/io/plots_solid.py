@@ -1,9 +1,9 @@
 """PNG pictures of a 3D run (``[output] plots = true``, model = "solid"), headless: the von Mises
 stress and the displacement magnitude on three section planes (``sections.png``: about the
-contact region when there is one, see :func:`section_planes`; else through the scene's centre),
-the contact's pressure and shear beside Hertz with the computed and theory values of the semi-axes
-and peak pressure (``contact_<k>.png``), and one plot per output line with the six stress
-components and von Mises. Numbers in the units that fit them (solver.io.plot_units)."""
+contact region when there is one, see :func:`section_planes`; else the coordinate planes through
+the point of the largest von Mises stress), the contact's pressure and shear beside Hertz with
+the computed and theory values of the semi-axes and peak pressure (``contact_<k>.png``), and one
+plot per output line with the six stress components and von Mises. Numbers in the units that fit them (solver.io.plot_units)."""
 
 from __future__ import annotations
 
@@ -41,22 +41,28 @@ def _scene_box(problem: pb.Problem) -> tuple[np.ndarray, np.ndarray]:
     return np.min(lows, axis=0), np.max(highs, axis=0)
 
 
-def section_planes(problem: pb.Problem, contacts) -> list[dict]:
+def section_planes(problem: pb.Problem, contacts, through=None) -> list[dict]:
     """The planes of ``sections.png``: about the first contact with a region, the two planes
     through the contact point along each axis of the region and the normal, and the plane
     parallel to the contact at the depth of the largest shear (0.48 a) in the second body, each
     4 semi-axes (and at least 8 of the finest cells) on either side; without one, the three
-    coordinate planes through the scene's centre. Each: title, origin, in-plane unit vectors
-    ``u``, ``v`` and half-extents."""
+    coordinate planes through the point ``through`` (the scene's centre when None) across the
+    scene's box. Each: title, origin, in-plane unit vectors ``u``, ``v``, half-extents and
+    ``offset``, the coordinates along ``u`` and ``v`` of the origin (the axes show them)."""
     c = next((c for c in contacts if c.get("semi_axes") and c["semi_axes"][0]), None)
     if c is None:
         lower, upper = _scene_box(problem)
         centre, half = 0.5 * (lower + upper), 0.5 * (upper - lower)
-        eye = np.eye(3)
-        return [{"title": f"{'xyz'[k]} = {centre[k]:.4g} m", "origin": centre,
-                 "u": eye[[j for j in range(3) if j != k][0]], "v": eye[[j for j in range(3) if j != k][1]],
-                 "half": (half[[j for j in range(3) if j != k][0]], half[[j for j in range(3) if j != k][1]]),
-                 "labels": tuple("xyz"[j] for j in range(3) if j != k)} for k in range(3)]
+        point = centre if through is None else np.asarray(through, dtype=float)
+        planes = []
+        for k in range(3):
+            a, b = (j for j in range(3) if j != k)
+            origin = centre.copy()
+            origin[k] = point[k]
+            planes.append({"title": f"{'xyz'[k]} = {point[k]:.4g} m", "origin": origin, "u": np.eye(3)[a],
+                           "v": np.eye(3)[b], "half": (half[a], half[b]), "offset": (centre[a], centre[b]),
+                           "labels": ("xyz"[a], "xyz"[b])})
+        return planes
     point, normal = np.asarray(c["point"], float), np.asarray(c["normal"], float)
     axes, semi = np.asarray(c["axes"], float), np.asarray(c["semi_axes"], float)
     finest = min(float(b.element_size) / 2 ** max([z.levels for z in b.refinements] or [0]) for b in problem.bodies)
@@ -92,6 +98,25 @@ def _section_values(problem: pb.Problem, solution: pb.Solution, plane: dict, n: 
     return su, sv, vm.reshape(n, n), disp.reshape(n, n)
 
 
+def _peak(problem: pb.Problem, solution: pb.Solution):
+    """The grid node inside a body with the largest recovered von Mises stress (None when the
+    solution has no recovered nodal stresses)."""
+    best, point = -np.inf, None
+    for body in getattr(solution, "bodies", ()):
+        if not hasattr(solution, "nodal_stress") or not hasattr(body, "grid"):
+            return None
+        nodes = np.asarray(body.grid.nodes, dtype=float)
+        inside = np.nonzero(np.asarray(body.contains(nodes), bool))[0]
+        if len(inside) == 0:
+            continue
+        material = problem.body(body.name).material
+        vm = von_mises(np.asarray(solution.nodal_stress(body.name))[inside], problem.model, material.poissons_ratio)
+        k = int(np.nanargmax(vm)) if np.isfinite(vm).any() else -1
+        if k >= 0 and vm[k] > best:
+            best, point = float(vm[k]), nodes[inside[k]]
+    return point
+
+
 def _crop(ax, su: np.ndarray, sv: np.ndarray, values: np.ndarray) -> None:
     """Limits to the part of the panel that holds material (a symmetric model fills a part of it)."""
     rows, cols = np.nonzero(np.isfinite(values).any(axis=1))[0], np.nonzero(np.isfinite(values).any(axis=0))[0]
@@ -103,12 +128,14 @@ def _crop(ax, su: np.ndarray, sv: np.ndarray, values: np.ndarray) -> None:
 def _sections(plt, problem: pb.Problem, solution: pb.Solution, contacts) -> Any:
     """von Mises and |u| on the section planes (:func:`section_planes`), each panel's colour
     scale from 0 to the largest value it shows; numbers in MPa / GPa and mm / um as they fit."""
-    planes = section_planes(problem, contacts)
+    region = any(c.get("semi_axes") and c["semi_axes"][0] for c in contacts)
+    planes = section_planes(problem, contacts, None if region else _peak(problem, solution))
     fig, axes = plt.subplots(2, 3, figsize=(15, 9.5))
     fig.subplots_adjust(left=0.06, right=0.97, bottom=0.07, top=0.92, wspace=0.45, hspace=0.3)  # fixed: fast
     for k, plane in enumerate(planes):
         su, sv, vm, disp = _section_values(problem, solution, plane)
         lname, lscale = length_unit(2.0 * max(plane["half"]))
+        su, sv = su + plane.get("offset", (0.0, 0.0))[0], sv + plane.get("offset", (0.0, 0.0))[1]
         extent = (su[0] / lscale, su[-1] / lscale, sv[0] / lscale, sv[-1] / lscale)
         for row, values in enumerate((vm, disp)):
             ax = axes[row, k]
@@ -226,10 +253,14 @@ def _contact_figure(plt, problem: pb.Problem, c: Mapping[str, Any]) -> Any:
 
 
 def write_solid_plots(out_dir: Path, figs: Any, problem: pb.Problem, solution: pb.Solution,
-                      summary: Mapping[str, Any]) -> None:
-    """Section pictures and line plots into ``figs`` (solver.io.plots._Figures)."""
-    contacts = [c for c in summary.get("contacts", []) if c.get("point") and None not in c["point"]]
-    figs.save(_sections(figs.plt, problem, solution, contacts), "sections.png")
+                      summary: Mapping[str, Any], groups=("fields", "profiles")) -> None:
+    """Section pictures (group ``fields``), contact and line plots (``profiles``) into ``figs``
+    (solver.io.plots._Figures)."""
+    if "fields" in groups:
+        contacts = [c for c in summary.get("contacts", []) if c.get("point") and None not in c["point"]]
+        figs.save(_sections(figs.plt, problem, solution, contacts), "sections.png")
+    if "profiles" not in groups:
+        return
     for k, c in enumerate(summary.get("contacts", [])):
         if c.get("boundary"):  # a region of general shape (a line contact)
             from .plots_region import region_figure

@@ -30,6 +30,16 @@ def _vector(v: Any, unit: str) -> str:
     return "n/a" if v is None else f"{float(v):.6g} {unit}"
 
 
+def _check(key: str, value: Any, force: str) -> str:
+    """A check's value with its unit: gaps and brackets in m, pressures in Pa, the force on the
+    first body in the force unit; counts, flags and ratios as they are."""
+    unit = ("m" if "gap" in key or key.endswith("bracket") else "Pa" if "pressure" in key
+            else force if key == "force_on_first" else None)
+    if unit is None or not (isinstance(value, (int, float, list)) and not isinstance(value, bool)):
+        return json.dumps(value)
+    return _vector(value, unit)
+
+
 def _numbers(summary: Mapping[str, Any]) -> str:
     units = summary.get("units") or {}
     force = units.get("force", "N")
@@ -42,7 +52,7 @@ def _numbers(summary: Mapping[str, Any]) -> str:
         parts.append(f"<p>{html.escape(contact_line(c))}</p>")
         checks = c.get("checks") or {}
         if checks:
-            parts.append(_table([(key, json.dumps(value)) for key, value in checks.items()]))
+            parts.append(_table([(key, _check(key, value, force)) for key, value in checks.items()]))
     rows = [(name, _vector(v, force)) for name, v in (summary.get("reactions") or {}).items()]
     if rows:
         parts.append("<h3>reactions</h3>" + _table(rows))

@@ -1,13 +1,12 @@
 """The lines ``ibfem run`` prints per contact: the contact's size and forces in the units of the
 summary, only the quantities its type has, and for a symmetric model the force of the whole
-contact beside the model's own ("quarter model: 3.42e+06 N; full contact 1.37e+07 N"), then the
-estimated relative error of each quantity when the run estimated it."""
+contact beside the model's own ("quarter model: 3.42e+06 N; full contact 1.37e+07 N")."""
 
 from __future__ import annotations
 
 from typing import Any, Mapping
 
-__all__ = ["contact_line", "share_name", "accuracy_line"]
+__all__ = ["PARTS", "contact_line", "share_name", "accuracy_line"]
 
 _SHARES = {1.0: "full", 0.5: "half", 0.25: "quarter", 0.125: "eighth"}
 
@@ -29,43 +28,62 @@ def _vector(value: Any, unit: str) -> str:
     return "[" + ", ".join(f"{float(x):.6g}" if x is not None else "n/a" for x in items) + f"] {unit}"
 
 
-def contact_line(c: Mapping[str, Any]) -> str:
-    """One contact block of the summary (JSON-safe) as a line of text: the stick region only for
-    a frictional contact, the tangential force not for a frictionless one."""
-    kind = c.get("type")
-    c = {k: v for k, v in c.items()
-         if not (k.startswith("stick_") and kind in ("tied", "frictionless"))
-         and not (k == "tangential_force" and kind == "frictionless")}
-    three_d = "semi_axes" in c
-    force_unit = "N" if three_d else "N/m"
-    parts = []
-    if three_d:
-        parts.append(f"semi_axes = {_vector(c.get('semi_axes'), 'm')}")
-        if "stick_semi_axes" in c:
-            parts.append(f"stick_semi_axes = {_vector(c.get('stick_semi_axes'), 'm')}")
-    else:
-        parts.append(f"half_width = {_number(c.get('half_width'), 'm')}")
-        if "stick_half_width" in c:
-            parts.append(f"stick_half_width = {_number(c.get('stick_half_width'), 'm')}")
+def _size(c: Mapping[str, Any], force_unit: str) -> str | None:
+    if "semi_axes" in c:
+        return f"semi_axes = {_vector(c.get('semi_axes'), 'm')}"
+    return f"half_width = {_number(c.get('half_width'), 'm')}"
+
+
+def _stick_size(c: Mapping[str, Any], force_unit: str) -> str | None:
+    if "stick_semi_axes" in c:
+        return f"stick_semi_axes = {_vector(c.get('stick_semi_axes'), 'm')}"
+    if "stick_half_width" in c:
+        return f"stick_half_width = {_number(c.get('stick_half_width'), 'm')}"
+    return None
+
+
+def _normal_force(c: Mapping[str, Any], force_unit: str) -> str | None:
     full = c.get("full_contact")
     if full:
-        parts.append(f"normal_force ({share_name(full['model_share'])}) = {_number(c.get('normal_force'), force_unit)}; "
-                     f"full contact {_number(full.get('normal_force'), force_unit)}")
-    else:
-        parts.append(f"normal_force = {_number(c.get('normal_force'), force_unit)}")
-    if "tangential_force" in c:
-        q = c.get("tangential_force")
-        parts.append("tangential_force = " + (_vector(q, force_unit) if isinstance(q, list) else _number(q, force_unit)))
-    errors = c.get("estimated_error")
-    if isinstance(errors, Mapping):
-        parts.append("estimated error " + ", ".join(f"{key} {_percent(value)}" for key, value in errors.items()))
-    return ", ".join(parts)
+        return (f"normal_force ({share_name(full['model_share'])}) = {_number(c.get('normal_force'), force_unit)}; "
+                f"full contact {_number(full.get('normal_force'), force_unit)}")
+    return f"normal_force = {_number(c.get('normal_force'), force_unit)}"
+
+
+def _tangential_force(c: Mapping[str, Any], force_unit: str) -> str | None:
+    if "tangential_force" not in c:
+        return None
+    q = c.get("tangential_force")
+    return "tangential_force = " + (_vector(q, force_unit) if isinstance(q, list) else _number(q, force_unit))
 
 
 def _percent(value: Any) -> str:
     items = value if isinstance(value, (list, tuple)) else [value]
-    text = "/".join(f"{100 * float(v):.2g} %" if isinstance(v, (int, float)) and v == v else "n/a" for v in items)
-    return text
+    return "/".join(f"{100 * float(v):.2g} %" if isinstance(v, (int, float)) and v == v else "n/a" for v in items)
+
+
+def _estimated_error(c: Mapping[str, Any], force_unit: str) -> str | None:
+    errors = c.get("estimated_error")
+    if not isinstance(errors, Mapping):
+        return None
+    return "estimated error " + ", ".join(f"{key} {_percent(value)}" for key, value in errors.items())
+
+
+#: the parts of the line, in order: each takes the contact block (without the keys its type does
+#: not have) and the force unit (N in 3D, N/m in 2D) and gives its text, or None to leave it
+#: out. A further quantity is shown by appending a part.
+PARTS = [_size, _stick_size, _normal_force, _tangential_force, _estimated_error]
+
+
+def contact_line(c: Mapping[str, Any]) -> str:
+    """One contact block of the summary (JSON-safe) as a line of text (:data:`PARTS`): the
+    stick region only for a frictional contact, the tangential force not for a frictionless one."""
+    kind = c.get("type")
+    c = {k: v for k, v in c.items()
+         if not (k.startswith("stick_") and kind in ("tied", "frictionless"))
+         and not (k == "tangential_force" and kind == "frictionless")}
+    force_unit = "N" if "semi_axes" in c else "N/m"
+    return ", ".join(text for part in PARTS if (text := part(c, force_unit)) is not None)
 
 
 def accuracy_line(ladder: Mapping[str, Any]) -> str:

@@ -17,7 +17,7 @@ from .body_output import body_output
 from .contact_output import region_polydata, surface_pressure
 from .vtk_xml import TENSOR_COMPONENTS, write_multiblock, write_polydata, write_unstructured_grid
 
-__all__ = ["write_vtk_files", "file_stem", "INDEX_NAME"]
+__all__ = ["write_vtk_files", "write_step_bodies", "step_contacts", "file_stem", "INDEX_NAME"]
 
 #: the multiblock index of every file of a run
 INDEX_NAME = "result.vtm"
@@ -51,7 +51,7 @@ def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solut
     """Every body's VTU file, every contact region's VTP file and the index; returns the paths.
     ``summary`` is the run's summary (JSON-safe: lists, None for missing values); ``progress``
     is told each file's name before it is made; ``outputs`` (a dict) receives each body's output
-    mesh by name, for the pictures."""
+    mesh by name, for the pictures (a mesh already in it is written as it is)."""
     report = progress or (lambda *a, **k: None)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -59,7 +59,7 @@ def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solut
     contacts = summary.get("contacts") or []
     for body in problem.bodies:
         report(f"results: {file_stem(body.name)}.vtu (cells clipped at the surface)")
-        mesh = body_output(problem, solution, body)
+        mesh = (outputs or {}).get(body.name) or body_output(problem, solution, body)
         if outputs is not None:
             outputs[body.name] = mesh
         mesh.point_data["contact_pressure"] = _contact_pressure(problem, body, mesh.points, contacts)
@@ -78,3 +78,31 @@ def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solut
         blocks.append((f"contact {k}: {' / '.join(c['bodies'])}", path.name))
     written.append(write_multiblock(out_dir / INDEX_NAME, blocks))
     return written
+
+
+def step_contacts(final_contacts, step: Mapping[str, Any]) -> list[dict]:
+    """The contact blocks of one load step, for its files: each final block's geometry (bodies,
+    point, normal, tangent or axes) with the step's region (``half_width``, ``region_centre``,
+    ``stick_half_width``) and the step's pressure and shear profiles where the step records them
+    (a contact with friction history: ``profile`` with ``s``, ``pressure``, ``shear``); a step
+    without a profile gives its contact no pressure."""
+    blocks = []
+    for final, now in zip(final_contacts or [], step.get("contacts") or []):
+        block = {k: final.get(k) for k in ("bodies", "type", "point", "normal", "tangent", "axes")}
+        block.update({k: now.get(k) for k in ("half_width", "region_centre", "stick_half_width")})
+        profile = now.get("profile") or {}
+        s = np.asarray(profile.get("s", []), dtype=float).tolist()
+        for key in ("pressure", "shear"):
+            block[key] = {"s": s, "value": np.asarray(profile.get(key, []), dtype=float).tolist()} \
+                if len(profile.get(key, [])) == len(s) else {"s": [], "value": []}
+        blocks.append(block)
+    return blocks
+
+
+def write_step_bodies(folder: str | Path, problem: pb.Problem, solution: pb.Solution,
+                      contacts: list[dict]) -> list[Path]:
+    """One load step's body files (VTU, clipped at the exact surfaces) with its contact pressure
+    (``contacts``: :func:`step_contacts`) as the point data ``contact_pressure``; returns the
+    VTU paths. The step's contact regions are in ``summary.json``'s ``steps``."""
+    written = write_vtk_files(folder, problem, solution, {"contacts": contacts})
+    return [p for p in written if p.suffix == ".vtu"]

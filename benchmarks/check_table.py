@@ -1,0 +1,81 @@
+"""The size ``ibfem run --check`` estimates for a scene against what the run then uses:
+
+    python benchmarks/check_table.py examples/solid/sphere_on_flat.toml [more scenes] [--max-memory GB]
+
+For each scene the estimate (solver.model.estimate.estimate_size, the numbers ``--check``
+prints) is made here; the run is ``ibfem run SCENE --quiet`` in a child process, its dofs read
+from summary.json (the bodies' ``dofs``), its peak memory the child's largest resident set
+(``wait4``; Linux), its time the wall time of the child (start, imports and writing included)
+and the solver's own (``solver_total_s``). A scene estimated above ``--max-memory`` is listed
+and not run; one the scene check refuses (larger than the machine) is listed with its reason. Prints a Markdown table with the ratios used / estimated."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+_HEADER = ("| example | dofs: estimated | used | used / est. | peak memory: estimated (GB) | used (GB) | used / est. "
+           "| run (s) | solver (s) |\n|---|---|---|---|---|---|---|---|---|")
+
+
+def _estimate(scene_path: str):
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.model.estimate import estimate_size
+
+    return estimate_size(load_scene(scene_path).problem)
+
+
+def _run(scene_path: str, out: Path) -> tuple[dict, float, float]:
+    """(summary, peak resident memory in bytes, wall seconds) of ``ibfem run``."""
+    t0 = time.perf_counter()
+    child = subprocess.Popen([sys.executable, "-m", "ibfem", "run", scene_path, "--out", str(out), "--quiet"],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(child.pid, 0)
+    wall = time.perf_counter() - t0
+    child.returncode = os.waitstatus_to_exitcode(status)
+    errors = child.stderr.read().decode(errors="replace") if child.stderr else ""
+    if child.returncode not in (0, 1):  # 1: written, not converged
+        raise RuntimeError(f"{scene_path}: ibfem run exited with {child.returncode}: {errors.strip()[-400:]}")
+    summary = json.loads((out / "summary.json").read_text())
+    return summary, usage.ru_maxrss * 1024.0, wall
+
+
+def row(scene_path: str, out: Path, max_memory: float) -> str:
+    from ibfem.solver.io.scene import SceneError
+
+    name = str(Path(scene_path).with_suffix("")).removeprefix("examples/")  # subfolders tell scenes apart
+    try:
+        est = _estimate(scene_path)
+    except SceneError as err:  # the scene check refuses a grid larger than the machine
+        return f"| {name} | refused by the check: {str(err).split(': ', 1)[-1]} | | | | | | | |"
+    if est.memory > max_memory:
+        return (f"| {name} | {est.dofs:.3g} | not run | | {est.memory / 2**30:.2f} | not run (estimate above "
+                f"{max_memory / 2**30:.3g} GB) | | | |")
+    summary, peak, wall = _run(scene_path, out)
+    dofs = sum(float(b.get("dofs") or 0) for b in summary["bodies"].values())
+    solver_s = summary["timings"].get("solver_total_s", float("nan"))
+    return (f"| {name} | {est.dofs:.3g} | {dofs:.3g} | {dofs / est.dofs:.2f} | {est.memory / 2**30:.2f} | "
+            f"{peak / 2**30:.2f} | {peak / est.memory:.2f} | {wall:.1f} | {solver_s:.1f} |")
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("scenes", nargs="+")
+    ap.add_argument("--max-memory", type=float, default=2.0, metavar="GB",
+                    help="scenes estimated above this are not run (default 2)")
+    args = ap.parse_args(argv)
+    root = Path(tempfile.mkdtemp(prefix="ibfem-check-"))
+    print(_HEADER, flush=True)
+    for path in args.scenes:
+        print(row(path, root / Path(path).stem, args.max_memory * 2**30), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,100 @@
+"""The pictures rendered in forked processes beside the other output (solver.io.parallel_plots):
+one child per group of pictures writes them and reports their names; a missing matplotlib
+becomes the reason given, any other failure of a child is raised in the caller with its own type
+and message, and a child that dies has its pictures rendered in the caller. The rendering itself
+is replaced here by a stand-in that writes one file per group naming the process that wrote it."""
+
+import os
+import threading
+
+import pytest
+
+from ibfem.solver.io import parallel_plots, plots
+
+
+def _stand_in(monkeypatch, behaviour):
+    parent = os.getpid()
+
+    def write_plots(out_dir, problem, solution, summary, outputs, groups):
+        behaviour(parent)
+        paths = [out_dir / f"{group}.txt" for group in groups]
+        for path in paths:
+            path.write_text(str(os.getpid()))
+        return paths
+
+    monkeypatch.setattr(plots, "write_plots", write_plots)
+
+
+def _job(tmp_path, parallel=True, idle=2):
+    parallel_plots.idle_cores, cores = (lambda: idle), parallel_plots.idle_cores  # the machine's load aside
+    try:
+        return parallel_plots.PlotJob(tmp_path, None, None, {}, {}, parallel=parallel)
+    finally:
+        parallel_plots.idle_cores = cores
+
+
+def test_each_group_of_pictures_is_rendered_in_a_process_of_its_own(tmp_path, monkeypatch):
+    _stand_in(monkeypatch, lambda parent: None)
+    if threading.active_count() > 1:  # another test left a thread: this process does not fork
+        pytest.skip("a thread of another test is alive; the fallback is tested below")
+    job = _job(tmp_path)
+    assert job.parallel
+    files, reason, seconds = job.result()
+    assert files == [tmp_path / "fields.txt", tmp_path / "profiles.txt"] and reason is None and seconds >= 0.0
+    writers = {int(f.read_text()) for f in files}
+    assert len(writers) == 2 and os.getpid() not in writers
+    files, _, _ = _job(tmp_path, idle=1).result()  # one idle core: one child renders both groups
+    assert len(files) == 2 and len({int(f.read_text()) for f in files} - {os.getpid()}) == 1
+    for job in (_job(tmp_path, parallel=False), _job(tmp_path, idle=0)):  # asked not to, or no idle core
+        assert not job.parallel
+        files, _, _ = job.result()
+        assert sorted(f.name for f in files) == ["fields.txt", "profiles.txt"]
+        assert {int(f.read_text()) for f in files} == {os.getpid()}
+
+
+def test_a_missing_matplotlib_is_the_reason_given(tmp_path, monkeypatch):
+    def missing(parent):
+        raise ImportError("No module named 'matplotlib'")
+
+    _stand_in(monkeypatch, missing)
+    files, reason, _ = _job(tmp_path).result()
+    assert files == [] and "matplotlib is not installed" in reason and "ibfem[pictures]" in reason
+
+
+def test_a_failure_in_the_child_is_raised_in_the_caller(tmp_path, monkeypatch):
+    def fails(parent):
+        raise ValueError("the section planes need a contact point")
+
+    _stand_in(monkeypatch, fails)
+    with pytest.raises(ValueError, match="section planes need a contact point"):
+        _job(tmp_path).result()
+
+
+def test_a_child_that_dies_leaves_the_pictures_to_the_caller(tmp_path, monkeypatch):
+    def dies_in_the_child(parent):
+        if os.getpid() != parent:
+            os._exit(3)
+
+    _stand_in(monkeypatch, dies_in_the_child)
+    files, reason, _ = _job(tmp_path).result()
+    assert reason is None and len(files) == 2 and {int(f.read_text()) for f in files} == {os.getpid()}
+
+
+def test_the_idle_cores_are_counted_from_the_load():
+    assert 0 <= parallel_plots.idle_cores() <= (os.cpu_count() or 1)
+
+
+def test_a_process_with_another_thread_renders_here(tmp_path, monkeypatch):
+    # forking copies one thread only (a lock another holds stays locked in the child)
+    _stand_in(monkeypatch, lambda parent: None)
+    release = threading.Event()
+    thread = threading.Thread(target=release.wait)
+    thread.start()
+    try:
+        job = _job(tmp_path)
+        assert not job.parallel
+        files, _, _ = job.result()
+    finally:
+        release.set()
+        thread.join()
+    assert {int(f.read_text()) for f in files} == {os.getpid()} and len(files) == 2
