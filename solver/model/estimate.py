@@ -20,7 +20,7 @@ import os
 
 import numpy as np
 
-__all__ = ["ProblemSize", "estimate_size", "available_memory"]
+__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "available_memory"]
 
 #: bytes per dof measured (rounded up): 2D, 3D without contact (AMG-CG solves)
 BYTES_PER_DOF = {2: 8_000, 3: 6_000}
@@ -30,9 +30,11 @@ BYTES_PER_DOF = {2: 8_000, 3: 6_000}
 BYTES_PER_DOF_3D_CONTACT = 14_000
 #: free dofs per cell (3D: hanging and aggregated nodes carry none; measured 2.4-2.8 on octrees)
 DOFS_PER_CELL = {3: 2.7}
-#: a 3D contact's condensed dofs per body and finest cell face in its candidate disc (measured
-#: 2.8 node layers x 3 on the full crossed cylinders at 3 levels)
-CONTACT_DOFS_PER_FACET = 8.5
+#: a 3D contact's condensed dofs per body and finest cell face in its candidate disc widened by
+#: CONTACT_DISC_MARGIN finest cells (fitted on the full ball on a block at 2 and 4 levels, 816 and
+#: 9045 dofs per body; within 5 % at 4 and 5 levels of the quarter sphere on a flat)
+CONTACT_DOFS_PER_FACET = 7.1
+CONTACT_DISC_MARGIN = 1.4
 #: points of the signed distance per level and body when counting a 3D body's kept cells
 SAMPLES = 2000
 #: bodies estimated above this many cells are not sampled (the box's fill by volume is used)
@@ -153,22 +155,56 @@ def _estimate(problem) -> ProblemSize:
 
 
 def _dense_contact_bytes(problem) -> float:
-    """The dense arrays of a 3D contact: per body, its contact dofs m_b (CONTACT_DOFS_PER_FACET
-    per finest cell face the candidate disc covers) hold m_b^2 entries in the root of the factor
-    and a quarter of that in the kept block of the inverse (all of it for blocks below 4000
-    dofs, where it is small), and while the last body is factored about
+    """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
+    the root of the factor and a quarter of that in the kept block of the inverse (all of it
+    for blocks below 4000 dofs, where it is small), and while the last body is factored about
     three more m_b^2 are work space (the factorisation's update-matrix stack and largest front:
     measured 1.7 and 1.2 m_b^2 on the crossed cylinders)."""
     total = 0.0
     for c in problem.contacts:
-        bodies = [b for b in problem.bodies if b.name in c.bodies]
-        radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
-        h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
-                     for b in bodies)
-        extent = c.options.extent_fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
-        m_b = CONTACT_DOFS_PER_FACET * math.pi * extent**2 / h_fine**2
-        total += 8.0 * m_b**2 * (1.25 * len(bodies) + 3)
+        n_bodies, m_b = _contact_dofs_per_body(problem, c)
+        total += 8.0 * m_b**2 * (1.25 * n_bodies + 3)
     return total
+
+
+def estimate_contact_dofs(problem) -> float:
+    """Estimated condensed (contact) dofs m of a 3D problem, summed over its contacts and bodies."""
+    total = 0.0
+    for c in problem.contacts:
+        n_bodies, m_b = _contact_dofs_per_body(problem, c)
+        total += n_bodies * m_b
+    return total
+
+
+def _contact_dofs_per_body(problem, contact) -> tuple[int, float]:
+    """A contact's bodies and the contact dofs of each: CONTACT_DOFS_PER_FACET per finest cell
+    face that the candidate disc, widened by CONTACT_DISC_MARGIN finest cells, covers. The disc is the part of a circle of the candidate
+    extent around the contact point that the bodies hold: a quarter model (two symmetry planes
+    through the point) holds a quarter of it, a full model all of it."""
+    bodies = [b for b in problem.bodies if b.name in contact.bodies]
+    radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
+    h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
+                 for b in bodies)
+    extent = contact.options.extent_fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
+    disc = math.pi * (extent + CONTACT_DISC_MARGIN * h_fine) ** 2 * _held_fraction(bodies, contact.point, extent)
+    return len(bodies), CONTACT_DOFS_PER_FACET * disc / h_fine**2
+
+
+def _held_fraction(bodies, point, radius: float) -> float:
+    """The fraction of the ball of ``radius`` around ``point`` that lies in one of the bodies
+    (their signed distances at SAMPLES points uniform in the ball); 1 without a point or a
+    signed distance. Near a contact point the two bodies fill the ball but for the thin gap
+    between their surfaces, so this is also the fraction of the contact disc they hold."""
+    if point is None or not all(hasattr(b.profile, "signed_distance") for b in bodies):
+        return 1.0
+    rng = np.random.default_rng(1)
+    direction = rng.standard_normal((SAMPLES, 3))
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    pts = np.asarray(point, dtype=float) + direction * (radius * rng.random(SAMPLES) ** (1.0 / 3.0))[:, None]
+    held = np.zeros(SAMPLES, dtype=bool)
+    for b in bodies:
+        held |= np.asarray(b.profile.signed_distance(pts), dtype=float) >= 0.0
+    return float(held.mean())
 
 
 def available_memory() -> float:
