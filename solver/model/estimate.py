@@ -28,6 +28,9 @@ BYTES_PER_DOF = {2: 8_000, 3: 6_000}
 #: (measured on the full crossed cylinders, 236k dofs: the bodies' factors 14 KB per dof without
 #: their dense roots); the dense arrays are counted from the contact dofs
 BYTES_PER_DOF_3D_CONTACT = 14_000
+#: 3D contact, what does not grow with the grid: the interpreter, numpy, scipy, numba's compiled
+#: kernels (measured 0.37-0.49 GB peaks for runs of 8-14k dofs)
+BASE_BYTES_3D_CONTACT = 300e6
 #: free dofs per cell (3D: hanging and aggregated nodes carry none; measured 2.4-2.8 on octrees)
 DOFS_PER_CELL = {3: 2.7}
 #: a 3D contact's condensed dofs per body and finest cell face in its candidate disc widened by
@@ -148,7 +151,7 @@ def _estimate(problem) -> ProblemSize:
         cells += body_cells
     dofs = DOFS_PER_CELL.get(dim, dim) * cells
     if dim == 3 and problem.contacts:
-        memory = dofs * BYTES_PER_DOF_3D_CONTACT + _dense_contact_bytes(problem) + 400e6
+        memory = dofs * BYTES_PER_DOF_3D_CONTACT + _dense_contact_bytes(problem) + BASE_BYTES_3D_CONTACT
     else:
         memory = dofs * BYTES_PER_DOF[dim] + 200e6
     return ProblemSize(cells, dofs, memory)
