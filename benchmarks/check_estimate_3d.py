@@ -1,5 +1,5 @@
 """The size estimate of ``ibfem run --check`` against the run: every 3D scene of examples/solid
-(and, with --full, the full models of examples/solid/full) is estimated and then solved in its
+and examples/contact3d (and, with --full, the full models of examples/solid/full) is estimated and then solved in its
 own process (VTU and plots off); the table gives dofs and peak resident memory
 (``/usr/bin/time``) estimated and measured, and for contact scenes the condensed contact dofs m.
 The aim is both within 30 %.
@@ -58,10 +58,12 @@ def run(scene: Path) -> dict:
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--full", action="store_true", help="also the full models (about 7 GB and minutes each)")
-    ap.add_argument("--scenes", nargs="+", help="scene names (default: every 3D scene of examples/solid)")
+    ap.add_argument("--scenes", nargs="+", help="scene names (default: every 3D scene of examples/solid and examples/contact3d)")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "check_estimate_3d.json")
     args = ap.parse_args(argv)
-    paths = sorted(SOLID.glob("*.toml")) + (sorted((SOLID / "full").glob("*.toml")) if args.full else [])
+    paths = sorted(SOLID.glob("*.toml")) + sorted((ROOT / "examples" / "contact3d").glob("*.toml"))
+    paths += sorted((SOLID / "full").glob("*.toml")) if args.full else []
+    paths = [p for p in paths if 'model = "solid"' in p.read_text()]
     if args.scenes:
         paths = [p for p in paths if p.stem in args.scenes]
     print(f"{'scene':28} {'dofs':>8} {'est':>8} {'err':>6} {'m':>6} {'est m':>7} {'GB':>5} {'est GB':>6} {'err':>6} {'cpu s':>6}")

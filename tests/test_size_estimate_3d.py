@@ -1,6 +1,6 @@
 """The size estimate of a 3D scene (``ibfem run --check``, solver.model.estimate) against the
 grids and the contact then built: cells, dofs and the condensed contact dofs within 30 %, for a
-full model upright and turned by 37 degrees about (1, 2, 3) (a turned part's bounding box is
+full model turned by 37 degrees about (1, 2, 3) (a turned part's bounding box is
 about twice its volume: the estimate follows the part, as the octree does, not its box) and for
 a quarter model (two symmetry planes through the contact point hold a quarter of the contact
 disc: its contact dofs, whose dense blocks grow with their square, are a quarter of a full

@@ -10,8 +10,9 @@ diagonal of the part, whatever its orientation, so the estimate asks the part's 
 the same question: at every level-0 centre of the box (or a sample of them), then per zone and
 level at SAMPLES points of the ball in which cells are split (the kept children less the split
 parents). Dofs: DOFS_PER_CELL per cell. Memory: measured bytes per dof for the sparse part, and
-for a 3D contact the dense arrays of its condensed dofs (the candidate disc's finest cell faces
-times CONTACT_DOFS_PER_FACET per body, each body's block held twice and formed once more)."""
+for a 3D contact the dense arrays of its condensed dofs (the finest cell faces of the part of the
+candidate disc that the bodies hold, times CONTACT_DOFS_PER_FACET per body; each body's block
+held twice and formed once more)."""
 
 from __future__ import annotations
 
