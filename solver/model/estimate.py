@@ -172,7 +172,10 @@ def _dense_contact_bytes(problem) -> float:
 
 
 def estimate_contact_dofs(problem) -> float:
-    """Estimated condensed (contact) dofs m of a 3D problem, summed over its contacts and bodies."""
+    """Estimated condensed (contact) dofs m of a 3D problem, summed over its contacts and bodies
+    (0 for a 2D problem, whose contacts are not condensed on a disc)."""
+    if problem.dim != 3:
+        return 0.0
     total = 0.0
     for c in problem.contacts:
         n_bodies, m_b = _contact_dofs_per_body(problem, c)
@@ -182,9 +185,10 @@ def estimate_contact_dofs(problem) -> float:
 
 def _contact_dofs_per_body(problem, contact) -> tuple[int, float]:
     """A contact's bodies and the contact dofs of each: CONTACT_DOFS_PER_FACET per finest cell
-    face that the candidate disc, widened by CONTACT_DISC_MARGIN finest cells, covers. The disc is the part of a circle of the candidate
-    extent around the contact point that the bodies hold: a quarter model (two symmetry planes
-    through the point) holds a quarter of it, a full model all of it."""
+    face that the candidate disc, widened by CONTACT_DISC_MARGIN finest cells, covers. The disc
+    is the part of a circle of the candidate extent around the contact point that the bodies
+    hold: a quarter model (two symmetry planes through the point) holds a quarter of it, a full
+    model all of it."""
     bodies = [b for b in problem.bodies if b.name in contact.bodies]
     radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
     h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
