@@ -29,6 +29,9 @@ BYTES_PER_DOF = {2: 8_000, 3: 6_000}
 #: (measured on the full crossed cylinders, 236k dofs: the bodies' factors 14 KB per dof without
 #: their dense roots); the dense arrays are counted from the contact dofs
 BYTES_PER_DOF_3D_CONTACT = 14_000
+#: a body's sparse factor of this many bytes or more is held on disk once its contact block is
+#: read off it (solver.fem.multifrontal.ON_DISK_BYTES): the peak holds the largest body's factor
+ON_DISK_BYTES = 2**30
 #: 3D contact, what does not grow with the grid: the interpreter, numpy, scipy, numba's compiled
 #: kernels (measured 0.37-0.49 GB peaks for runs of 8-14k dofs)
 BASE_BYTES_3D_CONTACT = 300e6
@@ -135,6 +138,7 @@ def estimate_size(problem) -> ProblemSize:
 def _estimate(problem) -> ProblemSize:
     dim = problem.dim
     cells = 0.0
+    per_body = []
     rng = np.random.default_rng(0)
     for body in problem.bodies:
         lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
@@ -150,12 +154,27 @@ def _estimate(problem) -> ProblemSize:
         if dim == 3 and body_cells <= SAMPLED_CELLS and hasattr(body.profile, "signed_distance"):
             body_cells = _sampled_body_cells(body, centres, lo, hi, rng)
         cells += body_cells
+        per_body.append(body_cells)
     dofs = DOFS_PER_CELL.get(dim, dim) * cells
     if dim == 3 and problem.contacts:
-        memory = dofs * BYTES_PER_DOF_3D_CONTACT + _dense_contact_bytes(problem) + BASE_BYTES_3D_CONTACT
+        memory = _sparse_contact_bytes(DOFS_PER_CELL[3] * np.array(per_body)) + _dense_contact_bytes(problem) \
+            + BASE_BYTES_3D_CONTACT
     else:
         memory = dofs * BYTES_PER_DOF[dim] + 200e6
     return ProblemSize(cells, dofs, memory)
+
+
+def _sparse_contact_bytes(body_dofs: np.ndarray) -> float:
+    """The sparse part of a 3D contact: BYTES_PER_DOF_3D_CONTACT per dof of the body factored
+    when memory peaks (the largest) and of every body whose factor stays in memory; a body's
+    factor of ON_DISK_BYTES or more goes to disk once its contact block is read off it."""
+    per_body = body_dofs * BYTES_PER_DOF_3D_CONTACT
+    if not len(per_body):
+        return 0.0
+    largest = int(np.argmax(per_body))
+    kept = per_body < ON_DISK_BYTES
+    kept[largest] = True
+    return float(per_body[kept].sum())
 
 
 def _dense_contact_bytes(problem) -> float:
