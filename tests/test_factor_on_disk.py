@@ -42,3 +42,14 @@ def test_small_factors_stay_in_memory():
     n = k.shape[0]
     factor, _, _ = mf.condensed_cholesky(k, np.arange(n), 12)
     assert factor._disk is None and factor.factor.size * 8 == factor.factor_bytes
+
+
+def test_unwritable_directory_keeps_the_factor_in_memory(tmp_path):
+    k = elasticity_like((6, 5, 4), seed=2)
+    n = k.shape[0]
+    factor, _, _ = mf.condensed_cholesky(k, np.arange(n), 10, on_disk=False)
+    factor.to_disk(directory=str(tmp_path / "missing"))
+    assert factor._disk is None
+    f = np.random.default_rng(0).standard_normal(n)
+    u = factor.solve(f)
+    assert np.abs(k @ u - f).max() <= 1e-12 * np.abs(k).max() * np.abs(u).max()

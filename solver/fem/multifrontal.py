@@ -211,15 +211,20 @@ class CholeskyFactor:
     def to_disk(self, directory: str | None = None) -> None:
         """Move the factor's blocks below the root supernode to an unlinked temporary file (in
         ``directory``, else the system's temporary directory; removed when the factor is):
-        their memory is freed, and each solve reads them back in chunks."""
+        their memory is freed, and each solve reads them back in chunks. Where the file cannot
+        be written (no writable temporary directory, a full disk) the factor stays in memory."""
         if self._disk is not None or self.m == 0:
             return
         split = int(self.factor_ptr[-1]) - self.m * self.m  # the root block's offset
-        root = self.factor[split:].copy()
-        handle = tempfile.TemporaryFile(dir=directory)
-        self.factor[:split].tofile(handle)
-        handle.flush()
-        self.factor, self._base, self._disk = root, split, handle
+        try:
+            handle = tempfile.TemporaryFile(dir=directory)
+            self.factor[:split].tofile(handle)
+            handle.flush()
+        except OSError:  # no writable temporary directory, or the disk is full: stay in memory
+            with contextlib.suppress(NameError, OSError):
+                handle.close()
+            return
+        self.factor, self._base, self._disk = self.factor[split:].copy(), split, handle
         ptr = self.factor_ptr[:self.n_supernodes]  # the root is the last supernode
         chunk = max(DISK_CHUNK_BYTES // 8, 1)
         bounds, s0 = [], 0
