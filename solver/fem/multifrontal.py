@@ -18,7 +18,9 @@ contact dofs last) is factored as follows:
   the update matrix. The last m dofs form the root supernode: its assembled front is the Schur
   complement S = K_cc - K_ci K_ii^-1 K_ic, copied before it is factored as the last supernode;
   its Cholesky factor then gives G = S^-1 by LAPACK's potri;
-* solve: forward and back substitution over the supernodes (compiled), in the original numbering.
+* solve: forward and back substitution over the supernodes (compiled), in the original numbering;
+  a factor of ON_DISK_BYTES or more below its root is held in a temporary file once S and G are
+  read off it (:func:`condensed_cholesky`), and its solves read it back in chunks.
 
 Only L is stored (one flat float64 array, an (columns x front rows) block per supernode): about
 half of SuperLU's L and U. A non-positive pivot raises :class:`NotPositiveDefinite` naming the
