@@ -1,7 +1,10 @@
 """The size estimate of a 3D scene (``ibfem run --check``, solver.model.estimate) against the
-grids then built: cells and dofs within 30 %, upright and turned by 37 degrees about (1, 2, 3)
-(a turned part's bounding box is about twice its volume: the estimate follows the part, as the
-octree does, not its box)."""
+grids and the contact then built: cells, dofs and the condensed contact dofs within 30 %, for a
+full model turned by 37 degrees about (1, 2, 3) (a turned part's bounding box is
+about twice its volume: the estimate follows the part, as the octree does, not its box) and for
+a quarter model (two symmetry planes through the contact point hold a quarter of the contact
+disc: its contact dofs, whose dense blocks grow with their square, are a quarter of a full
+model's)."""
 
 import tomllib
 from pathlib import Path
@@ -9,27 +12,34 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from ibfem.solver.contact.formulation import formulation
 from ibfem.solver.fem.bodies import discretise
 from ibfem.solver.io.scene import load_scene
-from ibfem.solver.model.estimate import estimate_size
+from ibfem.solver.model.estimate import estimate_contact_dofs, estimate_size
 from ibfem.solver.model.resolve import resolve_problem
 
-FULL = Path(__file__).resolve().parent.parent / "examples" / "solid" / "full"
+SOLID = Path(__file__).resolve().parent.parent / "examples" / "solid"
 
 
-@pytest.mark.parametrize("name", ["ball_on_block", "ball_on_block_turned"])
-def test_estimate_against_the_built_octrees(name):
-    data = tomllib.loads((FULL / f"{name}.toml").read_text())
+@pytest.mark.parametrize("name, element_size, levels", [("full/ball_on_block_turned", 0.125, 2),
+                                                        ("sphere_on_flat", 0.5, 5)])
+def test_estimate_against_the_built_octrees(name, element_size, levels):
+    path = SOLID / f"{name}.toml"
+    data = tomllib.loads(path.read_text())
     for body in data["bodies"]:
-        body["element_size"] = 0.125
-        body["refinement"][0]["levels"] = 2
-    problem = load_scene(data, label=f"{name}.toml", base_dir=FULL).problem
+        body["element_size"] = element_size
+        zones = body["refinement"]
+        (zones[0] if isinstance(zones, list) else zones)["levels"] = levels
+    problem = resolve_problem(load_scene(data, label=path.name, base_dir=path.parent).problem)
     size = estimate_size(problem)
-    bodies = discretise(resolve_problem(problem), problem.options)
+    bodies = discretise(problem, problem.options)
     cells = sum(len(b.grid.level) for b in bodies)
     dofs = sum(b.n_dofs for b in bodies)
     assert size.cells == pytest.approx(cells, rel=0.3)
     assert size.dofs == pytest.approx(dofs, rel=0.3)
+    (cm,) = problem.contacts
+    contact = formulation(cm.options.formulation, 3)(problem, cm, *bodies, problem.options)
+    assert estimate_contact_dofs(problem) == pytest.approx(len(contact.dofs), rel=0.3)
     # every octree cell holds material or lies within its half diagonal of the part
     for b in bodies:
         phi = b.boundary.signed_distance(b.grid.center)

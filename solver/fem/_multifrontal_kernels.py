@@ -509,3 +509,57 @@ def solve(factor, factor_ptr, sn_start, row_ptr, rows, b):
                 l = factor[off + k * f + p]
                 for q in range(r):
                     b[j, q] -= l * b[g, q]
+
+
+@njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})
+def forward_range(segment, base, s0, s1, factor_ptr, sn_start, row_ptr, rows, b):
+    """The forward half of :func:`_solve_vector` (L z = b, then z / D) over supernodes s0..s1-1
+    only, their factor blocks read from ``segment`` (the factor from offset ``base`` on): a
+    factor held on disk is solved chunk by chunk."""
+    nr_max = 0
+    for s in range(s0, s1):
+        nr_max = max(nr_max, row_ptr[s + 1] - row_ptr[s])
+    tmp = np.empty(nr_max, np.float64)
+    for s in range(s0, s1):
+        c0, c1 = sn_start[s], sn_start[s + 1]
+        nc = c1 - c0
+        nr = row_ptr[s + 1] - row_ptr[s]
+        f = nc + nr
+        off = factor_ptr[s] - base
+        tmp[:nr] = 0.0
+        for k in range(nc):
+            x = b[c0 + k]
+            row = segment[off + k * f:off + (k + 1) * f]
+            for p in range(k + 1, nc):
+                b[c0 + p] -= row[p] * x
+            for p in range(nr):
+                tmp[p] -= row[nc + p] * x
+            b[c0 + k] = x / row[k]
+        for p in range(nr):
+            b[rows[row_ptr[s] + p]] += tmp[p]
+
+
+@njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})
+def backward_range(segment, base, s0, s1, factor_ptr, sn_start, row_ptr, rows, b):
+    """The backward half of :func:`_solve_vector` (L^T x = y) over supernodes s1-1 down to s0,
+    their blocks read from ``segment`` as in :func:`forward_range`."""
+    nr_max = 0
+    for s in range(s0, s1):
+        nr_max = max(nr_max, row_ptr[s + 1] - row_ptr[s])
+    tmp = np.empty(nr_max, np.float64)
+    for s in range(s1 - 1, s0 - 1, -1):
+        c0, c1 = sn_start[s], sn_start[s + 1]
+        nc = c1 - c0
+        nr = row_ptr[s + 1] - row_ptr[s]
+        f = nc + nr
+        off = factor_ptr[s] - base
+        for p in range(nr):
+            tmp[p] = b[rows[row_ptr[s] + p]]
+        for k in range(nc - 1, -1, -1):
+            row = segment[off + k * f:off + (k + 1) * f]
+            acc = 0.0
+            for p in range(k + 1, nc):
+                acc += row[p] * b[c0 + p]
+            for p in range(nr):
+                acc += row[nc + p] * tmp[p]
+            b[c0 + k] -= acc

@@ -18,7 +18,9 @@ contact dofs last) is factored as follows:
   the update matrix. The last m dofs form the root supernode: its assembled front is the Schur
   complement S = K_cc - K_ci K_ii^-1 K_ic, copied before it is factored as the last supernode;
   its Cholesky factor then gives G = S^-1 by LAPACK's potri;
-* solve: forward and back substitution over the supernodes (compiled), in the original numbering.
+* solve: forward and back substitution over the supernodes (compiled), in the original numbering;
+  a factor of ON_DISK_BYTES or more below its root is held in a temporary file once S and G are
+  read off it (:func:`condensed_cholesky`), and its solves read it back in chunks.
 
 Only L is stored (one flat float64 array, an (columns x front rows) block per supernode): about
 half of SuperLU's L and U. A non-positive pivot raises :class:`NotPositiveDefinite` naming the
@@ -32,6 +34,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import tempfile
 
 import numpy as np
 import scipy.sparse as sp
@@ -44,6 +47,11 @@ __all__ = ["CholeskyFactor", "NotPositiveDefinite", "available", "condensed_chol
 #: its fraction of explicit zeros is below RELAX_ZEROS[i] (any size: below RELAX_ZEROS[2])
 RELAX_COLUMNS = (4, 16, 48)
 RELAX_ZEROS = (0.8, 0.1, 0.05)
+#: :func:`condensed_cholesky` holds a factor on disk (:meth:`CholeskyFactor.to_disk`) when its
+#: blocks below the root supernode take at least this many bytes
+ON_DISK_BYTES = 1 << 30
+#: a factor held on disk is read this many bytes (at least one supernode) at a time
+DISK_CHUNK_BYTES = 1 << 28
 
 
 class NotPositiveDefinite(np.linalg.LinAlgError):
@@ -104,7 +112,14 @@ class CholeskyFactor:
     that is not a root; roots are assembled in their factor blocks).
 
     ``keep_schur=False``: S is not copied out of the root front (an m x m array less);
-    :meth:`schur_operator` applies it from the factor's root block instead."""
+    :meth:`schur_operator` applies it from the factor's root block instead.
+
+    :meth:`to_disk` moves the blocks below the root supernode to a temporary file (the root
+    block, which products with S and G read, stays in memory); ``solve`` then reads them back
+    DISK_CHUNK_BYTES at a time."""
+
+    _disk = None  # the temporary file of the blocks below the root (None: all in memory)
+    _base = 0  # offset in the factor of ``factor[0]`` (the root block's when on disk)
 
     def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True,
                  keep_schur: bool = True):
@@ -187,15 +202,72 @@ class CholeskyFactor:
         if f.shape[:1] != (self.n,) or f.ndim > 2:
             raise ValueError(f"the right-hand side must have shape ({self.n},) or ({self.n}, k), got {f.shape}")
         b = np.ascontiguousarray(f[self.order].reshape(self.n, -1))
-        _kernels().solve(self.factor, self.factor_ptr, self.sn_start, self.row_ptr, self.rows, b)
+        if self._disk is None:
+            _kernels().solve(self.factor, self.factor_ptr, self.sn_start, self.row_ptr, self.rows, b)
+        else:
+            b = self._solve_from_disk(np.ascontiguousarray(b.T)).T
         out = np.empty_like(b)
         out[self.order] = b
         return out.reshape(f.shape)
 
+    def to_disk(self, directory: str | None = None) -> None:
+        """Move the factor's blocks below the root supernode to an unlinked temporary file (in
+        ``directory``, else the system's temporary directory; removed when the factor is):
+        their memory is freed, and each solve reads them back in chunks. Where the file cannot
+        be written (no writable temporary directory, a full disk) the factor stays in memory."""
+        if self._disk is not None or self.m == 0:
+            return
+        split = int(self.factor_ptr[-1]) - self.m * self.m  # the root block's offset
+        try:
+            handle = tempfile.TemporaryFile(dir=directory)
+            self.factor[:split].tofile(handle)
+            handle.flush()
+        except OSError:  # no writable temporary directory, or the disk is full: stay in memory
+            with contextlib.suppress(NameError, OSError):
+                handle.close()
+            return
+        self.factor, self._base, self._disk = self.factor[split:].copy(), split, handle
+        ptr = self.factor_ptr[:self.n_supernodes]  # the root is the last supernode
+        chunk = max(DISK_CHUNK_BYTES // 8, 1)
+        bounds, s0 = [], 0
+        while s0 < self.n_supernodes - 1:
+            s1 = int(np.searchsorted(ptr, ptr[s0] + chunk, side="right")) - 1
+            s1 = min(max(s1, s0 + 1), self.n_supernodes - 1)
+            bounds.append((s0, s1))
+            s0 = s1
+        self._chunks = bounds
+
+    def _read(self, s0: int, s1: int) -> np.ndarray:
+        lo, hi = int(self.factor_ptr[s0]), int(self.factor_ptr[s1])
+        self._disk.seek(8 * lo)
+        return np.fromfile(self._disk, dtype=np.float64, count=hi - lo)
+
+    def _solve_from_disk(self, bt: np.ndarray) -> np.ndarray:
+        """Overwrite bt (k, n), right-hand sides in the factor's numbering, with K^-1 of them:
+        forward over the chunks read from disk then the root, backward the other way."""
+        kern = _kernels()
+        args = (self.factor_ptr, self.sn_start, self.row_ptr, self.rows)
+        root = (self.n_supernodes - 1, self.n_supernodes)
+        for s0, s1 in self._chunks:
+            segment = self._read(s0, s1)
+            for b in bt:
+                kern.forward_range(segment, self.factor_ptr[s0], s0, s1, *args, b)
+            del segment
+        for b in bt:
+            kern.forward_range(self.factor, self._base, *root, *args, b)
+            kern.backward_range(self.factor, self._base, *root, *args, b)
+        for s0, s1 in reversed(self._chunks):
+            segment = self._read(s0, s1)
+            for b in bt:
+                kern.backward_range(segment, self.factor_ptr[s0], s0, s1, *args, b)
+            del segment
+        return bt
+
     def _root_block(self) -> np.ndarray:
         """The root supernode's m x m block of the factor (row k: D_k, then column k of L)."""
         m = self.m
-        return self.factor[self.factor_ptr[-1] - m * m:].reshape(m, m)
+        start = int(self.factor_ptr[-1]) - m * m - self._base
+        return self.factor[start:].reshape(m, m)
 
     def schur_operator(self) -> "RootSchur":
         """S = L_cc D_c L_cc^T of the root block as an operator (no m x m copy)."""
@@ -330,7 +402,7 @@ def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
 
 
 def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False, guard=None,
-                       trailing: int | None = None):
+                       trailing: int | None = None, on_disk: bool | None = None):
     """(factor, S, G) of K0 in the order ``order`` whose last m dofs are the condensed ones:
     S their Schur complement (a :class:`RootSchur` on the factor's root block: no m x m copy),
     G = S^-1 (LAPACK potri on S's Cholesky factor, the root block).
@@ -340,13 +412,18 @@ def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: boo
     manager factory the factorisation runs in (the caller's one-BLAS-thread guard: its many
     mid-size products gain nothing from threads), not potri (one large product). ``trailing``: G
     as a :class:`RootInverse` holding only its trailing ``trailing`` x ``trailing`` block (None:
-    all of G, dense)."""
+    all of G, dense). ``on_disk``: the factor's blocks below the root are moved to a temporary
+    file (:meth:`CholeskyFactor.to_disk`) before S and G are formed (None: when they take
+    ON_DISK_BYTES or more), so that a caller factoring several bodies in turn holds only their
+    root blocks in memory."""
     from scipy.linalg import lapack
 
     with guard() if guard is not None else contextlib.nullcontext():
         factor = CholeskyFactor(k0, order, m, definite, keep_schur=False)
     if m == 0:
         return factor, np.zeros((0, 0)), np.zeros((0, 0))
+    if on_disk or (on_disk is None and factor.factor_bytes - 8 * m * m >= ON_DISK_BYTES):
+        factor.to_disk()
     schur = factor.schur_operator()
     if trailing is not None and trailing < m:
         if not np.all(schur.d > 0.0):

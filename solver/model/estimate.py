@@ -10,8 +10,9 @@ diagonal of the part, whatever its orientation, so the estimate asks the part's 
 the same question: at every level-0 centre of the box (or a sample of them), then per zone and
 level at SAMPLES points of the ball in which cells are split (the kept children less the split
 parents). Dofs: DOFS_PER_CELL per cell. Memory: measured bytes per dof for the sparse part, and
-for a 3D contact the dense arrays of its condensed dofs (the candidate disc's finest cell faces
-times CONTACT_DOFS_PER_FACET per body, each body's block held twice and formed once more)."""
+for a 3D contact the dense arrays of its condensed dofs (the finest cell faces of the part of the
+candidate disc that the bodies hold, times CONTACT_DOFS_PER_FACET per body; each body's block
+held twice and formed once more)."""
 
 from __future__ import annotations
 
@@ -20,7 +21,7 @@ import os
 
 import numpy as np
 
-__all__ = ["ProblemSize", "estimate_size", "available_memory"]
+__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "available_memory"]
 
 #: bytes per dof measured (rounded up): 2D, 3D without contact (AMG-CG solves)
 BYTES_PER_DOF = {2: 8_000, 3: 6_000}
@@ -28,11 +29,19 @@ BYTES_PER_DOF = {2: 8_000, 3: 6_000}
 #: (measured on the full crossed cylinders, 236k dofs: the bodies' factors 14 KB per dof without
 #: their dense roots); the dense arrays are counted from the contact dofs
 BYTES_PER_DOF_3D_CONTACT = 14_000
+#: a body's sparse factor of this many bytes or more is held on disk once its contact block is
+#: read off it (solver.fem.multifrontal.ON_DISK_BYTES): the peak holds the largest body's factor
+ON_DISK_BYTES = 2**30
+#: 3D contact, what does not grow with the grid: the interpreter, numpy, scipy, numba's compiled
+#: kernels (measured 0.37-0.49 GB peaks for runs of 8-14k dofs)
+BASE_BYTES_3D_CONTACT = 300e6
 #: free dofs per cell (3D: hanging and aggregated nodes carry none; measured 2.4-2.8 on octrees)
 DOFS_PER_CELL = {3: 2.7}
-#: a 3D contact's condensed dofs per body and finest cell face in its candidate disc (measured
-#: 2.8 node layers x 3 on the full crossed cylinders at 3 levels)
-CONTACT_DOFS_PER_FACET = 8.5
+#: a 3D contact's condensed dofs per body and finest cell face in its candidate disc widened by
+#: CONTACT_DISC_MARGIN finest cells (fitted on the full ball on a block at 2 and 4 levels, 816 and
+#: 9045 dofs per body; within 5 % at 4 and 5 levels of the quarter sphere on a flat)
+CONTACT_DOFS_PER_FACET = 7.1
+CONTACT_DISC_MARGIN = 1.4
 #: points of the signed distance per level and body when counting a 3D body's kept cells
 SAMPLES = 2000
 #: bodies estimated above this many cells are not sampled (the box's fill by volume is used)
@@ -129,6 +138,7 @@ def estimate_size(problem) -> ProblemSize:
 def _estimate(problem) -> ProblemSize:
     dim = problem.dim
     cells = 0.0
+    per_body = []
     rng = np.random.default_rng(0)
     for body in problem.bodies:
         lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
@@ -144,31 +154,84 @@ def _estimate(problem) -> ProblemSize:
         if dim == 3 and body_cells <= SAMPLED_CELLS and hasattr(body.profile, "signed_distance"):
             body_cells = _sampled_body_cells(body, centres, lo, hi, rng)
         cells += body_cells
+        per_body.append(body_cells)
     dofs = DOFS_PER_CELL.get(dim, dim) * cells
     if dim == 3 and problem.contacts:
-        memory = dofs * BYTES_PER_DOF_3D_CONTACT + _dense_contact_bytes(problem) + 400e6
+        memory = _sparse_contact_bytes(DOFS_PER_CELL[3] * np.array(per_body)) + _dense_contact_bytes(problem) \
+            + BASE_BYTES_3D_CONTACT
     else:
         memory = dofs * BYTES_PER_DOF[dim] + 200e6
     return ProblemSize(cells, dofs, memory)
 
 
+def _sparse_contact_bytes(body_dofs: np.ndarray) -> float:
+    """The sparse part of a 3D contact: BYTES_PER_DOF_3D_CONTACT per dof of the body factored
+    when memory peaks (the largest) and of every body whose factor stays in memory; a body's
+    factor of ON_DISK_BYTES or more goes to disk once its contact block is read off it."""
+    per_body = body_dofs * BYTES_PER_DOF_3D_CONTACT
+    if not len(per_body):
+        return 0.0
+    largest = int(np.argmax(per_body))
+    kept = per_body < ON_DISK_BYTES
+    kept[largest] = True
+    return float(per_body[kept].sum())
+
+
 def _dense_contact_bytes(problem) -> float:
-    """The dense arrays of a 3D contact: per body, its contact dofs m_b (CONTACT_DOFS_PER_FACET
-    per finest cell face the candidate disc covers) hold m_b^2 entries in the root of the factor
-    and a quarter of that in the kept block of the inverse (all of it for blocks below 4000
-    dofs, where it is small), and while the last body is factored about
+    """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
+    the root of the factor and a quarter of that in the kept block of the inverse (all of it
+    for blocks below 4000 dofs, where it is small), and while the last body is factored about
     three more m_b^2 are work space (the factorisation's update-matrix stack and largest front:
     measured 1.7 and 1.2 m_b^2 on the crossed cylinders)."""
     total = 0.0
     for c in problem.contacts:
-        bodies = [b for b in problem.bodies if b.name in c.bodies]
-        radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
-        h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
-                     for b in bodies)
-        extent = c.options.extent_fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
-        m_b = CONTACT_DOFS_PER_FACET * math.pi * extent**2 / h_fine**2
-        total += 8.0 * m_b**2 * (1.25 * len(bodies) + 3)
+        n_bodies, m_b = _contact_dofs_per_body(problem, c)
+        total += 8.0 * m_b**2 * (1.25 * n_bodies + 3)
     return total
+
+
+def estimate_contact_dofs(problem) -> float:
+    """Estimated condensed (contact) dofs m of a 3D problem, summed over its contacts and bodies
+    (0 for a 2D problem, whose contacts are not condensed on a disc)."""
+    if problem.dim != 3:
+        return 0.0
+    total = 0.0
+    for c in problem.contacts:
+        n_bodies, m_b = _contact_dofs_per_body(problem, c)
+        total += n_bodies * m_b
+    return total
+
+
+def _contact_dofs_per_body(problem, contact) -> tuple[int, float]:
+    """A contact's bodies and the contact dofs of each: CONTACT_DOFS_PER_FACET per finest cell
+    face that the candidate disc, widened by CONTACT_DISC_MARGIN finest cells, covers. The disc
+    is the part of a circle of the candidate extent around the contact point that the bodies
+    hold: a quarter model (two symmetry planes through the point) holds a quarter of it, a full
+    model all of it."""
+    bodies = [b for b in problem.bodies if b.name in contact.bodies]
+    radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
+    h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
+                 for b in bodies)
+    extent = contact.options.extent_fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
+    disc = math.pi * (extent + CONTACT_DISC_MARGIN * h_fine) ** 2 * _held_fraction(bodies, contact.point, extent)
+    return len(bodies), CONTACT_DOFS_PER_FACET * disc / h_fine**2
+
+
+def _held_fraction(bodies, point, radius: float) -> float:
+    """The fraction of the ball of ``radius`` around ``point`` that lies in one of the bodies
+    (their signed distances at SAMPLES points uniform in the ball); 1 without a point or a
+    signed distance. Near a contact point the two bodies fill the ball but for the thin gap
+    between their surfaces, so this is also the fraction of the contact disc they hold."""
+    if point is None or not all(hasattr(b.profile, "signed_distance") for b in bodies):
+        return 1.0
+    rng = np.random.default_rng(1)
+    direction = rng.standard_normal((SAMPLES, 3))
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    pts = np.asarray(point, dtype=float) + direction * (radius * rng.random(SAMPLES) ** (1.0 / 3.0))[:, None]
+    held = np.zeros(SAMPLES, dtype=bool)
+    for b in bodies:
+        held |= np.asarray(b.profile.signed_distance(pts), dtype=float) >= 0.0
+    return float(held.mean())
 
 
 def available_memory() -> float:
