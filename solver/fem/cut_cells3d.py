@@ -27,6 +27,7 @@ from typing import Callable
 import numpy as np
 
 from .hexahedra import CORNERS, STIFFNESS_EXPONENTS, box_moments
+from .planar_cells import planar_moments
 
 __all__ = ["INSIDE", "CUT", "OUTSIDE", "classify_cells", "inside_moments"]
 
@@ -44,7 +45,8 @@ def classify_cells(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     return np.where(phi >= r, INSIDE, np.where(phi <= -r, OUTSIDE, CUT)).astype(np.int8)
 
 
-def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedDistance, depth: int = 3) -> np.ndarray:
+def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedDistance, depth: int = 3,
+                   planar: bool = True) -> np.ndarray:
     """Moments (m, 27) of the inside parts of cells (local coordinates of each cell, the order of
     hexahedra.STIFFNESS_EXPONENTS). The subdivision runs level by level (two calls of the
     distance per level); the leaves of all levels then take their rules together."""
@@ -54,8 +56,14 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     cell = np.arange(len(size))
     lo = np.full((len(size), 3), -1.0)  # sub-cube lower corners in local coordinates
     width = 2.0  # local width of the sub-cubes of this level
+    if planar:  # cells bounded by planar faces (edges and corners too): exact, no subdivision
+        moments, exact = planar_moments(signed_distance, lower, 0.5 * size, lo, np.full(len(size), width))
+        out[exact] = moments[exact]
+        cell, lo = cell[~exact], lo[~exact]
     leaves = []  # per level: cell, lower corner, width, gradient and kink of each leaf
     for level in range(depth + EDGE_DEPTH + 1):
+        if len(cell) == 0:
+            break
         half = 0.5 * width * 0.5 * size[cell]  # physical half edge of each sub-cube
         centre = lower[cell] + (lo + 0.5 * width + 1.0) * (0.5 * size[cell])[:, None]
         phi = np.asarray(signed_distance(centre), dtype=float)
@@ -64,6 +72,15 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
         np.add.at(out, cell[inside], box_moments(lo[inside], lo[inside] + width))
         if level >= depth:
             grad, kink = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
+            if planar and kink.any():  # an edge or vertex in the sub-cube: planar faces exactly
+                rows = np.flatnonzero(cut)[kink]
+                moments, exact = planar_moments(signed_distance, lower[cell[rows]], 0.5 * size[cell[rows]],
+                                                lo[rows], np.full(len(rows), width))
+                np.add.at(out, cell[rows[exact]], moments[exact])
+                keep = np.ones(len(kink), dtype=bool)
+                keep[np.flatnonzero(kink)[exact]] = False
+                grad, kink = grad[keep], kink[keep]
+                cut[rows[exact]] = False
             leaf = ~kink if level < depth + EDGE_DEPTH else np.ones(len(kink), dtype=bool)
             rows = np.nonzero(cut)[0]
             done, rows = rows[leaf], rows[~leaf]
