@@ -26,9 +26,11 @@ from .polyhedra import clip_cubes, tetrahedron_moments
 __all__ = ["planar_moments", "MAX_PLANES"]
 
 #: most distinct planes in one (sub-)cube (2^MAX_PLANES pieces are clipped)
-MAX_PLANES = 3
+MAX_PLANES = 6
 #: sample lattice per direction (fractions of the cube's edge from its lower corner)
 _LATTICE = np.linspace(-0.25, 1.25, 4)
+#: the lattice of the second try, where the first found planes but the model failed its checks
+_FINE_LATTICE = np.linspace(-0.25, 1.25, 7)
 #: stencil of each sample: the point, +-x, +-y, +-z, the eight corners (in units of the step)
 _STENCIL = np.concatenate([np.zeros((1, 3)), np.vstack([np.eye(3), -np.eye(3)])[[0, 3, 1, 4, 2, 5]],
                            np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], float)])
@@ -42,8 +44,8 @@ _SAME = 1e-7
 _ZERO = 1e-8
 #: the vertices of each piece checked are moved this share of the way to its centroid
 _PULL = 1e-5
-#: cubes per pass (bounds the memory of the stencils)
-CHUNK = 2000
+#: memory of one pass (the samples' planes compared pairwise, the stencils)
+PASS_BYTES = 2.0e8
 
 
 def planar_moments(signed_distance, cell_lower, scale, lo, width):
@@ -52,20 +54,31 @@ def planar_moments(signed_distance, cell_lower, scale, lo, width):
     planar model holds, and whether it held (q,) (moments of the others are zero)."""
     q = len(lo)
     out, ok = np.zeros((q, 27)), np.zeros(q, dtype=bool)
-    for start in range(0, q, CHUNK):
-        s = slice(start, start + CHUNK)
-        out[s], ok[s] = _planar_chunk(signed_distance, cell_lower[s], scale[s], lo[s], width[s])
+    retry = np.zeros(q, dtype=bool)
+    for start in range(0, q, _chunk(_LATTICE)):
+        s = slice(start, start + _chunk(_LATTICE))
+        out[s], ok[s], retry[s] = _planar_chunk(signed_distance, cell_lower[s], scale[s], lo[s], width[s], _LATTICE)
+    # a face whose affine region the coarse lattice missed: once more on a finer lattice
+    again = np.flatnonzero(retry)
+    for start in range(0, len(again), _chunk(_FINE_LATTICE)):
+        r = again[start:start + _chunk(_FINE_LATTICE)]
+        out[r], ok[r], _ = _planar_chunk(signed_distance, cell_lower[r], scale[r], lo[r], width[r], _FINE_LATTICE)
     return out, ok
 
 
-def _local_planes(signed_distance, cell_lower, scale, lo, width):
+def _chunk(lattice) -> int:
+    """Cubes per pass: the pairwise comparison of the samples' planes takes 4 n^2 doubles a cube."""
+    return max(1, int(PASS_BYTES // (32 * len(lattice) ** 6)))
+
+
+def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice=_LATTICE):
     """Sample points (q, n, 3) and their distances, and the distinct planes found around them in
     local coordinates: normals (q, MAX_PLANES, 3), offsets (q, MAX_PLANES) with
     normal . t + offset >= 0 inside (unused slots: no constraint), and their count (q,)."""
     q = len(lo)
     half = 0.5 * width * scale  # physical half edge of each cube
     corner = cell_lower + (lo + 1.0) * scale[:, None]
-    frac = np.stack(np.meshgrid(_LATTICE, _LATTICE, _LATTICE, indexing="ij"), axis=-1).reshape(-1, 3)
+    frac = np.stack(np.meshgrid(lattice, lattice, lattice, indexing="ij"), axis=-1).reshape(-1, 3)
     centre = corner[:, None, :] + frac[None] * (2.0 * half)[:, None, None]  # (q, n, 3)
     step = _STEP * half
     pts = centre[:, :, None, :] + step[:, None, None, None] * _STENCIL[None, None]
@@ -103,9 +116,24 @@ def _pattern(values, tol):
     return index, (np.abs(values) > tol).all(axis=-1)
 
 
-def _planar_chunk(signed_distance, cell_lower, scale, lo, width):
+def _planar_chunk(signed_distance, cell_lower, scale, lo, width, lattice):
+    """Moments, whether the model held, and whether to try again on a finer lattice (planes
+    found, fewer than MAX_PLANES, model failed)."""
     q = len(lo)
-    pts, phi, normal, offset, count = _local_planes(signed_distance, cell_lower, scale, lo, width)
+    pts, phi, normal, offset, count = _local_planes(signed_distance, cell_lower, scale, lo, width, lattice)
+    some = np.flatnonzero((count >= 1) & (count <= MAX_PLANES))  # the others: no planar model
+    result, ok = np.zeros((q, 27)), np.zeros(q, dtype=bool)
+    if len(some):
+        result[some], ok[some] = _arrangement_moments(signed_distance, pts[some], phi[some], normal[some],
+                                                      offset[some], count[some], cell_lower[some], scale[some],
+                                                      lo[some], width[some])
+    return result, ok, ~ok & (count >= 1) & (count < MAX_PLANES)
+
+
+def _arrangement_moments(signed_distance, pts, phi, normal, offset, count, cell_lower, scale, lo, width):
+    """Moments (q, 27) of the cubes' inside parts as the inside pieces of the planes'
+    arrangement, and whether the model passed its checks (q,)."""
+    q = len(lo)
     k = MAX_PLANES
     patterns = np.arange(2**k)
     sign = 1.0 - 2.0 * ((patterns[:, None] >> np.arange(k)[None]) & 1)  # (P, k)
