@@ -1,6 +1,12 @@
 """Cut cells of the octree: which leaves the boundary of a solid crosses, and the
 moments of their inside parts, from the solid's exact signed distance.
 
+Cells bounded by planar faces, edges and corners included, are integrated exactly first
+(solver.fem.planar_cells: the planes recovered from the distance, the cell's part as pieces of
+their arrangement, each a convex polyhedron); the other cells take the adaptive rule below, and
+those of its sub-cubes at the first leaf level where the distance bends try the planar model
+again.
+
 Adaptive subdivision: a sub-cube whose centre is farther inside than its half diagonal
 contributes its exact box moments, one farther outside nothing; the others are split down to
 ``depth`` levels below the cell, and EDGE_DEPTH more where the distance is not smooth across the
@@ -11,9 +17,9 @@ the signed distance on each (bracketed root search) and the monomials in closed 
 them, the cross-section split at the kinks of that integrand (the zeros on the sub-cube's faces
 and edges). Spectral on smooth surfaces: sphere volume and second moment to 2e-11 one level
 below cells of R/4, a torus to 1e-12 (tests/test_octree.py); exact for planes. Leaves still
-kinked at the last level take a plain 3 x 3 line rule: the solid's edges are integrated to about
-1e-5 of the cut cells' volume (a turned box: 7e-6), which is what remains of the patch test
-there (tests/test_solid_patch.py).
+kinked at the last level take a plain 3 x 3 line rule: where a curved face meets another face
+(a cylinder's rim) the edge is integrated to about 1e-5 of the cut cells' volume, first order
+in the last sub-cube's size.
 
 The distance is called on whole batches: two calls per subdivision level, then each rule once for
 the leaves of all levels together (lines along all three axes in one pass, the root searches of
@@ -48,7 +54,8 @@ def classify_cells(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
 def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedDistance, depth: int = 3,
                    planar: bool = True) -> np.ndarray:
     """Moments (m, 27) of the inside parts of cells (local coordinates of each cell, the order of
-    hexahedra.STIFFNESS_EXPONENTS). The subdivision runs level by level (two calls of the
+    hexahedra.STIFFNESS_EXPONENTS). Cells bounded by planar faces are exact at once (``planar``:
+    False keeps the general rule only); the subdivision runs level by level (two calls of the
     distance per level); the leaves of all levels then take their rules together."""
     lower = np.asarray(lower, dtype=float).reshape(-1, 3)
     size = np.asarray(size, dtype=float).reshape(-1)
