@@ -32,7 +32,8 @@ def _box_half_spaces(box, lower, size):
         offsets += [-(e @ box.shift), e @ box.shift + box.size[k]]
     normals, offsets = np.array(normals), np.array(offsets)
     scale = 0.5 * size
-    return np.broadcast_to(normals, (len(size), 6, 3)), ((lower + scale[:, None]) @ normals.T + offsets) / scale[:, None]
+    local_offsets = ((lower + scale[:, None]) @ normals.T + offsets) / scale[:, None]
+    return np.broadcast_to(normals, (len(size), 6, 3)), local_offsets
 
 
 def test_cut_cells_of_a_turned_box_have_the_moments_of_their_polyhedra():

@@ -64,7 +64,8 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     lo = np.full((len(size), 3), -1.0)  # sub-cube lower corners in local coordinates
     width = 2.0  # local width of the sub-cubes of this level
     if planar:  # cells bounded by planar faces (edges and corners too): exact, no subdivision
-        moments, exact = planar_moments(signed_distance, lower, 0.5 * size, lo, np.full(len(size), width))
+        moments, exact = planar_moments(signed_distance, lower, 0.5 * size, lo, np.full(len(size), width),
+                                        PLANAR_SAMPLES)
         out[exact] = moments[exact]
         cell, lo = cell[~exact], lo[~exact]
     leaves = []  # per level: cell, lower corner, width, gradient and kink of each leaf
@@ -110,6 +111,8 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     return out
 
 
+#: sample lattice points per direction of the planar model on whole cells (4 on sub-cubes)
+PLANAR_SAMPLES = 5
 #: further subdivision levels where the distance is not linear across a sub-cube (the solid's
 #: edges and vertices, where the boundary has a kink)
 EDGE_DEPTH = 4

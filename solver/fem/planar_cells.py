@@ -27,10 +27,6 @@ __all__ = ["planar_moments", "MAX_PLANES"]
 
 #: most distinct planes in one (sub-)cube (2^MAX_PLANES pieces are clipped)
 MAX_PLANES = 6
-#: sample lattice per direction (fractions of the cube's edge from its lower corner)
-_LATTICE = np.linspace(-0.25, 1.25, 4)
-#: the lattice of the second try, where the first found planes but the model failed its checks
-_FINE_LATTICE = np.linspace(-0.25, 1.25, 7)
 #: stencil of each sample: the point, +-x, +-y, +-z, the eight corners (in units of the step)
 _STENCIL = np.concatenate([np.zeros((1, 3)), np.vstack([np.eye(3), -np.eye(3)])[[0, 3, 1, 4, 2, 5]],
                            np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], float)])
@@ -48,21 +44,17 @@ _PULL = 1e-5
 PASS_BYTES = 2.0e8
 
 
-def planar_moments(signed_distance, cell_lower, scale, lo, width):
+def planar_moments(signed_distance, cell_lower, scale, lo, width, samples: int = 4):
     """Moments (q, 27) of the inside parts of the cubes [lo, lo + width] (local coordinates of
     cells with lower corners ``cell_lower`` (q, 3) and half edges ``scale`` (q,)) where the
-    planar model holds, and whether it held (q,) (moments of the others are zero)."""
+    planar model holds, and whether it held (q,) (moments of the others are zero). ``samples``:
+    lattice points per direction over the cube enlarged by a quarter on each side."""
+    lattice = np.linspace(-0.25, 1.25, samples)
     q = len(lo)
     out, ok = np.zeros((q, 27)), np.zeros(q, dtype=bool)
-    retry = np.zeros(q, dtype=bool)
-    for start in range(0, q, _chunk(_LATTICE)):
-        s = slice(start, start + _chunk(_LATTICE))
-        out[s], ok[s], retry[s] = _planar_chunk(signed_distance, cell_lower[s], scale[s], lo[s], width[s], _LATTICE)
-    # a face whose affine region the coarse lattice missed: once more on a finer lattice
-    again = np.flatnonzero(retry)
-    for start in range(0, len(again), _chunk(_FINE_LATTICE)):
-        r = again[start:start + _chunk(_FINE_LATTICE)]
-        out[r], ok[r], _ = _planar_chunk(signed_distance, cell_lower[r], scale[r], lo[r], width[r], _FINE_LATTICE)
+    for start in range(0, q, _chunk(lattice)):
+        s = slice(start, start + _chunk(lattice))
+        out[s], ok[s] = _planar_chunk(signed_distance, cell_lower[s], scale[s], lo[s], width[s], lattice)
     return out, ok
 
 
@@ -71,7 +63,7 @@ def _chunk(lattice) -> int:
     return max(1, int(PASS_BYTES // (32 * len(lattice) ** 6)))
 
 
-def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice=_LATTICE):
+def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice):
     """Sample points (q, n, 3) and their distances, and the distinct planes found around them in
     local coordinates: normals (q, MAX_PLANES, 3), offsets (q, MAX_PLANES) with
     normal . t + offset >= 0 inside (unused slots: no constraint), and their count (q,)."""
@@ -117,8 +109,7 @@ def _pattern(values, tol):
 
 
 def _planar_chunk(signed_distance, cell_lower, scale, lo, width, lattice):
-    """Moments, whether the model held, and whether to try again on a finer lattice (planes
-    found, fewer than MAX_PLANES, model failed)."""
+    """Moments and whether the model held."""
     q = len(lo)
     pts, phi, normal, offset, count = _local_planes(signed_distance, cell_lower, scale, lo, width, lattice)
     some = np.flatnonzero((count >= 1) & (count <= MAX_PLANES))  # the others: no planar model
@@ -127,7 +118,7 @@ def _planar_chunk(signed_distance, cell_lower, scale, lo, width, lattice):
         result[some], ok[some] = _arrangement_moments(signed_distance, pts[some], phi[some], normal[some],
                                                       offset[some], count[some], cell_lower[some], scale[some],
                                                       lo[some], width[some])
-    return result, ok, ~ok & (count >= 1) & (count < MAX_PLANES)
+    return result, ok
 
 
 def _arrangement_moments(signed_distance, pts, phi, normal, offset, count, cell_lower, scale, lo, width):
