@@ -18,8 +18,8 @@ them, the cross-section split at the kinks of that integrand (the zeros on the s
 and edges). Spectral on smooth surfaces: sphere volume and second moment to 2e-11 one level
 below cells of R/4, a torus to 1e-12 (tests/test_octree.py); exact for planes. Leaves still
 kinked at the last level take a plain 3 x 3 line rule: where a curved face meets another face
-(a cylinder's rim) the edge is integrated to about 1e-5 of the cut cells' volume, first order
-in the last sub-cube's size.
+(a cylinder's rim) the edge is integrated to about second order in the last sub-cube's size (a
+turned cylinder's volume to 4e-8 with cells of a third of its radius, docs/solids.md).
 
 The distance is called on whole batches: two calls per subdivision level, then each rule once for
 the leaves of all levels together (lines along all three axes in one pass, the root searches of
