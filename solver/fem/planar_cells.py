@@ -49,12 +49,19 @@ def planar_moments(signed_distance, cell_lower, scale, lo, width, samples: int =
     cells with lower corners ``cell_lower`` (q, 3) and half edges ``scale`` (q,)) where the
     planar model holds, and whether it held (q,) (moments of the others are zero). ``samples``:
     lattice points per direction over the cube enlarged by a quarter on each side."""
-    lattice = np.linspace(-0.25, 1.25, samples)
     q = len(lo)
     out, ok = np.zeros((q, 27)), np.zeros(q, dtype=bool)
-    for start in range(0, q, _chunk(lattice)):
-        s = slice(start, start + _chunk(lattice))
-        out[s], ok[s] = _planar_chunk(signed_distance, cell_lower[s], scale[s], lo[s], width[s], lattice)
+    # first the corners of the enlarged cube alone: where none sees a plane (a curved face), stop
+    corners = np.array([-0.25, 1.25])
+    some = np.zeros(q, dtype=bool)
+    for start in range(0, q, _chunk(corners)):
+        s = slice(start, start + _chunk(corners))
+        some[s] = _local_planes(signed_distance, cell_lower[s], scale[s], lo[s], width[s], corners)[4] > 0
+    rows = np.flatnonzero(some)
+    lattice = np.linspace(-0.25, 1.25, samples)
+    for start in range(0, len(rows), _chunk(lattice)):
+        r = rows[start:start + _chunk(lattice)]
+        out[r], ok[r] = _planar_chunk(signed_distance, cell_lower[r], scale[r], lo[r], width[r], lattice)
     return out, ok
 
 
