@@ -40,7 +40,7 @@ _SAME = 1e-7
 _ZERO = 1e-8
 #: the vertices of each piece checked are moved this share of the way to its centroid
 _PULL = 1e-5
-#: memory of one pass (the samples' planes compared pairwise, the stencils)
+#: memory of one pass (the stencils and their planes)
 PASS_BYTES = 2.0e8
 
 
@@ -66,8 +66,8 @@ def planar_moments(signed_distance, cell_lower, scale, lo, width, samples: int =
 
 
 def _chunk(lattice) -> int:
-    """Cubes per pass: the pairwise comparison of the samples' planes takes 4 n^2 doubles a cube."""
-    return max(1, int(PASS_BYTES // (32 * len(lattice) ** 6)))
+    """Cubes per pass: the stencils take some 60 doubles per sample."""
+    return max(1, int(PASS_BYTES // (480 * len(lattice) ** 3)))
 
 
 def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice):
@@ -92,14 +92,24 @@ def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice):
     affine = (deviation <= (_AFFINE * half + rounding)[:, None]) & (np.abs(length - 1.0) < 1e-6)
     normal = grad / np.where(length > 0.0, length, 1.0)[..., None]
     offset = (f0 - np.einsum("qnk,qnk->qn", normal, centre)) / half[:, None]  # n . x + c half >= 0
-    same = (np.abs(normal[:, :, None] - normal[:, None]).max(axis=-1) < _SAME) \
-        & (np.abs(offset[:, :, None] - offset[:, None]) < _SAME) & affine[:, None, :] & affine[:, :, None]
-    first = np.argmax(same, axis=2)  # each affine sample's first match: its plane's representative
-    rep = affine & (first == np.arange(same.shape[1])[None])
-    count = rep.sum(axis=1)
-    pick = np.argsort(~rep, axis=1, kind="stable")[:, :MAX_PLANES]
+    # distinct planes, greedily: the first affine sample not yet matched is the next plane
+    rows = np.arange(q)
+    open_ = affine.copy()
+    pick = np.zeros((q, MAX_PLANES), dtype=np.int64)
+    count = np.zeros(q, dtype=np.int64)
+    for slot in range(MAX_PLANES + 1):
+        has = open_.any(axis=1)
+        if not has.any():
+            break
+        first = np.argmax(open_, axis=1)
+        if slot < MAX_PLANES:
+            pick[has, slot] = first[has]
+        count += has
+        match = (np.abs(normal - normal[rows, first][:, None]).max(axis=-1) < _SAME) \
+            & (np.abs(offset - offset[rows, first][:, None]) < _SAME)
+        open_ &= ~(match & has[:, None])
     used = np.arange(MAX_PLANES)[None] < count[:, None]
-    rows = np.arange(q)[:, None]
+    rows = rows[:, None]
     n_sel = np.where(used[..., None], normal[rows, pick], 0.0)
     # local coordinates t: x = cell_lower + (t + 1) scale
     c_sel = offset[rows, pick] * half[:, None] + np.einsum("qpk,qk->qp", n_sel, cell_lower + scale[:, None])

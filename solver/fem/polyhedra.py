@@ -91,7 +91,8 @@ def tetrahedron_moments(tets: np.ndarray, owner: np.ndarray, m: int, chunk: int 
         volume6 = np.abs(np.linalg.det(edges))
         x = t[:, None, 0, :] + np.einsum("qe,tek->tqk", bary, edges)  # (t, q, 3)
         powers = np.stack([np.ones_like(x), x, x * x], axis=-1)  # (t, q, 3 axes, 3 powers)
-        w = volume6[:, None] * weight[None, :]
-        mono = np.einsum("tq,tqa,tqb,tqc->tabc", w, powers[:, :, 0], powers[:, :, 1], powers[:, :, 2])
+        wx = (volume6[:, None] * weight[None, :])[:, :, None] * powers[:, :, 0]  # (t, q, 3)
+        yz = (powers[:, :, 1, :, None] * powers[:, :, 2, None, :]).reshape(len(t), -1, 9)
+        mono = np.matmul(wx.transpose(0, 2, 1), yz)  # (t, 3, 9): x^a times y^b z^c
         np.add.at(out, o, mono.reshape(-1, 27))
     return out
