@@ -3,9 +3,9 @@ moments of their inside parts, from the solid's exact signed distance.
 
 Cells bounded by planar faces, edges and corners included, are integrated exactly first
 (solver.fem.planar_cells: the planes recovered from the distance, the cell's part as pieces of
-their arrangement, each a convex polyhedron); the other cells take the adaptive rule below, and
-those of its sub-cubes at the first leaf level where the distance bends try the planar model
-again.
+their arrangement, each a convex polyhedron); the other cells take the adaptive rule below
+(with SUBCUBE_PLANAR, its sub-cubes at the first leaf level where the distance bends try the
+planar model again).
 
 Adaptive subdivision: a sub-cube whose centre is farther inside than its half diagonal
 contributes its exact box moments, one farther outside nothing; the others are split down to
@@ -80,7 +80,7 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
         np.add.at(out, cell[inside], box_moments(lo[inside], lo[inside] + width))
         if level >= depth:
             grad, kink = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
-            if planar and level == depth and kink.any():  # an edge or vertex: planar faces exactly
+            if planar and SUBCUBE_PLANAR and level == depth and kink.any():  # an edge or vertex: planar faces exactly
                 rows = np.flatnonzero(cut)[kink]
                 moments, exact = planar_moments(signed_distance, lower[cell[rows]], 0.5 * size[cell[rows]],
                                                 lo[rows], np.full(len(rows), width))
@@ -113,6 +113,9 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
 
 #: sample lattice points per direction of the planar model on whole cells (4 on sub-cubes)
 PLANAR_SAMPLES = 5
+#: whether the kinked sub-cubes of the first leaf level try the planar model too (off: on
+#: curved solids they almost never succeed and cost more than the rest of the rule)
+SUBCUBE_PLANAR = False
 #: further subdivision levels where the distance is not linear across a sub-cube (the solid's
 #: edges and vertices, where the boundary has a kink)
 EDGE_DEPTH = 4
