@@ -80,7 +80,7 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
         np.add.at(out, cell[inside], box_moments(lo[inside], lo[inside] + width))
         if level >= depth:
             grad, kink = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
-            if planar and SUBCUBE_PLANAR and level == depth and kink.any():  # an edge or vertex: planar faces exactly
+            if planar and SUBCUBE_PLANAR and level == depth and kink.any():  # an edge or vertex
                 rows = np.flatnonzero(cut)[kink]
                 moments, exact = planar_moments(signed_distance, lower[cell[rows]], 0.5 * size[cell[rows]],
                                                 lo[rows], np.full(len(rows), width))
