@@ -1,11 +1,11 @@
 """Cut cells of the octree: which leaves the boundary of a solid crosses, and the
 moments of their inside parts, from the solid's exact signed distance.
 
-Cells bounded by planar faces, edges and corners included, are integrated exactly first
+Cells bounded by planar faces, edges and corners included, are integrated exactly
 (solver.fem.planar_cells: the planes recovered from the distance, the cell's part as pieces of
-their arrangement, each a convex polyhedron); the other cells take the adaptive rule below
-(with SUBCUBE_PLANAR, its sub-cubes at the first leaf level where the distance bends try the
-planar model again).
+their arrangement, each a convex polyhedron): the cut cells (or sub-cubes of the first leaf
+level) where the distance is not linear try that model first; the others, and those where it
+fails (curved faces), take the adaptive rule below.
 
 Adaptive subdivision: a sub-cube whose centre is farther inside than its half diagonal
 contributes its exact box moments, one farther outside nothing; the others are split down to
@@ -63,11 +63,6 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     cell = np.arange(len(size))
     lo = np.full((len(size), 3), -1.0)  # sub-cube lower corners in local coordinates
     width = 2.0  # local width of the sub-cubes of this level
-    if planar:  # cells bounded by planar faces (edges and corners too): exact, no subdivision
-        moments, exact = planar_moments(signed_distance, lower, 0.5 * size, lo, np.full(len(size), width),
-                                        PLANAR_SAMPLES)
-        out[exact] = moments[exact]
-        cell, lo = cell[~exact], lo[~exact]
     leaves = []  # per level: cell, lower corner, width, gradient and kink of each leaf
     for level in range(depth + EDGE_DEPTH + 1):
         if len(cell) == 0:
@@ -79,14 +74,17 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
         cut = ~inside & (phi > -np.sqrt(3.0) * half)
         np.add.at(out, cell[inside], box_moments(lo[inside], lo[inside] + width))
         if level >= depth:
-            grad, kink = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
-            if planar and SUBCUBE_PLANAR and level == depth and kink.any():  # an edge or vertex
-                rows = np.flatnonzero(cut)[kink]
+            grad, bend = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
+            kink = bend > KINK * half[cut]
+            bent = bend > PLANAR_BEND * half[cut]  # not one plane: an edge, a vertex or a curved face
+            if planar and level == depth and bent.any():
+                rows = np.flatnonzero(cut)[bent]
                 moments, exact = planar_moments(signed_distance, lower[cell[rows]], 0.5 * size[cell[rows]],
-                                                lo[rows], np.full(len(rows), width))
+                                                lo[rows], np.full(len(rows), width),
+                                                PLANAR_SAMPLES if level == 0 else 4)
                 np.add.at(out, cell[rows[exact]], moments[exact])
                 keep = np.ones(len(kink), dtype=bool)
-                keep[np.flatnonzero(kink)[exact]] = False
+                keep[np.flatnonzero(bent)[exact]] = False
                 grad, kink = grad[keep], kink[keep]
                 cut[rows[exact]] = False
             leaf = ~kink if level < depth + EDGE_DEPTH else np.ones(len(kink), dtype=bool)
@@ -113,9 +111,9 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
 
 #: sample lattice points per direction of the planar model on whole cells (4 on sub-cubes)
 PLANAR_SAMPLES = 5
-#: whether the kinked sub-cubes of the first leaf level try the planar model too (off: on
-#: curved solids they almost never succeed and cost more than the rest of the rule)
-SUBCUBE_PLANAR = False
+#: the cut cells (sub-cubes of the first leaf level) whose distance bends by more than this share
+#: of the half edge try the planar model; below it the leaf rule is exact already (one plane)
+PLANAR_BEND = 1e-7
 #: further subdivision levels where the distance is not linear across a sub-cube (the solid's
 #: edges and vertices, where the boundary has a kink)
 EDGE_DEPTH = 4
@@ -130,9 +128,9 @@ LEAF_CHUNK = 20000
 
 def _linearity(signed_distance: SignedDistance, centre, phi, half):
     """Central-difference gradient (q, 3) of the distance over each sub-cube's half edge, and
-    whether the distance bends there: a second difference along an axis, or the deviation of
-    the distance at a corner from the linear model, above KINK of the half edge. One call of
-    the distance on the 14 q points."""
+    how much the distance bends there: the largest second difference along an axis, or
+    deviation of the distance at a corner from the linear model. One call of the distance on
+    the 14 q points."""
     q = len(phi)
     offsets = np.concatenate([np.vstack([np.eye(3), -np.eye(3)])[[0, 3, 1, 4, 2, 5]], 2.0 * CORNERS - 1.0])
     offset = half[None, :, None] * offsets[:, None, :]  # (14, q, 3): +-x, +-y, +-z, the corners
@@ -142,7 +140,7 @@ def _linearity(signed_distance: SignedDistance, centre, phi, half):
     bend = np.abs(plus + minus - 2.0 * phi).max(axis=0, initial=0.0)
     linear = phi + (grad[None] * offset[6:]).sum(axis=2)  # (8, q)
     bend = np.maximum(bend, np.abs(values[6:] - linear).max(axis=0, initial=0.0))
-    return grad, bend > KINK * half
+    return grad, bend
 
 
 #: Gauss points per smooth piece in each direction of the leaf rule
