@@ -40,8 +40,11 @@ _SAME = 1e-7
 _ZERO = 1e-8
 #: the vertices of each piece checked are moved this share of the way to its centroid
 _PULL = 1e-5
-#: memory of one pass (the stencils and their planes)
-PASS_BYTES = 2.0e8
+#: pieces clipped at once (bounds the memory of their tetrahedra)
+JOBS_PER_CLIP = 256
+#: distance points per call (a CAD solid's distance holds kilobytes per point of a call: the
+#: Onshape ball on a block peaked at 3.6 GB with 200,000, 0.55 GB with 5,000)
+PASS_POINTS = 5000
 
 
 def planar_moments(signed_distance, cell_lower, scale, lo, width, samples: int = 4):
@@ -65,9 +68,17 @@ def planar_moments(signed_distance, cell_lower, scale, lo, width, samples: int =
     return out, ok
 
 
+def _distance(signed_distance, points: np.ndarray) -> np.ndarray:
+    """The distance at points (n, 3), PASS_POINTS at a time."""
+    if len(points) <= PASS_POINTS:
+        return np.asarray(signed_distance(points), dtype=float)
+    return np.concatenate([np.asarray(signed_distance(points[i:i + PASS_POINTS]), dtype=float)
+                           for i in range(0, len(points), PASS_POINTS)])
+
+
 def _chunk(lattice) -> int:
-    """Cubes per pass: the stencils take some 60 doubles per sample."""
-    return max(1, int(PASS_BYTES // (480 * len(lattice) ** 3)))
+    """Cubes per pass: PASS_POINTS stencil points per call of the distance."""
+    return max(1, int(PASS_POINTS // (len(_STENCIL) * len(lattice) ** 3)))
 
 
 def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice):
@@ -81,7 +92,7 @@ def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice):
     centre = corner[:, None, :] + frac[None] * (2.0 * half)[:, None, None]  # (q, n, 3)
     step = _STEP * half
     pts = centre[:, :, None, :] + step[:, None, None, None] * _STENCIL[None, None]
-    phi = np.asarray(signed_distance(pts.reshape(-1, 3)), dtype=float).reshape(pts.shape[:3])
+    phi = _distance(signed_distance, pts.reshape(-1, 3)).reshape(pts.shape[:3])
     f0, plus, minus = phi[..., 0], phi[..., 1:7:2], phi[..., 2:7:2]
     grad = (plus - minus) / (2.0 * step)[:, None, None]
     linear = f0[..., None] + np.einsum("qnk,ck->qnc", grad, _STENCIL[7:]) * step[:, None, None]
@@ -150,14 +161,22 @@ def _arrangement_moments(signed_distance, pts, phi, normal, offset, count, cell_
     job_cube, job_pattern = np.nonzero(valid)
     jn = normal[job_cube] * sign[job_pattern][:, :, None]
     jc = offset[job_cube] * sign[job_pattern]
-    tets, owner = clip_cubes(lo[job_cube], width[job_cube], jn, jc)
-    moments = tetrahedron_moments(tets, owner, len(job_cube))
+    moments = np.zeros((len(job_cube), 27))
+    tet_parts, owner_parts = [], []
+    for start in range(0, len(job_cube), JOBS_PER_CLIP):  # a piece cut by k planes: up to 6 3^k tetrahedra
+        j = slice(start, start + JOBS_PER_CLIP)
+        t, o = clip_cubes(lo[job_cube[j]], width[job_cube[j]], jn[j], jc[j])
+        moments[j] = tetrahedron_moments(t, o, len(jn[j]))
+        tet_parts.append(t)
+        owner_parts.append(o + start)
+    tets = np.concatenate(tet_parts) if tet_parts else np.zeros((0, 4, 3))
+    owner = np.concatenate(owner_parts) if owner_parts else np.zeros(0, dtype=np.int64)
     volume = moments[:, 0]
     filled = volume > 1e-13 * width[job_cube] ** 3
     centroid_local = moments[filled][:, [9, 3, 1]] / volume[filled, None]
     centroid = cell_lower[job_cube[filled]] + (centroid_local + 1.0) * scale[job_cube[filled], None]
     truth = np.full((q, 2**k), -1, dtype=np.int8)  # 1 inside, 0 outside, -1 no piece
-    truth[job_cube[filled], job_pattern[filled]] = np.asarray(signed_distance(centroid), float) > 0.0
+    truth[job_cube[filled], job_pattern[filled]] = _distance(signed_distance, centroid) > 0.0
     result = np.zeros((q, 27))
     inside = filled.copy()
     inside[filled] = truth[job_cube[filled], job_pattern[filled]] == 1
@@ -184,7 +203,7 @@ def _vertices_agree(signed_distance, tets, owner, filled, centroid_local, job_tr
     pulled = t + _PULL * (centre[:, None, :] - t)
     cube = np.repeat(job_cube[job], 4)
     x = cell_lower[cube] + (pulled.reshape(-1, 3) + 1.0) * scale[cube, None]
-    phi = np.asarray(signed_distance(x), float)
+    phi = _distance(signed_distance, x)
     expect = np.repeat(job_truth[job], 4) == 1
     bad = (np.abs(phi) > _AFFINE * half[cube]) & ((phi > 0.0) != expect)
     return np.bincount(cube[bad], minlength=len(half)) == 0
@@ -232,5 +251,5 @@ def _zero_on_boundary(signed_distance, samples, normal, offset, truth, cell_lowe
     if len(cube) == 0:
         return np.ones(q, dtype=bool)
     x = cell_lower[cube] + (proj[cube, sample, plane] + 1.0) * scale[cube, None]
-    bad = np.abs(np.asarray(signed_distance(x), float)) > _ZERO * half[cube]
+    bad = np.abs(_distance(signed_distance, x)) > _ZERO * half[cube]
     return np.bincount(cube[bad], minlength=q) == 0
