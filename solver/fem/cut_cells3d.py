@@ -3,9 +3,9 @@ moments of their inside parts, from the solid's exact signed distance.
 
 Cells bounded by planar faces, edges and corners included, are integrated exactly
 (solver.fem.planar_cells: the planes recovered from the distance, the cell's part as pieces of
-their arrangement, each a convex polyhedron): the cut cells (or sub-cubes of the first leaf
-level) where the distance is not linear try that model first; the others, and those where it
-fails (curved faces), take the adaptive rule below.
+their arrangement, each a convex polyhedron): with ``depth`` 0 (the solver's), the cut cells
+where the distance is not linear try that model first; the others, and those where it fails
+(curved faces), take the adaptive rule below.
 
 Adaptive subdivision: a sub-cube whose centre is farther inside than its half diagonal
 contributes its exact box moments, one farther outside nothing; the others are split down to
@@ -77,11 +77,10 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
             grad, bend = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
             kink = bend > KINK * half[cut]
             bent = bend > PLANAR_BEND * half[cut]  # not one plane: an edge, a vertex or a curved face
-            if planar and level == depth and bent.any():
+            if planar and level == 0 and bent.any():  # whole cells (depth 0, the solver's)
                 rows = np.flatnonzero(cut)[bent]
                 moments, exact = planar_moments(signed_distance, lower[cell[rows]], 0.5 * size[cell[rows]],
-                                                lo[rows], np.full(len(rows), width),
-                                                PLANAR_SAMPLES if level == 0 else 4)
+                                                lo[rows], np.full(len(rows), width), PLANAR_SAMPLES)
                 np.add.at(out, cell[rows[exact]], moments[exact])
                 keep = np.ones(len(kink), dtype=bool)
                 keep[np.flatnonzero(bent)[exact]] = False
@@ -109,7 +108,7 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     return out
 
 
-#: sample lattice points per direction of the planar model on whole cells (4 on sub-cubes)
+#: sample lattice points per direction of the planar model on whole cells
 PLANAR_SAMPLES = 5
 #: the cut cells (sub-cubes of the first leaf level) whose distance bends by more than this share
 #: of the half edge try the planar model; below it the leaf rule is exact already (one plane)
