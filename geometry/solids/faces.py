@@ -210,6 +210,15 @@ class PlanarRegionFace:
             done.append((line, lo_s, hi_s))
         return tuple(np.concatenate(parts) for parts in zip(*done))
 
+    def polygon(self):
+        """(origin, e0, e1, edges (k, 2, 2)): the region's boundary as straight edges in profile
+        coordinates (x = origin + p0 e0 + p1 e1) when every curve of the profile is a segment;
+        None otherwise (a split rule then integrates it exactly cell by cell)."""
+        curves = [c for loop in self.profile.loops for c in loop]
+        if not all(getattr(c, "type", "") == "line" for c in curves):
+            return None
+        return self.origin, self.e0, self.e1, np.array([[c.p0, c.p1] for c in curves], dtype=float)
+
     def _place(self, p: np.ndarray) -> np.ndarray:
         return self.origin + p[:, :1] * self.e0 + p[:, 1:] * self.e1
 

@@ -433,6 +433,15 @@ class _TransformedFace:
         x, w, n = self.face.graded_quadrature(resolution, size, cut)
         return self.solid._world(x), w, n @ self.solid.rotation.T
 
+    def polygon(self):
+        """The base face's straight-edged boundary (PlanarRegionFace.polygon), turned and moved."""
+        base = self.face.polygon() if hasattr(self.face, "polygon") else None
+        if base is None:
+            return None
+        origin, e0, e1, edges = base
+        rot = self.solid.rotation
+        return self.solid._world(np.asarray(origin, float)[None])[0], rot @ e0, rot @ e1, edges
+
     @property
     def normal(self):  # planar regions: the solver offsets points along it
         return self.solid.rotation @ self.face.normal

@@ -1,6 +1,12 @@
 """Cut cells of the octree: which leaves the boundary of a solid crosses, and the
 moments of their inside parts, from the solid's exact signed distance.
 
+Cells bounded by planar faces, edges and corners included, are integrated exactly
+(solver.fem.planar_cells: the planes recovered from the distance, the cell's part as pieces of
+their arrangement, each a convex polyhedron): with ``depth`` 0 (the solver's), the cut cells
+where the distance is not linear try that model first; the others, and those where it fails
+(curved faces), take the adaptive rule below.
+
 Adaptive subdivision: a sub-cube whose centre is farther inside than its half diagonal
 contributes its exact box moments, one farther outside nothing; the others are split down to
 ``depth`` levels below the cell, and EDGE_DEPTH more where the distance is not smooth across the
@@ -11,9 +17,9 @@ the signed distance on each (bracketed root search) and the monomials in closed 
 them, the cross-section split at the kinks of that integrand (the zeros on the sub-cube's faces
 and edges). Spectral on smooth surfaces: sphere volume and second moment to 2e-11 one level
 below cells of R/4, a torus to 1e-12 (tests/test_octree.py); exact for planes. Leaves still
-kinked at the last level take a plain 3 x 3 line rule: the solid's edges are integrated to about
-1e-5 of the cut cells' volume (a turned box: 7e-6), which is what remains of the patch test
-there (tests/test_solid_patch.py).
+kinked at the last level take a plain 3 x 3 line rule: where a curved face meets another face
+(a cylinder's rim) the edge is integrated to about second order in the last sub-cube's size (a
+turned cylinder's volume to 4e-8 with cells of a third of its radius, docs/solids.md).
 
 The distance is called on whole batches: two calls per subdivision level, then each rule once for
 the leaves of all levels together (lines along all three axes in one pass, the root searches of
@@ -27,6 +33,7 @@ from typing import Callable
 import numpy as np
 
 from .hexahedra import CORNERS, STIFFNESS_EXPONENTS, box_moments
+from .planar_cells import planar_moments
 
 __all__ = ["INSIDE", "CUT", "OUTSIDE", "classify_cells", "inside_moments"]
 
@@ -44,9 +51,11 @@ def classify_cells(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     return np.where(phi >= r, INSIDE, np.where(phi <= -r, OUTSIDE, CUT)).astype(np.int8)
 
 
-def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedDistance, depth: int = 3) -> np.ndarray:
+def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedDistance, depth: int = 3,
+                   planar: bool = True) -> np.ndarray:
     """Moments (m, 27) of the inside parts of cells (local coordinates of each cell, the order of
-    hexahedra.STIFFNESS_EXPONENTS). The subdivision runs level by level (two calls of the
+    hexahedra.STIFFNESS_EXPONENTS). Cells bounded by planar faces are exact at once (``planar``:
+    False keeps the general rule only); the subdivision runs level by level (two calls of the
     distance per level); the leaves of all levels then take their rules together."""
     lower = np.asarray(lower, dtype=float).reshape(-1, 3)
     size = np.asarray(size, dtype=float).reshape(-1)
@@ -56,6 +65,8 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     width = 2.0  # local width of the sub-cubes of this level
     leaves = []  # per level: cell, lower corner, width, gradient and kink of each leaf
     for level in range(depth + EDGE_DEPTH + 1):
+        if len(cell) == 0:
+            break
         half = 0.5 * width * 0.5 * size[cell]  # physical half edge of each sub-cube
         centre = lower[cell] + (lo + 0.5 * width + 1.0) * (0.5 * size[cell])[:, None]
         phi = np.asarray(signed_distance(centre), dtype=float)
@@ -63,7 +74,18 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
         cut = ~inside & (phi > -np.sqrt(3.0) * half)
         np.add.at(out, cell[inside], box_moments(lo[inside], lo[inside] + width))
         if level >= depth:
-            grad, kink = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
+            grad, bend = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
+            kink = bend > KINK * half[cut]
+            bent = bend > PLANAR_BEND * half[cut]  # not one plane: an edge, a vertex or a curved face
+            if planar and level == 0 and bent.any():  # whole cells (depth 0, the solver's)
+                rows = np.flatnonzero(cut)[bent]
+                moments, exact = planar_moments(signed_distance, lower[cell[rows]], 0.5 * size[cell[rows]],
+                                                lo[rows], np.full(len(rows), width), PLANAR_SAMPLES)
+                np.add.at(out, cell[rows[exact]], moments[exact])
+                keep = np.ones(len(kink), dtype=bool)
+                keep[np.flatnonzero(bent)[exact]] = False
+                grad, kink = grad[keep], kink[keep]
+                cut[rows[exact]] = False
             leaf = ~kink if level < depth + EDGE_DEPTH else np.ones(len(kink), dtype=bool)
             rows = np.nonzero(cut)[0]
             done, rows = rows[leaf], rows[~leaf]
@@ -86,6 +108,11 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
     return out
 
 
+#: sample lattice points per direction of the planar model on whole cells
+PLANAR_SAMPLES = 5
+#: the cut cells (sub-cubes of the first leaf level) whose distance bends by more than this share
+#: of the half edge try the planar model; below it the leaf rule is exact already (one plane)
+PLANAR_BEND = 1e-7
 #: further subdivision levels where the distance is not linear across a sub-cube (the solid's
 #: edges and vertices, where the boundary has a kink)
 EDGE_DEPTH = 4
@@ -100,9 +127,9 @@ LEAF_CHUNK = 20000
 
 def _linearity(signed_distance: SignedDistance, centre, phi, half):
     """Central-difference gradient (q, 3) of the distance over each sub-cube's half edge, and
-    whether the distance bends there: a second difference along an axis, or the deviation of
-    the distance at a corner from the linear model, above KINK of the half edge. One call of
-    the distance on the 14 q points."""
+    how much the distance bends there: the largest second difference along an axis, or
+    deviation of the distance at a corner from the linear model. One call of the distance on
+    the 14 q points."""
     q = len(phi)
     offsets = np.concatenate([np.vstack([np.eye(3), -np.eye(3)])[[0, 3, 1, 4, 2, 5]], 2.0 * CORNERS - 1.0])
     offset = half[None, :, None] * offsets[:, None, :]  # (14, q, 3): +-x, +-y, +-z, the corners
@@ -112,7 +139,7 @@ def _linearity(signed_distance: SignedDistance, centre, phi, half):
     bend = np.abs(plus + minus - 2.0 * phi).max(axis=0, initial=0.0)
     linear = phi + (grad[None] * offset[6:]).sum(axis=2)  # (8, q)
     bend = np.maximum(bend, np.abs(values[6:] - linear).max(axis=0, initial=0.0))
-    return grad, bend > KINK * half
+    return grad, bend
 
 
 #: Gauss points per smooth piece in each direction of the leaf rule

@@ -26,7 +26,7 @@ MULTILINEAR = np.array([(p, q, r) for p in range(2) for q in range(2) for r in r
 from .octree import CORNERS, build_octree
 from .space import BodyDiscretisation, body_zones
 from .step_boundary import BoundaryPoints
-from .surface_quadrature import cell_split_quadrature
+from .surface_quadrature import cell_split_quadrature, polygon_split_quadrature
 
 __all__ = ["SolidDiscretisation", "discretise_solid", "discretise_solid_body"]
 
@@ -127,6 +127,10 @@ def face_rule(face, tree, order: int = FACE_ORDER) -> tuple[np.ndarray, np.ndarr
     """Points, weights and outward normals on a face: split at the octree's planes when the face
     offers its parameter panels (solver.fem.surface_quadrature: exact for trilinear integrands on
     planar faces), else the face's own rule with panels of PANELS_PER_CELL per finest cell."""
+    polygon = face.polygon() if hasattr(face, "polygon") else None
+    if polygon is not None:  # a planar region with straight edges: cut exactly at the cells' planes
+        return polygon_split_quadrature(polygon, face.normal, tree.h0, tree.origin, tree.h0 / 2.0**tree.max_level,
+                                        order, cell_size=lambda points, normals: _cell_size(tree, points, normals))
     if hasattr(face, "panels") and hasattr(face, "evaluate"):
         spacing = tree.h0 / 2.0**tree.max_level
         if order == FACE_ORDER and not _planar(face):

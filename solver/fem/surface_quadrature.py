@@ -21,7 +21,8 @@ import math
 
 import numpy as np
 
-__all__ = ["split_panels", "clip_to_grid", "triangle_nodes", "cell_split_quadrature", "gauss_jacobi", "MAX_VERTICES"]
+__all__ = ["split_panels", "clip_to_grid", "triangle_nodes", "cell_split_quadrature", "gauss_jacobi", "MAX_VERTICES",
+           "slab_trapezoids", "polygon_split_quadrature"]
 
 #: most vertices of a clipped panel (a rectangle cut by six lines has at most ten)
 MAX_VERTICES = 12
@@ -239,3 +240,86 @@ def _graded_panels(face, lower, upper, cell_size, levels: int):
     done_hi.append(upper)
     done_size.append(np.tile(size[split], 4) if len(lower) else np.zeros(0))  # panels left at the last level
     return np.concatenate(done_lo), np.concatenate(done_hi), np.concatenate(done_size)
+
+
+def slab_trapezoids(edges: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Convex pieces (n, MAX_VERTICES, 2) and vertex counts of a region bounded by straight
+    edges (k, 2, 2) (any number of loops, convex or not, holes included): between consecutive
+    vertex heights p1 the edges crossing the slab, ordered along p0, bound the inside trapezoids
+    in pairs (the even-odd rule)."""
+    edges = np.asarray(edges, dtype=float)
+    y = edges[:, :, 1]
+    lo, hi = y.min(axis=1), y.max(axis=1)
+    levels = np.unique(y)
+    pieces = []
+    for y0, y1 in zip(levels[:-1], levels[1:]):
+        span = (lo <= y0) & (hi >= y1) & (hi > lo)
+        e = edges[span]
+        if len(e) < 2:
+            continue
+        slope = (e[:, 1, 0] - e[:, 0, 0]) / (e[:, 1, 1] - e[:, 0, 1])
+        x0 = e[:, 0, 0] + (y0 - e[:, 0, 1]) * slope
+        x1 = e[:, 0, 0] + (y1 - e[:, 0, 1]) * slope
+        order = np.argsort(0.5 * (x0 + x1), kind="stable")
+        x0, x1 = x0[order], x1[order]
+        a, b = slice(0, len(order) - 1, 2), slice(1, len(order), 2)
+        n = len(x0[a])
+        quad = np.stack([np.column_stack([x0[a], np.full(n, y0)]), np.column_stack([x0[b], np.full(n, y0)]),
+                         np.column_stack([x1[b], np.full(n, y1)]), np.column_stack([x1[a], np.full(n, y1)])], axis=1)
+        pieces.append(quad)
+    if not pieces:
+        return np.zeros((0, MAX_VERTICES, 2)), np.zeros(0, dtype=np.int64)
+    quads = np.concatenate(pieces)
+    poly = np.zeros((len(quads), MAX_VERTICES, 2))
+    poly[:, :4] = quads
+    return poly, np.full(len(quads), 4, dtype=np.int64)
+
+
+def _affine_panels(poly: np.ndarray, count: np.ndarray, place):
+    """Each piece as its own panel: the bounding rectangle in (u, v) and its corners placed by
+    the affine map ``place(uv) -> points``."""
+    valid = np.arange(MAX_VERTICES)[None, :] < count[:, None]
+    lower = np.where(valid[:, :, None], poly, np.inf).min(axis=1)
+    upper = np.where(valid[:, :, None], poly, -np.inf).max(axis=1)
+    corners = place(_rectangles(lower, upper).reshape(-1, 2)).reshape(-1, 4, 3)
+    return lower, upper, corners
+
+
+def polygon_split_quadrature(polygon, normal, resolution: float, origin: np.ndarray, spacing: float,
+                             order: int = 4, cell_size=None):
+    """Points (q, 3), weights (q,) and normals (q, 3) on a planar region bounded by straight
+    edges, ``polygon`` = (plane origin, axes e0, e1, edges (k, 2, 2) in plane coordinates), every
+    piece cut at the planes of the cell holding it: the region's trapezoids (:func:`slab_trapezoids`)
+    cut at the grid of spacing ``resolution``, then each piece again at the planes of a finer cell
+    holding its centroid (``cell_size(points, normals) -> sizes``) until none is finer (at least
+    ``spacing``). The pieces are exactly the region's parts in each cell, so a trilinear integrand
+    is integrated exactly."""
+    plane_origin, e0, e1, edges = polygon
+    plane_origin, e0, e1 = (np.asarray(v, dtype=float) for v in (plane_origin, e0, e1))
+    normal = np.asarray(normal, dtype=float).reshape(3)
+
+    def place(uv):
+        return plane_origin + uv[:, :1] * e0 + uv[:, 1:] * e1
+
+    origin = np.asarray(origin, dtype=float)
+    poly, count = slab_trapezoids(edges)
+    piece_spacing = np.full(len(poly), float(resolution))  # the planes each piece has been cut at
+    cut = np.ones(len(poly), dtype=bool)
+    while cut.any():
+        lower, upper, corners = _affine_panels(poly[cut], count[cut], place)
+        p2, c2, owner = clip_to_grid(poly[cut], count[cut], np.arange(int(cut.sum())), lower, upper, corners,
+                                     origin, piece_spacing[cut])
+        poly, count = np.concatenate([poly[~cut], p2]), np.concatenate([count[~cut], c2])
+        piece_spacing = np.concatenate([piece_spacing[~cut], piece_spacing[cut][owner]])
+        if cell_size is None:
+            break
+        valid = np.arange(MAX_VERTICES)[None, :] < count[:, None]
+        centroid = place((poly * valid[:, :, None]).sum(axis=1) / count[:, None])
+        local = np.maximum(np.asarray(cell_size(centroid, np.broadcast_to(normal, centroid.shape)), float), spacing)
+        cut = local < (1.0 - 1e-9) * piece_spacing
+        piece_spacing = np.where(cut, local, piece_spacing)
+    uv, w, _ = triangle_nodes(poly, count, order)
+    area = float(np.linalg.norm(np.cross(e0, e1)))
+    points = place(uv)
+    keep = w > 0.0
+    return points[keep], w[keep] * area, np.broadcast_to(normal, points.shape).copy()[keep]
