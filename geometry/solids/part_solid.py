@@ -196,8 +196,13 @@ class PartFace:
         and mapped onto the exact surface. With ``panel_size`` (points (n, 3), outward normals
         (n, 3) -> largest edge (n,)), a triangle is split only until its edges are within the
         size asked at its centroid (never below ``resolution``): graded like the cells it lies in."""
-        bary, w = _triangle_rule()
         tri = _split(self.triangles, resolution) if panel_size is None else _split_graded(self.triangles, panel_size, resolution)
+        return self.mapped_rule(tri, resolution)
+
+    def mapped_rule(self, tri: np.ndarray, resolution: float):
+        """Points, weights and outward normals of the 6-point rule on the triangles (m, 3, 3)
+        mapped onto the exact surface (flat where the face has none)."""
+        bary, w = _triangle_rule()
         e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
         x = np.einsum("gk,tkd->tgd", bary, tri).reshape(-1, 3)
         if self.surface is None:
@@ -331,12 +336,18 @@ class PartSolid(Solid):
         #: how far the tessellation may stray from the exact faces (2 x the measured sag + round-off)
         self.tolerance = 2.0 * sag + 1e-9 * size
         self.faces = {f.id: PartFace(f, self.tolerance) for f in faces}
+        self._loops = {f.id: [part.edges[c.edge_id] for loop in f.loops for c in loop.coedges if c.edge_id in part.edges]
+                       for f in faces}
         self.triangles = np.concatenate(tri)
         self.bounds = (allv.min(axis=0) - self.tolerance, allv.max(axis=0) + self.tolerance)
         self.size = size
-        x, w, n = (np.concatenate(v) for v in zip(*[f.quadrature(size / 8) for f in self.faces.values()]))
-        #: by the divergence theorem over the faces' quadrature (see the module's note on trims)
-        self.volume = float(((x * n).sum(axis=1) @ w) / 3.0)
+        from .trim_strips import closed_rule
+
+        x, w, n = (np.concatenate(v) for v in zip(*[closed_rule(f, self._loops[k], size, self.tolerance) for k, f in self.faces.items()]))
+        #: by the divergence theorem over the faces' quadrature with the strips between the chords
+        #: and the exact trimming curves (geometry.solids.trim_strips), about the box's centre
+        centre = 0.5 * (allv.min(axis=0) + allv.max(axis=0))
+        self.volume = float((((x - centre) * n).sum(axis=1) @ w) / 3.0)
 
     def _faces_nearest(self, p: np.ndarray):
         """Distance to the nearest face (its exact foot on the trimmed face), the side of that
@@ -400,8 +411,10 @@ class PartSolid(Solid):
             best = np.minimum(best, d)
         return best
 
-    def signed_distance(self, points) -> np.ndarray:
+    def signed_distance(self, points, chunk: int = 1 << 16) -> np.ndarray:
         p = np.asarray(points, float).reshape(-1, 3)
+        if len(p) > chunk:  # bounded temporaries (the candidate triangles of every point)
+            return np.concatenate([self.signed_distance(p[s:s + chunk], chunk) for s in range(0, len(p), chunk)])
         best, sign, interior = self._faces_nearest(p)
         edge = self._edges_nearest(p, best)
         at_edge = edge < best
