@@ -5,10 +5,12 @@ cover the face but for a thin strip along every curved trimming edge (a planar d
 a circle loses the segments between the circle and its chords: of order the chord sag times the
 perimeter). Here each boundary chord (u, v) of the triangulation is closed against its edge's
 exact curve by the triangle (v, u, m), m the curve's point nearest the chord's midpoint, and the
-two halves (u, m), (m, v) likewise, until the sag is below a fraction of the part's size. A
+two halves (u, m), (m, v) likewise, until the halves' sag would be below a fraction of the part's
+size; a chord's last triangle counts 4/3 (the segment of a parabola is 4/3 of its inscribed
+triangle, Archimedes), which leaves an error of the fourth order in the chord's length. A
 triangle wound against the face's (the curve bulges into the face: a hole, a concave trim)
-counts negatively. With these strips the faces of a closed solid close up to that fraction,
-and its volume by the divergence theorem is exact to it.
+counts negatively. With these strips the faces of a closed solid close up and its volume by
+the divergence theorem is exact to about 1e-10 on a ball (5e-4 without them).
 """
 
 from __future__ import annotations
@@ -18,9 +20,9 @@ import numpy as np
 __all__ = ["boundary_chords", "strip_triangles", "closed_rule"]
 
 #: strips are refined until the sag of every chord is below this fraction of the part's size
-SAG_FRACTION = 1e-9
-#: at most this many halvings of a boundary chord (2^12 pieces)
-MAX_DEPTH = 12
+SAG_FRACTION = 1e-6
+#: at most this many halvings of a boundary chord (2^5 pieces)
+MAX_DEPTH = 5
 
 
 def boundary_chords(triangles: np.ndarray):
@@ -78,26 +80,30 @@ def _feet(points: np.ndarray, owner: np.ndarray, edges) -> np.ndarray:
 
 def strip_triangles(triangles: np.ndarray, edges, size: float, tol: float):
     """Triangles (k, 3, 3) filling the strips between the boundary chords and the exact curves
-    of the edges they lie on (``edges``: the face's trimming edges) and their signs (k,): +1
-    wound as the face, -1 against it. A chord on no edge with an exact curve gets no strip;
+    of the edges they lie on (``edges``: the face's trimming edges) and their weights (k,): +1
+    wound as the face, -1 against it, times 4/3 for a chord's last triangle. A chord on no edge with an exact curve gets no strip;
     ``tol``: how far the face's boundary vertices may lie from the edges' polylines."""
     u, v, normal = boundary_chords(triangles)
     owner = _owners(u, v, edges, tol)
     has = owner >= 0
     u, v, normal, owner = u[has], v[has], normal[has], owner[has]
     out, signs = [], []
-    for _ in range(MAX_DEPTH):
+    for depth in range(MAX_DEPTH):
         if not len(u):
             break
         mid = 0.5 * (u + v)
         m = _feet(mid, owner, edges)
         sag = np.linalg.norm(m - mid, axis=1)
         keep = (sag > SAG_FRACTION * size) & (sag < 0.5 * np.linalg.norm(v - u, axis=1))
-        u, v, m, normal, owner = u[keep], v[keep], m[keep], normal[keep], owner[keep]
+        u, v, m, normal, owner, sag = u[keep], v[keep], m[keep], normal[keep], owner[keep], sag[keep]
         out.append(np.stack([v, u, m], axis=1))
-        signs.append(np.sign((np.cross(u - v, m - v) * normal).sum(axis=1)))
-        u, v = np.concatenate([u, m]), np.concatenate([m, v])
-        normal, owner = np.concatenate([normal, normal]), np.concatenate([owner, owner])
+        # the last triangle of a chord counts 4/3: the segment of a parabola is 4/3 of the
+        # triangle inscribed on its chord (Archimedes), and the halves' sags are a quarter
+        last = (0.25 * sag <= SAG_FRACTION * size) | (depth == MAX_DEPTH - 1)
+        signs.append(np.sign((np.cross(u - v, m - v) * normal).sum(axis=1)) * np.where(last, 4.0 / 3.0, 1.0))
+        go = ~last
+        u, v = np.concatenate([u[go], m[go]]), np.concatenate([m[go], v[go]])
+        normal, owner = np.concatenate([normal[go], normal[go]]), np.concatenate([owner[go], owner[go]])
     if not out:
         return np.zeros((0, 3, 3)), np.zeros(0)
     return np.concatenate(out), np.concatenate(signs)
