@@ -36,7 +36,10 @@ def test_graded_panels_keep_the_exact_area_with_few_points(unit_ball):
     sphere = next(f for f in unit_ball.faces.values() if type(f.surface).__name__ == "Sphere")
     finest = 0.005
     # panels of 5 mm at the pole growing to half the distance from it: as a refined grid asks
-    x, w, n = sphere.quadrature(finest, panel_size=lambda p, normals: np.maximum(finest, 0.5 * np.linalg.norm(p, axis=1)))
+    def panel_size(points, normals):
+        return np.maximum(finest, 0.5 * np.linalg.norm(points, axis=1))
+
+    x, w, n = sphere.quadrature(finest, panel_size=panel_size)
     # the quarter of a hemisphere: 2 pi R^2 / 4; the chords of the trimming arcs project onto the arcs
     assert w.sum() == pytest.approx(math.pi / 2, rel=1e-8)
     np.testing.assert_allclose(np.linalg.norm(x - [0, 0, 1], axis=1), 1.0, atol=1e-12)  # on the sphere

@@ -9,10 +9,12 @@ quadrature point; the tessellation only seeds searches and decides which side a 
   interior to a face, the generalised winding number of the closed tessellation (sum of the
   triangles' solid angles) where the nearest feature is an edge or a vertex. A face without an
   exact surface falls back to its tessellation (distance minus the sag bound: a lower bound).
-- faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution``,
-  mapped onto the exact surface by its closest-point projection (points and normals exact,
-  weights the area element of that map by differences): exact inside the face, off by the
-  strips between the chords and the exact trimming curves (of order sag x perimeter).
+- faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution`` (or
+  graded: to a size asked per point, as fine as the solver's cells there), mapped onto the
+  exact surface by its closest-point projection (points and normals exact, weights the area
+  element of that map by differences): exact inside the face, off by the
+  strips between the chords and the exact trimming curves (of order sag x perimeter; the
+  volume adds them: geometry.solids.trim_strips).
   ``project`` and ``curvature`` as the other faces'.
 """
 
@@ -196,7 +198,10 @@ class PartFace:
         and mapped onto the exact surface. With ``panel_size`` (points (n, 3), outward normals
         (n, 3) -> largest edge (n,)), a triangle is split only until its edges are within the
         size asked at its centroid (never below ``resolution``): graded like the cells it lies in."""
-        tri = _split(self.triangles, resolution) if panel_size is None else _split_graded(self.triangles, panel_size, resolution)
+        if panel_size is None:
+            tri = _split(self.triangles, resolution)
+        else:
+            tri = _split_graded(self.triangles, panel_size, resolution)
         return self.mapped_rule(tri, resolution)
 
     def mapped_rule(self, tri: np.ndarray, resolution: float):
@@ -336,14 +341,16 @@ class PartSolid(Solid):
         #: how far the tessellation may stray from the exact faces (2 x the measured sag + round-off)
         self.tolerance = 2.0 * sag + 1e-9 * size
         self.faces = {f.id: PartFace(f, self.tolerance) for f in faces}
-        self._loops = {f.id: [part.edges[c.edge_id] for loop in f.loops for c in loop.coedges if c.edge_id in part.edges]
-                       for f in faces}
+        #: each face's trimming edges (those of its loops)
+        self._loops = {f.id: [part.edges[c.edge_id] for loop in f.loops for c in loop.coedges
+                              if c.edge_id in part.edges] for f in faces}
         self.triangles = np.concatenate(tri)
         self.bounds = (allv.min(axis=0) - self.tolerance, allv.max(axis=0) + self.tolerance)
         self.size = size
         from .trim_strips import closed_rule
 
-        x, w, n = (np.concatenate(v) for v in zip(*[closed_rule(f, self._loops[k], size, self.tolerance) for k, f in self.faces.items()]))
+        rules = [closed_rule(f, self._loops[k], size, self.tolerance) for k, f in self.faces.items()]
+        x, w, n = (np.concatenate(v) for v in zip(*rules))
         #: by the divergence theorem over the faces' quadrature with the strips between the chords
         #: and the exact trimming curves (geometry.solids.trim_strips), about the box's centre
         centre = 0.5 * (allv.min(axis=0) + allv.max(axis=0))

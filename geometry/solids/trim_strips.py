@@ -81,7 +81,8 @@ def _feet(points: np.ndarray, owner: np.ndarray, edges) -> np.ndarray:
 def strip_triangles(triangles: np.ndarray, edges, size: float, tol: float):
     """Triangles (k, 3, 3) filling the strips between the boundary chords and the exact curves
     of the edges they lie on (``edges``: the face's trimming edges) and their weights (k,): +1
-    wound as the face, -1 against it, times 4/3 for a chord's last triangle. A chord on no edge with an exact curve gets no strip;
+    wound as the face, -1 against it, times 4/3 for a chord's last triangle. A chord on no edge
+    with an exact curve gets no strip;
     ``tol``: how far the face's boundary vertices may lie from the edges' polylines."""
     u, v, normal = boundary_chords(triangles)
     owner = _owners(u, v, edges, tol)
