@@ -329,3 +329,16 @@ def test_a_triangulation_of_part_of_a_face_is_not_taken(shapes):
     assert data is not None and data[2] and T._covers(face, data[:2])
     uv, triangles, _ = data
     assert not T._covers(face, (uv, triangles[: len(triangles) // 2]))
+
+
+def test_an_iges_solid_takes_its_directory_entry_label(shapes, tmp_path):
+    # Inventor 2011 labels its solid (MSBO, entity 186) 'Solido1' with subscript 0 in the
+    # directory entry's label field (columns 57-64, subscript 65-72)
+    path = S.write_iges(shapes["box"], tmp_path / "box.igs")
+    lines = path.read_text().splitlines()
+    first = next(i for i, line in enumerate(lines) if line[72:73] == "D" and line[:8].strip() == "186"
+                 and int(line[73:80]) % 2 == 1)
+    second = lines[first + 1]
+    lines[first + 1] = second[:56] + "Solido1".rjust(8) + "0".rjust(8) + second[72:]
+    path.write_text("\n".join(lines) + "\n")
+    assert [b.name for b in load_part(str(path)).bodies.values()] == ["Solido1"]

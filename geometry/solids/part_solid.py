@@ -9,10 +9,12 @@ quadrature point; the tessellation only seeds searches and decides which side a 
   interior to a face, the generalised winding number of the closed tessellation (sum of the
   triangles' solid angles) where the nearest feature is an edge or a vertex. A face without an
   exact surface falls back to its tessellation (distance minus the sag bound: a lower bound).
-- faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution``,
-  mapped onto the exact surface by its closest-point projection (points and normals exact,
-  weights the area element of that map by differences): exact inside the face, off by the
-  strips between the chords and the exact trimming curves (of order sag x perimeter).
+- faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution`` (or
+  graded: to a size asked per point, as fine as the solver's cells there), mapped onto the
+  exact surface by its closest-point projection (points and normals exact, weights the area
+  element of that map by differences): exact inside the face, off by the
+  strips between the chords and the exact trimming curves (of order sag x perimeter; the
+  volume adds them: geometry.solids.trim_strips).
   ``project`` and ``curvature`` as the other faces'.
 """
 
@@ -60,13 +62,34 @@ def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return np.where(inside, np.abs(h) * np.sqrt(nn), best)
 
 
+_MESH_KERNELS = None
+
+
+def mesh_kernels():
+    """The compiled tessellation kernels (:mod:`geometry.solids._mesh_kernels`), or None where
+    the compiled kernels are off (numba missing or ``IBFEM_NO_JIT`` set): numpy then."""
+    global _MESH_KERNELS
+    import os
+
+    if os.environ.get("IBFEM_NO_JIT", "") not in ("", "0"):
+        return None
+    if _MESH_KERNELS is None:
+        try:
+            from . import _mesh_kernels
+        except ImportError:
+            _MESH_KERNELS = False
+        else:
+            _MESH_KERNELS = _mesh_kernels
+    return _MESH_KERNELS or None
+
+
 class _Mesh:
     """Triangles (m, 3, 3) with a KD-tree on their centroids for nearest-triangle queries."""
 
     def __init__(self, triangles: np.ndarray):
         from scipy.spatial import cKDTree
 
-        self.tri = triangles
+        self.tri = np.ascontiguousarray(triangles, dtype=float)
         self.centroid = triangles.mean(axis=1)
         self.radius = float(np.linalg.norm(triangles - self.centroid[:, None], axis=2).max()) if len(triangles) else 0.0
         self.tree = cKDTree(self.centroid)
@@ -107,6 +130,13 @@ class _Mesh:
         """Smallest distance (n,) from each point to its candidate triangles idx (n, k)."""
         n, k = idx.shape
         out = np.empty(n)
+        kernels = mesh_kernels()
+        if kernels is not None and n:
+            from .._jit import run_ranges
+
+            q, ids = np.ascontiguousarray(p, float), np.ascontiguousarray(idx, np.int64)
+            run_ranges(lambda lo, hi: kernels.nearest_of_range(q, ids, self.tri, out, lo, hi), n)
+            return out
         step = max(1, pairs // k)
         for s in range(0, n, step):
             q, ids = p[s:s + step], idx[s:s + step]
@@ -115,23 +145,36 @@ class _Mesh:
         return out
 
 
-def _winding(points: np.ndarray, triangles: np.ndarray, chunk: int = 2000) -> np.ndarray:
+def _winding(points: np.ndarray, triangles: np.ndarray, chunk: int = 2000, pairs: int = 1 << 18) -> np.ndarray:
     """Generalised winding numbers (n,) of the points w.r.t. the oriented triangles (the sum of
-    their solid angles by Van Oosterom and Strackee's formula, over 4 pi)."""
+    their solid angles by Van Oosterom and Strackee's formula, over 4 pi); point-triangle pairs
+    taken ``pairs`` at a time (about 100 MB of temporaries)."""
+    kernels = mesh_kernels()
+    if kernels is not None and len(points):
+        from .._jit import run_ranges
+
+        p, t, out = np.ascontiguousarray(points, float), np.ascontiguousarray(triangles, float), np.zeros(len(points))
+        run_ranges(lambda lo, hi: kernels.winding_range(p, t, out, lo, hi), len(p), per_thread=2)
+        return out / (4.0 * math.pi)
     out = np.zeros(len(points))
     for s in range(0, len(triangles), chunk):
         t = triangles[s:s + chunk]
-        a, b, c = (t[None, :, k, :] - points[:, None, :] for k in range(3))
-        la, lb, lc = (np.linalg.norm(v, axis=2) for v in (a, b, c))
-        det = (a * np.cross(b, c)).sum(2)
-        den = la * lb * lc + (a * b).sum(2) * lc + (b * c).sum(2) * la + (c * a).sum(2) * lb
-        out += 2.0 * np.arctan2(det, den).sum(axis=1)
+        step = max(1, pairs // len(t))
+        for r in range(0, len(points), step):
+            a, b, c = (t[None, :, k, :] - points[r:r + step, None, :] for k in range(3))
+            la, lb, lc = (np.linalg.norm(v, axis=2) for v in (a, b, c))
+            det = (a * np.cross(b, c)).sum(2)
+            den = la * lb * lc + (a * b).sum(2) * lc + (b * c).sum(2) * la + (c * a).sum(2) * lb
+            out[r:r + step] += 2.0 * np.arctan2(det, den).sum(axis=1)
     return out / (4.0 * math.pi)
 
 
 class PartFace:
     """One face of a CAD body: ``surface`` (exact primitive, or None), ``orientation`` (+1 when
     the solid's outward normal is the surface's own), its triangles (m, 3, 3) wound outward."""
+
+    #: ``quadrature`` takes a size per point (``panel_size``): a solver grades its panels by its cells
+    graded_panels = True
 
     def __init__(self, face, sag: float):
         self.name, self.surface, self.orientation = face.id, face.surface, int(face.orientation)
@@ -150,11 +193,21 @@ class PartFace:
     def on_face(self, feet: np.ndarray) -> np.ndarray:
         return self.mesh.within(feet, self.sag)
 
-    def quadrature(self, resolution: float):
+    def quadrature(self, resolution: float, panel_size=None):
         """Points, weights (area) and outward normals: the triangles split to ``resolution``
-        and mapped onto the exact surface."""
+        and mapped onto the exact surface. With ``panel_size`` (points (n, 3), outward normals
+        (n, 3) -> largest edge (n,)), a triangle is split only until its edges are within the
+        size asked at its centroid (never below ``resolution``): graded like the cells it lies in."""
+        if panel_size is None:
+            tri = _split(self.triangles, resolution)
+        else:
+            tri = _split_graded(self.triangles, panel_size, resolution)
+        return self.mapped_rule(tri, resolution)
+
+    def mapped_rule(self, tri: np.ndarray, resolution: float):
+        """Points, weights and outward normals of the 6-point rule on the triangles (m, 3, 3)
+        mapped onto the exact surface (flat where the face has none)."""
         bary, w = _triangle_rule()
-        tri = _split(self.triangles, resolution)
         e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
         x = np.einsum("gk,tkd->tgd", bary, tri).reshape(-1, 3)
         if self.surface is None:
@@ -224,6 +277,27 @@ def _split(tri: np.ndarray, resolution: float) -> np.ndarray:
     return tri
 
 
+def _split_graded(tri: np.ndarray, panel_size, resolution: float) -> np.ndarray:
+    """Triangles split into four (midpoints) until no edge exceeds ``panel_size`` at the
+    triangle's centroid (or ``resolution``, the finest asked anywhere)."""
+    done = []
+    for _ in range(30):
+        edge = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
+        normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+        limit = np.maximum(np.asarray(panel_size(tri.mean(axis=1), normal), dtype=float), resolution)
+        long = edge > limit
+        done.append(tri[~long])
+        if not long.any():
+            break
+        a, b, c = tri[long, 0], tri[long, 1], tri[long, 2]
+        ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
+        tri = np.concatenate([np.stack(s, 1) for s in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
+    else:
+        done.append(tri)
+    return np.concatenate(done)
+
+
 def _surface_sag(face, triangles: np.ndarray) -> float:
     """Largest distance from the triangles' centroids and edge midpoints to the exact surface."""
     if face.surface is None or not len(triangles):
@@ -267,12 +341,20 @@ class PartSolid(Solid):
         #: how far the tessellation may stray from the exact faces (2 x the measured sag + round-off)
         self.tolerance = 2.0 * sag + 1e-9 * size
         self.faces = {f.id: PartFace(f, self.tolerance) for f in faces}
+        #: each face's trimming edges (those of its loops)
+        self._loops = {f.id: [part.edges[c.edge_id] for loop in f.loops for c in loop.coedges
+                              if c.edge_id in part.edges] for f in faces}
         self.triangles = np.concatenate(tri)
         self.bounds = (allv.min(axis=0) - self.tolerance, allv.max(axis=0) + self.tolerance)
         self.size = size
-        x, w, n = (np.concatenate(v) for v in zip(*[f.quadrature(size / 8) for f in self.faces.values()]))
-        #: by the divergence theorem over the faces' quadrature (see the module's note on trims)
-        self.volume = float(((x * n).sum(axis=1) @ w) / 3.0)
+        from .trim_strips import closed_rule
+
+        rules = [closed_rule(f, self._loops[k], size, self.tolerance) for k, f in self.faces.items()]
+        x, w, n = (np.concatenate(v) for v in zip(*rules))
+        #: by the divergence theorem over the faces' quadrature with the strips between the chords
+        #: and the exact trimming curves (geometry.solids.trim_strips), about the box's centre
+        centre = 0.5 * (allv.min(axis=0) + allv.max(axis=0))
+        self.volume = float((((x - centre) * n).sum(axis=1) @ w) / 3.0)
 
     def _faces_nearest(self, p: np.ndarray):
         """Distance to the nearest face (its exact foot on the trimmed face), the side of that
@@ -336,8 +418,10 @@ class PartSolid(Solid):
             best = np.minimum(best, d)
         return best
 
-    def signed_distance(self, points) -> np.ndarray:
+    def signed_distance(self, points, chunk: int = 1 << 16) -> np.ndarray:
         p = np.asarray(points, float).reshape(-1, 3)
+        if len(p) > chunk:  # bounded temporaries (the candidate triangles of every point)
+            return np.concatenate([self.signed_distance(p[s:s + chunk], chunk) for s in range(0, len(p), chunk)])
         best, sign, interior = self._faces_nearest(p)
         edge = self._edges_nearest(p, best)
         at_edge = edge < best

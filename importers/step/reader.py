@@ -158,7 +158,9 @@ def _step_namer(reader, text):
 
 
 def _iges_namer(reader):
-    """name(sub-shape) for an IGES file: the entity's name, when it has one."""
+    """name(sub-shape) for an IGES file: the entity's name, when it has one (its name property,
+    else its directory entry's label; OpenCascade appends the label's subscript as ``(n)``, and a
+    subscript 0, which numbers nothing, is dropped)."""
     transfer = reader.WS().TransferReader()
 
     def name(shape, _keep=reader) -> str:  # the reader owns the transfer results: kept alive
@@ -166,7 +168,8 @@ def _iges_namer(reader):
             entity = transfer.EntityFromShapeResult(shape, 1)
             if entity is None or not hasattr(entity, "HasName") or not entity.HasName():
                 return ""
-            return entity.NameValue().ToCString().strip()
+            text = entity.NameValue().ToCString().strip()
+            return text[:-3].rstrip() if text.endswith("(0)") else text
         except Exception:  # an entity without a readable name: unnamed
             return ""
 

@@ -145,6 +145,9 @@ def face_rule(face, tree, order: int = FACE_ORDER) -> tuple[np.ndarray, np.ndarr
         # strips of half a cell across the lines; along them, one segment per cell crossed
         return face.graded_quadrature(tree.h0 / PANELS_PER_CELL, lambda p: cell_size(p) / PANELS_PER_CELL,
                                       split=lambda a, b: _cell_plane_cuts(tree.origin, a, b, cell_size(0.5 * (a + b))))
+    if getattr(face, "graded_panels", False):  # CAD faces: triangles no larger than the cells they lie in
+        return face.quadrature(tree.min_size / PANELS_PER_CELL,
+                               panel_size=lambda points, normals: _cell_size(tree, points, normals))
     return face.quadrature(tree.min_size / PANELS_PER_CELL)
 
 

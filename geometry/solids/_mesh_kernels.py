@@ -1,0 +1,78 @@
+"""Compiled kernels of a CAD body's tessellation queries (numba, the ``fast`` extra): the
+generalised winding number of points and their distance to candidate triangles, point by point
+in registers instead of (point, triangle) array temporaries. The arithmetic is that of the
+numpy path in :mod:`geometry.solids.part_solid` (``_winding``, ``point_triangle_distance``),
+so the two agree to round-off. Imported only by :func:`geometry.solids.part_solid.mesh_kernels`
+(never by ``import geometry``); each kernel works on a range of the points and releases the
+GIL, so :func:`geometry._jit.run_ranges` spreads one call over the cores.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+jit = njit(cache=True, nogil=True, fastmath=False, error_model="numpy")
+
+
+@jit
+def _triangle_distance(px, py, pz, t):
+    """Distance from the point to triangle t (3, 3): the foot in the plane where it falls
+    inside, else the nearest of the three edges."""
+    ax, ay, az = t[0, 0], t[0, 1], t[0, 2]
+    bx, by, bz = t[1, 0], t[1, 1], t[1, 2]
+    cx, cy, cz = t[2, 0], t[2, 1], t[2, 2]
+    e1x, e1y, e1z = bx - ax, by - ay, bz - az
+    e2x, e2y, e2z = cx - ax, cy - ay, cz - az
+    nx, ny, nz = e1y * e2z - e1z * e2y, e1z * e2x - e1x * e2z, e1x * e2y - e1y * e2x
+    nn = max(nx * nx + ny * ny + nz * nz, 1e-300)
+    h = ((px - ax) * nx + (py - ay) * ny + (pz - az) * nz) / nn
+    qx, qy, qz = px - h * nx, py - h * ny, pz - h * nz
+    inside = True
+    best = math.inf
+    for k in range(3):
+        ux, uy, uz = t[k, 0], t[k, 1], t[k, 2]
+        vx, vy, vz = t[(k + 1) % 3, 0], t[(k + 1) % 3, 1], t[(k + 1) % 3, 2]
+        ex, ey, ez = vx - ux, vy - uy, vz - uz
+        wx, wy, wz = qx - ux, qy - uy, qz - uz
+        side = (ey * wz - ez * wy) * nx + (ez * wx - ex * wz) * ny + (ex * wy - ey * wx) * nz
+        if not side >= 0.0:
+            inside = False
+        ee = max(ex * ex + ey * ey + ez * ez, 1e-300)
+        s = min(max(((px - ux) * ex + (py - uy) * ey + (pz - uz) * ez) / ee, 0.0), 1.0)
+        dx, dy, dz = px - ux - s * ex, py - uy - s * ey, pz - uz - s * ez
+        best = min(best, math.sqrt(dx * dx + dy * dy + dz * dz))
+    if inside:
+        return abs(h) * math.sqrt(nn)
+    return best
+
+
+@jit
+def nearest_of_range(points, idx, tri, out, lo, hi):
+    """out[i] = the smallest distance from points[i] to the triangles tri[idx[i]], i in [lo, hi)."""
+    for i in range(lo, hi):
+        best = math.inf
+        for j in range(idx.shape[1]):
+            best = min(best, _triangle_distance(points[i, 0], points[i, 1], points[i, 2], tri[idx[i, j]]))
+        out[i] = best
+
+
+@jit
+def winding_range(points, tri, out, lo, hi):
+    """out[i] = the sum over the oriented triangles of their solid angles seen from points[i]
+    (Van Oosterom and Strackee's formula), i in [lo, hi)."""
+    for i in range(lo, hi):
+        total = 0.0
+        for j in range(tri.shape[0]):
+            ax, ay, az = tri[j, 0, 0] - points[i, 0], tri[j, 0, 1] - points[i, 1], tri[j, 0, 2] - points[i, 2]
+            bx, by, bz = tri[j, 1, 0] - points[i, 0], tri[j, 1, 1] - points[i, 1], tri[j, 1, 2] - points[i, 2]
+            cx, cy, cz = tri[j, 2, 0] - points[i, 0], tri[j, 2, 1] - points[i, 1], tri[j, 2, 2] - points[i, 2]
+            la = math.sqrt(ax * ax + ay * ay + az * az)
+            lb = math.sqrt(bx * bx + by * by + bz * bz)
+            lc = math.sqrt(cx * cx + cy * cy + cz * cz)
+            det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)
+            den = (la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (bx * cx + by * cy + bz * cz) * la
+                   + (cx * ax + cy * ay + cz * az) * lb)
+            total += 2.0 * math.atan2(det, den)
+        out[i] = total
