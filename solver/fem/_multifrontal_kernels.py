@@ -430,47 +430,11 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
 
 @njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})
 def _solve_vector(factor, factor_ptr, sn_start, row_ptr, rows, b):
-    """:func:`solve` for one right-hand side: the rows below each supernode gathered into a
-    contiguous buffer, so the inner loops run over contiguous memory (axpys forward, dot
-    products backward; reassociated sums)."""
+    """:func:`solve` for one right-hand side: :func:`forward_range` then :func:`backward_range`
+    over every supernode of a factor held in memory (``base`` 0)."""
     ns = len(row_ptr) - 1
-    nr_max = 0
-    for s in range(ns):
-        nr_max = max(nr_max, row_ptr[s + 1] - row_ptr[s])
-    tmp = np.empty(nr_max, np.float64)
-    for s in range(ns):
-        c0, c1 = sn_start[s], sn_start[s + 1]
-        nc = c1 - c0
-        nr = row_ptr[s + 1] - row_ptr[s]
-        f = nc + nr
-        off = factor_ptr[s]
-        tmp[:nr] = 0.0
-        for k in range(nc):
-            x = b[c0 + k]
-            row = factor[off + k * f:off + (k + 1) * f]
-            for p in range(k + 1, nc):
-                b[c0 + p] -= row[p] * x
-            for p in range(nr):
-                tmp[p] -= row[nc + p] * x
-            b[c0 + k] = x / row[k]
-        for p in range(nr):
-            b[rows[row_ptr[s] + p]] += tmp[p]
-    for s in range(ns - 1, -1, -1):
-        c0, c1 = sn_start[s], sn_start[s + 1]
-        nc = c1 - c0
-        nr = row_ptr[s + 1] - row_ptr[s]
-        f = nc + nr
-        off = factor_ptr[s]
-        for p in range(nr):
-            tmp[p] = b[rows[row_ptr[s] + p]]
-        for k in range(nc - 1, -1, -1):
-            row = factor[off + k * f:off + (k + 1) * f]
-            acc = 0.0
-            for p in range(k + 1, nc):
-                acc += row[p] * b[c0 + p]
-            for p in range(nr):
-                acc += row[nc + p] * tmp[p]
-            b[c0 + k] -= acc
+    forward_range(factor, 0, 0, ns, factor_ptr, sn_start, row_ptr, rows, b)
+    backward_range(factor, 0, 0, ns, factor_ptr, sn_start, row_ptr, rows, b)
 
 
 @jit
@@ -513,7 +477,7 @@ def solve(factor, factor_ptr, sn_start, row_ptr, rows, b):
 
 @njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})
 def forward_range(segment, base, s0, s1, factor_ptr, sn_start, row_ptr, rows, b):
-    """The forward half of :func:`_solve_vector` (L z = b, then z / D) over supernodes s0..s1-1
+    """The forward solve (L z = b, then z / D) over supernodes s0..s1-1
     only, their factor blocks read from ``segment`` (the factor from offset ``base`` on): a
     factor held on disk is solved chunk by chunk."""
     nr_max = 0
@@ -541,7 +505,7 @@ def forward_range(segment, base, s0, s1, factor_ptr, sn_start, row_ptr, rows, b)
 
 @njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})
 def backward_range(segment, base, s0, s1, factor_ptr, sn_start, row_ptr, rows, b):
-    """The backward half of :func:`_solve_vector` (L^T x = y) over supernodes s1-1 down to s0,
+    """The backward solve (L^T x = y) over supernodes s1-1 down to s0,
     their blocks read from ``segment`` as in :func:`forward_range`."""
     nr_max = 0
     for s in range(s0, s1):
