@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import subprocess
 import sys
 from pathlib import Path
+
+from full_3d import timed_child  # benchmarks/ is the script's folder
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -42,16 +43,11 @@ print("RESULT " + json.dumps(row))
 
 
 def run(scene: Path) -> dict:
-    cmd = ["/usr/bin/time", "-f", "TIME %e %U %S %M", sys.executable, "-c", CHILD, str(scene)]
-    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
-    lines = (done.stdout + done.stderr).splitlines()
-    result = next((ln for ln in lines if ln.startswith("RESULT ")), None)
-    if done.returncode != 0 or result is None:
-        sys.stderr.write(done.stderr[-3000:])
+    timed = timed_child(CHILD, [str(scene)])
+    if timed is None:
         return {"scene": scene.stem, "failed": True}
-    row = json.loads(result[len("RESULT "):])
-    wall, user, system, peak_kb = next(ln for ln in lines if ln.startswith("TIME ")).split()[1:]
-    row.update(wall_s=float(wall), cpu_s=float(user) + float(system), peak_gb=float(peak_kb) / 2**20)
+    row, wall, cpu, peak_gb = timed
+    row.update(wall_s=wall, cpu_s=cpu, peak_gb=peak_gb)
     return row
 
 

@@ -71,17 +71,26 @@ print("RESULT " + json.dumps(row))
 """
 
 
-def run(scene: Path, levels: int) -> dict:
-    cmd = ["/usr/bin/time", "-f", "TIME %e %U %S %M", sys.executable, "-c", CHILD, str(scene), str(levels)]
+def timed_child(child: str, args: list[str]) -> tuple[dict, float, float, float] | None:
+    """Run ``python -c child ARGS`` under /usr/bin/time: (its ``RESULT`` row, the process's wall and
+    CPU seconds, its peak resident memory in GB), or None when it failed (its stderr echoed)."""
+    cmd = ["/usr/bin/time", "-f", "TIME %e %U %S %M", sys.executable, "-c", child, *args]
     done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     lines = (done.stdout + done.stderr).splitlines()
     result = next((ln for ln in lines if ln.startswith("RESULT ")), None)
     if done.returncode != 0 or result is None:
         sys.stderr.write(done.stderr[-3000:])
-        return {"scene": str(scene), "levels": levels, "failed": True}
-    row = json.loads(result[len("RESULT "):])
+        return None
     wall, user, system, peak_kb = next(ln for ln in lines if ln.startswith("TIME ")).split()[1:]
-    row.update(process_wall_s=float(wall), process_cpu_s=float(user) + float(system), peak_gb=float(peak_kb) / 2**20)
+    return json.loads(result[len("RESULT "):]), float(wall), float(user) + float(system), float(peak_kb) / 2**20
+
+
+def run(scene: Path, levels: int) -> dict:
+    timed = timed_child(CHILD, [str(scene), str(levels)])
+    if timed is None:
+        return {"scene": str(scene), "levels": levels, "failed": True}
+    row, wall, cpu, peak_gb = timed
+    row.update(process_wall_s=wall, process_cpu_s=cpu, peak_gb=peak_gb)
     return row
 
 
