@@ -94,18 +94,7 @@ def _run(args: argparse.Namespace) -> int:
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name
     try:
-        ladder = None
-        if scene.problem.options.accuracy is not None and scene.problem.contacts:
-            from ibfem.solver.solving import solve_to_accuracy
-
-            solution, ladder = solve_to_accuracy(scene.problem, progress=progress)
-        else:
-            solution = solve(scene.problem, progress=progress)
-        if ladder is None and solution.contacts and solution.converged and not args.no_estimate:
-            from ibfem.solver.solving import estimate_errors
-
-            progress("error estimate", 0.95)
-            estimate_errors(scene.problem, solution)
+        solution, ladder = _solve_scene(scene.problem, solve, progress, estimate=not args.no_estimate)
     except ValueError as err:  # the solver's own checks on the input: a scene problem
         if not args.quiet:
             progress.close()
@@ -152,10 +141,32 @@ def _run(args: argparse.Namespace) -> int:
         f"{scene.name}: converged in {iterations} iterations, {summary['timings']['total_s']:.2f} s; "
         f"results in {out}/"
     )
-    from ibfem.solver.io.result_line import contact_line
+    _print_contacts(summary, ladder)
+    return 0
 
+
+def _solve_scene(problem, solve, progress, estimate: bool):
+    """(solution, accuracy ladder or None): the ladder of ``[solver] accuracy`` when the scene sets
+    it, else one solve, followed by the error estimate (a second solve on a coarser grid) of a
+    converged contact solution unless ``estimate`` is false."""
+    if problem.options.accuracy is not None and problem.contacts:
+        from ibfem.solver.solving import solve_to_accuracy
+
+        return solve_to_accuracy(problem, progress=progress)
+    solution = solve(problem, progress=progress)
+    if solution.contacts and solution.converged and estimate:
+        from ibfem.solver.solving import estimate_errors
+
+        progress("error estimate", 0.95)
+        estimate_errors(problem, solution)
+    return solution, None
+
+
+def _print_contacts(summary: dict, ladder: dict | None) -> None:
+    """The accuracy ladder's line, each contact's result line, and a warning on stderr where an
+    estimated error is above the warning level (runs without an accuracy target)."""
+    from ibfem.solver.io.result_line import accuracy_line, contact_line
     from ibfem.solver.model.accuracy import WARN_ABOVE, largest_error
-    from ibfem.solver.io.result_line import accuracy_line
 
     if ladder is not None:
         print("  " + accuracy_line(ladder))
@@ -168,4 +179,3 @@ def _run(args: argparse.Namespace) -> int:
             _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: the estimated error of {key} is "
                  f"{100 * value:.2g} %, above {100 * WARN_ABOVE:g} %: refine the grid around the contact "
                  "(more refinement levels)")
-    return 0
