@@ -1,4 +1,4 @@
-"""The condensed factorisation of the contact drivers (issues 12 and 15): SuperLU against the
+"""The condensed factorisation of the contact drivers: SuperLU against the
 multifrontal Cholesky of solver.fem.multifrontal, on whole runs and on the bare factorisation.
 
 Whole runs: each scene solved by ``ibfem run --quiet`` in its own process with

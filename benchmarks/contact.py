@@ -1,4 +1,4 @@
-"""Two-body contact (issues 5 and 6): wall time, iterations, peak memory and accuracy per
+"""Two-body contact: wall time, iterations, peak memory and accuracy per
 example, the width updates side by side, and stress tests.
 
 Cases (each in its own subprocess, so that the peak resident memory belongs to it):

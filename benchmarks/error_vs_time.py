@@ -1,4 +1,4 @@
-"""Run time against error (SPEC section 6): every validation scene of examples/ on a sweep of
+"""Run time against error: every validation scene of examples/ on a sweep of
 grids (the innermost refinement one level coarser, as shipped, one level finer), each run in
 its own process so that its peak memory is its own. Per run: wall time, peak resident memory,
 degrees of freedom, iterations, and the errors in a (against Hertz for the computed force),

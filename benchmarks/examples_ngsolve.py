@@ -134,7 +134,7 @@ def surface2(scene: Scene, s):
 
 def paired1(scene: Scene, q):
     """Body 1's point paired with body 2's point q along the frame normal (the small-strain gap
-    SPEC section 4 measures), and the initial gap: the first hit of q + g n on the radius-1 disc."""
+    the scenes' contact measures), and the initial gap: the first hit of q + g n on the radius-1 disc."""
     n = np.asarray(scene.normal, dtype=float)
     d = q - np.asarray(scene.centre1)
     b = d @ n

@@ -1,4 +1,4 @@
-"""Time of ``from ibfem import geometry`` in a fresh interpreter (issue 2: under 0.5 s; issue 19: under 0.25 s, numba not imported), best of 5, and
+"""Time of ``from ibfem import geometry`` in a fresh interpreter (target under 0.25 s, numba not imported; exit 1 above 0.5 s or with a heavy module loaded), best of 5, and
 the heavy modules it must not pull in. Writes benchmarks/results/import_time.json."""
 
 from __future__ import annotations

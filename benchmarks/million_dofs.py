@@ -1,4 +1,4 @@
-"""A 2D contact scene of more than 10^6 dofs (issue 12): the peer problem of docs/peers.md (lower
+"""A 2D contact scene of more than 10^6 dofs: the peer problem of docs/peers.md (lower
 half disc R = 1 on a block, steel, frictionless, benchmarks/scenes/peer_half_disc.toml) with the
 contact refinement at 6 levels over radius 0.32 (h0 0.05: finest cell 0.78 mm, about 1.04 M dofs),
 run as ``ibfem run`` in its own process. Reports dofs, wall time, peak memory (the child's maximum
@@ -7,7 +7,7 @@ P3 reference of docs/peers.md (a 0.076644 m, N 5.09190e8 N/m).
 
     python benchmarks/million_dofs.py [--levels 6] [--radius 0.32]
 
-Targets (issue 12): under 60 s and 4 GB. Writes benchmarks/results/million_dofs.json."""
+Targets: under 60 s and 4 GB. Writes benchmarks/results/million_dofs.json."""
 
 from __future__ import annotations
 

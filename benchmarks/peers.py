@@ -1,4 +1,4 @@
-"""The peer study of issue 12 (``make bench-peers``): ibfem beside NGSolve P2 on the same contact
+"""The peer study (``make bench-peers``): ibfem beside NGSolve P2 on the same contact
 problem, time to error.
 
 Problem (benchmarks/scenes/peer_half_disc.toml): lower half disc R = 1 centred (0, 1) on the block
@@ -17,7 +17,7 @@ reported twice: where its gap closes (the definition) and from a fit of the gap 
 ladder (log-log between the last rung above and the first rung at or below the error, on the
 running best error), the ratio NGSolve/ibfem printed beside it, on wall and on CPU time.
 
-The 3D problem (``--problem sphere3d``, issue 15): examples/solid/sphere_on_flat.toml, a quarter of
+The 3D problem (``--problem sphere3d``): examples/solid/sphere_on_flat.toml, a quarter of
 the half ball R = 1 on the block [0, 1] x [0, 1] x [-1, 0], steel on steel, frictionless, the
 symmetry faces sliding; ibfem over element sizes and refinement levels (probes, lines, VTU and
 plots off), NGSolve P2 on curved tetrahedra (``benchmarks/peers_ngsolve3d.py``) over h_c. The error
@@ -358,7 +358,7 @@ def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--quick", action="store_true", help="two rungs per code (a smoke check)")
     ap.add_argument("--problem", choices=["steel", "aluminium", "all", "sphere3d"], default="all",
-                    help="all: the two 2D problems; sphere3d: the 3D problem (issue 15)")
+                    help="all: the two 2D problems; sphere3d: the 3D problem")
     ap.add_argument("--repeat", type=int, default=2, help="runs per rung, the fastest kept (default 2: the machine may be shared)")
     ap.add_argument("--ngsolve-threads", type=int, default=2, help="NGSolve's TaskManager threads (default 2)")
     ap.add_argument("--report", type=Path, help="no runs: the tables again from the rows of this peers.json")

@@ -1,4 +1,4 @@
-"""The NGSolve side of the peer study (benchmarks/peers.py, issue 12): one run, one process.
+"""The NGSolve side of the peer study (benchmarks/peers.py): one run, one process.
 
 Lower half disc R = 1 centred (0, 1) on the block [-2, 2] x [-2, 0], plane strain, the block's
 bottom fixed, the disc's flat top moved by (0, -0.0107), frictionless contact. Curved P2/P3
@@ -12,7 +12,7 @@ contact tests and tutorial, the penetration ``cf = (u - u.Other() + X - X.Other(
   the radius), n the block's normal (0, 1). The pairing shifts the converged a by +0.39 %
   (docs/peers.md).
 
-The pairs are found once on the undeformed geometry (small strain, SPEC section 4). Solved by
+The pairs are found once on the undeformed geometry (small strain, as ibfem pairs them). Solved by
 Newton (semismooth: the active set by ``IfPos``) with a sparse Cholesky factorisation per step,
 with penalty continuation k/1000, k/100, k/10, k (k = penalty E_block / h_c).
 
@@ -20,7 +20,7 @@ The two bodies touch at one point, which a mesher would merge into a shared node
 is meshed lifted by ``LIFT`` (1e-5 m) and its top moved down by 0.0107 + LIFT, the same deformed
 state by a rigid translation of the disc (no strain changes).
 
-Measured (SPEC section 4): a is the x-coordinate on the block's top where the gap closes, two ways:
+Measured (as ibfem reports ``half_width``): a is the x-coordinate on the block's top where the gap closes, two ways:
 ``a_closing``, the outermost closing of cf along |x| (sampled every h_c / 40, interpolated
 linearly), and ``a``, the root of a quadratic fitted to g^(2/3) just outside (g ~ (x - a)^1.5 at a
 contact edge; see :func:`opening_fit`); both the mean of the two sides. N is the reaction of the

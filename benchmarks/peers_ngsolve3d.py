@@ -1,4 +1,4 @@
-"""The NGSolve side of the 3D peer study (benchmarks/peers.py --problem sphere3d, issue 15): one run,
+"""The NGSolve side of the 3D peer study (benchmarks/peers.py --problem sphere3d): one run,
 one process.
 
 examples/solid/sphere_on_flat.toml as NGSolve sees it: a quarter of the lower half ball R = 1
@@ -23,7 +23,7 @@ The bodies touch at one point, which a mesher would merge into a shared node (a 
 meshed lifted by ``LIFT`` (1e-5 m) and its top moved by 0.002 + LIFT, the same deformed state by a
 rigid translation of the ball (no strain changes).
 
-Measured (SPEC section 7, as ibfem's ``semi_axes``): a is the radius on the block's top where the
+Measured (as ibfem's ``semi_axes``): a is the radius on the block's top where the
 gap closes, along radial lines at 15, 45 and 75 degrees from x, two ways, as in 2D: ``a_closing``,
 the outermost closing of cf along each line (sampled every h_c / 40, interpolated linearly), and
 ``a``, the root of a quadratic fitted to g^(2/3) just outside (``peers_ngsolve.opening_fit``); both

@@ -12,7 +12,7 @@ Also the largest errors against checks independent of the code under test:
 
 - ``residual``: the primitive's implicit equation at the returned closest points (closed forms;
   relative to the primitive's size), e.g. ``| |c - o| - R |`` for a sphere;
-- ``consistency``: the signed Euclidean distance of SPEC section 2, ``| |distance| - |p - c| |``
+- ``consistency``: the signed Euclidean distance (|distance| is the distance to the closest point), ``| |distance| - |p - c| |``
   (relative to 1 + |p - c|; infinite if a sign disagrees with ``(p - c) . n``), and ``| |n| - 1 |``;
 - ``brute``: on a subset, how much farther the returned closest point is than the nearest of a
   dense sampling of the primitive (> 0 only if the projection missed a closer point; the

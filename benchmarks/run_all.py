@@ -1,4 +1,4 @@
-"""``make bench``: every benchmark of SPEC section 6, one after the other, each in its own
+"""``make bench``: every benchmark of benchmarks/, one after the other, each in its own
 process (so one's memory peak does not hide another's). Results land in benchmarks/results/.
 
     python benchmarks/run_all.py [--quick] [--large]

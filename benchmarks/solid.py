@@ -1,4 +1,4 @@
-"""3D core (issue 14): Lame's thick sphere octant (examples/solid/lame_sphere.toml) over a ladder
+"""3D core: Lame's thick sphere octant (examples/solid/lame_sphere.toml) over a ladder
 of element sizes, each in its own process: dofs, grid / assembly / solve times, assembly rate
 in cells per second, peak memory, the largest radial-displacement error over 200 interior
 points against Lame, and the fitted convergence slope. ``--large`` adds h = 0.0228 (about 1.03M

@@ -1,4 +1,4 @@
-"""Import time of a STEP part with a few hundred faces (issue 17): a 240 x 240 x 10 mm plate with a
+"""Import time of a STEP part with a few hundred faces: a 240 x 240 x 10 mm plate with a
 12 x 12 grid of holes R = 5 mm, each hole's top edge filleted R = 1 mm (6 planes, 144 cylinders,
 144 tori: 294 faces). Builds the part with OpenCascade, writes it to a temporary STEP file, then
 times ``importers.step.load_part`` (read, mesh, build; median of 3) and ``verify_projection``.

@@ -1,4 +1,4 @@
-"""Sweep speed-up (issue 16): a 12-case sweep of a 2-3 s scene on the embedded Dask cluster with
+"""Sweep speed-up: a 12-case sweep of a 2-3 s scene on the embedded Dask cluster with
 2 workers against ``--serial``, each timed as the whole ``ibfem sweep`` command (start-up,
 cluster, imports, every case, table and plots), runs alternating, medians compared.
 

@@ -1,4 +1,4 @@
-"""The numbers engineers read (issue 13): contact pressure, shear and the subsurface von Mises
+"""The numbers engineers read: contact pressure, shear and the subsurface von Mises
 peak against theory, on every example and on the same scenes turned on the grid, shifted by
 fractions of a cell and loaded from a = 3 cells to a = R/4.
 
@@ -23,7 +23,7 @@ Per case (each in its own subprocess), for the forces the solver computed
   the half-space references leave out: docs/contact.md measures it with NGSolve);
 - turned and shifted variants: ``vm_peak_conv`` / ``vm_depth_conv``, the peak (in its own p0)
   and depth (in its own a) against the same example's finest grid (the same bodies, turned or
-  on a shifted grid). Where these exist the 1 % of issue 13 is judged on them (the error of the
+  on a shifted grid). Where these exist the 1 % target on the von Mises peak is judged on them (the error of the
   solution of the posed problem), else on ``vm_peak``. The loads (a/R up to 1/4, where the
   half-space value is not the posed problem's) up to a = 16 cells also run two more levels
   (a = R/8 and R/4 would need 15-50 million dofs there).
@@ -33,7 +33,7 @@ Per case (each in its own subprocess), for the forces the solver computed
     .venv/bin/python benchmarks/tractions.py --only ex3   # cases whose name contains ex3
 
 Writes benchmarks/results/tractions.json (or --out) and prints one line per case with the
-acceptance of issue 13 (p_rms <= 0.02, p_min >= -0.005, q_rms <= 0.05, |vm_peak| <= 0.01,
+targets (p_rms <= 0.02, p_min >= -0.005, q_rms <= 0.05, |vm_peak| <= 0.01,
 |vm_depth| <= 0.02; the peak against the converged solution of the same bodies where measured).
 """
 

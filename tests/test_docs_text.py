@@ -19,6 +19,11 @@ USER_TEXT = (
     + sorted((ROOT / "docs").rglob("*.md"))
     + sorted((ROOT / "examples").rglob("*.md"))
     + sorted((ROOT / "examples").rglob("*.toml"))
+    + sorted((ROOT / "examples").rglob("*.py"))
+    # docstrings and help texts of the benchmarks and the packages
+    + sorted((ROOT / "benchmarks").glob("*.py"))
+    + sorted((ROOT / "benchmarks" / "scenes").glob("*.toml"))
+    + [p for folder in ("geometry", "importers", "solver", "ibfem") for p in sorted((ROOT / folder).rglob("*.py"))]
 )
 
 
