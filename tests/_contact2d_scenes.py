@@ -206,3 +206,29 @@ def filleted_punch_step(path, thickness: float = 0.02) -> None:
     for k, name in enumerate(("punch", "block"), 1):  # the products of the solids, in order
         text = re.sub(rf"PRODUCT\('[^']*translator[^']* 1\.{k}',\s*'[^']*'", f"PRODUCT('{name}','{name}'", text)
     Path(path).write_text(text)
+
+
+def tilted_punch(approach: float, tilt: float, levels: int = 7, point: str = "corner", punch_modulus: float = 1000 * E,
+                 height: float = 0.02) -> dict:
+    """A sharp flat punch (half-width HALF_FLAT, ``height`` tall, ``punch_modulus``: stiff against
+    the block, and short, so that it barely bends under the eccentric load) turned by ``tilt`` rad
+    clockwise about its right corner, which touches the block's top (y = 0) first (the left corner
+    is ``2 HALF_FLAT sin(tilt)`` above it); moved down by ``approach`` without rotation. ``point``:
+    the contact point at the touching corner ("corner"), beside the other corner ("far", a quarter
+    cell inside the flat), or found as the bodies' closest points ("none")."""
+    scene = punch_on_block(approach, levels=levels, sharp=True, punch_modulus=punch_modulus)
+    b, c, s = HALF_FLAT, math.cos(tilt), math.sin(tilt)
+
+    def turned(p):  # clockwise about the right corner (b, 0)
+        x, y = p[0] - b, p[1]
+        return [b + c * x + s * y, -s * x + c * y]
+
+    for e in scene["bodies"][0]["shape"]["edges"]:
+        e["start"], e["end"] = turned([e["start"][0], min(e["start"][1], height)]), turned([e["end"][0], min(e["end"][1], height)])
+    finest = 0.04 / 2**levels
+    if point == "none":
+        del scene["contacts"][0]["point"]
+    else:
+        scene["contacts"][0]["point"] = turned([b, 0.0] if point == "corner" else [-b + 0.25 * finest, 0.0])
+    scene["name"] = "tilted flat punch on a block"
+    return scene

@@ -18,7 +18,7 @@ from numpy.polynomial.legendre import leggauss
 
 from ibfem.geometry.shapes import profile_from_shape
 from ibfem.solver.contact.chain import CORNER_ANGLE, contact_chain
-from ibfem.solver.contact.ends import (CONFORMAL_CELLS, chebyshev_ends, conformal_weight, gap_pressure,
+from ibfem.solver.contact.ends import (CONFORMAL_CELLS, GAP_NODES, chebyshev_ends, conformal_weight, gap_pressure,
                                       gap_slope_coefficients)
 from ibfem.solver.io.scene import SceneError, scene_from_dict
 from ibfem.solver.reference.punch import (flat_punch_pressure, flat_punch_stress_intensity, rounded_punch_half_width,
@@ -321,3 +321,62 @@ def test_punch_with_one_sharp_edge_pins_the_region_at_its_corner():
     ref = one_sided_pressure(s, slope, lo, hi, e_star, complete=-1)
     assert np.sqrt(np.mean((p - ref)[inner] ** 2)) < 0.02 * c["normal_force"] / (hi - lo)
 
+
+
+def test_free_end_value_is_exact_and_blind_to_the_corner():
+    # a region with a corner at x = +1: Q = (a P / pi)(1 + x) / 2 + the bounded pressure of a
+    # curved gap (b_2, b_3 != 0); the free end's value Q(-1) from the corner-free moment is exact,
+    # and an error of the singular value within 3 % of the region next to the corner (what the
+    # discrete pressure does there) moves it far less than it moves the degree-2 sum
+    from ibfem.solver.contact.ends import free_end_value
+
+    a, load = 0.01, 1.0e6
+    s, w = _cos_nodes(a)
+    x = s / a
+    b = np.zeros(GAP_NODES)
+    b[1:4] = [2.0e8, 5.0e7, -3.0e7]
+    p = load / (math.pi * a) * (1 + x) / np.sqrt(1 - x * x) / 2 + gap_pressure(b, x)
+    assert free_end_value(x, w, p, a, -1, b) == pytest.approx(0.0, abs=1e-9 * load / math.pi)
+    assert chebyshev_ends(x, w, p, a, b).lower == pytest.approx(0.0, abs=1e-9 * load / math.pi)
+    wrong = p * np.where(x > 0.97, 1.3, 1.0)
+    moved_free = abs(free_end_value(x, w, wrong, a, -1, b)) / (load / math.pi)
+    moved_sum = abs(chebyshev_ends(x, w, wrong, a, b).lower) / (load / math.pi)
+    assert moved_free < 0.1 * moved_sum
+
+
+@pytest.mark.parametrize("point", ["corner", "far", "none"])
+def test_tilted_punch_touching_at_its_corner(point):
+    # a sharp flat punch tilted by 2 mrad touches at its right corner: the contact point given at
+    # the corner, beside the other corner or found as the closest points; the region runs from the
+    # corner (complete end) along the flat to where the pressure vanishes, and Johnson's tilted
+    # punch (Contact Mechanics, 1985, sec. 2.8: P = pi E* eps a / 2 for a region of length 2 a,
+    # K = E* eps sqrt(pi a) at the corner) is met to first order in the cell (finest 6.3e-4 m
+    # here: -2.3 % and +8.3 %; the slow validation halves the cell twice)
+    from _contact2d_scenes import NU, tilted_punch
+
+    eps = 0.002
+    sol, c = _run(tilted_punch(6e-5, eps, levels=6, point=point))
+    e_star = 1.0 / ((1 - NU**2) / 2.0e11 + (1 - NU**2) / (1000 * 2.0e11))
+    a = 2.0 * c["normal_force"] / (math.pi * e_star * eps)
+    assert sol.converged
+    assert sorted(e["type"] for e in c["ends"]) == ["complete", "incomplete"]
+    corner, = [e for e in c["ends"] if e["type"] == "complete"]
+    assert (c["region"][1] - c["region"][0]) / (2 * a) == pytest.approx(1.0, abs=0.03)
+    assert corner["stress_intensity"] / (e_star * eps * math.sqrt(math.pi * a)) == pytest.approx(1.0, abs=0.1)
+
+
+def test_contact_point_at_a_corner_moves_into_the_facing_edge():
+    # the tilted punch's corner: the resolved point lies on the punch's flat (not its side), two
+    # finest cells from the corner, and on the block's top within the tilt's rise
+    from ibfem.solver.model.resolve import CORNER_OFFSET_CELLS
+
+    from _contact2d_scenes import tilted_punch
+
+    scene = scene_from_dict(tilted_punch(6e-5, 0.002, levels=6, point="corner"))
+    punch = scene.problem.body("punch").profile
+    p = np.asarray(scene.problem.contacts[0].point, dtype=float)
+    proj = punch.project(p[None, :])
+    assert punch.edge_names[int(proj.edge_index[0])] == "flat"
+    assert abs(float(punch.signed_distance(p[None, :])[0])) < 1e-12
+    corner = np.array([HALF_FLAT, 0.0])
+    assert np.hypot(*(p - corner)) == pytest.approx(CORNER_OFFSET_CELLS * 0.04 / 2**6, rel=1e-6)

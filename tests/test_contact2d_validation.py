@@ -9,6 +9,9 @@ closed forms on the grids of examples/contact2d (finest cell 0.04 / 2^7 = 3.1e-4
   P / sqrt(pi b) within 3 %;
 - a punch with one sharp and one rounded edge (solver.reference.one_sided): the region length
   within 0.5 %, the corner's stress intensity within 3 %;
+- a sharp flat punch tilted by 2 mrad, touching at its corner (Johnson's tilted punch; finest
+  cell 1.6e-4 m): the region length within 1 %, the corner's stress intensity within 3 %, converged
+  from the corner and from a point beside the other corner;
 - a CAD profile with fillets (OpenCascade's 2D fillet, through STEP) against the same geometry
   as an analytic profile: a and N to 1e-6;
 - the pin in a bore (Persson's problem, solver.reference.pin): the contact semi-angle within
@@ -17,6 +20,8 @@ closed forms on the grids of examples/contact2d (finest cell 0.04 / 2^7 = 3.1e-4
 The fast tests (tests/test_contact2d.py) run the same scenes on grids 2 to 4 times coarser."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
@@ -99,6 +104,27 @@ def test_pin_in_bore(displacement):
     assert sol.converged
     angle = 2.0 * np.arcsin(c["half_width"] / (2.0 * 0.5))
     assert angle / pin_in_bore_angle(c["normal_force"], 5e-4, E_STAR) - 1.0 == pytest.approx(0.0, abs=0.005)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("point", ["corner", "far"])
+def test_tilted_flat_punch(point):
+    """A sharp flat punch 1000 times stiffer than the block, tilted by eps = 2 mrad, touching at its
+    corner and pressed 0.06 mm: Johnson's tilted punch on a half-plane (Contact Mechanics, 1985,
+    sec. 2.8): the region of length 2 a from the corner with P = pi E* eps a / 2, the corner's
+    stress intensity K = E* eps sqrt(pi a). Measured at this grid: -0.59 % and +2.0 % (both halve
+    with the cell: -2.3 %, -1.2 %, -0.6 % in the length)."""
+    from _contact2d_scenes import NU, tilted_punch
+
+    eps = 0.002
+    sol = solve(scene_from_dict(tilted_punch(6e-5, eps, levels=8, point=point)).problem)
+    c = sol.contacts[0]
+    e_star = 1.0 / ((1 - NU**2) / 2.0e11 + (1 - NU**2) / (1000 * 2.0e11))
+    a = 2.0 * c["normal_force"] / (math.pi * e_star * eps)
+    corner, = [e for e in c["ends"] if e["type"] == "complete"]
+    assert sol.converged
+    assert (c["region"][1] - c["region"][0]) / (2 * a) == pytest.approx(1.0, abs=0.01)
+    assert corner["stress_intensity"] / (e_star * eps * math.sqrt(math.pi * a)) == pytest.approx(1.0, abs=0.03)
 
 
 @pytest.mark.slow

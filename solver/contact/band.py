@@ -319,6 +319,8 @@ class BandContact:
         if self.options.region_centre != "pressure" or info is None or a <= 0.0 or self.mirror:
             return True
         if self.pinned:
+            if self._release(x, a, info):
+                return False
             self.at_width(a)
             return True
         if self._pin(x, a, info):
@@ -337,15 +339,41 @@ class BandContact:
     def _pin(self, x: np.ndarray, a: float, info) -> bool:
         """Pin the region at a corner of body 1 when one end has reached it (a complete end) while
         the other, incomplete end is still too small (its end value positive): the region then
-        grows away from the corner (a punch with one sharp and one rounded edge)."""
+        grows away from the corner (a punch with one sharp and one rounded edge); or when both ends
+        are corners and one of them is in tension (its end value negative) while the other is
+        compressed: that end cannot be a corner, and the region shrinks from it towards the other
+        corner (a tilted flat punch)."""
         kinds = self.end_types(a)
-        if sorted(kinds) != ["complete", "incomplete"]:
-            return False
-        values = _end_values(self, info, x, a)
-        free = -1 if kinds[0] == "incomplete" else 1
-        if values is None or not values.coefficient(free) > 0.0:
+        if sorted(kinds) == ["complete", "incomplete"]:
+            values = _end_values(self, info, x, a)
+            free = -1 if kinds[0] == "incomplete" else 1
+            if values is None or not values.coefficient(free) > 0.0:
+                return False
+        elif kinds == ("complete", "complete"):
+            values = _end_values(self, info, x, a)
+            if values is None:
+                return False
+            lower, upper = values.coefficient(-1), values.coefficient(1)
+            if not (min(lower, upper) < 0.0 < max(lower, upper)):
+                return False
+            free = -1 if lower < 0.0 else 1
+        else:
             return False
         self.pinned = -free
+        self.at_width(a)
+        return True
+
+    def _release(self, x: np.ndarray, a: float, info) -> bool:
+        """Release a pinned corner that is in tension (its end value negative: the region was pinned
+        at the wrong corner, e.g. one reached first from a contact point beside it): pinned at the
+        other end instead when that end is a compressed corner, else free (centred on the pressure
+        again). True when the region changed."""
+        values = _end_values(self, info, x, a)
+        if values is None or values.coefficient(self.pinned) >= 0.0:
+            return False
+        other = -self.pinned
+        kinds = self.end_types(a)
+        self.pinned = other if kinds[(other + 1) // 2] == "complete" and values.coefficient(other) > 0.0 else 0
         self.at_width(a)
         return True
 
@@ -651,7 +679,7 @@ def _end_values(c: BandContact, info, x: np.ndarray, a: float):
     p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x, a), pts.normal)
     s, w, p = mirrored(c.local(pts.s), chord_weights(c.geom, pts), p, c.mirror)
     higher = conformal_weight(a, c.h) if c.geom.normal_mode == "pair" and not _faceted(c) else 0.0
-    return chebyshev_ends(s / a, w, p, a, _gap_coefficients(c, a), higher)
+    return chebyshev_ends(s / a, w, p, a, _gap_coefficients(c, a), higher, corner=c.pinned)
 
 
 def _gap_coefficients(c: BandContact, a: float) -> np.ndarray:

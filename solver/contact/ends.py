@@ -125,11 +125,13 @@ def _truncated(c: np.ndarray, c0h: float, a: float, b: np.ndarray, degree: int) 
 
 
 def chebyshev_ends(x: np.ndarray, weights: np.ndarray, p: np.ndarray, a: float,
-                   gap: np.ndarray | None = None, higher: float = 0.0) -> EndValues | None:
+                   gap: np.ndarray | None = None, higher: float = 0.0, corner: int = 0) -> EndValues | None:
     """Q(+-1) of the pressure ``p`` at points x (in the region's units, -1..1) with weights ds:
     the degree-2 sum less the gap's part of it; ``gap`` = the b_k of the gap's slope (None: no gap
     part, exact for a quadratic gap). ``higher`` (0..1): the weight of the degree-4 sum's two
-    further terms (a conformal contact, see CONFORMAL_CELLS). None without compression."""
+    further terms (a conformal contact, see CONFORMAL_CELLS). ``corner`` (+1 / -1): that end is a
+    corner of body 1 (singular pressure); the other end's value is then taken from
+    :func:`free_end_value`, which does not weigh the corner. None without compression."""
     wp = weights * p
     total = float(wp.sum())
     if not total > 0.0:
@@ -142,7 +144,46 @@ def chebyshev_ends(x: np.ndarray, weights: np.ndarray, p: np.ndarray, a: float,
     if higher > 0.0:
         upper4, lower4 = _truncated(c, c0h, a, b, 4)
         upper, lower = upper + higher * (upper4 - upper), lower + higher * (lower4 - lower)
+    if corner:
+        free = free_end_value(x, weights, p, a, -corner, gap)
+        upper, lower = (upper, free) if corner > 0 else (free, lower)
     return EndValues(upper=upper, lower=lower, mean=c0h)
+
+
+#: Gauss-Chebyshev nodes of the free-end functional's weights (exact for its polynomials)
+_FREE_NODES = np.cos((np.arange(16) + 0.5) * np.pi / 16)
+
+
+def _free_end_weight(free: int) -> np.ndarray:
+    """Coefficients r (of 1, x, x^2) of the weight w(x) = (1 + free x) r(x) with
+    int Q(x) w(x) / sqrt(1 - x^2) dx = Q(free) for every Q of degree <= 2: the end value at
+    x = free from a moment of the pressure that vanishes at the other end, x = -free."""
+    t = np.cos(np.outer(np.arange(3), np.arccos(_FREE_NODES)))  # T_j at the nodes
+    powers = _FREE_NODES[None, :] ** np.arange(3)[:, None]
+    lhs = (np.pi / len(_FREE_NODES)) * (t * (1.0 + free * _FREE_NODES)) @ powers.T
+    return np.linalg.solve(lhs, np.array([1.0, float(free), 1.0]))
+
+
+def free_end_value(x: np.ndarray, weights: np.ndarray, p: np.ndarray, a: float, free: int,
+                   gap: np.ndarray | None = None) -> float:
+    """Q at the end x = ``free`` of a region whose other end is a corner of body 1, from the
+    moment int p w ds with w(x) = (1 + free x) r(x) (:func:`_free_end_weight`): exact, like the
+    degree-2 sum, for Q of degree <= 2 (the half-plane's Q less the gap's own part is linear),
+    but w vanishes at the corner, where the discrete pressure is singular and errs by O(1) of
+    its value within a few cells; the degree-2 sum weighs the corner fully (T_k(+-1) = +-1) and
+    puts a tilted flat punch's free end 10 % too far out at 35 cells, this within 1 %. The gap's
+    own bounded pressure sum_k b_k sin(k theta), whose end values are zero, is subtracted
+    through the same moment."""
+    r = _free_end_weight(free)
+    w = (1.0 + free * x) * (r[0] + r[1] * x + r[2] * x * x)
+    value = float(np.sum(weights * p * w))
+    if gap is not None:
+        theta = (np.arange(GAP_NODES) + 0.5) * np.pi / GAP_NODES  # int a p_g(x) w(x) dx, x = cos(theta)
+        xg = np.cos(theta)
+        wg = (1.0 + free * xg) * (r[0] + r[1] * xg + r[2] * xg * xg)
+        pg = gap_pressure(np.asarray(gap, dtype=float), xg)
+        value -= a * (np.pi / GAP_NODES) * float(np.sum(pg * wg * np.sin(theta)))
+    return value
 
 
 def conformal_weight(a: float, cell: float) -> float:

@@ -908,8 +908,9 @@ def _contact_point_problems(spec: SceneSpec, problem: pb.Problem, label: str) ->
                          f"contacts[{k}]: the closest points of the two bodies ({_show([round(float(x), 9) for x in p])})")
                 problems.append(f"{label}: {where}: at a corner of body {name!r} ({distance:.3g} from the end of its "
                                 f"edge {edge!r}, less than the finest cell there, {h:.3g}); the contact needs a point "
-                                "inside one edge of each body, at a tangent junction of two edges, or on a symmetry "
-                                "line (a corner with a sliding condition on one of its edges)")
+                                "inside one edge of each body, at a tangent junction of two edges, on a symmetry "
+                                "line (a corner with a sliding condition on one of its edges), or at a convex corner of "
+                                "the first body of contacts.bodies (list the body with the corner first)")
                 break
     return problems
 

@@ -1,6 +1,8 @@
 """Resolution of what a scene leaves implicit, done once before anything is discretised: the
 contact points (given, or the closest points of the two exact boundaries: one search, one
-sampling spacing) and the centres of ``around = "contact"`` refinement zones.
+sampling spacing) and the centres of ``around = "contact"`` refinement zones. A 2D contact point at a
+convex corner of body 1 (a tilted punch touching at its edge) moves into the edge of body 1 that
+faces body 2 (:func:`point_off_corner`): the region then runs from the corner along that edge.
 :func:`resolve_problem` returns a :class:`Problem` in which both are explicit; the scene layer
 calls it (so the rigid-body check judges the point that is solved), and ``solve`` calls it again
 for problems built by hand (a no-op on a resolved one)."""
@@ -12,13 +14,19 @@ from typing import Any
 
 import numpy as np
 
-from .problem import BodyModel, ContactModel, Problem, check_problem
+from .problem import BodyModel, ContactModel, Problem, Sliding, check_problem
 
 __all__ = ["CONTACT_SEARCH_SPACING", "closest_boundary_point", "contact_point", "contact_frame", "resolve_problem",
-           "finest_size_at", "corner_distance", "boundary_gap", "refined_maximum"]
+           "finest_size_at", "corner_distance", "boundary_gap", "refined_maximum", "point_off_corner",
+           "CORNER_OFFSET_CELLS"]
 
 #: sampling spacing of the closest-point search, as a fraction of the finer element size
 CONTACT_SEARCH_SPACING = 0.05
+#: a contact point at a convex corner of body 1 moves this many finest cells into the edge facing
+#: body 2 (the contact region's corner end is then found by the region search)
+CORNER_OFFSET_CELLS = 2.0
+#: a junction whose tangent turns by more than this (rad) towards the material's side is a convex corner
+_CONVEX_TURN = 1e-2
 
 
 def contact_point(problem: Problem, contact: ContactModel) -> np.ndarray:
@@ -99,7 +107,49 @@ def resolve_problem(problem: Problem) -> Problem:
             mine = [np.asarray(c.point, dtype=float) for c in contacts if body.name in c.bodies]
             body = _resolved_body(body, mine)
         bodies.append(body)
-    return dataclasses.replace(problem, contacts=contacts, bodies=tuple(bodies))
+    problem = dataclasses.replace(problem, bodies=tuple(bodies))
+    contacts = tuple(dataclasses.replace(c, point=_frozen(point_off_corner(problem, c, np.asarray(c.point, dtype=float))))
+                     for c in contacts)
+    return dataclasses.replace(problem, contacts=contacts)
+
+
+def _unit(v) -> np.ndarray:
+    v = np.asarray(v, dtype=float).reshape(2)
+    return v / np.linalg.norm(v)
+
+
+def point_off_corner(problem: Problem, contact: ContactModel, point: np.ndarray) -> np.ndarray:
+    """``point``, or, when it lies within one finest cell of a convex corner of body 1's profile
+    (not on a symmetry line: neither edge has a sliding condition), the point CORNER_OFFSET_CELLS
+    finest cells from that corner along the one of its two edges whose outward normal is the more
+    opposed to body 2's (a quarter of that edge at most). Unchanged where body 2's boundary has a
+    junction too (a half model cut through the contact) and in 3D problems."""
+    first, second = (problem.body(n) for n in contact.bodies)
+    profile = getattr(first, "profile", None)
+    if profile is None or not hasattr(profile, "loops"):
+        return point
+    h = finest_size_at(first, point)
+    if corner_distance(second.profile, point)[0] < finest_size_at(second, point):
+        return point  # both bodies end there (a half model's symmetry line): nothing to move into
+    symmetry = {bc.edge for bc in problem.boundary_conditions if isinstance(bc, Sliding) and bc.body == first.name}
+    for loop in profile.loops:
+        for a, b in zip(loop, loop[1:] + loop[:1]):
+            corner = np.asarray(a.evaluate(np.array([float(a.t_end)])), dtype=float).reshape(2)
+            if not np.hypot(*(corner - point)) < h or {a.name, b.name} & symmetry:
+                continue
+            ta, tb = (_unit(a.derivative(np.array([float(a.t_end)]))), _unit(b.derivative(np.array([float(b.t_start)]))))
+            if np.arctan2(ta[0] * tb[1] - ta[1] * tb[0], ta @ tb) <= _CONVEX_TURN:
+                continue  # a tangent junction or a concave corner: the contact curve runs through it
+            n2 = np.asarray(second.profile.project(corner[None, :]).normals[0], dtype=float)
+            outward = [np.array([t[1], -t[0]]) for t in (ta, tb)]  # the material lies to the left
+            edge, sign = (a, -1.0) if outward[0] @ n2 <= outward[1] @ n2 else (b, 1.0)
+            t0 = float(edge.t_end if sign < 0 else edge.t_start)
+            length = float(np.hypot(*np.diff(np.asarray(edge.evaluate(np.array([float(edge.t_start), float(edge.t_end)])),
+                                                        dtype=float), axis=0)[0]))
+            speed = float(np.linalg.norm(np.asarray(edge.derivative(np.array([t0])), dtype=float)))
+            step = min(CORNER_OFFSET_CELLS * h, 0.25 * length) / speed
+            return np.asarray(edge.evaluate(np.array([t0 + sign * step])), dtype=float).reshape(2)
+    return point
 
 
 def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarray:
