@@ -910,7 +910,8 @@ def _contact_point_problems(spec: SceneSpec, problem: pb.Problem, label: str) ->
                                 f"edge {edge!r}, less than the finest cell there, {h:.3g}); the contact needs a point "
                                 "inside one edge of each body, at a tangent junction of two edges, on a symmetry "
                                 "line (a corner with a sliding condition on one of its edges), or at a convex corner of "
-                                "the first body of contacts.bodies (list the body with the corner first)")
+                                "the first body of contacts.bodies with one edge far flatter against the other body "
+                                "than the other edge (a tilted punch; list the body with the corner first)")
                 break
     return problems
 

@@ -18,13 +18,17 @@ from .problem import BodyModel, ContactModel, Problem, Sliding, check_problem
 
 __all__ = ["CONTACT_SEARCH_SPACING", "closest_boundary_point", "contact_point", "contact_frame", "resolve_problem",
            "finest_size_at", "corner_distance", "boundary_gap", "refined_maximum", "point_off_corner",
-           "CORNER_OFFSET_CELLS"]
+           "CORNER_OFFSET_CELLS", "CORNER_STEEPNESS"]
 
 #: sampling spacing of the closest-point search, as a fraction of the finer element size
 CONTACT_SEARCH_SPACING = 0.05
 #: a contact point at a convex corner of body 1 moves this many finest cells into the edge facing
 #: body 2 (the contact region's corner end is then found by the region search)
 CORNER_OFFSET_CELLS = 2.0
+#: ... when the corner's other edge is at least this many times as steep against body 2's surface
+#: (a tilted flat punch: 2 mrad and 1.57 rad); both edges alike (a wedge) contact on both sides of
+#: the corner, which one region along one edge cannot hold: such a point stays refused
+CORNER_STEEPNESS = 10.0
 #: a junction whose tangent turns by more than this (rad) towards the material's side is a convex corner
 _CONVEX_TURN = 1e-2
 
@@ -121,8 +125,8 @@ def _unit(v) -> np.ndarray:
 def point_off_corner(problem: Problem, contact: ContactModel, point: np.ndarray) -> np.ndarray:
     """``point``, or, when it lies within one finest cell of a convex corner of body 1's profile
     (not on a symmetry line: neither edge has a sliding condition), the point CORNER_OFFSET_CELLS
-    finest cells from that corner along the one of its two edges whose outward normal is the more
-    opposed to body 2's (a quarter of that edge at most). Unchanged where body 2's boundary has a
+    finest cells from that corner along the flatter of its two edges against body 2's surface (a
+    quarter of that edge at most), provided the other is CORNER_STEEPNESS times as steep. Unchanged where body 2's boundary has a
     junction too (a half model cut through the contact) and in 3D problems."""
     first, second = (problem.body(n) for n in contact.bodies)
     profile = getattr(first, "profile", None)
@@ -141,8 +145,11 @@ def point_off_corner(problem: Problem, contact: ContactModel, point: np.ndarray)
             if np.arctan2(ta[0] * tb[1] - ta[1] * tb[0], ta @ tb) <= _CONVEX_TURN:
                 continue  # a tangent junction or a concave corner: the contact curve runs through it
             n2 = np.asarray(second.profile.project(corner[None, :]).normals[0], dtype=float)
-            outward = [np.array([t[1], -t[0]]) for t in (ta, tb)]  # the material lies to the left
-            edge, sign = (a, -1.0) if outward[0] @ n2 <= outward[1] @ n2 else (b, 1.0)
+            # each edge's angle to body 2's surface (the material lies to the left of the tangent)
+            angles = [float(np.arccos(np.clip(-(np.array([t[1], -t[0]]) @ n2), -1.0, 1.0))) for t in (ta, tb)]
+            if max(angles) < CORNER_STEEPNESS * min(angles):
+                return point  # a wedge: the contact spreads on both sides of the corner
+            edge, sign = (a, -1.0) if angles[0] <= angles[1] else (b, 1.0)
             t0 = float(edge.t_end if sign < 0 else edge.t_start)
             length = float(np.hypot(*np.diff(np.asarray(edge.evaluate(np.array([float(edge.t_start), float(edge.t_end)])),
                                                         dtype=float), axis=0)[0]))
