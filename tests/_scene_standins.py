@@ -131,7 +131,7 @@ def half_disk_below(center, radius):
 
 
 def standin_profile(shape):
-    """The SPEC shape dicts these tests use -> stand-in profiles."""
+    """The scene-format shape dicts these tests use -> stand-in profiles."""
     kind = shape["type"]
     if kind == "rectangle":
         return rectangle(shape["min"], shape["max"], shape.get("rotate_deg", 0.0))

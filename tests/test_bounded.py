@@ -309,7 +309,7 @@ def test_reversed_and_transformed(key):
     R = np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]])
     Q = (P - [1.0, -2.0]) @ R.T + [1.0, -2.0] + [0.5, 3.0]
     np.testing.assert_allclose(moved.project(Q).distances, curve.project(P).distances, atol=1e-11)
-    # the SPEC edge dict round-trips
+    # the scene format's edge dict round-trips
     back = bounded_curve_from_dict(curve.to_dict())
     t = np.linspace(curve.t_start, curve.t_end, 5)
     np.testing.assert_allclose(back.evaluate(t), curve.evaluate(t), atol=1e-13)

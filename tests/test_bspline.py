@@ -88,7 +88,7 @@ def test_nurbs_quarter_circle_exact_distances_2d():
     # outside the wedge the closest points are the ends, parameters exactly at the bounds
     out = ~inside & (np.linalg.norm(p, axis=1) > 0.1)
     assert np.all(np.isin(pr.parameters[out], [0.0, 1.0]))
-    # signed Euclidean distances (SPEC section 2): beyond the ends p - closest is not along the normal
+    # signed Euclidean distances: beyond the ends p - closest is not along the normal
     assert np.allclose(np.abs(pr.distances), np.linalg.norm(p - pr.points, axis=1), rtol=0, atol=1e-14)
     along = np.einsum("ij,ij->i", p - pr.points, pr.normals)
     assert np.all(pr.distances * along >= 0)

@@ -265,7 +265,7 @@ def test_progress_on_a_terminal_rewrites_one_line():
 
 
 def test_an_unexpected_error_is_one_line_with_its_own_exit_code(tmp_path, capsys, monkeypatch):
-    # issue 18 item 3: exit 1 means "not converged, summary written"; a bug gets 5 and one line
+    # exit 1 means "not converged, summary written"; a bug gets 5 and one line
     import ibfem.solver.solving
     from ibfem import solver
 

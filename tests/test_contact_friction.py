@@ -1,4 +1,4 @@
-"""Frictional contact with partial slip (issue 6, solver.contact.driver): the stick zone against
+"""Frictional contact with partial slip (solver.contact.driver): the stick zone against
 Cattaneo-Mindlin for the transmitted forces (c/a = sqrt(1 - |Q|/(mu N)), thesis eq. 2-29), the
 shear against eqs. 2-25/2-26, Coulomb's bound |Q| <= mu N, equilibrium, gross slip, and the
 thesis's variant without the slip-zone friction traction.
@@ -147,7 +147,7 @@ def _example(name):
 @pytest.mark.parametrize("name", ["cylinder_on_flat_partial_slip.toml", "cylinder_on_cylinder_partial_slip.toml",
                                   "cylinder_in_concave_partial_slip.toml"])
 def test_examples_4_5_6_partial_slip(name):
-    # issue 6's acceptance: a within 2 % of Hertz and c/a within 0.02 of Cattaneo-Mindlin for the
+    # a within 2 % of Hertz and c/a within 0.02 of Cattaneo-Mindlin for the
     # computed forces, shear RMS within 15 % of mu p0 inside 0.95 a, |Q| <= mu N
     problem, sol, m = _example(name)
     assert sol.converged, sol.iterations["messages"]

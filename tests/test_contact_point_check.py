@@ -1,4 +1,4 @@
-"""Issue 18 item 2: a contact point given in a scene must lie on both bodies' boundaries; a
+"""A contact point given in a scene must lie on both bodies' boundaries; a
 mistyped one (inside a body, far away) is refused by the scene check, naming the key, the
 distances and the nearest boundary points, instead of a converged zero-force run."""
 

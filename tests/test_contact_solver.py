@@ -218,7 +218,7 @@ def test_example3_cylinder_on_cylinder_frictionless():
     c = sol.contacts[0]
     assert sol.converged
     a_hertz = theory.hertz_half_width(c["normal_force"], 0.5, E_STAR)
-    assert c["half_width"] == pytest.approx(a_hertz, rel=0.02)  # issue 5: within 2 % of Hertz
+    assert c["half_width"] == pytest.approx(a_hertz, rel=0.02)  # within 2 % of Hertz
     assert abs(c["tangential_force"]) < 1e-3  # N: nothing tangential passes
     r = sol.reactions
     assert np.linalg.norm(r["upper/flat"] + r["lower/flat"]) <= 1e-6 * np.linalg.norm(r["upper/flat"])
@@ -239,7 +239,7 @@ def test_example2_mesh_convergence_tied():
     c = sol.contacts[0]
     assert sol.converged
     a_hertz = theory.hertz_half_width(c["normal_force"], 1.0, E_STAR)
-    assert c["half_width"] == pytest.approx(a_hertz, rel=0.02)  # issue 5: within 2 % of Hertz
+    assert c["half_width"] == pytest.approx(a_hertz, rel=0.02)  # within 2 % of Hertz
     assert c["normal_force"] == pytest.approx(-sol.reactions["cylinder/flat"][1], rel=1e-2)
 
 
@@ -251,10 +251,10 @@ def test_example7_cylinder_on_wedge_frictionless():
     # the contact normal is the face's: (-sin 15, cos 15)
     np.testing.assert_allclose(c["normal"], [-math.sin(math.radians(15)), math.cos(math.radians(15))], atol=1e-12)
     a_hertz = theory.hertz_half_width(c["normal_force"], 1.0, E_STAR)
-    assert c["half_width"] == pytest.approx(a_hertz, rel=0.02)  # issue 5: within 2 % of Hertz
+    assert c["half_width"] == pytest.approx(a_hertz, rel=0.02)  # within 2 % of Hertz
     # frictionless on the face: the vertical reaction of the top is N cos 15 (thesis eq. 6-5)
     assert -sol.reactions["cylinder/top"][1] == pytest.approx(c["normal_force"] * math.cos(math.radians(15)), rel=1e-2)
-    assert abs(c["tangential_force"]) < 1e-3  # issue 5: frictionless |Q| < 1e-3 N
+    assert abs(c["tangential_force"]) < 1e-3  # frictionless |Q| < 1e-3 N
 
 
 def test_frictionless_contact_passes_no_tangential_force_when_pushed_sideways():

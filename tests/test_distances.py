@@ -1,10 +1,9 @@
-"""Signed Euclidean distances for every primitive (SPEC section 2, issue 19):
+"""Signed Euclidean distances for every primitive:
 ``|distances| == |p - closest|`` to round-off, with the sign of ``(p - closest) . normal``,
 checked against dense samples of each primitive (an independent brute force), on random
 points including points off the plane of 3D circles and ellipses, beyond the ends of open
 B-spline curves and beyond the edges and corners of B-spline patches; on the numpy path
-and on the compiled one (``IBFEM_NO_JIT``). Also the input checks of issue 18 (items 11
-and 12): unknown fields of B-spline curves, surfaces and sweeps, and query arrays that are
+and on the compiled one (``IBFEM_NO_JIT``). Also the input checks: unknown fields of B-spline curves, surfaces and sweeps, and query arrays that are
 not real numbers."""
 
 import functools
@@ -235,7 +234,7 @@ def test_issue_reproducers_off_plane_and_beyond_corner(path):
 
 
 # ---------------------------------------------------------------------------------------
-# input checks (issue 18, items 11 and 12)
+# input checks
 # ---------------------------------------------------------------------------------------
 
 

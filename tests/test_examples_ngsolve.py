@@ -1,4 +1,4 @@
-"""The pure helpers of benchmarks/examples_ngsolve.py (issue 13) against hand computations; no
+"""The pure helpers of benchmarks/examples_ngsolve.py against hand computations; no
 NGSolve needed (the module imports it only inside the functions that solve)."""
 
 import math

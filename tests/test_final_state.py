@@ -1,5 +1,5 @@
-"""A final state that fails the contact conditions is never reported as converged (issue 18,
-class 1): bodies that still interpenetrate anywhere outside the contact region found make the run
+"""A final state that fails the contact conditions is never reported as converged:
+bodies that still interpenetrate anywhere outside the contact region found make the run
 not converged, with a message, whatever the region search concluded.
 
 Reproducer: the ellipse example on a coarse grid with its boundary tessellated (the thesis's

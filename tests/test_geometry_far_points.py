@@ -1,4 +1,4 @@
-"""Far, infinite and malformed query points of profiles (issue 18 items 10 and 12) and
+"""Far, infinite and malformed query points of profiles and
 primitives too large to compute with. The truth is the distance to a rectangle or disk in
 closed form."""
 

@@ -1,4 +1,4 @@
-"""Profile loops are checked for crossings (issue 18 item 5): every loop against itself,
+"""Profile loops are checked for crossings: every loop against itself,
 holes against the outer loop and against each other, for every edge type. The truth is
 either constructed by hand (where two edges cross) or a brute-force test of all pairs of
 polygon sides."""

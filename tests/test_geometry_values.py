@@ -1,4 +1,4 @@
-"""Field values of shapes and profile edges (issue 18 item 12): numbers given as strings or
+"""Field values of shapes and profile edges: numbers given as strings or
 bools, and names given as lists or tables, are refused with the key named (before: silently
 converted, or a TypeError 'unhashable type')."""
 

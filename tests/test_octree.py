@@ -198,7 +198,7 @@ def _volume_and_izz(phi, centre, depth):
 
 
 def test_cut_moments_of_a_torus_converge_to_round_off(monkeypatch):
-    # issue 14: volume and second moments of a sphere and a torus exact to 1e-10 (the torus's
+    # volume and second moments of a sphere and a torus exact to 1e-10 (the torus's
     # tube, radius 0.35 against cells of 0.25, needs two levels and six points per piece)
     import ibfem.solver.fem.cut_cells3d as cc
 

@@ -1,4 +1,4 @@
-"""A solid from an Onshape part analysed in 3D (issue 14): the ball of fixtures/onshape/cone_sphere
+"""A solid from an Onshape part analysed in 3D: the ball of fixtures/onshape/cone_sphere
 (its exact sphere face), held on its surface under a uniform body force b. Exact solution:
 u = b (R^2 - r^2) / (2 lambda + 8 mu) (Navier's equation with u = 0 on the sphere); the cut
 cells' volume against 4/3 pi R^3; the support's reaction against b V."""

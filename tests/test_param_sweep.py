@@ -1,4 +1,4 @@
-"""``ibfem sweep`` (issue 16, SPEC section 8) without Dask: the sweep file, dotted paths, case
+"""``ibfem sweep`` without Dask: the sweep file, dotted paths, case
 expansion and hashing, the serial engine, records and resume, time limits, the missing extra.
 The Dask engines are in test_param_sweep_dask.py."""
 

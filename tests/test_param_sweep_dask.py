@@ -1,4 +1,4 @@
-"""``ibfem sweep`` on Dask distributed (issue 16): the embedded cluster on a 6-case sweep with an
+"""``ibfem sweep`` on Dask distributed: the embedded cluster on a 6-case sweep with an
 invalid, a non-converging and a raising case; a scheduler and two workers started as
 subprocesses on 127.0.0.1 with one worker killed mid-sweep. Truths: force balance of each
 contact case (the two reactions and the contact's normal force agree), one record per case."""

@@ -1,4 +1,4 @@
-"""Issue 18 item 6: the grids' size is estimated before anything is built; --check reports the
+"""The grids' size is estimated before anything is built; --check reports the
 estimate and refuses what cannot fit in the machine's memory (element_size 1e-300, twelve
 refinement levels), naming what to coarsen. The estimate is checked against built grids."""
 
@@ -42,7 +42,7 @@ def test_estimate_against_the_built_grids():
 
 @pytest.mark.parametrize("value", [1e300, 1e10, -5.0])
 def test_displacements_beyond_the_body_size_are_refused(value):
-    # issue 18 item 4: a displacement of 1e300 ended in "array must not contain infs or NaNs";
+    # a displacement of 1e300 ended in "array must not contain infs or NaNs";
     # beyond the largest magnitude a scene may hold the number itself is refused first
     data = _scene()
     disp = next(bc for bc in data["boundary_conditions"] if bc["type"] == "displacement")

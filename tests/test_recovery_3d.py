@@ -1,4 +1,4 @@
-"""Stress recovery at planes of symmetry (solver.fem.recovery, issue 15): a planar sliding face
+"""Stress recovery at planes of symmetry (solver.fem.recovery): a planar sliding face
 is a mirror of the solution, so the patches of the nodes on and near it are completed by the
 mirror images of the cells' centroid stresses. The truth here is a quadratic stress field with
 that symmetry (the components with one index normal to a plane odd across it, the others even):

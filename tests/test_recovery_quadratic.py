@@ -1,4 +1,4 @@
-"""Stress recovery (solver.fem.recovery, issue 13): nodes whose two-ring of cells is uncut take a
+"""Stress recovery (solver.fem.recovery): nodes whose two-ring of cells is uncut take a
 quadratic least-squares fit of the centroid stresses, so a quadratic stress field is recovered
 exactly there (the plain mean of four centroids is off by h^2/8 of its Laplacian); nodes at the
 boundary keep the linear fit, exact for linear fields (tests/test_ibfem_recovery.py)."""

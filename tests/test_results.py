@@ -188,7 +188,7 @@ def test_contact_blocks_get_every_spec_key_in_order(tmp_path):
     assert list(c)[:12] == ["bodies", "type", "friction", "point", "normal", "tangent", "half_width",
                             "stick_half_width", "normal_force", "tangential_force", "pressure", "shear"]
     assert c["bodies"] == ["upper", "lower"] and c["type"] == "frictional" and c["friction"] == 0.3
-    assert c["tangent"] == [-0.8, 0.6]  # SPEC: tangent = (-n_y, n_x)
+    assert c["tangent"] == [-0.8, 0.6]  # the tangent is (-n_y, n_x)
     assert c["half_width"] is None and c["pressure"] == {"s": [], "value": []}
     assert c["normal_force"] == 5.0 and c["width_iterations"] == 4
 

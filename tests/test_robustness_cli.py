@@ -1,4 +1,4 @@
-"""Issue 18 classes 3 and 4, the command line: exit 1 always comes with summary.json; an
+"""The command line: exit 1 always comes with summary.json; an
 exception the program did not expect exits 5 with one line saying it is a bug and how to see the
 traceback; a failure inside numpy / scipy is never reported as a scene error (exit 2), and the
 issue's numpy reproducers are caught by the scene check with their key path."""

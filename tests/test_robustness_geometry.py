@@ -1,4 +1,4 @@
-"""Issue 18 classes 5, 10, 11 and 12 (geometry API): impossible profiles, distances of far
+"""The geometry API: impossible profiles, distances of far
 points, unknown fields of B-spline dicts and array inputs that are not real points. More
 variants of classes 5, 10 and 12: tests/test_geometry_loops.py and test_geometry_far_points.py."""
 

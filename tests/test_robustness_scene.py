@@ -1,4 +1,4 @@
-"""Issue 18, the scene side: bad or unusual scene files end in one SceneError line naming the
+"""The scene side: bad or unusual scene files end in one SceneError line naming the
 file, the key path and the value, before anything is built (classes 2, 6, 7, 9 and 12; each
 with the issue's reproducer and a variant). The truths are geometric facts of the inputs (where
 the boundaries are, which point is a corner, which value is a typo), not earlier outputs."""

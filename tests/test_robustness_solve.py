@@ -1,4 +1,4 @@
-"""Issue 18 classes 1 and 8, judged on real solves: a converged run never fails its own contact
+"""Judged on real solves: a converged run never fails its own contact
 checks, and its normal force does not change (beyond 1 %) when the scene is turned or shifted
 (a rigid motion changes nothing physical); ``solver.tolerance`` decides convergence (converged
 exactly when the residual work of the final state is below it). The final-state check itself is

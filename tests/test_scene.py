@@ -1,4 +1,4 @@
-"""Scene files (SPEC section 4): loading TOML and JSON into a Problem, defaults, the error
+"""Scene files: loading TOML and JSON into a Problem, defaults, the error
 messages (file, key path, value), and the rigid-body check against hand-derived answers."""
 
 import copy
@@ -15,7 +15,7 @@ from ibfem.solver.io.scene import SceneError, load_scene, rigid_body_modes, scen
 
 ROOT = Path(__file__).resolve().parents[1]
 
-# the example of SPEC section 4, verbatim
+# the scene format's own example, verbatim
 SPEC_EXAMPLE = """
 name = "cylinder on flat, partial slip"
 model = "plane_strain"             # or "plane_stress"
@@ -335,7 +335,7 @@ def test_one_held_component_on_one_straight_edge_is_not_enough():
 
 
 def two_cylinders(contact_type, top_conditions, friction=None):
-    """SPEC section 5 scene 3's arrangement: R1 = R2 = 1, top half disk on a bottom half disk."""
+    """The third validation scene's arrangement: R1 = R2 = 1, top half disk on a bottom half disk."""
     contact = {"bodies": ["top", "bottom"], "type": contact_type}
     if friction is not None:
         contact["friction"] = friction
@@ -395,7 +395,7 @@ def test_rigid_body_modes_agree_with_the_null_space_of_a_hand_built_matrix():
 
 
 def test_examples_load():
-    """Every example scene (SPEC section 5 and the single-body ones) validates as it is."""
+    """Every example scene (the validation scenes and the single-body ones) validates as it is."""
     paths = sorted((ROOT / "examples").glob("*.toml")) + sorted((ROOT / "examples" / "single_body").glob("*.toml"))
     assert len(paths) >= 4
     for path in paths:

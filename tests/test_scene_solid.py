@@ -1,4 +1,4 @@
-"""3D scene files (model = "solid", SPEC section 7): validation with key paths, boundary
+"""3D scene files (model = "solid"): validation with key paths, boundary
 conditions on faces, a contact, and a run through `ibfem run` writing summary.json, VTU and
 pictures. The solids come from a stand-in of geometry.solids (test-local exact solids), so the
 scene layer is tested on its own."""

@@ -1,4 +1,4 @@
-"""SPEC section 4 shapes: edge names, geometry against closed forms, rotate/translate,
+"""The scene format's 2D shapes: edge names, geometry against closed forms, rotate/translate,
 and error messages naming the key."""
 
 import math

@@ -1,4 +1,4 @@
-"""The 3D IBFEM core end to end on Lame's thick sphere (issue 14): one octant of a shell with inner
+"""The 3D IBFEM core end to end on Lame's thick sphere: one octant of a shell with inner
 radius 1 and outer radius 2 under internal pressure, three sliding symmetry faces, on an octree
 with exact cut cells and the step-boundary terms on the exact faces, against Lame's radial
 displacement u_r = p a^3 / (E (b^3 - a^3)) ((1 - 2 nu) r + (1 + nu) b^3 / (2 r^2)).

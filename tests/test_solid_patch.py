@@ -1,4 +1,4 @@
-"""3D patch tests (issue 14): a box under a constant stress, held by sliding symmetry faces and
+"""3D patch tests: a box under a constant stress, held by sliding symmetry faces and
 loaded by tractions sigma n on the others, reproduces the constant stress; the boundary rule
 split at the octree's planes integrates trilinear fields exactly on a turned plane."""
 

@@ -1,4 +1,4 @@
-"""ibfem.geometry.solids (SPEC section 7 shapes): every face's quadrature against the divergence
+"""ibfem.geometry.solids (the 3D scene shapes): every face's quadrature against the divergence
 theorem (volume = 1/3 sum x.n dA, exact volumes in closed form), signed distances against a
 brute force over dense samples of the exact faces, turning and moving, and input errors that
 name the key."""

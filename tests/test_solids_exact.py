@@ -1,4 +1,4 @@
-"""ibfem.geometry.solids, second part (issue 14 item 1): ellipsoids and half ellipsoids, full
+"""ibfem.geometry.solids, second part: ellipsoids and half ellipsoids, full
 revolutions whose profile touches the axis, faces' closest points and curvatures, outward
 normals, points on edges and vertices, and the solid of a CAD part (Onshape fixtures).
 

@@ -1,4 +1,4 @@
-"""STEP/IGES import through the commands and scenes (issue 17): bad files give one line naming
+"""STEP/IGES import through the commands and scenes: bad files give one line naming
 the file (and the entity), ``ibfem import`` caches the parsed part and reparses a changed file,
 verify/info accept the file or the cache, scenes take ``{type = "step", ...}`` shapes, and
 without OCP the error names the extra."""

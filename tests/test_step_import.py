@@ -1,7 +1,7 @@
-"""STEP and IGES import (issue 17): parts built with OpenCascade in millimetres
+"""STEP and IGES import: parts built with OpenCascade in millimetres
 (test_step_support), written to STEP and IGES, read back by importers.step and checked against
 the parameters they were built with, analytical areas and volumes, OpenCascade's own point
-classification (outward normals) and the projection check of SPEC section 3."""
+classification (outward normals) and the projection check of the tessellated vertices."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The `make demo` geometry read from STEP (examples/step, issue 17): the same 2D profiles as the
+"""The `make demo` geometry read from STEP (examples/step): the same 2D profiles as the
 Onshape fixture (fixtures/onshape/half_cylinder_on_block) and the same contact result in a run."""
 
 from __future__ import annotations

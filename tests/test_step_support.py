@@ -1,4 +1,4 @@
-"""OpenCascade-built parts for the STEP/IGES importer tests (issue 17): the true parameters are
+"""OpenCascade-built parts for the STEP/IGES importer tests: the true parameters are
 the ones passed to OpenCascade here, in millimetres, independent of the reader."""
 
 from __future__ import annotations

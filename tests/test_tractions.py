@@ -1,4 +1,4 @@
-"""Contact traction recovery (issue 13, solver.contact.tractions): the projection onto
+"""Contact traction recovery (solver.contact.tractions): the projection onto
 sqrt(1 - x^2) U_k (and T_k / sqrt(1 - x^2) for tied zones) against closed forms (Hertz,
 Cattaneo-Mindlin, a flat punch's shear), with the cell-periodic noise of bilinear tractions
 added; exact force and first moment; complementarity of what is reported; and the reported

@@ -1,4 +1,4 @@
-"""Projection verification (thesis 4.2.7, SPEC section 3): every fixture passes the
+"""Projection verification (thesis 4.2.7): every fixture passes the
 acceptance tolerances, and the check detects known, analytically sized errors."""
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ def test_every_fixture_meets_the_acceptance_tolerances(studio):
     part = cached_part(studio)
     for offset in (1e-4, -1e-4):  # outward, and into the solid
         report = verify_projection(part, offset)
-        json.dumps(report)  # serialisable as SPEC section 3 requires
+        json.dumps(report)  # serialisable (the verify report is JSON)
         assert set(report) >= {"faces", "max_error"}
         assert len(report["faces"]) == len(part.faces)
         for row in report["faces"]:

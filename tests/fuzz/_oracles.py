@@ -1,4 +1,4 @@
-"""What the fuzz campaign calls a defect (issue 18's acceptance): a traceback or an internal
+"""What the fuzz campaign calls a defect: a traceback or an internal
 error (exit 5), an exit code outside the documented ones, an error line that does not name the
 file, exit 1 without summary.json, a converged run whose summary fails its own contact checks,
 or whose normal force changes by more than 1 % when the scene is turned or shifted. Each

@@ -1,5 +1,5 @@
 """Rigid motions of plane scenes (as parsed dicts), for invariance checks: a scene turned by
-``deg`` about the origin and then shifted must give the same forces (issue 18: N within 1 %).
+``deg`` about the origin and then shifted must give the same forces (N within 1 %).
 Displacement components given as "free" stay meaningful only for quarter turns, which swap
 them."""
 

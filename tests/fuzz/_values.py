@@ -1,4 +1,4 @@
-"""Hypothesis strategies of the fuzz campaign (issue 18): JSON values a new user (or a damaged
+"""Hypothesis strategies of the fuzz campaign: JSON values a new user (or a damaged
 file) might put anywhere, and mutations of a parsed document at a random key path."""
 
 from __future__ import annotations

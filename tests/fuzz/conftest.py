@@ -1,4 +1,4 @@
-"""The fuzz campaign of issue 18. ``make test`` runs the bounded tests (a fixed number of
+"""The fuzz campaign. ``make test`` runs the bounded tests (a fixed number of
 hypothesis examples per family, under 60 s together); ``make fuzz`` adds the long ones (marked
 ``fuzz_long`` and ``slow``), which share IBFEM_FUZZ_MINUTES between the families, keep going
 after a defect and write every defect found, with its input, to out/fuzz/findings.jsonl."""

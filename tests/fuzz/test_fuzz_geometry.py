@@ -2,7 +2,7 @@
 gives a primitive / profile or a ValueError; ``project`` / ``signed_distance`` give a
 ValueError or results whose invariants hold: finite for finite points (coordinates up to 1e12),
 |distance| = |p - closest| (signed Euclidean distances), and for profiles |phi| at most the
-distance to a sample of the boundary, phi < 0 far outside (issue 18 classes 10-12)."""
+distance to a sample of the boundary, phi < 0 far outside."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Fuzz: cached Onshape responses (copies of fixtures/onshape in a temporary directory) damaged
 at a random JSON path or at the byte level must give a Part or an OnshapeFormatError naming the
 file, ``ibfem verify --json`` exit 0/1/2 with strict JSON, and a scene on the damaged cache
-``--check`` exit 0 or 2, never a traceback (issue 18 item 9)."""
+``--check`` exit 0 or 2, never a traceback."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Fuzz: scene files mutated at random key paths (values a new user might write, deleted and
 unknown keys, duplicated items, scaled numbers, lists where strings belong) and damaged at the
 byte level (truncated, foreign bytes, BOM) must end in ``ibfem run --check`` exit 0 or 2, with
-every error line naming the file, and never a traceback (issue 18)."""
+every error line naming the file, and never a traceback."""
 
 from __future__ import annotations
 

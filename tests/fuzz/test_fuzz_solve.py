@@ -3,7 +3,7 @@ type and friction, grid a little coarser or finer, load steps) solved by ``ibfem
 process with a time and memory limit, then the same scene turned and shifted: exit 0, 1 or 2
 only, exit 1 with its summary, a converged summary consistent with its own contact checks, and
 the normal force of the moved scene within 1 % where the grid resolves the contact as the shipped
-example's does (issue 18's acceptance for ``make fuzz``); coarser variants check the rest."""
+example's does (what ``make fuzz`` accepts); coarser variants check the rest."""
 
 from __future__ import annotations
 
@@ -52,7 +52,7 @@ def _variant(data) -> tuple[dict, str, bool]:
             zone["levels"] = max(1, zone["levels"] - coarser)
     notes.append(f"element_size x{grid}, levels -{coarser}")
     resolved = coarser == 0 and grid <= 1.25
-    if data.draw(st.integers(0, 3)) == 0:  # the tessellated variant (issue 18 class 1 lived there)
+    if data.draw(st.integers(0, 3)) == 0:  # the tessellated variant (where non-converged runs were once reported as converged)
         d["solver"]["exact_geometry"] = not d["solver"].get("exact_geometry", True)
         notes.append(f"exact_geometry {d['solver']['exact_geometry']}")
     contact = d["contacts"][0]
