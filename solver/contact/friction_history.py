@@ -207,6 +207,7 @@ class HistoryBandContact(BandContact):
         self.zone_updates = 0
         self._set_zones(np.zeros(len(self.zone)))  # the elastic predictor: every point stuck
         self.restuck = np.zeros(len(self.zone), dtype=bool)
+        self.settled_stuck = np.zeros(len(self.zone), dtype=bool)
         self.refining, self.secant, self.refinements = False, {}, 0
         # the step starts at the last step's width (one solve), searched only if it proves inconsistent
         self.hold_width = self.width_held = self.step_count > 0
@@ -263,8 +264,10 @@ class HistoryBandContact(BandContact):
         floor = 1e-4 * mu * max(float(p.max()), 0.0) * a / self.e_star
         scale = max(float(np.abs(dw[inside]).max()) if inside.any() else 0.0, floor, 1e-300)
         back = (zone != 0.0) & (dw * zone < -REVERSAL_MARGIN * scale)
+        over &= ~self.settled_stuck  # stuck again twice in this step: it stays stuck
         zone[over] = -np.sign(q[over])
         zone[back] = 0.0
+        self.settled_stuck |= back & self.restuck
         self.restuck |= back
         zone[outside] = 0.0
         changed = int(np.count_nonzero(zone != self.zone))
