@@ -75,7 +75,7 @@ class HistoryBandContact(BandContact):
     hold_width: bool = False  # the next width search keeps the width (a zone iteration)
     width_held: bool = False  # a width was kept in this step: search it once more at the end
     held_edge: float = math.nan  # the edge coefficient at the kept width
-    secant: dict = field(default_factory=dict)  # boundary index -> (position, edge singularity) of the last try
+    secant: dict = field(default_factory=dict)  # boundary index -> [(position, edge singularity)] of its tries
     w_ref: np.ndarray = field(default_factory=lambda: np.zeros(0))  # the jump a stuck point is held at
     w_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # tangential jump at the last step's end
     accumulated_slip: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -301,19 +301,9 @@ class HistoryBandContact(BandContact):
             beta = self._edge_singularity(b, into_stick, deficit, p)
             if not math.isfinite(beta):
                 continue
-            last = self.secant.get(i)
-            # beta < 0: shrink the stick zone; beta grows by edge_slope per unit move into the stick
-            # side (the last steps' secants), a tenth of a cell until one is known
-            step = -into_stick * (beta / self.edge_slope if self.edge_slope > 0.0
-                                  else math.copysign(0.1 * self.h, beta))
-            if last is not None and last[1] != beta and last[0] != b:
-                step = -beta * (b - last[0]) / (beta - last[1])
-                slope = (beta - last[1]) / (into_stick * (b - last[0]))
-                if slope > 0.0:
-                    self.slopes = (self.slopes + [slope])[-8:]
-                    self.edge_slope = float(np.median(self.slopes))
-            step = float(np.clip(step, -0.5 * self.h, 0.5 * self.h))
-            self.secant[i] = (b, beta)
+            tries = self.secant.get(i, []) + [(b, beta)]
+            step = self._boundary_step(tries, into_stick)
+            self.secant[i] = tries
             moves.append(abs(step))
             self.bounds[i] = b + step
         order_kept = bool(np.all(np.diff(self.bounds) > 0.0))
@@ -327,6 +317,37 @@ class HistoryBandContact(BandContact):
             self.unsettled_steps.append(self.step_count)
             return True
         return settled
+
+    def _boundary_step(self, tries: list, into_stick: float) -> float:
+        """The next move of a boundary from its tries [(position, beta)] in this step, beta growing
+        with a move into the stick side: false position between the latest tries of either sign
+        once they bracket the root (halving the kept end's beta when the same end is kept twice,
+        Illinois), else a secant step while the last two tries show beta growing, else a step of
+        -beta / edge_slope (the median slope of the last secants; a tenth of a cell until one is
+        known). The edge fit's beta is not monotone everywhere (a locked-in edge of an earlier
+        slip within the fit's width): a secant through a falling stretch would throw the boundary
+        back and forth without end."""
+        b, beta = tries[-1]
+        u = [into_stick * t[0] for t in tries]  # positions along the move into the stick side
+        v = [t[1] for t in tries]
+        neg = [k for k in range(len(v)) if v[k] < 0.0]
+        pos = [k for k in range(len(v)) if v[k] > 0.0]
+        if neg and pos:
+            kn, kp = neg[-1], pos[-1]
+            vn, vp = v[kn], v[kp]
+            if len(v) > 2 and (v[-1] > 0.0) == (v[-2] > 0.0):  # the same end moved twice: Illinois
+                vn, vp = (0.5 * vn, vp) if v[-1] > 0.0 else (vn, 0.5 * vp)
+            target = u[kn] + (u[kp] - u[kn]) * (-vn) / (vp - vn)
+            step = into_stick * target - b
+        elif len(tries) > 1 and v[-1] != v[-2] and u[-1] != u[-2] and (v[-1] - v[-2]) / (u[-1] - u[-2]) > 0.0:
+            slope = (v[-1] - v[-2]) / (u[-1] - u[-2])
+            self.slopes = (self.slopes + [slope])[-8:]
+            self.edge_slope = float(np.median(self.slopes))
+            step = -into_stick * beta / slope
+        else:
+            step = -into_stick * (beta / self.edge_slope if self.edge_slope > 0.0
+                                  else math.copysign(0.1 * self.h, beta))
+        return float(np.clip(step, -0.5 * self.h, 0.5 * self.h))
 
     def _near_slip(self, zone: np.ndarray, b: float, into_stick: float, direction: float, a: float) -> bool:
         """Whether the zones ``zone`` (at the samples) slip along ``direction`` at the boundary b or
