@@ -227,6 +227,11 @@ class HistoryBandContact(BandContact):
         searched with the settled zones)."""
         if not self._update_centre(x, a, info, final):
             return False
+        if self.width_held and self.zone_updates == 0 and not self._width_consistent(a):
+            # the normal load changed since the last step: the predictor's width is searched first
+            # (zone updates at a width that will move are wasted: each would be judged again)
+            self.hold_width = self.width_held = False
+            return False
         settled = self._update_zones(x, a)
         if not settled:
             self.hold_width = self.width_held = True
@@ -234,9 +239,7 @@ class HistoryBandContact(BandContact):
         self.hold_width = False
         if self.width_held:  # zones settled at a kept width: search it once more, unless it is consistent
             self.width_held = False
-            # the edge coefficient moves by about the relative change of the width: within the width
-            # search's tolerance (edge_tolerance cells) the kept width is the searched one
-            if abs(self.held_edge) <= self.options.edge_tolerance * self.h / a:
+            if self._width_consistent(a):
                 return True
             # the width moves (the normal load changed): the points it adds or removes are judged
             # again by zone updates before the boundaries are refined (a point entering contact
@@ -244,6 +247,12 @@ class HistoryBandContact(BandContact):
             self.refining, self.secant = False, {}
             return False
         return True
+
+    def _width_consistent(self, a: float) -> bool:
+        """Whether the kept width a is the one a search would find: the edge coefficient moves by
+        about the relative change of the width, so within the width search's tolerance
+        (``edge_tolerance`` cells) the kept width is the searched one."""
+        return abs(self.held_edge) <= self.options.edge_tolerance * self.h / a
 
     def _update_zones(self, x: np.ndarray, a: float) -> bool:
         """One zone update (see update_stick_and_shape); True when nothing changed."""
