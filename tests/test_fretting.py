@@ -83,14 +83,14 @@ def _check_step_polyline(tmp_path: Path, step: dict) -> None:
 
 @pytest.mark.slow
 def test_example_three_cycles(tmp_path):
-    """The shipped example: on every branch and at every step the stick half-width within 0.012 a
-    of the superposition's (measured 0.0107 a at most), the shear within 5 % of mu p0 (RMS over
-    the branch), the energy per cycle within 1.25 % of the closed form from the friction work
-    (measured -1.04 % and -0.88 %) and 2 % from the loop (-0.09 % and +1.56 %; see
-    docs/load-paths.md for the table)."""
+    """The shipped example: on every branch and at every step the stick half-width within 0.01 a
+    of the superposition's (measured 0.0087 a at most), the shear within 5 % of mu p0 (RMS over
+    the branch), the energy per cycle within 2 % of the closed form from the friction work
+    (measured -0.87 % and -1.47 %) and from the loop (+0.97 % and +0.97 %; see
+    docs/load-paths.md for the table; the issue's target is 3 %)."""
     summary, result = _run(tmp_path, points_per_cycle=20, cycles=3, steps_per_unit=4)
     rows = result["steps"]
-    assert max(abs(r["c_error_over_a"]) for r in rows) < 0.012
+    assert max(abs(r["c_error_over_a"]) for r in rows) < 0.01
     branches = {}
     for r in rows:
         branches.setdefault(r["branch"], []).append(r["shear_rms_over_mu_p0"])
@@ -98,8 +98,8 @@ def test_example_three_cycles(tmp_path):
         assert float(np.sqrt(np.mean(np.square(values)))) < 0.05, (b, values)
     assert len(result["cycles"]) == 2
     for c in result["cycles"]:
-        assert abs(c["friction_error"]) < 0.0125, c
-        # the loop's area on 20 points a cycle: measured -0.09 % and +1.56 % for two equal cycles
+        assert abs(c["friction_error"]) < 0.02, c
+        # the loop's area on 20 points a cycle (trapezoid rule)
         assert abs(c["loop_error"]) < 0.02, c
 
 
@@ -129,15 +129,14 @@ def test_point_assembly_equals_sparse_assembly(monkeypatch, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="load step 10 of the varying-normal scene does not settle with pairs "
-                   "along the frame's normal (tests/scenes/fretting_varying_normal.toml)")
 def test_varying_normal_load_keeps_coulomb(tmp_path):
     """The shipped scene with N and Q cycled together: every step converges with its stick points
     within Coulomb's limit (no step in checks.steps_breaking_coulomb: at most 2 % of the stick
-    points above 1.1 mu p), and the transmitted forces obey |Q| < mu N at every step."""
+    points above 1.1 mu p), the transmitted forces obey |Q| < mu N and the friction work is
+    dissipated (not negative) at every step."""
     from ibfem.solver.io.scene import load_scene
 
-    sc = load_scene(Path(__file__).parent / "scenes" / "fretting_varying_normal.toml")
+    sc = load_scene(EXAMPLE.parent / "cylinder_on_flat_varying_normal.toml")
     solution = solve(sc.problem)
     assert solution.converged, solution.iterations["messages"]
     summary = write_scene_results(tmp_path, sc, solution)
@@ -146,3 +145,8 @@ def test_varying_normal_load_keeps_coulomb(tmp_path):
                        for s in summary["steps"] if s["t"] >= 1.0])
     assert forces[:, 0].max() / forces[:, 0].min() > 1.5  # the normal load cycles (0.78 to 1.23 of its mean)
     assert np.all(np.abs(forces[:, 1]) < 0.3 * forces[:, 0])
+    # friction dissipates: no step's friction work is negative beyond the slip test's noise
+    # (a slipping point sticks once its increment runs back by 1e-3 of the step's largest; measured
+    # -0.96 J/m against 72 J/m)
+    work = np.array([s["contacts"][0]["friction_work"] for s in summary["steps"]])
+    assert work.min() > -0.02 * work.max()
