@@ -7,6 +7,7 @@ points; the energy per cycle is the closed form for the cycle's amplitude."""
 
 from __future__ import annotations
 
+import math
 import tomllib
 from pathlib import Path
 
@@ -172,3 +173,31 @@ def test_shifted_grid_energy(tmp_path):
     for c in result["cycles"]:
         assert abs(c["loop_error"]) < 0.02, c
         assert abs(c["friction_error"]) < 0.05, c
+
+
+def test_held_load_changes_nothing(tmp_path):
+    """Friction is rate independent: steps whose loads equal the last step's keep its state (the
+    tangential force and the stick zone to the last digit, no slip increment, no friction work),
+    and the stick half-width at the held peak is Cattaneo-Mindlin's c / a = sqrt(1 - |Q| / (mu N))
+    for the computed forces (within 0.03 a at 4 steps to the peak)."""
+    data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
+    data["solver"]["steps_per_unit"] = 4
+    data["paths"][1] = {"name": "fret", "points": [[0.0, 0.0], [1.0, 0.0], [2.0, 1.0], [3.0, 1.0]]}
+    data["paths"][0]["points"][-1][0] = 3.0
+    data["output"] = {"vtk": False, "plots": False}
+    sc = scene_from_dict(data, label="fretting_hold.toml")
+    solution = solve(sc.problem)
+    assert solution.converged, solution.iterations["messages"]
+    summary = write_scene_results(tmp_path, sc, solution)
+    steps = [s for s in summary["steps"] if s["t"] >= 2.0]
+    assert [round(s["t"], 6) for s in steps] == [2.0, 2.25, 2.5, 2.75, 3.0]
+    first = steps[0]["contacts"][0]
+    for s in steps[1:]:
+        c = s["contacts"][0]
+        assert c["tangential_force"] == first["tangential_force"]
+        assert c["stick_half_width"] == first["stick_half_width"]
+        assert c["friction_work"] == 0.0
+    assert solution.iterations["per_step"][-4:] == [0, 0, 0, 0]  # no solve for a held step
+    ratio = abs(first["tangential_force"]) / (0.3 * first["normal_force"])
+    assert 0.3 < ratio < 0.9  # partial slip
+    assert first["stick_half_width"] / first["half_width"] == pytest.approx(math.sqrt(1.0 - ratio), abs=0.03)

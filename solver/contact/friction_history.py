@@ -429,6 +429,13 @@ class HistoryBandContact(BandContact):
         self.w_prev = wt
         self.step_pressure = np.where(inside, p, 0.0)
 
+    def hold_step(self, x: np.ndarray, a: float, info) -> None:
+        """A step whose loads equal the last step's: the state is kept, its zones (the points of
+        the slip zones stay at Coulomb's limit) with no slip increment and no work."""
+        self.step_count += 1
+        self.step_increment = np.zeros(len(self.zone))
+        self.step_work = 0.0
+
     def _tie_offset(self, x: np.ndarray, shear: np.ndarray) -> np.ndarray:
         """(f_t - q) / L_tt at the samples: the tangential stretch of the tie whose traction
         -L_tt stretch + f_t (the layer plus the flux along t_c) is the shear q."""
