@@ -10,8 +10,9 @@ In a step, a stick point keeps its tangential jump, w_t = w_t(previous step) (th
 the jump to that offset), and a slipping point carries Coulomb's traction -sign mu p t_c on
 body 1, the sign that of its slip increment dw_t. The zones are an active set: after each
 solve a stick point whose shear exceeds mu p starts slipping against its shear, and a slipping
-point whose increment runs against its sign sticks; repeated until no point changes (the
-width search runs inside, as for any stick update). Shear and pressure are judged on their means
+point whose increment runs against its sign sticks (a point stuck again twice within a step
+stays stuck for the rest of it: no endless flip at Coulomb's limit); repeated until no point
+changes (the width search runs inside, as for any stick update). Shear and pressure are judged on their means
 over one cell (``window``) around each sample: the point traction of the band terms oscillates
 with the grid, its cell means do not. Zones of any number and direction follow (stick, forward
 slip, reversed slip), none is assumed.
@@ -91,6 +92,7 @@ class HistoryBandContact(BandContact):
     coulomb_violations: list = field(default_factory=list)  # (step, share of stick points above the limit)
     zone_updates: int = 0  # zone updates in the current step
     restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # stuck again in this step
+    settled_stuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # ... twice: stays stuck
     #: slip direction d -> (the deficit mu p + d q at the points, the zones) at the end of the last
     #: step with slip along d
     reversal: dict = field(default_factory=dict)
