@@ -7,6 +7,7 @@ points; the energy per cycle is the closed form for the cycle's amplitude."""
 
 from __future__ import annotations
 
+import math
 import tomllib
 from pathlib import Path
 
@@ -83,14 +84,14 @@ def _check_step_polyline(tmp_path: Path, step: dict) -> None:
 
 @pytest.mark.slow
 def test_example_three_cycles(tmp_path):
-    """The shipped example: on every branch and at every step the stick half-width within 0.012 a
-    of the superposition's (measured 0.0107 a at most), the shear within 5 % of mu p0 (RMS over
-    the branch), the energy per cycle within 1.25 % of the closed form from the friction work
-    (measured -1.04 % and -0.88 %) and 2 % from the loop (-0.09 % and +1.56 %; see
-    docs/load-paths.md for the table)."""
+    """The shipped example: on every branch and at every step the stick half-width within 0.01 a
+    of the superposition's (measured 0.0087 a at most), the shear within 5 % of mu p0 (RMS over
+    the branch), the energy per cycle within 2 % of the closed form from the friction work
+    (measured -0.87 % and -1.47 %) and from the loop (+0.97 % and +0.97 %; see
+    docs/load-paths.md for the table; the issue's target is 3 %)."""
     summary, result = _run(tmp_path, points_per_cycle=20, cycles=3, steps_per_unit=4)
     rows = result["steps"]
-    assert max(abs(r["c_error_over_a"]) for r in rows) < 0.012
+    assert max(abs(r["c_error_over_a"]) for r in rows) < 0.01
     branches = {}
     for r in rows:
         branches.setdefault(r["branch"], []).append(r["shear_rms_over_mu_p0"])
@@ -98,8 +99,8 @@ def test_example_three_cycles(tmp_path):
         assert float(np.sqrt(np.mean(np.square(values)))) < 0.05, (b, values)
     assert len(result["cycles"]) == 2
     for c in result["cycles"]:
-        assert abs(c["friction_error"]) < 0.0125, c
-        # the loop's area on 20 points a cycle: measured -0.09 % and +1.56 % for two equal cycles
+        assert abs(c["friction_error"]) < 0.02, c
+        # the loop's area on 20 points a cycle (trapezoid rule)
         assert abs(c["loop_error"]) < 0.02, c
 
 
@@ -129,15 +130,14 @@ def test_point_assembly_equals_sparse_assembly(monkeypatch, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="load step 10 of the varying-normal scene does not settle with pairs "
-                   "along the frame's normal (tests/scenes/fretting_varying_normal.toml)")
 def test_varying_normal_load_keeps_coulomb(tmp_path):
     """The shipped scene with N and Q cycled together: every step converges with its stick points
     within Coulomb's limit (no step in checks.steps_breaking_coulomb: at most 2 % of the stick
-    points above 1.1 mu p), and the transmitted forces obey |Q| < mu N at every step."""
+    points above 1.1 mu p), the transmitted forces obey |Q| < mu N and the friction work is
+    dissipated (not negative) at every step."""
     from ibfem.solver.io.scene import load_scene
 
-    sc = load_scene(Path(__file__).parent / "scenes" / "fretting_varying_normal.toml")
+    sc = load_scene(EXAMPLE.parent / "cylinder_on_flat_varying_normal.toml")
     solution = solve(sc.problem)
     assert solution.converged, solution.iterations["messages"]
     summary = write_scene_results(tmp_path, sc, solution)
@@ -146,3 +146,90 @@ def test_varying_normal_load_keeps_coulomb(tmp_path):
                        for s in summary["steps"] if s["t"] >= 1.0])
     assert forces[:, 0].max() / forces[:, 0].min() > 1.5  # the normal load cycles (0.78 to 1.23 of its mean)
     assert np.all(np.abs(forces[:, 1]) < 0.3 * forces[:, 0])
+    # friction dissipates: no step's friction work is negative beyond the slip test's noise
+    # (a slipping point sticks once its increment runs back by 1e-3 of the step's largest; measured
+    # -0.96 J/m against 72 J/m)
+    work = np.array([s["contacts"][0]["friction_work"] for s in summary["steps"]])
+    assert work.min() > -0.02 * work.max()
+
+
+@pytest.mark.slow
+def test_shifted_grid_energy(tmp_path):
+    """The example on a grid shifted by (0.37, 0.21) cells: the energy per cycle from the loop
+    within 2 % of the Mindlin-Deresiewicz closed form for the computed amplitude (measured +0.42 %
+    and -0.63 %), from the friction work within 5 % (measured -4.14 % and -4.30 %: see
+    docs/load-paths.md), and the stick half-width within 0.02 a of the superposition's at every
+    step (measured 0.016 a)."""
+    data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
+    data["solver"]["grid_offset"] = [0.37, 0.21]
+    data["output"] = {"vtk": False, "plots": False}
+    sc = scene_from_dict(data, label="fretting_shifted.toml")
+    solution = solve(sc.problem)
+    assert solution.converged, solution.iterations["messages"]
+    summary = write_scene_results(tmp_path, sc, solution)
+    result = compare(summary, dict(np.load(tmp_path / "profiles_0.npz")), 1.0, 2.0e11, 0.3)
+    assert max(abs(r["c_error_over_a"]) for r in result["steps"]) < 0.02
+    assert len(result["cycles"]) == 2
+    for c in result["cycles"]:
+        assert abs(c["loop_error"]) < 0.02, c
+        assert abs(c["friction_error"]) < 0.05, c
+
+
+def test_held_load_changes_nothing(tmp_path):
+    """Friction is rate independent: steps whose loads equal the last step's keep its state (the
+    tangential force and the stick zone to the last digit, no slip increment, no friction work),
+    and the stick half-width at the held peak is Cattaneo-Mindlin's c / a = sqrt(1 - |Q| / (mu N))
+    for the computed forces (within 0.03 a at 4 steps to the peak)."""
+    data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
+    data["solver"]["steps_per_unit"] = 4
+    data["paths"][1] = {"name": "fret", "points": [[0.0, 0.0], [1.0, 0.0], [2.0, 1.0], [3.0, 1.0]]}
+    data["paths"][0]["points"][-1][0] = 3.0
+    data["output"] = {"vtk": False, "plots": False}
+    sc = scene_from_dict(data, label="fretting_hold.toml")
+    solution = solve(sc.problem)
+    assert solution.converged, solution.iterations["messages"]
+    summary = write_scene_results(tmp_path, sc, solution)
+    steps = [s for s in summary["steps"] if s["t"] >= 2.0]
+    assert [round(s["t"], 6) for s in steps] == [2.0, 2.25, 2.5, 2.75, 3.0]
+    first = steps[0]["contacts"][0]
+    for s in steps[1:]:
+        c = s["contacts"][0]
+        assert c["tangential_force"] == first["tangential_force"]
+        assert c["stick_half_width"] == first["stick_half_width"]
+        assert c["friction_work"] == 0.0
+    assert solution.iterations["per_step"][-4:] == [0, 0, 0, 0]  # no solve for a held step
+    ratio = abs(first["tangential_force"]) / (0.3 * first["normal_force"])
+    assert 0.3 < ratio < 0.9  # partial slip
+    assert first["stick_half_width"] / first["half_width"] == pytest.approx(math.sqrt(1.0 - ratio), abs=0.03)
+
+
+@pytest.mark.slow
+def test_concave_seat_fretting(tmp_path):
+    """A geometry the fretting example does not cover: the cylinder R = 1 m in a concave seat
+    R = 2 m (examples/cylinder_in_concave_partial_slip.toml, relative radius 2 m), the normal
+    displacement held and the tangential one cycled twice at 20 steps per cycle (Q* / (mu N) =
+    0.50). Against the Mindlin-Deresiewicz superposition for the line contact with R = 2 m: the
+    energy per cycle from the friction work and from the loop within 3 % (measured +0.07 % and
+    +0.72 %), the stick half-width at every turning point within 0.01 a (measured 0.0069 a at
+    most) and at all but one step within 0.02 a (the first step after the first reversal reads
+    0.86 a against 0.99 a: one sample at the earlier stick edge slips)."""
+    data = tomllib.loads((EXAMPLE.parents[1] / "cylinder_in_concave_partial_slip.toml").read_text(encoding="utf-8"))
+    data["solver"].pop("load_steps")
+    data["solver"]["steps_per_unit"] = 4
+    data["paths"] = [{"name": "hold", "points": [[0.0, 0.0], [1.0, 1.0], [3.0, 1.0]]},
+                     {"name": "fret", "cycle": {"amplitude": 1.0, "cycles": 2, "points_per_cycle": 20, "start": 1.0}}]
+    load = data["boundary_conditions"][0]
+    load.update(value=[4.0e-4, load["value"][1]], path=["fret", "hold"])
+    data["output"] = {"vtk": False, "plots": False}
+    sc = scene_from_dict(data, label="seat_fretting.toml")
+    solution = solve(sc.problem)
+    assert solution.converged, solution.iterations["messages"]
+    summary = write_scene_results(tmp_path, sc, solution)
+    result = compare(summary, dict(np.load(tmp_path / "profiles_0.npz")), 2.0, 2.0e11, 0.3)
+    rows = result["steps"]
+    ends = [r for r, nxt in zip(rows, rows[1:] + [None]) if nxt is not None and nxt["branch"] != r["branch"]]
+    assert len(ends) == 4
+    assert max(abs(r["c_error_over_a"]) for r in ends) < 0.01
+    assert sum(abs(r["c_error_over_a"]) > 0.02 for r in rows) <= 1
+    (cycle,) = result["cycles"]
+    assert abs(cycle["friction_error"]) < 0.03 and abs(cycle["loop_error"]) < 0.03, cycle

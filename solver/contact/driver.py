@@ -323,6 +323,9 @@ class ContactDriver:
             self.f0, self.bu0, self.sbu0, self.u0f0 = self.path_steps.at(t)
             lam, final = 1.0, True
         self.report(f"load step {step}/{steps}", 0.3 + 0.6 * (step - 1) / steps)
+        if self._load_held(step):
+            self._hold_step(step)
+            return
         if self.prev is not None and self.prev[0] > 0:
             self.widths = [c.next_region(a, lam / self.prev[0]) for a, c in zip(self.widths, self.contacts)]
         for c in self.contacts:
@@ -353,6 +356,27 @@ class ContactDriver:
                 getattr(c, "end_step", lambda *args: None)(state[1][wh], a, info)
             u = step_field(self, state, self.f0)
             self.step_records.append(step_record(self, t, u, self.path_steps.essential_factors(t)))
+
+    def _load_held(self, step: int) -> bool:
+        """Whether a path step's loads equal the last step's (a held segment of every path)."""
+        if self.path_steps is None or self.prev is None or step < 2:
+            return False
+        loads, times = self.path_steps.loads, self.path_steps.times
+        t, t_last = times[step - 1], times[step - 2]
+        if not np.array_equal(loads.weights(t), loads.weights(t_last)):
+            return False
+        now, last = loads.essential_factors(t), loads.essential_factors(t_last)
+        return all(np.array_equal(now[k], last[k]) for k in now)
+
+    def _hold_step(self, step: int) -> None:
+        """A held step keeps the last step's state: friction is rate independent, so unchanged loads
+        change nothing (no slip, no work); the step is recorded without a solve."""
+        t = self.path_steps.times[step - 1]
+        self.per_step.append(0)
+        for c, wh, a, info in zip(self.contacts, self.where, self.widths, self.prev_infos):
+            getattr(c, "hold_step", lambda *args: None)(self.prev[1][wh], a, info)
+        u = step_field(self, self.prev, self.f0)
+        self.step_records.append(step_record(self, t, u, self.path_steps.essential_factors(t)))
 
     # ------------------------------------------------------------------ the final state
 

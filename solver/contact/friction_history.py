@@ -10,8 +10,9 @@ In a step, a stick point keeps its tangential jump, w_t = w_t(previous step) (th
 the jump to that offset), and a slipping point carries Coulomb's traction -sign mu p t_c on
 body 1, the sign that of its slip increment dw_t. The zones are an active set: after each
 solve a stick point whose shear exceeds mu p starts slipping against its shear, and a slipping
-point whose increment runs against its sign sticks; repeated until no point changes (the
-width search runs inside, as for any stick update). Shear and pressure are judged on their means
+point whose increment runs against its sign sticks (a point stuck again twice within a step
+stays stuck for the rest of it: no endless flip at Coulomb's limit); repeated until no point
+changes (the width search runs inside, as for any stick update). Shear and pressure are judged on their means
 over one cell (``window``) around each sample: the point traction of the band terms oscillates
 with the grid, its cell means do not. Zones of any number and direction follow (stick, forward
 slip, reversed slip), none is assumed.
@@ -75,7 +76,7 @@ class HistoryBandContact(BandContact):
     hold_width: bool = False  # the next width search keeps the width (a zone iteration)
     width_held: bool = False  # a width was kept in this step: search it once more at the end
     held_edge: float = math.nan  # the edge coefficient at the kept width
-    secant: dict = field(default_factory=dict)  # boundary index -> (position, edge singularity) of the last try
+    secant: dict = field(default_factory=dict)  # boundary index -> [(position, edge singularity)] of its tries
     w_ref: np.ndarray = field(default_factory=lambda: np.zeros(0))  # the jump a stuck point is held at
     w_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # tangential jump at the last step's end
     accumulated_slip: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -91,6 +92,7 @@ class HistoryBandContact(BandContact):
     coulomb_violations: list = field(default_factory=list)  # (step, share of stick points above the limit)
     zone_updates: int = 0  # zone updates in the current step
     restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # stuck again in this step
+    settled_stuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))  # ... twice: stays stuck
     #: slip direction d -> (the deficit mu p + d q at the points, the zones) at the end of the last
     #: step with slip along d
     reversal: dict = field(default_factory=dict)
@@ -207,6 +209,7 @@ class HistoryBandContact(BandContact):
         self.zone_updates = 0
         self._set_zones(np.zeros(len(self.zone)))  # the elastic predictor: every point stuck
         self.restuck = np.zeros(len(self.zone), dtype=bool)
+        self.settled_stuck = np.zeros(len(self.zone), dtype=bool)
         self.refining, self.secant, self.refinements = False, {}, 0
         # the step starts at the last step's width (one solve), searched only if it proves inconsistent
         self.hold_width = self.width_held = self.step_count > 0
@@ -226,6 +229,11 @@ class HistoryBandContact(BandContact):
         searched with the settled zones)."""
         if not self._update_centre(x, a, info, final):
             return False
+        if self.width_held and self.zone_updates == 0 and not self._width_consistent(a):
+            # the normal load changed since the last step: the predictor's width is searched first
+            # (zone updates at a width that will move are wasted: each would be judged again)
+            self.hold_width = self.width_held = False
+            return False
         settled = self._update_zones(x, a)
         if not settled:
             self.hold_width = self.width_held = True
@@ -233,9 +241,7 @@ class HistoryBandContact(BandContact):
         self.hold_width = False
         if self.width_held:  # zones settled at a kept width: search it once more, unless it is consistent
             self.width_held = False
-            # the edge coefficient moves by about the relative change of the width: within the width
-            # search's tolerance (edge_tolerance cells) the kept width is the searched one
-            if abs(self.held_edge) <= self.options.edge_tolerance * self.h / a:
+            if self._width_consistent(a):
                 return True
             # the width moves (the normal load changed): the points it adds or removes are judged
             # again by zone updates before the boundaries are refined (a point entering contact
@@ -243,6 +249,12 @@ class HistoryBandContact(BandContact):
             self.refining, self.secant = False, {}
             return False
         return True
+
+    def _width_consistent(self, a: float) -> bool:
+        """Whether the kept width a is the one a search would find: the edge coefficient moves by
+        about the relative change of the width, so within the width search's tolerance
+        (``edge_tolerance`` cells) the kept width is the searched one."""
+        return abs(self.held_edge) <= self.options.edge_tolerance * self.h / a
 
     def _update_zones(self, x: np.ndarray, a: float) -> bool:
         """One zone update (see update_stick_and_shape); True when nothing changed."""
@@ -263,8 +275,10 @@ class HistoryBandContact(BandContact):
         floor = 1e-4 * mu * max(float(p.max()), 0.0) * a / self.e_star
         scale = max(float(np.abs(dw[inside]).max()) if inside.any() else 0.0, floor, 1e-300)
         back = (zone != 0.0) & (dw * zone < -REVERSAL_MARGIN * scale)
+        over &= ~self.settled_stuck  # stuck again twice in this step: it stays stuck
         zone[over] = -np.sign(q[over])
         zone[back] = 0.0
+        self.settled_stuck |= back & self.restuck
         self.restuck |= back
         zone[outside] = 0.0
         changed = int(np.count_nonzero(zone != self.zone))
@@ -298,19 +312,9 @@ class HistoryBandContact(BandContact):
             beta = self._edge_singularity(b, into_stick, deficit, p)
             if not math.isfinite(beta):
                 continue
-            last = self.secant.get(i)
-            # beta < 0: shrink the stick zone; beta grows by edge_slope per unit move into the stick
-            # side (the last steps' secants), a tenth of a cell until one is known
-            step = -into_stick * (beta / self.edge_slope if self.edge_slope > 0.0
-                                  else math.copysign(0.1 * self.h, beta))
-            if last is not None and last[1] != beta and last[0] != b:
-                step = -beta * (b - last[0]) / (beta - last[1])
-                slope = (beta - last[1]) / (into_stick * (b - last[0]))
-                if slope > 0.0:
-                    self.slopes = (self.slopes + [slope])[-8:]
-                    self.edge_slope = float(np.median(self.slopes))
-            step = float(np.clip(step, -0.5 * self.h, 0.5 * self.h))
-            self.secant[i] = (b, beta)
+            tries = self.secant.get(i, []) + [(b, beta)]
+            step = self._boundary_step(tries, into_stick)
+            self.secant[i] = tries
             moves.append(abs(step))
             self.bounds[i] = b + step
         order_kept = bool(np.all(np.diff(self.bounds) > 0.0))
@@ -324,6 +328,37 @@ class HistoryBandContact(BandContact):
             self.unsettled_steps.append(self.step_count)
             return True
         return settled
+
+    def _boundary_step(self, tries: list, into_stick: float) -> float:
+        """The next move of a boundary from its tries [(position, beta)] in this step, beta growing
+        with a move into the stick side: false position between the latest tries of either sign
+        once they bracket the root (halving the kept end's beta when the same end is kept twice,
+        Illinois), else a secant step while the last two tries show beta growing, else a step of
+        -beta / edge_slope (the median slope of the last secants; a tenth of a cell until one is
+        known). The edge fit's beta is not monotone everywhere (a locked-in edge of an earlier
+        slip within the fit's width): a secant through a falling stretch would throw the boundary
+        back and forth without end."""
+        b, beta = tries[-1]
+        u = [into_stick * t[0] for t in tries]  # positions along the move into the stick side
+        v = [t[1] for t in tries]
+        neg = [k for k in range(len(v)) if v[k] < 0.0]
+        pos = [k for k in range(len(v)) if v[k] > 0.0]
+        if neg and pos:
+            kn, kp = neg[-1], pos[-1]
+            vn, vp = v[kn], v[kp]
+            if len(v) > 2 and (v[-1] > 0.0) == (v[-2] > 0.0):  # the same end moved twice: Illinois
+                vn, vp = (0.5 * vn, vp) if v[-1] > 0.0 else (vn, 0.5 * vp)
+            target = u[kn] + (u[kp] - u[kn]) * (-vn) / (vp - vn)
+            step = into_stick * target - b
+        elif len(tries) > 1 and v[-1] != v[-2] and u[-1] != u[-2] and (v[-1] - v[-2]) / (u[-1] - u[-2]) > 0.0:
+            slope = (v[-1] - v[-2]) / (u[-1] - u[-2])
+            self.slopes = (self.slopes + [slope])[-8:]
+            self.edge_slope = float(np.median(self.slopes))
+            step = -into_stick * beta / slope
+        else:
+            step = -into_stick * (beta / self.edge_slope if self.edge_slope > 0.0
+                                  else math.copysign(0.1 * self.h, beta))
+        return float(np.clip(step, -0.5 * self.h, 0.5 * self.h))
 
     def _near_slip(self, zone: np.ndarray, b: float, into_stick: float, direction: float, a: float) -> bool:
         """Whether the zones ``zone`` (at the samples) slip along ``direction`` at the boundary b or
@@ -395,6 +430,13 @@ class HistoryBandContact(BandContact):
                 self.reversal[d] = (np.where(inside, self.friction * p_raw + d * q_raw, 0.0), self.zone.copy())
         self.w_prev = wt
         self.step_pressure = np.where(inside, p, 0.0)
+
+    def hold_step(self, x: np.ndarray, a: float, info) -> None:
+        """A step whose loads equal the last step's: the state is kept, its zones (the points of
+        the slip zones stay at Coulomb's limit) with no slip increment and no work."""
+        self.step_count += 1
+        self.step_increment = np.zeros(len(self.zone))
+        self.step_work = 0.0
 
     def _tie_offset(self, x: np.ndarray, shear: np.ndarray) -> np.ndarray:
         """(f_t - q) / L_tt at the samples: the tangential stretch of the tie whose traction
