@@ -1,0 +1,51 @@
+"""Conforming surfaces: a ball in a spherical socket with 1 % radial clearance. Their relative
+curvature 1/R1 - 1/R2 is a hundredth of each body's own; the contact frame measures it from the
+overlap of the two surfaces, not as the difference of the two bodies' curvatures."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ibfem.solver.contact.ellipse_geometry import contact_frame_3d
+from ibfem.solver.io.scene import scene_from_dict
+
+R1, R2 = 0.05, 0.0505
+
+
+def _revolution(origin, edges):
+    return {"type": "revolution", "axis_origin": origin, "axis": [0, 0, 1], "angle_deg": 90,
+            "profile": {"type": "profile", "edges": edges}}
+
+
+def _ball_in_socket(h: float) -> dict:
+    """The quarter model: the ball's lower half (centre 0.5 mm below the socket's) touching the
+    socket's cup at its lowest point."""
+    ball = _revolution([0, 0, R1 - R2], [
+        {"type": "line", "start": [0, 0], "end": [R1, 0], "name": "flat"},
+        {"type": "arc", "center": [0, 0], "radius": R1, "start_angle": 0, "end_angle": -90, "name": "dome"},
+        {"type": "line", "start": [0, -R1], "end": [0, 0], "name": "axis"}])
+    socket = _revolution([0, 0, 0], [
+        {"type": "line", "start": [0, -0.15], "end": [0.15, -0.15], "name": "bottom"},
+        {"type": "line", "start": [0.15, -0.15], "end": [0.15, 0], "name": "outside"},
+        {"type": "line", "start": [0.15, 0], "end": [R2, 0], "name": "rim"},
+        {"type": "arc", "center": [0, 0], "radius": R2, "start_angle": 0, "end_angle": -90, "name": "cup"},
+        {"type": "line", "start": [0, -R2], "end": [0, -0.15], "name": "axis"}])
+    body = lambda name, shape: {"name": name, "material": "steel", "element_size": h, "shape": shape}
+    return {"name": "ball_in_socket", "model": "solid",
+            "materials": [{"name": "steel", "youngs_modulus": 2e11, "poissons_ratio": 0.3}],
+            "bodies": [body("ball", ball), body("socket", socket)],
+            "boundary_conditions": [{"type": "fixed", "body": "socket", "face": "bottom"},
+                                    {"type": "displacement", "body": "ball", "face": "flat", "value": [0, 0, -1e-5]}],
+            "contacts": [{"bodies": ["ball", "socket"], "type": "frictionless", "point": [0, 0, -R2]}]}
+
+
+def test_relative_curvature_of_a_ball_in_a_socket():
+    """Both principal relative curvatures within 0.1 % of 1/R1 - 1/R2 (each body's own
+    curvature, about 20 1/m, is 100 times larger; their difference from the signed distances'
+    Hessians was 0.072 and 0.074 1/m against 0.198)."""
+    problem = scene_from_dict(_ball_in_socket(0.003125), label="ball_in_socket.toml").problem
+    frame = contact_frame_3d(problem.body("ball").profile, problem.body("socket").profile, np.array([0, 0, -R2]),
+                             0.003125)
+    np.testing.assert_allclose(frame.curvatures, 1 / R1 - 1 / R2, rtol=1e-3)
+    assert frame.normal @ np.array([0, 0, 1.0]) == pytest.approx(1.0, abs=1e-9)
