@@ -48,4 +48,24 @@ def test_relative_curvature_of_a_ball_in_a_socket():
     frame = contact_frame_3d(problem.body("ball").profile, problem.body("socket").profile, np.array([0, 0, -R2]),
                              0.003125)
     np.testing.assert_allclose(frame.curvatures, 1 / R1 - 1 / R2, rtol=1e-3)
+    # circular: the axes along the hint's (the quarter model's symmetry planes), not the fit's noise
+    assert frame.curvatures[0] == frame.curvatures[1]
+    np.testing.assert_allclose(np.abs(frame.axes), np.eye(3)[:2], atol=1e-12)
     assert frame.normal @ np.array([0, 0, 1.0]) == pytest.approx(1.0, abs=1e-9)
+
+
+def test_fitted_mesh_reference_follows_hertz_for_a_loose_socket():
+    """The axisymmetric fitted-mesh reference (solver/reference/ball_socket.py) where Hertz holds:
+    a ball of radius R1 = 0.05 m in a cup of radius 0.1 m (R* = 0.1 m), contact radius a = 2.3 mm
+    (a / R* = 0.023): a = (3 P R* / (4 E*))^(1/3) within 0.5 %, p0 = 3 P / (2 pi a^2) within 2.5 %
+    (Johnson eq. 4.22) at the reference's own force."""
+    pytest.importorskip("skfem")
+    from ibfem.solver.reference.ball_socket import ball_in_socket
+
+    young, nu = 2e11, 0.3
+    sol = ball_in_socket(R1, 0.1, young, nu, 5e-5, 0.15, 0.15, spacing_deg=0.1, fine_to_deg=8.0, layers=40)
+    e_star = young / (2 * (1 - nu**2))
+    r_star = 1 / (1 / R1 - 1 / 0.1)
+    a = (3 * sol.force * r_star / (4 * e_star)) ** (1 / 3)
+    assert sol.radius == pytest.approx(a, rel=5e-3)
+    assert sol.pressure[1] == pytest.approx(3 * sol.force / (2 * np.pi * a * a), rel=0.025)

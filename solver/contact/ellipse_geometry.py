@@ -143,11 +143,13 @@ def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
         own.append(float(np.abs(np.linalg.eigvalsh(0.5 * (h + h.T))).max()))
     k = 0.5 * (k + k.T)
     mid = 0.5 * (x1[0] + x2[0])
+    round_off = 1e-4  # the differences resolve ~1e-5 of the curvatures
     if float(np.abs(np.linalg.eigvalsh(k)).max()) < CONFORMAL_SHARE * max(own):
         step = min(2.0 * scale, 0.05 / max(own))  # within a twentieth of the bodies' smaller radius
         k = _overlap_curvature(solid1, solid2, ContactFrame3D(mid, normal, basis, np.zeros(2)), step)
+        round_off = CONFORMAL_ROUND_OFF
     values, vectors = np.linalg.eigh(k)  # ascending: the smaller curvature first
-    if abs(values[1] - values[0]) <= 1e-4 * max(abs(values).max(), 1e-300):  # the differences resolve ~1e-5
+    if abs(values[1] - values[0]) <= round_off * max(abs(values).max(), 1e-300):
         axes, curv = basis, np.array([values.mean(), values.mean()])  # circular: the hint's axes
     else:
         axes = vectors.T @ basis
@@ -160,6 +162,10 @@ def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
 #: the relative curvature below this share of a body's own: conforming surfaces (a ball in a
 #: socket), whose relative curvature is the small difference of the two bodies' large ones
 CONFORMAL_SHARE = 0.1
+#: the overlap's fit resolves conforming surfaces' relative curvatures to about 2e-4 of them (a
+#: ball in a socket: 0.19806 and 0.19810 1/m for 0.19802): closer than this share, the contact
+#: is circular (the hint's axes, not the fit's noise)
+CONFORMAL_ROUND_OFF = 2e-3
 
 
 def _overlap_curvature(solid1, solid2, frame: ContactFrame3D, t: float) -> np.ndarray:
