@@ -69,3 +69,34 @@ def test_fitted_mesh_reference_follows_hertz_for_a_loose_socket():
     a = (3 * sol.force * r_star / (4 * e_star)) ** (1 / 3)
     assert sol.radius == pytest.approx(a, rel=5e-3)
     assert sol.pressure[1] == pytest.approx(3 * sol.force / (2 * np.pi * a * a), rel=0.025)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="the conforming contact's region ends 2.6 % beyond the fitted-mesh radius and the "
+                   "run ends with tension at its edge samples (tests/scenes/ball_in_socket.toml)")
+def test_ball_in_socket_against_the_fitted_mesh_solution():
+    """The scene's contact radius (a circle: both semi-axes) within 1 % of the axisymmetric
+    fitted-mesh solution's at the 3D run's force (the reference's approach found by a secant)."""
+    pytest.importorskip("skfem")
+    from pathlib import Path
+
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.reference.ball_socket import ball_in_socket
+    from ibfem.solver.solving import solve
+
+    sol = solve(load_scene(Path(__file__).parent / "scenes" / "ball_in_socket.toml").problem)
+    c = sol.contacts[0]
+    load = 4.0 * c["normal_force"]  # the quarter model's share
+    run = lambda delta: ball_in_socket(R1, R2, 2e11, 0.3, delta, 0.15, 0.15, spacing_deg=0.2, fine_to_deg=30.0,
+                                       layers=40)
+    d0, r0 = 5e-5, run(5e-5)
+    d1 = d0 * (load / r0.force) ** (2 / 3)
+    r1 = run(d1)
+    for _ in range(4):
+        d0, r0, d1 = d1, r1, d1 + (load - r1.force) * (d1 - d0) / (r1.force - r0.force)
+        r1 = run(d1)
+        if abs(r1.force / load - 1) < 1e-6:
+            break
+    assert sol.converged, sol.iterations["messages"]
+    for semi_axis in c["semi_axes"]:
+        assert semi_axis == pytest.approx(r1.radius, rel=0.01)

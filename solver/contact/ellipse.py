@@ -444,13 +444,22 @@ def _pressure_centroid(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:
     return (wp @ pts.s) / total if total > 0.0 else np.full(2, np.nan)
 
 
+def plane_weights(c: EllipseContact, pts) -> np.ndarray:
+    """The quadrature weights (q,) as areas of the tangent plane, not of body 1's surface (its
+    weights times the cosine of the surface's tilt against the frame's normal): the edge
+    conditions are moments of the pressure over the plane's coordinates. The two differ by
+    1 / cos, 1 + (a / R)^2 / 2 at the edge of a contact of radius a on a ball of radius R: 0.1 % for
+    a / R = 0.045, 6 % for a conforming ball in a socket at a semi-angle of 20 degrees."""
+    return pts.weights * np.abs(pts.n1 @ c.frame.normal)
+
+
 def _edge_coefficients(c: EllipseContact, info, x: np.ndarray, a: float) -> tuple[float, float]:
     if info is None or a <= 0.0:
         return math.inf, math.inf
     pts = info[0]
     aa, bb = c.semi_axes(a)
     p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x), pts.normal)
-    wp = pts.weights * p
+    wp = plane_weights(c, pts) * p
     total = float(wp.sum())
     if not total > 0.0:
         return -math.inf, -math.inf

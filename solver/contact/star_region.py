@@ -33,7 +33,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
-                      is_flat_contact)
+                      is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
 from .roots import edge_search, settling_tolerance
 
@@ -205,7 +205,7 @@ class StarRegionContact(EllipseContact):
         r, phi = self.polar(pts.s, a)
         to_end = r / np.minimum(1.0, self.end_radius(phi, a))
         hat = _hats(self.knots, phi)  # (q, K)
-        wp = (pts.weights * p)[:, None] * hat
+        wp = (plane_weights(self, pts) * p)[:, None] * hat
         total = wp.sum(axis=0)
         # free: the knot's ray ends at body 1's free edge (outside body 1's sectors: no edge at all)
         self.free_knots = (self.end_radius(self.knots, a) < 1.0) | ~knots_inside(self.knots, self.ranges)
