@@ -220,11 +220,12 @@ def _solve_pairs(r1, r2, young, poisson, delta, theta, rho, ball, socket, max_it
     else:
         raise RuntimeError(f"the ball-in-socket active set did not settle in {max_iterations} iterations")
     t = theta[pairs]
-    # each pair's share of the surface: a ring of radius rho cos(theta) and half the arcs to its
-    # neighbours; the bottom pair a disc of half an interval's radius
+    # each pair's share of the surface, the integral of its hat function: a ring of radius
+    # rho cos(theta) and half the arcs to its neighbours; on the axis, the cone of the first
+    # interval's radius d: int_0^d (1 - r / d) 2 pi r dr = pi d^2 / 3
     arc = 0.5 * rho * (theta[pairs + 1] - np.concatenate([[t[0]], theta[pairs[1:] - 1]]))
     ring = 2.0 * math.pi * rho * np.cos(t) * arc
-    ring[0] = math.pi * (0.5 * rho[0] * (theta[1] - theta[0])) ** 2
+    ring[0] = math.pi * (rho[0] * (theta[1] - theta[0])) ** 2 / 3.0
     pressure = lam / ring
     force = float(np.sum(lam * -np.sin(t)))
     edge = _edge_angle(t, pressure)  # on the socket's rays: the ball's point there
