@@ -111,6 +111,7 @@ class ContactFrame3D:
     normal: np.ndarray  # (3,) outward normal of body 2
     axes: np.ndarray  # (2, 3) principal directions of the relative curvature
     curvatures: np.ndarray  # (2,) relative principal curvatures along the axes (1/R'_0 <= 1/R'_1)
+    conforming: bool = False  # the relative curvature a small difference of the bodies' own
 
 
 def tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
@@ -144,7 +145,8 @@ def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
     k = 0.5 * (k + k.T)
     mid = 0.5 * (x1[0] + x2[0])
     round_off = 1e-4  # the differences resolve ~1e-5 of the curvatures
-    if float(np.abs(np.linalg.eigvalsh(k)).max()) < CONFORMAL_SHARE * max(own):
+    conforming = float(np.abs(np.linalg.eigvalsh(k)).max()) < CONFORMAL_SHARE * max(own)
+    if conforming:
         step = min(2.0 * scale, 0.05 / max(own))  # within a twentieth of the bodies' smaller radius
         k = _overlap_curvature(solid1, solid2, ContactFrame3D(mid, normal, basis, np.zeros(2)), step)
         round_off = CONFORMAL_ROUND_OFF
@@ -156,7 +158,7 @@ def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
         curv = values
     if np.cross(axes[0], axes[1]) @ normal < 0.0:
         axes = np.array([axes[0], -axes[1]])
-    return ContactFrame3D(point=mid, normal=normal, axes=axes, curvatures=curv)
+    return ContactFrame3D(point=mid, normal=normal, axes=axes, curvatures=curv, conforming=conforming)
 
 
 #: the relative curvature below this share of a body's own: conforming surfaces (a ball in a
@@ -447,8 +449,13 @@ def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoin
     g1 = _gradient(solid1.signed_distance, x1, step)
     n1 = -g1 / np.maximum(np.linalg.norm(g1, axis=1), 1e-300)[:, None]
     x2, n2 = closest_on(solid2, x1, step, sweeps=2)
-    return RegionPoints(s=s, x1=x1, x2=x2, n1=n1, n2=n2, weights=weights,
-                        normal=np.broadcast_to(frame.normal, x1.shape).copy())
+    # the contact's normal: the frame's (the small slopes of a contact small against the radii,
+    # as in Hertz's theory), or on conforming surfaces, whose contact spans a large angle, body
+    # 2's at each point (the closest point's gap runs along it)
+    normal = np.broadcast_to(frame.normal, x1.shape).copy()
+    if frame.conforming:
+        normal = np.where((n2 @ frame.normal > 0.5)[:, None], n2, normal)
+    return RegionPoints(s=s, x1=x1, x2=x2, n1=n1, n2=n2, weights=weights, normal=normal)
 
 
 def _ellipse_panels(ranges, a: float, b: float, panel: float) -> tuple[list, list]:
