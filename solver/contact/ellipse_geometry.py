@@ -111,6 +111,7 @@ class ContactFrame3D:
     normal: np.ndarray  # (3,) outward normal of body 2
     axes: np.ndarray  # (2, 3) principal directions of the relative curvature
     curvatures: np.ndarray  # (2,) relative principal curvatures along the axes (1/R'_0 <= 1/R'_1)
+    conforming: bool = False  # the relative curvature a small difference of the bodies' own
 
 
 def tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
@@ -136,20 +137,61 @@ def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
     basis = tangent_basis(normal, tangential_direction)
     hstep = 1e-2 * scale
     k = np.zeros((2, 2))
+    own = []
     for solid, x, other in ((solid1, x1[0], centres[1]), (solid2, x2[0], centres[0])):
         h = _hessian(solid.signed_distance, smooth_point(solid, x, hstep, other - x), hstep)
         k -= basis @ h @ basis.T
+        own.append(float(np.abs(np.linalg.eigvalsh(0.5 * (h + h.T))).max()))
     k = 0.5 * (k + k.T)
+    mid = 0.5 * (x1[0] + x2[0])
+    round_off = 1e-4  # the differences resolve ~1e-5 of the curvatures
+    conforming = float(np.abs(np.linalg.eigvalsh(k)).max()) < CONFORMAL_SHARE * max(own)
+    if conforming:
+        step = min(2.0 * scale, 0.05 / max(own))  # within a twentieth of the bodies' smaller radius
+        k = _overlap_curvature(solid1, solid2, ContactFrame3D(mid, normal, basis, np.zeros(2)), step)
+        round_off = CONFORMAL_ROUND_OFF
     values, vectors = np.linalg.eigh(k)  # ascending: the smaller curvature first
-    if abs(values[1] - values[0]) <= 1e-4 * max(abs(values).max(), 1e-300):  # the differences resolve ~1e-5
+    if abs(values[1] - values[0]) <= round_off * max(abs(values).max(), 1e-300):
         axes, curv = basis, np.array([values.mean(), values.mean()])  # circular: the hint's axes
     else:
         axes = vectors.T @ basis
         curv = values
     if np.cross(axes[0], axes[1]) @ normal < 0.0:
         axes = np.array([axes[0], -axes[1]])
-    mid = 0.5 * (x1[0] + x2[0])
-    return ContactFrame3D(point=mid, normal=normal, axes=axes, curvatures=curv)
+    return ContactFrame3D(point=mid, normal=normal, axes=axes, curvatures=curv, conforming=conforming)
+
+
+#: the relative curvature below this share of a body's own: conforming surfaces (a ball in a
+#: socket), whose relative curvature is the small difference of the two bodies' large ones
+CONFORMAL_SHARE = 0.1
+#: the overlap's fit resolves conforming surfaces' relative curvatures to about 2e-4 of them (a
+#: ball in a socket: 0.19806 and 0.19810 1/m for 0.19802): closer than this share, the contact
+#: is circular (the hint's axes, not the fit's noise)
+CONFORMAL_ROUND_OFF = 2e-3
+
+
+def _overlap_curvature(solid1, solid2, frame: ContactFrame3D, t: float) -> np.ndarray:
+    """(2, 2) the relative curvature K of conforming surfaces in the frame's basis, from the overlap
+    O(s) = phi_2(x_1(s)) of body 1's surface points in body 2 over the tangent-plane coordinates s
+    (O = O0 + g.s - 1/2 s^T K s + higher terms): a least-squares quartic in s on rings of radius
+    t, 2t, 3t, 4t, 48 points each, where body 1 has surface (a symmetric model's sector is
+    enough). The bodies' own curvatures (each 1/R) cancel to 1/R1 - 1/R2 there: taken
+    one by one from the signed distances' Hessians at a small step, their round-off (about 1e-10 m
+    of distance) would be most of the difference."""
+    angle = np.deg2rad(3.75 + 7.5 * np.arange(48))  # off a quarter model's symmetry planes
+    radius = t * np.repeat(np.arange(1.0, 5.0), len(angle))
+    s = np.vstack([np.zeros((1, 2)), radius[:, None] * np.tile(np.stack([np.cos(angle), np.sin(angle)], 1), (4, 1))])
+    x1, ok = surface_point(solid1, frame, s, 20.0 * t)
+    u = s[ok] / t
+    powers = [(i, n - i) for n in range(5) for i in range(n + 1)]  # the 15 monomials of degree <= 4
+    if len(u) < 2 * len(powers):
+        raise ValueError(f"conforming surfaces at {np.round(frame.point, 6).tolist()}: body 1 has surface at only "
+                         f"{len(u)} of {len(s)} points within {4.0 * t:.3g} m of the contact point, too few to "
+                         "measure their relative curvature")
+    design = np.stack([u[:, 0] ** i * u[:, 1] ** j for i, j in powers], axis=1)
+    c = np.linalg.lstsq(design, np.asarray(solid2.signed_distance(x1[ok]), float), rcond=None)[0]
+    c20, c11, c02 = (c[powers.index(p)] for p in ((2, 0), (1, 1), (0, 2)))
+    return -np.array([[2.0 * c20, c11], [c11, 2.0 * c02]]) / t**2
 
 
 #: secant rounds of the fast path before a line goes through the scan
@@ -407,8 +449,13 @@ def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoin
     g1 = _gradient(solid1.signed_distance, x1, step)
     n1 = -g1 / np.maximum(np.linalg.norm(g1, axis=1), 1e-300)[:, None]
     x2, n2 = closest_on(solid2, x1, step, sweeps=2)
-    return RegionPoints(s=s, x1=x1, x2=x2, n1=n1, n2=n2, weights=weights,
-                        normal=np.broadcast_to(frame.normal, x1.shape).copy())
+    # the contact's normal: the frame's (the small slopes of a contact small against the radii,
+    # as in Hertz's theory), or on conforming surfaces, whose contact spans a large angle, body
+    # 2's at each point (the closest point's gap runs along it)
+    normal = np.broadcast_to(frame.normal, x1.shape).copy()
+    if frame.conforming:
+        normal = np.where((n2 @ frame.normal > 0.5)[:, None], n2, normal)
+    return RegionPoints(s=s, x1=x1, x2=x2, n1=n1, n2=n2, weights=weights, normal=normal)
 
 
 def _ellipse_panels(ranges, a: float, b: float, panel: float) -> tuple[list, list]:

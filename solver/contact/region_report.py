@@ -126,7 +126,7 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     aa, bb = c.semi_axes(a)
     out = {"bodies": list(c.model.bodies), "type": c.kind, "friction": float(getattr(c.model, "friction", 0.0) or 0.0),
            "point": frame.point.tolist(), "normal": frame.normal.tolist(), "axes": frame.axes.tolist(),
-           "region_shape": "star-shaped (line contact)", "scales": [float(aa), float(bb)],
+           "region_shape": "star-shaped (flat contact)" if c.isotropic else "star-shaped (line contact)", "scales": [float(aa), float(bb)],
            "region_centre": [float(v) for v in c.centre], "model_share": sector_share(c.ranges),
            "relative_curvatures": [float(k) for k in frame.curvatures],
            "normal_force": float(-on2 @ frame.normal),

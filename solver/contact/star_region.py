@@ -32,11 +32,13 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from .ellipse import PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state
+from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
+                      is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
 from .roots import edge_search, settling_tolerance
 
-__all__ = ["StarRegionContact", "free_edge_distance", "knots_inside", "KNOTS", "KNOT_TOLERANCE"]
+__all__ = ["StarRegionContact", "configure_star_region", "free_edge_distance", "knots_inside", "KNOTS",
+           "KNOT_TOLERANCE"]
 
 #: knots of the edge's spline over the full turn (15 degrees apart)
 KNOTS = 24
@@ -87,6 +89,7 @@ class StarRegionContact(EllipseContact):
     across the line, ``length`` the fixed scale A along it."""
 
     length: float = 1.0
+    isotropic: bool = False  # a flat contact: A = B, both the size the search finds
     knots: np.ndarray = field(default_factory=lambda: np.linspace(0.0, 2.0 * math.pi, KNOTS, endpoint=False))
     log_rho: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS))
     edge_psi: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -100,7 +103,7 @@ class StarRegionContact(EllipseContact):
     # ------------------------------------------------------------------ the region's shape
 
     def semi_axes(self, a: float) -> tuple[float, float]:
-        return self.length, a
+        return (a, a) if self.isotropic else (self.length, a)
 
     @property
     def inside_knots(self) -> np.ndarray:
@@ -155,7 +158,8 @@ class StarRegionContact(EllipseContact):
     # -------------------------------------------------- the formulation protocol
 
     def next_region(self, a: float, load_ratio: float) -> float:
-        return max(a * load_ratio ** 0.5, 2.0 * self.h)  # a line contact's width grows as sqrt(load)
+        # a line contact's width grows as sqrt(load); a flat contact's radius less than a sphere's
+        return max(a * load_ratio ** (1.0 / 3.0 if self.isotropic else 0.5), 2.0 * self.h)
 
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
         a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / float(np.exp(self.log_rho.max()))
@@ -163,8 +167,9 @@ class StarRegionContact(EllipseContact):
         return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
 
     def region_too_small(self) -> ValueError:
-        return ValueError(f"{self.name}: the contact region reaches the candidate region's edge ({self.extent:.4g} m) "
-                          "across the line and still penetrates; enlarge the contact refinement radius")
+        where = "" if self.isotropic else " across the line"
+        return ValueError(f"{self.name}: the contact region reaches the candidate region's edge ({self.extent:.4g} m)"
+                          f"{where} and still penetrates; enlarge the contact refinement radius")
 
     def judge(self, x: np.ndarray, a: float, info):
         gap, pressure, inside, edge_dist = _sample_state(self, x, a)
@@ -175,8 +180,11 @@ class StarRegionContact(EllipseContact):
         # pressure has a normalised moment dominated by noise: it must not steer the size)
         v.edge = self._pooled(smooth)
         v.edges = (v.edge, v.edge)
-        over = (gap < 0.0) & ~inside & (self.sample_axis == 1)
-        v.overlap = float(np.abs(self.local(self.samples.s)[over, 1]).max()) if over.any() else math.nan
+        # the overlap's reach beyond the region: across the line, or from the centre (a flat contact)
+        over = (gap < 0.0) & ~inside & ((self.sample_axis == 1) | self.isotropic)
+        local = self.local(self.samples.s)[over]
+        reach = np.hypot(local[:, 0], local[:, 1]) if self.isotropic else np.abs(local[:, 1])
+        v.overlap = float(reach.max()) if over.any() else math.nan
         return v
 
     def _pooled(self, smooth: np.ndarray) -> float:
@@ -197,7 +205,7 @@ class StarRegionContact(EllipseContact):
         r, phi = self.polar(pts.s, a)
         to_end = r / np.minimum(1.0, self.end_radius(phi, a))
         hat = _hats(self.knots, phi)  # (q, K)
-        wp = (pts.weights * p)[:, None] * hat
+        wp = (plane_weights(self, pts) * p)[:, None] * hat
         total = wp.sum(axis=0)
         # free: the knot's ray ends at body 1's free edge (outside body 1's sectors: no edge at all)
         self.free_knots = (self.end_radius(self.knots, a) < 1.0) | ~knots_inside(self.knots, self.ranges)
@@ -323,6 +331,25 @@ def _filled_outside(distance: np.ndarray) -> np.ndarray:
     gap = np.abs(np.arange(n)[:, None] - inside[None, :])
     nearest = inside[np.argmin(np.minimum(gap, n - gap), axis=1)]
     return np.where(distance > 0.0, distance, distance[nearest])
+
+
+def configure_star_region(c: StarRegionContact) -> StarRegionContact:
+    """Set up a region of general shape: a flat contact (both relative curvatures 0) or a line
+    contact."""
+    return configure_flat_contact(c) if is_flat_contact(c.frame, c.extent) else configure_line_contact(c)
+
+
+def configure_flat_contact(c: StarRegionContact) -> StarRegionContact:
+    """A flat contact: the scales A = B both the size the search finds, the first edge a circle
+    (rho = 1), body 1's free edges located as for a line contact (a punch's sharp corner ends the
+    region there: complete contact)."""
+    c.edge_psi, distance = free_edge_distance(c.solids[0], c.frame, c.ranges, c.reach, c.extent, c.h)
+    c.edge_distance = _filled_outside(distance)
+    c.isotropic = True
+    c.log_rho = np.zeros(len(c.knots))
+    c.ratio = 1.0
+    c.circular = False
+    return c
 
 
 def configure_line_contact(c: StarRegionContact) -> StarRegionContact:

@@ -1,4 +1,4 @@
-"""The picture of a 3D contact region of general shape (a line contact): the pressure's cell means
+"""The picture of a 3D contact region of general shape (a line or flat contact): the pressure's cell means
 over the patch in the tangent plane with the region's boundary (free edges, where the contact is
 complete, marked), and the cell means along both axes."""
 
