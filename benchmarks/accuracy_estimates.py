@@ -2,9 +2,12 @@
 coarse, Richardson with the orders of solver.model.accuracy) beside the true error on the shipped
 examples: 2D contacts against Hertz for the computed force (a; the peak pressure p0; c against
 Cattaneo-Mindlin's c/a times Hertz's a for the computed forces), 3D circular contacts against
-Hertz for the computed force (a, p0). Each scene solved in this process: the solve's and the
-estimate's wall time are both printed (the estimate's cost). Prints a markdown table
-(docs/accuracy.md).
+Hertz for the computed force (a, p0) and Mindlin's stick radius for the computed forces (c). Each scene solved in this process: the solve's and the
+estimate's wall time are both printed (the estimate's cost). The rounded flat punches against
+their half-plane closed form (Ciavarella, Hills and Monno 1998: a for the computed force; flat
+half-width 0.01 m, edge radius 1 m as the scenes say) and the pin in a bore against Persson's
+contact angle for the computed load (pin radius 0.5 m, clearance 0.5 mm). Prints a markdown
+table (docs/accuracy.md).
 
     python benchmarks/accuracy_estimates.py examples/mesh_convergence.toml ...
 """
@@ -22,6 +25,8 @@ import numpy as np
 
 from ibfem.solver.io.scene import load_scene
 from ibfem.solver.reference import theory
+from ibfem.solver.reference.pin import pin_in_bore_angle
+from ibfem.solver.reference.punch import rounded_punch_half_width
 from ibfem.solver.reports.validate import effective_properties
 from ibfem.solver.solving import estimate_errors, solve
 
@@ -42,6 +47,30 @@ def true_errors_2d(problem, c: dict) -> dict:
     return out
 
 
+def _e_star(problem, c: dict) -> float:
+    return effective_properties(problem, c)[1]
+
+
+def true_errors_punch(problem, c: dict, share: float) -> dict:
+    """a against the rounded flat punch's closed form for the computed force (``share``: the
+    model's part of the whole punch, 0.5 for a half model)."""
+    a_ref = rounded_punch_half_width(float(c["normal_force"]) / share, 0.01, 1.0, _e_star(problem, c))
+    return {"half_width": float(c["half_width"]) / a_ref - 1.0}
+
+
+def true_errors_pin(problem, c: dict) -> dict:
+    """a (the chord on the pin) against Persson's contact semi-angle for the computed load."""
+    radius, clearance = 0.5, 5e-4
+    angle = pin_in_bore_angle(float(c["normal_force"]), clearance, _e_star(problem, c))
+    return {"half_width": float(c["half_width"]) / (2.0 * radius * math.sin(0.5 * angle)) - 1.0}
+
+
+#: the shipped examples with their own exact references (by file stem)
+SPECIAL = {"rounded_punch": lambda pr, c: true_errors_punch(pr, c, 1.0),
+           "rounded_punch_half": lambda pr, c: true_errors_punch(pr, c, 0.5),
+           "pin_in_bore": true_errors_pin}
+
+
 def true_errors_3d(problem, c: dict) -> dict:
     """Relative errors of the semi-axes and p0 against Hertz for the computed force (circular contacts)."""
     share = float(c.get("model_share", 1.0))
@@ -52,8 +81,14 @@ def true_errors_3d(problem, c: dict) -> dict:
         return {}
     n_full = float(c["normal_force"]) / share
     a_h = theory.hertz_sphere_radius(n_full, 1.0 / curv[0], e_star)
-    return {"semi_axes": [s / a_h - 1.0 for s in c["semi_axes"]],
-            "max_pressure": c["max_pressure"] / theory.hertz_sphere_peak_pressure(n_full, a_h) - 1.0}
+    out = {"semi_axes": [s / a_h - 1.0 for s in c["semi_axes"]],
+           "max_pressure": c["max_pressure"] / theory.hertz_sphere_peak_pressure(n_full, a_h) - 1.0}
+    q = float(np.hypot(*c["tangential_force"])) / share
+    if c["type"] == "frictional" and q > 0.0:  # Mindlin's stick radius for the computed forces
+        ratio = theory.mindlin_sphere_stick_ratio(q, n_full, float(c["friction"]))
+        if ratio > 0.0:
+            out["stick_semi_axes"] = [s / (ratio * a_h) - 1.0 for s in c["stick_semi_axes"]]
+    return out
 
 
 def _pct(v) -> str:
@@ -76,7 +111,8 @@ def main(argv: list[str]) -> int:
         estimate_errors(scene.problem, solution)
         t2 = time.perf_counter()
         for c in solution.contacts:
-            true = (true_errors_3d if scene.problem.dim == 3 else true_errors_2d)(scene.problem, c)
+            exact = SPECIAL.get(path.stem) or (true_errors_3d if scene.problem.dim == 3 else true_errors_2d)
+            true = exact(scene.problem, c)
             row = {"scene": str(path), "solve_s": t1 - t0, "estimate_s": t2 - t1, "type": c["type"],
                    "estimated": c.get("estimated_error"), "true": true}
             rows.append(row)
