@@ -2,9 +2,15 @@
 coarse, Richardson with the orders of solver.model.accuracy) beside the true error on the shipped
 examples: 2D contacts against Hertz for the computed force (a; the peak pressure p0; c against
 Cattaneo-Mindlin's c/a times Hertz's a for the computed forces), 3D circular contacts against
-Hertz for the computed force (a, p0). Each scene solved in this process: the solve's and the
-estimate's wall time are both printed (the estimate's cost). Prints a markdown table
-(docs/accuracy.md).
+Hertz for the computed force (a, p0; elliptical contacts with Johnson's elliptic integrals) and Mindlin's stick radius for the computed forces (c). Each scene solved in this process: the solve's and the
+estimate's wall time are both printed (the estimate's cost). The rounded flat punches against
+their half-plane closed form (Ciavarella, Hills and Monno 1998: a for the computed force; flat
+half-width 0.01 m, edge radius 1 m as the scenes say) and the pin in a bore against Persson's
+contact angle for the computed load (pin radius 0.5 m, clearance 0.5 mm). Prints a markdown
+table (docs/accuracy.md). With ``--limits`` each scene is also solved on a grid 4 times as
+coarse, and a second table gives each size's Richardson limit from the three grids (observed
+order), the limit against the reference and the fine grid's error against the limit beside the
+estimate.
 
     python benchmarks/accuracy_estimates.py examples/mesh_convergence.toml ...
 """
@@ -22,8 +28,10 @@ import numpy as np
 
 from ibfem.solver.io.scene import load_scene
 from ibfem.solver.reference import theory
+from ibfem.solver.reference.pin import pin_in_bore_angle
+from ibfem.solver.reference.punch import rounded_punch_half_width
 from ibfem.solver.reports.validate import effective_properties
-from ibfem.solver.solving import estimate_errors, solve
+from ibfem.solver.solving import coarser, estimate_errors, solve
 
 
 def true_errors_2d(problem, c: dict) -> dict:
@@ -42,18 +50,51 @@ def true_errors_2d(problem, c: dict) -> dict:
     return out
 
 
+def _e_star(problem, c: dict) -> float:
+    return effective_properties(problem, c)[1]
+
+
+def true_errors_punch(problem, c: dict, share: float) -> dict:
+    """a against the rounded flat punch's closed form for the computed force (``share``: the
+    model's part of the whole punch, 0.5 for a half model)."""
+    a_ref = rounded_punch_half_width(float(c["normal_force"]) / share, 0.01, 1.0, _e_star(problem, c))
+    return {"half_width": float(c["half_width"]) / a_ref - 1.0}
+
+
+def true_errors_pin(problem, c: dict) -> dict:
+    """a (the chord on the pin) against Persson's contact semi-angle for the computed load."""
+    radius, clearance = 0.5, 5e-4
+    angle = pin_in_bore_angle(float(c["normal_force"]), clearance, _e_star(problem, c))
+    return {"half_width": float(c["half_width"]) / (2.0 * radius * math.sin(0.5 * angle)) - 1.0}
+
+
+#: the shipped examples with their own exact references (by file stem)
+SPECIAL = {"rounded_punch": lambda pr, c: true_errors_punch(pr, c, 1.0),
+           "rounded_punch_half": lambda pr, c: true_errors_punch(pr, c, 0.5),
+           "pin_in_bore": true_errors_pin}
+
+
 def true_errors_3d(problem, c: dict) -> dict:
     """Relative errors of the semi-axes and p0 against Hertz for the computed force (circular contacts)."""
     share = float(c.get("model_share", 1.0))
     mats = [problem.body(n).material for n in c["bodies"]]
     e_star = 1.0 / sum((1 - m.poissons_ratio ** 2) / m.youngs_modulus for m in mats)
     curv = c.get("relative_curvatures") or [math.nan, math.nan]
-    if abs(curv[0] - curv[1]) > 1e-3 * abs(curv[0]):
-        return {}
     n_full = float(c["normal_force"]) / share
+    if abs(curv[0] - curv[1]) > 1e-3 * abs(curv[0]):  # an ellipse: a along the smaller curvature
+        major, minor, p0 = theory.hertz_elliptic_contact(n_full, tuple(curv), e_star)
+        axes = [major, minor] if curv[0] < curv[1] else [minor, major]
+        return {"semi_axes": [s / r - 1.0 for s, r in zip(c["semi_axes"], axes)],
+                "max_pressure": c["max_pressure"] / p0 - 1.0}
     a_h = theory.hertz_sphere_radius(n_full, 1.0 / curv[0], e_star)
-    return {"semi_axes": [s / a_h - 1.0 for s in c["semi_axes"]],
-            "max_pressure": c["max_pressure"] / theory.hertz_sphere_peak_pressure(n_full, a_h) - 1.0}
+    out = {"semi_axes": [s / a_h - 1.0 for s in c["semi_axes"]],
+           "max_pressure": c["max_pressure"] / theory.hertz_sphere_peak_pressure(n_full, a_h) - 1.0}
+    q = float(np.hypot(*c["tangential_force"])) / share
+    if c["type"] == "frictional" and q > 0.0:  # Mindlin's stick radius for the computed forces
+        ratio = theory.mindlin_sphere_stick_ratio(q, n_full, float(c["friction"]))
+        if ratio > 0.0:
+            out["stick_semi_axes"] = [s / (ratio * a_h) - 1.0 for s in c["stick_semi_axes"]]
+    return out
 
 
 def _pct(v) -> str:
@@ -62,10 +103,58 @@ def _pct(v) -> str:
     return "n/a" if v is None or not math.isfinite(v) else f"{100 * v:.3g} %"
 
 
+SIZES = ("half_width", "stick_half_width", "semi_axes", "stick_semi_axes")
+
+
+def _sizes(block: dict) -> dict:
+    """The contact's sizes as lists (one value per axis)."""
+    out = {}
+    for key in SIZES:
+        v = block.get(key)
+        values = [float(x) for x in (v if isinstance(v, list) else [v])] if v is not None else []
+        if values and all(x > 0.0 for x in values):
+            out[key] = values
+    return out
+
+
+def limit_rows(scene, solution) -> list[dict]:
+    """Each size of the first contact on the scene's grid and on grids 2 and 4 times as coarse,
+    with its Richardson limit from the three (observed order)."""
+    blocks = [solution.contacts[0]] + [solve(coarser(scene.problem, f)).contacts[0] for f in (2.0, 4.0)]
+    rows = []
+    for key, fine in _sizes(blocks[0]).items():
+        for k, f0 in enumerate(fine):
+            f1, f2 = (_sizes(b)[key][k] for b in blocks[1:])
+            d_fine, d_coarse = f0 - f1, f1 - f2
+            order = math.log2(d_coarse / d_fine) if d_fine and d_coarse / d_fine > 1.0 else math.nan
+            limit = f0 + d_fine / (2.0 ** order - 1.0) if math.isfinite(order) else math.nan
+            rows.append({"quantity": key, "axis": k, "values": [f0, f1, f2], "order": order, "limit": limit})
+    return rows
+
+
+def _print_limits(rows: list[dict]) -> None:
+    print("\n| example | quantity | grid, 2x, 4x coarser (m) | observed order | Richardson limit (m) | limit against the "
+          "reference | fine grid against the limit | estimated | estimated / (fine against limit) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        for lim in r.get("limits", []):
+            key, k = lim["quantity"], lim["axis"]
+            true, est = r["true"].get(key), (r["estimated"] or {}).get(key)
+            true = true[k] if isinstance(true, list) else true
+            est = est[k] if isinstance(est, list) else est
+            f0 = lim["values"][0]
+            against = lim["limit"] / (f0 / (1.0 + true)) - 1.0 if true is not None else math.nan
+            fine = f0 / lim["limit"] - 1.0
+            ratio = f"{est / abs(fine):.2g}" if est is not None and fine else "n/a"
+            print(f"| {Path(r['scene']).stem} | {key} | {', '.join(f'{v:.6g}' for v in lim['values'])} | "
+                  f"{lim['order']:.2f} | {lim['limit']:.6g} | {_pct(against)} | {_pct(fine)} | {_pct(est)} | {ratio} |")
+
+
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", nargs="+", type=Path)
     ap.add_argument("--json", type=Path, default=None)
+    ap.add_argument("--limits", action="store_true", help="also solve 4x coarser: the sizes' three-grid limits")
     args = ap.parse_args(argv)
     rows = []
     for path in args.scenes:
@@ -76,9 +165,12 @@ def main(argv: list[str]) -> int:
         estimate_errors(scene.problem, solution)
         t2 = time.perf_counter()
         for c in solution.contacts:
-            true = (true_errors_3d if scene.problem.dim == 3 else true_errors_2d)(scene.problem, c)
+            exact = SPECIAL.get(path.stem) or (true_errors_3d if scene.problem.dim == 3 else true_errors_2d)
+            true = exact(scene.problem, c)
             row = {"scene": str(path), "solve_s": t1 - t0, "estimate_s": t2 - t1, "type": c["type"],
-                   "estimated": c.get("estimated_error"), "true": true}
+                   "estimated": c.get("estimated_error"), "note": c.get("estimate_note"), "true": true}
+            if args.limits and c is solution.contacts[0]:
+                row["limits"] = limit_rows(scene, solution)
             rows.append(row)
             print(json.dumps(row, default=float), flush=True)
     print("\n| example | quantity | true error | estimated | estimated / true | solve (s) | estimate (s) |")
@@ -88,8 +180,11 @@ def main(argv: list[str]) -> int:
             est = (r["estimated"] or {}).get(key)
             ts, es = (true if isinstance(true, list) else [true]), (est if isinstance(est, list) else [est])
             ratio = " / ".join("n/a" if e is None or not t else f"{e / abs(t):.2f}" for e, t in zip(es, ts))
-            print(f"| {Path(r['scene']).stem} | {key} | {_pct(true)} | {_pct(est)} | {ratio} | "
+            shown = _pct(est) if r["estimated"] is not None else f"none: {r.get('note')}"
+            print(f"| {Path(r['scene']).stem} | {key} | {_pct(true)} | {shown} | {ratio} | "
                   f"{r['solve_s']:.1f} | {r['estimate_s']:.1f} |")
+    if args.limits:
+        _print_limits(rows)
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1, default=float))
     return 0

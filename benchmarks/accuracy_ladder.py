@@ -79,7 +79,9 @@ def main(argv: list[str]) -> int:
         prev = r["a"]
     good = [r for r in rows if "a" in r]
     if len(good) >= 3:
-        for key in ("a", "N"):
+        for key in ("a", "N", "p0"):
+            if any(r.get(key) is None for r in good):
+                continue
             lim, p = richardson([r[key] for r in good])
             print(f"Richardson {key} (last three rungs): {lim:.7g}, observed order {p:.2f}")
     if args.json:

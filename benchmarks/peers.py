@@ -153,7 +153,7 @@ def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> 
     summary = json.loads((out / "summary.json").read_text())
     contact = summary["contacts"][0]
     a = contact["semi_axes"][0] if "semi_axes" in contact else contact["half_width"]
-    row.update(converged=bool(summary["converged"]), a=a, N=contact["normal_force"],
+    row.update(converged=bool(summary["converged"]), a=a, N=contact["normal_force"], p0=contact.get("max_pressure"),
                dofs=sum(b["dofs"] for b in summary["bodies"].values()),
                iterations=summary["iterations"]["total"], solver_s=summary["timings"].get("solver_total_s"))
     return row

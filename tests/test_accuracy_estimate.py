@@ -32,6 +32,24 @@ def test_richardson_exact_at_the_assumed_order(key):
         assert relative_errors({key: fine}, {key: coarse})[key] == pytest.approx(abs(fine - q) / fine, rel=1e-9)
 
 
+@pytest.mark.parametrize("dim", [2, 3])
+def test_peak_pressure_carries_the_region_size_error(dim):
+    # Hertz's relation at a fixed force, p0 = 2 N / (pi a) in 2D and 3 N / (2 pi a b) in 3D, with the
+    # region's size converging at order 3/2: the peak pressure's true error is the size's (2D) or
+    # twice it (3D), which p0's own two-grid difference at order 2 underestimates by (2^1.5 - 1) / 3
+    force, size, c = 1.0e8, 0.04, 0.5
+
+    def block(h):
+        a = size * (1.0 + c * h ** 1.5)
+        p0 = 2.0 * force / (math.pi * a) if dim == 2 else 3.0 * force / (2.0 * math.pi * a * a)
+        return ({"half_width": a} if dim == 2 else {"semi_axes": [a, a]}) | {"max_pressure": p0}
+
+    exact = 2.0 * force / (math.pi * size) if dim == 2 else 3.0 * force / (2.0 * math.pi * size * size)
+    fine = block(0.01)
+    est = relative_errors(fine, block(0.02))["max_pressure"]
+    assert est == pytest.approx(abs(fine["max_pressure"] / exact - 1.0), rel=0.02)
+
+
 def test_quantities_of_a_block():
     block = {"type": "frictionless", "half_width": 0.03, "stick_half_width": 0.0, "normal_force": 1e8,
              "pressure": {"s": [-0.01, 0.0, 0.01], "value": [1.0e9, 2.0e9, 1.5e9]}, "max_von_mises": 1.1e9}

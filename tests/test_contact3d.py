@@ -169,3 +169,18 @@ def test_points_on_symmetry_planes_lie_on_the_exact_dome(angle):
     assert not surface_point(ball, frame, outside, 0.05)[1].any()
     share = sum(t1 - t0 for t0, t1 in sectors(ball, frame, 0.002, 0.05)) / (2 * np.pi)
     assert share == pytest.approx(angle / 360.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("ranges, images", [
+    ([(0.0, 0.5 * np.pi)], [(-1, 1), (1, -1), (-1, -1)]),  # a quarter model: both axes are symmetry lines
+    ([(0.0, np.pi)], [(1, -1)]),  # a half model above the first axis
+    ([(1.5 * np.pi, 2.0 * np.pi), (0.0, 0.5 * np.pi)], [(-1, 1)]),  # a half model right of the second axis
+    ([(0.0, 2.0 * np.pi)], []),  # a whole model
+])
+def test_symmetry_reflections_map_a_model_part_onto_the_whole_contact(ranges, images):
+    from ibfem.solver.contact.ellipse_report import symmetry_reflections
+
+    maps = symmetry_reflections(ranges)
+    point = np.array([0.3, 0.7])
+    got = sorted(tuple(np.round(m @ point / point, 12)) for m in maps)
+    assert got == sorted(images)

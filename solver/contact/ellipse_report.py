@@ -4,7 +4,12 @@ forces, and the pressure and shear along both axes.
 The band traction at the quadrature points oscillates from cell to cell (trilinear fields) while
 its integrals are accurate; the profiles written are its weighted least-squares fit by
 sqrt(1 - X^2 - Y^2) times a quadratic in (X, Y) = (s0 / a, s1 / b) (Hertz's pressure is the
-constant term), evaluated along the axes and clipped to compression.
+constant term), evaluated along the axes and clipped to compression. A half or quarter model's
+points are fitted with their mirror images in its symmetry planes (the sector's boundary lines
+around the contact point): on the model's part alone the odd terms (X, Y, XY) are nearly
+indistinguishable from the even ones over a quadrant and take up the traction's scatter (measured
+on the quarter sphere on a flat: X and Y terms of -8 % of the constant term, the peak 1.7 % above
+Hertz's on the finest grids and moving away from it with refinement).
 
 The shear of a partial-slip contact follows the structure of its solution: in the slip zone it
 is the friction traction -mu p d (d the slip direction) of the fitted pressure; inside the stick
@@ -18,7 +23,7 @@ import numpy as np
 
 from .ellipse_geometry import sector_share
 
-__all__ = ["ellipse_block", "fit_profile"]
+__all__ = ["ellipse_block", "fit_profile", "symmetry_reflections"]
 
 
 def _basis(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
@@ -60,7 +65,10 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     local = c.local(pts.s)
     X, Y = local[:, 0] / aa, local[:, 1] / bb
     p = np.einsum("qi,qi->q", t1, pts.normal)
-    fit_p = fit_profile(X, Y, pts.weights, p)
+    images = [local] + [local @ m.T for m in symmetry_reflections(c.ranges)]
+    whole = np.concatenate(images)
+    k = len(images)
+    fit_p = fit_profile(whole[:, 0] / aa, whole[:, 1] / bb, np.tile(pts.weights, k), np.tile(p, k))
     shear_at = _shear_profiles(c, X, Y, pts.weights, t1, fit_p)
     for k, reach in ((0, aa), (1, bb)):  # along the axis through the ellipse's centre, s from the contact point
         s = c.centre[k] + np.linspace(-1.25 * reach, 1.25 * reach, 201)
@@ -78,6 +86,29 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
                                "pressure_coefficients": fit_p.tolist(),
                                "quadrature_points": int(len(p))}
     return out
+
+
+def _reflection(theta: float) -> np.ndarray:
+    """The reflection of the tangent plane in the line through the contact point at angle theta."""
+    c2, s2 = np.cos(2.0 * theta), np.sin(2.0 * theta)
+    return np.array([[c2, s2], [s2, -c2]])
+
+
+def symmetry_reflections(ranges: list[tuple[float, float]]) -> list[np.ndarray]:
+    """The maps (2, 2) taking a half or quarter model's part of the contact to the rest of it:
+    reflections in the symmetry lines that bound body 1's angular range around the contact point
+    (a half model: one line; a quarter: two at right angles, and their product). Empty for a
+    whole model or any other sector."""
+    share = sector_share(ranges)
+    ends = [t for r in ranges for t in r]
+    if 0.0 in ends and 2.0 * np.pi in ends:  # a range across angle 0: that is no boundary
+        ends = [t for t in ends if t not in (0.0, 2.0 * np.pi)]
+    if abs(share - 0.5) < 1e-6 and ends:
+        return [_reflection(ends[0])]
+    if abs(share - 0.25) < 1e-6 and len(ends) == 2:
+        first, second = _reflection(ends[0]), _reflection(ends[1])
+        return [first, second, first @ second]
+    return []
 
 
 def _partial_slip(c) -> bool:

@@ -20,7 +20,8 @@ from .aggregation import AGGREGATION_THRESHOLD, aggregate_thickness
 from .assembly_blocks import assemble_blocks
 from .cut_cells3d import CUT, INSIDE, classify_cells, inside_moments
 from .grid import RefinementZone
-from .hexahedra import cell_stiffness, full_cube_moments, monomial_stiffness
+from .fictitious import nonlinear_part
+from .hexahedra import REFERENCE_CORNERS, cell_stiffness, full_cube_moments, monomial_stiffness
 
 MULTILINEAR = np.array([(p, q, r) for p in range(2) for q in range(2) for r in range(2)])
 from .octree import CORNERS, build_octree
@@ -68,11 +69,16 @@ class SolidDiscretisation(BodyDiscretisation):
 
     def stiffness(self, alpha: float) -> sp.csr_matrix:
         """Volume stiffness of the free dofs: moment-fitted cube parts, cut cells plus ``alpha``
-        times their full stiffness (conditioning of tiny cut parts)."""
+        times the full cube's stiffness on their non-linear modes (conditioning of tiny cut parts;
+        solver.fem.fictitious)."""
         g = self.grid
         km = monomial_stiffness(self.elasticity)
-        moments = self.moments + np.where(self.status == CUT, alpha, 0.0)[:, None] * full_cube_moments()
-        k = assemble_blocks(g.cells, cell_stiffness(moments, g.size, km), len(g.nodes))
+        k_cells = cell_stiffness(self.moments, g.size, km)
+        cut = np.nonzero(self.status == CUT)[0]
+        if alpha > 0.0 and len(cut):  # on the cut cells' non-linear modes only (solver.fem.fictitious)
+            k_f = nonlinear_part(cell_stiffness(full_cube_moments(), 1.0, km), REFERENCE_CORNERS)
+            k_cells[cut] += (alpha * g.size[cut])[:, None, None] * k_f
+        k = assemble_blocks(g.cells, k_cells, len(g.nodes))
         if g.n_hanging:
             t = sp.kron(g.constraint, sp.identity(3), format="csr")
             k = (t.T @ k @ t).tocsr()

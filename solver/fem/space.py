@@ -25,6 +25,7 @@ from .grid import (
     build_grid,
 )
 from .integration import (
+    REFERENCE_NODES,
     Polyline,
     body_force_vectors,
     cell_stiffness,
@@ -33,6 +34,7 @@ from .integration import (
     monomial_stiffness,
 )
 from .assembly_blocks import assemble_blocks
+from .fictitious import nonlinear_part
 from .step_boundary import BoundaryPoints, CellBlocks, point_matrix
 from .elasticity_ops import traction_of_voigt
 from .elements import element_for
@@ -185,7 +187,8 @@ class BodyDiscretisation:
         k_full = cell_stiffness(full_cell_moments(), km)
         cut = np.nonzero(g.status == CUT)[0]
         inner = np.nonzero(g.status != CUT)[0]
-        k_cut = cell_stiffness(g.moments[cut], km) + alpha * k_full
+        # the fictitious stiffness on the cut cells' non-linear modes only (solver.fem.fictitious)
+        k_cut = cell_stiffness(g.moments[cut], km) + alpha * nonlinear_part(k_full, REFERENCE_NODES)
         cells = np.concatenate([inner, cut])
         k_cells = np.concatenate([np.broadcast_to(k_full, (len(inner),) + k_full.shape), k_cut])
         k = assemble_blocks(g.cells[cells], k_cells, len(g.nodes))

@@ -16,8 +16,14 @@ smooth, and of the contact's edge where they are not:
   O(h^(1/2)) of the peak pressure over a length h, so the moments and the edge err by O(h^(3/2))
   (the smooth rest by O(h^2)).
 
-Each estimate is relative, |q_h - q_2h| / ((2^p - 1) |q_h|). Measured against exact theory on the
-shipped examples (docs/accuracy.md).
+Each estimate is relative, |q_h - q_2h| / ((2^p - 1) |q_h|). The peak pressure is read from a
+profile whose support is the computed region, and a region's force is fixed by the bodies'
+equilibrium: p0 scales like N / a in 2D and N / (a b) in 3D, so the region's own size error
+passes into p0 once per in-plane dimension. Its estimate is the larger of its own Richardson
+estimate and the sum of the sizes' (half_width; both semi_axes): with the two-grid estimate alone
+the 3D p0 was estimated at 0.14 % where it erred by 0.8 % against Hertz's (its own grid pair
+differs little while a still converges). Measured against exact theory on the shipped examples
+(docs/accuracy.md).
 
 Pure functions on the summary's contact blocks: the solves are the caller's."""
 
@@ -90,7 +96,17 @@ def relative_errors(fine: Mapping[str, Any], coarse: Mapping[str, Any]) -> dict[
             out[key] = [_relative(f, c, order) for f, c in zip(value, other)]
         else:
             out[key] = _relative(value, float(other), order)
+    if out.get("max_pressure") is not None:
+        out["max_pressure"] = max(out["max_pressure"], _size_error(out))
     return out
+
+
+def _size_error(errors: Mapping[str, Any]) -> float:
+    """The region's size error as it passes into the peak pressure: the half width's (2D) or the
+    sum of both semi-axes' (3D); 0 when not estimated."""
+    sizes = errors.get("semi_axes", errors.get("half_width"))
+    values = sizes if isinstance(sizes, list) else [sizes]
+    return float(sum(v for v in values if v is not None and math.isfinite(v)))
 
 
 def largest_error(errors: Mapping[str, Any]) -> tuple[str | None, float]:

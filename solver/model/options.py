@@ -76,7 +76,8 @@ class SolverOptions:
     #: exact_geometry = false: tessellation chord (m); None: chord_fraction x element_size
     chord_tolerance: float | None = None
     chord_fraction: float = 0.1
-    #: cut cells get this times the full cell's stiffness (conditioning of tiny cut cells)
+    #: cut cells get this times the full cell's stiffness on their non-linear modes
+    #: (conditioning of tiny cut cells; constant strains untouched: solver.fem.fictitious)
     fictitious_stiffness: float = 1e-9
     #: Gauss points per boundary piece for boundary conditions / for cut-cell moments
     boundary_order: int = 5
