@@ -18,7 +18,7 @@ from .fem.linalg import linear_solve
 from .fem.path_loads import path_loads
 from .fem.bodies import discretise
 from .fem.space import body_info
-from .model.accuracy import contact_quantities, largest_error, relative_errors
+from .model.accuracy import contact_quantities, largest_error, orders_for, relative_errors
 from .model.estimate import available_memory, estimate_size
 from .model.resolve import resolve_problem
 from .solution import IBFEMSolution
@@ -168,7 +168,8 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
         other = coarse.contacts[k] if coarse is not None and k < len(coarse.contacts) else None
         if note is None and other is not None:
             other = dict(other, max_von_mises=other.get("max_von_mises", max_von_mises(coarse, other, dim)))
-            block["estimated_error"] = relative_errors(contact_quantities(block), contact_quantities(other))
+            block["estimated_error"] = relative_errors(contact_quantities(block), contact_quantities(other),
+                                                       orders_for(block))
             block.pop("estimate_note", None)
         else:
             block["estimated_error"] = None

@@ -12,7 +12,7 @@ import pytest
 
 from ibfem.solver.io.result_line import accuracy_line, contact_line
 from ibfem.solver.io.scene import scene_from_dict
-from ibfem.solver.model.accuracy import ORDERS, contact_quantities, largest_error, relative_errors
+from ibfem.solver.model.accuracy import ORDERS, contact_quantities, largest_error, orders_for, relative_errors
 from ibfem.solver.reference import theory
 from ibfem.solver.reports.validate import effective_properties
 from ibfem.solver.solving import solve_to_accuracy
@@ -59,6 +59,19 @@ def test_quantities_of_a_block():
                "pressure": {"axis0": {"s": [0.0], "value": [3e9]}, "axis1": {"s": [0.0], "value": [3.1e9]}}}
     q = contact_quantities(block3d)
     assert q["semi_axes"] == [0.04, 0.05] and q["stick_semi_axes"] == [0.02, 0.025] and q["max_pressure"] == 3.1e9
+
+
+def test_complete_end_sizes_converge_to_first_order():
+    # a region ending at a corner of body 1: the free end's position converges to first order
+    # (q_h = q + C h), and the singular peak pressure has no limit: no estimate
+    block = {"half_width": 0.005, "ends": [{"type": "complete"}, {"type": "incomplete"}]}
+    orders = orders_for(block)
+    assert orders["half_width"] == 1.0 and orders["max_pressure"] is None and orders["normal_force"] == 2.0
+    assert orders_for({"ends": [{"type": "incomplete"}] * 2}) == ORDERS
+    q, c, h = 0.005, 0.3, 0.01
+    fine, coarse = {"half_width": q * (1 + c * h), "max_pressure": 2e9}, {"half_width": q * (1 + 2 * c * h), "max_pressure": 1.5e9}
+    errors = relative_errors(fine, coarse, orders)
+    assert errors["half_width"] == pytest.approx(c * h / (1 + c * h), rel=1e-9) and errors["max_pressure"] is None
 
 
 def test_missing_coarse_quantity_and_largest():

@@ -1,4 +1,4 @@
-"""3D contact (issue 15): the contact frame from the exact surfaces' curvature, the elliptical
+"""3D contact: the contact frame from the exact surfaces' curvature, the elliptical
 region's quadrature on body 1's exact surface, and a frictionless sphere on a flat against Hertz
 (a = (3 N R / (4 E*))^(1/3) for the computed N): the error falls with the grid and the reactions
 balance. Test-local solids (tests/_solids3d.py, tests/_turned_box.py)."""
