@@ -89,12 +89,20 @@ def _run(args: argparse.Namespace) -> int:
         return 3
 
     from ibfem.solver.io.progress import ProgressReporter, silent
-    from ibfem.solver.io.output import write_scene_results
+    from ibfem.solver.io.output import start_scene_pictures, write_scene_results
 
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name
+    out = Path(args.out) if args.out else default_out_dir(args.scene)
+    pictures = []  # started once the solution is there, rendered while the error estimate solves
+
+    def solved(solution) -> None:
+        progress("results: plots (started)")
+        pictures.append(start_scene_pictures(out, scene, solution))
+
     try:
-        solution, ladder = _solve_scene(scene.problem, solve, progress, estimate=not args.no_estimate)
+        solution, ladder = _solve_scene(scene.problem, solve, progress, estimate=not args.no_estimate,
+                                        solved=solved if scene.output.plots else None)
     except ValueError as err:  # the solver's own checks on the input: a scene problem
         if not args.quiet:
             progress.close()
@@ -113,7 +121,6 @@ def _run(args: argparse.Namespace) -> int:
             progress.close()
         raise
 
-    out = Path(args.out) if args.out else default_out_dir(args.scene)
     extra = {"scene": str(Path(args.scene))}
     if ladder is not None:
         extra["accuracy"] = ladder
@@ -121,7 +128,7 @@ def _run(args: argparse.Namespace) -> int:
         extra["warnings"] = list(scene.warnings)
     try:  # the progress display goes on while the results are written
         summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0, extra=extra,
-                                      progress=progress)
+                                      progress=progress, pictures=pictures[0] if pictures else None)
     except OSError as err:
         _err(f"cannot write results to {out}: {err.strerror or err}")
         return 4
@@ -145,16 +152,19 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _solve_scene(problem, solve, progress, estimate: bool):
+def _solve_scene(problem, solve, progress, estimate: bool, solved=None):
     """(solution, accuracy ladder or None): the ladder of ``[solver] accuracy`` when the scene sets
     it, else one solve, followed by the error estimate (a second solve on a coarser grid) of a
-    converged contact solution unless ``estimate`` is false."""
+    converged contact solution unless ``estimate`` is false; ``solved(solution)`` is called
+    before that estimate (the pictures start there)."""
     if problem.options.accuracy is not None and problem.contacts:
         from ibfem.solver.solving import solve_to_accuracy
 
         return solve_to_accuracy(problem, progress=progress)
     solution = solve(problem, progress=progress)
     if solution.contacts and solution.converged and estimate:
+        if solved is not None:
+            solved(solution)
         from ibfem.solver.solving import estimate_errors
 
         progress("error estimate", 0.95)

@@ -39,7 +39,8 @@ class _Figures:
 
     def save(self, fig: Any, name: str) -> None:
         path = self.out_dir / name
-        fig.savefig(path, dpi=110)
+        # zlib's fastest level: a third of the default's encoding time for files about 1.3 times larger
+        fig.savefig(path, dpi=110, pil_kwargs={"compress_level": 1})
         self.plt.close(fig)
         self.written.append(path)
 
@@ -55,6 +56,21 @@ class _Figures:
             ax.legend()
         ax.grid(alpha=0.3)
         self.save(fig, name)
+
+
+    def save_stress_line(self, s: np.ndarray, stress: np.ndarray, vm: np.ndarray, components, title: str,
+                         name: str) -> None:
+        """The stress components and von Mises along an output line, in the units that fit."""
+        finite = np.abs(np.concatenate([stress.ravel(), vm]))
+        finite = finite[np.isfinite(finite)]
+        sname, sscale = stress_unit(float(finite.max()) if finite.size else 1.0)
+        lname, lscale = length_unit(float(np.ptp(s)) if len(s) else 1.0)
+        fig, ax = self.plt.subplots(figsize=(7, 4.5))
+        fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.92)  # fixed: short tick labels in these units
+        for k, label in enumerate(components):
+            ax.plot(s / lscale, stress[:, k] / sscale, label=label)
+        ax.plot(s / lscale, vm / sscale, "k", lw=2, label="von Mises")
+        self.save_line_plot(fig, ax, f"distance along the line [{lname}]", f"stress [{sname}]", title, name)
 
 
 def _triangles(out) -> np.ndarray:
@@ -160,12 +176,8 @@ def _line_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any
         s = np.asarray(line.get("s") or np.linalg.norm(np.subtract(line["points"], line["points"][0]), axis=1), dtype=float)
         stress = np.asarray(line["stress"], dtype=float).reshape(-1, 3)
         vm = np.asarray(line["von_mises"], dtype=float)
-        fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
-        for k, lab in enumerate(("sxx", "syy", "sxy")):
-            ax.plot(s, stress[:, k], label=lab)
-        ax.plot(s, vm, "k", lw=2, label="von Mises")
-        figs.save_line_plot(fig, ax, "distance along the line [m]", "stress [Pa]", f"{problem.name}: line {name}",
-                            f"line_{_file_stem(name)}.png")
+        figs.save_stress_line(s, stress, vm, ("sxx", "syy", "sxy"), f"{problem.name}: line {name}",
+                              f"line_{_file_stem(name)}.png")
 
 
 def _curvature(body: pb.BodyModel, point: np.ndarray) -> float | None:
@@ -249,7 +261,8 @@ def _contact_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, 
         s_all = np.asarray(pressure.get("s") or shear.get("s"), float)
         lname, lscale = length_unit(float(np.ptp(s_all)) or 1.0)
         sname, sscale = stress_unit(max(np.abs(pressure.get("value") or [0.0]).max(), 1e-300))
-        fig, ax = figs.plt.subplots(figsize=(10.5, 4.8), constrained_layout=True)
+        fig, ax = figs.plt.subplots(figsize=(9.6, 4.8))
+        fig.subplots_adjust(left=0.085, right=0.66, bottom=0.11, top=0.92)  # fixed: the legend beside the axes
         if pressure.get("s"):
             ax.plot(np.asarray(pressure["s"], float) / lscale, np.asarray(pressure["value"], float) / sscale, lw=2,
                     label="pressure (computed)")

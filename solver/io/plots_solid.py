@@ -205,7 +205,8 @@ def _annotation(rows, lscale: float, lname: str, sscale: float, sname: str) -> s
 def _contact_figure(plt, problem: pb.Problem, c: Mapping[str, Any]) -> Any:
     """Pressure and shear along both axes (Hertz beside them) and the pressure over the patch
     with the computed and Hertz ellipses; a, b and p0 with their Hertz values written on it."""
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5.2), constrained_layout=True)
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5.2))
+    fig.subplots_adjust(left=0.06, right=0.96, bottom=0.1, top=0.88, wspace=0.22)  # fixed: a computed layout costs more
     hertz = _hertz(problem, c)
     a, b = c["semi_axes"]
     rows = contact_numbers(problem, c)
@@ -269,13 +270,8 @@ def write_solid_plots(out_dir: Path, figs: Any, problem: pb.Problem, solution: p
         elif c.get("semi_axes") and c["semi_axes"][0]:
             figs.save(_contact_figure(figs.plt, problem, c), f"contact_{k}.png")
     for name, line in summary.get("lines", {}).items():
-        s = np.asarray(line["s"], dtype=float)
-        stress = np.asarray(line["stress"], dtype=float).reshape(-1, 6)
-        fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
-        for k, label in enumerate(_VOIGT):
-            ax.plot(s, stress[:, k], label=label)
-        ax.plot(s, np.asarray(line["von_mises"], dtype=float), "k", lw=2, label="von Mises")
         from .results import _file_stem
 
-        figs.save_line_plot(fig, ax, "distance along the line [m]", "stress [Pa]", f"{problem.name}: line {name}",
-                            f"line_{_file_stem(name)}.png")
+        stress = np.asarray(line["stress"], dtype=float).reshape(-1, 6)
+        figs.save_stress_line(np.asarray(line["s"], dtype=float), stress, np.asarray(line["von_mises"], dtype=float),
+                              _VOIGT, f"{problem.name}: line {name}", f"line_{_file_stem(name)}.png")
