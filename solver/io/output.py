@@ -4,10 +4,13 @@ and contact regions (solver.io.vtu), and the PNG pictures (solver.io.plots) with
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable, Iterable, Mapping
+
+import numpy as np
 
 from ibfem.solver.model import problem as pb
 
@@ -23,14 +26,46 @@ if TYPE_CHECKING:
 __all__ = ["start_pictures", "start_scene_pictures", "write_results", "write_scene_results"]
 
 
-def _step_writer(summary: Mapping[str, Any]):
-    """The VTU writer of the load-step series: each step's bodies with that step's contact
-    pressure (the step is the one whose field the solution it is given carries)."""
-    final = json_safe(summary).get("contacts") or []
+#: stress values (nodes x components x steps) recovered in one batch of the load-step series
+_BATCH_VALUES = 2e7
 
-    def write(folder: Path, problem: pb.Problem, solution: pb.Solution) -> list[Path]:
-        step = next((st for st in getattr(solution, "steps", None) or [] if st.get("field") is solution.u), {})
-        return write_step_bodies(folder, problem, solution, step_contacts(final, step))
+
+def _step_stresses(problem: pb.Problem, solution: pb.Solution, steps: list[dict], body: str) -> dict[int, np.ndarray]:
+    """Each load step's recovered nodal stresses of ``body`` by the step's field's id: the
+    recovery is linear in the centroid stresses and its fits depend only on the grid, so the
+    steps are recovered side by side, a batch of them per set of fits."""
+    fields = [st["field"] for st in steps if st.get("field") is not None]
+    if not fields or not hasattr(solution, "centroid_stress"):
+        return {}
+    own = solution.centroid_stress(body)
+    per_batch = max(1, int(_BATCH_VALUES // max(1, own.size * 2)))
+    out: dict[int, np.ndarray] = {}
+    for first in range(0, len(fields), per_batch):
+        batch = fields[first:first + per_batch]
+        values = np.hstack([dataclasses.replace(solution, u=u).centroid_stress(body) for u in batch])
+        recovered = solution.nodal_stress(body, values)
+        width = own.shape[1]
+        out.update((id(u), recovered[:, k * width:(k + 1) * width]) for k, u in enumerate(batch))
+    return out
+
+
+def _step_writer(problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]):
+    """The VTU writer of the load-step series: each step's bodies with that step's contact
+    pressure (the step is the one whose field the solution it is given carries) and its
+    stresses, recovered for all the steps at once when the first step is written."""
+    final = json_safe(summary).get("contacts") or []
+    steps = getattr(solution, "steps", None) or []
+    recovered: dict[str, dict[int, np.ndarray]] = {}
+
+    def write(folder: Path, problem: pb.Problem, step_solution: pb.Solution) -> list[Path]:
+        if not recovered and hasattr(step_solution, "nodal_stress"):
+            recovered.update((b.name, _step_stresses(problem, solution, steps, b.name)) for b in problem.bodies)
+        cache = step_solution.__dict__.setdefault("_nodal_stress", {}) if hasattr(step_solution, "__dict__") else {}
+        for name, by_field in recovered.items():
+            if id(step_solution.u) in by_field:
+                cache.setdefault(name, by_field[id(step_solution.u)])
+        step = next((st for st in steps if st.get("field") is step_solution.u), {})
+        return write_step_bodies(folder, problem, step_solution, step_contacts(final, step))
 
     return write
 
@@ -145,7 +180,7 @@ def _write_files(out_dir: Path, problem: pb.Problem, solution: pb.Solution, summ
     if getattr(solution, "steps", None):  # load paths: the step series and the history's tables
         from .step_outputs import write_step_files
 
-        files += write_step_files(out_dir, problem, solution, summary, write_vtu=_step_writer(summary) if vtk else None,
+        files += write_step_files(out_dir, problem, solution, summary, write_vtu=_step_writer(problem, solution, summary) if vtk else None,
                                   plots=pictures is not None, missing=missing)
     if pictures is not None:  # a missing optional library costs its files, not the summary
         report("results: plots")
