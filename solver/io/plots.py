@@ -110,7 +110,7 @@ def _colour_range(outputs, values: list[np.ndarray], window) -> tuple[float, flo
     return vmin, vmax
 
 
-def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, title: str, window) -> None:
+def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, window) -> None:
     """The recovered field over the bodies as they are (cells clipped at the exact boundary),
     drawn on the deformed shape at true scale (touching bodies close over the contact), smoothly
     shaded between the points; lengths and stresses in the units that fit."""
@@ -134,7 +134,7 @@ def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, title: str, wi
         fig.colorbar(image, ax=ax, shrink=0.8, label=f"{label} [{uname}]")
     ax.set_aspect("equal")
     ax.locator_params(nbins=5)
-    ax.set_title(f"{title} (deformed, true scale)", fontsize=10)
+    ax.set_title(f"{label} (deformed, true scale)", fontsize=10)
     ax.set_xlabel(f"x [{lname}]")
     ax.set_ylabel(f"y [{lname}]")
 
@@ -144,12 +144,13 @@ def _field_figure(plt, outputs, title: str, window) -> Any:
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     # fixed margins (a quarter of the rendering time less than a computed layout): room for the
     # tick labels, the colour bars' labels and a title over each panel
-    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.1, top=0.92, wspace=0.3)
+    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.1, top=0.87, wspace=0.3)
+    fig.suptitle(title)
     allpoints = np.concatenate([out.points for out in outputs])
     window = window or (allpoints[:, 0].min(), allpoints[:, 0].max(), allpoints[:, 1].min(), allpoints[:, 1].max())
     for ax, key, label in ((axes[0], "von_mises", "von Mises stress"),
                            (axes[1], "displacement", "displacement magnitude")):
-        _draw_field(fig, ax, outputs, key, label, title, window)
+        _draw_field(fig, ax, outputs, key, label, window)
     return fig
 
 
