@@ -84,14 +84,20 @@ class IBFEMSolution:
             loc = np.stack([m[:, 1, 0] / m[:, 0, 0], m[:, 0, 1] / m[:, 0, 0]], axis=1)
         return g.center + 0.5 * g.size[:, None] * np.clip(np.nan_to_num(loc), -1.0, 1.0)
 
-    def centroid_stress(self, body: str) -> np.ndarray:
+    def centroid_stress(self, body: str, fields: np.ndarray | None = None) -> np.ndarray:
         """(m, 3) stress of the discrete field at the centroid of each cell's inside part (the
-        superconvergent point of a bilinear square for interior cells); computed once."""
+        superconvergent point of a bilinear square for interior cells); computed once.
+        ``fields`` (dofs, k): other displacement fields instead, their stresses side by side
+        (m, 3 k), not cached."""
         (b,) = self._body(body)
-        cache = self.__dict__.setdefault("_centroid_stress", {})
+        cache = {} if fields is not None else self.__dict__.setdefault("_centroid_stress", {})
         if b.name not in cache:
             cells = np.arange(len(b.grid.level))
-            cache[b.name] = (b.stress_operator(self.cell_centroids(b.name), cells) @ self.u).reshape(-1, self.voigt)
+            op = b.stress_operator(self.cell_centroids(b.name), cells)
+            if fields is not None:
+                values = np.asarray(op @ fields).reshape(len(cells), self.voigt, -1)
+                return values.transpose(0, 2, 1).reshape(len(cells), -1)
+            cache[b.name] = (op @ self.u).reshape(-1, self.voigt)
         return cache[b.name]
 
     def nodal_stress(self, body: str, centroid_stress: np.ndarray | None = None) -> np.ndarray:

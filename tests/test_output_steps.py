@@ -22,9 +22,13 @@ def test_each_step_file_holds_its_own_stress(tmp_path):
         output._BATCH_VALUES = batch
     output.write_scene_results(tmp_path / "all", sc, solve(sc.problem))
     factors = [0.5, 1.0, 0.75, 0.5]  # the path at t = 0.5, 1, 1.5, 2
-    final = np.asarray(pv.read(tmp_path / "all" / "plate.vtu").point_data["stress"])
-    assert np.abs(final).max() > 1e5
-    for run in ("one", "all"):
-        for k, factor in enumerate(factors, start=1):
-            step = np.asarray(pv.read(tmp_path / run / "steps" / f"step_{k:04d}" / "plate.vtu").point_data["stress"])
-            assert np.allclose(step, final * factor / factors[-1], rtol=1e-8, atol=1e-8 * np.abs(final).max())
+    final = pv.read(tmp_path / "all" / "plate.vtu")
+    for where, key in (("point_data", "stress"), ("cell_data", "cell_stress")):  # recovered and raw
+        want = np.asarray(getattr(final, where)[key])
+        top = np.abs(want).max()
+        assert top > 1e5
+        for run in ("one", "all"):
+            for k, factor in enumerate(factors, start=1):
+                step = pv.read(tmp_path / run / "steps" / f"step_{k:04d}" / "plate.vtu")
+                got = np.asarray(getattr(step, where)[key])
+                assert np.allclose(got, want * factor / factors[-1], rtol=1e-8, atol=1e-8 * top)

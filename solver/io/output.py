@@ -4,7 +4,6 @@ and contact regions (solver.io.vtu), and the PNG pictures (solver.io.plots) with
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import time
 from pathlib import Path
@@ -30,40 +29,41 @@ __all__ = ["start_pictures", "start_scene_pictures", "write_results", "write_sce
 _BATCH_VALUES = 2e7
 
 
-def _step_stresses(problem: pb.Problem, solution: pb.Solution, steps: list[dict], body: str) -> dict[int, np.ndarray]:
-    """Each load step's recovered nodal stresses of ``body`` by the step's field's id: the
-    recovery is linear in the centroid stresses and its fits depend only on the grid, so the
-    steps are recovered side by side, a batch of them per set of fits."""
+def _step_stresses(solution: pb.Solution, steps: list[dict], body: str) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+    """Each load step's (centroid stresses, recovered nodal stresses) of ``body`` by the step's
+    field's id: both are linear in the field and the recovery's fits depend only on the grid,
+    so the steps are taken side by side, one stress operator and one set of fits per batch."""
     fields = [st["field"] for st in steps if st.get("field") is not None]
     if not fields or not hasattr(solution, "centroid_stress"):
         return {}
-    own = solution.centroid_stress(body)
-    per_batch = max(1, int(_BATCH_VALUES // max(1, own.size * 2)))
-    out: dict[int, np.ndarray] = {}
+    width = solution.centroid_stress(body).shape[1]
+    per_batch = max(1, int(_BATCH_VALUES // max(1, solution.nodal_stress(body).size * 2)))
+    out: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     for first in range(0, len(fields), per_batch):
         batch = fields[first:first + per_batch]
-        values = np.hstack([dataclasses.replace(solution, u=u).centroid_stress(body) for u in batch])
-        recovered = solution.nodal_stress(body, values)
-        width = own.shape[1]
-        out.update((id(u), recovered[:, k * width:(k + 1) * width]) for k, u in enumerate(batch))
+        centroid = solution.centroid_stress(body, np.column_stack(batch))
+        nodal = solution.nodal_stress(body, centroid)
+        out.update((id(u), (centroid[:, k * width:(k + 1) * width], nodal[:, k * width:(k + 1) * width]))
+                   for k, u in enumerate(batch))
     return out
 
 
 def _step_writer(problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]):
     """The VTU writer of the load-step series: each step's bodies with that step's contact
     pressure (the step is the one whose field the solution it is given carries) and its
-    stresses, recovered for all the steps at once when the first step is written."""
+    stresses, computed for all the steps together when the first step is written."""
     final = json_safe(summary).get("contacts") or []
     steps = getattr(solution, "steps", None) or []
-    recovered: dict[str, dict[int, np.ndarray]] = {}
+    recovered: dict[str, dict[int, tuple[np.ndarray, np.ndarray]]] = {}
 
     def write(folder: Path, problem: pb.Problem, step_solution: pb.Solution) -> list[Path]:
         if not recovered and hasattr(step_solution, "nodal_stress"):
-            recovered.update((b.name, _step_stresses(problem, solution, steps, b.name)) for b in problem.bodies)
-        cache = step_solution.__dict__.setdefault("_nodal_stress", {}) if hasattr(step_solution, "__dict__") else {}
-        for name, by_field in recovered.items():
+            recovered.update((b.name, _step_stresses(solution, steps, b.name)) for b in problem.bodies)
+        for name, by_field in recovered.items():  # the caches the step's solution fills on demand
             if id(step_solution.u) in by_field:
-                cache.setdefault(name, by_field[id(step_solution.u)])
+                centroid, nodal = by_field[id(step_solution.u)]
+                step_solution.__dict__.setdefault("_centroid_stress", {}).setdefault(name, centroid)
+                step_solution.__dict__.setdefault("_nodal_stress", {}).setdefault(name, nodal)
         step = next((st for st in steps if st.get("field") is step_solution.u), {})
         return write_step_bodies(folder, problem, step_solution, step_contacts(final, step))
 
