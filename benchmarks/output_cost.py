@@ -10,7 +10,10 @@ included), the run's own ``total_s``, the solver's and the estimate's seconds, t
 (``output_s`` from summary.json: summary sampling, VTU files, pictures) and its share of the
 wall time, whether the pictures were rendered in other processes, and the child's peak memory.
 ``--markdown FILE`` also writes the table there. ``--alternate N`` runs each scene N times in
-turn with the others (a loaded machine's noise spreads over all of them).
+turn with the others (a loaded machine's noise spreads over all of them). ``--idle-cores N``
+starts the pictures' processes as if the machine had N idle cores whatever its load (a shared
+machine measured as an idle one would run; the default follows the load average as ``ibfem
+run`` does).
 
 ``--vtk`` instead loads, solves and writes the scene in this process with the VTU files whatever
 the scene asks (``--serial``: the pictures after the VTU files, in this process), then reads
@@ -94,10 +97,18 @@ _HEADER = ("| example | files | run, wall (s) | solver (s) | estimate (s) | outp
            "| summary / VTU / plots (s) | pictures | peak (GB) |\n|---|---|---|---|---|---|---|---|---|---|")
 
 
-def command_row(path: str, out: Path) -> tuple[str, float]:
-    """(table row, output share of the wall time) of ``ibfem run`` on one scene in a child process."""
+#: ``ibfem run`` as the command line runs it, with the machine's idle cores taken as ``sys.argv[1]``
+_CHILD = ("import sys\nfrom ibfem.solver.io import parallel_plots\n"
+          "if sys.argv[1] != 'load':\n    parallel_plots.idle_cores = lambda: int(sys.argv[1])\n"
+          "from ibfem.solver.cli import main\nraise SystemExit(main(sys.argv[2:]))")
+
+
+def command_row(path: str, out: Path, idle: str = "load") -> tuple[str, float]:
+    """(table row, output share of the wall time) of ``ibfem run`` on one scene in a child process;
+    ``idle``: the idle cores the pictures' processes are started for ("load": from the load
+    average, as ``ibfem run`` does; a number: as if the machine had that many)."""
     t0 = time.perf_counter()
-    child = subprocess.Popen([sys.executable, "-m", "ibfem", "run", path, "--out", str(out), "--quiet"],
+    child = subprocess.Popen([sys.executable, "-c", _CHILD, idle, "run", path, "--out", str(out), "--quiet"],
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     _, status, usage = os.wait4(child.pid, 0)
     wall = time.perf_counter() - t0
@@ -130,6 +141,9 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--alternate", type=int, default=1, metavar="N",
                     help="N runs of each scene, the scenes in turn (a loaded machine's noise spread over all)")
     ap.add_argument("--markdown", type=Path, default=None, help="also write the table to this file")
+    ap.add_argument("--idle-cores", default="load", metavar="N",
+                    help="start the pictures' processes as if the machine had N idle cores (default: from its load "
+                         "average, as ibfem run does; on a shared machine, what an idle one would do)")
     args = ap.parse_args(argv)
     root = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="ibfem-output-"))
     if args.vtk:
@@ -140,7 +154,7 @@ def main(argv: list[str]) -> int:
     rows = []
     for _ in range(args.alternate):
         for path in args.scenes:
-            row, _share = command_row(path, root / Path(path).stem)
+            row, _share = command_row(path, root / Path(path).stem, args.idle_cores)
             print(row, flush=True)
             rows.append(row)
     if args.markdown:
