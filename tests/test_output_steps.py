@@ -32,3 +32,31 @@ def test_each_step_file_holds_its_own_stress(tmp_path):
                 step = pv.read(tmp_path / run / "steps" / f"step_{k:04d}" / "plate.vtu")
                 got = np.asarray(getattr(step, where)[key])
                 assert np.allclose(got, want * factor / factors[-1], rtol=1e-8, atol=1e-8 * top)
+
+
+def test_two_bodies_keep_their_batches():
+    """Bodies asked for in turn, step after step, each recover a batch of steps once (a stand-in
+    solution whose stresses are the field itself: one centroid, one node)."""
+    from ibfem.solver.io import output
+
+    calls = []
+
+    class Stand:
+        def centroid_stress(self, body, fields=None):
+            return np.zeros((1, 3)) if fields is None else np.repeat(np.asarray(fields)[:1], 3, axis=0).T.reshape(1, -1)
+
+        def nodal_stress(self, body, values=None):
+            calls.append(body) if values is not None else None
+            return np.zeros((1, 3)) if values is None else values + (body == "b")
+
+    fields = [np.full(4, float(k)) for k in range(10)]
+    output._BATCH_VALUES, batch = 24.0, output._BATCH_VALUES  # 4 steps a batch
+    try:
+        stresses = output._StepStresses(Stand(), [{"field": u} for u in fields])
+        for k, u in enumerate(fields):
+            for body in ("a", "b"):
+                centroid, nodal = stresses.get(body, u)
+                assert np.all(centroid == k) and np.all(nodal == k + (body == "b"))
+    finally:
+        output._BATCH_VALUES = batch
+    assert calls == ["a", "b"] * 3  # steps 0-3, 4-7, 8-9

@@ -29,41 +29,50 @@ __all__ = ["start_pictures", "start_scene_pictures", "write_results", "write_sce
 _BATCH_VALUES = 2e7
 
 
-def _step_stresses(solution: pb.Solution, steps: list[dict], body: str) -> dict[int, tuple[np.ndarray, np.ndarray]]:
-    """Each load step's (centroid stresses, recovered nodal stresses) of ``body`` by the step's
-    field's id: both are linear in the field and the recovery's fits depend only on the grid,
-    so the steps are taken side by side, one stress operator and one set of fits per batch."""
-    fields = [st["field"] for st in steps if st.get("field") is not None]
-    if not fields or not hasattr(solution, "centroid_stress"):
-        return {}
-    width = solution.centroid_stress(body).shape[1]
-    per_batch = max(1, int(_BATCH_VALUES // max(1, solution.nodal_stress(body).size * 2)))
-    out: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-    for first in range(0, len(fields), per_batch):
-        batch = fields[first:first + per_batch]
-        centroid = solution.centroid_stress(body, np.column_stack(batch))
-        nodal = solution.nodal_stress(body, centroid)
-        out.update((id(u), (centroid[:, k * width:(k + 1) * width], nodal[:, k * width:(k + 1) * width]))
-                   for k, u in enumerate(batch))
-    return out
+class _StepStresses:
+    """The load steps' (centroid stresses, recovered nodal stresses) of each body, a batch of
+    steps at a time: both are linear in the field and the recovery's fits depend only on the
+    grid, so a batch's steps are taken side by side, one stress operator and one set of fits
+    per batch; each body keeps only the batch of the step asked for last."""
+
+    def __init__(self, solution: pb.Solution, steps: list[dict]):
+        self.solution = solution
+        self.fields = [st["field"] for st in steps if st.get("field") is not None]
+        self.batches: dict[str, dict[int, tuple[np.ndarray, np.ndarray]]] = {}  # by body, by field's id
+
+    def get(self, body: str, field: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        if id(field) not in self.batches.get(body, {}):
+            where = next((k for k, u in enumerate(self.fields) if u is field), None)
+            if where is None:
+                return None
+            self.batches[body] = self._batch(body, where)
+        return self.batches[body][id(field)]
+
+    def _batch(self, body: str, first: int) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+        sol = self.solution
+        width = sol.centroid_stress(body).shape[1]
+        per_batch = max(1, int(_BATCH_VALUES // max(1, sol.nodal_stress(body).size * 2)))
+        batch = self.fields[first:first + per_batch]
+        centroid = sol.centroid_stress(body, np.column_stack(batch))
+        nodal = sol.nodal_stress(body, centroid)
+        return {id(u): (centroid[:, k * width:(k + 1) * width], nodal[:, k * width:(k + 1) * width])
+                for k, u in enumerate(batch)}
 
 
 def _step_writer(problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any]):
     """The VTU writer of the load-step series: each step's bodies with that step's contact
     pressure (the step is the one whose field the solution it is given carries) and its
-    stresses, computed for all the steps together when the first step is written."""
+    stresses, computed for a batch of steps together (:class:`_StepStresses`)."""
     final = json_safe(summary).get("contacts") or []
     steps = getattr(solution, "steps", None) or []
-    recovered: dict[str, dict[int, tuple[np.ndarray, np.ndarray]]] = {}
+    stresses = _StepStresses(solution, steps) if hasattr(solution, "centroid_stress") else None
 
     def write(folder: Path, problem: pb.Problem, step_solution: pb.Solution) -> list[Path]:
-        if not recovered and hasattr(step_solution, "nodal_stress"):
-            recovered.update((b.name, _step_stresses(solution, steps, b.name)) for b in problem.bodies)
-        for name, by_field in recovered.items():  # the caches the step's solution fills on demand
-            if id(step_solution.u) in by_field:
-                centroid, nodal = by_field[id(step_solution.u)]
-                step_solution.__dict__.setdefault("_centroid_stress", {}).setdefault(name, centroid)
-                step_solution.__dict__.setdefault("_nodal_stress", {}).setdefault(name, nodal)
+        for body in problem.bodies if stresses is not None else ():  # the caches the step fills on demand
+            both = stresses.get(body.name, step_solution.u)
+            if both is not None:
+                step_solution.__dict__.setdefault("_centroid_stress", {}).setdefault(body.name, both[0])
+                step_solution.__dict__.setdefault("_nodal_stress", {}).setdefault(body.name, both[1])
         step = next((st for st in steps if st.get("field") is step_solution.u), {})
         return write_step_bodies(folder, problem, step_solution, step_contacts(final, step))
 
