@@ -125,6 +125,16 @@ def _crop(ax, su: np.ndarray, sv: np.ndarray, values: np.ndarray) -> None:
         ax.set_ylim(sv[rows[0]], sv[rows[-1]])
 
 
+def _ticks(ax, most: int = 5) -> None:
+    """At most ``most`` ticks along the longer side of an equal-aspect panel and fewer along the
+    shorter one, in proportion: a narrow panel's tick labels do not run into each other."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    width, height = abs(x1 - x0), abs(y1 - y0)
+    longest = max(width, height) or 1.0
+    ax.locator_params(axis="x", nbins=max(2, round(most * width / longest)))
+    ax.locator_params(axis="y", nbins=max(2, round(most * height / longest)))
+
+
 def _sections(plt, problem: pb.Problem, solution: pb.Solution, contacts) -> Any:
     """von Mises and |u| on the section planes (:func:`section_planes`), each panel's colour
     scale from 0 to the largest value it shows; numbers in MPa / GPa and mm / um as they fit."""
@@ -153,13 +163,13 @@ def _sections(plt, problem: pb.Problem, solution: pb.Solution, contacts) -> Any:
             if plane.get("semi"):
                 ax.plot([-plane["semi"] / lscale, plane["semi"] / lscale], [0.0, 0.0], "w-", lw=2.0,
                         label="contact region")
-                ax.legend(loc="upper right", fontsize=7, framealpha=0.6)
+                ax.legend(loc="upper right", fontsize=7, facecolor="0.3", labelcolor="white", framealpha=0.8)  # the white line shows
             _crop(ax, su / lscale, sv / lscale, values)
             ax.set_xlabel(f"{plane['labels'][0]} [{lname}]")
             ax.set_ylabel(f"{plane['labels'][1]} [{lname}]")
             ax.set_title(plane["title"], fontsize=10)
             ax.set_aspect("equal")
-            ax.locator_params(nbins=5)
+            _ticks(ax)
     fig.suptitle(problem.name)
     return fig
 
