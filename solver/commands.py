@@ -89,20 +89,15 @@ def _run(args: argparse.Namespace) -> int:
         return 3
 
     from ibfem.solver.io.progress import ProgressReporter, silent
-    from ibfem.solver.io.output import start_scene_pictures, write_scene_results
+    from ibfem.solver.io.output import write_scene_results
 
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name
     out = Path(args.out) if args.out else default_out_dir(args.scene)
-    pictures = []  # started once the solution is there, rendered while the error estimate solves
-
-    def solved(solution) -> None:
-        progress("results: plots (started)")
-        pictures.append(start_scene_pictures(out, scene, solution))
-
+    pictures = _PictureStart(out, scene, progress)
     try:
         solution, ladder = _solve_scene(scene.problem, solve, progress, estimate=not args.no_estimate,
-                                        solved=solved if scene.output.plots else None)
+                                        solved=pictures if scene.output.plots else None)
     except ValueError as err:  # the solver's own checks on the input: a scene problem
         if not args.quiet:
             progress.close()
@@ -128,7 +123,7 @@ def _run(args: argparse.Namespace) -> int:
         extra["warnings"] = list(scene.warnings)
     try:  # the progress display goes on while the results are written
         summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0, extra=extra,
-                                      progress=progress, pictures=pictures[0] if pictures else None)
+                                      progress=progress, pictures=pictures.started)
     except OSError as err:
         _err(f"cannot write results to {out}: {err.strerror or err}")
         return 4
@@ -150,6 +145,25 @@ def _run(args: argparse.Namespace) -> int:
     )
     _print_contacts(summary, ladder)
     return 0
+
+
+class _PictureStart:
+    """Called with the solution once it is there: starts the scene's pictures, which render
+    while the error estimate solves (solver.io.output.start_scene_pictures); ``started`` is
+    what it returned (None before, or when the output folder cannot be made: that is reported
+    when the results are written)."""
+
+    def __init__(self, out: Path, scene, progress):
+        self.out, self.scene, self.progress, self.started = out, scene, progress, None
+
+    def __call__(self, solution) -> None:
+        from ibfem.solver.io.output import start_scene_pictures
+
+        self.progress("results: plots (started)")
+        try:
+            self.started = start_scene_pictures(self.out, self.scene, solution)
+        except OSError:
+            self.started = None
 
 
 def _solve_scene(problem, solve, progress, estimate: bool, solved=None):
