@@ -1,20 +1,33 @@
 """What a run's output costs and whether it shows the bodies as they are, per scene:
 
-    python benchmarks/output_cost.py examples/solid/sphere_on_flat.toml [more scenes] [--out DIR] [--vtk]
+    python benchmarks/output_cost.py examples/solid/sphere_on_flat.toml [more scenes] [--markdown FILE]
+    python benchmarks/output_cost.py SCENE --vtk    # VTU files forced, read back and checked
 
-Each scene is loaded, solved and written as ``ibfem run`` does it: the files its ``[output]``
-table asks for (``--vtk``: the VTU files too), the pictures rendered in other processes beside
-the VTU files when the machine has idle cores (``--serial``: after them, in this process, for
-comparison). The
-summary's ``timings`` give the share of the run the output took (summary sampling, VTU files,
-plots: these two overlap). The VTU files are then read back with pyvista (the ``pictures`` extra) and checked
-against the exact solids: every cell's centroid inside the body (signed distance <= 0, negative
-inside), the cells' volume against the solid's (the divergence theorem on its faces'
-quadrature), and the stress read from the file at each probe against summary.json's."""
+By default each scene is run as a user runs it, ``ibfem run SCENE --out DIR --quiet`` in a child
+process (the error estimate's second solve included, the files the scene's ``[output]`` asks
+for), and one table row is printed: the child's wall time (start, imports and writing
+included), the run's own ``total_s``, the solver's and the estimate's seconds, the output's
+(``output_s`` from summary.json: summary sampling, VTU files, pictures) and its share of the
+wall time, whether the pictures were rendered in other processes, and the child's peak memory.
+``--markdown FILE`` also writes the table there. ``--alternate N`` runs each scene N times in
+turn with the others (a loaded machine's noise spreads over all of them). ``--idle-cores N``
+starts the pictures' processes as if the machine had N idle cores whatever its load (a shared
+machine measured as an idle one would run; the default follows the load average as ``ibfem
+run`` does).
+
+``--vtk`` instead loads, solves and writes the scene in this process with the VTU files whatever
+the scene asks (``--serial``: the pictures after the VTU files, in this process), then reads
+the files back with pyvista (the ``pictures`` extra) and checks them against the exact solids:
+every cell's centroid inside the body (signed distance <= 0, negative inside), the cells'
+volume against the solid's (the divergence theorem on its faces' quadrature), and the stress
+read from the file at each probe against summary.json's."""
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -80,39 +93,72 @@ def run(scene_path: str, out: Path, force_vtk: bool, serial: bool = False) -> No
             print(_check_probe(pv, out, probe))
 
 
-def _alternate(path: str, out: Path, force_vtk: bool, pairs: int) -> None:
-    """Serial and parallel runs alternating, each in a fresh interpreter; prints each run's line and the ratios of their output and run times."""
-    import subprocess
+_HEADER = ("| example | files | run, wall (s) | solver (s) | estimate (s) | output (s) | output / wall "
+           "| summary / VTU / plots (s) | pictures | peak (GB) |\n|---|---|---|---|---|---|---|---|---|---|")
 
-    shares = {True: [], False: []}
-    for _ in range(pairs):
-        for serial in (True, False):
-            cmd = [sys.executable, __file__, path, "--out", str(out)] + ["--vtk"] * force_vtk + ["--serial"] * serial
-            line = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout.splitlines()[0]
-            print(line)
-            run_s, output_s = (float(line.split(key)[1].split()[0]) for key in ("run ", "output "))
-            shares[serial].append((run_s, output_s))
-    for k in range(pairs):
-        (r0, o0), (r1, o1) = shares[True][k], shares[False][k]
-        print(f"  pair {k + 1}: output parallel / serial = {o1 / o0:.2f}, run parallel / serial = {r1 / r0:.2f}")
+
+#: ``ibfem run`` as the command line runs it, with the machine's idle cores taken as ``sys.argv[1]``
+_CHILD = ("import sys\nfrom ibfem.solver.io import parallel_plots\n"
+          "if sys.argv[1] != 'load':\n    parallel_plots.idle_cores = lambda: int(sys.argv[1])\n"
+          "from ibfem.solver.cli import main\nraise SystemExit(main(sys.argv[2:]))")
+
+
+def command_row(path: str, out: Path, idle: str = "load") -> tuple[str, float]:
+    """(table row, output share of the wall time) of ``ibfem run`` on one scene in a child process;
+    ``idle``: the idle cores the pictures' processes are started for ("load": from the load
+    average, as ``ibfem run`` does; a number: as if the machine had that many)."""
+    t0 = time.perf_counter()
+    child = subprocess.Popen([sys.executable, "-c", _CHILD, idle, "run", path, "--out", str(out), "--quiet"],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(child.pid, 0)
+    wall = time.perf_counter() - t0
+    name = str(Path(path).with_suffix("")).replace("examples/", "")
+    if os.waitstatus_to_exitcode(status) not in (0, 1):
+        return f"| {name} | failed: {child.stderr.read().decode(errors='replace').strip().splitlines()[-1:]} |", float("nan")
+    child.stderr.read()
+    summary = json.loads((out / "summary.json").read_text())
+    t = summary["timings"]
+    files = summary.get("files", [])
+    kinds = [k for k, ext in (("VTU", ".vtu"), ("plots", ".png")) if any(f.endswith(ext) for f in files)]
+    pictures = ("-" if "plots" not in kinds else
+                f"{t.get('plots_processes', 0)} processes" if t.get("plots_processes") else "this process")
+    share = t["output_s"] / wall
+    row = (f"| {name} | {' + '.join(kinds) or 'summary only'} | {wall:.2f} | {t.get('solver_total_s', 0.0):.2f} "
+           f"| {t.get('estimate_s', 0.0):.2f} | {t['output_s']:.2f} | {100 * share:.1f} % "
+           f"| {t.get('summary_s', 0.0):.2f} / {t.get('vtk_s', 0.0):.2f} / {t.get('plots_s', 0.0):.2f} | {pictures} "
+           f"| {usage.ru_maxrss / 2**20:.2f} |")
+    return row, share
 
 
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scenes", nargs="+")
     ap.add_argument("--out", default=None, help="output folder (default: a temporary one)")
-    ap.add_argument("--vtk", action="store_true", help="write (and check) the VTU files even where the scene does not ask")
+    ap.add_argument("--vtk", action="store_true",
+                    help="in this process, the VTU files written (whatever the scene asks), read back and checked")
     ap.add_argument("--serial", action="store_true",
-                    help="the pictures after the VTU files, in this process (for comparison)")
-    ap.add_argument("--alternate", type=int, default=0, metavar="N",
-                    help="N pairs of runs of each scene, serial and parallel alternating (timing ratios on a loaded machine)")
+                    help="with --vtk: the pictures after the VTU files, in this process (for comparison)")
+    ap.add_argument("--alternate", type=int, default=1, metavar="N",
+                    help="N runs of each scene, the scenes in turn (a loaded machine's noise spread over all)")
+    ap.add_argument("--markdown", type=Path, default=None, help="also write the table to this file")
+    ap.add_argument("--idle-cores", default="load", metavar="N",
+                    help="start the pictures' processes as if the machine had N idle cores (default: from its load "
+                         "average, as ibfem run does; on a shared machine, what an idle one would do)")
     args = ap.parse_args(argv)
     root = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="ibfem-output-"))
-    for path in args.scenes:
-        if args.alternate:
-            _alternate(path, root / Path(path).stem, args.vtk, args.alternate)
-        else:
-            run(path, root / Path(path).stem, args.vtk, args.serial)
+    if args.vtk:
+        for path in args.scenes:
+            run(path, root / Path(path).stem, True, args.serial)
+        return 0
+    print(_HEADER, flush=True)
+    rows = []
+    for _ in range(args.alternate):
+        for path in args.scenes:
+            row, _share = command_row(path, root / Path(path).stem, args.idle_cores)
+            print(row, flush=True)
+            rows.append(row)
+    if args.markdown:
+        args.markdown.write_text(_HEADER + "\n" + "\n".join(rows) + "\n")
     return 0
 
 

@@ -93,8 +93,11 @@ def _run(args: argparse.Namespace) -> int:
 
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name
+    out = Path(args.out) if args.out else default_out_dir(args.scene)
+    pictures = _PictureStart(out, scene, progress)
     try:
-        solution, ladder = _solve_scene(scene.problem, solve, progress, estimate=not args.no_estimate)
+        solution, ladder = _solve_scene(scene.problem, solve, progress, estimate=not args.no_estimate,
+                                        solved=pictures if scene.output.plots else None)
     except ValueError as err:  # the solver's own checks on the input: a scene problem
         if not args.quiet:
             progress.close()
@@ -113,7 +116,6 @@ def _run(args: argparse.Namespace) -> int:
             progress.close()
         raise
 
-    out = Path(args.out) if args.out else default_out_dir(args.scene)
     extra = {"scene": str(Path(args.scene))}
     if ladder is not None:
         extra["accuracy"] = ladder
@@ -121,7 +123,7 @@ def _run(args: argparse.Namespace) -> int:
         extra["warnings"] = list(scene.warnings)
     try:  # the progress display goes on while the results are written
         summary = write_scene_results(out, scene, solution, total_s=time.perf_counter() - t0, extra=extra,
-                                      progress=progress)
+                                      progress=progress, pictures=pictures.started)
     except OSError as err:
         _err(f"cannot write results to {out}: {err.strerror or err}")
         return 4
@@ -145,16 +147,38 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _solve_scene(problem, solve, progress, estimate: bool):
+class _PictureStart:
+    """Called with the solution once it is there: starts the scene's pictures, which render
+    while the error estimate solves (solver.io.output.start_scene_pictures); ``started`` is
+    what it returned (None before, or when the output folder cannot be made: that is reported
+    when the results are written)."""
+
+    def __init__(self, out: Path, scene, progress):
+        self.out, self.scene, self.progress, self.started = out, scene, progress, None
+
+    def __call__(self, solution) -> None:
+        from ibfem.solver.io.output import start_scene_pictures
+
+        self.progress("results: plots (started)")
+        try:
+            self.started = start_scene_pictures(self.out, self.scene, solution)
+        except OSError:
+            self.started = None
+
+
+def _solve_scene(problem, solve, progress, estimate: bool, solved=None):
     """(solution, accuracy ladder or None): the ladder of ``[solver] accuracy`` when the scene sets
     it, else one solve, followed by the error estimate (a second solve on a coarser grid) of a
-    converged contact solution unless ``estimate`` is false."""
+    converged contact solution unless ``estimate`` is false; ``solved(solution)`` is called
+    before that estimate (the pictures start there)."""
     if problem.options.accuracy is not None and problem.contacts:
         from ibfem.solver.solving import solve_to_accuracy
 
         return solve_to_accuracy(problem, progress=progress)
     solution = solve(problem, progress=progress)
     if solution.contacts and solution.converged and estimate:
+        if solved is not None:
+            solved(solution)
         from ibfem.solver.solving import estimate_errors
 
         progress("error estimate", 0.95)

@@ -84,33 +84,41 @@ class IBFEMSolution:
             loc = np.stack([m[:, 1, 0] / m[:, 0, 0], m[:, 0, 1] / m[:, 0, 0]], axis=1)
         return g.center + 0.5 * g.size[:, None] * np.clip(np.nan_to_num(loc), -1.0, 1.0)
 
-    def centroid_stress(self, body: str) -> np.ndarray:
+    def centroid_stress(self, body: str, fields: np.ndarray | None = None) -> np.ndarray:
         """(m, 3) stress of the discrete field at the centroid of each cell's inside part (the
-        superconvergent point of a bilinear square for interior cells); computed once."""
+        superconvergent point of a bilinear square for interior cells); computed once.
+        ``fields`` (dofs, k): other displacement fields instead, their stresses side by side
+        (m, 3 k), not cached."""
         (b,) = self._body(body)
-        cache = self.__dict__.setdefault("_centroid_stress", {})
+        cache = {} if fields is not None else self.__dict__.setdefault("_centroid_stress", {})
         if b.name not in cache:
             cells = np.arange(len(b.grid.level))
-            cache[b.name] = (b.stress_operator(self.cell_centroids(b.name), cells) @ self.u).reshape(-1, self.voigt)
+            op = b.stress_operator(self.cell_centroids(b.name), cells)
+            if fields is not None:
+                values = np.asarray(op @ fields).reshape(len(cells), self.voigt, -1)
+                return values.transpose(0, 2, 1).reshape(len(cells), -1)
+            cache[b.name] = (op @ self.u).reshape(-1, self.voigt)
         return cache[b.name]
 
-    def nodal_stress(self, body: str) -> np.ndarray:
-        """(N, 3) or (N, 6) recovered nodal stresses (solver.fem.recovery); computed once."""
+    def nodal_stress(self, body: str, centroid_stress: np.ndarray | None = None) -> np.ndarray:
+        """(N, 3) or (N, 6) recovered nodal stresses (solver.fem.recovery); computed once.
+        ``centroid_stress`` (m, k): other values at the body's cell centroids to recover the same
+        way instead (several fields side by side, e.g. the load steps'), not cached."""
         (b,) = self._body(body)
-        cache = self.__dict__.setdefault("_nodal_stress", {})
+        cache = {} if centroid_stress is not None else self.__dict__.setdefault("_nodal_stress", {})
         if b.name not in cache:
             # flat sliding faces (straight sliding edges) are planes of symmetry: the patches
             # there are completed by their mirror images (solver.fem.recovery.sliding_symmetry)
             sliding = [bc.edge for bc in getattr(self.problem, "boundary_conditions", ())
                        if isinstance(bc, Sliding) and bc.body == b.name]
+            values = self.centroid_stress(b.name) if centroid_stress is None else centroid_stress
             if b.dim == 3:
                 g, centroids = b.grid, self.cell_centroids(b.name)
                 planes, cut = sliding_symmetry(b.boundary, sliding, g, b.status == CUT3, b.inside_volume, centroids)
                 cache[b.name] = patch_recovery(g.cells, g.nodes, g.size, b.inside_volume, cut, centroids,
-                                               self.centroid_stress(b.name), planes)
+                                               values, planes)
             else:
-                cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), self.centroid_stress(b.name),
-                                             b.boundary, sliding)
+                cache[b.name] = nodal_stress(b.grid, self.cell_centroids(b.name), values, b.boundary, sliding)
         return cache[b.name]
 
     def _evaluate(self, points, body, kind: str, width: int) -> np.ndarray:

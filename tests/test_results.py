@@ -244,3 +244,27 @@ def test_the_reports_checks_carry_their_units(tmp_path):
     page = write_report(tmp_path, summary, [], None).read_text()
     for text in ("2.5e-05 m", "6.5e+08 Pa", "[0.045, 0.046] m", "[0, -3e+06] N", "<td>12</td>", "<td>false</td>"):
         assert text in page
+
+
+def test_pictures_started_before_the_estimate_are_waited_for_and_timed(tmp_path):
+    """The pictures start right after the solve (the error estimate then adds to the contact
+    blocks): the files and summary hold the later additions, the pictures are listed, and the
+    start's seconds, spent before ``total_s`` was taken, count in ``output_s`` but not twice in
+    ``total_s``."""
+    block = {"bodies": ["upper", "lower"], "type": "frictionless", "friction": 0.0, "point": [0.5, 0.0],
+             "normal": [0.0, 1.0], "tangent": [-1.0, 0.0], "half_width": 0.01, "stick_half_width": 0.0,
+             "normal_force": 12.0, "tangential_force": 0.0,
+             "pressure": {"s": list(np.linspace(-0.01, 0.01, 5)), "value": [1.0] * 5}, "shear": {"s": [], "value": []}}
+    problem, solution = make_problem(), make_solution(contacts=[block])
+    started = output.start_pictures(tmp_path, problem, solution, vtk=False, plots=True)
+    assert output.start_pictures(tmp_path, problem, solution, vtk=False, plots=False) is None
+    block["estimated_error"] = {"half_width": 0.001}  # what the estimate adds after the start
+    summary = output.write_results(tmp_path, problem, solution, vtk=False, plots=True, total_s=2.0, pictures=started)
+    data = json.loads((tmp_path / "summary.json").read_text())
+    assert data["contacts"][0]["estimated_error"] == {"half_width": 0.001}
+    assert data["files"] == ["contact_0.png", "contact_0_fields.png", "fields.png", "report.html"]
+    assert all((tmp_path / f).stat().st_size > 0 for f in data["files"])
+    t = summary["timings"]
+    earlier = sum(started.times.values())
+    assert t["output_s"] >= earlier > 0.0 and t["output_s"] >= t["plots_s"] > 0.0
+    assert t["total_s"] - 2.0 == pytest.approx(t["output_s"] - earlier, abs=1e-9)

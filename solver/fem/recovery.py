@@ -117,9 +117,13 @@ class MirrorPlane:
 def reflect_stress(stress: np.ndarray, normal: np.ndarray) -> np.ndarray:
     """Voigt stresses (n, 3) in 2D ([sxx, syy, sxy]) or (n, 6) in 3D ([sxx, syy, szz, syz, sxz,
     sxy]) mirrored in the plane of unit ``normal``: R s R with R = I - 2 n n^T (aligned with an
-    axis: the shear components with one index along it change sign)."""
+    axis: the shear components with one index along it change sign). Several stress fields side
+    by side, (n, 3 g) or (n, 6 g), are mirrored each in turn (the dimension is the normal's)."""
     s = np.asarray(stress, dtype=float)
-    dim = 2 if s.shape[1] == 3 else 3
+    dim = len(normal)
+    width = len(_VOIGT[dim])
+    if s.shape[1] != width:  # g fields side by side: each row of width components on its own
+        return reflect_stress(s.reshape(-1, width), normal).reshape(s.shape)
     pairs = _VOIGT[dim]
     t = np.zeros((len(s), dim, dim))
     for k, (i, j) in enumerate(pairs):

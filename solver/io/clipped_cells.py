@@ -23,7 +23,10 @@ The pieces' vertices on the surface lie on the exact surface; between them the o
 surface's chords, so a convex surface loses the sagitta of its leaves' facets (relative volume of
 the order tolerance x area / volume). Where the surface is concave the chords pass just outside
 the body: the thin pieces whose centroid falls outside are dropped, so every output cell's
-centroid lies in the body. Points shared by several cells are merged.
+centroid lies in the body. Every piece is judged so, and a sub-cell is kept whole only when its
+centre is inside as well as its corners: a CAD part's distance can misjudge a corner (near a
+degenerate edge), and a piece of such corners would otherwise poke out. Points shared by
+several cells are merged.
 """
 
 from __future__ import annotations
@@ -145,7 +148,7 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
         kink = (deviation > 0.35 * previous) & (s <= resolution * (1.0 + 1e-9))
         leaf = ~inside & ~outside & ((deviation <= tolerance) | kink | (level == max_depth))
         eps = 1e-12 * s[:, None]
-        whole_leaf = leaf & np.all(phi_corner >= -eps, axis=1)
+        whole_leaf = leaf & np.all(phi_corner >= -eps, axis=1) & (phi_centre >= 0.0)  # its centroid inside too
         full = inside | whole_leaf
         if level == 0:
             kept.append(cell[full])
@@ -166,10 +169,10 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
         scale = np.max(np.abs(edges), axis=(1, 2)) ** dim
         solid = np.abs(np.linalg.det(edges)) > 1e-12 * scale
         simplices, simplex_parent, on_surface = simplices[solid], simplex_parent[solid], on_surface[solid]
-    touching = np.nonzero(on_surface.any(axis=1))[0]
-    if len(touching):  # where the surface is concave its chords leave the body: drop those slivers
-        keep = np.ones(len(simplices), dtype=bool)
-        keep[touching] = signed_distance(simplices[touching].mean(axis=1)) >= 0.0
+    if len(simplices):  # where the surface is concave its chords leave the body: drop those slivers
+        # (every piece is judged, not only those touching the surface: a CAD part's distance may
+        # misjudge a corner near a degenerate edge, and a piece of such corners then pokes out)
+        keep = np.asarray(signed_distance(simplices.mean(axis=1)), dtype=float) >= 0.0
         simplices, simplex_parent, on_surface = simplices[keep], simplex_parent[keep], on_surface[keep]
     pieces = [
         np.concatenate(boxes) if boxes else np.zeros((0, len(corners), dim)),

@@ -1,8 +1,9 @@
-"""The pictures of a run rendered in a second process while the first writes the other files.
+"""The pictures of a run rendered in a second process while the first goes on with the run.
 
-Rendering (matplotlib) and the VTU files (numpy) need nothing from each other once the summary
-and the bodies' output meshes exist, so forked children render the pictures while the parent
-clips and writes the bodies: with two idle cores one child the fields over the bodies and another
+Rendering (matplotlib) and the rest of the run need nothing from each other once the solution,
+its recovered stresses and the bodies' output meshes exist, so forked children render the
+pictures while the parent solves the error estimate's coarser grid (``ibfem run`` starts them
+right after the solve) and clips and writes the bodies: with two idle cores one child the fields over the bodies and another
 the contact and line profiles, with one idle core one child all of them, and the output takes
 about the longest of the processes instead of their sum. Without an idle core (the load average
 at or above the cores) a second process would only share the same cores and cost its own start

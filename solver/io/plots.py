@@ -39,7 +39,8 @@ class _Figures:
 
     def save(self, fig: Any, name: str) -> None:
         path = self.out_dir / name
-        fig.savefig(path, dpi=110)
+        # zlib's fastest level: 0.24-0.30 times the default's encoding time, files 1.3 times larger
+        fig.savefig(path, dpi=110, pil_kwargs={"compress_level": 1})
         self.plt.close(fig)
         self.written.append(path)
 
@@ -55,6 +56,21 @@ class _Figures:
             ax.legend()
         ax.grid(alpha=0.3)
         self.save(fig, name)
+
+
+    def save_stress_line(self, s: np.ndarray, stress: np.ndarray, vm: np.ndarray, components, title: str,
+                         name: str) -> None:
+        """The stress components and von Mises along an output line, in the units that fit."""
+        finite = np.abs(np.concatenate([stress.ravel(), vm]))
+        finite = finite[np.isfinite(finite)]
+        sname, sscale = stress_unit(float(finite.max()) if finite.size else 1.0)
+        lname, lscale = length_unit(float(np.ptp(s)) if len(s) else 1.0)
+        fig, ax = self.plt.subplots(figsize=(7, 4.5))
+        fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.92)  # fixed: short tick labels in these units
+        for k, label in enumerate(components):
+            ax.plot(s / lscale, stress[:, k] / sscale, label=label)
+        ax.plot(s / lscale, vm / sscale, "k", lw=2, label="von Mises")
+        self.save_line_plot(fig, ax, f"distance along the line [{lname}]", f"stress [{sname}]", title, name)
 
 
 def _triangles(out) -> np.ndarray:
@@ -94,7 +110,7 @@ def _colour_range(outputs, values: list[np.ndarray], window) -> tuple[float, flo
     return vmin, vmax
 
 
-def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, title: str, window) -> None:
+def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, window) -> None:
     """The recovered field over the bodies as they are (cells clipped at the exact boundary),
     drawn on the deformed shape at true scale (touching bodies close over the contact), smoothly
     shaded between the points; lengths and stresses in the units that fit."""
@@ -118,7 +134,7 @@ def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, title: str, wi
         fig.colorbar(image, ax=ax, shrink=0.8, label=f"{label} [{uname}]")
     ax.set_aspect("equal")
     ax.locator_params(nbins=5)
-    ax.set_title(f"{title} (deformed, true scale)", fontsize=10)
+    ax.set_title(f"{label} (deformed, true scale)", fontsize=10)
     ax.set_xlabel(f"x [{lname}]")
     ax.set_ylabel(f"y [{lname}]")
 
@@ -128,12 +144,13 @@ def _field_figure(plt, outputs, title: str, window) -> Any:
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     # fixed margins (a quarter of the rendering time less than a computed layout): room for the
     # tick labels, the colour bars' labels and a title over each panel
-    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.1, top=0.92, wspace=0.3)
+    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.1, top=0.87, wspace=0.3)
+    fig.suptitle(title)
     allpoints = np.concatenate([out.points for out in outputs])
     window = window or (allpoints[:, 0].min(), allpoints[:, 0].max(), allpoints[:, 1].min(), allpoints[:, 1].max())
     for ax, key, label in ((axes[0], "von_mises", "von Mises stress"),
                            (axes[1], "displacement", "displacement magnitude")):
-        _draw_field(fig, ax, outputs, key, label, title, window)
+        _draw_field(fig, ax, outputs, key, label, window)
     return fig
 
 
@@ -160,12 +177,8 @@ def _line_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, Any
         s = np.asarray(line.get("s") or np.linalg.norm(np.subtract(line["points"], line["points"][0]), axis=1), dtype=float)
         stress = np.asarray(line["stress"], dtype=float).reshape(-1, 3)
         vm = np.asarray(line["von_mises"], dtype=float)
-        fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
-        for k, lab in enumerate(("sxx", "syy", "sxy")):
-            ax.plot(s, stress[:, k], label=lab)
-        ax.plot(s, vm, "k", lw=2, label="von Mises")
-        figs.save_line_plot(fig, ax, "distance along the line [m]", "stress [Pa]", f"{problem.name}: line {name}",
-                            f"line_{_file_stem(name)}.png")
+        figs.save_stress_line(s, stress, vm, ("sxx", "syy", "sxy"), f"{problem.name}: line {name}",
+                              f"line_{_file_stem(name)}.png")
 
 
 def _curvature(body: pb.BodyModel, point: np.ndarray) -> float | None:
@@ -249,7 +262,8 @@ def _contact_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, 
         s_all = np.asarray(pressure.get("s") or shear.get("s"), float)
         lname, lscale = length_unit(float(np.ptp(s_all)) or 1.0)
         sname, sscale = stress_unit(max(np.abs(pressure.get("value") or [0.0]).max(), 1e-300))
-        fig, ax = figs.plt.subplots(figsize=(10.5, 4.8), constrained_layout=True)
+        fig, ax = figs.plt.subplots(figsize=(9.6, 4.8))
+        fig.subplots_adjust(left=0.085, right=0.66, bottom=0.11, top=0.92)  # fixed: the legend beside the axes
         if pressure.get("s"):
             ax.plot(np.asarray(pressure["s"], float) / lscale, np.asarray(pressure["value"], float) / sscale, lw=2,
                     label="pressure (computed)")

@@ -125,6 +125,16 @@ def _crop(ax, su: np.ndarray, sv: np.ndarray, values: np.ndarray) -> None:
         ax.set_ylim(sv[rows[0]], sv[rows[-1]])
 
 
+def _ticks(ax, most: int = 5) -> None:
+    """At most ``most`` ticks along the longer side of an equal-aspect panel and fewer along the
+    shorter one, in proportion: a narrow panel's tick labels do not run into each other."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    width, height = abs(x1 - x0), abs(y1 - y0)
+    longest = max(width, height) or 1.0
+    ax.locator_params(axis="x", nbins=max(2, round(most * width / longest)))
+    ax.locator_params(axis="y", nbins=max(2, round(most * height / longest)))
+
+
 def _sections(plt, problem: pb.Problem, solution: pb.Solution, contacts) -> Any:
     """von Mises and |u| on the section planes (:func:`section_planes`), each panel's colour
     scale from 0 to the largest value it shows; numbers in MPa / GPa and mm / um as they fit."""
@@ -153,13 +163,13 @@ def _sections(plt, problem: pb.Problem, solution: pb.Solution, contacts) -> Any:
             if plane.get("semi"):
                 ax.plot([-plane["semi"] / lscale, plane["semi"] / lscale], [0.0, 0.0], "w-", lw=2.0,
                         label="contact region")
-                ax.legend(loc="upper right", fontsize=7, framealpha=0.6)
+                ax.legend(loc="upper right", fontsize=7, facecolor="0.3", labelcolor="white", framealpha=0.8)  # the white line shows
             _crop(ax, su / lscale, sv / lscale, values)
             ax.set_xlabel(f"{plane['labels'][0]} [{lname}]")
             ax.set_ylabel(f"{plane['labels'][1]} [{lname}]")
             ax.set_title(plane["title"], fontsize=10)
             ax.set_aspect("equal")
-            ax.locator_params(nbins=5)
+            _ticks(ax)
     fig.suptitle(problem.name)
     return fig
 
@@ -205,7 +215,8 @@ def _annotation(rows, lscale: float, lname: str, sscale: float, sname: str) -> s
 def _contact_figure(plt, problem: pb.Problem, c: Mapping[str, Any]) -> Any:
     """Pressure and shear along both axes (Hertz beside them) and the pressure over the patch
     with the computed and Hertz ellipses; a, b and p0 with their Hertz values written on it."""
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5.2), constrained_layout=True)
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(13, 5.2))
+    fig.subplots_adjust(left=0.06, right=0.96, bottom=0.1, top=0.88, wspace=0.22)  # fixed: a computed layout costs more
     hertz = _hertz(problem, c)
     a, b = c["semi_axes"]
     rows = contact_numbers(problem, c)
@@ -269,13 +280,8 @@ def write_solid_plots(out_dir: Path, figs: Any, problem: pb.Problem, solution: p
         elif c.get("semi_axes") and c["semi_axes"][0]:
             figs.save(_contact_figure(figs.plt, problem, c), f"contact_{k}.png")
     for name, line in summary.get("lines", {}).items():
-        s = np.asarray(line["s"], dtype=float)
-        stress = np.asarray(line["stress"], dtype=float).reshape(-1, 6)
-        fig, ax = figs.plt.subplots(figsize=(7, 4.5), constrained_layout=True)
-        for k, label in enumerate(_VOIGT):
-            ax.plot(s, stress[:, k], label=label)
-        ax.plot(s, np.asarray(line["von_mises"], dtype=float), "k", lw=2, label="von Mises")
         from .results import _file_stem
 
-        figs.save_line_plot(fig, ax, "distance along the line [m]", "stress [Pa]", f"{problem.name}: line {name}",
-                            f"line_{_file_stem(name)}.png")
+        stress = np.asarray(line["stress"], dtype=float).reshape(-1, 6)
+        figs.save_stress_line(np.asarray(line["s"], dtype=float), stress, np.asarray(line["von_mises"], dtype=float),
+                              _VOIGT, f"{problem.name}: line {name}", f"line_{_file_stem(name)}.png")
