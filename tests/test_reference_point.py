@@ -175,3 +175,60 @@ def test_a_region_that_holds_no_point_of_the_face_is_an_error():
     region = {"center": [1.0, 1.0, 1.0], "radius": 0.001}
     with pytest.raises(ValueError, match="no quadrature point of the face lies inside the region"):
         _solve({"face": "z_max", "point": list(TOP), "region": region, "displacement": [0, 0, -1e-6]})
+
+
+# --- 2D (plane strain): the same conditions on an edge -------------------------------------------
+
+WIDTH, HEIGHT = 0.010, 0.020
+
+
+def _solve_2d(top: dict, nu: float, supports: dict):
+    scene = {
+        "model": "plane_strain", "thickness": 1.0,
+        "materials": [{"name": "steel", "youngs_modulus": E, "poissons_ratio": nu}],
+        "bodies": [{"name": "plate", "material": "steel", "element_size": 0.0024,
+                    "shape": {"type": "rectangle", "min": [0, 0], "max": [WIDTH, HEIGHT]}}],
+        "boundary_conditions": [{"type": kind, "body": "plate", "edge": e} for e, kind in supports.items()]
+        + [dict(type="reference_point", body="plate", edge="top", **top)],
+    }
+    return solve(scene_from_dict(scene).problem)
+
+
+def test_2d_kinematic_cap_gives_the_uniform_strain_solution():
+    d = 2e-6
+    sol = _solve_2d({"point": [0.005, 0.02], "displacement": [0, -d]}, 0.0, {"bottom": "sliding", "left": "sliding"})
+    sigma = -E * d / HEIGHT
+    x = np.random.default_rng(2).uniform(0.05, 0.95, (40, 2)) * [WIDTH, HEIGHT]
+    stress = sol.stress(x, recovered=False)
+    np.testing.assert_allclose(stress, np.broadcast_to([0, sigma, 0], stress.shape), atol=1e-7 * abs(sigma))
+    np.testing.assert_allclose(sol.reactions["plate/top"], [0, sigma * WIDTH], rtol=1e-7, atol=1e-7 * abs(sigma) * WIDTH)
+
+
+def test_2d_turned_cap_and_distributed_moment_balance_the_support():
+    point = np.array([0.003, 0.025])
+    sol = _solve_2d({"point": point.tolist(), "displacement": [1e-6, -2e-6], "rotation": 3e-4}, 0.3, {"bottom": "fixed"})
+    f_point, m_point = resultant(*sol.boundary_tractions["plate/top"], point)
+    total_f, total_m = _balance_2d(sol, point)
+    assert np.linalg.norm(total_f) < 1e-9 * np.linalg.norm(f_point)
+    assert abs(total_m[0]) < 1e-9 * abs(m_point[0])
+    force, moment = np.array([50.0, -400.0]), np.array([1.5])
+    sol = _solve_2d({"point": point.tolist(), "coupling": "distributing", "force": force.tolist(), "moment": 1.5,
+                     "region": {"min": [0.0, 0.019], "max": [0.006, 0.021]}}, 0.3, {"bottom": "fixed"})
+    f_support, m_support = _balance_2d(sol, point)
+    np.testing.assert_allclose(f_support, -force, atol=1e-9 * np.abs(force).max())
+    np.testing.assert_allclose(m_support, -moment, atol=1e-9 * np.abs(force).max() * HEIGHT)
+
+
+def _balance_2d(sol, point):
+    total_f, total_m = np.zeros(2), np.zeros(1)
+    for points, weights, traction in sol.boundary_tractions.values():
+        f, m = resultant(points, weights, traction, point)
+        total_f, total_m = total_f + f, total_m + m
+    return total_f, total_m
+
+
+def test_a_kinematic_point_holds_a_body_and_a_distributing_one_does_not():
+    sol = _solve_2d({"point": [0.005, 0.03], "displacement": [0, -1e-6], "rotation": 1e-4}, 0.3, {})
+    assert sol.converged
+    with pytest.raises(SceneError, match="rigid"):
+        _solve_2d({"point": [0.005, 0.03], "coupling": "distributing", "force": [0, -1.0]}, 0.3, {})
