@@ -342,3 +342,25 @@ def test_an_iges_solid_takes_its_directory_entry_label(shapes, tmp_path):
     lines[first + 1] = second[:56] + "Solido1".rjust(8) + "0".rjust(8) + second[72:]
     path.write_text("\n".join(lines) + "\n")
     assert [b.name for b in load_part(str(path)).bodies.values()] == ["Solido1"]
+
+
+def test_a_face_of_revolution_of_an_unbounded_line_is_exact(tmp_path):
+    """FreeCAD writes revolved faces whose profile is a LINE (unbounded): the surface is cut to the
+    face's range of the profile before its B-spline conversion. Here a line through (20, 0, 0) and
+    (30, 0, 10) mm turned about z (a cone of semi-angle 45 degrees, apex at z = -20 mm), the face
+    its part 0 <= v <= 10 mm along the line over a quarter turn: every mesh node on the cone."""
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace
+    from OCP.Geom import Geom_Line, Geom_SurfaceOfRevolution
+    from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt
+
+    line = Geom_Line(gp_Pnt(20.0, 0.0, 0.0), gp_Dir(1.0, 0.0, 1.0))
+    surface = Geom_SurfaceOfRevolution(line, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)))
+    face = BRepBuilderAPI_MakeFace(surface, 0.0, math.pi / 2, 0.0, 10.0 * math.sqrt(2.0), 1e-7).Face()
+    part = load_part(S.write_step(face, tmp_path / "revolved.step"))
+    (f,) = part.faces.values()
+    assert f.surface_type == "SPUN" and f.surface is not None
+    x = np.asarray(f.mesh.vertices, float) * 1000.0  # mm
+    radial = np.hypot(x[:, 0], x[:, 1])
+    np.testing.assert_allclose(radial - (x[:, 2] + 20.0), 0.0, atol=1e-9)  # on the cone r = z + 20
+    feet = np.asarray(f.surface.project(x / 1000.0).points, float)
+    np.testing.assert_allclose(feet, x / 1000.0, atol=1e-12)

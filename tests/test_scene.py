@@ -190,7 +190,7 @@ def _set(path, value):
         (_set(("bodies", 0, "element_size"), 0.6), "bodies[0].element_size = 0.6: grid coarser than the body"),
         (_set(("boundary_conditions", 0, "edge"), "bttom"), 'boundary_conditions[0].edge = "bttom": body "plate" has no such edge (known: bottom, right, top, left)'),
         (_set(("boundary_conditions", 0, "body"), "plat"), 'boundary_conditions[0].body = "plat": unknown body (known: plate)'),
-        (_set(("boundary_conditions", 0, "type"), "slip"), 'boundary_conditions[0].type = "slip": unknown type (known: fixed, displacement, sliding, traction, pressure, body_force)'),
+        (_set(("boundary_conditions", 0, "type"), "slip"), 'boundary_conditions[0].type = "slip": unknown type (known: fixed, displacement, sliding, traction, pressure, body_force, reference_point)'),
         (_set(("boundary_conditions", 2, "value"), [1e6]), "boundary_conditions[2].value = [1000000.0]: too few components"),
         (_set(("boundary_conditions", 2, "vale"), 1), "boundary_conditions[2].vale = 1: unknown key (known: type, body, edge, value, path)"),
         (_set(("boundary_conditions", 0), {"body": "plate", "edge": "bottom", "type": "displacement", "value": ["fre", 0]}),

@@ -122,7 +122,7 @@ def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dic
     mesh = face_triangles(face, evaluator, triangles)
     loops = _loops(face, edge_index)
     geom = BRep_Tool.Surface_s(face)
-    d, kind, note = surface_dict(GeomAdaptor_Surface(geom))
+    d, kind, note = surface_dict(GeomAdaptor_Surface(geom), v_range=_face_parameters(face, None)[:, 1])
     notes = [note] if note else []
     if d is not None and d["type"] == "bspline_surface" and kind == "BSURFACE":
         d, grown = covering(d, geom, _face_parameters(face, triangles))

@@ -82,9 +82,10 @@ def _cone(g) -> dict[str, Any]:
             "half_angle": angle}
 
 
-def surface_dict(adaptor) -> tuple[dict | None, str, str | None]:
+def surface_dict(adaptor, v_range: tuple[float, float] | None = None) -> tuple[dict | None, str, str | None]:
     """(geometry dict or None, type label, note or None) of a GeomAdaptor_Surface of the face's
-    located surface."""
+    located surface; ``v_range``: the face's range of the second parameter (it bounds a surface of
+    revolution whose profile curve is unbounded, a line)."""
     name = adaptor.GetType().name
     kind = SURFACE_KINDS.get(name, "OTHER")
     if kind == "PLANE":
@@ -113,20 +114,35 @@ def surface_dict(adaptor) -> tuple[dict | None, str, str | None]:
             return None, kind, f"extrusion of a {pkind} curve: no geometry primitive"
         return {"type": "sweep", "profile": profile, "direction": xyz(adaptor.Direction())}, kind, None
     if kind == "SPUN":
-        return _revolution(adaptor)
+        return _revolution(adaptor, v_range)
     if kind == "OFFSET":
         return None, kind, f"offset surface (distance {adaptor.OffsetValue():g} m): no geometry primitive"
     return None, kind, None
 
 
-def _revolution(adaptor) -> tuple[dict | None, str, str | None]:
+def _revolution(adaptor, v_range: tuple[float, float] | None = None) -> tuple[dict | None, str, str | None]:
+    """The surface of revolution as its exact rational B-spline; a profile without bounds (a
+    line) is first cut to the face's ``v_range`` widened by a quarter of its length each side."""
     from OCP.GeomConvert import GeomConvert
 
+    surface, note = adaptor.Surface(), "surface of revolution as its exact rational B-spline"
+    if v_range is not None and not all(np.isfinite(_v_bounds(adaptor))):
+        from OCP.Geom import Geom_RectangularTrimmedSurface
+
+        v0, v1 = v_range
+        margin = 0.25 * max(v1 - v0, 1e-12 * max(abs(v0), abs(v1), 1.0))
+        surface = Geom_RectangularTrimmedSurface(surface, v0 - margin, v1 + margin, False)
+        note += " (its unbounded profile cut to the face)"
     try:
-        bs = GeomConvert.SurfaceToBSplineSurface_s(adaptor.Surface())
+        bs = GeomConvert.SurfaceToBSplineSurface_s(surface)
     except Exception as exc:  # OpenCascade raises Standard_Failure subclasses
         return None, "SPUN", f"surface of revolution not convertible to a B-spline: {exc}"
-    return bspline_surface_dict(bs), "SPUN", "surface of revolution as its exact rational B-spline"
+    return bspline_surface_dict(bs), "SPUN", note
+
+
+def _v_bounds(adaptor) -> tuple[float, float]:
+    v0, v1 = adaptor.FirstVParameter(), adaptor.LastVParameter()
+    return (v0 if abs(v0) < 1e100 else -np.inf), (v1 if abs(v1) < 1e100 else np.inf)
 
 
 def covering_sweep(d: dict[str, Any], u: np.ndarray) -> tuple[dict[str, Any], str | None]:

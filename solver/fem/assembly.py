@@ -14,7 +14,9 @@ import scipy.sparse as sp
 
 from ..model.options import SolverOptions
 from ..model.problem import BodyForce, Displacement, Fixed, Pressure, Sliding, Traction
+from ..model.reference_point import ReferencePoint
 from .linalg import rigid_body_modes
+from .reference_point import distributing_traction, rigid_motion
 from .space import BodyDiscretisation
 from .step_boundary import projector, thin_band_terms, thin_band_traction
 
@@ -173,6 +175,12 @@ def boundary_terms(
         if isinstance(bc, BodyForce):
             f += b.body_force(_finite_vector(bc.value, f"boundary_conditions[{j}].value", b.dim))
             continue
+        if isinstance(bc, ReferencePoint):
+            band, load, term = _reference_point_terms(bc, b, settings)
+            bands += [band] if band is not None else []
+            essentials += [term] if term is not None else []
+            f += load
+            continue
         ess = essential_condition(bc, names, b.dim)
         bp = b.edge_points(bc.edge, settings.boundary_order, traction=ess is not None)
         if ess is not None:
@@ -197,3 +205,25 @@ def boundary_terms(
     return k.tocsr(), f, essentials
 
 
+
+
+def _reference_point_terms(bc: ReferencePoint, b: BodyDiscretisation, settings: SolverOptions):
+    """(band stiffness or None, load, essential term or None) of a reference point coupled to
+    a face of ``b``: a kinematic coupling is the thin-band condition u = U + theta x (x - x0) on
+    the coupled points (a projector of zero elsewhere), a distributing one the traction that
+    carries the point's force and moment."""
+    where = f"reference point on {bc.body}/{bc.edge}"
+    bp = b.edge_points(bc.edge, settings.boundary_order, traction=bc.kinematic)
+    coupled = bc.mask(bp.points)
+    if not coupled.any():
+        raise ValueError(f"{where}: no quadrature point of the face lies inside the region "
+                         f"({len(bp.points)} points on the face)")
+    point = _finite_vector(bc.point, f"{where}: point", b.dim)
+    if not bc.kinematic:
+        traction = distributing_traction(bp.points, np.where(coupled, bp.weights, 0.0), point, bc.force, bc.moment)
+        return None, bp.load(traction * bp.weights[:, None]), None
+    proj = projector("fixed", bp.normals) * coupled[:, None, None]
+    target = rigid_motion(bp.points, point, bc.displacement, bc.rotation)
+    kb, fa = thin_band_terms(bp, proj, target, b.lam, b.mu, settings.band_fraction, settings.consistency)
+    weights = np.where(coupled, bp.weights, 0.0)
+    return kb, fa, EssentialTerm(f"{bc.body}/{bc.edge}", b, bc.edge, bp.points, weights, proj, target)

@@ -17,6 +17,9 @@ import numpy as np
 
 from ibfem.solver.model import problem as pb
 from ibfem.solver.model.elasticity import von_mises
+from ibfem.solver.model.reference_point import ReferencePoint
+
+from .reference_point_output import reference_point_blocks
 
 __all__ = [
     "von_mises",
@@ -177,6 +180,8 @@ def build_summary(
         "iterations": iterations,
         "timings": timings,
     }
+    if any(isinstance(bc, ReferencePoint) for bc in problem.boundary_conditions):
+        out["reference_points"] = reference_point_blocks(problem, solution)
     if getattr(solution, "steps", None):  # load paths: one record per step (solver.io.step_outputs)
         from .step_outputs import steps_block
 

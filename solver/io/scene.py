@@ -50,6 +50,7 @@ from ibfem.solver.model.rigid import rigid_body_modes
 
 from .strict_model import StrictTable, integer, number
 from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
+from .scene_reference_point import ReferencePoint2Spec, reference_point
 
 __all__ = [
     "SceneError",
@@ -255,10 +256,10 @@ class BodyForceSpec(_Strict):
 
 
 BoundaryConditionSpec = Annotated[
-    Union[FixedSpec, DisplacementSpec, SlidingSpec, TractionSpec, PressureSpec, BodyForceSpec],
+    Union[FixedSpec, DisplacementSpec, SlidingSpec, TractionSpec, PressureSpec, BodyForceSpec, ReferencePoint2Spec],
     Field(discriminator="type"),
 ]
-_BC_TYPES = ("fixed", "displacement", "sliding", "traction", "pressure", "body_force")
+_BC_TYPES = ("fixed", "displacement", "sliding", "traction", "pressure", "body_force", "reference_point")
 _ESSENTIAL = (FixedSpec, DisplacementSpec, SlidingSpec)
 
 
@@ -605,6 +606,10 @@ def _check_references(spec: SceneSpec, label: str) -> None:
             problems.append(
                 f"{label}: boundary_conditions[{i}].body = {_show(bc.body)}: unknown body (known: {', '.join(bodies)})"
             )
+    for i, bc in enumerate(spec.boundary_conditions):
+        if isinstance(bc, ReferencePoint2Spec) and spec.paths:
+            problems.append(f"{label}: boundary_conditions[{i}]: a reference point does not follow load paths; "
+                            "remove [[paths]] or the reference point")
     essential: dict[tuple[str, str], int] = {}
     for i, bc in enumerate(spec.boundary_conditions):
         if isinstance(bc, _ESSENTIAL):
@@ -751,6 +756,8 @@ def _problem(spec: SceneSpec, profiles: dict[str, Any], default_name: str, label
             conditions.append(pb.Traction(body=bc.body, edge=bc.edge, value=(bc.value[0], bc.value[1])))
         elif isinstance(bc, PressureSpec):
             conditions.append(pb.Pressure(body=bc.body, edge=bc.edge, value=bc.value))
+        elif isinstance(bc, ReferencePoint2Spec):
+            conditions.append(reference_point(bc))
         else:
             conditions.append(pb.BodyForce(body=bc.body, value=(bc.value[0], bc.value[1])))
     contacts = tuple(

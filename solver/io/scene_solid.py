@@ -38,6 +38,7 @@ from .scene import (
     size_problems,
     _fields_of,
 )
+from .scene_reference_point import ReferencePoint3Spec, reference_point
 
 __all__ = ["SolidSceneSpec", "solid_scene_from_dict"]
 
@@ -116,10 +117,22 @@ class BodyForce3(_Strict):
     value: Vec3
 
 
+class ReferencePoint3(ReferencePoint3Spec):
+    """A rigid reference point coupled to a face (solver.io.scene_reference_point)."""
+
+    face: Union[str, FaceSelector]
+
+
 Condition3 = Annotated[
-    Union[Fixed3, Displacement3, Sliding3, Traction3, Pressure3, BodyForce3], Field(discriminator="type")
+    Union[Fixed3, Displacement3, Sliding3, Traction3, Pressure3, BodyForce3, ReferencePoint3],
+    Field(discriminator="type"),
 ]
 _ESSENTIAL = (Fixed3, Displacement3, Sliding3)
+
+
+def _holds(bc) -> bool:
+    """Whether the condition holds its body against rigid-body motion."""
+    return isinstance(bc, _ESSENTIAL) or (isinstance(bc, ReferencePoint3) and bc.coupling == "kinematic")
 
 
 class Line3(_Strict):
@@ -269,7 +282,7 @@ def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) 
         if hasattr(bc, "face") and bc.face not in solids[bc.body].faces:
             problems.append(f"{where}.face = {bc.face!r}: body {bc.body!r} has no such face "
                             f"(faces: {', '.join(solids[bc.body].faces)})")
-        if isinstance(bc, _ESSENTIAL):
+        if _holds(bc):
             held.add(bc.body)
     for k, c in enumerate(spec.contacts):
         for j, name in enumerate(c.bodies):
@@ -279,7 +292,8 @@ def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) 
             problems.append(f"{label}: contacts[{k}].bodies: a body cannot touch itself ({c.bodies[0]!r})")
     for name in bodies:
         if name not in held and name in solids:
-            problems.append(f"{label}: body {name!r} has no fixed, displacement or sliding condition: "
+            problems.append(f"{label}: body {name!r} has no fixed, displacement, sliding or kinematic reference "
+                            "point condition: "
                             "it is not held against rigid-body motion")
     if problems:
         raise SceneError(problems)
@@ -296,6 +310,8 @@ def _condition(bc) -> pb.BoundaryCondition:
         return pb.Traction(bc.body, bc.face, tuple(float(v) for v in bc.value))
     if isinstance(bc, Pressure3):
         return pb.Pressure(bc.body, bc.face, float(bc.value))
+    if isinstance(bc, ReferencePoint3):
+        return reference_point(bc)
     return pb.BodyForce(bc.body, tuple(float(v) for v in bc.value))
 
 

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from . import problem as pb
+from .reference_point import ReferencePoint
 from .resolve import contact_frame
 
 __all__ = ["rigid_body_modes"]
@@ -31,6 +32,12 @@ def _support_rows(problem: pb.Problem, body: pb.BodyModel) -> tuple[np.ndarray, 
     points, dirs = [], []
     ex, ey = np.array([1.0, 0.0]), np.array([0.0, 1.0])
     for bc in problem.boundary_conditions:
+        if isinstance(bc, ReferencePoint) and bc.body == body.name and bc.kinematic:
+            x, _ = _edge_samples(body.profile, bc.edge)  # coupled samples held in every direction
+            x = x[bc.mask(x)]
+            points += [x, x]
+            dirs += [np.broadcast_to(ex, x.shape), np.broadcast_to(ey, x.shape)]
+            continue
         if getattr(bc, "body", None) != body.name or not isinstance(bc, (pb.Fixed, pb.Displacement, pb.Sliding)):
             continue
         x, n = _edge_samples(body.profile, bc.edge)

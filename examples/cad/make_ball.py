@@ -1,0 +1,51 @@
+"""Write ball.step: a whole ball of radius 1 mm about the origin, written by OpenCascade in millimetres.
+
+One closed SPHERE face (bounded by its seam and two degenerate edges at the poles), as CAD systems
+write a ball: the sphere's axis is -z, so one pole of its parametrisation (a singular point) is the
+ball's lowest point, where it touches the block of ball_on_block_reference_point.toml. The solid is
+named 'ball' in the file (its product). Run:
+    .venv/bin/python examples/cad/make_ball.py [OUT.step]
+(deterministic, under a second).
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+RADIUS_MM = 1.0
+
+
+def build(radius: float = RADIUS_MM):
+    """The ball as an OpenCascade solid (lengths in the file's unit), its axis along -z."""
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeSphere
+    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
+
+    return BRepPrimAPI_MakeSphere(gp_Ax2(gp_Pnt(0.0, 0.0, 0.0), gp_Dir(0.0, 0.0, -1.0), gp_Dir(1.0, 0.0, 0.0)),
+                                  radius).Shape()
+
+
+def write(path: Path = HERE / "ball.step", radius: float = RADIUS_MM, name: str = "ball") -> Path:
+    """Write the ball to ``path`` in millimetres with its product named ``name``; returns the path."""
+    from OCP.Interface import Interface_Static
+    from OCP.Message import Message, Message_Gravity
+    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+
+    for printer in Message.DefaultMessenger_s().Printers():
+        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+    writer = STEPControl_Writer()
+    Interface_Static.SetCVal_s("write.step.unit", "MM")
+    writer.Transfer(build(radius), STEPControl_AsIs)
+    path = Path(path)
+    writer.Write(str(path))
+    text = path.read_text()
+    text = re.sub(r"PRODUCT\('[^']*',\s*'[^']*'", f"PRODUCT('{name}','{name}'", text, count=1)
+    text = re.sub(r"'\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d'", "'2026-01-01T00:00:00'", text)  # a stable file
+    path.write_text(text)
+    return path
+
+
+if __name__ == "__main__":
+    print(f"wrote {write(Path(sys.argv[1]) if len(sys.argv) > 1 else HERE / 'ball.step')}")
