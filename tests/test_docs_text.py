@@ -1,6 +1,7 @@
-"""What a user reads is self-contained: the README, the documentation pages, the examples' comments
-and every ``--help`` text name no internal contract document, issue number or path outside the
-repository; the README stays a front page (about 150 lines, none over 110 characters)."""
+"""What a user reads is self-contained: the README, the documentation pages, the examples' comments,
+every ``--help`` text and the sources' and tests' docstrings name no internal contract document,
+issue number or path outside the repository; the README stays a front page (about 150 lines,
+none over 110 characters)."""
 
 from __future__ import annotations
 
@@ -24,6 +25,9 @@ USER_TEXT = (
     + sorted((ROOT / "benchmarks").glob("*.py"))
     + sorted((ROOT / "benchmarks" / "scenes").glob("*.toml"))
     + [p for folder in ("geometry", "importers", "solver", "ibfem") for p in sorted((ROOT / folder).rglob("*.py"))]
+    # the tests' docstrings and comments, and their scenes (this file names the patterns themselves)
+    + [p for p in sorted((ROOT / "tests").rglob("*.py")) if p.name != "test_docs_text.py"]
+    + sorted((ROOT / "tests").rglob("*.toml"))
 )
 
 
