@@ -10,7 +10,6 @@ named 'ball' in the file (its product). Run:
 
 from __future__ import annotations
 
-import re
 import sys
 from pathlib import Path
 
@@ -29,22 +28,10 @@ def build(radius: float = RADIUS_MM):
 
 def write(path: Path = HERE / "ball.step", radius: float = RADIUS_MM, name: str = "ball") -> Path:
     """Write the ball to ``path`` in millimetres with its product named ``name``; returns the path."""
-    from OCP.Interface import Interface_Static
-    from OCP.Message import Message, Message_Gravity
-    from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
+    sys.path.insert(0, str(HERE))
+    from make_quarter_ball import write_step  # the STEP writer of the quarter ball's script
 
-    for printer in Message.DefaultMessenger_s().Printers():
-        printer.SetTraceLevel(Message_Gravity.Message_Fail)
-    writer = STEPControl_Writer()
-    Interface_Static.SetCVal_s("write.step.unit", "MM")
-    writer.Transfer(build(radius), STEPControl_AsIs)
-    path = Path(path)
-    writer.Write(str(path))
-    text = path.read_text()
-    text = re.sub(r"PRODUCT\('[^']*',\s*'[^']*'", f"PRODUCT('{name}','{name}'", text, count=1)
-    text = re.sub(r"'\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d'", "'2026-01-01T00:00:00'", text)  # a stable file
-    path.write_text(text)
-    return path
+    return write_step(build(radius), path, name)
 
 
 if __name__ == "__main__":

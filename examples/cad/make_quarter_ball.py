@@ -32,8 +32,9 @@ def build(radius: float = RADIUS_MM):
     return BRepPrimAPI_MakeSphere(frame, radius, -math.pi / 2, 0.0, math.pi / 2).Shape()
 
 
-def write(path: Path = HERE / "quarter_ball.step", radius: float = RADIUS_MM, name: str = "quarter ball") -> Path:
-    """Write the part to ``path`` in millimetres with its product named ``name``; returns the path."""
+def write_step(shape, path: Path, name: str) -> Path:
+    """Write an OpenCascade ``shape`` to ``path`` as STEP in millimetres with its product named
+    ``name`` and a fixed time stamp (the same file on every run); returns the path."""
     from OCP.Interface import Interface_Static
     from OCP.Message import Message, Message_Gravity
     from OCP.STEPControl import STEPControl_AsIs, STEPControl_Writer
@@ -42,7 +43,7 @@ def write(path: Path = HERE / "quarter_ball.step", radius: float = RADIUS_MM, na
         printer.SetTraceLevel(Message_Gravity.Message_Fail)
     writer = STEPControl_Writer()
     Interface_Static.SetCVal_s("write.step.unit", "MM")
-    writer.Transfer(build(radius), STEPControl_AsIs)
+    writer.Transfer(shape, STEPControl_AsIs)
     path = Path(path)
     writer.Write(str(path))
     text = path.read_text()
@@ -50,6 +51,11 @@ def write(path: Path = HERE / "quarter_ball.step", radius: float = RADIUS_MM, na
     text = re.sub(r"'\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d'", "'2026-01-01T00:00:00'", text)  # a stable file
     path.write_text(text)
     return path
+
+
+def write(path: Path = HERE / "quarter_ball.step", radius: float = RADIUS_MM, name: str = "quarter ball") -> Path:
+    """Write the part to ``path`` in millimetres with its product named ``name``; returns the path."""
+    return write_step(build(radius), path, name)
 
 
 if __name__ == "__main__":
