@@ -380,3 +380,4 @@ def test_contact_point_at_a_corner_moves_into_the_facing_edge():
     assert abs(float(punch.signed_distance(p[None, :])[0])) < 1e-12
     corner = np.array([HALF_FLAT, 0.0])
     assert np.hypot(*(p - corner)) == pytest.approx(CORNER_OFFSET_CELLS * 0.04 / 2**6, rel=1e-6)
+    assert np.allclose(scene.problem.contacts[0].moved_from, corner, atol=1e-15)  # the summary's given_point

@@ -861,6 +861,8 @@ def build(problem, model, b1, b2, options) -> BandContact:
     geom = contact_geometry((b1, b2), model.bodies, np.asarray(model.point, dtype=float),
                             _contact_extent(problem, model, opts.extent_fraction))
     geom.normal_mode = opts.contact_normal
+    if getattr(model, "moved_from", None) is not None:  # the scene's point, at a corner of body 1
+        geom.given_point = np.asarray(model.moved_from, dtype=float)
     contact = _setup_contact(model, geom, b1, b2, options.band_fraction)
     contact.mirror = _symmetry_side(problem, geom, model.bodies[0])
     return contact

@@ -152,6 +152,9 @@ class ContactModel:
     point: np.ndarray | None = None
     options: ContactOptions = field(default_factory=ContactOptions)
     point_given: bool | None = None
+    #: the point as given or found, when it lay at a convex corner of body 1 and ``point`` was moved
+    #: off it into the facing edge (solver.model.resolve.point_off_corner)
+    moved_from: np.ndarray | None = None
 
     def __post_init__(self):
         if self.point_given is None:

@@ -112,9 +112,17 @@ def resolve_problem(problem: Problem) -> Problem:
             body = _resolved_body(body, mine)
         bodies.append(body)
     problem = dataclasses.replace(problem, bodies=tuple(bodies))
-    contacts = tuple(dataclasses.replace(c, point=_frozen(point_off_corner(problem, c, np.asarray(c.point, dtype=float))))
-                     for c in contacts)
-    return dataclasses.replace(problem, contacts=contacts)
+    return dataclasses.replace(problem, contacts=tuple(_off_corner(problem, c) for c in contacts))
+
+
+def _off_corner(problem: Problem, contact: ContactModel) -> ContactModel:
+    """``contact`` with its point moved off a convex corner of body 1 (``moved_from`` the point
+    before), or unchanged."""
+    point = np.asarray(contact.point, dtype=float)
+    moved = point_off_corner(problem, contact, point)
+    if np.array_equal(moved, point):
+        return contact
+    return dataclasses.replace(contact, point=_frozen(moved), moved_from=_frozen(point))
 
 
 def _unit(v) -> np.ndarray:
