@@ -20,19 +20,28 @@ from ibfem.solver.reports.validate_fretting import EXAMPLE, compare
 from ibfem.solver.solving import solve
 
 
+def _solved(tmp_path: Path, data: dict, label: str):
+    """The scene ``data`` (no VTU, no pictures) solved, converged, its results written to
+    ``tmp_path``: (summary, solution)."""
+    data["output"] = {"vtk": False, "plots": False}
+    sc = scene_from_dict(data, label=label)
+    solution = solve(sc.problem)
+    assert solution.converged, solution.iterations["messages"]
+    return write_scene_results(tmp_path, sc, solution), solution
+
+
+def _compared(tmp_path: Path, summary: dict, radius: float) -> dict:
+    """The written run against the Cattaneo-Mindlin superposition (steel, cylinder ``radius``)."""
+    return compare(summary, dict(np.load(tmp_path / "profiles_0.npz")), radius, 2.0e11, 0.3)
+
+
 def _run(tmp_path: Path, points_per_cycle: int, cycles: int, steps_per_unit: int):
     data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
     data["solver"]["steps_per_unit"] = steps_per_unit
     data["paths"][1]["cycle"].update(points_per_cycle=points_per_cycle, cycles=cycles)
     data["paths"][0]["points"][-1][0] = 1.0 + cycles  # the run ends with the last cycle
-    data["output"] = {"vtk": False, "plots": False}
-    sc = scene_from_dict(data, label="fretting.toml")
-    solution = solve(sc.problem)
-    assert solution.converged, solution.iterations["messages"]
-    summary = write_scene_results(tmp_path, sc, solution)
-    profiles = dict(np.load(tmp_path / "profiles_0.npz"))
-    _run.solution = solution
-    return summary, compare(summary, profiles, 1.0, 2.0e11, 0.3)
+    summary, _run.solution = _solved(tmp_path, data, "fretting.toml")
+    return summary, _compared(tmp_path, summary, 1.0)
 
 
 def _after_reversal(rows: list[dict]) -> list[bool]:
@@ -162,12 +171,8 @@ def test_shifted_grid_energy(tmp_path):
     step (measured 0.016 a)."""
     data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
     data["solver"]["grid_offset"] = [0.37, 0.21]
-    data["output"] = {"vtk": False, "plots": False}
-    sc = scene_from_dict(data, label="fretting_shifted.toml")
-    solution = solve(sc.problem)
-    assert solution.converged, solution.iterations["messages"]
-    summary = write_scene_results(tmp_path, sc, solution)
-    result = compare(summary, dict(np.load(tmp_path / "profiles_0.npz")), 1.0, 2.0e11, 0.3)
+    summary, _ = _solved(tmp_path, data, "fretting_shifted.toml")
+    result = _compared(tmp_path, summary, 1.0)
     assert max(abs(r["c_error_over_a"]) for r in result["steps"]) < 0.02
     assert len(result["cycles"]) == 2
     for c in result["cycles"]:
@@ -184,11 +189,7 @@ def test_held_load_changes_nothing(tmp_path):
     data["solver"]["steps_per_unit"] = 4
     data["paths"][1] = {"name": "fret", "points": [[0.0, 0.0], [1.0, 0.0], [2.0, 1.0], [3.0, 1.0]]}
     data["paths"][0]["points"][-1][0] = 3.0
-    data["output"] = {"vtk": False, "plots": False}
-    sc = scene_from_dict(data, label="fretting_hold.toml")
-    solution = solve(sc.problem)
-    assert solution.converged, solution.iterations["messages"]
-    summary = write_scene_results(tmp_path, sc, solution)
+    summary, solution = _solved(tmp_path, data, "fretting_hold.toml")
     steps = [s for s in summary["steps"] if s["t"] >= 2.0]
     assert [round(s["t"], 6) for s in steps] == [2.0, 2.25, 2.5, 2.75, 3.0]
     first = steps[0]["contacts"][0]
@@ -220,12 +221,8 @@ def test_concave_seat_fretting(tmp_path):
                      {"name": "fret", "cycle": {"amplitude": 1.0, "cycles": 2, "points_per_cycle": 20, "start": 1.0}}]
     load = data["boundary_conditions"][0]
     load.update(value=[4.0e-4, load["value"][1]], path=["fret", "hold"])
-    data["output"] = {"vtk": False, "plots": False}
-    sc = scene_from_dict(data, label="seat_fretting.toml")
-    solution = solve(sc.problem)
-    assert solution.converged, solution.iterations["messages"]
-    summary = write_scene_results(tmp_path, sc, solution)
-    result = compare(summary, dict(np.load(tmp_path / "profiles_0.npz")), 2.0, 2.0e11, 0.3)
+    summary, _ = _solved(tmp_path, data, "seat_fretting.toml")
+    result = _compared(tmp_path, summary, 2.0)
     rows = result["steps"]
     ends = [r for r, nxt in zip(rows, rows[1:] + [None]) if nxt is not None and nxt["branch"] != r["branch"]]
     assert len(ends) == 4
