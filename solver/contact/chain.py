@@ -21,19 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.junctions import CORNER_ANGLE, nearest_junction, tangent_turn, unit_tangent
+
 __all__ = ["CORNER_ANGLE", "ContactChain", "contact_chain"]
-
-#: a junction whose tangents turn by more than this angle (rad) is a corner: a contact region
-#: of the body ends there (G1 junctions of CAD edges agree to round-off; a chamfer or a
-#: punch's edge turns by tenths of a radian or more)
-CORNER_ANGLE = 1e-2
-
-
-def _turn(a_end: np.ndarray, b_start: np.ndarray) -> float:
-    """Signed angle (rad) from tangent ``a_end`` to tangent ``b_start``, positive to the left."""
-    cross = a_end[0] * b_start[1] - a_end[1] * b_start[0]
-    return float(np.arctan2(cross, a_end @ b_start))
-
 
 @dataclass
 class ContactChain:
@@ -135,9 +125,7 @@ def contact_chain(profile, curves: dict, edge: str) -> ContactChain:
     order = [loop[(j + i) % m] for i in range(-m, m + 1)]
     turns = []
     for a, b in zip(order[:-1], order[1:]):
-        da = np.asarray(a.derivative(np.array([float(a.t_end)])), dtype=float).reshape(2)
-        db = np.asarray(b.derivative(np.array([float(b.t_start)])), dtype=float).reshape(2)
-        turns.append(_turn(da / np.linalg.norm(da), db / np.linalg.norm(db)))
+        turns.append(tangent_turn(unit_tangent(a, a.t_end), unit_tangent(b, b.t_start)))
     return ContactChain(names=tuple(c.name for c in order), curves=tuple(curves[c.name] for c in order),
                         turns=np.array(turns), middle=m)
 
@@ -145,17 +133,8 @@ def contact_chain(profile, curves: dict, edge: str) -> ContactChain:
 def junction_near(profile, point: np.ndarray) -> tuple[float, tuple[str, str]]:
     """The junction of ``profile``'s loops nearest ``point``: the tangent's turn there (rad,
     positive at a convex corner) and the names of the two edges meeting there."""
-    best, out = np.inf, (0.0, ("", ""))
-    point = np.asarray(point, dtype=float).reshape(2)
-    for loop in profile.loops:
-        for a, b in zip(loop, loop[1:] + loop[:1]):
-            x = np.asarray(a.evaluate(np.array([float(a.t_end)])), dtype=float).reshape(2)
-            d = float(np.hypot(*(x - point)))
-            if d < best:
-                da = np.asarray(a.derivative(np.array([float(a.t_end)])), dtype=float).reshape(2)
-                db = np.asarray(b.derivative(np.array([float(b.t_start)])), dtype=float).reshape(2)
-                best, out = d, (_turn(da / np.linalg.norm(da), db / np.linalg.norm(db)), (a.name, b.name))
-    return out
+    j = nearest_junction(profile, point)
+    return (0.0, ("", "")) if j is None else (j.turn, (j.before.name, j.after.name))
 
 
 def contact_allowed_at_junction(profile, point: np.ndarray, symmetry_edges) -> bool:

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from .junctions import CORNER_ANGLE, nearest_junction
 from .problem import BodyModel, ContactModel, Problem, Sliding, check_problem
 
 __all__ = ["CONTACT_SEARCH_SPACING", "closest_boundary_point", "contact_point", "contact_frame", "resolve_problem",
@@ -29,8 +30,6 @@ CORNER_OFFSET_CELLS = 2.0
 #: (a tilted flat punch: 2 mrad and 1.57 rad); both edges alike (a wedge) contact on both sides of
 #: the corner, which one region along one edge cannot hold: such a point stays refused
 CORNER_STEEPNESS = 10.0
-#: a junction whose tangent turns by more than this (rad) towards the material's side is a convex corner
-_CONVEX_TURN = 1e-2
 
 
 def contact_point(problem: Problem, contact: ContactModel) -> np.ndarray:
@@ -125,17 +124,13 @@ def _off_corner(problem: Problem, contact: ContactModel) -> ContactModel:
     return dataclasses.replace(contact, point=_frozen(moved), moved_from=_frozen(point))
 
 
-def _unit(v) -> np.ndarray:
-    v = np.asarray(v, dtype=float).reshape(2)
-    return v / np.linalg.norm(v)
-
-
 def point_off_corner(problem: Problem, contact: ContactModel, point: np.ndarray) -> np.ndarray:
     """``point``, or, when it lies within one finest cell of a convex corner of body 1's profile
     (not on a symmetry line: neither edge has a sliding condition), the point CORNER_OFFSET_CELLS
     finest cells from that corner along the flatter of its two edges against body 2's surface (a
-    quarter of that edge at most), provided the other is CORNER_STEEPNESS times as steep. Unchanged where body 2's boundary has a
-    junction too (a half model cut through the contact) and in 3D problems."""
+    quarter of that edge at most), provided the other is CORNER_STEEPNESS times as steep.
+    Unchanged where body 2's boundary has a junction too (a half model cut through the contact)
+    and in 3D problems."""
     first, second = (problem.body(n) for n in contact.bodies)
     profile = getattr(first, "profile", None)
     if profile is None or not hasattr(profile, "loops"):
@@ -144,27 +139,21 @@ def point_off_corner(problem: Problem, contact: ContactModel, point: np.ndarray)
     if corner_distance(second.profile, point)[0] < finest_size_at(second, point):
         return point  # both bodies end there (a half model's symmetry line): nothing to move into
     symmetry = {bc.edge for bc in problem.boundary_conditions if isinstance(bc, Sliding) and bc.body == first.name}
-    for loop in profile.loops:
-        for a, b in zip(loop, loop[1:] + loop[:1]):
-            corner = np.asarray(a.evaluate(np.array([float(a.t_end)])), dtype=float).reshape(2)
-            if not np.hypot(*(corner - point)) < h or {a.name, b.name} & symmetry:
-                continue
-            ta, tb = (_unit(a.derivative(np.array([float(a.t_end)]))), _unit(b.derivative(np.array([float(b.t_start)]))))
-            if np.arctan2(ta[0] * tb[1] - ta[1] * tb[0], ta @ tb) <= _CONVEX_TURN:
-                continue  # a tangent junction or a concave corner: the contact curve runs through it
-            n2 = np.asarray(second.profile.project(corner[None, :]).normals[0], dtype=float)
-            # each edge's angle to body 2's surface (the material lies to the left of the tangent)
-            angles = [float(np.arccos(np.clip(-(np.array([t[1], -t[0]]) @ n2), -1.0, 1.0))) for t in (ta, tb)]
-            if max(angles) < CORNER_STEEPNESS * min(angles):
-                return point  # a wedge: the contact spreads on both sides of the corner
-            edge, sign = (a, -1.0) if angles[0] <= angles[1] else (b, 1.0)
-            t0 = float(edge.t_end if sign < 0 else edge.t_start)
-            length = float(np.hypot(*np.diff(np.asarray(edge.evaluate(np.array([float(edge.t_start), float(edge.t_end)])),
-                                                        dtype=float), axis=0)[0]))
-            speed = float(np.linalg.norm(np.asarray(edge.derivative(np.array([t0])), dtype=float)))
-            step = min(CORNER_OFFSET_CELLS * h, 0.25 * length) / speed
-            return np.asarray(edge.evaluate(np.array([t0 + sign * step])), dtype=float).reshape(2)
-    return point
+    j = nearest_junction(profile, point)
+    if j is None or not j.distance < h or {j.before.name, j.after.name} & symmetry or j.turn <= CORNER_ANGLE:
+        return point  # no corner there, a half model's symmetry corner, or a tangent or concave junction
+    n2 = np.asarray(second.profile.project(j.point[None, :]).normals[0], dtype=float)
+    # each edge's angle to body 2's surface (the material lies to the left of the tangent)
+    angles = [float(np.arccos(np.clip(-(np.array([t[1], -t[0]]) @ n2), -1.0, 1.0))) for t in j.tangents]
+    if max(angles) < CORNER_STEEPNESS * min(angles):
+        return point  # a wedge: the contact spreads on both sides of the corner
+    edge, sign = (j.before, -1.0) if angles[0] <= angles[1] else (j.after, 1.0)
+    t0 = float(edge.t_end if sign < 0 else edge.t_start)
+    length = float(np.hypot(*np.diff(np.asarray(edge.evaluate(np.array([float(edge.t_start), float(edge.t_end)])),
+                                                dtype=float), axis=0)[0]))
+    speed = float(np.linalg.norm(np.asarray(edge.derivative(np.array([t0])), dtype=float)))
+    step = min(CORNER_OFFSET_CELLS * h, 0.25 * length) / speed
+    return np.asarray(edge.evaluate(np.array([t0 + sign * step])), dtype=float).reshape(2)
 
 
 def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarray:
