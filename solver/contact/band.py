@@ -344,21 +344,18 @@ class BandContact:
         compressed: that end cannot be a corner, and the region shrinks from it towards the other
         corner (a tilted flat punch)."""
         kinds = self.end_types(a)
-        if sorted(kinds) == ["complete", "incomplete"]:
-            values = _end_values(self, info, x, a)
+        values = _end_values(self, info, x, a) if "complete" in kinds and "symmetry" not in kinds else None
+        if values is None:
+            return False
+        if kinds[0] != kinds[1]:  # one corner: the other, incomplete end must still be too small
             free = -1 if kinds[0] == "incomplete" else 1
-            if values is None or not values.coefficient(free) > 0.0:
+            if not values.coefficient(free) > 0.0:
                 return False
-        elif kinds == ("complete", "complete"):
-            values = _end_values(self, info, x, a)
-            if values is None:
-                return False
+        else:  # two corners: one in tension, the other compressed
             lower, upper = values.coefficient(-1), values.coefficient(1)
             if not (min(lower, upper) < 0.0 < max(lower, upper)):
                 return False
             free = -1 if lower < 0.0 else 1
-        else:
-            return False
         self.pinned = -free
         self.at_width(a)
         return True

@@ -43,6 +43,7 @@ is even, the gap's slope odd.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -154,14 +155,21 @@ def chebyshev_ends(x: np.ndarray, weights: np.ndarray, p: np.ndarray, a: float,
 _FREE_NODES = np.cos((np.arange(16) + 0.5) * np.pi / 16)
 
 
-def _free_end_weight(free: int) -> np.ndarray:
+@functools.cache
+def _free_end_weight(free: int) -> tuple[float, float, float]:
     """Coefficients r (of 1, x, x^2) of the weight w(x) = (1 + free x) r(x) with
     int Q(x) w(x) / sqrt(1 - x^2) dx = Q(free) for every Q of degree <= 2: the end value at
     x = free from a moment of the pressure that vanishes at the other end, x = -free."""
     t = np.cos(np.outer(np.arange(3), np.arccos(_FREE_NODES)))  # T_j at the nodes
     powers = _FREE_NODES[None, :] ** np.arange(3)[:, None]
     lhs = (np.pi / len(_FREE_NODES)) * (t * (1.0 + free * _FREE_NODES)) @ powers.T
-    return np.linalg.solve(lhs, np.array([1.0, float(free), 1.0]))
+    return tuple(np.linalg.solve(lhs, np.array([1.0, float(free), 1.0])))
+
+
+def _free_weight(free: int, x: np.ndarray) -> np.ndarray:
+    """The free-end weight w(x) = (1 + free x) r(x) at x."""
+    r = _free_end_weight(free)
+    return (1.0 + free * x) * (r[0] + r[1] * x + r[2] * x * x)
 
 
 def free_end_value(x: np.ndarray, weights: np.ndarray, p: np.ndarray, a: float, free: int,
@@ -174,15 +182,10 @@ def free_end_value(x: np.ndarray, weights: np.ndarray, p: np.ndarray, a: float, 
     puts a tilted flat punch's free end 10 % too far out at 35 cells, this within 1 %. The gap's
     own bounded pressure sum_k b_k sin(k theta), whose end values are zero, is subtracted
     through the same moment."""
-    r = _free_end_weight(free)
-    w = (1.0 + free * x) * (r[0] + r[1] * x + r[2] * x * x)
-    value = float(np.sum(weights * p * w))
-    if gap is not None:
-        theta = (np.arange(GAP_NODES) + 0.5) * np.pi / GAP_NODES  # int a p_g(x) w(x) dx, x = cos(theta)
-        xg = np.cos(theta)
-        wg = (1.0 + free * xg) * (r[0] + r[1] * xg + r[2] * xg * xg)
-        pg = gap_pressure(np.asarray(gap, dtype=float), xg)
-        value -= a * (np.pi / GAP_NODES) * float(np.sum(pg * wg * np.sin(theta)))
+    value = float(np.sum(weights * p * _free_weight(free, x)))
+    if gap is not None:  # int a p_g(x) w(x) dx on the gap's nodes x = cos(theta)
+        pg = gap_pressure(np.asarray(gap, dtype=float), _NODES)
+        value -= a * (np.pi / GAP_NODES) * float(np.sum(pg * _free_weight(free, _NODES) * np.sin(_THETA)))
     return value
 
 
