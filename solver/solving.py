@@ -167,7 +167,8 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
     for k, block in enumerate(fine.contacts):
         other = coarse.contacts[k] if coarse is not None and k < len(coarse.contacts) else None
         if note is None and other is not None:
-            other = dict(other, max_von_mises=other.get("max_von_mises", max_von_mises(coarse, other, dim)))
+            if other.get("max_von_mises") is None:  # a partner not yet sampled (a rung's is)
+                other = dict(other, max_von_mises=max_von_mises(coarse, other, dim))
             block["estimated_error"] = relative_errors(contact_quantities(block), contact_quantities(other),
                                                        orders_for(block))
             block.pop("estimate_note", None)
@@ -245,8 +246,6 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         solution, note = _solve_quietly(finer)
         if solution is None:
             break
-        for block in fine.contacts:  # the partner's stress peak, already sampled
-            block.setdefault("max_von_mises", max_von_mises(fine, block, problem.dim))
         _add_estimates(solution, fine, problem.dim, note)
         problem, fine = finer, solution
         rungs.append(_rung(problem, fine, time.perf_counter() - t))
