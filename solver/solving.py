@@ -20,13 +20,14 @@ from .fem.bodies import discretise
 from .fem.space import body_info
 from .model.accuracy import contact_quantities, largest_error, orders_for, relative_errors
 from .model.estimate import available_memory, estimate_size
+from .model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .model.resolve import resolve_problem
 from .solution import IBFEMSolution
 
 if TYPE_CHECKING:
     from .model.problem import Problem
 
-__all__ = ["solve", "estimate_errors", "solve_to_accuracy", "coarser", "max_von_mises"]
+__all__ = ["solve", "estimate_errors", "solve_to_accuracy", "coarser", "refined_around_contacts", "max_von_mises"]
 
 
 def solve(problem: Problem, progress: Callable[..., None] | None = None) -> IBFEMSolution:
@@ -204,21 +205,103 @@ def estimate_errors(problem: Problem, solution: IBFEMSolution, factor: float = 2
     solution.timings["estimate_s"] = time.perf_counter() - t
 
 
-def _rung(problem: Problem, solution: IBFEMSolution, seconds: float) -> dict:
+#: a rung refined around the contacts makes its new zone this many times the region's largest
+#: extent (half width, semi-axis, or the farthest point of a star region's boundary) in radius,
+#: plus REGION_MARGIN_CELLS of the new finest cell: the region's edge and the subsurface stress
+#: peak (about 0.5 a deep) both lie well inside it
+REGION_MARGIN = 1.5
+REGION_MARGIN_CELLS = 4.0
+#: quantities whose error the far field carries: a rung refined only around the contacts does not
+#: shrink it, so its estimate is carried over from the rung before
+_FAR_FIELD = ("normal_force",)
+
+
+def _region_extent(block: dict) -> float | None:
+    """The largest distance from a contact block's point to its region's edge, or None."""
+    point = block.get("point")
+    if point is None:
+        return None
+    sizes = []
+    for key in ("half_width", "semi_axes"):
+        value = block.get(key)
+        sizes += [float(v) for v in (value if isinstance(value, (list, tuple)) else [value]) if v is not None]
+    region = block.get("region")
+    if isinstance(region, (list, tuple)) and len(region) == 2 and not isinstance(region[0], (list, tuple)):
+        sizes += [abs(float(r)) for r in region]
+    boundary = (block.get("boundary") or {}).get("points") if isinstance(block.get("boundary"), dict) else None
+    if boundary:
+        sizes.append(float(np.linalg.norm(np.asarray(boundary, float) - np.asarray(point, float), axis=1).max()))
+    sizes = [s for s in sizes if math.isfinite(s) and s > 0.0]
+    return max(sizes) if sizes else None
+
+
+def refined_around_contacts(problem: Problem, solution: IBFEMSolution) -> Problem | None:
+    """``problem`` with one more level of refinement around each contact region ``solution``
+    found: for each body in contact a zone one level deeper than its deepest zone, centred on the
+    contact point, of radius REGION_MARGIN times the region's extent plus REGION_MARGIN_CELLS new
+    finest cells. The rest of the grid is kept. None when a contact has no region to refine
+    around (then the ladder halves every cell instead)."""
+    zones: dict[str, list] = {}
+    for contact, block in zip(problem.contacts, solution.contacts):
+        extent = _region_extent(block)
+        if extent is None:
+            return None
+        for name in contact.bodies:
+            body = problem.body(name)
+            levels = max([int(r.levels) for r in body.refinements], default=0) + 1
+            if levels > MAX_REFINEMENT_LEVELS:
+                return None
+            radius = REGION_MARGIN * extent + REGION_MARGIN_CELLS * body.element_size / 2.0 ** levels
+            zones.setdefault(name, []).append(Refinement(levels=levels, radius=radius,
+                                                         center=np.asarray(block["point"], dtype=float)))
+    bodies = tuple(dataclasses.replace(b, refinements=b.refinements + tuple(zones[b.name])) if b.name in zones else b
+                   for b in problem.bodies)
+    return dataclasses.replace(problem, bodies=bodies)
+
+
+def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None) -> tuple[Problem, str]:
+    """The next rung of the accuracy ladder and how it was refined: around the contacts when the
+    largest estimated error is a contact quantity the region's cells govern (its sizes, the peak
+    pressure, the subsurface stress), everywhere (every cell halved) when it is the normal force,
+    whose error the far field carries too, or when a region is unknown."""
+    if worst not in _FAR_FIELD:
+        local = refined_around_contacts(problem, solution)
+        if local is not None:
+            return local, "contact"
+    return coarser(problem, 0.5), "everywhere"
+
+
+def _carry_far_field(solution: IBFEMSolution, previous: IBFEMSolution) -> None:
+    """After a rung refined around the contacts only: each far-field quantity's estimate is at
+    least the previous rung's (the cells it depends on were not refined)."""
+    for block, before in zip(solution.contacts, previous.contacts):
+        now, then = block.get("estimated_error"), before.get("estimated_error")
+        if not now or not then:
+            continue
+        for key in _FAR_FIELD:
+            if then.get(key) is not None and (now.get(key) is None or now[key] < then[key]):
+                now[key] = then[key]
+
+
+def _rung(problem: Problem, solution: IBFEMSolution, seconds: float, refined: str = "scene") -> dict:
     errors = [largest_error(c.get("estimated_error") or {}) for c in solution.contacts]
     worst = max(errors, key=lambda e: e[1], default=(None, math.nan))
     return {"element_sizes": {b.name: b.element_size for b in problem.bodies},
             "dofs": int(sum(v.get("dofs", 0) for v in solution.body_info.values())),
             "largest_error": worst[1] if worst[0] is not None else None, "quantity": worst[0],
-            "converged": bool(solution.converged), "wall_s": seconds}
+            "converged": bool(solution.converged), "wall_s": seconds, "refined": refined}
 
 
 def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = None,
                       max_rungs: int = 6) -> tuple[IBFEMSolution, dict]:
-    """Solve ``problem`` on its own grid and on one twice as coarse, then halve every cell
-    (element sizes halved, refinement levels and radii kept) until the estimated relative error
-    of every contact quantity is below ``problem.options.accuracy``: each new rung's estimate
-    takes the previous rung as its coarse partner, so every rung is solved once. Stops, saying
+    """Solve ``problem`` on its own grid and on one twice as coarse, then refine until the
+    estimated relative error of every contact quantity is below ``problem.options.accuracy``:
+    around the contact regions found (one level deeper within 1.5 times each region's extent:
+    :func:`refined_around_contacts`) while the largest error is a size, the peak pressure or the
+    subsurface stress; every cell halved (element sizes halved, zones kept) while it is the normal
+    force. Each new rung's estimate takes the previous rung as its coarse partner, so every rung
+    is solved once; a rung refined around the contacts keeps the previous rung's estimate of the
+    normal force where that is larger (its far field was not refined). Stops, saying
     why, when a rung does not converge, when the next rung would not fit in memory
     (solver.model.estimate) or after ``max_rungs`` rungs. Returns the last solution (with its
     estimates) and the record of the ladder ({target, reached, rungs, note})."""
@@ -236,7 +319,7 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         if len(rungs) >= max_rungs:
             note = f"stopped after {max_rungs} rungs"
             break
-        finer = coarser(problem, 0.5)
+        finer, refined = _next_rung(problem, fine, rungs[-1]["quantity"])
         size = estimate_size(finer)
         if size.memory > 0.5 * available_memory():
             note = f"the next grid ({size}) would not fit in half the machine's memory"
@@ -247,7 +330,9 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         if solution is None:
             break
         _add_estimates(solution, fine, problem.dim, note)
+        if refined == "contact":
+            _carry_far_field(solution, fine)
         problem, fine = finer, solution
-        rungs.append(_rung(problem, fine, time.perf_counter() - t))
+        rungs.append(_rung(problem, fine, time.perf_counter() - t, refined))
     reached = rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target
     return fine, {"target": target, "reached": bool(reached), "rungs": rungs, "note": note}

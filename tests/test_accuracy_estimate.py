@@ -8,6 +8,7 @@ import math
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from ibfem.solver.io.result_line import accuracy_line, contact_line
@@ -115,3 +116,47 @@ def test_accuracy_target_is_met_against_hertz():
     r_eff, e_eff = effective_properties(scene.problem, c)
     a_hertz = theory.hertz_half_width(c["normal_force"], r_eff, e_eff)
     assert abs(c["half_width"] / a_hertz - 1.0) < 0.02
+
+
+def _resolved_mesh_convergence():
+    from ibfem.solver.model.resolve import resolve_problem
+    data = tomllib.loads((ROOT / "examples" / "mesh_convergence.toml").read_text())
+    scene = scene_from_dict(data, label="accuracy", base_dir=ROOT / "examples")
+    return resolve_problem(scene.problem)
+
+
+def test_rung_around_the_contact_covers_the_region_one_level_deeper():
+    # the new zone of each body in contact: one level below its deepest, centred on the contact
+    # point, reaching 1.5 times the region's farthest end plus four of its new cells
+    from types import SimpleNamespace
+
+    from ibfem.solver.solving import REGION_MARGIN, REGION_MARGIN_CELLS, _next_rung, refined_around_contacts
+    problem = _resolved_mesh_convergence()
+    block = {"point": [0.0, 0.0], "half_width": 0.03, "region": [-0.031, 0.0305]}
+    refined = refined_around_contacts(problem, SimpleNamespace(contacts=[block]))
+    for before, after in zip(problem.bodies, refined.bodies):
+        assert after.refinements[:-1] == before.refinements and after.element_size == before.element_size
+        zone = after.refinements[-1]
+        deepest = max(r.levels for r in before.refinements)
+        assert zone.levels == deepest + 1 and np.allclose(zone.center, [0.0, 0.0])
+        h_new = before.element_size / 2.0 ** zone.levels
+        assert zone.radius == pytest.approx(REGION_MARGIN * 0.031 + REGION_MARGIN_CELLS * h_new, rel=1e-12)
+        # the region's cells are then half the size they were
+        from ibfem.solver.model.resolve import finest_size_at
+        assert finest_size_at(after, np.array([0.031, 0.0])) == pytest.approx(0.5 * finest_size_at(before, np.array([0.031, 0.0])))
+    # a normal force error is the far field's too: that rung halves every cell
+    finer, how = _next_rung(problem, SimpleNamespace(contacts=[block]), "normal_force")
+    assert how == "everywhere" and all(f.element_size == 0.5 * b.element_size for f, b in zip(finer.bodies, problem.bodies))
+    # a contact without a region to refine around: every cell halved as well
+    assert refined_around_contacts(problem, SimpleNamespace(contacts=[{"point": None}])) is None
+    assert _next_rung(problem, SimpleNamespace(contacts=[{"point": None}]), "half_width")[1] == "everywhere"
+
+
+def test_rung_around_the_contact_keeps_the_far_field_estimate():
+    from types import SimpleNamespace
+
+    from ibfem.solver.solving import _carry_far_field
+    previous = SimpleNamespace(contacts=[{"estimated_error": {"half_width": 0.005, "normal_force": 0.002}}])
+    local = SimpleNamespace(contacts=[{"estimated_error": {"half_width": 0.0015, "normal_force": 1e-5}}])
+    _carry_far_field(local, previous)
+    assert local.contacts[0]["estimated_error"] == {"half_width": 0.0015, "normal_force": 0.002}
