@@ -69,6 +69,8 @@ def test_complete_end_sizes_converge_to_first_order():
     orders = orders_for(block)
     assert orders["half_width"] == 1.0 and orders["max_pressure"] is None and orders["normal_force"] == 2.0
     assert orders_for({"ends": [{"type": "incomplete"}] * 2}) == ORDERS
+    # a 3D region's peak pressure is a fit over the region: it converges with its edge (3/2)
+    assert orders_for({"semi_axes": [0.04, 0.05]}) == {**ORDERS, "max_pressure": 1.5}
     q, c, h = 0.005, 0.3, 0.01
     fine, coarse = {"half_width": q * (1 + c * h), "max_pressure": 2e9}, {"half_width": q * (1 + 2 * c * h), "max_pressure": 1.5e9}
     errors = relative_errors(fine, coarse, orders)
