@@ -162,3 +162,13 @@ def test_rung_around_the_contact_keeps_the_far_field_estimate():
     local = SimpleNamespace(contacts=[{"estimated_error": {"half_width": 0.0015, "normal_force": 1e-5}}])
     _carry_far_field(local, previous)
     assert local.contacts[0]["estimated_error"] == {"half_width": 0.0015, "normal_force": 0.002}
+
+
+def test_accuracy_target_tightens_the_stick_tolerance_below_it():
+    # the stick zone's iteration error (in c/a) must stay below the discretisation error asked for
+    from ibfem.solver.solving import STICK_TOLERANCE_SHARE, _tightened
+    problem = _resolved_mesh_convergence()
+    tight = _tightened(problem, 0.002)
+    assert all(c.options.stick_tolerance == pytest.approx(STICK_TOLERANCE_SHARE * 0.002) for c in tight.contacts)
+    loose = _tightened(problem, 0.5)  # never looser than the scene's own
+    assert all(t.options.stick_tolerance == c.options.stick_tolerance for t, c in zip(loose.contacts, problem.contacts))
