@@ -129,7 +129,10 @@ def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, window) -> Non
     for out, v in zip(outputs, values):
         xy = (out.points + np.asarray(out.point_data["displacement"], dtype=float)[:, :2]) / lscale
         tris = _triangles(out)
-        ok = np.all(np.isfinite(v[tris]), axis=1)
+        corners = xy[tris]  # only the triangles that reach into the window are drawn
+        ok = np.all(np.isfinite(v[tris]), axis=1) \
+            & (corners[:, :, 0].max(axis=1) >= x0 / lscale) & (corners[:, :, 0].min(axis=1) <= x1 / lscale) \
+            & (corners[:, :, 1].max(axis=1) >= y0 / lscale) & (corners[:, :, 1].min(axis=1) <= y1 / lscale)
         if not ok.any():
             continue
         image = ax.tripcolor(xy[:, 0], xy[:, 1], tris[ok], np.nan_to_num(v) / uscale, shading="gouraud",
