@@ -99,16 +99,20 @@ _HEADER = ("| example | files | run, wall (s) | solver (s) | estimate (s) | outp
 
 #: ``ibfem run`` as the command line runs it, with the machine's idle cores taken as ``sys.argv[1]``
 _CHILD = ("import sys\nfrom ibfem.solver.io import parallel_plots\n"
-          "if sys.argv[1] != 'load':\n    parallel_plots.idle_cores = lambda: int(sys.argv[1])\n"
+          "idle, worker = sys.argv[1].split(',')\n"
+          "if idle != 'load':\n    parallel_plots.idle_cores = lambda: int(idle)\n"
+          "if worker == 'no':\n    parallel_plots.PictureWorker.start = classmethod(lambda cls, problem: None)\n"
           "from ibfem.solver.cli import main\nraise SystemExit(main(sys.argv[2:]))")
 
 
-def command_row(path: str, out: Path, idle: str = "load") -> tuple[str, float]:
+def command_row(path: str, out: Path, idle: str = "load", worker: bool = True) -> tuple[str, float]:
     """(table row, output share of the wall time) of ``ibfem run`` on one scene in a child process;
     ``idle``: the idle cores the pictures' processes are started for ("load": from the load
-    average, as ``ibfem run`` does; a number: as if the machine had that many)."""
+    average, as ``ibfem run`` does; a number: as if the machine had that many); ``worker``
+    false: no picture worker started with the run (the pictures start after the solve)."""
     t0 = time.perf_counter()
-    child = subprocess.Popen([sys.executable, "-c", _CHILD, idle, "run", path, "--out", str(out), "--quiet"],
+    child = subprocess.Popen([sys.executable, "-c", _CHILD, f"{idle},{'yes' if worker else 'no'}", "run", path,
+                              "--out", str(out), "--quiet"],
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     _, status, usage = os.wait4(child.pid, 0)
     wall = time.perf_counter() - t0
@@ -122,6 +126,8 @@ def command_row(path: str, out: Path, idle: str = "load") -> tuple[str, float]:
     kinds = [k for k, ext in (("VTU", ".vtu"), ("plots", ".png")) if any(f.endswith(ext) for f in files)]
     pictures = ("-" if "plots" not in kinds else
                 f"{t.get('plots_processes', 0)} processes" if t.get("plots_processes") else "this process")
+    if "plots_warm_up_s" in t:
+        pictures += " (worker)"
     share = t["output_s"] / wall
     row = (f"| {name} | {' + '.join(kinds) or 'summary only'} | {wall:.2f} | {t.get('solver_total_s', 0.0):.2f} "
            f"| {t.get('estimate_s', 0.0):.2f} | {t['output_s']:.2f} | {100 * share:.1f} % "
@@ -141,6 +147,8 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--alternate", type=int, default=1, metavar="N",
                     help="N runs of each scene, the scenes in turn (a loaded machine's noise spread over all)")
     ap.add_argument("--markdown", type=Path, default=None, help="also write the table to this file")
+    ap.add_argument("--compare-worker", action="store_true",
+                    help="each run twice in turn, with and without the picture worker started with the run")
     ap.add_argument("--idle-cores", default="load", metavar="N",
                     help="start the pictures' processes as if the machine had N idle cores (default: from its load "
                          "average, as ibfem run does; on a shared machine, what an idle one would do)")
@@ -154,9 +162,10 @@ def main(argv: list[str]) -> int:
     rows = []
     for _ in range(args.alternate):
         for path in args.scenes:
-            row, _share = command_row(path, root / Path(path).stem, args.idle_cores)
-            print(row, flush=True)
-            rows.append(row)
+            for worker in ((True, False) if args.compare_worker else (True,)):
+                row, _share = command_row(path, root / Path(path).stem, args.idle_cores, worker)
+                print(row, flush=True)
+                rows.append(row)
     if args.markdown:
         args.markdown.write_text(_HEADER + "\n" + "\n".join(rows) + "\n")
     return 0

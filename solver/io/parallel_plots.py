@@ -7,18 +7,19 @@ bodies: with two idle cores one process renders the fields over the bodies and a
 contact and line profiles, with one idle core one process all of them, and the output takes
 about the longest of the processes instead of their sum.
 
-Two ways of starting them: a :class:`PictureWorker` started early in the run (``ibfem run``
-starts it as soon as the scene is read) imports matplotlib and the plotting modules while the
-run imports the solver and solves, then renders the job it is sent (the problem, the solution
-and the summary, pickled; a few megabytes in 2D), forking once more for the second group. Where
-the problem does not pickle (a 3D part whose geometry holds local functions) or no worker was
-started, children are forked when the pictures start and inherit the solution as it is (no
-copy), importing matplotlib themselves. Without an idle core (the load average at or above the
-cores) a second process would only share the same cores and cost its own start and import, so
-the pictures are rendered here after the other files, as they are where a process cannot be
-forked (a platform without ``fork``, a daemonic worker process of a pool). A process that fails
-for any reason other than a missing matplotlib has its pictures rendered again here, so that its
-error is raised where it happens, with its own traceback."""
+Two ways of starting them. A :class:`PictureWorker` started early in the run (``ibfem run``
+starts it as soon as the scene is read, whatever the machine's load) imports matplotlib and the
+plotting modules while the run imports the solver and solves, then renders the job it is sent
+(the problem, the solution and the summary, pickled: a few megabytes in 2D), forking once more
+for the second group when two cores are idle. Where the problem does not pickle (a 3D part whose
+geometry holds local functions) or no worker was started, children are forked when the pictures
+start and inherit the solution as it is (no copy), importing matplotlib themselves; without an
+idle core (the load average at or above the cores) such a child would only share the same cores
+and add its own import after the solve, so the pictures are then rendered here after the other
+files, as they are where a process cannot be forked (a platform without ``fork``, a daemonic
+worker process of a pool). A process that fails for any reason other than a missing matplotlib
+has its pictures rendered again here, so that its error is raised where it happens, with its own
+traceback."""
 
 from __future__ import annotations
 
@@ -140,8 +141,10 @@ def _serve(conn) -> None:
 
 class PictureWorker:
     """A process started early in a run that imports matplotlib and the plotting modules while
-    the run goes on, then renders the pictures it is sent (:class:`PlotJob`). :meth:`start`
-    returns None where it would not help: no idle core, no ``fork``, or a problem that does not
+    the run goes on, then renders the pictures it is sent (:class:`PlotJob`). It is started
+    whatever the machine's load: the import and the rendering cost the same CPU time in it as in
+    the run's own process, and on a busy machine it still imports while the run solves.
+    :meth:`start` returns None where it cannot be used: no ``fork``, or a problem that does not
     pickle (its pictures are then rendered by children forked when they start)."""
 
     def __init__(self, process, conn):
@@ -150,7 +153,7 @@ class PictureWorker:
     @classmethod
     def start(cls, problem: pb.Problem) -> PictureWorker | None:
         context = _fork_context()
-        if context is None or idle_cores() < 1:
+        if context is None:
             return None
         try:
             pickle.dumps(problem)
@@ -204,7 +207,7 @@ class PlotJob:
         self.warm_up_s = 0.0
         context = _fork_context() if parallel else None
         if worker is not None and parallel:
-            shares = _shares(GROUPS, min(len(GROUPS), max(1, idle_cores())))
+            shares = _shares(GROUPS, 2 if idle_cores() >= 2 else 1)
             if worker.submit(self.args, shares):
                 self.worker, self.shares = worker, shares
                 return
