@@ -370,11 +370,18 @@ def _patch_fit(inc, nodes, points, scale, centroids, stress, w, degree: int):
     local, cell, basis = ring2.row[order], cell[order], basis[order]
     wb = w[cell][:, None] * basis
     mat = _node_sums(local, len(nodes), wb, basis)
-    rhs = _node_sums(local, len(nodes), wb, stress[cell])
     ev = np.linalg.eigvalsh(mat)
     ok = ev[:, 0] > 1e-8 * ev[:, -1]
-    coef = np.linalg.solve(mat[ok], rhs[ok])
-    return ok, coef[:, 0, :]
+    # the value at the node is the fit's first coefficient, e0^T M^-1 sum_e wb_e s_e: each entry's
+    # weight in it is (M^-1 e0) . wb_e (M symmetric), so the fits are one sparse operator applied
+    # to all the columns of ``stress`` at once, with no (entries x columns) temporary
+    e0 = np.zeros((int(ok.sum()), basis.shape[1], 1))
+    e0[:, 0, 0] = 1.0
+    first = np.zeros((len(nodes), basis.shape[1]))
+    first[ok] = np.linalg.solve(mat[ok], e0)[:, :, 0]
+    weight = np.einsum("ea,ea->e", first[local], wb)
+    fits = sp.csr_matrix((weight, (local, cell)), shape=(len(nodes), len(stress)))
+    return ok, (fits @ stress)[ok]
 
 
 #: nodes per block of :func:`_node_sums`
