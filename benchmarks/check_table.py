@@ -3,7 +3,8 @@
     python benchmarks/check_table.py examples/solid/sphere_on_flat.toml [more scenes] [--max-memory GB]
 
 For each scene the estimate (solver.model.estimate.estimate_size, the numbers ``--check``
-prints) is made here; the run is ``ibfem run SCENE --quiet`` in a child process, its dofs read
+prints) is made in a process of its own (this one imports nothing of ibfem: a run's process,
+forked from it, would count its pages in the run's peak memory); the run is ``ibfem run SCENE --quiet`` in a child process, its dofs read
 from summary.json (the bodies' ``dofs``), its peak memory the child's largest resident set
 (``wait4``; Linux), its time the wall time of the child (start, imports and writing included)
 and the solver's own (``solver_total_s``). A scene estimated above ``--max-memory`` is listed
@@ -29,11 +30,27 @@ _HEADER = ("| example | dofs: estimated | used | used / est. | peak memory: esti
            "| run (s) | solver (s) |\n|---|---|---|---|---|---|---|---|---|")
 
 
-def _estimate(scene_path: str):
-    from ibfem.solver.io.scene import load_scene
-    from ibfem.solver.model.estimate import estimate_size
+#: the estimate, made in a process of its own: this one stays small, so that a run's peak memory,
+#: which counts what the run's process holds from its start (a forked process holds its parent's
+#: pages), is the run's own
+_ESTIMATE = ("import json, sys\n"
+             "from ibfem.solver.io.scene import SceneError, load_scene\n"
+             "from ibfem.solver.model.estimate import estimate_size\n"
+             "try:\n    size = estimate_size(load_scene(sys.argv[1]).problem)\n"
+             "except SceneError as err:\n    print(json.dumps({'refused': str(err).split(': ', 1)[-1]}))\n"
+             "else:\n    print(json.dumps({'dofs': size.dofs, 'memory': size.memory}))")
 
-    return estimate_size(load_scene(scene_path).problem)
+
+class _Size:
+    def __init__(self, dofs: float, memory: float):
+        self.dofs, self.memory = dofs, memory
+
+
+def _estimate(scene_path: str):
+    """The estimate (dofs, memory) of ``--check``, or the reason the scene check refuses the scene."""
+    done = subprocess.run([sys.executable, "-c", _ESTIMATE, scene_path], capture_output=True, text=True, check=True)
+    found = json.loads(done.stdout.strip().splitlines()[-1])
+    return found["refused"] if "refused" in found else _Size(found["dofs"], found["memory"])
 
 
 def _run(scene_path: str, out: Path) -> tuple[dict, float, float]:
@@ -70,13 +87,10 @@ def _measured(scene_path: str, out: Path, runs: Path | None) -> dict:
 
 
 def row(scene_path: str, out: Path, max_memory: float, runs: Path | None = None) -> str:
-    from ibfem.solver.io.scene import SceneError
-
     name = str(Path(scene_path).with_suffix("")).removeprefix("examples/")  # subfolders tell scenes apart
-    try:
-        est = _estimate(scene_path)
-    except SceneError as err:  # the scene check refuses a grid larger than the machine
-        return f"| {name} | refused by the check: {str(err).split(': ', 1)[-1]} | | | | | | | |"
+    est = _estimate(scene_path)
+    if isinstance(est, str):  # the scene check refuses a grid larger than the machine
+        return f"| {name} | refused by the check: {est} | | | | | | | |"
     if est.memory > max_memory:
         return (f"| {name} | {est.dofs:.3g} | not run | | {est.memory / 2**30:.2f} | not run (estimate above "
                 f"{max_memory / 2**30:.3g} GB) | | | |")
