@@ -97,7 +97,7 @@ def _warm_up() -> float:
     try:
         from matplotlib.backends import backend_agg  # noqa: F401 - imported here, while the run solves
 
-        from ibfem.solver import solution  # noqa: F401 - the classes a job's solution pickles
+        import ibfem.solver.solution  # noqa: F401 - the classes a job's solution pickles
         from . import plots  # noqa: F401
     except ImportError:  # reported with the job: a missing matplotlib is the reason given
         pass
