@@ -25,8 +25,9 @@ if TYPE_CHECKING:
 __all__ = ["start_pictures", "start_scene_pictures", "write_results", "write_scene_results"]
 
 
-#: stress values (nodes x components x steps) recovered in one batch of the load-step series
-_BATCH_VALUES = 2e7
+#: stress values (nodes x components x steps) recovered in one batch of the load-step series:
+#: each body keeps one batch of centroid and nodal values, 16 MB each at most
+_BATCH_VALUES = 2e6
 
 
 class _StepStresses:
