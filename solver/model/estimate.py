@@ -30,10 +30,10 @@ __all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "available_m
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
 #: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
-BYTES_PER_DOF = {2: 2_600, 3: 6_000}
+BYTES_PER_DOF = {2: 3_200, 3: 6_000}
 #: 2D: what a run adds to the process that loaded its scene besides the per-dof part (the
 #: solver's imports and fixed arrays)
-SOLVER_BYTES_2D = 45e6
+SOLVER_BYTES_2D = 25e6
 #: the resident memory of a process that has loaded a scene, where it cannot be read
 RESIDENT_BYTES = 80e6
 #: 3D contact, the sparse part: the direct factor of K0 with the contact dofs last and K0 itself
