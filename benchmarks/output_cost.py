@@ -8,7 +8,10 @@ process (the error estimate's second solve included, the files the scene's ``[ou
 for), and one table row is printed: the child's wall time (start, imports and writing
 included), the run's own ``total_s``, the solver's and the estimate's seconds, the output's
 (``output_s`` from summary.json: summary sampling, VTU files, pictures) and its share of the
-wall time, whether the pictures were rendered in other processes, and the child's peak memory.
+wall time, whether the pictures were rendered in other processes, the child's peak memory, the
+CPU seconds of the child and every process it started (``wait4``: load-independent, unlike the
+wall time), and the one-minute load average after the run. ``--compare-pictures`` runs each
+scene with and without its pictures in turn: the difference is what the pictures cost.
 ``--markdown FILE`` also writes the table there. ``--alternate N`` runs each scene N times in
 turn with the others (a loaded machine's noise spreads over all of them). ``--idle-cores N``
 starts the pictures' processes as if the machine had N idle cores whatever its load (a shared
@@ -94,25 +97,35 @@ def run(scene_path: str, out: Path, force_vtk: bool, serial: bool = False) -> No
 
 
 _HEADER = ("| example | files | run, wall (s) | solver (s) | estimate (s) | output (s) | output / wall "
-           "| summary / VTU / plots (s) | pictures | peak (GB) |\n|---|---|---|---|---|---|---|---|---|---|")
+           "| summary / VTU / plots (s) | pictures | peak (GB) | CPU (s) | load |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 #: ``ibfem run`` as the command line runs it, with the machine's idle cores taken as ``sys.argv[1]``
-_CHILD = ("import sys\nfrom ibfem.solver.io import parallel_plots\n"
-          "if sys.argv[1] != 'load':\n    parallel_plots.idle_cores = lambda: int(sys.argv[1])\n"
+_CHILD = ("import sys\nfrom ibfem.solver.io import parallel_plots, scene\n"
+          "idle, worker, pictures = sys.argv[1].split(',')\n"
+          "if idle != 'load':\n    parallel_plots.idle_cores = lambda: int(idle)\n"
+          "if worker == 'no':\n    parallel_plots.PictureWorker.start = classmethod(lambda cls, problem: None)\n"
+          "if pictures == 'no':\n    load = scene.load_scene\n"
+          "    def without(*args, **kwargs):\n        loaded = load(*args, **kwargs)\n"
+          "        object.__setattr__(loaded.spec.output, 'plots', False)\n        return loaded\n"
+          "    scene.load_scene = without\n"
           "from ibfem.solver.cli import main\nraise SystemExit(main(sys.argv[2:]))")
 
 
-def command_row(path: str, out: Path, idle: str = "load") -> tuple[str, float]:
+def command_row(path: str, out: Path, idle: str = "load", worker: bool = True, pictures: bool = True) -> tuple[str, float]:
     """(table row, output share of the wall time) of ``ibfem run`` on one scene in a child process;
     ``idle``: the idle cores the pictures' processes are started for ("load": from the load
-    average, as ``ibfem run`` does; a number: as if the machine had that many)."""
+    average, as ``ibfem run`` does; a number: as if the machine had that many); ``worker``
+    false: no picture worker started with the run (the pictures start after the solve);
+    ``pictures`` false: the scene run without its pictures."""
     t0 = time.perf_counter()
-    child = subprocess.Popen([sys.executable, "-c", _CHILD, idle, "run", path, "--out", str(out), "--quiet"],
+    flags = f"{idle},{'yes' if worker else 'no'},{'yes' if pictures else 'no'}"
+    child = subprocess.Popen([sys.executable, "-c", _CHILD, flags, "run", path, "--out", str(out), "--quiet"],
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     _, status, usage = os.wait4(child.pid, 0)
     wall = time.perf_counter() - t0
-    name = str(Path(path).with_suffix("")).replace("examples/", "")
+    name = str(Path(path).with_suffix("")).replace("examples/", "") + ("" if pictures else " (no pictures)")
     if os.waitstatus_to_exitcode(status) not in (0, 1):
         return f"| {name} | failed: {child.stderr.read().decode(errors='replace').strip().splitlines()[-1:]} |", float("nan")
     child.stderr.read()
@@ -122,11 +135,13 @@ def command_row(path: str, out: Path, idle: str = "load") -> tuple[str, float]:
     kinds = [k for k, ext in (("VTU", ".vtu"), ("plots", ".png")) if any(f.endswith(ext) for f in files)]
     pictures = ("-" if "plots" not in kinds else
                 f"{t.get('plots_processes', 0)} processes" if t.get("plots_processes") else "this process")
+    if "plots_warm_up_s" in t:
+        pictures += " (worker)"
     share = t["output_s"] / wall
     row = (f"| {name} | {' + '.join(kinds) or 'summary only'} | {wall:.2f} | {t.get('solver_total_s', 0.0):.2f} "
            f"| {t.get('estimate_s', 0.0):.2f} | {t['output_s']:.2f} | {100 * share:.1f} % "
            f"| {t.get('summary_s', 0.0):.2f} / {t.get('vtk_s', 0.0):.2f} / {t.get('plots_s', 0.0):.2f} | {pictures} "
-           f"| {usage.ru_maxrss / 2**20:.2f} |")
+           f"| {usage.ru_maxrss / 2**20:.2f} | {usage.ru_utime + usage.ru_stime:.2f} | {os.getloadavg()[0]:.1f} |")
     return row, share
 
 
@@ -141,6 +156,10 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--alternate", type=int, default=1, metavar="N",
                     help="N runs of each scene, the scenes in turn (a loaded machine's noise spread over all)")
     ap.add_argument("--markdown", type=Path, default=None, help="also write the table to this file")
+    ap.add_argument("--compare-worker", action="store_true",
+                    help="each run twice in turn, with and without the picture worker started with the run")
+    ap.add_argument("--compare-pictures", action="store_true",
+                    help="each run twice in turn, with and without its pictures (their cost in wall and CPU time)")
     ap.add_argument("--idle-cores", default="load", metavar="N",
                     help="start the pictures' processes as if the machine had N idle cores (default: from its load "
                          "average, as ibfem run does; on a shared machine, what an idle one would do)")
@@ -154,9 +173,11 @@ def main(argv: list[str]) -> int:
     rows = []
     for _ in range(args.alternate):
         for path in args.scenes:
-            row, _share = command_row(path, root / Path(path).stem, args.idle_cores)
-            print(row, flush=True)
-            rows.append(row)
+            for worker in ((True, False) if args.compare_worker else (True,)):
+                for pictures in ((True, False) if args.compare_pictures else (True,)):
+                    row, _share = command_row(path, root / Path(path).stem, args.idle_cores, worker, pictures)
+                    print(row, flush=True)
+                    rows.append(row)
     if args.markdown:
         args.markdown.write_text(_HEADER + "\n" + "\n".join(rows) + "\n")
     return 0

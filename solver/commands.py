@@ -82,6 +82,11 @@ def _run(args: argparse.Namespace) -> int:
         print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies; "
               f"{estimate_size(scene.problem)})")
         return 0
+    worker = None
+    if scene.output.plots:  # imports matplotlib while this process imports the solver and solves
+        from ibfem.solver.io.parallel_plots import PictureWorker
+
+        worker = PictureWorker.start(scene.problem)
     try:
         from ibfem.solver.solving import solve
     except ImportError as err:
@@ -94,7 +99,7 @@ def _run(args: argparse.Namespace) -> int:
     progress = silent if args.quiet else ProgressReporter()
     label = Path(args.scene).name
     out = Path(args.out) if args.out else default_out_dir(args.scene)
-    pictures = _PictureStart(out, scene, progress)
+    pictures = _PictureStart(out, scene, progress, worker)
     try:
         solution, ladder = _solve_scene(scene.problem, solve, progress, estimate=not args.no_estimate,
                                         solved=pictures if scene.output.plots else None)
@@ -116,6 +121,8 @@ def _run(args: argparse.Namespace) -> int:
             progress.close()
         raise
 
+    if scene.output.plots and pictures.started is None:  # no error estimate: they start now
+        pictures(solution)
     extra = {"scene": str(Path(args.scene))}
     if ladder is not None:
         extra["accuracy"] = ladder
@@ -153,15 +160,15 @@ class _PictureStart:
     what it returned (None before, or when the output folder cannot be made: that is reported
     when the results are written)."""
 
-    def __init__(self, out: Path, scene, progress):
-        self.out, self.scene, self.progress, self.started = out, scene, progress, None
+    def __init__(self, out: Path, scene, progress, worker=None):
+        self.out, self.scene, self.progress, self.started, self.worker = out, scene, progress, None, worker
 
     def __call__(self, solution) -> None:
         from ibfem.solver.io.output import start_scene_pictures
 
         self.progress("results: plots (started)")
         try:
-            self.started = start_scene_pictures(self.out, self.scene, solution)
+            self.started = start_scene_pictures(self.out, self.scene, solution, self.worker)
         except OSError:
             self.started = None
 

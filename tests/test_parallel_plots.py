@@ -98,3 +98,51 @@ def test_a_process_with_another_thread_renders_here(tmp_path, monkeypatch):
         release.set()
         thread.join()
     assert {int(f.read_text()) for f in files} == {os.getpid()} and len(files) == 2
+
+
+def _worker_job(tmp_path, idle=2):
+    parallel_plots.idle_cores, cores = (lambda: idle), parallel_plots.idle_cores
+    try:
+        worker = parallel_plots.PictureWorker.start(None)
+        assert worker is not None
+        return parallel_plots.PlotJob(tmp_path, None, None, {}, {}, worker=worker)
+    finally:
+        parallel_plots.idle_cores = cores
+
+
+def test_a_worker_started_early_renders_the_groups_in_two_processes(tmp_path, monkeypatch):
+    _stand_in(monkeypatch, lambda parent: None)  # before the start: the worker is forked with it
+    if threading.active_count() > 1:
+        pytest.skip("a thread of another test is alive; the fallback is tested above")
+    job = _worker_job(tmp_path)
+    assert job.parallel and job.worker is not None and job.processes == 2
+    files, reason, seconds = job.result()
+    assert files == [tmp_path / "fields.txt", tmp_path / "profiles.txt"] and reason is None and seconds >= 0.0
+    writers = {int(f.read_text()) for f in files}
+    assert len(writers) == 2 and os.getpid() not in writers and job.warm_up_s > 0.0
+    for idle in (1, 0):  # one idle core or none: the worker renders both groups
+        files, _, _ = _worker_job(tmp_path, idle=idle).result()
+        assert len(files) == 2 and len({int(f.read_text()) for f in files} - {os.getpid()}) == 1
+
+
+def test_a_worker_that_fails_or_dies_leaves_the_pictures_to_the_caller(tmp_path, monkeypatch):
+    def fails(parent):
+        raise ValueError("the section planes need a contact point")
+
+    _stand_in(monkeypatch, fails)
+    if threading.active_count() > 1:
+        pytest.skip("a thread of another test is alive")
+    with pytest.raises(ValueError, match="section planes need a contact point"):
+        _worker_job(tmp_path).result()
+
+    def dies_in_the_worker(parent):
+        if os.getpid() != parent:
+            os._exit(3)
+
+    _stand_in(monkeypatch, dies_in_the_worker)
+    files, reason, _ = _worker_job(tmp_path).result()
+    assert reason is None and len(files) == 2 and {int(f.read_text()) for f in files} == {os.getpid()}
+
+
+def test_no_worker_for_a_problem_that_does_not_pickle(monkeypatch):
+    assert parallel_plots.PictureWorker.start(lambda: None) is None  # a local function: forked children later

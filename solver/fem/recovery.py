@@ -170,12 +170,56 @@ def mirrored_patches(cells, nodes, sizes, weights, cut, centroids, stress, plane
     return cells, nodes, sizes, weights, cut, centroids, stress
 
 
-def _merge_nodes(nodes: np.ndarray, points: np.ndarray, tol: float) -> np.ndarray:
-    """Index of the node within ``tol`` of each point, -1 where none is."""
-    from scipy.spatial import cKDTree
+#: bins along the longest side of the points' box at most in :func:`_merge_nodes` (the bins'
+#: flat index, over three axes with their margins, stays below 2^63)
+_MERGE_BINS = 2e6
 
-    dist, index = cKDTree(nodes).query(points, distance_upper_bound=tol)
-    return np.where(np.isfinite(dist), index, -1)
+
+def _merge_nodes(nodes: np.ndarray, points: np.ndarray, tol: float) -> np.ndarray:
+    """Index of the nearest node within ``tol`` of each point, -1 where none is. The nodes in the
+    points' box are binned on a lattice of bins at least ``tol`` wide (a node within ``tol`` of
+    a point lies in the point's bin or a neighbouring one) and the bins are matched by sorting:
+    no tree, and none of the tree's imports (a third of a second)."""
+    nodes, points = np.asarray(nodes, dtype=float), np.asarray(points, dtype=float)
+    index = np.full(len(points), -1, dtype=np.int64)
+    if len(points) == 0 or len(nodes) == 0:
+        return index
+    lo, hi = points.min(axis=0) - tol, points.max(axis=0) + tol
+    near = np.nonzero(np.all((nodes >= lo) & (nodes <= hi), axis=1))[0]
+    if len(near) == 0:
+        return index
+    side = max(float(tol), float(np.max(hi - lo)) / _MERGE_BINS, np.finfo(float).tiny)
+    shape = tuple(np.floor((hi - lo) / side).astype(np.int64) + 3)  # a bin of margin on each side
+
+    def keys(x: np.ndarray, shift: np.ndarray) -> np.ndarray:
+        bins = np.clip(np.floor((x - lo) / side).astype(np.int64) + 1, 0, np.asarray(shape) - 2)
+        return np.ravel_multi_index((bins[:, None, :] + shift).reshape(-1, x.shape[1]).T, shape)
+
+    dim = points.shape[1]
+    node_keys = keys(nodes[near], np.zeros((1, dim), dtype=np.int64))
+    order = np.argsort(node_keys, kind="stable")
+    sorted_keys = node_keys[order]
+    shifts = np.stack(np.meshgrid(*[(-1, 0, 1)] * dim, indexing="ij"), axis=-1).reshape(-1, dim)
+    wanted = keys(points, shifts)
+    first, last = np.searchsorted(sorted_keys, wanted, "left"), np.searchsorted(sorted_keys, wanted, "right")
+    owner = np.repeat(np.arange(len(points)), len(shifts))
+    found_point, found_node = [], []
+    for k in range(int((last - first).max(initial=0))):  # the nodes sharing a bin, one at a time
+        has = np.nonzero(first + k < last)[0]
+        found_point.append(owner[has])
+        found_node.append(near[order[first[has] + k]])
+    if not found_point:
+        return index
+    p, n = np.concatenate(found_point), np.concatenate(found_node)
+    dist = np.linalg.norm(nodes[n] - points[p], axis=1)
+    close = dist <= tol
+    p, n, dist = p[close], n[close], dist[close]
+    nearest = np.lexsort((dist, p))  # by point, the nearest first
+    p, n = p[nearest], n[nearest]
+    head = np.ones(len(p), dtype=bool)
+    head[1:] = p[1:] != p[:-1]
+    index[p[head]] = n[head]
+    return index
 
 
 def sliding_symmetry(boundary, names, grid, status_cut: np.ndarray, inside: np.ndarray,
@@ -326,11 +370,18 @@ def _patch_fit(inc, nodes, points, scale, centroids, stress, w, degree: int):
     local, cell, basis = ring2.row[order], cell[order], basis[order]
     wb = w[cell][:, None] * basis
     mat = _node_sums(local, len(nodes), wb, basis)
-    rhs = _node_sums(local, len(nodes), wb, stress[cell])
     ev = np.linalg.eigvalsh(mat)
     ok = ev[:, 0] > 1e-8 * ev[:, -1]
-    coef = np.linalg.solve(mat[ok], rhs[ok])
-    return ok, coef[:, 0, :]
+    # the value at the node is the fit's first coefficient, e0^T M^-1 sum_e wb_e s_e: each entry's
+    # weight in it is (M^-1 e0) . wb_e (M symmetric), so the fits are one sparse operator applied
+    # to all the columns of ``stress`` at once, with no (entries x columns) temporary
+    e0 = np.zeros((int(ok.sum()), basis.shape[1], 1))
+    e0[:, 0, 0] = 1.0
+    first = np.zeros((len(nodes), basis.shape[1]))
+    first[ok] = np.linalg.solve(mat[ok], e0)[:, :, 0]
+    weight = np.einsum("ea,ea->e", first[local], wb)
+    fits = sp.csr_matrix((weight, (local, cell)), shape=(len(nodes), len(stress)))
+    return ok, (fits @ stress)[ok]
 
 
 #: nodes per block of :func:`_node_sums`

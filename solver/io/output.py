@@ -14,7 +14,7 @@ import numpy as np
 from ibfem.solver.model import problem as pb
 
 from .body_output import body_output
-from .parallel_plots import PlotJob
+from .parallel_plots import PictureWorker, PlotJob
 from .report_html import write_report
 from .results import build_summary, json_safe, write_summary
 from .vtu import step_contacts, write_step_bodies, write_vtk_files
@@ -25,8 +25,9 @@ if TYPE_CHECKING:
 __all__ = ["start_pictures", "start_scene_pictures", "write_results", "write_scene_results"]
 
 
-#: stress values (nodes x components x steps) recovered in one batch of the load-step series
-_BATCH_VALUES = 2e7
+#: stress values (nodes x components x steps) recovered in one batch of the load-step series:
+#: each body keeps one batch of centroid and nodal values, 16 MB each at most
+_BATCH_VALUES = 2e6
 
 
 class _StepStresses:
@@ -90,15 +91,20 @@ class StartedPictures:
 
 def start_pictures(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, probes: Iterable[Any] = (),
                    lines: Iterable[Any] = (), vtk: bool = True, plots: bool = False,
-                   parallel: bool = True, summary: Mapping[str, Any] | None = None) -> StartedPictures | None:
+                   parallel: bool = True, summary: Mapping[str, Any] | None = None,
+                   worker: PictureWorker | None = None) -> StartedPictures | None:
     """Start rendering the pictures (when ``plots``) in other processes while the caller goes on
     (the error estimate's second solve, then the other files) when the machine has idle cores;
     the stresses are recovered once, here, and the children inherit them. Pass the result to
     :func:`write_results`, which waits for the pictures. The pictures show the solution as it is
     now: what the caller adds to the contact blocks later (the estimated errors) is in
     summary.json and report.html, not in them. ``summary``: the run's summary when already built
-    (else built here for the pictures). Returns None when no picture is asked."""
+    (else built here for the pictures). ``worker``: the picture process started earlier in the
+    run (:class:`solver.io.parallel_plots.PictureWorker`), which renders them when it can.
+    Returns None when no picture is asked."""
     if not plots:
+        if worker is not None:
+            worker.stop()
         return None
     t0 = time.perf_counter()
     out_dir = Path(out_dir)
@@ -112,7 +118,7 @@ def start_pictures(out_dir: str | Path, problem: pb.Problem, solution: pb.Soluti
     outputs: dict[str, Any] = {}
     if vtk and problem.dim == 2:  # the 2D pictures draw the bodies' output meshes (the VTU files' cells)
         outputs.update((b.name, body_output(problem, solution, b)) for b in problem.bodies)
-    job = PlotJob(out_dir, problem, solution, summary, outputs, parallel)
+    job = PlotJob(out_dir, problem, solution, summary, outputs, parallel, worker)
     times["vtk_s"] = time.perf_counter() - t0
     return StartedPictures(job, outputs, times)
 
@@ -193,8 +199,10 @@ def _write_files(out_dir: Path, problem: pb.Problem, solution: pb.Solution, summ
                                   plots=pictures is not None, missing=missing)
     if pictures is not None:  # a missing optional library costs its files, not the summary
         report("results: plots")
-        output_times["plots_processes"] = len(pictures.job.children)  # 0: rendered in this process
+        output_times["plots_processes"] = pictures.job.processes  # 0: rendered in this process
         written, reason, output_times["plots_s"] = pictures.job.result()
+        if pictures.job.worker is not None:  # its imports, made while the run solved
+            output_times["plots_warm_up_s"] = pictures.job.warm_up_s
         files += written
         missing += [reason] if reason else []
     return files, missing
@@ -231,8 +239,10 @@ def write_scene_results(
     )
 
 
-def start_scene_pictures(out_dir: str | Path, scene: Scene, solution: pb.Solution) -> StartedPictures | None:
+def start_scene_pictures(out_dir: str | Path, scene: Scene, solution: pb.Solution,
+                         worker: PictureWorker | None = None) -> StartedPictures | None:
     """:func:`start_pictures` with the ``[output]`` table of a loaded scene: pass the result to
     :func:`write_scene_results`."""
     output = scene.output
-    return start_pictures(out_dir, scene.problem, solution, output.probes, output.lines, output.vtk, output.plots)
+    return start_pictures(out_dir, scene.problem, solution, output.probes, output.lines, output.vtk, output.plots,
+                          worker=worker)

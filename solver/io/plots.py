@@ -1,5 +1,5 @@
-"""PNG pictures of a run (``[output] plots = true``), headless (matplotlib's Agg, imported only
-here and only when pictures are written): ``fields.png`` (von Mises and displacement magnitude
+"""PNG pictures of a run (``[output] plots = true``), headless (matplotlib's Agg canvas without
+pyplot, imported only here and only when pictures are written): ``fields.png`` (von Mises and displacement magnitude
 over every body), ``contact_<k>_fields.png`` (the same close to each contact point),
 ``line_<name>.png`` per output line, ``contact_<k>.png`` (pressure and shear) per contact, with
 Hertz and Cattaneo-Mindlin for the computed forces beside them when the contact is Hertzian."""
@@ -20,20 +20,27 @@ from .results import _file_stem, json_safe
 __all__ = ["write_plots"]
 
 
-def _pyplot():
-    import matplotlib
+class AggFigures:
+    """Figures drawn by Agg without pyplot: ``subplots`` as pyplot's, on a figure no window
+    manager tracks (nothing to close, no global state shared with the caller's own figures)."""
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    def __init__(self):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
 
-    return plt
+        self._figure, self._canvas = Figure, FigureCanvasAgg
+
+    def subplots(self, nrows: int = 1, ncols: int = 1, figsize=None, constrained_layout: bool = False, **kwargs):
+        fig = self._figure(figsize=figsize, layout="constrained" if constrained_layout else None)
+        self._canvas(fig)
+        return fig, fig.subplots(nrows, ncols, **kwargs)
 
 
 class _Figures:
     """Saves figures into ``out_dir`` and remembers the files written."""
 
     def __init__(self, out_dir: Path):
-        self.plt = _pyplot()
+        self.plt = AggFigures()
         self.out_dir = out_dir
         self.written: list[Path] = []
 
@@ -41,7 +48,6 @@ class _Figures:
         path = self.out_dir / name
         # zlib's fastest level: 0.24-0.30 times the default's encoding time, files 1.3 times larger
         fig.savefig(path, dpi=110, pil_kwargs={"compress_level": 1})
-        self.plt.close(fig)
         self.written.append(path)
 
     def save_line_plot(self, fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str,
@@ -123,7 +129,10 @@ def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, window) -> Non
     for out, v in zip(outputs, values):
         xy = (out.points + np.asarray(out.point_data["displacement"], dtype=float)[:, :2]) / lscale
         tris = _triangles(out)
-        ok = np.all(np.isfinite(v[tris]), axis=1)
+        corners = xy[tris]  # only the triangles that reach into the window are drawn
+        ok = np.all(np.isfinite(v[tris]), axis=1) \
+            & (corners[:, :, 0].max(axis=1) >= x0 / lscale) & (corners[:, :, 0].min(axis=1) <= x1 / lscale) \
+            & (corners[:, :, 1].max(axis=1) >= y0 / lscale) & (corners[:, :, 1].min(axis=1) <= y1 / lscale)
         if not ok.any():
             continue
         image = ax.tripcolor(xy[:, 0], xy[:, 1], tris[ok], np.nan_to_num(v) / uscale, shading="gouraud",

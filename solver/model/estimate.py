@@ -9,8 +9,13 @@ refinement_radii). Cells in 3D: the octree keeps only cells whose centre lies wi
 diagonal of the part, whatever its orientation, so the estimate asks the part's signed distance
 the same question: at every level-0 centre of the box (or a sample of them), then per zone and
 level at SAMPLES points of the ball in which cells are split (the kept children less the split
-parents). Dofs: DOFS_PER_CELL per cell. Memory: measured bytes per dof for the sparse part, and
-for a 3D contact the dense arrays of its condensed dofs (the finest cell faces of the part of the
+parents); in 2D the same sampling, with a disc, counts the part of each zone the body holds
+(the box-and-disc count stands in where a body has no signed distance or is too large to
+sample). Overlapping zones are counted once (each sample weighted by one over the zones that
+hold it). Dofs: DOFS_PER_CELL per cell. Memory: in 2D the process's resident memory when the
+estimate is made (the scene loaded, a CAD kernel included) plus SOLVER_BYTES_2D plus
+BYTES_PER_DOF[2] per dof, fitted on the peaks of the shipped 2D examples; in 3D measured bytes
+per dof for the sparse part, and for a 3D contact the dense arrays of its condensed dofs (the finest cell faces of the part of the
 candidate disc that the bodies hold, times CONTACT_DOFS_PER_FACET per body; each body's block
 held twice and formed once more)."""
 
@@ -21,10 +26,16 @@ import os
 
 import numpy as np
 
-__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "available_memory"]
+__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "available_memory", "resident_memory"]
 
-#: bytes per dof measured (rounded up): 2D, 3D without contact (AMG-CG solves)
-BYTES_PER_DOF = {2: 8_000, 3: 6_000}
+#: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
+#: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
+BYTES_PER_DOF = {2: 3_200, 3: 6_000}
+#: 2D: what a run adds to the process that loaded its scene besides the per-dof part (the
+#: solver's imports and fixed arrays)
+SOLVER_BYTES_2D = 25e6
+#: the resident memory of a process that has loaded a scene, where it cannot be read
+RESIDENT_BYTES = 80e6
 #: 3D contact, the sparse part: the direct factor of K0 with the contact dofs last and K0 itself
 #: (measured on the full crossed cylinders, 236k dofs: the bodies' factors 14 KB per dof without
 #: their dense roots); the dense arrays are counted from the contact dofs
@@ -81,43 +92,61 @@ def _reach(radius: float, h: np.ndarray, lv: int) -> float:
 def _kept(phi, points: np.ndarray, size: float) -> np.ndarray:
     """The grids' rule: a cell is kept unless its centre lies farther outside the body than its
     half diagonal."""
-    return np.asarray(phi(points), dtype=float) > -0.5 * math.sqrt(3.0) * size
+    return np.asarray(phi(points), dtype=float) > -0.5 * math.sqrt(points.shape[1]) * size
 
 
 def _sampled_body_cells(body, centres: list, lo: np.ndarray, hi: np.ndarray, rng) -> float:
-    """Cells of a 3D body's octree from its signed distance: the kept cells of level 0 (every
-    centre tested, or SAMPLES of them), then per refinement zone and level the kept children
-    less their kept parents, from SAMPLES points uniform in the zone's ball of that level."""
+    """Cells of a body's quadtree (2D) or octree (3D) from its signed distance: the kept cells
+    of level 0 (every centre tested, or SAMPLES of them), then per refinement zone and level the
+    kept children less their kept parents, from SAMPLES points uniform in each zone's disc (ball)
+    of that level, each weighted by one over the zones whose discs hold it (overlapping zones
+    split a cell once): only the part of the zones the body holds is counted."""
     phi = body.profile.signed_distance
+    dim = len(lo)
     h0 = float(body.element_size)
     shape = np.floor((hi - lo) / h0).astype(np.int64) + 1
     total = float(np.prod(shape))
     if total <= SAMPLES:
-        axes = [lo[k] + h0 * (np.arange(shape[k]) + 0.5) for k in range(3)]
-        pts = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+        axes = [lo[k] + h0 * (np.arange(shape[k]) + 0.5) for k in range(dim)]
+        pts = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, dim)
         cells = float(_kept(phi, pts, h0).sum())
     else:
-        pts = lo + rng.random((SAMPLES, 3)) * shape * h0
+        pts = lo + rng.random((SAMPLES, dim)) * shape * h0
         cells = total * float(_kept(phi, pts, h0).mean())
-    corners = np.array([[i, j, k] for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)], dtype=float)
-    for zone, centre in zip(body.refinements, centres):
-        h = h0 / 2.0 ** np.arange(int(zone.levels) + 1)
-        radius = float(zone.radius)
-        for lv in range(int(zone.levels)):
-            split_radius = radius + GRADING_CELLS * h[lv + 1:-1].sum()  # of the boxes (solver.fem.grid)
-            reach = split_radius + 0.5 * math.sqrt(3.0) * h[lv]  # of their centres
-            direction = rng.standard_normal((SAMPLES, 3))
-            direction /= np.linalg.norm(direction, axis=1)[:, None]
-            pts = centre + direction * (reach * rng.random(SAMPLES) ** (1.0 / 3.0))[:, None]
-            gap = np.maximum(np.abs(pts - centre) - 0.5 * h[lv], 0.0)
-            split = (np.sqrt((gap * gap).sum(axis=1)) < split_radius) & np.all((pts >= lo) & (pts <= hi + h0), axis=1)
-            split &= _kept(phi, pts, h[lv])
-            # two of each split cell's eight children, at random corners
-            corner = corners[rng.integers(0, 8, (int(split.sum()), 2))]
-            children = (pts[split][:, None, :] + 0.25 * h[lv] * corner).reshape(-1, 3)
-            new = 4.0 * float(_kept(phi, children, h[lv + 1]).sum()) - float(split.sum()) if split.any() else 0.0
-            cells += 4.0 / 3.0 * math.pi * reach**3 / h[lv] ** 3 * new / SAMPLES
+    corners = np.stack(np.meshgrid(*[(-1.0, 1.0)] * dim, indexing="ij"), axis=-1).reshape(-1, dim)
+    unit_ball = math.pi if dim == 2 else 4.0 / 3.0 * math.pi
+    zones = list(zip(body.refinements, (np.asarray(c, dtype=float) for c in centres)))
+    for lv in range(max([int(z.levels) for z, _ in zones], default=0)):
+        h = h0 / 2.0**lv
+        # the zones splitting this level: (centre, split radius of the boxes, reach of their centres)
+        balls = []
+        for zone, centre in zones:
+            if int(zone.levels) > lv:
+                sizes = h0 / 2.0 ** np.arange(int(zone.levels) + 1)
+                split_radius = float(zone.radius) + GRADING_CELLS * sizes[lv + 1:-1].sum()  # solver.fem.grid
+                balls.append((centre, split_radius, split_radius + 0.5 * math.sqrt(dim) * h))
+        for centre, _, reach in balls:
+            pts = _in_ball(rng, centre, reach, dim)
+            split, covering = np.zeros(SAMPLES, dtype=bool), np.zeros(SAMPLES)
+            for other, radius, other_reach in balls:  # overlapping zones: their union, counted once
+                gap = np.maximum(np.abs(pts - other) - 0.5 * h, 0.0)
+                split |= np.sqrt((gap * gap).sum(axis=1)) < radius
+                covering += np.linalg.norm(pts - other, axis=1) <= other_reach
+            split &= np.all((pts >= lo) & (pts <= hi + h0), axis=1) & _kept(phi, pts, h)
+            # two of each split cell's 2^dim children, at random corners
+            corner = corners[rng.integers(0, len(corners), (int(split.sum()), 2))]
+            children = (pts[split][:, None, :] + 0.25 * h * corner).reshape(-1, dim)
+            kept = _kept(phi, children, 0.5 * h).reshape(-1, 2).sum(axis=1)
+            new = float(np.sum((len(corners) / 2.0 * kept - 1.0) / covering[split]))
+            cells += unit_ball * reach**dim / h**dim * new / SAMPLES
     return cells
+
+
+def _in_ball(rng, centre: np.ndarray, radius: float, dim: int) -> np.ndarray:
+    """SAMPLES points uniform in the disc (ball) of ``radius`` about ``centre``."""
+    direction = rng.standard_normal((SAMPLES, dim))
+    direction /= np.linalg.norm(direction, axis=1)[:, None]
+    return centre + direction * (radius * rng.random(SAMPLES) ** (1.0 / dim))[:, None]
 
 
 def _zone_centres(problem, body) -> list:
@@ -151,7 +180,7 @@ def _estimate(problem) -> ProblemSize:
         centres = _zone_centres(problem, body)
         for zone, centre in zip(body.refinements, centres):
             body_cells += _zone_cells(float(zone.radius), int(zone.levels), h0, dim, centre, lo, hi)
-        if dim == 3 and body_cells <= SAMPLED_CELLS and hasattr(body.profile, "signed_distance"):
+        if body_cells <= SAMPLED_CELLS and hasattr(body.profile, "signed_distance"):
             body_cells = _sampled_body_cells(body, centres, lo, hi, rng)
         cells += body_cells
         per_body.append(body_cells)
@@ -159,9 +188,29 @@ def _estimate(problem) -> ProblemSize:
     if dim == 3 and problem.contacts:
         memory = _sparse_contact_bytes(DOFS_PER_CELL[3] * np.array(per_body)) + _dense_contact_bytes(problem) \
             + BASE_BYTES_3D_CONTACT
+    elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
+        memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
         memory = dofs * BYTES_PER_DOF[dim] + 200e6
     return ProblemSize(cells, dofs, memory)
+
+
+def resident_memory() -> float:
+    """Bytes this process holds in memory now (Linux; elsewhere its peak so far, or
+    RESIDENT_BYTES where neither can be read)."""
+    try:
+        with open("/proc/self/statm") as f:
+            return float(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError, AttributeError):
+        pass
+    try:
+        import resource
+        import sys
+
+        peak = float(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+        return peak if sys.platform == "darwin" else peak * 1024.0  # bytes on macOS, KB elsewhere
+    except (ImportError, OSError, ValueError):
+        return RESIDENT_BYTES
 
 
 def _sparse_contact_bytes(body_dofs: np.ndarray) -> float:
