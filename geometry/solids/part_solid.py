@@ -13,9 +13,12 @@ quadrature point; the tessellation only seeds searches and decides which side a 
   graded: to a size asked per point, as fine as the solver's cells there), mapped onto the
   exact surface by its closest-point projection (points and normals exact, weights the area
   element of that map by differences): exact inside the face, off by the
-  strips between the chords and the exact trimming curves (of order sag x perimeter; the
-  volume adds them: geometry.solids.trim_strips).
+  strips between the chords and the exact trimming curves (of order sag x perimeter).
   ``project`` and ``curvature`` as the other faces'.
+- ``volume`` and ``centroid``: from the faces' moments over their parameter domains when the
+  importer gave every face its moments (geometry.solids.domain_moments: exact however far the
+  triangles stray from a sharply bent surface), else from the faces' quadrature with the strips
+  added (geometry.solids.trim_strips); both about the body's own centre.
 """
 
 from __future__ import annotations

@@ -16,6 +16,10 @@ error naming the face (a face the mesher finishes without triangles is reported 
 builder and kept without a tessellation). Without ``fork`` (or with ``time_limit=None``) the faces are meshed in this
 process, unguarded.
 
+Each face's moments for the volume (``geometry.solids.domain_moments``) are integrated as soon as
+it is meshed, over the triangles in (u, v) and the strips to its edges' curves
+(:mod:`.face_moments`), while the face still carries the mesher's polygons of its edges.
+
 Each face's triangulation is read with its nodes' (u, v) parameters; the vertices are the face's
 surface evaluated there, ``S(u, v)``. For nodes inside the face this is what the mesher computed
 anyway; for nodes on the face's edges it puts them on this face's surface (the edge's 3D curve
