@@ -6,7 +6,9 @@ circles (the strips between the chords and the curves), a triangulation with a p
 its boundary (the gap between the trimming curves' polygon and the triangles), a surface whose
 area element jumps along a line (the cut at a low-continuity knot), and a sphere over its
 rectangle of parameters (degenerate at its poles), at the origin and far from it. The closed
-forms of OpenCascade's elementary surfaces are checked against its own evaluation. Then parts
+forms of OpenCascade's elementary surfaces and the vectorised evaluation of a located B-spline
+surface (periodic beyond its knots, as OpenCascade continues it) are checked against its own
+evaluation. Then parts
 written by OpenCascade to STEP and imported: a screw thread swept along a helix (B-spline flanks
 bent sharply across the thread, on which mapping the triangles onto the surface by closest
 points was 1.6e-2 off in volume), also turned and moved far from the origin, against
@@ -278,3 +280,33 @@ def test_swept_and_converted_parts_have_opencascades_volume_at_any_placement(nam
     shape = {"spring": _spring, "thin torus": _thin_torus}[name]()
     _compare(shape, tmp_path, "in_place", 1e-6)
     _compare(_turned(shape), tmp_path, "turned", 1e-6)
+
+
+def test_a_located_bspline_surface_is_evaluated_as_opencascade_does_also_beyond_its_knots():
+    _occ()
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_NurbsConvert
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeTorus
+    from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+    from OCP.TopLoc import TopLoc_Location
+
+    from ibfem.importers.step.face_moments import _bspline_form
+    from ibfem.importers.step.tessellation import _faces
+
+    trsf = gp_Trsf()
+    trsf.SetRotation(gp_Ax1(gp_Pnt(1, 2, 3), gp_Dir(1, 2, 3)), 0.7)
+    trsf.SetTranslationPart(gp_Vec(5.0, -4.0, 3.0))
+    shape = BRepBuilderAPI_NurbsConvert(BRepPrimAPI_MakeTorus(3.0, 1.0).Shape(), True).Shape()
+    face = _faces(shape.Moved(TopLoc_Location(trsf)))[0]
+    surface = BRepAdaptor_Surface(face, False)
+    rng = np.random.default_rng(5)
+    uv = rng.uniform(-0.3, 2 * math.pi + 0.3, (40, 2))  # beyond the knots [0, 2 pi] too: periodic there
+    ours = np.concatenate(_bspline_form(surface)(uv), axis=1)
+    from OCP.gp import gp_Vec as V
+
+    p, du, dv = gp_Pnt(), V(), V()
+    theirs = []
+    for u, v in uv:
+        surface.D1(float(u), float(v), p, du, dv)
+        theirs.append([*p.Coord(), *du.Coord(), *dv.Coord()])
+    assert np.abs(ours - np.array(theirs)).max() < 1e-12

@@ -69,14 +69,10 @@ def _closed_form(surface):
     return None
 
 
-def _evaluator(surface):
-    """uv (n, 2) -> S, S_u, S_v (n, 3) each of a face's located surface (``BRepAdaptor_Surface``):
-    closed forms for the elementary surfaces, OpenCascade's D1 point by point for the others."""
+def _pointwise(surface):
+    """S, S_u, S_v by OpenCascade's evaluation, point by point."""
     from OCP.gp import gp_Pnt, gp_Vec
 
-    closed = _closed_form(surface)
-    if closed is not None:
-        return closed
     p, du, dv = gp_Pnt(), gp_Vec(), gp_Vec()
 
     def evaluate(uv: np.ndarray):
@@ -87,6 +83,46 @@ def _evaluator(surface):
         return out[:, 0:3], out[:, 3:6], out[:, 6:9]
 
     return evaluate
+
+
+def _bspline_form(surface):
+    """S, S_u, S_v of a B-spline surface, vectorised inside its knots (the same poles, weights and
+    knots), point by point beyond them (OpenCascade continues a periodic surface periodically);
+    None for other surfaces."""
+    from OCP.GeomAbs import GeomAbs_SurfaceType as T
+
+    from ibfem.geometry import primitive_from_dict
+
+    from .surfaces import bspline_surface_dict
+
+    if surface.GetType() != T.GeomAbs_BSplineSurface:
+        return None
+    try:
+        spline = primitive_from_dict(bspline_surface_dict(surface.BSpline()))
+    except ValueError:  # a B-spline the geometry primitive refuses: evaluated point by point
+        return None
+    (ua, ub), (va, vb) = spline.domain
+    pointwise = _pointwise(surface)
+
+    def evaluate(uv):
+        inside = (uv[:, 0] >= ua) & (uv[:, 0] <= ub) & (uv[:, 1] >= va) & (uv[:, 1] <= vb)
+        d = spline.derivatives(uv[inside], order=1)
+        out = [np.empty((len(uv), 3)) for _ in range(3)]
+        for o, part in zip(out, (d[(0, 0)], d[(1, 0)], d[(0, 1)])):
+            o[inside] = part
+        if not inside.all():
+            for o, part in zip(out, pointwise(uv[~inside])):
+                o[~inside] = part
+        return tuple(out)
+
+    return evaluate
+
+
+def _evaluator(surface):
+    """uv (n, 2) -> S, S_u, S_v (n, 3) each of a face's located surface (``BRepAdaptor_Surface``):
+    closed forms for the elementary surfaces, vectorised B-splines, OpenCascade's D1 point by point
+    for the others."""
+    return _closed_form(surface) or _bspline_form(surface) or _pointwise(surface)
 
 
 def _cuts(surface, uv: np.ndarray) -> tuple[list[float], list[float]]:
@@ -134,9 +170,22 @@ def _edge_chords(face):
 
 
 def _curve_values(curve, t: np.ndarray) -> np.ndarray:
-    """(len(t), 4): C(t) and dC/dt of a curve on the surface."""
+    """(len(t), 4): C(t) and dC/dt of a curve on the surface (``BRepAdaptor_Curve2d``): closed forms
+    for lines and circles, OpenCascade's evaluation point by point for the others."""
     from OCP.gp import gp_Pnt2d, gp_Vec2d
+    from OCP.GeomAbs import GeomAbs_CurveType as T
 
+    kind = curve.GetType()
+    if kind == T.GeomAbs_Line:
+        line = curve.Line()
+        o, d = np.array(line.Location().Coord()), np.array(line.Direction().Coord())
+        return np.column_stack([o + t[:, None] * d, np.broadcast_to(d, (len(t), 2))])
+    if kind == T.GeomAbs_Circle:
+        circle = curve.Circle()
+        ax = circle.Position()
+        o, x, y = (np.array(v.Coord()) for v in (ax.Location(), ax.XDirection(), ax.YDirection()))
+        c, s = circle.Radius() * np.cos(t)[:, None], circle.Radius() * np.sin(t)[:, None]
+        return np.column_stack([o + c * x + s * y, -s * x + c * y])
     p, d = gp_Pnt2d(), gp_Vec2d()
     out = np.empty((len(t), 4))
     for k, tk in enumerate(t.tolist()):
