@@ -199,6 +199,14 @@ def _guarded_pass(work, indices, limit, results) -> int | None:
     return stuck
 
 
+def _is_bspline(face) -> bool:
+    from OCP.BRep import BRep_Tool
+    from OCP.GeomAdaptor import GeomAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_SurfaceType
+
+    return GeomAdaptor_Surface(BRep_Tool.Surface_s(face)).GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface
+
+
 def _face_label(faces, i: int) -> str:
     from OCP.BRep import BRep_Tool
     from OCP.GeomAdaptor import GeomAdaptor_Surface
@@ -272,6 +280,8 @@ def mesh_shape(shape, tolerance: float, angular_tolerance: float = DEFAULT_ANGUL
 
     BRepTools.Clean_s(shape)  # a triangulation stored in the file or by an earlier call is replaced
     faces = _faces(shape)
+    if any(_is_bspline(face) for face in faces):  # the face moments evaluate B-splines with scipy:
+        import scipy.interpolate  # noqa: F401  imported once here, not again in every child
     results: dict[int, tuple | None] = {}
     notes: list[str] = []
     if time_limit is not None and hasattr(os, "fork"):
