@@ -119,7 +119,7 @@ def measure(path: Path, placed: bool) -> str:
     shape, _ = read_shape(path)
     reference = reference_volumes(shape)
     if not reference:
-        return f"| {path.name} | 0 | no solids | | | | {time.perf_counter() - t:.0f} |"
+        return f"| {path.name} | 0 | no solids | | | {time.perf_counter() - t:.0f} |"
     body, worst, off, open_ = _worst(part_volumes(path), reference)
     cells = [f"{worst:+.1e} ({body})" if worst is not None else "-"]
     if placed:
@@ -154,7 +154,7 @@ def main(argv=None) -> int:
         try:
             print(measure(f, not args.no_placed), flush=True)
         except Exception as exc:  # one bad file must not hide the others' rows
-            print(f"| {f.name} | error: {type(exc).__name__}: {exc} | | | | |", flush=True)
+            print(f"| {f.name} | error: {type(exc).__name__}: {exc} | | | |", flush=True)
     return 0
 
 
