@@ -169,28 +169,43 @@ def _edge_chords(face):
         yield nodes, params, side, BRepAdaptor_Curve2d(edge, forward)
 
 
-def _curve_values(curve, t: np.ndarray) -> np.ndarray:
-    """(len(t), 4): C(t) and dC/dt of a curve on the surface (``BRepAdaptor_Curve2d``): closed forms
-    for lines and circles, OpenCascade's evaluation point by point for the others."""
-    from OCP.gp import gp_Pnt2d, gp_Vec2d
+def _form(curve) -> tuple[int, np.ndarray]:
+    """A curve on the surface (``BRepAdaptor_Curve2d``) as (kind, coefficients): 0, (o, d) for a
+    line o + t d; 1, (o, x, y, r) for a circle o + r (cos t x + sin t y); 2, () for another curve."""
     from OCP.GeomAbs import GeomAbs_CurveType as T
 
     kind = curve.GetType()
     if kind == T.GeomAbs_Line:
         line = curve.Line()
-        o, d = np.array(line.Location().Coord()), np.array(line.Direction().Coord())
-        return np.column_stack([o + t[:, None] * d, np.broadcast_to(d, (len(t), 2))])
+        return 0, np.array([*line.Location().Coord(), *line.Direction().Coord(), 0.0, 0.0, 0.0])
     if kind == T.GeomAbs_Circle:
         circle = curve.Circle()
         ax = circle.Position()
-        o, x, y = (np.array(v.Coord()) for v in (ax.Location(), ax.XDirection(), ax.YDirection()))
-        c, s = circle.Radius() * np.cos(t)[:, None], circle.Radius() * np.sin(t)[:, None]
-        return np.column_stack([o + c * x + s * y, -s * x + c * y])
-    p, d = gp_Pnt2d(), gp_Vec2d()
-    out = np.empty((len(t), 4))
-    for k, tk in enumerate(t.tolist()):
-        curve.D1(tk, p, d)
-        out[k] = (p.X(), p.Y(), d.X(), d.Y())
+        return 1, np.array([*ax.Location().Coord(), *ax.XDirection().Coord(), *ax.YDirection().Coord(),
+                            circle.Radius()])
+    return 2, np.zeros(7)
+
+
+def _curve_values(kind: np.ndarray, coef: np.ndarray, t: np.ndarray, others) -> np.ndarray:
+    """(m, S, 4): C(t) and dC/dt at the parameters t (m, S) of m chords, each on a curve of
+    :func:`_form`'s ``kind`` (m,) and ``coef`` (m, 7): lines and circles in closed form, the other
+    curves (``others``: [(chord indices, curve)]) by OpenCascade's evaluation point by point."""
+    from OCP.gp import gp_Pnt2d, gp_Vec2d
+
+    out = np.empty(t.shape + (4,))
+    line, circle = kind == 0, kind == 1
+    o, d = coef[line, None, 0:2], coef[line, None, 2:4]
+    out[line, :, :2], out[line, :, 2:] = o + t[line, :, None] * d, d
+    c = coef[circle, None]
+    cos, sin = c[..., 6:7] * np.cos(t[circle])[..., None], c[..., 6:7] * np.sin(t[circle])[..., None]
+    out[circle, :, :2] = c[..., 0:2] + cos * c[..., 2:4] + sin * c[..., 4:6]
+    out[circle, :, 2:] = -sin * c[..., 2:4] + cos * c[..., 4:6]
+    p, dp = gp_Pnt2d(), gp_Vec2d()
+    for rows, curve in others:
+        for k in rows:
+            for q, tq in enumerate(t[k].tolist()):
+                curve.D1(tq, p, dp)
+                out[k, q] = (p.X(), p.Y(), dp.X(), dp.Y())
     return out
 
 
@@ -199,25 +214,32 @@ def _boundary_rule(face, uv: np.ndarray, triangles: np.ndarray):
     polygon and the triangulation's boundary."""
     s = strip_parameters()
     boundary = boundary_edges(uv, triangles)
-    pairs, strips = [], []
+    rows, others, count = [], [], 0
     for nodes, params, side, curve in _edge_chords(face):
         side = chain_side(boundary, nodes, side)  # the triangles' side where they border the chain
-        i, j, t0, t1 = nodes[:-1], nodes[1:], params[:-1], params[1:]
-        pairs.append(np.where(side > 0, np.stack([i, j], 1), np.stack([j, i], 1)))
-        a, b = uv[i], uv[j]
-        length = np.linalg.norm(b - a, axis=1)
-        t = t0[:, None] + s[None] * (t1 - t0)[:, None]
-        values = _curve_values(curve, t.ravel()).reshape(len(i), len(s), 4)
-        line = a[:, None] + s[None, :, None] * (b - a)[:, None]
-        off = np.linalg.norm(values[..., :2] - line, axis=2).max(axis=1)
-        # a straight curve needs no strip; one farther from its chord than the chord is long is
-        # on another period of the surface's parameters than the nodes: none either
-        bent = (off > STRAIGHT * length) & (off < length) & (t1 != t0)
-        if bent.any():
-            strips.append(strip_rule(a[bent], b[bent], np.full(bent.sum(), float(side)), values[bent, :, :2],
-                                     values[bent, :, 2:], (t1 - t0)[bent]))
-    gaps = gap_rule(uv, triangles, np.concatenate(pairs), boundary) if pairs else (np.zeros((0, 2)), np.zeros(0))
-    return [gaps] + strips
+        kind, coef = _form(curve)
+        m = len(nodes) - 1
+        rows.append((nodes[:-1], nodes[1:], params[:-1], params[1:], np.full(m, side), np.full(m, kind),
+                     np.tile(coef, (m, 1))))
+        if kind == 2:
+            others.append((range(count, count + m), curve))
+        count += m
+    if not rows:
+        return [(np.zeros((0, 2)), np.zeros(0))]
+    i, j, t0, t1, side, kind, coef = (np.concatenate(v) for v in zip(*rows))
+    gaps = gap_rule(uv, triangles, np.where((side > 0)[:, None], np.stack([i, j], 1), np.stack([j, i], 1)), boundary)
+    a, b = uv[i], uv[j]
+    length = np.linalg.norm(b - a, axis=1)
+    values = _curve_values(kind, coef, t0[:, None] + s[None] * (t1 - t0)[:, None], others)
+    line = a[:, None] + s[None, :, None] * (b - a)[:, None]
+    off = np.linalg.norm(values[..., :2] - line, axis=2).max(axis=1)
+    # a straight curve needs no strip; one farther from its chord than the chord is long is on
+    # another period of the surface's parameters than the nodes: none either
+    bent = (off > STRAIGHT * length) & (off < length) & (t1 != t0)
+    if not bent.any():
+        return [gaps]
+    return [gaps, strip_rule(a[bent], b[bent], side[bent].astype(float), values[bent, :, :2], values[bent, :, 2:],
+                             (t1 - t0)[bent])]
 
 
 def meshed_face_moments(face, uv: np.ndarray, triangles: np.ndarray) -> FaceMoments:
