@@ -21,9 +21,13 @@ The domain D is the tessellation's triangles in (u, v), which the mesher builds 
 strips between its boundary chords and the trimming curves in (u, v) (the edges' curves on the
 surface). In (u, v) the triangles tile the domain exactly however far their 3D images stray from
 a sharply bent surface; the strips are the only approximation of the domain, and each is
-integrated as the ruled region between its chord and its curve. Gauss rules: Dunavant's 6-point
-rule of degree 4 on the triangles (D. A. Dunavant, Int. J. Numer. Meth. Eng. 21 (1985)
-1129-1148), Gauss-Legendre along and across each strip.
+integrated as the ruled region between its chord and its curve. Where the mesher's boundary
+leaves the curves' polygon (a shortcut between two of its nodes), fans of triangles fill the
+difference (:func:`gap_rule`). Triangles across a line of u or v where the surface's derivatives
+jump (a B-spline's multiple knots) are cut along it, so each piece is integrated where the
+surface is smooth. Gauss rules: Dunavant's 6-point rule of degree 4 on the triangles
+(D. A. Dunavant, Int. J. Numer. Meth. Eng. 21 (1985) 1129-1148), Gauss-Legendre along and
+across each strip.
 """
 
 from __future__ import annotations
