@@ -1,11 +1,13 @@
 """Volumes of CAD solids against OpenCascade: for every STEP/IGES file in a directory (or the files
-given), each closed solid's PartSolid.volume (the divergence theorem over its exact faces and
-trimming strips) against OpenCascade's BRepGProp volume of the same solid, at the file's own
-placement and again after the whole part is turned (0.7 rad about [1, 2, 3]) and moved 10 times
-its size away (written to a temporary STEP file in metres and imported again).
+given), each closed solid's PartSolid.volume and centroid (the divergence theorem over each face's
+parameter domain with its exact surface) against OpenCascade's BRepGProp volume and centre of mass
+of the same solid, at the file's own placement and again after the whole part is turned (0.7 rad
+about [1, 2, 3]) and moved 10 times its size away (written to a temporary STEP file in metres and
+imported again).
 
-Prints a markdown table: file, solids, the largest relative difference at each placement (signed),
-the solid it belongs to, and the seconds taken.
+Prints a markdown table: file, solids, the largest relative difference in volume at each placement
+(signed) and the solid it belongs to, the largest distance between the centroids over the solid's
+size (its box diagonal) at either placement, and the seconds taken.
 
 Run: .venv/bin/python benchmarks/cad_volumes.py DIR_OR_FILES... [--no-placed]
 """
@@ -18,13 +20,15 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 SUFFIXES = {".step", ".stp", ".iges", ".igs"}
 
 
-def reference_volumes(shape) -> list[float]:
-    """BRepGProp volume of each solid of ``shape``, in the importer's order of bodies."""
+def reference_volumes(shape) -> list[tuple[float, np.ndarray]]:
+    """BRepGProp volume and centre of mass of each solid of ``shape``, in the importer's order of bodies."""
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
 
@@ -35,12 +39,14 @@ def reference_volumes(shape) -> list[float]:
         if kind == "SOLID":
             props = GProp_GProps()
             BRepGProp.VolumeProperties_s(sub, props, 1e-10)
-            out.append(abs(props.Mass()))
+            c = props.CentreOfMass()
+            out.append((abs(props.Mass()), np.array([c.X(), c.Y(), c.Z()])))
     return out
 
 
-def part_volumes(path: Path) -> list[tuple[str, float | None]]:
-    """(body id, PartSolid volume, None when it is not a closed solid) of each solid body."""
+def part_volumes(path: Path) -> list[tuple[str, float | None, np.ndarray | None, float]]:
+    """(body id, PartSolid volume and centroid, None when it is not a closed solid, size) of each
+    solid body."""
     from ibfem.geometry.solids.part_solid import PartSolid
     from ibfem.importers.step import load_part
 
@@ -50,14 +56,16 @@ def part_volumes(path: Path) -> list[tuple[str, float | None]]:
         if body.body_type != "SOLID":
             continue
         try:
-            out.append((bid, PartSolid(part, bid).volume))
+            solid = PartSolid(part, bid)
+            out.append((bid, solid.volume, solid.centroid, solid.size))
         except ValueError:
-            out.append((bid, None))
+            out.append((bid, None, None, 0.0))
     return out
 
 
-def placed_copy(shape, folder: Path) -> Path:
-    """``shape`` turned 0.7 rad about [1, 2, 3] and moved 10 of its sizes along [1, -1, 1], as STEP."""
+def placed_copy(shape, folder: Path):
+    """``shape`` turned 0.7 rad about [1, 2, 3] and moved 10 of its sizes along [1, -1, 1], as STEP:
+    (path, the placement as a function of points (3,))."""
     from OCP.Bnd import Bnd_Box
     from OCP.BRepBndLib import BRepBndLib
     from OCP.BRepBuilderAPI import BRepBuilderAPI_Transform
@@ -79,20 +87,29 @@ def placed_copy(shape, folder: Path) -> Path:
     writer.Transfer(placed, STEPControl_AsIs)
     path = folder / "placed.step"
     writer.Write(str(path))
-    return path
+    both = move.Multiplied(turn)
+
+    def place(p):
+        q = gp_Pnt(*map(float, p))
+        q.Transform(both)
+        return np.array([q.X(), q.Y(), q.Z()])
+
+    return path, place
 
 
-def _worst(volumes, reference) -> tuple[str, float | None, int]:
-    """(body, largest relative difference, open bodies) of imported volumes against the references."""
-    worst, body, open_ = None, "", 0
-    for (bid, v), ref in zip(volumes, reference):
+def _worst(volumes, reference, place=lambda p: p) -> tuple[str, float | None, float, int]:
+    """(body, largest relative difference in volume, largest centroid distance / size, open bodies)
+    of imported solids against the references (their centres placed by ``place``)."""
+    worst, body, off, open_ = None, "", 0.0, 0
+    for (bid, v, c, size), (ref, centre) in zip(volumes, reference):
         if v is None:
             open_ += 1
             continue
         d = v / ref - 1.0
         if worst is None or abs(d) > abs(worst):
             worst, body = d, bid
-    return body, worst, open_
+        off = max(off, float(np.linalg.norm(c - place(centre))) / size)
+    return body, worst, off, open_
 
 
 def measure(path: Path, placed: bool) -> str:
@@ -103,20 +120,23 @@ def measure(path: Path, placed: bool) -> str:
     reference = reference_volumes(shape)
     if not reference:
         return f"| {path.name} | 0 | no solids | | | {time.perf_counter() - t:.0f} |"
-    body, worst, open_ = _worst(part_volumes(path), reference)
+    body, worst, off, open_ = _worst(part_volumes(path), reference)
     cells = [f"{worst:+.1e} ({body})" if worst is not None else "-"]
     if placed:
         with tempfile.TemporaryDirectory() as folder:
-            moved = part_volumes(placed_copy(shape, Path(folder)))
+            copy, place = placed_copy(shape, Path(folder))
+            moved = part_volumes(copy)
         if len(moved) != len(reference):
             cells.append(f"{len(moved)} solids read back")
         else:
-            b2, w2, _ = _worst(moved, reference)
+            b2, w2, off2, _ = _worst(moved, reference, place)
             cells.append(f"{w2:+.1e} ({b2})" if w2 is not None else "-")
+            off = max(off, off2)
     else:
         cells.append("not measured")
     extra = f", {open_} open" if open_ else ""
-    return f"| {path.name} | {len(reference)}{extra} | {cells[0]} | {cells[1]} | {time.perf_counter() - t:.0f} |"
+    return (f"| {path.name} | {len(reference)}{extra} | {cells[0]} | {cells[1]} | {off:.0e} | "
+            f"{time.perf_counter() - t:.0f} |")
 
 
 def main(argv=None) -> int:
@@ -127,8 +147,9 @@ def main(argv=None) -> int:
     files = []
     for p in map(Path, args.paths):
         files += sorted(f for f in p.iterdir() if f.suffix.lower() in SUFFIXES) if p.is_dir() else [p]
-    print("| file | solids | largest relative difference (body) | turned and moved 10 sizes away | time (s) |")
-    print("|---|---|---|---|---|")
+    print("| file | solids | largest relative difference (body) | turned and moved 10 sizes away | "
+          "centroid offset / size | time (s) |")
+    print("|---|---|---|---|---|---|")
     for f in files:
         try:
             print(measure(f, not args.no_placed), flush=True)

@@ -17,6 +17,8 @@ from ._base import Curve, Surface
 if TYPE_CHECKING:  # pragma: no cover
     import trimesh
 
+    from .solids.domain_moments import FaceMoments
+
 __all__ = ["Coedge", "Loop", "Face", "Edge", "Body", "Part"]
 
 
@@ -36,7 +38,10 @@ class Loop:
 class Face:
     """One face. ``surface`` is None for tessellation-only faces (``surface_type`` then says
     what the CAD system called it). ``orientation`` is +1 when the outward normal of the
-    solid equals the surface's own normal (the convention of every importer), -1 when opposite."""
+    solid equals the surface's own normal (the convention of every importer), -1 when opposite.
+    ``moments``: the face's area and moments about a point of it for the solid's outward normal,
+    integrated by the importer over the face's parameter domain (``geometry.solids.domain_moments``),
+    or None; a solid whose faces all have them takes its volume from them."""
 
     id: str
     surface_type: str
@@ -47,6 +52,7 @@ class Face:
     body_id: str = ""
     vertex_normals: np.ndarray | None = None  # (n, 3) as sent by the CAD system, if any
     notes: tuple[str, ...] = ()
+    moments: "FaceMoments | None" = None
 
     @property
     def is_exact(self) -> bool:

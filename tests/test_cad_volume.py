@@ -1,7 +1,8 @@
-"""Volumes of CAD bodies: the divergence theorem over the faces' quadrature closes up with the
+"""Volumes and centroids of CAD bodies, by the faces' parameter-domain moments and, for parts
+without them, by the divergence theorem over the faces' quadrature, which closes up with the
 strips between the tessellation's chords and the exact trimming curves (a flat face bounded by a
-circle loses the segments between the circle and its chords otherwise), about the body's own
-centre, so it holds at any placement. Checked against closed forms: a cylinder, a box with a
+circle loses the segments between the circle and its chords otherwise); both about the body's own
+centre, so they hold at any placement. Checked against closed forms: a cylinder, a box with a
 drilled hole (strips wound against the face), a rounded box (Steiner's formula), all moved far
 from the origin."""
 
@@ -9,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 pytest.importorskip("OCP")
@@ -47,7 +49,16 @@ CASES = {
 }
 
 
-def _volumes(name, offsets, tmp_path):
+def _without_moments(part):
+    """The part as an importer without the faces' parameter-domain moments gives it: PartSolid
+    falls back to the faces' quadrature with the trimming strips."""
+    from dataclasses import replace
+
+    part.faces = {k: replace(f, moments=None) for k, f in part.faces.items()}
+    return part
+
+
+def _volumes(name, offsets, tmp_path, moments=True):
     from ibfem.importers.step.reader import _quiet_messenger
 
     _quiet_messenger()
@@ -56,21 +67,30 @@ def _volumes(name, offsets, tmp_path):
         path = S.write_step(_moved(build(), offset), tmp_path / f"part{k}.step")
         part = load_part(str(path))
         occ = next(iter(part.metadata["volumes"].values()))
-        yield PartSolid(part).volume, occ, exact() * MM**3
+        yield PartSolid(part if moments else _without_moments(part)).volume, occ, exact() * MM**3
 
 
 FAR = (3.0e4, -2.0e4, 1.0e4)  # 30 m away (mm)
 
 
-def test_a_drilled_box_far_from_the_origin_has_its_exact_volume(tmp_path):
-    for ours, occ, exact in _volumes("drilled box", [FAR], tmp_path):
-        assert ours == pytest.approx(exact, rel=1e-7)  # without the strips: -1.4e-4
-        assert ours == pytest.approx(occ, rel=1e-6)
+def test_a_drilled_box_far_from_the_origin_has_its_exact_volume_and_centroid(tmp_path):
+    from ibfem.importers.step.reader import _quiet_messenger
+
+    _quiet_messenger()
+    path = S.write_step(_moved(_drilled_box(), FAR), tmp_path / "box.step")
+    exact = CASES["drilled box"][1]() * MM**3
+    centre = (np.array(FAR) + [20.0, 15.0, 5.0]) * MM  # the hole is centred in the box
+    for moments in (True, False):  # the parameter-domain moments, and the strips without them
+        part = load_part(str(path))
+        solid = PartSolid(part if moments else _without_moments(part))
+        assert solid.volume == pytest.approx(exact, rel=1e-7)  # without the strips: -1.4e-4
+        assert np.abs(solid.centroid - centre).max() < 1e-7 * solid.size
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("moments", [True, False])
 @pytest.mark.parametrize("name", list(CASES))
-def test_volume_matches_the_closed_form_at_any_placement(name, tmp_path):
-    for ours, occ, exact in _volumes(name, [(0.0, 0.0, 0.0), FAR], tmp_path):
+def test_volume_matches_the_closed_form_at_any_placement(name, moments, tmp_path):
+    for ours, occ, exact in _volumes(name, [(0.0, 0.0, 0.0), FAR], tmp_path, moments):
         assert ours == pytest.approx(exact, rel=1e-7)
         assert ours == pytest.approx(occ, rel=1e-6)

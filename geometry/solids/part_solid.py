@@ -13,14 +13,18 @@ quadrature point; the tessellation only seeds searches and decides which side a 
   graded: to a size asked per point, as fine as the solver's cells there), mapped onto the
   exact surface by its closest-point projection (points and normals exact, weights the area
   element of that map by differences): exact inside the face, off by the
-  strips between the chords and the exact trimming curves (of order sag x perimeter; the
-  volume adds them: geometry.solids.trim_strips).
+  strips between the chords and the exact trimming curves (of order sag x perimeter).
   ``project`` and ``curvature`` as the other faces'.
+- ``volume`` and ``centroid``: from the faces' moments over their parameter domains when the
+  importer gave every face its moments (geometry.solids.domain_moments: exact however far the
+  triangles stray from a sharply bent surface), else from the faces' quadrature with the strips
+  added (geometry.solids.trim_strips); both about the body's own centre.
 """
 
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
 
@@ -347,14 +351,35 @@ class PartSolid(Solid):
         self.triangles = np.concatenate(tri)
         self.bounds = (allv.min(axis=0) - self.tolerance, allv.max(axis=0) + self.tolerance)
         self.size = size
+        self._face_moments = [f.moments for f in faces]
+
+    @cached_property
+    def _volume_centroid(self) -> tuple[float, np.ndarray]:
+        """By the divergence theorem: over the faces' parameter domains when the importer gave
+        every face its moments (geometry.solids.domain_moments), else over the faces' quadrature
+        with the strips between the chords and the exact trimming curves
+        (geometry.solids.trim_strips); both about the body's own centre."""
+        if all(m is not None for m in self._face_moments):
+            from .domain_moments import solid_moments
+
+            return solid_moments(self._face_moments)
         from .trim_strips import closed_rule
 
-        rules = [closed_rule(f, self._loops[k], size, self.tolerance) for k, f in self.faces.items()]
+        rules = [closed_rule(f, self._loops[k], self.size, self.tolerance) for k, f in self.faces.items()]
         x, w, n = (np.concatenate(v) for v in zip(*rules))
-        #: by the divergence theorem over the faces' quadrature with the strips between the chords
-        #: and the exact trimming curves (geometry.solids.trim_strips), about the box's centre
-        centre = 0.5 * (allv.min(axis=0) + allv.max(axis=0))
-        self.volume = float((((x - centre) * n).sum(axis=1) @ w) / 3.0)
+        centre = 0.5 * (self.bounds[0] + self.bounds[1])
+        y = x - centre
+        volume = float(((y * n).sum(axis=1) @ w) / 3.0)
+        return volume, centre + 0.5 * (w @ (y * y * n)) / volume
+
+    @property
+    def volume(self) -> float:
+        return self._volume_centroid[0]
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """The centre of the solid's volume (m)."""
+        return self._volume_centroid[1]
 
     def _faces_nearest(self, p: np.ndarray):
         """Distance to the nearest face (its exact foot on the trimmed face), the side of that

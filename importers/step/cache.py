@@ -2,9 +2,9 @@
 PART.step --out DIR``).
 
 ``DIR/part.json`` holds the source file's path and SHA-256, the mesher's tolerances, the bodies,
-and per face / edge its type, exact primitive (its ``to_dict()``, or null),
-orientation, loops and notes; ``DIR/meshes.npz`` the arrays: ``<face id>.vertices``,
-``<face id>.triangles`` and ``<edge id>.polyline``. ``load_cached(DIR)`` reads it back; when the
+and per face / edge its type, exact primitive (its ``to_dict()``, or null), orientation, loops,
+notes and (faces) the moments over the face's parameter domain, or null; ``DIR/meshes.npz`` the
+arrays: ``<face id>.vertices``, ``<face id>.triangles`` and ``<edge id>.polyline``. ``load_cached(DIR)`` reads it back; when the
 source file still exists and its hash changed, the file is parsed again and the cache rewritten.
 """
 
@@ -19,6 +19,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError
 
 from ibfem.geometry import Body, Coedge, Edge, Face, Loop, Part, primitive_from_dict
+from ibfem.geometry.solids.domain_moments import FaceMoments
 
 from .errors import StepFormatError
 
@@ -59,6 +60,14 @@ class _LoopModel(_Strict):
     coedges: list[tuple[str, bool]]
 
 
+class _MomentsModel(_Strict):
+    reference: tuple[float, float, float]
+    area: float
+    normal: tuple[float, float, float]
+    first: tuple[float, float, float]
+    second: tuple[float, float, float]
+
+
 class _FaceModel(_Strict):
     id: str
     type: str
@@ -67,6 +76,7 @@ class _FaceModel(_Strict):
     body: str
     loops: list[_LoopModel]
     notes: list[str] = []
+    moments: Optional[_MomentsModel] = None
 
 
 class _EdgeModel(_Strict):
@@ -118,6 +128,7 @@ def write_cache(part: Part, directory: str | Path) -> Path:
                     "edges": list(b.edge_ids)} for b in part.bodies.values()],
         "faces": [{"id": f.id, "type": f.surface_type, "surface": None if f.surface is None else f.surface.to_dict(),
                    "orientation": f.orientation, "body": f.body_id, "notes": list(f.notes),
+                   "moments": None if f.moments is None else f.moments.to_dict(),
                    "loops": [{"outer": lp.is_outer, "coedges": [[c.edge_id, c.same_sense] for c in lp.coedges]}
                              for lp in f.loops]} for f in part.faces.values()],
         "edges": [{"id": e.id, "type": e.curve_type, "curve": None if e.curve is None else e.curve.to_dict(),
@@ -186,8 +197,9 @@ def _part_from(doc: _CacheModel, arrays: dict, d: Path) -> Part:
                 raise StepFormatError(f"{d / MESH_FILE}: {f.id}: damaged triangles: import the file again")
             mesh = trimesh.Trimesh(vertices=V, faces=T, process=False)
         loops = tuple(Loop(tuple(Coedge(e, s) for e, s in lp.coedges), lp.outer) for lp in f.loops)
+        moments = None if f.moments is None else FaceMoments.from_dict(f.moments.model_dump())
         part.faces[f.id] = Face(f.id, f.type, _primitive(f.surface, f"{where}.surface"), f.orientation, mesh,
-                                loops, f.body, notes=tuple(f.notes))
+                                loops, f.body, notes=tuple(f.notes), moments=moments)
     for i, e in enumerate(doc.edges):
         poly = arrays.get(f"{e.id}.polyline", np.zeros((0, 3)))
         part.edges[e.id] = Edge(e.id, e.type, _primitive(e.curve, f"{d / CACHE_FILE}: edges[{i}].curve"),

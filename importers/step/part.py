@@ -111,6 +111,15 @@ def _face_parameters(face, triangles) -> np.ndarray:
     return corners if triangles is None else np.concatenate([corners, triangles[0]])
 
 
+def _outward_moments(face, data):
+    """The face's moments (from the mesher's data) for its outward normal in the body."""
+    from OCP.TopAbs import TopAbs_Orientation
+
+    if data is None or len(data) < 3 or data[2] is None:
+        return None
+    return data[2].oriented(-1 if face.Orientation() == TopAbs_Orientation.TopAbs_REVERSED else 1)
+
+
 def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dict, triangles) -> Face:
     from OCP.BRep import BRep_Tool
     from OCP.BRepAdaptor import BRepAdaptor_Surface
@@ -120,6 +129,7 @@ def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dic
     face = TopoDS.Face(face)
     evaluator = BRepAdaptor_Surface(face, False)
     mesh = face_triangles(face, evaluator, triangles)
+    moments = _outward_moments(face, triangles)
     loops = _loops(face, edge_index)
     geom = BRep_Tool.Surface_s(face)
     d, kind, note = surface_dict(GeomAdaptor_Surface(geom), v_range=_face_parameters(face, None)[:, 1])
@@ -138,7 +148,7 @@ def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dic
             notes.append(f"{kind} not representable: {exc}")
     if surface is None:
         unsupported.setdefault(f"surface {kind}", []).append(fid)
-        return Face(fid, kind, None, 1, _make_mesh(mesh), loops, body_id, notes=tuple(notes))
+        return Face(fid, kind, None, 1, _make_mesh(mesh), loops, body_id, notes=tuple(notes), moments=moments)
     orientation = 1
     at = _occ_outward(face, evaluator)
     if at is not None:
@@ -152,7 +162,8 @@ def _face(face, fid: str, body_id: str, edge_index, part: Part, unsupported: dic
         elif vote * orientation < 0.5:
             part.warnings.append(f"face {fid} ({kind}): the triangles' normals agree only {vote * orientation:+.2f} "
                                  "with the exact outward normal")
-    return Face(fid, kind, surface, orientation, _make_mesh(mesh), loops, body_id, notes=tuple(notes))
+    return Face(fid, kind, surface, orientation, _make_mesh(mesh), loops, body_id, notes=tuple(notes),
+                moments=moments)
 
 
 def _edge(edge, eid: str, body_id: str, deflection: float, unsupported: dict) -> Edge:
@@ -241,7 +252,7 @@ def _box_diagonal(shape) -> float:
 
 
 def build_part(shape, path: Path, names=None, deflection: float = 1e-4, meshes=None) -> Part:
-    """The Part of a shape (see the module docstring); ``meshes``: {face number: (uv, triangles)}
+    """The Part of a shape (see the module docstring); ``meshes``: {face number: (uv, triangles, moments)}
     from :func:`~.tessellation.mesh_shape`; ``names(sub-shape)``: the name the
     file gives a solid, shell or face ('' when none). Face names are kept in
     ``part.metadata["face_names"]`` ({face id: name}) and in the face's notes."""

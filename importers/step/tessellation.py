@@ -16,6 +16,10 @@ error naming the face (a face the mesher finishes without triangles is reported 
 builder and kept without a tessellation). Without ``fork`` (or with ``time_limit=None``) the faces are meshed in this
 process, unguarded.
 
+Each face's moments for the volume (``geometry.solids.domain_moments``) are integrated as soon as
+it is meshed, over the triangles in (u, v) and the strips to its edges' curves
+(:mod:`.face_moments`), while the face still carries the mesher's polygons of its edges.
+
 Each face's triangulation is read with its nodes' (u, v) parameters; the vertices are the face's
 surface evaluated there, ``S(u, v)``. For nodes inside the face this is what the mesher computed
 anyway; for nodes on the face's edges it puts them on this face's surface (the edge's 3D curve
@@ -104,15 +108,27 @@ def _covers(face, data, share: float = COVERED) -> bool:
     return exact == 0.0 or abs(meshed - exact) <= share * exact
 
 
-def mesh_face(face, tolerance: float, angular_tolerance: float) -> tuple[np.ndarray, np.ndarray, bool] | None:
-    """(uv (n, 2), triangles (m, 3), 0-based, covered) of one face meshed by OpenCascade on its
-    own; ``covered`` is false when the triangles' area differs from the face's by more than
-    ``COVERED`` of it; None when the mesher makes no triangles."""
+def mesh_face(face, tolerance: float, angular_tolerance: float) -> tuple | None:
+    """(uv (n, 2), triangles (m, 3), 0-based, covered, moments) of one face meshed by OpenCascade
+    on its own; ``covered`` is false when the triangles' area differs from the face's by more than
+    ``COVERED`` of it; ``moments``: the face's ``FaceMoments`` over the triangles' (u, v) domain
+    (:mod:`.face_moments`), or None; None when the mesher makes no triangles."""
     from OCP.BRepMesh import BRepMesh_IncrementalMesh
 
     BRepMesh_IncrementalMesh(face, float(tolerance), False, float(angular_tolerance), False)
     data = _triangles(face)
-    return None if data is None else (*data, _covers(face, data))
+    return None if data is None else (*data, _covers(face, data), _moments(face, data))
+
+
+def _moments(face, data):
+    """The face's moments over its (u, v) domain (``face_moments``); None when OpenCascade fails
+    to evaluate its surface or curves."""
+    from .face_moments import meshed_face_moments
+
+    try:
+        return meshed_face_moments(face, *data)
+    except Exception:  # OpenCascade's Standard_Failure: the solid's volume falls back to the triangles
+        return None
 
 
 def _good(data) -> bool:
@@ -183,6 +199,14 @@ def _guarded_pass(work, indices, limit, results) -> int | None:
     return stuck
 
 
+def _is_bspline(face) -> bool:
+    from OCP.BRep import BRep_Tool
+    from OCP.GeomAdaptor import GeomAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_SurfaceType
+
+    return GeomAdaptor_Surface(BRep_Tool.Surface_s(face)).GetType() == GeomAbs_SurfaceType.GeomAbs_BSplineSurface
+
+
 def _face_label(faces, i: int) -> str:
     from OCP.BRep import BRep_Tool
     from OCP.GeomAdaptor import GeomAdaptor_Surface
@@ -250,11 +274,14 @@ def mesh_shape(shape, tolerance: float, angular_tolerance: float = DEFAULT_ANGUL
                time_limit: float | None = FACE_TIME_LIMIT) -> tuple[dict[int, tuple], list[str]]:
     """Mesh every face of ``shape`` (chord ``tolerance`` m, ``angular_tolerance`` rad), each within
     ``time_limit`` seconds (see the module docstring). Returns ({face number (1-based, the order of
-    ``TopExp.MapShapes``): (uv, triangles) or None}, warnings)."""
+    ``TopExp.MapShapes``): (uv, triangles, moments) or None}, warnings); ``moments``: the face's
+    ``FaceMoments`` for its surface's own normal, or None."""
     from OCP.BRepTools import BRepTools
 
     BRepTools.Clean_s(shape)  # a triangulation stored in the file or by an earlier call is replaced
     faces = _faces(shape)
+    if any(_is_bspline(face) for face in faces):  # the face moments evaluate B-splines with scipy:
+        import scipy.interpolate  # noqa: F401  imported once here, not again in every child
     results: dict[int, tuple | None] = {}
     notes: list[str] = []
     if time_limit is not None and hasattr(os, "fork"):
@@ -266,18 +293,18 @@ def mesh_shape(shape, tolerance: float, angular_tolerance: float = DEFAULT_ANGUL
                 results[i] = data if _good(data) else results.get(i) or data
                 if _good(data):
                     break
-    return {i + 1: None if data is None else data[:2] for i, data in results.items()}, notes
+    return {i + 1: None if data is None else (data[0], data[1], data[3]) for i, data in results.items()}, notes
 
 
 def face_triangles(face, surface, data) -> tuple[np.ndarray, np.ndarray] | None:
     """(vertices (n, 3), triangles (m, 3)) of a face meshed by :func:`mesh_shape` (``data``: its
-    (uv, triangles) or None), wound outward, vertices at the surface's points S(u, v) of the nodes
+    (uv, triangles, ...) or None), wound outward, vertices at the surface's points S(u, v) of the nodes
     (``surface``: an adaptor of the face's located surface); None when there are no triangles."""
     from OCP.TopAbs import TopAbs_Orientation
 
     if data is None:
         return None
-    uv, triangles = data
+    uv, triangles = data[:2]
     vertices = np.empty((len(uv), 3))
     for k, (u, v) in enumerate(uv):
         p = surface.Value(float(u), float(v))
