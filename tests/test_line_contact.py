@@ -313,3 +313,44 @@ def test_refusals_name_what_the_curvatures_say():
         with pytest.raises(ValueError, match=words):
             _require_point_contact(model, frame)
     _require_point_contact(model, SimpleNamespace(curvatures=np.array([1.0, 2.0]), axes=np.eye(3)[:2], point=np.zeros(3)))
+
+
+def _superellipse_radius(phi):
+    """The normalised radius of the edge X^4 + Y^2 = 1 (a region with rounded ends whose width
+    w(X) = sqrt(1 - X^4) falls to zero at X = +-1)."""
+    c4, s2 = np.cos(phi) ** 4, np.sin(phi) ** 2
+    root = np.sqrt(s2**2 + 4.0 * c4)
+    return np.sqrt(2.0 / (s2 + root))  # (-s2 + root) / (2 c4), written without the 0 / 0 at c4 = 0
+
+
+def test_section_edge_moment_is_the_plane_strain_square_root_coefficient():
+    """The sides of a long region are read on sections across the line: for a pressure
+    p0(X) Q(t) / sqrt(1 - t^2) on each section (t = Y / w(X)), the knots' normalised moments are
+    2/3 (pi/2) Q(1) over the section's pi/2 q0 + pi/4 q2: 0 for Hertz's p0 sqrt(1 - t^2) (a smooth
+    edge) however strongly the load p0(X) peaks along the line (here threefold at X = 0.6, as a
+    crown's does), 2/3 for a flat punch's Q = 1, 0.8 for Q = 1 + t^2 / 2. The region's sections are
+    read off its closed boundary."""
+    from ibfem.solver.contact.star_region import KNOTS, section_edges, section_moments
+
+    phi = np.linspace(0.0, 2.0 * math.pi, 4000, endpoint=False)
+    boundary = _superellipse_radius(phi)[:, None] * np.stack([np.cos(phi), np.sin(phi)], axis=1)
+    x, wx = np.polynomial.legendre.leggauss(300)
+    theta, wt = np.polynomial.legendre.leggauss(30)
+    theta, wt = 0.5 * math.pi * theta, 0.5 * math.pi * wt  # Y = w sin(theta): the edge's 1 / sqrt exact
+    width = np.sqrt(1.0 - x**4)
+    lower, upper = section_edges(boundary, x)
+    np.testing.assert_allclose(upper, width, atol=1e-4)
+    np.testing.assert_allclose(lower, -width, atol=1e-4)
+    X = np.repeat(x, len(theta))
+    t = np.tile(np.sin(theta), len(x))
+    points = np.stack([X, np.repeat(width, len(theta)) * t], axis=1)
+    area = (wx[:, None] * width[:, None] * np.cos(theta)[None, :] * wt[None, :]).ravel()
+    load = 1.0 + 2.0 * np.exp(-(((np.abs(X) - 0.6) / 0.1) ** 2))
+    knots = np.linspace(0.0, 2.0 * math.pi, KNOTS, endpoint=False)
+    knot_xy = _superellipse_radius(knots)[:, None] * np.stack([np.cos(knots), np.sin(knots)], axis=1)
+    sides = np.abs(np.sin(knots)) > 0.6
+    for q0, q2, expected in ((1.0, -1.0, 0.0), (1.0, 0.0, 2.0 / 3.0), (1.0, 0.5, 0.8)):
+        pressure = load * (q0 + q2 * t**2) / np.sqrt(1.0 - t**2)
+        moment, total, covered = section_moments(points, area * pressure, knot_xy, boundary, sides)
+        assert covered[sides].all() and not covered[~sides].any()
+        np.testing.assert_allclose(moment[sides] / total[sides], expected, atol=2e-4)
