@@ -385,11 +385,12 @@ def _halfspace_half_width(result) -> float:
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="a known defect: the crown's relative curvature along the line (0.21 1/m "
-                   "against 2 1/m across) makes it a point contact by the curvature rule, and the elliptical region "
-                   "ends not converged (tension at its edges)")
+@pytest.mark.xfail(strict=True, reason="a known defect: the region's shape settles and its extents and peak meet "
+                   "the half-space's (measured -0.79 %, -0.14 %, +2.3 %), but the final check finds tension at the "
+                   "edge samples (-94 MPa over the inner window, 3 % of the peak), so the run ends not converged")
 def test_lundberg_roller_against_the_half_space():
-    """Lundberg's logarithmic crown (tests/scenes/lundberg_roller.toml, a band of 6.25 mm cells)
+    """Lundberg's logarithmic crown (tests/scenes/lundberg_roller.toml, a band of 6.25 mm cells;
+    an elongated contact reaching towards the roller's end, so a region of general shape)
     against the frictionless half-space solution of the same gap and force (Boussinesq's
     influence coefficients, Johnson 1985 section 5.9, on 1 x 0.8 mm rectangles): the region ends
     on the crown (no complete contact), its half-length and its mid-length half-width within 2 %,
@@ -411,7 +412,9 @@ def test_lundberg_roller_against_the_half_space():
     peak = int(np.argmax(value))
     key = np.floor(s[peak] / cell + 1e-6)
     X, Y = np.meshgrid(x, y, indexing="ij")
-    same = (np.floor(X / cell) == key[0]) & (np.floor(Y / cell) == key[1])
+    axes = np.array(c["axes"])[:, :2]  # the half-space's centres in the frame's coordinates
+    same = (np.floor((X * axes[0, 0] + Y * axes[0, 1]) / cell + 1e-6) == key[0]) & \
+        (np.floor((X * axes[1, 0] + Y * axes[1, 1]) / cell + 1e-6) == key[1])
     assert value[peak] == pytest.approx(float(ref.pressure[same].mean()), rel=0.03)
 
 
@@ -426,3 +429,23 @@ def test_lundberg_scene_follows_the_logarithmic_drop():
     for y in (0.0, 0.02):
         points = np.stack([x, np.full_like(x, y), R - np.sqrt(radius**2 - y**2)], axis=1)
         assert float(np.abs(roller.signed_distance(points)).max()) < 1e-6
+
+
+def test_an_elongated_contact_reaching_a_free_end_takes_the_general_region():
+    """Lundberg's roller has relative curvatures 0.21 1/m along its axis (C 8 / l^2 of the log
+    crown at mid-length) and 2 1/m across: an elongated point contact on a body that ends along
+    the line (its end face at 0.1 m), which takes the region of general shape; the same surfaces
+    with the candidate region short of the end face, and a ball (curvatures equal), keep the
+    ellipse."""
+    from ibfem.solver.contact.star_region import reaches_free_end
+
+    roller = solid_from_dict(tomllib.loads(LUNDBERG.read_text())["bodies"][0]["shape"])
+    block = solid_from_dict({"type": "box", "min": [0, 0, -0.3], "max": [0.3, 0.3, 0]})
+    frame = contact_frame_3d(roller, block, np.zeros(3), 0.01)
+    assert frame.curvatures[0] == pytest.approx(2 * 2.0e8 / (math.pi * E_STAR) * 8 / 0.21**2, rel=0.02)
+    ranges = sectors(roller, frame, 0.005, 0.05)
+    assert reaches_free_end(roller, frame, ranges, 0.052, 0.104, 0.00625)
+    assert not reaches_free_end(roller, frame, ranges, 0.04, 0.08, 0.00625)
+    ball = HalfBall([0, 0, 0.5 + 1e-5], 0.5)
+    frame = contact_frame_3d(ball, block, np.zeros(3), 0.01)
+    assert not reaches_free_end(ball, frame, sectors(ball, frame, 0.005, 0.05), 0.25, 0.5, 0.00625)

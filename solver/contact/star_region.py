@@ -38,7 +38,8 @@ from .ellipse_geometry import region_points, surface_point
 from .region_report import mirror_images
 from .roots import edge_search, settling_tolerance
 
-__all__ = ["StarRegionContact", "configure_star_region", "free_edge_distance", "knots_inside", "section_edges",
+__all__ = ["StarRegionContact", "configure_star_region", "free_edge_distance", "knots_inside", "reaches_free_end",
+           "section_edges",
            "section_moments", "KNOTS", "KNOT_TOLERANCE"]
 
 #: knots of the edge's spline over the full turn (15 degrees apart)
@@ -418,10 +419,16 @@ def _hats(knots: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return np.clip(1.0 - d, 0.0, None)
 
 
+#: angles this close to a sector's edge (radians) count as inside it: a symmetric model's
+#: symmetry plane through the contact point, whose angle in the frame carries the frame's round-off
+#: (2e-8 rad measured on a revolved B-spline roller)
+SECTOR_SLACK = 1e-6
+
+
 def knots_inside(knots: np.ndarray, ranges) -> np.ndarray:
     inside = np.zeros(len(knots), dtype=bool)
     for t0, t1 in ranges:
-        inside |= (knots - t0) % (2.0 * math.pi) <= (t1 - t0) + 1e-9
+        inside |= (knots - t0 + SECTOR_SLACK) % (2.0 * math.pi) <= (t1 - t0) + 2.0 * SECTOR_SLACK
     return inside
 
 
@@ -436,6 +443,26 @@ def _filled_outside(distance: np.ndarray) -> np.ndarray:
     gap = np.abs(np.arange(n)[:, None] - inside[None, :])
     nearest = inside[np.argmin(np.minimum(gap, n - gap), axis=1)]
     return np.where(distance > 0.0, distance, distance[nearest])
+
+
+#: the smaller relative curvature at most this share of the larger: an elongated contact, which
+#: takes the region of general shape where body 1 ends along it (Hertz's ellipse for this ratio is
+#: about 2.5 times longer than wide)
+ELONGATED_RATIO = 0.25
+
+
+def reaches_free_end(solid1, frame, ranges, reach: float, extent: float, h: float) -> bool:
+    """Whether a contact with two positive relative curvatures, the one along axis 0 at most
+    ELONGATED_RATIO of the other, lies on a body 1 that ends along axis 0 within the candidate
+    region (a roller's end face): such a contact (a crowned roller) grows along the line under
+    load until its gap there is no longer quadratic, which Hertz's ellipse assumes, and may reach
+    the end. It takes the region of general shape, as a line contact."""
+    k0, k1 = (float(k) for k in frame.curvatures)
+    if not (k1 > 0.0 and 0.0 < k0 <= ELONGATED_RATIO * k1):
+        return False
+    psi, distance = free_edge_distance(solid1, frame, ranges, reach, extent, h)
+    near = (np.abs(np.sin(psi)) <= 0.1) & (distance > 0.0)
+    return bool(near.any() and np.isfinite(distance[near]).all())
 
 
 def configure_star_region(c: StarRegionContact) -> StarRegionContact:

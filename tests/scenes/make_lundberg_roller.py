@@ -1,7 +1,6 @@
 """Write lundberg_roller.toml beside this file: the crowned roller example's roller with Lundberg's
 logarithmic crown instead of a straight middle and circular crowns (a scene of the tests: its
-relative curvature along the line, 0.21 1/m against 2 1/m across, makes it a point contact by
-the curvature rule, and the elliptical region does not fit the contact).
+run ends not converged, with slight tension at the region's edge samples).
 
 Lundberg's profile (G. Lundberg, Elastische Berührung zweier Halbräume, Forschung auf dem Gebiete
 des Ingenieurwesens 10 (1939) 201-211) drops the roller's radius by
