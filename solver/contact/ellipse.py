@@ -588,9 +588,10 @@ def _require_point_contact(model, frame: ContactFrame3D) -> None:
 
 def build(problem, model, b1, b2, options, general=None) -> EllipseContact:
     """The ellipse formulation of a contact between two discretised solids; a line contact and a
-    flat contact (both curvatures 0) take ``general`` = (the formulation's class, its set-up), a
-    region of general shape (solver.contact.contact3d passes solver.contact.star_region's), and are
-    refused without."""
+    flat contact (both curvatures 0) take ``general`` = (the formulation's class, its set-up, and a
+    test of the other contacts that need it: an elongated contact that may reach body 1's free
+    end), a region of general shape (solver.contact.contact3d passes solver.contact.star_region's),
+    and are refused without."""
     opts = model.options
     solids = (b1.boundary, b2.boundary)
     h = float(min(b1.grid.min_size, b2.grid.min_size))
@@ -600,9 +601,10 @@ def build(problem, model, b1, b2, options, general=None) -> EllipseContact:
                                              getattr(model, "tangential_direction", None))
     e1 = 1.0 / (1.0 / _modulus(b1) + 1.0 / _modulus(b2))
     k0, k1 = frame.curvatures
-    line = (is_line_contact(frame) or is_flat_contact(frame, extent)) and general is not None
+    line = general is not None and (is_line_contact(frame) or is_flat_contact(frame, extent)
+                                    or general[2](solids[0], frame, ranges, reach, extent, h))
     if line:  # a region of general shape ending at body 1's free edges
-        kind, configure = general
+        kind, configure = general[:2]
     else:
         kind = EllipseContact
         _require_point_contact(model, frame)

@@ -35,10 +35,12 @@ from scipy.interpolate import CubicSpline
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
+from .region_report import mirror_images
 from .roots import edge_search, settling_tolerance
 
-__all__ = ["StarRegionContact", "configure_star_region", "free_edge_distance", "knots_inside", "KNOTS",
-           "KNOT_TOLERANCE"]
+__all__ = ["StarRegionContact", "configure_star_region", "free_edge_distance", "knots_inside", "reaches_free_end",
+           "section_edges",
+           "section_moments", "KNOTS", "KNOT_TOLERANCE"]
 
 #: knots of the edge's spline over the full turn (15 degrees apart)
 KNOTS = 24
@@ -51,6 +53,9 @@ END_MOMENT = 0.05
 EDGE_WINDOW_CELLS = 3.0
 #: the largest step of a knot's log rho per shape update
 KNOT_STEP = 0.3
+#: a line contact's knots whose edge runs within this angle of the line are read on sections
+#: across it (radians)
+SIDE_ANGLE = math.radians(30.0)
 #: rays around the contact point on which body 1's free edge is located
 EDGE_RAYS = 720
 
@@ -99,6 +104,8 @@ class StarRegionContact(EllipseContact):
     free_knots: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
     _spline: tuple | None = None  # (log_rho bytes, the spline of log rho)
     _raw_moments: tuple = (np.zeros(0), np.zeros(0))  # (moment, pressure) per knot, not normalised
+    # the knots read on sections across the line (a long region's sides), fixed between shape updates
+    across: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
 
     # ------------------------------------------------------------------ the region's shape
 
@@ -212,12 +219,49 @@ class StarRegionContact(EllipseContact):
         reach = self.ray_length(phi, a) * np.minimum(1.0, self.end_radius(phi, a))
         moment = np.where(self.free_knots, (wp * _edge_weight(to_end, reach, self.h)[:, None]).sum(axis=0),
                           (wp * _edge_weight(r, reach, self.h)[:, None]).sum(axis=0))
+        covered = hat.sum(axis=0) > 0.0
+        across = self.across & ~self.free_knots
+        if across.any():  # a long region's sides: the 2D edge condition on its sections
+            aa, bb = self.semi_axes(a)
+            local = self.local(pts.s) / np.array([aa, bb])
+            knot_xy = self.rho(self.knots)[:, None] * np.stack([np.cos(self.knots), np.sin(self.knots)], axis=1)
+            m, w, cover = section_moments(local, plane_weights(self, pts) * p, knot_xy,
+                                          self.whole_boundary(a), across)
+            moment, total, covered = np.where(across, m, moment), np.where(across, w, total), np.where(across, cover, covered)
         self._raw_moments = (moment, total)
         out = np.full(len(self.knots), math.nan)
         ok = total > 0.0
         out[ok] = moment[ok] / total[ok]
-        out[(total < 0.0) & (hat.sum(axis=0) > 0.0)] = -math.inf  # net tension: the region too large there
+        out[(total < 0.0) & covered] = -math.inf  # net tension: the region too large there
         return out
+
+    def across_knots(self, a: float) -> np.ndarray:
+        """(K,) the knots of a line contact where the region's edge runs within SIDE_ANGLE of the
+        line (axis 0), in the tangent plane's lengths: a long region's sides, whose width changes
+        slowly along the line, read on sections across it (none for a flat contact, nor on the
+        line itself)."""
+        if self.isotropic:
+            return np.zeros(len(self.knots), dtype=bool)
+        aa, bb = self.semi_axes(a)
+        rho = self.rho(self.knots)
+        slope = self._spline[1](self.knots, 1)  # d log rho / d phi
+        cos, sin = np.cos(self.knots), np.sin(self.knots)
+        along = np.abs(rho * aa * (slope * cos - sin))  # the edge's tangent along axis 0
+        # a knot on the line (a tip of the region) has no side of it to read
+        return (np.abs(rho * bb * (slope * sin + cos)) <= math.tan(SIDE_ANGLE) * along) & (np.abs(sin) > 1e-6)
+
+    def whole_boundary(self, a: float, n: int = 1440) -> np.ndarray:
+        """(m, 2) the whole region's edge in the normalised coordinates (X, Y): the spline's edge
+        within body 1's sectors with its mirror images across a symmetric model's symmetry planes
+        (the spline outside the sectors is only a placeholder); the whole spline otherwise."""
+        aa, bb = self.semi_axes(a)
+        phi = np.linspace(0.0, 2.0 * math.pi, n, endpoint=False)
+        s = self.rho(phi)[:, None] * np.stack([aa * np.cos(phi), bb * np.sin(phi)], axis=1)
+        maps = mirror_images(self.ranges)
+        if len(maps) > 1:
+            s = s[knots_inside(np.arctan2(s[:, 1], s[:, 0]), self.ranges)]
+            s = np.einsum("mij,qj->mqi", maps, s).reshape(-1, 2)
+        return s / np.array([aa, bb])
 
     def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
         """After a size search: the centre (as the ellipse), then each knot with a smooth edge
@@ -234,11 +278,13 @@ class StarRegionContact(EllipseContact):
             self.log_rho[tense] -= KNOT_STEP
             self._mirror_outside()
             self._knot_history = []
+            self._classify(a)
             return False
         retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
         if retreat.any():  # the pressure ends before the free edge there: a smooth edge, just inside it
             self.log_rho[retreat] += np.log(0.97 * self.end_radius(self.knots[retreat], a))
             self._mirror_outside()
+            self._classify(a)
             return False
         smooth = ~self.free_knots & np.isfinite(m) & inside
         if not smooth.any():
@@ -255,7 +301,16 @@ class StarRegionContact(EllipseContact):
             step = np.where(slope < 0.0, -d1 * slope, step)
         self.log_rho = self.log_rho + np.where(smooth, np.clip(step, -KNOT_STEP, KNOT_STEP), 0.0)
         self._mirror_outside()
+        self._classify(a)
         return False
+
+    def _classify(self, a: float) -> None:
+        """Fix which knots are read on sections (``across_knots``) until the next shape update; a
+        knot that changes its reading starts the secant history again."""
+        across = self.across_knots(a)
+        if (across != self.across).any():
+            self._knot_history = []
+        self.across = across
 
     def _mirror_outside(self) -> None:
         """Knots outside body 1's angular ranges (a symmetric model) take the value of the nearest
@@ -306,6 +361,57 @@ def _edge_weight(r: np.ndarray, reach: np.ndarray, h: float) -> np.ndarray:
     return np.where(t <= T, 2.5 * (0.6 * T - t) / T**1.5, 0.0)
 
 
+def section_edges(boundary: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(lower, upper) edges Y of the region's sections across the line at the stations X, read
+    off the closed ``boundary`` (m, 2) in the coordinates (X, Y): its parts on either side of the
+    line, each as a function of X (a region whose sides each cross a section once)."""
+    def side(part: np.ndarray) -> np.ndarray:
+        order = np.argsort(part[:, 0], kind="stable")
+        return np.interp(X, part[order, 0], part[order, 1])
+
+    upper, lower = boundary[boundary[:, 1] > 0.0], boundary[boundary[:, 1] < 0.0]
+    up = side(upper) if len(upper) else np.zeros(len(X))
+    return (side(lower) if len(lower) else -up), up
+
+
+def section_moments(local: np.ndarray, wp: np.ndarray, knot_xy: np.ndarray, boundary: np.ndarray,
+                    which: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(moment, pressure, covered) per knot (K,) of the 2D edge condition on the sections across
+    the line, for the knots ``which`` (0 elsewhere). Points at (X, Y) = ``local`` (q, 2) carry
+    the weighted pressures ``wp`` (pressure times area). A section at the station X runs across
+    the whole region from its lower edge to its upper one (``section_edges``); t = (Y - centre) /
+    half-width on it. A plane-strain contact's pressure there is Q(t) / sqrt(1 - t^2) with
+    Q = q0 + q2 t^2 (Hertz's p0 sqrt(1 - t^2): Q(1) = 0), and from the centre to an edge
+
+        int_0^1 Q(t) / sqrt(1 - t^2) (4 t^2 - 1) dt = pi / 2 (q0 + q2)
+
+    (int_0^1 dt / sqrt(1 - t^2) = pi / 2, of t^2: pi / 4, of t^4: 3 pi / 16): zero exactly at a
+    smooth edge, whatever the section's load. The weight is 2/3 (4 t^2 - 1), so that a flat
+    punch's edge (Q = q0) gives 2/3 of its pressure's integral, as the rays' moment does. A knot
+    takes the sections on its side of the line under its hat in X (1 at its edge point's
+    station, 0 at its neighbours'): each section is read whole, whatever the pressure does along
+    the line (a crown's peak)."""
+    X, Y = local[:, 0], local[:, 1]
+    lower, upper = section_edges(boundary, X)
+    half = 0.5 * (upper - lower)
+    t = np.clip((Y - 0.5 * (upper + lower)) / np.where(half > 0.0, half, np.inf), -1.0, 1.0)
+    k = np.flatnonzero(which)
+    xs = knot_xy[:, 0]
+    left, right = xs[(k - 1) % len(xs)], xs[(k + 1) % len(xs)]
+    lo, hi = np.minimum(left, right), np.maximum(left, right)
+    spread = np.maximum(np.abs(left - xs[k]), np.abs(right - xs[k]))
+    bad = ~((lo < xs[k]) & (xs[k] < hi))  # neighbours on one side: a symmetric hat
+    lo, hi = np.where(bad, xs[k] - spread, lo), np.where(bad, xs[k] + spread, hi)
+    d = X[:, None] - xs[None, k]
+    hat = np.clip(np.where(d < 0.0, 1.0 + d / (xs[k] - lo), 1.0 - d / (hi - xs[k])), 0.0, None)
+    hat *= (t[:, None] * np.sign(knot_xy[None, k, 1])) > 0.0  # the knot's side of the line
+    moment, total, covered = np.zeros(len(xs)), np.zeros(len(xs)), np.zeros(len(xs), dtype=bool)
+    moment[k] = (wp * (2.0 / 3.0) * (4.0 * t**2 - 1.0)) @ hat
+    total[k] = wp @ hat
+    covered[k] = hat.sum(axis=0) > 0.0
+    return moment, total, covered
+
+
 def _hats(knots: np.ndarray, phi: np.ndarray) -> np.ndarray:
     """(q, K) periodic hat functions of equally spaced knots at the angles phi (they sum to 1)."""
     spacing = 2.0 * math.pi / len(knots)
@@ -313,10 +419,16 @@ def _hats(knots: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return np.clip(1.0 - d, 0.0, None)
 
 
+#: angles this close to a sector's edge (radians) count as inside it: a symmetric model's
+#: symmetry plane through the contact point, whose angle in the frame carries the frame's round-off
+#: (2e-8 rad measured on a revolved B-spline roller)
+SECTOR_SLACK = 1e-6
+
+
 def knots_inside(knots: np.ndarray, ranges) -> np.ndarray:
     inside = np.zeros(len(knots), dtype=bool)
     for t0, t1 in ranges:
-        inside |= (knots - t0) % (2.0 * math.pi) <= (t1 - t0) + 1e-9
+        inside |= (knots - t0 + SECTOR_SLACK) % (2.0 * math.pi) <= (t1 - t0) + 2.0 * SECTOR_SLACK
     return inside
 
 
@@ -331,6 +443,26 @@ def _filled_outside(distance: np.ndarray) -> np.ndarray:
     gap = np.abs(np.arange(n)[:, None] - inside[None, :])
     nearest = inside[np.argmin(np.minimum(gap, n - gap), axis=1)]
     return np.where(distance > 0.0, distance, distance[nearest])
+
+
+#: the smaller relative curvature at most this share of the larger: an elongated contact, which
+#: takes the region of general shape where body 1 ends along it (Hertz's ellipse for this ratio is
+#: about 2.5 times longer than wide)
+ELONGATED_RATIO = 0.25
+
+
+def reaches_free_end(solid1, frame, ranges, reach: float, extent: float, h: float) -> bool:
+    """Whether a contact with two positive relative curvatures, the one along axis 0 at most
+    ELONGATED_RATIO of the other, lies on a body 1 that ends along axis 0 within the candidate
+    region (a roller's end face): such a contact (a crowned roller) grows along the line under
+    load until its gap there is no longer quadratic, which Hertz's ellipse assumes, and may reach
+    the end. It takes the region of general shape, as a line contact."""
+    k0, k1 = (float(k) for k in frame.curvatures)
+    if not (k1 > 0.0 and 0.0 < k0 <= ELONGATED_RATIO * k1):
+        return False
+    psi, distance = free_edge_distance(solid1, frame, ranges, reach, extent, h)
+    near = (np.abs(np.sin(psi)) <= 0.1) & (distance > 0.0)
+    return bool(near.any() and np.isfinite(distance[near]).all())
 
 
 def configure_star_region(c: StarRegionContact) -> StarRegionContact:
@@ -370,4 +502,5 @@ def configure_line_contact(c: StarRegionContact) -> StarRegionContact:
     c.log_rho = np.log(np.minimum(1.0 / np.maximum(sin, 1e-12), 1.15 / np.maximum(cos, 1e-12)))
     c.ratio = 1.0
     c.circular = False
+    c.across = c.across_knots(c.length)  # the rectangle's sides
     return c
