@@ -190,7 +190,7 @@ class CholeskyFactor:
     def _numeric(self, kern) -> None:
         factor, bad = kern.multifrontal(self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr,
                                         self.rows, self.sn_parent, self.factor_ptr, self.stack_size,
-                                        self._buffer, self.schur, self.definite)
+                                        self._buffer, self.schur, self.definite, kern.DGEMM)
         del self._colptr, self._rowind, self._values
         if bad >= 0:
             raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
