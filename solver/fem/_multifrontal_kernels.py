@@ -392,30 +392,50 @@ def _partial_ldlt(gemm, t, nc, f, definite):
 @jit
 def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, stack_size, max_front,
                  schur, definite, gemm):
-    """The numeric factorisation over the supernodes in postorder: assemble each front from the
+    """The numeric factorisation over the supernodes in postorder, the whole factor in memory
+    (:func:`multifrontal_range` over all supernodes). Returns (factor, failed column or -1)."""
+    ns = len(sn_parent)
+    factor = np.empty(factor_ptr[ns], np.float64)
+    work = numeric_work(sn_start[ns], ns, stack_size, max_front)
+    bad = multifrontal_range(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, 0, ns,
+                             factor, 0, work, schur, definite, gemm)
+    return factor, bad
+
+
+@jit
+def numeric_work(n, ns, stack_size, max_front):
+    """The work space of :func:`multifrontal_range`, kept between its calls: (update-matrix
+    stack, front buffer, positions of the rows in the current front, stack's supernodes, their
+    offsets, stack depth)."""
+    st_off = np.empty(ns + 1, np.int64)
+    st_off[0] = 0
+    return (np.empty(stack_size, np.float64), np.empty(max_front * max_front, np.float64), np.empty(n, np.int64),
+            np.empty(ns, np.int64), st_off, np.zeros(1, np.int64))
+
+
+@jit
+def multifrontal_range(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, s0, s1,
+                       segment, base, work, schur, definite, gemm):
+    """The numeric factorisation of supernodes s0..s1-1 (in postorder, continuing from
+    s0 - 1 with the work space ``work`` of :func:`numeric_work`): assemble each front from the
     matrix and the children's update matrices (popped off a stack), factor its columns,
     push its update matrix (L D L^T without pivoting: D on the factor's diagonal; a zero pivot
-    fails, a negative one too when ``definite``). The last supernode's assembled front is copied into ``schur``
-    when that has its size (the root of the contact dofs). ``max_front``: the largest front
-    with an update matrix (the roots are assembled in their factor blocks). Returns (factor, failed column or
-    -1)."""
+    fails, a negative one too when ``definite``). Supernode s's block is written to
+    ``segment[factor_ptr[s] - base:]``, so a caller may hold one range of the factor at a time.
+    The last supernode's assembled front is copied into ``schur`` when that has its size (the
+    root of the contact dofs). Roots are assembled in their factor blocks, other fronts in the
+    front buffer. Returns the failed column or -1."""
+    stack, buf, relpos, st_sn, st_off, state = work
     ns = len(sn_parent)
-    n = sn_start[ns]
-    factor = np.empty(factor_ptr[ns], np.float64)
-    stack = np.empty(stack_size, np.float64)
-    buf = np.empty(max_front * max_front, np.float64)
-    relpos = np.empty(n, np.int64)
-    st_sn = np.empty(ns, np.int64)
-    st_off = np.empty(ns + 1, np.int64)
-    depth = 0
-    st_off[0] = 0
-    for s in range(ns):
+    depth = state[0]
+    for s in range(s0, s1):
         c0, c1 = sn_start[s], sn_start[s + 1]
         nc = c1 - c0
         nr = row_ptr[s + 1] - row_ptr[s]
         f = nc + nr
+        off = factor_ptr[s] - base
         if nr == 0:  # a root: its front is its factor block (no copy)
-            t = factor[factor_ptr[s]:factor_ptr[s] + f * f].reshape(f, f)
+            t = segment[off:off + f * f].reshape(f, f)
         else:
             t = buf[: f * f].reshape(f, f)
         for j in range(f):
@@ -429,13 +449,13 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
                 t[j - c0, relpos[rowind[p]]] += values[p]
         while depth > 0 and sn_parent[st_sn[depth - 1]] == s:
             c = st_sn[depth - 1]
-            base = st_off[depth - 1]
+            at = st_off[depth - 1]
             cr = rows[row_ptr[c]:row_ptr[c + 1]]
             w = len(cr)
             for a in range(w):
                 pa = relpos[cr[a]]
                 for b in range(a, w):
-                    t[pa, relpos[cr[b]]] += stack[base + a * w + b]
+                    t[pa, relpos[cr[b]]] += stack[at + a * w + b]
             depth -= 1
         if s == ns - 1 and schur.shape[0] == nc and nr == 0:
             for j in range(nc):
@@ -444,23 +464,24 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
                     schur[j, i] = t[j, i]
         bad = _partial_ldlt(gemm, t, nc, f, definite)
         if bad >= 0:
-            return factor, c0 + bad
-        off = factor_ptr[s]
+            state[0] = depth
+            return c0 + bad
         for k in range(nc):
             for i in range(k):
-                factor[off + k * f + i] = 0.0
+                segment[off + k * f + i] = 0.0
             if nr > 0:
                 for i in range(k, f):
-                    factor[off + k * f + i] = t[k, i]
+                    segment[off + k * f + i] = t[k, i]
         if nr > 0 and sn_parent[s] != -1:
-            base = st_off[depth]
+            at = st_off[depth]
             for a in range(nr):
                 for b in range(a, nr):
-                    stack[base + a * nr + b] = t[nc + a, nc + b]
+                    stack[at + a * nr + b] = t[nc + a, nc + b]
             st_sn[depth] = s
-            st_off[depth + 1] = base + nr * nr
+            st_off[depth + 1] = at + nr * nr
             depth += 1
-    return factor, -1
+    state[0] = depth
+    return -1
 
 
 @njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})
