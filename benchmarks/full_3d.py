@@ -10,7 +10,8 @@ rung of the same scene: the acceptance targets are for the scenes as written).
 
     python benchmarks/full_3d.py [--scenes ball_on_block crossed_cylinders ...] [--levels 3]
 
-Prints a table and writes benchmarks/results/full_3d.json (or --out)."""
+Prints a table, the same rows as the markdown table of docs/scale-3d.md ("Against the
+targets"), and writes benchmarks/results/full_3d.json (or --out)."""
 
 from __future__ import annotations
 
@@ -116,7 +117,28 @@ def main(argv: list[str]) -> int:
               + ("" if row["converged"] else "  NOT CONVERGED"), flush=True)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(rows, indent=1))
+    print()
+    print(markdown(rows))
     return 0
+
+
+def markdown(rows: list[dict]) -> str:
+    """The rows as the table of docs/scale-3d.md ("Against the targets")."""
+    out = ["| scene | dofs | m | peak | CPU | factorisation / trials / final field (wall) | a vs Hertz | b vs Hertz "
+           "| c/a, Mindlin |", "|---|---|---|---|---|---|---|---|---|"]
+    for row in rows:
+        name = Path(row["scene"]).stem
+        if row.get("failed"):
+            out.append(f"| {name} | failed | | | | | | | |")
+            continue
+        t = row["timings"]
+        stages = (f"{t.get('factor_s', 0):.0f} / {t.get('iterations_s', 0):.0f} / {t.get('results_s', 0):.0f} s, "
+                  f"{row['iterations']} trials")
+        stick = f"{row['stick_ratio']:.4f}, {row['mindlin_stick_ratio']:.4f}" if "stick_ratio" in row else "-"
+        out.append(f"| {name} | {row['dofs']:,} | {row['contact_dofs']:,} | {row['peak_gb']:.2f} GB | "
+                   f"{row['process_cpu_s']:.0f} s | {stages} | {100 * row['a_error']:+.2f} % | "
+                   f"{100 * row['b_error']:+.2f} % | {stick} |" + ("" if row["converged"] else " not converged"))
+    return "\n".join(out)
 
 
 if __name__ == "__main__":

@@ -19,16 +19,29 @@ Peyton (1994), as described in T. A. Davis, "Direct Methods for Sparse Linear Sy
 
 from __future__ import annotations
 
+import ctypes
 import math
 
 import numpy as np
 from numba import njit
+from numba.extending import get_cython_function_address
 
 jit = njit(cache=True, nogil=True, error_model="numpy")
 
-#: columns of a panel factored by compiled loops; block columns of a BLAS trailing update
+_P = ctypes.c_void_p
+#: BLAS dgemm (SciPy's, Fortran interface: every argument by address), passed to the kernels as
+#: an argument (a first-class function: numba's cache keeps its signature, not its address), so
+#: that a front's updates accumulate in place with the front's own leading dimension
+DGEMM = ctypes.CFUNCTYPE(None, _P, _P, _P, _P, _P, _P, _P, _P, _P, _P, _P, _P, _P)(
+    get_cython_function_address("scipy.linalg.cython_blas", "dgemm"))
+
+#: columns of a panel factored by compiled loops; block columns of a BLAS update
 PANEL = 48
 BLOCK = 256
+#: pivot columns of an outer block: its panels update only the block's own rows, then the rows
+#: below it take one BLAS update of inner dimension OUTER (a large front's update matrix is
+#: read and written once per OUTER pivots instead of once per PANEL)
+OUTER = 256
 #: trailing updates of fewer multiply-adds than this run in compiled loops (no BLAS call)
 SMALL_UPDATE = 32768
 
@@ -304,50 +317,72 @@ def _panel(t, k0, k1, f, definite):
 
 
 @jit
-def _trailing(t, k0, k1, f):
-    """Update front columns k1.. (rows >= column) by the panel k0..k1-1 (rows D L^T): loops
-    when small, else BLAS products by block columns."""
-    r = f - k1
-    if r <= 0:
+def _gemm_update(gemm, t, k0, k1, j0, j1, f, ls, ld):
+    """Columns j0..j1-1 of the front, rows j0..f-1 (t[j, i], i >= j0), less L D L^T of the
+    pivots k0..k1-1: one dgemm into the front in place. In Fortran terms the row-major front is
+    its transpose T (leading dimension f); T[j0:f, j0:j1] -= T[j0:f, k0:k1] Ls^T, with Ls
+    (j1 - j0 rows, leading dimension ``ld``) the scaled L of those columns, ``ls`` starting at
+    its first row. Entries above the diagonal of T's block are written too (t's unused lower
+    part)."""
+    ints = np.empty(6, np.int32)
+    ints[0], ints[1], ints[2] = f - j0, j1 - j0, k1 - k0
+    ints[3], ints[4], ints[5] = f, ld, f
+    chars = np.empty(2, np.uint8)
+    chars[0], chars[1] = 78, 84  # "N", "T"
+    scalars = np.empty(2)
+    scalars[0], scalars[1] = -1.0, 1.0
+    gemm(chars[0:1].ctypes, chars[1:2].ctypes, ints[0:1].ctypes, ints[1:2].ctypes, ints[2:3].ctypes,
+         scalars[0:1].ctypes, t[k0:, j0:].ctypes, ints[3:4].ctypes, ls.ctypes, ints[4:5].ctypes,
+         scalars[1:2].ctypes, t[j0:, j0:].ctypes, ints[5:6].ctypes)
+
+
+@jit
+def _trailing(gemm, t, k0, k1, j_end, f):
+    """Update front rows k1..j_end-1 (columns from the row's own on, rows >= column) by the
+    factored pivots k0..k1-1 (rows D L^T): loops when small, else BLAS products into the
+    front by blocks of BLOCK rows."""
+    if f <= k1 or j_end <= k1:
         return
-    if (k1 - k0) * r * r < 2 * SMALL_UPDATE:
+    if (k1 - k0) * (j_end - k1) * (f - k1) < 2 * SMALL_UPDATE:
         for k in range(k0, k1):
             inv = 1.0 / t[k, k]
-            for j in range(k1, f):
+            for j in range(k1, j_end):
                 ljk = t[k, j] * inv
                 if ljk != 0.0:
                     for i in range(j, f):
                         t[j, i] -= ljk * t[k, i]
         return
-    q = np.ascontiguousarray(t[k0:k1, k1:f])
-    inv = np.empty(k1 - k0)
+    width = j_end - k1
+    ls = np.empty((k1 - k0, width))  # Fortran view: (width x pivots), the scaled L of the rows updated
     for k in range(k0, k1):
-        inv[k - k0] = 1.0 / t[k, k]
-    for j0 in range(k1, f, BLOCK):
-        j1 = min(j0 + BLOCK, f)
-        a1 = q[:, j0 - k1:j1 - k1].copy()
-        for k in range(k1 - k0):
-            for jj in range(j1 - j0):
-                a1[k, jj] *= inv[k]
-        a2 = np.ascontiguousarray(q[:, j0 - k1:])
-        prod = a1.T @ a2
-        for jj in range(j1 - j0):
-            j = j0 + jj
-            for i in range(j, f):
-                t[j, i] -= prod[jj, i - j0]
+        inv = 1.0 / t[k, k]
+        for jj in range(width):
+            ls[k - k0, jj] = t[k, k1 + jj] * inv
+    for j0 in range(k1, j_end, BLOCK):
+        j1 = min(j0 + BLOCK, j_end)
+        _gemm_update(gemm, t, k0, k1, j0, j1, f, ls[:, j0 - k1:], width)
 
 
 @jit
-def _partial_ldlt(t, nc, f, definite):
+def _partial_ldlt(gemm, t, nc, f, definite):
     """L D L^T of the first nc columns of the front (rows: D on the diagonal, L^T right of
-    it); the update matrix left in t[nc:, nc:]. Returns the failed column or -1."""
-    for k0 in range(0, nc, PANEL):
-        k1 = min(k0 + PANEL, nc)
-        bad = _panel(t, k0, k1, f, definite)
-        if bad >= 0:
-            return bad
-        _trailing(t, k0, k1, f)
-        for k in range(k0, k1):
+    it); the update matrix left in t[nc:, nc:]. Returns the failed column or -1.
+
+    Two levels of blocking: within an outer block of OUTER pivots, panels of PANEL columns are
+    factored by compiled loops and update the outer block's remaining rows only; the outer
+    block then updates every row below it by BLAS products of inner dimension OUTER that
+    accumulate in the front (its update matrix, most of a large front, is swept once per outer
+    block)."""
+    for b0 in range(0, nc, OUTER):
+        b1 = min(b0 + OUTER, nc)
+        for k0 in range(b0, b1, PANEL):
+            k1 = min(k0 + PANEL, b1)
+            bad = _panel(t, k0, k1, f, definite)
+            if bad >= 0:
+                return bad
+            _trailing(gemm, t, k0, k1, b1, f)
+        _trailing(gemm, t, b0, b1, f, f)
+        for k in range(b0, b1):
             inv = 1.0 / t[k, k]
             for i in range(k + 1, f):
                 t[k, i] *= inv
@@ -356,31 +391,51 @@ def _partial_ldlt(t, nc, f, definite):
 
 @jit
 def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, stack_size, max_front,
-                 schur, definite):
-    """The numeric factorisation over the supernodes in postorder: assemble each front from the
+                 schur, definite, gemm):
+    """The numeric factorisation over the supernodes in postorder, the whole factor in memory
+    (:func:`multifrontal_range` over all supernodes). Returns (factor, failed column or -1)."""
+    ns = len(sn_parent)
+    factor = np.empty(factor_ptr[ns], np.float64)
+    work = numeric_work(sn_start[ns], ns, stack_size, max_front)
+    bad = multifrontal_range(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, 0, ns,
+                             factor, 0, work, schur, definite, gemm)
+    return factor, bad
+
+
+@jit
+def numeric_work(n, ns, stack_size, max_front):
+    """The work space of :func:`multifrontal_range`, kept between its calls: (update-matrix
+    stack, front buffer, positions of the rows in the current front, stack's supernodes, their
+    offsets, stack depth)."""
+    st_off = np.empty(ns + 1, np.int64)
+    st_off[0] = 0
+    return (np.empty(stack_size, np.float64), np.empty(max_front * max_front, np.float64), np.empty(n, np.int64),
+            np.empty(ns, np.int64), st_off, np.zeros(1, np.int64))
+
+
+@jit
+def multifrontal_range(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, s0, s1,
+                       segment, base, work, schur, definite, gemm):
+    """The numeric factorisation of supernodes s0..s1-1 (in postorder, continuing from
+    s0 - 1 with the work space ``work`` of :func:`numeric_work`): assemble each front from the
     matrix and the children's update matrices (popped off a stack), factor its columns,
     push its update matrix (L D L^T without pivoting: D on the factor's diagonal; a zero pivot
-    fails, a negative one too when ``definite``). The last supernode's assembled front is copied into ``schur``
-    when that has its size (the root of the contact dofs). ``max_front``: the largest front
-    with an update matrix (the roots are assembled in their factor blocks). Returns (factor, failed column or
-    -1)."""
+    fails, a negative one too when ``definite``). Supernode s's block is written to
+    ``segment[factor_ptr[s] - base:]``, so a caller may hold one range of the factor at a time.
+    The last supernode's assembled front is copied into ``schur`` when that has its size (the
+    root of the contact dofs). Roots are assembled in their factor blocks, other fronts in the
+    front buffer. Returns the failed column or -1."""
+    stack, buf, relpos, st_sn, st_off, state = work
     ns = len(sn_parent)
-    n = sn_start[ns]
-    factor = np.empty(factor_ptr[ns], np.float64)
-    stack = np.empty(stack_size, np.float64)
-    buf = np.empty(max_front * max_front, np.float64)
-    relpos = np.empty(n, np.int64)
-    st_sn = np.empty(ns, np.int64)
-    st_off = np.empty(ns + 1, np.int64)
-    depth = 0
-    st_off[0] = 0
-    for s in range(ns):
+    depth = state[0]
+    for s in range(s0, s1):
         c0, c1 = sn_start[s], sn_start[s + 1]
         nc = c1 - c0
         nr = row_ptr[s + 1] - row_ptr[s]
         f = nc + nr
+        off = factor_ptr[s] - base
         if nr == 0:  # a root: its front is its factor block (no copy)
-            t = factor[factor_ptr[s]:factor_ptr[s] + f * f].reshape(f, f)
+            t = segment[off:off + f * f].reshape(f, f)
         else:
             t = buf[: f * f].reshape(f, f)
         for j in range(f):
@@ -394,38 +449,39 @@ def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, fac
                 t[j - c0, relpos[rowind[p]]] += values[p]
         while depth > 0 and sn_parent[st_sn[depth - 1]] == s:
             c = st_sn[depth - 1]
-            base = st_off[depth - 1]
+            at = st_off[depth - 1]
             cr = rows[row_ptr[c]:row_ptr[c + 1]]
             w = len(cr)
             for a in range(w):
                 pa = relpos[cr[a]]
                 for b in range(a, w):
-                    t[pa, relpos[cr[b]]] += stack[base + a * w + b]
+                    t[pa, relpos[cr[b]]] += stack[at + a * w + b]
             depth -= 1
         if s == ns - 1 and schur.shape[0] == nc and nr == 0:
             for j in range(nc):
                 for i in range(j, nc):
                     schur[i, j] = t[j, i]
                     schur[j, i] = t[j, i]
-        bad = _partial_ldlt(t, nc, f, definite)
+        bad = _partial_ldlt(gemm, t, nc, f, definite)
         if bad >= 0:
-            return factor, c0 + bad
-        off = factor_ptr[s]
+            state[0] = depth
+            return c0 + bad
         for k in range(nc):
             for i in range(k):
-                factor[off + k * f + i] = 0.0
+                segment[off + k * f + i] = 0.0
             if nr > 0:
                 for i in range(k, f):
-                    factor[off + k * f + i] = t[k, i]
+                    segment[off + k * f + i] = t[k, i]
         if nr > 0 and sn_parent[s] != -1:
-            base = st_off[depth]
+            at = st_off[depth]
             for a in range(nr):
                 for b in range(a, nr):
-                    stack[base + a * nr + b] = t[nc + a, nc + b]
+                    stack[at + a * nr + b] = t[nc + a, nc + b]
             st_sn[depth] = s
-            st_off[depth + 1] = base + nr * nr
+            st_off[depth + 1] = at + nr * nr
             depth += 1
-    return factor, -1
+    state[0] = depth
+    return -1
 
 
 @njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})

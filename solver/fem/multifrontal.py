@@ -19,8 +19,9 @@ contact dofs last) is factored as follows:
   complement S = K_cc - K_ci K_ii^-1 K_ic, copied before it is factored as the last supernode;
   its Cholesky factor then gives G = S^-1 by LAPACK's potri;
 * solve: forward and back substitution over the supernodes (compiled), in the original numbering;
-  a factor of ON_DISK_BYTES or more below its root is held in a temporary file once S and G are
-  read off it (:func:`condensed_cholesky`), and its solves read it back in chunks.
+  a factor of ON_DISK_BYTES or more below its root is written to a temporary file chunk by chunk
+  as the numeric phase computes it (:func:`condensed_cholesky`: the whole factor is never in
+  memory, only the root block S and G are read from), and its solves read it back in chunks.
 
 Only L is stored (one flat float64 array, an (columns x front rows) block per supernode): about
 half of SuperLU's L and U. A non-positive pivot raises :class:`NotPositiveDefinite` naming the
@@ -47,8 +48,8 @@ __all__ = ["CholeskyFactor", "NotPositiveDefinite", "available", "condensed_chol
 #: its fraction of explicit zeros is below RELAX_ZEROS[i] (any size: below RELAX_ZEROS[2])
 RELAX_COLUMNS = (4, 16, 48)
 RELAX_ZEROS = (0.8, 0.1, 0.05)
-#: :func:`condensed_cholesky` holds a factor on disk (:meth:`CholeskyFactor.to_disk`) when its
-#: blocks below the root supernode take at least this many bytes
+#: :func:`condensed_cholesky` writes a factor's blocks below the root supernode to disk as they
+#: are computed (``CholeskyFactor(on_disk=None)``) when they take at least this many bytes
 ON_DISK_BYTES = 1 << 30
 #: a factor held on disk is read this many bytes (at least one supernode) at a time
 DISK_CHUNK_BYTES = 1 << 28
@@ -114,15 +115,17 @@ class CholeskyFactor:
     ``keep_schur=False``: S is not copied out of the root front (an m x m array less);
     :meth:`schur_operator` applies it from the factor's root block instead.
 
-    :meth:`to_disk` moves the blocks below the root supernode to a temporary file (the root
-    block, which products with S and G read, stays in memory); ``solve`` then reads them back
-    DISK_CHUNK_BYTES at a time."""
+    ``on_disk``: the blocks below the root supernode are written to an unlinked temporary file
+    DISK_CHUNK_BYTES at a time as the numeric phase computes them (None: when they take
+    ON_DISK_BYTES or more), so the whole factor is never in memory; the root block, which
+    products with S and G read, stays. :meth:`to_disk` moves them there afterwards. ``solve``
+    then reads them back DISK_CHUNK_BYTES at a time."""
 
     _disk = None  # the temporary file of the blocks below the root (None: all in memory)
     _base = 0  # offset in the factor of ``factor[0]`` (the root block's when on disk)
 
     def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True,
-                 keep_schur: bool = True):
+                 keep_schur: bool = True, on_disk: bool | None = False):
         if not sp.issparse(k):
             k = sp.csr_matrix(np.asarray(k, dtype=np.float64))
         n = k.shape[0]
@@ -138,7 +141,11 @@ class CholeskyFactor:
         self.order = self._postordered(k, order, kern)
         self._symbolic(k, kern)
         self.schur = np.zeros((self.m, self.m) if keep_schur else (0, 0))
-        self._numeric(kern)
+        below_root = self.factor_bytes - 8 * self.m * self.m
+        if self.m and self.n_supernodes > 1 and (on_disk or (on_disk is None and below_root >= ON_DISK_BYTES)):
+            self._numeric_to_disk(kern)
+        else:
+            self._numeric(kern)
 
     def _postordered(self, k, order, kern) -> np.ndarray:
         """The elimination tree of ``order`` (the root chain forced), its postorder composed
@@ -190,11 +197,55 @@ class CholeskyFactor:
     def _numeric(self, kern) -> None:
         factor, bad = kern.multifrontal(self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr,
                                         self.rows, self.sn_parent, self.factor_ptr, self.stack_size,
-                                        self._buffer, self.schur, self.definite)
+                                        self._buffer, self.schur, self.definite, kern.DGEMM)
         del self._colptr, self._rowind, self._values
         if bad >= 0:
             raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
         self.factor = factor
+
+    def _numeric_to_disk(self, kern) -> None:
+        """The numeric phase with the blocks below the root written to an unlinked temporary
+        file as they are computed, DISK_CHUNK_BYTES (at least one supernode) at a time: only
+        one chunk and the root block are ever in memory, never the whole factor. Where the file
+        cannot be written the chunks are kept in memory instead."""
+        ns, m = self.n_supernodes, self.m
+        st_off = np.zeros(ns + 1, dtype=np.int64)
+        work = [np.empty(self.stack_size), np.empty(self._buffer ** 2), np.empty(self.n, dtype=np.int64),
+                np.empty(ns, dtype=np.int64), st_off, np.zeros(1, dtype=np.int64)]
+        args = (self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr, self.rows, self.sn_parent,
+                self.factor_ptr)
+        chunks, kept = self._chunk_bounds(), []
+        handle = _temporary_file()
+        for s0, s1 in chunks:
+            segment = np.empty(int(self.factor_ptr[s1] - self.factor_ptr[s0]))
+            bad = kern.multifrontal_range(*args, s0, s1, segment, self.factor_ptr[s0], tuple(work), self.schur,
+                                          self.definite, kern.DGEMM)
+            if bad >= 0:
+                raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
+            handle = _write_or_keep(handle, segment, int(self.factor_ptr[s0]), kept)
+        work[1] = np.empty(0)  # the front buffer: the root is assembled in its own block
+        root = np.empty(m * m)
+        bad = kern.multifrontal_range(*args, ns - 1, ns, root, self.factor_ptr[ns - 1], tuple(work), self.schur,
+                                      self.definite, kern.DGEMM)
+        del work, args, self._colptr, self._rowind, self._values
+        if bad >= 0:
+            raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
+        if handle is None:  # no file: the factor in memory after all
+            self.factor = np.concatenate(kept + [root])
+            return
+        self.factor, self._base, self._disk, self._chunks = root, int(self.factor_ptr[ns - 1]), handle, chunks
+
+    def _chunk_bounds(self) -> list[tuple[int, int]]:
+        """Ranges of supernodes below the root of about DISK_CHUNK_BYTES each (at least one)."""
+        ptr = self.factor_ptr[:self.n_supernodes]  # the root is the last supernode
+        chunk = max(DISK_CHUNK_BYTES // 8, 1)
+        bounds, s0 = [], 0
+        while s0 < self.n_supernodes - 1:
+            s1 = int(np.searchsorted(ptr, ptr[s0] + chunk, side="right")) - 1
+            s1 = min(max(s1, s0 + 1), self.n_supernodes - 1)
+            bounds.append((s0, s1))
+            s0 = s1
+        return bounds
 
     def solve(self, f: np.ndarray) -> np.ndarray:
         """K^-1 f for f of shape (n,) or (n, k), in the original numbering."""
@@ -227,15 +278,7 @@ class CholeskyFactor:
                 handle.close()
             return
         self.factor, self._base, self._disk = self.factor[split:].copy(), split, handle
-        ptr = self.factor_ptr[:self.n_supernodes]  # the root is the last supernode
-        chunk = max(DISK_CHUNK_BYTES // 8, 1)
-        bounds, s0 = [], 0
-        while s0 < self.n_supernodes - 1:
-            s1 = int(np.searchsorted(ptr, ptr[s0] + chunk, side="right")) - 1
-            s1 = min(max(s1, s0 + 1), self.n_supernodes - 1)
-            bounds.append((s0, s1))
-            s0 = s1
-        self._chunks = bounds
+        self._chunks = self._chunk_bounds()
 
     def _read(self, s0: int, s1: int) -> np.ndarray:
         lo, hi = int(self.factor_ptr[s0]), int(self.factor_ptr[s1])
@@ -390,6 +433,31 @@ class RootInverse:
         return a if dtype is None else a.astype(dtype)
 
 
+def _temporary_file():
+    """An unlinked temporary file for a factor's blocks, or None where none can be made."""
+    try:
+        return tempfile.TemporaryFile()
+    except OSError:
+        return None
+
+
+def _write_or_keep(handle, segment: np.ndarray, written: int, kept: list):
+    """Append ``segment`` to the file ``handle``, which holds ``written`` entries; where that
+    fails (a full disk) or there is no file, keep every segment in ``kept`` (those already
+    written are read back) and return None."""
+    if handle is not None:
+        try:
+            handle.write(segment.data)  # the array's own buffer, not a copy
+            handle.flush()
+            return handle
+        except OSError:
+            handle.seek(0)
+            kept.append(np.fromfile(handle, dtype=np.float64, count=written))
+            handle.close()
+    kept.append(segment)
+    return None
+
+
 def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
     """Entries of the update-matrix stack at its deepest: each supernode pushes its (rows x rows)
     update matrix after popping its children's (which are on top, in postorder)."""
@@ -412,18 +480,16 @@ def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: boo
     manager factory the factorisation runs in (the caller's one-BLAS-thread guard: its many
     mid-size products gain nothing from threads), not potri (one large product). ``trailing``: G
     as a :class:`RootInverse` holding only its trailing ``trailing`` x ``trailing`` block (None:
-    all of G, dense). ``on_disk``: the factor's blocks below the root are moved to a temporary
-    file (:meth:`CholeskyFactor.to_disk`) before S and G are formed (None: when they take
-    ON_DISK_BYTES or more), so that a caller factoring several bodies in turn holds only their
-    root blocks in memory."""
+    all of G, dense). ``on_disk``: the factor's blocks below the root are written to a temporary
+    file as they are computed (None: when they take ON_DISK_BYTES or more), so that a caller
+    factoring several bodies in turn holds only their root blocks in memory, and the body being
+    factored one chunk of its factor besides its work space."""
     from scipy.linalg import lapack
 
     with guard() if guard is not None else contextlib.nullcontext():
-        factor = CholeskyFactor(k0, order, m, definite, keep_schur=False)
+        factor = CholeskyFactor(k0, order, m, definite, keep_schur=False, on_disk=on_disk)
     if m == 0:
         return factor, np.zeros((0, 0)), np.zeros((0, 0))
-    if on_disk or (on_disk is None and factor.factor_bytes - 8 * m * m >= ON_DISK_BYTES):
-        factor.to_disk()
     schur = factor.schur_operator()
     if trailing is not None and trailing < m:
         if not np.all(schur.d > 0.0):

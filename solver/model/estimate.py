@@ -40,9 +40,14 @@ RESIDENT_BYTES = 80e6
 #: (measured on the full crossed cylinders, 236k dofs: the bodies' factors 14 KB per dof without
 #: their dense roots); the dense arrays are counted from the contact dofs
 BYTES_PER_DOF_3D_CONTACT = 14_000
-#: a body's sparse factor of this many bytes or more is held on disk once its contact block is
-#: read off it (solver.fem.multifrontal.ON_DISK_BYTES): the peak holds the largest body's factor
+#: a body's sparse factor of this many bytes or more is written to disk while it is computed
+#: (solver.fem.multifrontal.ON_DISK_BYTES): it is never whole in memory
 ON_DISK_BYTES = 2**30
+#: 3D contact, a body whose factor goes to disk: K0 and the factorisation's sparse arrays per dof,
+#: plus one chunk of the factor (DISK_CHUNK_BYTES, solver.fem.multifrontal) in memory at a time
+#: (calibrated on the full crossed cylinders, 236k dofs: 3.40 GB measured)
+STREAMED_BYTES_PER_DOF = 2_000
+DISK_CHUNK_BYTES = 2**28
 #: 3D contact, what does not grow with the grid: the interpreter, numpy, scipy, numba's compiled
 #: kernels (measured 0.37-0.49 GB peaks for runs of 8-14k dofs)
 BASE_BYTES_3D_CONTACT = 300e6
@@ -186,8 +191,9 @@ def _estimate(problem) -> ProblemSize:
         per_body.append(body_cells)
     dofs = DOFS_PER_CELL.get(dim, dim) * cells
     if dim == 3 and problem.contacts:
-        memory = _sparse_contact_bytes(DOFS_PER_CELL[3] * np.array(per_body)) + _dense_contact_bytes(problem) \
-            + BASE_BYTES_3D_CONTACT
+        body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
+        streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
+        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed) + BASE_BYTES_3D_CONTACT
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
@@ -214,28 +220,32 @@ def resident_memory() -> float:
 
 
 def _sparse_contact_bytes(body_dofs: np.ndarray) -> float:
-    """The sparse part of a 3D contact: BYTES_PER_DOF_3D_CONTACT per dof of the body factored
-    when memory peaks (the largest) and of every body whose factor stays in memory; a body's
-    factor of ON_DISK_BYTES or more goes to disk once its contact block is read off it."""
+    """The sparse part of a 3D contact: BYTES_PER_DOF_3D_CONTACT per dof of every body whose
+    factor stays in memory; a body's factor of ON_DISK_BYTES or more is written to disk while it
+    is computed, so such bodies count only K0 and the factorisation's sparse arrays
+    (STREAMED_BYTES_PER_DOF) and one chunk of the factor."""
     per_body = body_dofs * BYTES_PER_DOF_3D_CONTACT
     if not len(per_body):
         return 0.0
-    largest = int(np.argmax(per_body))
-    kept = per_body < ON_DISK_BYTES
-    kept[largest] = True
-    return float(per_body[kept].sum())
+    streamed = per_body >= ON_DISK_BYTES
+    total = float(per_body[~streamed].sum())
+    if streamed.any():
+        total += STREAMED_BYTES_PER_DOF * float(body_dofs[streamed].sum()) + DISK_CHUNK_BYTES
+    return total
 
 
-def _dense_contact_bytes(problem) -> float:
+def _dense_contact_bytes(problem, streamed: bool = False) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
     the root of the factor and a quarter of that in the kept block of the inverse (all of it
     for blocks below 4000 dofs, where it is small), and while the last body is factored about
     three more m_b^2 are work space (the factorisation's update-matrix stack and largest front:
-    measured 1.7 and 1.2 m_b^2 on the crossed cylinders)."""
+    measured 1.7 and 1.2 m_b^2 on the crossed cylinders). ``streamed``: the factors go to disk
+    as they are computed; the last body's root block is then allocated only once its front
+    buffer is freed, so it is not counted beside the work space."""
     total = 0.0
     for c in problem.contacts:
         n_bodies, m_b = _contact_dofs_per_body(problem, c)
-        total += 8.0 * m_b**2 * (1.25 * n_bodies + 3)
+        total += 8.0 * m_b**2 * (1.25 * (n_bodies - 1 if streamed else n_bodies) + 3)
     return total
 
 
