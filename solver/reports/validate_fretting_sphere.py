@@ -3,8 +3,8 @@ Mindlin and Deresiewicz (solver.reference.fretting_sphere; R. D. Mindlin, H. Der
 J. Appl. Mech. 20 (1953) 327-344; K. L. Johnson, Contact Mechanics (1985), section 7.3).
 
 The shipped example (examples/fretting/sphere_on_flat_fretting.toml, a half model) is run with
-its tangential displacement amplitude scaled to reach several Q*/(mu N), for one and a quarter
-cycles (the first loading and one complete cycle). Compared, from the computed N, Q and a of the
+its tangential displacement amplitude scaled to reach several Q*/(mu N), for one and a half
+cycles (the first loading, one complete cycle from +Q* to +Q*, and the unloading to 0). Compared, from the computed N, Q and a of the
 full contact (the model's forces over its share):
 
 - per step the stick radius (the radius of the circle with the stick zone's area) against
@@ -60,7 +60,7 @@ def compare(summary: dict, hysteresis: np.ndarray, youngs_modulus: float, poisso
     steps = summary["steps"]
     t, delta, q, n = (hysteresis[:, j] for j in range(4))
     q, n = q / share, n / share
-    start = int(np.flatnonzero(np.abs(q) > 1e-6 * n.max())[0])
+    start = int(np.flatnonzero(np.abs(q) > 1e-3 * mu * n.max())[0])  # the first step with shear
     turns = [k for k in turning_steps(q) if k >= start]
     a = np.array([st["contacts"][contact]["semi_axes"][0] for st in steps])
     rows = []
@@ -116,7 +116,7 @@ def scene_data(amplitude: float, cycles: float, points_per_cycle: int) -> dict:
     return data
 
 
-def run_case(amplitude: float, out: Path, cycles: float = 1.25, points_per_cycle: int = 20) -> dict:
+def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle: int = 20) -> dict:
     """Run the example at a tangential amplitude; its comparison (with the run's timings)."""
     from ..io.output import write_scene_results
     from ..io.scene import scene_from_dict
