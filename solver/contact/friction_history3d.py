@@ -246,14 +246,28 @@ class HistoryEllipseContact(EllipseContact):
         return t1, p, _tangential(t1, pts.normal), _tangential(w, pts.normal)
 
     def _means(self, reg: _Region, v: np.ndarray, slip: np.ndarray) -> np.ndarray:
-        """Means of v (q,) or (q, 3) over the disc about each point, among points of the same zone."""
+        """Means of v (q,) or (q, 3) over the disc about each point, among points of the same zone;
+        a stuck point's window is kept symmetric about it within the stick zone: only the stuck
+        points at most twice its distance d from the slip zone (for a straight boundary, the
+        points whose mirror image through it is stuck too). A mean over the whole stick side of
+        the disc, mostly deeper points, is centred about 0.4 of the disc's radius inside: where the
+        shear rises towards the boundary it held the boundary too far out (measured on the
+        half sphere at Q/(mu N) = 0.44, a / h = 5.8: c/a 0.854 against Mindlin's 0.821; over the
+        stuck points no farther from the slip zone than the point itself, 0.806; symmetric, 0.826).
+        Far from a boundary (d beyond the disc) it is the plain mean over the disc."""
         out = np.zeros_like(v)
-        for m in (slip, ~slip):
-            mf = m.astype(float)
-            den = reg.neighbours @ mf
-            num = reg.neighbours @ (v * (mf if v.ndim == 1 else mf[:, None]))
-            ok = m & (den > 0.0)
-            out[ok] = num[ok] / (den[ok] if v.ndim == 1 else den[ok][:, None])
+        nb = reg.neighbours.tocoo()
+        same = slip[nb.row] == slip[nb.col]
+        if slip.any() and (~slip).any():
+            d = cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0]
+            same &= slip[nb.row] | (d[nb.col] <= 2.0 * d[nb.row] + 1e-12 * self.h)
+        rows, cols, w = nb.row[same], nb.col[same], nb.data[same]
+        den = np.bincount(rows, weights=w, minlength=len(slip))
+        if v.ndim == 1:
+            num = np.bincount(rows, weights=w * v[cols], minlength=len(slip))
+            return np.where(den > 0.0, num / np.maximum(den, 1e-300), 0.0)
+        for j in range(v.shape[1]):
+            out[:, j] = np.bincount(rows, weights=w * v[cols, j], minlength=len(slip)) / np.maximum(den, 1e-300)
         return out
 
     def force(self, x: np.ndarray, a: float, info) -> np.ndarray:
