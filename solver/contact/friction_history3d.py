@@ -364,10 +364,12 @@ class HistoryEllipseContact(EllipseContact):
         dw = np.where(slip[:, None], wt - reg.w_prev, 0.0)
         # friction work: -sum q . dw dA over the slipping points (positive: dissipated)
         self.step_work = float(-np.sum(np.einsum("qi,qi->q", q, dw) * pts.weights))
-        free = slip | (p <= 0.0)
-        shear = np.where((p > 0.0)[:, None], q, 0.0)
+        # a slipping point takes the reference at which its tie would carry its Coulomb traction (no
+        # jump in its traction when it sticks); a stuck point keeps its own (its traction is the one
+        # the step solved, open or not: the step's forces are recorded with these references)
         flux_t = _tangential((info[4] @ x).reshape(-1, 3), pts.normal)
-        reg.w_ref = np.where(free[:, None], wt - (flux_t - shear) / reg.layer_t[:, None], reg.w_ref)
+        reg.w_ref = np.where(slip[:, None], wt - (flux_t - q) / reg.layer_t[:, None], reg.w_ref)
+        reg.assembled = None  # the terms hold the reference jumps: the next step assembles them anew
         reg.accumulated = reg.accumulated + np.linalg.norm(dw, axis=1)
         reg.last_direction = np.where(slip[:, None], direction, reg.last_direction)
         self.step_state = {"pressure": p, "shear": q, "slip": slip, "slip_increment": dw,
