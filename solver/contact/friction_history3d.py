@@ -130,8 +130,7 @@ class HistoryEllipseContact(EllipseContact):
         q = len(pts.s)
         rows = np.concatenate([pairs[:, 0], pairs[:, 1], np.arange(q)])
         cols = np.concatenate([pairs[:, 1], pairs[:, 0], np.arange(q)])
-        w = plane_weights(self, pts)
-        neighbours = sp.csr_matrix((w[cols], (rows, cols)), shape=(q, q))
+        neighbours = sp.csr_matrix((plane_weights(self, pts)[cols], (rows, cols)), shape=(q, q))
         reg = _Region(a, info, layer_t, neighbours, *self._carried(pts, jump, flux, layer_t))
         self.regions[a] = reg
         for old in list(self.regions)[:-KEEP_REGIONS]:
@@ -255,20 +254,25 @@ class HistoryEllipseContact(EllipseContact):
         half sphere at Q/(mu N) = 0.44, a / h = 5.8: c/a 0.854 against Mindlin's 0.821; over the
         stuck points no farther from the slip zone than the point itself, 0.806; symmetric, 0.826).
         Far from a boundary (d beyond the disc) it is the plain mean over the disc."""
-        out = np.zeros_like(v)
-        nb = reg.neighbours.tocoo()
-        same = slip[nb.row] == slip[nb.col]
-        if slip.any() and (~slip).any():
+        nb, n = reg.neighbours, len(slip)
+        vv = v.reshape(n, -1)
+        out = np.zeros_like(vv)
+        for m in (slip, ~slip):  # plain means among the points of the same zone
+            mf = m.astype(float)
+            den = nb @ mf
+            ok = m & (den > 0.0)
+            out[ok] = (nb @ (vv * mf[:, None]))[ok] / den[ok, None]
+        if slip.any() and (~slip).any():  # stuck points within the disc of the slip zone: symmetric windows
             d = cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0]
-            same &= slip[nb.row] | (d[nb.col] <= 2.0 * d[nb.row] + 1e-12 * self.h)
-        rows, cols, w = nb.row[same], nb.col[same], nb.data[same]
-        den = np.bincount(rows, weights=w, minlength=len(slip))
-        if v.ndim == 1:
-            num = np.bincount(rows, weights=w * v[cols], minlength=len(slip))
-            return np.where(den > 0.0, num / np.maximum(den, 1e-300), 0.0)
-        for j in range(v.shape[1]):
-            out[:, j] = np.bincount(rows, weights=w * v[cols, j], minlength=len(slip)) / np.maximum(den, 1e-300)
-        return out
+            near = np.flatnonzero(~slip & (d < 0.5 * MEAN_CELLS * self.options.window * self.h))
+            sub = nb[near].tocoo()
+            rows, cols = near[sub.row], sub.col
+            keep = ~slip[cols] & (d[cols] <= 2.0 * d[rows] + 1e-12 * self.h)
+            rows, cols, w = sub.row[keep], cols[keep], sub.data[keep]
+            den = np.maximum(np.bincount(rows, weights=w, minlength=len(near)), 1e-300)
+            out[near] = np.column_stack([np.bincount(rows, weights=w * vv[cols, j], minlength=len(near)) / den
+                                         for j in range(vv.shape[1])])
+        return out.reshape(v.shape)
 
     def force(self, x: np.ndarray, a: float, info) -> np.ndarray:
         if info is None:
@@ -329,7 +333,8 @@ class HistoryEllipseContact(EllipseContact):
             self.restuck = np.zeros(len(slip), dtype=bool)
             self.settled_stuck = np.zeros(len(slip), dtype=bool)
         _, p_raw, q_raw, wt = self.point_state(x, a, info)
-        p, q = self._means(reg, p_raw, slip), self._means(reg, q_raw, slip)
+        pq = self._means(reg, np.column_stack([p_raw, q_raw]), slip)
+        p, q = pq[:, 0], pq[:, 1:]
         qn = np.linalg.norm(q, axis=1)
         dw = wt - reg.w_prev
         dwn = np.linalg.norm(dw, axis=1)
