@@ -251,8 +251,8 @@ class HistoryEllipseContact(EllipseContact):
         points whose mirror image through it is stuck too). A mean over the whole stick side of
         the disc, mostly deeper points, is centred about 0.4 of the disc's radius inside: where the
         shear rises towards the boundary it held the boundary too far out (measured on the
-        half sphere at Q/(mu N) = 0.44, a / h = 5.8: c/a 0.854 against Mindlin's 0.821; over the
-        stuck points no farther from the slip zone than the point itself, 0.806; symmetric, 0.826).
+        half sphere at Q/(mu N) = 0.45, a / h = 5.8: c/a 0.855 against Mindlin's 0.821 for its
+        forces; with the symmetric windows 0.825 against 0.822).
         Far from a boundary (d beyond the disc) it is the plain mean over the disc."""
         nb, n = reg.neighbours, len(slip)
         vv = v.reshape(n, -1)
