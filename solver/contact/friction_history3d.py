@@ -82,6 +82,9 @@ class _Region:
     w_prev: np.ndarray  # (q, 3)
     accumulated: np.ndarray  # (q,)
     last_direction: np.ndarray  # (q, 3)
+    #: (slip, direction, stiffness, load) of the last terms assembled on it (None: none since the
+    #: references changed)
+    assembled: tuple | None = None
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -192,7 +195,7 @@ class HistoryEllipseContact(EllipseContact):
         slip, direction = self.zones_at(reg)
         proj = np.where(slip[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
         info = (pts, bp, proj, jump, flux, size, a)
-        old = reg.__dict__.get("assembled")
+        old = reg.assembled
         if old is not None:
             changed = np.flatnonzero((old[0] != slip) | np.any(old[1] != direction, axis=1))
             if len(changed) <= INCREMENTAL_SHARE * len(slip):
