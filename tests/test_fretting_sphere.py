@@ -70,10 +70,10 @@ def test_cycled_traction_is_balanced_at_every_step():
 def test_sphere_fretting_against_mindlin_deresiewicz(tmp_path):
     """Ball on a flat (half model, a / h = 5.8), Q*/(mu N) = 0.6, one and a half cycles at 20 steps
     per cycle, against Mindlin and Deresiewicz from the computed N, Q and a: the stick radius of
-    every step (loading, unloading, reloading) within 0.015 a (measured: 0.012 a), the secant
+    every step (loading, unloading, reloading) within 0.015 a (measured: 0.013 a), the secant
     tangential compliance of every branch within 2 % (measured: 0.4 %), the energy of the
-    complete cycle from the loop and from the friction work within 15 % (measured: -9.5 % and
-    -12.1 %: the slip annulus spans 1.5 cells at this resolution); the contact's force equals the
+    complete cycle from the loop and from the friction work within 15 % (measured: -10.3 % and
+    -12.1 %: the reversed slip starts late while its annulus is thinner than a cell); the contact's force equals the
     loaded face's reaction at every step."""
     from ibfem.solver.reports.validate_fretting_sphere import amplitude_for, run_case
 
