@@ -363,13 +363,14 @@ class HistoryEllipseContact(EllipseContact):
         self.settled_stuck |= back & self.restuck
         self.restuck |= back
         changed = int(np.count_nonzero(over | back))
+        if changed and self.zone_updates >= LATE_UPDATES and changed <= max(1.0, LATE_CHANGE_SHARE * len(slip)):
+            # settled late: the zones of the last solve are kept (the state's forces are those solved)
+            self.late_settled.append([self.step_count, changed])
+            return True
         self._set_zones(reg, slip, direction)
         self.zone_changes += changed
         area = plane_weights(self, info[0])
         self.stick_ratio = math.sqrt(float(area[~slip].sum() / max(area.sum(), 1e-300)))
-        if changed and self.zone_updates >= LATE_UPDATES and changed <= max(1.0, LATE_CHANGE_SHARE * len(slip)):
-            self.late_settled.append([self.step_count, changed])
-            return True
         if changed and self.zone_updates >= self.options.max_stick_iterations:
             self.unsettled_steps.append(self.step_count)
             return True
