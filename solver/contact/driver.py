@@ -137,10 +137,13 @@ class ContactDriver:
 
     def _builder(self, cm):
         """The formulation of a contact: frictional contacts under load paths keep a friction history
-        (2D); without paths (proportional loading) the history cannot matter and is not kept."""
-        if self.problem.history is not None and cm.type == "frictional" and self.problem.dim == 2:
-            from .friction_history import build
-
+        (2D: along the sample chords; 3D: on the region's quadrature points); without paths
+        (proportional loading) the history cannot matter and is not kept."""
+        if self.problem.history is not None and cm.type == "frictional":
+            if self.problem.dim == 2:
+                from .friction_history import build
+            else:
+                from .friction_history3d import build
             return build
         return formulation(cm.options.formulation, self.problem.dim)
 

@@ -15,7 +15,7 @@ from ..fem.assembly import essential_reactions
 from ..fem.linalg import scatter
 from ..fem.path_loads import PathLoads, path_loads
 
-__all__ = ["PathSteps", "slip_zones_of"]
+__all__ = ["PathSteps", "slip_zones_of", "solid_entry"]
 
 
 class PathSteps:
@@ -61,6 +61,9 @@ def step_record(driver, t: float, u: np.ndarray, factors: dict) -> dict:
     contacts = []
     for c, a, info in zip(driver.contacts, driver.widths, driver.prev_infos):
         on2 = -c.force(u[c.dofs], a, info)
+        if hasattr(c, "frame"):  # between solids
+            contacts.append(solid_entry(c, a, info, on2))
+            continue
         nrm, tan = c.geom.normal, c.geom.tangent
         entry = {"normal_force": float(-on2 @ nrm), "tangential_force": float(on2 @ tan), "half_width": float(a),
                  "stick_half_width": float(min(c.stick(a), a)), "region_centre": float(c.centre),
@@ -71,6 +74,23 @@ def step_record(driver, t: float, u: np.ndarray, factors: dict) -> dict:
         contacts.append(entry)
     return {"t": float(t), "reactions": {k: np.asarray(v).tolist() for k, v in reactions.items()},
             "face_displacements": face_displacements(driver, u), "contacts": contacts, "field": u}
+
+
+def solid_entry(c, a: float, info, on2: np.ndarray) -> dict:
+    """A step's record of a contact between solids: the forces on the second body (N, and the
+    tangential force's components along the contact's axes), the region's and the stick zone's
+    semi-axes, and what a friction history adds (friction work, slip points, stick area)."""
+    frame = c.frame
+    aa, bb = c.semi_axes(a) if a > 0.0 else (0.0, 0.0)
+    ratio = min(max(float(c.stick_ratio), 0.0), 1.0)
+    entry = {"normal_force": float(-on2 @ frame.normal),
+             "tangential_force": [float(on2 @ frame.axes[0]), float(on2 @ frame.axes[1])],
+             "semi_axes": [float(aa), float(bb)], "stick_semi_axes": [ratio * float(aa), ratio * float(bb)],
+             "region_centre": np.asarray(c.centre, dtype=float).tolist()}
+    extra = getattr(c, "step_fields", None)
+    if callable(extra):
+        entry.update(extra(None, a, info))
+    return entry
 
 
 def face_displacements(driver, u: np.ndarray) -> dict:

@@ -1,4 +1,6 @@
-"""Fretting results of a run with load paths and friction history (2D), per frictional contact:
+"""Fretting results of a run with load paths and friction history, per frictional contact (between
+solids the loop's direction is the contact's first axis, and the profiles and damage parameters
+along a line are not written):
 
 - ``hysteresis_<k>.csv`` (and ``hysteresis_<k>.png`` with plots): the tangential force Q against
   the relative tangential displacement delta of the two bodies' held or loaded faces (the mean
@@ -73,13 +75,25 @@ def _faces(problem, contact_bodies: tuple[str, str], faces: dict) -> tuple[str |
     return pick[0], pick[1]
 
 
+def loop_direction(block: dict) -> np.ndarray:
+    """The direction of the loop's force and displacement: the contact's tangent (2D), its first
+    axis between solids."""
+    return np.asarray(block["tangent"] if "tangent" in block else block["axes"][0], dtype=float)
+
+
+def loop_force(entry: dict) -> float:
+    """A step's tangential force along the loop's direction."""
+    q = entry["tangential_force"]
+    return float(q[0] if isinstance(q, (list, tuple)) else q)
+
+
 def _relative_displacement(steps: list[dict], k: int, block: dict, problem) -> np.ndarray:
-    tangent = np.asarray(block["tangent"], dtype=float)
+    tangent = loop_direction(block)
     f1, f2 = _faces(problem, tuple(block["bodies"]), steps[0]["face_displacements"])
     out = np.zeros(len(steps))
     for i, st in enumerate(steps):
-        u1 = np.asarray(st["face_displacements"][f1]) if f1 else np.zeros(2)
-        u2 = np.asarray(st["face_displacements"][f2]) if f2 else np.zeros(2)
+        u1 = np.asarray(st["face_displacements"][f1]) if f1 else np.zeros(len(tangent))
+        u2 = np.asarray(st["face_displacements"][f2]) if f2 else np.zeros(len(tangent))
         out[i] = float((u1 - u2) @ tangent)
     return out
 
@@ -118,7 +132,7 @@ def _damage(problem, solution, steps, k: int, block: dict, cycle: tuple[int, int
             "ruiz": np.maximum(sigma_t, 0.0) * tau * amplitude}
 
 
-def _write_plot(path: Path, delta: np.ndarray, q: np.ndarray, title: str) -> Path:
+def _write_plot(path: Path, delta: np.ndarray, q: np.ndarray, title: str, unit: str = "N/m") -> Path:
     """The loop, and beside it the loop less the initial elastic line (delta - Q / k, k the slope
     of the first step that carries shear): the part of the motion that hysteresis opens."""
     import matplotlib
@@ -134,7 +148,7 @@ def _write_plot(path: Path, delta: np.ndarray, q: np.ndarray, title: str) -> Pat
     axes[1].plot((delta - q / k) * 1e6 if k else delta * 1e6, q, "o-", ms=3)
     axes[1].set_xlabel("the same less Q / k, k the initial slope (um)")
     for ax in axes:
-        ax.set_ylabel("tangential force Q (N/m)")
+        ax.set_ylabel(f"tangential force Q ({unit})")
         ax.grid(True, alpha=0.3)
     fig.suptitle(title)
     fig.tight_layout()
@@ -146,7 +160,7 @@ def _write_plot(path: Path, delta: np.ndarray, q: np.ndarray, title: str) -> Pat
 def _contact_files(out_dir: Path, problem, solution, summary: dict, k: int, plots: bool) -> tuple[list[Path], dict]:
     steps = solution.steps
     block = summary["contacts"][k]
-    q = np.array([st["contacts"][k]["tangential_force"] for st in steps])
+    q = np.array([loop_force(st["contacts"][k]) for st in steps])
     n = np.array([st["contacts"][k]["normal_force"] for st in steps])
     delta = _relative_displacement(steps, k, block, problem)
     work = np.array([st["contacts"][k]["friction_work"] for st in steps])
@@ -156,11 +170,6 @@ def _contact_files(out_dir: Path, problem, solution, summary: dict, k: int, plot
     np.savetxt(path, np.column_stack([t, delta, q, n, work]), delimiter=",", comments="", fmt="%.10g",
                header="t,relative_displacement,tangential_force,normal_force,friction_work_of_step")
     files.append(path)
-    profiles = {key: np.array([st["contacts"][k]["profile"][key] for st in steps])
-                for key in ("pressure", "shear", "zone", "slip_increment", "accumulated_slip", "tangential_jump")}
-    path = out_dir / f"profiles_{k}.npz"
-    np.savez_compressed(path, t=t, s=np.asarray(steps[0]["contacts"][k]["profile"]["s"]), **profiles)
-    files.append(path)
     cycles = cycles_of(q)
     entry = {"cycles": [{"t": [float(t[i]), float(t[j])], "energy_loop": loop_energy(q, delta, i, j),
                          "energy_friction": float(work[i + 1:j + 1].sum()),
@@ -168,6 +177,16 @@ def _contact_files(out_dir: Path, problem, solution, summary: dict, k: int, plot
                         for i, j in cycles],
              "relative_displacement": "mean tangential displacement of the first body's essential face less the "
                                       "second body's"}
+    if plots:
+        files.append(_write_plot(out_dir / f"hysteresis_{k}.png", delta, q, f"contact {k}: fretting loop",
+                                 "N" if "axes" in block else "N/m"))
+    if "profile" not in steps[0]["contacts"][k]:  # between solids: no profiles along a line
+        return files, entry
+    profiles = {key: np.array([st["contacts"][k]["profile"][key] for st in steps])
+                for key in ("pressure", "shear", "zone", "slip_increment", "accumulated_slip", "tangential_jump")}
+    path = out_dir / f"profiles_{k}.npz"
+    np.savez_compressed(path, t=t, s=np.asarray(steps[0]["contacts"][k]["profile"]["s"]), **profiles)
+    files.append(path)
     damage = _damage(problem, solution, steps, k, block, cycles[-1] if cycles else None)
     path = out_dir / f"fretting_{k}.csv"
     names = list(damage)
@@ -177,8 +196,6 @@ def _contact_files(out_dir: Path, problem, solution, summary: dict, k: int, plot
     entry["ruiz_max"] = float(damage["ruiz"].max()) if len(damage["ruiz"]) else 0.0
     entry["ruiz_max_at"] = float(damage["s"][int(np.argmax(damage["ruiz"]))]) if len(damage["ruiz"]) else 0.0
     entry["slip_amplitude_max"] = float(damage["slip_amplitude"].max()) if len(damage["s"]) else 0.0
-    if plots:
-        files.append(_write_plot(out_dir / f"hysteresis_{k}.png", delta, q, f"contact {k}: fretting loop"))
     return files, entry
 
 
@@ -189,7 +206,7 @@ def write_fretting_files(out_dir, problem, solution, summary: dict, plots: bool 
     files, blocks = [], []
     steps = solution.steps
     for k in range(len(summary.get("contacts", []))):
-        if not steps or "profile" not in steps[0]["contacts"][k]:
+        if not steps or "friction_work" not in steps[0]["contacts"][k]:
             continue
         try:
             more, entry = _contact_files(out_dir, problem, solution, summary, k, plots)

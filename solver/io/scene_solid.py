@@ -38,6 +38,7 @@ from .scene import (
     size_problems,
     _fields_of,
 )
+from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
 from .scene_reference_point import ReferencePoint3Spec, reference_point
 
 __all__ = ["SolidSceneSpec", "solid_scene_from_dict"]
@@ -87,6 +88,7 @@ class Fixed3(_FaceCondition):
 class Displacement3(_FaceCondition):
     type: Literal["displacement"]
     value: tuple[Component, Component, Component]
+    path: PathRef | None = None  # load path name(s): docs/load-paths.md
 
     @field_validator("value")
     @classmethod
@@ -99,22 +101,26 @@ class Displacement3(_FaceCondition):
 class Sliding3(_FaceCondition):
     type: Literal["sliding"]
     normal_displacement: Num = 0.0
+    path: PathRef | None = None
 
 
 class Traction3(_FaceCondition):
     type: Literal["traction"]
     value: Vec3
+    path: PathRef | None = None
 
 
 class Pressure3(_FaceCondition):
     type: Literal["pressure"]
     value: Num
+    path: PathRef | None = None
 
 
 class BodyForce3(_Strict):
     type: Literal["body_force"]
     body: str
     value: Vec3
+    path: PathRef | None = None
 
 
 class ReferencePoint3(ReferencePoint3Spec):
@@ -174,6 +180,7 @@ class SolidSceneSpec(_Strict):
     boundary_conditions: list[Condition3] = []
     contacts: list[SolidContactSpec] = []
     output: Output3 = Output3()
+    paths: list[PathSpec] = []
 
 
 def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | None = None) -> Scene:
@@ -188,6 +195,7 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
     solids = _build_solids(spec, label, base_dir)
     spec = _select_faces(spec, solids, label)
     _check_references(spec, solids, label)
+    _check_paths(spec, label)
     problem = _problem(spec, solids, Path(label).stem if path is None else path.stem, label)
     try:
         problem = resolve_problem(problem)
@@ -336,7 +344,20 @@ def _problem(spec: SolidSceneSpec, solids: dict[str, Any], default_name: str, la
         boundary_conditions=tuple(_condition(bc) for bc in spec.boundary_conditions),
         contacts=contacts,
         options=options,
+        history=load_history(spec.paths, spec.boundary_conditions, options.steps_per_unit, options.load_steps),
     )
+
+
+def _check_paths(spec: SolidSceneSpec, label: str) -> None:
+    """Load paths as in 2D (names known, one per component or one for all); a reference point
+    does not follow them."""
+    problems = history_problems(spec.paths, spec.boundary_conditions, label)
+    for i, bc in enumerate(spec.boundary_conditions):
+        if isinstance(bc, ReferencePoint3) and spec.paths:
+            problems.append(f"{label}: boundary_conditions[{i}]: a reference point does not follow load paths; "
+                            "remove [[paths]] or the reference point")
+    if problems:
+        raise SceneError(problems)
 
 
 def _contact(c, k: int, solids: dict[str, Any], bodies, label: str) -> SolidContactModel:

@@ -1,7 +1,9 @@
 """The outputs of a run with load paths: the ``steps`` block of ``summary.json``, a VTU series
 over the steps (``steps.pvd`` for ParaView, one folder of VTU files per step, with the contact
 tractions of each frictional contact with memory as a polyline ``contact_k.vtp``) and
-``steps.csv`` (t, forces, half-width, stick half-width of every contact per step)."""
+``steps.csv`` (t, forces, half-width, stick half-width of every contact per step; between solids the
+tangential force along the contact's first axis and the first semi-axes of the region and of the
+stick zone)."""
 
 from __future__ import annotations
 
@@ -83,7 +85,10 @@ def _write_csv(out_dir: Path, steps: list[dict]) -> Path:
     for st in steps:
         row = [st["t"]]
         for c in st["contacts"]:
-            row += [c["normal_force"], c["tangential_force"], c["half_width"], c["stick_half_width"]]
+            if "semi_axes" in c:  # between solids: the tangential force along the first axis, the semi-axes a
+                row += [c["normal_force"], c["tangential_force"][0], c["semi_axes"][0], c["stick_semi_axes"][0]]
+            else:
+                row += [c["normal_force"], c["tangential_force"], c["half_width"], c["stick_half_width"]]
         rows.append(row)
     path = out_dir / "steps.csv"
     np.savetxt(path, np.asarray(rows, dtype=float).reshape(len(rows), -1), delimiter=",", header=",".join(head),

@@ -7,8 +7,10 @@ Q_t), the computed shear against the superposed shear (RMS over the region, rela
 both from the computed N, Q and a; per complete cycle the energy from the local friction work and
 from the loop against the closed form W(Q*) with Q* the mean of the cycle's two extremes.
 
-``python -m ibfem.solver.reports.validate_fretting [scene] [--out DIR]`` runs the shipped fretting
-example (or ``scene``) and prints the table; ``compare(summary, profiles)`` is what the tests use.
+``python -m ibfem.solver.reports.validate_fretting [scene] [--out DIR] [--no-sphere]`` runs the
+shipped fretting example (or ``scene``) and prints the table, then (unless ``--no-sphere``) the 3D
+validation of a ball on a flat (solver.reports.validate_fretting_sphere, into DIR/sphere);
+``compare(summary, profiles)`` is what the tests use.
 """
 
 from __future__ import annotations
@@ -97,10 +99,16 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("scene", nargs="?", default=str(EXAMPLE))
     ap.add_argument("--out", default="validation_fretting")
+    ap.add_argument("--no-sphere", action="store_true",
+                    help="skip the 3D validation (a ball on a flat: solver.reports.validate_fretting_sphere)")
     args = ap.parse_args(argv)
     result = run(Path(args.scene), Path(args.out))
     print(_table(result))
     (Path(args.out) / "validation.json").write_text(json.dumps(result, indent=1), encoding="utf-8")
+    if not args.no_sphere:
+        from .validate_fretting_sphere import main as sphere_main
+
+        return sphere_main(["--out", str(Path(args.out) / "sphere")])
     return 0
 
 
