@@ -220,7 +220,7 @@ class HistoryBandContact(BandContact):
         it: one solve instead of a search), and searched again once the zones have settled unless
         the kept width's edge coefficient shows it consistent."""
         if self.hold_width:
-            return _hold(self, a0)
+            return hold_size(self, a0)
         return super().region_search(a0, final, max_iterations, estimate)
 
     def update_stick_and_shape(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
@@ -501,8 +501,9 @@ class HistoryBandContact(BandContact):
                 for k, v in self.coulomb_violations]
 
 
-def _hold(c: HistoryBandContact, a: float):
-    """A width search that keeps the width a (one trial); its edge coefficient is kept."""
+def hold_size(c, a: float):
+    """A size search that keeps the size a (one trial): the contact's ``held_edge`` gets the
+    trial's edge coefficient. Serves the 2D band and the 3D ellipse under load paths."""
     verdict = yield a
     c.held_edge = float(verdict.edge)
     return a, (a, a)

@@ -52,6 +52,7 @@ from scipy.spatial import cKDTree
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_band_terms
 from .ellipse import (EllipseContact, _blocks, _layer, _operators, _pressure_rows, build as ellipse_build,
                       plane_weights)
+from .friction_history import hold_size
 
 __all__ = ["HistoryEllipseContact", "build"]
 
@@ -312,7 +313,7 @@ class HistoryEllipseContact(EllipseContact):
         """The size search; between zone updates the size is kept (one solve), and searched again
         only where the kept size's edge coefficient shows it moved."""
         if self.hold_width:
-            return _hold(self, a0)
+            return hold_size(self, a0)
         return super().region_search(a0, final, max_iterations, estimate)
 
     def _width_consistent(self, a: float) -> bool:
@@ -435,13 +436,6 @@ class HistoryEllipseContact(EllipseContact):
         block["checks"]["steps_settled_with_points_changing"] = list(self.late_settled)
         return messages + [f"{self.name}: load step {k}: the stick and slip zones did not settle in "
                            f"{self.options.max_stick_iterations} updates" for k in self.unsettled_steps]
-
-
-def _hold(c: HistoryEllipseContact, a: float):
-    """A size search that keeps the size a (one trial); its edge coefficient is kept."""
-    verdict = yield a
-    c.held_edge = float(verdict.edge)
-    return a, (a, a)
 
 
 def build(problem, model, b1, b2, options) -> HistoryEllipseContact:
