@@ -37,7 +37,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..quadrature import gauss_legendre
+from ..quadrature import gauss_legendre, quartered
 
 __all__ = ["FaceMoments", "triangle_rule", "domain_rule", "strip_rule", "gap_rule", "strip_parameters",
            "boundary_edges", "chain_side", "face_moments", "solid_moments", "STRIP_NODES"]
@@ -156,10 +156,7 @@ def _split(corners: np.ndarray, size: float, budget: int, rounds: int = 8) -> np
         long = np.abs(corners - np.roll(corners, 1, axis=1)).max(axis=(1, 2)) > size
         if not long.any() or len(corners) + 3 * int(long.sum()) > budget:
             break
-        a, b, c = corners[long, 0], corners[long, 1], corners[long, 2]
-        ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
-        new = np.concatenate([np.stack(t, 1) for t in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
-        corners = np.concatenate([corners[~long], new])
+        corners = np.concatenate([corners[~long], quartered(corners[long])])
     return corners
 
 

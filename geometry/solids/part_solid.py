@@ -29,6 +29,7 @@ from functools import cached_property
 import numpy as np
 
 from .._base import Projection
+from ..quadrature import quartered
 from .shapes import Solid
 
 __all__ = ["PartSolid", "PartFace", "point_triangle_distance"]
@@ -274,10 +275,7 @@ def _split(tri: np.ndarray, resolution: float) -> np.ndarray:
         long = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1) > resolution
         if not long.any():
             break
-        a, b, c = tri[long, 0], tri[long, 1], tri[long, 2]
-        ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
-        new = np.concatenate([np.stack(s, 1) for s in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
-        tri = np.concatenate([tri[~long], new])
+        tri = np.concatenate([tri[~long], quartered(tri[long])])
     return tri
 
 
@@ -294,9 +292,7 @@ def _split_graded(tri: np.ndarray, panel_size, resolution: float) -> np.ndarray:
         done.append(tri[~long])
         if not long.any():
             break
-        a, b, c = tri[long, 0], tri[long, 1], tri[long, 2]
-        ab, bc, ca = 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)
-        tri = np.concatenate([np.stack(s, 1) for s in ((a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca))])
+        tri = quartered(tri[long])
     else:
         done.append(tri)
     return np.concatenate(done)
