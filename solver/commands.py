@@ -108,14 +108,7 @@ def _run(args: argparse.Namespace) -> int:
             progress.close()
         if args.traceback:
             raise
-        library, where = error_origin(err)
-        if library is None:
-            _err(f"{label}: {err}")
-            return 2
-        # numpy / scipy refused what the solver handed them: not the user's key, a gap in the checks
-        _err(f"{label}: the solver failed in {where}: {library} reported \"{str(err).splitlines()[0] if str(err) else type(err).__name__}\". "
-             "This is a bug (an input the scene check lets through): rerun with --traceback and report it.")
-        return INTERNAL_ERROR
+        return _solver_refused(label, err)
     except BaseException:
         if not args.quiet:
             progress.close()
@@ -152,6 +145,19 @@ def _run(args: argparse.Namespace) -> int:
     )
     _print_contacts(summary, ladder)
     return 0
+
+
+def _solver_refused(label: str, err: ValueError) -> int:
+    """Report a ValueError of the solve: 2 for the solver's own checks on the input (a scene
+    problem), INTERNAL_ERROR where numpy or scipy refused what the solver handed them (not the
+    user's key: a gap in the checks)."""
+    library, where = error_origin(err)
+    if library is None:
+        _err(f"{label}: {err}")
+        return 2
+    _err(f"{label}: the solver failed in {where}: {library} reported \"{str(err).splitlines()[0] if str(err) else type(err).__name__}\". "
+         "This is a bug (an input the scene check lets through): rerun with --traceback and report it.")
+    return INTERNAL_ERROR
 
 
 class _PictureStart:
