@@ -53,6 +53,7 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_
 from .ellipse import (EllipseContact, _blocks, _layer, _operators, _pressure_rows, build as ellipse_build,
                       plane_weights)
 from .friction_history import hold_size
+from .friction_history_profiles import axis_profiles
 
 __all__ = ["HistoryEllipseContact", "build"]
 
@@ -394,7 +395,7 @@ class HistoryEllipseContact(EllipseContact):
         reg.assembled = None  # the terms hold the reference jumps: the next step assembles them anew
         reg.accumulated = reg.accumulated + np.linalg.norm(dw, axis=1)
         reg.last_direction = np.where(slip[:, None], direction, reg.last_direction)
-        self.step_state = {"pressure": p, "shear": q, "slip": slip, "slip_increment": dw,
+        self.step_state = {"pressure": p, "shear": q, "slip": slip, "direction": direction, "slip_increment": dw,
                            "accumulated_slip": reg.accumulated.copy(), "tangential_jump": wt,
                            "weights": plane_weights(self, pts), "s": pts.s, "points": pts.x2}
         reg.w_prev = wt
@@ -417,10 +418,16 @@ class HistoryEllipseContact(EllipseContact):
         return float(w[~st["slip"]].sum()), float(w.sum())
 
     def step_fields(self, u: np.ndarray, a: float, info) -> dict:
-        """The step record beside the forces: friction work, slip points, the stick area."""
+        """The step record beside the forces: friction work, slip points, the stick area and the
+        profiles along the principal axes (solver.contact.friction_history_profiles)."""
         stick, total = self.stick_area()
-        return {"friction_work": self.step_work, "slip_points": int(np.count_nonzero(self.step_state.get("slip", []))),
-                "stick_area": stick, "region_area": total}
+        out = {"friction_work": self.step_work, "slip_points": int(np.count_nonzero(self.step_state.get("slip", []))),
+               "stick_area": stick, "region_area": total}
+        st = self.step_state
+        if st and a > 0.0:  # the state along the principal axes through the centre (an array record, not in summary.json)
+            out["axis_profile"] = axis_profiles(self.local(st["s"]), st["weights"], self.extent, self.h,
+                                                self.frame, self.centre, st)
+        return out
 
     def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         block = super().summary_block(a, on2, u, info)

@@ -1,6 +1,5 @@
 """Fretting results of a run with load paths and friction history, per frictional contact (between
-solids the loop's direction is the contact's first axis, and the profiles and damage parameters
-along a line are not written):
+solids the loop's direction is the contact's first axis):
 
 - ``hysteresis_<k>.csv`` (and ``hysteresis_<k>.png`` with plots): the tangential force Q against
   the relative tangential displacement delta of the two bodies' held or loaded faces (the mean
@@ -15,6 +14,12 @@ along a line are not written):
   body sigma_t, the fretting damage parameter |q| delta_s and Ruiz's parameter
   sigma_t |q| delta_s (D. W. Ruiz, P. H. B. Boddington, K. C. Chen, Exp. Mech. 24 (1984) 208-217),
   taken as max(sigma_t, 0) (tension opens cracks).
+
+Between solids the profiles are read along the contact's principal axes through the region's
+centre (solver.contact.friction_history_profiles): the vectors' components along the loop's
+direction (the first axis) and across it, the slip amplitude from both. With plots,
+``fretting_<k>.png`` draws the shear profiles over the last cycle and the slip amplitude and
+Ruiz's parameter along the contact (per axis line).
 
 A cycle is two consecutive branches of Q between its turning points, after the first loading.
 """
@@ -98,38 +103,69 @@ def _relative_displacement(steps: list[dict], k: int, block: dict, problem) -> n
     return out
 
 
-def _surface_stress(problem, solution, steps, k: int, second: str) -> np.ndarray:
-    """Per step and sample the stress along the contact's tangent in the second body, half a
-    finest cell inside its surface (cell stresses, not recovered)."""
+def _profile(entry: dict) -> dict | None:
+    """A step's profile of a contact: along its sample chords (2D), along the principal axes
+    through the region's centre (between solids), None without one."""
+    return entry.get("profile", entry.get("axis_profile"))
+
+
+def _tangential_stress(sig: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """t . sigma t for Voigt stresses (n, 3) [sxx, syy, sxy] or (n, 6) [sxx, syy, szz, syz, sxz, sxy]."""
+    if sig.shape[1] == 3:
+        return sig[:, 0] * t[:, 0] ** 2 + sig[:, 1] * t[:, 1] ** 2 + 2.0 * sig[:, 2] * t[:, 0] * t[:, 1]
+    return (sig[:, 0] * t[:, 0] ** 2 + sig[:, 1] * t[:, 1] ** 2 + sig[:, 2] * t[:, 2] ** 2
+            + 2.0 * (sig[:, 3] * t[:, 1] * t[:, 2] + sig[:, 4] * t[:, 0] * t[:, 2] + sig[:, 5] * t[:, 0] * t[:, 1]))
+
+
+def _surface_stress(problem, solution, steps, k: int, block: dict) -> np.ndarray:
+    """Per step and sample the stress along the contact's tangent (between solids: its first
+    axis, the loop's direction) in the second body, just inside its surface (cell stresses, not
+    recovered)."""
     rows = []
     for st in steps:
-        prof = st["contacts"][k]["profile"]
+        prof = _profile(st["contacts"][k])
         n = np.asarray(prof["normal"])
-        t = np.stack([-n[:, 1], n[:, 0]], axis=1)
+        t = np.stack([-n[:, 1], n[:, 0]], axis=1) if n.shape[1] == 2 else np.tile(loop_direction(block), (len(n), 1))
         inside = np.asarray(prof["inside"])
         pts = np.asarray(prof["points"])[inside] - 1e-3 * np.ptp(prof["s"]) * n[inside]
         row = np.zeros(len(inside))
         if len(pts):
-            sig = dataclasses.replace(solution, u=st["field"]).stress(pts, second, recovered=False)
-            sxx, syy, sxy = sig[:, 0], sig[:, 1], sig[:, 2]
-            tt = t[inside]
-            row[inside] = sxx * tt[:, 0] ** 2 + syy * tt[:, 1] ** 2 + 2.0 * sxy * tt[:, 0] * tt[:, 1]
+            sig = dataclasses.replace(solution, u=st["field"]).stress(pts, block["bodies"][1], recovered=False)
+            row[inside] = _tangential_stress(np.asarray(sig), t[inside])
         rows.append(row)
     return np.asarray(rows)
 
 
 def _damage(problem, solution, steps, k: int, block: dict, cycle: tuple[int, int] | None) -> dict:
+    """Along the contact over the cycle: the slip amplitude (half the range of the tangential
+    jump; between solids half the diagonal of its ranges along and across the loop's direction,
+    exact for a slip to and fro along a line), the largest shear |q|, the largest surface stress
+    and the damage parameters."""
     first, last = cycle if cycle is not None else (0, len(steps) - 1)
-    window = steps[first:last + 1]
-    jump = np.array([st["contacts"][k]["profile"]["tangential_jump"] for st in window])
-    shear = np.array([st["contacts"][k]["profile"]["shear"] for st in window])
-    touching = np.array([st["contacts"][k]["profile"]["inside"] for st in window]).any(axis=0)
-    amplitude = np.where(touching, 0.5 * (jump.max(axis=0) - jump.min(axis=0)), 0.0)  # open points: none
-    tau = np.abs(shear).max(axis=0)
-    sigma_t = _surface_stress(problem, solution, window, k, block["bodies"][1]).max(axis=0)
-    return {"s": np.asarray(steps[0]["contacts"][k]["profile"]["s"]), "slip_amplitude": amplitude,
-            "max_shear": tau, "max_surface_stress": sigma_t, "fretting_damage": tau * amplitude,
-            "ruiz": np.maximum(sigma_t, 0.0) * tau * amplitude}
+    window = [_profile(st["contacts"][k]) for st in steps[first:last + 1]]
+    touching = np.array([p["inside"] for p in window]).any(axis=0)
+
+    def spread(key):
+        v = np.array([p[key] for p in window])
+        return v.max(axis=0) - v.min(axis=0), np.abs(v).max(axis=0)
+
+    (jump_range, _), (_, tau) = spread("tangential_jump"), spread("shear")
+    if "shear_across" in window[0]:
+        jump_range = np.hypot(jump_range, spread("tangential_jump_across")[0])
+        tau = np.array([np.hypot(p["shear"], p["shear_across"]) for p in window]).max(axis=0)
+    amplitude = np.where(touching, 0.5 * jump_range, 0.0)  # open points: none
+    sigma_t = _surface_stress(problem, solution, steps[first:last + 1], k, block).max(axis=0)
+    out = {"s": np.asarray(window[0]["s"])}
+    if "axis" in window[0]:
+        out["axis"] = np.asarray(window[0]["axis"])
+    return out | {"slip_amplitude": amplitude, "max_shear": tau, "max_surface_stress": sigma_t,
+                  "fretting_damage": tau * amplitude, "ruiz": np.maximum(sigma_t, 0.0) * tau * amplitude}
+
+
+#: the per-sample arrays of a step's profile written to profiles_<k>.npz (between solids also the
+#: components across the loop's direction)
+_PROFILE_KEYS = ("pressure", "shear", "shear_across", "zone", "slip_increment", "slip_increment_across",
+                 "accumulated_slip", "tangential_jump", "tangential_jump_across")
 
 
 def _write_plot(path: Path, delta: np.ndarray, q: np.ndarray, title: str, unit: str = "N/m") -> Path:
@@ -157,6 +193,44 @@ def _write_plot(path: Path, delta: np.ndarray, q: np.ndarray, title: str, unit: 
     return path
 
 
+def _write_profile_plot(path: Path, profiles: dict, t: np.ndarray, damage: dict, cycle: tuple[int, int],
+                        title: str) -> Path:
+    """Per axis line (one in 2D, the two principal axes between solids): the shear along the
+    loop's direction at five steps of the cycle (its turning points and the steps between), and
+    the slip amplitude with Ruiz's parameter along the contact."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    axis = damage.get("axis", np.zeros(len(damage["s"]), dtype=int))
+    lines = np.unique(axis)
+    fig, panels = plt.subplots(2, len(lines), figsize=(5.5 * len(lines), 6.5), squeeze=False)
+    first, last = cycle
+    picks = sorted({int(round(first + f * (last - first))) for f in (0.0, 0.25, 0.5, 0.75, 1.0)})
+    for col, line in enumerate(lines):
+        on = axis == line
+        s_mm = damage["s"][on] * 1e3
+        top, bottom = panels[0, col], panels[1, col]
+        for j in picks:
+            top.plot(s_mm, profiles["shear"][j][on], label=f"t = {t[j]:.4g}")
+        top.set_ylabel("shear along the loop's direction (Pa)")
+        top.legend(fontsize=7)
+        bottom.plot(s_mm, damage["slip_amplitude"][on] * 1e6, "b-")
+        bottom.set_ylabel("slip amplitude (um)", color="b")
+        twin = bottom.twinx()
+        twin.plot(s_mm, damage["ruiz"][on], "r--")
+        twin.set_ylabel("Ruiz's parameter sigma_t |q| delta_s", color="r")
+        for ax in (top, bottom):
+            ax.set_xlabel(f"position along {'the contact' if len(lines) == 1 else f'axis {line}'} (mm)")
+            ax.grid(True, alpha=0.3)
+    fig.suptitle(f"{title}: shear profiles and fretting damage over the last cycle")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
 def _contact_files(out_dir: Path, problem, solution, summary: dict, k: int, plots: bool) -> tuple[list[Path], dict]:
     steps = solution.steps
     block = summary["contacts"][k]
@@ -180,12 +254,14 @@ def _contact_files(out_dir: Path, problem, solution, summary: dict, k: int, plot
     if plots:
         files.append(_write_plot(out_dir / f"hysteresis_{k}.png", delta, q, f"contact {k}: fretting loop",
                                  "N" if "axes" in block else "N/m"))
-    if "profile" not in steps[0]["contacts"][k]:  # between solids: no profiles along a line
+    first = _profile(steps[0]["contacts"][k])
+    if first is None:
         return files, entry
-    profiles = {key: np.array([st["contacts"][k]["profile"][key] for st in steps])
-                for key in ("pressure", "shear", "zone", "slip_increment", "accumulated_slip", "tangential_jump")}
+    keys = [key for key in _PROFILE_KEYS if key in first]
+    profiles = {key: np.array([_profile(st["contacts"][k])[key] for st in steps]) for key in keys}
     path = out_dir / f"profiles_{k}.npz"
-    np.savez_compressed(path, t=t, s=np.asarray(steps[0]["contacts"][k]["profile"]["s"]), **profiles)
+    extra = {"axis": np.asarray(first["axis"])} if "axis" in first else {}
+    np.savez_compressed(path, t=t, s=np.asarray(first["s"]), **extra, **profiles)
     files.append(path)
     damage = _damage(problem, solution, steps, k, block, cycles[-1] if cycles else None)
     path = out_dir / f"fretting_{k}.csv"
@@ -193,9 +269,15 @@ def _contact_files(out_dir: Path, problem, solution, summary: dict, k: int, plot
     np.savetxt(path, np.column_stack([damage[m] for m in names]), delimiter=",", comments="", fmt="%.10g",
                header=",".join(names))
     files.append(path)
-    entry["ruiz_max"] = float(damage["ruiz"].max()) if len(damage["ruiz"]) else 0.0
-    entry["ruiz_max_at"] = float(damage["s"][int(np.argmax(damage["ruiz"]))]) if len(damage["ruiz"]) else 0.0
+    at = int(np.argmax(damage["ruiz"])) if len(damage["ruiz"]) else 0
+    entry["ruiz_max"] = float(damage["ruiz"][at]) if len(damage["ruiz"]) else 0.0
+    entry["ruiz_max_at"] = float(damage["s"][at]) if len(damage["ruiz"]) else 0.0
+    if "axis" in damage and len(damage["ruiz"]):
+        entry["ruiz_max_axis"] = int(damage["axis"][at])
     entry["slip_amplitude_max"] = float(damage["slip_amplitude"].max()) if len(damage["s"]) else 0.0
+    if plots:
+        files.append(_write_profile_plot(out_dir / f"fretting_{k}.png", profiles, t, damage,
+                                         cycles[-1] if cycles else (0, len(t) - 1), f"contact {k}"))
     return files, entry
 
 

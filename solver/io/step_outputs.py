@@ -16,7 +16,7 @@ import numpy as np
 __all__ = ["steps_block", "write_step_files", "write_pvd"]
 
 #: per-step keys that are arrays for the files, not for summary.json
-_ARRAY_KEYS = ("field", "profile")
+_ARRAY_KEYS = ("field", "profile", "axis_profile")
 
 
 def steps_block(steps: list[dict]) -> list[dict]:
