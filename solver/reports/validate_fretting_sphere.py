@@ -98,8 +98,9 @@ def compare(summary: dict, hysteresis: np.ndarray, youngs_modulus: float, poisso
             "N": n_mean, "a": a_mean}
 
 
-def scene_data(amplitude: float, cycles: float, points_per_cycle: int) -> dict:
-    """The example's scene with its tangential amplitude and its cycle changed."""
+def scene_data(amplitude: float, cycles: float, points_per_cycle: int, grid_offset=None) -> dict:
+    """The example's scene with its tangential amplitude and its cycle changed (and its grids
+    shifted by ``grid_offset``, fractions of the coarsest cell, when given)."""
     data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
     data = copy.deepcopy(data)
     for bc in data["boundary_conditions"]:
@@ -113,16 +114,19 @@ def scene_data(amplitude: float, cycles: float, points_per_cycle: int) -> dict:
         if p["name"] == "hold":
             p["points"] = [[0.0, 0.0], [1.0, 1.0], [p_end, 1.0]]
     data["output"] = {"vtk": False, "plots": False}
+    if grid_offset is not None:
+        data.setdefault("solver", {})["grid_offset"] = [float(v) for v in grid_offset]
     return data
 
 
-def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle: int = 20) -> dict:
-    """Run the example at a tangential amplitude; its comparison (with the run's timings)."""
+def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle: int = 20, grid_offset=None) -> dict:
+    """Run the example at a tangential amplitude (its grids shifted by ``grid_offset``); its
+    comparison (with the run's timings)."""
     from ..io.output import write_scene_results
     from ..io.scene import scene_from_dict
     from ..solving import solve
 
-    sc = scene_from_dict(scene_data(amplitude, cycles, points_per_cycle), label=str(EXAMPLE),
+    sc = scene_from_dict(scene_data(amplitude, cycles, points_per_cycle, grid_offset), label=str(EXAMPLE),
                          base_dir=EXAMPLE.parent)
     solution = solve(sc.problem)
     out.mkdir(parents=True, exist_ok=True)
