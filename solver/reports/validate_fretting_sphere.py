@@ -16,7 +16,10 @@ full contact (the model's forces over its share):
   includes the ball's and the block's deformation away from the contact, which the half-space
   formulas leave out); it is linear in Q, so it adds no area to a loop;
 - per cycle the energy from the loop and from the local friction work against
-  W = (9 mu^2 N^2 / (10 a G*)) [1 - (1 - x)^(5/3) - (5 x / 6) (1 + (1 - x)^(2/3))], x = Q*/(mu N);
+  W = (9 mu^2 N^2 / (10 a G*)) [1 - (1 - x)^(5/3) - (5 x / 6) (1 + (1 - x)^(2/3))], x = Q*/(mu N),
+  and the loop's energy against the closed form's loop through the same steps (its displacement at
+  each step's computed Q and turning points, integrated by the same trapezoids: at 20 steps per
+  cycle 1.6 % below W), which leaves the sampling of the loop out of the comparison;
 - over the amplitudes the slope of log W against log Q* (3 in the small-amplitude limit, where
   W = Q*^3 / (36 a G* mu N)).
 
@@ -35,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.fretting_outputs import turning_steps
+from ..io.fretting_outputs import loop_energy, turning_steps
 from ..reference.fretting_sphere import (branch_stick_ratio, effective_shear_modulus, energy_per_cycle,
                                          stick_ratio, tangential_displacement)
 
@@ -91,9 +94,12 @@ def compare(summary: dict, hysteresis: np.ndarray, youngs_modulus: float, poisso
         q_star = 0.5 * (hi - lo) / share
         w_ref = energy_per_cycle(q_star, n_mean, mu, a_mean, g_eff)
         w_loop, w_fric = cyc["energy_loop"] / share, cyc["energy_friction"] / share
+        i, j = (int(np.argmin(np.abs(t - v))) for v in cyc["t"])
+        w_sampled = loop_energy(q, np.array([closed(k) if k >= start else 0.0 for k in range(len(q))]), i, j)
         cycles.append({"t": cyc["t"], "Q_amplitude": q_star, "x": q_star / (mu * n_mean), "energy_loop": w_loop,
                        "energy_friction": w_fric, "energy_theory": w_ref, "loop_error": w_loop / w_ref - 1.0,
-                       "friction_error": w_fric / w_ref - 1.0})
+                       "friction_error": w_fric / w_ref - 1.0, "energy_theory_sampled": w_sampled,
+                       "loop_error_sampled": w_loop / w_sampled - 1.0})
     return {"steps": rows, "branches": branches, "cycles": cycles, "bulk_compliance": float(bulk),
             "N": n_mean, "a": a_mean}
 
@@ -157,7 +163,8 @@ def energy_slope(results: list[dict]) -> float:
 def markdown(results: list[dict], slope: float, slope_theory: float) -> str:
     """The docs' tables."""
     lines = ["| Q*/(mu N) | largest \\|c - c_MD\\| / a (loading / unloading / reloading) | branch compliance "
-             "error (largest) | W loop / W_MD - 1 | W friction / W_MD - 1 | solves |", "|---|---|---|---|---|---|"]
+             "error (largest) | W loop / W_MD - 1 | W loop / W_MD at the same steps - 1 | W friction / W_MD - 1 "
+             "| solves |", "|---|---|---|---|---|---|---|"]
     for r in results:
         by_branch = {}
         for s in r["steps"]:
@@ -166,7 +173,8 @@ def markdown(results: list[dict], slope: float, slope_theory: float) -> str:
         comp = max((abs(b["error"]) for b in r["branches"]), default=math.nan)
         cyc = r["cycles"][0] if r["cycles"] else None
         lines.append(f"| {cyc['x'] if cyc else math.nan:.3f} | {errs} | {comp:.1%} | "
-                     f"{cyc['loop_error'] if cyc else math.nan:+.1%} | {cyc['friction_error'] if cyc else math.nan:+.1%} "
+                     f"{cyc['loop_error'] if cyc else math.nan:+.1%} | "
+                     f"{cyc['loop_error_sampled'] if cyc else math.nan:+.1%} | {cyc['friction_error'] if cyc else math.nan:+.1%} "
                      f"| {r['solves']} |")
     lines.append("")
     lines.append(f"Slope of log W (loop) against log Q* over these amplitudes: {slope:.3f} "
@@ -192,7 +200,8 @@ def main(argv: list[str] | None = None) -> int:
         for b in r["branches"]:
             print(f"  branch t {b['t']}: compliance error {b['error']:+.2%}")
         for c in r["cycles"]:
-            print(f"  cycle t {c['t']}: x {c['x']:.3f}  W loop {c['energy_loop']:.4g} J ({c['loop_error']:+.2%}), "
+            print(f"  cycle t {c['t']}: x {c['x']:.3f}  W loop {c['energy_loop']:.4g} J ({c['loop_error']:+.2%}; "
+                  f"{c['loop_error_sampled']:+.2%} against the closed form's loop at the same steps), "
                   f"friction {c['energy_friction']:.4g} J ({c['friction_error']:+.2%}), MD {c['energy_theory']:.4g} J")
     slope = energy_slope(results)
     theory = [(c["Q_amplitude"], c["energy_theory"]) for r in results for c in r["cycles"][:1]]
