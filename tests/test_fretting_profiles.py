@@ -82,3 +82,45 @@ def test_a_half_model_has_one_side_of_its_second_axis():
     assert not np.any(out["inside"][second & (out["s"] < 0.0)])
     assert np.all(out["inside"][second & (out["s"] > 0.0) & (out["s"] < 0.7 * REACH)])
     assert np.allclose(out["pressure"][out["inside"]], 1.0)
+
+
+def test_damage_along_the_axes_of_a_slip_to_and_fro():
+    """Fretting damage between solids from given profiles: a tangential jump moving to and fro
+    along a line at an angle to the axes with amplitude A has slip amplitude A; under a uniform
+    stress sigma the surface stress along the loop's direction t is t . sigma t (here a uniaxial
+    stress S along x and t at angle theta: S cos^2 theta); Ruiz's parameter is its positive part
+    times the largest |q| times the slip amplitude."""
+    import dataclasses
+
+    from ibfem.solver.io.fretting_outputs import _damage
+
+    theta, amplitude, stress = 0.3, 2.0e-5, 4.0e8
+
+    @dataclasses.dataclass
+    class Uniform:
+        u: float = 0.0
+
+        def stress(self, points, body, recovered=True):
+            return np.tile([stress, 0.0, 0.0, 0.0, 0.0, 0.0], (len(points), 1))
+
+    frame = _frame(theta)
+    n = 5
+    s = np.linspace(-0.02, 0.02, n)
+    steps = []
+    for k, phase in enumerate(np.sin(0.5 * np.pi * np.arange(5))):  # 0, 1, 0, -1, 0
+        jump = phase * amplitude * np.array([np.cos(0.7), np.sin(0.7)])  # along a line at 0.7 rad to axis 0
+        prof = {"s": s, "axis": np.zeros(n, dtype=int), "inside": np.array([False, True, True, True, True]),
+                "points": np.column_stack([s, np.zeros(n), np.zeros(n)]), "normal": np.tile([0.0, 0.0, 1.0], (n, 1)),
+                "tangential_jump": np.full(n, jump[0]), "tangential_jump_across": np.full(n, jump[1]),
+                "shear": np.full(n, 3.0e7 * phase), "shear_across": np.full(n, 4.0e7 * phase)}
+        steps.append({"contacts": [{"axis_profile": prof}], "field": float(k)})
+    block = {"axes": frame.axes.tolist(), "bodies": ["ball", "block"]}
+    out = _damage(None, Uniform(), steps, 0, block, None)
+    inside = np.array([False, True, True, True, True])
+    assert np.allclose(out["slip_amplitude"][inside], amplitude, rtol=1e-12)
+    assert np.all(out["slip_amplitude"][~inside] == 0.0)
+    assert np.allclose(out["max_shear"], 5.0e7, rtol=1e-12)
+    sigma_t = stress * np.cos(theta) ** 2
+    assert np.allclose(out["max_surface_stress"][inside], sigma_t, rtol=1e-12)
+    assert np.allclose(out["ruiz"][inside], sigma_t * 5.0e7 * amplitude, rtol=1e-12)
+    assert np.array_equal(out["axis"], np.zeros(n, dtype=int))
