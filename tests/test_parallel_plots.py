@@ -44,13 +44,14 @@ def test_each_group_of_pictures_is_rendered_in_a_process_of_its_own(tmp_path, mo
     assert files == [tmp_path / "fields.txt", tmp_path / "profiles.txt"] and reason is None and seconds >= 0.0
     writers = {int(f.read_text()) for f in files}
     assert len(writers) == 2 and os.getpid() not in writers
-    files, _, _ = _job(tmp_path, idle=1).result()  # one idle core: one child renders both groups
-    assert len(files) == 2 and len({int(f.read_text()) for f in files} - {os.getpid()}) == 1
-    for job in (_job(tmp_path, parallel=False), _job(tmp_path, idle=0)):  # asked not to, or no idle core
-        assert not job.parallel
-        files, _, _ = job.result()
-        assert sorted(f.name for f in files) == ["fields.txt", "profiles.txt"]
-        assert {int(f.read_text()) for f in files} == {os.getpid()}
+    for idle in (1, 0):  # one idle core or none: one child renders both groups beside the run
+        files, _, _ = _job(tmp_path, idle=idle).result()
+        assert len(files) == 2 and len({int(f.read_text()) for f in files} - {os.getpid()}) == 1
+    job = _job(tmp_path, parallel=False)  # asked not to
+    assert not job.parallel
+    files, _, _ = job.result()
+    assert sorted(f.name for f in files) == ["fields.txt", "profiles.txt"]
+    assert {int(f.read_text()) for f in files} == {os.getpid()}
 
 
 def test_a_missing_matplotlib_is_the_reason_given(tmp_path, monkeypatch):

@@ -3,23 +3,23 @@
 Rendering (matplotlib) and the rest of the run need nothing from each other once the solution,
 its recovered stresses and the bodies' output meshes exist, so other processes render the
 pictures while the run solves the error estimate's coarser grid and clips and writes the
-bodies: with two idle cores one process renders the fields over the bodies and another the
-contact and line profiles, with one idle core one process all of them, and the output takes
-about the longest of the processes instead of their sum.
+bodies, and the output takes about the longest of the processes instead of their sum.
 
 Two ways of starting them. A :class:`PictureWorker` started early in the run (``ibfem run``
 starts it as soon as the scene is read, whatever the machine's load) imports matplotlib and the
-plotting modules while the run imports the solver and solves, then renders the job it is sent
-(the problem, the solution and the summary, pickled: a few megabytes in 2D), forking once more
-for the second group when two cores are idle. Where the problem does not pickle (a 3D part whose
-geometry holds local functions) or no worker was started, children are forked when the pictures
-start and inherit the solution as it is (no copy), importing matplotlib themselves; without an
-idle core (the load average at or above the cores) such a child would only share the same cores
-and add its own import after the solve, so the pictures are then rendered here after the other
-files, as they are where a process cannot be forked (a platform without ``fork``, a daemonic
-worker process of a pool). A process that fails for any reason other than a missing matplotlib
-has its pictures rendered again here, so that its error is raised where it happens, with its own
-traceback."""
+plotting modules and draws a throw-away figure while the run imports the solver and solves,
+then renders the job it is sent (the problem, the solution and the summary, pickled: a few
+megabytes in 2D) with a helper forked from it: the two take the pictures one at a time (2D:
+``fields.png``, each contact's close-up, the profiles), the worker at once, the helper when the
+run's own writing is done (its core is then free) or at once when the machine has two idle
+cores. Where the problem does not pickle (a 3D part whose geometry holds local functions) or no
+worker was started, children are forked when the pictures start and inherit the solution as it
+is (no copy), importing matplotlib themselves: one whatever the load (it renders beside the
+error estimate and the VTK files), one per group of pictures (the fields, the profiles) with two
+idle cores. Where a process cannot be forked (a platform without ``fork``, a daemonic worker
+process of a pool, another thread alive) the pictures are rendered here after the other files.
+A process that fails for any reason other than a missing matplotlib has its pictures rendered
+again here, so that its error is raised where it happens, with its own traceback."""
 
 from __future__ import annotations
 
@@ -289,7 +289,9 @@ class PlotJob:
                 return
         if worker is not None:
             worker.stop()
-        children = min(len(GROUPS), idle_cores()) if context is not None else 0
+        # one child whatever the load (it renders beside the error estimate and the VTK files,
+        # the run's processes sharing the machine with the others), two with two idle cores
+        children = max(1, min(len(GROUPS), idle_cores())) if context is not None else 0
         for groups in _shares(GROUPS, children):
             reader, writer = context.Pipe(duplex=False)
             process = context.Process(target=_child, args=(writer, *self.args, groups), daemon=True)
