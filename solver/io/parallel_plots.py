@@ -7,7 +7,7 @@ bodies, and the output takes about the longest of the processes instead of their
 
 Two ways of starting them. A :class:`PictureWorker` started early in the run (``ibfem run``
 starts it as soon as the scene is read, whatever the machine's load) imports matplotlib and the
-plotting modules and draws a throw-away figure while the run imports the solver and solves,
+plotting modules while the run imports the solver and solves,
 then renders the job it is sent (the problem, the solution and the summary, pickled: a few
 megabytes in 2D) with a helper forked from it: the two take the pictures one at a time (2D:
 ``fields.png``, each contact's close-up, the profiles), the worker at once, the helper when the
@@ -91,20 +91,17 @@ def _shares(groups: tuple[str, ...], processes: int) -> list[tuple[str, ...]]:
     return [groups] if processes == 1 else [(group,) for group in groups] if processes else []
 
 
-def _warm_up(conn) -> float:
-    """Import what rendering and a job's unpickling need and, unless the job is already there
-    (a short run on a busy machine: the first picture pays for it then), draw a throw-away
-    figure; the seconds it took."""
+def _warm_up() -> float:
+    """Import what rendering and a job's unpickling need (matplotlib's figure and axes modules
+    included: a tenth of a second that the first picture would otherwise pay); the seconds it
+    took. A throw-away figure drawn here as well saved the first picture less than it cost."""
     t0 = time.perf_counter()
     try:
         from matplotlib.backends import backend_agg  # noqa: F401 - imported here, while the run solves
         from matplotlib import figure  # noqa: F401
 
         import ibfem.solver.solution  # noqa: F401 - the classes a job's solution pickles
-        from . import plots
-
-        if not conn.poll():
-            plots.warm_up()
+        from . import plots  # noqa: F401
     except ImportError:  # reported with the job: a missing matplotlib is the reason given
         pass
     return time.perf_counter() - t0
@@ -158,7 +155,7 @@ def _serve(conn, go) -> None:
     """The worker: warm up, wait for one job (an empty message or a closed pipe: nothing to do), fork a
     helper for it and render its tasks with the helper (:func:`_claim`), report both processes'
     outcomes (the worker's, then the helper's)."""
-    warm = _warm_up(conn)
+    warm = _warm_up()
     try:
         job = conn.recv_bytes()
     except EOFError:
@@ -188,9 +185,8 @@ def _serve(conn, go) -> None:
 
 
 class PictureWorker:
-    """A process started early in a run that imports matplotlib and the plotting modules and
-    draws a throw-away figure (matplotlib's first figure loads fonts and caches) while the run
-    goes on, then renders the pictures it is sent (:class:`PlotJob`) with a helper forked from
+    """A process started early in a run that imports matplotlib and the plotting modules while
+    the run goes on, then renders the pictures it is sent (:class:`PlotJob`) with a helper forked from
     it: the worker starts at once, the helper when the run tells it that its own core is free
     (:meth:`free`), and each takes the next picture left. It is started whatever the machine's
     load: the import and the rendering cost the same CPU time in it as in the run's own process,
@@ -210,6 +206,13 @@ class PictureWorker:
         try:
             pickle.dumps(problem)
         except Exception:  # noqa: BLE001 - local functions in a geometry: children forked later instead
+            return None
+        return cls._started()
+
+    @classmethod
+    def _started(cls) -> PictureWorker | None:
+        context = _fork_context()
+        if context is None:
             return None
         conn, child_end = context.Pipe()
         go_reader, go = context.Pipe(duplex=False)

@@ -354,21 +354,3 @@ def write_plots(
         _contact_figures(figs, problem, summary)
     return figs.written
 
-
-def warm_up() -> None:
-    """Draw and encode a small throw-away figure with the artists the pictures use (text, ticks,
-    a colour bar, smooth shading, lines, a legend): matplotlib's first figure loads its fonts,
-    caches and PNG encoder, a cost then paid before the run's pictures instead of in them."""
-    import io
-
-    plt = AggFigures()
-    fig, axes = plt.subplots(1, 2, figsize=(3, 1.5))
-    tri = axes[0].tripcolor([0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [[0, 1, 2]], [0.0, 1.0, 2.0], shading="gouraud")
-    fig.colorbar(tri, ax=axes[0], label="x [MPa]")
-    axes[1].plot([0.0, 1.0], [1.0, 0.0], label="pressure")
-    axes[1].plot([], [], " ", label="a = 1 mm")
-    axes[1].legend(fontsize=8)
-    axes[1].set_title("warm-up", fontsize=10)
-    axes[1].set_xlabel("s [mm]")
-    fig.suptitle("warm-up")
-    fig.savefig(io.BytesIO(), dpi=110, pil_kwargs={"compress_level": 1})
