@@ -163,4 +163,26 @@ def test_a_worker_that_fails_or_dies_leaves_the_pictures_to_the_caller(tmp_path,
 
 
 def test_no_worker_for_a_problem_that_does_not_pickle(monkeypatch):
-    assert parallel_plots.PictureWorker.start(lambda: None) is None  # a local function: forked children later
+    assert parallel_plots.PictureWorker.start(threading.Lock()) is None  # forked children later
+
+
+def test_a_problem_with_local_functions_is_sent_to_the_worker_by_reference(tmp_path, monkeypatch):
+    # a part's geometry may hold closures: they do not pickle, but the worker, forked after the
+    # problem was made, holds the same objects; the job refers to them
+    if threading.active_count() > 1:
+        pytest.skip("a thread of another test is alive")
+    offset = 3.0
+    problem = {"mapping": lambda x: x + offset}
+
+    def write_plots(out_dir, problem, solution, summary, outputs, groups):
+        path = out_dir / f"{groups[0]}.txt"
+        path.write_text(f"{os.getpid()} {problem['mapping'](solution)}")
+        return [path]
+
+    monkeypatch.setattr(plots, "write_plots", write_plots)
+    worker = parallel_plots.PictureWorker.start(problem)
+    assert worker is not None
+    job = parallel_plots.PlotJob(tmp_path, problem, 2.0, {}, {}, worker=worker)
+    files, _, _ = job.result()
+    assert {f.read_text().split()[1] for f in files} == {"5.0"}
+    assert os.getpid() not in {int(f.read_text().split()[0]) for f in files}

@@ -23,9 +23,12 @@ again here, so that its error is raised where it happens, with its own traceback
 
 from __future__ import annotations
 
+import gc
+import io
 import multiprocessing
 import os
 import pickle
+import types
 import threading
 import time
 from pathlib import Path
@@ -107,6 +110,49 @@ def _warm_up() -> float:
     return time.perf_counter() - t0
 
 
+def _local_functions(problem) -> dict[int, Any]:
+    """The local functions (closures, lambdas) the problem holds, by id: they do not pickle, but
+    a worker forked after the problem was made holds the same objects at the same addresses, so
+    a job refers to them by id (:class:`_Pickler`) instead of copying them."""
+    seen, found, stack = set(), {}, [problem]
+    while stack:
+        obj = stack.pop()
+        if id(obj) in seen or isinstance(obj, (int, float, str, bytes, type)) or type(obj).__module__ == "numpy":
+            continue
+        seen.add(id(obj))
+        if isinstance(obj, types.FunctionType) and "<locals>" in obj.__qualname__:
+            found[id(obj)] = obj
+        else:
+            stack.extend(gc.get_referents(obj))
+    return found
+
+
+class _Pickler(pickle.Pickler):
+    """Pickles a job with the problem's local functions as references (:func:`_local_functions`)."""
+
+    def __init__(self, file, shared: dict[int, Any]):
+        super().__init__(file, protocol=pickle.HIGHEST_PROTOCOL)
+        self.shared = shared
+
+    def persistent_id(self, obj):
+        return id(obj) if id(obj) in self.shared and self.shared[id(obj)] is obj else None
+
+
+class _Unpickler(pickle.Unpickler):
+    def __init__(self, file, shared: dict[int, Any]):
+        super().__init__(file)
+        self.shared = shared
+
+    def persistent_load(self, pid):
+        return self.shared[pid]
+
+
+def _dumps(obj, shared: dict[int, Any]) -> bytes:
+    buffer = io.BytesIO()
+    _Pickler(buffer, shared).dump(obj)
+    return buffer.getvalue()
+
+
 def _claim(args: tuple, tasks: tuple[str, ...], counter) -> tuple:
     """Render the pictures of ``tasks`` one at a time, each taken from the shared ``counter``
     (the next task no process has taken yet) until none is left. What the process reports:
@@ -151,7 +197,7 @@ def _helper(args: tuple, tasks: tuple[str, ...], counter, go, writer) -> None:
         writer.close()
 
 
-def _serve(conn, go) -> None:
+def _serve(conn, go, shared: dict[int, Any]) -> None:
     """The worker: warm up, wait for one job (an empty message or a closed pipe: nothing to do), fork a
     helper for it and render its tasks with the helper (:func:`_claim`), report both processes'
     outcomes (the worker's, then the helper's)."""
@@ -162,7 +208,7 @@ def _serve(conn, go) -> None:
         return
     if not job:
         return
-    args, tasks = pickle.loads(job)
+    args, tasks = _Unpickler(io.BytesIO(job), shared).load()
     counter = multiprocessing.get_context("fork").Value("i", 0)
     reader, writer = multiprocessing.Pipe(duplex=False)
     pid = os.fork()
@@ -194,8 +240,8 @@ class PictureWorker:
     where it cannot be used: no ``fork``, or a problem that does not pickle (its pictures are
     then rendered by children forked when they start)."""
 
-    def __init__(self, process, conn, go):
-        self.process, self.conn, self.go, self.busy = process, conn, go, False
+    def __init__(self, process, conn, go, shared: dict[int, Any]):
+        self.process, self.conn, self.go, self.busy, self.shared = process, conn, go, False, shared
         self.sending: threading.Thread | None = None
 
     @classmethod
@@ -203,24 +249,18 @@ class PictureWorker:
         context = _fork_context()
         if context is None:
             return None
+        shared = _local_functions(problem)
         try:
-            pickle.dumps(problem)
-        except Exception:  # noqa: BLE001 - local functions in a geometry: children forked later instead
-            return None
-        return cls._started()
-
-    @classmethod
-    def _started(cls) -> PictureWorker | None:
-        context = _fork_context()
-        if context is None:
+            _dumps(problem, shared)
+        except Exception:  # noqa: BLE001 - something else that does not pickle: children forked later instead
             return None
         conn, child_end = context.Pipe()
         go_reader, go = context.Pipe(duplex=False)
-        process = context.Process(target=_serve, args=(child_end, go_reader), daemon=True)
+        process = context.Process(target=_serve, args=(child_end, go_reader, shared), daemon=True)
         process.start()
         child_end.close()
         go_reader.close()
-        return cls(process, conn, go)
+        return cls(process, conn, go, shared)
 
     def submit(self, args: tuple, tasks: tuple[str, ...]) -> bool:
         """Send a job; False when it cannot be sent (it does not pickle, the worker is gone or
@@ -228,7 +268,7 @@ class PictureWorker:
         if self.busy or not self.process.is_alive():
             return False
         try:
-            job = pickle.dumps((args, tasks), protocol=pickle.HIGHEST_PROTOCOL)
+            job = _dumps((args, tasks), self.shared)
         except Exception:  # noqa: BLE001 - something in the solution that does not pickle
             return False
         if not self.process.is_alive():

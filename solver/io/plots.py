@@ -316,7 +316,7 @@ def picture_tasks(problem: pb.Problem | None, summary: Mapping[str, Any]) -> tup
     """The pictures of a run in pieces that can be rendered apart (each a ``groups`` entry of
     :func:`write_plots`), the dearest first: in 2D ``fields:scene`` (fields.png), ``fields:<k>``
     (contact k's close-up) and ``profiles``; in 3D (or without a problem) :data:`GROUPS`."""
-    if problem is None or problem.dim == 3:
+    if getattr(problem, "dim", None) != 2:
         return GROUPS
     contacts = json_safe(summary).get("contacts", [])
     return ("fields:scene", *(f"fields:{k}" for k, c in enumerate(contacts) if _close_up(c)), "profiles")
