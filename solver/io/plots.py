@@ -161,9 +161,9 @@ def _draw_field(fig: Any, ax: Any, cax: Any, outputs, key: str, label: str, wind
 def _field_figure(plt, outputs, title: str, window) -> Any:
     """von Mises and displacement magnitude side by side over ``window`` (the whole scene when None)."""
     fig = plt.figure(figsize=(12, 5))
-    # fixed places (a third of the rendering time less than a computed layout or colour bars
-    # that take their room from the panels): room for the tick labels, the colour bars' labels
-    # and a title over each panel
+    # fixed places (no computed layout, no colour bar taking its room from its panel, which
+    # re-lays the figure out): room for the tick labels, the colour bars' labels and a title
+    # over each panel
     fig.suptitle(title)
     allpoints = np.concatenate([out.points for out in outputs])
     window = window or (allpoints[:, 0].min(), allpoints[:, 0].max(), allpoints[:, 1].min(), allpoints[:, 1].max())
