@@ -2,7 +2,7 @@
 
     python benchmarks/check_table.py examples/solid/sphere_on_flat.toml [more scenes] [--max-memory GB]
 
-For each scene the estimate (solver.model.estimate.estimate_size, the numbers ``--check``
+For each scene the estimate (solver.io.run_size.run_size, the numbers ``--check``
 prints) is made in a process of its own (this one imports nothing of ibfem: a run's process,
 forked from it, would count its pages in the run's peak memory); the run is ``ibfem run SCENE --quiet`` in a child process, its dofs read
 from summary.json (the bodies' ``dofs``), its peak memory the child's largest resident set
@@ -35,8 +35,8 @@ _HEADER = ("| example | dofs: estimated | used | used / est. | peak memory: esti
 #: pages), is the run's own
 _ESTIMATE = ("import json, sys\n"
              "from ibfem.solver.io.scene import SceneError, load_scene\n"
-             "from ibfem.solver.model.estimate import estimate_size\n"
-             "try:\n    size = estimate_size(load_scene(sys.argv[1]).problem)\n"
+             "from ibfem.solver.io.run_size import run_size\n"
+             "try:\n    size, _ = run_size(load_scene(sys.argv[1]).problem)\n"
              "except SceneError as err:\n    print(json.dumps({'refused': str(err).split(': ', 1)[-1]}))\n"
              "else:\n    print(json.dumps({'dofs': size.dofs, 'memory': size.memory}))")
 

@@ -26,7 +26,9 @@ def register(sub: "argparse._SubParsersAction") -> None:
     p.add_argument("scene", help="scene file (.toml, or .json with the same structure)")
     p.add_argument("--out", default=None, help="output directory (default: out/<scene file name>)")
     p.add_argument("--quiet", action="store_true", help="no progress display")
-    p.add_argument("--check", action="store_true", help="validate the scene only, solve nothing")
+    p.add_argument("--check", action="store_true",
+                   help="validate the scene and print the size of its grids; solves nothing but a 3D line "
+                        "contact's coarse pass (its region sets the run's grid)")
     p.add_argument("--traceback", action="store_true", help="show tracebacks of solver errors")
     p.add_argument("--no-estimate", action="store_true",
                    help="skip the error estimate (a second solve on a grid twice as coarse) of the contacts' results")
@@ -77,10 +79,11 @@ def _run(args: argparse.Namespace) -> int:
     for note in scene.warnings:
         _err(f"warning: {note}")
     if args.check:
-        from ibfem.solver.model.estimate import estimate_size
+        from ibfem.solver.io.run_size import run_size
 
-        print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies; "
-              f"{estimate_size(scene.problem)})")
+        size, note = run_size(scene.problem)
+        print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies; {size})"
+              + ("" if note is None else f"; {note}"))
         return 0
     worker = None
     if scene.output.plots:  # imports matplotlib while this process imports the solver and solves

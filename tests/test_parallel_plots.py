@@ -6,6 +6,7 @@ is replaced here by a stand-in that writes one file per group naming the process
 
 import os
 import threading
+import time
 
 import pytest
 
@@ -43,13 +44,14 @@ def test_each_group_of_pictures_is_rendered_in_a_process_of_its_own(tmp_path, mo
     assert files == [tmp_path / "fields.txt", tmp_path / "profiles.txt"] and reason is None and seconds >= 0.0
     writers = {int(f.read_text()) for f in files}
     assert len(writers) == 2 and os.getpid() not in writers
-    files, _, _ = _job(tmp_path, idle=1).result()  # one idle core: one child renders both groups
-    assert len(files) == 2 and len({int(f.read_text()) for f in files} - {os.getpid()}) == 1
-    for job in (_job(tmp_path, parallel=False), _job(tmp_path, idle=0)):  # asked not to, or no idle core
-        assert not job.parallel
-        files, _, _ = job.result()
-        assert sorted(f.name for f in files) == ["fields.txt", "profiles.txt"]
-        assert {int(f.read_text()) for f in files} == {os.getpid()}
+    for idle in (1, 0):  # one idle core or none: one child renders both groups beside the run
+        files, _, _ = _job(tmp_path, idle=idle).result()
+        assert len(files) == 2 and len({int(f.read_text()) for f in files} - {os.getpid()}) == 1
+    job = _job(tmp_path, parallel=False)  # asked not to
+    assert not job.parallel
+    files, _, _ = job.result()
+    assert sorted(f.name for f in files) == ["fields.txt", "profiles.txt"]
+    assert {int(f.read_text()) for f in files} == {os.getpid()}
 
 
 def test_a_missing_matplotlib_is_the_reason_given(tmp_path, monkeypatch):
@@ -110,19 +112,35 @@ def _worker_job(tmp_path, idle=2):
         parallel_plots.idle_cores = cores
 
 
-def test_a_worker_started_early_renders_the_groups_in_two_processes(tmp_path, monkeypatch):
-    _stand_in(monkeypatch, lambda parent: None)  # before the start: the worker is forked with it
+def _slow(parent):
+    if os.getpid() != parent:  # a picture takes a while: the other process takes the next one
+        time.sleep(0.5)
+
+
+def test_a_worker_started_early_and_its_helper_take_a_picture_each(tmp_path, monkeypatch):
+    _stand_in(monkeypatch, _slow)  # before the start: the worker is forked with it
     if threading.active_count() > 1:
         pytest.skip("a thread of another test is alive; the fallback is tested above")
-    job = _worker_job(tmp_path)
-    assert job.parallel and job.worker is not None and job.processes == 2
+    job = _worker_job(tmp_path)  # two idle cores: the helper starts at once
+    assert job.parallel and job.worker is not None
     files, reason, seconds = job.result()
     assert files == [tmp_path / "fields.txt", tmp_path / "profiles.txt"] and reason is None and seconds >= 0.0
     writers = {int(f.read_text()) for f in files}
-    assert len(writers) == 2 and os.getpid() not in writers and job.warm_up_s > 0.0
-    for idle in (1, 0):  # one idle core or none: the worker renders both groups
-        files, _, _ = _worker_job(tmp_path, idle=idle).result()
-        assert len(files) == 2 and len({int(f.read_text()) for f in files} - {os.getpid()}) == 1
+    assert len(writers) == 2 and os.getpid() not in writers and job.warm_up_s > 0.0 and job.processes == 2
+
+
+def test_the_helper_waits_until_the_run_has_written_its_own_files(tmp_path, monkeypatch):
+    _stand_in(monkeypatch, lambda parent: None)
+    if threading.active_count() > 1:
+        pytest.skip("a thread of another test is alive")
+    job = _worker_job(tmp_path, idle=0)  # no idle core: the helper waits for result()
+    wanted = [tmp_path / "fields.txt", tmp_path / "profiles.txt"]
+    deadline = time.monotonic() + 60.0
+    while not all(f.exists() for f in wanted) and time.monotonic() < deadline:
+        time.sleep(0.05)  # the run's own writing, meanwhile
+    files, _, _ = job.result()
+    assert files == wanted and len({int(f.read_text()) for f in files}) == 1 and job.processes == 1
+    assert os.getpid() not in {int(f.read_text()) for f in files}
 
 
 def test_a_worker_that_fails_or_dies_leaves_the_pictures_to_the_caller(tmp_path, monkeypatch):
@@ -145,4 +163,26 @@ def test_a_worker_that_fails_or_dies_leaves_the_pictures_to_the_caller(tmp_path,
 
 
 def test_no_worker_for_a_problem_that_does_not_pickle(monkeypatch):
-    assert parallel_plots.PictureWorker.start(lambda: None) is None  # a local function: forked children later
+    assert parallel_plots.PictureWorker.start(threading.Lock()) is None  # forked children later
+
+
+def test_a_problem_with_local_functions_is_sent_to_the_worker_by_reference(tmp_path, monkeypatch):
+    # a part's geometry may hold closures: they do not pickle, but the worker, forked after the
+    # problem was made, holds the same objects; the job refers to them
+    if threading.active_count() > 1:
+        pytest.skip("a thread of another test is alive")
+    offset = 3.0
+    problem = {"mapping": lambda x: x + offset}
+
+    def write_plots(out_dir, problem, solution, summary, outputs, groups):
+        path = out_dir / f"{groups[0]}.txt"
+        path.write_text(f"{os.getpid()} {problem['mapping'](solution)}")
+        return [path]
+
+    monkeypatch.setattr(plots, "write_plots", write_plots)
+    worker = parallel_plots.PictureWorker.start(problem)
+    assert worker is not None
+    job = parallel_plots.PlotJob(tmp_path, problem, 2.0, {}, {}, worker=worker)
+    files, _, _ = job.result()
+    assert {f.read_text().split()[1] for f in files} == {"5.0"}
+    assert os.getpid() not in {int(f.read_text().split()[0]) for f in files}

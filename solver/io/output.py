@@ -199,8 +199,8 @@ def _write_files(out_dir: Path, problem: pb.Problem, solution: pb.Solution, summ
                                   plots=pictures is not None, missing=missing)
     if pictures is not None:  # a missing optional library costs its files, not the summary
         report("results: plots")
-        output_times["plots_processes"] = pictures.job.processes  # 0: rendered in this process
         written, reason, output_times["plots_s"] = pictures.job.result()
+        output_times["plots_processes"] = pictures.job.processes  # 0: rendered in this process
         if pictures.job.worker is not None:  # its imports, made while the run solved
             output_times["plots_warm_up_s"] = pictures.job.warm_up_s
         files += written

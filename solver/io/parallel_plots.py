@@ -3,29 +3,32 @@
 Rendering (matplotlib) and the rest of the run need nothing from each other once the solution,
 its recovered stresses and the bodies' output meshes exist, so other processes render the
 pictures while the run solves the error estimate's coarser grid and clips and writes the
-bodies: with two idle cores one process renders the fields over the bodies and another the
-contact and line profiles, with one idle core one process all of them, and the output takes
-about the longest of the processes instead of their sum.
+bodies, and the output takes about the longest of the processes instead of their sum.
 
 Two ways of starting them. A :class:`PictureWorker` started early in the run (``ibfem run``
 starts it as soon as the scene is read, whatever the machine's load) imports matplotlib and the
-plotting modules while the run imports the solver and solves, then renders the job it is sent
-(the problem, the solution and the summary, pickled: a few megabytes in 2D), forking once more
-for the second group when two cores are idle. Where the problem does not pickle (a 3D part whose
-geometry holds local functions) or no worker was started, children are forked when the pictures
-start and inherit the solution as it is (no copy), importing matplotlib themselves; without an
-idle core (the load average at or above the cores) such a child would only share the same cores
-and add its own import after the solve, so the pictures are then rendered here after the other
-files, as they are where a process cannot be forked (a platform without ``fork``, a daemonic
-worker process of a pool). A process that fails for any reason other than a missing matplotlib
-has its pictures rendered again here, so that its error is raised where it happens, with its own
-traceback."""
+plotting modules while the run imports the solver and solves,
+then renders the job it is sent (the problem, the solution and the summary, pickled: a few
+megabytes in 2D) with a helper forked from it: the two take the pictures one at a time (2D:
+``fields.png``, each contact's close-up, the profiles), the worker at once, the helper when the
+run's own writing is done (its core is then free) or at once when the machine has two idle
+cores. Where the problem does not pickle (a 3D part whose geometry holds local functions) or no
+worker was started, children are forked when the pictures start and inherit the solution as it
+is (no copy), importing matplotlib themselves: one whatever the load (it renders beside the
+error estimate and the VTK files), one per group of pictures (the fields, the profiles) with two
+idle cores. Where a process cannot be forked (a platform without ``fork``, a daemonic worker
+process of a pool, another thread alive) the pictures are rendered here after the other files.
+A process that fails for any reason other than a missing matplotlib has its pictures rendered
+again here, so that its error is raised where it happens, with its own traceback."""
 
 from __future__ import annotations
 
+import gc
+import io
 import multiprocessing
 import os
 import pickle
+import types
 import threading
 import time
 from pathlib import Path
@@ -92,10 +95,13 @@ def _shares(groups: tuple[str, ...], processes: int) -> list[tuple[str, ...]]:
 
 
 def _warm_up() -> float:
-    """Import what rendering and a job's unpickling need; the seconds it took."""
+    """Import what rendering and a job's unpickling need (matplotlib's figure and axes modules
+    included: a tenth of a second that the first picture would otherwise pay); the seconds it
+    took. A throw-away figure drawn here as well saved the first picture less than it cost."""
     t0 = time.perf_counter()
     try:
         from matplotlib.backends import backend_agg  # noqa: F401 - imported here, while the run solves
+        from matplotlib import figure  # noqa: F401
 
         import ibfem.solver.solution  # noqa: F401 - the classes a job's solution pickles
         from . import plots  # noqa: F401
@@ -104,116 +110,231 @@ def _warm_up() -> float:
     return time.perf_counter() - t0
 
 
-def _serve(conn) -> None:
-    """The worker: warm up, wait for one job (None or a closed pipe: nothing to do), render its
-    first share here and the others in forked children, report every share in order."""
+def _local_functions(problem) -> dict[int, Any]:
+    """The local functions (closures, lambdas) the problem holds, by id: they do not pickle, but
+    a worker forked after the problem was made holds the same objects at the same addresses, so
+    a job refers to them by id (:class:`_Pickler`) instead of copying them."""
+    seen, found, stack = set(), {}, [problem]
+    while stack:
+        obj = stack.pop()
+        if id(obj) in seen or isinstance(obj, (int, float, str, bytes, type)) or type(obj).__module__ == "numpy":
+            continue
+        seen.add(id(obj))
+        if isinstance(obj, types.FunctionType) and "<locals>" in obj.__qualname__:
+            found[id(obj)] = obj
+        else:
+            stack.extend(gc.get_referents(obj))
+    return found
+
+
+class _Pickler(pickle.Pickler):
+    """Pickles a job with the problem's local functions as references (:func:`_local_functions`)."""
+
+    def __init__(self, file, shared: dict[int, Any]):
+        super().__init__(file, protocol=pickle.HIGHEST_PROTOCOL)
+        self.shared = shared
+
+    def persistent_id(self, obj):
+        return id(obj) if id(obj) in self.shared and self.shared[id(obj)] is obj else None
+
+
+class _Unpickler(pickle.Unpickler):
+    def __init__(self, file, shared: dict[int, Any]):
+        super().__init__(file)
+        self.shared = shared
+
+    def persistent_load(self, pid):
+        return self.shared[pid]
+
+
+def _dumps(obj, shared: dict[int, Any]) -> bytes:
+    buffer = io.BytesIO()
+    _Pickler(buffer, shared).dump(obj)
+    return buffer.getvalue()
+
+
+def _claim(args: tuple, tasks: tuple[str, ...], counter) -> tuple:
+    """Render the pictures of ``tasks`` one at a time, each taken from the shared ``counter``
+    (the next task no process has taken yet) until none is left. What the process reports:
+    (status, the tasks rendered, file names, the reason pictures are missing or the error,
+    seconds)."""
+    t0 = time.perf_counter()
+    done: list[str] = []
+    files: list[str] = []
+    reason = None
+    while True:
+        with counter.get_lock():
+            k = counter.value
+            counter.value = k + 1
+        if k >= len(tasks):
+            return "ok", done, files, reason, time.perf_counter() - t0
+        try:
+            written, missing = _render(*args, (tasks[k],))
+        except BaseException as err:  # noqa: BLE001 - reported to the run, which renders again
+            return "failed", done, files, repr(err), time.perf_counter() - t0
+        done.append(tasks[k])
+        files += [str(p) for p in written]
+        reason = reason or missing
+
+
+def _helper(args: tuple, tasks: tuple[str, ...], counter, go, writer) -> None:
+    """The worker's second process: it takes tasks once the run says its own core is free (a
+    word on ``go``: its writing is done, or the machine has a second idle core), or leaves when
+    the worker has taken them all."""
+    outcome = ("ok", [], [], None, 0.0)
+    try:
+        while not go.poll(0.01):
+            if counter.value >= len(tasks):
+                break
+        else:
+            try:
+                go.recv()
+            except EOFError:  # the run is gone without a word: nothing to render for
+                return
+            outcome = _claim(args, tasks, counter)
+    finally:
+        writer.send(outcome)
+        writer.close()
+
+
+def _serve(conn, go, shared: dict[int, Any]) -> None:
+    """The worker: warm up, wait for one job (an empty message or a closed pipe: nothing to do), fork a
+    helper for it and render its tasks with the helper (:func:`_claim`), report both processes'
+    outcomes (the worker's, then the helper's)."""
     warm = _warm_up()
     try:
-        job = conn.recv()
+        job = conn.recv_bytes()
     except EOFError:
         return
-    if job is None:
+    if not job:
         return
-    args, shares = pickle.loads(job)
-    children = []
-    for groups in shares[1:]:
-        reader, writer = multiprocessing.Pipe(duplex=False)
-        pid = os.fork()
-        if pid == 0:  # the second share's process: report and leave without the worker's cleanup
-            try:
-                reader.close()
-                _child(writer, *args, groups)
-            finally:
-                os._exit(0)
-        writer.close()
-        children.append((pid, reader))
-    conn.send((_outcome(args, shares[0]), warm))
-    for pid, reader in children:
+    args, tasks = _Unpickler(io.BytesIO(job), shared).load()
+    counter = multiprocessing.get_context("fork").Value("i", 0)
+    reader, writer = multiprocessing.Pipe(duplex=False)
+    pid = os.fork()
+    if pid == 0:  # the helper: report and leave without the worker's cleanup
         try:
-            conn.send((reader.recv(), warm))
-        except EOFError:  # the child died without a word
-            conn.send((("died", [], None, 0.0), warm))
-        finally:
             reader.close()
-            os.waitpid(pid, 0)
+            _helper(args, tasks, counter, go, writer)
+        finally:
+            os._exit(0)
+    writer.close()
+    conn.send((_claim(args, tasks, counter), warm))
+    try:
+        conn.send((reader.recv(), warm))
+    except EOFError:  # the helper died without a word
+        conn.send((("died", [], [], None, 0.0), warm))
+    finally:
+        reader.close()
+        os.waitpid(pid, 0)
     conn.close()
 
 
 class PictureWorker:
     """A process started early in a run that imports matplotlib and the plotting modules while
-    the run goes on, then renders the pictures it is sent (:class:`PlotJob`). It is started
-    whatever the machine's load: the import and the rendering cost the same CPU time in it as in
-    the run's own process, and on a busy machine it still imports while the run solves.
-    :meth:`start` returns None where it cannot be used: no ``fork``, or a problem that does not
-    pickle (its pictures are then rendered by children forked when they start)."""
+    the run goes on, then renders the pictures it is sent (:class:`PlotJob`) with a helper forked from
+    it: the worker starts at once, the helper when the run tells it that its own core is free
+    (:meth:`free`), and each takes the next picture left. It is started whatever the machine's
+    load: the import and the rendering cost the same CPU time in it as in the run's own process,
+    and on a busy machine it still imports while the run solves. :meth:`start` returns None
+    where it cannot be used: no ``fork``, or a problem that does not pickle (its pictures are
+    then rendered by children forked when they start)."""
 
-    def __init__(self, process, conn):
-        self.process, self.conn, self.busy = process, conn, False
+    def __init__(self, process, conn, go, shared: dict[int, Any]):
+        self.process, self.conn, self.go, self.busy, self.shared = process, conn, go, False, shared
+        self.sending: threading.Thread | None = None
 
     @classmethod
     def start(cls, problem: pb.Problem) -> PictureWorker | None:
         context = _fork_context()
         if context is None:
             return None
+        shared = _local_functions(problem)
         try:
-            pickle.dumps(problem)
-        except Exception:  # noqa: BLE001 - local functions in a geometry: children forked later instead
+            _dumps(problem, shared)
+        except Exception:  # noqa: BLE001 - something else that does not pickle: children forked later instead
             return None
         conn, child_end = context.Pipe()
-        process = context.Process(target=_serve, args=(child_end,), daemon=True)
+        go_reader, go = context.Pipe(duplex=False)
+        process = context.Process(target=_serve, args=(child_end, go_reader, shared), daemon=True)
         process.start()
         child_end.close()
-        return cls(process, conn)
+        go_reader.close()
+        return cls(process, conn, go, shared)
 
-    def submit(self, args: tuple, shares: list[tuple[str, ...]]) -> bool:
+    def submit(self, args: tuple, tasks: tuple[str, ...]) -> bool:
         """Send a job; False when it cannot be sent (it does not pickle, the worker is gone or
         already has one)."""
         if self.busy or not self.process.is_alive():
             return False
         try:
-            job = pickle.dumps((args, shares), protocol=pickle.HIGHEST_PROTOCOL)
+            job = _dumps((args, tasks), self.shared)
         except Exception:  # noqa: BLE001 - something in the solution that does not pickle
             return False
-        try:
-            self.conn.send(job)
-        except OSError:
+        if not self.process.is_alive():
             return False
+        # sent by a thread: a job larger than the pipe's buffer would block this process until
+        # the worker, still warming up on a short run, reads it
+        self.sending = threading.Thread(target=self._send, args=(job,), daemon=True)
+        self.sending.start()
         self.busy = True
         return True
+
+    def _send(self, job: bytes) -> None:
+        try:
+            self.conn.send_bytes(job)
+        except OSError:  # the worker is gone: result() finds its pipe closed
+            pass
+
+    def free(self) -> None:
+        """Tell the helper that a core is free for it (once; nothing when it is gone)."""
+        if not self.go.closed:
+            try:
+                self.go.send(True)
+            except OSError:
+                pass
+            self.go.close()
 
     def stop(self) -> None:
         """Let the worker go without a job (it leaves when the run ends in any case)."""
         if not self.busy:
             try:
-                self.conn.send(None)
+                self.conn.send_bytes(b"")
             except OSError:
                 pass
         self.conn.close()
+        self.go.close()
 
 
 class PlotJob:
-    """Start rendering the pictures, each group of them (solver.io.plots.GROUPS: the fields, the
-    profiles) in another process where possible: the ``worker`` started earlier in the run when
-    it takes the job, else forked children; :meth:`result` waits for them. ``summary`` and
-    ``outputs`` are the processes' as they are when the job starts."""
+    """Start rendering the pictures in other processes where possible: the ``worker`` started
+    earlier in the run when it takes the job (it and its helper take the pictures one at a
+    time, solver.io.plots.picture_tasks), else forked children, each a group of them
+    (solver.io.plots.GROUPS: the fields, the profiles); :meth:`result` waits for them.
+    ``summary`` and ``outputs`` are the processes' as they are when the job starts."""
 
     def __init__(self, out_dir: Path, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any],
                  outputs: Mapping[str, Any], parallel: bool = True, worker: PictureWorker | None = None):
-        from .plots import GROUPS
+        from .plots import GROUPS, picture_tasks
 
         self.args = (Path(out_dir), problem, solution, summary, dict(outputs))
         self.children: list[tuple[Any, Any, tuple[str, ...]]] = []
         self.worker: PictureWorker | None = None
         self.warm_up_s = 0.0
+        self.rendered_by = 0
         context = _fork_context() if parallel else None
         if worker is not None and parallel:
-            shares = _shares(GROUPS, 2 if idle_cores() >= 2 else 1)
-            if worker.submit(self.args, shares):
-                self.worker, self.shares = worker, shares
+            self.tasks = picture_tasks(problem, summary)
+            if worker.submit(self.args, self.tasks):
+                self.worker = worker
+                if idle_cores() >= 2:  # a second idle core: the helper starts at once
+                    worker.free()
                 return
         if worker is not None:
             worker.stop()
-        children = min(len(GROUPS), idle_cores()) if context is not None else 0
+        # one child whatever the load (it renders beside the error estimate and the VTK files,
+        # the run's processes sharing the machine with the others), two with two idle cores
+        children = max(1, min(len(GROUPS), idle_cores())) if context is not None else 0
         for groups in _shares(GROUPS, children):
             reader, writer = context.Pipe(duplex=False)
             process = context.Process(target=_child, args=(writer, *self.args, groups), daemon=True)
@@ -227,12 +348,16 @@ class PlotJob:
 
     @property
     def processes(self) -> int:
-        """The processes rendering the pictures (0: this one)."""
-        return len(self.shares) if self.worker is not None else len(self.children)
+        """The processes rendering the pictures (0: this one); with a worker, after
+        :meth:`result`: those that rendered at least one."""
+        return self.rendered_by if self.worker is not None else len(self.children)
 
     def result(self) -> tuple[list[Path], str | None, float]:
         """(files written, the reason when matplotlib is missing, the rendering's seconds: the
-        longest process's)."""
+        longest process's). Called when the run's own writing is done: its core is then free
+        for the worker's helper."""
+        if self.worker is not None:
+            return self._worker_result()
         if not self.parallel:
             t0 = time.perf_counter()
             files, missing = _render(*self.args, ("fields", "profiles"))
@@ -248,21 +373,40 @@ class PlotJob:
             seconds = max(seconds, took)
         return files, "; ".join(reasons) or None, seconds
 
-    def _outcomes(self):
-        """(groups, outcome) of every share, as the processes report them."""
-        if self.worker is None:
-            for process, reader, groups in self.children:
-                yield groups, self._wait(process, reader)
-            return
-        conn, alive = self.worker.conn, True
-        for groups in self.shares:
+    def _worker_result(self) -> tuple[list[Path], str | None, float]:
+        """The worker's and its helper's pictures; a task neither rendered (a failure, a process
+        that died) is rendered here, where its error is raised with its own traceback."""
+        self.worker.free()
+        if self.worker.sending is not None:
+            self.worker.sending.join()
+        files, reasons, seconds, done = [], [], 0.0, []
+        conn = self.worker.conn
+        for _ in range(2):
             try:
-                outcome, self.warm_up_s = conn.recv() if alive else (("died", [], None, 0.0), self.warm_up_s)
+                (status, rendered, written, missing, took), self.warm_up_s = conn.recv()
             except (EOFError, OSError):  # the worker died without a word (killed, out of memory)
-                alive, outcome = False, ("died", [], None, 0.0)
-            yield groups, outcome
+                break
+            files += [Path(p) for p in written]
+            done += rendered
+            self.rendered_by += bool(rendered)
+            if status == "ok" and missing and missing not in reasons:
+                reasons.append(missing)
+            seconds = max(seconds, took)
         conn.close()
         self.worker.process.join()
+        left = tuple(t for t in self.tasks if t not in done)
+        if left:
+            t0 = time.perf_counter()
+            written, missing = _render(*self.args, left)
+            files += written
+            reasons += [missing] if missing and missing not in reasons else []
+            seconds = max(seconds, time.perf_counter() - t0)
+        return sorted(files), "; ".join(reasons) or None, seconds
+
+    def _outcomes(self):
+        """(groups, outcome) of every forked child, as they report them."""
+        for process, reader, groups in self.children:
+            yield groups, self._wait(process, reader)
 
     @staticmethod
     def _wait(process, reader):

@@ -30,6 +30,11 @@ class AggFigures:
 
         self._figure, self._canvas = Figure, FigureCanvasAgg
 
+    def figure(self, figsize=None):
+        fig = self._figure(figsize=figsize)
+        self._canvas(fig)
+        return fig
+
     def subplots(self, nrows: int = 1, ncols: int = 1, figsize=None, constrained_layout: bool = False, **kwargs):
         fig = self._figure(figsize=figsize, layout="constrained" if constrained_layout else None)
         self._canvas(fig)
@@ -116,10 +121,12 @@ def _colour_range(outputs, values: list[np.ndarray], window) -> tuple[float, flo
     return vmin, vmax
 
 
-def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, window) -> None:
+def _draw_field(fig: Any, ax: Any, cax: Any, outputs, key: str, label: str, window) -> None:
     """The recovered field over the bodies as they are (cells clipped at the exact boundary),
     drawn on the deformed shape at true scale (touching bodies close over the contact), smoothly
     shaded between the points; lengths and stresses in the units that fit."""
+    from matplotlib.ticker import MaxNLocator
+
     values = [_point_values(out, key) for out in outputs]
     vmin, vmax = _colour_range(outputs, values, window)
     x0, x1, y0, y1 = window
@@ -140,40 +147,51 @@ def _draw_field(fig: Any, ax: Any, outputs, key: str, label: str, window) -> Non
     ax.set_xlim(x0 / lscale, x1 / lscale)
     ax.set_ylim(y0 / lscale, y1 / lscale)
     if image is not None:
-        fig.colorbar(image, ax=ax, shrink=0.8, label=f"{label} [{uname}]")
-    ax.set_aspect("equal")
+        bar = fig.colorbar(image, cax=cax, label=f"{label} [{uname}]")
+        bar.locator = MaxNLocator(nbins=6)
+    else:
+        cax.remove()
+    ax.set_aspect("equal", anchor="E")  # against its colour bar
     ax.locator_params(nbins=5)
-    ax.set_title(f"{label} (deformed, true scale)", fontsize=10)
+    ax.set_title(f"{label} (deformed, true scale)", fontsize=10, y=1.0, pad=6)
     ax.set_xlabel(f"x [{lname}]")
     ax.set_ylabel(f"y [{lname}]")
 
 
 def _field_figure(plt, outputs, title: str, window) -> Any:
     """von Mises and displacement magnitude side by side over ``window`` (the whole scene when None)."""
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5))
-    # fixed margins (a quarter of the rendering time less than a computed layout): room for the
-    # tick labels, the colour bars' labels and a title over each panel
-    fig.subplots_adjust(left=0.06, right=0.97, bottom=0.1, top=0.87, wspace=0.3)
+    fig = plt.figure(figsize=(12, 5))
+    # fixed places (no computed layout, no colour bar taking its room from its panel, which
+    # re-lays the figure out): room for the tick labels, the colour bars' labels and a title
+    # over each panel
     fig.suptitle(title)
     allpoints = np.concatenate([out.points for out in outputs])
     window = window or (allpoints[:, 0].min(), allpoints[:, 0].max(), allpoints[:, 1].min(), allpoints[:, 1].max())
-    for ax, key, label in ((axes[0], "von_mises", "von Mises stress"),
-                           (axes[1], "displacement", "displacement magnitude")):
-        _draw_field(fig, ax, outputs, key, label, window)
+    for left, key, label in ((0.06, "von_mises", "von Mises stress"),
+                             (0.575, "displacement", "displacement magnitude")):
+        ax = fig.add_axes((left, 0.1, 0.32, 0.77))
+        cax = fig.add_axes((left + 0.335, 0.177, 0.012, 0.616))
+        _draw_field(fig, ax, cax, outputs, key, label, window)
     return fig
 
 
+def _close_up(c: Mapping[str, Any]) -> bool:
+    return c.get("point") is not None and None not in c["point"]
+
+
 def _field_figures(figs: _Figures, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any],
-                   outputs: Mapping[str, Any]) -> None:
+                   outputs: Mapping[str, Any], parts=None) -> None:
+    """``fields.png`` (part "scene") and each contact's close-up (part k); every part when None."""
     bodies = [outputs.get(b.name) or body_output(problem, solution, b) for b in problem.bodies]
     if not bodies:
         return
-    figs.save(_field_figure(figs.plt, bodies, problem.name, None), "fields.png")
+    if parts is None or "scene" in parts:
+        figs.save(_field_figure(figs.plt, bodies, problem.name, None), "fields.png")
     # a close-up of each contact: 4 half-widths (at least 8 of the finest cells) around it
     finest = min(float(summary["bodies"].get(b.name, {}).get("min_element_size") or b.element_size)
                  for b in problem.bodies)
     for k, c in enumerate(summary.get("contacts", [])):
-        if c.get("point") is None or None in c["point"]:
+        if not _close_up(c) or (parts is not None and k not in parts):
             continue
         half = max(4.0 * float(c.get("half_width") or 0.0), 8.0 * finest)
         px, py = c["point"]
@@ -294,13 +312,31 @@ def _contact_figures(figs: _Figures, problem: pb.Problem, summary: Mapping[str, 
 GROUPS = ("fields", "profiles")
 
 
+def picture_tasks(problem: pb.Problem | None, summary: Mapping[str, Any]) -> tuple[str, ...]:
+    """The pictures of a run in pieces that can be rendered apart (each a ``groups`` entry of
+    :func:`write_plots`), the dearest first: in 2D ``fields:scene`` (fields.png), ``fields:<k>``
+    (contact k's close-up) and ``profiles``; in 3D (or without a problem) :data:`GROUPS`."""
+    if getattr(problem, "dim", None) != 2:
+        return GROUPS
+    contacts = json_safe(summary).get("contacts", [])
+    return ("fields:scene", *(f"fields:{k}" for k, c in enumerate(contacts) if _close_up(c)), "profiles")
+
+
+def _field_parts(groups) -> set | None:
+    """The parts of the 2D field pictures ``groups`` asks for (None: all of them)."""
+    if "fields" in groups:
+        return None
+    names = [g.split(":", 1)[1] for g in groups if g.startswith("fields:")]
+    return {n if n == "scene" else int(n) for n in names}
+
+
 def write_plots(
     out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any],
     outputs: Mapping[str, Any] | None = None, groups=GROUPS,
 ) -> list[Path]:
-    """Write the PNG pictures of ``groups`` (:data:`GROUPS`); returns their paths. ``outputs``:
-    the bodies' output meshes (solver.io.body_output) already made for the VTU files, by body
-    name."""
+    """Write the PNG pictures of ``groups`` (:data:`GROUPS`, or the pieces of
+    :func:`picture_tasks`); returns their paths. ``outputs``: the bodies' output meshes
+    (solver.io.body_output) already made for the VTU files, by body name."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     figs = _Figures(out_dir)
@@ -310,9 +346,11 @@ def write_plots(
 
         write_solid_plots(out_dir, figs, problem, solution, summary, groups)
         return figs.written
-    if "fields" in groups:
-        _field_figures(figs, problem, solution, summary, outputs or {})
+    parts = _field_parts(groups)
+    if parts is None or parts:
+        _field_figures(figs, problem, solution, summary, outputs or {}, parts)
     if "profiles" in groups:
         _line_figures(figs, problem, summary)
         _contact_figures(figs, problem, summary)
     return figs.written
+

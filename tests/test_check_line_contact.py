@@ -1,0 +1,47 @@
+"""The size ``ibfem run --check`` prints for a 3D line contact (solver.io.run_size): the run
+solves a coarse pass and then refines a band along the region it finds, so the check solves the
+same coarse pass and estimates the band's grid. Checked against the octrees the fine pass then
+builds (dofs within 30 %, the acceptance of the check's estimates) and against the scene's whole
+contact ball, which the band replaces (a grid several times larger). The coarse pass is replaced
+here by the region it finds on the shipped roller (half-width 0.024 m along the roller's half
+length 0.1 m), so the test builds grids but solves nothing."""
+
+import tomllib
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from ibfem.solver.contact.follow import band_problem, line_contacts
+from ibfem.solver.fem.bodies import discretise
+from ibfem.solver.io.run_size import run_size
+from ibfem.solver.io.scene import load_scene
+from ibfem.solver.model.estimate import estimate_size
+from ibfem.solver.model.resolve import resolve_problem
+
+ROLLER = Path(__file__).resolve().parent.parent / "examples" / "contact3d" / "roller_on_flat.toml"
+
+
+def _coarse_pass(problem):
+    """The region of the roller's coarse pass: a rectangle along x with rounded ends."""
+    t = np.linspace(0.0, 2.0 * np.pi, 73)
+    edge = np.column_stack([0.05 + 0.05 * np.sign(np.cos(t)) * np.abs(np.cos(t)) ** 0.2, 0.024 * np.sin(t), 0 * t])
+    block = {"point": [0.0, 0.0, 0.0], "axes": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], "boundary": {"points": edge.tolist()}}
+    return SimpleNamespace(contacts=[block], body_info={"roller": {"dofs": 1}, "block": {"dofs": 1}})
+
+
+def test_the_check_of_a_line_contact_follows_the_band_its_run_builds():
+    data = tomllib.loads(ROLLER.read_text())
+    for body in data["bodies"]:
+        body["refinement"]["levels"] = 4  # one level shallower than the shipped scene: a smaller grid
+    problem = load_scene(data, label=ROLLER.name, base_dir=ROLLER.parent).problem
+    assert line_contacts(problem) == [0]
+    asked = []
+    size, note = run_size(problem, lambda p: asked.append(p) or _coarse_pass(p))
+    assert len(asked) == 1 and "coarse pass" in note and "band" in note
+    assert {z.levels for b in asked[0].bodies for z in b.refinements} == {2}  # two levels shallower
+    fine, _ = band_problem(problem, [0], _coarse_pass(problem).contacts)
+    built = sum(b.n_dofs for b in discretise(resolve_problem(fine), problem.options))
+    assert size.dofs == pytest.approx(built, rel=0.3)
+    assert estimate_size(problem).dofs > 2.0 * built  # the scene's whole ball, which the band replaces
