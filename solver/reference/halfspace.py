@@ -41,6 +41,9 @@ def rectangle_integral(x: np.ndarray, y: np.ndarray, x1, x2, y1, y2) -> np.ndarr
     return (_corner(x - x1, y - y1) - _corner(x - x2, y - y1) - _corner(x - x1, y - y2) + _corner(x - x2, y - y2))
 
 
+#: entries of the influence matrix computed at once (a block of rows): the rectangle integral's
+#: temporaries stay about 20 such arrays of this size (8000 rectangles whole took 5.6 GB)
+ROW_BLOCK = 1_000_000
 #: the mirror images of each rectangle for each kind of symmetry of the pressure
 MIRRORS = {False: ((1.0, 1.0),), True: ((1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)),
            "y": ((1.0, 1.0), (1.0, -1.0))}
@@ -56,10 +59,13 @@ def influence_matrix(xc: np.ndarray, yc: np.ndarray, dx: float, dy: float, e_sta
     if symmetric not in MIRRORS:
         raise ValueError(f"symmetric must be False, True or 'y', got {symmetric!r}")
     out = np.zeros((len(xc), len(xc)))
-    for sx, sy in MIRRORS[symmetric]:
-        X = xc[:, None] - sx * xc[None, :]
-        Y = yc[:, None] - sy * yc[None, :]
-        out += rectangle_integral(X, Y, -0.5 * dx, 0.5 * dx, -0.5 * dy, 0.5 * dy)
+    rows = max(1, ROW_BLOCK // max(len(xc), 1))  # rows per block: the temporaries stay small
+    for start in range(0, len(xc), rows):
+        part = slice(start, start + rows)
+        for sx, sy in MIRRORS[symmetric]:
+            X = xc[part, None] - sx * xc[None, :]
+            Y = yc[part, None] - sy * yc[None, :]
+            out[part] += rectangle_integral(X, Y, -0.5 * dx, 0.5 * dx, -0.5 * dy, 0.5 * dy)
     return out / (np.pi * e_star)
 
 
