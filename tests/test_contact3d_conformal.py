@@ -72,11 +72,11 @@ def test_fitted_mesh_reference_follows_hertz_for_a_loose_socket():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="the conforming contact's run ends not converged, with a slight tension at its "
-                   "edge samples (tests/scenes/ball_in_socket.toml)")
 def test_ball_in_socket_against_the_fitted_mesh_solution():
     """The scene's contact radius (a circle: both semi-axes) within 1 % of the axisymmetric
-    fitted-mesh solution's at the 3D run's force (the reference's approach found by a secant)."""
+    fitted-mesh solution's at the 3D run's force (the reference's approach found by a secant),
+    and the run converged: no tension at the edge on the pressure's means over merged cells
+    (measured: -0.40 %, the smallest edge mean 72 MPa against a mean pressure of about 175 MPa)."""
     pytest.importorskip("skfem")
     from pathlib import Path
 

@@ -51,3 +51,18 @@ def test_quarter_grid_with_mirror_images_is_the_full_grid():
     np.testing.assert_allclose(quarter.pressure, full.pressure[10:, 10:], rtol=1e-9, atol=1e-9 * full.pressure.max())
     assert quarter.approach == pytest.approx(full.approach, rel=1e-9)
     assert np.sqrt(4 * quarter.area / np.pi) == pytest.approx(a, rel=0.03)
+
+
+def test_half_grid_with_mirror_images_is_the_full_grid_for_a_tilted_gap():
+    """A gap even in y only (a sphere on a plane tilted about the y axis, which moves the contact
+    along x): the half y > 0 with each rectangle's image (x, -y) gives the full grid's pressures."""
+    R, e_star, force = 1.0, 1.0989e11, 1.0e6
+    a = hertz_sphere_radius(force, R, e_star)
+    x = np.linspace(-1.3 * a, 1.3 * a, 20)
+    gap = lambda X, Y: (X**2 + Y**2) / (2 * R) + 0.2 * a / R * X  # noqa: E731
+    full = halfspace_contact(gap, x, x, e_star, force=force)
+    half = halfspace_contact(gap, x, x[10:], e_star, force=force / 2, symmetric="y")
+    np.testing.assert_allclose(half.pressure, full.pressure[:, 10:], rtol=1e-9, atol=1e-9 * full.pressure.max())
+    assert half.approach == pytest.approx(full.approach, rel=1e-9)
+    with pytest.raises(ValueError, match="symmetric"):
+        halfspace_contact(gap, x, x, e_star, force=force, symmetric="x")

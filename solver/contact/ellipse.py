@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.options import ContactOptions
 from ..reference.theory import hertz_elliptic_contact
+from .edge_pressure import agglomerated_cells
 from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, matched_points,
                                region_points, surface_point, surrounds)
 from .roots import edge_search, settling_tolerance
@@ -273,6 +274,8 @@ class EllipseContact:
     def check_final(self, u: np.ndarray, a: float, info, bracket, block: dict) -> list[str]:
         x = u[self.dofs]
         v = self.judge(x, a, info)
+        sampled = v.pressure  # the point traction's mean over the axis samples' inner window
+        tension_cells = _edge_verdict(self, v, info, x, a)
         messages = []
         if v.penetration or v.tension:
             messages.append(f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and "
@@ -293,7 +296,9 @@ class EllipseContact:
         block["checks"] = {"penetration": bool(v.penetration or v.penetration_count), "tension": v.tension,
                            "edge_gap": v.gap, "edge_pressure": v.pressure, "penetration_points": v.penetration_count,
                            "tension_points": v.tension_count, "min_gap": v.min_gap,
-                           "min_pressure": v.min_pressure, "edge_coefficients": list(v.edges),
+                           "min_pressure": v.min_pressure, "edge_samples_pressure": sampled,
+                           "tension_cells": tension_cells,
+                           "edge_coefficients": list(v.edges),
                            "centroid_offset": offset,
                            "size_bracket": list(bracket)}
         return messages
@@ -504,6 +509,30 @@ def _sample_state(c: EllipseContact, x: np.ndarray, a: float):
 #: +0.34..+0.66), three of them "not converged" with settled edge coefficients (1e-6..7e-5); over
 #: two cells +0.87 / +0.51 / +0.48 / +0.12 / +0.12 / +0.33 (Hertz +0.48..+0.89)
 TENSION_WINDOW_CELLS = 2.0
+
+
+def _edge_verdict(c: EllipseContact, v: _Verdict, info, x: np.ndarray, a: float) -> int:
+    """The final check's tension, judged on the pressure's means over agglomerated cells
+    (solver.contact.edge_pressure: each square of the tangent plane that the region fills less
+    than three quarters merged with its inner neighbour) along the whole edge: ``v.pressure`` becomes the
+    smallest mean of the groups the edge cuts, ``v.tension`` whether it is below minus
+    tension_tolerance times the region's mean pressure; returns how many are. The
+    point traction in a sliver of a cut cell is tensile whatever the region's size (the weak
+    condition cannot close the gap over it), so the axis samples' window is not a measure of the
+    region; the merged means hold the sliver's deficit with the neighbour that carries it."""
+    if info is None or a <= 0.0:
+        return 0
+    pts = info[0]
+    w = plane_weights(c, pts)
+    p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x), pts.normal)
+    cells = agglomerated_cells(pts.s, w, p, c.h, c.centre)
+    edge = cells.means[cells.cut]
+    if not len(edge):
+        return 0
+    p_tol = c.options.tension_tolerance * max(float(w @ p) / float(w.sum()), 0.0)
+    v.pressure = float(edge.min())
+    v.tension = bool(v.pressure < -p_tol)
+    return int((edge < -p_tol).sum())
 
 
 def _judge(c: EllipseContact, gap, pressure, inside, edge_dist) -> _Verdict:

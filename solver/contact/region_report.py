@@ -5,7 +5,9 @@ centroid, and the pressure as cell means (a map, and along both axes) with its p
 
 The band traction at the quadrature points oscillates from cell to cell (trilinear fields) while
 its integrals are accurate: the map holds the pressure's mean over each finest cell's square of
-the tangent plane (int p dA / int dA), not point values."""
+the tangent plane (int p dA / int dA), not point values, with the squares that the region fills
+less than three quarters merged into their inner neighbour (solver.contact.edge_pressure: the
+traction over a sliver of a cut cell is tensile whatever the region, balanced by its neighbour)."""
 
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ import math
 
 import numpy as np
 
+from .edge_pressure import agglomerated_cells
 from .ellipse_geometry import sector_share, surface_point
 
 __all__ = ["region_block", "boundary_polyline", "cell_means", "mirror_images"]
@@ -110,6 +113,14 @@ def _principal(s: np.ndarray, weights: np.ndarray, boundary: np.ndarray, ranges=
     return directions, span.max(axis=0) - span.min(axis=0)
 
 
+def _merged_squares(cells) -> list:
+    """The integer keys of the squares in each group of the map (a square alone, or with the
+    slivers merged into it)."""
+    order = np.argsort(cells.square_group, kind="stable")
+    splits = np.cumsum(np.bincount(cells.square_group, minlength=len(cells.means)))[:-1]
+    return [part.tolist() for part in np.split(cells.square_keys[order], splits)]
+
+
 def _profiles(centres: np.ndarray, means: np.ndarray, keys: np.ndarray) -> dict:
     """The cell means along each axis through the contact point: the squares beside the axis
     (keys -1 and 0 across it), by their centroid along it."""
@@ -143,7 +154,8 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     p = np.einsum("qi,qi->q", c.quadrature_traction(info, u[c.dofs]), pts.normal)
     s_edge, x_edge, free = boundary_polyline(c, a)
     directions, extents = _principal(pts.s, pts.weights, s_edge, c.ranges)
-    centres, means, areas, keys = cell_means(pts.s, pts.weights, p, c.h)
+    cells = agglomerated_cells(pts.s, pts.weights, p, c.h, c.centre)
+    centres, means, areas, keys = cells.centres, cells.means, cells.areas, cells.keys
     peak = int(np.argmax(means))
     peak_x = surface_point(c.solids[0], frame, centres[peak:peak + 1], c.reach)[0][0]
     half = [float(np.abs(s_edge[:, k]).max()) for k in (0, 1)]
@@ -158,7 +170,9 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         "area": float(pts.weights.sum()),
         "centroid": (pts.weights @ pts.x1 / pts.weights.sum()).tolist(),
         "peak_pressure": float(means[peak]), "peak_at": peak_x.tolist(),
-        "pressure_map": {"cell": c.h, "s": centres.tolist(), "value": means.tolist(), "area": areas.tolist()},
+        "pressure_map": {"cell": c.h, "s": centres.tolist(), "value": means.tolist(), "area": areas.tolist(),
+                         "square": keys.tolist(),
+                         "merged": _merged_squares(cells)},
         "pressure": _profiles(centres, means, keys),
         "shear": {f"axis{k}": {"s": [], "value": []} for k in (0, 1)},
     })

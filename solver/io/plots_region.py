@@ -1,6 +1,7 @@
 """The picture of a 3D contact region of general shape (a line or flat contact): the pressure's cell means
-over the patch in the tangent plane with the region's boundary (free edges, where the contact is
-complete, marked), and the cell means along both axes."""
+over the patch in the tangent plane (the cells the region fills less than three quarters merged
+with their inner neighbour, each mean drawn at its cells' centroid) with the region's boundary
+(free edges, where the contact is complete, marked), and the cell means along both axes."""
 
 from __future__ import annotations
 

@@ -41,17 +41,31 @@ def rectangle_integral(x: np.ndarray, y: np.ndarray, x1, x2, y1, y2) -> np.ndarr
     return (_corner(x - x1, y - y1) - _corner(x - x2, y - y1) - _corner(x - x1, y - y2) + _corner(x - x2, y - y2))
 
 
+#: entries of the influence matrix computed at once (a block of rows): the rectangle integral's
+#: temporaries stay about 20 such arrays of this size (8000 rectangles whole took 5.6 GB)
+ROW_BLOCK = 1_000_000
+#: the mirror images of each rectangle for each kind of symmetry of the pressure
+MIRRORS = {False: ((1.0, 1.0),), True: ((1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)),
+           "y": ((1.0, 1.0), (1.0, -1.0))}
+
+
 def influence_matrix(xc: np.ndarray, yc: np.ndarray, dx: float, dy: float, e_star: float,
-                     symmetric: bool = False) -> np.ndarray:
+                     symmetric: bool | str = False) -> np.ndarray:
     """(n, n): the normal displacement at the centres (xc, yc) (n,) of rectangles dx x dy under a
-    unit pressure on each (1 / (pi E*) times the rectangle integral). ``symmetric``: the pressure
-    is even in x and in y, the rectangles cover the quarter x, y > 0, and each carries its three
-    mirror images (-x, y), (x, -y), (-x, -y)."""
+    unit pressure on each (1 / (pi E*) times the rectangle integral). ``symmetric``: True, the
+    pressure is even in x and in y, the rectangles cover the quarter x, y > 0, and each carries its
+    three mirror images (-x, y), (x, -y), (-x, -y); "y", even in y only, the rectangles cover the
+    half y > 0 and each carries its image (x, -y)."""
+    if symmetric not in MIRRORS:
+        raise ValueError(f"symmetric must be False, True or 'y', got {symmetric!r}")
     out = np.zeros((len(xc), len(xc)))
-    for sx, sy in ((1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)) if symmetric else ((1.0, 1.0),):
-        X = xc[:, None] - sx * xc[None, :]
-        Y = yc[:, None] - sy * yc[None, :]
-        out += rectangle_integral(X, Y, -0.5 * dx, 0.5 * dx, -0.5 * dy, 0.5 * dy)
+    rows = max(1, ROW_BLOCK // max(len(xc), 1))  # rows per block: the temporaries stay small
+    for start in range(0, len(xc), rows):
+        part = slice(start, start + rows)
+        for sx, sy in MIRRORS[symmetric]:
+            X = xc[part, None] - sx * xc[None, :]
+            Y = yc[part, None] - sy * yc[None, :]
+            out[part] += rectangle_integral(X, Y, -0.5 * dx, 0.5 * dx, -0.5 * dy, 0.5 * dy)
     return out / (np.pi * e_star)
 
 
@@ -81,12 +95,13 @@ class HalfSpaceContact:
 
 def halfspace_contact(gap, x: np.ndarray, y: np.ndarray, e_star: float, force: float | None = None,
                       approach: float | None = None, max_iterations: int = 200,
-                      symmetric: bool = False) -> HalfSpaceContact:
+                      symmetric: bool | str = False) -> HalfSpaceContact:
     """The contact of a gap function ``gap(X, Y)`` (the initial separation of the two surfaces at
     the grid's centres, X, Y (nx, ny)) on the equally spaced centres x (nx,), y (ny,), under a total
-    ``force`` or a prescribed ``approach``. ``symmetric``: a gap even in x and in y solved on the
-    quarter x, y > 0 (the centres there, the first at half a spacing from 0); ``force`` and the
-    result's force are then the quarter's."""
+    ``force`` or a prescribed ``approach``. ``symmetric``: True, a gap even in x and in y solved on
+    the quarter x, y > 0 (the centres there, the first at half a spacing from 0); "y", a gap even in
+    y solved on the half y > 0; ``force`` and the result's force are then the quarter's or the
+    half's."""
     if (force is None) == (approach is None):
         raise ValueError("give exactly one of force and approach")
     dx, dy = float(x[1] - x[0]), float(y[1] - y[0])

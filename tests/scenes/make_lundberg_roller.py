@@ -1,6 +1,5 @@
 """Write lundberg_roller.toml beside this file: the crowned roller example's roller with Lundberg's
-logarithmic crown instead of a straight middle and circular crowns (a scene of the tests: its
-run ends not converged, with slight tension at the region's edge samples).
+logarithmic crown instead of a straight middle and circular crowns (a scene of the tests).
 
 Lundberg's profile (G. Lundberg, Elastische Berührung zweier Halbräume, Forschung auf dem Gebiete
 des Ingenieurwesens 10 (1939) 201-211) drops the roller's radius by
