@@ -18,7 +18,9 @@ normal (bisector of the two exact normals, or the frame normal).
 The half-width (default ``width_update = "edge"``): the root of the edge coefficient
 int p (4 s^2/a^2 - 1) ds / int p ds, the Chebyshev estimate of p sqrt(a^2 - s^2) at the
 region's ends (zero for the consistent width, > 0 for a punch-like region that is too small,
-< 0 with tension): continuous in a and blind to the grid-periodic traction oscillation.
+< 0 with tension): continuous in a and blind to the grid-periodic traction oscillation. In the
+last load step the width is the root of its straight line over one finest cell about that root
+(_cell_averaged), which averages out a small wiggle of g of period one cell.
 
 The region's centre (``region_centre = "pressure"``, the default): the region is
 e - a <= s <= e + a, and e is moved to the centroid of the pressure, int p s ds / int p ds,
