@@ -50,8 +50,8 @@ WARN_ABOVE = 0.01
 #: 1973, ch. 8), the safe order of what it governs. Measured on the tilted flat punch
 #: (examples/contact2d/tilted_punch.toml, the contact zones 1 level coarser, as shipped, 1 and 2
 #: finer): half widths 4.92736, 4.96491, 4.98959, 5.00348 mm, observed orders 0.60 and 0.83; the
-#: earlier order 1 estimated the shipped grid's error at 0.58 % where it is 1.22 % from Johnson's
-#: closed form for the computed force. The peak pressure is the corner's singular value, which
+#: earlier order 1 estimated the shipped grid's error at 0.58 % where it was 1.22 % from Johnson's
+#: closed form for the computed force (order 1/2: 2.22 % against 1.31 %, docs/accuracy.md). The peak pressure is the corner's singular value, which
 #: grows under refinement instead of converging: it gets no estimate
 COMPLETE_END_SIZE_ORDER = 0.5
 #: the range of an observed order (three grids) taken for a complete end's sizes
