@@ -6,7 +6,8 @@ Hertz for the computed force (a, p0; elliptical contacts with Johnson's elliptic
 estimate's wall time are both printed (the estimate's cost). The rounded flat punches against
 their half-plane closed form (Ciavarella, Hills and Monno 1998: a for the computed force; flat
 half-width 0.01 m, edge radius 1 m as the scenes say) and the pin in a bore against Persson's
-contact angle for the computed load (pin radius 0.5 m, clearance 0.5 mm). Prints a markdown
+contact angle for the computed load (pin radius 0.5 m, clearance 0.5 mm); the tilted flat punch's
+region against Johnson's rigid tilted punch for the computed force. Prints a markdown
 table (docs/accuracy.md). With ``--limits`` each scene is also solved on a grid 4 times as
 coarse, and a second table gives each size's Richardson limit from the three grids (observed
 order), the limit against the reference and the fine grid's error against the limit beside the
@@ -68,8 +69,17 @@ def true_errors_pin(problem, c: dict) -> dict:
     return {"half_width": float(c["half_width"]) / (2.0 * radius * math.sin(0.5 * angle)) - 1.0}
 
 
+def true_errors_tilted(problem, c: dict, scene=None) -> dict:
+    """The region's half length (``half_width``: half its length from the corner to the free end)
+    against Johnson's rigid tilted flat punch on a half-plane held against rotation (Contact
+    Mechanics, 1985, sec. 2.8) for the computed force: P = pi E* eps a / 2."""
+    eps = -math.radians(scene.spec.model_dump(mode="json")["bodies"][0]["shape"]["rotate_deg"])
+    a_ref = 2.0 * float(c["normal_force"]) / (math.pi * _e_star(problem, c) * eps)
+    return {"half_width": float(c["half_width"]) / a_ref - 1.0}
+
+
 #: the shipped examples with their own exact references (by file stem)
-SPECIAL = {"rounded_punch": lambda pr, c: true_errors_punch(pr, c, 1.0),
+SPECIAL = {"tilted_punch": true_errors_tilted, "rounded_punch": lambda pr, c: true_errors_punch(pr, c, 1.0),
            "rounded_punch_half": lambda pr, c: true_errors_punch(pr, c, 0.5),
            "pin_in_bore": true_errors_pin}
 
@@ -166,7 +176,7 @@ def main(argv: list[str]) -> int:
         t2 = time.perf_counter()
         for c in solution.contacts:
             exact = SPECIAL.get(path.stem) or (true_errors_3d if scene.problem.dim == 3 else true_errors_2d)
-            true = exact(scene.problem, c)
+            true = exact(scene.problem, c, scene=scene) if exact is true_errors_tilted else exact(scene.problem, c)
             row = {"scene": str(path), "solve_s": t1 - t0, "estimate_s": t2 - t1, "type": c["type"],
                    "estimated": c.get("estimated_error"), "note": c.get("estimate_note"), "true": true}
             if args.limits and c is solution.contacts[0]:

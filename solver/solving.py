@@ -18,7 +18,8 @@ from .fem.linalg import linear_solve
 from .fem.path_loads import path_loads
 from .fem.bodies import discretise
 from .fem.space import body_info
-from .model.accuracy import contact_quantities, largest_error, orders_for, relative_errors
+from .model.accuracy import (contact_quantities, has_complete_end, largest_error, observed_order, orders_for,
+                             relative_errors)
 from .model.estimate import available_memory, estimate_size
 from .model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .model.resolve import resolve_problem
@@ -158,10 +159,12 @@ def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
     return best
 
 
-def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, note: str | None) -> None:
+def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, note: str | None,
+                   coarsest: IBFEMSolution | None = None) -> None:
     """Each contact block of ``fine`` gets ``max_pressure``, ``max_von_mises`` and
     ``estimated_error`` against ``coarse`` (a solution on a grid twice as coarse), or a null
-    estimate and ``estimate_note``."""
+    estimate and ``estimate_note``. ``coarsest``, a third grid twice as coarse again (an accuracy
+    ladder's), gives a region with a complete end its observed order."""
     for block in fine.contacts:
         block["max_pressure"] = contact_quantities(block).get("max_pressure")
         block["max_von_mises"] = max_von_mises(fine, block, dim)
@@ -170,12 +173,24 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
         if note is None and other is not None:
             if other.get("max_von_mises") is None:  # a partner not yet sampled (a rung's is)
                 other = dict(other, max_von_mises=max_von_mises(coarse, other, dim))
+            third = coarsest.contacts[k] if coarsest is not None and k < len(coarsest.contacts) else None
             block["estimated_error"] = relative_errors(contact_quantities(block), contact_quantities(other),
-                                                       orders_for(block))
+                                                       orders_for(block, _complete_end_order(block, other, third)))
             block.pop("estimate_note", None)
         else:
             block["estimated_error"] = None
             block["estimate_note"] = note or "the coarser grid found no such contact"
+
+
+def _complete_end_order(block: dict, coarse: dict, coarsest: dict | None) -> float | None:
+    """The observed order of the half width of a region with a complete end on three grids (None:
+    no third grid, no complete end, or not yet converging steadily)."""
+    if coarsest is None or not has_complete_end(block):
+        return None
+    values = [b.get("half_width") for b in (block, coarse, coarsest)]
+    if any(v is None for v in values):
+        return None
+    return observed_order(*(float(v) for v in values))
 
 
 def _solve_quietly(problem: Problem) -> tuple[IBFEMSolution | None, str | None]:
@@ -330,6 +345,7 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
     if fine is None:
         raise ValueError(fine_note)
     _add_estimates(fine, coarse, problem.dim, note)
+    partner = coarse if note is None else None
     rungs = [_rung(problem, fine, time.perf_counter() - t)]
     note = fine_note
     while note is None and not (rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target):
@@ -346,10 +362,10 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         solution, note = _solve_quietly(finer)
         if solution is None:
             break
-        _add_estimates(solution, fine, problem.dim, note)
+        _add_estimates(solution, fine, problem.dim, note, coarsest=partner)
         if refined == "contact":
             _carry_far_field(solution, fine)
-        problem, fine = finer, solution
+        problem, fine, partner = finer, solution, fine
         rungs.append(_rung(problem, fine, time.perf_counter() - t, refined))
     reached = rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target
     return fine, {"target": target, "reached": bool(reached), "rungs": rungs, "note": note}

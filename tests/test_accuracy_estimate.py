@@ -13,7 +13,8 @@ import pytest
 
 from ibfem.solver.io.result_line import accuracy_line, contact_line
 from ibfem.solver.io.scene import scene_from_dict
-from ibfem.solver.model.accuracy import ORDERS, contact_quantities, largest_error, orders_for, relative_errors
+from ibfem.solver.model.accuracy import (ORDERS, contact_quantities, largest_error, observed_order, orders_for,
+                                        relative_errors)
 from ibfem.solver.reference import theory
 from ibfem.solver.reports.validate import effective_properties
 from ibfem.solver.solving import solve_to_accuracy
@@ -62,19 +63,31 @@ def test_quantities_of_a_block():
     assert q["semi_axes"] == [0.04, 0.05] and q["stick_semi_axes"] == [0.02, 0.025] and q["max_pressure"] == 3.1e9
 
 
-def test_complete_end_sizes_converge_to_first_order():
-    # a region ending at a corner of body 1: the free end's position converges to first order
-    # (q_h = q + C h), and the singular peak pressure has no limit: no estimate
+def test_complete_end_sizes_take_the_safe_or_the_observed_order():
+    # a region ending at a corner of body 1: with two grids its sizes take the safe order 1/2 of a
+    # square-root singular field (q_h = q + C h^(1/2): the estimate is exact), with three the
+    # observed one; the singular peak pressure has no limit: no estimate
     block = {"half_width": 0.005, "ends": [{"type": "complete"}, {"type": "incomplete"}]}
     orders = orders_for(block)
-    assert orders["half_width"] == 1.0 and orders["max_pressure"] is None and orders["normal_force"] == 2.0
+    assert orders["half_width"] == 0.5 and orders["max_pressure"] is None and orders["normal_force"] == 2.0
     assert orders_for({"ends": [{"type": "incomplete"}] * 2}) == ORDERS
     # a 3D region's peak pressure is a fit over the region: it converges with its edge (3/2)
     assert orders_for({"semi_axes": [0.04, 0.05]}) == {**ORDERS, "max_pressure": 1.5}
     q, c, h = 0.005, 0.3, 0.01
-    fine, coarse = {"half_width": q * (1 + c * h), "max_pressure": 2e9}, {"half_width": q * (1 + 2 * c * h), "max_pressure": 1.5e9}
+    fine, coarse = {"half_width": q + c * h ** 0.5, "max_pressure": 2e9}, {"half_width": q + c * (2 * h) ** 0.5, "max_pressure": 1.5e9}
     errors = relative_errors(fine, coarse, orders)
-    assert errors["half_width"] == pytest.approx(c * h / (1 + c * h), rel=1e-9) and errors["max_pressure"] is None
+    assert errors["half_width"] == pytest.approx(c * h ** 0.5 / fine["half_width"], rel=1e-9)
+    assert errors["max_pressure"] is None
+    # three grids converging at order 0.8: the observed order, and with it the exact estimate
+    grids = [q + c * (k * h) ** 0.8 for k in (1, 2, 4)]
+    p = observed_order(*grids)
+    assert p == pytest.approx(0.8, rel=1e-9)
+    errors = relative_errors({"half_width": grids[0]}, {"half_width": grids[1]}, orders_for(block, p))
+    assert errors["half_width"] == pytest.approx(c * h ** 0.8 / grids[0], rel=1e-9)
+    # differences of opposite signs (not yet converging steadily) give no observed order
+    assert observed_order(1.0, 1.1, 1.05) is None
+    # an observed order outside the trusted range is clamped to it
+    assert observed_order(*[q + c * (k * h) ** 3 for k in (1, 2, 4)]) == 2.0
 
 
 def test_missing_coarse_quantity_and_largest():

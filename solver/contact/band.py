@@ -18,7 +18,9 @@ normal (bisector of the two exact normals, or the frame normal).
 The half-width (default ``width_update = "edge"``): the root of the edge coefficient
 int p (4 s^2/a^2 - 1) ds / int p ds, the Chebyshev estimate of p sqrt(a^2 - s^2) at the
 region's ends (zero for the consistent width, > 0 for a punch-like region that is too small,
-< 0 with tension): continuous in a and blind to the grid-periodic traction oscillation.
+< 0 with tension): continuous in a and blind to the grid-periodic traction oscillation. In the
+last load step the width is the root of its straight line over one finest cell about that root
+(_cell_averaged), which averages out a small wiggle of g of period one cell.
 
 The region's centre (``region_centre = "pressure"``, the default): the region is
 e - a <= s <= e + a, and e is moved to the centroid of the pressure, int p s ds / int p ds,
@@ -225,7 +227,12 @@ class BandContact:
         if o.width_update == "edge":
             step0 = 0.05 * self.h if estimate else None
             tol = settling_tolerance(self.options, self.h, final)
-            return edge_search(a0, self.h, tol, self.a_max(), step0=step0, cap_is_end=self._limit().corner)
+            search = edge_search(a0, self.h, tol, self.a_max(), step0=step0, cap_is_end=self._limit().corner)
+            # the final width from the edge coefficient's line over one cell; a subclass with a width
+            # logic of its own (one that keeps a width between the steps of a load path and judges
+            # it by its raw edge coefficient) gets the plain search
+            own = type(self).region_search is BandContact.region_search
+            return _cell_averaged(search, self.h, self.a_max()) if final and own else search
         if o.width_update == "thesis":
             return thesis_search(a0, self.h, o.width_tolerance * self.h, self.a_max(), max_iterations)
         tol = (o.width_tolerance if final else o.step_tolerance) * self.h
@@ -471,14 +478,46 @@ class BandContact:
                           "stick_iteration": tag, "work_ratio": ratio})
 
 
+#: trial widths, evenly spread over one finest cell about the edge coefficient's root, whose
+#: straight line gives the final width (:func:`_cell_averaged`)
+CELL_AVERAGE_WIDTHS = 4
+
+
+def _cell_averaged(search, h: float, a_max: float):
+    """The edge search ``search`` (a generator of trial widths returning (width, bracket)), then
+    the root of the straight line through the edge coefficient at CELL_AVERAGE_WIDTHS widths
+    evenly spread over one finest cell h about its root, and a last trial at that width; the
+    bracket returned spans the search's and that width.
+
+    The edge coefficient g(a) is smooth in a but carries a small wiggle of period h: the discrete
+    pressure near the region's end depends on where the end lies in its cell. Its root moved
+    with the grid's position along the contact (the half disc R = 1 on a block, finest cell
+    3.1e-3 m: over grid offsets along the block by fractions of a cell, 5.1e-5 m, against 2.5e-6 m
+    across it); the line through g over one whole period averages the wiggle out (1.7e-5 m)."""
+    a0, bracket = yield from search
+    if CELL_AVERAGE_WIDTHS < 2:
+        return a0, bracket
+    widths = a0 + (np.arange(CELL_AVERAGE_WIDTHS) + 0.5 - 0.5 * CELL_AVERAGE_WIDTHS) / CELL_AVERAGE_WIDTHS * h
+    if not 0.5 * h < widths[0] or widths[-1] > a_max:
+        return a0, bracket
+    values = []
+    for a in widths:
+        verdict = yield float(a)
+        values.append(verdict.edge)
+    values = np.asarray(values, dtype=float)
+    if not np.isfinite(values).all():
+        return a0, bracket
+    slope, intercept = np.polyfit(widths - a0, values, 1)
+    if not slope < 0.0:  # g falls as the region grows; anything else is not a root to refine
+        return a0, bracket
+    a = float(np.clip(a0 - intercept / slope, a0 - h, min(a0 + h, a_max)))
+    yield a
+    # the bracket spans the plain root's bracket and the width returned
+    return a, (min(bracket[0], a), max(bracket[1], a))
+
+
 def _flux_weights(flux: str) -> tuple[float, float]:
     return {"average": (0.5, 0.5), "body1": (1.0, 0.0), "body1_half": (0.5, 0.0)}[flux]
-
-
-def _local_size(c: BandContact, pts, cells1, cells2) -> np.ndarray:
-    t1 = c.b1.grid.material_thickness[cells1]
-    t2 = c.b2.grid.material_thickness[cells2]
-    return np.maximum(np.minimum(t1, t2), 1e-6 * c.b1.grid.size[cells1])
 
 
 def _locate(b, x, n) -> np.ndarray:
@@ -490,45 +529,95 @@ def _locate(b, x, n) -> np.ndarray:
     return cells
 
 
-def _support_cells(b, x, n, cells, fraction: float) -> np.ndarray:
-    """Cells whose fields represent the body at boundary points: the point's own cell, or, where
-    that is a sliver (material thickness below ``fraction`` of its size), the cell half a cell
-    further inside whose bilinear field is extended to the point.
+def _smoothstep(t: np.ndarray) -> np.ndarray:
+    """3 t^2 - 2 t^3 on [0, 1], 0 below, 1 above: continuous with its slope."""
+    t = np.clip(t, 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
 
-    A sliver's far nodes are held only by a fragment of material: its stress (the flux) is
-    unreliable and its thickness would set a tiny band, an enormous layer stiffness. Measured on
-    example 6, whose grid line y = 0 touches the concave seat at the contact point: slivers
-    h^2 / (4 R) thick put a 30 p0 spike into the pressure at s = 0 and a 1.8 % error into a."""
-    ratio = b.grid.material_thickness[cells] / b.grid.size[cells]
-    thin = ratio < fraction
-    if not thin.any():
-        return cells
-    inner = b.grid.locate(x[thin] - 0.75 * b.grid.size[cells[thin]][:, None] * n[thin])
-    ok = inner >= 0
-    better = np.where(ok, b.grid.material_thickness[np.maximum(inner, 0)] / b.grid.size[np.maximum(inner, 0)], 0.0)
-    out = cells.copy()
-    idx = np.nonzero(thin)[0]
-    use = ok & (better > ratio[thin])
-    out[idx[use]] = inner[use]
-    return out
+
+@dataclass
+class Support:
+    """Which cells represent a body at boundary points: each point's own cell, the cell behind
+    it (across the face where the inward normal leaves the own cell) and the own cell's weight
+    (the fields are weight x own + (1 - weight) x behind, both bilinear fields at the point)."""
+
+    own: np.ndarray
+    behind: np.ndarray
+    weight: np.ndarray
+
+    def size(self, grid) -> np.ndarray:
+        """The cell size at each point, blended as the fields are (sets the band delta)."""
+        return self.weight * grid.size[self.own] + (1.0 - self.weight) * grid.size[self.behind]
+
+
+def _support(b, x, n, depth_fraction: float) -> Support:
+    """The support of boundary points x (outward normals n) of body b: a point lying d deep in
+    its own cell along the inward normal (the distance to where -n leaves the cell) takes the
+    own cell's fields with the weight smoothstep(d / (depth_fraction h)) and those of the cell
+    behind with the rest.
+
+    Near the face where the inward normal leaves the cell the own cell holds only a sliver of
+    material under the point: its stress (the flux) is unreliable and its far nodes are held by
+    a fragment. A switch between the two cells at a fixed thickness made the result jump as the
+    surface moved through its cells (the half disc on a block: a by 2.2e-4 m between grid offsets
+    0.10 and 0.15 of the finest cell); the blend is continuous in the surface's position, and as
+    the surface crosses into the next cell the weight goes to 0 where the old cell becomes the
+    cell behind. The depth over which it blends is small (an eighth of a cell by default): the
+    field behind is extrapolated over at most that depth (a blend over half a cell scattered a
+    by 1.6e-4 m over the grid offsets, an eighth by 1.4e-5 m). ``depth_fraction`` 0: own cells
+    only."""
+    own = _locate(b, x, n)
+    if depth_fraction <= 0.0:
+        return Support(own, own, np.ones(len(own)))
+    g = b.grid
+    lower, h = g.lower[own], g.size[own]
+    inward = -np.asarray(n, dtype=float)
+    t = np.full(x.shape, np.inf)
+    np.divide(lower + h[:, None] - x, inward, out=t, where=inward > 1e-12)
+    np.divide(lower - x, inward, out=t, where=inward < -1e-12)
+    depth = np.clip(t.min(axis=1), 0.0, None)
+    behind = g.locate(x + (depth + 1e-6 * h)[:, None] * inward)
+    weight = _smoothstep(depth / (depth_fraction * h))
+    missing = behind < 0
+    weight[missing] = 1.0
+    return Support(own, np.where(missing, own, behind), weight)
+
+
+def _blended(op_own, op_behind, weight: np.ndarray, dim: int = 2):
+    """weight x op_own + (1 - weight) x op_behind for (dim q, m) point operators."""
+    w = np.repeat(weight, dim)
+    if np.all(w == 1.0):
+        return op_own
+    return sp.diags(w) @ op_own + sp.diags(1.0 - w) @ op_behind
+
+
+def _body_operators(b, x, n, normal, dof_map, node_ok, depth_fraction: float):
+    """Displacement and traction (sigma . normal) operators of body b at its points x, and the
+    local size there, from the blended support."""
+    sup = _support(b, x, n, depth_fraction)
+    used = np.concatenate([sup.own, sup.behind[sup.weight < 1.0]])
+    if not node_ok[b.grid.cells[used]].all():
+        raise RuntimeError("contact terms reach beyond the contact dofs")
+    disp = b.displacement_operator(x, sup.own, dof_map)
+    trac = b.traction_operator(x, sup.own, normal, dof_map)
+    if (sup.weight < 1.0).any():
+        disp = _blended(disp, b.displacement_operator(x, sup.behind, dof_map), sup.weight)
+        trac = _blended(trac, b.traction_operator(x, sup.behind, normal, dof_map), sup.weight)
+    return disp, trac, sup.size(b.grid)
 
 
 def _operators(c: BandContact, pts):
-    """Jump J and flux F (2q, m) on the contact dofs and the local size at contact points."""
-    cells1 = _locate(c.b1, pts.x1, pts.n1)
-    cells2 = _locate(c.b2, pts.x2, pts.n2)
-    if c.options.sliver_fraction > 0.0:
-        cells1 = _support_cells(c.b1, pts.x1, pts.n1, cells1, c.options.sliver_fraction)
-        cells2 = _support_cells(c.b2, pts.x2, pts.n2, cells2, c.options.sliver_fraction)
+    """Jump J and flux F (2q, m) on the contact dofs and the local size at contact points (the
+    smaller of the two bodies' blended cell sizes)."""
     map1, ok1, map2, ok2 = c.maps
-    if not (ok1[c.b1.grid.cells[cells1]].all() and ok2[c.b2.grid.cells[cells2]].all()):
-        raise RuntimeError("contact terms reach beyond the contact dofs")
-    jump = c.b1.displacement_operator(pts.x1, cells1, map1) - c.b2.displacement_operator(pts.x2, cells2, map2)
+    f = c.options.sliver_fraction
+    d1, t1, h1 = _body_operators(c.b1, pts.x1, pts.n1, pts.n1, map1, ok1, f)
+    d2, t2, h2 = _body_operators(c.b2, pts.x2, pts.n2, pts.n1, map2, ok2, f)
     th1, th2 = _flux_weights(c.options.flux)
-    flux = th1 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1)
+    flux = th1 * t1
     if th2:
-        flux = flux + th2 * c.b2.traction_operator(pts.x2, cells2, pts.n1, map2)
-    return jump.tocsr(), flux.tocsr(), _local_size(c, pts, cells1, cells2)
+        flux = flux + th2 * t2
+    return (d1 - d2).tocsr(), sp.csr_matrix(flux), np.minimum(h1, h2)
 
 
 def _projector(c: BandContact, pts, a: float) -> np.ndarray:
@@ -803,6 +892,18 @@ def _friction_checks(c: BandContact, info, x: np.ndarray, a: float, block: dict)
     return out
 
 
+def _neighbours(grid, cells: np.ndarray) -> np.ndarray:
+    """The cells around ``cells`` (their eight neighbours, finer ones included): where a point's
+    cell behind (:func:`_support`) may lie, whatever the point's position in its own cell."""
+    if not len(cells):
+        return cells
+    centre = grid.lower[cells] + 0.5 * grid.size[cells][:, None]
+    g = np.array([-1.2, -0.75, -0.25, 0.25, 0.75, 1.2])
+    offs = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
+    near = grid.locate((centre[:, None, :] + grid.size[cells][:, None, None] * offs[None]).reshape(-1, 2))
+    return near[near >= 0]
+
+
 def _setup_contact(model, geom, b1, b2, band_fraction: float) -> BandContact:
     """The contact's dofs (every cell the candidate region touches), finest cell and sample
     operators."""
@@ -822,19 +923,8 @@ def _setup_contact(model, geom, b1, b2, band_fraction: float) -> BandContact:
     cells1, cells2 = [], []
     for pts in (samples, full):
         for b, x, nn, out in ((b1, pts.x1, pts.n1, cells1), (b2, pts.x2, pts.n2, cells2)):
-            own = _locate(b, x, nn)
-            out.append(own)
-            if opts.sliver_fraction:
-                # the support cell of a sliver depends on where in it a point lies (x - 0.75 h n):
-                # take every cell within 1.25 h of the sliver's centre (finer neighbours included)
-                thin = np.unique(own[b.grid.material_thickness[own] < opts.sliver_fraction * b.grid.size[own]])
-                if len(thin):
-                    centre = b.grid.lower[thin] + 0.5 * b.grid.size[thin][:, None]
-                    g = np.linspace(-1.25, 1.25, 11)
-                    offs = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
-                    probe = centre[:, None, :] + b.grid.size[thin][:, None, None] * offs[None, :, :]
-                    near = b.grid.locate(probe.reshape(-1, 2))
-                    out.append(near[near >= 0])
+            sup = _support(b, x, nn, opts.sliver_fraction)
+            out += [sup.own, _neighbours(b.grid, np.unique(sup.own[sup.weight < 1.0]))]
     cells1, cells2 = np.concatenate(cells1), np.concatenate(cells2)
     dofs = np.union1d(_cell_dofs_global(b1, cells1), _cell_dofs_global(b2, cells2))
     c = BandContact(model=model, geom=geom, b1=b1, b2=b2, kind=model.type, dofs=dofs, h=h, samples=samples,

@@ -154,9 +154,9 @@ class ContactOptions:
     tension_tolerance: float = 0.01  # tension: mean pressure < -tol x mean pressure
     extent_fraction: float = 0.8  # candidate region: this fraction of the innermost contact refinement radius
     max_width_iterations: int = 60
-    #: boundary points in a sliver cell (material thickness below this fraction of its size)
-    #: take the fields of the cell half a cell further inside (0: off)
-    sliver_fraction: float = 0.25
+    #: boundary points less deep in their cell (along the inward normal) than this fraction of
+    #: its size blend its fields smoothly with those of the cell behind them (0: own cell only)
+    sliver_fraction: float = 0.125
     #: the slip zone carries mu p (eq. 5-24); false: the thesis's variant without it
     friction_traction: bool = True
     #: direction of the normal constraint: "frame" (the contact frame, Hertz's half-space
