@@ -26,6 +26,7 @@ import scipy.sparse as sp
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.options import ContactOptions
+from .band import CandidateRegionExceeded
 from ..reference.theory import hertz_elliptic_contact
 from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, matched_points,
                                region_points, surface_point, surrounds)
@@ -155,8 +156,9 @@ class EllipseContact:
         return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
 
     def region_too_small(self) -> ValueError:
-        return ValueError(f"{self.name}: the contact ellipse reaches the candidate region's edge ({self.extent:.4g} m) "
-                          "and still penetrates; enlarge the contact refinement radius")
+        return CandidateRegionExceeded(self.model.bodies, "refinement radius", (
+            f"{self.name}: the contact ellipse reaches the candidate region's edge ({self.extent:.4g} m) "
+            "and still penetrates; enlarge the contact refinement radius"))
 
     def terms(self, a: float):
         m = len(self.dofs)
