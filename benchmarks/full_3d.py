@@ -61,6 +61,7 @@ row = dict(scene=path, levels=levels, dofs=int(sum(v["dofs"] for v in sol.body_i
            estimated_dofs=float(estimate.dofs), estimated_memory_gb=float(estimate.memory) / 2**30,
            contact_dofs=int(sol.iterations["contact_dofs"]), converged=bool(sol.converged),
            iterations=int(sol.iterations["total"]), wall_s=wall, cpu_s=cpu, timings=sol.timings,
+           candidate_region=sol.iterations.get("candidate_region"),
            normal_force=n, a=a, b=b, hertz_a=a_h, hertz_b=b_h, a_error=a / a_h - 1.0, b_error=b / b_h - 1.0)
 friction = d["contacts"][0].get("friction")
 if friction:
@@ -124,15 +125,16 @@ def main(argv: list[str]) -> int:
 
 def markdown(rows: list[dict]) -> str:
     """The rows as the table of docs/scale-3d.md ("Against the targets")."""
-    out = ["| scene | dofs | m | peak | CPU | factorisation / trials / final field (wall) | a vs Hertz | b vs Hertz "
-           "| c/a, Mindlin |", "|---|---|---|---|---|---|---|---|---|"]
+    out = ["| scene | dofs | m | peak | CPU | coarse pass / factorisation / trials / final field (wall) | a vs Hertz "
+           "| b vs Hertz | c/a, Mindlin |", "|---|---|---|---|---|---|---|---|---|"]
     for row in rows:
         name = Path(row["scene"]).stem
         if row.get("failed"):
             out.append(f"| {name} | failed | | | | | | | |")
             continue
         t = row["timings"]
-        stages = (f"{t.get('factor_s', 0):.0f} / {t.get('iterations_s', 0):.0f} / {t.get('results_s', 0):.0f} s, "
+        coarse = f"{t['coarse_pass_s']:.0f}" if "coarse_pass_s" in t else "-"
+        stages = (f"{coarse} / {t.get('factor_s', 0):.0f} / {t.get('iterations_s', 0):.0f} / {t.get('results_s', 0):.0f} s, "
                   f"{row['iterations']} trials")
         stick = f"{row['stick_ratio']:.4f}, {row['mindlin_stick_ratio']:.4f}" if "stick_ratio" in row else "-"
         out.append(f"| {name} | {row['dofs']:,} | {row['contact_dofs']:,} | {row['peak_gb']:.2f} GB | "
