@@ -6,9 +6,11 @@ normal force (Johnson 1985 sections 4.2 and 4.2.2, solver.reference.theory) and 
 c/a against Mindlin's (1 - Q / (mu N))^(1/3) (Johnson section 7.2).
 
 ``--levels L`` solves every scene with L refinement levels instead of the scene's own (a smaller
-rung of the same scene: the acceptance targets are for the scenes as written).
+rung of the same scene: the acceptance targets are for the scenes as written). ``--scene-disc``
+skips the coarse pass that sizes a large contact's candidate disc (solver.contact.sizing), for
+comparison.
 
-    python benchmarks/full_3d.py [--scenes ball_on_block crossed_cylinders ...] [--levels 3]
+    python benchmarks/full_3d.py [--scenes ball_on_block crossed_cylinders ...] [--levels 3] [--scene-disc]
 
 Prints a table, the same rows as the markdown table of docs/scale-3d.md ("Against the
 targets"), and writes benchmarks/results/full_3d.json (or --out)."""
@@ -33,6 +35,9 @@ from ibfem.solver.model.estimate import estimate_size
 from ibfem.solver.solving import solve
 from ibfem.solver.reference import theory
 path, levels = sys.argv[1], int(sys.argv[2])
+if sys.argv[3:] == ["scene-disc"]:  # no coarse pass: the candidate disc as the scene gives it
+    from ibfem.solver.contact import sizing
+    sizing.MIN_CONTACT_DOFS = math.inf
 d = tomllib.load(open(path, "rb"))
 d["output"] = {"vtk": False, "plots": False}
 if levels >= 0:
@@ -61,6 +66,7 @@ row = dict(scene=path, levels=levels, dofs=int(sum(v["dofs"] for v in sol.body_i
            estimated_dofs=float(estimate.dofs), estimated_memory_gb=float(estimate.memory) / 2**30,
            contact_dofs=int(sol.iterations["contact_dofs"]), converged=bool(sol.converged),
            iterations=int(sol.iterations["total"]), wall_s=wall, cpu_s=cpu, timings=sol.timings,
+           candidate_region=sol.iterations.get("candidate_region"),
            normal_force=n, a=a, b=b, hertz_a=a_h, hertz_b=b_h, a_error=a / a_h - 1.0, b_error=b / b_h - 1.0)
 friction = d["contacts"][0].get("friction")
 if friction:
@@ -86,8 +92,8 @@ def timed_child(child: str, args: list[str]) -> tuple[dict, float, float, float]
     return json.loads(result[len("RESULT "):]), float(wall), float(user) + float(system), float(peak_kb) / 2**20
 
 
-def run(scene: Path, levels: int) -> dict:
-    timed = timed_child(CHILD, [str(scene), str(levels)])
+def run(scene: Path, levels: int, scene_disc: bool = False) -> dict:
+    timed = timed_child(CHILD, [str(scene), str(levels)] + (["scene-disc"] if scene_disc else []))
     if timed is None:
         return {"scene": str(scene), "levels": levels, "failed": True}
     row, wall, cpu, peak_gb = timed
@@ -99,13 +105,15 @@ def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenes", nargs="+", default=list(SCENES), choices=SCENES)
     ap.add_argument("--levels", type=int, default=-1, help="refinement levels of every zone (default: the scene's)")
+    ap.add_argument("--scene-disc", action="store_true",
+                    help="no coarse pass: the contacts' candidate disc as the scene gives it (for comparison)")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "full_3d.json")
     args = ap.parse_args(argv)
     rows = []
     print(f"{'scene':22} {'dofs':>8} {'est':>8} {'m':>6} {'wall s':>7} {'cpu s':>7} {'GB':>5} {'est GB':>6} "
           f"{'a err':>7} {'b err':>7} {'c/a':>6} {'Mindlin':>7}")
     for name in args.scenes:
-        row = run(ROOT / "examples" / "solid" / "full" / f"{name}.toml", args.levels)
+        row = run(ROOT / "examples" / "solid" / "full" / f"{name}.toml", args.levels, args.scene_disc)
         rows.append(row)
         if row.get("failed"):
             print(f"{name:22} failed")
@@ -124,15 +132,16 @@ def main(argv: list[str]) -> int:
 
 def markdown(rows: list[dict]) -> str:
     """The rows as the table of docs/scale-3d.md ("Against the targets")."""
-    out = ["| scene | dofs | m | peak | CPU | factorisation / trials / final field (wall) | a vs Hertz | b vs Hertz "
-           "| c/a, Mindlin |", "|---|---|---|---|---|---|---|---|---|"]
+    out = ["| scene | dofs | m | peak | CPU | coarse pass / factorisation / trials / final field (wall) | a vs Hertz "
+           "| b vs Hertz | c/a, Mindlin |", "|---|---|---|---|---|---|---|---|---|"]
     for row in rows:
         name = Path(row["scene"]).stem
         if row.get("failed"):
             out.append(f"| {name} | failed | | | | | | | |")
             continue
         t = row["timings"]
-        stages = (f"{t.get('factor_s', 0):.0f} / {t.get('iterations_s', 0):.0f} / {t.get('results_s', 0):.0f} s, "
+        coarse = f"{t['coarse_pass_s']:.0f}" if "coarse_pass_s" in t else "-"
+        stages = (f"{coarse} / {t.get('factor_s', 0):.0f} / {t.get('iterations_s', 0):.0f} / {t.get('results_s', 0):.0f} s, "
                   f"{row['iterations']} trials")
         stick = f"{row['stick_ratio']:.4f}, {row['mindlin_stick_ratio']:.4f}" if "stick_ratio" in row else "-"
         out.append(f"| {name} | {row['dofs']:,} | {row['contact_dofs']:,} | {row['peak_gb']:.2f} GB | "

@@ -38,6 +38,7 @@ from ..solution import IBFEMSolution
 from .follow import solve_following
 from .formulation import formulation
 from .grow import solve_growing
+from .sizing import solve_sized
 from .load_history import PathSteps, step_field, step_record
 from .report import contact_block
 from .roots import RegionTooSmall
@@ -52,7 +53,9 @@ def solve_contact(problem, progress: Callable | None = None) -> IBFEMSolution:
         raise ValueError("the problem has no contacts")
     with single_threaded_blas():  # line contacts: a coarse pass, then a band along the region; a 2D
         # region beyond its refinement: coarse passes, then the refinement widened about it
-        return solve_following(problem, lambda p: solve_growing(p, lambda q: ContactDriver(q, progress).run()))
+        # a large point contact: a coarse pass, then the candidate disc sized about its region
+        return solve_sized(problem, lambda r: solve_following(
+            r, lambda p: solve_growing(p, lambda q: ContactDriver(q, progress).run())))
 
 
 def _silent(stage, fraction=None) -> None:

@@ -26,6 +26,7 @@ import scipy.sparse as sp
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
 from ..model.options import ContactOptions
+from .band import CandidateRegionExceeded
 from ..reference.theory import hertz_elliptic_contact
 from .edge_pressure import agglomerated_cells
 from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, matched_points,
@@ -156,8 +157,9 @@ class EllipseContact:
         return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
 
     def region_too_small(self) -> ValueError:
-        return ValueError(f"{self.name}: the contact ellipse reaches the candidate region's edge ({self.extent:.4g} m) "
-                          "and still penetrates; enlarge the contact refinement radius")
+        return CandidateRegionExceeded(self.model.bodies, "refinement radius", (
+            f"{self.name}: the contact ellipse reaches the candidate region's edge ({self.extent:.4g} m) "
+            "and still penetrates; enlarge the contact refinement radius"))
 
     def terms(self, a: float):
         m = len(self.dofs)
@@ -368,10 +370,11 @@ def _operators(c: EllipseContact, pts: RegionPoints):
         where = pts.x1[bad1][:1].tolist() + pts.x2[bad2][:1].tolist()
         # the region search tried an ellipse that leaves the cells prepared for the contact (the
         # refinement zone around it, a few cells across on a coarse grid): a model limit, said plainly
-        raise ValueError(f"{c.name}: a trial contact ellipse (semi-axes {np.round(_semi_axes_of(pts), 6).tolist()} m) "
-                         f"reaches beyond the cells prepared for the contact ({int(bad1.sum())} points of body 1, "
-                         f"{int(bad2.sum())} of body 2, e.g. {np.round(where[0], 6).tolist()}); enlarge the contact "
-                         f"refinement radius (now {c.extent:.4g} m of reach) or refine the grid there")
+        raise CandidateRegionExceeded(c.model.bodies, "refinement radius", (
+            f"{c.name}: a trial contact ellipse (semi-axes {np.round(_semi_axes_of(pts), 6).tolist()} m) "
+            f"reaches beyond the cells prepared for the contact ({int(bad1.sum())} points of body 1, "
+            f"{int(bad2.sum())} of body 2, e.g. {np.round(where[0], 6).tolist()}); enlarge the contact "
+            f"refinement radius (now {c.extent:.4g} m of reach) or refine the grid there"))
     jump = c.b1.displacement_operator(pts.x1, cells1, map1) - c.b2.displacement_operator(pts.x2, cells2, map2)
     flux = 0.5 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1) + 0.5 * c.b2.traction_operator(
         pts.x2, cells2, pts.n1, map2)

@@ -26,7 +26,7 @@ import os
 
 import numpy as np
 
-__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "available_memory", "resident_memory"]
+__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory", "resident_memory"]
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
 #: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
@@ -244,7 +244,7 @@ def _dense_contact_bytes(problem, streamed: bool = False) -> float:
     buffer is freed, so it is not counted beside the work space."""
     total = 0.0
     for c in problem.contacts:
-        n_bodies, m_b = _contact_dofs_per_body(problem, c)
+        n_bodies, m_b = contact_dofs_per_body(problem, c)
         total += 8.0 * m_b**2 * (1.25 * (n_bodies - 1 if streamed else n_bodies) + 3)
     return total
 
@@ -256,12 +256,12 @@ def estimate_contact_dofs(problem) -> float:
         return 0.0
     total = 0.0
     for c in problem.contacts:
-        n_bodies, m_b = _contact_dofs_per_body(problem, c)
+        n_bodies, m_b = contact_dofs_per_body(problem, c)
         total += n_bodies * m_b
     return total
 
 
-def _contact_dofs_per_body(problem, contact) -> tuple[int, float]:
+def contact_dofs_per_body(problem, contact) -> tuple[int, float]:
     """A contact's bodies and the contact dofs of each: CONTACT_DOFS_PER_FACET per finest cell
     face that the candidate disc, widened by CONTACT_DISC_MARGIN finest cells, covers. The disc
     is the part of a circle of the candidate extent around the contact point that the bodies

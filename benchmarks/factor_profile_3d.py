@@ -1,0 +1,86 @@
+"""Where the condensed factorisation of a 3D contact scene spends its flops and memory, counted
+on its symbolic phase (no numeric factorisation): per body, the stored entries of L, the
+update-matrix stack and the largest front below the root (work space), and the dense flops of
+the root (the contact dofs' front), of the fronts whose rows reach the contact dofs, and of the
+others (sum over supernodes of the flops of their pivot columns).
+
+``--extent-fraction F`` sets the contacts' candidate disc (default: the scene's; the sized
+disc of a run with a coarse pass is recorded in its summary's ``iterations.candidate_region``).
+
+    python benchmarks/factor_profile_3d.py examples/solid/full/crossed_cylinders.toml --extent-fraction 0.5924
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+
+import numpy as np
+
+from ibfem.solver.contact.driver import ContactDriver
+from ibfem.solver.fem import multifrontal
+from ibfem.solver.fem.linalg import dof_order, uncoupled_groups
+from ibfem.solver.io.scene import load_scene
+
+
+def symbolic(k, order: np.ndarray, m: int):
+    """The symbolic phase of the condensed Cholesky factor of k in ``order`` (m contact dofs last)."""
+    kern = multifrontal._kernels()
+    f = multifrontal.CholeskyFactor.__new__(multifrontal.CholeskyFactor)
+    f.n, f.m, f.definite = k.shape[0], m, False
+    f.order = f._postordered(k, order, kern)
+    f._symbolic(k, kern)
+    return f
+
+
+def flops(f) -> tuple[float, float, float]:
+    """Dense flops (root, fronts reaching the contact dofs, other fronts) of a symbolic factor."""
+    ncol = np.diff(f.sn_start).astype(float)
+    front = ncol + np.diff(f.row_ptr)
+    work = ncol * front**2 - ncol**2 * front + ncol**3 / 3.0
+    last_row = np.array([f.rows[f.row_ptr[s]:f.row_ptr[s + 1]].max(initial=-1) for s in range(len(ncol))])
+    reach = last_row >= f.n - f.m
+    return float(work[-1]), float(work[:-1][reach[:-1]].sum()), float(work[:-1][~reach[:-1]].sum())
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("scene")
+    ap.add_argument("--extent-fraction", type=float, default=None)
+    args = ap.parse_args(argv)
+    problem = load_scene(args.scene).problem
+    if args.extent_fraction is not None:
+        contacts = tuple(dataclasses.replace(c, options=dataclasses.replace(c.options, extent_fraction=args.extent_fraction))
+                         for c in problem.contacts)
+        problem = dataclasses.replace(problem, contacts=contacts)
+    driver = ContactDriver(problem)
+    driver._discretise()
+    driver._assemble()
+    dofs = np.unique(np.concatenate([c.dofs for c in driver.contacts]))
+    k0 = driver.k0.tocsr()
+    groups = uncoupled_groups(k0, dofs)
+    if groups is None:
+        groups = np.zeros(k0.shape[0], dtype=np.int64)
+    order = dof_order(driver.bodies, k0)
+    print(f"{'body':>4} {'dofs':>8} {'m_b':>6} {'L entries':>10} {'L GB':>6} {'stack GB':>8} {'front GB':>8} "
+          f"{'root GF':>8} {'reach GF':>8} {'other GF':>8}")
+    for g in range(int(groups.max()) + 1):
+        idx = np.flatnonzero(groups == g)
+        local = np.full(k0.shape[0], -1, dtype=np.int64)
+        local[idx] = np.arange(len(idx))
+        contact = local[dofs[groups[dofs] == g]]
+        if not len(contact):
+            continue
+        sub = local[order[groups[order] == g]]
+        is_contact = np.zeros(len(idx), dtype=bool)
+        is_contact[contact] = True
+        f = symbolic(k0[idx][:, idx], np.concatenate([sub[~is_contact[sub]], contact]), len(contact))
+        root, reach, other = flops(f)
+        print(f"{g:4d} {f.n:8d} {f.m:6d} {f.nnz:10.3g} {f.factor_bytes / 2**30:6.2f} {f.stack_bytes / 2**30:8.2f} "
+              f"{f.front_bytes / 2**30:8.2f} {root / 1e9:8.0f} {reach / 1e9:8.0f} {other / 1e9:8.0f}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))
