@@ -142,7 +142,8 @@ def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> 
     scene.write_text(json.dumps(data))
     out = workdir / tag
     ibfem = Path(sys.executable).with_name("ibfem")
-    cmd = [str(ibfem), "run", str(scene), "--out", str(out), "--quiet"]
+    # --no-estimate: the peer computes no error estimate either (ibfem's costs a second, coarser solve)
+    cmd = [str(ibfem), "run", str(scene), "--out", str(out), "--quiet", "--no-estimate"]
     code, _, err, wall, peak, cpu = run_child(cmd)
     row = {"code": "ibfem", "problem": problem, "rung": f"h0 {element_size}, {levels} levels",
            "element_size": element_size, "levels": levels, "wall_s": wall, "cpu_s": cpu,
