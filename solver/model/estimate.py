@@ -62,10 +62,11 @@ CONTACT_DISC_MARGIN = 1.4
 #: separators of the finely refined region about the contact, whatever disc the solve condenses
 #: on: WORK_SPACE_FACTOR m_z^2 entries per body, m_z the contact dofs of a section through the
 #: refinement (a disc of ZONE_SECTION_FRACTION of its radius), or 3 m_b^2 where the condensed
-#: block is the larger (fitted on the full models' runs with the candidate disc sized by a coarse
-#: pass: 0.4-0.6 of the section's dofs condensed, 2.5-2.9 GB; the profile of the crossed cylinders
-#: gives 1.3 GB of stack and largest front per body on that disc, 1.6 GB on the section's)
-WORK_SPACE_FACTOR = 2.2
+#: block is the larger (fitted on the peaks of the three full models' runs, 2.5-3.0 GiB, with the
+#: candidate disc sized by a coarse pass to 0.4-0.6 of the section's dofs; the factorisation's
+#: profile of the crossed cylinders gives 1.3 GB of stack and largest front per body on that disc,
+#: 1.6 GB on the section's)
+WORK_SPACE_FACTOR = 2.5
 ZONE_SECTION_FRACTION = 0.8
 #: points of the signed distance per level and body when counting a 3D body's kept cells
 SAMPLES = 2000
