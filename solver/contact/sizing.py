@@ -36,7 +36,8 @@ from ..model.estimate import contact_dofs_per_body
 from .band import CandidateRegionExceeded
 from .follow import line_contacts
 
-__all__ = ["COARSER_LEVELS", "MARGIN", "MARGIN_CELLS", "MIN_CONTACT_DOFS", "sized_contacts", "solve_sized"]
+__all__ = ["COARSER_LEVELS", "MARGIN", "MARGIN_CELLS", "MIN_CONTACT_DOFS", "coarse_pass_problem", "sized_contacts",
+           "sized_problem", "solve_sized"]
 
 #: levels fewer in the coarse pass's contact refinement
 COARSER_LEVELS = 2
@@ -93,7 +94,13 @@ def region_reach(block: dict) -> float | None:
     return reach if reach > 0.0 and math.isfinite(reach) else None
 
 
-def _fine_problem(problem, indices: list[int], coarse) -> tuple[object, dict]:
+def coarse_pass_problem(problem, indices: list[int]):
+    """The coarse pass of contacts ``indices``: their bodies' contact refinements COARSER_LEVELS
+    levels shallower."""
+    return _with_contact_zones(problem, {n for k in indices for n in problem.contacts[k].bodies}, COARSER_LEVELS)
+
+
+def sized_problem(problem, indices: list[int], coarse) -> tuple[object, dict]:
     """The problem with the candidate discs of contacts ``indices`` sized from the coarse pass's
     regions, and a record of each (None where the coarse region gives no size)."""
     contacts, record = list(problem.contacts), {}
@@ -119,9 +126,8 @@ def solve_sized(problem, run: Callable):
     indices = sized_contacts(problem)
     if not indices:
         return run(problem)
-    names = {n for k in indices for n in problem.contacts[k].bodies}
-    coarse = run(_with_contact_zones(problem, names, COARSER_LEVELS))
-    fine, record = _fine_problem(problem, indices, coarse)
+    coarse = run(coarse_pass_problem(problem, indices))
+    fine, record = sized_problem(problem, indices, coarse)
     passes = {"coarse_pass": {"levels_fewer": COARSER_LEVELS, "converged": bool(coarse.converged),
                               "iterations": coarse.iterations["total"]},
               "contacts": {str(k): v for k, v in record.items()}}

@@ -1,13 +1,21 @@
 """The size ``ibfem run --check`` prints: the cells, dofs and peak memory of the grid the run will
 build (solver.model.estimate), before the run.
 
-For most scenes that grid follows from the scene alone. A 3D line contact whose bodies refine
-around the contact is solved twice (solver.contact.follow): a coarse pass finds the region, and
-the fine pass refines a band along it to the scene's level, instead of the scene's whole contact
-ball. The band's width is the contact's half-width, which depends on the load and both bodies'
-compliance: only a solve knows it. For such a scene the check solves the same coarse pass (a
-grid two levels shallower about the contact: a few seconds, a fraction of the run) and estimates
-the fine pass's grid, band included; the peak memory is the larger of the two passes'."""
+For most scenes that grid follows from the scene alone. Two kinds of 3D contact are solved twice,
+their second pass sized by what a coarse pass finds, which depends on the load and both bodies'
+compliance: only a solve knows it. For such a scene the check solves the same coarse pass (the
+contact refinement two levels shallower: a grid of a few thousand dofs about the contact, a
+fraction of the run) and estimates the second pass; the peak memory is the larger of the two
+passes'.
+
+- A line contact whose bodies refine around the contact (solver.contact.follow): the fine pass
+  refines a band along the coarse region to the scene's level, instead of the scene's whole
+  contact ball; the check estimates the band's grid.
+- A large point contact (solver.contact.sizing: a candidate disc of MIN_CONTACT_DOFS contact dofs
+  per body or more): the fine pass builds the scene's grid but condenses the solve on a
+  candidate disc shrunk about the coarse region; the check estimates the dense arrays of that
+  disc. Should the fine region reach the smaller disc's edge, the run solves the scene's disc
+  once more, which the check cannot foresee (its note says which disc it counted)."""
 
 from __future__ import annotations
 
@@ -21,15 +29,53 @@ __all__ = ["run_size"]
 
 def run_size(problem: Problem, solve: Callable | None = None) -> tuple[ProblemSize, str | None]:
     """(the estimated size of the grids the run builds, a note saying how it was found or None).
-    ``solve``: the solver (solver.solving.solve), called for the coarse pass of 3D line
-    contacts."""
-    from ibfem.solver.contact.follow import band_problem, coarse_problem, line_contacts
+    ``solve``: the solver (solver.solving.solve), called for the coarse passes of 3D line
+    contacts and large 3D point contacts."""
+    from ibfem.solver.contact.follow import line_contacts
+    from ibfem.solver.contact.sizing import sized_contacts
 
-    lines = line_contacts(problem)
-    if not lines:
+    points, lines = sized_contacts(problem), line_contacts(problem)
+    if not points and not lines:
         return estimate_size(problem), None
     if solve is None:
         from ibfem.solver.solving import solve
+    notes, floor = [], 0.0
+    if points:
+        problem, floor, note = _sized_point_contacts(problem, points, solve)
+        notes.append(note)
+    if lines:
+        size, note = _line_contacts(problem, lines, solve)
+        notes.append(note)
+    else:
+        size = estimate_size(problem)
+    return ProblemSize(size.cells, size.dofs, max(size.memory, floor)), "; ".join(notes)
+
+
+def _sized_point_contacts(problem: Problem, points: list[int], solve: Callable) -> tuple[Problem, float, str]:
+    """(the problem with the candidate discs the run's fine pass condenses on, the coarse pass's
+    estimated memory, a note)."""
+    from ibfem.solver.contact.sizing import coarse_pass_problem, sized_problem
+
+    coarse = coarse_pass_problem(problem, points)
+    floor = estimate_size(coarse).memory
+    try:
+        coarse_solution = solve(coarse)
+    except ValueError as err:  # the run reports it in its own words; the scene's disc is the bound
+        return problem, floor, f"the point contact's coarse pass failed ({err}): the scene's candidate disc counted"
+    fine, record = sized_problem(problem, points, coarse_solution)
+    sized = [v for v in record.values() if v is not None]
+    if not sized:
+        return problem, floor, "the point contact's coarse pass found no elliptical region: the scene's candidate disc"
+    extents = ", ".join(f"{v['extent']:.3g} m of the scene's {v['scene_extent']:.3g} m" for v in sized)
+    return fine, floor, (f"point contact: its coarse pass solved ({_dofs(coarse_solution):.3g} dofs), the "
+                         f"candidate disc sized about its region (radius {extents})")
+
+
+def _line_contacts(problem: Problem, lines: list[int], solve: Callable) -> tuple[ProblemSize, str]:
+    """The size of the fine pass of the line contacts ``lines`` (the band along the coarse
+    region), its memory at least the coarse pass's, and a note."""
+    from ibfem.solver.contact.follow import band_problem, coarse_problem
+
     coarse = coarse_problem(problem, lines)
     coarse_size = estimate_size(coarse)
     try:

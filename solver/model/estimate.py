@@ -58,6 +58,16 @@ DOFS_PER_CELL = {3: 2.7}
 #: 9045 dofs per body; within 5 % at 4 and 5 levels of the quarter sphere on a flat)
 CONTACT_DOFS_PER_FACET = 7.1
 CONTACT_DISC_MARGIN = 1.4
+#: a 3D contact's factorisation work space (its update-matrix stack and largest front) is set by the
+#: separators of the finely refined region about the contact, whatever disc the solve condenses
+#: on: WORK_SPACE_FACTOR m_z^2 entries per body, m_z the contact dofs of a section through the
+#: refinement (a disc of ZONE_SECTION_FRACTION of its radius), or 3 m_b^2 where the condensed
+#: block is the larger (fitted on the peaks of the three full models' runs, 2.5-3.0 GiB, with the
+#: candidate disc sized by a coarse pass to 0.4-0.6 of the section's dofs; the factorisation's
+#: profile of the crossed cylinders gives 1.3 GB of stack and largest front per body on that disc,
+#: 1.6 GB on the section's)
+WORK_SPACE_FACTOR = 2.5
+ZONE_SECTION_FRACTION = 0.8
 #: points of the signed distance per level and body when counting a 3D body's kept cells
 SAMPLES = 2000
 #: bodies estimated above this many cells are not sampled (the box's fill by volume is used)
@@ -239,13 +249,16 @@ def _dense_contact_bytes(problem, streamed: bool = False) -> float:
     the root of the factor and a quarter of that in the kept block of the inverse (all of it
     for blocks below 4000 dofs, where it is small), and while the last body is factored about
     three more m_b^2 are work space (the factorisation's update-matrix stack and largest front:
-    measured 1.7 and 1.2 m_b^2 on the crossed cylinders). ``streamed``: the factors go to disk
+    measured 1.7 and 1.2 m_b^2 on the crossed cylinders), or WORK_SPACE_FACTOR m_z^2 where the
+    condensed disc is smaller than a section through the contact refinement (m_z dofs). ``streamed``: the factors go to disk
     as they are computed; the last body's root block is then allocated only once its front
     buffer is freed, so it is not counted beside the work space."""
     total = 0.0
     for c in problem.contacts:
         n_bodies, m_b = contact_dofs_per_body(problem, c)
-        total += 8.0 * m_b**2 * (1.25 * (n_bodies - 1 if streamed else n_bodies) + 3)
+        m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
+        work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
+        total += 8.0 * (1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + work)
     return total
 
 
@@ -261,17 +274,19 @@ def estimate_contact_dofs(problem) -> float:
     return total
 
 
-def contact_dofs_per_body(problem, contact) -> tuple[int, float]:
+def contact_dofs_per_body(problem, contact, fraction: float | None = None) -> tuple[int, float]:
     """A contact's bodies and the contact dofs of each: CONTACT_DOFS_PER_FACET per finest cell
     face that the candidate disc, widened by CONTACT_DISC_MARGIN finest cells, covers. The disc
     is the part of a circle of the candidate extent around the contact point that the bodies
     hold: a quarter model (two symmetry planes through the point) holds a quarter of it, a full
-    model all of it."""
+    model all of it. ``fraction``: a disc of this fraction of the contact refinement radius
+    instead of the contact's ``extent_fraction``."""
     bodies = [b for b in problem.bodies if b.name in contact.bodies]
     radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
     h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
                  for b in bodies)
-    extent = contact.options.extent_fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
+    fraction = contact.options.extent_fraction if fraction is None else fraction
+    extent = fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
     disc = math.pi * (extent + CONTACT_DISC_MARGIN * h_fine) ** 2 * _held_fraction(bodies, contact.point, extent)
     return len(bodies), CONTACT_DOFS_PER_FACET * disc / h_fine**2
 
