@@ -449,8 +449,20 @@ class PartSolid(Solid):
         best = np.minimum(best, edge)
         ask = at_edge | ~interior
         if ask.any():  # nearest feature an edge or a vertex: the side by the winding number
-            sign[ask] = np.where(_winding(p[ask], self.triangles) > 0.5, 1.0, -1.0)
+            sign[ask] = self._side(p[ask])
         return sign * best
+
+    def _side(self, p: np.ndarray) -> np.ndarray:
+        """+1 inside, -1 outside: outside without further work beyond the tessellation's bounding
+        box widened by the tolerance (the closed triangles' winding number is 0 there, and the exact
+        surface lies within that box), else by the winding number (its cost grows with points x
+        triangles: a quarter model's points off its symmetry planes are mostly of the first kind)."""
+        lo, hi = self.bounds
+        boxed = np.all((p >= lo) & (p <= hi), axis=1)
+        side = np.full(len(p), -1.0)
+        if boxed.any():
+            side[boxed] = np.where(_winding(p[boxed], self.triangles) > 0.5, 1.0, -1.0)
+        return side
 
 
 def _pick_body(part, body):
