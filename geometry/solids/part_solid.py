@@ -6,8 +6,10 @@ quadrature point; the tessellation only seeds searches and decides which side a 
   face's trimmed region (within the tessellation's chord sag of the face's triangles), else the
   face's exact boundary edges (their curves' feet within the edge's polyline, else the edges'
   end vertices). The sign: the side of the nearest face's exact normal where the foot is
-  interior to a face, the generalised winding number of the closed tessellation (sum of the
-  triangles' solid angles) where the nearest feature is an edge or a vertex. A face without an
+  interior to a face (also where an edge is as near within round-off: the foot is on it), the
+  generalised winding number of the closed tessellation (sum of the triangles' solid angles)
+  where the nearest feature is an edge or a vertex, outside at once beyond the tessellation's
+  bounding box widened by the tolerance. A face without an
   exact surface falls back to its tessellation (distance minus the sag bound: a lower bound).
 - faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution`` (or
   graded: to a size asked per point, as fine as the solver's cells there), mapped onto the
@@ -445,7 +447,10 @@ class PartSolid(Solid):
             return np.concatenate([self.signed_distance(p[s:s + chunk], chunk) for s in range(0, len(p), chunk)])
         best, sign, interior = self._faces_nearest(p)
         edge = self._edges_nearest(p, best)
-        at_edge = edge < best
+        # an edge nearer than the face's foot by round-off only (a point over a face's trimming
+        # curve, as on a quarter model's symmetry plane): the foot is on that edge and p - foot
+        # lies along the face's normal, so the face's side holds and no winding number is needed
+        at_edge = edge < best - 1e-12 * self.size
         best = np.minimum(best, edge)
         ask = at_edge | ~interior
         if ask.any():  # nearest feature an edge or a vertex: the side by the winding number
