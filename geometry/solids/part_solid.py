@@ -424,22 +424,34 @@ class PartSolid(Solid):
         """Distance to the nearest edge or vertex, exact where it is below ``bound`` (the faces'
         nearest distance); elsewhere only known to be at least ``bound``."""
         best = np.array(bound, dtype=float)
-        for e in self.edges:
-            line = np.asarray(e.polyline, float)
-            ends = [v for v in (e.start, e.end) if v is not None] or [line[0], line[-1]]
-            d = np.min([np.linalg.norm(p - np.asarray(v, float), axis=1) for v in ends], axis=0)
-            if e.curve is None:
-                d = np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
-            else:
-                pr = e.curve.project(p)
-                dc = np.abs(np.asarray(pr.distances, float))
-                ask = np.flatnonzero(dc < np.minimum(best, d))  # only a foot on the edge could be nearer
-                if len(ask):
-                    feet = np.asarray(pr.points, float)[ask]
-                    on = _polyline_distance(feet, line) <= self.tolerance
-                    d[ask[on]] = np.minimum(d[ask[on]], dc[ask[on]])
-            best = np.minimum(best, d)
+        for e, (lo, hi) in zip(self.edges, self._edge_boxes):
+            # the edge (its curve and end vertices) lies in its polyline's box widened by the
+            # tolerance: a point at least its best distance from that box is not asked
+            near = np.flatnonzero(np.linalg.norm(p - np.clip(p, lo, hi), axis=1) < best)
+            if len(near):
+                best[near] = np.minimum(best[near], self._edge_distance(e, p[near], best[near]))
         return best
+
+    @cached_property
+    def _edge_boxes(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        lines = [np.asarray(e.polyline, float).reshape(-1, 3) for e in self.edges]
+        return [(x.min(axis=0) - self.tolerance, x.max(axis=0) + self.tolerance) for x in lines]
+
+    def _edge_distance(self, e, p: np.ndarray, best: np.ndarray) -> np.ndarray:
+        """Distance from points p to the edge e: exact where below ``best``."""
+        line = np.asarray(e.polyline, float)
+        ends = [v for v in (e.start, e.end) if v is not None] or [line[0], line[-1]]
+        d = np.min([np.linalg.norm(p - np.asarray(v, float), axis=1) for v in ends], axis=0)
+        if e.curve is None:
+            return np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
+        pr = e.curve.project(p)
+        dc = np.abs(np.asarray(pr.distances, float))
+        ask = np.flatnonzero(dc < np.minimum(best, d))  # only a foot on the edge could be nearer
+        if len(ask):
+            feet = np.asarray(pr.points, float)[ask]
+            on = _polyline_distance(feet, line) <= self.tolerance
+            d[ask[on]] = np.minimum(d[ask[on]], dc[ask[on]])
+        return d
 
     def signed_distance(self, points, chunk: int = 1 << 16) -> np.ndarray:
         p = np.asarray(points, float).reshape(-1, 3)
