@@ -70,6 +70,8 @@ def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
 
 
 _MESH_KERNELS = None
+#: a face's tessellation of at most this many triangles is searched whole, without rounds
+FEW_TRIANGLES = 32
 
 
 def mesh_kernels():
@@ -121,7 +123,9 @@ class _Mesh:
         m = len(self.tri)
         best = np.full(len(p), np.inf)
         todo = np.arange(len(p))
-        k = min(m, 16 if tol is None else 1)  # a foot on the face mostly lies on its nearest centroid's triangle
+        # a foot on the face mostly lies on its nearest centroid's triangle; a face of few triangles
+        # (a plane's) is taken whole at once: rounds would end there for the points off it anyway
+        k = m if m <= FEW_TRIANGLES else min(m, 16 if tol is None else 1)
         while len(todo) and k > 0:
             dc, idx = self.tree.query(p[todo], k=k)
             dc, idx = dc.reshape(len(todo), k), idx.reshape(len(todo), k)
