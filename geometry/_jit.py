@@ -114,8 +114,8 @@ def run_ranges(fn: Any, n: int, per_thread: int = 4) -> None:
     the machine takes fewer) on a shared pool, waiting for all; an exception in a range is
     raised here."""
     global _POOL, _POOL_SIZE
-    workers = threads()
-    if workers == 1 or n < 2 * MIN_RANGE:
+    workers = 1 if n < 2 * MIN_RANGE else threads()  # few points: not even the cores are asked
+    if workers == 1:
         fn(0, n)
         return
     if _POOL is None or _POOL_SIZE != workers:

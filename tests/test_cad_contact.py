@@ -131,3 +131,24 @@ def test_step_ball_held_by_a_reference_point_on_a_block_against_hertz(tmp_path):
     np.testing.assert_allclose(force, [0, 0, -n], atol=1e-6 * n)
     np.testing.assert_allclose(sol.reactions["block/z_min"], [0, 0, n], atol=1e-6 * n)
     assert np.abs(moment).max() < 1e-4 * n * 0.001
+
+
+def test_signed_distance_outside_the_quarter_near_the_pole(unit_ball):
+    """Points off the quarter ball near its pole (where a contact search probes), whose nearest
+    feature is the pole or a trimming arc: outside (negative), at the closed-form distances within
+    the solid's tolerance (an edge's foot counts as on it within the tessellation's chord bound)."""
+    rng = np.random.default_rng(5)
+    h = rng.uniform(0.001, 0.05, (200, 3))
+    below = -h  # x, y, z < 0: the pole (the origin) is the nearest point
+    tol = unit_ball.tolerance
+    d = unit_ball.signed_distance(below)
+    assert (d < 0).all()
+    np.testing.assert_allclose(d, -np.linalg.norm(below, axis=1), rtol=0, atol=tol)
+    # x < 0 beside the arc x = 0 of the sphere face, y > 0 and below the sphere: the distance to the
+    # circle y^2 + (z - 1)^2 = 1 in the plane x = 0
+    side = np.c_[-h[:, 0], h[:, 1], h[:, 1] ** 2 - h[:, 2]]
+    r = np.hypot(side[:, 1], side[:, 2] - 1.0)
+    expect = np.hypot(side[:, 0], r - 1.0)
+    d = unit_ball.signed_distance(side)
+    assert (d < 0).all()
+    np.testing.assert_allclose(d, -expect, rtol=0, atol=tol)

@@ -6,8 +6,10 @@ quadrature point; the tessellation only seeds searches and decides which side a 
   face's trimmed region (within the tessellation's chord sag of the face's triangles), else the
   face's exact boundary edges (their curves' feet within the edge's polyline, else the edges'
   end vertices). The sign: the side of the nearest face's exact normal where the foot is
-  interior to a face, the generalised winding number of the closed tessellation (sum of the
-  triangles' solid angles) where the nearest feature is an edge or a vertex. A face without an
+  interior to a face (also where an edge is as near within round-off: the foot is on it), the
+  generalised winding number of the closed tessellation (sum of the triangles' solid angles)
+  where the nearest feature is an edge or a vertex, outside at once beyond the tessellation's
+  bounding box widened by the tolerance. A face without an
   exact surface falls back to its tessellation (distance minus the sag bound: a lower bound).
 - faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution`` (or
   graded: to a size asked per point, as fine as the solver's cells there), mapped onto the
@@ -68,6 +70,8 @@ def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
 
 
 _MESH_KERNELS = None
+#: a face's tessellation of at most this many triangles is searched whole, without rounds
+FEW_TRIANGLES = 32
 
 
 def mesh_kernels():
@@ -119,7 +123,9 @@ class _Mesh:
         m = len(self.tri)
         best = np.full(len(p), np.inf)
         todo = np.arange(len(p))
-        k = min(m, 16 if tol is None else 1)  # a foot on the face mostly lies on its nearest centroid's triangle
+        # a foot on the face mostly lies on its nearest centroid's triangle; a face of few triangles
+        # (a plane's) is taken whole at once: rounds would end there for the points off it anyway
+        k = m if m <= FEW_TRIANGLES else min(m, 16 if tol is None else 1)
         while len(todo) and k > 0:
             dc, idx = self.tree.query(p[todo], k=k)
             dc, idx = dc.reshape(len(todo), k), idx.reshape(len(todo), k)
@@ -422,22 +428,34 @@ class PartSolid(Solid):
         """Distance to the nearest edge or vertex, exact where it is below ``bound`` (the faces'
         nearest distance); elsewhere only known to be at least ``bound``."""
         best = np.array(bound, dtype=float)
-        for e in self.edges:
-            line = np.asarray(e.polyline, float)
-            ends = [v for v in (e.start, e.end) if v is not None] or [line[0], line[-1]]
-            d = np.min([np.linalg.norm(p - np.asarray(v, float), axis=1) for v in ends], axis=0)
-            if e.curve is None:
-                d = np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
-            else:
-                pr = e.curve.project(p)
-                dc = np.abs(np.asarray(pr.distances, float))
-                ask = np.flatnonzero(dc < np.minimum(best, d))  # only a foot on the edge could be nearer
-                if len(ask):
-                    feet = np.asarray(pr.points, float)[ask]
-                    on = _polyline_distance(feet, line) <= self.tolerance
-                    d[ask[on]] = np.minimum(d[ask[on]], dc[ask[on]])
-            best = np.minimum(best, d)
+        for e, (lo, hi) in zip(self.edges, self._edge_boxes):
+            # the edge (its curve and end vertices) lies in its polyline's box widened by the
+            # tolerance: a point at least its best distance from that box is not asked
+            near = np.flatnonzero(np.linalg.norm(p - np.clip(p, lo, hi), axis=1) < best)
+            if len(near):
+                best[near] = np.minimum(best[near], self._edge_distance(e, p[near], best[near]))
         return best
+
+    @cached_property
+    def _edge_boxes(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        lines = [np.asarray(e.polyline, float).reshape(-1, 3) for e in self.edges]
+        return [(x.min(axis=0) - self.tolerance, x.max(axis=0) + self.tolerance) for x in lines]
+
+    def _edge_distance(self, e, p: np.ndarray, best: np.ndarray) -> np.ndarray:
+        """Distance from points p to the edge e: exact where below ``best``."""
+        line = np.asarray(e.polyline, float)
+        ends = [v for v in (e.start, e.end) if v is not None] or [line[0], line[-1]]
+        d = np.min([np.linalg.norm(p - np.asarray(v, float), axis=1) for v in ends], axis=0)
+        if e.curve is None:
+            return np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
+        pr = e.curve.project(p)
+        dc = np.abs(np.asarray(pr.distances, float))
+        ask = np.flatnonzero(dc < np.minimum(best, d))  # only a foot on the edge could be nearer
+        if len(ask):
+            feet = np.asarray(pr.points, float)[ask]
+            on = _polyline_distance(feet, line) <= self.tolerance
+            d[ask[on]] = np.minimum(d[ask[on]], dc[ask[on]])
+        return d
 
     def signed_distance(self, points, chunk: int = 1 << 16) -> np.ndarray:
         p = np.asarray(points, float).reshape(-1, 3)
@@ -445,12 +463,27 @@ class PartSolid(Solid):
             return np.concatenate([self.signed_distance(p[s:s + chunk], chunk) for s in range(0, len(p), chunk)])
         best, sign, interior = self._faces_nearest(p)
         edge = self._edges_nearest(p, best)
-        at_edge = edge < best
+        # an edge nearer than the face's foot by round-off only (a point over a face's trimming
+        # curve, as on a quarter model's symmetry plane): the foot is on that edge and p - foot
+        # lies along the face's normal, so the face's side holds and no winding number is needed
+        at_edge = edge < best - 1e-12 * self.size
         best = np.minimum(best, edge)
         ask = at_edge | ~interior
         if ask.any():  # nearest feature an edge or a vertex: the side by the winding number
-            sign[ask] = np.where(_winding(p[ask], self.triangles) > 0.5, 1.0, -1.0)
+            sign[ask] = self._side(p[ask])
         return sign * best
+
+    def _side(self, p: np.ndarray) -> np.ndarray:
+        """+1 inside, -1 outside: outside without further work beyond the tessellation's bounding
+        box widened by the tolerance (the closed triangles' winding number is 0 there, and the exact
+        surface lies within that box), else by the winding number (its cost grows with points x
+        triangles: a quarter model's points off its symmetry planes are mostly of the first kind)."""
+        lo, hi = self.bounds
+        boxed = np.all((p >= lo) & (p <= hi), axis=1)
+        side = np.full(len(p), -1.0)
+        if boxed.any():
+            side[boxed] = np.where(_winding(p[boxed], self.triangles) > 0.5, 1.0, -1.0)
+        return side
 
 
 def _pick_body(part, body):
