@@ -164,3 +164,18 @@ def test_penalty_artefact_of_a_curved_gap_is_read_away_on_a_rounded_punch():
     near_b = np.abs(np.hypot(*clean.centres.T) - b) < 1.5 * h
     assert np.abs(plain.means - clean.means)[near_b].max() > 0.05 * peak
     np.testing.assert_allclose(nodal_pressure(s, w, traction, h), nodal_pressure(s, w, exact, h), atol=1e-6 * peak)
+
+
+@pytest.mark.parametrize("cells_per_radius, too_large", [(5.2, 0.2), (10.0, 0.10), (20.0, 0.05)])
+def test_corner_reading_keeps_the_edge_check_sensitive(cells_per_radius, too_large):
+    """The final check of a region of general shape reads the pressure through the corners: its
+    smallest edge mean is compressive for Hertz's region and below minus a twentieth of the mean
+    pressure for a region too large by the same fractions as the merged point means detect
+    (measured: -0.22, -0.19 and -0.10 of the mean pressure; the merged means -0.38, -0.34, -0.21)."""
+    h = 1.0 / cells_per_radius
+    for c, tensile in ((1.0, False), (1.0 + too_large, True)):
+        s, w = _quarter_disc(c)
+        p = _pressed(c, 1.0, np.hypot(*s.T))
+        cells = agglomerated_cells(s, w, nodal_pressure(s, w, p, h), h)
+        smallest = cells.means[cells.cut].min() / (w @ p / w.sum())
+        assert (smallest < -0.05) == tensile and (smallest > 0.0) == (not tensile)
