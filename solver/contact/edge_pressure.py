@@ -139,8 +139,7 @@ def nodal_pressure(s: np.ndarray, weights: np.ndarray, values: np.ndarray, size:
     radius, by 0.17 %)."""
     s = np.asarray(s, dtype=float)
     keys, hats = _corner_weights(s, size)
-    flat = keys.reshape(-1, 2)
-    _, corner = np.unique(flat, axis=0, return_inverse=True)
+    _, corner = np.unique(_encode(keys.reshape(-1, 2)), return_inverse=True)
     corner = corner.ravel()
     n = int(corner.max()) + 1 if len(corner) else 0
     hw = (hats * np.asarray(weights, dtype=float)[None, :]).ravel()
