@@ -1,6 +1,8 @@
 """The contact pressure read on agglomerated cells: the squares of the finest cell's side in the
 tangent plane, each square that the region fills less than three quarters merged with its
-neighbour towards the region's centre.
+neighbour towards the region's centre; and read through the squares' corners (nodal_pressure:
+each corner's share of the force over its share of the area), which a region of general shape
+maps and judges its final check on.
 
 Why. The band terms tie the two surfaces with a weak (penalty and consistency) condition
 integrated over the region's part of each cell. Where the region's edge cuts a cell so that only
@@ -129,14 +131,15 @@ def nodal_pressure(s: np.ndarray, weights: np.ndarray, values: np.ndarray, size:
     over its share of the area: a lumped L2 projection on the continuous bilinear functions), and
     the values are interpolated back to the points.
 
-    Why. The band traction's penalty term holds the gap's interpolation error within each cell
-    (a curved gap against a trilinear jump: about h^2 / (8 R) times the penalty over a cell of side
-    h on a surface of radius R), which oscillates within the cell and biases its plain mean where
-    the curvature changes (a punch's flat face meeting its rounded edge) while the hat-weighted
-    means, the corners' forces, are the ones the weak form balances. The hats' supports span two
-    cells, so the reading smooths a smooth pressure only at second order: a pressure with
-    curvature p'' is lowered by about p'' h^2 / 6 per direction (Hertz's peak, at 10 cells per
-    radius, by 0.17 %)."""
+    Why. The band traction's penalty term holds what the trilinear jump leaves of a curved gap
+    (up to h^2 / (8 R) over a cell of side h on a surface of radius R) times the penalty's
+    stiffness, which swings within each cell and biases the cells' plain means where the gap's
+    curvature starts (a punch's flat face meeting its rounded edge: the penalty part swings by
+    3.2 GPa RMS on the rounded edge against 0.16 GPa on the flat, the stress flux part by 0.27 GPa),
+    while the hat-weighted means, the corners' forces, are what the weak form balances where the
+    squares are the grid's cells. The reading conserves the force (the hats are a partition of
+    unity) and smooths a smooth pressure only at second order, by about p'' h^2 / 6 per direction:
+    Hertz's peak by (h / a)^2 / 3, 0.33 % at 10 cells per radius."""
     s = np.asarray(s, dtype=float)
     keys, hats = _corner_weights(s, size)
     _, corner = np.unique(_encode(keys.reshape(-1, 2)), return_inverse=True)
