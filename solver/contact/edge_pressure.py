@@ -1,6 +1,8 @@
 """The contact pressure read on agglomerated cells: the squares of the finest cell's side in the
 tangent plane, each square that the region fills less than three quarters merged with its
-neighbour towards the region's centre.
+neighbour towards the region's centre; and read through the squares' corners (nodal_pressure:
+each corner's share of the force over its share of the area), which a region of general shape
+maps and judges its final check on.
 
 Why. The band terms tie the two surfaces with a weak (penalty and consistency) condition
 integrated over the region's part of each cell. Where the region's edge cuts a cell so that only
@@ -28,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["AgglomeratedCells", "agglomerated_cells", "SLIVER_FRACTION", "FULL_FRACTION"]
+__all__ = ["AgglomeratedCells", "agglomerated_cells", "nodal_pressure", "SLIVER_FRACTION", "FULL_FRACTION"]
 
 #: a square the region fills less than this share of merges with its inner neighbour (cells filled
 #: 55 to 60 % still carried tension on a rounded punch's edge)
@@ -107,3 +109,44 @@ def agglomerated_cells(s: np.ndarray, weights: np.ndarray, values: np.ndarray, s
     cut = np.bincount(square_group, weights=(fraction < FULL_FRACTION).astype(float), minlength=g) > 0
     return AgglomeratedCells(point_group, g_centre / ok[:, None], total / ok, g_area, cut, uniq[groups], uniq,
                              square_group)
+
+
+def _corner_weights(s: np.ndarray, size: float) -> tuple[np.ndarray, np.ndarray]:
+    """(keys (4, q, 2), values (4, q)): the four corners k of the square [k size, (k + 1) size)
+    holding each point (points a round-off below a square's edge count in it) and the bilinear hat
+    of each corner at the point."""
+    x = s / size + 1e-6
+    k = np.floor(x).astype(np.int64)
+    f = np.clip(x - k, 0.0, 1.0)
+    corners = [(dx, dy) for dx in (0, 1) for dy in (0, 1)]
+    keys = np.stack([k + np.array(c) for c in corners])
+    hats = np.stack([(f[:, 0] if dx else 1.0 - f[:, 0]) * (f[:, 1] if dy else 1.0 - f[:, 1]) for dx, dy in corners])
+    return keys, hats
+
+
+def nodal_pressure(s: np.ndarray, weights: np.ndarray, values: np.ndarray, size: float) -> np.ndarray:
+    """The pressure (q,) at the points ``s`` read through the corners of the squares of side
+    ``size`` of the tangent plane: each corner's value is the mean int p phi dA / int phi dA
+    weighted by its bilinear hat phi over the region (the corner's share of the contact force
+    over its share of the area: a lumped L2 projection on the continuous bilinear functions), and
+    the values are interpolated back to the points.
+
+    Why. The band traction's penalty term holds what the trilinear jump leaves of a curved gap
+    (up to h^2 / (8 R) over a cell of side h on a surface of radius R) times the penalty's
+    stiffness, which swings within each cell and biases the cells' plain means where the gap's
+    curvature starts (a punch's flat face meeting its rounded edge: the penalty part swings by
+    3.2 GPa RMS on the rounded edge against 0.16 GPa on the flat, the stress flux part by 0.27 GPa),
+    while the hat-weighted means, the corners' forces, are what the weak form balances where the
+    squares are the grid's cells. The reading conserves the force (the hats are a partition of
+    unity) and smooths a smooth pressure only at second order, by about p'' h^2 / 6 per direction:
+    Hertz's peak by (h / a)^2 / 3, 0.33 % at 10 cells per radius."""
+    s = np.asarray(s, dtype=float)
+    keys, hats = _corner_weights(s, size)
+    _, corner = np.unique(_encode(keys.reshape(-1, 2)), return_inverse=True)
+    corner = corner.ravel()
+    n = int(corner.max()) + 1 if len(corner) else 0
+    hw = (hats * np.asarray(weights, dtype=float)[None, :]).ravel()
+    share = np.bincount(corner, weights=hw, minlength=n)
+    force = np.bincount(corner, weights=hw * np.tile(np.asarray(values, dtype=float), 4), minlength=n)
+    node = force / np.where(share > 0.0, share, 1.0)
+    return (node[corner].reshape(hats.shape) * hats).sum(axis=0)

@@ -28,7 +28,7 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor,
 from ..model.options import ContactOptions
 from .band import CandidateRegionExceeded
 from ..reference.theory import hertz_elliptic_contact
-from .edge_pressure import agglomerated_cells
+from .edge_pressure import agglomerated_cells, nodal_pressure
 from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, matched_points,
                                region_points, surface_point, surrounds)
 from .roots import edge_search, settling_tolerance
@@ -61,6 +61,8 @@ class _Verdict:
 
 @dataclass
 class EllipseContact:
+    #: the final check's tension read through the squares' corners (regions of general shape)
+    corner_reading = False
     model: object
     frame: ContactFrame3D
     solids: tuple
@@ -522,13 +524,16 @@ def _edge_verdict(c: EllipseContact, v: _Verdict, info, x: np.ndarray, a: float)
     tension_tolerance times the region's mean pressure; returns how many are. The
     point traction in a sliver of a cut cell is tensile whatever the region's size (the weak
     condition cannot close the gap over it), so the axis samples' window is not a measure of the
-    region; the merged means hold the sliver's deficit with the neighbour that carries it."""
+    region; the merged means hold the sliver's deficit with the neighbour that carries it. A region
+    of general shape (corner_reading) judges the pressure read through the squares' corners
+    (solver.contact.edge_pressure.nodal_pressure), as its map shows it."""
     if info is None or a <= 0.0:
         return 0
     pts = info[0]
     w = plane_weights(c, pts)
     p = np.einsum("qi,qi->q", _quadrature_traction(c, info, x), pts.normal)
-    cells = agglomerated_cells(pts.s, w, p, c.h, c.centre)
+    read = nodal_pressure(pts.s, w, p, c.h) if c.corner_reading else p
+    cells = agglomerated_cells(pts.s, w, read, c.h, c.centre)
     edge = cells.means[cells.cut]
     if not len(edge):
         return 0

@@ -3,11 +3,13 @@ forces, the region's boundary as a closed polyline on body 1's surface (which st
 body 1's free edges: complete contact), its extents along its principal directions, area and
 centroid, and the pressure as cell means (a map, and along both axes) with its peak.
 
-The band traction at the quadrature points oscillates from cell to cell (trilinear fields) while
-its integrals are accurate: the map holds the pressure's mean over each finest cell's square of
-the tangent plane (int p dA / int dA), not point values, with the squares that the region fills
-less than three quarters merged into their inner neighbour (solver.contact.edge_pressure: the
-traction over a sliver of a cut cell is tensile whatever the region, balanced by its neighbour)."""
+The band traction at the quadrature points oscillates within and from cell to cell (trilinear
+fields against a curved gap) while its integrals are accurate: the map holds the pressure read
+through the corners of the finest cell's squares of the tangent plane (each corner's share of the
+force over its share of the area, interpolated bilinearly: solver.contact.edge_pressure's
+nodal_pressure), averaged over each square (int p dA / int dA), with the squares that the region
+fills less than three quarters merged into their inner neighbour (the traction over a sliver of a
+cut cell is tensile whatever the region, balanced by its neighbour)."""
 
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ import math
 
 import numpy as np
 
-from .edge_pressure import agglomerated_cells
+from .edge_pressure import agglomerated_cells, nodal_pressure
 from .ellipse_geometry import sector_share, surface_point
 
 __all__ = ["region_block", "boundary_polyline", "cell_means", "mirror_images"]
@@ -154,7 +156,9 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     p = np.einsum("qi,qi->q", c.quadrature_traction(info, u[c.dofs]), pts.normal)
     s_edge, x_edge, free = boundary_polyline(c, a)
     directions, extents = _principal(pts.s, pts.weights, s_edge, c.ranges)
-    cells = agglomerated_cells(pts.s, pts.weights, p, c.h, c.centre)
+    # the pressure read through the squares' corners (their share of the force over their share of
+    # the area), then averaged over the merged squares
+    cells = agglomerated_cells(pts.s, pts.weights, nodal_pressure(pts.s, pts.weights, p, c.h), c.h, c.centre)
     centres, means, areas, keys = cells.centres, cells.means, cells.areas, cells.keys
     peak = int(np.argmax(means))
     peak_x = surface_point(c.solids[0], frame, centres[peak:peak + 1], c.reach)[0][0]

@@ -93,6 +93,8 @@ class StarRegionContact(EllipseContact):
     """The band terms on a star-shaped region (see the module's docstring): ``a`` is the scale B
     across the line, ``length`` the fixed scale A along it."""
 
+    #: the final check's tension judged on the pressure read through the squares' corners, as the map
+    corner_reading = True
     length: float = 1.0
     isotropic: bool = False  # a flat contact: A = B, both the size the search finds
     knots: np.ndarray = field(default_factory=lambda: np.linspace(0.0, 2.0 * math.pi, KNOTS, endpoint=False))
