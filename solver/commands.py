@@ -79,12 +79,7 @@ def _run(args: argparse.Namespace) -> int:
     for note in scene.warnings:
         _err(f"warning: {note}")
     if args.check:
-        from ibfem.solver.io.run_size import run_size
-
-        size, note = run_size(scene.problem)
-        print(f"{args.scene}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies; {size})"
-              + ("" if note is None else f"; {note}"))
-        return 0
+        return _print_check(args.scene, scene)
     worker = None
     if scene.output.plots:  # imports matplotlib while this process imports the solver and solves
         from ibfem.solver.io.parallel_plots import PictureWorker
@@ -147,6 +142,16 @@ def _run(args: argparse.Namespace) -> int:
         f"results in {out}/"
     )
     _print_contacts(summary, ladder)
+    return 0
+
+
+def _print_check(path: str, scene) -> int:
+    """``--check``: the scene is valid; the size of the run it would make (exit 0)."""
+    from ibfem.solver.io.run_size import run_size
+
+    size, note = run_size(scene.problem)
+    print(f"{path}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies; {size})"
+          + ("" if note is None else f"; {note}"))
     return 0
 
 
