@@ -27,6 +27,8 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
+from .abel import flat_punch_integral
+
 __all__ = ["chamfered_punch_3d_load", "chamfered_punch_3d_radius", "chamfered_punch_3d_approach",
            "chamfered_punch_3d_pressure"]
 
@@ -68,18 +70,10 @@ def chamfered_punch_3d_radius(load: float, b: float, slope: float, e_star: float
 def chamfered_punch_3d_pressure(r: np.ndarray, a: float, b: float, slope: float, e_star: float) -> np.ndarray:
     """The contact pressure p(r) (Pa) at the radii r (0 beyond a; infinite at r = b)."""
     _check(a, b, slope)
-    r = np.abs(np.asarray(r, dtype=float))
-    v, w = np.polynomial.legendre.leggauss(PRESSURE_POINTS)
-    v, w = 0.5 * (v + 1.0), 0.5 * w
-    t0 = np.maximum(r, b)[:, None]
-    span = np.clip(a - t0, 0.0, None)
-    t = t0 + span * v[None, :] ** 2
-    rr = np.minimum(r, a)[:, None]
-    # arccos(b / t) + b / sqrt(t^2 - b^2), with (t - b) = (t0 - b) + span v^2 kept apart from round-off
-    tb = np.sqrt((t0 - b + span * v[None, :] ** 2) * (t + b))
-    kernel = np.arccos(np.clip(b / np.maximum(t, 1e-300), -1.0, 1.0))
-    kernel = kernel + np.divide(b, tb, out=np.zeros_like(tb), where=tb > 0.0)
-    root = np.sqrt((t0 - rr + span * v[None, :] ** 2) * (t + rr))
-    jac = np.divide(2.0 * span * v[None, :], root, out=np.zeros_like(root), where=root > 0.0)
-    p = e_star * slope / math.pi * (kernel * jac) @ w
-    return np.where(r < a, p, 0.0)
+
+    def kernel(t, t_minus_b):  # arccos(b / t) + b / sqrt(t^2 - b^2)
+        tb = np.sqrt(t_minus_b * (t + b))
+        k = np.arccos(np.clip(b / np.maximum(t, 1e-300), -1.0, 1.0))
+        return k + np.divide(b, tb, out=np.zeros_like(tb), where=tb > 0.0)
+
+    return e_star * slope / math.pi * flat_punch_integral(r, a, b, kernel, PRESSURE_POINTS)

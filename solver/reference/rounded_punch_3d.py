@@ -35,6 +35,8 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
+from .abel import flat_punch_integral
+
 __all__ = ["rounded_punch_3d_load", "rounded_punch_3d_radius", "rounded_punch_3d_approach",
            "rounded_punch_3d_pressure"]
 
@@ -78,16 +80,9 @@ def rounded_punch_3d_radius(load: float, b: float, radius: float, e_star: float)
 def rounded_punch_3d_pressure(r: np.ndarray, a: float, b: float, radius: float, e_star: float) -> np.ndarray:
     """The contact pressure p(r) (Pa) at the radii r (0 beyond a)."""
     _check(a, b, radius)
-    r = np.abs(np.asarray(r, dtype=float))
-    v, w = np.polynomial.legendre.leggauss(PRESSURE_POINTS)
-    v, w = 0.5 * (v + 1.0), 0.5 * w
-    t0 = np.maximum(r, b)[:, None]
-    span = np.clip(a - t0, 0.0, None)
-    t = t0 + span * v[None, :] ** 2
-    rr = np.minimum(r, a)[:, None]
-    kernel = 2.0 * np.sqrt(np.clip(t * t - b * b, 0.0, None)) - b * np.arccos(np.clip(b / np.maximum(t, 1e-300), -1, 1))
-    # dt / sqrt(t^2 - r^2) = 2 span v dv / sqrt((t - r) (t + r)); (t - r) = (t0 - r) + span v^2
-    root = np.sqrt((t0 - rr + span * v[None, :] ** 2) * (t + rr))
-    jac = np.divide(2.0 * span * v[None, :], root, out=np.zeros_like(root), where=root > 0.0)
-    p = e_star / (math.pi * radius) * (kernel * jac) @ w
-    return np.where(r < a, p, 0.0)
+
+    def kernel(t, t_minus_b):  # 2 sqrt(t^2 - b^2) - b arccos(b / t)
+        angle = np.arccos(np.clip(b / np.maximum(t, 1e-300), -1, 1))
+        return 2.0 * np.sqrt(np.clip(t * t - b * b, 0.0, None)) - b * angle
+
+    return e_star / (math.pi * radius) * flat_punch_integral(r, a, b, kernel, PRESSURE_POINTS)
