@@ -18,8 +18,8 @@ from .fem.linalg import linear_solve
 from .fem.path_loads import path_loads
 from .fem.bodies import discretise
 from .fem.space import body_info
-from .model.accuracy import (contact_quantities, has_complete_end, largest_error, observed_order, orders_for,
-                             relative_errors)
+from .model.accuracy import (COMPLETE_END_ORDER_RANGE, SIZE_ORDER_RANGE, contact_quantities, has_complete_end,
+                             largest_error, orders_for, relative_errors)
 from .model.estimate import available_memory, estimate_size
 from .model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .model.resolve import resolve_problem
@@ -163,8 +163,8 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
                    coarsest: IBFEMSolution | None = None) -> None:
     """Each contact block of ``fine`` gets ``max_pressure``, ``max_von_mises`` and
     ``estimated_error`` against ``coarse`` (a solution on a grid twice as coarse), or a null
-    estimate and ``estimate_note``. ``coarsest``, a third grid twice as coarse again (an accuracy
-    ladder's), gives a region with a complete end its observed order."""
+    estimate and ``estimate_note``. ``coarsest``, a third grid twice as coarse again, gives the
+    regions' sizes the three-grid estimate (solver.model.accuracy.three_grid_error)."""
     for block in fine.contacts:
         block["max_pressure"] = contact_quantities(block).get("max_pressure")
         block["max_von_mises"] = max_von_mises(fine, block, dim)
@@ -174,23 +174,14 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
             if other.get("max_von_mises") is None:  # a partner not yet sampled (a rung's is)
                 other = dict(other, max_von_mises=max_von_mises(coarse, other, dim))
             third = coarsest.contacts[k] if coarsest is not None and k < len(coarsest.contacts) else None
-            block["estimated_error"] = relative_errors(contact_quantities(block), contact_quantities(other),
-                                                       orders_for(block, _complete_end_order(block, other, third)))
+            span = COMPLETE_END_ORDER_RANGE if has_complete_end(block) else SIZE_ORDER_RANGE
+            block["estimated_error"] = relative_errors(
+                contact_quantities(block), contact_quantities(other), orders_for(block),
+                coarsest=contact_quantities(third) if third is not None else None, order_range=span)
             block.pop("estimate_note", None)
         else:
             block["estimated_error"] = None
             block["estimate_note"] = note or "the coarser grid found no such contact"
-
-
-def _complete_end_order(block: dict, coarse: dict, coarsest: dict | None) -> float | None:
-    """The observed order of the half width of a region with a complete end on three grids (None:
-    no third grid, no complete end, or not yet converging steadily)."""
-    if coarsest is None or not has_complete_end(block):
-        return None
-    values = [b.get("half_width") for b in (block, coarse, coarsest)]
-    if any(v is None for v in values):
-        return None
-    return observed_order(*(float(v) for v in values))
 
 
 def _solve_quietly(problem: Problem) -> tuple[IBFEMSolution | None, str | None]:
@@ -211,13 +202,24 @@ def _sizes(problem: Problem) -> str:
 def estimate_errors(problem: Problem, solution: IBFEMSolution, factor: float = 2.0) -> None:
     """Adds to each contact block of ``solution`` its ``max_pressure``, ``max_von_mises`` and
     ``estimated_error`` (relative, per quantity: solver.model.accuracy) from a second solve of
-    ``problem`` on a grid ``factor`` times coarser; ``estimate_s`` to the timings. A coarse
+    ``problem`` on a grid ``factor`` times coarser, and in 2D a third on a grid ``factor`` times
+    coarser again for the sizes (:func:`_coarsest`); ``estimate_s`` to the timings. A coarse
     problem that cannot be solved or does not converge leaves ``estimated_error`` null and
     says why in ``estimate_note``."""
     t = time.perf_counter()
     coarse, note = _solve_quietly(coarser(problem, factor))
-    _add_estimates(solution, coarse, problem.dim, note)
+    _add_estimates(solution, coarse, problem.dim, note, coarsest=_coarsest(problem, factor, note))
     solution.timings["estimate_s"] = time.perf_counter() - t
+
+
+def _coarsest(problem: Problem, factor: float, note: str | None) -> IBFEMSolution | None:
+    """In 2D, the solution on the grid ``factor``^2 times coarser than ``problem``'s (a sixteenth of
+    its dofs), where the coarse solve succeeded and this one converges; else None (3D: an
+    eighth of an eighth would leave the region a few cells across)."""
+    if problem.dim != 2 or note is not None:
+        return None
+    solution, why = _solve_quietly(coarser(problem, factor * factor))
+    return solution if why is None else None
 
 
 #: a rung refined around the contacts makes its new zone this many times the region's largest
@@ -344,7 +346,7 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
     fine, fine_note = _solve_quietly(problem)
     if fine is None:
         raise ValueError(fine_note)
-    _add_estimates(fine, coarse, problem.dim, note)
+    _add_estimates(fine, coarse, problem.dim, note, coarsest=_coarsest(problem, 2.0, note))
     partner = coarse if note is None else None
     rungs = [_rung(problem, fine, time.perf_counter() - t)]
     note = fine_note

@@ -13,8 +13,8 @@ import pytest
 
 from ibfem.solver.io.result_line import accuracy_line, contact_line
 from ibfem.solver.io.scene import scene_from_dict
-from ibfem.solver.model.accuracy import (ORDERS, contact_quantities, largest_error, observed_order, orders_for,
-                                        relative_errors)
+from ibfem.solver.model.accuracy import (ORDERS, SIZE_ORDER_RANGE, contact_quantities, largest_error, observed_order,
+                                        orders_for, relative_errors, three_grid_error)
 from ibfem.solver.reference import theory
 from ibfem.solver.reports.validate import effective_properties
 from ibfem.solver.solving import solve_to_accuracy
@@ -88,6 +88,45 @@ def test_complete_end_sizes_take_the_safe_or_the_observed_order():
     assert observed_order(1.0, 1.1, 1.05) is None
     # an observed order outside the trusted range is clamped to it
     assert observed_order(*[q + c * (k * h) ** 3 for k in (1, 2, 4)]) == 2.0
+
+
+def test_three_grids_give_the_sizes_their_observed_order():
+    # q_h = q + C h^p on three grids, each twice as fine as the one before: for p inside the trusted
+    # range the estimate is the exact error of the finest; outside it the clamped order
+    q, c, h = 0.0148, 0.02, 0.001
+    for p in (1.2, 1.5, 2.0):
+        grids = [q + c * (k * h) ** p for k in (1, 2, 4)]
+        assert three_grid_error(*grids, 1.5) == pytest.approx(c * h ** p / grids[0], rel=1e-9)
+    # faster than the range (order 3): the coarser pair's difference carried down at order 2,
+    # (64 - 8) c h^3 / ((2^2 - 1) 2^2), never the clamped (8 - 1) c h^3 / (2^2 - 1), 4/7 of it
+    grids = [q - c * (k * h) ** 3 for k in (1, 2, 4)]
+    assert three_grid_error(*grids, 1.5) == pytest.approx(56.0 * c * h ** 3 / (12.0 * grids[0]), rel=1e-9)
+    # slower than the range (order 0.7): its slowest order, 1
+    grids = [q + c * (k * h) ** 0.7 for k in (1, 2, 4)]
+    assert three_grid_error(*grids, 1.5) == pytest.approx((grids[1] - grids[0]) / grids[0], rel=1e-9)
+    assert SIZE_ORDER_RANGE == (1.0, 2.0)
+    # element by element for lists (3D semi-axes), only for the sizes
+    g = [q + c * (k * h) ** 1.2 for k in (1, 2, 4)]
+    fine = {"semi_axes": [g[0]] * 2, "normal_force": 1.0}
+    coarse = {"semi_axes": [g[1]] * 2, "normal_force": 1.03}
+    coarsest = {"semi_axes": [g[2]] * 2, "normal_force": 0.5}
+    errors = relative_errors(fine, coarse, coarsest=coarsest)
+    assert errors["semi_axes"] == [pytest.approx(c * h ** 1.2 / fine["semi_axes"][0], rel=1e-9)] * 2
+    assert errors["normal_force"] == pytest.approx(0.01)
+
+
+def test_three_grids_see_through_a_coincidence():
+    # a size scattered by the grid's position: the two finest grids happen to agree, the coarser
+    # pair's difference carried down to the finest grid (order 3/2) bounds the estimate from below
+    q, h = 0.0148, 0.001
+    fine, coarse, coarsest = q + 1e-7, q + 1e-7 + 1e-9, q + 6e-6
+    est = three_grid_error(fine, coarse, coarsest, 1.5)
+    assert est == pytest.approx((coarsest - coarse) / ((2 ** 2 - 1) * 2 ** 2 * fine), rel=1e-12)   # at order 2
+    assert est > 50 * abs(fine - coarse) / ((2 ** 1.5 - 1) * fine)
+    # differences of opposite signs: the same bound, never below the two-grid estimate
+    est = three_grid_error(q + 2e-6, q, q + 1e-6, 1.5)
+    assert est == pytest.approx(2e-6 / ((2 ** 1.5 - 1) * (q + 2e-6)), rel=1e-12)
+    assert math.isnan(three_grid_error(q, q, math.nan, 1.5))
 
 
 def test_missing_coarse_quantity_and_largest():
