@@ -1,12 +1,14 @@
 """The error estimate (``ibfem run``'s ``estimated_error``: a second solve on a grid twice as
-coarse, Richardson with the orders of solver.model.accuracy) beside the true error on the shipped
+coarse, in 2D a third on one 4 times as coarse, Richardson with the orders of
+solver.model.accuracy) beside the true error on the shipped
 examples: 2D contacts against Hertz for the computed force (a; the peak pressure p0; c against
 Cattaneo-Mindlin's c/a times Hertz's a for the computed forces), 3D circular contacts against
 Hertz for the computed force (a, p0; elliptical contacts with Johnson's elliptic integrals) and Mindlin's stick radius for the computed forces (c). Each scene solved in this process: the solve's and the
-estimate's wall time are both printed (the estimate's cost). The rounded flat punches against
-their half-plane closed form (Ciavarella, Hills and Monno 1998: a for the computed force; flat
-half-width 0.01 m, edge radius 1 m as the scenes say) and the pin in a bore against Persson's
-contact angle for the computed load (pin radius 0.5 m, clearance 0.5 mm); the tilted flat punch's
+estimate's wall time are both printed (the estimate's cost). The rounded flat punches and the
+pin in a bore against the converged solution of the same finite bodies under the same load
+(solver.reference.converged.HALF_WIDTHS, fitted-mesh NGSolve: benchmarks/accuracy_reference_2d.py),
+with their distance from the infinite bodies' closed forms beside (the punch's on half-planes,
+Ciavarella, Hills and Monno 1998; Persson's pin in an infinite plate); the tilted flat punch's
 region against Johnson's rigid tilted punch for the computed force. Prints a markdown
 table (docs/accuracy.md). With ``--limits`` each scene is also solved on a grid 4 times as
 coarse, and a second table gives each size's Richardson limit from the three grids (observed
@@ -29,6 +31,7 @@ import numpy as np
 
 from ibfem.solver.io.scene import load_scene
 from ibfem.solver.reference import theory
+from ibfem.solver.reference.converged import HALF_WIDTHS
 from ibfem.solver.reference.pin import pin_in_bore_angle
 from ibfem.solver.reference.punch import rounded_punch_half_width
 from ibfem.solver.reports.validate import effective_properties
@@ -55,18 +58,22 @@ def _e_star(problem, c: dict) -> float:
     return effective_properties(problem, c)[1]
 
 
-def true_errors_punch(problem, c: dict, share: float) -> dict:
-    """a against the rounded flat punch's closed form for the computed force (``share``: the
-    model's part of the whole punch, 0.5 for a half model)."""
+def true_errors_converged(problem, c: dict, name: str) -> dict:
+    """a against the converged solution of the same finite bodies under the same load
+    (ibfem.solver.reference.converged.HALF_WIDTHS: fitted-mesh NGSolve P3)."""
+    return {"half_width": float(c["half_width"]) / HALF_WIDTHS[name]["half_width"] - 1.0}
+
+
+def against_theory(problem, c: dict, name: str) -> float:
+    """a against the closed form of the infinite bodies for the computed force: the rounded flat
+    punch's on half-planes (``share`` of the whole punch: 0.5 for the half model), Persson's
+    contact angle of the pin in an infinite plate (the chord on the pin)."""
+    if name == "pin_in_bore":
+        angle = pin_in_bore_angle(float(c["normal_force"]), 5e-4, _e_star(problem, c))
+        return float(c["half_width"]) / (2.0 * 0.5 * math.sin(0.5 * angle)) - 1.0
+    share = 0.5 if name.endswith("_half") else 1.0
     a_ref = rounded_punch_half_width(float(c["normal_force"]) / share, 0.01, 1.0, _e_star(problem, c))
-    return {"half_width": float(c["half_width"]) / a_ref - 1.0}
-
-
-def true_errors_pin(problem, c: dict) -> dict:
-    """a (the chord on the pin) against Persson's contact semi-angle for the computed load."""
-    radius, clearance = 0.5, 5e-4
-    angle = pin_in_bore_angle(float(c["normal_force"]), clearance, _e_star(problem, c))
-    return {"half_width": float(c["half_width"]) / (2.0 * radius * math.sin(0.5 * angle)) - 1.0}
+    return float(c["half_width"]) / a_ref - 1.0
 
 
 def true_errors_tilted(problem, c: dict, scene=None) -> dict:
@@ -79,9 +86,8 @@ def true_errors_tilted(problem, c: dict, scene=None) -> dict:
 
 
 #: the shipped examples with their own exact references (by file stem)
-SPECIAL = {"tilted_punch": true_errors_tilted, "rounded_punch": lambda pr, c: true_errors_punch(pr, c, 1.0),
-           "rounded_punch_half": lambda pr, c: true_errors_punch(pr, c, 0.5),
-           "pin_in_bore": true_errors_pin}
+SPECIAL = {"tilted_punch": true_errors_tilted,
+           **{name: (lambda pr, c, n=name: true_errors_converged(pr, c, n)) for name in HALF_WIDTHS}}
 
 
 def true_errors_3d(problem, c: dict) -> dict:
@@ -179,6 +185,8 @@ def main(argv: list[str]) -> int:
             true = exact(scene.problem, c, scene=scene) if exact is true_errors_tilted else exact(scene.problem, c)
             row = {"scene": str(path), "solve_s": t1 - t0, "estimate_s": t2 - t1, "type": c["type"],
                    "estimated": c.get("estimated_error"), "note": c.get("estimate_note"), "true": true}
+            if path.stem in HALF_WIDTHS:
+                row["against_theory"] = against_theory(scene.problem, c, path.stem)
             if args.limits and c is solution.contacts[0]:
                 row["limits"] = limit_rows(scene, solution)
             rows.append(row)
@@ -193,6 +201,12 @@ def main(argv: list[str]) -> int:
             shown = _pct(est) if r["estimated"] is not None else f"none: {r.get('note')}"
             print(f"| {Path(r['scene']).stem} | {key} | {_pct(true)} | {shown} | {ratio} | "
                   f"{r['solve_s']:.1f} | {r['estimate_s']:.1f} |")
+    theory_rows = [r for r in rows if "against_theory" in r]
+    if theory_rows:
+        print("\n| example | a against the converged finite bodies | a against the infinite bodies' closed form |")
+        print("|---|---|---|")
+        for r in theory_rows:
+            print(f"| {Path(r['scene']).stem} | {_pct(r['true']['half_width'])} | {_pct(r['against_theory'])} |")
     if args.limits:
         _print_limits(rows)
     if args.json:

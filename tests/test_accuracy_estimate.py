@@ -13,7 +13,7 @@ import pytest
 
 from ibfem.solver.io.result_line import accuracy_line, contact_line
 from ibfem.solver.io.scene import scene_from_dict
-from ibfem.solver.model.accuracy import (ORDERS, SIZE_ORDER_RANGE, contact_quantities, largest_error, observed_order,
+from ibfem.solver.model.accuracy import (COMPLETE_END_ORDER_RANGE, ORDERS, SIZE_ORDER_RANGE, contact_quantities, largest_error, observed_order,
                                         orders_for, relative_errors, three_grid_error)
 from ibfem.solver.reference import theory
 from ibfem.solver.reports.validate import effective_properties
@@ -87,7 +87,13 @@ def test_complete_end_sizes_take_the_safe_or_the_observed_order():
     # differences of opposite signs (not yet converging steadily) give no observed order
     assert observed_order(1.0, 1.1, 1.05) is None
     # an observed order outside the trusted range is clamped to it
-    assert observed_order(*[q + c * (k * h) ** 3 for k in (1, 2, 4)]) == 2.0
+    assert observed_order(*[q + c * (k * h) ** 3 for k in (1, 2, 4)]) == 1.0
+    # the three-grid estimate of such a size: faster than order 1, the coarser pair's difference
+    # carried down at order 1, (2^1.2 - 1) c h^1.2 / 2 (the tilted punch's case)
+    g = [q + c * (k * h) ** 1.2 for k in (1, 2, 4)]
+    errors = relative_errors({"half_width": g[0]}, {"half_width": g[1]}, orders, coarsest={"half_width": g[2]},
+                             order_range=COMPLETE_END_ORDER_RANGE)
+    assert errors["half_width"] == pytest.approx((g[2] - g[1]) / (2.0 * g[0]), rel=1e-9)
 
 
 def test_three_grids_give_the_sizes_their_observed_order():

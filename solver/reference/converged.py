@@ -20,13 +20,32 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["CONVERGED", "vm_peak_for_force"]
+__all__ = ["CONVERGED", "HALF_WIDTHS", "vm_peak_for_force"]
 
 CONVERGED: dict[str, dict[str, float]] = {
     # benchmarks/examples_ngsolve.py --only ex7: 130,510 dofs, h_c 3.90e-4 m
     "cylinder_on_wedge_frictionless": {"N": 84787753.263307, "vm_peak": 1011645024.9231527},
     # benchmarks/examples_ngsolve.py --only ex3: 122,656 dofs, h_c 3.56e-4 m
     "cylinder_on_cylinder_frictionless": {"N": 141441575.31389323, "vm_peak": 1784712594.963194},
+}
+
+
+#: Converged half widths (m) of the shipped 2D examples whose closed forms describe other bodies
+#: (half-planes under the rounded flat punch, an infinite plate around the pin): the same scenes
+#: (bodies, supports, prescribed displacements) solved by NGSolve P3 on fitted curved meshes with
+#: penalty contact on ibfem's pairs of the undeformed geometry, a read from the fitted gap opening
+#: just outside the region (``benchmarks/accuracy_reference_2d.py``, 2026-11-28, docs/accuracy.md
+#: "References of the finite bodies"). ``half_width`` is the Richardson limit (or the finest mesh's
+#: value where the meshes agree to round-off of the reading), ``uncertainty`` the spread of the
+#: finest meshes' readings about it, ``N`` the converged normal force (N/m) for the same load.
+HALF_WIDTHS: dict[str, dict[str, float]] = {
+    # full model; h_c 4e-4 ... 1e-4 m: 0.0148000, 0.0147980, 0.0147975 (order 1.90)
+    "rounded_punch": {"half_width": 0.0147973, "uncertainty": 3e-7, "N": 3.98170e6},
+    # h_c 4e-4 ... 5e-5 m: 0.0147232, 0.0147228, 0.0147219, 0.0147217 (differences not yet
+    # shrinking steadily: the finest value, the spread of the last two)
+    "rounded_punch_half": {"half_width": 0.0147217, "uncertainty": 2e-7, "N": 3.87942e6},
+    # h_c 0.016, 0.008, 0.004 m: 0.4783524, 0.4783222, 0.4783230
+    "pin_in_bore": {"half_width": 0.478323, "uncertainty": 1e-6, "N": 8.56604e7},
 }
 
 
