@@ -1,7 +1,8 @@
 """``solve(problem) -> Solution``: the one entry of the numerics. Resolves what the problem leaves
 implicit (contact points, refinement centres), then runs the linear solve (no contacts) or the
 contact load-step driver. The only module that imports both. ``estimate_errors`` adds the
-estimated error of each contact's results from a second solve on a grid twice as coarse."""
+estimated error of each contact's results from a second solve on a grid twice as coarse (in 2D
+a third on one 4 times as coarse for the sizes)."""
 
 from __future__ import annotations
 

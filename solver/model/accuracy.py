@@ -4,7 +4,8 @@ and Engineering, 1998, ch. 5): a quantity q that converges like q_h = q + C h^p 
 
     q_h - q = (q_h - q_2h) / (2^p - 1)
 
-on the finer grid. The orders p are those of bilinear / trilinear elements where the fields are
+on the finer grid. In 2D the sizes also have a third grid, 4 times as coarse, which gives them
+their observed order and sees through two grids that agree by chance (:func:`three_grid_error`). The orders p are those of bilinear / trilinear elements where the fields are
 smooth, and of the contact's edge where they are not:
 
 - 2 for the normal force (a reaction: an integral of the stresses, superconvergent like the

@@ -39,7 +39,7 @@ CONVERGED: dict[str, dict[str, float]] = {
 #: value where the meshes agree to round-off of the reading), ``uncertainty`` the spread of the
 #: finest meshes' readings about it, ``N`` the converged normal force (N/m) for the same load.
 HALF_WIDTHS: dict[str, dict[str, float]] = {
-    # full model; h_c 4e-4 ... 1e-4 m: 0.0148000, 0.0147980, 0.0147975 (order 1.90)
+    # full model; h_c 4e-4 ... 1e-4 m: 0.0148000, 0.0147980, 0.0147975 (order 1.90); 5e-5 m: 0.0147973
     "rounded_punch": {"half_width": 0.0147973, "uncertainty": 3e-7, "N": 3.98170e6},
     # h_c 4e-4 ... 5e-5 m: 0.0147232, 0.0147228, 0.0147219, 0.0147217 (differences not yet
     # shrinking steadily: the finest value, the spread of the last two)
