@@ -1,6 +1,7 @@
 """Converged references of the rounded flat punch examples (examples/contact2d/rounded_punch.toml and
-rounded_punch_half.toml) computed by an independent code on fitted meshes: the same finite bodies,
-supports and load, not the half-plane closed form.
+rounded_punch_half.toml) and of the pin in a bore (pin_in_bore.toml) computed by an independent
+code on fitted meshes: the same finite bodies, supports and load, not the closed forms of
+half-planes and of an infinite plate.
 
 NGSolve P3 (or --order) on curved meshes of the half model (x >= 0, both symmetry lines sliding;
 the full scene's punch top is held in x, which by symmetry is the half model with the top's x held
@@ -16,8 +17,14 @@ closes and a from the fitted opening just outside (peers_ngsolve.opening_fit). T
 h_c / 2, h_c / 4 give the observed order and Richardson's limit of each reading; the penalty doubled
 on the finest shows the penalty's share.
 
-    .venv/bin/python benchmarks/accuracy_reference_2d.py --scene full --hc 2e-4
-    .venv/bin/python benchmarks/accuracy_reference_2d.py --scene half --hc 2e-4
+The pin (``--scene pin``): the plate 20 m square with fixed edges, the pin held by a rigid hub
+moved down 1 mm, meshed with h_c along both circles for |theta| <= 1.5 alpha (``--a-est``: the
+contact semi-angle, rad) and 2 h_c in a ring 0.1 m wide on either side; the penalty on the gap of
+ibfem's pairs (``pin_pairs``), a as the chord on the pin (solve_pin).
+
+    .venv/bin/python benchmarks/accuracy_reference_2d.py --scene full --hc 4e-4
+    .venv/bin/python benchmarks/accuracy_reference_2d.py --scene half --hc 4e-4
+    .venv/bin/python benchmarks/accuracy_reference_2d.py --scene pin --hc 0.016 --a-est 1.0 --hmax 1.0
 
 Prints one JSON line per mesh and the Richardson lines. Needs ngsolve (the ``peers`` extra).
 """
@@ -286,7 +293,7 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--scene", choices=("full", "half", "pin"), required=True)
     ap.add_argument("--hc", type=float, default=2e-4, help="h_c of the coarsest mesh (m)")
     ap.add_argument("--meshes", type=int, default=3)
-    ap.add_argument("--a-est", type=float, default=0.0148)
+    ap.add_argument("--a-est", type=float, default=0.0148, help="the punch's half width (m) or the pin's semi-angle (rad)")
     ap.add_argument("--hmax", type=float, default=0.05)
     ap.add_argument("--order", type=int, default=3)
     ap.add_argument("--penalty", type=float, default=1e3)
