@@ -215,11 +215,16 @@ def estimate_errors(problem: Problem, solution: IBFEMSolution, factor: float = 2
 
 def _coarsest(problem: Problem, factor: float, note: str | None) -> IBFEMSolution | None:
     """In 2D, the solution on the grid ``factor``^2 times coarser than ``problem``'s (a sixteenth of
-    its dofs), where the coarse solve succeeded and this one converges; else None (3D: an
-    eighth of an eighth would leave the region a few cells across)."""
+    its dofs), where the coarse solve succeeded and this one converges; else None, and the sizes
+    keep the two-grid estimate (3D: an eighth of an eighth would leave the region a few cells
+    across). A grid that coarse may not carry the problem at all (a singular system): that too
+    only drops the third grid."""
     if problem.dim != 2 or note is not None:
         return None
-    solution, why = _solve_quietly(coarser(problem, factor * factor))
+    try:
+        solution, why = _solve_quietly(coarser(problem, factor * factor))
+    except (RuntimeError, np.linalg.LinAlgError):
+        return None
     return solution if why is None else None
 
 
