@@ -565,3 +565,51 @@ def test_fitted_peak_finds_a_parabola_vertex_between_squares():
     falling = p0 - 1e10 * centres[:, 0] - beta * centres[:, 1] ** 2  # a half model's y >= 0
     at, value = fitted_peak(centres, falling, keys, mirror_images([(0.0, math.pi)]))
     assert at[0] == centres[0, 0] and at[1] == pytest.approx(0.0, abs=1e-12)
+
+
+def _filleted(data: dict, seams_deg=(1.0, 2.6)) -> dict:
+    """The roller's lower surface cut into three CAD faces along generators: its arc of radius R
+    from the contact line (0 degrees) to ``seams_deg[0]`` ("face"), a fillet of the same radius
+    and centre on to ``seams_deg[1]`` ("fillet"), and the rest of the quarter ("side"): the same
+    smooth cylinder, with edges between faces at y = R sin(seam)."""
+    edges = data["bodies"][0]["shape"]["profile"]["edges"]
+    arc = next(e for e in edges if e["type"] == "arc")
+    bounds = [arc["start_angle"], *seams_deg, arc["end_angle"]]
+    parts = [dict(arc, start_angle=a0, end_angle=a1, name=name)
+             for a0, a1, name in zip(bounds[:-1], bounds[1:], ("face", "fillet", "side"))]
+    i = edges.index(arc)
+    edges[i:i + 1] = parts
+    return data
+
+
+@pytest.mark.slow
+def test_region_crosses_a_fillet_of_the_same_radius():
+    """A region across CAD faces: the example's roller (a band of 6.25 mm cells) with its
+    cylinder cut into a face, a fillet of the same radius tangent to it and the rest, the seams
+    at y = 8.7 mm (0.36 of the half-width) and 22.7 mm (0.93 of it, just inside the edge). The
+    surface is the same smooth cylinder, so the contact must be the single face's: the region
+    continues across both seams (no free edge but the roller's end face, no boundary at a seam)
+    with the same mid-length width, extents, area and force within 1e-3 (measured: 3e-5 and
+    less) and the same pressure map within 0.5 % of its peak (measured: 0.1 %)."""
+    def roller(split: bool):
+        data = tomllib.loads(EXAMPLE.read_text())
+        for body in data["bodies"]:
+            body["refinement"] = [{"levels": 2, "around": "contact", "radius": 0.13}] + _band(4, 0.03)
+        return _filleted(data) if split else data
+
+    single = solve(scene_from_dict(roller(False), label="roller.toml").problem).contacts[0]
+    sol = solve(scene_from_dict(roller(True), label="filleted_roller.toml").problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    seams = R * np.sin(np.radians([1.0, 2.6]))
+    assert _mid_width(c) > seams[1]  # the region reaches past both seams
+    edge, free = np.asarray(c["boundary"]["points"]), np.asarray(c["boundary"]["free_edge"])
+    assert free.any() and (edge[free, 0] > 0.0999).all()  # complete contact only at the end face
+    assert _mid_width(c) == pytest.approx(_mid_width(single), rel=1e-3)
+    np.testing.assert_allclose(c["extents"], single["extents"], rtol=1e-3)
+    assert c["area"] == pytest.approx(single["area"], rel=1e-3)
+    assert c["normal_force"] == pytest.approx(single["normal_force"], rel=1e-3)
+    maps = [{tuple(k): v for k, v in zip(r["pressure_map"]["square"], r["pressure_map"]["value"])} for r in (c, single)]
+    assert maps[0].keys() == maps[1].keys()
+    difference = max(abs(maps[0][k] - maps[1][k]) for k in maps[0])
+    assert difference < 5e-3 * max(maps[1].values())
