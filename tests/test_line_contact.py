@@ -66,6 +66,30 @@ def test_free_edge_of_a_quarter_roller():
     assert inside.sum() == pytest.approx(len(psi) / 4, abs=2)  # a quarter model
 
 
+def test_a_seam_between_faces_is_not_a_free_edge(monkeypatch):
+    """The roller's cylinder cut into a face and a fillet of the same radius (seam at y = 8.7 mm):
+    the free edges found around the contact point are the uncut roller's, the end face along the
+    line and none across it (the seam is crossed)."""
+    def free_edges(split: bool):
+        roller = _roller(0.06)
+        if split:
+            data = {"bodies": [{"shape": {"profile": {"type": "profile", "edges": [
+                {"type": "line", "start": [0, 0], "end": [R, 0], "name": "sym"},
+                {"type": "arc", "center": [0, 0], "radius": R, "start_angle": 0, "end_angle": 90, "name": "arc"},
+                {"type": "line", "start": [0, R], "end": [0, 0], "name": "flat"}]}}}]}
+            profile = _filleted(data, (1.0, 2.6))["bodies"][0]["shape"]["profile"]
+            roller = solid_from_dict({"type": "extrusion", "z0": 0.0, "height": 0.06, "profile": profile,
+                                      "rotate": {"axis": [0, 1, 0], "angle_deg": 90}, "translate": [0, 0, R + 1e-5]})
+        block = solid_from_dict({"type": "box", "min": [0, 0, -0.3], "max": [0.3, 0.3, 0]})
+        frame = contact_frame_3d(roller, block, np.zeros(3), 0.01)
+        return free_edge_distance(roller, frame, sectors(roller, frame, 0.005, 0.05), 0.05, 0.08, 0.01)[1]
+
+    monkeypatch.setattr("ibfem.solver.contact.star_region.EDGE_RAYS", 72)  # every 5 degrees
+    split, single = free_edges(True), free_edges(False)
+    np.testing.assert_array_equal(split, single)
+    assert np.isinf(split[18]) and split[0] == pytest.approx(0.06, abs=1e-5)  # across the seam; the end face
+
+
 def _scene(length: float, levels: int, radius: float, band: list | None = None) -> dict:
     data = tomllib.loads(EXAMPLE.read_text())
     roller, block = data["bodies"]
