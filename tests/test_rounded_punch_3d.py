@@ -145,5 +145,8 @@ def test_rounded_punch_against_the_closed_form():
     area = np.array(m["area"])
     peak = float(pressure(np.linspace(0.0, a, 2001)).max())
     rms = math.sqrt(float(area @ (value - ref) ** 2 / area.sum())) / peak
-    print(f"pressure RMS over the closed form's peak: {100 * rms:.2f} %")
+    print(f"radius {a:.5f} m: extents {[f'{100 * (e / a - 1):+.2f} %' for e in c['extents']]}, area's equivalent "
+          f"{100 * (math.sqrt(4.0 * c['area'] / math.pi) / a - 1):+.2f} %; knots' rho within "
+          f"{100 * float(np.abs(rho / rho.mean() - 1.0).max()):.2f} %; centre {value[centre] / 1e9:.4f} GPa; largest "
+          f"{value.max() / 1e9:.3f} GPa; pressure RMS over the closed form's peak: {100 * rms:.2f} %")
     assert rms < 0.03

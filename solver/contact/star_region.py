@@ -34,7 +34,6 @@ from scipy.interpolate import CubicSpline
 
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
-from .edge_pressure import nodal_pressure
 from .ellipse_geometry import region_points, surface_point
 from .region_report import mirror_images
 from .roots import edge_search, settling_tolerance
@@ -211,12 +210,7 @@ class StarRegionContact(EllipseContact):
         if info is None or a <= 0.0:
             return np.full(len(self.knots), -math.inf)
         pts = info[0]
-        # the pressure read through the squares' corners, as the map and the final check read it:
-        # the point traction next to the edge holds the cut cells' slivers (tensile whatever the
-        # region) and their neighbours' overshoot, which the edge weight, largest at the edge,
-        # does not balance (a crowned roller's end 0.26 cell short of the half-space's; 0.16 so)
-        p = nodal_pressure(pts.s, pts.weights, np.einsum("qi,qi->q", _quadrature_traction(self, info, x), pts.normal),
-                           self.h)
+        p = np.einsum("qi,qi->q", _quadrature_traction(self, info, x), pts.normal)
         r, phi = self.polar(pts.s, a)
         to_end = r / np.minimum(1.0, self.end_radius(phi, a))
         hat = _hats(self.knots, phi)  # (q, K)
