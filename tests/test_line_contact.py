@@ -23,6 +23,7 @@ from ibfem.solver.solving import solve
 
 from _solids3d import HalfBall
 from _turned_box import TurnedBox
+from _turned_scene import turned_scene
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "contact3d" / "roller_on_flat.toml"
 E_STAR = 2.0e11 / (2 * (1 - 0.3**2))
@@ -139,29 +140,6 @@ def test_coarse_roller_reaches_its_end_and_follows_hertz_at_mid_length():
     assert sol.reactions["block/z_min"][2] == pytest.approx(c["normal_force"], rel=1e-6)
 
 
-def _turned(data: dict, axis, angle_deg: float) -> dict:
-    """The scene turned rigidly about ``axis`` through the origin (the contact point): each
-    shape's rotation composed with the turn, its translation and the prescribed displacement
-    turned."""
-    from scipy.spatial.transform import Rotation
-
-    turn = Rotation.from_rotvec(np.radians(angle_deg) * np.asarray(axis, float) / np.linalg.norm(axis))
-    for body in data["bodies"]:
-        shape = body["shape"]
-        own = shape.get("rotate")
-        r = turn if own is None else turn * Rotation.from_rotvec(np.radians(own["angle_deg"]) * np.asarray(own["axis"], float))
-        vec = r.as_rotvec()
-        shape["rotate"] = {"axis": (vec / np.linalg.norm(vec)).tolist(), "angle_deg": float(np.degrees(np.linalg.norm(vec)))}
-        shape["translate"] = turn.apply(np.asarray(shape.get("translate", [0, 0, 0]), float)).tolist()
-        for zone in body["refinement"]:
-            if zone["around"] != "contact":
-                zone["around"] = turn.apply(np.asarray(zone["around"], float)).tolist()
-    for bc in data["boundary_conditions"]:
-        if bc["type"] == "displacement":
-            bc["value"] = turn.apply(np.asarray(bc["value"], float)).tolist()
-    return data
-
-
 def _band(levels: int, radius: float) -> list:
     """A chain of refinement balls along the roller's line (x = 0 to its end at 0.1 m)."""
     return [{"levels": levels, "around": [x, 0.0, 0.0], "radius": radius} for x in (0.0, 0.025, 0.05, 0.075, 0.1)]
@@ -181,7 +159,7 @@ def test_turned_roller_gives_the_same_region():
         return data
 
     upright = solve(scene_from_dict(roller(), label="roller.toml").problem).contacts[0]
-    sol = solve(scene_from_dict(_turned(roller(), [1.0, -2.0, 0.5], 33.0), label="turned.toml").problem)
+    sol = solve(scene_from_dict(turned_scene(roller(), [1.0, -2.0, 0.5], 33.0), label="turned.toml").problem)
     assert sol.converged, sol.iterations["messages"]
     c = sol.contacts[0]
     assert _mid_width(c) == pytest.approx(_mid_width(upright), rel=5e-3)
