@@ -115,14 +115,21 @@ def _principal(s: np.ndarray, weights: np.ndarray, boundary: np.ndarray, ranges=
     return directions, span.max(axis=0) - span.min(axis=0)
 
 
+#: a symmetry plane this close to a frame's axis (radians) counts as on it for the peak's fit:
+#: the mirrored squares' keys are then off by this times their distance over a square's side
+MIRROR_SLACK = 1e-3
+
+
 def _mirrored_squares(centres: np.ndarray, means: np.ndarray, keys: np.ndarray, maps: np.ndarray):
     """The map's squares with their mirror images across a symmetric model's symmetry planes
     where these are the frame's axes (a map that flips axis k sends the square key k to -k - 1,
-    its centroid to minus itself; the planes may lie a round-off off the axes: 2e-8 rad measured on
-    a revolved B-spline roller); other maps are left out."""
+    its centroid to minus itself). The planes may lie slightly off the axes, which carry the
+    curvature fit's round-off (2e-8 rad measured on a revolved B-spline roller, 4e-6 rad on a
+    tilted one): within MIRROR_SLACK rad the map counts as the axis's flip; other maps are left
+    out."""
     parts = [(centres, means, keys)]
     for m in maps[1:]:
-        if not np.allclose(np.abs(m), np.eye(2), atol=1e-6):
+        if not np.allclose(np.abs(m), np.eye(2), atol=MIRROR_SLACK):
             continue
         flip = np.diag(m) < 0.0
         parts.append((centres * np.where(flip, -1.0, 1.0), means, np.where(flip, -keys - 1, keys)))
