@@ -33,7 +33,9 @@ def region_figure(plt, title: str, c: Mapping[str, Any]) -> Any:
     ax2.plot(closed[:, 0], closed[:, 1], "k-", lw=1.0, label="boundary")
     if free.any():
         ax2.plot(edge[free, 0], edge[free, 1], "r.", ms=4, label="free edge (complete contact)")
-    ax2.plot(*(np.asarray(c["peak_at"], dtype=float) - point) @ axes.T, "w*", ms=10, mec="k", label="peak")
+    # the peak where the smooth fit of the map puts it (the largest square's centroid without one)
+    peak_at = c.get("peak_fit", {}).get("at", c["peak_at"])
+    ax2.plot(*(np.asarray(peak_at, dtype=float) - point) @ axes.T, "w*", ms=10, mec="k", label="peak")
     ax2.set_aspect("equal")
     ax2.set_xlabel("axis 0 [m]")
     ax2.set_ylabel("axis 1 [m]")
