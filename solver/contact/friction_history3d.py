@@ -50,8 +50,8 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_band_terms
-from .ellipse import (EllipseContact, _blocks, _layer, _operators, _pressure_rows, build as ellipse_build,
-                      plane_weights)
+from .ellipse import (EllipseContact, build as ellipse_build, contact_operators, layer_tensor, plane_weights,
+                      point_blocks, pressure_rows)
 from .friction_history import hold_size
 from .friction_history_profiles import axis_profiles
 
@@ -135,7 +135,7 @@ class HistoryEllipseContact(EllipseContact):
         if not len(pts.s):
             raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse of semi-axes "
                              f"{np.round(self.semi_axes(a), 6).tolist()} m")
-        jump, flux, size = _operators(self, pts)
+        jump, flux, size = contact_operators(self, pts)
         info = (pts, BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux), None, jump, flux, size, a)
         layer_t = PENALTY_FACTOR / (self.band_fraction * size) * self.b1.mu
         radius = 0.5 * MEAN_CELLS * self.options.window * self.h
@@ -237,8 +237,8 @@ class HistoryEllipseContact(EllipseContact):
         if sl.any():
             sub = dataclasses.replace(pts, s=pts.s[idx], x1=pts.x1[idx], x2=pts.x2[idx], n1=pts.n1[idx],
                                       n2=pts.n2[idx], weights=pts.weights[idx], normal=normal)
-            r, b = _pressure_rows(self, (sub, bp, proj, sub_jump, sub_flux, size[idx], a))
-            g = _blocks(-self.friction * np.where(sl[:, None], e, 0.0)) @ sub_jump
+            r, b = pressure_rows(self, (sub, bp, proj, sub_jump, sub_flux, size[idx], a))
+            g = point_blocks(-self.friction * np.where(sl[:, None], e, 0.0)) @ sub_jump
             wq = np.where(sl, pts.weights[idx], 0.0)
             kc = kc - g.T @ sp.csr_matrix(r.multiply(wq[:, None]))
             fc = fc + g.T @ (wq * b)
@@ -252,7 +252,7 @@ class HistoryEllipseContact(EllipseContact):
         slip, direction = self.zones_at(reg)
         w = (jump @ x).reshape(-1, 3) + pts.delta
         held = w - np.where(slip[:, None], 0.0, reg.w_ref)
-        t1 = -np.einsum("qij,qj->qi", _layer(self, pts.normal, proj, size), held)
+        t1 = -np.einsum("qij,qj->qi", layer_tensor(self, pts.normal, proj, size), held)
         t1 = t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
         p = np.einsum("qi,qi->q", t1, pts.normal)
         t1 = t1 - np.where(slip[:, None], self.friction * p[:, None] * direction, 0.0)
