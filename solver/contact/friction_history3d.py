@@ -124,6 +124,11 @@ class HistoryEllipseContact(EllipseContact):
     late_settled: list = field(default_factory=list)  # [step, points still changing] settled late
     step_work: float = 0.0
     step_state: dict = field(default_factory=dict)  # the last step's end: per-point arrays for the records
+    #: zones imposed instead of Coulomb's rule (a validation's diagnostic: the closed form's zones
+    #: separate the zone rule's error from the discretisation's): an object with
+    #: ``zones(contact, s, a, force) -> (slipping, direction)`` and ``step_end(contact, force)``
+    #: (None: Coulomb's rule, the module's docstring)
+    zone_rule = None
 
     # ------------------------------------------------------------------ regions and their state
 
@@ -339,8 +344,27 @@ class HistoryEllipseContact(EllipseContact):
             return self._width_consistent(a)
         return True
 
+    def _imposed_zones(self, x: np.ndarray, a: float, info) -> bool:
+        """One update of the zones imposed by ``zone_rule`` for the solved force; True when no
+        point changed its zone."""
+        reg = self.region(a)
+        old, _ = self.zones_at(reg)
+        slip, direction = self.zone_rule.zones(self, reg.info[0].s, a, self.force(x, a, info))
+        self.zone_updates += 1
+        changed = int(np.count_nonzero(old != slip))
+        self._set_zones(reg, slip, direction)
+        self.zone_changes += changed
+        area = plane_weights(self, info[0])
+        self.stick_ratio = math.sqrt(float(area[~slip].sum() / max(area.sum(), 1e-300)))
+        if changed and self.zone_updates >= self.options.max_stick_iterations:
+            self.unsettled_steps.append(self.step_count)
+            return True
+        return changed == 0
+
     def _update_zones(self, x: np.ndarray, a: float, info) -> bool:
         """One zone update; True when no point changed its zone."""
+        if self.zone_rule is not None:
+            return self._imposed_zones(x, a, info)
         reg = self.region(a)
         slip, direction = (v.copy() for v in self.zones_at(reg))
         if len(self.restuck) != len(slip):
@@ -384,6 +408,8 @@ class HistoryEllipseContact(EllipseContact):
         slip, direction = self.zones_at(reg)
         t1, p, q, wt = self.point_state(x, a, info)
         pts = info[0]
+        if self.zone_rule is not None:
+            self.zone_rule.step_end(self, (t1 * pts.weights[:, None]).sum(axis=0))
         dw = np.where(slip[:, None], wt - reg.w_prev, 0.0)
         # friction work: -sum q . dw dA over the slipping points (positive: dissipated)
         self.step_work = float(-np.sum(np.einsum("qi,qi->q", q, dw) * pts.weights))
