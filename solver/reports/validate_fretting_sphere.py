@@ -242,10 +242,25 @@ def markdown(results: list[dict], slope: float, slope_theory: float) -> str:
         errs = " / ".join(f"{max(by_branch.get(b, [math.nan])):.3f}" for b in (0, 1, 2))
         comp = max((abs(b["error"]) for b in r["branches"]), default=math.nan)
         cyc = r["cycles"][0] if r["cycles"] else None
-        lines.append(f"| {cyc['x'] if cyc else math.nan:.3f} | {errs} | {comp:.1%} | "
+        x = cyc["x"] if cyc else max((abs(s["Q_over_mu_N"]) for s in r["steps"] if s["branch"] == 0), default=math.nan)
+        lines.append(f"| {x:.3f} | {errs} | {comp:.1%} | "
                      f"{cyc['loop_error'] if cyc else math.nan:+.1%} | "
                      f"{cyc['loop_error_sampled'] if cyc else math.nan:+.1%} | {cyc['friction_error'] if cyc else math.nan:+.1%} "
                      f"| {r['solves']} |")
+    halves = [r for r in results if r.get("half_loop")]
+    if halves:
+        lines += ["", "| Q*/(mu N) of the first loading | half loop t | W half loop / W_MD at the same steps - 1 |",
+                  "|---|---|---|"]
+        xs = [max(abs(s["Q_over_mu_N"]) for s in r["steps"] if s["branch"] == 0) for r in halves]
+        for x, r in zip(xs, halves):
+            h = r["half_loop"]
+            lines.append(f"| {x:.3f} | {h['t'][0]:.2f}-{h['t'][1]:.2f} | {h['loop_error_sampled']:+.1%} |")
+        if len(halves) >= 2:
+            lw = np.log([r["half_loop"]["energy_loop"] for r in halves])
+            lt = np.log([r["half_loop"]["energy_theory_sampled"] for r in halves])
+            lines.append("")
+            lines.append(f"Slope of log W (half loops) against log Q*/(mu N): {np.polyfit(np.log(xs), lw, 1)[0]:.3f} "
+                         f"(the closed form's loops at the same steps: {np.polyfit(np.log(xs), lt, 1)[0]:.3f}).")
     lines.append("")
     lines.append(f"Slope of log W (loop) against log Q* over these amplitudes: {slope:.3f} "
                  f"(closed form over the same Q*: {slope_theory:.3f}; small-amplitude limit 3).")
