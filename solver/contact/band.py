@@ -972,3 +972,9 @@ def _symmetry_side(problem, geom: ContactGeometry, body: str) -> int:
             f"symmetry line, which needs a sliding condition on edge {edge!r} (or give a point inside an edge)"
         )
     return side
+
+
+# public names of the operators above, for the formulations built on this one (the friction history)
+contact_operators = _operators
+zone_projector = _projector
+tangents = _tangents

@@ -743,3 +743,10 @@ def _modulus(b) -> float:
     e = mu * (3 * lam + 2 * mu) / (lam + mu)
     nu = lam / (2 * (lam + mu))
     return e / (1 - nu**2)
+
+
+# public names of the operators above, for the formulations built on this one (the friction history)
+contact_operators = _operators
+pressure_rows = _pressure_rows
+layer_tensor = _layer
+point_blocks = _blocks

@@ -50,8 +50,8 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_band_terms
-from .ellipse import (EllipseContact, _blocks, _layer, _operators, _pressure_rows, build as ellipse_build,
-                      plane_weights)
+from .ellipse import (EllipseContact, build as ellipse_build, contact_operators, layer_tensor, plane_weights,
+                      point_blocks, pressure_rows)
 from .friction_history import hold_size
 from .friction_history_profiles import axis_profiles
 
@@ -124,6 +124,11 @@ class HistoryEllipseContact(EllipseContact):
     late_settled: list = field(default_factory=list)  # [step, points still changing] settled late
     step_work: float = 0.0
     step_state: dict = field(default_factory=dict)  # the last step's end: per-point arrays for the records
+    #: zones imposed instead of Coulomb's rule (a validation's diagnostic: the closed form's zones
+    #: separate the zone rule's error from the discretisation's): an object with
+    #: ``zones(contact, s, a, force) -> (slipping, direction)`` and ``step_end(contact, force)``
+    #: (None: Coulomb's rule, the module's docstring)
+    zone_rule = None
 
     # ------------------------------------------------------------------ regions and their state
 
@@ -135,7 +140,7 @@ class HistoryEllipseContact(EllipseContact):
         if not len(pts.s):
             raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse of semi-axes "
                              f"{np.round(self.semi_axes(a), 6).tolist()} m")
-        jump, flux, size = _operators(self, pts)
+        jump, flux, size = contact_operators(self, pts)
         info = (pts, BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux), None, jump, flux, size, a)
         layer_t = PENALTY_FACTOR / (self.band_fraction * size) * self.b1.mu
         radius = 0.5 * MEAN_CELLS * self.options.window * self.h
@@ -237,8 +242,8 @@ class HistoryEllipseContact(EllipseContact):
         if sl.any():
             sub = dataclasses.replace(pts, s=pts.s[idx], x1=pts.x1[idx], x2=pts.x2[idx], n1=pts.n1[idx],
                                       n2=pts.n2[idx], weights=pts.weights[idx], normal=normal)
-            r, b = _pressure_rows(self, (sub, bp, proj, sub_jump, sub_flux, size[idx], a))
-            g = _blocks(-self.friction * np.where(sl[:, None], e, 0.0)) @ sub_jump
+            r, b = pressure_rows(self, (sub, bp, proj, sub_jump, sub_flux, size[idx], a))
+            g = point_blocks(-self.friction * np.where(sl[:, None], e, 0.0)) @ sub_jump
             wq = np.where(sl, pts.weights[idx], 0.0)
             kc = kc - g.T @ sp.csr_matrix(r.multiply(wq[:, None]))
             fc = fc + g.T @ (wq * b)
@@ -252,7 +257,7 @@ class HistoryEllipseContact(EllipseContact):
         slip, direction = self.zones_at(reg)
         w = (jump @ x).reshape(-1, 3) + pts.delta
         held = w - np.where(slip[:, None], 0.0, reg.w_ref)
-        t1 = -np.einsum("qij,qj->qi", _layer(self, pts.normal, proj, size), held)
+        t1 = -np.einsum("qij,qj->qi", layer_tensor(self, pts.normal, proj, size), held)
         t1 = t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
         p = np.einsum("qi,qi->q", t1, pts.normal)
         t1 = t1 - np.where(slip[:, None], self.friction * p[:, None] * direction, 0.0)
@@ -339,8 +344,27 @@ class HistoryEllipseContact(EllipseContact):
             return self._width_consistent(a)
         return True
 
+    def _imposed_zones(self, x: np.ndarray, a: float, info) -> bool:
+        """One update of the zones imposed by ``zone_rule`` for the solved force; True when no
+        point changed its zone."""
+        reg = self.region(a)
+        old, _ = self.zones_at(reg)
+        slip, direction = self.zone_rule.zones(self, reg.info[0].s, a, self.force(x, a, info))
+        self.zone_updates += 1
+        changed = int(np.count_nonzero(old != slip))
+        self._set_zones(reg, slip, direction)
+        self.zone_changes += changed
+        area = plane_weights(self, info[0])
+        self.stick_ratio = math.sqrt(float(area[~slip].sum() / max(area.sum(), 1e-300)))
+        if changed and self.zone_updates >= self.options.max_stick_iterations:
+            self.unsettled_steps.append(self.step_count)
+            return True
+        return changed == 0
+
     def _update_zones(self, x: np.ndarray, a: float, info) -> bool:
         """One zone update; True when no point changed its zone."""
+        if self.zone_rule is not None:
+            return self._imposed_zones(x, a, info)
         reg = self.region(a)
         slip, direction = (v.copy() for v in self.zones_at(reg))
         if len(self.restuck) != len(slip):
@@ -384,6 +408,8 @@ class HistoryEllipseContact(EllipseContact):
         slip, direction = self.zones_at(reg)
         t1, p, q, wt = self.point_state(x, a, info)
         pts = info[0]
+        if self.zone_rule is not None:
+            self.zone_rule.step_end(self, (t1 * pts.weights[:, None]).sum(axis=0))
         dw = np.where(slip[:, None], wt - reg.w_prev, 0.0)
         # friction work: -sum q . dw dA over the slipping points (positive: dissipated)
         self.step_work = float(-np.sum(np.einsum("qi,qi->q", q, dw) * pts.weights))

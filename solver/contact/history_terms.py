@@ -22,7 +22,7 @@ import scipy.sparse as sp
 
 from ..fem.integration import curve_gauss
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor
-from .band import _operators, _projector, _tangents
+from .band import contact_operators, tangents, zone_projector
 from .geometry import _parameters_at_s, match_points
 
 __all__ = ["RegionPieces", "history_terms"]
@@ -107,7 +107,7 @@ class RegionPieces:
         _, w, _, tq = curve_gauss(c.geom.curves[0], t[:, 0], t[:, 1], c.options.order)
         pts = match_points(c.geom, tq.ravel())
         pts.weights = w.ravel()
-        jump, flux, size = _operators(c, pts)
+        jump, flux, size = contact_operators(c, pts)
         rows = LocalRows.from_sparse(jump, flux)
         if rows.cols.shape[1] > self.width:  # a point with more dofs: every piece padded to it
             self.width = rows.cols.shape[1]
@@ -131,7 +131,7 @@ def history_terms(c, a: float):
     raw, rows, size = c.region_pieces.points(a, c.bounds)
     pts = c.with_offset(raw)
     nrm, w = pts.normal, pts.weights
-    proj = _projector(c, pts, a)
+    proj = zone_projector(c, pts, a)
     layer = (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
         proj @ acoustic_tensor(nrm, c.b1.lam, c.b1.mu) @ proj)
     pen, wp = w[:, None, None] * layer, w[:, None, None] * proj
@@ -148,7 +148,7 @@ def history_terms(c, a: float):
         nl = np.einsum("qi,qij->qj", nrm, layer)
         r = np.einsum("qj,qjk->qk", np.einsum("qi,qij->qj", nrm, proj), f) - np.einsum("qj,qjk->qk", nl, e)
         b = -np.einsum("qi,qi->q", nl, pts.delta)
-        tdir = -(signs * c.friction)[:, None] * _tangents(nrm)
+        tdir = -(signs * c.friction)[:, None] * tangents(nrm)
         g = np.einsum("qi,qik->qk", tdir, e)
         ws = np.where(slip, w, 0.0)
         k = k - ws[:, None, None] * g[:, :, None] * r[:, None, :]
