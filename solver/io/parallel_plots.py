@@ -6,10 +6,11 @@ pictures while the run solves the error estimate's coarser grid and clips and wr
 bodies, and the output takes about the longest of the processes instead of their sum.
 
 Two ways of starting them. A :class:`PictureWorker` started early in the run (``ibfem run``
-starts it as soon as the scene is read, whatever the machine's load) imports matplotlib and the
-plotting modules while the run imports the solver and solves,
-then renders the job it is sent (the problem, the solution and the summary, pickled: a few
-megabytes in 2D) with a helper forked from it: the two take the pictures one at a time (2D:
+starts it before it loads a scene whose file asks for pictures, whatever the machine's load, and
+replaces it by one forked from the loaded scene when the problem holds functions that do not
+pickle) imports matplotlib and the plotting modules while the run loads the scene and solves,
+then renders the job it is sent (the problem, the summary and the 2D bodies' output meshes or
+the solution, pickled: a few megabytes in 2D) with a helper forked from it: the two take the pictures one at a time (2D:
 ``fields.png``, each contact's close-up, the profiles), the worker at once, the helper when the
 run's own writing is done (its core is then free) or at once when the machine has two idle
 cores. Where the problem does not pickle (a 3D part whose geometry holds local functions) or no
