@@ -23,7 +23,9 @@ the scene asks (``--serial``: the pictures after the VTU files, in this process)
 the files back with pyvista (the ``pictures`` extra) and checks them against the exact solids:
 every cell's centroid inside the body (signed distance <= 0, negative inside), the cells'
 volume against the solid's (the divergence theorem on its faces' quadrature), and the stress
-read from the file at each probe against summary.json's. ``--final-only``: a run with load
+read from the file at each probe against summary.json's (a 3D scene without probes is given
+six per contact, on its normal a quarter, one and two of the region's larger semi-axes deep
+into each body). ``--final-only``: a run with load
 paths writes its final bodies only (the load steps' series, clipped the same way, left out)."""
 
 from __future__ import annotations
@@ -69,6 +71,21 @@ def _check_probe(pv, out: Path, probe: dict) -> str:
     return f"  probe {probe['point']}: |file - summary| / |stress| = {np.abs(got - want).max() / np.abs(want).max():.1e}"
 
 
+def _probes_below_contacts(problem, solution) -> list:
+    """For a 3D scene without probes: points on each contact's normal, a quarter, one and two of
+    the region's larger semi-axes into each body (where the contact's subsurface stress is read)."""
+    from ibfem.solver.io.results import build_summary, json_safe
+
+    points = []
+    for c in json_safe(build_summary(problem, solution)).get("contacts", []):
+        size = max((c.get("semi_axes") or [c.get("half_width") or 0.0]) or [0.0])
+        if problem.dim != 3 or not c.get("point") or not c.get("normal") or not size:
+            continue
+        point, normal = np.asarray(c["point"], float), np.asarray(c["normal"], float)
+        points += [(point + side * depth * size * normal).tolist() for side in (1.0, -1.0) for depth in (0.25, 1.0, 2.0)]
+    return points
+
+
 def run(scene_path: str, out: Path, force_vtk: bool, serial: bool = False, final_only: bool = False) -> None:
     from ibfem.solver.io.output import write_results
     from ibfem.solver.io.scene import load_scene
@@ -82,7 +99,8 @@ def run(scene_path: str, out: Path, force_vtk: bool, serial: bool = False, final
         solution = copy.copy(solution)
         solution.steps = []
     vtk = o.vtk or force_vtk
-    summary = write_results(out, scene.problem, solution, probes=o.probes, lines=o.lines, vtk=vtk, plots=o.plots,
+    probes = o.probes or (_probes_below_contacts(scene.problem, solution) if force_vtk else [])
+    summary = write_results(out, scene.problem, solution, probes=probes, lines=o.lines, vtk=vtk, plots=o.plots,
                             total_s=time.perf_counter() - t0, extra={"scene": scene_path}, parallel=not serial)
     t = summary["timings"]
     print(f"{scene_path}{' (serial)' if serial else ''}: run {t['total_s']:.2f} s, output {t['output_s']:.2f} s = "
