@@ -23,11 +23,15 @@ the scene asks (``--serial``: the pictures after the VTU files, in this process)
 the files back with pyvista (the ``pictures`` extra) and checks them against the exact solids:
 every cell's centroid inside the body (signed distance <= 0, negative inside), the cells'
 volume against the solid's (the divergence theorem on its faces' quadrature), and the stress
-read from the file at each probe against summary.json's."""
+read from the file at each probe against summary.json's (a 3D scene without probes is given
+six per contact, on its normal a quarter, one and two of the region's larger semi-axes deep
+into each body). ``--final-only``: a run with load
+paths writes its final bodies only (the load steps' series, clipped the same way, left out)."""
 
 from __future__ import annotations
 
 import argparse
+import copy
 import json
 import os
 import subprocess
@@ -67,7 +71,22 @@ def _check_probe(pv, out: Path, probe: dict) -> str:
     return f"  probe {probe['point']}: |file - summary| / |stress| = {np.abs(got - want).max() / np.abs(want).max():.1e}"
 
 
-def run(scene_path: str, out: Path, force_vtk: bool, serial: bool = False) -> None:
+def _probes_below_contacts(problem, solution) -> list:
+    """For a 3D scene without probes: points on each contact's normal, a quarter, one and two of
+    the region's larger semi-axes into each body (where the contact's subsurface stress is read)."""
+    from ibfem.solver.io.results import build_summary, json_safe
+
+    points = []
+    for c in json_safe(build_summary(problem, solution)).get("contacts", []):
+        size = max((c.get("semi_axes") or [c.get("half_width") or 0.0]) or [0.0])
+        if problem.dim != 3 or not c.get("point") or not c.get("normal") or not size:
+            continue
+        point, normal = np.asarray(c["point"], float), np.asarray(c["normal"], float)
+        points += [(point + side * depth * size * normal).tolist() for side in (1.0, -1.0) for depth in (0.25, 1.0, 2.0)]
+    return points
+
+
+def run(scene_path: str, out: Path, force_vtk: bool, serial: bool = False, final_only: bool = False) -> None:
     from ibfem.solver.io.output import write_results
     from ibfem.solver.io.scene import load_scene
     from ibfem.solver.solving import solve
@@ -76,8 +95,12 @@ def run(scene_path: str, out: Path, force_vtk: bool, serial: bool = False) -> No
     scene = load_scene(scene_path)
     o = scene.output
     solution = solve(scene.problem)
+    if final_only and getattr(solution, "steps", None):  # the load steps' series left out
+        solution = copy.copy(solution)
+        solution.steps = []
     vtk = o.vtk or force_vtk
-    summary = write_results(out, scene.problem, solution, probes=o.probes, lines=o.lines, vtk=vtk, plots=o.plots,
+    probes = o.probes or (_probes_below_contacts(scene.problem, solution) if force_vtk else [])
+    summary = write_results(out, scene.problem, solution, probes=probes, lines=o.lines, vtk=vtk, plots=o.plots,
                             total_s=time.perf_counter() - t0, extra={"scene": scene_path}, parallel=not serial)
     t = summary["timings"]
     print(f"{scene_path}{' (serial)' if serial else ''}: run {t['total_s']:.2f} s, output {t['output_s']:.2f} s = "
@@ -105,7 +128,9 @@ _HEADER = ("| example | files | run, wall (s) | solver (s) | estimate (s) | outp
 _CHILD = ("import sys\nfrom ibfem.solver.io import parallel_plots, scene\n"
           "idle, worker, pictures = sys.argv[1].split(',')\n"
           "if idle != 'load':\n    parallel_plots.idle_cores = lambda: int(idle)\n"
-          "if worker == 'no':\n    parallel_plots.PictureWorker.start = classmethod(lambda cls, problem: None)\n"
+          "if worker == 'no' or pictures == 'no':\n"
+          "    parallel_plots.PictureWorker.early = classmethod(lambda cls, scene_path: None)\n"
+          "if worker == 'no':\n    parallel_plots.PictureWorker.start = classmethod(lambda cls, problem, early=None: None)\n"
           "if pictures == 'no':\n    load = scene.load_scene\n"
           "    def without(*args, **kwargs):\n        loaded = load(*args, **kwargs)\n"
           "        object.__setattr__(loaded.spec.output, 'plots', False)\n        return loaded\n"
@@ -153,6 +178,8 @@ def main(argv: list[str]) -> int:
                     help="in this process, the VTU files written (whatever the scene asks), read back and checked")
     ap.add_argument("--serial", action="store_true",
                     help="with --vtk: the pictures after the VTU files, in this process (for comparison)")
+    ap.add_argument("--final-only", action="store_true",
+                    help="with --vtk: a run with load paths writes its final bodies only, not every step's")
     ap.add_argument("--alternate", type=int, default=1, metavar="N",
                     help="N runs of each scene, the scenes in turn (a loaded machine's noise spread over all)")
     ap.add_argument("--markdown", type=Path, default=None, help="also write the table to this file")
@@ -167,7 +194,7 @@ def main(argv: list[str]) -> int:
     root = Path(args.out) if args.out else Path(tempfile.mkdtemp(prefix="ibfem-output-"))
     if args.vtk:
         for path in args.scenes:
-            run(path, root / Path(path).stem, True, args.serial)
+            run(path, root / Path(path).stem, True, args.serial, args.final_only)
         return 0
     print(_HEADER, flush=True)
     rows = []

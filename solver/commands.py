@@ -71,7 +71,10 @@ def default_out_dir(scene_path: str | Path) -> Path:
 def _run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     from ibfem.solver.io.scene import SceneError, load_scene
+    from ibfem.solver.io.parallel_plots import PictureWorker
 
+    # a scene asking for pictures: their process imports matplotlib while the scene loads and solves
+    early = None if args.check else PictureWorker.early(args.scene)
     try:
         scene = load_scene(args.scene)
     except SceneError as err:
@@ -81,11 +84,9 @@ def _run(args: argparse.Namespace) -> int:
         _err(f"warning: {note}")
     if args.check:
         return _print_check(args.scene, scene)
-    worker = None
-    if scene.output.plots:  # imports matplotlib while this process imports the solver and solves
-        from ibfem.solver.io.parallel_plots import PictureWorker
-
-        worker = PictureWorker.start(scene.problem)
+    if early is not None and not scene.output.plots:
+        early.stop(at_once=True)
+    worker = PictureWorker.start(scene.problem, early) if scene.output.plots else None
     try:
         from ibfem.solver.solving import solve
     except ImportError as err:

@@ -186,3 +186,73 @@ def test_a_problem_with_local_functions_is_sent_to_the_worker_by_reference(tmp_p
     files, _, _ = job.result()
     assert {f.read_text().split()[1] for f in files} == {"5.0"}
     assert os.getpid() not in {int(f.read_text().split()[0]) for f in files}
+
+
+def _scene_file(tmp_path, output: str):
+    path = tmp_path / "scene.toml"
+    path.write_text(f'name = "s"\n[[bodies]]\nname = "b"\n{output}')
+    return path
+
+
+def test_a_worker_is_started_before_the_scene_loads_only_when_the_scene_asks_for_plots(tmp_path):
+    if threading.active_count() > 1:
+        pytest.skip("a thread of another test is alive")
+    assert parallel_plots.PictureWorker.early(_scene_file(tmp_path, "[output]\nplots = false\n")) is None
+    assert parallel_plots.PictureWorker.early(_scene_file(tmp_path, "")) is None
+    assert parallel_plots.PictureWorker.early(_scene_file(tmp_path, "[output]\nplots = tru\n")) is None  # invalid
+    assert parallel_plots.PictureWorker.early(tmp_path / "missing.toml") is None
+    early = parallel_plots.PictureWorker.early(_scene_file(tmp_path, "[output]\nplots = true\n"))
+    assert early is not None and early.process.is_alive()
+    early.stop(at_once=True)
+    assert not early.process.is_alive()
+
+
+def test_the_early_worker_renders_a_problem_without_local_functions(tmp_path, monkeypatch):
+    _stand_in(monkeypatch, lambda parent: None)  # before the start: the worker is forked with it
+    if threading.active_count() > 1:
+        pytest.skip("a thread of another test is alive")
+    early = parallel_plots.PictureWorker.early(_scene_file(tmp_path, "[output]\nplots = true\n"))
+    problem = {"name": "made after the worker"}
+    worker = parallel_plots.PictureWorker.start(problem, early)
+    assert worker is early
+    files, reason, _ = parallel_plots.PlotJob(tmp_path, problem, None, {}, {}, worker=worker).result()
+    assert reason is None and len(files) == 2 and os.getpid() not in {int(f.read_text()) for f in files}
+
+
+def test_a_problem_with_local_functions_replaces_the_early_worker(tmp_path, monkeypatch):
+    # the early worker was forked before the problem's closures existed: a worker forked now
+    # holds them (the job refers to them by reference)
+    if threading.active_count() > 1:
+        pytest.skip("a thread of another test is alive")
+    offset = 3.0
+
+    def write_plots(out_dir, problem, solution, summary, outputs, groups):
+        path = out_dir / f"{groups[0]}.txt"
+        path.write_text(f"{os.getpid()} {problem['mapping'](solution)}")
+        return [path]
+
+    monkeypatch.setattr(plots, "write_plots", write_plots)
+    early = parallel_plots.PictureWorker.early(_scene_file(tmp_path, "[output]\nplots = true\n"))
+    problem = {"mapping": lambda x: x + offset}
+    worker = parallel_plots.PictureWorker.start(problem, early)
+    assert worker is not None and worker is not early and not early.process.is_alive()
+    files, _, _ = parallel_plots.PlotJob(tmp_path, problem, 2.0, {}, {}, worker=worker).result()
+    assert {f.read_text().split()[1] for f in files} == {"5.0"}
+
+
+class _Body:
+    def __init__(self, name):
+        self.name = name
+
+
+class _Problem2D:
+    dim = 2
+    bodies = [_Body("upper"), _Body("lower")]
+
+
+def test_a_2d_job_goes_without_its_solution_only_when_every_body_has_its_output_mesh(tmp_path):
+    solution = object()
+    both = parallel_plots.PlotJob(tmp_path, _Problem2D(), solution, {}, {"upper": 1, "lower": 2}, parallel=False)
+    one = parallel_plots.PlotJob(tmp_path, _Problem2D(), solution, {}, {"upper": 1}, parallel=False)
+    assert both._job_args()[2] is None and one._job_args()[2] is solution
+    assert both.args[2] is solution  # kept for the pictures rendered here after a failure

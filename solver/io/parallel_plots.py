@@ -6,10 +6,11 @@ pictures while the run solves the error estimate's coarser grid and clips and wr
 bodies, and the output takes about the longest of the processes instead of their sum.
 
 Two ways of starting them. A :class:`PictureWorker` started early in the run (``ibfem run``
-starts it as soon as the scene is read, whatever the machine's load) imports matplotlib and the
-plotting modules while the run imports the solver and solves,
-then renders the job it is sent (the problem, the solution and the summary, pickled: a few
-megabytes in 2D) with a helper forked from it: the two take the pictures one at a time (2D:
+starts it before it loads a scene whose file asks for pictures, whatever the machine's load, and
+replaces it by one forked from the loaded scene when the problem holds functions that do not
+pickle) imports matplotlib and the plotting modules while the run loads the scene and solves,
+then renders the job it is sent (the problem, the summary and the 2D bodies' output meshes or
+the solution, pickled: a few megabytes in 2D) with a helper forked from it: the two take the pictures one at a time (2D:
 ``fields.png``, each contact's close-up, the profiles), the worker at once, the helper when the
 run's own writing is done (its core is then free) or at once when the machine has two idle
 cores. Where the problem does not pickle (a 3D part whose geometry holds local functions) or no
@@ -25,12 +26,14 @@ from __future__ import annotations
 
 import gc
 import io
+import json
 import multiprocessing
 import os
 import pickle
 import types
 import threading
 import time
+import tomllib
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -81,6 +84,17 @@ def idle_cores() -> int:
     return max(0, int(cores - load))
 
 
+def _asks_for_plots(scene_path: Path) -> bool:
+    """Whether a scene file's ``[output]`` table sets ``plots = true`` (read as text: the scene
+    is validated later; an unreadable file asks for nothing)."""
+    try:
+        text = scene_path.read_bytes().decode("utf-8-sig")
+        data = json.loads(text) if scene_path.suffix.lower() == ".json" else tomllib.loads(text)
+        return data.get("output", {}).get("plots") is True
+    except (OSError, ValueError, AttributeError, RecursionError):  # TOMLDecodeError is a ValueError
+        return False
+
+
 def _fork_context():
     if threading.active_count() > 1:  # a process forks safely with one thread only
         return None
@@ -95,19 +109,26 @@ def _shares(groups: tuple[str, ...], processes: int) -> list[tuple[str, ...]]:
 
 
 def _warm_up() -> float:
-    """Import what rendering and a job's unpickling need (matplotlib's figure and axes modules
-    included: a tenth of a second that the first picture would otherwise pay); the seconds it
-    took. A throw-away figure drawn here as well saved the first picture less than it cost."""
+    """Import what rendering needs (matplotlib's figure and axes modules included: a tenth of a
+    second that the first picture would otherwise pay); the seconds it took. A throw-away figure
+    drawn here as well saved the first picture less than it cost."""
     t0 = time.perf_counter()
     try:
         from matplotlib.backends import backend_agg  # noqa: F401 - imported here, while the run solves
         from matplotlib import figure  # noqa: F401
 
-        import ibfem.solver.solution  # noqa: F401 - the classes a job's solution pickles
         from . import plots  # noqa: F401
     except ImportError:  # reported with the job: a missing matplotlib is the reason given
         pass
     return time.perf_counter() - t0
+
+
+def _idle_imports(conn) -> None:
+    """While no job has come: import the solver's solution classes, which a job holding a
+    solution unpickles (a worker started before the scene was loaded does not have them; a 2D
+    job whose bodies' output meshes are made is sent without its solution and needs none)."""
+    if not conn.poll(0):
+        import ibfem.solver.solution  # noqa: F401
 
 
 def _local_functions(problem) -> dict[int, Any]:
@@ -202,6 +223,7 @@ def _serve(conn, go, shared: dict[int, Any]) -> None:
     helper for it and render its tasks with the helper (:func:`_claim`), report both processes'
     outcomes (the worker's, then the helper's)."""
     warm = _warm_up()
+    _idle_imports(conn)
     try:
         job = conn.recv_bytes()
     except EOFError:
@@ -245,15 +267,33 @@ class PictureWorker:
         self.sending: threading.Thread | None = None
 
     @classmethod
-    def start(cls, problem: pb.Problem) -> PictureWorker | None:
-        context = _fork_context()
-        if context is None:
-            return None
+    def start(cls, problem: pb.Problem, early: PictureWorker | None = None) -> PictureWorker | None:
+        """The worker for ``problem``: ``early`` (:meth:`early`, started before the problem was
+        made) when the problem pickles without local functions, else one forked now, which holds
+        them (``early`` is then stopped)."""
         shared = _local_functions(problem)
         try:
             _dumps(problem, shared)
         except Exception:  # noqa: BLE001 - something else that does not pickle: children forked later instead
-            return None
+            shared = None
+        if early is not None and shared == {} and early.process.is_alive():
+            return early  # forked already: usable even where this process can no longer fork
+        if early is not None:
+            early.stop(at_once=True)
+        context = _fork_context()
+        return None if context is None or shared is None else cls._launch(context, shared)
+
+    @classmethod
+    def early(cls, scene_path: str | Path) -> PictureWorker | None:
+        """A worker started before the scene is loaded, when the scene file's ``[output]`` table
+        asks for pictures: it imports matplotlib while the scene loads (whose checks import the
+        solver) and the run solves, so that a run of a second has its pictures' processes ready
+        when its solve ends. Pass it to :meth:`start` once the problem is made."""
+        context = _fork_context()
+        return cls._launch(context, {}) if context is not None and _asks_for_plots(Path(scene_path)) else None
+
+    @classmethod
+    def _launch(cls, context, shared: dict[int, Any]) -> PictureWorker:
         conn, child_end = context.Pipe()
         go_reader, go = context.Pipe(duplex=False)
         process = context.Process(target=_serve, args=(child_end, go_reader, shared), daemon=True)
@@ -295,9 +335,13 @@ class PictureWorker:
                 pass
             self.go.close()
 
-    def stop(self) -> None:
-        """Let the worker go without a job (it leaves when the run ends in any case)."""
-        if not self.busy:
+    def stop(self, at_once: bool = False) -> None:
+        """Let the worker go without a job (it leaves when the run ends in any case); ``at_once``:
+        ended now, its imports left unfinished."""
+        if at_once and not self.busy:
+            self.process.terminate()
+            self.process.join()
+        elif not self.busy:
             try:
                 self.conn.send_bytes(b"")
             except OSError:
@@ -325,7 +369,7 @@ class PlotJob:
         context = _fork_context() if parallel else None
         if worker is not None and parallel:
             self.tasks = picture_tasks(problem, summary)
-            if worker.submit(self.args, self.tasks):
+            if worker.submit(self._job_args(), self.tasks):
                 self.worker = worker
                 if idle_cores() >= 2:  # a second idle core: the helper starts at once
                     worker.free()
@@ -341,6 +385,15 @@ class PlotJob:
             process.start()
             writer.close()
             self.children.append((process, reader, groups))
+
+    def _job_args(self) -> tuple:
+        """The arguments sent to the worker: a 2D job whose bodies' output meshes are all made
+        goes without its solution (the pictures draw those meshes), which the worker then
+        neither unpickles nor imports the classes of."""
+        out_dir, problem, solution, summary, outputs = self.args
+        if getattr(problem, "dim", None) == 2 and all(b.name in outputs for b in problem.bodies):
+            solution = None
+        return out_dir, problem, solution, summary, outputs
 
     @property
     def parallel(self) -> bool:
