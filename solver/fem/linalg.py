@@ -305,7 +305,9 @@ class SmallSystem:
     def _factor_active(self) -> None:
         a = self.active
         g_aa = self.g[np.ix_(a, a)] if isinstance(self.g, np.ndarray) else self.g.take(a, a)
-        m = (self.kc_aa.T @ g_aa.T).T  # G_AA Kc_AA, dense
+        # G_AA Kc_AA = (Kc_AA^T G_AA)^T (G symmetric): G_AA read in its own (row) order, not copied
+        # into a transposed one, and the product comes out in the column order LAPACK factors in place
+        m = (self.kc_aa.T @ g_aa).T
         del g_aa
         m[np.diag_indices_from(m)] += 1.0
         self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)
