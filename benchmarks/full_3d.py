@@ -35,9 +35,12 @@ from ibfem.solver.model.estimate import estimate_size
 from ibfem.solver.solving import solve
 from ibfem.solver.reference import theory
 path, levels = sys.argv[1], int(sys.argv[2])
-if sys.argv[3:] == ["scene-disc"]:  # no coarse pass: the candidate disc as the scene gives it
+if "scene-disc" in sys.argv[3:]:  # no coarse pass: the candidate disc as the scene gives it
     from ibfem.solver.contact import sizing
     sizing.MIN_CONTACT_DOFS = math.inf
+if "given-order" in sys.argv[3:]:  # each body factored in the driver's order, no other order compared
+    from ibfem.solver.fem import linalg
+    linalg.ORDER_CHOICE_DOFS = math.inf
 d = tomllib.load(open(path, "rb"))
 d["output"] = {"vtk": False, "plots": False}
 if levels >= 0:
@@ -92,8 +95,9 @@ def timed_child(child: str, args: list[str]) -> tuple[dict, float, float, float]
     return json.loads(result[len("RESULT "):]), float(wall), float(user) + float(system), float(peak_kb) / 2**20
 
 
-def run(scene: Path, levels: int, scene_disc: bool = False) -> dict:
-    timed = timed_child(CHILD, [str(scene), str(levels)] + (["scene-disc"] if scene_disc else []))
+def run(scene: Path, levels: int, scene_disc: bool = False, given_order: bool = False) -> dict:
+    flags = (["scene-disc"] if scene_disc else []) + (["given-order"] if given_order else [])
+    timed = timed_child(CHILD, [str(scene), str(levels)] + flags)
     if timed is None:
         return {"scene": str(scene), "levels": levels, "failed": True}
     row, wall, cpu, peak_gb = timed
@@ -107,13 +111,16 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--levels", type=int, default=-1, help="refinement levels of every zone (default: the scene's)")
     ap.add_argument("--scene-disc", action="store_true",
                     help="no coarse pass: the contacts' candidate disc as the scene gives it (for comparison)")
+    ap.add_argument("--given-order", action="store_true",
+                    help="every body factored in the driver's order (the fill-reducing order of the whole "
+                         "system), not the cheaper of it and the order with the contact nodes contracted (for comparison)")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "full_3d.json")
     args = ap.parse_args(argv)
     rows = []
     print(f"{'scene':22} {'dofs':>8} {'est':>8} {'m':>6} {'wall s':>7} {'cpu s':>7} {'GB':>5} {'est GB':>6} "
           f"{'a err':>7} {'b err':>7} {'c/a':>6} {'Mindlin':>7}")
     for name in args.scenes:
-        row = run(ROOT / "examples" / "solid" / "full" / f"{name}.toml", args.levels, args.scene_disc)
+        row = run(ROOT / "examples" / "solid" / "full" / f"{name}.toml", args.levels, args.scene_disc, args.given_order)
         rows.append(row)
         if row.get("failed"):
             print(f"{name:22} failed")

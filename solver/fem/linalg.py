@@ -36,6 +36,7 @@ __all__ = [
     "CHOLESKY_NONZEROS",
     "dof_order",
     "metis_order",
+    "contact_last_order",
     "condensed_apply",
     "SmallSystem",
     "PermutedLU",
@@ -304,7 +305,9 @@ class SmallSystem:
     def _factor_active(self) -> None:
         a = self.active
         g_aa = self.g[np.ix_(a, a)] if isinstance(self.g, np.ndarray) else self.g.take(a, a)
-        m = (self.kc_aa.T @ g_aa.T).T  # G_AA Kc_AA, dense
+        # G_AA Kc_AA = (Kc_AA^T G_AA)^T (G symmetric): G_AA read in its own (row) order, not copied
+        # into a transposed one, and the product comes out in the column order LAPACK factors in place
+        m = (self.kc_aa.T @ g_aa).T
         del g_aa
         m[np.diag_indices_from(m)] += 1.0
         self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)
@@ -422,6 +425,8 @@ def _condensed_blocks(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | N
                 trailing = int(np.ceil(TRAILING_FRACTION * len(pos)))
         sub_order = None if order is None else local[order[groups[order] == g]]
         block = k0 if len(idx) == k0.shape[0] else k0[idx][:, idx]
+        if sub_order is not None and choice != "superlu" and len(idx) >= ORDER_CHOICE_DOFS:
+            sub_order = _cheaper_order(block, local[dofs[pos]], sub_order)
         factor, schur, inverse = _condensed_one(block, local[dofs[pos]], sub_order, choice, trailing)
         parts.append(idx)
         factors.append(factor)
@@ -429,6 +434,41 @@ def _condensed_blocks(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | N
         inverses.append(inverse)
         positions.append(pos)
     return BlockFactor(parts, factors), BlockDiagonal(schurs, positions), BlockDiagonal(inverses, positions)
+
+
+#: a block of at least this many dofs compares its given order with :func:`contact_last_order` by
+#: their factorisations' flops (counted on the elimination tree) and is factored in the cheaper
+ORDER_CHOICE_DOFS = 40_000
+
+
+def _cheaper_order(k: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """``order`` or :func:`contact_last_order`, whichever factors K with ``dofs`` last in fewer
+    flops (the given order unchanged without pymetis or the compiled kernels)."""
+    from .multifrontal import available, factor_flops
+
+    block = 3
+    contact = np.zeros(k.shape[0], dtype=bool)
+    contact[dofs] = True
+    given = np.concatenate([order[~contact[order]], dofs])
+    if not (available() and _node_blocked(given, block)):
+        return given
+    nodes = _node_graph(k, block, np.arange(k.shape[0] // block))
+    other = contact_last_order(k, dofs, block, nodes)
+    if other is None:
+        return given
+    # compared on the node graph (a ninth of the entries): both orders keep a node's dofs together
+    nodes = (nodes + sp.identity(nodes.shape[0], dtype=np.int8, format="csr")).tocsr()
+    m = len(dofs) // block
+    cheaper = factor_flops(nodes, other[::block] // block, m) < factor_flops(nodes, given[::block] // block, m)
+    return other if cheaper else given
+
+
+def _node_blocked(order: np.ndarray, block: int) -> bool:
+    """Whether ``order`` numbers the ``block`` dofs of every node together, in their order."""
+    if len(order) % block:
+        return False
+    runs = order.reshape(-1, block)
+    return bool(np.all(runs[:, 0] % block == 0) and np.all(runs - runs[:, :1] == np.arange(block)))
 
 
 def _condensed_one(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None, choice: str,
@@ -584,13 +624,62 @@ def metis_order(k: sp.spmatrix, block: int) -> np.ndarray | None:
     n = k.shape[0]
     if n % block:
         return None
-    coo = k.tocoo()
-    rows, cols = coo.row // block, coo.col // block
-    off = rows != cols
-    nodes = n // block
-    graph = sp.csr_matrix((np.ones(int(off.sum()), dtype=np.int8), (rows[off], cols[off])), shape=(nodes, nodes))
-    graph.sum_duplicates()
-    graph.sort_indices()
-    perm, _ = pymetis.nested_dissection(pymetis.CSRAdjacency(graph.indptr, graph.indices))
-    perm = np.asarray(perm, dtype=np.int64)
+    perm = _dissection(pymetis, _node_graph(k, block, np.arange(n // block)))
     return (block * perm[:, None] + np.arange(block)).ravel()
+
+
+def contact_last_order(k: sp.spmatrix, dofs: np.ndarray, block: int, graph: sp.csr_matrix | None = None
+                       ) -> np.ndarray | None:
+    """A fill-reducing order of k's dofs for a factorisation that keeps ``dofs`` (whole nodes of
+    ``block`` dofs) as its root, the last of the order: METIS's nested dissection, three
+    separators tried at every level, of the node graph in which the nodes of ``dofs`` are
+    contracted into one vertex. Every front whose rows reach the root carries rows of those
+    dofs, so a graph that holds them apart lets the dissection cut across them as if they
+    were eliminated early; contracted, they are one vertex that the separators treat as one.
+    ``graph``: k's node graph (:func:`_node_graph`) when the caller has it. None without
+    pymetis or when ``dofs`` are not whole nodes."""
+    try:
+        import pymetis
+    except ImportError:
+        return None
+    n = k.shape[0]
+    if n % block:
+        return None
+    hits = np.bincount(np.asarray(dofs) // block, minlength=n // block)
+    if np.any((hits != 0) & (hits != block)):
+        return None
+    label = np.cumsum(hits == 0) - 1
+    contracted = int(np.count_nonzero(hits == 0))
+    label[hits != 0] = contracted
+    if graph is None:
+        graph = _node_graph(k, block, np.arange(n // block))
+    perm = _dissection(pymetis, _relabelled(graph, label), nseps=3)
+    nodes = np.flatnonzero(hits == 0)[perm[perm < contracted]]
+    order = (block * nodes[:, None] + np.arange(block)).ravel()
+    return np.concatenate([order, np.asarray(dofs, dtype=np.int64)])
+
+
+def _node_graph(k: sp.spmatrix, block: int, label: np.ndarray) -> sp.csr_matrix:
+    """The adjacency of the vertices ``label[node]`` of k's ``block`` x ``block`` node blocks (no loops)."""
+    k = k.tocsr()
+    rows = np.repeat(np.arange(k.shape[0]) // block, np.diff(k.indptr))
+    return _relabelled(None, label, label[rows], label[k.indices // block])
+
+
+def _relabelled(graph: sp.csr_matrix | None, label: np.ndarray, rows=None, cols=None) -> sp.csr_matrix:
+    """The graph with vertex v renamed ``label[v]`` (vertices of one name contracted; no loops)."""
+    if graph is not None:
+        coo = graph.tocoo()
+        rows, cols = label[coo.row], label[coo.col]
+    off = rows != cols
+    size = int(label.max()) + 1 if len(label) else 0
+    out = sp.csr_matrix((np.ones(int(off.sum()), dtype=np.int8), (rows[off], cols[off])), shape=(size, size))
+    out.sum_duplicates()
+    out.sort_indices()
+    return out
+
+
+def _dissection(pymetis, graph: sp.csr_matrix, **options) -> np.ndarray:
+    opts = pymetis.Options(**options) if options else None
+    perm, _ = pymetis.nested_dissection(pymetis.CSRAdjacency(graph.indptr, graph.indices), options=opts)
+    return np.asarray(perm, dtype=np.int64)

@@ -42,7 +42,7 @@ import scipy.sparse as sp
 
 from .dense import symmetric_from_lower
 
-__all__ = ["CholeskyFactor", "NotPositiveDefinite", "available", "condensed_cholesky"]
+__all__ = ["CholeskyFactor", "NotPositiveDefinite", "available", "condensed_cholesky", "factor_flops"]
 
 #: relaxed amalgamation: a merged supernode of at most RELAX_COLUMNS[i] columns is accepted when
 #: its fraction of explicit zeros is below RELAX_ZEROS[i] (any size: below RELAX_ZEROS[2])
@@ -456,6 +456,22 @@ def _write_or_keep(handle, segment: np.ndarray, written: int, kept: list):
             handle.close()
     kept.append(segment)
     return None
+
+
+def factor_flops(k: sp.spmatrix, order: np.ndarray, m: int = 0) -> float:
+    """The multiply-adds of the L D L^T factorisation of K in ``order`` (the last m dofs one
+    root), sum over the columns of L of the square of their count of entries below the
+    diagonal: the elimination tree and the column counts only (no supernodes, no row
+    structures, nothing numeric), to compare elimination orders before factoring in one."""
+    kern = _kernels()
+    f = CholeskyFactor.__new__(CholeskyFactor)
+    f.n, f.m = k.shape[0], int(m)
+    post = f._postordered(k, np.asarray(order, dtype=np.int64), kern)
+    where = np.empty(f.n, dtype=np.int64)
+    where[post] = np.arange(f.n)
+    colptr, rowind, _ = _lower(k, where, "csc")
+    counts = kern.column_counts(colptr, rowind, f._parent, np.arange(f.n), f.m).astype(np.float64)
+    return float(np.sum((counts - 1.0) ** 2))
 
 
 def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
