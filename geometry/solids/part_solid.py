@@ -3,8 +3,9 @@ STEP importer later): its faces' exact surfaces give every distance, foot, norma
 quadrature point; the tessellation only seeds searches and decides which side a point is on.
 
 - ``signed_distance``: for each face, the foot on its exact surface counts when it lies on the
-  face's trimmed region (within the tessellation's chord sag of the face's triangles), else the
-  face's exact boundary edges (their curves' feet within the edge's polyline, else the edges'
+  face's trimmed region: within the tessellation's chord sag of the face's triangles and, near
+  the face's boundary, on the inner side of its exact trimming edges (geometry.solids.face_trim);
+  else the face's exact boundary edges (their curves' feet clipped to the edge's ends, else the
   end vertices). The sign: the side of the nearest face's exact normal where the foot is
   interior to a face (also where an edge is as near within round-off: the foot is on it), the
   generalised winding number of the closed tessellation (sum of the triangles' solid angles)
@@ -32,6 +33,7 @@ import numpy as np
 
 from .._base import Projection
 from ..quadrature import quartered
+from .face_trim import FaceTrim, TrimEdge
 from .shapes import Solid
 
 __all__ = ["PartSolid", "PartFace", "point_triangle_distance"]
@@ -193,6 +195,9 @@ class PartFace:
         self.triangles = np.asarray(mesh.vertices, float)[np.asarray(mesh.faces)]
         self.mesh = _Mesh(self.triangles)
         self.sag = sag
+        #: the exact trimming test (geometry.solids.face_trim.FaceTrim), set by the solid that
+        #: knows the face's edges; without it a foot counts within ``sag`` of the triangles
+        self.trim = None
 
     def _normals(self, pr: Projection) -> np.ndarray:
         return self.orientation * np.asarray(pr.normals, float)
@@ -202,6 +207,9 @@ class PartFace:
         return np.asarray(pr.points, float), self._normals(pr)
 
     def on_face(self, feet: np.ndarray) -> np.ndarray:
+        """Whether each foot (n, 3) on the untrimmed surface lies on the trimmed face."""
+        if self.trim is not None:
+            return self.trim.contains(feet)
         return self.mesh.within(feet, self.sag)
 
     def quadrature(self, resolution: float, panel_size=None):
@@ -350,6 +358,9 @@ class PartSolid(Solid):
         #: each face's trimming edges (those of its loops)
         self._loops = {f.id: [part.edges[c.edge_id] for loop in f.loops for c in loop.coedges
                               if c.edge_id in part.edges] for f in faces}
+        for k, face in self.faces.items():
+            if face.surface is not None and self._loops[k]:
+                face.trim = FaceTrim(face, self._loops[k], self.tolerance, size)
         self.triangles = np.concatenate(tri)
         self.bounds = (allv.min(axis=0) - self.tolerance, allv.max(axis=0) + self.tolerance)
         self.size = size
@@ -441,6 +452,10 @@ class PartSolid(Solid):
         lines = [np.asarray(e.polyline, float).reshape(-1, 3) for e in self.edges]
         return [(x.min(axis=0) - self.tolerance, x.max(axis=0) + self.tolerance) for x in lines]
 
+    @cached_property
+    def _trim_edges(self) -> dict:
+        return {e.id: TrimEdge(e, self.tolerance) for e in self.edges if e.curve is not None}
+
     def _edge_distance(self, e, p: np.ndarray, best: np.ndarray) -> np.ndarray:
         """Distance from points p to the edge e: exact where below ``best``."""
         line = np.asarray(e.polyline, float)
@@ -448,13 +463,11 @@ class PartSolid(Solid):
         d = np.min([np.linalg.norm(p - np.asarray(v, float), axis=1) for v in ends], axis=0)
         if e.curve is None:
             return np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
-        pr = e.curve.project(p)
-        dc = np.abs(np.asarray(pr.distances, float))
+        dc = np.abs(np.asarray(e.curve.project(p).distances, float))
         ask = np.flatnonzero(dc < np.minimum(best, d))  # only a foot on the edge could be nearer
-        if len(ask):
-            feet = np.asarray(pr.points, float)[ask]
-            on = _polyline_distance(feet, line) <= self.tolerance
-            d[ask[on]] = np.minimum(d[ask[on]], dc[ask[on]])
+        if len(ask):  # the curve's foot clipped to the edge's ends (exact, not the polyline's band)
+            foot, _ = self._trim_edges[e.id].clipped(p[ask])
+            d[ask] = np.minimum(d[ask], np.linalg.norm(p[ask] - foot, axis=1))
         return d
 
     def signed_distance(self, points, chunk: int = 1 << 16) -> np.ndarray:
