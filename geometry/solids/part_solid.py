@@ -73,6 +73,8 @@ def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
 _MESH_KERNELS = None
 #: a face's tessellation of at most this many triangles is searched whole, without rounds
 FEW_TRIANGLES = 32
+#: a foot whose p - foot makes a cosine below this with the face's normal is no perpendicular foot
+PERPENDICULAR = 1.0 - 1e-6
 
 
 def mesh_kernels():
@@ -441,8 +443,13 @@ class PartSolid(Solid):
                 on = exact[i].on_face(feet[i][pts])
                 hit = pts[on]
                 r = p[hit] - feet[i][hit]
-                best[hit], interior[hit] = d[sel[on]], True
-                sign[hit] = np.where((r * normals[i][hit]).sum(1) < 0.0, 1.0, -1.0)
+                along = (r * normals[i][hit]).sum(1)
+                best[hit], sign[hit] = d[sel[on]], np.where(along < 0.0, 1.0, -1.0)
+                # the normal's side holds where p - foot lies along the normal: not where the
+                # surface's projection stopped at the end of its parameter domain (a B-spline
+                # face's edge there), which leaves the side to the edges' test
+                length = np.linalg.norm(r, axis=1)
+                interior[hit] = (np.abs(along) >= PERPENDICULAR * length) | (length <= 1e-12 * self.size)
                 settled[sel[on]] = True
                 untrimmed[i, pts[~on]] = np.inf
             todo = todo[~settled]
