@@ -68,12 +68,12 @@ class TrimEdge:
     def clipped(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The nearest points (n, 3) of the edge: the curve's foot where it lies on the edge
         (within the tolerance of its polyline and not past an end), else the nearer end; and the
-        direction of the polyline's segment nearest to each point."""
-        near, _, t0 = _nearest_on_polyline(p, self.line)
+        direction of the polyline's segment nearest to each of those points."""
         if self.curve is None:
+            near, _, t0 = _nearest_on_polyline(p, self.line)
             return near, t0
         e = np.asarray(self.curve.project(p).points, float)
-        _, off, _ = _nearest_on_polyline(e, self.line)
+        _, off, t0 = _nearest_on_polyline(e, self.line)
         out = off > self.tol
         if not self.closed:  # a foot past an end (on the curve carried on) is that end
             for v, w in ((self.ends[0], self.line[1] if len(self.line) > 1 else self.ends[1]),
@@ -85,6 +85,7 @@ class TrimEdge:
             ends = np.stack(self.ends)
             k = np.argmin(np.linalg.norm(p[out, None, :] - ends[None], axis=2), axis=1)
             e[out] = ends[k]
+            t0[out] = _nearest_on_polyline(e[out], self.line)[2]
         return e, t0
 
     def tangent(self, e: np.ndarray, t0: np.ndarray) -> np.ndarray:
