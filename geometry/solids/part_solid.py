@@ -3,8 +3,9 @@ STEP importer later): its faces' exact surfaces give every distance, foot, norma
 quadrature point; the tessellation only seeds searches and decides which side a point is on.
 
 - ``signed_distance``: for each face, the foot on its exact surface counts when it lies on the
-  face's trimmed region (within the tessellation's chord sag of the face's triangles), else the
-  face's exact boundary edges (their curves' feet within the edge's polyline, else the edges'
+  face's trimmed region: within the tessellation's chord sag of the face's triangles and, near
+  the face's boundary, on the inner side of its exact trimming edges (geometry.solids.face_trim);
+  else the face's exact boundary edges (their curves' feet clipped to the edge's ends, else the
   end vertices). The sign: the side of the nearest face's exact normal where the foot is
   interior to a face (also where an edge is as near within round-off: the foot is on it), the
   generalised winding number of the closed tessellation (sum of the triangles' solid angles)
@@ -31,7 +32,7 @@ from functools import cached_property
 import numpy as np
 
 from .._base import Projection
-from ..quadrature import quartered
+from .face_trim import FaceTrim, TrimEdge
 from .shapes import Solid
 
 __all__ = ["PartSolid", "PartFace", "point_triangle_distance"]
@@ -72,6 +73,8 @@ def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
 _MESH_KERNELS = None
 #: a face's tessellation of at most this many triangles is searched whole, without rounds
 FEW_TRIANGLES = 32
+#: a foot whose p - foot makes a cosine below this with the face's normal is no perpendicular foot
+PERPENDICULAR = 1.0 - 1e-6
 
 
 def mesh_kernels():
@@ -193,6 +196,9 @@ class PartFace:
         self.triangles = np.asarray(mesh.vertices, float)[np.asarray(mesh.faces)]
         self.mesh = _Mesh(self.triangles)
         self.sag = sag
+        #: the exact trimming test (geometry.solids.face_trim.FaceTrim), set by the solid that
+        #: knows the face's edges; without it a foot counts within ``sag`` of the triangles
+        self.trim = None
 
     def _normals(self, pr: Projection) -> np.ndarray:
         return self.orientation * np.asarray(pr.normals, float)
@@ -202,6 +208,9 @@ class PartFace:
         return np.asarray(pr.points, float), self._normals(pr)
 
     def on_face(self, feet: np.ndarray) -> np.ndarray:
+        """Whether each foot (n, 3) on the untrimmed surface lies on the trimmed face."""
+        if self.trim is not None:
+            return self.trim.contains(feet)
         return self.mesh.within(feet, self.sag)
 
     def quadrature(self, resolution: float, panel_size=None):
@@ -275,21 +284,35 @@ class PartFace:
         return k[:, 0], k[:, 1], d[0], d[1]
 
 
+def _bisected(tri: np.ndarray) -> np.ndarray:
+    """Each triangle (a, b, c) split in two at the midpoint m of its longest edge ab: (a, m, c)
+    and (m, b, c), wound as the parent. Longest-edge bisection keeps the triangles' shapes within
+    a bounded set (Rosenberg and Stenger, Math. Comp. 29 (1975) 390): a sliver of a fan (a planar
+    face's tessellation: triangles 25 mm long and 2 mm wide) becomes triangles of about the size
+    asked, where splitting into four at the midpoints keeps every piece a sliver and asks
+    (length / size)^2 of them whatever their area."""
+    k = np.argmax(np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2), axis=1)  # edge (k - 1, k)
+    rows = np.arange(len(tri))
+    a, b, c = tri[rows, (k + 2) % 3], tri[rows, k], tri[rows, (k + 1) % 3]
+    m = 0.5 * (a + b)
+    return np.concatenate([np.stack([a, m, c], axis=1), np.stack([m, b, c], axis=1)])
+
+
 def _split(tri: np.ndarray, resolution: float) -> np.ndarray:
-    """Triangles split into four (midpoints) until no edge exceeds ``resolution``."""
-    for _ in range(12):
+    """Triangles bisected at their longest edges until no edge exceeds ``resolution``."""
+    for _ in range(40):
         long = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1) > resolution
         if not long.any():
             break
-        tri = np.concatenate([tri[~long], quartered(tri[long])])
+        tri = np.concatenate([tri[~long], _bisected(tri[long])])
     return tri
 
 
 def _split_graded(tri: np.ndarray, panel_size, resolution: float) -> np.ndarray:
-    """Triangles split into four (midpoints) until no edge exceeds ``panel_size`` at the
+    """Triangles bisected at their longest edges until no edge exceeds ``panel_size`` at the
     triangle's centroid (or ``resolution``, the finest asked anywhere)."""
     done = []
-    for _ in range(30):
+    for _ in range(80):
         edge = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
         normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
@@ -298,7 +321,7 @@ def _split_graded(tri: np.ndarray, panel_size, resolution: float) -> np.ndarray:
         done.append(tri[~long])
         if not long.any():
             break
-        tri = quartered(tri[long])
+        tri = _bisected(tri[long])
     else:
         done.append(tri)
     return np.concatenate(done)
@@ -350,6 +373,9 @@ class PartSolid(Solid):
         #: each face's trimming edges (those of its loops)
         self._loops = {f.id: [part.edges[c.edge_id] for loop in f.loops for c in loop.coedges
                               if c.edge_id in part.edges] for f in faces}
+        for k, face in self.faces.items():
+            if face.surface is not None and self._loops[k]:
+                face.trim = FaceTrim(face, self._loops[k], self.tolerance, size)
         self.triangles = np.concatenate(tri)
         self.bounds = (allv.min(axis=0) - self.tolerance, allv.max(axis=0) + self.tolerance)
         self.size = size
@@ -417,8 +443,13 @@ class PartSolid(Solid):
                 on = exact[i].on_face(feet[i][pts])
                 hit = pts[on]
                 r = p[hit] - feet[i][hit]
-                best[hit], interior[hit] = d[sel[on]], True
-                sign[hit] = np.where((r * normals[i][hit]).sum(1) < 0.0, 1.0, -1.0)
+                along = (r * normals[i][hit]).sum(1)
+                best[hit], sign[hit] = d[sel[on]], np.where(along < 0.0, 1.0, -1.0)
+                # the normal's side holds where p - foot lies along the normal: not where the
+                # surface's projection stopped at the end of its parameter domain (a B-spline
+                # face's edge there), which leaves the side to the edges' test
+                length = np.linalg.norm(r, axis=1)
+                interior[hit] = (np.abs(along) >= PERPENDICULAR * length) | (length <= 1e-12 * self.size)
                 settled[sel[on]] = True
                 untrimmed[i, pts[~on]] = np.inf
             todo = todo[~settled]
@@ -441,6 +472,10 @@ class PartSolid(Solid):
         lines = [np.asarray(e.polyline, float).reshape(-1, 3) for e in self.edges]
         return [(x.min(axis=0) - self.tolerance, x.max(axis=0) + self.tolerance) for x in lines]
 
+    @cached_property
+    def _trim_edges(self) -> dict:
+        return {e.id: TrimEdge(e, self.tolerance) for e in self.edges if e.curve is not None}
+
     def _edge_distance(self, e, p: np.ndarray, best: np.ndarray) -> np.ndarray:
         """Distance from points p to the edge e: exact where below ``best``."""
         line = np.asarray(e.polyline, float)
@@ -448,13 +483,11 @@ class PartSolid(Solid):
         d = np.min([np.linalg.norm(p - np.asarray(v, float), axis=1) for v in ends], axis=0)
         if e.curve is None:
             return np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
-        pr = e.curve.project(p)
-        dc = np.abs(np.asarray(pr.distances, float))
+        dc = np.abs(np.asarray(e.curve.project(p).distances, float))
         ask = np.flatnonzero(dc < np.minimum(best, d))  # only a foot on the edge could be nearer
-        if len(ask):
-            feet = np.asarray(pr.points, float)[ask]
-            on = _polyline_distance(feet, line) <= self.tolerance
-            d[ask[on]] = np.minimum(d[ask[on]], dc[ask[on]])
+        if len(ask):  # the curve's foot clipped to the edge's ends (exact, not the polyline's band)
+            foot, _ = self._trim_edges[e.id].clipped(p[ask])
+            d[ask] = np.minimum(d[ask], np.linalg.norm(p[ask] - foot, axis=1))
         return d
 
     def signed_distance(self, points, chunk: int = 1 << 16) -> np.ndarray:

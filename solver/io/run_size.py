@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from typing import Callable
 
-from ibfem.solver.model.estimate import ProblemSize, estimate_size
+from ibfem.solver.model.estimate import ProblemSize, estimate_size, loaded_scene_bytes
 from ibfem.solver.model.problem import Problem
 
 __all__ = ["run_size"]
@@ -35,29 +35,32 @@ def run_size(problem: Problem, solve: Callable | None = None) -> tuple[ProblemSi
     from ibfem.solver.contact.sizing import sized_contacts
 
     points, lines = sized_contacts(problem), line_contacts(problem)
+    # what the loaded scene holds (a CAD kernel), measured before a coarse pass grows the process
+    loaded = loaded_scene_bytes()
     if not points and not lines:
-        return estimate_size(problem), None
+        return estimate_size(problem, loaded), None
     if solve is None:
         from ibfem.solver.solving import solve
     notes, floor = [], 0.0
     if points:
-        problem, floor, note = _sized_point_contacts(problem, points, solve)
+        problem, floor, note = _sized_point_contacts(problem, points, solve, loaded)
         notes.append(note)
     if lines:
-        size, note = _line_contacts(problem, lines, solve)
+        size, note = _line_contacts(problem, lines, solve, loaded)
         notes.append(note)
     else:
-        size = estimate_size(problem)
+        size = estimate_size(problem, loaded)
     return ProblemSize(size.cells, size.dofs, max(size.memory, floor)), "; ".join(notes)
 
 
-def _sized_point_contacts(problem: Problem, points: list[int], solve: Callable) -> tuple[Problem, float, str]:
+def _sized_point_contacts(problem: Problem, points: list[int], solve: Callable,
+                          loaded: float) -> tuple[Problem, float, str]:
     """(the problem with the candidate discs the run's fine pass condenses on, the coarse pass's
     estimated memory, a note)."""
     from ibfem.solver.contact.sizing import coarse_pass_problem, sized_problem
 
     coarse = coarse_pass_problem(problem, points)
-    floor = estimate_size(coarse).memory
+    floor = estimate_size(coarse, loaded).memory
     try:
         coarse_solution = solve(coarse)
     except ValueError as err:  # the run reports it in its own words; the scene's disc is the bound
@@ -71,25 +74,25 @@ def _sized_point_contacts(problem: Problem, points: list[int], solve: Callable) 
                          f"candidate disc sized about its region (radius {extents})")
 
 
-def _line_contacts(problem: Problem, lines: list[int], solve: Callable) -> tuple[ProblemSize, str]:
+def _line_contacts(problem: Problem, lines: list[int], solve: Callable, loaded: float) -> tuple[ProblemSize, str]:
     """The size of the fine pass of the line contacts ``lines`` (the band along the coarse
     region), its memory at least the coarse pass's, and a note."""
     from ibfem.solver.contact.follow import band_problem, coarse_problem
 
     coarse = coarse_problem(problem, lines)
-    coarse_size = estimate_size(coarse)
+    coarse_size = estimate_size(coarse, loaded)
     try:
         coarse_solution = solve(coarse)
     except ValueError as err:  # the run reports it in its own words; the scene's grid is the bound
-        size = estimate_size(problem)
+        size = estimate_size(problem, loaded)
         return (ProblemSize(size.cells, size.dofs, max(size.memory, coarse_size.memory)),
                 f"the line contact's coarse pass failed ({err}): the scene's whole contact ball counted")
     if any(not coarse_solution.contacts[k].get("boundary") for k in lines):
-        size = estimate_size(problem)  # the run then solves the scene's own grid
+        size = estimate_size(problem, loaded)  # the run then solves the scene's own grid
         return (ProblemSize(size.cells, size.dofs, max(size.memory, coarse_size.memory)),
                 "the line contact's coarse pass found no region: the scene's own grid")
     fine, bands = band_problem(problem, lines, coarse_solution.contacts)
-    size = estimate_size(fine)
+    size = estimate_size(fine, loaded)
     widths = sorted({round(band["radius"], 9) for band in bands.values()})
     return (ProblemSize(size.cells, size.dofs, max(size.memory, coarse_size.memory)),
             f"line contact: its coarse pass solved ({_dofs(coarse_solution):.3g} dofs), the band along "

@@ -14,8 +14,8 @@ parents); in 2D the same sampling, with a disc, counts the part of each zone the
 sample). Overlapping zones are counted once (each sample weighted by one over the zones that
 hold it). Dofs: DOFS_PER_CELL per cell. Memory: in 2D the process's resident memory when the
 estimate is made (the scene loaded, a CAD kernel included) plus SOLVER_BYTES_2D plus
-BYTES_PER_DOF[2] per dof, fitted on the peaks of the shipped 2D examples; in 3D measured bytes
-per dof for the sparse part, and for a 3D contact the dense arrays of its condensed dofs (the finest cell faces of the part of the
+BYTES_PER_DOF[2] per dof, fitted on the peaks of the shipped 2D examples; in 3D what the loaded
+scene holds beyond an analytic one (a CAD kernel), measured bytes per dof for the sparse part, and for a 3D contact the dense arrays of its condensed dofs (the finest cell faces of the part of the
 candidate disc that the bodies hold, times CONTACT_DOFS_PER_FACET per body; each body's block
 held twice and formed once more)."""
 
@@ -26,7 +26,8 @@ import os
 
 import numpy as np
 
-__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory", "resident_memory"]
+__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory", "resident_memory",
+           "loaded_scene_bytes"]
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
 #: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
@@ -36,6 +37,9 @@ BYTES_PER_DOF = {2: 3_200, 3: 6_000}
 SOLVER_BYTES_2D = 25e6
 #: the resident memory of a process that has loaded a scene, where it cannot be read
 RESIDENT_BYTES = 80e6
+#: numba and the geometry's compiled kernels, once loaded (measured: a process that loaded the
+#: Onshape ball of examples/solid, which compiles them and has no CAD kernel, 0.13 GB above RESIDENT_BYTES)
+JIT_BYTES = 130e6
 #: 3D contact, the sparse part: the direct factor of K0 with the contact dofs last and K0 itself
 #: (measured on the full crossed cylinders, 236k dofs: the bodies' factors 14 KB per dof without
 #: their dense roots); the dense arrays are counted from the contact dofs
@@ -172,14 +176,16 @@ def _zone_centres(problem, body) -> list:
     return [default if z.center is None else np.asarray(z.center, dtype=float) for z in body.refinements]
 
 
-def estimate_size(problem) -> ProblemSize:
+def estimate_size(problem, loaded: float | None = None) -> ProblemSize:
     """Estimated cells, dofs and peak memory of ``problem`` (a solver.model.Problem); inf for
-    sizes beyond floating point (an element size of 1e-300)."""
+    sizes beyond floating point (an element size of 1e-300). ``loaded``: in 3D, the bytes the
+    loaded scene holds (:func:`loaded_scene_bytes` when the scene was loaded, before a solve
+    grew the process); measured now when not given."""
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        return _estimate(problem)
+        return _estimate(problem, loaded_scene_bytes() if loaded is None else loaded)
 
 
-def _estimate(problem) -> ProblemSize:
+def _estimate(problem, loaded: float) -> ProblemSize:
     dim = problem.dim
     cells = 0.0
     per_body = []
@@ -203,12 +209,24 @@ def _estimate(problem) -> ProblemSize:
     if dim == 3 and problem.contacts:
         body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
-        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed) + BASE_BYTES_3D_CONTACT
+        memory = (_sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed) + BASE_BYTES_3D_CONTACT
+                  + loaded)
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
-        memory = dofs * BYTES_PER_DOF[dim] + 200e6
+        memory = dofs * BYTES_PER_DOF[dim] + 200e6 + loaded
     return ProblemSize(cells, dofs, memory)
+
+
+def loaded_scene_bytes() -> float:
+    """3D: what the process holds beyond one that loaded an analytic scene (RESIDENT_BYTES, the
+    size the 3D fits were measured from), less the compiled kernels where loading the scene has
+    already loaded them (JIT_BYTES: BASE_BYTES_3D_CONTACT counts them): a STEP import's CAD
+    kernel (0.22 GB) stays resident for the whole run."""
+    import sys
+
+    jit = JIT_BYTES if "numba" in sys.modules else 0.0
+    return max(0.0, resident_memory() - RESIDENT_BYTES - jit)
 
 
 def resident_memory() -> float:
