@@ -291,16 +291,25 @@ class SmallSystem:
             self._factor_active()
         else:
             self.active = None
-            self._factor(_dense(schur) + kc.toarray(), symmetric)
+            self._factor(schur, coo, symmetric)
 
-    def _factor(self, matrix: np.ndarray, symmetric: bool) -> None:
+    @staticmethod
+    def _assembled(schur, kc: sp.coo_matrix) -> np.ndarray:
+        """S + Kc as one new dense array (Kc's entries added in place: no dense copy of Kc)."""
+        matrix = np.array(_dense(schur), dtype=float, order="F", copy=True)
+        np.add.at(matrix, (kc.row, kc.col), kc.data)
+        return matrix
+
+    def _factor(self, schur, kc: sp.coo_matrix, symmetric: bool) -> None:
+        """Factor S + Kc in place: one m x m array at a time (Cholesky; LU when not positive
+        definite or not symmetric, on S + Kc assembled again since the failed Cholesky overwrote it)."""
         if symmetric:
             try:
-                self.cholesky = sla.cho_factor(matrix, overwrite_a=False, check_finite=False)
+                self.cholesky = sla.cho_factor(self._assembled(schur, kc), overwrite_a=True, check_finite=False)
                 return
             except np.linalg.LinAlgError:
                 pass
-        self.lu = sla.lu_factor(matrix, check_finite=False)
+        self.lu = sla.lu_factor(self._assembled(schur, kc), overwrite_a=True, check_finite=False)
 
     def _factor_active(self) -> None:
         a = self.active
