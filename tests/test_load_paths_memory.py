@@ -93,7 +93,10 @@ def test_what_a_run_holds_does_not_grow_with_its_load_steps(measured):
 def test_the_check_counts_what_a_history_region_holds_per_point(measured):
     """Each region the friction history holds (its operators, points and neighbour matrix) takes
     no more bytes per quadrature point than the estimate counts for it."""
+    from ibfem.solver.contact.friction_history3d import KEEP_REGIONS
+
     problem, _, _, regions = measured
+    assert estimate.HISTORY_REGIONS == KEEP_REGIONS
     counted = estimate.REGION_OPERATOR_BYTES_PER_POINT + estimate.REGION_NEIGHBOUR_BYTES_PER_POINT
     for points, nbytes in regions:
         assert nbytes / points <= counted, (points, nbytes / points, counted)
