@@ -66,7 +66,8 @@ RESLIP_MARGIN = 0.1
 REVERSAL_MARGIN = 1e-3
 #: the means that judge the zones are taken over a disc of this many cells in diameter
 MEAN_CELLS = 1.0
-#: region quadratures kept (by size): the width search tries a few, the zone updates one
+#: region quadratures kept (by size): the width search tries a few, the zone updates one (the
+#: ``--check`` estimate counts as many regions: solver.model.estimate.HISTORY_REGIONS)
 KEEP_REGIONS = 3
 #: a zone update re-assembles only its changed points while they are at most this share of all
 INCREMENTAL_SHARE = 0.3

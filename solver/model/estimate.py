@@ -17,7 +17,9 @@ estimate is made (the scene loaded, a CAD kernel included) plus SOLVER_BYTES_2D 
 BYTES_PER_DOF[2] per dof, fitted on the peaks of the shipped 2D examples; in 3D what the loaded
 scene holds beyond an analytic one (a CAD kernel), measured bytes per dof for the sparse part, and for a 3D contact the dense arrays of its condensed dofs (the finest cell faces of the part of the
 candidate disc that the bodies hold, times CONTACT_DOFS_PER_FACET per body; each body's block
-held twice and formed once more)."""
+held twice and formed once more). A 3D frictional contact under load paths keeps a friction
+history on its region's quadrature points: the regions it holds through a load step are counted
+per point of a region as large as the candidate disc (:func:`history_bytes`)."""
 
 from __future__ import annotations
 
@@ -26,8 +28,8 @@ import os
 
 import numpy as np
 
-__all__ = ["ProblemSize", "estimate_size", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory", "resident_memory",
-           "loaded_scene_bytes"]
+__all__ = ["ProblemSize", "estimate_size", "history_bytes", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory",
+           "resident_memory", "loaded_scene_bytes"]
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
 #: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
@@ -72,6 +74,20 @@ CONTACT_DISC_MARGIN = 1.4
 #: 1.6 GB on the section's)
 WORK_SPACE_FACTOR = 2.5
 ZONE_SECTION_FRACTION = 0.8
+#: a 3D contact's region quadrature points per finest cell face of body 1's surface (the region's
+#: panels split at both grids' cell lines, REGION_ORDER^2 points each: measured 193-201 on the half
+#: sphere on a flat at 5 levels, 10 456-10 870 points over regions of 52-56 finest faces)
+REGION_POINTS_PER_FACET = 200.0
+#: a friction history under load paths (solver.contact.friction_history3d) holds up to this many
+#: regions through a load step (its KEEP_REGIONS), where the proportional solve holds the
+#: operators of the driver's last KEPT_TRIALS trials
+HISTORY_REGIONS = 3
+KEPT_TRIALS = 2
+#: bytes per region point: the jump and flux operators and the points (2.24 KB, over 1308 condensed
+#: dofs) and the same-zone mean's neighbour matrix (2.20-2.22 KB: the points within half a window
+#: of cells), measured with the objects' sizes on the half sphere on a flat at 5 levels
+REGION_OPERATOR_BYTES_PER_POINT = 2_300
+REGION_NEIGHBOUR_BYTES_PER_POINT = 2_200
 #: points of the signed distance per level and body when counting a 3D body's kept cells
 SAMPLES = 2000
 #: bodies estimated above this many cells are not sampled (the box's fill by volume is used)
@@ -210,7 +226,7 @@ def _estimate(problem, loaded: float) -> ProblemSize:
         body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
         memory = (_sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed) + BASE_BYTES_3D_CONTACT
-                  + loaded)
+                  + loaded + history_bytes(problem))
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
@@ -277,6 +293,26 @@ def _dense_contact_bytes(problem, streamed: bool = False) -> float:
         m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
         work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
         total += 8.0 * (1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + work)
+    return total
+
+
+def history_bytes(problem) -> float:
+    """What a 3D run with load paths adds for its frictional contacts' history beyond a
+    proportional solve: per contact HISTORY_REGIONS regions (operators and neighbour matrix) less
+    the operators of the KEPT_TRIALS trials a proportional solve holds too, per point of a region
+    filling the candidate disc (REGION_POINTS_PER_FACET per finest face of it: the disc's faces
+    are its contact dofs per body over CONTACT_DOFS_PER_FACET). 0 without paths, in 2D, and for
+    frictionless or tied contacts (no history kept)."""
+    if problem.dim != 3 or getattr(problem, "history", None) is None:
+        return 0.0
+    per_point = (HISTORY_REGIONS * (REGION_OPERATOR_BYTES_PER_POINT + REGION_NEIGHBOUR_BYTES_PER_POINT)
+                 - KEPT_TRIALS * REGION_OPERATOR_BYTES_PER_POINT)
+    total = 0.0
+    for c in problem.contacts:
+        if getattr(c, "type", None) != "frictional":
+            continue
+        points = REGION_POINTS_PER_FACET * contact_dofs_per_body(problem, c)[1] / CONTACT_DOFS_PER_FACET
+        total += per_point * points
     return total
 
 
