@@ -345,14 +345,9 @@ class HistoryEllipseContact(EllipseContact):
             return self._width_consistent(a)
         return True
 
-    def _imposed_zones(self, x: np.ndarray, a: float, info) -> bool:
-        """One update of the zones imposed by ``zone_rule`` for the solved force; True when no
-        point changed its zone."""
-        reg = self.region(a)
-        old, _ = self.zones_at(reg)
-        slip, direction = self.zone_rule.zones(self, reg.info[0].s, a, self.force(x, a, info))
-        self.zone_updates += 1
-        changed = int(np.count_nonzero(old != slip))
+    def _commit_zones(self, reg, slip: np.ndarray, direction: np.ndarray, changed: int, info) -> bool:
+        """Keep a zone update's zones and its stick ratio; True when it settled (no point changed)
+        or when the step has used its zone updates (the step is then listed as unsettled)."""
         self._set_zones(reg, slip, direction)
         self.zone_changes += changed
         area = plane_weights(self, info[0])
@@ -361,6 +356,16 @@ class HistoryEllipseContact(EllipseContact):
             self.unsettled_steps.append(self.step_count)
             return True
         return changed == 0
+
+    def _imposed_zones(self, x: np.ndarray, a: float, info) -> bool:
+        """One update of the zones imposed by ``zone_rule`` for the solved force; True when no
+        point changed its zone."""
+        reg = self.region(a)
+        old, _ = self.zones_at(reg)
+        slip, direction = self.zone_rule.zones(self, reg.info[0].s, a, self.force(x, a, info))
+        self.zone_updates += 1
+        changed = int(np.count_nonzero(old != slip))
+        return self._commit_zones(reg, slip, direction, changed, info)
 
     def _update_zones(self, x: np.ndarray, a: float, info) -> bool:
         """One zone update; True when no point changed its zone."""
@@ -394,14 +399,7 @@ class HistoryEllipseContact(EllipseContact):
             # settled late: the zones of the last solve are kept (the state's forces are those solved)
             self.late_settled.append([self.step_count, changed])
             return True
-        self._set_zones(reg, slip, direction)
-        self.zone_changes += changed
-        area = plane_weights(self, info[0])
-        self.stick_ratio = math.sqrt(float(area[~slip].sum() / max(area.sum(), 1e-300)))
-        if changed and self.zone_updates >= self.options.max_stick_iterations:
-            self.unsettled_steps.append(self.step_count)
-            return True
-        return changed == 0
+        return self._commit_zones(reg, slip, direction, changed, info)
 
     def end_step(self, x: np.ndarray, a: float, info) -> None:
         """Carry the step's state: the slips, their work, the new reference jumps."""

@@ -623,17 +623,26 @@ def dof_order(bodies, k: sp.spmatrix | None = None) -> np.ndarray:
     return np.concatenate(perm)
 
 
-def metis_order(k: sp.spmatrix, block: int) -> np.ndarray | None:
-    """METIS nested dissection of the graph of ``block`` x ``block`` node blocks of k (the dofs
-    of a node numbered together); None without pymetis."""
+def _pymetis_nodes(k: sp.spmatrix, block: int):
+    """(pymetis, k's node count) when pymetis is installed and k's dofs are whole nodes of
+    ``block`` dofs; None otherwise."""
     try:
         import pymetis
     except ImportError:
         return None
-    n = k.shape[0]
-    if n % block:
+    if k.shape[0] % block:
         return None
-    perm = _dissection(pymetis, _node_graph(k, block, np.arange(n // block)))
+    return pymetis, k.shape[0] // block
+
+
+def metis_order(k: sp.spmatrix, block: int) -> np.ndarray | None:
+    """METIS nested dissection of the graph of ``block`` x ``block`` node blocks of k (the dofs
+    of a node numbered together); None without pymetis."""
+    found = _pymetis_nodes(k, block)
+    if found is None:
+        return None
+    pymetis, node_count = found
+    perm = _dissection(pymetis, _node_graph(k, block, np.arange(node_count)))
     return (block * perm[:, None] + np.arange(block)).ravel()
 
 
@@ -647,21 +656,18 @@ def contact_last_order(k: sp.spmatrix, dofs: np.ndarray, block: int, graph: sp.c
     were eliminated early; contracted, they are one vertex that the separators treat as one.
     ``graph``: k's node graph (:func:`_node_graph`) when the caller has it. None without
     pymetis or when ``dofs`` are not whole nodes."""
-    try:
-        import pymetis
-    except ImportError:
+    found = _pymetis_nodes(k, block)
+    if found is None:
         return None
-    n = k.shape[0]
-    if n % block:
-        return None
-    hits = np.bincount(np.asarray(dofs) // block, minlength=n // block)
+    pymetis, node_count = found
+    hits = np.bincount(np.asarray(dofs) // block, minlength=node_count)
     if np.any((hits != 0) & (hits != block)):
         return None
     label = np.cumsum(hits == 0) - 1
     contracted = int(np.count_nonzero(hits == 0))
     label[hits != 0] = contracted
     if graph is None:
-        graph = _node_graph(k, block, np.arange(n // block))
+        graph = _node_graph(k, block, np.arange(node_count))
     perm = _dissection(pymetis, _relabelled(graph, label), nseps=3)
     nodes = np.flatnonzero(hits == 0)[perm[perm < contracted]]
     order = (block * nodes[:, None] + np.arange(block)).ravel()
