@@ -280,7 +280,7 @@ class BandContact:
         """Traction on body 1 (q, 2) at the chords ``s`` of the contact curve for the field u,
         with the sample points (their ``normal`` is the contact normal used)."""
         pts = self.with_offset(sample_points(self.geom, s))
-        jump, flux, size = _operators(self, pts)
+        jump, flux, size = contact_operators(self, pts)
         _, t1, _ = _tractions(self, pts, jump, flux, size, u[self.dofs], a)
         return pts, t1
 
@@ -606,7 +606,7 @@ def _body_operators(b, x, n, normal, dof_map, node_ok, depth_fraction: float):
     return disp, trac, sup.size(b.grid)
 
 
-def _operators(c: BandContact, pts):
+def contact_operators(c: BandContact, pts):
     """Jump J and flux F (2q, m) on the contact dofs and the local size at contact points (the
     smaller of the two bodies' blended cell sizes)."""
     map1, ok1, map2, ok2 = c.maps
@@ -620,7 +620,7 @@ def _operators(c: BandContact, pts):
     return (d1 - d2).tocsr(), sp.csr_matrix(flux), np.minimum(h1, h2)
 
 
-def _projector(c: BandContact, pts, a: float) -> np.ndarray:
+def zone_projector(c: BandContact, pts, a: float) -> np.ndarray:
     """Constrained components of the jump per point: all where tied (|s| <= stick half-width,
     eq. 5-20), the contact normal n_c where sliding (eqs. 5-22, 5-23)."""
     tied = c.tied_mask(pts.s, a)
@@ -634,7 +634,7 @@ def region_quadrature(c: BandContact, a: float):
     lo, hi = c.region_ends(a)
     brk = np.concatenate([c.breakpoints, c.zone_breakpoints(a)])
     pts = c.with_offset(contact_quadrature(c.geom, (c.b1.grid, c.b2.grid), lo, hi, c.options.order, brk))
-    return (pts,) + _operators(c, pts)
+    return (pts,) + contact_operators(c, pts)
 
 
 def _terms(c: BandContact, a: float):
@@ -644,7 +644,7 @@ def _terms(c: BandContact, a: float):
         return sp.csr_matrix((m, m)), np.zeros(m), None
     pts, jump, flux, size = region_quadrature(c, a)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
-    proj = _projector(c, pts, a)
+    proj = zone_projector(c, pts, a)
     k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, c.band_fraction, 1.0, jump=jump)
     kc = sp.csr_matrix(k)
     e_q, f_q = sp.csr_matrix(jump), sp.csr_matrix(flux)
@@ -655,7 +655,7 @@ def _terms(c: BandContact, a: float):
         # virtual work moves to the left side as the non-symmetric K_f = sum w g^T r with
         # g = (-sign mu t_c)^T J (docs/contact.md); exact for the width, no inner iteration
         r, b = _pressure_rows(c, pts, proj, e_q, f_q, size)
-        tdir = -(c.slip_signs(pts.s, a) * c.friction)[:, None] * _tangents(pts.normal)  # (q, 2) per unit pressure
+        tdir = -(c.slip_signs(pts.s, a) * c.friction)[:, None] * tangents(pts.normal)  # (q, 2) per unit pressure
         g = _along(e_q, tdir)  # (q, m)
         wq = np.where(slip, pts.weights, 0.0)
         kc = (kc - g.T @ (sp.diags(wq) @ r)).tocsr()
@@ -663,7 +663,7 @@ def _terms(c: BandContact, a: float):
     return kc, f, (pts, bp, proj, e_q, f_q, size)
 
 
-def _tangents(normal: np.ndarray) -> np.ndarray:
+def tangents(normal: np.ndarray) -> np.ndarray:
     """(q, 2) tangent t_c = (-n_y, n_x) of each contact normal."""
     return np.stack([-normal[:, 1], normal[:, 0]], axis=1)
 
@@ -698,7 +698,7 @@ def _friction_traction(c: BandContact, pts, t1: np.ndarray, a: float) -> np.ndar
     out = np.zeros_like(t1)
     if slip.any():
         p = np.einsum("qi,qi->q", t1, pts.normal)
-        out[slip] = (-signs[slip] * c.friction * p[slip])[:, None] * _tangents(pts.normal[slip])
+        out[slip] = (-signs[slip] * c.friction * p[slip])[:, None] * tangents(pts.normal[slip])
     return out
 
 
@@ -709,7 +709,7 @@ def _tractions(c: BandContact, samples, e_op: np.ndarray, f_op: np.ndarray, size
     nc = samples.normal
     gap = np.einsum("qi,qi->q", w, nc)
     inside = np.abs(c.local(samples.s)) <= a
-    proj = _projector(c, samples, a)
+    proj = zone_projector(c, samples, a)
     layer = (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
         proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
     )
@@ -877,7 +877,7 @@ def _friction_checks(c: BandContact, info, x: np.ndarray, a: float, block: dict)
     if info is not None and c.slip_sign != 0.0:
         pts, e_q = info[0], info[3]
         w = (e_q @ x).reshape(-1, 2) + pts.delta
-        wt = np.einsum("qi,qi->q", w, _tangents(pts.normal))
+        wt = np.einsum("qi,qi->q", w, tangents(pts.normal))
         slip = _slip_mask(c, pts, a)
         scale = max(float(np.abs(wt[slip]).max()) if slip.any() else 0.0, 1e-300)
         wrong = slip & (wt * c.slip_sign < -1e-6 * scale)
@@ -933,7 +933,7 @@ def _setup_contact(model, geom, b1, b2, band_fraction: float) -> BandContact:
                     friction=float(model.friction or 0.0) if model.type == "frictional" else 0.0,
                     options=opts, band_fraction=band_fraction)
     c.maps = b1.restricted_dof_map(dofs) + b2.restricted_dof_map(dofs)
-    jump, flux, size = _operators(c, samples)
+    jump, flux, size = contact_operators(c, samples)
     c.e_samples, c.f_samples = jump, flux
     c.size_samples = size
     c.e_star = 1.0 / (1.0 / plane_modulus(b1.elasticity) + 1.0 / plane_modulus(b2.elasticity))
@@ -972,9 +972,3 @@ def _symmetry_side(problem, geom: ContactGeometry, body: str) -> int:
             f"symmetry line, which needs a sliding condition on edge {edge!r} (or give a point inside an edge)"
         )
     return side
-
-
-# public names of the operators above, for the formulations built on this one (the friction history)
-contact_operators = _operators
-zone_projector = _projector
-tangents = _tangents

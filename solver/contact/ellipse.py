@@ -173,7 +173,7 @@ class EllipseContact:
             raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse (semi-axes "
                              f"{np.round([aa, bb], 6).tolist()} m) about {np.round(self.frame.point, 6).tolist()}: "
                              "the contact point is not where the bodies touch; give the contact's point")
-        jump, flux, size = _operators(self, pts)
+        jump, flux, size = contact_operators(self, pts)
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
         k, f = thin_band_terms(bp, proj, -pts.delta, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=jump)
@@ -183,8 +183,8 @@ class EllipseContact:
         if slip.any():
             # Coulomb's traction mu p on the slip zone, against the slip: p is affine in the contact
             # dofs (p = r x + b), so it enters exactly as a non-symmetric block (the 2D rule)
-            r, b = _pressure_rows(self, info)
-            g = _blocks(np.broadcast_to(-self.friction * self.slip_direction, pts.x1.shape)) @ jump
+            r, b = pressure_rows(self, info)
+            g = point_blocks(np.broadcast_to(-self.friction * self.slip_direction, pts.x1.shape)) @ jump
             wq = np.where(slip, pts.weights, 0.0)
             kc = (kc - g.T @ sp.csr_matrix(r.multiply(wq[:, None]))).tocsr()
             fc = fc + g.T @ (wq * b)
@@ -362,7 +362,7 @@ def _semi_axes_of(pts: RegionPoints) -> np.ndarray:
     return np.abs(pts.s).max(axis=0) if len(pts.s) else np.zeros(2)
 
 
-def _operators(c: EllipseContact, pts: RegionPoints):
+def contact_operators(c: EllipseContact, pts: RegionPoints):
     """Jump J and flux F (3q, m) on the contact dofs, and the local size at the points."""
     cells1, cells2 = _locate(c.b1, pts.x1, pts.n1), _locate(c.b2, pts.x2, pts.n2)
     map1, ok1, map2, ok2 = c.maps
@@ -406,7 +406,7 @@ def _slip_mask(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
     return (rho >= c.stick_ratio) & (rho <= 1.0)
 
 
-def _blocks(rows: np.ndarray):
+def point_blocks(rows: np.ndarray):
     """Sparse (q, 3q) with row k holding rows[k] in columns 3k..3k+2."""
     import scipy.sparse as sp
 
@@ -414,16 +414,16 @@ def _blocks(rows: np.ndarray):
     return sp.csr_matrix((rows.ravel(), np.arange(3 * q), np.arange(0, 3 * q + 1, 3)), shape=(q, 3 * q))
 
 
-def _pressure_rows(c: EllipseContact, info):
+def pressure_rows(c: EllipseContact, info):
     """Pressure at the quadrature points as an affine function of the contact dofs: p = r x + b."""
     pts, _, proj, jump, flux, size, _ = info
-    nl = np.einsum("qi,qij->qj", pts.normal, _layer(c, pts.normal, proj, size))  # n^T L
+    nl = np.einsum("qi,qij->qj", pts.normal, layer_tensor(c, pts.normal, proj, size))  # n^T L
     npf = np.einsum("qi,qij->qj", pts.normal, proj)  # n^T P
-    r = (-(_blocks(nl) @ jump) + _blocks(npf) @ flux).tocsr()
+    r = (-(point_blocks(nl) @ jump) + point_blocks(npf) @ flux).tocsr()
     return r, -np.einsum("qi,qi->q", nl, pts.delta)
 
 
-def _layer(c: EllipseContact, normal, proj, size) -> np.ndarray:
+def layer_tensor(c: EllipseContact, normal, proj, size) -> np.ndarray:
     return (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
         proj @ acoustic_tensor(normal, c.b1.lam, c.b1.mu) @ proj)
 
@@ -432,7 +432,7 @@ def _quadrature_traction(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:
     """Traction (q, 3) on body 1 at the region's quadrature points."""
     pts, _, proj, jump, flux, size, a = info
     w = (jump @ x).reshape(-1, 3) + pts.delta
-    t1 = -np.einsum("qij,qj->qi", _layer(c, pts.normal, proj, size), w)
+    t1 = -np.einsum("qij,qj->qi", layer_tensor(c, pts.normal, proj, size), w)
     t1 = t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
     slip = _slip_mask(c, pts, a)
     if slip.any():
@@ -501,7 +501,7 @@ def _sample_state(c: EllipseContact, x: np.ndarray, a: float):
     w = (c.e_samples @ x).reshape(-1, 3) + smp.delta
     gap = np.einsum("qi,qi->q", w, smp.normal)
     proj = _projector(c, smp, a)
-    t1 = -np.einsum("qij,qj->qi", _layer(c, smp.normal, proj, c.size_samples), w)
+    t1 = -np.einsum("qij,qj->qi", layer_tensor(c, smp.normal, proj, c.size_samples), w)
     t1 = t1 + np.einsum("qij,qj->qi", proj, (c.f_samples @ x).reshape(-1, 3))
     pressure = np.where(inside, np.einsum("qi,qi->q", t1, smp.normal), 0.0)
     return gap, pressure, inside, beyond
@@ -673,7 +673,7 @@ def build(problem, model, b1, b2, options, general=None) -> EllipseContact:
     cells2 = np.concatenate([_near_cells(b2, p.x2, p.n2) for p in (full, samples)])
     c.dofs = np.union1d(_cell_dofs_global(b1, cells1), _cell_dofs_global(b2, cells2))
     c.maps = b1.restricted_dof_map(c.dofs) + b2.restricted_dof_map(c.dofs)
-    c.e_samples, c.f_samples, c.size_samples = _operators(c, samples)
+    c.e_samples, c.f_samples, c.size_samples = contact_operators(c, samples)
     if line:
         configure(c)
     return c
@@ -743,10 +743,3 @@ def _modulus(b) -> float:
     e = mu * (3 * lam + 2 * mu) / (lam + mu)
     nu = lam / (2 * (lam + mu))
     return e / (1 - nu**2)
-
-
-# public names of the operators above, for the formulations built on this one (the friction history)
-contact_operators = _operators
-pressure_rows = _pressure_rows
-layer_tensor = _layer
-point_blocks = _blocks

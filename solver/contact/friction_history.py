@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..fem.step_boundary import PENALTY_FACTOR
-from .band import BandContact, _tangents, _tractions, build as band_build
+from .band import BandContact, tangents, _tractions, build as band_build
 from .history_terms import RegionPieces, history_terms
 from .report import contact_block
 
@@ -147,7 +147,7 @@ class HistoryBandContact(BandContact):
     def with_offset(self, pts):
         """The stick offset: a tied point's jump is held at w_ref t_c (delta less w_ref t_c)."""
         w = np.interp(pts.s, self.samples.s, self.w_ref)
-        return _Offset(pts, pts.delta - w[:, None] * _tangents(pts.normal))
+        return _Offset(pts, pts.delta - w[:, None] * tangents(pts.normal))
 
     def terms(self, a: float):
         """Stiffness, load and quadrature data of the region at half-width a (the band terms with the
@@ -179,7 +179,7 @@ class HistoryBandContact(BandContact):
         jump w_t there: (p, q, w_t, inside)."""
         pts = self.with_offset(self.samples)
         _, t1, inside = _tractions(self, pts, self.e_samples, self.f_samples, self.size_samples, x, a)
-        tan = _tangents(self.samples.normal)
+        tan = tangents(self.samples.normal)
         p = np.einsum("qi,qi->q", t1, self.samples.normal)
         q = np.einsum("qi,qi->q", t1, tan)
         w = (self.e_samples @ x).reshape(-1, 2) + self.samples.delta
@@ -441,7 +441,7 @@ class HistoryBandContact(BandContact):
     def _tie_offset(self, x: np.ndarray, shear: np.ndarray) -> np.ndarray:
         """(f_t - q) / L_tt at the samples: the tangential stretch of the tie whose traction
         -L_tt stretch + f_t (the layer plus the flux along t_c) is the shear q."""
-        tan = _tangents(self.samples.normal)
+        tan = tangents(self.samples.normal)
         flux = np.einsum("qi,qi->q", (self.f_samples @ x).reshape(-1, 2), tan)
         layer = PENALTY_FACTOR / (self.band_fraction * self.size_samples) * self.b1.mu
         return (flux - shear) / layer
