@@ -50,7 +50,7 @@ def run_size(problem: Problem, solve: Callable | None = None) -> tuple[ProblemSi
         notes.append(note)
     else:
         size = estimate_size(problem, loaded)
-    return ProblemSize(size.cells, size.dofs, max(size.memory, floor)), "; ".join(notes)
+    return _at_least(size, floor), "; ".join(notes)
 
 
 def _sized_point_contacts(problem: Problem, points: list[int], solve: Callable,
@@ -84,19 +84,21 @@ def _line_contacts(problem: Problem, lines: list[int], solve: Callable, loaded: 
     try:
         coarse_solution = solve(coarse)
     except ValueError as err:  # the run reports it in its own words; the scene's grid is the bound
-        size = estimate_size(problem, loaded)
-        return (ProblemSize(size.cells, size.dofs, max(size.memory, coarse_size.memory)),
+        return (_at_least(estimate_size(problem, loaded), coarse_size.memory),
                 f"the line contact's coarse pass failed ({err}): the scene's whole contact ball counted")
     if any(not coarse_solution.contacts[k].get("boundary") for k in lines):
-        size = estimate_size(problem, loaded)  # the run then solves the scene's own grid
-        return (ProblemSize(size.cells, size.dofs, max(size.memory, coarse_size.memory)),
+        return (_at_least(estimate_size(problem, loaded), coarse_size.memory),  # the run solves the scene's grid
                 "the line contact's coarse pass found no region: the scene's own grid")
     fine, bands = band_problem(problem, lines, coarse_solution.contacts)
-    size = estimate_size(fine, loaded)
     widths = sorted({round(band["radius"], 9) for band in bands.values()})
-    return (ProblemSize(size.cells, size.dofs, max(size.memory, coarse_size.memory)),
+    return (_at_least(estimate_size(fine, loaded), coarse_size.memory),
             f"line contact: its coarse pass solved ({_dofs(coarse_solution):.3g} dofs), the band along "
             f"its region (radius {', '.join(f'{w:.3g}' for w in widths)} m) at the scene's levels")
+
+
+def _at_least(size: ProblemSize, memory: float) -> ProblemSize:
+    """``size`` with its peak memory at least ``memory`` (a coarse pass's, which the run also makes)."""
+    return ProblemSize(size.cells, size.dofs, max(size.memory, memory))
 
 
 def _dofs(solution) -> float:
