@@ -70,11 +70,13 @@ def default_out_dir(scene_path: str | Path) -> Path:
 
 def _run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
-    from ibfem.solver.io.scene import SceneError, load_scene
     from ibfem.solver.io.parallel_plots import PictureWorker
 
-    # a scene asking for pictures: their process imports matplotlib while the scene loads and solves
+    # a scene asking for pictures: their process, started before the solver's modules are
+    # imported, imports matplotlib while this one imports the solver, loads the scene and solves
     early = None if args.check else PictureWorker.early(args.scene)
+    from ibfem.solver.io.scene import SceneError, load_scene
+
     try:
         scene = load_scene(args.scene)
     except SceneError as err:

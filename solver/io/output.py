@@ -82,11 +82,12 @@ def _step_writer(problem: pb.Problem, solution: pb.Solution, summary: Mapping[st
 
 class StartedPictures:
     """The pictures of a run started before its last stages (:func:`start_pictures`): the job
-    rendering them, the bodies' output meshes made for them (reused by the VTU files) and the
-    seconds the start took (``summary_s``: the recovery; ``vtk_s``: the 2D output meshes)."""
+    rendering them, the summary they show (its probes and lines reused by summary.json), the
+    bodies' output meshes made for them (reused by the VTU files) and the seconds the start took
+    (``summary_s``: the recovery and that summary; ``vtk_s``: the 2D output meshes)."""
 
-    def __init__(self, job: PlotJob, outputs: dict[str, Any], times: dict[str, float]):
-        self.job, self.outputs, self.times = job, outputs, times
+    def __init__(self, job: PlotJob, summary: Mapping[str, Any], outputs: dict[str, Any], times: dict[str, float]):
+        self.job, self.summary, self.outputs, self.times = job, summary, outputs, times
 
 
 def start_pictures(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution, probes: Iterable[Any] = (),
@@ -120,7 +121,7 @@ def start_pictures(out_dir: str | Path, problem: pb.Problem, solution: pb.Soluti
         outputs.update((b.name, body_output(problem, solution, b)) for b in problem.bodies)
     job = PlotJob(out_dir, problem, solution, summary, outputs, parallel, worker)
     times["vtk_s"] = time.perf_counter() - t0
-    return StartedPictures(job, outputs, times)
+    return StartedPictures(job, summary, outputs, times)
 
 
 def write_results(
@@ -151,7 +152,8 @@ def write_results(
     start = time.perf_counter()
     earlier = sum(pictures.times.values()) if pictures is not None else 0.0
     report("results: summary (probes, lines)")
-    summary = build_summary(problem, solution, probes, lines, total_s=total_s, extra=extra)
+    summary = build_summary(problem, solution, probes, lines, total_s=total_s, extra=extra,
+                            earlier=pictures.summary if pictures is not None else None)
     scene = Path(str(summary.get("scene") or ""))
     if summary.get("scene") and scene.is_file():  # the scene file's fingerprint, to tell runs apart
         summary["scene_sha256"] = hashlib.sha256(scene.read_bytes()).hexdigest()

@@ -35,9 +35,10 @@ import threading
 import time
 import tomllib
 from pathlib import Path
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
-from ibfem.solver.model import problem as pb
+if TYPE_CHECKING:  # only named in annotations: a worker started before the run's imports needs none
+    from ibfem.solver.model import problem as pb
 
 __all__ = ["PlotJob", "PictureWorker"]
 
@@ -110,8 +111,10 @@ def _shares(groups: tuple[str, ...], processes: int) -> list[tuple[str, ...]]:
 
 def _warm_up() -> float:
     """Import what rendering needs (matplotlib's figure and axes modules included: a tenth of a
-    second that the first picture would otherwise pay); the seconds it took. A throw-away figure
-    drawn here as well saved the first picture less than it cost."""
+    second that the first picture would otherwise pay); the seconds it took. The throw-away
+    picture that warms matplotlib's caches (:func:`_rehearse`) comes later, only when the job
+    has not come by then: drawn before a job that is waiting, it would delay it by more than it
+    saves."""
     t0 = time.perf_counter()
     try:
         from matplotlib.backends import backend_agg  # noqa: F401 - imported here, while the run solves
@@ -129,6 +132,18 @@ def _idle_imports(conn) -> None:
     job whose bodies' output meshes are made is sent without its solution and needs none)."""
     if not conn.poll(0):
         import ibfem.solver.solution  # noqa: F401
+
+
+def _rehearse(conn) -> None:
+    """While no job has come: draw a throw-away picture (solver.io.plots.rehearse), so that the
+    run's first picture does not pay matplotlib's first-picture costs (its fonts, its caches)."""
+    if not conn.poll(0):
+        try:
+            from .plots import rehearse
+
+            rehearse()
+        except ImportError:  # no matplotlib: the job reports it
+            pass
 
 
 def _local_functions(problem) -> dict[int, Any]:
@@ -224,6 +239,7 @@ def _serve(conn, go, shared: dict[int, Any]) -> None:
     outcomes (the worker's, then the helper's)."""
     warm = _warm_up()
     _idle_imports(conn)
+    _rehearse(conn)
     try:
         job = conn.recv_bytes()
     except EOFError:

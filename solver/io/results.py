@@ -4,6 +4,8 @@ JSON-safe values and the atomic writer. Everything here relies only on the
 
 from __future__ import annotations
 
+import functools
+
 import json
 import math
 import os
@@ -121,6 +123,7 @@ def _timings_block(solver_timings: Mapping[str, float], total_s: float | None) -
     return timings
 
 
+@functools.cache
 def _version() -> str:
     try:
         return metadata.version("ibfem")
@@ -141,12 +144,15 @@ def build_summary(
     lines: Iterable[Any] = (),
     total_s: float | None = None,
     extra: Mapping[str, Any] | None = None,
+    earlier: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """The ``summary.json`` document (plain Python, NaN kept as float NaN;
     :func:`json_safe` turns it into JSON). ``lines`` items have name, start, end, n (objects
     or dicts). Extensions: probes carry ``body``, lines carry ``s`` (distance from start) and
     ``body``; ``timings`` keeps the solver's own entries beside ``total_s``; ``extra`` keys
-    are added at the top level."""
+    are added at the top level. ``earlier``: a summary built before of the same solution field
+    (the pictures' summary, built before the error estimate added its numbers to the contacts):
+    its probes and lines, sampled from that field, are taken as they are."""
     info = solution.body_info
     bodies = {}
     for b in problem.bodies:
@@ -160,8 +166,11 @@ def build_summary(
         entry.update(d)
         bodies[b.name] = entry
 
-    probe_list = _probe_blocks(problem, solution, probes)
-    line_dict = _line_blocks(problem, solution, lines)
+    if earlier is not None and "probes" in earlier and "lines" in earlier:
+        probe_list, line_dict = earlier["probes"], earlier["lines"]
+    else:
+        probe_list = _probe_blocks(problem, solution, probes)
+        line_dict = _line_blocks(problem, solution, lines)
     iterations = _iterations_block(solution.iterations)
     timings = _timings_block(solution.timings, total_s)
 

@@ -353,9 +353,23 @@ class Scene:
         return self.problem.name
 
 
-#: scene models read by other modules of this layer, which register their loader here (the
-#: package's __init__ imports them): "solid" -> solver.io.scene_solid.solid_scene_from_dict
+#: scene models read by other modules of this layer, which register their loader here when
+#: imported: "solid" -> solver.io.scene_solid.solid_scene_from_dict
 SCENE_MODELS: dict[str, Any] = {}
+
+#: the module that registers each of those models, imported when a scene first names the model
+#: (so that importing this package loads no 3D numerics)
+MODEL_MODULES = {"solid": "ibfem.solver.io.scene_solid"}
+
+
+def _model_loader(model: Any):
+    """The registered loader of a scene's ``model`` (its module imported on first use), or None
+    for the 2D models this module reads itself."""
+    if not isinstance(model, str):
+        return None
+    if model not in SCENE_MODELS and model in MODEL_MODULES:
+        import_module(MODEL_MODULES[model])
+    return SCENE_MODELS.get(model)
 
 
 def load_scene(
@@ -454,7 +468,7 @@ def scene_from_dict(
     problems = _input_problems(data, label)
     if problems:
         raise SceneError(problems)
-    loader = SCENE_MODELS.get(data["model"]) if isinstance(data.get("model"), str) else None
+    loader = _model_loader(data.get("model"))
     if loader is not None:  # e.g. model = "solid": solver/io/scene_solid.py
         return loader(data, label=label, base_dir=Path(base_dir), path=path)
     try:
@@ -551,7 +565,7 @@ def _format_errors(err: ValidationError, data: Any, label: str) -> list[str]:
             problems.append(f"{label}: {_key_path(loc)}: missing key 'type' (one of: {', '.join(_BC_TYPES)})")
             continue
         elif kind == "literal_error" and loc == ("model",):
-            msg = f"input should be {', '.join(repr(m) for m in ('plane_strain', 'plane_stress', *SCENE_MODELS))}"
+            msg = f"input should be {', '.join(repr(m) for m in ('plane_strain', 'plane_stress', *MODEL_MODULES, *(m for m in SCENE_MODELS if m not in MODEL_MODULES)))}"
         elif kind.startswith("value_error") and msg.startswith("Value error, "):
             msg = msg[len("Value error, "):]
         found, value = _lookup(data, loc)
