@@ -175,8 +175,10 @@ def contact_scene(load_steps: int = 2) -> dict:
 
 def test_case_timeout_stops_the_case_and_keeps_the_others(tmp_path):
     # the block on a 500 x 500 grid takes about 8 s (730 MB) on an idle machine, the coarse case
-    # under a second: the limit is set from the coarse case's time measured here (4 s, or four
-    # times that when other work shares the cores and slows both cases alike)
+    # under a second, each in a process of its own (a case with a time limit runs in a child
+    # process, which imports the solver first): the limit is set from the coarse case's time
+    # measured here the same way (4 s, or three times that when other work shares the cores and
+    # slows both cases alike)
     (tmp_path / "scene.json").write_text(json.dumps(block_scene()))
 
     def sweep_of(cases):
@@ -185,9 +187,9 @@ def test_case_timeout_stops_the_case_and_keeps_the_others(tmp_path):
         return sweep_from_dict(data, "t.toml", tmp_path)
 
     t0 = time.perf_counter()
-    run_sweep(sweep_of([{"bodies.b.element_size": 0.25}]), tmp_path / "alone", EngineOptions(serial=True),
-              quiet=True, plots=False)
-    limit = max(4.0, 4.0 * (time.perf_counter() - t0))
+    run_sweep(sweep_of([{"bodies.b.element_size": 0.25}]), tmp_path / "alone",
+              EngineOptions(serial=True, case_timeout=600.0), quiet=True, plots=False)
+    limit = max(4.0, 3.0 * (time.perf_counter() - t0))
     t0 = time.perf_counter()
     outcome = run_sweep(sweep_of([{"bodies.b.element_size": 0.25}, {"bodies.b.element_size": 0.002}]),
                         tmp_path / "out", EngineOptions(serial=True, case_timeout=limit), quiet=True, plots=False)
@@ -195,7 +197,7 @@ def test_case_timeout_stops_the_case_and_keeps_the_others(tmp_path):
     assert fast["status"] == "ok"
     assert fast["outputs"]["reactions.b/top.1"] == pytest.approx(_reaction(E, -1e-3), rel=1e-9)
     assert slow["status"] == "timeout" and f"{limit:g} s" in slow["message"]
-    assert time.perf_counter() - t0 < 2.0 * limit + 12.0  # stopped at the limit, not run to its end
+    assert time.perf_counter() - t0 < 2.5 * limit  # stopped at the limit, not run to its end
 
 
 def test_worker_with_another_build_refuses_the_case():
