@@ -123,8 +123,10 @@ _CLIPPED: dict = {}
 _CLIPPED_KEPT = 4
 
 
-def body_output(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) -> BodyOutput:
-    """The body's cells as they are with every field (see the module's description)."""
+def body_output(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel, probes=()) -> BodyOutput:
+    """The body's cells as they are with every field (see the module's description).
+    ``probes``: points whose values the output must hold (the run's probes): the cut cells are
+    split around each until it lies in an output cell, however close to the surface."""
     dim = problem.dim
     m = solution.mesh(body.name)
     nodes = np.asarray(m["nodes"], dtype=float).reshape(-1, dim)
@@ -132,34 +134,36 @@ def body_output(problem: pb.Problem, solution: pb.Solution, body: pb.BodyModel) 
     fraction = np.asarray(m.get("cell_inside_fraction", np.ones(len(cells))), dtype=float).reshape(-1)
     lower = nodes[cells].min(axis=1)
     size = (nodes[cells].max(axis=1) - lower)[:, 0]
-    geometry, used, origin = _clipped(body, dim, nodes, cells, fraction, lower, size)
+    held = np.asarray([list(p) for p in probes], dtype=float).reshape(-1, dim)
+    geometry, used, origin = _clipped(body, dim, nodes, cells, fraction, lower, size, held)
     out = BodyOutput(**geometry, point_data={}, cell_data={})
     _point_fields(out, problem, solution, body, m, used, origin, lower, size)
     _cell_fields(out, problem, body, m, fraction)
     return out
 
 
-def _clipped(body: pb.BodyModel, dim: int, nodes, cells, fraction, lower, size):
+def _clipped(body: pb.BodyModel, dim: int, nodes, cells, fraction, lower, size, held):
     """The output cells of a grid (points, connectivity, offsets, types, parent), the grid nodes
     used and each point's origin (-1: a grid node, else the background cell of a new point);
-    kept for the last few grids, told apart by their nodes, cells, inside fractions and body."""
+    kept for the last few grids, told apart by their nodes, cells, inside fractions, the points
+    held and the body."""
     key = (id(body.profile), hashlib.sha1(b"".join(np.ascontiguousarray(a).tobytes()
-                                                    for a in (nodes, cells, fraction))).hexdigest())
+                                                    for a in (nodes, cells, fraction, held))).hexdigest())
     if key not in _CLIPPED:
         while len(_CLIPPED) >= _CLIPPED_KEPT:
             _CLIPPED.pop(next(iter(_CLIPPED)))
-        _CLIPPED[key] = (body.profile, _clip(body, dim, nodes, cells, fraction, lower, size))
+        _CLIPPED[key] = (body.profile, _clip(body, dim, nodes, cells, fraction, lower, size, held))
     return _CLIPPED[key][1]
 
 
-def _clip(body: pb.BodyModel, dim: int, nodes, cells, fraction, lower, size):
+def _clip(body: pb.BodyModel, dim: int, nodes, cells, fraction, lower, size, held):
     whole = fraction >= 1.0 - 1e-12
     phi = _signed_distance(body)
     if phi is None:  # nothing to clip with: the cells as they are
         whole[:] = True
     tolerance = clip_tolerance(fraction, size, ~whole, dim)
     kept, (box_pts, box_parent, simplex_pts, simplex_parent, _) = clip_cells(
-        lower, size, whole, phi, tolerance, EDGE_RESOLUTION * float(size.min()), MAX_DEPTH)
+        lower, size, whole, phi, tolerance, EDGE_RESOLUTION * float(size.min()), MAX_DEPTH, held)
     # points: the whole cells' nodes first (their nodal values win when merged), then the new ones
     used = np.unique(cells[kept])
     new_points = np.concatenate([box_pts.reshape(-1, dim), simplex_pts.reshape(-1, dim)])

@@ -49,6 +49,10 @@ VTK_TYPES = {2: (9, 5), 3: (12, 10)}
 #: Illinois steps of the root search on each clipped edge, and the distance from the surface (in
 #: edge lengths) that ends it: far below the chords' sagitta, a few steps on smooth surfaces
 ROOT_STEPS, ROOT_TOLERANCE = 40, 1e-9
+#: levels a sub-cube holding a point the output must hold (a probe) is split past the others'
+#: deepest: down to a millionth of its cell, far below any probe's distance from the surface
+#: that a user sets
+POINT_LEVELS = 20
 #: points per call of the signed distance (bounds the memory of a CAD solid's distance)
 CHUNK = 20000
 
@@ -121,11 +125,15 @@ def _kuhn_simplices(dim: int) -> np.ndarray:
 
 
 def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_distance: Callable,
-               tolerance: float, resolution: float = 0.0, max_depth: int = 4) -> tuple[np.ndarray, list[np.ndarray]]:
+               tolerance: float, resolution: float = 0.0, max_depth: int = 4,
+               points: np.ndarray | None = None) -> tuple[np.ndarray, list[np.ndarray]]:
     """Split and clip the cells not flagged ``whole``: returns the whole cells' indices (the
     cells to keep as they are, the cut cells found whole included) and the pieces as
     ``[box_corners (k, 2^d, d), box_parent, simplex_vertices (j, d+1, d), simplex_parent,
-    simplex_on_surface (j, d+1)]``."""
+    simplex_on_surface (j, d+1)]``. ``points`` (k, d): points the output must hold (probes):
+    a sub-cube holding one is split on, past ``max_depth`` by up to :data:`POINT_LEVELS` levels,
+    until it is whole (its centre farther inside than its half diagonal), so that a point inside
+    the body, however close to a concave surface or an edge, lies in an output cell."""
     lower = np.asarray(lower, dtype=float)
     dim = lower.shape[1]
     signed_distance = _chunked(signed_distance) if signed_distance is not None else None
@@ -135,7 +143,8 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
     boxes, box_parent, leaves = [], [], []
     cell, lo, s = cut_cells, lower[cut_cells], np.asarray(size, dtype=float)[cut_cells]
     previous = np.full(len(cell), np.inf)  # the parent sub-cube's deviation from linearity
-    for level in range(max_depth + 1):
+    held = np.zeros((0, dim)) if points is None else np.asarray(points, dtype=float).reshape(-1, dim)
+    for level in range(max_depth + 1 + (POINT_LEVELS if len(held) else 0)):
         if not len(cell):
             break
         at = lo[:, None, :] + s[:, None, None] * corners[None]
@@ -146,7 +155,9 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
         deviation = np.abs(phi_corner.mean(axis=1) - phi_centre)
         # a smooth surface's deviation falls by 4 per split, a kink's (the solid's edges) by 2 only
         kink = (deviation > 0.35 * previous) & (s <= resolution * (1.0 + 1e-9))
-        leaf = ~inside & ~outside & ((deviation <= tolerance) | kink | (level == max_depth))
+        leaf = ~inside & ~outside & ((deviation <= tolerance) | kink | (level >= max_depth))
+        if len(held) and level < max_depth + POINT_LEVELS:  # split on while it holds a point
+            leaf &= ~_holding(lo, s, held)
         eps = 1e-12 * s[:, None]
         whole_leaf = leaf & np.all(phi_corner >= -eps, axis=1) & (phi_centre >= 0.0)  # its centroid inside too
         full = inside | whole_leaf
@@ -180,6 +191,15 @@ def clip_cells(lower: np.ndarray, size: np.ndarray, whole: np.ndarray, signed_di
         simplices, simplex_parent, on_surface,
     ]
     return np.sort(np.concatenate(kept)), pieces
+
+
+def _holding(lower: np.ndarray, size: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Whether each box (lower corner, width) holds one of ``points`` (its faces included)."""
+    found = np.zeros(len(lower), dtype=bool)
+    pad = 1e-12 * size[:, None]
+    for p in points:  # a few probes: one vectorised pass over the boxes each
+        found |= np.all((p >= lower - pad) & (p <= lower + size[:, None] + pad), axis=1)
+    return found
 
 
 def _shared_values(points: np.ndarray, spacing: float, signed_distance: Callable) -> np.ndarray:

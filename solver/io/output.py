@@ -65,6 +65,7 @@ def _step_writer(problem: pb.Problem, solution: pb.Solution, summary: Mapping[st
     pressure (the step is the one whose field the solution it is given carries) and its
     stresses, computed for a batch of steps together (:class:`_StepStresses`)."""
     final = json_safe(summary).get("contacts") or []
+    probes = json_safe(summary).get("probes") or []
     steps = getattr(solution, "steps", None) or []
     stresses = _StepStresses(solution, steps) if hasattr(solution, "centroid_stress") else None
 
@@ -75,7 +76,7 @@ def _step_writer(problem: pb.Problem, solution: pb.Solution, summary: Mapping[st
                 step_solution.__dict__.setdefault("_centroid_stress", {}).setdefault(body.name, both[0])
                 step_solution.__dict__.setdefault("_nodal_stress", {}).setdefault(body.name, both[1])
         step = next((st for st in steps if st.get("field") is step_solution.u), {})
-        return write_step_bodies(folder, problem, step_solution, step_contacts(final, step))
+        return write_step_bodies(folder, problem, step_solution, step_contacts(final, step), probes)
 
     return write
 
@@ -118,7 +119,8 @@ def start_pictures(out_dir: str | Path, problem: pb.Problem, solution: pb.Soluti
     t0 = time.perf_counter()
     outputs: dict[str, Any] = {}
     if vtk and problem.dim == 2:  # the 2D pictures draw the bodies' output meshes (the VTU files' cells)
-        outputs.update((b.name, body_output(problem, solution, b)) for b in problem.bodies)
+        held = [p["point"] for p in summary.get("probes") or []]  # the output cells hold the probes
+        outputs.update((b.name, body_output(problem, solution, b, held)) for b in problem.bodies)
     job = PlotJob(out_dir, problem, solution, summary, outputs, parallel, worker)
     times["vtk_s"] = time.perf_counter() - t0
     return StartedPictures(job, summary, outputs, times)

@@ -206,7 +206,8 @@ def _close_up(c: Mapping[str, Any]) -> bool:
 def _field_figures(figs: _Figures, problem: pb.Problem, solution: pb.Solution, summary: Mapping[str, Any],
                    outputs: Mapping[str, Any], parts=None) -> None:
     """``fields.png`` (part "scene") and each contact's close-up (part k); every part when None."""
-    bodies = [outputs.get(b.name) or body_output(problem, solution, b) for b in problem.bodies]
+    held = [p["point"] for p in summary.get("probes") or [] if p.get("point") is not None]
+    bodies = [outputs.get(b.name) or body_output(problem, solution, b, held) for b in problem.bodies]
     if not bodies:
         return
     if parts is None or "scene" in parts:

@@ -46,6 +46,11 @@ def _contact_pressure(problem: pb.Problem, body: pb.BodyModel, points: np.ndarra
     return out
 
 
+def _probe_points(summary: Mapping[str, Any]) -> list:
+    """The points of the summary's probes (the output cells are made to hold them)."""
+    return [p["point"] for p in summary.get("probes") or [] if p.get("point") is not None]
+
+
 def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solution,
                     summary: Mapping[str, Any], progress=None, outputs: dict | None = None) -> list[Path]:
     """Every body's VTU file, every contact region's VTP file and the index; returns the paths.
@@ -59,7 +64,7 @@ def write_vtk_files(out_dir: str | Path, problem: pb.Problem, solution: pb.Solut
     contacts = summary.get("contacts") or []
     for body in problem.bodies:
         report(f"results: {file_stem(body.name)}.vtu (cells clipped at the surface)")
-        mesh = (outputs or {}).get(body.name) or body_output(problem, solution, body)
+        mesh = (outputs or {}).get(body.name) or body_output(problem, solution, body, _probe_points(summary))
         if outputs is not None:
             outputs[body.name] = mesh
         mesh.point_data["contact_pressure"] = _contact_pressure(problem, body, mesh.points, contacts)
@@ -100,9 +105,10 @@ def step_contacts(final_contacts, step: Mapping[str, Any]) -> list[dict]:
 
 
 def write_step_bodies(folder: str | Path, problem: pb.Problem, solution: pb.Solution,
-                      contacts: list[dict]) -> list[Path]:
+                      contacts: list[dict], probes: list[dict] | None = None) -> list[Path]:
     """One load step's body files (VTU, clipped at the exact surfaces) with its contact pressure
     (``contacts``: :func:`step_contacts`) as the point data ``contact_pressure``; returns the
-    VTU paths. The step's contact regions are in ``summary.json``'s ``steps``."""
-    written = write_vtk_files(folder, problem, solution, {"contacts": contacts})
+    VTU paths. The step's contact regions are in ``summary.json``'s ``steps``. ``probes``: the
+    summary's probes, which the output cells hold (the same cells as the final files')."""
+    written = write_vtk_files(folder, problem, solution, {"contacts": contacts, "probes": probes or []})
     return [p for p in written if p.suffix == ".vtu"]
