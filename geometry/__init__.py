@@ -19,6 +19,7 @@ from .bounded import *  # noqa: F401,F403  2D segments, arcs, elliptic arcs, B-s
 from .profile import *  # noqa: F401,F403  closed 2D profiles
 from .shapes import *  # noqa: F401,F403  scene-file 2D shapes -> profiles
 from .verify import *  # noqa: F401,F403  verify_projection
+from ._jit import release_threads  # noqa: F401  the projections' thread pool stopped before a fork
 
 __version__ = "0.1.0"
 

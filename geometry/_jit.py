@@ -108,6 +108,17 @@ def threads() -> int:
     return os.cpu_count() or 1
 
 
+def release_threads() -> None:
+    """Stop the projections' thread pool, waiting for its threads to end (the next projection
+    that needs it makes it again). A process that is about to fork calls this: ``fork`` copies
+    the calling thread only, so a child of a process with other threads alive may inherit a lock
+    one of them held."""
+    global _POOL, _POOL_SIZE
+    if _POOL is not None:
+        _POOL.shutdown(wait=True)
+        _POOL, _POOL_SIZE = None, 0
+
+
 def run_ranges(fn: Any, n: int, per_thread: int = 4) -> None:
     """Calls ``fn(lo, hi)`` on ranges covering ``range(n)``: directly for few points or one
     thread, else about ``per_thread`` ranges per thread (so a thread slowed by other work on

@@ -256,3 +256,20 @@ def test_a_2d_job_goes_without_its_solution_only_when_every_body_has_its_output_
     one = parallel_plots.PlotJob(tmp_path, _Problem2D(), solution, {}, {"upper": 1}, parallel=False)
     assert both._job_args()[2] is None and one._job_args()[2] is solution
     assert both.args[2] is solution  # kept for the pictures rendered here after a failure
+
+
+def test_the_projections_thread_pool_does_not_keep_pictures_from_other_processes(monkeypatch):
+    # a CAD part's projections leave a thread pool alive; a process forks safely with one thread
+    # only, so the pool is stopped before the pictures' processes are forked, and made again by
+    # the next projection that needs it
+    from ibfem.geometry import _jit
+
+    monkeypatch.setenv("IBFEM_THREADS", "2")
+    covered = []
+    _jit.run_ranges(lambda lo, hi: covered.append((lo, hi)), 4 * _jit.MIN_RANGE)
+    assert threading.active_count() > 1
+    assert parallel_plots._fork_context() is not None
+    assert threading.active_count() == 1
+    _jit.run_ranges(lambda lo, hi: covered.append((lo, hi)), 4 * _jit.MIN_RANGE)
+    assert sum(hi - lo for lo, hi in covered) == 8 * _jit.MIN_RANGE  # every point, both times
+    _jit.release_threads()

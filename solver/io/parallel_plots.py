@@ -30,6 +30,7 @@ import json
 import multiprocessing
 import os
 import pickle
+import sys
 import types
 import threading
 import time
@@ -97,6 +98,10 @@ def _asks_for_plots(scene_path: Path) -> bool:
 
 
 def _fork_context():
+    if threading.active_count() > 1 and "ibfem.geometry" in sys.modules:  # the projections' pool
+        from ibfem.geometry import release_threads
+
+        release_threads()
     if threading.active_count() > 1:  # a process forks safely with one thread only
         return None
     if "fork" not in multiprocessing.get_all_start_methods() or multiprocessing.current_process().daemon:
