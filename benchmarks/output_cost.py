@@ -82,16 +82,17 @@ def _probes_below_contacts(problem, solution) -> list:
         if problem.dim != 3 or not c.get("point") or not c.get("normal") or not size:
             continue
         point, normal = np.asarray(c["point"], float), np.asarray(c["normal"], float)
-        points += [_inside(solution, point + side * depth * size * normal, 1e-6 * size).tolist()
+        points += [_inside(problem, solution, point + side * depth * size * normal, 1e-6 * size).tolist()
                    for side in (1.0, -1.0) for depth in (0.25, 1.0, 2.0)]
     return points
 
 
-def _inside(solution, point: np.ndarray, step: float) -> np.ndarray:
-    """The point, or where it lies in no body (on a symmetry plane, a rounding off the model) the
-    first of it moved by ``step`` along one axis that lies in a body."""
+def _inside(problem, solution, point: np.ndarray, step: float) -> np.ndarray:
+    """The point, or where it is not strictly inside a body (on a symmetry plane: a rounding
+    off the model) the first of it moved by ``step`` along one axis that is."""
     for move in [np.zeros(3)] + [sign * step * e for e in np.eye(3) for sign in (1.0, -1.0)]:
-        if int(np.asarray(solution.body_at((point + move)[None]))[0]) >= 0:
+        k = int(np.asarray(solution.body_at((point + move)[None]))[0])
+        if k >= 0 and float(np.asarray(problem.bodies[k].profile.signed_distance((point + move)[None]))[0]) > 0.0:
             return point + move
     return point
 
