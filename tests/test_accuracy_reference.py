@@ -8,7 +8,11 @@ on the same pairs: ibfem.solver.reference.converged.HALF_WIDTHS). Checked here:
 - ibfem converges to it: the Richardson limit of the contact's half width from the scene's grid and
   the grids 2 and 4 times as coarse lies within 0.01 % of the other code's value (two codes, two
   discretisations, one answer);
-- the error estimate of the scene's grid is within a factor 2 of its error against the reference."""
+- the error estimate of the scene's grid is within a factor 2 of its error against the reference;
+- the sphere on a flat (examples/solid/sphere_on_flat.toml): the converged solution of its finite
+  bodies (converged.SPHERE_ON_FLAT, NGSolve on fitted curved meshes) is Hertz's radius for its own
+  force within the finite bodies' effect, and ibfem's coarsest graded rung lies within a factor 2 of
+  its error estimate from it."""
 
 from __future__ import annotations
 
