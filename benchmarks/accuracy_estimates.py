@@ -3,8 +3,8 @@ coarse, in 2D a third on one 4 times as coarse, Richardson with the orders of
 solver.model.accuracy) beside the true error on the shipped
 examples: 2D contacts against Hertz for the computed force (a; the peak pressure p0; c against
 Cattaneo-Mindlin's c/a times Hertz's a for the computed forces), 3D circular contacts against
-Hertz for the computed force (a, p0; elliptical contacts with Johnson's elliptic integrals) and Mindlin's stick radius for the computed forces (c); sphere_on_flat's semi-axes and
-normal force against the converged solution of the same bodies (solver.reference.converged.SPHERE_ON_FLAT,
+Hertz for the computed force (a, p0; elliptical contacts with Johnson's elliptic integrals) and
+Mindlin's stick radius for the computed forces (c); sphere_on_flat's semi-axes and normal force against the converged solution of the same bodies (solver.reference.converged.SPHERE_ON_FLAT,
 benchmarks/accuracy_reference_3d.py). Each scene solved in this process: the solve's and the
 estimate's wall time are both printed (the estimate's cost). The rounded flat punches and the
 pin in a bore against the converged solution of the same finite bodies under the same load
@@ -88,7 +88,7 @@ def true_errors_tilted(problem, c: dict, scene=None) -> dict:
 
 
 #: the shipped examples with their own exact references (by file stem)
-SPECIAL = {"tilted_punch": true_errors_tilted,
+SPECIAL = {"tilted_punch": true_errors_tilted, "sphere_on_flat": lambda pr, c: true_errors_sphere_reference(pr, c),
            **{name: (lambda pr, c, n=name: true_errors_converged(pr, c, n)) for name in HALF_WIDTHS}}
 
 
@@ -193,7 +193,7 @@ def main(argv: list[str]) -> int:
         estimate_errors(scene.problem, solution)
         t2 = time.perf_counter()
         for c in solution.contacts:
-            exact = SPECIAL.get(path.stem) or (true_errors_sphere_reference if path.stem == "sphere_on_flat" else None) or (true_errors_3d if scene.problem.dim == 3 else true_errors_2d)
+            exact = SPECIAL.get(path.stem) or (true_errors_3d if scene.problem.dim == 3 else true_errors_2d)
             true = exact(scene.problem, c, scene=scene) if exact is true_errors_tilted else exact(scene.problem, c)
             row = {"scene": str(path), "solve_s": t1 - t0, "estimate_s": t2 - t1, "type": c["type"],
                    "estimated": c.get("estimated_error"), "note": c.get("estimate_note"), "true": true}

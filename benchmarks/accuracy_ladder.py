@@ -62,7 +62,8 @@ def run_zones(element_size: float, zones: list[tuple[int, float]], workdir: Path
     scene = workdir / f"{tag}.json"
     scene.write_text(json.dumps(sphere_zones_scene(element_size, zones)))
     out = workdir / tag
-    cmd = [str(Path(sys.executable).with_name("ibfem")), "run", str(scene), "--out", str(out), "--quiet", "--no-estimate"]
+    ibfem = str(Path(sys.executable).with_name("ibfem"))
+    cmd = [ibfem, "run", str(scene), "--out", str(out), "--quiet", "--no-estimate"]
     code, _, err, wall, peak, cpu = peers.run_child(cmd)
     row = {"code": "ibfem", "problem": "sphere3d", "rung": f"h0 {element_size:.4g}", "element_size": element_size,
            "zones": zones, "finest_cell": element_size / 2 ** max(lv for lv, _ in zones),
@@ -116,15 +117,17 @@ def table_3d(rows: list[dict], ratio: float) -> str:
             continue
         da = "" if prev is None else f"{r['a'] - prev['a']:+.3e}"
         dn = "" if prev is None else f"{r['N'] - prev['N']:+.4e}"
-        lines.append(f"| {r['element_size']:.4g} | {r.get('finest_cell', float('nan')):.3g} | {r['dofs']} | {r['a']:.6f} | {da} "
-                     f"| {(r['a'] / ref['a'] - 1) * 100:+.3f} % | {r['N']:.6e} | {dn} | {(r['N'] / ref['N'] - 1) * 100:+.3f} % "
+        a_err, n_err = (r["a"] / ref["a"] - 1) * 100, (r["N"] / ref["N"] - 1) * 100
+        lines.append(f"| {r['element_size']:.4g} | {r.get('finest_cell', float('nan')):.3g} | {r['dofs']} | {r['a']:.6f} "
+                     f"| {da} | {a_err:+.3f} % | {r['N']:.6e} | {dn} | {n_err:+.3f} % "
                      f"| {r['cpu_s']:.1f} | {r['wall_s']:.1f} | {r['peak_mb']:.0f} |")
         prev = r
     good = [r for r in rows if "a" in r]
     if len(good) >= 3:
         for key in ("a", "N"):
             lim, p = richardson([r[key] for r in good], ratio)
-            lines.append(f"\nRichardson {key} (last three rungs, ratio {ratio:.4g}): {lim:.7g}, observed order {p:.2f}, "
+            lines.append(f"\nRichardson {key} (last three rungs, ratio {ratio:.4g}): {lim:.7g}, "
+                         f"observed order {p:.2f}, "
                          f"{(lim / ref[key] - 1) * 100:+.3f} % from the reference {ref[key]:.7g}")
     return "\n".join(lines)
 
