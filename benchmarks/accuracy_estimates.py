@@ -3,7 +3,9 @@ coarse, in 2D a third on one 4 times as coarse, Richardson with the orders of
 solver.model.accuracy) beside the true error on the shipped
 examples: 2D contacts against Hertz for the computed force (a; the peak pressure p0; c against
 Cattaneo-Mindlin's c/a times Hertz's a for the computed forces), 3D circular contacts against
-Hertz for the computed force (a, p0; elliptical contacts with Johnson's elliptic integrals) and Mindlin's stick radius for the computed forces (c). Each scene solved in this process: the solve's and the
+Hertz for the computed force (a, p0; elliptical contacts with Johnson's elliptic integrals) and
+Mindlin's stick radius for the computed forces (c); sphere_on_flat's semi-axes and normal force against the converged solution of the same bodies (solver.reference.converged.SPHERE_ON_FLAT,
+benchmarks/accuracy_reference_3d.py). Each scene solved in this process: the solve's and the
 estimate's wall time are both printed (the estimate's cost). The rounded flat punches and the
 pin in a bore against the converged solution of the same finite bodies under the same load
 (solver.reference.converged.HALF_WIDTHS, fitted-mesh NGSolve: benchmarks/accuracy_reference_2d.py),
@@ -31,7 +33,7 @@ import numpy as np
 
 from ibfem.solver.io.scene import load_scene
 from ibfem.solver.reference import theory
-from ibfem.solver.reference.converged import HALF_WIDTHS
+from ibfem.solver.reference.converged import HALF_WIDTHS, SPHERE_ON_FLAT
 from ibfem.solver.reference.pin import pin_in_bore_angle
 from ibfem.solver.reference.punch import rounded_punch_half_width
 from ibfem.solver.reports.validate import effective_properties
@@ -86,7 +88,7 @@ def true_errors_tilted(problem, c: dict, scene=None) -> dict:
 
 
 #: the shipped examples with their own exact references (by file stem)
-SPECIAL = {"tilted_punch": true_errors_tilted,
+SPECIAL = {"tilted_punch": true_errors_tilted, "sphere_on_flat": lambda pr, c: true_errors_sphere_reference(pr, c),
            **{name: (lambda pr, c, n=name: true_errors_converged(pr, c, n)) for name in HALF_WIDTHS}}
 
 
@@ -111,6 +113,16 @@ def true_errors_3d(problem, c: dict) -> dict:
         if ratio > 0.0:
             out["stick_semi_axes"] = [s / (ratio * a_h) - 1.0 for s in c["stick_semi_axes"]]
     return out
+
+
+def true_errors_sphere_reference(problem, c: dict) -> dict:
+    """sphere_on_flat: the semi-axes and N against the converged solution of the same finite
+    bodies under the same displacement (solver.reference.converged.SPHERE_ON_FLAT: fitted-mesh
+    NGSolve), p0 against Hertz's for the computed force (no converged p0 is stored)."""
+    hertz = true_errors_3d(problem, c)
+    return {"semi_axes": [float(s) / SPHERE_ON_FLAT["a"] - 1.0 for s in c["semi_axes"]],
+            "normal_force": float(c["normal_force"]) / SPHERE_ON_FLAT["N"] - 1.0,
+            "max_pressure": hertz["max_pressure"]}
 
 
 def _pct(v) -> str:

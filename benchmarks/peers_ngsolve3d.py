@@ -63,7 +63,8 @@ def zone_points(hc: float, zone: float):
     return x[keep], y[keep]
 
 
-def build_mesh(hc: float, hmax: float, zone: float, grading: float, order: int, depth: float | None = None):
+def build_mesh(hc: float, hmax: float, zone: float, grading: float, order: int, depth: float | None = None,
+               lift: float = LIFT):
     """Block and lifted quarter ball, h_c on both contact surfaces within ``zone``, and below them
     (to ``depth``, default ``zone``) h growing like half the depth."""
     import numpy as np
@@ -78,8 +79,8 @@ def build_mesh(hc: float, hmax: float, zone: float, grading: float, order: int, 
     block.faces.Min(occ.X).name = "block_x0"
     block.faces.Min(occ.Y).name = "block_y0"
     block.solids.name = "block"
-    cz = R + LIFT
-    ball = occ.Sphere(occ.Pnt(0.0, 0.0, cz), R) * occ.Box(occ.Pnt(0.0, 0.0, LIFT - 0.5), occ.Pnt(1.5, 1.5, cz))
+    cz = R + lift
+    ball = occ.Sphere(occ.Pnt(0.0, 0.0, cz), R) * occ.Box(occ.Pnt(0.0, 0.0, lift - 0.5), occ.Pnt(1.5, 1.5, cz))
     ball.faces.name = "dome"
     ball.faces.Max(occ.Z).name = "flat"
     ball.faces.Min(occ.X).name = "ball_x0"
@@ -118,7 +119,7 @@ def solve(args) -> dict:
 
     t0 = time.perf_counter()
     ng.SetNumThreads(args.threads)
-    mesh = build_mesh(args.hc, args.hmax, args.zone, args.grading, args.order, args.depth)
+    mesh = build_mesh(args.hc, args.hmax, args.zone, args.grading, args.order, args.depth, args.lift)
     t_mesh = time.perf_counter()
     fes = space(mesh, args.order)
     form, energy = elasticity(mesh, fes, {m: (args.E, args.nu) for m in set(mesh.GetMaterials())})
@@ -133,7 +134,7 @@ def solve(args) -> dict:
     gfu = ng.GridFunction(fes)
     with ng.TaskManager():
         cb.Update(gfu, a, intorder=args.intorder, maxdist=args.maxdist)   # pairs on the undeformed geometry
-    gfu.Set((0.0, 0.0, -(DISPLACEMENT + LIFT)), definedon=mesh.Materials("ball"))   # the ball moved rigidly
+    gfu.Set((0.0, 0.0, -(DISPLACEMENT + args.lift)), definedon=mesh.Materials("ball"))   # the ball moved rigidly
     iterations = 0
     full = args.penalty * args.E / args.hc
     for stage in range(args.continuation, -1, -1):    # penalty continuation: soft to full
@@ -143,7 +144,7 @@ def solve(args) -> dict:
     t_solve = time.perf_counter()
     out = {"order": args.order, "hc": args.hc, "hmax": args.hmax, "zone": args.zone, "dofs": fes.ndof,
            "elements": mesh.ne, "newton_iterations": iterations, "last_step": step, "penalty": args.penalty}
-    out.update(measure(mesh, fes, form, gfu, args.hc, args.zone))
+    out.update(measure(mesh, fes, form, gfu, args.hc, args.zone, args.lift))
     out.update(mesh_s=t_mesh - t0, solve_s=t_solve - t_mesh, measure_s=time.perf_counter() - t_solve,
                total_in_process_s=time.perf_counter() - t0)
     return out
@@ -174,14 +175,14 @@ def evaluate_z(mesh, gfu, pts, inward):
     return out
 
 
-def gap_line(mesh, gfu, theta: float, hc: float, zone: float):
+def gap_line(mesh, gfu, theta: float, hc: float, zone: float, lift: float = LIFT):
     """Radii and penetration cf along the block's top at angle theta from x (cf >= 0: closed)."""
     import numpy as np
 
     rs = np.arange(0.0, max(zone, 0.2), hc / 40.0)
     c, s = math.cos(theta), math.sin(theta)
     block = np.stack([rs * c, rs * s, np.zeros_like(rs)], axis=1)
-    cz = R + LIFT
+    cz = R + lift
     zd = cz - np.sqrt(R * R - rs * rs)
     dome = np.stack([rs * c, rs * s, zd], axis=1)
     to_centre = np.stack([-dome[:, 0], -dome[:, 1], cz - zd], axis=1) / R
@@ -190,13 +191,13 @@ def gap_line(mesh, gfu, theta: float, hc: float, zone: float):
     return rs, ub - ud - zd
 
 
-def measure(mesh, fes, form, gfu, hc: float, zone: float) -> dict:
+def measure(mesh, fes, form, gfu, hc: float, zone: float, lift: float = LIFT) -> dict:
     """a from the closing of the gap along radial lines of the block's top, N from the reactions."""
     import numpy as np
 
     fits, closing = [], []
     for deg in ANGLES_DEG:
-        rs, cf = gap_line(mesh, gfu, math.radians(deg), hc, zone)
+        rs, cf = gap_line(mesh, gfu, math.radians(deg), hc, zone, lift)
         closed = np.nonzero(cf >= 0.0)[0]
         if len(closed) == 0 or closed[-1] + 1 >= len(rs):
             fits.append(float("nan"))
@@ -221,6 +222,7 @@ def parse(argv):
     ap.add_argument("--depth", type=float, default=None, help="depth of the graded zone below the surfaces "
                     "(m; default --zone, 0: the surfaces only)")
     ap.add_argument("--grading", type=float, default=0.3)
+    ap.add_argument("--lift", type=float, default=LIFT, help="the ball is meshed this far above the block (m)")
     ap.add_argument("--order", type=int, default=2)
     ap.add_argument("--penalty", type=float, default=1e3, help="k = penalty E / h_c")
     ap.add_argument("--continuation", type=int, default=3, help="penalty stages below the full one (x10 each)")

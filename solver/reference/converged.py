@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["CONVERGED", "HALF_WIDTHS", "vm_peak_for_force"]
+__all__ = ["CONVERGED", "HALF_WIDTHS", "SPHERE_ON_FLAT", "vm_peak_for_force"]
 
 CONVERGED: dict[str, dict[str, float]] = {
     # benchmarks/examples_ngsolve.py --only ex7: 130,510 dofs, h_c 3.90e-4 m
@@ -46,6 +46,25 @@ HALF_WIDTHS: dict[str, dict[str, float]] = {
     "rounded_punch_half": {"half_width": 0.0147217, "uncertainty": 2e-7, "N": 3.87942e6},
     # h_c 0.016, 0.008, 0.004 m: 0.4783524, 0.4783222, 0.4783230
     "pin_in_bore": {"half_width": 0.478323, "uncertainty": 1e-6, "N": 8.56604e7},
+}
+
+
+#: The converged contact of examples/solid/sphere_on_flat.toml (a quarter of the lower half ball
+#: R = 1 on the block [0, 1]^2 x [-1, 0], steel, the ball's top moved 2 mm down, frictionless):
+#: the same bodies, supports and displacement solved by NGSolve on curved tetrahedral meshes
+#: graded to h_c on both contact surfaces and in proportion to the distance from the contact beyond
+#: (every size scaled per mesh), penalty contact on ibfem's pairs of the undeformed geometry
+#: (straight down), N and a extrapolated to an infinite penalty from 1e3 and 1e4 E / h_c, a read
+#: from the fitted gap opening on 17 radial lines (``benchmarks/accuracy_reference_3d.py``,
+#: 2026-11-28, docs/accuracy.md "The converged reference"). ``N`` is the quarter model's normal
+#: force (N), ``a`` the contact radius on the block's top (m): the finest P3 mesh's values.
+#: ``N_uncertainty`` and ``a_uncertainty`` (relative): the two P3 meshes differ by 0.015 % in N
+#: and 0.25 % in a, which still rises (two meshes give no Richardson limit).
+SPHERE_ON_FLAT: dict[str, float] = {
+    # P3, h_c 0.016, 0.0113 m (47829, 111300 dofs): N 3.388073e6, 3.388567e6; a 0.044973, 0.045085 m.
+    # P2, h_c 0.016, 0.0113, 0.008 m (15405, 35136, 95865 dofs): N 3.39176e6, 3.39014e6, 3.39108e6;
+    # a 0.0450865, 0.0451507, 0.0451343 m
+    "N": 3.388567e6, "N_uncertainty": 2e-4, "a": 0.045085, "a_uncertainty": 2.5e-3,
 }
 
 
