@@ -24,7 +24,6 @@ validate: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_solid
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_fretting --out out/validation_fretting
-	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_fretting_sphere --out out/validation_fretting_sphere
 	MPLBACKEND=Agg $(PY) -m pytest -m slow -q tests/test_contact2d_validation.py tests/test_fretting.py \
 		tests/test_fretting_pressure.py tests/test_accuracy_reference.py
 	# 3D regions of general shape against closed forms and the half-space (rollers: about 20 minutes)
