@@ -28,6 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 __all__ = ["PressureFit", "pressure_fit", "low_rank"]
 
@@ -55,12 +56,12 @@ def _monomials(local: np.ndarray, semi_axes: tuple[float, float]) -> np.ndarray:
     return np.column_stack([np.ones_like(x), x, y, x * x, x * y, y * y])
 
 
-def pressure_fit(local: np.ndarray, semi_axes: tuple[float, float], weights: np.ndarray, rows, load: np.ndarray,
-                 ) -> PressureFit:
+def pressure_fit(local: np.ndarray, semi_axes: tuple[float, float], weights: np.ndarray, rows,
+                 load: np.ndarray) -> PressureFit:
     """The fit of the point pressures p = rows x + load (rows a sparse (q, m) operator) at points
     ``local`` (q, 2) with quadrature weights (q,) on the ellipse of ``semi_axes``."""
     mono = _monomials(local, semi_axes)
-    rho2 = (mono[:, 1] ** 2 + mono[:, 2] ** 2)
+    rho2 = mono[:, 1] ** 2 + mono[:, 2] ** 2
     basis = np.sqrt(np.clip(1.0 - rho2, 0.0, None))[:, None] * mono
     tests = mono * weights[:, None]  # (q, 6): the moments' weights
     moments = tests.T @ basis  # (6, 6): int X^i Y^j basis_k dA
@@ -72,8 +73,6 @@ def pressure_fit(local: np.ndarray, semi_axes: tuple[float, float], weights: np.
 
 def low_rank(left: np.ndarray, right: np.ndarray, m: int):
     """left (m, k) @ right (k, m) as a sparse matrix over the rows and columns the factors touch."""
-    import scipy.sparse as sp
-
     r = np.flatnonzero(np.any(left != 0.0, axis=1))
     c = np.flatnonzero(np.any(right != 0.0, axis=0))
     if not len(r) or not len(c):
