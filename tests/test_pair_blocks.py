@@ -1,0 +1,73 @@
+"""The contact band's terms summed per cell pair (solver.fem.pair_blocks) against the same terms
+formed as sparse products of the bodies' own point operators (the jump and flux matrices of
+solver.contact.ellipse.contact_operators, solver.fem.step_boundary.thin_band_terms), with a
+slip zone's Coulomb block; and an invariant of the band: a translation common to both bodies has
+no jump and no flux, so the contact stiffness annihilates it. A ball on a block, two levels of
+refinement about the contact (hanging nodes in the band's cells)."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from ibfem.solver.contact import ellipse
+from ibfem.solver.contact.driver import ContactDriver
+from ibfem.solver.fem.step_boundary import BoundaryPoints, thin_band_terms
+from ibfem.solver.model import problem as pb
+from ibfem.solver.model.resolve import resolve_problem
+
+from _solids3d import HalfBall
+from _turned_box import TurnedBox
+
+E, NU = 2.0e11, 0.3
+
+
+@pytest.fixture(scope="module")
+def contact():
+    ball = HalfBall([0, 0, 1.0], 1.0)
+    block = TurnedBox([2, 2, 1], shift=(-1, -1, -1))
+    steel = pb.Material("steel", E, NU)
+    zone = (pb.Refinement(2, 0.3),)
+    bodies = (pb.BodyModel("ball", ball, steel, 0.25, zone), pb.BodyModel("block", block, steel, 0.25, zone))
+    bcs = (pb.Displacement("ball", "flat", (2e-4, 0.0, -0.002)), pb.Fixed("block", "z0"))
+    model = pb.ContactModel(("ball", "block"), "frictional", friction=0.3, point=np.zeros(3))
+    driver = ContactDriver(resolve_problem(pb.Problem("pair_blocks", "solid", 1.0, bodies, bcs, (model,))))
+    driver._discretise()
+    driver._assemble()
+    c = driver.contacts[0]
+    c.stick_ratio, c.slip_direction = 0.7, np.array([1.0, 0.0, 0.0])
+    return c
+
+
+def _sparse_terms(c, a):
+    """The band's stiffness and load by sparse products of (3q x m) operators, Coulomb's block on
+    the slip zone included."""
+    pts = c.region_quadrature(a)
+    jump, flux, size = ellipse.contact_operators(c, pts)
+    bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
+    proj = ellipse._projector(c, pts, a)
+    k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, c.band_fraction, 1.0, jump=jump)
+    r, b = ellipse.pressure_rows(c, (pts, bp, proj, jump, flux, size, a))
+    g = ellipse.point_blocks(np.broadcast_to(-c.friction * c.slip_direction, pts.x1.shape)) @ jump
+    wq = np.where(ellipse._slip_mask(c, pts, a), pts.weights, 0.0)
+    assert wq.any()
+    return (k - g.T @ sp.csr_matrix(r.multiply(wq[:, None]))).tocsr(), f + g.T @ (wq * b), (jump, flux)
+
+
+def test_pair_sums_equal_the_sparse_products(contact):
+    a = 0.06
+    kc, fc, info = contact.terms(a)
+    k_ref, f_ref, (jump, flux) = _sparse_terms(contact, a)
+    assert abs(kc - k_ref).max() <= 1e-12 * abs(k_ref).max()
+    np.testing.assert_allclose(fc, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max())
+    x = np.random.default_rng(3).standard_normal(kc.shape[0])
+    for op, ref in ((info[3], jump), (info[4], flux)):
+        np.testing.assert_allclose(op @ x, ref @ x, rtol=0, atol=1e-12 * np.abs(ref @ x).max())
+        assert abs(op.tocsr() - ref).max() <= 1e-12 * abs(ref).max()
+
+
+def test_a_common_translation_has_no_contact_stiffness(contact):
+    kc, _, _ = contact.terms(0.06)
+    scale = abs(kc).max() * np.sqrt(kc.shape[0])
+    for k in range(3):
+        t = (contact.dofs % 3 == k).astype(float)  # every node of both bodies moved along axis k
+        assert np.abs(kc @ t).max() <= 1e-10 * scale
