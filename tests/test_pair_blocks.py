@@ -71,3 +71,20 @@ def test_a_common_translation_has_no_contact_stiffness(contact):
     for k in range(3):
         t = (contact.dofs % 3 == k).astype(float)  # every node of both bodies moved along axis k
         assert np.abs(kc @ t).max() <= 1e-10 * scale
+
+
+def test_a_region_kept_across_a_stick_update_gives_the_terms_built_anew(contact):
+    # the quadrature and blocks of a region do not depend on the stick zone: the search after a
+    # stick-ratio update reuses them, and the terms equal those built from nothing
+    c, a = contact, 0.05
+    _, _, first = c.terms(a)
+    c.stick_ratio = 0.5
+    try:
+        k_kept, f_kept, kept = c.terms(a)
+        assert kept[0] is first[0]  # the same points: reused
+        c._recent_regions = None
+        k_new, f_new, new = c.terms(a)
+        assert new[0] is not first[0]
+        assert abs(k_kept - k_new).max() == 0.0 and np.array_equal(f_kept, f_new)
+    finally:
+        c.stick_ratio = 0.7

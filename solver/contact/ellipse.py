@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ..fem.pair_blocks import PairBlocks
+from ..fem.pair_blocks import PairBlocks, RecentRegions
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, band_tensors, projector
 from ..model.options import ContactOptions
 from .band import CandidateRegionExceeded
@@ -99,6 +99,7 @@ class EllipseContact:
     centre: np.ndarray = field(default_factory=lambda: np.zeros(2))
     #: the scene's point where the frame moved to the touching point nearest it (else None)
     given_point: np.ndarray | None = None
+    _recent_regions: RecentRegions | None = field(default=None, repr=False)
 
     @property
     def name(self) -> str:
@@ -168,15 +169,9 @@ class EllipseContact:
         m = len(self.dofs)
         if a <= 0.0:
             return sp.csr_matrix((m, m)), np.zeros(m), None
-        aa, bb = self.semi_axes(a)
-        pts = self.region_quadrature(a)
-        if not len(pts.s):
-            raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse (semi-axes "
-                             f"{np.round([aa, bb], 6).tolist()} m) about {np.round(self.frame.point, 6).tolist()}: "
-                             "the contact point is not where the bodies touch; give the contact's point")
         # the operators as per-point blocks over each point's two cells (solver.fem.pair_blocks):
         # the terms are summed per cell pair and mapped onto the contact dofs once
-        blocks, size = contact_blocks(self, pts)
+        pts, blocks, size = self._region_blocks(a)
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, blocks.jump, blocks.flux)
         proj = _projector(self, pts, a)
         kc, fc = blocks.band_terms(*band_tensors(bp, proj, self.b1.lam, self.b1.mu, self.band_fraction), -pts.delta, 1.0)
@@ -191,6 +186,26 @@ class EllipseContact:
             kc = (kc - blocks.outer(g, blocks.rows(-nl, npf), wq)).tocsr()
             fc = fc + blocks.vector(g, wq * b)
         return kc, fc, info
+
+    def _region_blocks(self, a: float):
+        """The region's quadrature points, their operator blocks and band sizes. They depend on
+        the region alone (size, shape, centre), not on the stick zone: kept for the last two
+        ellipses, so the size search that follows a stick-ratio update, which starts at the last
+        size, does not build them again (a region of general shape builds them every time)."""
+        def build():
+            pts = self.region_quadrature(a)
+            if not len(pts.s):
+                raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse (semi-axes "
+                                 f"{np.round(self.semi_axes(a), 6).tolist()} m) about "
+                                 f"{np.round(self.frame.point, 6).tolist()}: the contact point is not where the "
+                                 "bodies touch; give the contact's point")
+            return (pts,) + contact_blocks(self, pts)
+
+        if type(self).region_quadrature is not EllipseContact.region_quadrature:
+            return build()
+        if self._recent_regions is None:
+            self._recent_regions = RecentRegions(keep=2)
+        return self._recent_regions.get((a, self.ratio, *self.centre), build)
 
     def judge(self, x: np.ndarray, a: float, info) -> _Verdict:
         gap, pressure, inside, edge_dist = _sample_state(self, x, a)

@@ -32,7 +32,7 @@ import scipy.sparse as sp
 from .assembly_blocks import assemble_blocks
 from .step_boundary import CellBlocks, point_matrix
 
-__all__ = ["PairBlocks", "PairOperator"]
+__all__ = ["PairBlocks", "PairOperator", "RecentRegions"]
 
 #: dofs per node
 _D = 3
@@ -215,3 +215,20 @@ class PairOperator:
         if name.startswith("__") or name in ("blocks", "kind"):
             raise AttributeError(name)
         return getattr(self._matrix, name)
+
+
+class RecentRegions:
+    """What was built for the last ``keep`` contact regions, by a key that fixes the region (its
+    quadrature points and their blocks do not depend on the stick zone or the load, so a region
+    search that starts where the last one ended finds them here)."""
+
+    def __init__(self, keep: int = 2):
+        self.keep, self._items = keep, {}
+
+    def get(self, key, build):
+        """The value kept for ``key``, else ``build()`` kept in place of the oldest."""
+        value = self._items.pop(key) if key in self._items else build()
+        self._items[key] = value
+        while len(self._items) > self.keep:
+            del self._items[next(iter(self._items))]
+        return value
