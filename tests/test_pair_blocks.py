@@ -5,6 +5,9 @@ slip zone's Coulomb block; and an invariant of the band: a translation common to
 no jump and no flux, so the contact stiffness annihilates it. A ball on a block, two levels of
 refinement about the contact (hanging nodes in the band's cells)."""
 
+import gc
+import weakref
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -88,3 +91,18 @@ def test_a_region_kept_across_a_stick_update_gives_the_terms_built_anew(contact)
         assert abs(k_kept - k_new).max() == 0.0 and np.array_equal(f_kept, f_new)
     finally:
         c.stick_ratio = 0.7
+
+
+def test_the_blocks_are_freed_without_a_garbage_collection(contact):
+    # the blocks hold no reference to their operators: nothing but a collection would free a
+    # cycle, and the trials of a large contact would pile up their arrays until one ran
+    gc.disable()
+    try:
+        contact._recent_regions = None
+        _, _, info = contact.terms(0.05)
+        ref = weakref.ref(info[3].blocks)
+        del info
+        contact._recent_regions = None
+        assert ref() is None
+    finally:
+        gc.enable()

@@ -172,10 +172,11 @@ class EllipseContact:
         # the operators as per-point blocks over each point's two cells (solver.fem.pair_blocks):
         # the terms are summed per cell pair and mapped onto the contact dofs once
         pts, blocks, size = self._region_blocks(a)
-        bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, blocks.jump, blocks.flux)
+        jump, flux = blocks.jump, blocks.flux
+        bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
         kc, fc = blocks.band_terms(*band_tensors(bp, proj, self.b1.lam, self.b1.mu, self.band_fraction), -pts.delta, 1.0)
-        info = (pts, bp, proj, blocks.jump, blocks.flux, size, a)
+        info = (pts, bp, proj, jump, flux, size, a)
         slip = _slip_mask(self, pts, a)
         if slip.any():
             # Coulomb's traction mu p on the slip zone, against the slip: p is affine in the contact

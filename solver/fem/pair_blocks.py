@@ -104,12 +104,15 @@ class PairBlocks:
         """(q, 3) the mean flux at the points (caller's order)."""
         return self._caller(np.einsum("qic,qc->qi", self.traction, self.node_values(x)))
 
-    @functools.cached_property
+    @property
     def jump(self) -> "PairOperator":
+        """The jump as an operator (a new one each time: the blocks keep no reference to their
+        operators, so no reference cycle holds their arrays until a garbage collection)."""
         return PairOperator(self, "jump")
 
-    @functools.cached_property
+    @property
     def flux(self) -> "PairOperator":
+        """The mean flux as an operator (a new one each time, as :attr:`jump`)."""
         return PairOperator(self, "flux")
 
     def rows(self, jump_coefficients: np.ndarray, flux_coefficients: np.ndarray | None = None) -> np.ndarray:
