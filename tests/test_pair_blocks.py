@@ -106,3 +106,18 @@ def test_the_blocks_are_freed_without_a_garbage_collection(contact):
         assert ref() is None
     finally:
         gc.enable()
+
+
+def test_pressure_rows_of_a_trial_state(contact):
+    # the pressure's affine rows (read by the friction history) from a trial's operators equal the
+    # pressure the trial's traction gives
+    a = 0.05
+    _, _, info = contact.terms(a)
+    r, b = ellipse.pressure_rows(contact, info)
+    x = np.random.default_rng(5).standard_normal(r.shape[1]) * 1e-4
+    saved, contact.slip_direction = contact.slip_direction, None  # the normal traction alone
+    try:
+        p = np.einsum("qi,qi->q", contact.quadrature_traction(info, x), info[0].normal)
+    finally:
+        contact.slip_direction = saved
+    np.testing.assert_allclose(r @ x + b, p, rtol=0, atol=1e-10 * np.abs(p).max())

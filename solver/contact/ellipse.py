@@ -175,7 +175,8 @@ class EllipseContact:
         jump, flux = blocks.jump, blocks.flux
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
-        kc, fc = blocks.band_terms(*band_tensors(bp, proj, self.b1.lam, self.b1.mu, self.band_fraction), -pts.delta, 1.0)
+        pen, wp = band_tensors(bp, proj, self.b1.lam, self.b1.mu, self.band_fraction)
+        kc, fc = blocks.band_terms(pen, wp, -pts.delta, 1.0)
         info = (pts, bp, proj, jump, flux, size, a)
         slip = _slip_mask(self, pts, a)
         if slip.any():
@@ -456,7 +457,7 @@ def pressure_rows(c: EllipseContact, info):
     """Pressure at the quadrature points as an affine function of the contact dofs: p = r x + b."""
     pts, _, proj, jump, flux, size, _ = info
     nl, npf, b = _pressure_coefficients(c, pts, proj, size)
-    return (-(point_blocks(nl) @ jump) + point_blocks(npf) @ flux).tocsr(), b
+    return (-(point_blocks(nl) @ jump.tocsr()) + point_blocks(npf) @ flux.tocsr()).tocsr(), b
 
 
 def _pressure_coefficients(c: EllipseContact, pts, proj, size):
