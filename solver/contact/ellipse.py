@@ -191,9 +191,10 @@ class EllipseContact:
 
     def _region_blocks(self, a: float):
         """The region's quadrature points, their operator blocks and band sizes. They depend on
-        the region alone (size, shape, centre), not on the stick zone: kept for the last two
-        ellipses, so the size search that follows a stick-ratio update, which starts at the last
-        size, does not build them again (a region of general shape builds them every time)."""
+        the region alone (size, shape, centre), not on the stick zone: a frictional contact keeps
+        them for its last two ellipses, so the size search that follows a stick-ratio update, which
+        starts at the last size, does not build them again (a region of general shape builds them
+        every time)."""
         def build():
             pts = self.region_quadrature(a)
             if not len(pts.s):
@@ -203,8 +204,8 @@ class EllipseContact:
                                  "bodies touch; give the contact's point")
             return (pts,) + contact_blocks(self, pts)
 
-        if type(self).region_quadrature is not EllipseContact.region_quadrature:
-            return build()
+        if self.kind != "frictional" or type(self).region_quadrature is not EllipseContact.region_quadrature:
+            return build()  # no stick zone to update (or a region of general shape): nothing to reuse
         if self._recent_regions is None:
             self._recent_regions = RecentRegions(keep=2)
         return self._recent_regions.get((a, self.ratio, *self.centre), build)
