@@ -10,6 +10,7 @@ import pytest
 
 from ibfem.solver.contact import sizing
 from ibfem.solver.model import problem as pb
+from ibfem.solver.model.options import ContactOptions
 from ibfem.solver.solving import solve
 
 from _solids3d import HalfBall
@@ -52,7 +53,10 @@ def test_the_sized_disc_gives_the_scene_discs_answer_on_fewer_dofs(runs):
     assert disc["extent"] < disc["scene_extent"] and "reason" not in record
     assert sized.iterations["contact_dofs"] < 0.8 * scene.iterations["contact_dofs"]
     assert sized.contacts[0]["normal_force"] == pytest.approx(scene.contacts[0]["normal_force"], rel=1e-6)
-    np.testing.assert_allclose(sized.contacts[0]["semi_axes"], scene.contacts[0]["semi_axes"], rtol=1e-6)
+    # the region search closes its bracket to edge_tolerance finest cells: the two runs' trials
+    # differ in round-off, so each lands somewhere within it (measured 1.7e-6 of a apart, 7e-8 m)
+    settled = ContactOptions().edge_tolerance * 0.25 / 2**3  # finest cell: element 0.25, 3 levels
+    np.testing.assert_allclose(sized.contacts[0]["semi_axes"], scene.contacts[0]["semi_axes"], rtol=0, atol=settled)
     assert disc["extent"] > max(sized.contacts[0]["semi_axes"])
 
 

@@ -24,7 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, projector, thin_band_terms
+from ..fem.pair_blocks import PairBlocks, RecentRegions
+from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, band_tensors, projector
 from ..model.options import ContactOptions
 from .band import CandidateRegionExceeded
 from ..reference.theory import hertz_elliptic_contact
@@ -98,6 +99,7 @@ class EllipseContact:
     centre: np.ndarray = field(default_factory=lambda: np.zeros(2))
     #: the scene's point where the frame moved to the touching point nearest it (else None)
     given_point: np.ndarray | None = None
+    _recent_regions: RecentRegions | None = field(default=None, repr=False)
 
     @property
     def name(self) -> str:
@@ -167,28 +169,46 @@ class EllipseContact:
         m = len(self.dofs)
         if a <= 0.0:
             return sp.csr_matrix((m, m)), np.zeros(m), None
-        aa, bb = self.semi_axes(a)
-        pts = self.region_quadrature(a)
-        if not len(pts.s):
-            raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse (semi-axes "
-                             f"{np.round([aa, bb], 6).tolist()} m) about {np.round(self.frame.point, 6).tolist()}: "
-                             "the contact point is not where the bodies touch; give the contact's point")
-        jump, flux, size = contact_operators(self, pts)
+        # the operators as per-point blocks over each point's two cells (solver.fem.pair_blocks):
+        # the terms are summed per cell pair and mapped onto the contact dofs once
+        pts, blocks, size = self._region_blocks(a)
+        jump, flux = blocks.jump, blocks.flux
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
-        k, f = thin_band_terms(bp, proj, -pts.delta, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=jump)
-        kc, fc = sp.csr_matrix(k), np.asarray(f).ravel()
+        pen, wp = band_tensors(bp, proj, self.b1.lam, self.b1.mu, self.band_fraction)
+        kc, fc = blocks.band_terms(pen, wp, -pts.delta, 1.0)
         info = (pts, bp, proj, jump, flux, size, a)
         slip = _slip_mask(self, pts, a)
         if slip.any():
             # Coulomb's traction mu p on the slip zone, against the slip: p is affine in the contact
             # dofs (p = r x + b), so it enters exactly as a non-symmetric block (the 2D rule)
-            r, b = pressure_rows(self, info)
-            g = point_blocks(np.broadcast_to(-self.friction * self.slip_direction, pts.x1.shape)) @ jump
+            nl, npf, b = _pressure_coefficients(self, pts, proj, size)
+            g = blocks.rows(np.broadcast_to(-self.friction * self.slip_direction, pts.x1.shape))
             wq = np.where(slip, pts.weights, 0.0)
-            kc = (kc - g.T @ sp.csr_matrix(r.multiply(wq[:, None]))).tocsr()
-            fc = fc + g.T @ (wq * b)
+            kc = (kc - blocks.outer(g, blocks.rows(-nl, npf), wq)).tocsr()
+            fc = fc + blocks.vector(g, wq * b)
         return kc, fc, info
+
+    def _region_blocks(self, a: float):
+        """The region's quadrature points, their operator blocks and band sizes. They depend on
+        the region alone (size, shape, centre), not on the stick zone: a frictional contact keeps
+        them for its last two ellipses, so the size search that follows a stick-ratio update, which
+        starts at the last size, does not build them again (a region of general shape builds them
+        every time)."""
+        def build():
+            pts = self.region_quadrature(a)
+            if not len(pts.s):
+                raise ValueError(f"{self.name}: body 1 has no surface under the trial contact ellipse (semi-axes "
+                                 f"{np.round(self.semi_axes(a), 6).tolist()} m) about "
+                                 f"{np.round(self.frame.point, 6).tolist()}: the contact point is not where the "
+                                 "bodies touch; give the contact's point")
+            return (pts,) + contact_blocks(self, pts)
+
+        if self.kind != "frictional" or type(self).region_quadrature is not EllipseContact.region_quadrature:
+            return build()  # no stick zone to update (or a region of general shape): nothing to reuse
+        if self._recent_regions is None:
+            self._recent_regions = RecentRegions(keep=2)
+        return self._recent_regions.get((a, self.ratio, *self.centre), build)
 
     def judge(self, x: np.ndarray, a: float, info) -> _Verdict:
         gap, pressure, inside, edge_dist = _sample_state(self, x, a)
@@ -364,8 +384,34 @@ def _semi_axes_of(pts: RegionPoints) -> np.ndarray:
 
 def contact_operators(c: EllipseContact, pts: RegionPoints):
     """Jump J and flux F (3q, m) on the contact dofs, and the local size at the points."""
+    cells1, cells2 = _prepared_cells(c, pts)
+    map1, _, map2, _ = c.maps
+    jump = c.b1.displacement_operator(pts.x1, cells1, map1) - c.b2.displacement_operator(pts.x2, cells2, map2)
+    flux = 0.5 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1) + 0.5 * c.b2.traction_operator(
+        pts.x2, cells2, pts.n1, map2)
+    return jump.tocsr(), flux.tocsr(), _band_size(c, cells1, cells2)
+
+
+def contact_blocks(c: EllipseContact, pts: RegionPoints) -> tuple[PairBlocks, np.ndarray]:
+    """The jump and flux of :func:`contact_operators` as per-point blocks over each point's two
+    cells (solver.fem.pair_blocks), and the local size at the points."""
+    cells1, cells2 = _prepared_cells(c, pts)
+    blocks = PairBlocks.between(c.b1.cell_blocks(pts.x1, cells1, pts.n1), c.b2.cell_blocks(pts.x2, cells2, pts.n1),
+                                c.maps[0], c.maps[2], len(c.b1.grid.nodes))
+    return blocks, _band_size(c, cells1, cells2)
+
+
+def _band_size(c: EllipseContact, cells1: np.ndarray, cells2: np.ndarray) -> np.ndarray:
+    t1 = c.b1.material_thickness[cells1]
+    t2 = c.b2.material_thickness[cells2]
+    return np.maximum(np.minimum(t1, t2), 1e-6 * c.b1.grid.size[cells1])
+
+
+def _prepared_cells(c: EllipseContact, pts: RegionPoints) -> tuple[np.ndarray, np.ndarray]:
+    """The cells of both bodies holding the points, checked to lie among those prepared for the
+    contact (every dof they depend on is a contact dof)."""
     cells1, cells2 = _locate(c.b1, pts.x1, pts.n1), _locate(c.b2, pts.x2, pts.n2)
-    map1, ok1, map2, ok2 = c.maps
+    _, ok1, _, ok2 = c.maps
     bad1 = ~ok1[c.b1.grid.cells[cells1]].all(axis=1)
     bad2 = ~ok2[c.b2.grid.cells[cells2]].all(axis=1)
     if bad1.any() or bad2.any():
@@ -377,13 +423,7 @@ def contact_operators(c: EllipseContact, pts: RegionPoints):
             f"reaches beyond the cells prepared for the contact ({int(bad1.sum())} points of body 1, "
             f"{int(bad2.sum())} of body 2, e.g. {np.round(where[0], 6).tolist()}); enlarge the contact "
             f"refinement radius (now {c.extent:.4g} m of reach) or refine the grid there"))
-    jump = c.b1.displacement_operator(pts.x1, cells1, map1) - c.b2.displacement_operator(pts.x2, cells2, map2)
-    flux = 0.5 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1) + 0.5 * c.b2.traction_operator(
-        pts.x2, cells2, pts.n1, map2)
-    t1 = c.b1.material_thickness[cells1]
-    t2 = c.b2.material_thickness[cells2]
-    size = np.maximum(np.minimum(t1, t2), 1e-6 * c.b1.grid.size[cells1])
-    return jump.tocsr(), flux.tocsr(), size
+    return cells1, cells2
 
 
 def _normalised_radius(c: EllipseContact, pts: RegionPoints, a: float) -> np.ndarray:
@@ -417,10 +457,15 @@ def point_blocks(rows: np.ndarray):
 def pressure_rows(c: EllipseContact, info):
     """Pressure at the quadrature points as an affine function of the contact dofs: p = r x + b."""
     pts, _, proj, jump, flux, size, _ = info
+    nl, npf, b = _pressure_coefficients(c, pts, proj, size)
+    return (-(point_blocks(nl) @ jump.tocsr()) + point_blocks(npf) @ flux.tocsr()).tocsr(), b
+
+
+def _pressure_coefficients(c: EllipseContact, pts, proj, size):
+    """p = -n^T L (J x + delta) + n^T P F x: the rows n^T L and n^T P (q, 3) and the constant."""
     nl = np.einsum("qi,qij->qj", pts.normal, layer_tensor(c, pts.normal, proj, size))  # n^T L
     npf = np.einsum("qi,qij->qj", pts.normal, proj)  # n^T P
-    r = (-(point_blocks(nl) @ jump) + point_blocks(npf) @ flux).tocsr()
-    return r, -np.einsum("qi,qi->q", nl, pts.delta)
+    return nl, npf, -np.einsum("qi,qi->q", nl, pts.delta)
 
 
 def layer_tensor(c: EllipseContact, normal, proj, size) -> np.ndarray:

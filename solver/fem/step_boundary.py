@@ -41,6 +41,7 @@ __all__ = [
     "point_matrix",
     "block_diagonal",
     "thin_band_terms",
+    "band_tensors",
     "thin_band_traction",
 ]
 
@@ -250,6 +251,16 @@ def block_diagonal(blocks: np.ndarray) -> sp.csr_matrix:
     return sp.bsr_matrix((np.ascontiguousarray(blocks), np.arange(q), np.arange(q + 1)), shape=(d * q, d * q)).tocsr()
 
 
+def band_tensors(bp: BoundaryPoints, proj: np.ndarray, lam: float, mu: float,
+                 band_fraction: float = DEFAULT_BAND_FRACTION) -> tuple[np.ndarray, np.ndarray]:
+    """The band's per-point tensors (q, d, d), quadrature weights included: the layer
+    w 4/(3 delta) P A_n P (delta = band_fraction times the local size) and the consistency
+    weight w P."""
+    delta = band_fraction * bp.cell_size
+    pen = (PENALTY_FACTOR / delta * bp.weights)[:, None, None] * (proj @ acoustic_tensor(bp.normals, lam, mu) @ proj)
+    return pen, bp.weights[:, None, None] * proj
+
+
 def thin_band_terms(
     bp: BoundaryPoints,
     proj: np.ndarray,
@@ -265,9 +276,7 @@ def thin_band_terms(
     ``target`` (q, d) is the prescribed displacement a at each point (only P a matters);
     ``jump`` replaces the displacement operator (contact: u_h1 - u_h2), default bp.displacement.
     """
-    delta = band_fraction * bp.cell_size
-    pen = (PENALTY_FACTOR / delta * bp.weights)[:, None, None] * (proj @ acoustic_tensor(bp.normals, lam, mu) @ proj)
-    wp = bp.weights[:, None, None] * proj
+    pen, wp = band_tensors(bp, proj, lam, mu, band_fraction)
     if jump is None and bp.blocks is not None:
         return bp.blocks.band_terms(pen, wp, target, consistency)
     eu = bp.displacement if jump is None else jump
