@@ -108,3 +108,13 @@ def test_the_size_share_covers_the_reading_s_sensitivity_to_the_semi_axes():
     assert errors["max_pressure"] >= abs(moved)
     assert peak_size_share({"profile_recovery": {"peak": {"reading": "whole_region_fit"}}}) == 1.0
     assert peak_size_share({}) == 1.0
+
+
+def test_the_inner_reading_converges_with_the_interior():
+    # order 2 for a peak read clear of the edge (its edge share is the size floor), 3/2 for the
+    # whole-region fit's centre value, which converges with the region's edge
+    from ibfem.solver.model.accuracy import ORDERS, SOLID_PEAK_PRESSURE_ORDER, orders_for
+    inner = {"semi_axes": [0.04, 0.04], "profile_recovery": {"peak": {"reading": "hertz_shape_inner"}}}
+    whole = {"semi_axes": [0.04, 0.04], "profile_recovery": {"peak": {"reading": "whole_region_fit"}}}
+    assert orders_for(inner)["max_pressure"] == ORDERS["max_pressure"] == 2.0
+    assert orders_for(whole)["max_pressure"] == SOLID_PEAK_PRESSURE_ORDER == 1.5

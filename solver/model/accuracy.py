@@ -11,8 +11,10 @@ smooth, and of the contact's edge where they are not:
 - 2 for the normal force (a reaction: an integral of the stresses, superconvergent like the
   energy), the 2D peak pressure (the traction in the region's smooth interior) and the largest
   von Mises stress (the recovered stresses, below the surface where the field is smooth);
-- 3/2 for the 3D peak pressure, the centre value of a fit over the computed region, which
-  converges with the region's edge;
+- 3/2 for the 3D peak pressure where it is the centre value of a fit over the whole computed
+  region, which converges with the region's edge; 2 where it is read by Hertz's shape over the
+  region's inner part (clear of the edge's cells; what it takes from the edge, through the
+  semi-axes that scale its basis, is the size floor below);
 - 3/2 for the contact's sizes (half widths, semi-axes, stick sizes): they are where the pressure's
   end values vanish, and the end values are moments of the pressure, which falls like
   sqrt(a - x) at the edge: the cell containing the edge interpolates it with an error of
@@ -87,12 +89,15 @@ _SIZES = ("half_width", "stick_half_width", "semi_axes", "stick_semi_axes")
 
 def orders_for(block: Mapping[str, Any], observed: float | None = None) -> dict[str, float | None]:
     """The convergence order of each quantity of a contact block: ORDERS, except for the peak
-    pressure of a 3D region (SOLID_PEAK_PRESSURE_ORDER) and for a 2D region with a complete end
+    pressure of a 3D region read over the whole region (SOLID_PEAK_PRESSURE_ORDER; read by
+    Hertz's shape over the inner part it keeps the interior's order 2, the edge's share being the
+    size floor of :func:`relative_errors`) and for a 2D region with a complete end
     (``ends`` of type "complete"), whose sizes take the order ``observed`` on the run's own grids
     (:func:`observed_order`) or else COMPLETE_END_SIZE_ORDER, and whose peak pressure (singular)
     has none (None: not estimated)."""
     if block.get("semi_axes") is not None:
-        return {**ORDERS, "max_pressure": SOLID_PEAK_PRESSURE_ORDER}
+        interior = peak_size_share(block) == HERTZ_SHAPE_PEAK_SIZE_SHARE  # read clear of the edge
+        return {**ORDERS, "max_pressure": ORDERS["max_pressure"] if interior else SOLID_PEAK_PRESSURE_ORDER}
     if not has_complete_end(block):
         return dict(ORDERS)
     size_order = COMPLETE_END_SIZE_ORDER if observed is None else observed
