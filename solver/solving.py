@@ -177,7 +177,7 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
             third = coarsest.contacts[k] if coarsest is not None and k < len(coarsest.contacts) else None
             span = COMPLETE_END_ORDER_RANGE if has_complete_end(block) else SIZE_ORDER_RANGE
             block["estimated_error"] = relative_errors(
-                contact_quantities(block), contact_quantities(other), orders_for(block),
+                contact_quantities(block), contact_quantities(other, like=block), orders_for(block),
                 coarsest=contact_quantities(third) if third is not None else None, order_range=span,
                 size_share=peak_size_share(block))
             block.pop("estimate_note", None)

@@ -118,3 +118,21 @@ def test_the_inner_reading_converges_with_the_interior():
     whole = {"semi_axes": [0.04, 0.04], "profile_recovery": {"peak": {"reading": "whole_region_fit"}}}
     assert orders_for(inner)["max_pressure"] == ORDERS["max_pressure"] == 2.0
     assert orders_for(whole)["max_pressure"] == SOLID_PEAK_PRESSURE_ORDER == 1.5
+
+
+def test_a_coarser_grid_s_peak_is_read_as_on_the_finer_grid():
+    # Richardson's difference compares one reading on two grids: where the finer grid's peak is
+    # Hertz's shape over the inner part, the coarser grid's inner reading is taken even where its
+    # own region was not Hertz-like (its profile kept the whole-region fit)
+    from ibfem.solver.model.accuracy import contact_quantities
+
+    def block(reading, profile_peak, shape):
+        return {"type": "frictionless", "semi_axes": [0.04, 0.04], "normal_force": 1.0e6,
+                "pressure": {"axis0": {"s": [0.0], "value": [profile_peak]}},
+                "profile_recovery": {"peak": {"reading": reading, "hertz_shape": shape}}}
+
+    fine = block("hertz_shape_inner", 3.00e9, 3.00e9)
+    coarse = block("whole_region_fit", 2.90e9, 3.05e9)
+    assert contact_quantities(coarse, like=fine)["max_pressure"] == 3.05e9
+    assert contact_quantities(coarse)["max_pressure"] == 2.90e9
+    assert contact_quantities(coarse, like=block("whole_region_fit", 3.0e9, 3.1e9))["max_pressure"] == 2.90e9

@@ -72,10 +72,13 @@ def peak_reading(X: np.ndarray, Y: np.ndarray, weights: np.ndarray, values: np.n
     over X^2 + Y^2 < PEAK_INNER^2, the other terms the least-squares fit of the rest over the whole
     region) or "whole_region_fit" (the plain fit_profile), with ``misfit`` (the smooth departure
     from Hertz's shape over the inner part, relative to p0; None with too few points) and
-    ``residual`` (the shape fit's weighted RMS residual there, cell-to-cell scatter included)."""
+    ``residual`` (the shape fit's weighted RMS residual there, cell-to-cell scatter included)
+    and ``hertz_shape`` (that fit's p0, also where it is not taken: a finer grid's estimate
+    compares its own such reading with it)."""
     coef = fit_profile(X, Y, weights, values)
     inner = X**2 + Y**2 < PEAK_INNER**2
-    out = {"reading": "whole_region_fit", "inner": PEAK_INNER, "misfit": None, "residual": None, "coefficients": coef}
+    out = {"reading": "whole_region_fit", "inner": PEAK_INNER, "misfit": None, "residual": None, "hertz_shape": None,
+           "coefficients": coef}
     w = np.maximum(weights[inner], 0.0)
     if inner.sum() < PEAK_MIN_POINTS or not w.sum() > 0.0:
         return out
@@ -87,7 +90,7 @@ def peak_reading(X: np.ndarray, Y: np.ndarray, weights: np.ndarray, values: np.n
     quadratic = _basis(X[inner], Y[inner]) @ fit_profile(X[inner], Y[inner], weights[inner], values[inner])
     quadratic_rms = float(np.sqrt(w @ (values[inner] - quadratic) ** 2 / w.sum()))
     misfit = float(np.sqrt(max(shape_rms**2 - quadratic_rms**2, 0.0))) / p0
-    out.update(misfit=misfit, residual=shape_rms / p0)
+    out.update(misfit=misfit, residual=shape_rms / p0, hertz_shape=p0)
     if misfit > HERTZ_LIKE_MISFIT:
         return out
     rest = values - p0 * np.sqrt(np.clip(1.0 - X**2 - Y**2, 0.0, None))

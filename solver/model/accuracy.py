@@ -139,10 +139,14 @@ def _profile_max(profile: Any) -> float:
     return max((float(v.max()) for v in values if len(v)), default=math.nan)
 
 
-def contact_quantities(block: Mapping[str, Any]) -> dict[str, Any]:
+def contact_quantities(block: Mapping[str, Any], like: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """The estimated quantities of one contact block: sizes (2D half widths, 3D semi-axes as a
     list), the normal force, the peak pressure (``max_pressure``) and ``max_von_mises`` where
-    the block has it. A frictionless contact has no stick size; a zero size is left out."""
+    the block has it. A frictionless contact has no stick size; a zero size is left out. With
+    ``like`` (the finer grid's block of the same contact) the peak is read as there: where that
+    block's peak is Hertz's shape over the inner part, this block's is too (its
+    ``profile_recovery.peak.hertz_shape``, kept even where its own region was not found
+    Hertz-like), so that Richardson's difference compares one reading on two grids."""
     out: dict[str, Any] = {}
     for key in ("half_width", "stick_half_width", "semi_axes", "stick_semi_axes", "normal_force", "max_von_mises"):
         value = block.get(key)
@@ -158,6 +162,9 @@ def contact_quantities(block: Mapping[str, Any]) -> dict[str, Any]:
         out.pop("stick_half_width", None)
         out.pop("stick_semi_axes", None)
     p0 = _profile_max(block.get("pressure"))
+    shape = ((block.get("profile_recovery") or {}).get("peak") or {}).get("hertz_shape")
+    if like is not None and peak_size_share(like) == HERTZ_SHAPE_PEAK_SIZE_SHARE and shape is not None:
+        p0 = float(shape)
     if p0 > 0.0:
         out["max_pressure"] = p0
     return out
