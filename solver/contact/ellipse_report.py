@@ -71,7 +71,7 @@ def peak_reading(X: np.ndarray, Y: np.ndarray, weights: np.ndarray, values: np.n
     (module docstring): ``reading`` "hertz_shape_inner" (the constant term is Hertz's shape fitted
     over X^2 + Y^2 < PEAK_INNER^2, the other terms the least-squares fit of the rest over the whole
     region) or "whole_region_fit" (the plain fit_profile), with ``misfit`` (the smooth departure
-    from Hertz's shape over the inner part, relative to p0; None with too few points) and
+    from Hertz's shape over the inner part, relative to p0; None with too few points),
     ``residual`` (the shape fit's weighted RMS residual there, cell-to-cell scatter included)
     and ``hertz_shape`` (that fit's p0, also where it is not taken: a finer grid's estimate
     compares its own such reading with it)."""
