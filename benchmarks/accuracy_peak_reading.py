@@ -3,10 +3,11 @@
 pressure p0 read four ways from the same solution (the band traction at the region's quadrature
 points, the quarter model's points with their mirror images):
 
-- ``fit``: the summary's reading, the centre value of the least-squares fit by
+- ``fit``: the earlier reading, the centre value of the least-squares fit by
   sqrt(1 - X^2 - Y^2) times a quadratic in (X, Y) over the computed ellipse;
 - ``hertz_inner``: the fit by Hertz's shape alone, c sqrt(1 - X^2 - Y^2), over the inner region
-  X^2 + Y^2 < 0.64 (clear of the edge's cells);
+  X^2 + Y^2 < 0.64 (clear of the edge's cells): the summary's reading where the region is
+  Hertz-like (``reading`` and ``misfit``, solver.contact.ellipse_report.peak_reading);
 - ``squared``: p^2 = p0^2 (1 - r^2 / a^2) is linear in r^2 for Hertz's pressure: its least-squares
   line over the inner region gives p0 and a radius of its own, neither read at the edge;
 - ``force``: 3 N / (2 pi a b) from the whole contact's force and the computed semi-axes.
@@ -78,11 +79,18 @@ def one(levels: int, radius: float) -> dict:
     n_full = c["normal_force"] / c["model_share"]
     e_star = 2.0e11 / (2.0 * (1.0 - 0.3**2))
     out = readings(X, Y, w, p, a, b, n_full, e_star, 1.0)
+    peak = c["profile_recovery"]["peak"]
     out.update({"levels": levels, "radius": radius, "dofs": int(sum(v.get("dofs", 0) for v in solution.body_info.values())),
-                "a": a, "N_full": n_full, "fit": float(c["profile_recovery"]["pressure_coefficients"][0]),
+                "a": a, "N_full": n_full, "fit": float(original(X, Y, w, p)[0]),
+                "summary_p0": float(c["profile_recovery"]["pressure_coefficients"][0]),
+                "reading": peak["reading"], "misfit": peak["misfit"], "residual": peak["residual"],
                 "converged": bool(solution.converged), "wall_s": wall,
                 "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0})
     return out
+
+
+def _share(value) -> str:
+    return "none" if value is None else f"{100.0 * value:.2f} %"
 
 
 def main(argv: list[str]) -> int:
@@ -94,8 +102,10 @@ def main(argv: list[str]) -> int:
     if args.one is not None:
         print(json.dumps(one(args.one, args.radius)))
         return 0
-    print("| levels (finest cell, m) | dofs | a / Hertz's a - 1 | p0: fit | Hertz's shape, inner | squared, inner (its radius) | from N, a, b | peak (MB) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| levels (finest cell, m) | dofs | a / Hertz's a - 1 | p0: fit | Hertz's shape, inner | squared, inner (its radius) "
+          "| from N, a, b | summary's reading (misfit, residual) | wall (s) | peak (MB) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    rows = []
     for levels in args.levels:
         r = subprocess.run([sys.executable, __file__, "--one", str(levels), "--radius", repr(args.radius)],
                            capture_output=True, text=True)
@@ -103,12 +113,14 @@ def main(argv: list[str]) -> int:
             print(r.stderr[-2000:], file=sys.stderr)
             continue
         row = json.loads(r.stdout.strip().splitlines()[-1])
+        rows.append(row)
         print(json.dumps(row), file=sys.stderr)
         h, p0 = 0.25 / 2**levels, row["hertz_p0"]
         pct = lambda v: f"{100.0 * (v / p0 - 1.0):+.3f} %"  # noqa: E731
         print(f"| {levels} ({h:.4g}) | {row['dofs']} | {100.0 * (row['a'] / row['hertz_a'] - 1.0):+.3f} % | {pct(row['fit'])} | "
               f"{pct(row['hertz_inner'])} | {pct(row['squared'])} ({100.0 * (row['squared_radius'] / row['hertz_a'] - 1.0):+.2f} %) | "
-              f"{pct(row['force'])} | {row['peak_mb']:.0f} |", flush=True)
+              f"{pct(row['force'])} | {pct(row['summary_p0'])} {row['reading']} ({_share(row['misfit'])}, "
+              f"{_share(row['residual'])}) | {row['wall_s']:.0f} | {row['peak_mb']:.0f} |", flush=True)
     return 0
 
 

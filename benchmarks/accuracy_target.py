@@ -1,14 +1,20 @@
 """``[solver] accuracy`` against hand-chosen grids: for each scene and target, one ``ibfem run``
 with the target (its own process, wall time of the whole process), and the scene's own grid
-scaled by 2^-k (every element size, k in ``--scales``) and with its deepest contact zone m levels
-deeper (m in ``--levels-added``, radius kept); each its own process, ``--no-estimate``.
-The true errors of the contact's size (2D: half width; 3D: the circular contact's radius) and of
-its peak pressure against Hertz's theory for the computed force, and of a 2D stick half width
-against Cattaneo-Mindlin's, decide which hand-chosen grids reach the target; the
-table gives the accuracy run's time over the cheapest of them, in CPU time (user + system of the
-process: less disturbed by other jobs on a shared machine) and wall time (docs/accuracy.md).
+scaled by 2^-k (every element size, k in ``--scales``), with its deepest contact zone m levels
+deeper (m in ``--levels-added``, radius kept) and with a zone m levels deeper than the deepest
+added within a radius r around the contact (``--zones-added m:r``); each its own process,
+``--no-estimate``. The true errors against Hertz's theory for the computed force decide which
+hand-chosen grids reach the target: the contact's size (2D: half width; 3D: both semi-axes of
+the circular contact), its peak pressure, the largest von Mises stress below it (Hertz's on the
+load axis: plane strain in 2D, the sphere's axis stresses in 3D), a 2D stick half width against
+Cattaneo-Mindlin's, and the normal force against ``--force-reference`` where given (3D: no
+closed form holds for the finite bodies' force at the prescribed approach). The table gives the
+accuracy run's time over the cheapest of them, in CPU time (user + system of the process: less
+disturbed by other jobs on a shared machine) and wall time (docs/accuracy.md).
 
     python benchmarks/accuracy_target.py examples/mesh_convergence.toml --targets 0.01 0.002
+    python benchmarks/accuracy_target.py examples/solid/sphere_on_flat.toml --scales 0 --levels-added \\
+        --zones-added 1:0.05 --targets 0.01 0.002 --force-reference 1.36808e7
 """
 
 from __future__ import annotations
@@ -25,36 +31,54 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import peers  # noqa: E402
 
+import numpy as np  # noqa: E402
+
 from ibfem.solver.io.scene import scene_from_dict  # noqa: E402
 from ibfem.solver.model.accuracy import contact_quantities  # noqa: E402
 from ibfem.solver.reference import theory  # noqa: E402
 from ibfem.solver.reports.validate import effective_properties  # noqa: E402
 
 
-def true_errors(data: dict, base: Path, summary: dict) -> tuple[float, float, float | None]:
-    """Relative errors of a (2D) or the mean semi-axis (3D) and of the peak pressure against
-    Hertz for the computed force, and of a 2D stick half width against Cattaneo-Mindlin's for the
-    computed forces, c = a sqrt(1 - |Q| / (mu N)) (None without one)."""
+def true_errors(data: dict, base: Path, summary: dict, force_reference: float | None = None) -> dict:
+    """Relative errors (absolute values) against Hertz's theory for the computed force: ``a`` (2D
+    half width; 3D the larger of both semi-axes'), ``p0``, ``von_mises`` (the largest below the
+    contact against Hertz's largest on the load axis), ``stick`` (a 2D stick half width against
+    Cattaneo-Mindlin's for the computed forces, c = a sqrt(1 - |Q| / (mu N))) and ``N`` against
+    ``force_reference`` (the whole contact's force), each None where not defined."""
     scene = scene_from_dict(data, label="hertz", base_dir=base)
     c = summary["contacts"][0]
     p_max = contact_quantities(c)["max_pressure"]
+    nu = scene.problem.body(c["bodies"][1]).material.poissons_ratio
+    out = {"stick": None, "N": None, "von_mises": None}
     if "semi_axes" in c:
         mats = [scene.problem.body(n).material for n in c["bodies"]]
         e_star = 1.0 / sum((1 - m.poissons_ratio ** 2) / m.youngs_modulus for m in mats)
         n_full = c["normal_force"] / c.get("model_share", 1.0)
         a = theory.hertz_sphere_radius(n_full, 1.0 / c["relative_curvatures"][0], e_star)
         p0 = 3.0 * n_full / (2.0 * math.pi * a * a)
-        return abs(sum(c["semi_axes"]) / 2 / a - 1.0), abs(p_max / p0 - 1.0), None
-    r_eff, e_eff = effective_properties(scene.problem, c)
-    a = theory.hertz_half_width(c["normal_force"], r_eff, e_eff)
-    stick = None
-    if c.get("stick_half_width") and c.get("friction"):
-        c_cm = a * math.sqrt(1.0 - abs(c["tangential_force"]) / (c["friction"] * c["normal_force"]))
-        stick = abs(c["stick_half_width"] / c_cm - 1.0)
-    return abs(c["half_width"] / a - 1.0), abs(p_max / (2.0 * c["normal_force"] / (math.pi * a)) - 1.0), stick
+        sr, sz = theory.hertz_sphere_axis_stress(np.linspace(0.0, 3.0, 30001), 1.0, 1.0, nu)
+        vm_peak = float(np.max(np.abs(sr - sz)))
+        out.update(a=max(abs(s / a - 1.0) for s in c["semi_axes"]), p0=abs(p_max / p0 - 1.0))
+        if force_reference:
+            out["N"] = abs(n_full / force_reference - 1.0)
+    else:
+        r_eff, e_eff = effective_properties(scene.problem, c)
+        a = theory.hertz_half_width(c["normal_force"], r_eff, e_eff)
+        p0 = 2.0 * c["normal_force"] / (math.pi * a)
+        vm_peak = theory.axis_peak(nu, "von_mises")[0]
+        out.update(a=abs(c["half_width"] / a - 1.0), p0=abs(p_max / p0 - 1.0))
+        if c.get("stick_half_width") and c.get("friction"):
+            c_cm = a * math.sqrt(1.0 - abs(c["tangential_force"]) / (c["friction"] * c["normal_force"]))
+            out["stick"] = abs(c["stick_half_width"] / c_cm - 1.0)
+        if force_reference:
+            out["N"] = abs(c["normal_force"] / force_reference - 1.0)
+    vm = c.get("max_von_mises")
+    if vm is not None and c.get("friction", 0.0) == 0.0:  # Hertz's field: frictionless only
+        out["von_mises"] = abs(vm / (vm_peak * p0) - 1.0)
+    return out
 
 
-def run(data: dict, base: Path, tmp: Path, tag: str, estimate: bool) -> dict:
+def run(data: dict, base: Path, tmp: Path, tag: str, estimate: bool, force_reference: float | None = None) -> dict:
     data = json.loads(json.dumps(data))
     data["output"] = {"vtk": False, "plots": False}
     scene = tmp / f"{tag}.json"
@@ -67,7 +91,7 @@ def run(data: dict, base: Path, tmp: Path, tag: str, estimate: bool) -> dict:
     summary = json.loads((tmp / tag / "summary.json").read_text())
     row = {"tag": tag, "wall_s": wall, "cpu_s": cpu, "peak_mb": peak,
            "dofs": sum(b["dofs"] for b in summary["bodies"].values()),
-           **dict(zip(("true_error", "true_p0_error", "true_stick_error"), true_errors(data, base, summary)))}
+           "true": true_errors(data, base, summary, force_reference)}
     if "accuracy" in summary:
         row["ladder"] = [(r["dofs"], r["largest_error"], r.get("refined")) for r in summary["accuracy"]["rungs"]]
         row["reached"] = summary["accuracy"]["reached"]
@@ -81,14 +105,17 @@ def scaled(data: dict, k: int) -> dict:
     return out
 
 
+_KEYS = ("a", "p0", "von_mises", "stick", "N")
+
+
 def _worst(row: dict) -> float:
-    return max(v for v in (row["true_error"], row["true_p0_error"], row.get("true_stick_error")) if v is not None)
+    return max(v for v in row["true"].values() if v is not None)
 
 
 def _pair(row: dict) -> str:
-    """The true errors of a, p0 and (2D partial slip) c, in per cent."""
-    keys = ("true_error", "true_p0_error") + (("true_stick_error",) if row.get("true_stick_error") is not None else ())
-    return " / ".join(f"{100 * row.get(k, float('nan')):.3g}" for k in keys) + " %"
+    """The true errors present (a / p0 / von Mises / c / N), in per cent."""
+    true = row.get("true") or {}
+    return " / ".join(f"{k} {100 * true[k]:.3g}" for k in _KEYS if true.get(k) is not None) + " %"
 
 
 def deeper(data: dict, m: int) -> dict:
@@ -104,6 +131,21 @@ def deeper(data: dict, m: int) -> dict:
     return out
 
 
+def zoned(data: dict, m: int, radius: float) -> dict:
+    """The scene with one more zone around the contact in each body that has one: ``m`` levels
+    deeper than its deepest ``around = "contact"`` zone, within ``radius``."""
+    out = json.loads(json.dumps(data))
+    for body in out["bodies"]:
+        zones = body.get("refinement") or []
+        zones = [zones] if isinstance(zones, dict) else zones
+        contact = [z for z in zones if z.get("around") == "contact"]
+        if contact:
+            deepest = max(contact, key=lambda z: z["levels"])
+            zones = zones + [dict(deepest, levels=deepest["levels"] + m, radius=radius)]
+        body["refinement"] = zones
+    return out
+
+
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", nargs="+", type=Path)
@@ -111,6 +153,10 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--scales", type=int, nargs="+", default=[-1, 0, 1, 2], help="hand grids: element sizes x 2^-k")
     ap.add_argument("--levels-added", type=int, nargs="*", default=[1, 2],
                     help="hand grids: the deepest contact zone m levels deeper")
+    ap.add_argument("--zones-added", nargs="*", default=[], metavar="M:RADIUS",
+                    help="hand grids: a zone M levels deeper than the deepest within RADIUS of the contact")
+    ap.add_argument("--force-reference", type=float, default=None,
+                    help="the converged normal force of the whole contact, to judge N against")
     args = ap.parse_args(argv)
     table = []
     with tempfile.TemporaryDirectory() as t:
@@ -119,23 +165,29 @@ def main(argv: list[str]) -> int:
             data = tomllib.loads(path.read_text())
             data.pop("probes", None), data.pop("lines", None)
             base = path.resolve().parent
-            hand = [dict(run(scaled(data, k), base, tmp, f"{path.stem}_k{k}", False), grid=f"sizes x 2^{-k}")
+            ref = args.force_reference
+            hand = [dict(run(scaled(data, k), base, tmp, f"{path.stem}_k{k}", False, ref), grid=f"sizes x 2^{-k}")
                     for k in args.scales]
-            hand += [dict(run(deeper(data, m), base, tmp, f"{path.stem}_m{m}", False), grid=f"contact levels + {m}")
+            hand += [dict(run(deeper(data, m), base, tmp, f"{path.stem}_m{m}", False, ref), grid=f"contact levels + {m}")
                      for m in args.levels_added]
+            for spec in args.zones_added:
+                m, radius = int(spec.split(":")[0]), float(spec.split(":")[1])
+                hand.append(dict(run(zoned(data, m, radius), base, tmp, f"{path.stem}_z{m}_{radius}", False, ref),
+                                 grid=f"a zone {m} level(s) deeper within {radius:g} m"))
             for r in hand:
                 print(json.dumps(r), flush=True)
             for target in args.targets:
                 d = json.loads(json.dumps(data))
                 d.setdefault("solver", {})["accuracy"] = target
-                r = run(d, base, tmp, f"{path.stem}_acc{target}", True)
+                r = run(d, base, tmp, f"{path.stem}_acc{target}", True, ref)
                 print(json.dumps(r), flush=True)
-                ok = [h for h in hand if "true_error" in h and _worst(h) <= target]
+                ok = [h for h in hand if "true" in h and _worst(h) <= target]
                 best = min(ok, key=lambda h: h["cpu_s"]) if ok else None
                 table.append((path.stem, target, r, best))
     print("\n| example | target | rungs (dofs: estimated error) | true error, a / p0 (/ c) | CPU (s) | wall (s) | "
-          "cheapest hand grid reaching the target | its true error | its CPU (s) | its wall (s) | ratio, CPU | ratio, wall |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "peak (MB) | cheapest hand grid reaching the target | its true errors | its CPU (s) | its wall (s) | its peak (MB) | "
+          "ratio, CPU | ratio, wall |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name, target, r, best in table:
         ladder = "; ".join(f"{d}{' (around the contact)' if how == 'contact' else ''}: {100 * e:.2g} %"
                            for d, e, how in r.get("ladder", []))
@@ -144,8 +196,9 @@ def main(argv: list[str]) -> int:
         ratio_cpu = f"{r['cpu_s'] / best['cpu_s']:.2f}" if best and "cpu_s" in r else "n/a"
         ratio_wall = f"{r['wall_s'] / best['wall_s']:.2f}" if best and "wall_s" in r else "n/a"
         print(f"| {name} | {target:g} | {ladder or r.get('error')} | {_pair(r)} | "
-              f"{r.get('cpu_s', nan):.2f} | {r['wall_s']:.1f} | {hand} | {_pair(best) if best else 'n/a'} | "
-              f"{best['cpu_s'] if best else nan:.2f} | {best['wall_s'] if best else nan:.1f} | {ratio_cpu} | {ratio_wall} |")
+              f"{r.get('cpu_s', nan):.2f} | {r['wall_s']:.1f} | {r.get('peak_mb', nan):.0f} | {hand} | "
+              f"{_pair(best) if best else 'n/a'} | {best['cpu_s'] if best else nan:.2f} | "
+              f"{best['wall_s'] if best else nan:.1f} | {best['peak_mb'] if best else nan:.0f} | {ratio_cpu} | {ratio_wall} |")
     return 0
 
 

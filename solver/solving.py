@@ -20,7 +20,7 @@ from .fem.path_loads import path_loads
 from .fem.bodies import discretise
 from .fem.space import body_info
 from .model.accuracy import (COMPLETE_END_ORDER_RANGE, SIZE_ORDER_RANGE, contact_quantities, has_complete_end,
-                             largest_error, orders_for, relative_errors)
+                             largest_error, orders_for, peak_size_share, relative_errors)
 from .model.estimate import available_memory, estimate_size
 from .model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .model.resolve import resolve_problem
@@ -177,8 +177,9 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
             third = coarsest.contacts[k] if coarsest is not None and k < len(coarsest.contacts) else None
             span = COMPLETE_END_ORDER_RANGE if has_complete_end(block) else SIZE_ORDER_RANGE
             block["estimated_error"] = relative_errors(
-                contact_quantities(block), contact_quantities(other), orders_for(block),
-                coarsest=contact_quantities(third) if third is not None else None, order_range=span)
+                contact_quantities(block), contact_quantities(other, like=block), orders_for(block),
+                coarsest=contact_quantities(third) if third is not None else None, order_range=span,
+                size_share=peak_size_share(block))
             block.pop("estimate_note", None)
         else:
             block["estimated_error"] = None
