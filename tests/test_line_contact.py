@@ -385,6 +385,23 @@ def test_section_edge_moment_is_the_plane_strain_square_root_coefficient():
         np.testing.assert_allclose(moment[sides] / total[sides], expected, atol=2e-4)
 
 
+def test_knot_hats_on_unequal_knots_interpolate_linearly():
+    """Each knot's stretch of the edge is weighted by its hat function in phi; knots inserted
+    between others (refine_knots) make them unequally spaced. The hats are a partition of unity,
+    1 at their own knot and 0 at the others, and interpolate knot values linearly in phi across
+    2 pi (numpy's periodic linear interpolation as the independent check)."""
+    from ibfem.solver.contact.star_region import _hats
+
+    rng = np.random.default_rng(3)
+    knots = np.sort(rng.uniform(0.0, 2.0 * math.pi, 11))
+    phi = rng.uniform(-2.0, 8.0, 500)
+    hats = _hats(knots, phi)
+    np.testing.assert_allclose(hats.sum(axis=1), 1.0, atol=1e-14)
+    np.testing.assert_allclose(_hats(knots, knots), np.eye(len(knots)), atol=1e-14)
+    values = rng.normal(size=len(knots))
+    np.testing.assert_allclose(hats @ values, np.interp(phi, knots, values, period=2.0 * math.pi), atol=1e-12)
+
+
 LUNDBERG = Path(__file__).resolve().parent / "scenes" / "lundberg_roller.toml"
 
 
