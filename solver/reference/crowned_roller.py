@@ -70,11 +70,11 @@ def square_means(block: dict, result) -> np.ndarray:
 
 
 def region_half_widths(block: dict, stations: np.ndarray) -> np.ndarray:
-    """A 3D region's half-width across its axis 0 at the ``stations`` along it: the boundary
-    polyline of summary.json in the frame's coordinates, its part on the side s1 > 0,
-    interpolated along s0 (0 beyond its ends)."""
+    """A 3D region's half-width across its axis 0 at the ``stations`` along it, for a region
+    symmetric about that axis (a quarter model's): the boundary polyline of summary.json in the
+    frame's coordinates, |s1| off the axis interpolated along |s0| (0 beyond its end)."""
     frame_axes = np.array(block["axes"])
-    s = (np.array(block["boundary"]["points"]) - np.array(block["point"])) @ frame_axes[:2].T
+    s = np.abs((np.array(block["boundary"]["points"]) - np.array(block["point"])) @ frame_axes[:2].T)
     upper = s[s[:, 1] > 1e-12]
     order = np.argsort(upper[:, 0])
     return np.interp(stations, upper[order, 0], upper[order, 1], right=0.0)
