@@ -56,7 +56,10 @@ SPLIT_MOMENT = 4.0 * 0.005
 MAX_KNOTS = 96
 #: shape updates a load step may take beyond the options' max_stick_iterations per insertion of
 #: knots (the secants start again), and the most insertions per load step
-SPLIT_UPDATES = 10
+SPLIT_UPDATES = 12
+#: shape updates after an insertion within which the knots must agree again; otherwise the
+#: insertion is undone (the knots before it had agreed) and no more are tried in the load step
+SPLIT_SETTLE = 10
 MAX_SPLITS = 3
 #: the knots' edge moments agree with their mean to this (the shape has settled)
 KNOT_TOLERANCE = 0.005
@@ -124,6 +127,9 @@ class StarRegionContact(EllipseContact):
     across: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
     #: shape updates this load step may take beyond the options' budget (knots inserted)
     extra_shape_updates: int = 0
+    #: (knots, log rho, shape updates since) of the last insertion's settled knots, until the
+    #: knots agree again
+    _before_split: tuple | None = None
 
     # ------------------------------------------------------------------ the region's shape
 
@@ -309,6 +315,11 @@ class StarRegionContact(EllipseContact):
             return stuck
         d = np.where(smooth, m - self._pooled(smooth), 0.0)
         self._knot_history.append((self.log_rho.copy(), d))
+        if self._before_split is not None:  # knots were inserted: they agree again, or are undone
+            if float(np.abs(d).max()) <= KNOT_TOLERANCE:
+                self._before_split = None
+            elif self._undo_split(a):
+                return False
         if float(np.abs(d).max()) <= KNOT_TOLERANCE and self.refine_knots(x, a, info):
             return False
         if float(np.abs(d).max()) <= KNOT_TOLERANCE:
@@ -374,6 +385,22 @@ class StarRegionContact(EllipseContact):
         self.across = self.across_knots(a)
         self._knot_history = []  # every knot's hat has changed: the secants start again
         self.extra_shape_updates += SPLIT_UPDATES
+        self._before_split = (kept[0].copy(), kept[1].copy(), 0)
+        return True
+
+    def _undo_split(self, a: float) -> bool:
+        """Count a shape update after an insertion; after SPLIT_SETTLE of them without the knots
+        agreeing, restore the knots before it (they had agreed): True then."""
+        knots, log_rho, updates = self._before_split
+        if updates + 1 < SPLIT_SETTLE:
+            self._before_split = (knots, log_rho, updates + 1)
+            return False
+        self.knots, self.log_rho = knots, log_rho
+        self.free_knots, self.knot_moments = np.zeros(len(knots), dtype=bool), np.full(len(knots), math.nan)
+        self.across = self.across_knots(a)
+        self._knot_history = []
+        self._before_split = None
+        self.extra_shape_updates = MAX_SPLITS * SPLIT_UPDATES  # no more insertions in this step
         return True
 
     def _classify(self, a: float) -> None:
@@ -397,6 +424,7 @@ class StarRegionContact(EllipseContact):
         super().start_step()
         self._knot_history = []
         self.extra_shape_updates = 0
+        self._before_split = None
 
     def history_entry(self, v, a: float, step: int, iteration: int, tag: int, ratio: float) -> None:
         super().history_entry(v, a, step, iteration, tag, ratio)
