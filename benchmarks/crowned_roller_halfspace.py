@@ -1,0 +1,97 @@
+"""The crowned roller's 3D region against the half-space solution of the same gap at the run's
+force: length, the half-width along the line (stations every 5 mm and at the widest), the
+widest half-width against the region's extent across, and the peak's fit read the same way on
+both. Input: the summary.json of a run of examples/contact3d/crowned_roller.toml or of
+tests/scenes/crowned_roller_large_block.toml (the same roller on a 1 m block).
+
+    python benchmarks/crowned_roller_halfspace.py OUT/summary.json [--dx 0.001 --dy 0.0008]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+import numpy as np
+
+from ibfem.solver.contact.edge_pressure import agglomerated_cells, nodal_pressure
+from ibfem.solver.contact.region_report import fitted_peak, mirror_images
+from ibfem.solver.reference.crowned_roller import (crowned_gap, half_length, half_widths, region_half_widths,
+                                                   square_means)
+from ibfem.solver.reference.halfspace import halfspace_contact
+
+E_STAR = 2.0e11 / (2 * (1 - 0.3**2))
+
+
+def corner_read_peak(block: dict, result, maps: np.ndarray) -> tuple[np.ndarray, float]:
+    """The half-space pressure read as the 3D map is: its loaded rectangles (centres in the
+    frame's coordinates, their areas) read through the corners of the same squares
+    (nodal_pressure), averaged over its own merged squares, and the peak's fit of those."""
+    X, Y = np.meshgrid(result.x, result.y, indexing="ij")
+    loaded = result.pressure > 0.0
+    s = (np.stack([X[loaded], Y[loaded], np.zeros(int(loaded.sum()))], axis=1) - np.array(block["point"])) \
+        @ np.array(block["axes"]).T
+    w = np.full(len(s), float((result.x[1] - result.x[0]) * (result.y[1] - result.y[0])))
+    h = block["pressure_map"]["cell"]
+    cells = agglomerated_cells(s, w, nodal_pressure(s, w, result.pressure[loaded], h), h)
+    return fitted_peak(cells.centres, cells.means, cells.keys, maps)
+
+
+def compare(block: dict, dx: float, dy: float) -> dict:
+    x, y = np.arange(0.5 * dx, 0.09, dx), np.arange(0.5 * dy, 0.032, dy)
+    ref = halfspace_contact(crowned_gap(), x, y, E_STAR, force=block["normal_force"], symmetric=True)
+    length = half_length(ref)
+    widths = half_widths(ref)
+    ok = np.isfinite(widths)
+    widest = int(np.nanargmax(np.where(ok, widths, -1.0)))
+    stations = np.unique(np.concatenate([np.arange(0.0, 0.0751, 0.005), [x[widest]]]))
+    ref_w = np.interp(stations, x[ok], widths[ok])
+    w3 = region_half_widths(block, stations)
+    m = block["pressure_map"]
+    centres, value, keys = np.array(m["s"]), np.array(m["value"]), np.array(m["square"])
+    maps = mirror_images([(0.0, 0.5 * math.pi)])
+    reference = square_means(block, ref)
+    at, fit = fitted_peak(centres, value, keys, maps)
+    ref_at, ref_fit = fitted_peak(centres, reference, keys, maps)
+    corner_at, corner_fit = corner_read_peak(block, ref, maps)
+    return {"force": block["normal_force"], "cell": m["cell"],
+            "length": (block["semi_axes"][0], length), "widest": (float(region_half_widths(block, np.linspace(0.0, 0.09, 901)).max()),
+                       float(widths[widest]), float(x[widest])),
+            "extents": block["extents"],
+            "stations": [(float(s), float(a), float(b)) for s, a, b in zip(stations, w3, ref_w)],
+            "peak_fit": (fit, float(at[0]), ref_fit, float(ref_at[0])),
+            "peak_fit_corners": (corner_fit, float(corner_at[0])),
+            "point_peak": float(ref.pressure.max())}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("summary")
+    parser.add_argument("--dx", type=float, default=0.001)
+    parser.add_argument("--dy", type=float, default=0.0008)
+    args = parser.parse_args()
+    summary = json.load(open(args.summary))
+    block = summary["contacts"][0]
+    r = compare(block, args.dx, args.dy)
+    print(f"converged {summary.get('converged')}; quarter force {r['force']:.5g} N; cell {r['cell'] * 1e3:.3g} mm")
+    a, b = r["length"]
+    print(f"half-length: 3D {a:.5f} m, half-space {b:.5f} m: {100 * (a / b - 1):+.2f} % ({(a - b) / r['cell']:+.2f} cell)")
+    a, b, xw = r["widest"]
+    print(f"widest half-width: 3D boundary {a:.5f} m, half-space {b:.5f} m at x = {xw * 1e3:.1f} mm: "
+          f"{100 * (a / b - 1):+.2f} %; extents {r['extents']}")
+    for s, a, b in r["stations"]:
+        print(f"  x = {s * 1e3:5.1f} mm: 3D {a * 1e3:7.3f} mm, half-space {b * 1e3:7.3f} mm, {100 * (a / b - 1):+6.2f} %")
+    v, xa, rv, rx = r["peak_fit"]
+    b = r["length"][1]
+    print(f"peak fit: 3D {v / 1e9:.4f} GPa at x = {xa * 1e3:.2f} mm; half-space {rv / 1e9:.4f} GPa at "
+          f"{rx * 1e3:.2f} mm (its plain means over the same squares): {100 * (v / rv - 1):+.2f} %, position "
+          f"{100 * (xa - rx) / b:+.2f} % of the half-length")
+    cv, cx = r["peak_fit_corners"]
+    print(f"  half-space read through the squares' corners as the 3D map: {cv / 1e9:.4f} GPa at {cx * 1e3:.2f} mm: "
+          f"{100 * (v / cv - 1):+.2f} %, position {100 * (xa - cx) / b:+.2f} % of the half-length; its point peak "
+          f"{r['point_peak'] / 1e9:.4f} GPa")
+
+
+if __name__ == "__main__":
+    main()
