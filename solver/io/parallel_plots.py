@@ -116,10 +116,10 @@ def _shares(groups: tuple[str, ...], processes: int) -> list[tuple[str, ...]]:
 
 def _warm_up() -> float:
     """Import what rendering needs (matplotlib's figure and axes modules included: a tenth of a
-    second that the first picture would otherwise pay); the seconds it took. The throw-away
-    picture that warms matplotlib's caches (:func:`_rehearse`) comes later, only when the job
-    has not come by then: drawn before a job that is waiting, it would delay it by more than it
-    saves."""
+    second that the first picture would otherwise pay); the seconds it took. A throw-away
+    picture drawn while no job has come (to fill matplotlib's caches) was tried and dropped:
+    alternating runs of plate_with_hole and lame_quarter_annulus wrote their output slower
+    with it."""
     t0 = time.perf_counter()
     try:
         from matplotlib.backends import backend_agg  # noqa: F401 - imported here, while the run solves
@@ -137,18 +137,6 @@ def _idle_imports(conn) -> None:
     job whose bodies' output meshes are made is sent without its solution and needs none)."""
     if not conn.poll(0):
         import ibfem.solver.solution  # noqa: F401
-
-
-def _rehearse(conn) -> None:
-    """While no job has come: draw a throw-away picture (solver.io.plots.rehearse), so that the
-    run's first picture does not pay matplotlib's first-picture costs (its fonts, its caches)."""
-    if not conn.poll(0):
-        try:
-            from .plots import rehearse
-
-            rehearse()
-        except ImportError:  # no matplotlib: the job reports it
-            pass
 
 
 def _local_functions(problem) -> dict[int, Any]:
@@ -244,7 +232,6 @@ def _serve(conn, go, shared: dict[int, Any]) -> None:
     outcomes (the worker's, then the helper's)."""
     warm = _warm_up()
     _idle_imports(conn)
-    _rehearse(conn)
     try:
         job = conn.recv_bytes()
     except EOFError:

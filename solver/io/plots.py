@@ -17,7 +17,7 @@ from .plot_units import length_unit, stress_unit
 from .body_output import body_output
 from .results import _file_stem, json_safe
 
-__all__ = ["write_plots", "rehearse"]
+__all__ = ["write_plots"]
 
 
 class AggFigures:
@@ -82,30 +82,6 @@ class _Figures:
             ax.plot(s / lscale, stress[:, k] / sscale, label=label)
         ax.plot(s / lscale, vm / sscale, "k", lw=2, label="von Mises")
         self.save_line_plot(fig, ax, f"distance along the line [{lname}]", f"stress [{sname}]", title, name)
-
-
-def rehearse() -> None:
-    """Draw a small throw-away picture with what the run's pictures are made of (a Gouraud-shaded
-    field, a colour bar, ticks, titles, a legend, PNG encoding): matplotlib loads its fonts and
-    fills its caches on the first picture a process draws, which then costs about 1.4 times a
-    later one. A picture process with nothing to do yet calls this, so that the run's pictures
-    are not its first."""
-    import io
-
-    plt = AggFigures()
-    fig = plt.figure(figsize=(3.0, 1.5))
-    fig.suptitle("rehearsal")
-    ax = fig.add_axes((0.15, 0.2, 0.5, 0.6))
-    cax = fig.add_axes((0.75, 0.2, 0.04, 0.6))
-    image = ax.tripcolor([0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [[0, 1, 2]], [0.0, 1.0, 2.0], shading="gouraud")
-    fig.colorbar(image, cax=cax, label="stress [MPa]")
-    ax.plot([0.0, 1.0], [0.0, 1.0], "k", lw=2, label="von Mises")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    ax.set_title("field (deformed, true scale)", fontsize=10)
-    ax.set_xlabel("x [mm]")
-    ax.set_ylabel("y [mm]")
-    fig.savefig(io.BytesIO(), format="png", dpi=30, pil_kwargs={"compress_level": 1})
 
 
 def _triangles(out) -> np.ndarray:
