@@ -56,6 +56,22 @@ def test_2d_plots_show_the_contacts_peak(tmp_path):
     plt.close(fig)
 
 
+def test_a_field_figure_made_ahead_draws_the_same_picture(tmp_path):
+    """A picture process that makes the field figure's empty axes while it waits for the run
+    (plots.prepare_field_figure) writes, pixel for pixel, the picture made all at once."""
+    problem = cylinder_on_block("frictionless", ux=0.0)
+    solution = solve(problem)
+    summary = write_results(tmp_path / "first", problem, solution, vtk=False, plots=False)
+    pixels = []
+    for ahead in (False, True):
+        if ahead:
+            plots.prepare_field_figure()
+        (path,) = plots.write_plots(tmp_path / str(ahead), problem, solution, summary, groups=("fields:scene",))
+        pixels.append(image.imread(path))
+    assert not plots._prepared  # taken by the picture
+    assert pixels[0].shape == pixels[1].shape and np.array_equal(pixels[0], pixels[1])
+
+
 SOLID = {
     "model": "solid", "name": "ball on block",
     "materials": [{"name": "steel", "youngs_modulus": 2e11, "poissons_ratio": 0.3}],

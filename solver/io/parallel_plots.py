@@ -86,15 +86,18 @@ def idle_cores() -> int:
     return max(0, int(cores - load))
 
 
-def _asks_for_plots(scene_path: Path) -> bool:
-    """Whether a scene file's ``[output]`` table sets ``plots = true`` (read as text: the scene
-    is validated later; an unreadable file asks for nothing)."""
+def _scene_pictures(scene_path: Path) -> str | None:
+    """The ``model`` of a scene file whose ``[output]`` table sets ``plots = true``, None when it
+    asks for no pictures (read as text: the scene is validated later; an unreadable file asks
+    for nothing)."""
     try:
         text = scene_path.read_bytes().decode("utf-8-sig")
         data = json.loads(text) if scene_path.suffix.lower() == ".json" else tomllib.loads(text)
-        return data.get("output", {}).get("plots") is True
+        if data.get("output", {}).get("plots") is not True:
+            return None
+        return str(data.get("model", "plane_strain"))
     except (OSError, ValueError, AttributeError, RecursionError):  # TOMLDecodeError is a ValueError
-        return False
+        return None
 
 
 def _fork_context():
@@ -131,12 +134,23 @@ def _warm_up() -> float:
     return time.perf_counter() - t0
 
 
-def _idle_imports(conn) -> None:
-    """While no job has come: import the solver's solution classes, which a job holding a
-    solution unpickles (a worker started before the scene was loaded does not have them; a 2D
-    job whose bodies' output meshes are made is sent without its solution and needs none)."""
-    if not conn.poll(0):
-        import ibfem.solver.solution  # noqa: F401
+def _while_waiting(conn, planar: bool) -> None:
+    """While no job has come, what the job will need first: for a 2D run, the empty figure of
+    its field picture (:func:`solver.io.plots.prepare_field_figure`: its axes and tick marks,
+    about a quarter of that picture's time); for a 3D run, the solver's solution classes, which
+    its job unpickles (a worker started before the scene was loaded does not have them; a 2D
+    job whose bodies' output meshes are made goes without its solution and needs none)."""
+    if conn.poll(0):
+        return
+    try:
+        if planar:
+            from .plots import prepare_field_figure
+
+            prepare_field_figure()
+        else:
+            import ibfem.solver.solution  # noqa: F401
+    except ImportError:  # matplotlib missing: reported with the job
+        pass
 
 
 def _local_functions(problem) -> dict[int, Any]:
@@ -226,12 +240,12 @@ def _helper(args: tuple, tasks: tuple[str, ...], counter, go, writer) -> None:
         writer.close()
 
 
-def _serve(conn, go, shared: dict[int, Any]) -> None:
-    """The worker: warm up, wait for one job (an empty message or a closed pipe: nothing to do), fork a
+def _serve(conn, go, shared: dict[int, Any], planar: bool) -> None:
+    """The worker: warm up (and prepare while no job has come, :func:`_while_waiting`), wait for one job (an empty message or a closed pipe: nothing to do), fork a
     helper for it and render its tasks with the helper (:func:`_claim`), report both processes'
     outcomes (the worker's, then the helper's)."""
     warm = _warm_up()
-    _idle_imports(conn)
+    _while_waiting(conn, planar)
     try:
         job = conn.recv_bytes()
     except EOFError:
@@ -289,7 +303,7 @@ class PictureWorker:
         if early is not None:
             early.stop(at_once=True)
         context = _fork_context()
-        return None if context is None or shared is None else cls._launch(context, shared)
+        return None if context is None or shared is None else cls._launch(context, shared, getattr(problem, "dim", 2) == 2)
 
     @classmethod
     def early(cls, scene_path: str | Path) -> PictureWorker | None:
@@ -298,13 +312,14 @@ class PictureWorker:
         solver) and the run solves, so that a run of a second has its pictures' processes ready
         when its solve ends. Pass it to :meth:`start` once the problem is made."""
         context = _fork_context()
-        return cls._launch(context, {}) if context is not None and _asks_for_plots(Path(scene_path)) else None
+        model = _scene_pictures(Path(scene_path)) if context is not None else None
+        return cls._launch(context, {}, model != "solid") if model is not None else None
 
     @classmethod
-    def _launch(cls, context, shared: dict[int, Any]) -> PictureWorker:
+    def _launch(cls, context, shared: dict[int, Any], planar: bool) -> PictureWorker:
         conn, child_end = context.Pipe()
         go_reader, go = context.Pipe(duplex=False)
-        process = context.Process(target=_serve, args=(child_end, go_reader, shared), daemon=True)
+        process = context.Process(target=_serve, args=(child_end, go_reader, shared, planar), daemon=True)
         process.start()
         child_end.close()
         go_reader.close()
