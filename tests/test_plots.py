@@ -56,20 +56,24 @@ def test_2d_plots_show_the_contacts_peak(tmp_path):
     plt.close(fig)
 
 
-def test_a_field_figure_made_ahead_draws_the_same_picture(tmp_path):
-    """A picture process that makes the field figure's empty axes while it waits for the run
-    (plots.prepare_field_figure) writes, pixel for pixel, the picture made all at once."""
+def test_field_and_line_pictures_made_ahead_are_the_same_pictures(tmp_path):
+    """A picture process that makes the empty figures while it waits for the run
+    (plots.prepare_figures) writes, pixel for pixel, the pictures made all at once."""
     problem = cylinder_on_block("frictionless", ux=0.0)
     solution = solve(problem)
-    summary = write_results(tmp_path / "first", problem, solution, vtk=False, plots=False)
-    pixels = []
+    line = {"name": "down", "start": [0.0, 0.5], "end": [0.0, -0.5], "n": 40}
+    summary = write_results(tmp_path / "first", problem, solution, lines=[line], vtk=False, plots=False)
+    pictures = []
     for ahead in (False, True):
         if ahead:
-            plots.prepare_field_figure()
-        (path,) = plots.write_plots(tmp_path / str(ahead), problem, solution, summary, groups=("fields:scene",))
-        pixels.append(image.imread(path))
-    assert not plots._prepared  # taken by the picture
-    assert pixels[0].shape == pixels[1].shape and np.array_equal(pixels[0], pixels[1])
+            plots.prepare_figures()
+        written = plots.write_plots(tmp_path / str(ahead), problem, solution, summary,
+                                    groups=("fields:scene", "profiles"))
+        pictures.append({p.name: image.imread(p) for p in written})
+    assert not plots._prepared  # both taken by their pictures
+    assert {"fields.png", "line_down.png"} <= set(pictures[0]) == set(pictures[1])
+    for name in pictures[0]:
+        assert np.array_equal(pictures[0][name], pictures[1][name]), name
 
 
 SOLID = {

@@ -135,18 +135,18 @@ def _warm_up() -> float:
 
 
 def _while_waiting(conn, planar: bool) -> None:
-    """While no job has come, what the job will need first: for a 2D run, the empty figure of
-    its field picture (:func:`solver.io.plots.prepare_field_figure`: its axes and tick marks,
-    about a quarter of that picture's time); for a 3D run, the solver's solution classes, which
+    """While no job has come, what the job will need first: for a 2D run, the empty figures of
+    its field picture and a stress line picture (:func:`solver.io.plots.prepare_figures`: their
+    axes and tick marks, about a quarter of those pictures' time); for a 3D run, the solver's solution classes, which
     its job unpickles (a worker started before the scene was loaded does not have them; a 2D
     job whose bodies' output meshes are made goes without its solution and needs none)."""
     if conn.poll(0):
         return
     try:
         if planar:
-            from .plots import prepare_field_figure
+            from .plots import prepare_figures
 
-            prepare_field_figure()
+            prepare_figures()
         else:
             import ibfem.solver.solution  # noqa: F401
     except ImportError:  # matplotlib missing: reported with the job

@@ -76,7 +76,7 @@ class _Figures:
         finite = finite[np.isfinite(finite)]
         sname, sscale = stress_unit(float(finite.max()) if finite.size else 1.0)
         lname, lscale = length_unit(float(np.ptp(s)) if len(s) else 1.0)
-        fig, ax = self.plt.subplots(figsize=(7, 4.5))
+        fig, ax = _prepared.pop("line", None) or self.plt.subplots(figsize=_LINE_SIZE)
         fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.92)  # fixed: short tick labels in these units
         for k, label in enumerate(components):
             ax.plot(s / lscale, stress[:, k] / sscale, label=label)
@@ -161,8 +161,9 @@ def _draw_field(fig: Any, ax: Any, cax: Any, outputs, key: str, label: str, wind
 #: the field pictures' panels: (left edge, field, label)
 _PANELS = ((0.06, "von_mises", "von Mises stress"), (0.575, "displacement", "displacement magnitude"))
 
-#: the empty field figure made ahead (:func:`prepare_field_figure`), taken by the next field picture
-_prepared: list = []
+#: empty figures made ahead (:func:`prepare_figures`), by kind ("field", "line"), each taken by
+#: the next picture of its kind
+_prepared: dict[str, Any] = {}
 
 
 def _empty_field_figure(plt) -> tuple[Any, list[tuple[Any, Any]]]:
@@ -186,15 +187,25 @@ def _empty_field_figure(plt) -> tuple[Any, list[tuple[Any, Any]]]:
 _TICKS = 8
 
 
-def prepare_field_figure() -> None:
-    """Make the next field picture's empty figure now (a process waiting for a run's solution
-    calls this while it waits: a tenth of the picture's time, then off the run's critical path)."""
-    _prepared[:] = [_empty_field_figure(AggFigures())]
+#: a stress line picture's size (inches)
+_LINE_SIZE = (7, 4.5)
+
+
+def prepare_figures() -> None:
+    """Make the next field picture's and stress line picture's empty figures now, with their
+    axes and tick marks (a process waiting for a run's solution calls this while it waits: a
+    quarter of those pictures' time, then off the run's critical path)."""
+    plt = AggFigures()
+    _prepared["field"] = _empty_field_figure(plt)
+    fig, ax = plt.subplots(figsize=_LINE_SIZE)
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.get_major_ticks(_TICKS + 2)  # up to nine bins
+    _prepared["line"] = fig, ax
 
 
 def _field_figure(plt, outputs, title: str, window) -> Any:
     """von Mises and displacement magnitude side by side over ``window`` (the whole scene when None)."""
-    fig, panels = _prepared.pop() if _prepared else _empty_field_figure(plt)
+    fig, panels = _prepared.pop("field", None) or _empty_field_figure(plt)
     fig.suptitle(title)
     allpoints = np.concatenate([out.points for out in outputs])
     window = window or (allpoints[:, 0].min(), allpoints[:, 0].max(), allpoints[:, 1].min(), allpoints[:, 1].max())
