@@ -71,6 +71,20 @@ def test_errors_name_the_key_path(solids):
     assert "boundary_conditions[1].face = 'bottom'" in str(err.value) and "z0" in str(err.value)
 
 
+def test_output_lines_and_switches_are_checked_as_in_2d(solids):
+    """A 3D scene's ``[output]`` table: a line's name used twice, a line whose ends coincide and
+    a switch that is not true or false are named with their key path, as in a 2D scene."""
+    line = {"name": "axis", "start": [0, 0, 0], "end": [0, 0, -0.5], "n": 20}
+    for output, message in (({"lines": [line, line]}, 'line name "axis" used twice'),
+                            ({"lines": [dict(line, end=[0, 0, 0])]}, "output.lines[0].end"),
+                            ({"vtk": "yes"}, "output.vtk")):
+        bad = _scene()
+        bad["output"] = output
+        with pytest.raises(SceneError) as err:
+            load_scene(bad, label="s.toml")
+        assert message in str(err.value), str(err.value)
+
+
 def test_contact_point_found_as_the_closest_points(solids):
     scene = load_scene(_scene(), label="s.toml")
     assert scene.problem.model == "solid" and scene.problem.dim == 3

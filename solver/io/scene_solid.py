@@ -12,7 +12,7 @@ import math
 from pathlib import Path
 from typing import Annotated, Any, Literal, Optional, Union
 
-from pydantic import BeforeValidator, Field, ValidationError, ValidationInfo, field_validator
+from pydantic import BeforeValidator, Field, ValidationError, field_validator
 from pydantic_core import PydanticCustomError
 
 from ibfem.solver.model import problem as pb
@@ -37,6 +37,8 @@ from .scene import (
     _Strict,
     size_problems,
     _fields_of,
+    LineSpec,
+    OutputSpec,
 )
 from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
 from .scene_reference_point import ReferencePoint3Spec, reference_point
@@ -141,23 +143,16 @@ def _holds(bc) -> bool:
     return isinstance(bc, _ESSENTIAL) or (isinstance(bc, ReferencePoint3) and bc.coupling == "kinematic")
 
 
-class Line3(_Strict):
-    name: str = Field(min_length=1)
+class Line3(LineSpec):
+    """An output line of a 3D scene (as a 2D scene's, with 3D points)."""
+
     start: Vec3
     end: Vec3
-    n: int = Field(100, ge=2, le=100_000)
-
-    @field_validator("end")
-    @classmethod
-    def _not_degenerate(cls, v: tuple, info: ValidationInfo) -> tuple:
-        if info.data.get("start") == v:
-            raise PydanticCustomError("line", "start and end coincide")
-        return v
 
 
-class Output3(_Strict):
-    vtk: bool = True
-    plots: bool = False
+class Output3(OutputSpec):
+    """The ``[output]`` table of a 3D scene (as a 2D scene's, with 3D probes and lines)."""
+
     probes: list[Vec3] = []
     lines: list[Line3] = []
 
