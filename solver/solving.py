@@ -283,15 +283,51 @@ def refined_around_contacts(problem: Problem, solution: IBFEMSolution) -> Proble
     return dataclasses.replace(problem, bodies=bodies)
 
 
+def graded_around_contacts(problem: Problem, solution: IBFEMSolution) -> Problem | None:
+    """``problem`` with its far field graded about each contact region ``solution`` found: for
+    each body in contact, beyond its deepest zone (radius r0, at least REGION_MARGIN times the
+    region's extent), zones one level coarser at every doubling of the radius, 2 r0, 4 r0, ...,
+    until one covers the body's bounding box, so that the cells grow in proportion to the distance
+    from the contact (the displacement of a concentrated load falls like 1 / r). None when a
+    contact has no region or the grading adds nothing (the grid is graded already)."""
+    zones: dict[str, list] = {}
+    for contact, block in zip(problem.contacts, solution.contacts):
+        extent = _region_extent(block)
+        if extent is None:
+            return None
+        centre = np.asarray(block["point"], dtype=float)
+        for name in contact.bodies:
+            body = problem.body(name)
+            lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
+            reach = float(np.linalg.norm(np.maximum(np.abs(lo - centre), np.abs(hi - centre))))
+            levels = max([int(r.levels) for r in body.refinements], default=0)
+            deepest = [r.radius for r in body.refinements if int(r.levels) == levels]
+            radius = max(deepest + [REGION_MARGIN * extent])
+            while levels > 1 and radius < reach:
+                levels, radius = levels - 1, 2.0 * radius
+                if not any(int(r.levels) >= levels and r.radius >= radius for r in body.refinements):
+                    zones.setdefault(name, []).append(Refinement(levels=levels, radius=radius, center=centre))
+    if not zones:
+        return None
+    bodies = tuple(dataclasses.replace(b, refinements=b.refinements + tuple(zones[b.name])) if b.name in zones else b
+                   for b in problem.bodies)
+    return dataclasses.replace(problem, bodies=bodies)
+
+
 def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None) -> tuple[Problem, str]:
     """The next rung of the accuracy ladder and how it was refined: around the contacts when the
     largest estimated error is a contact quantity the region's cells govern (its sizes, the peak
-    pressure, the subsurface stress), everywhere (every cell halved) when it is the normal force,
-    whose error the far field carries too, or when a region is unknown."""
+    pressure, the subsurface stress); when it is the normal force, whose error the far field
+    carries too, the far field graded about the contacts (:func:`graded_around_contacts`) if it
+    is not yet, else (or when a region is unknown) every cell halved."""
     if worst not in _FAR_FIELD:
         local = refined_around_contacts(problem, solution)
         if local is not None:
             return local, "contact"
+    else:
+        graded = graded_around_contacts(problem, solution)
+        if graded is not None:
+            return graded, "far field"
     return coarser(problem, 0.5), "everywhere"
 
 
@@ -337,8 +373,9 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
     estimated relative error of every contact quantity is below ``problem.options.accuracy``:
     around the contact regions found (one level deeper within 1.5 times each region's extent:
     :func:`refined_around_contacts`) while the largest error is a size, the peak pressure or the
-    subsurface stress; every cell halved (element sizes halved, zones kept) while it is the normal
-    force. Each new rung's estimate takes the previous rung as its coarse partner, so every rung
+    subsurface stress; while it is the normal force the far field graded about the contacts
+    (:func:`graded_around_contacts`) and, once graded, every cell halved (element sizes halved,
+    zones kept). Each new rung's estimate takes the previous rung as its coarse partner, so every rung
     is solved once; a rung refined around the contacts keeps the previous rung's estimate of the
     normal force where that is larger (its far field was not refined). Each contact's stick-zone
     tolerance is tightened to a tenth of the target. Stops, saying
