@@ -223,6 +223,15 @@ def test_rung_around_the_contact_keeps_the_far_field_estimate():
     local = SimpleNamespace(contacts=[{"estimated_error": {"half_width": 0.0015, "normal_force": 1e-5}}])
     _carry_far_field(local, previous)
     assert local.contacts[0]["estimated_error"] == {"half_width": 0.0015, "normal_force": 0.002}
+    # a rung that graded only the far field keeps the contact's cells: the other quantities'
+    # estimates are carried, the normal force's is its own
+    previous = SimpleNamespace(contacts=[{"estimated_error": {"semi_axes": [0.004, None], "max_pressure": 0.003,
+                                                              "normal_force": 0.01}}])
+    graded = SimpleNamespace(contacts=[{"estimated_error": {"semi_axes": [1e-5, 2e-5], "max_pressure": 1e-5,
+                                                            "normal_force": 0.003}}])
+    _carry_far_field(graded, previous, far=False)
+    assert graded.contacts[0]["estimated_error"] == {"semi_axes": [0.004, 2e-5], "max_pressure": 0.003,
+                                                     "normal_force": 0.003}
 
 
 def test_accuracy_target_tightens_the_stick_tolerance_below_it():
