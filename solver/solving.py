@@ -201,7 +201,8 @@ def far_field_energy(solution: IBFEMSolution, centre, radius: float) -> tuple[fl
     procedure for practical engineering analysis, Int. J. Numer. Methods Eng. 24, 337-357, 1987)
     summed over the cells whose centres lie beyond ``radius``, and the strain energy of the
     whole solution, both by 2 x 2 x 2 Gauss points per cell weighted by the cell's inside
-    volume (the points outside the body dropped)."""
+    volume (the points outside the body dropped; a cut cell with none inside takes its inside
+    part's centroid)."""
     local = np.array(np.meshgrid(_GAUSS, _GAUSS, _GAUSS, indexing="ij")).reshape(3, -1).T
     centre = np.asarray(centre, dtype=float)
     error, energy = 0.0, 0.0
@@ -214,6 +215,10 @@ def far_field_energy(solution: IBFEMSolution, centre, radius: float) -> tuple[fl
         cells = np.repeat(np.arange(len(middle)), len(local))
         keep = body.contains(points)
         points, cells = points[keep], cells[keep]
+        # a cut cell none of whose Gauss points lies inside keeps its volume at its inside centroid
+        empty = np.nonzero((np.bincount(cells, minlength=len(middle)) == 0) & (body.inside_volume > 0.0))[0]
+        points = np.concatenate([points, body.cell_centroids()[empty]])
+        cells = np.concatenate([cells, empty])
         discrete = np.asarray(body.stress_operator(points, cells) @ solution.u).reshape(-1, 6)
         shape, _ = body.shape(points, cells)
         recovered = np.einsum("qa,qak->qk", shape, solution.nodal_stress(body.name)[grid.cells[cells]])
