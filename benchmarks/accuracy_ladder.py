@@ -40,8 +40,25 @@ REFERENCE_2D = {"steel": {"N": 5.09163e8, "a": (0.07664, 0.07673)}}
 
 #: the 3D ladder's grading about the contact: each zone twice the radius of the one inside it and
 #: one level coarser, so that the cells grow in proportion to the distance from the contact, out
-#: to the bodies' far corners (the default of --zones)
+#: to the bodies' far corners (the ladder of docs/accuracy.md; the default of --zones is now
+#: found_zones(), which adds a last zone of 1 level within 2.24 m)
 GRADED_ZONES = [(6, 0.07), (5, 0.14), (4, 0.28), (3, 0.56), (2, 1.2)]
+
+
+def found_zones() -> list[tuple[int, float]]:
+    """The default --zones: the accuracy target's grading of the far field
+    (``ibfem.solver.solving.graded_around_contacts``) about the region the scene's own grid finds,
+    from its deepest zone (at least 1.5 times the region's extent) one level coarser at every
+    doubling of the radius out to the bodies' bounding boxes: derived from the contact and the
+    bodies, not from this example (on sphere_on_flat: 6 ... 1 levels within 0.07 ... 2.24 m)."""
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.solving import graded_around_contacts, resolve_problem, solve
+
+    scene = load_scene(peers.SPHERE_SCENE)
+    solution = solve(scene.problem)
+    graded = graded_around_contacts(resolve_problem(scene.problem), solution)
+    zones = {(int(r.levels), float(r.radius)) for b in graded.bodies for r in b.refinements}
+    return sorted(zones, reverse=True)
 
 
 def sphere_zones_scene(element_size: float, zones: list[tuple[int, float]]) -> dict:
@@ -140,7 +157,7 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--levels", type=int, nargs="+", default=None,
                     help="refinement levels around the contact: one for all rungs, or one per rung")
     ap.add_argument("--zones", nargs="*", default=None, help="3D: refinement zones about the contact, "
-                    "each LEVELS,RADIUS, the same on every rung (instead of --levels; none given: GRADED_ZONES)")
+                    "each LEVELS,RADIUS, the same on every rung (instead of --levels; none given: found_zones(), the accuracy target's grading about the region the scene's grid finds)")
     ap.add_argument("--json", type=Path, default=None, help="write the rows here")
     ap.add_argument("--report", type=Path, default=None, help="3D: the table again from rows written by --json")
     args = ap.parse_args(argv)
@@ -151,7 +168,8 @@ def main(argv: list[str]) -> int:
     if args.zones is not None:
         if args.problem != "sphere3d":
             ap.error("--zones is for --problem sphere3d")
-        zones = parse_zones(args.zones) if args.zones else GRADED_ZONES
+        zones = parse_zones(args.zones) if args.zones else found_zones()
+        print(f"zones (levels, radius): {zones}", flush=True)
         rows = []
         with tempfile.TemporaryDirectory() as tmp:
             for h0 in args.element_sizes:

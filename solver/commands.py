@@ -225,6 +225,8 @@ def _print_contacts(summary: dict, ladder: dict | None) -> None:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
         key, value = largest_error(c.get("estimated_error") or {})
         if ladder is None and value > WARN_ABOVE:
+            advice = ("grade the far field: zones about the contact one level coarser at every doubling of "
+                      "the radius, out to the bodies' extent" if key == "normal_force"
+                      else "refine the grid around the contact (more refinement levels)")
             _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: the estimated error of {key} is "
-                 f"{100 * value:.2g} %, above {100 * WARN_ABOVE:g} %: refine the grid around the contact "
-                 "(more refinement levels)")
+                 f"{100 * value:.2g} %, above {100 * WARN_ABOVE:g} %: {advice}, or set [solver] accuracy")

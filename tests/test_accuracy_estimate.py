@@ -204,8 +204,11 @@ def test_rung_around_the_contact_covers_the_region_one_level_deeper():
         # the region's cells are then half the size they were
         from ibfem.solver.model.resolve import finest_size_at
         assert finest_size_at(after, np.array([0.031, 0.0])) == pytest.approx(0.5 * finest_size_at(before, np.array([0.031, 0.0])))
-    # a normal force error is the far field's too: that rung halves every cell
+    # a normal force error is the far field's too: that rung grades the far field about the
+    # contact, and once it is graded halves every cell
     finer, how = _next_rung(problem, SimpleNamespace(contacts=[block]), "normal_force")
+    assert how == "far field"
+    finer, how = _next_rung(finer, SimpleNamespace(contacts=[block]), "normal_force")
     assert how == "everywhere" and all(f.element_size == 0.5 * b.element_size for f, b in zip(finer.bodies, problem.bodies))
     # a contact without a region to refine around: every cell halved as well
     assert refined_around_contacts(problem, SimpleNamespace(contacts=[{"point": None}])) is None
@@ -220,6 +223,15 @@ def test_rung_around_the_contact_keeps_the_far_field_estimate():
     local = SimpleNamespace(contacts=[{"estimated_error": {"half_width": 0.0015, "normal_force": 1e-5}}])
     _carry_far_field(local, previous)
     assert local.contacts[0]["estimated_error"] == {"half_width": 0.0015, "normal_force": 0.002}
+    # a rung that graded only the far field keeps the contact's cells: the other quantities'
+    # estimates are carried, the normal force's is its own
+    previous = SimpleNamespace(contacts=[{"estimated_error": {"semi_axes": [0.004, None], "max_pressure": 0.003,
+                                                              "normal_force": 0.01}}])
+    graded = SimpleNamespace(contacts=[{"estimated_error": {"semi_axes": [1e-5, 2e-5], "max_pressure": 1e-5,
+                                                            "normal_force": 0.003}}])
+    _carry_far_field(graded, previous, far=False)
+    assert graded.contacts[0]["estimated_error"] == {"semi_axes": [0.004, 2e-5], "max_pressure": 0.003,
+                                                     "normal_force": 0.003}
 
 
 def test_accuracy_target_tightens_the_stick_tolerance_below_it():
@@ -230,3 +242,28 @@ def test_accuracy_target_tightens_the_stick_tolerance_below_it():
     assert all(c.options.stick_tolerance == pytest.approx(STICK_TOLERANCE_SHARE * 0.002) for c in tight.contacts)
     loose = _tightened(problem, 0.5)  # never looser than the scene's own
     assert all(t.options.stick_tolerance == c.options.stick_tolerance for t, c in zip(loose.contacts, problem.contacts))
+
+
+def test_graded_far_field_cells_grow_in_proportion_to_the_distance():
+    # beyond the deepest zone every doubling of the distance from the contact point is one level
+    # coarser, out to the body's far corner: the cell size over the distance stays within a factor
+    # 2 of its value at the deepest zone's edge, and the cells inside that zone are kept
+    from types import SimpleNamespace
+
+    from ibfem.solver.model.resolve import finest_size_at
+    from ibfem.solver.solving import graded_around_contacts
+    problem = _resolved_mesh_convergence()
+    block = {"point": [0.0, 0.0], "half_width": 0.03, "region": [-0.031, 0.0305]}
+    graded = graded_around_contacts(problem, SimpleNamespace(contacts=[block]))
+    for before, after in zip(problem.bodies, graded.bodies):
+        deepest = max(r.levels for r in before.refinements)
+        r0 = max(r.radius for r in before.refinements if r.levels == deepest)
+        lo, hi = (np.asarray(v, dtype=float) for v in after.profile.bounds)
+        reach = float(np.linalg.norm(np.maximum(np.abs(lo), np.abs(hi))))
+        ratio0 = finest_size_at(before, np.array([0.5 * r0, 0.0])) / r0
+        for distance in np.geomspace(1.05 * r0, 0.99 * min(reach, r0 * 2.0 ** (deepest - 1)), 12):
+            point = np.array([distance * 0.6, -distance * 0.8])
+            assert finest_size_at(after, point) / distance <= 2.0 * ratio0 + 1e-12
+        assert finest_size_at(after, np.array([0.5 * r0, 0.0])) == pytest.approx(ratio0 * r0)
+    # a graded grid is not graded again
+    assert graded_around_contacts(graded, SimpleNamespace(contacts=[block])) is None

@@ -41,7 +41,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-__all__ = ["HERTZ_SHAPE_PEAK_SIZE_SHARE", "ORDERS", "peak_size_share", "WARN_ABOVE", "SIZE_ORDER_RANGE", "contact_quantities", "has_complete_end", "observed_order",
+__all__ = ["complementary_energy_density", "far_field_force_error", "HERTZ_SHAPE_PEAK_SIZE_SHARE", "ORDERS", "peak_size_share", "WARN_ABOVE", "SIZE_ORDER_RANGE", "contact_quantities", "has_complete_end", "observed_order",
            "orders_for", "relative_errors", "largest_error", "three_grid_error"]
 
 #: convergence order of each quantity on Q1 elements
@@ -251,3 +251,29 @@ def largest_error(errors: Mapping[str, Any]) -> tuple[str | None, float]:
             if v is not None and math.isfinite(v) and v > best[1]:
                 best = (key, float(v))
     return best
+
+
+def complementary_energy_density(stress: np.ndarray, youngs_modulus: float, poissons_ratio: float) -> np.ndarray:
+    """s : C^-1 : s of 3D stresses ``stress`` (n, 6), [sxx, syy, szz, syz, sxz, sxy], in an
+    isotropic material: ((1 + nu) s:s - nu tr(s)^2) / E (twice the energy density)."""
+    stress = np.asarray(stress, dtype=float)
+    trace = stress[:, :3].sum(axis=1)
+    squares = (stress[:, :3] ** 2).sum(axis=1) + 2.0 * (stress[:, 3:] ** 2).sum(axis=1)
+    return ((1.0 + poissons_ratio) * squares - poissons_ratio * trace ** 2) / youngs_modulus
+
+
+def far_field_force_error(error_energy: float, strain_energy: float) -> float:
+    """The relative error of a displacement-driven contact's normal force that an energy error
+    ``error_energy`` (||u - u_h||^2 in the energy norm, integral of (s - s_h) : C^-1 : (s - s_h))
+    causes, with ``strain_energy`` U_h the solution's: error_energy / (2 U_h).
+
+    With the displacement prescribed, the discrete solution is stiffer than the exact one and its
+    energy exceeds it by half the error's energy norm squared (Galerkin orthogonality), U_h - U =
+    ||e||^2 / 2, and the force is the energy's derivative with respect to the approach delta. For
+    N ~ delta^m (m = 1 linear, 3/2 Hertz) both energies scale like delta^(m + 1), so
+    N_h - N = (m + 1) ||e||^2 / (2 delta) and, with U_h = N_h delta / (m + 1), the relative error
+    is ||e||^2 / (2 U_h) whatever m. Where the load is a force the force has no such error, and
+    this overestimates."""
+    if not (strain_energy > 0.0 and math.isfinite(error_energy)):
+        return math.nan
+    return float(error_energy / (2.0 * strain_energy))
