@@ -95,14 +95,14 @@ def test_sphere_fretting_against_mindlin_deresiewicz(tmp_path):
         assert q == pytest.approx(st["reactions"]["ball/flat"][0], rel=1e-6, abs=1e-6 * st["contacts"][0]["normal_force"])
 
 
-def _proportional_scene(ux: float):
+def _proportional_scene(ux: float, steps: int = 20):
     """The fretting example with the ball's flat top moved down and along x together from zero (one
-    path on both components, five steps)."""
+    path on both components, ``steps`` steps)."""
     from ibfem.solver.reports.validate_fretting_sphere import EXAMPLE, scene_data
 
     data = scene_data(3.7e-4, 1.0, 20)
     data["paths"] = [{"name": "ramp", "points": [[0.0, 0.0], [1.0, 1.0]]}]
-    data["solver"] = {"steps_per_unit": 5}
+    data["solver"] = {"steps_per_unit": steps}
     for bc in data["boundary_conditions"]:
         if bc.get("path") is not None:
             bc.update(value=[ux, 0.0, -0.002], path="ramp")
@@ -116,12 +116,15 @@ def test_sphere_normal_and_tangential_loads_growing_together():
     a pressure dp and a shear (dQ/dN) dp that move the whole contact rigidly, so nothing slips
     and the shear is q = (Q/N) p everywhere. Checked per step on the profiles along both principal
     axes within 0.8 a of the centre: the shear on the ball over the pressure (ratio of the sums)
-    against -Q/N within 22 % (measured: 12.8 % to 19.7 % low; the first step, at a / h = 2.5, left
-    out). The stick zone is not the whole region: points at the region's edge, where p vanishes
-    and the point shear oscillates with the grid, are found slipping and carry mu p, more than
-    (Q/N) p, so the inner shear is low (measured: stick area 0.92 of the region at the last step,
-    against 1); bounded at 0.85. (With Coulomb's law on the point pressures, which carried too
-    little of N at the rim, the inner shear was 2.4 % to 13 % low, the stick area 0.89.)"""
+    against -Q/N within 15 % from t = 0.2 on (the steps before have a / h below 2.5).
+
+    The closed form assumes a continuous loading; a step of the growing load brings a ring of
+    points into contact at once, each held from the step's start at its jump of then, although
+    it touches only part way through the step. The rim then carries more than (Q/N) p, some of it
+    slips, and the inner shear is low by an amount that falls with the step: measured over t = 0.4
+    to 1 the inner shear is on average 15.7 %, 9.8 % and 7.0 % low (largest 19.7 %, 17.6 %, 12.6 %)
+    at 5, 10 and 20 steps, the stick area at the last step 0.922, 0.964 and 0.973 of the region
+    (against 1). The test runs 20 steps (measured: 1.7 % to 12.6 % low from t = 0.2 on)."""
     from ibfem.solver.solving import solve
 
     solution = solve(_proportional_scene(3.5e-4).problem)
@@ -133,11 +136,13 @@ def test_sphere_normal_and_tangential_loads_growing_together():
         inner = prof["inside"] & (np.abs(prof["s"]) < 0.8 * c["semi_axes"][0])
         q_over_n = c["tangential_force"][0] / c["normal_force"]
         assert 0.05 < q_over_n < 0.3 * 0.7, q_over_n  # well below mu = 0.3
-        ratios.append((prof["shear"][inner].sum() / prof["pressure"][inner].sum(), q_over_n))
-    for ratio, q_over_n in ratios[1:]:
-        assert ratio == pytest.approx(-q_over_n, rel=0.22), ratios
+        if st["t"] >= 0.2 - 1e-9:
+            ratios.append((prof["shear"][inner].sum() / prof["pressure"][inner].sum(), q_over_n))
+    assert len(ratios) == 17
+    for ratio, q_over_n in ratios:
+        assert ratio == pytest.approx(-q_over_n, rel=0.15), ratios
     last = solution.steps[-1]["contacts"][0]
-    assert last["stick_area"] / last["region_area"] > 0.85
+    assert last["stick_area"] / last["region_area"] > 0.95
 
 
 @pytest.mark.slow
