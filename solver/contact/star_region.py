@@ -416,7 +416,11 @@ class StarRegionContact(EllipseContact):
         if (self.isotropic or not candidate.any() or len(self.knots) >= MAX_KNOTS
                 or self.extra_shape_updates >= MAX_SPLITS * SPLIT_UPDATES):
             return False
-        trial = np.concatenate([self.knots, mid[candidate]])
+        # on a stretch long enough for halves of two cells, the quarter points too: a bulge between
+        # two knots whose midpoint reads both of its sides shows at one of them
+        long = candidate & (chord > 2.0 * SPLIT_CELLS * self.h)
+        quarters = np.mod(np.concatenate([self.knots[long] + 0.25 * gap[long], self.knots[long] + 0.75 * gap[long]]), turn)
+        trial = np.concatenate([self.knots, mid[candidate], quarters])
         order = np.argsort(trial, kind="stable")
         trial_rho = np.log(self.rho(trial))
         new = (np.arange(len(trial)) >= len(self.knots))[order]
