@@ -55,7 +55,7 @@ SPLIT_MOMENT = 4.0 * 0.005
 #: neighbouring knots with a smooth edge whose edge points lie closer than this many finest cells
 #: (the crowded knots at a long region's tips) share one edge condition: the grid cannot tell
 #: their stretches apart, so each one's own moment is mostly the grid's noise
-TIE_CELLS = 1.0
+TIE_CELLS = 0.5
 #: the most knots the edge's spline takes
 MAX_KNOTS = 96
 #: shape updates a load step may take beyond the options' max_stick_iterations per insertion of
