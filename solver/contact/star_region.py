@@ -393,7 +393,7 @@ class StarRegionContact(EllipseContact):
         """Once the knots nearly agree: insert knots where the edge condition asks for them (True:
         the shape is updated again). A knot is tried midway (in phi) between each two neighbours
         with a smooth edge within body 1's sectors whose edge points lie more than SPLIT_CELLS
-        cells apart: its edge moment is read in the present state with the hats of the refined
+        cells apart, and at the quarter points where they lie more than twice that apart: its edge moment is read in the present state with the hats of the refined
         knots. Where it differs from their pooled mean by more than SPLIT_MOMENT, the edge
         between the two knots is not where the pressure puts it (a bulge the spline rounds off,
         next to a crowned roller's crown), and the knot is inserted on the present edge (up to
@@ -419,7 +419,7 @@ class StarRegionContact(EllipseContact):
         # on a stretch long enough for halves of two cells, the quarter points too: a bulge between
         # two knots whose midpoint reads both of its sides shows at one of them
         long = candidate & (chord > 2.0 * SPLIT_CELLS * self.h)
-        quarters = np.mod(np.concatenate([self.knots[long] + 0.25 * gap[long], self.knots[long] + 0.75 * gap[long]]), turn)
+        quarters = np.mod(np.concatenate([self.knots[long] + f * gap[long] for f in (0.25, 0.75)]), turn)
         trial = np.concatenate([self.knots, mid[candidate], quarters])
         order = np.argsort(trial, kind="stable")
         trial_rho = np.log(self.rho(trial))
