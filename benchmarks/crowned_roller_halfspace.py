@@ -15,27 +15,12 @@ import math
 
 import numpy as np
 
-from ibfem.solver.contact.edge_pressure import agglomerated_cells, nodal_pressure
-from ibfem.solver.contact.region_report import fitted_peak, mirror_images
+from ibfem.solver.contact.region_report import fitted_peak, grid_peak_as_map, mirror_images
 from ibfem.solver.reference.crowned_roller import (crowned_gap, half_length, half_widths, region_half_widths,
                                                    square_means)
 from ibfem.solver.reference.halfspace import halfspace_contact
 
 E_STAR = 2.0e11 / (2 * (1 - 0.3**2))
-
-
-def corner_read_peak(block: dict, result, maps: np.ndarray) -> tuple[np.ndarray, float]:
-    """The half-space pressure read as the 3D map is: its loaded rectangles (centres in the
-    frame's coordinates, their areas) read through the corners of the same squares
-    (nodal_pressure), averaged over its own merged squares, and the peak's fit of those."""
-    X, Y = np.meshgrid(result.x, result.y, indexing="ij")
-    loaded = result.pressure > 0.0
-    s = (np.stack([X[loaded], Y[loaded], np.zeros(int(loaded.sum()))], axis=1) - np.array(block["point"])) \
-        @ np.array(block["axes"]).T
-    w = np.full(len(s), float((result.x[1] - result.x[0]) * (result.y[1] - result.y[0])))
-    h = block["pressure_map"]["cell"]
-    cells = agglomerated_cells(s, w, nodal_pressure(s, w, result.pressure[loaded], h), h)
-    return fitted_peak(cells.centres, cells.means, cells.keys, maps)
 
 
 def compare(block: dict, dx: float, dy: float) -> dict:
@@ -54,7 +39,7 @@ def compare(block: dict, dx: float, dy: float) -> dict:
     reference = square_means(block, ref)
     at, fit = fitted_peak(centres, value, keys, maps)
     ref_at, ref_fit = fitted_peak(centres, reference, keys, maps)
-    corner_at, corner_fit = corner_read_peak(block, ref, maps)
+    corner_at, corner_fit = grid_peak_as_map(block, ref.x, ref.y, ref.pressure, maps)
     return {"force": block["normal_force"], "cell": m["cell"],
             "length": (block["semi_axes"][0], length), "widest": (float(region_half_widths(block, np.linspace(0.0, 0.09, 901)).max()),
                        float(widths[widest]), float(x[widest])),

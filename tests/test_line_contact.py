@@ -17,6 +17,7 @@ import pytest
 
 from ibfem.geometry.solids import solid_from_dict
 from ibfem.solver.contact.ellipse_geometry import contact_frame_3d, region_points, sectors
+from ibfem.solver.contact.region_report import grid_peak_as_map
 from ibfem.solver.contact.star_region import free_edge_distance
 from ibfem.solver.io.scene import scene_from_dict
 from ibfem.solver.reference.crowned_roller import square_means
@@ -312,25 +313,6 @@ def test_crowned_roller_against_the_half_space_and_the_section():
     assert width / math.sqrt(load) == pytest.approx(section["half_width"] / math.sqrt(section["normal_force"]), rel=0.02)
 
 
-def _corner_read_peak(c: dict, ref, maps: np.ndarray) -> tuple[np.ndarray, float]:
-    """The half-space pressure read as the 3D map is (summary.json's pressure_map): its loaded
-    rectangles (centres in the frame's coordinates, their areas) read through the corners of the
-    same squares, averaged over its own merged squares; then the same peak's fit. The corner
-    reading smooths a peak by about p'' h^2 / 6 along each axis, which plain square means do
-    not: the comparison of two fits is fair only when both are read this way."""
-    from ibfem.solver.contact.edge_pressure import agglomerated_cells, nodal_pressure
-    from ibfem.solver.contact.region_report import fitted_peak
-
-    X, Y = np.meshgrid(ref.x, ref.y, indexing="ij")
-    loaded = ref.pressure > 0.0
-    s = (np.stack([X[loaded], Y[loaded], np.zeros(int(loaded.sum()))], axis=1) - np.array(c["point"])) \
-        @ np.array(c["axes"]).T
-    w = np.full(len(s), float((ref.x[1] - ref.x[0]) * (ref.y[1] - ref.y[0])))
-    h = c["pressure_map"]["cell"]
-    cells = agglomerated_cells(s, w, nodal_pressure(s, w, ref.pressure[loaded], h), h)
-    return fitted_peak(cells.centres, cells.means, cells.keys, maps)
-
-
 LARGE_BLOCK = Path(__file__).resolve().parent / "scenes" / "crowned_roller_large_block.toml"
 
 
@@ -362,7 +344,7 @@ def test_crowned_roller_on_a_large_block_against_the_half_space():
     widest = float(np.nanmax(widths))
     assert float(region_half_widths(c, np.linspace(0.0, 0.09, 901)).max()) == pytest.approx(widest, rel=0.03)
     maps = mirror_images([(0.0, 0.5 * math.pi)])
-    ref_at, ref_fit = _corner_read_peak(c, ref, maps)
+    ref_at, ref_fit = grid_peak_as_map(c, ref.x, ref.y, ref.pressure, maps)
     assert c["peak_fit"]["value"] == pytest.approx(ref_fit, rel=0.03)
     assert abs(c["peak_fit"]["s"][0]) == pytest.approx(abs(ref_at[0]), abs=0.03 * length)
 
@@ -567,13 +549,23 @@ def test_tilted_roller_against_the_half_space():
     loaded end's crown within a cell of the half-space's peak, its largest cell mean within 5 % of
     the half-space's mean over the same cell (measured: the back end 1.0 % of the half-length
     inside the half-space's, the loaded end at it, peak +3.7 %; on 1 x 0.8 mm rectangles 0.8 %,
-    0.1 % and +3.8 %, with 2.1 GB for the half-space alone)."""
+    0.1 % and +3.8 %, with 2.1 GB for the half-space alone). The run converges, and its region's
+    24 knots agree within two thirds of the shape updates a load step may take (the shape
+    iteration's settling; 15 of 30 measured)."""
     from ibfem.solver.io.scene import load_scene
     from ibfem.solver.reference.halfspace import halfspace_contact
 
     scene = load_scene(TILTED)
     sol = solve(scene.problem)
     assert sol.converged, sol.iterations["messages"]
+    # the region's 24 knots agree (the first insertion of knots is tried, or the step ends) within
+    # two thirds of the shape updates a load step may take (15 of 30 measured; before the shape
+    # iteration's settling was fixed they were still 0.034 apart after all 30)
+    history = sol.iterations["contacts"][0]
+    updates = [e["shape_iteration"] for e in history]
+    inserted = [e["shape_iteration"] for e in history if "knot_phi" in e]
+    budget = scene.problem.contacts[0].options.max_stick_iterations
+    assert (min(inserted) if inserted else max(updates) + 1) <= 2 * budget // 3
     c = sol.contacts[0]
     del sol  # the grids' memory, before the half-space's influence matrix (0.5 GB)
     assert not c["complete_contact"]
@@ -605,7 +597,7 @@ def test_tilted_roller_against_the_half_space():
     # the half-space's plain square means, which the corner reading's smoothing of the peak is)
     from ibfem.solver.contact.region_report import mirror_images
 
-    ref_at, ref_fit = _corner_read_peak(c, ref, mirror_images([(0.0, math.pi)]))
+    ref_at, ref_fit = grid_peak_as_map(c, ref.x, ref.y, ref.pressure, mirror_images([(0.0, math.pi)]))
     assert c["peak_fit"]["value"] == pytest.approx(ref_fit, rel=0.03)
     assert c["peak_fit"]["s"][0] == pytest.approx(ref_at[0], abs=0.03 * half_length)
 
@@ -637,6 +629,29 @@ def test_fitted_peak_finds_a_parabola_vertex_between_squares():
     falling = p0 - 1e10 * centres[:, 0] - beta * centres[:, 1] ** 2  # a half model's y >= 0
     at, value = fitted_peak(centres, falling, keys, mirror_images([(0.0, math.pi)]))
     assert at[0] == centres[0, 0] and at[1] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_grid_peak_as_map_lowers_a_parabola_as_the_corner_reading_does():
+    """A half-space pressure given on fine rectangles, read as a 3D map is
+    (region_report.grid_peak_as_map), on p = p0 - alpha (x - x0)^2 - beta y^2 over the quarter
+    x, y >= 0: a corner's value is the parabola there lowered by (alpha + beta) h^2 / 6 (the
+    bilinear hat's second moment), the square's mean of the bilinear interpolant is the mean of
+    its four corners, the parabola at the centroid lowered by (alpha + beta) h^2 / 4 more; so the
+    fit's vertex is x0 and its value p0 - 5/12 (alpha + beta) h^2, where the plain means' fit is
+    p0 - (alpha + beta) h^2 / 12 (the midpoint rule on the rectangles adds about alpha dx^2 / 12)."""
+    from ibfem.solver.contact.region_report import mirror_images
+
+    h, p0, alpha, beta = 0.00625, 3.5e9, 2.0e12, 5.0e11
+    dx = h / 10.0
+    x, y = np.arange(0.5 * dx, 12 * h, dx), np.arange(0.5 * dx, 4 * h, dx)
+    block = {"point": [0.0, 0.0, 0.0], "axes": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], "pressure_map": {"cell": h}}
+    maps = mirror_images([(0.0, 0.5 * math.pi)])
+    for x0 in (0.05625, 0.0571):
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        at, value = grid_peak_as_map(block, x, y, p0 - alpha * (X - x0) ** 2 - beta * Y**2, maps)
+        assert at == pytest.approx([x0, 0.0], abs=1e-3 * h)
+        drop = 5.0 / 12.0 * (alpha + beta) * h * h
+        assert p0 - value == pytest.approx(drop, rel=0.01)
 
 
 def _filleted(data: dict, seams_deg=(1.0, 2.6)) -> dict:

@@ -52,6 +52,10 @@ SPLIT_CELLS = 2.0
 #: mean by more than this (four times the settled knots' tolerance: the edge between the two
 #: knots is not where the pressure puts it)
 SPLIT_MOMENT = 4.0 * 0.005
+#: neighbouring knots with a smooth edge whose edge points lie closer than this many finest cells
+#: (the crowded knots at a long region's tips) share one edge condition: the grid cannot tell
+#: their stretches apart, so each one's own moment is mostly the grid's noise
+TIE_CELLS = 0.5
 #: the most knots the edge's spline takes
 MAX_KNOTS = 96
 #: shape updates a load step may take beyond the options' max_stick_iterations per insertion of
@@ -70,9 +74,17 @@ END_MOMENT = 0.05
 EDGE_WINDOW_CELLS = 3.0
 #: the largest step of a knot's log rho per shape update
 KNOT_STEP = 0.3
+#: ... and of its edge point, in finest cells: a long ray's log rho moves its edge far (0.3 at a
+#: roller's tip, 80 mm from the contact point, is four 6.25 mm cells), beyond where the moment
+#: it was measured with says anything
+STEP_CELLS = 1.0
 #: a line contact's knots whose edge runs within this angle of the line are read on sections
 #: across it (radians)
 SIDE_ANGLE = math.radians(30.0)
+#: a knot read on sections goes back to its ray only where its edge turns beyond this angle from
+#: the line (radians): a knot whose edge runs near SIDE_ANGLE (next to a region's tip) would
+#: otherwise change its reading, and so its moment, from one shape update to the next
+SIDE_ANGLE_LEAVE = math.radians(40.0)
 #: rays around the contact point on which body 1's free edge is located
 EDGE_RAYS = 720
 
@@ -119,6 +131,8 @@ class StarRegionContact(EllipseContact):
     edge_psi: np.ndarray = field(default_factory=lambda: np.zeros(0))
     edge_distance: np.ndarray = field(default_factory=lambda: np.zeros(0))
     _knot_history: list = field(default_factory=list)  # (log_rho, moments less their mean) per shape update
+    # per knot: the first entry of _knot_history measured with its present reading (its secant's start)
+    _knot_since: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=int))
     knot_moments: np.ndarray = field(default_factory=lambda: np.full(KNOTS, math.nan))
     free_knots: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=bool))
     _spline: tuple | None = None  # (log_rho bytes, the spline of log rho)
@@ -259,20 +273,56 @@ class StarRegionContact(EllipseContact):
         out[(total < 0.0) & covered] = -math.inf  # net tension: the region too large there
         return out
 
+    def _tied(self, m: np.ndarray, smooth: np.ndarray, a: float) -> np.ndarray:
+        """The knots' edge moments ``m`` with each run of neighbouring ``smooth`` knots whose edge
+        points lie within TIE_CELLS finest cells of each other given their run's moment, pooled by
+        pressure (the sum of their moments over the sum of their pressures' integrals): at a long
+        region's tips the normalised coordinates crowd several knots into a cell, whose
+        stretches the grid cannot tell apart. Tied knots then move together."""
+        scales = np.array(self.semi_axes(a))
+        edge = self.rho(self.knots)[:, None] * np.stack([np.cos(self.knots), np.sin(self.knots)], axis=1) * scales
+        chord = np.hypot(*(np.roll(edge, -1, axis=0) - edge).T)  # knot k to k + 1
+        link = smooth & np.roll(smooth, -1) & (chord < TIE_CELLS * self.h)
+        if not link.any():
+            return m
+        n = len(m)
+        start = np.roll(~link, 1)  # knot k starts a run unless linked from k - 1
+        if not start.any():
+            start[0] = True
+        label = np.cumsum(start) - 1
+        label[label < 0] = label[-1]  # the run through the last knot continues at the first
+        moment, total = self._raw_moments
+        g_moment = np.bincount(label, weights=np.where(smooth, moment, 0.0), minlength=n)
+        g_total = np.bincount(label, weights=np.where(smooth, total, 0.0), minlength=n)
+        size = np.bincount(label, weights=smooth.astype(float), minlength=n)
+        tied = smooth & (size[label] > 1) & (g_total[label] > 0.0)
+        return np.where(tied, g_moment[label] / np.where(g_total[label] > 0.0, g_total[label], 1.0), m)
+
     def across_knots(self, a: float) -> np.ndarray:
         """(K,) the knots of a line contact where the region's edge runs within SIDE_ANGLE of the
         line (axis 0), in the tangent plane's lengths: a long region's sides, whose width changes
         slowly along the line, read on sections across it (none for a flat contact, nor on the
         line itself)."""
+        return self._edge_slope(a) <= math.tan(SIDE_ANGLE)
+
+    def _edge_slope(self, a: float) -> np.ndarray:
+        """(K,) the tangent of the angle between the region's edge at each knot and the line, in
+        the tangent plane's lengths (inf on a flat contact, and at a knot on the line itself: a
+        tip of the region has no side to read)."""
         if self.isotropic:
-            return np.zeros(len(self.knots), dtype=bool)
+            return np.full(len(self.knots), math.inf)
         aa, bb = self.semi_axes(a)
         rho = self.rho(self.knots)
         slope = self._spline[1](self.knots, 1)  # d log rho / d phi
         cos, sin = np.cos(self.knots), np.sin(self.knots)
         along = np.abs(rho * aa * (slope * cos - sin))  # the edge's tangent along axis 0
-        # a knot on the line (a tip of the region) has no side of it to read
-        return (np.abs(rho * bb * (slope * sin + cos)) <= math.tan(SIDE_ANGLE) * along) & (np.abs(sin) > 1e-6)
+        across = np.abs(rho * bb * (slope * sin + cos))
+        ratio = across / np.where(along > 0.0, along, 1e-300)
+        # the sections under a knot's hat span its neighbours' stations: with a neighbour within a
+        # cell along the line (an edge that turns across it there) they cannot read its edge
+        x = rho * aa * cos
+        near = np.minimum(np.abs(np.roll(x, 1) - x), np.abs(np.roll(x, -1) - x)) < self.h
+        return np.where((np.abs(sin) > 1e-6) & ~near, ratio, math.inf)
 
     def whole_boundary(self, a: float, n: int = 1440) -> np.ndarray:
         """(m, 2) the whole region's edge in the normalised coordinates (X, Y): the spline's edge
@@ -301,7 +351,7 @@ class StarRegionContact(EllipseContact):
         if tense.any():  # a stretch of the edge in net tension: the region is too large there
             self.log_rho[tense] -= KNOT_STEP
             self._mirror_outside()
-            self._knot_history = []
+            self._restart_secants()
             self._classify(a)
             return False
         retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
@@ -313,6 +363,7 @@ class StarRegionContact(EllipseContact):
         smooth = ~self.free_knots & np.isfinite(m) & inside
         if not smooth.any():
             return stuck
+        m = self._tied(m, smooth, a)
         d = np.where(smooth, m - self._pooled(smooth), 0.0)
         self._knot_history.append((self.log_rho.copy(), d))
         if self._before_split is not None:  # knots were inserted: they agree again, or are undone
@@ -329,8 +380,11 @@ class StarRegionContact(EllipseContact):
             (l0, d0), (l1, d1) = self._knot_history[-2], self._knot_history[-1]
             change = d1 - d0
             slope = (l1 - l0) / np.where(np.abs(change) > 1e-12, change, np.inf)
-            step = np.where(slope < 0.0, -d1 * slope, step)
-        self.log_rho = self.log_rho + np.where(smooth, np.clip(step, -KNOT_STEP, KNOT_STEP), 0.0)
+            # a knot whose reading changed since the older entry has no secant yet
+            valid = self._knot_since <= len(self._knot_history) - 2
+            step = np.where((slope < 0.0) & valid, -d1 * slope, step)
+        cap = np.minimum(KNOT_STEP, STEP_CELLS * self.h / np.maximum(self.ray_length(self.knots, a), 1e-300))
+        self.log_rho = self.log_rho + np.where(smooth, np.clip(step, -cap, cap), 0.0)
         self._mirror_outside()
         self._classify(a)
         return False
@@ -339,7 +393,7 @@ class StarRegionContact(EllipseContact):
         """Once the knots nearly agree: insert knots where the edge condition asks for them (True:
         the shape is updated again). A knot is tried midway (in phi) between each two neighbours
         with a smooth edge within body 1's sectors whose edge points lie more than SPLIT_CELLS
-        cells apart: its edge moment is read in the present state with the hats of the refined
+        cells apart, and at the quarter points where they lie more than twice that apart: its edge moment is read in the present state with the hats of the refined
         knots. Where it differs from their pooled mean by more than SPLIT_MOMENT, the edge
         between the two knots is not where the pressure puts it (a bulge the spline rounds off,
         next to a crowned roller's crown), and the knot is inserted on the present edge (up to
@@ -362,7 +416,11 @@ class StarRegionContact(EllipseContact):
         if (self.isotropic or not candidate.any() or len(self.knots) >= MAX_KNOTS
                 or self.extra_shape_updates >= MAX_SPLITS * SPLIT_UPDATES):
             return False
-        trial = np.concatenate([self.knots, mid[candidate]])
+        # on a stretch long enough for halves of two cells, the quarter points too: a bulge between
+        # two knots whose midpoint reads both of its sides shows at one of them
+        long = candidate & (chord > 2.0 * SPLIT_CELLS * self.h)
+        quarters = np.mod(np.concatenate([self.knots[long] + f * gap[long] for f in (0.25, 0.75)]), turn)
+        trial = np.concatenate([self.knots, mid[candidate], quarters])
         order = np.argsort(trial, kind="stable")
         trial_rho = np.log(self.rho(trial))
         new = (np.arange(len(trial)) >= len(self.knots))[order]
@@ -383,7 +441,7 @@ class StarRegionContact(EllipseContact):
         free[at] = self.free_knots
         self.free_knots, self.knot_moments = free, np.full(len(self.knots), math.nan)
         self.across = self.across_knots(a)
-        self._knot_history = []  # every knot's hat has changed: the secants start again
+        self._restart_secants()  # every knot's hat has changed: the secants start again
         self.extra_shape_updates += SPLIT_UPDATES
         self._before_split = (kept[0].copy(), kept[1].copy(), 0)
         return True
@@ -398,18 +456,25 @@ class StarRegionContact(EllipseContact):
         self.knots, self.log_rho = knots, log_rho
         self.free_knots, self.knot_moments = np.zeros(len(knots), dtype=bool), np.full(len(knots), math.nan)
         self.across = self.across_knots(a)
-        self._knot_history = []
+        self._restart_secants()
         self._before_split = None
         self.extra_shape_updates = MAX_SPLITS * SPLIT_UPDATES  # no more insertions in this step
         return True
 
     def _classify(self, a: float) -> None:
-        """Fix which knots are read on sections (``across_knots``) until the next shape update; a
-        knot that changes its reading starts the secant history again."""
-        across = self.across_knots(a)
-        if (across != self.across).any():
-            self._knot_history = []
+        """Fix which knots are read on sections (``across_knots``) until the next shape update,
+        with hysteresis: a knot read on sections keeps that reading until its edge turns beyond
+        SIDE_ANGLE_LEAVE from the line. A knot that changes its reading starts its own secant
+        again (the others keep theirs: their moments are read as before)."""
+        slope = self._edge_slope(a)
+        across = np.where(self.across, slope <= math.tan(SIDE_ANGLE_LEAVE), slope <= math.tan(SIDE_ANGLE))
+        self._knot_since = np.where(across != self.across, len(self._knot_history), self._knot_since)
         self.across = across
+
+    def _restart_secants(self) -> None:
+        """Every knot's secant starts again (its hat or its place has changed)."""
+        self._knot_history = []
+        self._knot_since = np.zeros(len(self.knots), dtype=int)
 
     def _mirror_outside(self) -> None:
         """Knots outside body 1's angular ranges (a symmetric model) take the value of the nearest
@@ -422,7 +487,7 @@ class StarRegionContact(EllipseContact):
 
     def start_step(self) -> None:
         super().start_step()
-        self._knot_history = []
+        self._restart_secants()
         self.extra_shape_updates = 0
         self._before_split = None
 
@@ -436,6 +501,8 @@ class StarRegionContact(EllipseContact):
         messages = super().check_final(u, a, info, bracket, block)
         m = self._moments(info, u[self.dofs], a)
         smooth = ~self.free_knots & np.isfinite(m) & knots_inside(self.knots, self.ranges)
+        if smooth.any():
+            m = self._tied(m, smooth, a)
         spread = float(np.abs(m[smooth] - self._pooled(smooth)).max()) if smooth.any() else 0.0
         if spread > 2.0 * KNOT_TOLERANCE:
             messages.append(f"{self.name}: the region's shape did not settle (its knots' edge moments differ from "
