@@ -67,3 +67,19 @@ class TurnedBox:
         c = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)]) * self.size
         w = self.to_world(c)
         return w.min(axis=0), w.max(axis=0)
+
+
+def uniform_stress_box(rng, youngs_modulus, poissons_ratio, h=0.25):
+    """The 3D patch test's problem: a box 1 x 0.8 x 0.6 turned at random (``rng``) under a
+    uniform stress sigma = R diag(1e8, -0.5e8, 0.3e8) R^T, sliding on the faces through one
+    corner, loaded by the tractions sigma n on the others, cell size ``h``. Returns (problem,
+    box, sigma)."""
+    from ibfem.solver.model import problem as pb
+
+    rot = rotation(rng.normal(size=3), rng.uniform(0, np.pi))
+    box = TurnedBox([1.0, 0.8, 0.6], rot, rng.uniform(-0.05, 0.05, 3))
+    sigma = rot @ np.diag([1.0e8, -0.5e8, 0.3e8]) @ rot.T
+    bcs = [pb.Sliding("box", f) for f in ("x0", "y0", "z0")]
+    bcs += [pb.Traction("box", f"{'xyz'[k]}1", tuple(sigma @ rot[:, k])) for k in range(3)]
+    material = pb.Material("m", youngs_modulus, poissons_ratio)
+    return pb.Problem("patch", "solid", 1.0, (pb.BodyModel("box", box, material, h),), tuple(bcs)), box, sigma

@@ -45,19 +45,13 @@ def test_far_field_energy_of_a_constant_stress_patch():
     # a turned box under a uniform stress (sliding faces through one corner, tractions sigma n on
     # the others): the recovered stress equals the discrete one (no error energy) and the strain
     # energy is (sigma : C^-1 : sigma) V / 2, with V the box's volume
-    from _turned_box import TurnedBox, rotation
+    from _turned_box import uniform_stress_box
 
-    from ibfem.solver.model import problem as pb
     from ibfem.solver.solving import far_field_energy, solve
 
     rng = np.random.default_rng(5)
-    rot = rotation(rng.normal(size=3), rng.uniform(0, np.pi))
-    box = TurnedBox([1.0, 0.8, 0.6], rot, rng.uniform(-0.05, 0.05, 3))
-    sigma = rot @ np.diag([1.0e8, -0.5e8, 0.3e8]) @ rot.T
-    bcs = [pb.Sliding("box", f) for f in ("x0", "y0", "z0")]
-    bcs += [pb.Traction("box", f"{'xyz'[k]}1", tuple(sigma @ rot[:, k])) for k in range(3)]
     h = 0.25
-    problem = pb.Problem("patch", "solid", 1.0, (pb.BodyModel("box", box, pb.Material("m", E, NU), h),), tuple(bcs))
+    problem, box, sigma = uniform_stress_box(rng, E, NU, h)
     sol = solve(problem.with_options(grid_offset=tuple(rng.uniform(0, h, 3))))
     voigt = sigma[[0, 1, 2, 1, 0, 0], [0, 1, 2, 2, 2, 1]][None, :]
     exact = 0.5 * complementary_energy_density(voigt, E, NU)[0] * 0.48

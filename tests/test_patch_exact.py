@@ -17,7 +17,7 @@ from ibfem.solver.fem.surface_quadrature import slab_trapezoids, triangle_nodes
 from ibfem.solver.model import problem as pb
 from ibfem.solver.solving import solve
 
-from _turned_box import TurnedBox, rotation
+from _turned_box import TurnedBox, rotation, uniform_stress_box
 
 E, NU = 2.0e11, 0.3
 L_PROFILE = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.4], [0.4, 0.4], [0.4, 0.9], [0.0, 0.9]]
@@ -115,13 +115,8 @@ def _stress_errors(sol, points, distance, voigt, h):
 @pytest.mark.parametrize("seed, fictitious", [(3, None), (4, 1e-3)])
 def test_turned_box_patch_exact_at_edges_and_corners(seed, fictitious):
     rng = np.random.default_rng(seed)
-    rot = rotation(rng.normal(size=3), rng.uniform(0, np.pi))
-    box = TurnedBox([1.0, 0.8, 0.6], rot, rng.uniform(-0.05, 0.05, 3))
-    sigma = rot @ np.diag([1.0e8, -0.5e8, 0.3e8]) @ rot.T
-    bcs = [pb.Sliding("box", f) for f in ("x0", "y0", "z0")]
-    bcs += [pb.Traction("box", f"{'xyz'[k]}1", tuple(sigma @ rot[:, k])) for k in range(3)]
     h = 0.25
-    problem = pb.Problem("patch", "solid", 1.0, (pb.BodyModel("box", box, pb.Material("m", E, NU), h),), tuple(bcs))
+    problem, box, sigma = uniform_stress_box(rng, E, NU, h)
     sol = solve(problem.with_options(grid_offset=tuple(rng.uniform(0, h, 3)), **_fictitious(fictitious)))
     x = rng.uniform(0.0, 1.0, (600, 3)) * box.size
     x[:200, :2] = np.round(x[:200, :2] / box.size[:2]) * box.size[:2]  # on the edges along z
