@@ -78,21 +78,9 @@ def run_zones(element_size: float, zones: list[tuple[int, float]], workdir: Path
     tag = f"sphere3d_{element_size:.6g}"
     scene = workdir / f"{tag}.json"
     scene.write_text(json.dumps(sphere_zones_scene(element_size, zones)))
-    out = workdir / tag
-    ibfem = str(Path(sys.executable).with_name("ibfem"))
-    cmd = [ibfem, "run", str(scene), "--out", str(out), "--quiet", "--no-estimate"]
-    code, _, err, wall, peak, cpu = peers.run_child(cmd)
     row = {"code": "ibfem", "problem": "sphere3d", "rung": f"h0 {element_size:.4g}", "element_size": element_size,
-           "zones": zones, "finest_cell": element_size / 2 ** max(lv for lv, _ in zones),
-           "wall_s": wall, "cpu_s": cpu, "peak_mb": peak, "exit": code}
-    if code not in (0, 1):
-        row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
-        return row
-    summary = json.loads((out / "summary.json").read_text())
-    contact = summary["contacts"][0]
-    row.update(converged=bool(summary["converged"]), a=contact["semi_axes"][0], N=contact["normal_force"],
-               p0=contact.get("max_pressure"), dofs=sum(b["dofs"] for b in summary["bodies"].values()))
-    return row
+           "zones": zones, "finest_cell": element_size / 2 ** max(lv for lv, _ in zones)}
+    return peers.ibfem_row(scene, workdir / tag, row)
 
 
 def parse_zones(text: list[str]) -> list[tuple[int, float]]:

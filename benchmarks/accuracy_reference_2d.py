@@ -279,13 +279,38 @@ def solve_pin(alpha: float, hc: float, hmax: float, order: int, penalty: float) 
             "mesh_s": t_mesh - t0, "solve_s": time.perf_counter() - t_mesh}
 
 
-def richardson(q: list[float]) -> tuple[float, float]:
-    """Observed order and limit of three values on meshes halved in turn (nan if not monotone)."""
+def richardson(q: list[float], ratio: float = 2.0) -> tuple[float, float]:
+    """Observed order and limit of three values on meshes refined by ``ratio`` in turn (nan if
+    not converging monotonically)."""
     d1, d2 = q[1] - q[0], q[2] - q[1]
     if d1 == 0.0 or d2 / d1 <= 0.0 or abs(d2) >= abs(d1):
         return math.nan, math.nan
-    p = math.log2(d1 / d2)
-    return p, q[2] + d2 / (2.0 ** p - 1.0)
+    p = math.log(d1 / d2) / math.log(ratio)
+    return p, q[2] + d2 / (ratio ** p - 1.0)
+
+
+def run_meshes(commands: list[list[str]]) -> list[dict]:
+    """Each command (one mesh's ``--one`` run) in a process of its own, one after the other; the
+    JSON rows their last output lines hold, each printed as it comes."""
+    import subprocess
+
+    rows = []
+    for cmd in commands:
+        r = subprocess.run(cmd, capture_output=True, text=True)
+        if r.returncode:
+            raise SystemExit(r.stderr[-3000:])
+        rows.append(json.loads(r.stdout.strip().splitlines()[-1]))
+        print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
+def print_richardson(rows: list[dict], keys: tuple[str, ...], ratio: float = 2.0) -> None:
+    """Each key's last three values, their observed order and Richardson's limit."""
+    if len(rows) < 3:
+        return
+    for key in keys:
+        p, lim = richardson([r[key] for r in rows[-3:]], ratio)
+        print(f"{key}: {', '.join(f'{r[key]:.8g}' for r in rows[-3:])}; observed order {p:.2f}, limit {lim:.8g}")
 
 
 def main(argv: list[str]) -> int:
@@ -306,22 +331,10 @@ def main(argv: list[str]) -> int:
             row = solve(args.scene, args.a_est, args.hc, args.hmax, args.order, args.penalty)
         print(json.dumps(row), flush=True)
         return 0
-    import subprocess
-
-    rows = []
-    for m in range(args.meshes):
-        hc = args.hc / 2 ** m
-        cmd = [sys.executable, __file__, "--one", "--scene", args.scene, "--hc", repr(hc), "--a-est", repr(args.a_est),
-               "--hmax", repr(args.hmax), "--order", str(args.order), "--penalty", repr(args.penalty)]
-        r = subprocess.run(cmd, capture_output=True, text=True)
-        if r.returncode:
-            raise SystemExit(r.stderr[-3000:])
-        rows.append(json.loads(r.stdout.strip().splitlines()[-1]))
-        print(json.dumps(rows[-1]), flush=True)
-    if len(rows) >= 3:
-        for key in ("N", "a_closing", "a_fit"):
-            p, lim = richardson([r[key] for r in rows[-3:]])
-            print(f"{key}: {', '.join(f'{r[key]:.8g}' for r in rows[-3:])}; observed order {p:.2f}, limit {lim:.8g}")
+    rows = run_meshes([[sys.executable, __file__, "--one", "--scene", args.scene, "--hc", repr(args.hc / 2 ** m),
+                        "--a-est", repr(args.a_est), "--hmax", repr(args.hmax), "--order", str(args.order),
+                        "--penalty", repr(args.penalty)] for m in range(args.meshes)])
+    print_richardson(rows, ("N", "a_closing", "a_fit"))
     return 0
 
 

@@ -202,31 +202,10 @@ def newton(bf, gfu, fes, tol: float = 1e-11, max_iterations: int = 80) -> int:
     raise RuntimeError(f"Newton did not converge in {max_iterations} iterations (last step {step:.3g})")
 
 
-def _eval_z(mesh, gfu, pts, inward):
-    """u_z at boundary points moved inward by the smallest of 1e-12 .. 1e-8 m inside the curved mesh."""
-    for off in (1e-12, 1e-10, 1e-9, 1e-8):
-        q = pts + off * inward
-        try:
-            return gfu(mesh(q[:, 0], q[:, 1], q[:, 2]))[:, 2]
-        except Exception:
-            continue
-    out = np.empty(len(pts))
-    for i in range(len(pts)):
-        for off in (1e-12, 1e-10, 1e-9, 1e-8):
-            q = pts[i] + off * inward[i]
-            try:
-                out[i] = gfu(mesh(*map(float, q)))[2]
-                break
-            except Exception:
-                continue
-        else:
-            raise RuntimeError(f"point {pts[i]} not found in the curved mesh")
-    return out
-
-
 def measure(mesh, fes, form, gfu, hc: float, lines: int, lift: float) -> dict:
     """N from the reactions; a, the mean over ``lines`` radial lines of the fitted opening's root."""
     from peers_ngsolve import opening_fit, support_reactions
+    from peers_ngsolve3d import evaluate_z
 
     rs = np.arange(0.5 * A_EST, 1.3 * A_EST + 3.0 * hc, hc / 40.0)
     cz = R + lift
@@ -237,8 +216,8 @@ def measure(mesh, fes, form, gfu, hc: float, lines: int, lift: float) -> dict:
         block = np.stack([rs * c, rs * s, np.zeros_like(rs)], axis=1)
         dome = np.stack([rs * c, rs * s, zd], axis=1)
         to_centre = np.stack([-dome[:, 0], -dome[:, 1], cz - zd], axis=1) / R
-        cf = _eval_z(mesh, gfu, block, np.broadcast_to([0.0, 0.0, -1.0], block.shape)) \
-            - _eval_z(mesh, gfu, dome, to_centre) - zd
+        cf = evaluate_z(mesh, gfu, block, np.broadcast_to([0.0, 0.0, -1.0], block.shape)) \
+            - evaluate_z(mesh, gfu, dome, to_centre) - zd
         closed = np.nonzero(cf >= 0.0)[0]
         if len(closed) == 0 or closed[-1] + 1 >= len(rs):
             raise RuntimeError(f"no closing point on the line at {deg:.1f} degrees")
@@ -250,16 +229,6 @@ def measure(mesh, fes, form, gfu, hc: float, lines: int, lift: float) -> dict:
     return {"N": -reaction("flat", (0.0, 0.0, 1.0)), "N_bottom": reaction("bottom", (0.0, 0.0, 1.0)),
             "a": float(np.mean(fits)), "a_spread": float(np.std(fits) / np.sqrt(len(fits))),
             "a_closing": float(np.mean(closing))}
-
-
-def richardson(q: list[float], ratio: float = 2.0) -> tuple[float, float]:
-    """Observed order and limit of three values on meshes refined by ``ratio`` in turn (nan if not
-    converging)."""
-    d1, d2 = q[1] - q[0], q[2] - q[1]
-    if d1 == 0.0 or d2 / d1 <= 0.0 or abs(d2) >= abs(d1):
-        return math.nan, math.nan
-    p = math.log(d1 / d2) / math.log(ratio)
-    return p, q[2] + d2 / (ratio ** p - 1.0)
 
 
 def main(argv: list[str]) -> int:
@@ -285,23 +254,14 @@ def main(argv: list[str]) -> int:
         row = solve(args.hc, args.hmax, args.slope, args.order, tuple(args.penalty), args.lines, args.threads)
         print(json.dumps(row), flush=True)
         return 0
-    import subprocess
+    from accuracy_reference_2d import print_richardson, run_meshes
 
-    rows = []
-    for m in range(args.first, args.first + args.meshes):
-        scale = args.ratio ** m
-        cmd = [sys.executable, __file__, "--one", "--hc", repr(args.hc / scale), "--hmax", repr(args.hmax / scale),
-               "--slope", repr(args.slope / scale), "--order", str(args.order), "--lines", str(args.lines),
-               "--threads", str(args.threads), "--penalty", *map(repr, args.penalty)]
-        r = subprocess.run(cmd, capture_output=True, text=True)
-        if r.returncode:
-            raise SystemExit(r.stderr[-3000:])
-        rows.append(json.loads(r.stdout.strip().splitlines()[-1]))
-        print(json.dumps(rows[-1]), flush=True)
-    if len(rows) >= 3:
-        for key in ("N", "a"):
-            p, lim = richardson([r[key] for r in rows[-3:]], args.ratio)
-            print(f"{key}: {', '.join(f'{r[key]:.8g}' for r in rows[-3:])}; observed order {p:.2f}, limit {lim:.8g}")
+    scales = [args.ratio ** m for m in range(args.first, args.first + args.meshes)]
+    rows = run_meshes([[sys.executable, __file__, "--one", "--hc", repr(args.hc / scale), "--hmax",
+                        repr(args.hmax / scale), "--slope", repr(args.slope / scale), "--order", str(args.order),
+                        "--lines", str(args.lines), "--threads", str(args.threads), "--penalty",
+                        *map(repr, args.penalty)] for scale in scales])
+    print_richardson(rows, ("N", "a"), args.ratio)
     return 0
 
 

@@ -140,14 +140,20 @@ def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> 
     scene = workdir / f"{tag}.json"
     data = sphere_scene_data(element_size, levels) if problem == "sphere3d" else scene_data(problem, element_size, levels)
     scene.write_text(json.dumps(data))
-    out = workdir / tag
-    ibfem = Path(sys.executable).with_name("ibfem")
-    # --no-estimate: the peer computes no error estimate either (ibfem's costs a second, coarser solve)
-    cmd = [str(ibfem), "run", str(scene), "--out", str(out), "--quiet", "--no-estimate"]
-    code, _, err, wall, peak, cpu = run_child(cmd)
     row = {"code": "ibfem", "problem": problem, "rung": f"h0 {element_size}, {levels} levels",
-           "element_size": element_size, "levels": levels, "wall_s": wall, "cpu_s": cpu,
-           "peak_mb": peak, "exit": code}
+           "element_size": element_size, "levels": levels}
+    return ibfem_row(scene, workdir / tag, row)
+
+
+def ibfem_row(scene: Path, out: Path, row: dict) -> dict:
+    """``row`` with one ``ibfem run SCENE`` (its own process, results into ``out``, no error
+    estimate: the peer computes none either, and ibfem's costs a second, coarser solve): wall and
+    CPU seconds, peak memory, exit code and, when it ran to the end, the first contact's a (3D: the
+    first semi-axis), N, p0, the dofs, the iterations and the solver's seconds."""
+    ibfem = Path(sys.executable).with_name("ibfem")
+    code, _, err, wall, peak, cpu = run_child([str(ibfem), "run", str(scene), "--out", str(out), "--quiet",
+                                               "--no-estimate"])
+    row.update(wall_s=wall, cpu_s=cpu, peak_mb=peak, exit=code)
     if code not in (0, 1):
         row["error"] = err.strip().splitlines()[-1:] if err.strip() else [f"exit {code}"]
         return row
