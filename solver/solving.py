@@ -343,9 +343,7 @@ def refined_around_contacts(problem: Problem, solution: IBFEMSolution) -> Proble
             radius = REGION_MARGIN * extent + REGION_MARGIN_CELLS * body.element_size / 2.0 ** levels
             zones.setdefault(name, []).append(Refinement(levels=levels, radius=radius,
                                                          center=np.asarray(block["point"], dtype=float)))
-    bodies = tuple(dataclasses.replace(b, refinements=b.refinements + tuple(zones[b.name])) if b.name in zones else b
-                   for b in problem.bodies)
-    return dataclasses.replace(problem, bodies=bodies)
+    return _with_zones(problem, zones)
 
 
 def graded_around_contacts(problem: Problem, solution: IBFEMSolution) -> Problem | None:
@@ -372,8 +370,11 @@ def graded_around_contacts(problem: Problem, solution: IBFEMSolution) -> Problem
                 levels, radius = levels - 1, 2.0 * radius
                 if not any(int(r.levels) >= levels and r.radius >= radius for r in body.refinements):
                     zones.setdefault(name, []).append(Refinement(levels=levels, radius=radius, center=centre))
-    if not zones:
-        return None
+    return _with_zones(problem, zones) if zones else None
+
+
+def _with_zones(problem: Problem, zones: dict[str, list]) -> Problem:
+    """``problem`` with the refinement zones ``zones`` (by body name) added to its bodies'."""
     bodies = tuple(dataclasses.replace(b, refinements=b.refinements + tuple(zones[b.name])) if b.name in zones else b
                    for b in problem.bodies)
     return dataclasses.replace(problem, bodies=bodies)
