@@ -137,9 +137,10 @@ def _warm_up() -> float:
 def _while_waiting(conn, planar: bool) -> None:
     """While no job has come, what the job will need first: for a 2D run, the empty figures of
     its field picture and a stress line picture (:func:`solver.io.plots.prepare_figures`: their
-    axes and tick marks, about a quarter of those pictures' time); for a 3D run, the solver's solution classes, which
-    its job unpickles (a worker started before the scene was loaded does not have them; a 2D
-    job whose bodies' output meshes are made goes without its solution and needs none)."""
+    axes and tick marks, about a quarter of those pictures' time); for a 3D run, the solver's
+    solution classes, which its job unpickles (a worker started before the scene was loaded does
+    not have them; a 2D job whose bodies' output meshes are made goes without its solution and
+    needs none)."""
     if conn.poll(0):
         return
     try:
@@ -241,9 +242,10 @@ def _helper(args: tuple, tasks: tuple[str, ...], counter, go, writer) -> None:
 
 
 def _serve(conn, go, shared: dict[int, Any], planar: bool) -> None:
-    """The worker: warm up (and prepare while no job has come, :func:`_while_waiting`), wait for one job (an empty message or a closed pipe: nothing to do), fork a
-    helper for it and render its tasks with the helper (:func:`_claim`), report both processes'
-    outcomes (the worker's, then the helper's)."""
+    """The worker: warm up (and prepare while no job has come, :func:`_while_waiting`), wait for
+    one job (an empty message or a closed pipe: nothing to do), fork a helper for it and render
+    its tasks with the helper (:func:`_claim`), report both processes' outcomes (the worker's,
+    then the helper's)."""
     warm = _warm_up()
     _while_waiting(conn, planar)
     try:

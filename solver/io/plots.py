@@ -161,6 +161,9 @@ def _draw_field(fig: Any, ax: Any, cax: Any, outputs, key: str, label: str, wind
 #: the field pictures' panels: (left edge, field, label)
 _PANELS = ((0.06, "von_mises", "von Mises stress"), (0.575, "displacement", "displacement magnitude"))
 
+#: tick marks made ahead per axis: as many as five bins ask for, and a spare
+_TICKS = 8
+
 #: empty figures made ahead (:func:`prepare_figures`), by kind ("field", "line"), each taken by
 #: the next picture of its kind
 _prepared: dict[str, Any] = {}
@@ -181,10 +184,6 @@ def _empty_field_figure(plt) -> tuple[Any, list[tuple[Any, Any]]]:
             axis.get_major_ticks(_TICKS)
         panels.append((ax, cax))
     return fig, panels
-
-
-#: tick marks made ahead per axis: as many as five bins ask for, and a spare
-_TICKS = 8
 
 
 #: a stress line picture's size (inches)
