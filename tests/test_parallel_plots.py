@@ -4,7 +4,9 @@ becomes the reason given, any other failure of a child is raised in the caller w
 and message, and a child that dies has its pictures rendered in the caller. The rendering itself
 is replaced here by a stand-in that writes one file per group naming the process that wrote it."""
 
+import multiprocessing
 import os
+import pickle
 import threading
 import time
 
@@ -273,3 +275,23 @@ def test_the_projections_thread_pool_does_not_keep_pictures_from_other_processes
     _jit.run_ranges(lambda lo, hi: covered.append((lo, hi)), 4 * _jit.MIN_RANGE)
     assert sum(hi - lo for lo, hi in covered) == 8 * _jit.MIN_RANGE  # every point, both times
     _jit.release_threads()
+
+
+def test_a_layout_sent_ahead_has_the_fixed_parts_drawn_unless_the_job_waits(monkeypatch):
+    """A layout message before the job (PictureWorker.start) is drawn while the worker waits;
+    when the job is already waiting it is skipped; the job is what the worker gets either way."""
+    drawn = []
+    monkeypatch.setattr("ibfem.solver.io.plots.prepare_field_background", lambda *layout: drawn.append(layout))
+    layout = parallel_plots._LAYOUT + pickle.dumps(("scene", (0.0, 1.0, 0.0, 2.0)))
+    for waiting in (False, True):
+        reader, writer = multiprocessing.Pipe()
+        writer.send_bytes(layout)
+        if waiting:
+            writer.send_bytes(b"the job")
+            assert parallel_plots._next_job(reader) == b"the job"
+            continue
+        later = threading.Timer(0.2, writer.send_bytes, (b"the job",))  # after the layout is drawn
+        later.start()
+        assert parallel_plots._next_job(reader) == b"the job"
+        later.join()
+    assert drawn == [("scene", (0.0, 1.0, 0.0, 2.0))]

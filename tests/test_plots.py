@@ -64,16 +64,37 @@ def test_field_and_line_pictures_made_ahead_are_the_same_pictures(tmp_path):
     line = {"name": "down", "start": [0.0, 0.5], "end": [0.0, -0.5], "n": 40}
     summary = write_results(tmp_path / "first", problem, solution, lines=[line], vtk=False, plots=False)
     pictures = []
-    for ahead in (False, True):
-        if ahead:
+    for ahead in ("nothing", "empty figures", "fixed parts drawn"):
+        if ahead != "nothing":
             plots.prepare_figures()
-        written = plots.write_plots(tmp_path / str(ahead), problem, solution, summary,
+        if ahead == "fixed parts drawn":  # the title, frames, ticks and labels drawn ahead
+            plots.prepare_field_background(*plots.field_layout(problem))
+        written = plots.write_plots(tmp_path / ahead, problem, solution, summary,
                                     groups=("fields:scene", "profiles"))
-        pictures.append({p.name: image.imread(p) for p in written})
-    assert not plots._prepared  # both taken by their pictures
-    assert {"fields.png", "line_down.png"} <= set(pictures[0]) == set(pictures[1])
+        pictures.append({p.name: image.imread(p)[:, :, :3] for p in written})  # RGB from the drawn ahead
+        assert not plots._prepared  # each taken by its picture
+    assert {"fields.png", "line_down.png"} <= set(pictures[0]) == set(pictures[1]) == set(pictures[2])
     for name in pictures[0]:
         assert np.array_equal(pictures[0][name], pictures[1][name]), name
+        assert np.array_equal(pictures[0][name], pictures[2][name]), name
+
+
+def test_fixed_parts_drawn_for_another_picture_are_drawn_again(tmp_path):
+    """Fixed parts drawn ahead for another title or window are not used: the picture is drawn
+    whole, the same as without them."""
+    problem = cylinder_on_block("frictionless", ux=0.0)
+    solution = solve(problem)
+    summary = write_results(tmp_path / "first", problem, solution, vtk=False, plots=False)
+    title, (x0, x1, y0, y1) = plots.field_layout(problem)
+    assert x1 > x0 and y1 > y0
+    drawn = []
+    for layout in (None, ("another scene", (x0, x1, y0, y1)), (title, (x0, x1, y0, 0.5 * (y0 + y1)))):
+        if layout is not None:
+            plots.prepare_field_background(*layout)
+        written = plots.write_plots(tmp_path / str(len(drawn)), problem, solution, summary, groups=("fields:scene",))
+        drawn.append(image.imread(written[0])[:, :, :3])
+        assert not plots._prepared
+    assert np.array_equal(drawn[0], drawn[1]) and np.array_equal(drawn[0], drawn[2])
 
 
 SOLID = {

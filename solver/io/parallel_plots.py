@@ -154,6 +154,28 @@ def _while_waiting(conn, planar: bool) -> None:
         pass
 
 
+#: the start of a message that gives the field picture's layout ahead of the job
+_LAYOUT = b"layout:"
+
+
+def _next_job(conn) -> bytes:
+    """The job's message (empty: none will come). A layout message before it
+    (:meth:`PictureWorker.start`) has the field picture's fixed parts drawn while the run
+    solves, unless the job is already waiting."""
+    while True:
+        message = conn.recv_bytes()
+        if not message.startswith(_LAYOUT):
+            return message
+        if conn.poll(0):
+            continue
+        try:
+            from .plots import prepare_field_background
+
+            prepare_field_background(*pickle.loads(message[len(_LAYOUT):]))
+        except ImportError:  # matplotlib missing: reported with the job
+            pass
+
+
 def _local_functions(problem) -> dict[int, Any]:
     """The local functions (closures, lambdas) the problem holds, by id: they do not pickle, but
     a worker forked after the problem was made holds the same objects at the same addresses, so
@@ -249,7 +271,7 @@ def _serve(conn, go, shared: dict[int, Any], planar: bool) -> None:
     warm = _warm_up()
     _while_waiting(conn, planar)
     try:
-        job = conn.recv_bytes()
+        job = _next_job(conn)
     except EOFError:
         return
     if not job:
@@ -301,11 +323,27 @@ class PictureWorker:
         except Exception:  # noqa: BLE001 - something else that does not pickle: children forked later instead
             shared = None
         if early is not None and shared == {} and early.process.is_alive():
-            return early  # forked already: usable even where this process can no longer fork
+            return early._laid_out(problem)  # forked already: usable even where this process can no longer fork
         if early is not None:
             early.stop(at_once=True)
         context = _fork_context()
-        return None if context is None or shared is None else cls._launch(context, shared, getattr(problem, "dim", 2) == 2)
+        if context is None or shared is None:
+            return None
+        return cls._launch(context, shared, getattr(problem, "dim", 2) == 2)._laid_out(problem)
+
+    def _laid_out(self, problem: pb.Problem) -> PictureWorker:
+        """Send a 2D problem's field picture layout (:func:`solver.io.plots.field_layout`): the
+        worker draws that picture's fixed parts while the run solves."""
+        if getattr(problem, "dim", None) == 2:
+            from .plots import field_layout
+
+            layout = field_layout(problem)
+            if layout is not None:
+                try:
+                    self.conn.send_bytes(_LAYOUT + pickle.dumps(layout))
+                except OSError:  # the worker is gone: the job finds it so
+                    pass
+        return self
 
     @classmethod
     def early(cls, scene_path: str | Path) -> PictureWorker | None:

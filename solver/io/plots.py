@@ -17,7 +17,10 @@ from .plot_units import length_unit, stress_unit
 from .body_output import body_output
 from .results import _file_stem, json_safe
 
-__all__ = ["write_plots"]
+__all__ = ["write_plots", "field_layout", "prepare_field_background"]
+
+#: the pictures' resolution (dots per inch)
+_DPI = 110
 
 
 class AggFigures:
@@ -51,8 +54,12 @@ class _Figures:
 
     def save(self, fig: Any, name: str) -> None:
         path = self.out_dir / name
-        # zlib's fastest level: 0.24-0.30 times the default's encoding time, files 1.3 times larger
-        fig.savefig(path, dpi=110, pil_kwargs={"compress_level": 1})
+        blit = getattr(fig, "_ibfem_background", None)
+        if blit is not None:  # its fixed parts drawn ahead (:func:`prepare_field_background`)
+            _save_on_background(fig, *blit, path)
+        else:
+            # zlib's fastest level: 0.24-0.30 times the default's encoding time, files 1.3 times larger
+            fig.savefig(path, dpi=_DPI, pil_kwargs={"compress_level": 1})
         self.written.append(path)
 
     def save_line_plot(self, fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str,
@@ -121,16 +128,17 @@ def _colour_range(outputs, values: list[np.ndarray], window) -> tuple[float, flo
     return vmin, vmax
 
 
-def _draw_field(fig: Any, ax: Any, cax: Any, outputs, key: str, label: str, window) -> None:
+def _draw_field(fig: Any, ax: Any, cax: Any, outputs, key: str, label: str, window) -> bool:
     """The recovered field over the bodies as they are (cells clipped at the exact boundary),
     drawn on the deformed shape at true scale (touching bodies close over the contact), smoothly
-    shaded between the points; lengths and stresses in the units that fit."""
+    shaded between the points; lengths and stresses in the units that fit. False when no
+    triangle reaches into the window (nothing drawn, the colour bar removed)."""
     from matplotlib.ticker import MaxNLocator
 
     values = [_point_values(out, key) for out in outputs]
     vmin, vmax = _colour_range(outputs, values, window)
     x0, x1, y0, y1 = window
-    lname, lscale = length_unit(max(x1 - x0, y1 - y0))
+    lscale = _field_panel(ax, cax, label, window)
     uname, uscale = stress_unit(max(abs(vmin), abs(vmax))) if key == "von_mises" else length_unit(vmax)
     image = None
     for out, v in zip(outputs, values):
@@ -144,18 +152,30 @@ def _draw_field(fig: Any, ax: Any, cax: Any, outputs, key: str, label: str, wind
             continue
         image = ax.tripcolor(xy[:, 0], xy[:, 1], tris[ok], np.nan_to_num(v) / uscale, shading="gouraud",
                              cmap="viridis", vmin=vmin / uscale, vmax=vmax / uscale)
-    ax.set_xlim(x0 / lscale, x1 / lscale)
-    ax.set_ylim(y0 / lscale, y1 / lscale)
     if image is not None:
+        cax.set_visible(True)
         bar = fig.colorbar(image, cax=cax, label=f"{label} [{uname}]")
         bar.locator = MaxNLocator(nbins=6)
     else:
         cax.remove()
+    return image is not None
+
+
+def _field_panel(ax: Any, cax: Any, label: str, window) -> float:
+    """What a field panel shows whatever the field: its window at equal scales, title and axis
+    labels in the length unit that fits; the colour bar's axes hidden until a field is drawn.
+    Returns the length unit's size in metres."""
+    x0, x1, y0, y1 = window
+    lname, lscale = length_unit(max(x1 - x0, y1 - y0))
+    ax.set_xlim(x0 / lscale, x1 / lscale)
+    ax.set_ylim(y0 / lscale, y1 / lscale)
     ax.set_aspect("equal", anchor="E")  # against its colour bar
     ax.locator_params(nbins=5)
     ax.set_title(f"{label} (deformed, true scale)", fontsize=10, y=1.0, pad=6)
     ax.set_xlabel(f"x [{lname}]")
     ax.set_ylabel(f"y [{lname}]")
+    cax.set_visible(False)
+    return lscale
 
 
 #: the field pictures' panels: (left edge, field, label)
@@ -202,14 +222,63 @@ def prepare_figures() -> None:
     _prepared["line"] = fig, ax
 
 
+def prepare_field_background(title: str, window) -> None:
+    """Draw now what the next field picture shows whatever the solution, when it is ``title``
+    over ``window`` (:func:`field_layout`): the figure's title, each panel's frame, ticks and
+    labels. Its picture then draws only the fields and their colour bars onto a copy of it
+    (0.05 s of the 0.13 s a field picture of 12 000 triangles takes)."""
+    fig, panels = _prepared.pop("field", None) or _empty_field_figure(AggFigures())
+    fig.suptitle(title)
+    for (ax, cax), (_, _, label) in zip(panels, _PANELS):
+        _field_panel(ax, cax, label, window)
+    fig.set_dpi(_DPI)
+    frames = [spine for ax, _ in panels for spine in ax.spines.values()]
+    for spine in frames:  # drawn once, over the fields (twice, their anti-aliased edges darken)
+        spine.set_visible(False)
+    fig.canvas.draw()
+    for spine in frames:
+        spine.set_visible(True)
+    _prepared["field"] = fig, panels
+    _prepared["field_background"] = (title, tuple(window)), fig.canvas.copy_from_bbox(fig.bbox)
+
+
+def field_layout(problem: pb.Problem) -> tuple[str, tuple[float, float, float, float]] | None:
+    """``fields.png``'s title and window: the problem's name and every body's exact bounding box
+    (None when a body has no profile)."""
+    boxes = [getattr(getattr(b, "profile", None), "bounds", None) for b in problem.bodies]
+    if not boxes or any(box is None for box in boxes):
+        return None
+    lo = np.min([box[0] for box in boxes], axis=0)
+    hi = np.max([box[1] for box in boxes], axis=0)
+    return problem.name, (float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]))
+
+
+def _save_on_background(fig: Any, background: Any, panels, path: Path) -> None:
+    """Write ``fig`` drawing only its fields (and the frames over them) and colour bars onto
+    ``background`` (the rest of it, drawn ahead), as an RGB PNG at zlib's fastest level."""
+    from PIL import Image
+
+    canvas = fig.canvas
+    canvas.restore_region(background)
+    renderer = canvas.get_renderer()
+    for ax, cax in panels:
+        for artist in [*ax.collections, *ax.spines.values()]:
+            ax.draw_artist(artist)
+        cax.draw(renderer)
+    Image.fromarray(np.asarray(canvas.buffer_rgba())[:, :, :3]).save(path, format="png", compress_level=1)
+
+
 def _field_figure(plt, outputs, title: str, window) -> Any:
-    """von Mises and displacement magnitude side by side over ``window`` (the whole scene when None)."""
+    """von Mises and displacement magnitude side by side over ``window`` (None: the points'
+    extent)."""
     fig, panels = _prepared.pop("field", None) or _empty_field_figure(plt)
+    background = _prepared.pop("field_background", None)
     fig.suptitle(title)
     allpoints = np.concatenate([out.points for out in outputs])
     window = window or (allpoints[:, 0].min(), allpoints[:, 0].max(), allpoints[:, 1].min(), allpoints[:, 1].max())
-    for (ax, cax), (_, key, label) in zip(panels, _PANELS):
-        _draw_field(fig, ax, cax, outputs, key, label, window)
+    drawn = [_draw_field(fig, ax, cax, outputs, key, label, window) for (ax, cax), (_, key, label) in zip(panels, _PANELS)]
+    if background is not None and background[0] == (title, tuple(window)) and all(drawn):
+        fig._ibfem_background = background[1], panels
     return fig
 
 
@@ -225,7 +294,8 @@ def _field_figures(figs: _Figures, problem: pb.Problem, solution: pb.Solution, s
     if not bodies:
         return
     if parts is None or "scene" in parts:
-        figs.save(_field_figure(figs.plt, bodies, problem.name, None), "fields.png")
+        layout = field_layout(problem)
+        figs.save(_field_figure(figs.plt, bodies, problem.name, layout and layout[1]), "fields.png")
     # a close-up of each contact: 4 half-widths (at least 8 of the finest cells) around it
     finest = min(float(summary["bodies"].get(b.name, {}).get("min_element_size") or b.element_size)
                  for b in problem.bodies)
