@@ -294,9 +294,14 @@ class HistoryBandContact(BandContact):
 
     def _refine_bounds(self, x: np.ndarray, a: float) -> bool:
         """Move each stick/slip boundary to the root of its edge singularity (secant steps); True
-        when every boundary moved by less than ``stick_tolerance`` a."""
+        when every boundary's next move is below ``BOUNDARY_TOLERANCE`` cells (or the step's tries
+        ran out). A step that ends keeps the boundaries of the solve just made, not the last small
+        move: the step's forces, friction work and slips are then those of the solved field (the
+        contact's force equals the loaded faces' reaction, and the loop's area equals the work
+        of the contact's tractions)."""
         self.sample_state(x, a)
         p, q = self._raw
+        solved = (self.bounds.copy(), self.values.copy(), self.zone.copy())
         moves = []
         for i, b in enumerate(self.bounds):
             left, right = self.values[i], self.values[i + 1]
@@ -326,7 +331,10 @@ class HistoryBandContact(BandContact):
         settled = not moves or max(moves) <= BOUNDARY_TOLERANCE * self.h
         if not settled and self.refinements >= MAX_REFINEMENTS:
             self.unsettled_steps.append(self.step_count)
-            return True
+            settled = True
+        if settled:
+            self.bounds, self.values, self.zone = solved
+            self.stick_ratio = self.stick(a) / a if a > 0 else 1.0
         return settled
 
     def _boundary_step(self, tries: list, into_stick: float) -> float:
