@@ -67,7 +67,11 @@ def test_one_cycle_coarse(tmp_path):
     assert max(r["shear_rms_over_mu_p0"] for r in rows) < 0.07
     (cycle,) = result["cycles"]
     assert cycle["friction_error"] == pytest.approx(0.0, abs=0.05)
-    assert cycle["energy_loop"] == pytest.approx(cycle["energy_friction"], rel=0.1)
+    # the loop's 8 trapezoids a cycle cut its corners: |W_loop - W_friction| / W measured 0.077
+    # (0.003 at 20 points a cycle: test_loop_area_is_the_friction_work)
+    _check_equilibrium(summary)
+    loop, friction, w = _loop_and_friction(summary)
+    assert abs(loop - friction) / w < 0.10
     _check_step_polyline(tmp_path, _run.solution.steps[3])  # t = 1.375: the first branch after a reversal
 
 
@@ -84,6 +88,17 @@ def _loop_and_friction(summary: dict, radius: float = 1.0) -> tuple[float, float
     return cycle["energy_loop"], cycle["energy_friction"], w
 
 
+def _check_equilibrium(summary: dict) -> None:
+    """At every step the contact's tangential force (on the block, along the contact's tangent)
+    is the loaded face's reaction and minus the fixed face's, to round-off."""
+    tangent = np.asarray(summary["contacts"][0]["tangent"])
+    q_max = max(abs(s["contacts"][0]["tangential_force"]) for s in summary["steps"])
+    for s in summary["steps"]:
+        q = s["contacts"][0]["tangential_force"]
+        assert q == pytest.approx(np.asarray(s["reactions"]["cylinder/flat"]) @ tangent, abs=1e-6 * q_max)
+        assert q == pytest.approx(-np.asarray(s["reactions"]["block/bottom"]) @ tangent, abs=1e-6 * q_max)
+
+
 def test_loop_area_is_the_friction_work(tmp_path):
     """Energy balance of a closed cycle: the loop's area (the rig's work, Q against the faces'
     relative displacement) and the local friction work (the slipping points' shear times their
@@ -93,24 +108,15 @@ def test_loop_area_is_the_friction_work(tmp_path):
     reaction and the fixed face's, to round-off (a step's force read with other zones than the
     solved field's put the loop 1.7 % above the work the rig did). Then, per points per cycle n,
     the loop's trapezoids over n points cut its corners (an error of order n^-2, low) while the
-    friction work takes each step's slip at the step end's Coulomb traction: |W_loop - W_friction| / W within 0.10 at
-    n = 8 (measured 0.079) and 0.01 at n = 20 (measured 0.003; 0.004 at n = 40: below the
-    grid's own error the gap no longer shrinks with n), and each of them within 2 % of the
-    closed form at n = 20 (measured -0.7 % and -1.0 %)."""
-    gaps = {}
-    for n in (8, 20):
-        summary, _ = _run(tmp_path / str(n), points_per_cycle=n, cycles=1.5, steps_per_unit=4)
-        q_max = max(abs(s["contacts"][0]["tangential_force"]) for s in summary["steps"])
-        for s in summary["steps"]:
-            q = s["contacts"][0]["tangential_force"]  # on the block, along the contact's tangent
-            tangent = np.asarray(summary["contacts"][0]["tangent"])
-            assert q == pytest.approx(np.asarray(s["reactions"]["cylinder/flat"]) @ tangent, abs=1e-6 * q_max)
-            assert q == pytest.approx(-np.asarray(s["reactions"]["block/bottom"]) @ tangent, abs=1e-6 * q_max)
-        loop, friction, w = _loop_and_friction(summary)
-        gaps[n] = abs(loop - friction) / w
-        if n == 20:
-            assert loop == pytest.approx(w, rel=0.02) and friction == pytest.approx(w, rel=0.02)
-    assert gaps[8] < 0.10 and gaps[20] < 0.01 and gaps[20] < 0.2 * gaps[8], gaps
+    friction work takes each step's slip at the step end's Coulomb traction: |W_loop -
+    W_friction| / W within 0.01 at n = 20 (measured 0.003; at n = 8 0.077, held by
+    test_one_cycle_coarse; at n = 40 0.004: below the grid's own error the gap no longer shrinks
+    with n), and each of them within 2 % of the closed form (measured -0.7 % and -1.0 %)."""
+    summary, _ = _run(tmp_path, points_per_cycle=20, cycles=1.5, steps_per_unit=4)
+    _check_equilibrium(summary)
+    loop, friction, w = _loop_and_friction(summary)
+    assert abs(loop - friction) / w < 0.01
+    assert loop == pytest.approx(w, rel=0.02) and friction == pytest.approx(w, rel=0.02)
 
 
 def _check_step_polyline(tmp_path: Path, step: dict) -> None:
