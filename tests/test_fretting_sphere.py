@@ -162,3 +162,47 @@ def test_sphere_fretting_energy_on_a_grid_shifted_along_the_contact(tmp_path):
     assert aligned["converged"] and shifted["converged"]
     (w_aligned,), (w_shifted,) = aligned["cycles"], shifted["cycles"]
     assert w_shifted["energy_loop"] == pytest.approx(w_aligned["energy_loop"], rel=0.02), (w_aligned, w_shifted)
+
+
+@pytest.mark.slow
+def test_step_out_of_zone_updates_keeps_its_solved_zones():
+    """A step that runs out of zone updates (``max_stick_iterations = 3``, the ball on a flat at
+    Q*/(mu N) of about 0.3, 8 points per cycle) is reported (the run not converged, the step
+    listed as unsettled) and keeps the zones it was solved with: its tangential force equals the
+    loaded face's reaction (equilibrium of the ball; measured 9e-13 of Q*, 0.34 Q* when the last
+    update's zones were kept unsolved)."""
+    from ibfem.solver.reports.validate_fretting_sphere import EXAMPLE_AMPLITUDE, EXAMPLE_RATIO, scene_data
+    from ibfem.solver.solving import solve
+
+    data = scene_data(EXAMPLE_AMPLITUDE * 0.3 / EXAMPLE_RATIO, cycles=0.75, points_per_cycle=8)
+    data["contacts"][0]["max_stick_iterations"] = 3
+    solution = solve(scene_from_dict(data, label="ball.toml").problem)
+    assert not solution.converged
+    assert solution.contacts[0]["checks"]["steps_with_unsettled_zones"]
+    axis = np.asarray(solution.contacts[0]["axes"][0])
+    q = np.array([s["contacts"][0]["tangential_force"][0] for s in solution.steps])
+    reaction = np.array([np.asarray(s["reactions"]["ball/flat"]) @ axis for s in solution.steps])
+    assert np.abs(q).max() > 0.0
+    assert np.abs(q - reaction).max() < 1e-9 * np.abs(q).max()
+
+
+def test_edge_ring_covers_the_slip_annulus():
+    """``--edge-ring`` (validate_fretting_sphere): balls one level finer than the example's contact
+    refinement, in the contact plane on the half model's side, whose union covers the band from
+    0.81 a to 1.03 a about the contact's centre (where a slip annulus lies at Q*/(mu N) >= 0.3:
+    c / a = 0.89); the scene with them is valid."""
+    from ibfem.solver.reports.validate_fretting_sphere import EXAMPLE_CONTACT_RADIUS, scene_data
+
+    data = scene_data(1.0e-4, 0.75, 20, edge_ring=True)
+    a = EXAMPLE_CONTACT_RADIUS
+    for body in data["bodies"]:
+        contact, *balls = body["refinement"]
+        assert contact["around"] == "contact" and all(b["levels"] == contact["levels"] + 1 for b in balls)
+        centres = np.array([b["around"] for b in balls])
+        radius = balls[0]["radius"]
+        assert np.allclose(centres[:, 2], 0.0) and np.all(centres[:, 1] >= -1e-12)
+        r, th = np.meshgrid(np.linspace(0.81, 1.03, 23) * a, np.linspace(0.0, math.pi, 181))
+        band = np.column_stack([(r * np.cos(th)).ravel(), (r * np.sin(th)).ravel(), np.zeros(r.size)])
+        nearest = np.min(np.linalg.norm(band[:, None, :] - centres[None, :, :], axis=2), axis=1)
+        assert nearest.max() <= radius
+    assert scene_from_dict(data, label="ring.toml").problem.bodies[0].refinements

@@ -100,6 +100,8 @@ class HistoryBandContact(BandContact):
     edge_slope: float = 0.0
     slopes: list = field(default_factory=list)
     region_pieces: object = None  # the cache of the region's pieces (solver.contact.history_terms)
+    #: (bounds, values, zone) of the last terms assembled: the zones of the last solve
+    solved_zones: tuple | None = None
     history_rule = "incremental Coulomb: stick/slip state and accumulated slip carried per point"
 
     def start_history(self) -> None:
@@ -151,7 +153,9 @@ class HistoryBandContact(BandContact):
 
     def terms(self, a: float):
         """Stiffness, load and quadrature data of the region at half-width a (the band terms with the
-        zones of this contact, assembled from cached pieces: solver.contact.history_terms)."""
+        zones of this contact, assembled from cached pieces: solver.contact.history_terms). The
+        zones are kept as the last solved ones (a step that ends returns to them)."""
+        self.solved_zones = (self.bounds.copy(), self.values.copy(), self.zone.copy())
         return history_terms(self, a)
 
     def stick(self, a: float) -> float:
@@ -294,7 +298,11 @@ class HistoryBandContact(BandContact):
 
     def _refine_bounds(self, x: np.ndarray, a: float) -> bool:
         """Move each stick/slip boundary to the root of its edge singularity (secant steps); True
-        when every boundary moved by less than ``stick_tolerance`` a."""
+        when every boundary's next move is below ``BOUNDARY_TOLERANCE`` cells (or the step's tries
+        ran out). A step that ends keeps the boundaries of the solve just made, not the last small
+        move: the step's forces, friction work and slips are then those of the solved field (the
+        contact's force equals the loaded faces' reaction, and the loop's area equals the work
+        of the contact's tractions)."""
         self.sample_state(x, a)
         p, q = self._raw
         moves = []
@@ -326,7 +334,10 @@ class HistoryBandContact(BandContact):
         settled = not moves or max(moves) <= BOUNDARY_TOLERANCE * self.h
         if not settled and self.refinements >= MAX_REFINEMENTS:
             self.unsettled_steps.append(self.step_count)
-            return True
+            settled = True
+        if settled and self.solved_zones is not None:
+            self.bounds, self.values, self.zone = (v.copy() for v in self.solved_zones)
+            self.stick_ratio = self.stick(a) / a if a > 0 else 1.0
         return settled
 
     def _boundary_step(self, tries: list, into_stick: float) -> float:

@@ -362,14 +362,15 @@ class HistoryEllipseContact(EllipseContact):
 
     def _commit_zones(self, reg, slip: np.ndarray, direction: np.ndarray, changed: int, info) -> bool:
         """Keep a zone update's zones and its stick ratio; True when it settled (no point changed)
-        or when the step has used its zone updates (the step is then listed as unsettled)."""
+        or when the step has used its zone updates: the step is then listed as unsettled and keeps
+        the zones of its last solve (its forces, slips and friction work are the solved field's)."""
+        if changed and self.zone_updates >= self.options.max_stick_iterations:
+            self.unsettled_steps.append(self.step_count)
+            return True
         self._set_zones(reg, slip, direction)
         self.zone_changes += changed
         area = plane_weights(self, info[0])
         self.stick_ratio = math.sqrt(float(area[~slip].sum() / max(area.sum(), 1e-300)))
-        if changed and self.zone_updates >= self.options.max_stick_iterations:
-            self.unsettled_steps.append(self.step_count)
-            return True
         return changed == 0
 
     def _imposed_zones(self, x: np.ndarray, a: float, info) -> bool:

@@ -29,6 +29,7 @@ full contact (the model's forces over its share):
 ``python -m ibfem.solver.reports.validate_fretting_sphere [--out DIR] [--ratios 0.3 0.6 0.9]``
 prints the tables and writes ``validation_sphere.json`` and ``fretting_sphere.md`` (the docs' table).
 ``--refinement-levels 6`` runs the example's grid refined once more about the contact (a / h = 11.6);
+``--edge-ring`` refines it once more in a ring about the contact's edge only (0.81 a to 1.03 a);
 ``--closed-form-zones`` imposes Mindlin and Deresiewicz's zones for the solved forces instead of
 Coulomb's rule (``ClosedFormZones``), which separates the zone rule's error from the
 discretisation's; ``--cycles`` sets the run's length.
@@ -54,6 +55,12 @@ __all__ = ["compare", "run_case", "main"]
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "fretting" / "sphere_on_flat_fretting.toml"
 #: the example's tangential displacement amplitude and the Q*/(mu N) it reaches (measured: 0.604)
 EXAMPLE_AMPLITUDE, EXAMPLE_RATIO = 3.7e-4, 0.604
+#: the example's contact radius (m, measured; Hertz: 0.0449 m for its normal force)
+EXAMPLE_CONTACT_RADIUS = 0.0449
+#: the edge ring (``--edge-ring``): balls of one more refinement level, of this radius (in a),
+#: centred on the circle of this radius (in a) in the contact plane, this many over the half
+#: model's half circle: cells twice as fine from 0.81 a to 1.03 a, where a slip annulus lies
+EDGE_RING_BALL, EDGE_RING_CIRCLE, EDGE_RING_BALLS = 0.13, 0.92, 30
 
 
 def _stick_theory(q: float, n: float, mu: float, past: list[float]) -> float:
@@ -114,8 +121,12 @@ def compare(summary: dict, hysteresis: np.ndarray, youngs_modulus: float, poisso
         i, j = ends
         closed_delta = np.array([closed(k) if k >= start else 0.0 for k in range(len(q))])
         w_half, w_half_ref = (2.0 * abs(loop_energy(q, d, i, j)) for d in (contact_delta, closed_delta))
+        w_md = energy_per_cycle(0.5 * abs(q[i] - q[j]), n_mean, mu, a_mean, g_eff)
+        w_fric = 2.0 * sum(st["contacts"][contact]["friction_work"] for st in steps[i + 1:j + 1]) / share
         half = {"t": [float(t[i]), float(t[j])], "energy_loop": w_half, "energy_theory_sampled": w_half_ref,
-                "loop_error_sampled": w_half / w_half_ref - 1.0}
+                "loop_error_sampled": w_half / w_half_ref - 1.0, "energy_friction": w_fric, "energy_theory": w_md,
+                "loop_error": w_half / w_md - 1.0, "friction_error": w_fric / w_md - 1.0,
+                "x": 0.5 * abs(q[i] - q[j]) / (mu * n_mean)}
     return {"steps": rows, "branches": branches, "cycles": cycles, "half_loop": half, "bulk_compliance": float(bulk),
             "N": n_mean, "a": a_mean}
 
@@ -163,15 +174,19 @@ class ClosedFormZones:
 
 
 def scene_data(amplitude: float, cycles: float, points_per_cycle: int, grid_offset=None,
-               refinement_levels: int | None = None) -> dict:
+               refinement_levels: int | None = None, edge_ring: bool = False) -> dict:
     """The example's scene with its tangential amplitude and its cycle changed (and its grids
-    shifted by ``grid_offset``, fractions of the coarsest cell, and refined ``refinement_levels``
-    times about the contact, when given)."""
+    shifted by ``grid_offset``, fractions of the coarsest cell, refined ``refinement_levels``
+    times about the contact, and one level more in a ring about the contact's edge with
+    ``edge_ring``, when given)."""
     data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
     data = copy.deepcopy(data)
     if refinement_levels is not None:
         for body in data["bodies"]:
             body["refinement"]["levels"] = int(refinement_levels)
+    if edge_ring:
+        for body in data["bodies"]:
+            body["refinement"] = [body["refinement"]] + edge_ring_balls(body["refinement"]["levels"] + 1)
     for bc in data["boundary_conditions"]:
         if bc.get("path") is not None and bc["type"] == "displacement":
             bc["value"][0] = float(amplitude)
@@ -188,17 +203,28 @@ def scene_data(amplitude: float, cycles: float, points_per_cycle: int, grid_offs
     return data
 
 
+def edge_ring_balls(levels: int) -> list[dict]:
+    """Refinements of ``levels`` in balls along the example's contact edge (``EDGE_RING_*``), over
+    the half model's half circle (y >= 0) in the contact plane z = 0."""
+    a = EXAMPLE_CONTACT_RADIUS
+    angles = np.linspace(0.0, math.pi, EDGE_RING_BALLS)
+    return [{"levels": int(levels), "radius": EDGE_RING_BALL * a,
+             "around": [EDGE_RING_CIRCLE * a * math.cos(th), EDGE_RING_CIRCLE * a * math.sin(th), 0.0]}
+            for th in angles]
+
+
 def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle: int = 20, grid_offset=None,
-             refinement_levels: int | None = None, closed_form_zones: bool = False) -> dict:
+             refinement_levels: int | None = None, closed_form_zones: bool = False, edge_ring: bool = False) -> dict:
     """Run the example at a tangential amplitude (its grids shifted by ``grid_offset``, refined
-    ``refinement_levels`` times about the contact; with the closed form's zones imposed when
-    ``closed_form_zones``); its comparison (with the run's timings)."""
+    ``refinement_levels`` times about the contact, one level more about its edge with
+    ``edge_ring``; with the closed form's zones imposed when ``closed_form_zones``); its
+    comparison (with the run's timings)."""
     from ..contact.friction_history3d import HistoryEllipseContact
     from ..io.output import write_scene_results
     from ..io.scene import scene_from_dict
     from ..solving import solve
 
-    sc = scene_from_dict(scene_data(amplitude, cycles, points_per_cycle, grid_offset, refinement_levels),
+    sc = scene_from_dict(scene_data(amplitude, cycles, points_per_cycle, grid_offset, refinement_levels, edge_ring),
                          label=str(EXAMPLE), base_dir=EXAMPLE.parent)
     HistoryEllipseContact.zone_rule = ClosedFormZones() if closed_form_zones else None
     try:
@@ -249,12 +275,13 @@ def markdown(results: list[dict], slope: float, slope_theory: float) -> str:
                      f"| {r['solves']} |")
     halves = [r for r in results if r.get("half_loop")]
     if halves:
-        lines += ["", "| Q*/(mu N) of the first loading | half loop t | W half loop / W_MD at the same steps - 1 |",
-                  "|---|---|---|"]
+        lines += ["", "| Q*/(mu N) of the first loading | half loop t | W half loop / W_MD at the same steps - 1 "
+                      "| W half loop / W_MD - 1 | W friction / W_MD - 1 |", "|---|---|---|---|---|"]
         xs = [max(abs(s["Q_over_mu_N"]) for s in r["steps"] if s["branch"] == 0) for r in halves]
         for x, r in zip(xs, halves):
             h = r["half_loop"]
-            lines.append(f"| {x:.3f} | {h['t'][0]:.2f}-{h['t'][1]:.2f} | {h['loop_error_sampled']:+.1%} |")
+            lines.append(f"| {x:.3f} | {h['t'][0]:.2f}-{h['t'][1]:.2f} | {h['loop_error_sampled']:+.1%} "
+                         f"| {h['loop_error']:+.1%} | {h['friction_error']:+.1%} |")
         if len(halves) >= 2:
             lw = np.log([r["half_loop"]["energy_loop"] for r in halves])
             lt = np.log([r["half_loop"]["energy_theory_sampled"] for r in halves])
@@ -277,6 +304,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--refinement-levels", type=int, default=None,
                     help="refinement levels about the contact in both bodies (the example's: 5, a / h = 5.8; "
                          "6 gives a / h = 11.6 at about four times the memory and ten times the time)")
+    ap.add_argument("--edge-ring", action="store_true",
+                    help="one more refinement level in a ring from 0.81 a to 1.03 a about the contact's edge, where "
+                         "a slip annulus lies (about 1.8 GB and five times the time at Q*/(mu N) = 0.3)")
     ap.add_argument("--closed-form-zones", action="store_true",
                     help="impose Mindlin and Deresiewicz's zones for the solved forces instead of Coulomb's rule "
                          "(a diagnostic: the remaining error is the discretisation's)")
@@ -286,7 +316,7 @@ def main(argv: list[str] | None = None) -> int:
     for ratio in args.ratios:
         r = run_case(amplitude_for(ratio), out / f"ratio_{ratio:g}", cycles=args.cycles,
                      points_per_cycle=args.points_per_cycle, refinement_levels=args.refinement_levels,
-                     closed_form_zones=args.closed_form_zones)
+                     closed_form_zones=args.closed_form_zones, edge_ring=args.edge_ring)
         results.append(r)
         print(f"Q*/(mu N) ~ {ratio:g}: {r['solves']} solves, converged {r['converged']}")
         for s in r["steps"]:
@@ -300,8 +330,10 @@ def main(argv: list[str] | None = None) -> int:
                   f"friction {c['energy_friction']:.4g} J ({c['friction_error']:+.2%}), MD {c['energy_theory']:.4g} J")
         if r["half_loop"]:
             h = r["half_loop"]
-            print(f"  half loop t {h['t']} (closed by its symmetry): W {h['energy_loop']:.4g} J "
-                  f"({h['loop_error_sampled']:+.2%} against the closed form's loop at the same steps)")
+            print(f"  half loop t {h['t']} (closed by its symmetry): x {h['x']:.3f}  W {h['energy_loop']:.4g} J "
+                  f"({h['loop_error']:+.2%}; {h['loop_error_sampled']:+.2%} against the closed form's loop at the "
+                  f"same steps), friction {h['energy_friction']:.4g} J ({h['friction_error']:+.2%}), "
+                  f"MD {h['energy_theory']:.4g} J")
     slope = energy_slope(results)
     theory = [(c["Q_amplitude"], c["energy_theory"]) for r in results for c in r["cycles"][:1]]
     slope_theory = float(np.polyfit(*np.log(np.array(theory)).T, 1)[0]) if len(theory) >= 2 else math.nan
