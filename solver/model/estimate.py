@@ -29,7 +29,7 @@ import os
 import numpy as np
 
 __all__ = ["ProblemSize", "estimate_size", "history_bytes", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory",
-           "resident_memory", "loaded_scene_bytes"]
+           "resident_memory", "loaded_scene_bytes", "free_memory", "memory_limit"]
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
 #: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
@@ -360,6 +360,43 @@ def _held_fraction(bodies, point, radius: float) -> float:
     for b in bodies:
         held |= np.asarray(b.profile.signed_distance(pts), dtype=float) >= 0.0
     return float(held.mean())
+
+
+def free_memory() -> float:
+    """Bytes the machine has free for a new allocation now: Linux's ``MemAvailable`` (free memory
+    and what the page cache would give back), else its physical memory (:func:`available_memory`)."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    return available_memory()
+
+
+#: the environment variable of the memory limit a user sets for a run (:func:`memory_limit`)
+MEMORY_LIMIT_VARIABLE = "IBFEM_MEMORY_LIMIT"
+_UNITS = {"": 1.0, "B": 1.0, "K": 2.0**10, "KB": 2.0**10, "M": 2.0**20, "MB": 2.0**20, "G": 2.0**30, "GB": 2.0**30}
+
+
+def memory_limit() -> float | None:
+    """The memory limit the user sets in ``IBFEM_MEMORY_LIMIT``, in bytes ("3GB", "512MB", "2.5G"
+    or bytes; units of 1024); None when unset. A value that is not a positive size raises a
+    ValueError naming the variable and the value."""
+    value = os.environ.get(MEMORY_LIMIT_VARIABLE, "").strip()
+    if not value:
+        return None
+    number = value.rstrip("BbKkMmGg").strip()
+    unit = value[len(value.rstrip("BbKkMmGg")):].upper()
+    try:
+        size = float(number) * _UNITS[unit]
+    except (ValueError, KeyError):
+        size = math.nan
+    if not (math.isfinite(size) and size > 0.0):
+        raise ValueError(f"environment variable {MEMORY_LIMIT_VARIABLE} must be a positive size such as 3GB or "
+                         f"512MB, got {value!r}")
+    return size
 
 
 def available_memory() -> float:
