@@ -134,3 +134,33 @@ def test_a_bad_memory_limit_names_the_variable_and_the_value(monkeypatch, value)
         memory_limit()
     monkeypatch.delenv("IBFEM_MEMORY_LIMIT")
     assert memory_limit() is None
+
+
+def test_a_factor_on_disk_solves_alike_mapped_or_read(monkeypatch):
+    monkeypatch.setattr(mf, "DISK_CHUNK_BYTES", 4096 * 3)  # several chunks, mapped from inside a page
+    k = grid_body((7, 6, 5), seed=6)
+    order = linalg.metis_order(k, 3)
+    dofs = np.arange(k.shape[0] - 30, k.shape[0])
+    order = np.concatenate([order[~np.isin(order, dofs)], dofs])
+    factor, _, _ = mf.condensed_cholesky(k, order, len(dofs), on_disk=True)
+    assert factor._disk is not None and len(factor._chunks) >= 2
+    f = np.random.default_rng(7).standard_normal((k.shape[0], 2))
+    exact = spla.spsolve(k.tocsc(), f)
+    mapped = factor.solve(f)
+    assert np.abs(mapped - exact).max() <= 1e-10 * np.abs(exact).max()
+
+    def unmappable(*args, **kwargs):
+        raise OSError("no mapping here")
+
+    monkeypatch.setattr(mf.mmap, "mmap", unmappable)
+    np.testing.assert_array_equal(factor.solve(f), mapped)
+
+
+def test_the_bodies_are_solved_side_by_side_as_one_by_one(monkeypatch):
+    k, dofs, (factor, _, _) = factored(monkeypatch, "2")
+    f = np.random.default_rng(8).standard_normal(k.shape[0])
+    both = factor.solve(f)
+    monkeypatch.setenv("IBFEM_THREADS", "1")
+    np.testing.assert_array_equal(factor.solve(f), both)
+    exact = spla.spsolve(k.tocsc(), f)
+    assert np.abs(both - exact).max() <= 1e-10 * np.abs(exact).max()

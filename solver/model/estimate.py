@@ -225,8 +225,14 @@ def _estimate(problem, loaded: float) -> ProblemSize:
     if dim == 3 and problem.contacts:
         body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
-        memory = (_sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed) + BASE_BYTES_3D_CONTACT
-                  + loaded + history_bytes(problem))
+        rest = BASE_BYTES_3D_CONTACT + loaded + history_bytes(problem)
+        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed) + rest
+        at_once = min(_factor_threads(), len(body_dofs))
+        if at_once > 1:  # the bodies factored side by side where their work spaces fit together
+            side_by_side = (_sparse_contact_bytes(body_dofs, at_once) + _dense_contact_bytes(problem, streamed, at_once)
+                            + rest)
+            if side_by_side <= _side_by_side_budget():
+                memory = side_by_side
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
@@ -263,22 +269,38 @@ def resident_memory() -> float:
         return RESIDENT_BYTES
 
 
-def _sparse_contact_bytes(body_dofs: np.ndarray) -> float:
+def _sparse_contact_bytes(body_dofs: np.ndarray, at_once: int = 1) -> float:
     """The sparse part of a 3D contact: BYTES_PER_DOF_3D_CONTACT per dof of every body whose
     factor stays in memory; a body's factor of ON_DISK_BYTES or more is written to disk while it
     is computed, so such bodies count only K0 and the factorisation's sparse arrays
-    (STREAMED_BYTES_PER_DOF) and one chunk of the factor."""
+    (STREAMED_BYTES_PER_DOF) and one chunk of the factor per body factored at once (``at_once``)."""
     per_body = body_dofs * BYTES_PER_DOF_3D_CONTACT
     if not len(per_body):
         return 0.0
     streamed = per_body >= ON_DISK_BYTES
     total = float(per_body[~streamed].sum())
     if streamed.any():
-        total += STREAMED_BYTES_PER_DOF * float(body_dofs[streamed].sum()) + DISK_CHUNK_BYTES
+        chunks = min(at_once, int(streamed.sum()))
+        total += STREAMED_BYTES_PER_DOF * float(body_dofs[streamed].sum()) + chunks * DISK_CHUNK_BYTES
     return total
 
 
-def _dense_contact_bytes(problem, streamed: bool = False) -> float:
+def _factor_threads() -> int:
+    """Threads the bodies' factorisations run on (``IBFEM_THREADS``, default the cores)."""
+    from ibfem.geometry._jit import threads
+
+    return threads()
+
+
+def _side_by_side_budget() -> float:
+    """The most a run may hold for its bodies to be factored side by side: the machine's memory
+    (what is free now beside what this process holds) and the user's ``IBFEM_MEMORY_LIMIT``."""
+    limit = memory_limit()
+    budget = min(available_memory(), free_memory() + resident_memory())
+    return budget if limit is None else min(budget, limit)
+
+
+def _dense_contact_bytes(problem, streamed: bool = False, at_once: int = 1) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
     the root of the factor and a quarter of that in the kept block of the inverse (all of it
     for blocks below 4000 dofs, where it is small), and while the last body is factored about
@@ -286,13 +308,14 @@ def _dense_contact_bytes(problem, streamed: bool = False) -> float:
     measured 1.7 and 1.2 m_b^2 on the crossed cylinders), or WORK_SPACE_FACTOR m_z^2 where the
     condensed disc is smaller than a section through the contact refinement (m_z dofs). ``streamed``: the factors go to disk
     as they are computed; the last body's root block is then allocated only once its front
-    buffer is freed, so it is not counted beside the work space."""
+    buffer is freed, so it is not counted beside the work space. ``at_once``: bodies factored
+    side by side, each with its work space."""
     total = 0.0
     for c in problem.contacts:
         n_bodies, m_b = contact_dofs_per_body(problem, c)
         m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
         work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
-        total += 8.0 * (1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + work)
+        total += 8.0 * (1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + min(at_once, n_bodies) * work)
     return total
 
 
