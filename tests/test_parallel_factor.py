@@ -164,3 +164,23 @@ def test_the_bodies_are_solved_side_by_side_as_one_by_one(monkeypatch):
     np.testing.assert_array_equal(factor.solve(f), both)
     exact = spla.spsolve(k.tocsc(), f)
     assert np.abs(both - exact).max() <= 1e-10 * np.abs(exact).max()
+
+
+def test_the_trial_system_on_block_diagonal_g_equals_the_dense_one(monkeypatch):
+    """(S + Kc) x = r through I + G_AA Kc_AA formed block by block, against G dense and the
+    direct solve of S + Kc (a contact block coupling the two bodies' dofs)."""
+    k, dofs, (_, schur, g) = factored(monkeypatch, "2")
+    m = len(dofs)
+    s = schur @ np.eye(m)
+    rng = np.random.default_rng(9)
+    active = np.sort(rng.choice(m, m // 3, replace=False))
+    block = rng.standard_normal((len(active), len(active)))
+    kc = np.zeros((m, m))
+    kc[np.ix_(active, active)] = np.abs(s).max() * (block @ block.T) / len(active)
+    r = rng.standard_normal(m)
+    exact = np.linalg.solve(s + kc, r)
+    by_blocks = linalg.SmallSystem(schur, sp.csr_matrix(kc), True, g)
+    dense = linalg.SmallSystem(schur, sp.csr_matrix(kc), True, g @ np.eye(m))
+    assert by_blocks.active is not None and dense.active is not None
+    np.testing.assert_allclose(by_blocks.solve(r), dense.solve(r), rtol=0, atol=1e-12 * np.abs(exact).max())
+    np.testing.assert_allclose(by_blocks.solve(r), exact, rtol=0, atol=1e-9 * np.abs(exact).max())

@@ -97,6 +97,17 @@ class BlockDiagonal:
                 out[np.ix_(r, c)] = block[np.ix_(lr, lc)] if isinstance(block, np.ndarray) else block.take(lr, lc)
         return out
 
+    def diagonal_blocks(self, rows: np.ndarray):
+        """(where, dense block): for each block holding some of ``rows``, the positions in
+        ``rows`` of its dofs and its sub-matrix on them (the sub-matrix of this matrix on
+        ``rows`` is zero outside these blocks)."""
+        for k, block in enumerate(self.blocks):
+            where = np.flatnonzero(self._block_of[rows] == k)
+            if len(where):
+                local = self._local[rows[where]]
+                yield where, (block[np.ix_(local, local)] if isinstance(block, np.ndarray)
+                              else block.take(local, local))
+
     def toarray(self) -> np.ndarray:
         out = np.zeros(self.shape)
         for block, p in zip(self.blocks, self.positions):
