@@ -74,6 +74,12 @@ CONTACT_DISC_MARGIN = 1.4
 #: 1.6 GB on the section's)
 WORK_SPACE_FACTOR = 2.5
 ZONE_SECTION_FRACTION = 0.8
+#: bodies factored side by side on threads: each body beside the first adds this fraction of its
+#: work space and range of the factor on disk to the peak (a body's work space fills up towards the
+#: end of its factorisation, and the two ends do not coincide: measured on the full ball on a block
+#: 0.9 GB more than one body at a time, where the smaller body's work space, root block and range
+#: of its factor are 1.5 GB)
+SIDE_BY_SIDE_FRACTION = 0.6
 #: a 3D contact's region quadrature points per finest cell face of body 1's surface (the region's
 #: panels split at both grids' cell lines, REGION_ORDER^2 points each: measured 193-201 on the half
 #: sphere on a flat at 5 levels, 10 456-10 870 points over regions of 52-56 finest faces)
@@ -273,14 +279,15 @@ def _sparse_contact_bytes(body_dofs: np.ndarray, at_once: int = 1) -> float:
     """The sparse part of a 3D contact: BYTES_PER_DOF_3D_CONTACT per dof of every body whose
     factor stays in memory; a body's factor of ON_DISK_BYTES or more is written to disk while it
     is computed, so such bodies count only K0 and the factorisation's sparse arrays
-    (STREAMED_BYTES_PER_DOF) and one chunk of the factor per body factored at once (``at_once``)."""
+    (STREAMED_BYTES_PER_DOF) and one chunk of the factor (and SIDE_BY_SIDE_FRACTION of one for each
+    further body factored at once, ``at_once``)."""
     per_body = body_dofs * BYTES_PER_DOF_3D_CONTACT
     if not len(per_body):
         return 0.0
     streamed = per_body >= ON_DISK_BYTES
     total = float(per_body[~streamed].sum())
     if streamed.any():
-        chunks = min(at_once, int(streamed.sum()))
+        chunks = 1.0 + SIDE_BY_SIDE_FRACTION * (min(at_once, int(streamed.sum())) - 1)
         total += STREAMED_BYTES_PER_DOF * float(body_dofs[streamed].sum()) + chunks * DISK_CHUNK_BYTES
     return total
 
@@ -309,13 +316,14 @@ def _dense_contact_bytes(problem, streamed: bool = False, at_once: int = 1) -> f
     condensed disc is smaller than a section through the contact refinement (m_z dofs). ``streamed``: the factors go to disk
     as they are computed; the last body's root block is then allocated only once its front
     buffer is freed, so it is not counted beside the work space. ``at_once``: bodies factored
-    side by side, each with its work space."""
+    side by side, each beside the first adding SIDE_BY_SIDE_FRACTION of its work space."""
     total = 0.0
     for c in problem.contacts:
         n_bodies, m_b = contact_dofs_per_body(problem, c)
         m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
         work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
-        total += 8.0 * (1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + min(at_once, n_bodies) * work)
+        beside = SIDE_BY_SIDE_FRACTION * (min(at_once, n_bodies) - 1)
+        total += 8.0 * (1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + (1.0 + beside) * work)
     return total
 
 
