@@ -184,3 +184,29 @@ def test_the_trial_system_on_block_diagonal_g_equals_the_dense_one(monkeypatch):
     assert by_blocks.active is not None and dense.active is not None
     np.testing.assert_allclose(by_blocks.solve(r), dense.solve(r), rtol=0, atol=1e-12 * np.abs(exact).max())
     np.testing.assert_allclose(by_blocks.solve(r), exact, rtol=0, atol=1e-9 * np.abs(exact).max())
+
+
+def test_the_size_estimate_counts_the_bodies_side_by_side_only_where_they_fit(monkeypatch):
+    """--check: two threads count a second work space (more memory, the same grids); a memory
+    limit below that, or one thread, counts one body at a time."""
+    from pathlib import Path
+
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.model import estimate
+
+    monkeypatch.setattr(estimate, "free_memory", lambda: 64 * 2.0**30)  # a machine where both fit
+    monkeypatch.setattr(estimate, "available_memory", lambda: 64 * 2.0**30)
+    path = Path(__file__).resolve().parent.parent / "examples" / "solid" / "full" / "ball_on_block.toml"
+    problem = load_scene(path).problem
+    sizes = {}
+    for threads, limit in (("1", None), ("2", None), ("2", "1KB")):
+        monkeypatch.setenv("IBFEM_THREADS", threads)
+        if limit is None:
+            monkeypatch.delenv("IBFEM_MEMORY_LIMIT", raising=False)
+        else:
+            monkeypatch.setenv("IBFEM_MEMORY_LIMIT", limit)
+        sizes[threads, limit] = estimate.estimate_size(problem, loaded=0.0)
+    one, two, limited = sizes["1", None], sizes["2", None], sizes["2", "1KB"]
+    assert one.dofs == two.dofs == limited.dofs
+    assert two.memory > 1.1 * one.memory
+    assert limited.memory == one.memory
