@@ -291,16 +291,16 @@ class ContactDriver:
 
     @staticmethod
     def _forget_old_states(cache: dict, keep: int) -> None:
-        """Drop the contact terms, quadrature data and factored small system (dense, |A|^2 twice:
-        about 20 MB at the 3D 12k-dof sphere_on_flat rung) of all but the latest ``keep`` trials; the
-        verdicts and vectors stay, the rest is rebuilt if an older trial is chosen. A search often
-        ends on the trial before its last (a bracket's other end), whose small system is then not
-        factored again (the full ball on a block at three levels: 2 small systems factored twice
-        in 32 trials instead of 5)."""
+        """Drop the contact terms and quadrature data of all but the latest ``keep`` trials, and
+        the factored small system (dense, |A|^2 twice: about 20 MB at the 3D 12k-dof
+        sphere_on_flat rung) of all but the latest; the verdicts and vectors stay, the rest is
+        rebuilt if an older trial is chosen (the small system alone: one factorisation)."""
         for k, key in enumerate(reversed(list(cache))):
             state, verdicts, infos = cache[key]
             if k >= keep and state[3] is not None:
                 cache[key] = (state[:3] + (None, None, None), verdicts, None)
+            elif k >= 1 and state[5] is not None:
+                cache[key] = (state[:5] + (None,), verdicts, infos)
 
     def _advance(self, gens, results, verdicts) -> list[float]:
         """Send each unsettled search its verdict; the next trial of every contact."""
