@@ -38,8 +38,9 @@ def uncoupled_groups(k: sp.spmatrix, dofs: np.ndarray) -> np.ndarray | None:
 
 class BlockFactor:
     """K0^-1 f from the factors of K0's uncoupled blocks (``parts``: the global dofs of each),
-    the blocks solved side by side on threads (``IBFEM_THREADS``, default the cores: the compiled
-    solves and the reads of factors held on disk release the GIL)."""
+    the blocks solved side by side on threads (``IBFEM_THREADS``, default the cores) when every
+    factor says its solves may run so (``threaded_solve``: the multifrontal factor's compiled
+    solves release the GIL; SuperLU's are left one at a time)."""
 
     def __init__(self, parts: list[np.ndarray], factors: list):
         self.parts, self.factors = parts, factors
@@ -54,7 +55,8 @@ class BlockFactor:
             idx = self.parts[k]
             out[idx] = self.factors[k].solve(np.ascontiguousarray(f[idx]))
 
-        workers = min(len(self.factors), threads())
+        threaded = all(getattr(factor, "threaded_solve", False) for factor in self.factors)
+        workers = min(len(self.factors), threads()) if threaded else 1
         if workers > 1:
             with ThreadPoolExecutor(workers) as pool:
                 list(pool.map(one, range(len(self.factors))))

@@ -127,6 +127,7 @@ class CholeskyFactor:
     in: a caller factoring several matrices on threads admits them by their memory there."""
 
     _disk = None  # the temporary file of the blocks below the root (None: all in memory)
+    threaded_solve = True  # solves of several factors may run on threads at once (compiled, no GIL)
     _base = 0  # offset in the factor of ``factor[0]`` (the root block's when on disk)
 
     def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True,
