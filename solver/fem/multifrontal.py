@@ -304,8 +304,9 @@ class CholeskyFactor:
     def _sweep(self, kernel, s0: int, s1: int, bt: np.ndarray) -> None:
         """``kernel`` (forward_range or backward_range) over supernodes s0..s1-1 for each row of bt,
         their blocks mapped from the file into memory: the pages the system holds are used in
-        place, no copy into a new array (measured about 4 times faster than reading them), and
-        unmapped afterwards. Read into an array where the file cannot be mapped."""
+        place, no copy into a new array (benchmarks/factor_on_disk.py: a solve a third to two thirds
+        of the CPU time of reading them), and unmapped afterwards. Read into an array where the file
+        cannot be mapped."""
         lo, hi = int(self.factor_ptr[s0]), int(self.factor_ptr[s1])
         args = (s0, s1, self.factor_ptr, self.sn_start, self.row_ptr, self.rows)
         start = (8 * lo) // mmap.ALLOCATIONGRANULARITY * mmap.ALLOCATIONGRANULARITY  # mapped from a page
