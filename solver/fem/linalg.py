@@ -2,7 +2,8 @@
 solve of the whole system (SuperLU, geometric nested dissection for large grids), the condensed
 factorisation of the contact drivers (factor once with the contact dofs last, read the Schur
 complement off the factors: the multifrontal Cholesky of :mod:`solver.fem.multifrontal` for
-large systems when numba is installed, else SuperLU; ``IBFEM_CONDENSED_FACTOR`` forces one),
+large systems when numba is installed, else SuperLU; ``IBFEM_CONDENSED_FACTOR`` forces one;
+uncoupled bodies side by side on threads where their work spaces fit in memory together),
 dense blocks embedded into sparse ones, and a guard that runs dense linear algebra on one BLAS
 thread."""
 
@@ -33,6 +34,9 @@ __all__ = [
     "LinearSolveError",
     "single_threaded_blas",
     "condensed_factor",
+    "factor_threads",
+    "factor_memory_budget",
+    "MemoryGate",
     "contact_nearness",
     "CONDENSED_FACTORS",
     "CHOLESKY_NONZEROS",
