@@ -8,9 +8,13 @@ c/a against Mindlin's (1 - Q / (mu N))^(1/3) (Johnson section 7.2).
 ``--levels L`` solves every scene with L refinement levels instead of the scene's own (a smaller
 rung of the same scene: the acceptance targets are for the scenes as written). ``--scene-disc``
 skips the coarse pass that sizes a large contact's candidate disc (solver.contact.sizing), for
-comparison.
+comparison. ``--threads N`` runs the children with ``IBFEM_THREADS=N`` (1: the bodies factored
+and solved one after the other) and ``--memory-limit SIZE`` with ``IBFEM_MEMORY_LIMIT=SIZE``; each
+row records the machine's load average (1 minute) before and after its run, since wall times on a
+shared machine follow it.
 
     python benchmarks/full_3d.py [--scenes ball_on_block crossed_cylinders ...] [--levels 3] [--scene-disc]
+                                 [--threads 1] [--memory-limit 3GB]
 
 Prints a table, the same rows as the markdown table of docs/scale-3d.md ("Against the
 targets"), and writes benchmarks/results/full_3d.json (or --out)."""
@@ -19,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -81,11 +86,12 @@ print("RESULT " + json.dumps(row))
 """
 
 
-def timed_child(child: str, args: list[str]) -> tuple[dict, float, float, float] | None:
-    """Run ``python -c child ARGS`` under /usr/bin/time: (its ``RESULT`` row, the process's wall and
-    CPU seconds, its peak resident memory in GB), or None when it failed (its stderr echoed)."""
+def timed_child(child: str, args: list[str], env: dict | None = None) -> tuple[dict, float, float, float] | None:
+    """Run ``python -c child ARGS`` under /usr/bin/time (``env``: variables added to the
+    environment): (its ``RESULT`` row, the process's wall and CPU seconds, its peak resident
+    memory in GB), or None when it failed (its stderr echoed)."""
     cmd = ["/usr/bin/time", "-f", "TIME %e %U %S %M", sys.executable, "-c", child, *args]
-    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env={**os.environ, **(env or {})})
     lines = (done.stdout + done.stderr).splitlines()
     result = next((ln for ln in lines if ln.startswith("RESULT ")), None)
     if done.returncode != 0 or result is None:
@@ -95,13 +101,15 @@ def timed_child(child: str, args: list[str]) -> tuple[dict, float, float, float]
     return json.loads(result[len("RESULT "):]), float(wall), float(user) + float(system), float(peak_kb) / 2**20
 
 
-def run(scene: Path, levels: int, scene_disc: bool = False, given_order: bool = False) -> dict:
+def run(scene: Path, levels: int, scene_disc: bool = False, given_order: bool = False, env: dict | None = None) -> dict:
     flags = (["scene-disc"] if scene_disc else []) + (["given-order"] if given_order else [])
-    timed = timed_child(CHILD, [str(scene), str(levels)] + flags)
+    load_before = os.getloadavg()[0]
+    timed = timed_child(CHILD, [str(scene), str(levels)] + flags, env)
     if timed is None:
         return {"scene": str(scene), "levels": levels, "failed": True}
     row, wall, cpu, peak_gb = timed
-    row.update(process_wall_s=wall, process_cpu_s=cpu, peak_gb=peak_gb)
+    row.update(process_wall_s=wall, process_cpu_s=cpu, peak_gb=peak_gb, environment=env or {},
+               load_average=[load_before, os.getloadavg()[0]])
     return row
 
 
@@ -114,13 +122,22 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--given-order", action="store_true",
                     help="every body factored in the driver's order (the fill-reducing order of the whole "
                          "system), not the cheaper of it and the order with the contact nodes contracted (for comparison)")
+    ap.add_argument("--threads", type=int, default=None,
+                    help="IBFEM_THREADS of the runs (1: the bodies factored one after the other)")
+    ap.add_argument("--memory-limit", default=None, help="IBFEM_MEMORY_LIMIT of the runs, such as 3GB")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "full_3d.json")
     args = ap.parse_args(argv)
+    env = {}
+    if args.threads is not None:
+        env["IBFEM_THREADS"] = str(args.threads)
+    if args.memory_limit is not None:
+        env["IBFEM_MEMORY_LIMIT"] = args.memory_limit
     rows = []
     print(f"{'scene':22} {'dofs':>8} {'est':>8} {'m':>6} {'wall s':>7} {'cpu s':>7} {'GB':>5} {'est GB':>6} "
           f"{'a err':>7} {'b err':>7} {'c/a':>6} {'Mindlin':>7}")
     for name in args.scenes:
-        row = run(ROOT / "examples" / "solid" / "full" / f"{name}.toml", args.levels, args.scene_disc, args.given_order)
+        row = run(ROOT / "examples" / "solid" / "full" / f"{name}.toml", args.levels, args.scene_disc, args.given_order,
+                  env)
         rows.append(row)
         if row.get("failed"):
             print(f"{name:22} failed")
@@ -139,7 +156,7 @@ def main(argv: list[str]) -> int:
 
 def markdown(rows: list[dict]) -> str:
     """The rows as the table of docs/scale-3d.md ("Against the targets")."""
-    out = ["| scene | dofs | m | peak | CPU | coarse pass / factorisation / trials / final field (wall) | a vs Hertz "
+    out = ["| scene | dofs | m | peak | CPU / wall | coarse pass / factorisation / trials / final field (wall) | a vs Hertz "
            "| b vs Hertz | c/a, Mindlin |", "|---|---|---|---|---|---|---|---|---|"]
     for row in rows:
         name = Path(row["scene"]).stem
@@ -151,8 +168,10 @@ def markdown(rows: list[dict]) -> str:
         stages = (f"{coarse} / {t.get('factor_s', 0):.0f} / {t.get('iterations_s', 0):.0f} / {t.get('results_s', 0):.0f} s, "
                   f"{row['iterations']} trials")
         stick = f"{row['stick_ratio']:.4f}, {row['mindlin_stick_ratio']:.4f}" if "stick_ratio" in row else "-"
+        load = "-".join(f"{v:.1f}" for v in row.get("load_average", []))
         out.append(f"| {name} | {row['dofs']:,} | {row['contact_dofs']:,} | {row['peak_gb']:.2f} GB | "
-                   f"{row['process_cpu_s']:.0f} s | {stages} | {100 * row['a_error']:+.2f} % | "
+                   f"{row['process_cpu_s']:.0f} s / {row['process_wall_s']:.0f} s (load {load}) | {stages} | "
+                   f"{100 * row['a_error']:+.2f} % | "
                    f"{100 * row['b_error']:+.2f} % | {stick} |" + ("" if row["converged"] else " not converged"))
     return "\n".join(out)
 

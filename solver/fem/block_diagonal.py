@@ -12,6 +12,8 @@ at their positions in the m condensed dofs; :class:`BlockFactor` solves K0 u = f
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
@@ -35,16 +37,32 @@ def uncoupled_groups(k: sp.spmatrix, dofs: np.ndarray) -> np.ndarray | None:
 
 
 class BlockFactor:
-    """K0^-1 f from the factors of K0's uncoupled blocks (``parts``: the global dofs of each)."""
+    """K0^-1 f from the factors of K0's uncoupled blocks (``parts``: the global dofs of each),
+    the blocks solved side by side on threads (``IBFEM_THREADS``, default the cores) when every
+    factor says its solves may run so (``threaded_solve``: the multifrontal factor's compiled
+    solves release the GIL; SuperLU's are left one at a time)."""
 
     def __init__(self, parts: list[np.ndarray], factors: list):
         self.parts, self.factors = parts, factors
 
     def solve(self, f: np.ndarray) -> np.ndarray:
+        from ibfem.geometry._jit import threads
+
         f = np.asarray(f, dtype=np.float64)
         out = np.empty_like(f)
-        for idx, factor in zip(self.parts, self.factors):
-            out[idx] = factor.solve(np.ascontiguousarray(f[idx]))
+
+        def one(k: int) -> None:
+            idx = self.parts[k]
+            out[idx] = self.factors[k].solve(np.ascontiguousarray(f[idx]))
+
+        threaded = all(getattr(factor, "threaded_solve", False) for factor in self.factors)
+        workers = min(len(self.factors), threads()) if threaded else 1
+        if workers > 1:
+            with ThreadPoolExecutor(workers) as pool:
+                list(pool.map(one, range(len(self.factors))))
+        else:
+            for k in range(len(self.factors)):
+                one(k)
         return out
 
 
@@ -80,6 +98,17 @@ class BlockDiagonal:
                 lr, lc = self._local[rows[r]], self._local[cols[c]]
                 out[np.ix_(r, c)] = block[np.ix_(lr, lc)] if isinstance(block, np.ndarray) else block.take(lr, lc)
         return out
+
+    def diagonal_blocks(self, rows: np.ndarray):
+        """(where, dense block): for each block holding some of ``rows``, the positions in
+        ``rows`` of its dofs and its sub-matrix on them (the sub-matrix of this matrix on
+        ``rows`` is zero outside these blocks)."""
+        for k, block in enumerate(self.blocks):
+            where = np.flatnonzero(self._block_of[rows] == k)
+            if len(where):
+                local = self._local[rows[where]]
+                yield where, (block[np.ix_(local, local)] if isinstance(block, np.ndarray)
+                              else block.take(local, local))
 
     def toarray(self) -> np.ndarray:
         out = np.zeros(self.shape)

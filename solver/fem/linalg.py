@@ -2,7 +2,8 @@
 solve of the whole system (SuperLU, geometric nested dissection for large grids), the condensed
 factorisation of the contact drivers (factor once with the contact dofs last, read the Schur
 complement off the factors: the multifrontal Cholesky of :mod:`solver.fem.multifrontal` for
-large systems when numba is installed, else SuperLU; ``IBFEM_CONDENSED_FACTOR`` forces one),
+large systems when numba is installed, else SuperLU; ``IBFEM_CONDENSED_FACTOR`` forces one;
+uncoupled bodies side by side on threads where their work spaces fit in memory together),
 dense blocks embedded into sparse ones, and a guard that runs dense linear algebra on one BLAS
 thread."""
 
@@ -11,6 +12,8 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import scipy.linalg as sla
@@ -31,6 +34,9 @@ __all__ = [
     "LinearSolveError",
     "single_threaded_blas",
     "condensed_factor",
+    "factor_threads",
+    "factor_memory_budget",
+    "MemoryGate",
     "contact_nearness",
     "CONDENSED_FACTORS",
     "CHOLESKY_NONZEROS",
@@ -313,13 +319,26 @@ class SmallSystem:
 
     def _factor_active(self) -> None:
         a = self.active
-        g_aa = self.g[np.ix_(a, a)] if isinstance(self.g, np.ndarray) else self.g.take(a, a)
         # G_AA Kc_AA = (Kc_AA^T G_AA)^T (G symmetric): G_AA read in its own (row) order, not copied
         # into a transposed one, and the product comes out in the column order LAPACK factors in place
-        m = (self.kc_aa.T @ g_aa).T
-        del g_aa
+        if isinstance(self.g, BlockDiagonal):
+            m = self._block_product(a).T
+        else:
+            g_aa = self.g[np.ix_(a, a)] if isinstance(self.g, np.ndarray) else self.g.take(a, a)
+            m = (self.kc_aa.T @ g_aa).T
+            del g_aa
         m[np.diag_indices_from(m)] += 1.0
         self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)
+
+    def _block_product(self, a: np.ndarray) -> np.ndarray:
+        """Kc_AA^T G_AA for a block-diagonal G, one block at a time: the columns of a block's dofs
+        are Kc_AA^T's columns there times the block's own part of G_AA, the zeros between the
+        blocks neither formed nor multiplied (half the work for two bodies; the same sums)."""
+        kc_t = self.kc_aa.T.tocsc()
+        out = np.empty((len(a), len(a)))
+        for cols, g_block in self.g.diagonal_blocks(a):
+            out[:, cols] = kc_t[:, cols] @ g_block
+        return out
 
     def _solve_factored(self, rhs: np.ndarray) -> np.ndarray:
         if self.cholesky is not None:
@@ -418,11 +437,16 @@ def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | No
 
 def _condensed_blocks(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None, groups: np.ndarray,
                       nearness: np.ndarray | None = None):
-    """:func:`condensed_factor` of each uncoupled group of dofs on its own."""
+    """:func:`condensed_factor` of each uncoupled group of dofs on its own: the groups side by side
+    on :func:`factor_threads` threads (the compiled factorisation releases the GIL), each numeric
+    phase admitted by its memory (:class:`MemoryGate`: one that does not fit beside those running
+    waits for them), or one after the other on one thread."""
     choice = _condensed_choice(k0.nnz)
     k0 = k0.tocsr()
-    parts, factors, schurs, inverses, positions = [], [], [], [], []
-    for g in range(int(groups.max()) + 1):
+    count = int(groups.max()) + 1
+    gate = MemoryGate(factor_memory_budget())
+
+    def one(g: int):
         idx = np.flatnonzero(groups == g)
         local = np.full(k0.shape[0], -1, dtype=np.int64)
         local[idx] = np.arange(len(idx))
@@ -436,13 +460,66 @@ def _condensed_blocks(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | N
         block = k0 if len(idx) == k0.shape[0] else k0[idx][:, idx]
         if sub_order is not None and choice != "superlu" and len(idx) >= ORDER_CHOICE_DOFS:
             sub_order = _cheaper_order(block, local[dofs[pos]], sub_order)
-        factor, schur, inverse = _condensed_one(block, local[dofs[pos]], sub_order, choice, trailing)
-        parts.append(idx)
-        factors.append(factor)
-        schurs.append(schur)
-        inverses.append(inverse)
-        positions.append(pos)
+        return idx, pos, _condensed_one(block, local[dofs[pos]], sub_order, choice, trailing, gate)
+
+    workers = min(count, factor_threads()) if choice != "superlu" else 1
+    if workers > 1:
+        # one BLAS thread for all of them, set once here: each thread's own guard would restore the
+        # count while another still runs
+        with single_threaded_blas(), ThreadPoolExecutor(workers) as pool:
+            done = list(pool.map(one, range(count)))
+    else:
+        done = [one(g) for g in range(count)]
+    parts, positions = [d[0] for d in done], [d[1] for d in done]
+    factors, schurs, inverses = ([d[2][i] for d in done] for i in range(3))
     return BlockFactor(parts, factors), BlockDiagonal(schurs, positions), BlockDiagonal(inverses, positions)
+
+
+def factor_threads() -> int:
+    """Threads the bodies' condensed factorisations run on: ``IBFEM_THREADS`` if set (>= 1), else
+    the machine's cores (the same setting as the geometry's projections)."""
+    from ibfem.geometry._jit import threads
+
+    return threads()
+
+
+def factor_memory_budget() -> float:
+    """Bytes the factorisations' numeric phases may allocate at once: the memory the machine has
+    free now (``MemAvailable`` where Linux gives it, else its physical memory less what this
+    process holds), and no more than the limit the user sets in ``IBFEM_MEMORY_LIMIT`` ("6GB",
+    "800MB" or bytes) less what this process holds. Beyond it the bodies are factored one at a
+    time."""
+    from ..model.estimate import available_memory, free_memory, memory_limit, resident_memory
+
+    held = resident_memory()
+    budget = min(free_memory(), available_memory() - held)
+    limit = memory_limit()
+    return min(budget, limit - held) if limit is not None else budget
+
+
+class MemoryGate:
+    """Admits the numeric phases of factorisations running on threads by their bytes: a phase
+    starts when it fits in ``budget`` beside the phases running, or when none is running (one
+    alone always starts), and otherwise waits until one ends."""
+
+    def __init__(self, budget: float):
+        self.budget = float(budget)
+        self.held, self.running = 0, 0
+        self._changed = threading.Condition()
+
+    @contextlib.contextmanager
+    def __call__(self, nbytes: int):
+        with self._changed:
+            self._changed.wait_for(lambda: self.running == 0 or self.held + nbytes <= self.budget)
+            self.held += nbytes
+            self.running += 1
+        try:
+            yield
+        finally:
+            with self._changed:
+                self.held -= nbytes
+                self.running -= 1
+                self._changed.notify_all()
 
 
 #: a block of at least this many dofs compares its given order with :func:`contact_last_order` by
@@ -481,9 +558,10 @@ def _node_blocked(order: np.ndarray, block: int) -> bool:
 
 
 def _condensed_one(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None, choice: str,
-                   trailing: int | None = None):
+                   trailing: int | None = None, gate=None):
     """:func:`condensed_factor` of one block (factored as a whole; ``trailing``: the Cholesky
-    keeps that trailing block of G only)."""
+    keeps that trailing block of G only; ``gate``: the :class:`MemoryGate` its numeric phase
+    passes)."""
     n = k0.shape[0]
     contact = np.zeros(n, dtype=bool)
     contact[dofs] = True
@@ -501,7 +579,7 @@ def _condensed_one(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None
         from .multifrontal import condensed_cholesky
 
         # the factorisation's many mid-size products on one thread: measured x20 slower with threads
-        return condensed_cholesky(k0, order, len(dofs), guard=single_threaded_blas, trailing=trailing)
+        return condensed_cholesky(k0, order, len(dofs), guard=single_threaded_blas, trailing=trailing, gate=gate)
 
     factored = _cholesky_or_none(choice, cholesky)
     return factored if factored is not None else _superlu_condensed(k0, order, len(dofs))

@@ -34,6 +34,7 @@ factorisation only; :func:`available` says whether they can be (numba importable
 from __future__ import annotations
 
 import contextlib
+import mmap
 import os
 import tempfile
 
@@ -119,13 +120,18 @@ class CholeskyFactor:
     DISK_CHUNK_BYTES at a time as the numeric phase computes them (None: when they take
     ON_DISK_BYTES or more), so the whole factor is never in memory; the root block, which
     products with S and G read, stays. :meth:`to_disk` moves them there afterwards. ``solve``
-    then reads them back DISK_CHUNK_BYTES at a time."""
+    then reads them back DISK_CHUNK_BYTES at a time.
+
+    ``gate``: a callable that takes the bytes the numeric phase will allocate (``numeric_bytes``,
+    known once the symbolic phase is done) and returns a context manager the numeric phase runs
+    in: a caller factoring several matrices on threads admits them by their memory there."""
 
     _disk = None  # the temporary file of the blocks below the root (None: all in memory)
+    threaded_solve = True  # solves of several factors may run on threads at once (compiled, no GIL)
     _base = 0  # offset in the factor of ``factor[0]`` (the root block's when on disk)
 
     def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True,
-                 keep_schur: bool = True, on_disk: bool | None = False):
+                 keep_schur: bool = True, on_disk: bool | None = False, gate=None):
         if not sp.issparse(k):
             k = sp.csr_matrix(np.asarray(k, dtype=np.float64))
         n = k.shape[0]
@@ -140,12 +146,27 @@ class CholeskyFactor:
         kern = _kernels()
         self.order = self._postordered(k, order, kern)
         self._symbolic(k, kern)
-        self.schur = np.zeros((self.m, self.m) if keep_schur else (0, 0))
         below_root = self.factor_bytes - 8 * self.m * self.m
-        if self.m and self.n_supernodes > 1 and (on_disk or (on_disk is None and below_root >= ON_DISK_BYTES)):
-            self._numeric_to_disk(kern)
-        else:
-            self._numeric(kern)
+        streamed = bool(self.m and self.n_supernodes > 1
+                        and (on_disk or (on_disk is None and below_root >= ON_DISK_BYTES)))
+        self.numeric_bytes = self._numeric_bytes(streamed, keep_schur)
+        with gate(self.numeric_bytes) if gate is not None else contextlib.nullcontext():
+            self.schur = np.zeros((self.m, self.m) if keep_schur else (0, 0))
+            if streamed:
+                self._numeric_to_disk(kern)
+            else:
+                self._numeric(kern)
+
+    def _numeric_bytes(self, streamed: bool, keep_schur: bool) -> int:
+        """What the numeric phase allocates: the update-matrix stack, the largest front below
+        the root, the factor (streamed: its root block and the largest range of blocks below it
+        that is in memory at once) and the copy of S."""
+        held = self.factor_bytes
+        if streamed:
+            ptr = self.factor_ptr
+            largest = max((int(ptr[s1] - ptr[s0]) for s0, s1 in self._chunk_bounds()), default=0)
+            held = 8 * (self.m * self.m + largest)
+        return int(self.stack_bytes + self.front_bytes + held + (8 * self.m * self.m if keep_schur else 0))
 
     def _postordered(self, k, order, kern) -> np.ndarray:
         """The elimination tree of ``order`` (the root chain forced), its postorder composed
@@ -280,10 +301,28 @@ class CholeskyFactor:
         self.factor, self._base, self._disk = self.factor[split:].copy(), split, handle
         self._chunks = self._chunk_bounds()
 
-    def _read(self, s0: int, s1: int) -> np.ndarray:
+    def _sweep(self, kernel, s0: int, s1: int, bt: np.ndarray) -> None:
+        """``kernel`` (forward_range or backward_range) over supernodes s0..s1-1 for each row of bt,
+        their blocks mapped from the file into memory: the pages the system holds are used in
+        place, no copy into a new array (benchmarks/factor_on_disk.py: a solve a third to two thirds
+        of the CPU time of reading them), and unmapped afterwards. Read into an array where the file
+        cannot be mapped."""
         lo, hi = int(self.factor_ptr[s0]), int(self.factor_ptr[s1])
-        self._disk.seek(8 * lo)
-        return np.fromfile(self._disk, dtype=np.float64, count=hi - lo)
+        args = (s0, s1, self.factor_ptr, self.sn_start, self.row_ptr, self.rows)
+        start = (8 * lo) // mmap.ALLOCATIONGRANULARITY * mmap.ALLOCATIONGRANULARITY  # mapped from a page
+        try:
+            view = mmap.mmap(self._disk.fileno(), 8 * hi - start, offset=start, access=mmap.ACCESS_READ)
+        except (OSError, ValueError, AttributeError):
+            self._disk.seek(8 * lo)
+            segment = np.fromfile(self._disk, dtype=np.float64, count=hi - lo)
+            for b in bt:
+                kernel(segment, lo, *args, b)
+            return
+        segment = np.frombuffer(view, dtype=np.float64, count=hi - lo, offset=8 * lo - start)
+        for b in bt:
+            kernel(segment, lo, *args, b)
+        del segment  # before the view is closed
+        view.close()
 
     def _solve_from_disk(self, bt: np.ndarray) -> np.ndarray:
         """Overwrite bt (k, n), right-hand sides in the factor's numbering, with K^-1 of them:
@@ -292,18 +331,12 @@ class CholeskyFactor:
         args = (self.factor_ptr, self.sn_start, self.row_ptr, self.rows)
         root = (self.n_supernodes - 1, self.n_supernodes)
         for s0, s1 in self._chunks:
-            segment = self._read(s0, s1)
-            for b in bt:
-                kern.forward_range(segment, self.factor_ptr[s0], s0, s1, *args, b)
-            del segment
+            self._sweep(kern.forward_range, s0, s1, bt)
         for b in bt:
             kern.forward_range(self.factor, self._base, *root, *args, b)
             kern.backward_range(self.factor, self._base, *root, *args, b)
         for s0, s1 in reversed(self._chunks):
-            segment = self._read(s0, s1)
-            for b in bt:
-                kern.backward_range(segment, self.factor_ptr[s0], s0, s1, *args, b)
-            del segment
+            self._sweep(kern.backward_range, s0, s1, bt)
         return bt
 
     def _root_block(self) -> np.ndarray:
@@ -486,7 +519,7 @@ def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
 
 
 def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False, guard=None,
-                       trailing: int | None = None, on_disk: bool | None = None):
+                       trailing: int | None = None, on_disk: bool | None = None, gate=None):
     """(factor, S, G) of K0 in the order ``order`` whose last m dofs are the condensed ones:
     S their Schur complement (a :class:`RootSchur` on the factor's root block: no m x m copy),
     G = S^-1 (LAPACK potri on S's Cholesky factor, the root block).
@@ -499,11 +532,12 @@ def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: boo
     all of G, dense). ``on_disk``: the factor's blocks below the root are written to a temporary
     file as they are computed (None: when they take ON_DISK_BYTES or more), so that a caller
     factoring several bodies in turn holds only their root blocks in memory, and the body being
-    factored one chunk of its factor besides its work space."""
+    factored one chunk of its factor besides its work space. ``gate``: as for
+    :class:`CholeskyFactor` (its numeric phase admitted by its memory)."""
     from scipy.linalg import lapack
 
     with guard() if guard is not None else contextlib.nullcontext():
-        factor = CholeskyFactor(k0, order, m, definite, keep_schur=False, on_disk=on_disk)
+        factor = CholeskyFactor(k0, order, m, definite, keep_schur=False, on_disk=on_disk, gate=gate)
     if m == 0:
         return factor, np.zeros((0, 0)), np.zeros((0, 0))
     schur = factor.schur_operator()

@@ -1,0 +1,212 @@
+"""The bodies' condensed factorisations side by side on threads (solver.fem.linalg._condensed_blocks):
+the threaded factor solves K0 u = f as scipy's sparse LU does (to 1e-10 relative) and gives the
+serial path's Schur complement and inverse to round-off; the memory gate runs two numeric phases
+at once only when both fit in its budget; the user's memory limit is read with its unit."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ibfem.solver.fem import linalg
+from ibfem.solver.model.estimate import memory_limit
+
+mf = pytest.importorskip("ibfem.solver.fem.multifrontal")
+if not mf.available():
+    pytest.skip("the compiled kernels (numba) are not available", allow_module_level=True)
+
+
+def grid_body(shape: tuple[int, int, int], seed: int) -> sp.csr_matrix:
+    """SPD, the sparsity of a trilinear grid: the 27-point stencil coupling a node's 3 dofs,
+    randomly scaled per dof."""
+    one_d = [sp.diags([np.ones(k - 1), 4 * np.ones(k), np.ones(k - 1)], [-1, 0, 1]) for k in shape]
+    stencil = sp.kron(sp.kron(one_d[0], one_d[1]), one_d[2])  # positive definite (a tensor product)
+    block = np.eye(3) + 0.4 * (np.ones((3, 3)) - np.eye(3))
+    k = sp.kron(stencil, block)
+    scale = sp.diags(np.random.default_rng(seed).uniform(0.5, 2.0, k.shape[0]))
+    return (scale @ k @ scale).tocsr()
+
+
+def two_bodies():
+    """Two uncoupled bodies of different sizes and the contact dofs (whole nodes) of each."""
+    k = sp.block_diag([grid_body((7, 6, 5), seed=1), grid_body((6, 6, 6), seed=2)], format="csr")
+    n1 = 7 * 6 * 5 * 3
+    rng = np.random.default_rng(3)
+    nodes = np.concatenate([rng.choice(n1 // 3, 20, replace=False),
+                            n1 // 3 + rng.choice((k.shape[0] - n1) // 3, 16, replace=False)])
+    dofs = np.sort((3 * nodes[:, None] + np.arange(3)).ravel())
+    return k, dofs
+
+
+def factored(monkeypatch, threads: str, limit: str | None = None):
+    k, dofs = two_bodies()
+    monkeypatch.setenv("IBFEM_CONDENSED_FACTOR", "cholesky")
+    monkeypatch.setenv("IBFEM_THREADS", threads)
+    if limit is None:
+        monkeypatch.delenv("IBFEM_MEMORY_LIMIT", raising=False)
+    else:
+        monkeypatch.setenv("IBFEM_MEMORY_LIMIT", limit)
+    nearness = -np.arange(len(dofs), dtype=float)
+    return k, dofs, linalg.condensed_factor(k, dofs, linalg.metis_order(k, 3), nearness)
+
+
+def test_threaded_factor_solves_as_scipy_and_equals_the_serial_factor(monkeypatch):
+    k, dofs, (factor, schur, g) = factored(monkeypatch, "2")
+    f = np.random.default_rng(4).standard_normal((k.shape[0], 2))
+    u = factor.solve(f)
+    exact = spla.spsolve(k.tocsc(), f)
+    assert np.abs(u - exact).max() <= 1e-10 * np.abs(exact).max()
+    _, _, (factor1, schur1, g1) = factored(monkeypatch, "1")
+    eye = np.eye(len(dofs))
+    s, s1 = schur @ eye, schur1 @ eye
+    np.testing.assert_allclose(s, s1, rtol=0, atol=1e-13 * np.abs(s1).max())
+    np.testing.assert_allclose(g @ eye, g1 @ eye, rtol=0, atol=1e-13 * np.abs(g1 @ eye).max())
+    np.testing.assert_allclose(u, factor1.solve(f), rtol=0, atol=1e-13 * np.abs(exact).max())
+    # S is the Schur complement of the contact dofs: G S = I
+    np.testing.assert_allclose(g @ s, eye, rtol=0, atol=1e-9)
+
+
+def test_a_memory_limit_below_two_factorisations_factors_one_at_a_time(monkeypatch):
+    seen = []
+    gate = linalg.MemoryGate
+
+    class Recording(gate):
+        def __call__(self, nbytes):
+            seen.append(self.budget)
+            return super().__call__(nbytes)
+
+    monkeypatch.setattr(linalg, "MemoryGate", Recording)
+    k, dofs, (factor, _, _) = factored(monkeypatch, "2", limit="1KB")
+    assert seen and all(b < 0 for b in seen)  # the process already holds more than the limit
+    f = np.random.default_rng(5).standard_normal(k.shape[0])
+    exact = spla.spsolve(k.tocsc(), f)
+    assert np.abs(factor.solve(f) - exact).max() <= 1e-10 * np.abs(exact).max()
+
+
+def run_two(gate: linalg.MemoryGate, nbytes: int) -> int:
+    """The most phases inside ``gate`` at once when two threads each ask for ``nbytes`` and hold
+    it until both have asked (or 0.5 s have passed)."""
+    inside, most, lock = [0], [0], threading.Lock()
+    both_asked = threading.Barrier(2)
+
+    def phase():
+        both_asked.wait(timeout=5)
+        with gate(nbytes):
+            with lock:
+                inside[0] += 1
+                most[0] = max(most[0], inside[0])
+            deadline = threading.Event()
+            deadline.wait(0.05 if most[0] > 1 else 0.5)  # the other gets its chance to enter
+            with lock:
+                inside[0] -= 1
+
+    threads = [threading.Thread(target=phase) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(timeout=10)
+    assert not any(t.is_alive() for t in threads)
+    assert gate.held == 0 and gate.running == 0
+    return most[0]
+
+
+def test_the_gate_admits_two_phases_only_when_both_fit():
+    assert run_two(linalg.MemoryGate(budget=100), 50) == 2
+    assert run_two(linalg.MemoryGate(budget=99), 50) == 1
+    assert run_two(linalg.MemoryGate(budget=10), 50) == 1  # alone, a phase always runs
+
+
+@pytest.mark.parametrize("value, expected", [("3GB", 3 * 2**30), ("512MB", 512 * 2**20), ("2.5G", 2.5 * 2**30),
+                                             ("1000", 1000.0), (" 64 kb ", 64 * 1024.0)])
+def test_the_memory_limit_is_read_with_its_unit(monkeypatch, value, expected):
+    monkeypatch.setenv("IBFEM_MEMORY_LIMIT", value)
+    assert memory_limit() == expected
+
+
+@pytest.mark.parametrize("value", ["lots", "-3GB", "0", "3TB", "nan"])
+def test_a_bad_memory_limit_names_the_variable_and_the_value(monkeypatch, value):
+    monkeypatch.setenv("IBFEM_MEMORY_LIMIT", value)
+    with pytest.raises(ValueError, match=rf"IBFEM_MEMORY_LIMIT.*{value!r}"):
+        memory_limit()
+    monkeypatch.delenv("IBFEM_MEMORY_LIMIT")
+    assert memory_limit() is None
+
+
+def test_a_factor_on_disk_solves_alike_mapped_or_read(monkeypatch):
+    monkeypatch.setattr(mf, "DISK_CHUNK_BYTES", 4096 * 3)  # several chunks, mapped from inside a page
+    k = grid_body((7, 6, 5), seed=6)
+    order = linalg.metis_order(k, 3)
+    dofs = np.arange(k.shape[0] - 30, k.shape[0])
+    order = np.concatenate([order[~np.isin(order, dofs)], dofs])
+    factor, _, _ = mf.condensed_cholesky(k, order, len(dofs), on_disk=True)
+    assert factor._disk is not None and len(factor._chunks) >= 2
+    f = np.random.default_rng(7).standard_normal((k.shape[0], 2))
+    exact = spla.spsolve(k.tocsc(), f)
+    mapped = factor.solve(f)
+    assert np.abs(mapped - exact).max() <= 1e-10 * np.abs(exact).max()
+
+    def unmappable(*args, **kwargs):
+        raise OSError("no mapping here")
+
+    monkeypatch.setattr(mf.mmap, "mmap", unmappable)
+    np.testing.assert_array_equal(factor.solve(f), mapped)
+
+
+def test_the_bodies_are_solved_side_by_side_as_one_by_one(monkeypatch):
+    k, dofs, (factor, _, _) = factored(monkeypatch, "2")
+    f = np.random.default_rng(8).standard_normal(k.shape[0])
+    both = factor.solve(f)
+    monkeypatch.setenv("IBFEM_THREADS", "1")
+    np.testing.assert_array_equal(factor.solve(f), both)
+    exact = spla.spsolve(k.tocsc(), f)
+    assert np.abs(both - exact).max() <= 1e-10 * np.abs(exact).max()
+
+
+def test_the_trial_system_on_block_diagonal_g_equals_the_dense_one(monkeypatch):
+    """(S + Kc) x = r through I + G_AA Kc_AA formed block by block, against G dense and the
+    direct solve of S + Kc (a contact block coupling the two bodies' dofs)."""
+    k, dofs, (_, schur, g) = factored(monkeypatch, "2")
+    m = len(dofs)
+    s = schur @ np.eye(m)
+    rng = np.random.default_rng(9)
+    active = np.sort(rng.choice(m, m // 3, replace=False))
+    block = rng.standard_normal((len(active), len(active)))
+    kc = np.zeros((m, m))
+    kc[np.ix_(active, active)] = np.abs(s).max() * (block @ block.T) / len(active)
+    r = rng.standard_normal(m)
+    exact = np.linalg.solve(s + kc, r)
+    by_blocks = linalg.SmallSystem(schur, sp.csr_matrix(kc), True, g)
+    dense = linalg.SmallSystem(schur, sp.csr_matrix(kc), True, g @ np.eye(m))
+    assert by_blocks.active is not None and dense.active is not None
+    np.testing.assert_allclose(by_blocks.solve(r), dense.solve(r), rtol=0, atol=1e-12 * np.abs(exact).max())
+    np.testing.assert_allclose(by_blocks.solve(r), exact, rtol=0, atol=1e-9 * np.abs(exact).max())
+
+
+def test_the_size_estimate_counts_the_bodies_side_by_side_only_where_they_fit(monkeypatch):
+    """--check: two threads count a second work space (more memory, the same grids); a memory
+    limit below that, or one thread, counts one body at a time."""
+    from pathlib import Path
+
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.model import estimate
+
+    monkeypatch.setattr(estimate, "free_memory", lambda: 64 * 2.0**30)  # a machine where both fit
+    monkeypatch.setattr(estimate, "available_memory", lambda: 64 * 2.0**30)
+    path = Path(__file__).resolve().parent.parent / "examples" / "solid" / "full" / "ball_on_block.toml"
+    problem = load_scene(path).problem
+    sizes = {}
+    for threads, limit in (("1", None), ("2", None), ("2", "1KB")):
+        monkeypatch.setenv("IBFEM_THREADS", threads)
+        if limit is None:
+            monkeypatch.delenv("IBFEM_MEMORY_LIMIT", raising=False)
+        else:
+            monkeypatch.setenv("IBFEM_MEMORY_LIMIT", limit)
+        sizes[threads, limit] = estimate.estimate_size(problem, loaded=0.0)
+    one, two, limited = sizes["1", None], sizes["2", None], sizes["2", "1KB"]
+    assert one.dofs == two.dofs == limited.dofs
+    assert two.memory > 1.1 * one.memory
+    assert limited.memory == one.memory
