@@ -204,6 +204,13 @@ def test_rung_around_the_contact_covers_the_region_one_level_deeper():
         # the region's cells are then half the size they were
         from ibfem.solver.model.resolve import finest_size_at
         assert finest_size_at(after, np.array([0.031, 0.0])) == pytest.approx(0.5 * finest_size_at(before, np.array([0.031, 0.0])))
+    # it is a contact zone: a pass that finds the region on a grid COARSER_LEVELS shallower about
+    # the contact takes it shallower too (its cells there 2^COARSER_LEVELS times the rung's)
+    from ibfem.solver.contact.sizing import COARSER_LEVELS, coarse_pass_problem
+    shallow = coarse_pass_problem(refined, [0])
+    for body, rung in zip(shallow.bodies, refined.bodies):
+        assert rung.refinements[-1].around_contact
+        assert finest_size_at(body, np.zeros(2)) == pytest.approx(2.0 ** COARSER_LEVELS * finest_size_at(rung, np.zeros(2)))
     # a normal force error is the far field's too: that rung grades the far field about the
     # contact, and once it is graded halves every cell
     finer, how = _next_rung(problem, SimpleNamespace(contacts=[block]), "normal_force")
@@ -223,6 +230,12 @@ def test_rung_around_the_contact_keeps_the_far_field_estimate():
     local = SimpleNamespace(contacts=[{"estimated_error": {"half_width": 0.0015, "normal_force": 1e-5}}])
     _carry_far_field(local, previous)
     assert local.contacts[0]["estimated_error"] == {"half_width": 0.0015, "normal_force": 0.002}
+    # in 3D the rung's own estimate of N holds its far field's share (the energy error of its
+    # unrefined cells): the previous rung's is not carried over it
+    solid = SimpleNamespace(contacts=[{"estimated_error": {"semi_axes": [0.001, 0.001], "normal_force": 0.0017},
+                                       "far_field_force_error": 0.0015}])
+    _carry_far_field(solid, SimpleNamespace(contacts=[{"estimated_error": {"normal_force": 0.0042}}]))
+    assert solid.contacts[0]["estimated_error"]["normal_force"] == 0.0017
     # a rung that graded only the far field keeps the contact's cells: the other quantities'
     # estimates are carried, the normal force's is its own
     previous = SimpleNamespace(contacts=[{"estimated_error": {"semi_axes": [0.004, None], "max_pressure": 0.003,
