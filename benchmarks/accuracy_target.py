@@ -1,9 +1,11 @@
 """``[solver] accuracy`` against hand-chosen grids: for each scene and target, one ``ibfem run``
 with the target (its own process, wall time of the whole process), and the scene's own grid
 scaled by 2^-k (every element size, k in ``--scales``), with its deepest contact zone m levels
-deeper (m in ``--levels-added``, radius kept) and with a zone m levels deeper than the deepest
-added within a radius r around the contact (``--zones-added m:r``); each its own process,
-``--no-estimate``. The true errors against Hertz's theory for the computed force decide which
+deeper (m in ``--levels-added``, radius kept), with a zone m levels deeper than the deepest
+added within a radius r around the contact (``--zones-added m:r``) and with every body's zones
+replaced by a given list about the contact, its element size too where given (``--hand-zones``:
+a far field graded by hand); each its own process, ``--no-estimate``. ``--targets`` with no value
+runs the hand grids alone. The true errors against Hertz's theory for the computed force decide which
 hand-chosen grids reach the target: the contact's size (2D: half width; 3D: both semi-axes of
 the circular contact), its peak pressure, the largest von Mises stress below it (Hertz's on the
 load axis: plane strain in 2D, the sphere's axis stresses in 3D), a 2D stick half width against
@@ -15,6 +17,10 @@ disturbed by other jobs on a shared machine) and wall time (docs/accuracy.md).
     python benchmarks/accuracy_target.py examples/mesh_convergence.toml --targets 0.01 0.002
     python benchmarks/accuracy_target.py examples/solid/sphere_on_flat.toml --scales 0 --levels-added \\
         --zones-added 1:0.05 --targets 0.01 0.002 --force-reference 1.3554268e7
+
+    python benchmarks/accuracy_target.py examples/solid/sphere_on_flat.toml --scales --levels-added \\
+        --targets --force-reference 1.3554268e7 \\
+        --hand-zones "7,0.0756;6,0.07;5,0.14;4,0.28;3,0.56;2,1.12;1,2.24"
 
 (1.3554268e7 N: the whole contact's force of the converged reference of sphere_on_flat's bodies,
 four times ``ibfem.solver.reference.converged.SPHERE_ON_FLAT["N"]``; earlier tables used
@@ -150,15 +156,37 @@ def zoned(data: dict, m: int, radius: float) -> dict:
     return out
 
 
+def with_zones(data: dict, zones: list[tuple[int, float]], element_size: float | None = None) -> dict:
+    """The scene with every body's refinement replaced by these (levels, radius) zones around the
+    contact (a graded grid chosen by hand: the accuracy run's own last grid, or a cheaper one),
+    and its element size where given."""
+    out = json.loads(json.dumps(data))
+    for body in out["bodies"]:
+        body["refinement"] = [{"levels": lv, "around": "contact", "radius": r} for lv, r in zones]
+        if element_size is not None:
+            body["element_size"] = element_size
+    return out
+
+
+def parse_zones(text: str) -> tuple[float | None, list[tuple[int, float]]]:
+    """``[ELEMENT_SIZE/]LEVELS,RADIUS;LEVELS,RADIUS;...`` as (element size or None, [(levels, radius)])."""
+    size, _, zones = text.rpartition("/")
+    pairs = [(int(z.split(",")[0]), float(z.split(",")[1])) for z in zones.split(";") if z.strip()]
+    return (float(size) if size else None), pairs
+
+
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scenes", nargs="+", type=Path)
-    ap.add_argument("--targets", type=float, nargs="+", default=[0.01, 0.002])
-    ap.add_argument("--scales", type=int, nargs="+", default=[-1, 0, 1, 2], help="hand grids: element sizes x 2^-k")
+    ap.add_argument("--targets", type=float, nargs="*", default=[0.01, 0.002], help="none: the hand grids alone")
+    ap.add_argument("--scales", type=int, nargs="*", default=[-1, 0, 1, 2], help="hand grids: element sizes x 2^-k")
     ap.add_argument("--levels-added", type=int, nargs="*", default=[1, 2],
                     help="hand grids: the deepest contact zone m levels deeper")
     ap.add_argument("--zones-added", nargs="*", default=[], metavar="M:RADIUS",
                     help="hand grids: a zone M levels deeper than the deepest within RADIUS of the contact")
+    ap.add_argument("--hand-zones", nargs="*", default=[], metavar="[SIZE/]LEVELS,RADIUS;...",
+                    help="hand grids: every body's refinement replaced by these zones around the contact "
+                         "(e.g. the far field graded about it), and its element size where given")
     ap.add_argument("--force-reference", type=float, default=None,
                     help="the converged normal force of the whole contact, to judge N against")
     args = ap.parse_args(argv)
@@ -178,6 +206,11 @@ def main(argv: list[str]) -> int:
                 m, radius = int(spec.split(":")[0]), float(spec.split(":")[1])
                 hand.append(dict(run(zoned(data, m, radius), base, tmp, f"{path.stem}_z{m}_{radius}", False, ref),
                                  grid=f"a zone {m} level(s) deeper within {radius:g} m"))
+            for k, spec in enumerate(args.hand_zones):
+                size, zones = parse_zones(spec)
+                hand.append(dict(run(with_zones(data, zones, size), base, tmp, f"{path.stem}_zones{k}", False, ref),
+                                 grid=(f"element size {size:g} m, " if size else "")
+                                 + "zones " + ", ".join(f"{lv} within {r:g} m" for lv, r in zones)))
             for r in hand:
                 print(json.dumps(r), flush=True)
             for target in args.targets:

@@ -122,8 +122,9 @@ def test_the_inner_reading_converges_with_the_interior():
 
 def test_a_coarser_grid_s_peak_is_read_as_on_the_finer_grid():
     # Richardson's difference compares one reading on two grids: where the finer grid's peak is
-    # Hertz's shape over the inner part, the coarser grid's inner reading is taken even where its
-    # own region was not Hertz-like (its profile kept the whole-region fit)
+    # Hertz's shape over the inner part, the coarser grid's inner reading is taken where its own
+    # region passed the Hertz-like test; where it failed (its profile kept the whole-region fit)
+    # the coarser grid has no comparable peak (None)
     from ibfem.solver.model.accuracy import contact_quantities
 
     def block(reading, profile_peak, shape):
@@ -132,7 +133,37 @@ def test_a_coarser_grid_s_peak_is_read_as_on_the_finer_grid():
                 "profile_recovery": {"peak": {"reading": reading, "hertz_shape": shape}}}
 
     fine = block("hertz_shape_inner", 3.00e9, 3.00e9)
+    assert contact_quantities(block("hertz_shape_inner", 3.06e9, 3.05e9), like=fine)["max_pressure"] == 3.05e9
     coarse = block("whole_region_fit", 2.90e9, 3.05e9)
-    assert contact_quantities(coarse, like=fine)["max_pressure"] == 3.05e9
+    assert contact_quantities(coarse, like=fine)["max_pressure"] is None
     assert contact_quantities(coarse)["max_pressure"] == 2.90e9
     assert contact_quantities(coarse, like=block("whole_region_fit", 3.0e9, 3.1e9))["max_pressure"] == 2.90e9
+
+
+def test_an_unresolved_coarser_peak_leaves_the_size_share_alone():
+    # the semi-axes converge at order 3/2 (q_h = q + C h^1.5, so their two-grid estimate is their
+    # exact error, e); a coarser grid whose inner pressure failed the Hertz-like test gives p0 no
+    # two-grid difference: its estimate is the semi-axes' mean error, whatever the coarser grid's
+    # own (unresolved) reading
+    from ibfem.solver.model.accuracy import ORDERS, contact_quantities
+
+    a, c, h = 0.045, -2.0, 0.0078
+    fine_a, coarse_a = a * (1.0 + c * h**1.5), a * (1.0 + c * (2.0 * h) ** 1.5)
+    e = abs(fine_a - a) / fine_a  # relative to the grid's value, as the estimate is
+
+    def block(size, reading, p0):
+        return {"type": "frictionless", "semi_axes": [size, size], "normal_force": 1.0e6,
+                "pressure": {"axis0": {"s": [0.0], "value": [p0]}},
+                "profile_recovery": {"peak": {"reading": reading, "hertz_shape": p0}}}
+
+    fine = block(fine_a, "hertz_shape_inner", 3.0e9)
+    orders = {**ORDERS, "semi_axes": 1.5}
+    for coarse_p0 in (2.5e9, 3.2e9, 4.0e9):
+        coarse = contact_quantities(block(coarse_a, "whole_region_fit", coarse_p0), like=fine)
+        errors = relative_errors(contact_quantities(fine), coarse, orders, size_share=peak_size_share(fine))
+        assert errors["semi_axes"] == pytest.approx([e, e], rel=1e-9)
+        assert errors["max_pressure"] == pytest.approx(e, rel=1e-9)
+    # a resolved coarser reading keeps its own estimate where it is the larger
+    resolved = contact_quantities(block(coarse_a, "hertz_shape_inner", 3.3e9), like=fine)
+    errors = relative_errors(contact_quantities(fine), resolved, orders, size_share=peak_size_share(fine))
+    assert errors["max_pressure"] == pytest.approx(0.3 / (3.0 * 3.0), rel=1e-9)
