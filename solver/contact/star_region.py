@@ -19,7 +19,9 @@ edge is smooth, positive for a punch-like pressure (the region too small there).
 moment is taken over its stretch of the edge (the quadrature points weighted by the knot's hat
 function in phi), normalised by the pressure's integral there. The region search sets B by the
 mean moment of the knots with a smooth edge; then each such knot's log rho moves by a secant on
-its moment less the mean, until all agree to KNOT_TOLERANCE. A knot whose ray leaves body 1's
+its moment less the mean, until all agree to KNOT_TOLERANCE; once they first agree, a line
+contact's knots are spread along its edge, at most SPREAD_CELLS finest cells apart, and the
+iteration goes on (``spread_knots``). A knot whose ray leaves body 1's
 surface before its edge (the region reaches body 1's free edge there) has no edge condition: the
 contact is complete there (the pressure is singular at a sharp edge), and it is reported as such.
 """
