@@ -86,7 +86,7 @@ STEP_CELLS = 1.0
 #: a knot's secant step in log rho is at most this many times its moment's difference from the
 #: mean: a moment falls by about 1 per unit of log rho, so a step beyond twice the difference
 #: comes from a secant through the grid's noise (one moved the crowned roller's side by 4 mm, 17 %
-#: of its width, in one update after its knots were spread)
+#: of its width, in one update after its knots were spread every cell)
 SECANT_GAIN = 2.0
 #: a line contact's knots whose edge runs within this angle of the line are read on sections
 #: across it (radians)
