@@ -1,7 +1,10 @@
 """The crowned roller's 3D region against the half-space solution of the same gap at the run's
 force: length, the half-width along the line (stations every 5 mm and at the widest), the
 widest half-width against the region's extent across, and the peak's fit read the same way on
-both. Input: the summary.json of a run of examples/contact3d/crowned_roller.toml or of
+both; the line load along the line per row of the 3D map's squares against the half-space's
+averaged over the same rows, and at mid-length the plane-strain invariant b / sqrt(P') of both
+(Hertz: b^2 = 4 P' R / (pi E*), K. L. Johnson, Contact Mechanics, 1985, eq. 4.43). Input: the
+summary.json of a run of examples/contact3d/crowned_roller.toml or of
 tests/scenes/crowned_roller_large_block.toml (the same roller on a 1 m block).
 
     python benchmarks/crowned_roller_halfspace.py OUT/summary.json [--dx 0.001 --dy 0.0008]
@@ -21,6 +24,23 @@ from ibfem.solver.reference.crowned_roller import (crowned_gap, half_length, hal
 from ibfem.solver.reference.halfspace import halfspace_contact
 
 E_STAR = 2.0e11 / (2 * (1 - 0.3**2))
+#: rows of the map's squares from mid-length over which the mid-length line load is read
+MID_ROWS = 4
+
+
+def row_loads(block: dict, ref, dx: float, dy: float) -> tuple[np.ndarray, np.ndarray]:
+    """(3D, half-space) full line loads P' (both sides of the line) per row of the map's squares
+    along the line from mid-length: the 3D map's force in each row over the row's length, and the
+    half-space's line load at its stations averaged over the same row."""
+    m = block["pressure_map"]
+    cell = m["cell"]
+    s, value, area = np.array(m["s"]), np.array(m["value"]), np.array(m["area"])
+    row = np.floor(s[:, 0] / cell + 1e-9).astype(int)
+    rows = np.arange(row.max() + 1)
+    loads = np.array([2.0 * float((value[row == i] * area[row == i]).sum()) / cell for i in rows])
+    line = 2.0 * ref.pressure.sum(axis=1) * dy
+    ref_loads = np.array([line[(ref.x >= i * cell) & (ref.x < (i + 1) * cell)].mean() for i in rows])
+    return loads, ref_loads
 
 
 def compare(block: dict, dx: float, dy: float) -> dict:
@@ -47,7 +67,10 @@ def compare(block: dict, dx: float, dy: float) -> dict:
             "stations": [(float(s), float(a), float(b)) for s, a, b in zip(stations, w3, ref_w)],
             "peak_fit": (fit, float(at[0]), ref_fit, float(ref_at[0])),
             "peak_fit_corners": (corner_fit, float(corner_at[0])),
-            "point_peak": float(ref.pressure.max())}
+            "point_peak": float(ref.pressure.max()),
+            "rows": row_loads(block, ref, dx, dy),
+            "mid_length": (float(w3[0]), float(np.mean(row_loads(block, ref, dx, dy)[0][:MID_ROWS])),
+                           float(widths[0]), float(2.0 * ref.pressure[0].sum() * dy))}
 
 
 def main() -> None:
@@ -76,6 +99,16 @@ def main() -> None:
     print(f"  half-space read through the squares' corners as the 3D map: {cv / 1e9:.4f} GPa at {cx * 1e3:.2f} mm: "
           f"{100 * (v / cv - 1):+.2f} %, position {100 * (xa - cx) / b:+.2f} % of the half-length; its point peak "
           f"{r['point_peak'] / 1e9:.4f} GPa")
+    loads, ref_loads = r["rows"]
+    cell = r["cell"]
+    print("line load P' per row of squares (both sides of the line), 3D against the half-space's mean over the row:")
+    for i, (a, b) in enumerate(zip(loads, ref_loads)):
+        print(f"  x = {i * cell * 1e3:5.1f}-{(i + 1) * cell * 1e3:5.1f} mm: 3D {a / 1e6:7.2f} MN/m, half-space "
+              f"{b / 1e6:7.2f} MN/m, {100 * (a / b - 1):+6.2f} %")
+    b3, p3, bh, ph = r["mid_length"]
+    print(f"mid-length b / sqrt(P') (P' over the first {MID_ROWS} rows in 3D, at the first station on the half-space): "
+          f"3D {b3 / math.sqrt(p3):.5g}, half-space {bh / math.sqrt(ph):.5g}, Hertz "
+          f"{math.sqrt(4 * 0.5 / (math.pi * E_STAR)):.5g} m^1.5 N^-0.5")
 
 
 if __name__ == "__main__":

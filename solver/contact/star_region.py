@@ -19,7 +19,9 @@ edge is smooth, positive for a punch-like pressure (the region too small there).
 moment is taken over its stretch of the edge (the quadrature points weighted by the knot's hat
 function in phi), normalised by the pressure's integral there. The region search sets B by the
 mean moment of the knots with a smooth edge; then each such knot's log rho moves by a secant on
-its moment less the mean, until all agree to KNOT_TOLERANCE. A knot whose ray leaves body 1's
+its moment less the mean, until all agree to KNOT_TOLERANCE; once they first agree, a line
+contact's knots are spread along its edge, at most SPREAD_CELLS finest cells apart, and the
+iteration goes on (``spread_knots``). A knot whose ray leaves body 1's
 surface before its edge (the region reaches body 1's free edge there) has no edge condition: the
 contact is complete there (the pressure is singular at a sharp edge), and it is reported as such.
 """
@@ -52,6 +54,9 @@ SPLIT_CELLS = 2.0
 #: mean by more than this (four times the settled knots' tolerance: the edge between the two
 #: knots is not where the pressure puts it)
 SPLIT_MOMENT = 4.0 * 0.005
+#: once the knots first agree, a line contact's stretches of smooth edge between two knots are cut
+#: into equal lengths of at most this many finest cells along the edge (``spread_knots``)
+SPREAD_CELLS = 2.0
 #: neighbouring knots with a smooth edge whose edge points lie closer than this many finest cells
 #: (the crowded knots at a long region's tips) share one edge condition: the grid cannot tell
 #: their stretches apart, so each one's own moment is mostly the grid's noise
@@ -78,6 +83,11 @@ KNOT_STEP = 0.3
 #: roller's tip, 80 mm from the contact point, is four 6.25 mm cells), beyond where the moment
 #: it was measured with says anything
 STEP_CELLS = 1.0
+#: a knot's secant step in log rho is at most this many times its moment's difference from the
+#: mean: a moment falls by about 1 per unit of log rho, so a step beyond twice the difference
+#: comes from a secant through the grid's noise (one moved the crowned roller's side by 4 mm, 17 %
+#: of its width, in one update after its knots were spread every cell)
+SECANT_GAIN = 2.0
 #: a line contact's knots whose edge runs within this angle of the line are read on sections
 #: across it (radians)
 SIDE_ANGLE = math.radians(30.0)
@@ -144,6 +154,8 @@ class StarRegionContact(EllipseContact):
     #: (knots, log rho, shape updates since) of the last insertion's settled knots, until the
     #: knots agree again
     _before_split: tuple | None = None
+    #: the knots have been spread along the edge in this load step (``spread_knots``)
+    _spread: bool = False
 
     # ------------------------------------------------------------------ the region's shape
 
@@ -371,7 +383,7 @@ class StarRegionContact(EllipseContact):
                 self._before_split = None
             elif self._undo_split(a):
                 return False
-        if float(np.abs(d).max()) <= KNOT_TOLERANCE and self.refine_knots(x, a, info):
+        if float(np.abs(d).max()) <= KNOT_TOLERANCE and (self.spread_knots(a) or self.refine_knots(x, a, info)):
             return False
         if float(np.abs(d).max()) <= KNOT_TOLERANCE:
             return stuck
@@ -383,6 +395,10 @@ class StarRegionContact(EllipseContact):
             # a knot whose reading changed since the older entry has no secant yet
             valid = self._knot_since <= len(self._knot_history) - 2
             step = np.where((slope < 0.0) & valid, -d1 * slope, step)
+            # a secant through two noisy moments can be nearly flat and send the edge far: no step
+            # beyond SECANT_GAIN times the moment's difference (a section's moment falls by about
+            # 1.1 to 1.3 per unit of log width, Hertz's pressure read on a region 1 to 2 % off)
+            step = np.clip(step, -SECANT_GAIN * np.abs(d1), SECANT_GAIN * np.abs(d1))
         cap = np.minimum(KNOT_STEP, STEP_CELLS * self.h / np.maximum(self.ray_length(self.knots, a), 1e-300))
         self.log_rho = self.log_rho + np.where(smooth, np.clip(step, -cap, cap), 0.0)
         self._mirror_outside()
@@ -434,17 +450,61 @@ class StarRegionContact(EllipseContact):
         split &= np.cumsum(split) <= MAX_KNOTS - len(self.knots)
         if not split.any():
             return False
-        keep = ~new | split
-        at = np.flatnonzero(~new[keep])  # the old knots' places among the kept
-        self.knots, self.log_rho = trial[order][keep], trial_rho[order][keep]
+        self._insert(trial[order][new & split], a)
+        return True
+
+    def spread_knots(self, a: float) -> bool:
+        """Once per load step, when the knots first agree: knots spread along a line contact's
+        edge (True: the shape is updated again). The knots start at equal angles in the
+        normalised coordinates, which crowds them at a long region's tips and leaves its sides
+        few (on the crowned roller, two knots over the 58 mm of side before the crown's bulge):
+        between them the spline's edge is an interpolation the edge conditions do not see, and
+        each side knot's section moment averages the sections over its whole stretch, so its
+        own edge point settles wherever the stretch's error averages out (the mid-length width
+        moved by 5 % when knots were inserted elsewhere on the side). Each stretch of a smooth
+        edge between two knots longer than SPREAD_CELLS finest cells along the edge is
+        therefore cut into equal lengths of at most that, new knots at the cuts on the present
+        edge (the shape is unchanged by the insertion), so that the spline's edge everywhere is
+        within a cell or so of a knot whose edge condition holds. A flat contact keeps its 24
+        knots (see ``refine_knots``)."""
+        if self.isotropic or self._spread or len(self.knots) >= MAX_KNOTS:
+            return False
+        self._spread = True
+        turn = 2.0 * math.pi
+        gap = (np.roll(self.knots, -1) - self.knots) % turn
+        smooth = knots_inside(self.knots, self.ranges) & ~self.free_knots
+        candidate = (smooth & np.roll(smooth, -1) & (gap < math.pi)
+                     & knots_inside(np.mod(self.knots + 0.5 * gap, turn), self.ranges))
+        scales = np.array(self.semi_axes(a))
+        new = []
+        for k in np.flatnonzero(candidate):
+            phi = self.knots[k] + gap[k] * np.linspace(0.0, 1.0, 129)
+            edge = self.rho(phi)[:, None] * np.stack([np.cos(phi), np.sin(phi)], axis=1) * scales
+            arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(edge, axis=0).T))])
+            n = int(math.ceil(arc[-1] / (SPREAD_CELLS * self.h) - 1e-9))
+            new.extend(np.interp(arc[-1] * np.arange(1, n) / n, arc, phi))
+        new = np.mod(np.array(new[:max(MAX_KNOTS - len(self.knots), 0)]), turn)
+        if not len(new):
+            return False
+        self._insert(new, a)
+        return True
+
+    def _insert(self, new: np.ndarray, a: float) -> None:
+        """Insert knots at the angles ``new`` on the present edge; the secants start again, the
+        load step may take SPLIT_UPDATES more shape updates, and the knots before are kept to
+        undo the insertion (``_undo_split``)."""
+        before = (self.knots.copy(), self.log_rho.copy())
+        trial = np.concatenate([self.knots, new])
+        order = np.argsort(trial, kind="stable")
+        old = (np.arange(len(trial)) < len(self.knots))[order]
+        self.knots, self.log_rho = trial[order], np.log(self.rho(trial[order]))
         free = np.zeros(len(self.knots), dtype=bool)
-        free[at] = self.free_knots
+        free[old] = self.free_knots
         self.free_knots, self.knot_moments = free, np.full(len(self.knots), math.nan)
         self.across = self.across_knots(a)
         self._restart_secants()  # every knot's hat has changed: the secants start again
         self.extra_shape_updates += SPLIT_UPDATES
-        self._before_split = (kept[0].copy(), kept[1].copy(), 0)
-        return True
+        self._before_split = (before[0], before[1], 0)
 
     def _undo_split(self, a: float) -> bool:
         """Count a shape update after an insertion; after SPLIT_SETTLE of them without the knots
@@ -490,6 +550,7 @@ class StarRegionContact(EllipseContact):
         self._restart_secants()
         self.extra_shape_updates = 0
         self._before_split = None
+        self._spread = False
 
     def history_entry(self, v, a: float, step: int, iteration: int, tag: int, ratio: float) -> None:
         super().history_entry(v, a, step, iteration, tag, ratio)
