@@ -20,6 +20,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ..model.estimate import factor_threads, process_memory_budget, resident_memory
 from .block_diagonal import BlockDiagonal, BlockFactor, uncoupled_groups
 from .dense import symmetric_from_lower
 
@@ -475,26 +476,12 @@ def _condensed_blocks(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | N
     return BlockFactor(parts, factors), BlockDiagonal(schurs, positions), BlockDiagonal(inverses, positions)
 
 
-def factor_threads() -> int:
-    """Threads the bodies' condensed factorisations run on: ``IBFEM_THREADS`` if set (>= 1), else
-    the machine's cores (the same setting as the geometry's projections)."""
-    from ibfem.geometry._jit import threads
-
-    return threads()
-
-
 def factor_memory_budget() -> float:
-    """Bytes the factorisations' numeric phases may allocate at once: the memory the machine has
-    free now (``MemAvailable`` where Linux gives it, else its physical memory less what this
-    process holds), and no more than the limit the user sets in ``IBFEM_MEMORY_LIMIT`` ("6GB",
-    "800MB" or bytes) less what this process holds. Beyond it the bodies are factored one at a
-    time."""
-    from ..model.estimate import available_memory, free_memory, memory_limit, resident_memory
-
-    held = resident_memory()
-    budget = min(free_memory(), available_memory() - held)
-    limit = memory_limit()
-    return min(budget, limit - held) if limit is not None else budget
+    """Bytes the factorisations' numeric phases may allocate at once: what this process may hold
+    (solver.model.estimate.process_memory_budget: the machine's free memory, and no more than
+    ``IBFEM_MEMORY_LIMIT``, "6GB", "800MB" or bytes) less what it holds. Beyond it the bodies are
+    factored one at a time."""
+    return process_memory_budget() - resident_memory()
 
 
 class MemoryGate:

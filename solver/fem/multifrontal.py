@@ -312,17 +312,16 @@ class CholeskyFactor:
         start = (8 * lo) // mmap.ALLOCATIONGRANULARITY * mmap.ALLOCATIONGRANULARITY  # mapped from a page
         try:
             view = mmap.mmap(self._disk.fileno(), 8 * hi - start, offset=start, access=mmap.ACCESS_READ)
+            segment = np.frombuffer(view, dtype=np.float64, count=hi - lo, offset=8 * lo - start)
         except (OSError, ValueError, AttributeError):
+            view = None
             self._disk.seek(8 * lo)
             segment = np.fromfile(self._disk, dtype=np.float64, count=hi - lo)
-            for b in bt:
-                kernel(segment, lo, *args, b)
-            return
-        segment = np.frombuffer(view, dtype=np.float64, count=hi - lo, offset=8 * lo - start)
         for b in bt:
             kernel(segment, lo, *args, b)
         del segment  # before the view is closed
-        view.close()
+        if view is not None:
+            view.close()
 
     def _solve_from_disk(self, bt: np.ndarray) -> np.ndarray:
         """Overwrite bt (k, n), right-hand sides in the factor's numbering, with K^-1 of them:

@@ -29,7 +29,8 @@ import os
 import numpy as np
 
 __all__ = ["ProblemSize", "estimate_size", "history_bytes", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory",
-           "resident_memory", "loaded_scene_bytes", "free_memory", "memory_limit"]
+           "resident_memory", "loaded_scene_bytes", "free_memory", "memory_limit", "factor_threads",
+           "process_memory_budget"]
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
 #: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
@@ -233,11 +234,11 @@ def _estimate(problem, loaded: float) -> ProblemSize:
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
         rest = BASE_BYTES_3D_CONTACT + loaded + history_bytes(problem)
         memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed) + rest
-        at_once = min(_factor_threads(), len(body_dofs))
+        at_once = min(factor_threads(), len(body_dofs))
         if at_once > 1:  # the bodies factored side by side where their work spaces fit together
             side_by_side = (_sparse_contact_bytes(body_dofs, at_once) + _dense_contact_bytes(problem, streamed, at_once)
                             + rest)
-            if side_by_side <= _side_by_side_budget():
+            if side_by_side <= process_memory_budget():
                 memory = side_by_side
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
@@ -292,16 +293,18 @@ def _sparse_contact_bytes(body_dofs: np.ndarray, at_once: int = 1) -> float:
     return total
 
 
-def _factor_threads() -> int:
-    """Threads the bodies' factorisations run on (``IBFEM_THREADS``, default the cores)."""
+def factor_threads() -> int:
+    """Threads the bodies' condensed factorisations run on: ``IBFEM_THREADS`` if set (>= 1), else
+    the machine's cores (the same setting as the geometry's projections)."""
     from ibfem.geometry._jit import threads
 
     return threads()
 
 
-def _side_by_side_budget() -> float:
-    """The most a run may hold for its bodies to be factored side by side: the machine's memory
-    (what is free now beside what this process holds) and the user's ``IBFEM_MEMORY_LIMIT``."""
+def process_memory_budget() -> float:
+    """The most this process may hold, its bodies factored side by side: the machine's memory
+    (what is free now beside what this process holds) and no more than the limit the user sets in
+    ``IBFEM_MEMORY_LIMIT``."""
     limit = memory_limit()
     budget = min(available_memory(), free_memory() + resident_memory())
     return budget if limit is None else min(budget, limit)
