@@ -176,6 +176,18 @@ class StarRegionContact(EllipseContact):
             self._spline = (key, CubicSpline(np.append(self.knots, 2.0 * math.pi), values, bc_type="periodic"))
         return np.exp(self._spline[1](np.mod(phi, 2.0 * math.pi)))
 
+    def edge_points(self, phi: np.ndarray, a: float | None = None) -> np.ndarray:
+        """(n, 2) the edge's points at the angles ``phi``: in the normalised coordinates (X, Y), or
+        with ``a`` in the tangent plane's lengths along the region's axes (times its semi-axes)."""
+        phi = np.asarray(phi, dtype=float)
+        points = self.rho(phi)[:, None] * np.stack([np.cos(phi), np.sin(phi)], axis=1)
+        return points if a is None else points * np.array(self.semi_axes(a))
+
+    def knot_chords(self, a: float) -> np.ndarray:
+        """(K,) the distance in the tangent plane from each knot's edge point to the next knot's."""
+        edge = self.edge_points(self.knots, a)
+        return np.hypot(*(np.roll(edge, -1, axis=0) - edge).T)
+
     def polar(self, s: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
         """(r, phi) of tangent-plane points: r = 1 on the region's edge."""
         aa, bb = self.semi_axes(a)
@@ -274,7 +286,7 @@ class StarRegionContact(EllipseContact):
         if across.any():  # a long region's sides: the 2D edge condition on its sections
             aa, bb = self.semi_axes(a)
             local = self.local(pts.s) / np.array([aa, bb])
-            knot_xy = self.rho(self.knots)[:, None] * np.stack([np.cos(self.knots), np.sin(self.knots)], axis=1)
+            knot_xy = self.edge_points(self.knots)
             m, w, cover = section_moments(local, plane_weights(self, pts) * p, knot_xy,
                                           self.whole_boundary(a), across)
             moment, total, covered = np.where(across, m, moment), np.where(across, w, total), np.where(across, cover, covered)
@@ -291,9 +303,7 @@ class StarRegionContact(EllipseContact):
         pressure (the sum of their moments over the sum of their pressures' integrals): at a long
         region's tips the normalised coordinates crowd several knots into a cell, whose
         stretches the grid cannot tell apart. Tied knots then move together."""
-        scales = np.array(self.semi_axes(a))
-        edge = self.rho(self.knots)[:, None] * np.stack([np.cos(self.knots), np.sin(self.knots)], axis=1) * scales
-        chord = np.hypot(*(np.roll(edge, -1, axis=0) - edge).T)  # knot k to k + 1
+        chord = self.knot_chords(a)  # knot k to k + 1
         link = smooth & np.roll(smooth, -1) & (chord < TIE_CELLS * self.h)
         if not link.any():
             return m
@@ -423,9 +433,7 @@ class StarRegionContact(EllipseContact):
         turn = 2.0 * math.pi
         gap = (np.roll(self.knots, -1) - self.knots) % turn
         mid = np.mod(self.knots + 0.5 * gap, turn)
-        scales = np.array(self.semi_axes(a))
-        edge = (self.rho(self.knots)[:, None] * np.stack([np.cos(self.knots), np.sin(self.knots)], axis=1)) * scales
-        chord = np.hypot(*(np.roll(edge, -1, axis=0) - edge).T)
+        chord = self.knot_chords(a)
         smooth = inside & ~self.free_knots
         candidate = (smooth & np.roll(smooth, -1) & knots_inside(mid, self.ranges) & (chord > SPLIT_CELLS * self.h)
                      & (gap < math.pi))
@@ -475,11 +483,10 @@ class StarRegionContact(EllipseContact):
         smooth = knots_inside(self.knots, self.ranges) & ~self.free_knots
         candidate = (smooth & np.roll(smooth, -1) & (gap < math.pi)
                      & knots_inside(np.mod(self.knots + 0.5 * gap, turn), self.ranges))
-        scales = np.array(self.semi_axes(a))
         new = []
         for k in np.flatnonzero(candidate):
             phi = self.knots[k] + gap[k] * np.linspace(0.0, 1.0, 129)
-            edge = self.rho(phi)[:, None] * np.stack([np.cos(phi), np.sin(phi)], axis=1) * scales
+            edge = self.edge_points(phi, a)
             arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(edge, axis=0).T))])
             n = int(math.ceil(arc[-1] / (SPREAD_CELLS * self.h) - 1e-9))
             new.extend(np.interp(arc[-1] * np.arange(1, n) / n, arc, phi))
