@@ -46,7 +46,7 @@ class BlockFactor:
         self.parts, self.factors = parts, factors
 
     def solve(self, f: np.ndarray) -> np.ndarray:
-        from ibfem.geometry._jit import threads
+        from ..model.estimate import factor_threads
 
         f = np.asarray(f, dtype=np.float64)
         out = np.empty_like(f)
@@ -56,7 +56,7 @@ class BlockFactor:
             out[idx] = self.factors[k].solve(np.ascontiguousarray(f[idx]))
 
         threaded = all(getattr(factor, "threaded_solve", False) for factor in self.factors)
-        workers = min(len(self.factors), threads()) if threaded else 1
+        workers = min(len(self.factors), factor_threads()) if threaded else 1
         if workers > 1:
             with ThreadPoolExecutor(workers) as pool:
                 list(pool.map(one, range(len(self.factors))))
