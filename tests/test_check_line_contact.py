@@ -14,10 +14,11 @@ import numpy as np
 import pytest
 
 from ibfem.solver.contact.follow import band_problem, line_contacts
-from ibfem.solver.fem.bodies import discretise
+from ibfem.solver.contact.driver import ContactDriver
 from ibfem.solver.io.run_size import run_size
 from ibfem.solver.io.scene import load_scene
-from ibfem.solver.model.estimate import estimate_size
+from ibfem.solver.model.estimate import (CONTACT_DISC_MARGIN, REGION_FILL, REGION_POINTS_PER_FACET,
+                                         TRIAL_BYTES_PER_POINT, contact_dofs_per_body, estimate_size, trial_bytes)
 from ibfem.solver.model.resolve import resolve_problem
 
 ROLLER = Path(__file__).resolve().parent.parent / "examples" / "contact3d" / "roller_on_flat.toml"
@@ -42,6 +43,29 @@ def test_the_check_of_a_line_contact_follows_the_band_its_run_builds():
     assert len(asked) == 1 and "coarse pass" in note and "band" in note
     assert {z.levels for b in asked[0].bodies for z in b.refinements} == {2}  # two levels shallower
     fine, _ = band_problem(problem, [0], _coarse_pass(problem).contacts)
-    built = sum(b.n_dofs for b in discretise(resolve_problem(fine), problem.options))
+    driver = ContactDriver(resolve_problem(fine))
+    driver._discretise()
+    driver._assemble()  # the bodies' grids and the contact with its condensed dofs
+    built = sum(b.n_dofs for b in driver.bodies)
     assert size.dofs == pytest.approx(built, rel=0.3)
     assert estimate_size(problem).dofs > 2.0 * built  # the scene's whole ball, which the band replaces
+    # the contact dofs: the fine band's faces and the coarser rest of the candidate disc, each at its
+    # own cell size (counted at the band's size everywhere they were 2.5 times too many)
+    bodies, per_body = contact_dofs_per_body(fine, fine.contacts[0])
+    assert bodies * per_body == pytest.approx(len(driver.contacts[0].dofs), rel=0.3)
+
+
+def test_the_region_trials_memory_grows_with_the_region_in_finest_faces():
+    """The region trials' bytes: TRIAL_BYTES_PER_POINT per point, REGION_POINTS_PER_FACET points
+    per finest face of the region's area; where no region is known, REGION_FILL of the candidate
+    disc's faces (here all at the finest size: a quarter of a disc of 0.8 of the ball's radius)."""
+    problem = load_scene(ROLLER).problem
+    h = min(b.element_size / 2.0 ** max(z.levels for z in b.refinements) for b in problem.bodies)
+    disc = np.pi * (0.8 * 0.13 + CONTACT_DISC_MARGIN * h) ** 2 / 4.0
+    unknown = TRIAL_BYTES_PER_POINT * REGION_POINTS_PER_FACET * REGION_FILL * disc / h**2
+    assert trial_bytes(problem) == trial_bytes(problem, [None]) == [pytest.approx(unknown, rel=0.1)]
+    area = 0.1 * 0.024
+    expected = TRIAL_BYTES_PER_POINT * REGION_POINTS_PER_FACET * area / h**2
+    assert trial_bytes(problem, [area]) == [pytest.approx(expected)]
+    with_region = estimate_size(problem, loaded=0.0, region_areas=[area]).memory
+    assert with_region >= estimate_size(problem, loaded=0.0).memory

@@ -5,6 +5,7 @@ against the closed form."""
 import io
 import json
 import math
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -173,6 +174,22 @@ def test_progress_is_quiet_on_short_runs_and_throttled_on_long_ones():
     quick("done", 1.0)
     quick.close()
     assert short.getvalue() == ""
+
+
+def test_a_contact_solve_reports_each_region_trial():
+    """The contact driver reports every trial of its region search (a long 3D search is a
+    minute of trials), in order, within its load step's share of the run."""
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.solving import solve
+
+    messages = []
+    solution = solve(load_scene(ROOT / "examples" / "cylinder_on_cylinder_frictionless.toml").problem,
+                     progress=lambda text, fraction=None: messages.append((text, fraction)))
+    trials = [(text, f) for text, f in messages if "region trial" in text]
+    assert solution.converged and len(trials) == solution.iterations["total"] >= 2
+    assert [int(re.search(r"region trial (\d+)", text)[1]) for text, _ in trials] == list(range(1, len(trials) + 1))
+    fractions = [f for _, f in messages if f is not None]
+    assert fractions == sorted(fractions) and all(0.3 <= f < 1.0 for _, f in trials)
 
 
 def lame(r, p=1e8, a=1.0, b=2.0, E=2e11, nu=0.3):

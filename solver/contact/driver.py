@@ -270,6 +270,8 @@ class ContactDriver:
             key = tuple(trial)
             if key not in cache:
                 iters += 1
+                self.report(f"load step {step}/{self.steps}: region trial {iters}"
+                            + (f" (shape update {tag})" if tag else ""), 0.3 + 0.6 * (step - 1) / self.steps)
                 cache[key] = self._trial(trial, lam, step, iters, tag)
                 self._forget_old_states(cache, keep=2)
             verdicts = cache[key][1]

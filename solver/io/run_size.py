@@ -91,7 +91,8 @@ def _line_contacts(problem: Problem, lines: list[int], solve: Callable, loaded: 
                 "the line contact's coarse pass found no region: the scene's own grid")
     fine, bands = band_problem(problem, lines, coarse_solution.contacts)
     widths = sorted({round(band["radius"], 9) for band in bands.values()})
-    return (_at_least(estimate_size(fine, loaded), coarse_size.memory),
+    areas = [coarse_solution.contacts[k].get("area") if k in lines else None for k in range(len(problem.contacts))]
+    return (_at_least(estimate_size(fine, loaded, areas), coarse_size.memory),
             f"line contact: its coarse pass solved ({_dofs(coarse_solution):.3g} dofs), the band along "
             f"its region (radius {', '.join(f'{w:.3g}' for w in widths)} m) at the scene's levels")
 

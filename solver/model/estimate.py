@@ -15,9 +15,11 @@ sample). Overlapping zones are counted once (each sample weighted by one over th
 hold it). Dofs: DOFS_PER_CELL per cell. Memory: in 2D the process's resident memory when the
 estimate is made (the scene loaded, a CAD kernel included) plus SOLVER_BYTES_2D plus
 BYTES_PER_DOF[2] per dof, fitted on the peaks of the shipped 2D examples; in 3D what the loaded
-scene holds beyond an analytic one (a CAD kernel), measured bytes per dof for the sparse part, and for a 3D contact the dense arrays of its condensed dofs (the finest cell faces of the part of the
-candidate disc that the bodies hold, times CONTACT_DOFS_PER_FACET per body; each body's block
-held twice and formed once more). A 3D frictional contact under load paths keeps a friction
+scene holds beyond an analytic one (a CAD kernel), measured bytes per dof for the sparse part, and for a 3D contact the dense arrays of its condensed dofs (the cell faces of the part of the
+candidate disc that the bodies hold, each part at the cell size its refinement zones give it,
+times CONTACT_DOFS_PER_FACET per body; each body's block held twice and formed once more), then
+the larger of the factorisation's work space and the region trials' contact blocks (per point of
+the region: the area a coarse pass found, else a share of the candidate disc). A 3D frictional contact under load paths keeps a friction
 history on its region's quadrature points: the regions it holds through a load step are counted
 per point of a region as large as the candidate disc (:func:`history_bytes`)."""
 
@@ -30,7 +32,7 @@ import numpy as np
 
 __all__ = ["ProblemSize", "estimate_size", "history_bytes", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory",
            "resident_memory", "loaded_scene_bytes", "free_memory", "memory_limit", "factor_threads",
-           "process_memory_budget"]
+           "process_memory_budget", "trial_bytes"]
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
 #: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
@@ -95,6 +97,15 @@ KEPT_TRIALS = 2
 #: of cells), measured with the objects' sizes on the half sphere on a flat at 5 levels
 REGION_OPERATOR_BYTES_PER_POINT = 2_300
 REGION_NEIGHBOUR_BYTES_PER_POINT = 2_200
+#: a 3D contact's region trials, per quadrature point of the region (REGION_POINTS_PER_FACET per
+#: finest cell face of it): the contact blocks of the trials the driver keeps (KEPT_TRIALS), the
+#: arrays that build them and the factored small system, which live after the factorisation's
+#: work space is freed (measured with tracemalloc on the roller on a flat: 0.66 GB over a
+#: region of 48,700 points)
+TRIAL_BYTES_PER_POINT = 13_500
+#: the fraction of its candidate disc's faces a contact's region is taken to cover where no coarse
+#: pass has measured it (the disc bounds the region's growth; a region half the disc's radius)
+REGION_FILL = 0.25
 #: points of the signed distance per level and body when counting a 3D body's kept cells
 SAMPLES = 2000
 #: bodies estimated above this many cells are not sampled (the box's fill by volume is used)
@@ -199,16 +210,18 @@ def _zone_centres(problem, body) -> list:
     return [default if z.center is None else np.asarray(z.center, dtype=float) for z in body.refinements]
 
 
-def estimate_size(problem, loaded: float | None = None) -> ProblemSize:
+def estimate_size(problem, loaded: float | None = None, region_areas=None) -> ProblemSize:
     """Estimated cells, dofs and peak memory of ``problem`` (a solver.model.Problem); inf for
     sizes beyond floating point (an element size of 1e-300). ``loaded``: in 3D, the bytes the
     loaded scene holds (:func:`loaded_scene_bytes` when the scene was loaded, before a solve
-    grew the process); measured now when not given."""
+    grew the process); measured now when not given. ``region_areas``: in 3D, per contact the
+    area (m^2, of the model) of its region where a coarse pass has found it, else None: the
+    region trials' memory is counted from it (:func:`trial_bytes`)."""
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        return _estimate(problem, loaded_scene_bytes() if loaded is None else loaded)
+        return _estimate(problem, loaded_scene_bytes() if loaded is None else loaded, region_areas)
 
 
-def _estimate(problem, loaded: float) -> ProblemSize:
+def _estimate(problem, loaded: float, region_areas=None) -> ProblemSize:
     dim = problem.dim
     cells = 0.0
     per_body = []
@@ -233,11 +246,12 @@ def _estimate(problem, loaded: float) -> ProblemSize:
         body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
         rest = BASE_BYTES_3D_CONTACT + loaded + history_bytes(problem)
-        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed) + rest
+        trials = trial_bytes(problem, region_areas)
+        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed, trials=trials) + rest
         at_once = min(factor_threads(), len(body_dofs))
         if at_once > 1:  # the bodies factored side by side where their work spaces fit together
-            side_by_side = (_sparse_contact_bytes(body_dofs, at_once) + _dense_contact_bytes(problem, streamed, at_once)
-                            + rest)
+            side_by_side = (_sparse_contact_bytes(body_dofs, at_once)
+                            + _dense_contact_bytes(problem, streamed, at_once, trials) + rest)
             if side_by_side <= process_memory_budget():
                 memory = side_by_side
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
@@ -310,7 +324,28 @@ def process_memory_budget() -> float:
     return budget if limit is None else min(budget, limit)
 
 
-def _dense_contact_bytes(problem, streamed: bool = False, at_once: int = 1) -> float:
+def trial_bytes(problem, region_areas=None) -> list[float]:
+    """Per contact of a 3D problem, the memory of its region trials: TRIAL_BYTES_PER_POINT per
+    point of its region, REGION_POINTS_PER_FACET points per finest cell face. The region's area
+    is ``region_areas``' (m^2 per contact, where a coarse pass has found the region), else
+    REGION_FILL of the candidate disc's faces (each part of the disc at its cell size)."""
+    if problem.dim != 3:
+        return [0.0] * len(problem.contacts)
+    out = []
+    for k, c in enumerate(problem.contacts):
+        area = None if region_areas is None else region_areas[k]
+        if area is None:
+            faces = REGION_FILL * contact_dofs_per_body(problem, c)[1] / CONTACT_DOFS_PER_FACET
+        else:
+            bodies = [b for b in problem.bodies if b.name in c.bodies]
+            h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
+                         for b in bodies)
+            faces = float(area) / h_fine**2
+        out.append(TRIAL_BYTES_PER_POINT * REGION_POINTS_PER_FACET * faces)
+    return out
+
+
+def _dense_contact_bytes(problem, streamed: bool = False, at_once: int = 1, trials=None) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
     the root of the factor and a quarter of that in the kept block of the inverse (all of it
     for blocks below 4000 dofs, where it is small), and while the last body is factored about
@@ -319,14 +354,17 @@ def _dense_contact_bytes(problem, streamed: bool = False, at_once: int = 1) -> f
     condensed disc is smaller than a section through the contact refinement (m_z dofs). ``streamed``: the factors go to disk
     as they are computed; the last body's root block is then allocated only once its front
     buffer is freed, so it is not counted beside the work space. ``at_once``: bodies factored
-    side by side, each beside the first adding SIDE_BY_SIDE_FRACTION of its work space."""
+    side by side, each beside the first adding SIDE_BY_SIDE_FRACTION of its work space.
+    ``trials``: per contact the bytes of its region trials (:func:`trial_bytes`), which come after
+    the factorisation: the larger of the two counts."""
     total = 0.0
-    for c in problem.contacts:
+    for k, c in enumerate(problem.contacts):
         n_bodies, m_b = contact_dofs_per_body(problem, c)
         m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
         work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
         beside = SIDE_BY_SIDE_FRACTION * (min(at_once, n_bodies) - 1)
-        total += 8.0 * (1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + (1.0 + beside) * work)
+        later = 0.0 if trials is None else trials[k]
+        total += 8.0 * 1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + max(8.0 * (1.0 + beside) * work, later)
     return total
 
 
@@ -363,20 +401,56 @@ def estimate_contact_dofs(problem) -> float:
 
 
 def contact_dofs_per_body(problem, contact, fraction: float | None = None) -> tuple[int, float]:
-    """A contact's bodies and the contact dofs of each: CONTACT_DOFS_PER_FACET per finest cell
-    face that the candidate disc, widened by CONTACT_DISC_MARGIN finest cells, covers. The disc
-    is the part of a circle of the candidate extent around the contact point that the bodies
-    hold: a quarter model (two symmetry planes through the point) holds a quarter of it, a full
-    model all of it. ``fraction``: a disc of this fraction of the contact refinement radius
-    instead of the contact's ``extent_fraction``."""
+    """A contact's bodies and the contact dofs of each: CONTACT_DOFS_PER_FACET per cell face of
+    the bodies' grids that the candidate disc, widened by CONTACT_DISC_MARGIN finest cells,
+    covers, each part of the disc counted at the cell size its refinement zones give it (a line
+    contact's band is fine, the rest of its disc coarser). The disc is the part of a circle of
+    the candidate extent around the contact point that the bodies hold: a quarter model (two
+    symmetry planes through the point) holds a quarter of it, a full model all of it.
+    ``fraction``: a disc of this fraction of the contact refinement radius instead of the
+    contact's ``extent_fraction``."""
     bodies = [b for b in problem.bodies if b.name in contact.bodies]
     radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
     h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
                  for b in bodies)
     fraction = contact.options.extent_fraction if fraction is None else fraction
     extent = fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
-    disc = math.pi * (extent + CONTACT_DISC_MARGIN * h_fine) ** 2 * _held_fraction(bodies, contact.point, extent)
-    return len(bodies), CONTACT_DOFS_PER_FACET * disc / h_fine**2
+    radius = extent + CONTACT_DISC_MARGIN * h_fine
+    faces = math.pi * radius**2 * _mean_inverse_square_size(problem, bodies, contact.point, radius)
+    return len(bodies), CONTACT_DOFS_PER_FACET * faces * _held_fraction(bodies, contact.point, extent)
+
+
+def _mean_inverse_square_size(problem, bodies, point, radius: float) -> float:
+    """The mean over the candidate disc of radius ``radius`` about ``point`` of 1 / h^2, h the
+    finest cell size the bodies' refinement zones give a point of it (a zone's level l reaches
+    as far as the grids split cells of level l - 1, its radius widened by their grading; outside
+    every zone a body's element size). The disc lies in the plane through
+    the point that holds the zones' centres (the contact's tangent plane: zones that follow a
+    contact are centred on it), sampled at SAMPLES points; where all zones are centred at the
+    point the plane does not matter."""
+    centre = np.zeros(3) if point is None else np.asarray(point, dtype=float)
+    zones = []  # (centre, reach, cell size) of every level of every body's zones (the grids' grading)
+    for body in bodies:
+        for zone, at in zip(body.refinements, _zone_centres(problem, body)):
+            sizes = float(body.element_size) / 2.0 ** np.arange(int(zone.levels) + 1)
+            zones += [(np.asarray(at, dtype=float), _reach(float(zone.radius), sizes, lv), sizes[lv + 1])
+                      for lv in range(int(zone.levels))]
+    coarsest = min(float(b.element_size) for b in bodies)
+    if point is None or len(centre) != 3 or not zones:
+        finest = min([z[2] for z in zones], default=coarsest)
+        return 1.0 / finest**2
+    offsets = np.array([z[0] - centre for z in zones])
+    offsets = offsets[np.linalg.norm(offsets, axis=1) > 1e-9 * radius]
+    basis = np.linalg.svd(np.vstack([offsets, np.eye(3) * 1e-12 * radius]))[2][:2] if len(offsets) else np.eye(3)[:2]
+    rng = np.random.default_rng(2)
+    angle = 2.0 * math.pi * rng.random(SAMPLES)
+    r = radius * np.sqrt(rng.random(SAMPLES))
+    pts = centre + (r * np.cos(angle))[:, None] * basis[0] + (r * np.sin(angle))[:, None] * basis[1]
+    size = np.full(SAMPLES, coarsest)
+    for at, reach, h in zones:
+        inside = np.linalg.norm(pts - at, axis=1) <= reach
+        size[inside] = np.minimum(size[inside], h)
+    return float(np.mean(1.0 / size**2))
 
 
 def _held_fraction(bodies, point, radius: float) -> float:
