@@ -101,8 +101,9 @@ REGION_NEIGHBOUR_BYTES_PER_POINT = 2_200
 #: finest cell face of it): the contact blocks of the trials the driver keeps (KEPT_TRIALS), the
 #: arrays that build them and the factored small system, which live after the factorisation's
 #: work space is freed (measured with tracemalloc on the roller on a flat: 0.66 GB over a
-#: region of 48,700 points)
-TRIAL_BYTES_PER_POINT = 13_500
+#: region of 48,700 points, 13.5 KB per point; rounded up to the process's resident growth, which
+#: the allocator's pages add to: the roller's peak 1.72 GB against 1.58 GB estimated)
+TRIAL_BYTES_PER_POINT = 16_000
 #: the fraction of its candidate disc's faces a contact's region is taken to cover where no coarse
 #: pass has measured it (the disc bounds the region's growth; a region half the disc's radius)
 REGION_FILL = 0.25
