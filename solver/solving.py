@@ -251,10 +251,10 @@ def _add_far_field(solution: IBFEMSolution) -> None:
             block["far_field_force_error"] = share
 
 
-def _solve_quietly(problem: Problem) -> tuple[IBFEMSolution | None, str | None]:
+def _solve_quietly(problem: Problem, progress: Callable[..., None] | None = None) -> tuple[IBFEMSolution | None, str | None]:
     """(solution, None), or (None or the solution, why it cannot serve as an estimate's partner)."""
     try:
-        solution = solve(problem)
+        solution = solve(problem, progress=progress)
     except (ValueError, MemoryError) as err:
         return None, f"the solve on the grid with element sizes {_sizes(problem)} failed: {err}"
     if not solution.converged:
@@ -266,15 +266,16 @@ def _sizes(problem: Problem) -> str:
     return ", ".join(f"{b.name} {b.element_size:.4g} m" for b in problem.bodies)
 
 
-def estimate_errors(problem: Problem, solution: IBFEMSolution, factor: float = 2.0) -> None:
+def estimate_errors(problem: Problem, solution: IBFEMSolution, factor: float = 2.0,
+                    progress: Callable[..., None] | None = None) -> None:
     """Adds to each contact block of ``solution`` its ``max_pressure``, ``max_von_mises`` and
     ``estimated_error`` (relative, per quantity: solver.model.accuracy) from a second solve of
     ``problem`` on a grid ``factor`` times coarser, and in 2D a third on a grid ``factor`` times
     coarser again for the sizes (:func:`_coarsest`); ``estimate_s`` to the timings. A coarse
     problem that cannot be solved or does not converge leaves ``estimated_error`` null and
-    says why in ``estimate_note``."""
+    says why in ``estimate_note``. ``progress``: told the second solve's stages, as :func:`solve`."""
     t = time.perf_counter()
-    coarse, note = _solve_quietly(coarser(problem, factor))
+    coarse, note = _solve_quietly(coarser(problem, factor), progress)
     _add_estimates(solution, coarse, problem.dim, note, coarsest=_coarsest(problem, factor, note))
     solution.timings["estimate_s"] = time.perf_counter() - t
 

@@ -192,6 +192,40 @@ def test_a_contact_solve_reports_each_region_trial():
     assert fractions == sorted(fractions) and all(0.3 <= f < 1.0 for _, f in trials)
 
 
+def test_a_part_of_a_run_reports_within_its_share():
+    """``share`` maps a part's own fractions into its share of the run and names the part."""
+    from ibfem.solver.io.progress import share
+
+    seen = []
+    part = share(lambda *a, **k: seen.append((a, k)), 0.9, 1.0, "error estimate: ")
+    part("assembly", 0.2)
+    part("load step", fraction=0.5, step=3)
+    part("grids")
+    assert seen[0] == (("error estimate: assembly", pytest.approx(0.92)), {})
+    assert seen[1] == (("error estimate: load step",), {"fraction": pytest.approx(0.95), "step": 3})
+    assert seen[2] == (("error estimate: grids",), {})
+
+
+def test_the_run_shows_its_error_estimate_after_its_solve_in_order(monkeypatch):
+    """A contact run solves twice (the second, coarser solve is the error estimate): the progress
+    goes on rising through both, the estimate's stages named as such, never back to 0 %."""
+    from ibfem.solver.commands import _solve_scene
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.solving import solve
+
+    messages = []
+    problem = load_scene(ROOT / "examples" / "cylinder_on_cylinder_frictionless.toml").problem
+    solution, _ = _solve_scene(problem, solve, lambda text, fraction=None, **k: messages.append((text, fraction)),
+                               estimate=True)
+    assert solution.contacts[0]["estimated_error"]
+    fractions = [f for _, f in messages if f is not None]
+    assert fractions == sorted(fractions) and fractions[-1] == pytest.approx(1.0)
+    estimate = [text for text, _ in messages if text.startswith("error estimate: ")]
+    assert estimate and any("region trial" in text for text in estimate)
+    first = [f for text, f in messages if f is not None and not text.startswith("error estimate")]
+    assert max(first) == pytest.approx(0.9)
+
+
 def lame(r, p=1e8, a=1.0, b=2.0, E=2e11, nu=0.3):
     """Thick cylinder under internal pressure, plane strain (Timoshenko & Goodier)."""
     k = p * a * a / (b * b - a * a)

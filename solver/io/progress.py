@@ -13,11 +13,27 @@ import sys
 import time
 from typing import Any, TextIO
 
-__all__ = ["ProgressReporter", "silent"]
+__all__ = ["ProgressReporter", "silent", "share"]
 
 
 def silent(*args: Any, **kwargs: Any) -> None:
     """A progress callback that shows nothing."""
+
+
+def share(progress, low: float, high: float, prefix: str = ""):
+    """``progress`` for one part of a run that takes the fractions ``low`` to ``high`` of it: the
+    part's own fractions (0 to 1) are mapped there and its messages start with ``prefix``."""
+    def report(*args: Any, **kwargs: Any) -> None:
+        args = list(args)
+        if "fraction" in kwargs and kwargs["fraction"] is not None:
+            kwargs["fraction"] = low + (high - low) * float(kwargs["fraction"])
+        elif len(args) > 1 and isinstance(args[1], (int, float)) and not isinstance(args[1], bool):
+            args[1] = low + (high - low) * float(args[1])
+        if args and prefix:
+            args[0] = f"{prefix}{args[0]}"
+        progress(*args, **kwargs)
+
+    return report
 
 
 class ProgressReporter:
