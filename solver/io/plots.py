@@ -14,6 +14,7 @@ import numpy as np
 from ibfem.solver.model import problem as pb
 
 from .plot_units import length_unit, stress_unit
+from .png import write_png
 from .body_output import body_output
 from .results import _file_stem, json_safe
 
@@ -58,8 +59,7 @@ class _Figures:
         if blit is not None:  # its fixed parts drawn ahead (:func:`prepare_field_background`)
             _save_on_background(fig, *blit, path)
         else:
-            # zlib's fastest level: 0.24-0.30 times the default's encoding time, files 1.3 times larger
-            fig.savefig(path, dpi=_DPI, pil_kwargs={"compress_level": 1})
+            _save_drawn(fig, path)
         self.written.append(path)
 
     def save_line_plot(self, fig: Any, ax: Any, xlabel: str, ylabel: str, title: str, name: str,
@@ -255,9 +255,7 @@ def field_layout(problem: pb.Problem) -> tuple[str, tuple[float, float, float, f
 
 def _save_on_background(fig: Any, background: Any, panels, path: Path) -> None:
     """Write ``fig`` drawing only its fields (and the frames over them) and colour bars onto
-    ``background`` (the rest of it, drawn ahead), as an RGB PNG at zlib's fastest level."""
-    from PIL import Image
-
+    ``background`` (the rest of it, drawn ahead), as an RGB PNG (solver.io.png)."""
     canvas = fig.canvas
     canvas.restore_region(background)
     renderer = canvas.get_renderer()
@@ -265,7 +263,15 @@ def _save_on_background(fig: Any, background: Any, panels, path: Path) -> None:
         for artist in [*ax.collections, *ax.spines.values()]:
             ax.draw_artist(artist)
         cax.draw(renderer)
-    Image.fromarray(np.asarray(canvas.buffer_rgba())[:, :, :3]).save(path, format="png", compress_level=1)
+    write_png(path, np.asarray(canvas.buffer_rgba())[:, :, :3], dpi=fig.dpi)
+
+
+def _save_drawn(fig: Any, path: Path) -> None:
+    """``fig`` drawn at the pictures' resolution and written as an RGB PNG (solver.io.png: the same
+    pixels as matplotlib's ``savefig``, encoded in less than half of Pillow's time)."""
+    fig.set_dpi(_DPI)
+    fig.canvas.draw()
+    write_png(path, np.asarray(fig.canvas.buffer_rgba())[:, :, :3], dpi=_DPI)
 
 
 def _field_figure(plt, outputs, title: str, window) -> Any:
