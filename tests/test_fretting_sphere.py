@@ -216,7 +216,7 @@ def test_small_amplitude_energy_goes_with_the_cube_of_the_amplitude_on_the_edge_
     0.81 a to 1.03 a), 20 points per cycle. The slope of log W (the loop's) against log Q* within
     0.1 of 3 (measured: 3.08; the closed form over the same Q* 3.08), the stick radius within
     0.01 a of the closed form's at every step (measured: 0.004 a), each branch's compliance within
-    2 % (measured: 0.4 %). About 10 minutes and 1.9 GB."""
+    2 % (measured: 0.4 %). About 12 minutes and 1.9 GB (`make validate` runs it)."""
     from ibfem.solver.reports.validate_fretting_sphere import amplitude_for, run_case
 
     runs = [run_case(amplitude_for(x), tmp_path / f"ratio_{x}", cycles=0.75, edge_ring=True) for x in (0.05, 0.1, 0.2)]
