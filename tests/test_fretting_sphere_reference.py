@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from ibfem.solver.reference.fretting_sphere import (branch_stick_ratio, effective_shear_modulus, energy_per_cycle,
-                                                    hertz_radius, history_shear, small_amplitude_energy,
+from ibfem.solver.reference.fretting_sphere import (branch_stick_ratio, displacement_from_stick_radii,
+                                                    effective_shear_modulus, energy_per_cycle, hertz_radius, history_shear, small_amplitude_energy,
                                                     stick_ratio, tangential_displacement, tangential_stiffness)
 
 E, NU, R, N, MU = 2.0e11, 0.3, 0.05, 1.0e4, 0.3
@@ -79,6 +79,47 @@ def test_small_amplitude_limit():
             small_amplitude_energy(qs, N, MU, A, G_STAR), rel=2.0 * ratio)
     w = [energy_per_cycle(r * MU * N, N, MU, A, G_STAR) for r in (0.01, 0.02)]
     assert math.log(w[1] / w[0]) / math.log(2.0) == pytest.approx(3.0, abs=0.02)
+
+
+def _sampled_cycle(ratio: float, per_branch: int):
+    """Q at the steps of the first loading to +Q*, a branch to -Q* and one back to +Q*; the turning
+    steps; the closed form's stick ratio at each step."""
+    qs = ratio * MU * N
+    q = np.concatenate([np.linspace(0.0, qs, per_branch // 2 + 1), np.linspace(qs, -qs, per_branch + 1)[1:],
+                        np.linspace(-qs, qs, per_branch + 1)[1:]])
+    turns = [per_branch // 2, per_branch // 2 + per_branch]
+    c = np.array([stick_ratio(v, N, MU) if k <= turns[0] else
+                  branch_stick_ratio(v, q[max(t for t in turns if t < k)], N, MU) for k, v in enumerate(q)])
+    return q, turns, c
+
+
+@pytest.mark.parametrize("ratio", [0.3, 0.9])
+def test_displacement_from_the_closed_form_stick_radii(ratio):
+    # Mindlin's incremental stiffness 8 a G* c integrated over the closed form's stick radii is the
+    # closed form's compliance, at second order in the step: its loop is Mindlin-Deresiewicz's W
+    errors = []
+    for per_branch in (40, 80):
+        q, turns, c = _sampled_cycle(ratio, per_branch)
+        delta = displacement_from_stick_radii(q, c, turns, A, G_STAR)
+        exact = np.array([tangential_displacement(v, N, MU, A, G_STAR, [q[t] for t in turns if t < k])
+                          for k, v in enumerate(q)])
+        assert np.max(np.abs(delta - exact)) < 2e-3 * np.max(np.abs(exact))
+        lo, hi = turns[0], len(q) - 1
+        area = -np.sum(0.5 * (q[lo + 1:hi + 1] + q[lo:hi]) * np.diff(exact[lo:hi + 1]))
+        area_c = -np.sum(0.5 * (q[lo + 1:hi + 1] + q[lo:hi]) * np.diff(delta[lo:hi + 1]))
+        errors.append(abs(area_c / area - 1.0))
+        assert abs(area_c) == pytest.approx(energy_per_cycle(ratio * MU * N, N, MU, A, G_STAR), rel=0.01)
+    assert errors[1] < 0.01 and errors[0] / errors[1] > 3.0  # second order: 4 per halving
+
+
+def test_displacement_from_stick_radii_is_stiffer_for_larger_zones():
+    # a stick zone larger than the closed form's at every step makes the contact stiffer: smaller |delta|
+    q, turns, c = _sampled_cycle(0.6, 40)
+    base = displacement_from_stick_radii(q, c, turns, A, G_STAR)
+    larger = displacement_from_stick_radii(q, np.minimum(c + 0.01, 1.0), turns, A, G_STAR)
+    assert abs(larger[turns[0]]) < abs(base[turns[0]])
+    with pytest.raises(ValueError, match="stick_ratios"):
+        displacement_from_stick_radii(q, np.zeros_like(q), turns, A, G_STAR)
 
 
 def test_bad_input():

@@ -72,6 +72,9 @@ RESLIP_MARGIN = 0.1
 REVERSAL_MARGIN = 1e-3
 #: the means that judge the zones are taken over a disc of this many cells in diameter
 MEAN_CELLS = 1.0
+#: a stuck point within the disc of the region's edge averages only over the points at most twice
+#: its distance from the edge (a window symmetric about it, as at the slip zone)
+EDGE_WINDOWS = True
 #: region quadratures kept (by size): the width search tries a few, the zone updates one (the
 #: ``--check`` estimate counts as many regions: solver.model.estimate.HISTORY_REGIONS)
 KEEP_REGIONS = 3
@@ -297,17 +300,30 @@ class HistoryEllipseContact(EllipseContact):
             den = nb @ mf
             ok = m & (den > 0.0)
             out[ok] = (nb @ (vv * mf[:, None]))[ok] / den[ok, None]
-        if slip.any() and (~slip).any():  # stuck points within the disc of the slip zone: symmetric windows
-            d = cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0]
-            near = np.flatnonzero(~slip & (d < 0.5 * MEAN_CELLS * self.options.window * self.h))
+        radius = 0.5 * MEAN_CELLS * self.options.window * self.h
+        d = (cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0] if slip.any()
+             else np.full(n, np.inf))  # the distance to the slip zone
+        e = self._edge_distance(reg) if EDGE_WINDOWS else np.full(n, np.inf)
+        near = np.flatnonzero(~slip & (np.minimum(d, e) < radius))
+        if len(near):  # stuck points within the disc of the slip zone or of the region's edge: symmetric windows
             sub = nb[near].tocoo()
             rows, cols = near[sub.row], sub.col
-            keep = ~slip[cols] & (d[cols] <= 2.0 * d[rows] + 1e-12 * self.h)
+            keep = ~slip[cols] & ((d[rows] >= radius) | (d[cols] <= 2.0 * d[rows] + 1e-12 * self.h)) \
+                & ((e[rows] >= radius) | (e[cols] <= 2.0 * e[rows] + 1e-12 * self.h))
             rows, cols, w = sub.row[keep], cols[keep], sub.data[keep]
             den = np.maximum(np.bincount(rows, weights=w, minlength=len(near)), 1e-300)
             out[near] = np.column_stack([np.bincount(rows, weights=w * vv[cols, j], minlength=len(near)) / den
                                          for j in range(vv.shape[1])])
         return out.reshape(v.shape)
+
+    def _edge_distance(self, reg: _Region) -> np.ndarray:
+        """(q,) each point's distance to the region's edge along the ray from the centre."""
+        length = np.linalg.norm(self.local(reg.info[0].s), axis=1)
+        rho = self.normalised_radius(reg.info[0].s, reg.a)
+        inner = rho > 1e-9  # the centre is on no ray: far from the edge
+        out = np.full(len(rho), np.inf)
+        out[inner] = length[inner] * np.maximum(1.0 - rho[inner], 0.0) / rho[inner]
+        return out
 
     def force(self, x: np.ndarray, a: float, info) -> np.ndarray:
         if info is None:

@@ -36,7 +36,8 @@ import math
 import numpy as np
 
 __all__ = ["hertz_radius", "effective_shear_modulus", "stick_ratio", "branch_stick_ratio", "history_shear",
-           "tangential_displacement", "tangential_stiffness", "energy_per_cycle", "small_amplitude_energy"]
+           "tangential_displacement", "tangential_stiffness", "energy_per_cycle", "small_amplitude_energy",
+           "displacement_from_stick_radii"]
 
 
 def _check(name: str, value: float) -> float:
@@ -145,3 +146,24 @@ def small_amplitude_energy(Q_amplitude: float, N: float, mu: float, a: float, G_
     """The limit W = Q*^3 / (36 a G* mu N) of small amplitudes."""
     return abs(float(Q_amplitude)) ** 3 / (36.0 * _check("a", a) * _check("G_eff", G_eff)
                                            * _check("mu", mu) * _check("N", N))
+
+
+def displacement_from_stick_radii(Q, stick_ratios, branch_starts, a: float, G_eff: float) -> np.ndarray:
+    """delta at each step of a sampled load history, from the stick radius c of each step:
+    Mindlin's incremental stiffness dQ / d delta = 8 a G* (c / a) integrated over each step by the
+    trapezoid rule in a / c. ``Q`` and ``stick_ratios`` (c / a) are per step, the first step at
+    Q = 0; ``branch_starts`` are the steps where Q turned (a branch starts fully stuck, c = a,
+    as the first loading does). With the closed form's stick radii it converges to
+    ``tangential_displacement`` at second order in the step; with a computed contact's radii it
+    is the loop a Mindlin contact with those zones would draw, which separates the zones' share
+    of a loop's error from the compliance's."""
+    a, G_eff = _check("a", a), _check("G_eff", G_eff)
+    q, c = np.asarray(Q, dtype=float), np.asarray(stick_ratios, dtype=float)
+    if q.shape != c.shape or q.ndim != 1:
+        raise ValueError(f"Q and stick_ratios must be 1D of one length, got {q.shape} and {c.shape}")
+    if np.any(c <= 0.0) or np.any(c > 1.0 + 1e-12):
+        raise ValueError("stick_ratios must lie in (0, 1]")
+    start = np.r_[1.0, c[:-1]]
+    start[[int(k) + 1 for k in branch_starts if int(k) + 1 < len(c)]] = 1.0
+    step = np.diff(q, prepend=q[0]) * 0.5 * (1.0 / start + 1.0 / c)
+    return np.cumsum(step) / (8.0 * a * G_eff)

@@ -24,7 +24,12 @@ full contact (the model's forces over its share):
   point symmetry: twice its integral of Q d delta) against the closed form's at the same steps
   (runs of 0.75 cycles have no complete cycle);
 - over the amplitudes the slope of log W against log Q* (3 in the small-amplitude limit, where
-  W = Q*^3 / (36 a G* mu N)).
+  W = Q*^3 / (36 a G* mu N));
+- the loop's error split in two (``zone_split``): the loop a Mindlin contact would draw with the
+  run's own stick radii (its incremental stiffness 8 a G* c integrated over the steps) against
+  the same integral over the closed form's radii is the zones' share; the rest is the
+  compliance's for the zones the run found. Per step of the half loop, the energy's change when
+  only that step's stick radius is the run's says which steps carry the zones' share.
 
 ``python -m ibfem.solver.reports.validate_fretting_sphere [--out DIR] [--ratios 0.3 0.6 0.9]``
 prints the tables and writes ``validation_sphere.json`` and ``fretting_sphere.md`` (the docs' table).
@@ -47,8 +52,8 @@ from pathlib import Path
 import numpy as np
 
 from ..io.fretting_outputs import loop_energy, turning_steps
-from ..reference.fretting_sphere import (branch_stick_ratio, effective_shear_modulus, energy_per_cycle,
-                                         stick_ratio, tangential_displacement)
+from ..reference.fretting_sphere import (branch_stick_ratio, displacement_from_stick_radii, effective_shear_modulus,
+                                         energy_per_cycle, stick_ratio, tangential_displacement)
 
 __all__ = ["compare", "run_case", "main"]
 
@@ -114,6 +119,8 @@ def compare(summary: dict, hysteresis: np.ndarray, youngs_modulus: float, poisso
                        "energy_friction": w_fric, "energy_theory": w_ref, "loop_error": w_loop / w_ref - 1.0,
                        "friction_error": w_fric / w_ref - 1.0, "energy_theory_sampled": w_sampled,
                        "loop_error_sampled": w_loop / w_sampled - 1.0})
+    stick = (np.array([1.0] * start + [r["c_over_a"] for r in rows]),
+             np.array([1.0] * start + [r["c_theory_over_a"] for r in rows]))
     half = None
     ends = turns[:2] if len(turns) >= 2 else turns[:1] + [len(q) - 1]  # a run may end at the opposite extreme
     if len(ends) == 2 and q[ends[0]] * q[ends[1]] < 0.0 and abs(q[ends[1]]) >= 0.98 * abs(q[ends[0]]):
@@ -127,8 +134,33 @@ def compare(summary: dict, hysteresis: np.ndarray, youngs_modulus: float, poisso
                 "loop_error_sampled": w_half / w_half_ref - 1.0, "energy_friction": w_fric, "energy_theory": w_md,
                 "loop_error": w_half / w_md - 1.0, "friction_error": w_fric / w_md - 1.0,
                 "x": 0.5 * abs(q[i] - q[j]) / (mu * n_mean)}
+        half["zone_split"] = zone_split(q, stick, turns, i, j, a_mean, g_eff, half["loop_error_sampled"], t)
     return {"steps": rows, "branches": branches, "cycles": cycles, "half_loop": half, "bulk_compliance": float(bulk),
             "N": n_mean, "a": a_mean}
+
+
+def zone_split(q: np.ndarray, stick: tuple[np.ndarray, np.ndarray], turns: list[int], i: int, j: int, a: float,
+               g_eff: float, loop_error: float, t: np.ndarray) -> dict:
+    """The half loop's error (from the turning step i to the extreme j) split into the zones' share
+    and the compliance's. ``stick`` holds per step the run's c / a and the closed form's (1 before
+    the first shear). A Mindlin contact with the run's stick radii draws the loop of
+    ``displacement_from_stick_radii``; against the same integral over the closed form's radii it
+    gives the zones' share; the loop's error at the same steps, less that share, is the
+    compliance's for the zones found. ``by_step``: the energy's change when only that step's
+    radius is the run's."""
+    c_run, c_md = (np.clip(c, 1e-6, 1.0) for c in stick)  # gross slip (c = 0) has no finite stiffness
+
+    def energy(c: np.ndarray) -> float:
+        return 2.0 * abs(loop_energy(q, displacement_from_stick_radii(q, c, turns, a, g_eff), i, j))
+
+    w_md = energy(c_md)
+    zones = energy(c_run) / w_md - 1.0
+    by_step = []
+    for k in range(i + 1, j + 1):
+        c = c_md.copy()
+        c[k] = c_run[k]
+        by_step.append({"t": float(t[k]), "error_over_a": float(c_run[k] - c_md[k]), "energy_change": energy(c) / w_md - 1.0})
+    return {"zones": float(zones), "compliance": float((1.0 + loop_error) / (1.0 + zones) - 1.0), "by_step": by_step}
 
 
 class ClosedFormZones:
@@ -276,12 +308,14 @@ def markdown(results: list[dict], slope: float, slope_theory: float) -> str:
     halves = [r for r in results if r.get("half_loop")]
     if halves:
         lines += ["", "| Q*/(mu N) of the first loading | half loop t | W half loop / W_MD at the same steps - 1 "
-                      "| W half loop / W_MD - 1 | W friction / W_MD - 1 |", "|---|---|---|---|---|"]
+                      "| W half loop / W_MD - 1 | W friction / W_MD - 1 | the zones' share | the compliance's |",
+                  "|---|---|---|---|---|---|---|"]
         xs = [max(abs(s["Q_over_mu_N"]) for s in r["steps"] if s["branch"] == 0) for r in halves]
         for x, r in zip(xs, halves):
             h = r["half_loop"]
             lines.append(f"| {x:.3f} | {h['t'][0]:.2f}-{h['t'][1]:.2f} | {h['loop_error_sampled']:+.1%} "
-                         f"| {h['loop_error']:+.1%} | {h['friction_error']:+.1%} |")
+                         f"| {h['loop_error']:+.1%} | {h['friction_error']:+.1%} | {h['zone_split']['zones']:+.1%} "
+                         f"| {h['zone_split']['compliance']:+.1%} |")
         if len(halves) >= 2:
             lw = np.log([r["half_loop"]["energy_loop"] for r in halves])
             lt = np.log([r["half_loop"]["energy_theory_sampled"] for r in halves])
@@ -334,6 +368,12 @@ def main(argv: list[str] | None = None) -> int:
                   f"({h['loop_error']:+.2%}; {h['loop_error_sampled']:+.2%} against the closed form's loop at the "
                   f"same steps), friction {h['energy_friction']:.4g} J ({h['friction_error']:+.2%}), "
                   f"MD {h['energy_theory']:.4g} J")
+            z = h["zone_split"]
+            print(f"  its error at the same steps: the zones' share {z['zones']:+.2%} (a Mindlin contact with the run's "
+                  f"stick radii), the compliance's for those zones {z['compliance']:+.2%}")
+            for b in z["by_step"]:
+                print(f"    t {b['t']:.3f}  c error {b['error_over_a']:+.4f} a: only this step's c moves W by "
+                      f"{b['energy_change']:+.2%}")
     slope = energy_slope(results)
     theory = [(c["Q_amplitude"], c["energy_theory"]) for r in results for c in r["cycles"][:1]]
     slope_theory = float(np.polyfit(*np.log(np.array(theory)).T, 1)[0]) if len(theory) >= 2 else math.nan
