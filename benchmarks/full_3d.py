@@ -8,13 +8,12 @@ c/a against Mindlin's (1 - Q / (mu N))^(1/3) (Johnson section 7.2).
 ``--levels L`` solves every scene with L refinement levels instead of the scene's own (a smaller
 rung of the same scene: the acceptance targets are for the scenes as written). ``--scene-disc``
 skips the coarse pass that sizes a large contact's candidate disc (solver.contact.sizing), for
-comparison. ``--threads N`` runs the children with ``IBFEM_THREADS=N`` (1: the bodies factored
-and solved one after the other) and ``--memory-limit SIZE`` with ``IBFEM_MEMORY_LIMIT=SIZE``; each
-row records the machine's load average (1 minute) before and after its run, since wall times on a
+comparison. ``--threads N`` runs the children with ``IBFEM_THREADS=N`` (the threads of each
+body's large fronts and of the bodies' solves; 1: one thread); each row records the machine's load average (1 minute) before and after its run, since wall times on a
 shared machine follow it.
 
     python benchmarks/full_3d.py [--scenes ball_on_block crossed_cylinders ...] [--levels 3] [--scene-disc]
-                                 [--threads 1] [--memory-limit 3GB]
+                                 [--threads 1]
 
 Prints a table, the same rows as the markdown table of docs/scale-3d.md ("Against the
 targets"), and writes benchmarks/results/full_3d.json (or --out)."""
@@ -123,15 +122,12 @@ def main(argv: list[str]) -> int:
                     help="every body factored in the driver's order (the fill-reducing order of the whole "
                          "system), not the cheaper of it and the order with the contact nodes contracted (for comparison)")
     ap.add_argument("--threads", type=int, default=None,
-                    help="IBFEM_THREADS of the runs (1: the bodies factored one after the other)")
-    ap.add_argument("--memory-limit", default=None, help="IBFEM_MEMORY_LIMIT of the runs, such as 3GB")
+                    help="IBFEM_THREADS of the runs (1: every factorisation and solve on one thread)")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "full_3d.json")
     args = ap.parse_args(argv)
     env = {}
     if args.threads is not None:
         env["IBFEM_THREADS"] = str(args.threads)
-    if args.memory_limit is not None:
-        env["IBFEM_MEMORY_LIMIT"] = args.memory_limit
     rows = []
     print(f"{'scene':22} {'dofs':>8} {'est':>8} {'m':>6} {'wall s':>7} {'cpu s':>7} {'GB':>5} {'est GB':>6} "
           f"{'a err':>7} {'b err':>7} {'c/a':>6} {'Mindlin':>7}")
