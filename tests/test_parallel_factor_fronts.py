@@ -43,8 +43,8 @@ def grid_body(shape: tuple[int, int, int], rng) -> sp.csr_matrix:
 
 
 def bodies():
-    """Two uncoupled bodies; each condenses the nodes of its last three grid layers (729 dofs:
-    a root front large enough for the update below an outer block of pivots to be split)."""
+    """Two uncoupled bodies; each condenses the nodes of its last three grid layers (729 dofs: a
+    root front of three outer blocks of pivots)."""
     rng = np.random.default_rng(11)
     shapes = ((10, 9, 9), (9, 9, 9))
     blocks = [grid_body(s, rng) for s in shapes]
@@ -60,7 +60,7 @@ def bodies():
 
 @pytest.fixture()
 def threaded_fronts(monkeypatch):
-    """Every front of 64 rows or more threaded; records the row ranges each split made."""
+    """Every front of 64 rows or more threaded; records the number of row ranges of each split."""
     monkeypatch.setattr(mf, "THREADED_FRONT_ROWS", 64)
     splits = []
     row_bounds = mf._row_bounds
@@ -83,7 +83,7 @@ def test_the_threaded_factor_of_several_bodies_solves_as_scipy(monkeypatch, thre
     for threads in ("1", "2"):
         monkeypatch.setenv("IBFEM_THREADS", threads)
         results[threads] = linalg.condensed_factor(k, dofs, order, nearness)
-    assert max(threaded_fronts) >= 2  # the update below some outer block was split between the threads
+    assert threaded_fronts  # fronts went through the threaded factorisation
     f = np.random.default_rng(12).standard_normal((k.shape[0], 2))
     exact = spla.spsolve(k.tocsc(), f)
     factor, schur, g = results["2"]
@@ -103,7 +103,7 @@ def test_a_threaded_factor_streamed_to_disk_solves_as_scipy(monkeypatch, threade
     order = linalg.metis_order(body, 3)
     order = np.concatenate([order[~np.isin(order, contact)], contact])
     factor, _, _ = mf.condensed_cholesky(body, order, len(contact), on_disk=True, threads=2)
-    assert factor._disk is not None and len(factor._chunks) >= 2 and max(threaded_fronts) >= 2
+    assert factor._disk is not None and len(factor._chunks) >= 2 and threaded_fronts
     f = np.random.default_rng(13).standard_normal(n1)
     exact = spla.spsolve(body.tocsc(), f)
     assert np.abs(factor.solve(f) - exact).max() <= 1e-10 * np.abs(exact).max()
@@ -125,12 +125,50 @@ def test_a_bad_pivot_in_a_threaded_front_names_its_dof_as_on_one_thread(threaded
     assert raised[0] == raised[1]
 
 
-@pytest.mark.parametrize("b1, f, parts", [(256, 9657, 2), (0, 3000, 2), (512, 2600, 3), (256, 900, 2)])
-def test_the_row_ranges_share_the_update_in_equal_work_on_the_block_grid(b1, f, parts):
+@pytest.mark.parametrize("b1, f, parts, lead", [(256, 9657, 2, 256), (0, 3000, 2, 0), (512, 2600, 3, 256),
+                                                (256, 900, 2, 256), (768, 4000, 2, 100)])
+def test_the_row_ranges_share_the_update_in_equal_work_on_the_block_grid(b1, f, parts, lead):
+    """Row j of the update costs f - j; the first range's thread also factors the next ``lead``
+    pivots (PANEL_COST lead (f - b1) / 2): every thread's work within one block of rows of an
+    equal share."""
     block = 256
-    bounds = mf._row_bounds(b1, f, block, parts)
+    bounds = mf._row_bounds(b1, f, block, parts, lead)
     assert bounds[0] == b1 and bounds[-1] == f and np.all(np.diff(bounds) > 0)
     assert all((r - b1) % block == 0 for r in bounds[:-1])  # the serial update's BLAS blocks
     work = [((f - lo) ** 2 - (f - hi) ** 2) / 2 for lo, hi in zip(bounds[:-1], bounds[1:])]
-    share = (f - b1) ** 2 / 2 / len(work)
-    assert max(abs(w - share) for w in work) <= block * (f - b1)  # within one block of rows of an equal share
+    work[0] += mf.PANEL_COST * lead * (f - b1) / 2
+    share = sum(work) / parts
+    assert max(abs(w - share) for w in work) <= block * (f - b1)
+
+
+@pytest.mark.parametrize("f, nc", [(1600, 1200), (1300, 1300)])
+def test_a_front_factored_on_threads_equals_the_one_thread_kernel(f, nc):
+    """A dense SPD front large enough for the update to be split: the threaded L D L^T of its first
+    nc columns equals the one-thread kernel's to round-off, and L D L^T rebuilds the front."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    kern = mf._kernels()
+    rng = np.random.default_rng(14)
+    a = rng.uniform(-1.0, 1.0, (f, f)) / np.sqrt(f)
+    a = a + a.T + 3.0 * np.eye(f)  # symmetric, eigenvalues within 3 +- 2.4: positive definite
+    one, two = np.triu(a).copy(), np.triu(a).copy()  # row j holds column j's lower triangle
+    assert kern._partial_ldlt(kern.DGEMM, one, nc, f, True) == -1
+    splits = []
+    row_bounds = mf._row_bounds
+
+    with ThreadPoolExecutor(1) as pool:
+        pool.parts = 2
+        mf._row_bounds = lambda *args: splits.append(row_bounds(*args)) or splits[-1]
+        try:
+            assert mf._threaded_ldlt(kern, two, nc, True, pool) == -1
+        finally:
+            mf._row_bounds = row_bounds
+    assert any(len(b) > 2 for b in splits)  # the update was shared between the threads
+    np.testing.assert_allclose(np.triu(two), np.triu(one), rtol=0, atol=1e-12 * np.abs(one).max())
+    low = np.triu(two[:nc, :]).T  # columns of L below the pivots (unit diagonal), D on the diagonal
+    d = np.diag(two)[:nc].copy()
+    low[np.arange(nc), np.arange(nc)] = 1.0
+    update = np.triu(two[nc:, nc:])
+    rebuilt = low @ (d[:, None] * low.T)
+    rebuilt[nc:, nc:] += update + np.triu(update, 1).T
+    np.testing.assert_allclose(rebuilt, a, rtol=0, atol=1e-10 * np.abs(a).max())

@@ -538,15 +538,26 @@ def _front_pool(threads: int, largest_front: int):
         yield pool
 
 
-def _row_bounds(b1: int, f: int, block: int, parts: int) -> list[int]:
+#: a panel's compiled loops take about this many times BLAS's time per multiply-add (the split of
+#: a front's update gives the caller's thread, which factors the next outer block meanwhile, less)
+PANEL_COST = 2.0
+
+
+def _row_bounds(b1: int, f: int, block: int, parts: int, lead: int = 0) -> list[int]:
     """Bounds b1 = r_0 < r_1 < ... < f of row ranges that share the update of the front's rows
     b1..f-1 in about equal work (row j costs f - j entries: the rows from r on cost (f - r)^2 / 2),
-    each bound on the grid of BLAS blocks from b1, so that every product is the one the serial
-    update makes (the same sums)."""
+    the first range less the work of factoring the next ``lead`` pivots (about PANEL_COST lead
+    (f - b1) / 2 in those units), which its thread does next. Each bound is on the grid of BLAS
+    blocks from b1, so that every product is the one the serial update makes (the same sums)."""
+    whole = (f - b1) ** 2 / 2.0
+    panel = PANEL_COST * lead * (f - b1) / 2.0
     bounds = [b1]
     for i in range(1, parts):
-        r = f - (f - b1) * np.sqrt((parts - i) / parts)
-        r = b1 + int(round((r - b1) / block)) * block
+        done = i * (whole + panel) / parts - panel  # work of the rows before r_i
+        r = (f - np.sqrt(max((f - b1) ** 2 - 2.0 * max(done, 0.0), 0.0)) - b1) / block
+        # the grid point above b1 whose rows' work is nearest (the first range keeps the next block)
+        r = min((b1 + max(int(k), 1) * block for k in (np.floor(r), np.ceil(r))),
+                key=lambda x: abs(whole - min(f - x, f - b1) ** 2 / 2.0 - done))
         if bounds[-1] < r < f:
             bounds.append(r)
     return bounds + [f]
@@ -555,22 +566,31 @@ def _row_bounds(b1: int, f: int, block: int, parts: int) -> list[int]:
 def _threaded_ldlt(kern, t: np.ndarray, nc: int, definite: bool, pool) -> int:
     """The kernels' L D L^T of the first nc columns of the front t (f x f) with the update of the
     rows below each outer block of pivots shared by the pool's threads and the caller's (compiled,
-    no lock held; disjoint row ranges): the operations of the one-thread kernel in the same order
-    within every entry. Returns the failed column or -1."""
+    no lock held; disjoint row ranges). The caller's range comes first and holds the next outer
+    block's rows, so the caller factors that block's panels while the others finish their ranges
+    (the block's rows have had every update by then, and the panels touch no other row). Every
+    entry gets the operations of the one-thread kernel in the same order. Returns the failed
+    column or -1."""
     f = t.shape[0]
+    bad = kern.outer_block(kern.DGEMM, t, 0, min(kern.OUTER, nc), f, definite)
     for b0 in range(0, nc, kern.OUTER):
-        b1 = min(b0 + kern.OUTER, nc)
-        bad = kern.outer_block(kern.DGEMM, t, b0, b1, f, definite)
         if bad >= 0:
             return bad
-        bounds = _row_bounds(b1, f, kern.BLOCK, pool.parts)
+        b1 = min(b0 + kern.OUTER, nc)
+        b2 = min(b1 + kern.OUTER, nc)  # the next outer block (none when b2 == b1)
+        bounds = _row_bounds(b1, f, kern.BLOCK, pool.parts, b2 - b1)
         jobs = [pool.submit(kern.trailing_rows, kern.DGEMM, t, b0, b1, lo, hi, f)
                 for lo, hi in zip(bounds[1:-1], bounds[2:])]
         kern.trailing_rows(kern.DGEMM, t, b0, b1, bounds[0], bounds[1], f)
+        ahead = b2 > b1 and bounds[1] >= b2
+        if ahead:
+            bad = kern.outer_block(kern.DGEMM, t, b1, b2, f, definite)
         for job in jobs:
             job.result()
         kern.scale_rows(t, b0, b1, f)
-    return -1
+        if b2 > b1 and not ahead:
+            bad = kern.outer_block(kern.DGEMM, t, b1, b2, f, definite)
+    return bad
 
 
 def factor_flops(k: sp.spmatrix, order: np.ndarray, m: int = 0) -> float:
