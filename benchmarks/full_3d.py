@@ -16,7 +16,14 @@ shared machine follow it.
                                  [--threads 1]
 
 Prints a table, the same rows as the markdown table of docs/scale-3d.md ("Against the
-targets"), and writes benchmarks/results/full_3d.json (or --out)."""
+targets"), and writes benchmarks/results/full_3d.json (or --out).
+
+Measured (2026-11-28, each body's large fronts on two threads, the bodies one after the other; a
+machine shared with four other sessions at load 2-6, so wall times follow the load): the ball on
+a block 125.9-161.7 s wall, 90.9-92.9 s CPU, 2.93-2.95 GB (bodies side by side, alternated with
+those runs: 121.5-185.9 s wall, 93.2-98.5 s CPU, 3.77-3.92 GB; one thread 93.2 s, 91.0 s CPU,
+2.94 GB as the load fell to 2); the crossed cylinders 109.3 s, 86.9 s CPU, 2.24 GB; the turned
+pair 240.0 s, 116.1 s CPU, 2.53 GB; a, b and c/a as before (docs/scale-3d.md)."""
 
 from __future__ import annotations
 
