@@ -17,7 +17,9 @@ contact dofs last) is factored as follows:
   pivot columns (compiled panels of 48 columns, BLAS products for the trailing update), push
   the update matrix. The last m dofs form the root supernode: its assembled front is the Schur
   complement S = K_cc - K_ci K_ii^-1 K_ic, copied before it is factored as the last supernode;
-  its Cholesky factor then gives G = S^-1 by LAPACK's potri;
+  its Cholesky factor then gives G = S^-1 by LAPACK's potri. With several threads, each front of
+  THREADED_FRONT_ROWS rows or more is factored on all of them (:func:`_threaded_ldlt`: the update
+  below each outer block of pivots split into row ranges of equal work), the same operations;
 * solve: forward and back substitution over the supernodes (compiled), in the original numbering;
   a factor of ON_DISK_BYTES or more below its root is written to a temporary file chunk by chunk
   as the numeric phase computes it (:func:`condensed_cholesky`: the whole factor is never in
