@@ -426,7 +426,7 @@ def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | No
     eighth of the work of G and a quarter of its memory; other entries are computed when asked."""
     groups = uncoupled_groups(k0, dofs)
     if groups is None and nearness is None:
-        return _condensed_one(k0, dofs, order, _condensed_choice(k0.nnz))
+        return _condensed_one(k0, dofs, order, _condensed_choice(k0.nnz), threads=factor_threads())
     if groups is None:
         groups = np.zeros(k0.shape[0], dtype=np.int64)
     return _condensed_blocks(k0, dofs, order, groups, nearness)
