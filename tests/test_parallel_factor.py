@@ -129,3 +129,31 @@ def test_the_size_estimate_counts_one_body_at_a_time_whatever_the_threads(monkey
         monkeypatch.setenv("IBFEM_THREADS", threads)
         sizes.append(estimate.estimate_size(problem, loaded=0.0))
     assert sizes[0].dofs == sizes[1].dofs and sizes[0].memory == sizes[1].memory
+
+
+@pytest.mark.parametrize("interleaved", [False, True])
+def test_the_trial_system_on_block_diagonal_g_by_runs_or_scattered_columns(interleaved):
+    """I + G_AA Kc_AA formed block by block when each block's dofs are one run of the condensed
+    positions (written as a slice) or interleaved with the other's: the solve of (S + Kc) x = r
+    against the dense one."""
+    from ibfem.solver.fem.block_diagonal import BlockDiagonal
+
+    rng = np.random.default_rng(15)
+    m = 60
+    positions = [np.arange(0, m, 2), np.arange(1, m, 2)] if interleaved else [np.arange(30), np.arange(30, m)]
+    blocks = []
+    for p in positions:
+        a = rng.standard_normal((len(p), len(p)))
+        blocks.append(a @ a.T + len(p) * np.eye(len(p)))
+    s = BlockDiagonal(blocks, positions)
+    g = BlockDiagonal([np.linalg.inv(b) for b in blocks], positions)
+    dense = s.toarray()
+    active = np.sort(rng.choice(m, m // 3, replace=False))
+    c = rng.standard_normal((len(active), len(active)))
+    kc = np.zeros((m, m))
+    kc[np.ix_(active, active)] = c @ c.T
+    r = rng.standard_normal(m)
+    small = linalg.SmallSystem(s, sp.csr_matrix(kc), True, g)
+    assert small.active is not None
+    exact = np.linalg.solve(dense + kc, r)
+    np.testing.assert_allclose(small.solve(r), exact, rtol=0, atol=1e-10 * np.abs(exact).max())
