@@ -8,16 +8,22 @@ c/a against Mindlin's (1 - Q / (mu N))^(1/3) (Johnson section 7.2).
 ``--levels L`` solves every scene with L refinement levels instead of the scene's own (a smaller
 rung of the same scene: the acceptance targets are for the scenes as written). ``--scene-disc``
 skips the coarse pass that sizes a large contact's candidate disc (solver.contact.sizing), for
-comparison. ``--threads N`` runs the children with ``IBFEM_THREADS=N`` (1: the bodies factored
-and solved one after the other) and ``--memory-limit SIZE`` with ``IBFEM_MEMORY_LIMIT=SIZE``; each
-row records the machine's load average (1 minute) before and after its run, since wall times on a
+comparison. ``--threads N`` runs the children with ``IBFEM_THREADS=N`` (the threads of each
+body's large fronts and of the bodies' solves; 1: one thread); each row records the machine's load average (1 minute) before and after its run, since wall times on a
 shared machine follow it.
 
     python benchmarks/full_3d.py [--scenes ball_on_block crossed_cylinders ...] [--levels 3] [--scene-disc]
-                                 [--threads 1] [--memory-limit 3GB]
+                                 [--threads 1]
 
 Prints a table, the same rows as the markdown table of docs/scale-3d.md ("Against the
-targets"), and writes benchmarks/results/full_3d.json (or --out)."""
+targets"), and writes benchmarks/results/full_3d.json (or --out).
+
+Measured (2026-11-28, each body's large fronts on two threads, the bodies one after the other; a
+machine shared with four other sessions at load 2-6, so wall times follow the load): the ball on
+a block 125.9-161.7 s wall, 90.9-92.9 s CPU, 2.93-2.95 GB (bodies side by side, alternated with
+those runs: 121.5-185.9 s wall, 93.2-98.5 s CPU, 3.77-3.92 GB; one thread 93.2 s, 91.0 s CPU,
+2.94 GB as the load fell to 2); the crossed cylinders 109.3 s, 86.9 s CPU, 2.24 GB; the turned
+pair 240.0 s, 116.1 s CPU, 2.53 GB; a, b and c/a as before (docs/scale-3d.md)."""
 
 from __future__ import annotations
 
@@ -123,15 +129,12 @@ def main(argv: list[str]) -> int:
                     help="every body factored in the driver's order (the fill-reducing order of the whole "
                          "system), not the cheaper of it and the order with the contact nodes contracted (for comparison)")
     ap.add_argument("--threads", type=int, default=None,
-                    help="IBFEM_THREADS of the runs (1: the bodies factored one after the other)")
-    ap.add_argument("--memory-limit", default=None, help="IBFEM_MEMORY_LIMIT of the runs, such as 3GB")
+                    help="IBFEM_THREADS of the runs (1: every factorisation and solve on one thread)")
     ap.add_argument("--out", type=Path, default=HERE / "results" / "full_3d.json")
     args = ap.parse_args(argv)
     env = {}
     if args.threads is not None:
         env["IBFEM_THREADS"] = str(args.threads)
-    if args.memory_limit is not None:
-        env["IBFEM_MEMORY_LIMIT"] = args.memory_limit
     rows = []
     print(f"{'scene':22} {'dofs':>8} {'est':>8} {'m':>6} {'wall s':>7} {'cpu s':>7} {'GB':>5} {'est GB':>6} "
           f"{'a err':>7} {'b err':>7} {'c/a':>6} {'Mindlin':>7}")

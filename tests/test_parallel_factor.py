@@ -1,11 +1,10 @@
-"""The bodies' condensed factorisations side by side on threads (solver.fem.linalg._condensed_blocks):
-the threaded factor solves K0 u = f as scipy's sparse LU does (to 1e-10 relative) and gives the
-serial path's Schur complement and inverse to round-off; the memory gate runs two numeric phases
-at once only when both fit in its budget; the user's memory limit is read with its unit."""
+"""The bodies' condensed factorisations on threads (solver.fem.linalg._condensed_blocks: the bodies
+one after the other, each one's large fronts shared by the threads): the threaded factor solves
+K0 u = f as scipy's sparse LU does (to 1e-10 relative) and gives the serial path's Schur
+complement and inverse to round-off; a front's update split into row ranges of equal work; the
+bodies' solves side by side as one by one; a factor on disk solves alike mapped or read."""
 
 from __future__ import annotations
-
-import threading
 
 import numpy as np
 import pytest
@@ -13,7 +12,6 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ibfem.solver.fem import linalg
-from ibfem.solver.model.estimate import memory_limit
 
 mf = pytest.importorskip("ibfem.solver.fem.multifrontal")
 if not mf.available():
@@ -42,14 +40,10 @@ def two_bodies():
     return k, dofs
 
 
-def factored(monkeypatch, threads: str, limit: str | None = None):
+def factored(monkeypatch, threads: str):
     k, dofs = two_bodies()
     monkeypatch.setenv("IBFEM_CONDENSED_FACTOR", "cholesky")
     monkeypatch.setenv("IBFEM_THREADS", threads)
-    if limit is None:
-        monkeypatch.delenv("IBFEM_MEMORY_LIMIT", raising=False)
-    else:
-        monkeypatch.setenv("IBFEM_MEMORY_LIMIT", limit)
     nearness = -np.arange(len(dofs), dtype=float)
     return k, dofs, linalg.condensed_factor(k, dofs, linalg.metis_order(k, 3), nearness)
 
@@ -68,72 +62,6 @@ def test_threaded_factor_solves_as_scipy_and_equals_the_serial_factor(monkeypatc
     np.testing.assert_allclose(u, factor1.solve(f), rtol=0, atol=1e-13 * np.abs(exact).max())
     # S is the Schur complement of the contact dofs: G S = I
     np.testing.assert_allclose(g @ s, eye, rtol=0, atol=1e-9)
-
-
-def test_a_memory_limit_below_two_factorisations_factors_one_at_a_time(monkeypatch):
-    seen = []
-    gate = linalg.MemoryGate
-
-    class Recording(gate):
-        def __call__(self, nbytes):
-            seen.append(self.budget)
-            return super().__call__(nbytes)
-
-    monkeypatch.setattr(linalg, "MemoryGate", Recording)
-    k, dofs, (factor, _, _) = factored(monkeypatch, "2", limit="1KB")
-    assert seen and all(b < 0 for b in seen)  # the process already holds more than the limit
-    f = np.random.default_rng(5).standard_normal(k.shape[0])
-    exact = spla.spsolve(k.tocsc(), f)
-    assert np.abs(factor.solve(f) - exact).max() <= 1e-10 * np.abs(exact).max()
-
-
-def run_two(gate: linalg.MemoryGate, nbytes: int) -> int:
-    """The most phases inside ``gate`` at once when two threads each ask for ``nbytes`` and hold
-    it until both have asked (or 0.5 s have passed)."""
-    inside, most, lock = [0], [0], threading.Lock()
-    both_asked = threading.Barrier(2)
-
-    def phase():
-        both_asked.wait(timeout=5)
-        with gate(nbytes):
-            with lock:
-                inside[0] += 1
-                most[0] = max(most[0], inside[0])
-            deadline = threading.Event()
-            deadline.wait(0.05 if most[0] > 1 else 0.5)  # the other gets its chance to enter
-            with lock:
-                inside[0] -= 1
-
-    threads = [threading.Thread(target=phase) for _ in range(2)]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join(timeout=10)
-    assert not any(t.is_alive() for t in threads)
-    assert gate.held == 0 and gate.running == 0
-    return most[0]
-
-
-def test_the_gate_admits_two_phases_only_when_both_fit():
-    assert run_two(linalg.MemoryGate(budget=100), 50) == 2
-    assert run_two(linalg.MemoryGate(budget=99), 50) == 1
-    assert run_two(linalg.MemoryGate(budget=10), 50) == 1  # alone, a phase always runs
-
-
-@pytest.mark.parametrize("value, expected", [("3GB", 3 * 2**30), ("512MB", 512 * 2**20), ("2.5G", 2.5 * 2**30),
-                                             ("1000", 1000.0), (" 64 kb ", 64 * 1024.0)])
-def test_the_memory_limit_is_read_with_its_unit(monkeypatch, value, expected):
-    monkeypatch.setenv("IBFEM_MEMORY_LIMIT", value)
-    assert memory_limit() == expected
-
-
-@pytest.mark.parametrize("value", ["lots", "-3GB", "0", "3TB", "nan"])
-def test_a_bad_memory_limit_names_the_variable_and_the_value(monkeypatch, value):
-    monkeypatch.setenv("IBFEM_MEMORY_LIMIT", value)
-    with pytest.raises(ValueError, match=rf"IBFEM_MEMORY_LIMIT.*{value!r}"):
-        memory_limit()
-    monkeypatch.delenv("IBFEM_MEMORY_LIMIT")
-    assert memory_limit() is None
 
 
 def test_a_factor_on_disk_solves_alike_mapped_or_read(monkeypatch):
@@ -186,27 +114,46 @@ def test_the_trial_system_on_block_diagonal_g_equals_the_dense_one(monkeypatch):
     np.testing.assert_allclose(by_blocks.solve(r), exact, rtol=0, atol=1e-9 * np.abs(exact).max())
 
 
-def test_the_size_estimate_counts_the_bodies_side_by_side_only_where_they_fit(monkeypatch):
-    """--check: two threads count a second work space (more memory, the same grids); a memory
-    limit below that, or one thread, counts one body at a time."""
+def test_the_size_estimate_counts_one_body_at_a_time_whatever_the_threads(monkeypatch):
+    """--check: the bodies are factored one after the other with any number of threads (the
+    threads share a body's large fronts), so the estimate does not depend on them."""
     from pathlib import Path
 
     from ibfem.solver.io.scene import load_scene
     from ibfem.solver.model import estimate
 
-    monkeypatch.setattr(estimate, "free_memory", lambda: 64 * 2.0**30)  # a machine where both fit
-    monkeypatch.setattr(estimate, "available_memory", lambda: 64 * 2.0**30)
     path = Path(__file__).resolve().parent.parent / "examples" / "solid" / "full" / "ball_on_block.toml"
     problem = load_scene(path).problem
-    sizes = {}
-    for threads, limit in (("1", None), ("2", None), ("2", "1KB")):
+    sizes = []
+    for threads in ("1", "2"):
         monkeypatch.setenv("IBFEM_THREADS", threads)
-        if limit is None:
-            monkeypatch.delenv("IBFEM_MEMORY_LIMIT", raising=False)
-        else:
-            monkeypatch.setenv("IBFEM_MEMORY_LIMIT", limit)
-        sizes[threads, limit] = estimate.estimate_size(problem, loaded=0.0)
-    one, two, limited = sizes["1", None], sizes["2", None], sizes["2", "1KB"]
-    assert one.dofs == two.dofs == limited.dofs
-    assert two.memory > 1.1 * one.memory
-    assert limited.memory == one.memory
+        sizes.append(estimate.estimate_size(problem, loaded=0.0))
+    assert sizes[0].dofs == sizes[1].dofs and sizes[0].memory == sizes[1].memory
+
+
+@pytest.mark.parametrize("interleaved", [False, True])
+def test_the_trial_system_on_block_diagonal_g_by_runs_or_scattered_columns(interleaved):
+    """I + G_AA Kc_AA formed block by block when each block's dofs are one run of the condensed
+    positions (written as a slice) or interleaved with the other's: the solve of (S + Kc) x = r
+    against the dense one."""
+    from ibfem.solver.fem.block_diagonal import BlockDiagonal
+
+    rng = np.random.default_rng(15)
+    m = 60
+    positions = [np.arange(0, m, 2), np.arange(1, m, 2)] if interleaved else [np.arange(30), np.arange(30, m)]
+    blocks = []
+    for p in positions:
+        a = rng.standard_normal((len(p), len(p)))
+        blocks.append(a @ a.T + len(p) * np.eye(len(p)))
+    s = BlockDiagonal(blocks, positions)
+    g = BlockDiagonal([np.linalg.inv(b) for b in blocks], positions)
+    dense = s.toarray()
+    active = np.sort(rng.choice(m, m // 3, replace=False))
+    c = rng.standard_normal((len(active), len(active)))
+    kc = np.zeros((m, m))
+    kc[np.ix_(active, active)] = c @ c.T
+    r = rng.standard_normal(m)
+    small = linalg.SmallSystem(s, sp.csr_matrix(kc), True, g)
+    assert small.active is not None
+    exact = np.linalg.solve(dense + kc, r)
+    np.testing.assert_allclose(small.solve(r), exact, rtol=0, atol=1e-10 * np.abs(exact).max())

@@ -339,28 +339,36 @@ def _gemm_update(gemm, t, k0, k1, j0, j1, f, ls, ld):
 @jit
 def _trailing(gemm, t, k0, k1, j_end, f):
     """Update front rows k1..j_end-1 (columns from the row's own on, rows >= column) by the
-    factored pivots k0..k1-1 (rows D L^T): loops when small, else BLAS products into the
-    front by blocks of BLOCK rows."""
-    if f <= k1 or j_end <= k1:
+    factored pivots k0..k1-1 (rows D L^T): :func:`trailing_rows` from row k1."""
+    trailing_rows(gemm, t, k0, k1, k1, j_end, f)
+
+
+@jit
+def trailing_rows(gemm, t, k0, k1, j_lo, j_hi, f):
+    """Update front rows j_lo..j_hi-1 (j_lo >= k1; columns from the row's own on) by the
+    factored pivots k0..k1-1 (rows D L^T): loops when small, else BLAS products into the front
+    by blocks of BLOCK rows from j_lo. Disjoint row ranges touch disjoint entries of the front,
+    so two threads may update two of them at once."""
+    if f <= j_lo or j_hi <= j_lo:
         return
-    if (k1 - k0) * (j_end - k1) * (f - k1) < 2 * SMALL_UPDATE:
+    if (k1 - k0) * (j_hi - j_lo) * (f - j_lo) < 2 * SMALL_UPDATE:
         for k in range(k0, k1):
             inv = 1.0 / t[k, k]
-            for j in range(k1, j_end):
+            for j in range(j_lo, j_hi):
                 ljk = t[k, j] * inv
                 if ljk != 0.0:
                     for i in range(j, f):
                         t[j, i] -= ljk * t[k, i]
         return
-    width = j_end - k1
+    width = j_hi - j_lo
     ls = np.empty((k1 - k0, width))  # Fortran view: (width x pivots), the scaled L of the rows updated
     for k in range(k0, k1):
         inv = 1.0 / t[k, k]
         for jj in range(width):
-            ls[k - k0, jj] = t[k, k1 + jj] * inv
-    for j0 in range(k1, j_end, BLOCK):
-        j1 = min(j0 + BLOCK, j_end)
-        _gemm_update(gemm, t, k0, k1, j0, j1, f, ls[:, j0 - k1:], width)
+            ls[k - k0, jj] = t[k, j_lo + jj] * inv
+    for j0 in range(j_lo, j_hi, BLOCK):
+        j1 = min(j0 + BLOCK, j_hi)
+        _gemm_update(gemm, t, k0, k1, j0, j1, f, ls[:, j0 - j_lo:], width)
 
 
 @jit
@@ -369,37 +377,41 @@ def _partial_ldlt(gemm, t, nc, f, definite):
     it); the update matrix left in t[nc:, nc:]. Returns the failed column or -1.
 
     Two levels of blocking: within an outer block of OUTER pivots, panels of PANEL columns are
-    factored by compiled loops and update the outer block's remaining rows only; the outer
-    block then updates every row below it by BLAS products of inner dimension OUTER that
-    accumulate in the front (its update matrix, most of a large front, is swept once per outer
-    block)."""
+    factored by compiled loops and update the outer block's remaining rows only
+    (:func:`outer_block`); the outer block then updates every row below it by BLAS products of
+    inner dimension OUTER that accumulate in the front (its update matrix, most of a large
+    front, is swept once per outer block), and its rows are scaled (:func:`scale_rows`)."""
     for b0 in range(0, nc, OUTER):
         b1 = min(b0 + OUTER, nc)
-        for k0 in range(b0, b1, PANEL):
-            k1 = min(k0 + PANEL, b1)
-            bad = _panel(t, k0, k1, f, definite)
-            if bad >= 0:
-                return bad
-            _trailing(gemm, t, k0, k1, b1, f)
+        bad = outer_block(gemm, t, b0, b1, f, definite)
+        if bad >= 0:
+            return bad
         _trailing(gemm, t, b0, b1, f, f)
-        for k in range(b0, b1):
-            inv = 1.0 / t[k, k]
-            for i in range(k + 1, f):
-                t[k, i] *= inv
+        scale_rows(t, b0, b1, f)
     return -1
 
 
 @jit
-def multifrontal(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, stack_size, max_front,
-                 schur, definite, gemm):
-    """The numeric factorisation over the supernodes in postorder, the whole factor in memory
-    (:func:`multifrontal_range` over all supernodes). Returns (factor, failed column or -1)."""
-    ns = len(sn_parent)
-    factor = np.empty(factor_ptr[ns], np.float64)
-    work = numeric_work(sn_start[ns], ns, stack_size, max_front)
-    bad = multifrontal_range(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, 0, ns,
-                             factor, 0, work, schur, definite, gemm)
-    return factor, bad
+def outer_block(gemm, t, b0, b1, f, definite):
+    """The panels of pivots b0..b1-1 of the front factored, each updating the block's own rows
+    below it: :func:`_partial_ldlt`'s step before the update of the rows below the block.
+    Returns the failed column or -1."""
+    for k0 in range(b0, b1, PANEL):
+        k1 = min(k0 + PANEL, b1)
+        bad = _panel(t, k0, k1, f, definite)
+        if bad >= 0:
+            return bad
+        _trailing(gemm, t, k0, k1, b1, f)
+    return -1
+
+
+@jit
+def scale_rows(t, b0, b1, f):
+    """Rows b0..b1-1 of the front from D L^T to L^T (D stays on the diagonal)."""
+    for k in range(b0, b1):
+        inv = 1.0 / t[k, k]
+        for i in range(k + 1, f):
+            t[k, i] *= inv
 
 
 @jit
@@ -425,63 +437,87 @@ def multifrontal_range(colptr, rowind, values, sn_start, row_ptr, rows, sn_paren
     The last supernode's assembled front is copied into ``schur`` when that has its size (the
     root of the contact dofs). Roots are assembled in their factor blocks, other fronts in the
     front buffer. Returns the failed column or -1."""
+    for s in range(s0, s1):
+        t = assemble_front(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, s, segment,
+                           base, work, schur)
+        nc = sn_start[s + 1] - sn_start[s]
+        bad = _partial_ldlt(gemm, t, nc, t.shape[0], definite)
+        if bad >= 0:
+            return sn_start[s] + bad
+        store_front(sn_start, row_ptr, sn_parent, factor_ptr, s, t, segment, base, work)
+    return -1
+
+
+@jit
+def assemble_front(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, factor_ptr, s, segment, base,
+                   work, schur):
+    """The front of supernode s (:func:`multifrontal_range`'s first step): the matrix's columns
+    and the children's update matrices popped off the stack, in the front buffer (a root: in
+    its factor block); the root of the contact dofs copied into ``schur``. Returns the front."""
     stack, buf, relpos, st_sn, st_off, state = work
     ns = len(sn_parent)
     depth = state[0]
-    for s in range(s0, s1):
-        c0, c1 = sn_start[s], sn_start[s + 1]
-        nc = c1 - c0
-        nr = row_ptr[s + 1] - row_ptr[s]
-        f = nc + nr
-        off = factor_ptr[s] - base
-        if nr == 0:  # a root: its front is its factor block (no copy)
-            t = segment[off:off + f * f].reshape(f, f)
-        else:
-            t = buf[: f * f].reshape(f, f)
-        for j in range(f):
-            t[j, j:] = 0.0
-        for k in range(nc):
-            relpos[c0 + k] = k
-        for k in range(nr):
-            relpos[rows[row_ptr[s] + k]] = nc + k
-        for j in range(c0, c1):
-            for p in range(colptr[j], colptr[j + 1]):
-                t[j - c0, relpos[rowind[p]]] += values[p]
-        while depth > 0 and sn_parent[st_sn[depth - 1]] == s:
-            c = st_sn[depth - 1]
-            at = st_off[depth - 1]
-            cr = rows[row_ptr[c]:row_ptr[c + 1]]
-            w = len(cr)
-            for a in range(w):
-                pa = relpos[cr[a]]
-                for b in range(a, w):
-                    t[pa, relpos[cr[b]]] += stack[at + a * w + b]
-            depth -= 1
-        if s == ns - 1 and schur.shape[0] == nc and nr == 0:
-            for j in range(nc):
-                for i in range(j, nc):
-                    schur[i, j] = t[j, i]
-                    schur[j, i] = t[j, i]
-        bad = _partial_ldlt(gemm, t, nc, f, definite)
-        if bad >= 0:
-            state[0] = depth
-            return c0 + bad
-        for k in range(nc):
-            for i in range(k):
-                segment[off + k * f + i] = 0.0
-            if nr > 0:
-                for i in range(k, f):
-                    segment[off + k * f + i] = t[k, i]
-        if nr > 0 and sn_parent[s] != -1:
-            at = st_off[depth]
-            for a in range(nr):
-                for b in range(a, nr):
-                    stack[at + a * nr + b] = t[nc + a, nc + b]
-            st_sn[depth] = s
-            st_off[depth + 1] = at + nr * nr
-            depth += 1
+    c0, c1 = sn_start[s], sn_start[s + 1]
+    nc = c1 - c0
+    nr = row_ptr[s + 1] - row_ptr[s]
+    f = nc + nr
+    off = factor_ptr[s] - base
+    if nr == 0:  # a root: its front is its factor block (no copy)
+        t = segment[off:off + f * f].reshape(f, f)
+    else:
+        t = buf[: f * f].reshape(f, f)
+    for j in range(f):
+        t[j, j:] = 0.0
+    for k in range(nc):
+        relpos[c0 + k] = k
+    for k in range(nr):
+        relpos[rows[row_ptr[s] + k]] = nc + k
+    for j in range(c0, c1):
+        for p in range(colptr[j], colptr[j + 1]):
+            t[j - c0, relpos[rowind[p]]] += values[p]
+    while depth > 0 and sn_parent[st_sn[depth - 1]] == s:
+        c = st_sn[depth - 1]
+        at = st_off[depth - 1]
+        cr = rows[row_ptr[c]:row_ptr[c + 1]]
+        w = len(cr)
+        for a in range(w):
+            pa = relpos[cr[a]]
+            for b in range(a, w):
+                t[pa, relpos[cr[b]]] += stack[at + a * w + b]
+        depth -= 1
     state[0] = depth
-    return -1
+    if s == ns - 1 and schur.shape[0] == nc and nr == 0:
+        for j in range(nc):
+            for i in range(j, nc):
+                schur[i, j] = t[j, i]
+                schur[j, i] = t[j, i]
+    return t
+
+
+@jit
+def store_front(sn_start, row_ptr, sn_parent, factor_ptr, s, t, segment, base, work):
+    """The factored front of supernode s (:func:`multifrontal_range`'s last step): its pivot
+    rows into its factor block, its update matrix pushed on the stack."""
+    stack, buf, relpos, st_sn, st_off, state = work
+    depth = state[0]
+    nc = sn_start[s + 1] - sn_start[s]
+    nr = row_ptr[s + 1] - row_ptr[s]
+    f = nc + nr
+    off = factor_ptr[s] - base
+    for k in range(nc):
+        for i in range(k):
+            segment[off + k * f + i] = 0.0
+        if nr > 0:
+            for i in range(k, f):
+                segment[off + k * f + i] = t[k, i]
+    if nr > 0 and sn_parent[s] != -1:
+        at = st_off[depth]
+        for a in range(nr):
+            for b in range(a, nr):
+                stack[at + a * nr + b] = t[nc + a, nc + b]
+        st_sn[depth] = s
+        st_off[depth + 1] = at + nr * nr
+        state[0] = depth + 1
 
 
 @njit(cache=True, nogil=True, error_model="numpy", fastmath={"reassoc", "contract"})

@@ -17,7 +17,9 @@ contact dofs last) is factored as follows:
   pivot columns (compiled panels of 48 columns, BLAS products for the trailing update), push
   the update matrix. The last m dofs form the root supernode: its assembled front is the Schur
   complement S = K_cc - K_ci K_ii^-1 K_ic, copied before it is factored as the last supernode;
-  its Cholesky factor then gives G = S^-1 by LAPACK's potri;
+  its Cholesky factor then gives G = S^-1 by LAPACK's potri. With several threads, each front of
+  THREADED_FRONT_ROWS rows or more is factored on all of them (:func:`_threaded_ldlt`: the update
+  below each outer block of pivots split into row ranges of equal work), the same operations;
 * solve: forward and back substitution over the supernodes (compiled), in the original numbering;
   a factor of ON_DISK_BYTES or more below its root is written to a temporary file chunk by chunk
   as the numeric phase computes it (:func:`condensed_cholesky`: the whole factor is never in
@@ -54,6 +56,11 @@ RELAX_ZEROS = (0.8, 0.1, 0.05)
 ON_DISK_BYTES = 1 << 30
 #: a factor held on disk is read this many bytes (at least one supernode) at a time
 DISK_CHUNK_BYTES = 1 << 28
+#: with several threads, a front of at least this many rows is factored on all of them: after each
+#: outer block of pivots, the update of the rows below it is split into row ranges of about equal
+#: work, one per thread (94-95 % of the flops of the full ball on a block's bodies are in fronts of
+#: 2,000 rows or more)
+THREADED_FRONT_ROWS = 1000
 
 
 class NotPositiveDefinite(np.linalg.LinAlgError):
@@ -122,16 +129,17 @@ class CholeskyFactor:
     products with S and G read, stays. :meth:`to_disk` moves them there afterwards. ``solve``
     then reads them back DISK_CHUNK_BYTES at a time.
 
-    ``gate``: a callable that takes the bytes the numeric phase will allocate (``numeric_bytes``,
-    known once the symbolic phase is done) and returns a context manager the numeric phase runs
-    in: a caller factoring several matrices on threads admits them by their memory there."""
+    ``threads``: the numeric phase factors each front of THREADED_FRONT_ROWS rows or more on that
+    many threads (the compiled kernels hold no lock; the same operations as on one thread).
+    ``numeric_bytes``: what the numeric phase allocates, known from the symbolic phase."""
 
     _disk = None  # the temporary file of the blocks below the root (None: all in memory)
     threaded_solve = True  # solves of several factors may run on threads at once (compiled, no GIL)
     _base = 0  # offset in the factor of ``factor[0]`` (the root block's when on disk)
+    _pool = None  # the helper threads of the large fronts during the numeric phase (None: one thread)
 
     def __init__(self, k: sp.spmatrix, order: np.ndarray, m: int = 0, definite: bool = True,
-                 keep_schur: bool = True, on_disk: bool | None = False, gate=None):
+                 keep_schur: bool = True, on_disk: bool | None = False, threads: int = 1):
         if not sp.issparse(k):
             k = sp.csr_matrix(np.asarray(k, dtype=np.float64))
         n = k.shape[0]
@@ -150,12 +158,13 @@ class CholeskyFactor:
         streamed = bool(self.m and self.n_supernodes > 1
                         and (on_disk or (on_disk is None and below_root >= ON_DISK_BYTES)))
         self.numeric_bytes = self._numeric_bytes(streamed, keep_schur)
-        with gate(self.numeric_bytes) if gate is not None else contextlib.nullcontext():
+        with _front_pool(threads, self.largest_front) as self._pool:
             self.schur = np.zeros((self.m, self.m) if keep_schur else (0, 0))
             if streamed:
                 self._numeric_to_disk(kern)
             else:
                 self._numeric(kern)
+        del self._pool
 
     def _numeric_bytes(self, streamed: bool, keep_schur: bool) -> int:
         """What the numeric phase allocates: the update-matrix stack, the largest front below
@@ -216,13 +225,42 @@ class CholeskyFactor:
         self.front_bytes = 8 * self._buffer ** 2
 
     def _numeric(self, kern) -> None:
-        factor, bad = kern.multifrontal(self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr,
-                                        self.rows, self.sn_parent, self.factor_ptr, self.stack_size,
-                                        self._buffer, self.schur, self.definite, kern.DGEMM)
-        del self._colptr, self._rowind, self._values
+        factor = np.empty(int(self.factor_ptr[-1]))
+        work = kern.numeric_work(self.n, self.n_supernodes, self.stack_size, self._buffer)
+        bad = self._factor_range(kern, 0, self.n_supernodes, factor, 0, work)
+        del self._colptr, self._rowind, self._values, work
         if bad >= 0:
             raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
         self.factor = factor
+
+    def _factor_range(self, kern, s0: int, s1: int, segment: np.ndarray, base: int, work: tuple) -> int:
+        """The numeric phase over supernodes s0..s1-1 (blocks into ``segment`` from factor offset
+        ``base``, continuing with the work space ``work``): runs of small fronts in one compiled
+        call; with a thread pool, each front of THREADED_FRONT_ROWS rows or more assembled and
+        stored by compiled calls and factored on the pool's threads (:func:`_threaded_ldlt`).
+        Returns the failed column or -1."""
+        args = (self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr, self.rows, self.sn_parent,
+                self.factor_ptr)
+        large = np.empty(0, dtype=np.int64)
+        if self._pool is not None:
+            front = np.diff(self.sn_start) + np.diff(self.row_ptr)
+            large = np.flatnonzero(front[s0:s1] >= THREADED_FRONT_ROWS) + s0
+        start = s0
+        for s in [*large.tolist(), s1]:
+            if s > start:
+                bad = kern.multifrontal_range(*args, start, s, segment, base, work, self.schur, self.definite,
+                                              kern.DGEMM)
+                if bad >= 0:
+                    return bad
+            if s == s1:
+                break
+            t = kern.assemble_front(*args, s, segment, base, work, self.schur)
+            bad = _threaded_ldlt(kern, t, int(self.sn_start[s + 1] - self.sn_start[s]), self.definite, self._pool)
+            if bad >= 0:
+                return int(self.sn_start[s]) + bad
+            kern.store_front(self.sn_start, self.row_ptr, self.sn_parent, self.factor_ptr, s, t, segment, base, work)
+            start = s + 1
+        return -1
 
     def _numeric_to_disk(self, kern) -> None:
         """The numeric phase with the blocks below the root written to an unlinked temporary
@@ -233,22 +271,22 @@ class CholeskyFactor:
         st_off = np.zeros(ns + 1, dtype=np.int64)
         work = [np.empty(self.stack_size), np.empty(self._buffer ** 2), np.empty(self.n, dtype=np.int64),
                 np.empty(ns, dtype=np.int64), st_off, np.zeros(1, dtype=np.int64)]
-        args = (self._colptr, self._rowind, self._values, self.sn_start, self.row_ptr, self.rows, self.sn_parent,
-                self.factor_ptr)
-        chunks, kept = self._chunk_bounds(), []
+        chunks, kept, ptr = self._chunk_bounds(), [], self.factor_ptr
         handle = _temporary_file()
+        # one range's array for all of them: its pages are mapped in once, not once per range (a new
+        # page costs the system about 7 us here: 1.4 s per GB of factor)
+        scratch = np.empty(max((int(ptr[s1] - ptr[s0]) for s0, s1 in chunks), default=0))
         for s0, s1 in chunks:
-            segment = np.empty(int(self.factor_ptr[s1] - self.factor_ptr[s0]))
-            bad = kern.multifrontal_range(*args, s0, s1, segment, self.factor_ptr[s0], tuple(work), self.schur,
-                                          self.definite, kern.DGEMM)
+            segment = scratch[:int(ptr[s1] - ptr[s0])]
+            bad = self._factor_range(kern, s0, s1, segment, int(ptr[s0]), tuple(work))
             if bad >= 0:
                 raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
-            handle = _write_or_keep(handle, segment, int(self.factor_ptr[s0]), kept)
+            handle = _write_or_keep(handle, segment, int(ptr[s0]), kept)
+        del scratch, segment
         work[1] = np.empty(0)  # the front buffer: the root is assembled in its own block
         root = np.empty(m * m)
-        bad = kern.multifrontal_range(*args, ns - 1, ns, root, self.factor_ptr[ns - 1], tuple(work), self.schur,
-                                      self.definite, kern.DGEMM)
-        del work, args, self._colptr, self._rowind, self._values
+        bad = self._factor_range(kern, ns - 1, ns, root, int(ptr[ns - 1]), tuple(work))
+        del work, self._colptr, self._rowind, self._values
         if bad >= 0:
             raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
         if handle is None:  # no file: the factor in memory after all
@@ -475,8 +513,8 @@ def _temporary_file():
 
 def _write_or_keep(handle, segment: np.ndarray, written: int, kept: list):
     """Append ``segment`` to the file ``handle``, which holds ``written`` entries; where that
-    fails (a full disk) or there is no file, keep every segment in ``kept`` (those already
-    written are read back) and return None."""
+    fails (a full disk) or there is no file, keep a copy of every segment in ``kept`` (those
+    already written are read back; the caller reuses the segment's memory) and return None."""
     if handle is not None:
         try:
             handle.write(segment.data)  # the array's own buffer, not a copy
@@ -486,8 +524,77 @@ def _write_or_keep(handle, segment: np.ndarray, written: int, kept: list):
             handle.seek(0)
             kept.append(np.fromfile(handle, dtype=np.float64, count=written))
             handle.close()
-    kept.append(segment)
+    kept.append(segment.copy())
     return None
+
+
+@contextlib.contextmanager
+def _front_pool(threads: int, largest_front: int):
+    """threads - 1 helper threads for the large fronts (:func:`_threaded_ldlt`; the caller's
+    thread is the other), or None with one thread or no front of THREADED_FRONT_ROWS rows."""
+    if threads < 2 or largest_front < THREADED_FRONT_ROWS:
+        yield None
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(threads - 1) as pool:
+        pool.parts = threads
+        yield pool
+
+
+#: a panel's compiled loops take about this many times BLAS's time per multiply-add (the split of
+#: a front's update gives the caller's thread, which factors the next outer block meanwhile, less)
+PANEL_COST = 2.0
+
+
+def _row_bounds(b1: int, f: int, block: int, parts: int, lead: int = 0) -> list[int]:
+    """Bounds b1 = r_0 < r_1 < ... < f of row ranges that share the update of the front's rows
+    b1..f-1 in about equal work (row j costs f - j entries: the rows from r on cost (f - r)^2 / 2),
+    the first range less the work of factoring the next ``lead`` pivots (about PANEL_COST lead
+    (f - b1) / 2 in those units), which its thread does next. Each bound is on the grid of BLAS
+    blocks from b1, so that every product is the one the serial update makes (the same sums)."""
+    whole = (f - b1) ** 2 / 2.0
+    panel = PANEL_COST * lead * (f - b1) / 2.0
+    bounds = [b1]
+    for i in range(1, parts):
+        done = i * (whole + panel) / parts - panel  # work of the rows before r_i
+        r = (f - np.sqrt(max((f - b1) ** 2 - 2.0 * max(done, 0.0), 0.0)) - b1) / block
+        # the grid point above b1 whose rows' work is nearest (the first range keeps the next block)
+        r = min((b1 + max(int(k), 1) * block for k in (np.floor(r), np.ceil(r))),
+                key=lambda x: abs(whole - min(f - x, f - b1) ** 2 / 2.0 - done))
+        if bounds[-1] < r < f:
+            bounds.append(r)
+    return bounds + [f]
+
+
+def _threaded_ldlt(kern, t: np.ndarray, nc: int, definite: bool, pool) -> int:
+    """The kernels' L D L^T of the first nc columns of the front t (f x f) with the update of the
+    rows below each outer block of pivots shared by the pool's threads and the caller's (compiled,
+    no lock held; disjoint row ranges). The caller's range comes first and holds the next outer
+    block's rows, so the caller factors that block's panels while the others finish their ranges
+    (the block's rows have had every update by then, and the panels touch no other row). Every
+    entry gets the operations of the one-thread kernel in the same order. Returns the failed
+    column or -1."""
+    f = t.shape[0]
+    bad = kern.outer_block(kern.DGEMM, t, 0, min(kern.OUTER, nc), f, definite)
+    for b0 in range(0, nc, kern.OUTER):
+        if bad >= 0:
+            return bad
+        b1 = min(b0 + kern.OUTER, nc)
+        b2 = min(b1 + kern.OUTER, nc)  # the next outer block (none when b2 == b1)
+        bounds = _row_bounds(b1, f, kern.BLOCK, pool.parts, b2 - b1)
+        jobs = [pool.submit(kern.trailing_rows, kern.DGEMM, t, b0, b1, lo, hi, f)
+                for lo, hi in zip(bounds[1:-1], bounds[2:])]
+        kern.trailing_rows(kern.DGEMM, t, b0, b1, bounds[0], bounds[1], f)
+        ahead = b2 > b1 and bounds[1] >= b2
+        if ahead:
+            bad = kern.outer_block(kern.DGEMM, t, b1, b2, f, definite)
+        for job in jobs:
+            job.result()
+        kern.scale_rows(t, b0, b1, f)
+        if b2 > b1 and not ahead:
+            bad = kern.outer_block(kern.DGEMM, t, b1, b2, f, definite)
+    return bad
 
 
 def factor_flops(k: sp.spmatrix, order: np.ndarray, m: int = 0) -> float:
@@ -518,7 +625,7 @@ def _stack_size(sn_parent: np.ndarray, below: np.ndarray) -> int:
 
 
 def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: bool = False, guard=None,
-                       trailing: int | None = None, on_disk: bool | None = None, gate=None):
+                       trailing: int | None = None, on_disk: bool | None = None, threads: int = 1):
     """(factor, S, G) of K0 in the order ``order`` whose last m dofs are the condensed ones:
     S their Schur complement (a :class:`RootSchur` on the factor's root block: no m x m copy),
     G = S^-1 (LAPACK potri on S's Cholesky factor, the root block).
@@ -531,12 +638,12 @@ def condensed_cholesky(k0: sp.spmatrix, order: np.ndarray, m: int, definite: boo
     all of G, dense). ``on_disk``: the factor's blocks below the root are written to a temporary
     file as they are computed (None: when they take ON_DISK_BYTES or more), so that a caller
     factoring several bodies in turn holds only their root blocks in memory, and the body being
-    factored one chunk of its factor besides its work space. ``gate``: as for
-    :class:`CholeskyFactor` (its numeric phase admitted by its memory)."""
+    factored one chunk of its factor besides its work space. ``threads``: as for
+    :class:`CholeskyFactor` (its large fronts factored on that many threads)."""
     from scipy.linalg import lapack
 
     with guard() if guard is not None else contextlib.nullcontext():
-        factor = CholeskyFactor(k0, order, m, definite, keep_schur=False, on_disk=on_disk, gate=gate)
+        factor = CholeskyFactor(k0, order, m, definite, keep_schur=False, on_disk=on_disk, threads=threads)
     if m == 0:
         return factor, np.zeros((0, 0)), np.zeros((0, 0))
     schur = factor.schur_operator()

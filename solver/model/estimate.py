@@ -31,8 +31,7 @@ import os
 import numpy as np
 
 __all__ = ["ProblemSize", "estimate_size", "history_bytes", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory",
-           "resident_memory", "loaded_scene_bytes", "free_memory", "memory_limit", "factor_threads",
-           "process_memory_budget", "trial_bytes"]
+           "resident_memory", "loaded_scene_bytes", "factor_threads", "trial_bytes"]
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
 #: examples, 1e4-1.8e5 dofs), 3D without contact (AMG-CG solves, rounded up)
@@ -77,12 +76,6 @@ CONTACT_DISC_MARGIN = 1.4
 #: 1.6 GB on the section's)
 WORK_SPACE_FACTOR = 2.5
 ZONE_SECTION_FRACTION = 0.8
-#: bodies factored side by side on threads: each body beside the first adds this fraction of its
-#: work space and range of the factor on disk to the peak (a body's work space fills up towards the
-#: end of its factorisation, and the two ends do not coincide: measured on the full ball on a block
-#: 0.9 GB more than one body at a time, where the smaller body's work space, root block and range
-#: of its factor are 1.5 GB)
-SIDE_BY_SIDE_FRACTION = 0.6
 #: a 3D contact's region quadrature points per finest cell face of body 1's surface (the region's
 #: panels split at both grids' cell lines, REGION_ORDER^2 points each: measured 193-201 on the half
 #: sphere on a flat at 5 levels, 10 456-10 870 points over regions of 52-56 finest faces)
@@ -248,13 +241,7 @@ def _estimate(problem, loaded: float, region_areas=None) -> ProblemSize:
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
         rest = BASE_BYTES_3D_CONTACT + loaded + history_bytes(problem)
         trials = trial_bytes(problem, region_areas)
-        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed, trials=trials) + rest
-        at_once = min(factor_threads(), len(body_dofs))
-        if at_once > 1:  # the bodies factored side by side where their work spaces fit together
-            side_by_side = (_sparse_contact_bytes(body_dofs, at_once)
-                            + _dense_contact_bytes(problem, streamed, at_once, trials) + rest)
-            if side_by_side <= process_memory_budget():
-                memory = side_by_side
+        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed, trials) + rest
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
@@ -291,38 +278,27 @@ def resident_memory() -> float:
         return RESIDENT_BYTES
 
 
-def _sparse_contact_bytes(body_dofs: np.ndarray, at_once: int = 1) -> float:
+def _sparse_contact_bytes(body_dofs: np.ndarray) -> float:
     """The sparse part of a 3D contact: BYTES_PER_DOF_3D_CONTACT per dof of every body whose
     factor stays in memory; a body's factor of ON_DISK_BYTES or more is written to disk while it
     is computed, so such bodies count only K0 and the factorisation's sparse arrays
-    (STREAMED_BYTES_PER_DOF) and one chunk of the factor (and SIDE_BY_SIDE_FRACTION of one for each
-    further body factored at once, ``at_once``)."""
+    (STREAMED_BYTES_PER_DOF) and one chunk of the factor (the bodies are factored one at a time)."""
     per_body = body_dofs * BYTES_PER_DOF_3D_CONTACT
     if not len(per_body):
         return 0.0
     streamed = per_body >= ON_DISK_BYTES
     total = float(per_body[~streamed].sum())
     if streamed.any():
-        chunks = 1.0 + SIDE_BY_SIDE_FRACTION * (min(at_once, int(streamed.sum())) - 1)
-        total += STREAMED_BYTES_PER_DOF * float(body_dofs[streamed].sum()) + chunks * DISK_CHUNK_BYTES
+        total += STREAMED_BYTES_PER_DOF * float(body_dofs[streamed].sum()) + DISK_CHUNK_BYTES
     return total
 
 
 def factor_threads() -> int:
-    """Threads the bodies' condensed factorisations run on: ``IBFEM_THREADS`` if set (>= 1), else
+    """Threads a body's condensed factorisation runs its large fronts on: ``IBFEM_THREADS`` if set (>= 1), else
     the machine's cores (the same setting as the geometry's projections)."""
     from ibfem.geometry._jit import threads
 
     return threads()
-
-
-def process_memory_budget() -> float:
-    """The most this process may hold, its bodies factored side by side: the machine's memory
-    (what is free now beside what this process holds) and no more than the limit the user sets in
-    ``IBFEM_MEMORY_LIMIT``."""
-    limit = memory_limit()
-    budget = min(available_memory(), free_memory() + resident_memory())
-    return budget if limit is None else min(budget, limit)
 
 
 def trial_bytes(problem, region_areas=None) -> list[float]:
@@ -346,7 +322,7 @@ def trial_bytes(problem, region_areas=None) -> list[float]:
     return out
 
 
-def _dense_contact_bytes(problem, streamed: bool = False, at_once: int = 1, trials=None) -> float:
+def _dense_contact_bytes(problem, streamed: bool = False, trials=None) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
     the root of the factor and a quarter of that in the kept block of the inverse (all of it
     for blocks below 4000 dofs, where it is small), and while the last body is factored about
@@ -354,18 +330,16 @@ def _dense_contact_bytes(problem, streamed: bool = False, at_once: int = 1, tria
     measured 1.7 and 1.2 m_b^2 on the crossed cylinders), or WORK_SPACE_FACTOR m_z^2 where the
     condensed disc is smaller than a section through the contact refinement (m_z dofs). ``streamed``: the factors go to disk
     as they are computed; the last body's root block is then allocated only once its front
-    buffer is freed, so it is not counted beside the work space. ``at_once``: bodies factored
-    side by side, each beside the first adding SIDE_BY_SIDE_FRACTION of its work space.
-    ``trials``: per contact the bytes of its region trials (:func:`trial_bytes`), which come after
-    the factorisation: the larger of the two counts."""
+    buffer is freed, so it is not counted beside the work space. The bodies are factored one at
+    a time, so one work space is counted. ``trials``: per contact the bytes of its region trials
+    (:func:`trial_bytes`), which come after the factorisation: the larger of the two counts."""
     total = 0.0
     for k, c in enumerate(problem.contacts):
         n_bodies, m_b = contact_dofs_per_body(problem, c)
         m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
         work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
-        beside = SIDE_BY_SIDE_FRACTION * (min(at_once, n_bodies) - 1)
         later = 0.0 if trials is None else trials[k]
-        total += 8.0 * 1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + max(8.0 * (1.0 + beside) * work, later)
+        total += 8.0 * 1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + max(8.0 * work, later)
     return total
 
 
@@ -469,43 +443,6 @@ def _held_fraction(bodies, point, radius: float) -> float:
     for b in bodies:
         held |= np.asarray(b.profile.signed_distance(pts), dtype=float) >= 0.0
     return float(held.mean())
-
-
-def free_memory() -> float:
-    """Bytes the machine has free for a new allocation now: Linux's ``MemAvailable`` (free memory
-    and what the page cache would give back), else its physical memory (:func:`available_memory`)."""
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return float(line.split()[1]) * 1024.0
-    except (OSError, ValueError, IndexError):
-        pass
-    return available_memory()
-
-
-#: the environment variable of the memory limit a user sets for a run (:func:`memory_limit`)
-MEMORY_LIMIT_VARIABLE = "IBFEM_MEMORY_LIMIT"
-_UNITS = {"": 1.0, "B": 1.0, "K": 2.0**10, "KB": 2.0**10, "M": 2.0**20, "MB": 2.0**20, "G": 2.0**30, "GB": 2.0**30}
-
-
-def memory_limit() -> float | None:
-    """The memory limit the user sets in ``IBFEM_MEMORY_LIMIT``, in bytes ("3GB", "512MB", "2.5G"
-    or bytes; units of 1024); None when unset. A value that is not a positive size raises a
-    ValueError naming the variable and the value."""
-    value = os.environ.get(MEMORY_LIMIT_VARIABLE, "").strip()
-    if not value:
-        return None
-    number = value.rstrip("BbKkMmGg").strip()
-    unit = value[len(value.rstrip("BbKkMmGg")):].upper()
-    try:
-        size = float(number) * _UNITS[unit]
-    except (ValueError, KeyError):
-        size = math.nan
-    if not (math.isfinite(size) and size > 0.0):
-        raise ValueError(f"environment variable {MEMORY_LIMIT_VARIABLE} must be a positive size such as 3GB or "
-                         f"512MB, got {value!r}")
-    return size
 
 
 def available_memory() -> float:
