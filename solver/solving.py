@@ -22,7 +22,7 @@ from .fem.bodies import discretise
 from .fem.space import body_info
 from .model.accuracy import (COMPLETE_END_ORDER_RANGE, SIZE_ORDER_RANGE, complementary_energy_density, contact_quantities,
                              far_field_force_error, has_complete_end,
-                             largest_error, orders_for, peak_size_share, relative_errors)
+                             largest_error, orders_for, peak_size_share, refinement_ratio, relative_errors)
 from .model.estimate import available_memory, estimate_size
 from .model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .model.resolve import resolve_problem
@@ -163,11 +163,12 @@ def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
 
 
 def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, note: str | None,
-                   coarsest: IBFEMSolution | None = None) -> None:
+                   coarsest: IBFEMSolution | None = None, ratios: tuple[float, float] = (2.0, 2.0)) -> None:
     """Each contact block of ``fine`` gets ``max_pressure``, ``max_von_mises`` and
-    ``estimated_error`` against ``coarse`` (a solution on a grid twice as coarse), or a null
-    estimate and ``estimate_note``. ``coarsest``, a third grid twice as coarse again, gives the
-    regions' sizes the three-grid estimate (solver.model.accuracy.three_grid_error)."""
+    ``estimated_error`` against ``coarse`` (a solution on a grid twice as coarse, or ``ratios[0]``
+    times), or a null estimate and ``estimate_note``. ``coarsest``, a third grid twice (or
+    ``ratios[1]`` times) as coarse again, gives the regions' sizes the three-grid estimate
+    (solver.model.accuracy.three_grid_error)."""
     for block in fine.contacts:
         block["max_pressure"] = contact_quantities(block).get("max_pressure")
         block["max_von_mises"] = max_von_mises(fine, block, dim)
@@ -181,7 +182,7 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
             block["estimated_error"] = relative_errors(
                 contact_quantities(block), contact_quantities(other, like=block), orders_for(block),
                 coarsest=contact_quantities(third) if third is not None else None, order_range=span,
-                size_share=peak_size_share(block))
+                size_share=peak_size_share(block), ratios=ratios)
             block.pop("estimate_note", None)
         else:
             block["estimated_error"] = None
@@ -384,21 +385,47 @@ def _with_zones(problem: Problem, zones: dict[str, list]) -> Problem:
     return dataclasses.replace(problem, bodies=bodies)
 
 
-def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None) -> tuple[Problem, str]:
-    """The next rung of the accuracy ladder and how it was refined: around the contacts when the
-    largest estimated error is a contact quantity the region's cells govern (its sizes, the peak
-    pressure, the subsurface stress); when it is the normal force, whose error the far field
-    carries too, the far field graded about the contacts (:func:`graded_around_contacts`) if it
-    is not yet, else (or when a region is unknown) every cell halved."""
-    if worst not in _FAR_FIELD:
-        local = refined_around_contacts(problem, solution)
-        if local is not None:
-            return local, "contact"
-    else:
+def rung_ratio(solution: IBFEMSolution, target: float) -> float:
+    """How many times smaller a rung's cells must be than ``solution``'s for every contact's
+    estimated errors to fall below ``target`` with a margin (solver.model.accuracy.
+    refinement_ratio, each quantity at the order its estimate took); the largest over the
+    contacts."""
+    ratios = [refinement_ratio(block.get("estimated_error") or {}, orders_for(block), target)
+              for block in solution.contacts]
+    return max(ratios, default=2.0)
+
+
+def _cheaper(first: Problem, second: Problem) -> bool:
+    """Whether ``first`` is estimated to need no more memory than ``second`` (solver.model.
+    estimate: in 2D the dofs, in 3D also the condensed contact block and the factorisation's work
+    space about the finest zone, which set a 3D contact solve's time as well as its memory)."""
+    return estimate_size(first).memory <= estimate_size(second).memory
+
+
+def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None,
+               target: float | None = None) -> tuple[Problem, str, float]:
+    """The next rung of the accuracy ladder, how it was refined and by what ratio (how many times
+    smaller its refined cells are). When the largest estimated error is the normal force, whose
+    error the far field carries too, the far field graded about the contacts
+    (:func:`graded_around_contacts`) if it is not yet. Otherwise every cell made smaller by the
+    ratio the estimates ask for (:func:`rung_ratio` against ``target``; 2 without one), or, when
+    the largest error is a quantity the region's cells govern (its sizes, the peak pressure, the
+    subsurface stress), the contact zone one level deeper around the contacts
+    (:func:`refined_around_contacts`) where that is estimated to cost no more (in 2D the added
+    zone is a small part of the grid; in 3D halving the contact's cells quadruples the dense
+    condensed block, and a smaller ratio everywhere can be cheaper)."""
+    if worst in _FAR_FIELD:
         graded = graded_around_contacts(problem, solution)
         if graded is not None:
-            return graded, "far field"
-    return coarser(problem, 0.5), "everywhere"
+            return graded, "far field", 2.0
+        local = None
+    else:
+        local = refined_around_contacts(problem, solution)
+    ratio = 2.0 if target is None else rung_ratio(solution, target)
+    everywhere = coarser(problem, 1.0 / ratio)
+    if local is not None and (ratio >= 2.0 or _cheaper(local, everywhere)):
+        return local, "contact", 2.0
+    return everywhere, "everywhere", ratio
 
 
 #: under an accuracy target the stick zone's iteration stops within this share of the target in c/a
@@ -440,28 +467,31 @@ def _carry_far_field(solution: IBFEMSolution, previous: IBFEMSolution, far: bool
                 now[key] = then[key]
 
 
-def _rung(problem: Problem, solution: IBFEMSolution, seconds: float, refined: str = "scene") -> dict:
+def _rung(problem: Problem, solution: IBFEMSolution, seconds: float, refined: str = "scene",
+          ratio: float | None = None) -> dict:
     errors = [largest_error(c.get("estimated_error") or {}) for c in solution.contacts]
     worst = max(errors, key=lambda e: e[1], default=(None, math.nan))
     return {"element_sizes": {b.name: b.element_size for b in problem.bodies},
             "dofs": int(sum(v.get("dofs", 0) for v in solution.body_info.values())),
             "largest_error": worst[1] if worst[0] is not None else None, "quantity": worst[0],
-            "converged": bool(solution.converged), "wall_s": seconds, "refined": refined}
+            "converged": bool(solution.converged), "wall_s": seconds, "refined": refined, "ratio": ratio}
 
 
 def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = None,
                       max_rungs: int = 6) -> tuple[IBFEMSolution, dict]:
     """Solve ``problem`` on its own grid and on one twice as coarse, then refine until the
-    estimated relative error of every contact quantity is below ``problem.options.accuracy``:
-    around the contact regions found (one level deeper within 1.5 times each region's extent:
-    :func:`refined_around_contacts`) while the largest error is a size, the peak pressure or the
-    subsurface stress; while it is the normal force the far field graded about the contacts
-    (:func:`graded_around_contacts`) and, once graded, every cell halved (element sizes halved,
-    zones kept). Each new rung's estimate takes the previous rung as its coarse partner, so every rung
-    is solved once; a rung refined around the contacts keeps the previous rung's estimate of the
-    normal force where that is larger (its far field was not refined). Each contact's stick-zone
-    tolerance is tightened to a tenth of the target. Stops, saying
-    why, when a rung does not converge, when the next rung would not fit in memory
+    estimated relative error of every contact quantity is below ``problem.options.accuracy``
+    (:func:`_next_rung`): while the largest error is the normal force, the far field graded about
+    the contacts (:func:`graded_around_contacts`) once; otherwise every cell made smaller by the
+    ratio r the estimates ask for (each estimate scaled by r^-p to a share of the target:
+    :func:`rung_ratio`; element sizes divided by r, zones kept), or the contact zone one level
+    deeper within 1.5 times each region's extent (:func:`refined_around_contacts`) where the
+    largest error is a contact quantity and that is estimated to cost no more. Each new rung's
+    estimate takes the previous rung as its coarse partner, with the rung's ratio in
+    Richardson's formula, so every rung is solved once; a 2D rung refined around the contacts
+    keeps the previous rung's estimate of the normal force where that is larger (its far field
+    was not refined). Each contact's stick-zone tolerance is tightened to a tenth of the target.
+    Stops, saying why, when a rung does not converge, when the next rung would not fit in memory
     (solver.model.estimate) or after ``max_rungs`` rungs. Returns the last solution (with its
     estimates) and the record of the ladder ({target, reached, rungs, note})."""
     target = float(problem.options.accuracy)
@@ -473,14 +503,14 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
     if fine is None:
         raise ValueError(fine_note)
     _add_estimates(fine, coarse, problem.dim, note, coarsest=_coarsest(problem, 2.0, note))
-    partner = coarse if note is None else None
+    partner, ratio = (coarse if note is None else None), 2.0
     rungs = [_rung(problem, fine, time.perf_counter() - t)]
     note = fine_note
     while note is None and not (rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target):
         if len(rungs) >= max_rungs:
             note = f"stopped after {max_rungs} rungs"
             break
-        finer, refined = _next_rung(problem, fine, rungs[-1]["quantity"])
+        finer, refined, step = _next_rung(problem, fine, rungs[-1]["quantity"], target)
         size = estimate_size(finer)
         if size.memory > 0.5 * available_memory():
             note = f"the next grid ({size}) would not fit in half the machine's memory"
@@ -490,10 +520,10 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         solution, note = _solve_quietly(finer)
         if solution is None:
             break
-        _add_estimates(solution, fine, problem.dim, note, coarsest=partner)
+        _add_estimates(solution, fine, problem.dim, note, coarsest=partner, ratios=(step, ratio))
         if refined in ("contact", "far field"):
             _carry_far_field(solution, fine, far=refined == "contact")
-        problem, fine, partner = finer, solution, fine
-        rungs.append(_rung(problem, fine, time.perf_counter() - t, refined))
+        problem, fine, partner, ratio = finer, solution, fine, step
+        rungs.append(_rung(problem, fine, time.perf_counter() - t, refined, step))
     reached = rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target
     return fine, {"target": target, "reached": bool(reached), "rungs": rungs, "note": note}

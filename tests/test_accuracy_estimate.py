@@ -213,13 +213,52 @@ def test_rung_around_the_contact_covers_the_region_one_level_deeper():
         assert finest_size_at(body, np.zeros(2)) == pytest.approx(2.0 ** COARSER_LEVELS * finest_size_at(rung, np.zeros(2)))
     # a normal force error is the far field's too: that rung grades the far field about the
     # contact, and once it is graded halves every cell
-    finer, how = _next_rung(problem, SimpleNamespace(contacts=[block]), "normal_force")
+    finer, how, _ = _next_rung(problem, SimpleNamespace(contacts=[block]), "normal_force")
     assert how == "far field"
-    finer, how = _next_rung(finer, SimpleNamespace(contacts=[block]), "normal_force")
-    assert how == "everywhere" and all(f.element_size == 0.5 * b.element_size for f, b in zip(finer.bodies, problem.bodies))
+    finer, how, ratio = _next_rung(finer, SimpleNamespace(contacts=[block]), "normal_force")
+    assert how == "everywhere" and ratio == 2.0
+    assert all(f.element_size == 0.5 * b.element_size for f, b in zip(finer.bodies, problem.bodies))
     # a contact without a region to refine around: every cell halved as well
     assert refined_around_contacts(problem, SimpleNamespace(contacts=[{"point": None}])) is None
     assert _next_rung(problem, SimpleNamespace(contacts=[{"point": None}]), "half_width")[1] == "everywhere"
+
+
+def test_rung_ratio_scales_each_estimate_by_h_to_its_order():
+    # an estimate E at order p falls like h^p: the cells r = (E / (share target))^(1/p) times
+    # smaller bring it to that share of the target; the largest need over the quantities decides
+    from ibfem.solver.model.accuracy import RATIO_RANGE, TARGET_SHARE, refinement_ratio
+    target = 0.002
+    errors = {"semi_axes": [0.0038, 0.0030], "max_von_mises": 0.0053, "normal_force": 0.001, "max_pressure": None}
+    r = refinement_ratio(errors, ORDERS, target)
+    assert r == pytest.approx((0.0053 / (TARGET_SHARE * target)) ** 0.5, rel=1e-12)
+    assert 0.0053 * r ** -2 == pytest.approx(TARGET_SHARE * target)  # the worst lands on the share
+    assert 0.0038 * r ** -1.5 < TARGET_SHARE * target  # the others below it
+    # the sizes' slower order can need more than a larger error at order 2
+    assert refinement_ratio({"half_width": 0.004, "max_pressure": 0.0045}, ORDERS, target) == pytest.approx(
+        (0.004 / (TARGET_SHARE * target)) ** (1 / 1.5), rel=1e-12)
+    # bounded: never below RATIO_RANGE[0] (Richardson's r^p - 1 would magnify the scatter), never
+    # above one level; a quantity without an order (a corner's singular peak) does not count
+    assert refinement_ratio({"normal_force": 0.00161}, ORDERS, target) == RATIO_RANGE[0]
+    assert refinement_ratio({"normal_force": 0.05}, ORDERS, target) == RATIO_RANGE[1]
+    assert refinement_ratio({"max_pressure": 0.05}, {"max_pressure": None}, target) == RATIO_RANGE[0]
+
+
+@pytest.mark.parametrize("ratios", [(1.6, 2.0), (2.0, 1.6), (1.3, 1.8)])
+def test_richardson_with_any_ratio_of_the_cells(ratios):
+    # q_h = q + C h^p on grids whose cells differ by r1 and then r2: the two-grid estimate with
+    # r1 and the three-grid estimate's observed order are exact
+    q, c, h = 0.0452, 0.03, 0.004
+    r1, r2 = ratios
+    for p in (1.2, 1.5, 1.9):
+        grids = [q + c * (k * h) ** p for k in (1.0, r1, r1 * r2)]
+        exact = c * h ** p / grids[0]
+        assert three_grid_error(*grids, 1.5, ratios=ratios) == pytest.approx(exact, rel=1e-9)
+        est = relative_errors({"half_width": grids[0]}, {"half_width": grids[1]}, {"half_width": p}, ratios=ratios)
+        assert est["half_width"] == pytest.approx(exact, rel=1e-9)
+    # faster than the range (order 3): the coarser pair's difference carried down at order 2
+    grids = [q - c * (k * h) ** 3 for k in (1.0, r1, r1 * r2)]
+    carried = (grids[1] - grids[2]) / ((r2 ** 2 - 1.0) * r1 ** 2)
+    assert three_grid_error(*grids, 1.5, ratios=ratios) == pytest.approx(abs(carried / grids[0]), rel=1e-9)
 
 
 def test_rung_around_the_contact_keeps_the_far_field_estimate():
