@@ -22,7 +22,8 @@ from .fem.bodies import discretise
 from .fem.space import body_info
 from .model.accuracy import (COMPLETE_END_ORDER_RANGE, SIZE_ORDER_RANGE, complementary_energy_density, contact_quantities,
                              far_field_force_error, has_complete_end,
-                             largest_error, orders_for, peak_size_share, refinement_ratio, relative_errors)
+                             largest_error, orders_for, peak_size_share, refinement_ratio, relative_errors,
+                             size_orders)
 from .model.estimate import available_memory, estimate_size
 from .model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .model.resolve import resolve_problem
@@ -163,12 +164,14 @@ def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
 
 
 def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, note: str | None,
-                   coarsest: IBFEMSolution | None = None, ratios: tuple[float, float] = (2.0, 2.0)) -> None:
+                   coarsest: IBFEMSolution | None = None, ratios: tuple[float, float] = (2.0, 2.0)) -> list[dict]:
     """Each contact block of ``fine`` gets ``max_pressure``, ``max_von_mises`` and
     ``estimated_error`` against ``coarse`` (a solution on a grid twice as coarse, or ``ratios[0]``
     times), or a null estimate and ``estimate_note``. ``coarsest``, a third grid twice (or
     ``ratios[1]`` times) as coarse again, gives the regions' sizes the three-grid estimate
-    (solver.model.accuracy.three_grid_error)."""
+    (solver.model.accuracy.three_grid_error). Returns each contact's sizes' observed orders on
+    the three grids (solver.model.accuracy.size_orders; empty without a third grid)."""
+    observed: list[dict] = []
     for block in fine.contacts:
         block["max_pressure"] = contact_quantities(block).get("max_pressure")
         block["max_von_mises"] = max_von_mises(fine, block, dim)
@@ -179,16 +182,20 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
                 other = dict(other, max_von_mises=max_von_mises(coarse, other, dim))
             third = coarsest.contacts[k] if coarsest is not None and k < len(coarsest.contacts) else None
             span = COMPLETE_END_ORDER_RANGE if has_complete_end(block) else SIZE_ORDER_RANGE
-            block["estimated_error"] = relative_errors(
-                contact_quantities(block), contact_quantities(other, like=block), orders_for(block),
-                coarsest=contact_quantities(third) if third is not None else None, order_range=span,
-                size_share=peak_size_share(block), ratios=ratios)
+            grids = [contact_quantities(block), contact_quantities(other, like=block),
+                     contact_quantities(third) if third is not None else None]
+            block["estimated_error"] = relative_errors(*grids[:2], orders_for(block), coarsest=grids[2],
+                                                       order_range=span, size_share=peak_size_share(block),
+                                                       ratios=ratios)
             block.pop("estimate_note", None)
+            observed.append(size_orders(*grids, span, ratios) if grids[2] is not None else {})
         else:
             block["estimated_error"] = None
             block["estimate_note"] = note or "the coarser grid found no such contact"
+            observed.append({})
     if dim == 3:
         _add_far_field(fine)
+    return observed
 
 
 #: Gauss points per axis of each cell for the energy error (2: exact for the trilinear field)
@@ -385,13 +392,15 @@ def _with_zones(problem: Problem, zones: dict[str, list]) -> Problem:
     return dataclasses.replace(problem, bodies=bodies)
 
 
-def rung_ratio(solution: IBFEMSolution, target: float) -> float:
+def rung_ratio(solution: IBFEMSolution, target: float, observed: list[dict] | None = None) -> float:
     """How many times smaller a rung's cells must be than ``solution``'s for every contact's
     estimated errors to fall below ``target`` with a margin (solver.model.accuracy.
-    refinement_ratio, each quantity at the order its estimate took); the largest over the
+    refinement_ratio), each quantity at the order its estimate took, the sizes at their order
+    ``observed`` on three grids where given (:func:`_add_estimates`); the largest over the
     contacts."""
-    ratios = [refinement_ratio(block.get("estimated_error") or {}, orders_for(block), target)
-              for block in solution.contacts]
+    observed = observed or [{}] * len(solution.contacts)
+    ratios = [refinement_ratio(block.get("estimated_error") or {}, {**orders_for(block), **seen}, target)
+              for block, seen in zip(solution.contacts, observed)]
     return max(ratios, default=2.0)
 
 
@@ -403,7 +412,7 @@ def _cheaper(first: Problem, second: Problem) -> bool:
 
 
 def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None,
-               target: float | None = None) -> tuple[Problem, str, float]:
+               target: float | None = None, observed: list[dict] | None = None) -> tuple[Problem, str, float]:
     """The next rung of the accuracy ladder, how it was refined and by what ratio (how many times
     smaller its refined cells are). When the largest estimated error is the normal force, whose
     error the far field carries too, the far field graded about the contacts
@@ -421,7 +430,7 @@ def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None,
         local = None
     else:
         local = refined_around_contacts(problem, solution)
-    ratio = 2.0 if target is None else rung_ratio(solution, target)
+    ratio = 2.0 if target is None else rung_ratio(solution, target, observed)
     everywhere = coarser(problem, 1.0 / ratio)
     if local is not None and (ratio >= 2.0 or _cheaper(local, everywhere)):
         return local, "contact", 2.0
@@ -502,7 +511,7 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
     fine, fine_note = _solve_quietly(problem)
     if fine is None:
         raise ValueError(fine_note)
-    _add_estimates(fine, coarse, problem.dim, note, coarsest=_coarsest(problem, 2.0, note))
+    observed = _add_estimates(fine, coarse, problem.dim, note, coarsest=_coarsest(problem, 2.0, note))
     partner, ratio = (coarse if note is None else None), 2.0
     rungs = [_rung(problem, fine, time.perf_counter() - t)]
     note = fine_note
@@ -510,7 +519,7 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         if len(rungs) >= max_rungs:
             note = f"stopped after {max_rungs} rungs"
             break
-        finer, refined, step = _next_rung(problem, fine, rungs[-1]["quantity"], target)
+        finer, refined, step = _next_rung(problem, fine, rungs[-1]["quantity"], target, observed)
         size = estimate_size(finer)
         if size.memory > 0.5 * available_memory():
             note = f"the next grid ({size}) would not fit in half the machine's memory"
@@ -520,7 +529,9 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         solution, note = _solve_quietly(finer)
         if solution is None:
             break
-        _add_estimates(solution, fine, problem.dim, note, coarsest=partner, ratios=(step, ratio))
+        seen = _add_estimates(solution, fine, problem.dim, note, coarsest=partner, ratios=(step, ratio))
+        # a rung that graded only the far field kept the contact's cells: its sizes' orders are the last rung's
+        observed = observed if refined == "far field" else seen
         if refined in ("contact", "far field"):
             _carry_far_field(solution, fine, far=refined == "contact")
         problem, fine, partner, ratio = finer, solution, fine, step

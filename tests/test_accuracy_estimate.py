@@ -345,3 +345,21 @@ def test_partial_slip_sphere_estimates_within_a_factor_two_of_theory():
     for key, error in true.items():
         value = estimated[key][0] if isinstance(estimated[key], list) else estimated[key]
         assert 0.5 <= value / error <= 2.0, (key, value, error)
+
+
+def test_observed_orders_of_the_sizes_with_any_ratio():
+    # three grids of q + C h^p with cells differing by (r1, r2): the order is recovered; clamped to
+    # the range; a list's slowest element; none where the differences change sign
+    from ibfem.solver.model.accuracy import observed_order, size_orders
+    q, c, h = 0.0452, 0.03, 0.004
+    for ratios in [(2.0, 2.0), (1.7, 2.0), (1.4, 1.6)]:
+        grids = [q + c * (k * h) ** 1.7 for k in (1.0, ratios[0], ratios[0] * ratios[1])]
+        assert observed_order(*grids, (1.0, 2.0), ratios) == pytest.approx(1.7, abs=1e-9)
+        fast = [q + c * (k * h) ** 2.6 for k in (1.0, ratios[0], ratios[0] * ratios[1])]
+        assert observed_order(*fast, (1.0, 2.0), ratios) == 2.0
+        slow = [q + c * (k * h) ** 0.6 for k in (1.0, ratios[0], ratios[0] * ratios[1])]
+        assert observed_order(*slow, (1.0, 2.0), ratios) == 1.0
+        three = [{"semi_axes": [g, s], "normal_force": 1.0} for g, s in zip(grids, slow)]
+        assert size_orders(*three, ratios=ratios) == {"semi_axes": 1.0}
+    assert observed_order(q + 1e-6, q, q + 1e-6, (1.0, 2.0), (1.7, 2.0)) is None
+    assert size_orders({"half_width": q + 1e-6}, {"half_width": q}, {"half_width": q + 1e-6}) == {}

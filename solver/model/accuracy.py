@@ -50,7 +50,7 @@ import numpy as np
 
 __all__ = ["complementary_energy_density", "far_field_force_error", "HERTZ_SHAPE_PEAK_SIZE_SHARE", "ORDERS", "peak_size_share", "WARN_ABOVE", "SIZE_ORDER_RANGE", "contact_quantities", "has_complete_end", "observed_order",
            "orders_for", "relative_errors", "largest_error", "three_grid_error", "refinement_ratio", "TARGET_SHARE",
-           "RATIO_RANGE"]
+           "RATIO_RANGE", "size_orders"]
 
 #: convergence order of each quantity on Q1 elements
 ORDERS = {"half_width": 1.5, "stick_half_width": 1.5, "semi_axes": 1.5, "stick_semi_axes": 1.5,
@@ -126,15 +126,23 @@ def has_complete_end(block: Mapping[str, Any]) -> bool:
 
 
 def observed_order(fine: float, coarse: float, coarsest: float,
-                   bounds: tuple[float, float] = COMPLETE_END_ORDER_RANGE) -> float | None:
+                   bounds: tuple[float, float] = COMPLETE_END_ORDER_RANGE,
+                   ratios: tuple[float, float] = (2.0, 2.0)) -> float | None:
     """The observed order log2(|q_2h - q_4h| / |q_h - q_2h|) of a quantity on three grids, each
-    twice as fine as the one before, clamped to ``bounds``; None when the two differences do not
-    have one sign (the grids are not yet in the range where q_h = q + C h^p) or vanish."""
+    twice as fine as the one before (with ``ratios`` r1, r2 between them: the p whose
+    r1^p (r2^p - 1) / (r1^p - 1) is that quotient), clamped to ``bounds``; None when the two
+    differences do not have one sign (the grids are not yet in the range where q_h = q + C h^p)
+    or vanish."""
     d_fine, d_coarse = fine - coarse, coarse - coarsest
     values = (fine, coarse, coarsest)
     if not all(math.isfinite(v) for v in values) or d_fine * d_coarse <= 0.0:
         return None
-    return float(np.clip(math.log2(d_coarse / d_fine), *bounds))
+    quotient, (lo, hi) = d_coarse / d_fine, bounds
+    if quotient <= _difference_ratio(lo, ratios):
+        return float(lo)
+    if quotient >= _difference_ratio(hi, ratios):
+        return float(hi)
+    return float(_order_between(quotient, ratios, lo, hi))
 
 
 def _profile_max(profile: Any) -> float:
@@ -279,11 +287,27 @@ def relative_errors(fine: Mapping[str, Any], coarse: Mapping[str, Any],
 #: estimate, scaled by the cells' ratio to the power of its order, lands within that margin below
 #: the target, so that one rung reaches it although the estimate of the next rung scatters about
 #: that prediction (its grid's cut cells lie elsewhere)
-TARGET_SHARE = 0.8
+TARGET_SHARE = 0.9
 #: the range of a rung's refinement ratio (how many times smaller its cells are than the rung
 #: before): at least 1.25, below which Richardson's denominator r^p - 1 (0.56 at order 2) would
 #: magnify the grids' scatter into the estimate; at most 2, one octree / quadtree level
 RATIO_RANGE = (1.25, 2.0)
+
+
+def size_orders(fine: Mapping[str, Any], coarse: Mapping[str, Any], coarsest: Mapping[str, Any],
+                bounds: tuple[float, float] = SIZE_ORDER_RANGE, ratios: tuple[float, float] = (2.0, 2.0)) -> dict[str, float]:
+    """The observed order of each size (:func:`observed_order` within ``bounds``; of a list the
+    slowest element's) of the quantities on three grids (:func:`contact_quantities`), where its
+    two differences have one sign."""
+    out = {}
+    for key in _SIZES:
+        if not all(isinstance(q.get(key), (float, list)) for q in (fine, coarse, coarsest)):
+            continue
+        triples = zip(*(q[key] if isinstance(q[key], list) else [q[key]] for q in (fine, coarse, coarsest)))
+        orders = [observed_order(float(f), float(c), float(t), bounds, ratios) for f, c, t in triples]
+        if orders and all(o is not None for o in orders):
+            out[key] = min(orders)
+    return out
 
 
 def refinement_ratio(errors: Mapping[str, Any], orders: Mapping[str, float | None], target: float,
