@@ -133,7 +133,10 @@ def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
     """The largest von Mises stress below the contact, in both bodies: 2D on a grid of points
     within 1.5 a along the tangent and from 0.05 a to 2 a deep along the normal on either side;
     3D on the normal through the contact point (where Hertz's maximum lies), at the same depths
-    (a quarter or half model's symmetry planes: the line moved off them by 1e-6 a into the model)."""
+    (a quarter or half model's symmetry planes: the line moved off them by 1e-6 a into the model).
+    The largest sample is then refined between its neighbours by ``samples`` points along each
+    direction sampled: the depths alone, 21 of them from 0.05 a to 2 a, are 1.2 times apart, and
+    Hertz's sphere's stress sampled there misses its peak (0.620 p0 at 0.48 a) by 0.10 %."""
     if block.get("point") is None or block.get("normal") is None:
         return math.nan
     point = np.asarray(block.get("point"), dtype=float).reshape(dim)
@@ -146,21 +149,37 @@ def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
     if dim == 2:
         tangent = np.array([-normal[1], normal[0]])
         along = np.linspace(-1.5, 1.5, samples) * a
-        pts = (point + along[:, None, None] * tangent + depth[None, :, None] * normal).reshape(-1, 2)
-        candidates = [pts]
+        axes = [along, depth]
+        lines = lambda t, d: [point + t[:, None, None] * tangent + d[None, :, None] * normal]  # noqa: E731
     else:
-        axes = np.asarray(block.get("axes"), dtype=float).reshape(2, 3)
-        line = point + depth[:, None] * normal
-        candidates = [line + 1e-6 * a * (i * axes[0] + j * axes[1]) for i in (1, -1) for j in (1, -1)]
-    best = math.nan
-    for pts in candidates:
+        frame = np.asarray(block.get("axes"), dtype=float).reshape(2, 3)
+        axes = [depth]
+        lines = lambda d: [point + d[:, None] * normal + 1e-6 * a * (i * frame[0] + j * frame[1])  # noqa: E731
+                           for i in (1, -1) for j in (1, -1)]
+    best, where = _largest_von_mises(solution, lines(*axes))
+    if where is None:
+        return best
+    finer = [np.linspace(x[max(k - 1, 0)], x[min(k + 1, len(x) - 1)], samples) for x, k in zip(axes, where)]
+    return max(best, _largest_von_mises(solution, lines(*finer))[0])
+
+
+def _largest_von_mises(solution, candidates: list) -> tuple[float, tuple | None]:
+    """The largest von Mises stress at the points of ``candidates`` (arrays of points, the last
+    axis the coordinates) inside a body, and the index (without the last axis) of where it lies in
+    its array; (nan, None) where none is inside."""
+    best, where = math.nan, None
+    for grid in candidates:
+        pts = grid.reshape(-1, grid.shape[-1])
         inside = np.asarray(solution.body_at(pts)) >= 0
-        if inside.any():
-            vm = np.asarray(solution.von_mises(pts[inside]), dtype=float)
-            vm = vm[np.isfinite(vm)]
-            if len(vm):
-                best = float(vm.max()) if not best == best else max(best, float(vm.max()))
-    return best
+        if not inside.any():
+            continue
+        vm = np.full(len(pts), -np.inf)
+        vm[inside] = np.asarray(solution.von_mises(pts[inside]), dtype=float)
+        vm[~np.isfinite(vm)] = -np.inf
+        k = int(np.argmax(vm))
+        if np.isfinite(vm[k]) and not vm[k] <= best:
+            best, where = float(vm[k]), np.unravel_index(k, grid.shape[:-1])
+    return best, where
 
 
 def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, note: str | None,
