@@ -392,3 +392,28 @@ def test_largest_von_mises_reads_hertz_s_peak(dim):
         block = {"point": [0.0, 0.0], "normal": [0.0, 1.0], "half_width": 1.0}
     solution = SimpleNamespace(body_at=lambda pts: np.zeros(len(pts), dtype=int), von_mises=von_mises)
     assert max_von_mises(solution, block, dim) == pytest.approx(peak, rel=1e-4)
+
+
+def test_next_rung_takes_the_cheaper_of_the_ratio_everywhere_and_the_contact_level():
+    # the 3D sphere on a flat, its estimates those of its graded second rung on the 0.2 % ladder:
+    # the von Mises stress asks for cells sqrt(0.53 / 0.18) times smaller; halving the contact's
+    # cells would quadruple the dense contact block, and scaling every cell by that ratio is
+    # estimated smaller: every cell scaled. In 2D the zone one level deeper is the smaller.
+    from types import SimpleNamespace
+
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.model.accuracy import TARGET_SHARE
+    from ibfem.solver.model.resolve import resolve_problem
+    from ibfem.solver.solving import _next_rung, graded_around_contacts
+    block = {"point": [0.0, 0.0, 0.0], "semi_axes": [0.0451, 0.0451],
+             "estimated_error": {"semi_axes": [0.0038, 0.0038], "normal_force": 0.0042, "max_von_mises": 0.0053}}
+    scene = resolve_problem(load_scene(ROOT / "examples" / "solid" / "sphere_on_flat.toml").problem)
+    problem = graded_around_contacts(scene, SimpleNamespace(contacts=[block]))
+    finer, how, ratio = _next_rung(problem, SimpleNamespace(contacts=[block]), "max_von_mises", 0.002)
+    assert how == "everywhere" and ratio == pytest.approx((0.0053 / (TARGET_SHARE * 0.002)) ** 0.5, rel=1e-12)
+    assert all(f.element_size == pytest.approx(b.element_size / ratio) and f.refinements == b.refinements
+               for f, b in zip(finer.bodies, problem.bodies))
+    flat = _resolved_mesh_convergence()
+    block2d = {"point": [0.0, 0.0], "half_width": 0.03, "estimated_error": {"half_width": 0.0043}}
+    finer, how, ratio = _next_rung(flat, SimpleNamespace(contacts=[block2d]), "half_width", 0.002)
+    assert how == "contact" and ratio == 2.0
