@@ -356,7 +356,7 @@ def refined_around_contacts(problem: Problem, solution: IBFEMSolution) -> Proble
     found: for each body in contact a zone one level deeper than its deepest zone, centred on the
     contact point, of radius REGION_MARGIN times the region's extent plus REGION_MARGIN_CELLS new
     finest cells. The rest of the grid is kept. None when a contact has no region to refine
-    around (then the ladder halves every cell instead). The zone is a contact zone, as the
+    around (then the ladder refines every cell instead). The zone is a contact zone, as the
     scene's ``around = "contact"`` ones: the passes that find a region on a grid a few levels
     shallower (solver.contact.sizing, .follow, .grow) take it shallower too. As a zone of its own
     (it was) the sphere on a flat's third rung on the 0.2 % ladder solved its region-sizing pass
@@ -477,7 +477,7 @@ def _carry_far_field(solution: IBFEMSolution, previous: IBFEMSolution, far: bool
     own estimate already holds the far field's share (3D: :func:`_add_far_field`; carried, rung
     2's estimate of N on the sphere on a flat, 0.42 % of which 0.27 % was the difference of two
     rungs whose far fields differed, kept a rung at 0.175 % from the converged N above a target
-    of 0.2 % and asked for every cell halved); with ``far`` false,
+    of 0.2 % and asked for a fourth rung); with ``far`` false,
     after a rung that graded only the far field, each of the other quantities' (sizes, peak
     pressure, subsurface stress: the contact's cells were kept, and the two rungs' difference
     would not see their error)."""
