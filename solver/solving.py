@@ -416,10 +416,10 @@ def rung_ratio(solution: IBFEMSolution, target: float, observed: list[dict] | No
     estimated errors to fall below ``target`` with a margin (solver.model.accuracy.
     refinement_ratio), each quantity at the order its estimate took, the sizes at their order
     ``observed`` on three grids where given (:func:`_add_estimates`); the largest over the
-    contacts."""
+    contacts; 2 (one level) where no contact has an estimate."""
     observed = observed or [{}] * len(solution.contacts)
-    ratios = [refinement_ratio(block.get("estimated_error") or {}, {**orders_for(block), **seen}, target)
-              for block, seen in zip(solution.contacts, observed)]
+    ratios = [refinement_ratio(block["estimated_error"], {**orders_for(block), **seen}, target)
+              for block, seen in zip(solution.contacts, observed) if block.get("estimated_error")]
     return max(ratios, default=2.0)
 
 

@@ -417,3 +417,6 @@ def test_next_rung_takes_the_cheaper_of_the_ratio_everywhere_and_the_contact_lev
     block2d = {"point": [0.0, 0.0], "half_width": 0.03, "estimated_error": {"half_width": 0.0043}}
     finer, how, ratio = _next_rung(flat, SimpleNamespace(contacts=[block2d]), "half_width", 0.002)
     assert how == "contact" and ratio == 2.0
+    # no estimate to scale (a coarse partner without the contact): one level, as before
+    from ibfem.solver.solving import rung_ratio
+    assert rung_ratio(SimpleNamespace(contacts=[{"estimated_error": None}]), 0.002) == 2.0
