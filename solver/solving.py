@@ -554,6 +554,7 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         if refined in ("contact", "far field"):
             _carry_far_field(solution, fine, far=refined == "contact")
         problem, fine, partner, ratio = finer, solution, fine, step
-        rungs.append(_rung(problem, fine, time.perf_counter() - t, refined, step))
+        # a graded far field has no one ratio (its estimate keeps Richardson's 2, as before)
+        rungs.append(_rung(problem, fine, time.perf_counter() - t, refined, None if refined == "far field" else step))
     reached = rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target
     return fine, {"target": target, "reached": bool(reached), "rungs": rungs, "note": note}
