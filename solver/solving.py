@@ -22,7 +22,8 @@ from .fem.bodies import discretise
 from .fem.space import body_info
 from .model.accuracy import (COMPLETE_END_ORDER_RANGE, SIZE_ORDER_RANGE, complementary_energy_density, contact_quantities,
                              far_field_force_error, has_complete_end,
-                             largest_error, orders_for, peak_size_share, relative_errors)
+                             largest_error, orders_for, peak_size_share, refinement_ratio, relative_errors,
+                             size_orders)
 from .model.estimate import available_memory, estimate_size
 from .model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .model.resolve import resolve_problem
@@ -132,7 +133,10 @@ def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
     """The largest von Mises stress below the contact, in both bodies: 2D on a grid of points
     within 1.5 a along the tangent and from 0.05 a to 2 a deep along the normal on either side;
     3D on the normal through the contact point (where Hertz's maximum lies), at the same depths
-    (a quarter or half model's symmetry planes: the line moved off them by 1e-6 a into the model)."""
+    (a quarter or half model's symmetry planes: the line moved off them by 1e-6 a into the model).
+    The largest sample is then refined between its neighbours by ``samples`` points along each
+    direction sampled: the depths alone, 21 of them from 0.05 a to 2 a, are 1.2 times apart, and
+    Hertz's sphere's stress sampled there misses its peak (0.620 p0 at 0.48 a) by 0.10 %."""
     if block.get("point") is None or block.get("normal") is None:
         return math.nan
     point = np.asarray(block.get("point"), dtype=float).reshape(dim)
@@ -145,29 +149,48 @@ def max_von_mises(solution, block: dict, dim: int, samples: int = 21) -> float:
     if dim == 2:
         tangent = np.array([-normal[1], normal[0]])
         along = np.linspace(-1.5, 1.5, samples) * a
-        pts = (point + along[:, None, None] * tangent + depth[None, :, None] * normal).reshape(-1, 2)
-        candidates = [pts]
+        axes = [along, depth]
+        lines = lambda t, d: [point + t[:, None, None] * tangent + d[None, :, None] * normal]  # noqa: E731
     else:
-        axes = np.asarray(block.get("axes"), dtype=float).reshape(2, 3)
-        line = point + depth[:, None] * normal
-        candidates = [line + 1e-6 * a * (i * axes[0] + j * axes[1]) for i in (1, -1) for j in (1, -1)]
-    best = math.nan
-    for pts in candidates:
+        frame = np.asarray(block.get("axes"), dtype=float).reshape(2, 3)
+        axes = [depth]
+        lines = lambda d: [point + d[:, None] * normal + 1e-6 * a * (i * frame[0] + j * frame[1])  # noqa: E731
+                           for i in (1, -1) for j in (1, -1)]
+    best, where = _largest_von_mises(solution, lines(*axes))
+    if where is None:
+        return best
+    finer = [np.linspace(x[max(k - 1, 0)], x[min(k + 1, len(x) - 1)], samples) for x, k in zip(axes, where)]
+    return max(best, _largest_von_mises(solution, lines(*finer))[0])
+
+
+def _largest_von_mises(solution, candidates: list) -> tuple[float, tuple | None]:
+    """The largest von Mises stress at the points of ``candidates`` (arrays of points, the last
+    axis the coordinates) inside a body, and the index (without the last axis) of where it lies in
+    its array; (nan, None) where none is inside."""
+    best, where = math.nan, None
+    for grid in candidates:
+        pts = grid.reshape(-1, grid.shape[-1])
         inside = np.asarray(solution.body_at(pts)) >= 0
-        if inside.any():
-            vm = np.asarray(solution.von_mises(pts[inside]), dtype=float)
-            vm = vm[np.isfinite(vm)]
-            if len(vm):
-                best = float(vm.max()) if not best == best else max(best, float(vm.max()))
-    return best
+        if not inside.any():
+            continue
+        vm = np.full(len(pts), -np.inf)
+        vm[inside] = np.asarray(solution.von_mises(pts[inside]), dtype=float)
+        vm[~np.isfinite(vm)] = -np.inf
+        k = int(np.argmax(vm))
+        if np.isfinite(vm[k]) and not vm[k] <= best:
+            best, where = float(vm[k]), np.unravel_index(k, grid.shape[:-1])
+    return best, where
 
 
 def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, note: str | None,
-                   coarsest: IBFEMSolution | None = None) -> None:
+                   coarsest: IBFEMSolution | None = None, ratios: tuple[float, float] = (2.0, 2.0)) -> list[dict]:
     """Each contact block of ``fine`` gets ``max_pressure``, ``max_von_mises`` and
-    ``estimated_error`` against ``coarse`` (a solution on a grid twice as coarse), or a null
-    estimate and ``estimate_note``. ``coarsest``, a third grid twice as coarse again, gives the
-    regions' sizes the three-grid estimate (solver.model.accuracy.three_grid_error)."""
+    ``estimated_error`` against ``coarse`` (a solution on a grid twice as coarse, or ``ratios[0]``
+    times), or a null estimate and ``estimate_note``. ``coarsest``, a third grid twice (or
+    ``ratios[1]`` times) as coarse again, gives the regions' sizes the three-grid estimate
+    (solver.model.accuracy.three_grid_error). Returns each contact's sizes' observed orders on
+    the three grids (solver.model.accuracy.size_orders; empty without a third grid)."""
+    observed: list[dict] = []
     for block in fine.contacts:
         block["max_pressure"] = contact_quantities(block).get("max_pressure")
         block["max_von_mises"] = max_von_mises(fine, block, dim)
@@ -178,16 +201,20 @@ def _add_estimates(fine: IBFEMSolution, coarse: IBFEMSolution | None, dim: int, 
                 other = dict(other, max_von_mises=max_von_mises(coarse, other, dim))
             third = coarsest.contacts[k] if coarsest is not None and k < len(coarsest.contacts) else None
             span = COMPLETE_END_ORDER_RANGE if has_complete_end(block) else SIZE_ORDER_RANGE
-            block["estimated_error"] = relative_errors(
-                contact_quantities(block), contact_quantities(other, like=block), orders_for(block),
-                coarsest=contact_quantities(third) if third is not None else None, order_range=span,
-                size_share=peak_size_share(block))
+            grids = [contact_quantities(block), contact_quantities(other, like=block),
+                     contact_quantities(third) if third is not None else None]
+            block["estimated_error"] = relative_errors(*grids[:2], orders_for(block), coarsest=grids[2],
+                                                       order_range=span, size_share=peak_size_share(block),
+                                                       ratios=ratios)
             block.pop("estimate_note", None)
+            observed.append(size_orders(*grids, span, ratios) if grids[2] is not None else {})
         else:
             block["estimated_error"] = None
             block["estimate_note"] = note or "the coarser grid found no such contact"
+            observed.append({})
     if dim == 3:
         _add_far_field(fine)
+    return observed
 
 
 #: Gauss points per axis of each cell for the energy error (2: exact for the trilinear field)
@@ -330,7 +357,7 @@ def refined_around_contacts(problem: Problem, solution: IBFEMSolution) -> Proble
     found: for each body in contact a zone one level deeper than its deepest zone, centred on the
     contact point, of radius REGION_MARGIN times the region's extent plus REGION_MARGIN_CELLS new
     finest cells. The rest of the grid is kept. None when a contact has no region to refine
-    around (then the ladder halves every cell instead). The zone is a contact zone, as the
+    around (then the ladder refines every cell instead). The zone is a contact zone, as the
     scene's ``around = "contact"`` ones: the passes that find a region on a grid a few levels
     shallower (solver.contact.sizing, .follow, .grow) take it shallower too. As a zone of its own
     (it was) the sphere on a flat's third rung on the 0.2 % ladder solved its region-sizing pass
@@ -385,21 +412,49 @@ def _with_zones(problem: Problem, zones: dict[str, list]) -> Problem:
     return dataclasses.replace(problem, bodies=bodies)
 
 
-def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None) -> tuple[Problem, str]:
-    """The next rung of the accuracy ladder and how it was refined: around the contacts when the
-    largest estimated error is a contact quantity the region's cells govern (its sizes, the peak
-    pressure, the subsurface stress); when it is the normal force, whose error the far field
-    carries too, the far field graded about the contacts (:func:`graded_around_contacts`) if it
-    is not yet, else (or when a region is unknown) every cell halved."""
-    if worst not in _FAR_FIELD:
-        local = refined_around_contacts(problem, solution)
-        if local is not None:
-            return local, "contact"
-    else:
+def rung_ratio(solution: IBFEMSolution, target: float, observed: list[dict] | None = None) -> float:
+    """How many times smaller a rung's cells must be than ``solution``'s for every contact's
+    estimated errors to fall below ``target`` with a margin (solver.model.accuracy.
+    refinement_ratio), each quantity at the order its estimate took, the sizes at their order
+    ``observed`` on three grids where given (:func:`_add_estimates`); the largest over the
+    contacts; 2 (one level) where no contact has an estimate."""
+    observed = observed or [{}] * len(solution.contacts)
+    ratios = [refinement_ratio(block["estimated_error"], {**orders_for(block), **seen}, target)
+              for block, seen in zip(solution.contacts, observed) if block.get("estimated_error")]
+    return max(ratios, default=2.0)
+
+
+def _cheaper(first: Problem, second: Problem) -> bool:
+    """Whether ``first`` is estimated to need no more memory than ``second`` (solver.model.
+    estimate: in 2D the dofs, in 3D also the condensed contact block and the factorisation's work
+    space about the finest zone, which set a 3D contact solve's time as well as its memory)."""
+    return estimate_size(first).memory <= estimate_size(second).memory
+
+
+def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None,
+               target: float | None = None, observed: list[dict] | None = None) -> tuple[Problem, str, float]:
+    """The next rung of the accuracy ladder, how it was refined and by what ratio (how many times
+    smaller its refined cells are). When the largest estimated error is the normal force, whose
+    error the far field carries too, the far field graded about the contacts
+    (:func:`graded_around_contacts`) if it is not yet. Otherwise every cell made smaller by the
+    ratio the estimates ask for (:func:`rung_ratio` against ``target``; 2 without one), or, when
+    the largest error is a quantity the region's cells govern (its sizes, the peak pressure, the
+    subsurface stress), the contact zone one level deeper around the contacts
+    (:func:`refined_around_contacts`) where that is estimated to cost no more (in 2D the added
+    zone is a small part of the grid; in 3D halving the contact's cells quadruples the dense
+    condensed block, and a smaller ratio everywhere can be cheaper)."""
+    if worst in _FAR_FIELD:
         graded = graded_around_contacts(problem, solution)
         if graded is not None:
-            return graded, "far field"
-    return coarser(problem, 0.5), "everywhere"
+            return graded, "far field", 2.0
+        local = None
+    else:
+        local = refined_around_contacts(problem, solution)
+    ratio = 2.0 if target is None else rung_ratio(solution, target, observed)
+    everywhere = coarser(problem, 1.0 / ratio)
+    if local is not None and (ratio >= 2.0 or _cheaper(local, everywhere)):
+        return local, "contact", 2.0
+    return everywhere, "everywhere", ratio
 
 
 #: under an accuracy target the stick zone's iteration stops within this share of the target in c/a
@@ -423,7 +478,7 @@ def _carry_far_field(solution: IBFEMSolution, previous: IBFEMSolution, far: bool
     own estimate already holds the far field's share (3D: :func:`_add_far_field`; carried, rung
     2's estimate of N on the sphere on a flat, 0.42 % of which 0.27 % was the difference of two
     rungs whose far fields differed, kept a rung at 0.175 % from the converged N above a target
-    of 0.2 % and asked for every cell halved); with ``far`` false,
+    of 0.2 % and asked for a fourth rung); with ``far`` false,
     after a rung that graded only the far field, each of the other quantities' (sizes, peak
     pressure, subsurface stress: the contact's cells were kept, and the two rungs' difference
     would not see their error)."""
@@ -441,28 +496,31 @@ def _carry_far_field(solution: IBFEMSolution, previous: IBFEMSolution, far: bool
                 now[key] = then[key]
 
 
-def _rung(problem: Problem, solution: IBFEMSolution, seconds: float, refined: str = "scene") -> dict:
+def _rung(problem: Problem, solution: IBFEMSolution, seconds: float, refined: str = "scene",
+          ratio: float | None = None) -> dict:
     errors = [largest_error(c.get("estimated_error") or {}) for c in solution.contacts]
     worst = max(errors, key=lambda e: e[1], default=(None, math.nan))
     return {"element_sizes": {b.name: b.element_size for b in problem.bodies},
             "dofs": int(sum(v.get("dofs", 0) for v in solution.body_info.values())),
             "largest_error": worst[1] if worst[0] is not None else None, "quantity": worst[0],
-            "converged": bool(solution.converged), "wall_s": seconds, "refined": refined}
+            "converged": bool(solution.converged), "wall_s": seconds, "refined": refined, "ratio": ratio}
 
 
 def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = None,
                       max_rungs: int = 6) -> tuple[IBFEMSolution, dict]:
     """Solve ``problem`` on its own grid and on one twice as coarse, then refine until the
-    estimated relative error of every contact quantity is below ``problem.options.accuracy``:
-    around the contact regions found (one level deeper within 1.5 times each region's extent:
-    :func:`refined_around_contacts`) while the largest error is a size, the peak pressure or the
-    subsurface stress; while it is the normal force the far field graded about the contacts
-    (:func:`graded_around_contacts`) and, once graded, every cell halved (element sizes halved,
-    zones kept). Each new rung's estimate takes the previous rung as its coarse partner, so every rung
-    is solved once; a rung refined around the contacts keeps the previous rung's estimate of the
-    normal force where that is larger (its far field was not refined). Each contact's stick-zone
-    tolerance is tightened to a tenth of the target. Stops, saying
-    why, when a rung does not converge, when the next rung would not fit in memory
+    estimated relative error of every contact quantity is below ``problem.options.accuracy``
+    (:func:`_next_rung`): while the largest error is the normal force, the far field graded about
+    the contacts (:func:`graded_around_contacts`) once; otherwise every cell made smaller by the
+    ratio r the estimates ask for (each estimate scaled by r^-p to a share of the target:
+    :func:`rung_ratio`; element sizes divided by r, zones kept), or the contact zone one level
+    deeper within 1.5 times each region's extent (:func:`refined_around_contacts`) where the
+    largest error is a contact quantity and that is estimated to cost no more. Each new rung's
+    estimate takes the previous rung as its coarse partner, with the rung's ratio in
+    Richardson's formula, so every rung is solved once; a 2D rung refined around the contacts
+    keeps the previous rung's estimate of the normal force where that is larger (its far field
+    was not refined). Each contact's stick-zone tolerance is tightened to a tenth of the target.
+    Stops, saying why, when a rung does not converge, when the next rung would not fit in memory
     (solver.model.estimate) or after ``max_rungs`` rungs. Returns the last solution (with its
     estimates) and the record of the ladder ({target, reached, rungs, note})."""
     target = float(problem.options.accuracy)
@@ -473,15 +531,15 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
     fine, fine_note = _solve_quietly(problem)
     if fine is None:
         raise ValueError(fine_note)
-    _add_estimates(fine, coarse, problem.dim, note, coarsest=_coarsest(problem, 2.0, note))
-    partner = coarse if note is None else None
+    observed = _add_estimates(fine, coarse, problem.dim, note, coarsest=_coarsest(problem, 2.0, note))
+    partner, ratio = (coarse if note is None else None), 2.0
     rungs = [_rung(problem, fine, time.perf_counter() - t)]
     note = fine_note
     while note is None and not (rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target):
         if len(rungs) >= max_rungs:
             note = f"stopped after {max_rungs} rungs"
             break
-        finer, refined = _next_rung(problem, fine, rungs[-1]["quantity"])
+        finer, refined, step = _next_rung(problem, fine, rungs[-1]["quantity"], target, observed)
         size = estimate_size(finer)
         if size.memory > 0.5 * available_memory():
             note = f"the next grid ({size}) would not fit in half the machine's memory"
@@ -491,10 +549,13 @@ def solve_to_accuracy(problem: Problem, progress: Callable[..., None] | None = N
         solution, note = _solve_quietly(finer)
         if solution is None:
             break
-        _add_estimates(solution, fine, problem.dim, note, coarsest=partner)
+        seen = _add_estimates(solution, fine, problem.dim, note, coarsest=partner, ratios=(step, ratio))
+        # a rung that graded only the far field kept the contact's cells: its sizes' orders are the last rung's
+        observed = observed if refined == "far field" else seen
         if refined in ("contact", "far field"):
             _carry_far_field(solution, fine, far=refined == "contact")
-        problem, fine, partner = finer, solution, fine
-        rungs.append(_rung(problem, fine, time.perf_counter() - t, refined))
+        problem, fine, partner, ratio = finer, solution, fine, step
+        # a graded far field has no one ratio (its estimate keeps Richardson's 2, as before)
+        rungs.append(_rung(problem, fine, time.perf_counter() - t, refined, None if refined == "far field" else step))
     reached = rungs[-1]["largest_error"] is not None and rungs[-1]["largest_error"] <= target
     return fine, {"target": target, "reached": bool(reached), "rungs": rungs, "note": note}

@@ -213,13 +213,52 @@ def test_rung_around_the_contact_covers_the_region_one_level_deeper():
         assert finest_size_at(body, np.zeros(2)) == pytest.approx(2.0 ** COARSER_LEVELS * finest_size_at(rung, np.zeros(2)))
     # a normal force error is the far field's too: that rung grades the far field about the
     # contact, and once it is graded halves every cell
-    finer, how = _next_rung(problem, SimpleNamespace(contacts=[block]), "normal_force")
+    finer, how, _ = _next_rung(problem, SimpleNamespace(contacts=[block]), "normal_force")
     assert how == "far field"
-    finer, how = _next_rung(finer, SimpleNamespace(contacts=[block]), "normal_force")
-    assert how == "everywhere" and all(f.element_size == 0.5 * b.element_size for f, b in zip(finer.bodies, problem.bodies))
+    finer, how, ratio = _next_rung(finer, SimpleNamespace(contacts=[block]), "normal_force")
+    assert how == "everywhere" and ratio == 2.0
+    assert all(f.element_size == 0.5 * b.element_size for f, b in zip(finer.bodies, problem.bodies))
     # a contact without a region to refine around: every cell halved as well
     assert refined_around_contacts(problem, SimpleNamespace(contacts=[{"point": None}])) is None
     assert _next_rung(problem, SimpleNamespace(contacts=[{"point": None}]), "half_width")[1] == "everywhere"
+
+
+def test_rung_ratio_scales_each_estimate_by_h_to_its_order():
+    # an estimate E at order p falls like h^p: the cells r = (E / (share target))^(1/p) times
+    # smaller bring it to that share of the target; the largest need over the quantities decides
+    from ibfem.solver.model.accuracy import RATIO_RANGE, TARGET_SHARE, refinement_ratio
+    target = 0.002
+    errors = {"semi_axes": [0.0038, 0.0030], "max_von_mises": 0.0053, "normal_force": 0.001, "max_pressure": None}
+    r = refinement_ratio(errors, ORDERS, target)
+    assert r == pytest.approx((0.0053 / (TARGET_SHARE * target)) ** 0.5, rel=1e-12)
+    assert 0.0053 * r ** -2 == pytest.approx(TARGET_SHARE * target)  # the worst lands on the share
+    assert 0.0038 * r ** -1.5 < TARGET_SHARE * target  # the others below it
+    # the sizes' slower order can need more than a larger error at order 2
+    assert refinement_ratio({"half_width": 0.004, "max_pressure": 0.0045}, ORDERS, target) == pytest.approx(
+        (0.004 / (TARGET_SHARE * target)) ** (1 / 1.5), rel=1e-12)
+    # bounded: never below RATIO_RANGE[0] (Richardson's r^p - 1 would magnify the scatter), never
+    # above one level; a quantity without an order (a corner's singular peak) does not count
+    assert refinement_ratio({"normal_force": 0.00161}, ORDERS, target) == RATIO_RANGE[0]
+    assert refinement_ratio({"normal_force": 0.05}, ORDERS, target) == RATIO_RANGE[1]
+    assert refinement_ratio({"max_pressure": 0.05}, {"max_pressure": None}, target) == RATIO_RANGE[0]
+
+
+@pytest.mark.parametrize("ratios", [(1.6, 2.0), (2.0, 1.6), (1.3, 1.8)])
+def test_richardson_with_any_ratio_of_the_cells(ratios):
+    # q_h = q + C h^p on grids whose cells differ by r1 and then r2: the two-grid estimate with
+    # r1 and the three-grid estimate's observed order are exact
+    q, c, h = 0.0452, 0.03, 0.004
+    r1, r2 = ratios
+    for p in (1.2, 1.5, 1.9):
+        grids = [q + c * (k * h) ** p for k in (1.0, r1, r1 * r2)]
+        exact = c * h ** p / grids[0]
+        assert three_grid_error(*grids, 1.5, ratios=ratios) == pytest.approx(exact, rel=1e-9)
+        est = relative_errors({"half_width": grids[0]}, {"half_width": grids[1]}, {"half_width": p}, ratios=ratios)
+        assert est["half_width"] == pytest.approx(exact, rel=1e-9)
+    # faster than the range (order 3): the coarser pair's difference carried down at order 2
+    grids = [q - c * (k * h) ** 3 for k in (1.0, r1, r1 * r2)]
+    carried = (grids[1] - grids[2]) / ((r2 ** 2 - 1.0) * r1 ** 2)
+    assert three_grid_error(*grids, 1.5, ratios=ratios) == pytest.approx(abs(carried / grids[0]), rel=1e-9)
 
 
 def test_rung_around_the_contact_keeps_the_far_field_estimate():
@@ -306,3 +345,78 @@ def test_partial_slip_sphere_estimates_within_a_factor_two_of_theory():
     for key, error in true.items():
         value = estimated[key][0] if isinstance(estimated[key], list) else estimated[key]
         assert 0.5 <= value / error <= 2.0, (key, value, error)
+
+
+def test_observed_orders_of_the_sizes_with_any_ratio():
+    # three grids of q + C h^p with cells differing by (r1, r2): the order is recovered; clamped to
+    # the range; a list's slowest element; none where the differences change sign
+    from ibfem.solver.model.accuracy import observed_order, size_orders
+    q, c, h = 0.0452, 0.03, 0.004
+    for ratios in [(2.0, 2.0), (1.7, 2.0), (1.4, 1.6)]:
+        grids = [q + c * (k * h) ** 1.7 for k in (1.0, ratios[0], ratios[0] * ratios[1])]
+        assert observed_order(*grids, (1.0, 2.0), ratios) == pytest.approx(1.7, abs=1e-9)
+        fast = [q + c * (k * h) ** 2.6 for k in (1.0, ratios[0], ratios[0] * ratios[1])]
+        assert observed_order(*fast, (1.0, 2.0), ratios) == 2.0
+        slow = [q + c * (k * h) ** 0.6 for k in (1.0, ratios[0], ratios[0] * ratios[1])]
+        assert observed_order(*slow, (1.0, 2.0), ratios) == 1.0
+        three = [{"semi_axes": [g, s], "normal_force": 1.0} for g, s in zip(grids, slow)]
+        assert size_orders(*three, ratios=ratios) == {"semi_axes": 1.0}
+    assert observed_order(q + 1e-6, q, q + 1e-6, (1.0, 2.0), (1.7, 2.0)) is None
+    assert size_orders({"half_width": q + 1e-6}, {"half_width": q}, {"half_width": q + 1e-6}) == {}
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_largest_von_mises_reads_hertz_s_peak(dim):
+    # a field that is Hertz's below the contact (the sphere's on its axis in 3D, the cylinder's in
+    # plane strain in 2D, both p0 = 1, a = 1): the sampled largest stress is its peak, not the
+    # largest of the coarse samples (in 3D 0.10 % below it)
+    from types import SimpleNamespace
+
+    from ibfem.solver.solving import max_von_mises
+    nu = 0.3
+    if dim == 3:
+        z = np.linspace(0.0, 3.0, 30001)
+        sr, sz = theory.hertz_sphere_axis_stress(z, 1.0, 1.0, nu)
+        peak = float(np.max(np.abs(sr - sz)))
+
+        def von_mises(pts):
+            r, s = theory.hertz_sphere_axis_stress(np.abs(pts[:, 2]), 1.0, 1.0, nu)
+            return np.abs(r - s)
+        block = {"point": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0], "semi_axes": [1.0, 1.0],
+                 "axes": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]}
+    else:
+        peak = theory.axis_peak(nu, "von_mises")[0]
+
+        def von_mises(pts):  # McEwen's field below the surface (the same in the other body)
+            return theory.von_mises_plane_strain(*theory.mcewen_stress(pts[:, 0], np.abs(pts[:, 1]), 1.0, 1.0), nu)
+        block = {"point": [0.0, 0.0], "normal": [0.0, 1.0], "half_width": 1.0}
+    solution = SimpleNamespace(body_at=lambda pts: np.zeros(len(pts), dtype=int), von_mises=von_mises)
+    assert max_von_mises(solution, block, dim) == pytest.approx(peak, rel=1e-4)
+
+
+def test_next_rung_takes_the_cheaper_of_the_ratio_everywhere_and_the_contact_level():
+    # the 3D sphere on a flat, its estimates those of its graded second rung on the 0.2 % ladder:
+    # the von Mises stress asks for cells sqrt(0.53 / 0.18) times smaller; halving the contact's
+    # cells would quadruple the dense contact block, and scaling every cell by that ratio is
+    # estimated smaller: every cell scaled. In 2D the zone one level deeper is the smaller.
+    from types import SimpleNamespace
+
+    from ibfem.solver.io.scene import load_scene
+    from ibfem.solver.model.accuracy import TARGET_SHARE
+    from ibfem.solver.model.resolve import resolve_problem
+    from ibfem.solver.solving import _next_rung, graded_around_contacts
+    block = {"point": [0.0, 0.0, 0.0], "semi_axes": [0.0451, 0.0451],
+             "estimated_error": {"semi_axes": [0.0038, 0.0038], "normal_force": 0.0042, "max_von_mises": 0.0053}}
+    scene = resolve_problem(load_scene(ROOT / "examples" / "solid" / "sphere_on_flat.toml").problem)
+    problem = graded_around_contacts(scene, SimpleNamespace(contacts=[block]))
+    finer, how, ratio = _next_rung(problem, SimpleNamespace(contacts=[block]), "max_von_mises", 0.002)
+    assert how == "everywhere" and ratio == pytest.approx((0.0053 / (TARGET_SHARE * 0.002)) ** 0.5, rel=1e-12)
+    assert all(f.element_size == pytest.approx(b.element_size / ratio) and f.refinements == b.refinements
+               for f, b in zip(finer.bodies, problem.bodies))
+    flat = _resolved_mesh_convergence()
+    block2d = {"point": [0.0, 0.0], "half_width": 0.03, "estimated_error": {"half_width": 0.0043}}
+    finer, how, ratio = _next_rung(flat, SimpleNamespace(contacts=[block2d]), "half_width", 0.002)
+    assert how == "contact" and ratio == 2.0
+    # no estimate to scale (a coarse partner without the contact): one level, as before
+    from ibfem.solver.solving import rung_ratio
+    assert rung_ratio(SimpleNamespace(contacts=[{"estimated_error": None}]), 0.002) == 2.0

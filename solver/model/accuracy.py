@@ -49,7 +49,8 @@ from typing import Any, Mapping
 import numpy as np
 
 __all__ = ["complementary_energy_density", "far_field_force_error", "HERTZ_SHAPE_PEAK_SIZE_SHARE", "ORDERS", "peak_size_share", "WARN_ABOVE", "SIZE_ORDER_RANGE", "contact_quantities", "has_complete_end", "observed_order",
-           "orders_for", "relative_errors", "largest_error", "three_grid_error"]
+           "orders_for", "relative_errors", "largest_error", "three_grid_error", "refinement_ratio", "TARGET_SHARE",
+           "RATIO_RANGE", "size_orders"]
 
 #: convergence order of each quantity on Q1 elements
 ORDERS = {"half_width": 1.5, "stick_half_width": 1.5, "semi_axes": 1.5, "stick_semi_axes": 1.5,
@@ -125,15 +126,23 @@ def has_complete_end(block: Mapping[str, Any]) -> bool:
 
 
 def observed_order(fine: float, coarse: float, coarsest: float,
-                   bounds: tuple[float, float] = COMPLETE_END_ORDER_RANGE) -> float | None:
+                   bounds: tuple[float, float] = COMPLETE_END_ORDER_RANGE,
+                   ratios: tuple[float, float] = (2.0, 2.0)) -> float | None:
     """The observed order log2(|q_2h - q_4h| / |q_h - q_2h|) of a quantity on three grids, each
-    twice as fine as the one before, clamped to ``bounds``; None when the two differences do not
-    have one sign (the grids are not yet in the range where q_h = q + C h^p) or vanish."""
+    twice as fine as the one before (with ``ratios`` r1, r2 between them: the p whose
+    r1^p (r2^p - 1) / (r1^p - 1) is that quotient), clamped to ``bounds``; None when the two
+    differences do not have one sign (the grids are not yet in the range where q_h = q + C h^p)
+    or vanish."""
     d_fine, d_coarse = fine - coarse, coarse - coarsest
     values = (fine, coarse, coarsest)
     if not all(math.isfinite(v) for v in values) or d_fine * d_coarse <= 0.0:
         return None
-    return float(np.clip(math.log2(d_coarse / d_fine), *bounds))
+    quotient, (lo, hi) = d_coarse / d_fine, bounds
+    if quotient <= _difference_ratio(lo, ratios):
+        return float(lo)
+    if quotient >= _difference_ratio(hi, ratios):
+        return float(hi)
+    return float(_order_between(quotient, ratios, lo, hi))
 
 
 def _profile_max(profile: Any) -> float:
@@ -180,22 +189,44 @@ def contact_quantities(block: Mapping[str, Any], like: Mapping[str, Any] | None 
     return out
 
 
-def _relative(fine: float, coarse: float, order: float) -> float:
+def _relative(fine: float, coarse: float, order: float, ratio: float = 2.0) -> float:
+    """Richardson's |q_h - q_rh| / ((r^p - 1) |q_h|) for grids whose cells differ by ``ratio`` r."""
     if not (math.isfinite(fine) and math.isfinite(coarse)) or fine == 0.0:
         return math.nan
-    return abs(fine - coarse) / ((2.0 ** order - 1.0) * abs(fine))
+    return abs(fine - coarse) / ((ratio ** order - 1.0) * abs(fine))
+
+
+def _difference_ratio(p: float, ratios: tuple[float, float]) -> float:
+    """(q_r1r2h - q_r1h) / (q_r1h - q_h) of q_h = q + C h^p: r1^p (r2^p - 1) / (r1^p - 1)."""
+    r1, r2 = ratios
+    return r1 ** p * (r2 ** p - 1.0) / (r1 ** p - 1.0)
+
+
+def _order_between(big_over_d: float, ratios: tuple[float, float], lo: float, hi: float) -> float:
+    """The order p in [lo, hi] whose :func:`_difference_ratio` is ``big_over_d`` (it grows with p),
+    by bisection (log2 of it where both ratios are 2); ``big_over_d`` lies between its values at lo
+    and hi."""
+    if ratios == (2.0, 2.0):
+        return math.log2(big_over_d)
+    a, b = lo, hi
+    for _ in range(50):
+        m = 0.5 * (a + b)
+        a, b = (m, b) if _difference_ratio(m, ratios) < big_over_d else (a, m)
+    return 0.5 * (a + b)
 
 
 def three_grid_error(fine: float, coarse: float, coarsest: float, order: float,
-                     bounds: tuple[float, float] = SIZE_ORDER_RANGE) -> float:
+                     bounds: tuple[float, float] = SIZE_ORDER_RANGE, ratios: tuple[float, float] = (2.0, 2.0)) -> float:
     """Estimated relative error of a quantity on the finest of three grids, each twice as fine as
-    the one before, with d = q_h - q_2h and D = q_2h - q_4h:
+    the one before (or finer by ``ratios`` = (r1, r2): the finest's cells r1 times smaller than the
+    middle grid's, those r2 times smaller than the coarsest's), with d = q_h - q_r1h and
+    D = q_r1h - q_r1r2h:
 
-    - d and D of one sign, observed order p = log2(D / d) within ``bounds``: Richardson's
-      |d| / ((2^p - 1) |q_h|);
+    - d and D of one sign, observed order p within ``bounds`` (D / d = 2^p, or in general
+      r1^p (r2^p - 1) / (r1^p - 1)): Richardson's |d| / ((r1^p - 1) |q_h|);
     - p above the range (d smaller than the coarser pair predicts): D carried down to the finest
-      grid at the range's fastest order P, |D| / ((2^P - 1) 2^P |q_h|);
-    - p below it: |d| / ((2^P - 1) |q_h|) with its slowest order;
+      grid at the range's fastest order P, |D| / ((r2^P - 1) r1^P |q_h|);
+    - p below it: |d| / ((r1^P - 1) |q_h|) with its slowest order;
     - opposite signs (the grids' positions scatter the value as much as refining moves it): the
       larger of the two-grid estimate with the nominal ``order`` and D carried down at it.
 
@@ -207,21 +238,25 @@ def three_grid_error(fine: float, coarse: float, coarsest: float, order: float,
         return math.nan
     d, big = fine - coarse, coarse - coarsest
     lo, hi = bounds
+    r1, r2 = ratios
     if d * big > 0.0:
-        p = math.log2(big / d)
-        if p > hi:
-            return abs(big) / ((2.0 ** hi - 1.0) * 2.0 ** hi * abs(fine))
-        return abs(d) / ((2.0 ** max(p, lo) - 1.0) * abs(fine))
-    return max(_relative(fine, coarse, order), abs(big) / ((2.0 ** order - 1.0) * 2.0 ** order * abs(fine)))
+        if big / d > _difference_ratio(hi, ratios):
+            return abs(big) / ((r2 ** hi - 1.0) * r1 ** hi * abs(fine))
+        p = lo if big / d <= _difference_ratio(lo, ratios) else _order_between(big / d, ratios, lo, hi)
+        return abs(d) / ((r1 ** p - 1.0) * abs(fine))
+    return max(_relative(fine, coarse, order, r1), abs(big) / ((r2 ** order - 1.0) * r1 ** order * abs(fine)))
 
 
 def relative_errors(fine: Mapping[str, Any], coarse: Mapping[str, Any],
                     orders: Mapping[str, float | None] | None = None, coarsest: Mapping[str, Any] | None = None,
-                    order_range: tuple[float, float] = SIZE_ORDER_RANGE, size_share: float = 1.0) -> dict[str, Any]:
+                    order_range: tuple[float, float] = SIZE_ORDER_RANGE, size_share: float = 1.0,
+                    ratios: tuple[float, float] = (2.0, 2.0)) -> dict[str, Any]:
     """Estimated relative error of each quantity present in both (lists element by element), with
     the convergence ``orders`` (default ORDERS; see :func:`orders_for`); a quantity the coarse
-    solution lacks (no stick zone there) or without an order is None. With ``coarsest`` (the
-    quantities on a third grid, twice as coarse again) the sizes take :func:`three_grid_error`
+    solution lacks (no stick zone there) or without an order is None. ``ratios``: how many times
+    smaller the fine grid's cells are than the coarse grid's, and those than the coarsest's (2
+    and 2 unless an accuracy ladder chose otherwise). With ``coarsest`` (the
+    quantities on a third grid, coarser again) the sizes take :func:`three_grid_error`
     with observed orders in ``order_range``. The peak pressure's estimate is at least
     ``size_share`` times the region's size error (:func:`peak_size_share`), and only that where
     the coarse quantities hold ``max_pressure`` None (no comparable reading on the coarser grid:
@@ -236,16 +271,61 @@ def relative_errors(fine: Mapping[str, Any], coarse: Mapping[str, Any],
             out[key] = None
         elif third is not None:
             triples = zip(value, other, third) if isinstance(value, list) else [(value, other, third)]
-            errors = [three_grid_error(float(f), float(c), float(t), order, order_range) for f, c, t in triples]
+            errors = [three_grid_error(float(f), float(c), float(t), order, order_range, ratios) for f, c, t in triples]
             out[key] = errors if isinstance(value, list) else errors[0]
         elif isinstance(value, list):
-            out[key] = [_relative(f, c, order) for f, c in zip(value, other)]
+            out[key] = [_relative(f, c, order, ratios[0]) for f, c in zip(value, other)]
         else:
-            out[key] = _relative(value, float(other), order)
+            out[key] = _relative(value, float(other), order, ratios[0])
     unresolved = fine.get("max_pressure") is not None and "max_pressure" in coarse and coarse["max_pressure"] is None
     if out.get("max_pressure") is not None or unresolved:
         out["max_pressure"] = max(out["max_pressure"] or 0.0, size_share * _size_error(out))
     return out
+
+
+#: an accuracy ladder's next rung aims every estimated error at this share of the target: the
+#: estimate, scaled by the cells' ratio to the power of its order, lands within that margin below
+#: the target, so that one rung reaches it although the estimate of the next rung scatters about
+#: that prediction (its grid's cut cells lie elsewhere)
+TARGET_SHARE = 0.9
+#: the range of a rung's refinement ratio (how many times smaller its cells are than the rung
+#: before): at least 1.25, below which Richardson's denominator r^p - 1 (0.56 at order 2) would
+#: magnify the grids' scatter into the estimate; at most 2, one octree / quadtree level
+RATIO_RANGE = (1.25, 2.0)
+
+
+def size_orders(fine: Mapping[str, Any], coarse: Mapping[str, Any], coarsest: Mapping[str, Any],
+                bounds: tuple[float, float] = SIZE_ORDER_RANGE, ratios: tuple[float, float] = (2.0, 2.0)) -> dict[str, float]:
+    """The observed order of each size (:func:`observed_order` within ``bounds``; of a list the
+    slowest element's) of the quantities on three grids (:func:`contact_quantities`), where its
+    two differences have one sign."""
+    out = {}
+    for key in _SIZES:
+        if not all(isinstance(q.get(key), (float, list)) for q in (fine, coarse, coarsest)):
+            continue
+        triples = zip(*(q[key] if isinstance(q[key], list) else [q[key]] for q in (fine, coarse, coarsest)))
+        orders = [observed_order(float(f), float(c), float(t), bounds, ratios) for f, c, t in triples]
+        if orders and all(o is not None for o in orders):
+            out[key] = min(orders)
+    return out
+
+
+def refinement_ratio(errors: Mapping[str, Any], orders: Mapping[str, float | None], target: float,
+                     share: float = TARGET_SHARE, bounds: tuple[float, float] = RATIO_RANGE) -> float:
+    """How many times smaller the cells must be for every estimated relative error ``errors`` to
+    fall to ``share`` of ``target``: a quantity estimated at E with order p needs the ratio
+    (E / (share target))^(1/p), its estimate scaled by h^p; the largest over the quantities (lists
+    element by element), within ``bounds``; the smallest ratio where none is above. A quantity
+    without an order is not counted."""
+    need = bounds[0]
+    for key, value in errors.items():
+        order = orders.get(key)
+        if order is None or not order > 0.0:
+            continue
+        for v in value if isinstance(value, list) else [value]:
+            if v is not None and math.isfinite(v) and v > share * target:
+                need = max(need, (v / (share * target)) ** (1.0 / order))
+    return float(min(max(need, bounds[0]), bounds[1]))
 
 
 def _size_error(errors: Mapping[str, Any]) -> float:

@@ -90,9 +90,10 @@ class SolverOptions:
     linear_solver: str = "auto"
     #: with load paths: load steps per unit of the load parameter t (None: load_steps per unit)
     steps_per_unit: int | None = None
-    #: relative accuracy target of the contacts' results: the grid is refined (around the contact
-    #: regions found, or every cell halved while the normal force's error leads) until the
-    #: estimated error of each is below it (None: the scene's grid as given)
+    #: relative accuracy target of the contacts' results: the grid is refined (the far field
+    #: graded while the normal force's error leads, then every cell made smaller by the ratio the
+    #: estimates ask for, or a zone one level deeper around the contact regions where that is
+    #: smaller) until the estimated error of each is below it (None: the scene's grid as given)
     accuracy: float | None = None
 
     def __post_init__(self):
