@@ -90,7 +90,7 @@ def test_an_unresolved_coarse_pass_is_repeated_one_level_finer(monkeypatch):
     levels = []
     monkeypatch.setattr(follow, "coarse_problem", lambda p, lines, fewer=2: levels.append(fewer) or p)
     answers = iter([_stand_in(False, 0.9), _stand_in(True, 1.9)])
-    coarse, fewer, tried = follow._coarse_pass(SimpleNamespace(), [0], lambda p: next(answers))
+    coarse, fewer, tried = follow.coarse_pass(SimpleNamespace(), [0], lambda p: next(answers))
     assert levels == [2, 1] and fewer == 1 and coarse.converged
     assert [t["converged"] for t in tried] == [False, True]
 
@@ -98,8 +98,8 @@ def test_an_unresolved_coarse_pass_is_repeated_one_level_finer(monkeypatch):
 def test_a_resolved_coarse_pass_is_kept_and_the_finest_keeps_a_level_to_spare(monkeypatch):
     levels = []
     monkeypatch.setattr(follow, "coarse_problem", lambda p, lines, fewer=2: levels.append(fewer) or p)
-    _, fewer, _ = follow._coarse_pass(SimpleNamespace(), [0], lambda p: _stand_in(True, 1.8))
+    _, fewer, _ = follow.coarse_pass(SimpleNamespace(), [0], lambda p: _stand_in(True, 1.8))
     assert levels == [2] and fewer == 2
     levels.clear()
-    _, fewer, tried = follow._coarse_pass(SimpleNamespace(), [0], lambda p: _stand_in(False, 0.5))
+    _, fewer, tried = follow.coarse_pass(SimpleNamespace(), [0], lambda p: _stand_in(False, 0.5))
     assert levels == [2, 1] and fewer == 1 and len(tried) == 2  # never the scene's own levels

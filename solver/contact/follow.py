@@ -30,8 +30,8 @@ from .ellipse_geometry import contact_frame_3d, sectors
 from .region_band import band_balls, turning_balls
 from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
-__all__ = ["solve_following", "line_contacts", "coarse_problem", "band_problem", "COARSER_LEVELS", "MARGIN_CELLS",
-           "MIN_COARSE_CELLS"]
+__all__ = ["solve_following", "line_contacts", "coarse_problem", "coarse_pass", "band_problem", "COARSER_LEVELS",
+           "MARGIN_CELLS", "MIN_COARSE_CELLS"]
 
 #: levels fewer in the coarse pass's contact refinement
 COARSER_LEVELS = 2
@@ -134,7 +134,7 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
     return _with_zones(problem, set(bands), zones), record
 
 
-def _coarse_pass(problem, lines: list[int], run: Callable):
+def coarse_pass(problem, lines: list[int], run: Callable):
     """(the coarse pass's solution, the levels it was solved shallower, a record of the passes
     tried): COARSER_LEVELS shallower, or one level finer at a time while its region is not
     resolved (not converged, no region, or fewer than MIN_COARSE_CELLS across its half-width) and
@@ -160,7 +160,7 @@ def solve_following(problem, run: Callable):
     lines = line_contacts(problem)
     if not lines:
         return run(problem)
-    coarse, fewer, tried = _coarse_pass(problem, lines, run)
+    coarse, fewer, tried = coarse_pass(problem, lines, run)
     if any(not coarse.contacts[k].get("boundary") for k in lines):
         solution = run(problem)
         solution.iterations["refinement"] = {"band": None, "reason": "the coarse pass found no region"}
