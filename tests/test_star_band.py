@@ -9,6 +9,8 @@ retry one level finer, with stand-in solutions (nothing is solved)."""
 from __future__ import annotations
 
 import math
+import tomllib
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -17,6 +19,7 @@ from scipy.optimize import brentq
 
 from ibfem.solver.contact import follow
 from ibfem.solver.contact.region_band import TURNING_SLOPE, band_balls, turning_balls, turning_stretches
+from ibfem.solver.io.scene import scene_from_dict
 
 A, B, MARGIN = 0.08, 0.024, 0.0125
 
@@ -103,3 +106,30 @@ def test_a_resolved_coarse_pass_is_kept_and_the_finest_keeps_a_level_to_spare(mo
     levels.clear()
     _, fewer, tried = follow.coarse_pass(SimpleNamespace(), [0], lambda p: _stand_in(False, 0.5))
     assert levels == [2, 1] and fewer == 1 and len(tried) == 2  # never the scene's own levels
+
+
+SCENES = Path(__file__).resolve().parent / "scenes"
+
+
+def _with_contact_ball(path: Path, levels: int):
+    """A scene with its refinements replaced by one contact ball of ``levels`` levels."""
+    data = tomllib.loads(path.read_text())
+    for body in data["bodies"]:
+        body["refinement"] = {"levels": levels, "around": "contact", "radius": 0.13}
+    return scene_from_dict(data, label=path.name).problem
+
+
+def test_an_elongated_contact_reaching_a_free_end_is_followed_and_its_turning_edge_refined():
+    """Lundberg's roller (relative curvatures 0.21 and 2 1/m, the roller ending along the line)
+    is followed as a line contact is; its fine pass has the contact ball at the coarse levels,
+    the band at the scene's and balls one level finer on the coarse edge where it turns."""
+    problem = _with_contact_ball(SCENES / "lundberg_roller.toml", 4)
+    assert follow.line_contacts(problem) == [0]
+    block = _quarter_block(_superellipse())
+    fine, record = follow.band_problem(problem, [0], [block], 1)
+    for body in fine.bodies:
+        levels = sorted({z.levels for z in body.refinements})
+        assert levels == [3, 4, 5]  # the coarse ball, the band, the turning edge
+        finer = np.array([z.center[:2] for z in body.refinements if z.levels == 5])
+        np.testing.assert_allclose((finer[:, 0] / A) ** 4 + (finer[:, 1] / B) ** 4, 1.0, atol=1e-9)
+    assert record["roller"]["finer"][0]["levels"] == 5
