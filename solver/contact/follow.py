@@ -19,7 +19,6 @@ Point contacts (ellipses) are solved as the scene says: their ball already fits 
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Callable
 
 import numpy as np
