@@ -4,7 +4,7 @@ same coarse pass and estimates the band's grid. Checked against the octrees the 
 builds (dofs within 30 %, the acceptance of the check's estimates) and against the scene's whole
 contact ball, which the band replaces (a grid several times larger). The coarse pass is replaced
 here by the region it finds on the shipped roller (half-width 0.024 m along the roller's half
-length 0.1 m), so the test builds grids but solves nothing."""
+length 0.1 m, ended by its end face), so the test builds grids but solves nothing."""
 
 import tomllib
 from pathlib import Path
@@ -25,10 +25,16 @@ ROLLER = Path(__file__).resolve().parent.parent / "examples" / "contact3d" / "ro
 
 
 def _coarse_pass(problem):
-    """The region of the roller's coarse pass: a rectangle along x with rounded ends."""
-    t = np.linspace(0.0, 2.0 * np.pi, 73)
-    edge = np.column_stack([0.05 + 0.05 * np.sign(np.cos(t)) * np.abs(np.cos(t)) ** 0.2, 0.024 * np.sin(t), 0 * t])
-    block = {"point": [0.0, 0.0, 0.0], "axes": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], "boundary": {"points": edge.tolist()}}
+    """The region of the roller's coarse pass as the quarter model's boundary: from the contact
+    point along the line to the end face, up the end face (body 1's free edge: complete
+    contact), and back along the side at the half-width."""
+    end = np.column_stack([np.full(7, 0.1), np.linspace(0.0, 0.024, 7)])
+    side = np.column_stack([np.linspace(0.1, 0.0, 26)[1:], np.full(25, 0.024)])
+    edge = np.vstack([[[0.0, 0.0]], end, side])
+    edge = np.column_stack([edge, np.zeros(len(edge))])
+    free = [False] + [True] * len(end) + [False] * len(side)
+    block = {"point": [0.0, 0.0, 0.0], "axes": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+             "boundary": {"points": edge.tolist(), "free_edge": free}}
     return SimpleNamespace(contacts=[block], body_info={"roller": {"dofs": 1}, "block": {"dofs": 1}})
 
 

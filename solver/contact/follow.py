@@ -4,10 +4,14 @@ wide as the roller is long. For every 3D line contact (solver.contact.ellipse.is
 the contact point) whose bodies refine around the contact, the solve runs twice:
 
 1. a coarse pass: the contact refinements two levels shallower (the ball keeps its radius, so the
-   candidate region still reaches the free ends) finds the region;
-2. the fine pass: the same ball at the coarse levels, and a band of balls at the scene's levels
-   along the region: centred on the line through the contact point every band radius over the
-   region's extent along it, of radius the region's half-width plus a margin of one coarse cell.
+   candidate region still reaches the free ends) finds the region; where that region is not
+   resolved (the pass did not converge, or its half-width spans fewer than MIN_COARSE_CELLS of its
+   cells) and a level is left to spare, the pass is repeated one level finer;
+2. the fine pass: the same ball at the coarse pass's levels, a band of balls at the scene's levels
+   along the region (solver.contact.region_band: centred on the line through the contact point
+   every band radius over the region's extent along it, of radius the region's half-width plus a
+   margin of one coarse cell), and balls one level finer about the region's smooth edge where it
+   turns away from the line (its half-width changes fastest: a crowned roller's ends).
 
 Point contacts (ellipses) are solved as the scene says: their ball already fits the region.
 """
@@ -15,21 +19,27 @@ Point contacts (ellipses) are solved as the scene says: their ball already fits 
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Callable
 
 import numpy as np
 
-from ..model.problem import Refinement
+from ..model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .ellipse import is_line_contact
-from .ellipse_geometry import contact_frame_3d
+from .ellipse_geometry import contact_frame_3d, sectors
+from .region_band import band_balls, turning_balls
+from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
-__all__ = ["solve_following", "line_contacts", "coarse_problem", "band_problem", "COARSER_LEVELS", "MARGIN_CELLS"]
+__all__ = ["solve_following", "line_contacts", "coarse_problem", "coarse_pass", "band_problem", "COARSER_LEVELS",
+           "MARGIN_CELLS", "MIN_COARSE_CELLS"]
 
 #: levels fewer in the coarse pass's contact refinement
 COARSER_LEVELS = 2
 #: the band's margin beyond the region's half-width, in cells of the coarse pass (its uncertainty)
 MARGIN_CELLS = 1.0
+#: a coarse region whose half-width spans fewer of its cells is not resolved: its edge, and so the
+#: band, is not where the region is (a crowned roller on cells as wide as its half-width ended with
+#: its region at the end face, not converged)
+MIN_COARSE_CELLS = 1.5
 
 
 def _finest(problem, names) -> float:
@@ -42,8 +52,10 @@ def _finest(problem, names) -> float:
 
 
 def line_contacts(problem) -> list[int]:
-    """The indices of the 3D contacts that are line contacts at their point and whose bodies refine
-    around the contact at least COARSER_LEVELS + 2 levels deep (the coarse pass keeps two)."""
+    """The indices of the 3D contacts that are line contacts at their point, or elongated
+    contacts on a body 1 that ends along the line within the candidate region (a crowned
+    roller: solver.contact.star_region.reaches_free_end), and whose bodies refine around the
+    contact at least COARSER_LEVELS + 2 levels deep (the coarse pass keeps two)."""
     if problem.model != "solid":
         return []
     out = []
@@ -52,10 +64,22 @@ def line_contacts(problem) -> list[int]:
         if not zones or min(r.levels for r in zones) < COARSER_LEVELS + 2:
             continue
         first, second = (problem.body(n).profile for n in c.bodies)
-        frame = contact_frame_3d(first, second, np.asarray(c.point, dtype=float), _finest(problem, c.bodies))
-        if is_line_contact(frame):
+        h = _finest(problem, c.bodies)
+        frame = contact_frame_3d(first, second, np.asarray(c.point, dtype=float), h)
+        if is_line_contact(frame) or _elongated(problem, c, first, frame, h):
             out.append(k)
     return out
+
+
+def _elongated(problem, contact, solid1, frame, h: float) -> bool:
+    """An elongated contact (reaches_free_end) on the candidate region the contact will use."""
+    k0, k1 = (float(k) for k in frame.curvatures)
+    if not (k1 > 0.0 and 0.0 < k0 <= ELONGATED_RATIO * k1):
+        return False
+    radii = [r.radius for n in contact.bodies for r in problem.body(n).refinements if r.around_contact]
+    extent = contact.options.extent_fraction * min(radii)
+    ranges = sectors(solid1, frame, 0.5 * h, 0.5 * extent)
+    return reaches_free_end(solid1, frame, ranges, 0.5 * extent, extent, h)
 
 
 def _with_zones(problem, names, zones_of: Callable) -> object:
@@ -64,45 +88,68 @@ def _with_zones(problem, names, zones_of: Callable) -> object:
     return dataclasses.replace(problem, bodies=bodies)
 
 
-def coarse_problem(problem, indices: list[int]):
-    """The problem with the line contacts' refinements COARSER_LEVELS shallower."""
+def coarse_problem(problem, indices: list[int], levels_fewer: int = COARSER_LEVELS):
+    """The problem with the line contacts' refinements ``levels_fewer`` shallower."""
     names = {n for k in indices for n in problem.contacts[k].bodies}
 
     def zones(body):
-        return [dataclasses.replace(r, levels=r.levels - COARSER_LEVELS) if r.around_contact else r
+        return [dataclasses.replace(r, levels=r.levels - levels_fewer) if r.around_contact else r
                 for r in body.refinements]
 
     return _with_zones(problem, names, zones)
 
 
-def band_problem(problem, indices: list[int], blocks: list[dict]):
+def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: int = COARSER_LEVELS):
     """The problem with a band of refinement balls along each line contact's coarse region
-    (``blocks``: the coarse pass's contact blocks), the contact balls at the coarse levels; and
-    a record of the bands."""
+    (``blocks``: the coarse pass's contact blocks, solved ``levels_fewer`` levels shallower) at the
+    scene's levels and balls one level finer where the region's edge turns
+    (solver.contact.region_band), the contact balls at the coarse levels; and a record of both."""
     bands = {}
     for k in indices:
         c, block = problem.contacts[k], blocks[k]
-        h = _finest(coarse_problem(problem, [k]), c.bodies)
-        point, axes = np.asarray(block["point"], float), np.asarray(block["axes"], float)
-        edge = (np.asarray(block["boundary"]["points"], float) - point) @ axes.T
-        radius = float(np.abs(edge[:, 1]).max()) + MARGIN_CELLS * h
-        lo, hi = float(edge[:, 0].min()), float(edge[:, 0].max())
-        count = max(2, int(math.ceil((hi - lo) / radius)) + 1)
-        centres = point + np.linspace(lo, hi, count)[:, None] * axes[0]
+        margin = MARGIN_CELLS * _finest(coarse_problem(problem, [k], levels_fewer), c.bodies)
+        point, axis = np.asarray(block["point"], float), np.asarray(block["axes"], float)[0]
+        along, radius = band_balls(block, margin)
+        axes = np.asarray(block["axes"], float)[:2]
+        window = EDGE_WINDOW_CELLS * 0.5 * _finest(problem, c.bodies)  # the cells one level finer
+        finer = [(point + s @ axes, r) for s, r in turning_balls(block, margin, window)]
         for name in c.bodies:
-            bands.setdefault(name, []).append((centres, radius))
+            bands.setdefault(name, []).append((point + along[:, None] * axis, radius, finer))
     record = {}
 
     def zones(body):
         levels = max(r.levels for r in body.refinements if r.around_contact)
-        out = [dataclasses.replace(r, levels=r.levels - COARSER_LEVELS) if r.around_contact else r
+        out = [dataclasses.replace(r, levels=r.levels - levels_fewer) if r.around_contact else r
                for r in body.refinements]
-        for centres, radius in bands[body.name]:
+        for centres, radius, finer in bands[body.name]:
             out += [Refinement(levels=levels, radius=radius, center=x) for x in centres]
-            record[body.name] = {"levels": levels, "radius": radius, "centres": centres.tolist()}
+            out += [Refinement(levels=min(levels + 1, MAX_REFINEMENT_LEVELS), radius=r, center=x)
+                    for xs, r in finer for x in xs]
+            record[body.name] = {"levels": levels, "radius": radius, "centres": centres.tolist(),
+                                 "finer": [{"levels": min(levels + 1, MAX_REFINEMENT_LEVELS), "radius": r,
+                                            "centres": xs.tolist()} for xs, r in finer]}
         return out
 
     return _with_zones(problem, set(bands), zones), record
+
+
+def coarse_pass(problem, lines: list[int], run: Callable):
+    """(the coarse pass's solution, the levels it was solved shallower, a record of the passes
+    tried): COARSER_LEVELS shallower, or one level finer at a time while its region is not
+    resolved (not converged, no region, or fewer than MIN_COARSE_CELLS across its half-width) and
+    the pass stays at least a level shallower than the scene."""
+    fewer = COARSER_LEVELS
+    tried = []
+    while True:
+        coarse = run(coarse_problem(problem, lines, fewer))
+        blocks = [coarse.contacts[k] for k in lines]
+        resolved = bool(coarse.converged) and all(
+            b.get("boundary") and (b.get("cells_per_semi_axis") or [0.0, 0.0])[1] >= MIN_COARSE_CELLS for b in blocks)
+        tried.append({"levels_fewer": fewer, "converged": bool(coarse.converged),
+                      "cells_per_semi_axis": [b.get("cells_per_semi_axis") for b in blocks]})
+        if resolved or fewer <= 1:
+            return coarse, fewer, tried
+        fewer -= 1
 
 
 def solve_following(problem, run: Callable):
@@ -112,16 +159,16 @@ def solve_following(problem, run: Callable):
     lines = line_contacts(problem)
     if not lines:
         return run(problem)
-    coarse = run(coarse_problem(problem, lines))
+    coarse, fewer, tried = coarse_pass(problem, lines, run)
     if any(not coarse.contacts[k].get("boundary") for k in lines):
         solution = run(problem)
         solution.iterations["refinement"] = {"band": None, "reason": "the coarse pass found no region"}
         return solution
-    fine, bands = band_problem(problem, lines, coarse.contacts)
+    fine, bands = band_problem(problem, lines, coarse.contacts, fewer)
     solution = run(fine)
     solution.iterations["refinement"] = {
-        "coarse_pass": {"levels_fewer": COARSER_LEVELS, "converged": bool(coarse.converged),
+        "coarse_pass": {"levels_fewer": fewer, "converged": bool(coarse.converged),
                         "iterations": coarse.iterations["total"],
-                        "semi_axes": [coarse.contacts[k]["semi_axes"] for k in lines]},
+                        "semi_axes": [coarse.contacts[k]["semi_axes"] for k in lines], "tried": tried},
         "band": bands}
     return solution

@@ -48,14 +48,16 @@ __all__ = ["StarRegionContact", "configure_star_region", "free_edge_distance", "
 #: inserted where the edge condition asks for them (``StarRegionContact.refine_knots``)
 KNOTS = 24
 #: a stretch of the edge between two knots is split only where it is longer than this many of
-#: the finest cells (each half then spans at least one cell, the edge's resolution on the grid)
+#: the grid's cells there (each half then spans at least one cell, the edge's resolution on the
+#: grid; ``edge_cells``)
 SPLIT_CELLS = 2.0
 #: a new knot midway between two is kept where its edge moment differs from the knots' pooled
 #: mean by more than this (four times the settled knots' tolerance: the edge between the two
 #: knots is not where the pressure puts it)
 SPLIT_MOMENT = 4.0 * 0.005
 #: once the knots first agree, a line contact's stretches of smooth edge between two knots are cut
-#: into equal lengths of at most this many finest cells along the edge (``spread_knots``)
+#: into equal lengths of at most this many of the grid's cells there along the edge
+#: (``spread_knots``, ``edge_cells``)
 SPREAD_CELLS = 2.0
 #: neighbouring knots with a smooth edge whose edge points lie closer than this many finest cells
 #: (the crowded knots at a long region's tips) share one edge condition: the grid cannot tell
@@ -182,6 +184,24 @@ class StarRegionContact(EllipseContact):
         phi = np.asarray(phi, dtype=float)
         points = self.rho(phi)[:, None] * np.stack([np.cos(phi), np.sin(phi)], axis=1)
         return points if a is None else points * np.array(self.semi_axes(a))
+
+    def edge_cells(self, phi: np.ndarray, a: float) -> np.ndarray:
+        """(n,) the grid's cell size at the edge's points at the angles ``phi``: the larger of the
+        two bodies' leaves holding the point of the tangent plane (the finest cell where neither
+        grid holds it). The refinement that follows a region refines its edge one level more
+        where it turns, so the cells along one edge differ: the knots' spacing and their trial
+        points follow the cells the edge crosses, not the finest one."""
+        out = np.full(len(np.atleast_1d(phi)), float(self.h))
+        grids = [g for g in (getattr(getattr(self, n, None), "grid", None) for n in ("b1", "b2")) if hasattr(g, "locate")]
+        if not grids:
+            return out
+        s = self.centre + self.edge_points(phi, a)
+        y = self.frame.point + s[:, :1] * self.frame.axes[0] + s[:, 1:] * self.frame.axes[1]
+        for grid in grids:
+            cell = grid.locate(y)
+            found = cell >= 0
+            out[found] = np.maximum(out[found], np.asarray(grid.size)[cell[found]])
+        return out
 
     def knot_chords(self, a: float) -> np.ndarray:
         """(K,) the distance in the tangent plane from each knot's edge point to the next knot's."""
@@ -434,15 +454,16 @@ class StarRegionContact(EllipseContact):
         gap = (np.roll(self.knots, -1) - self.knots) % turn
         mid = np.mod(self.knots + 0.5 * gap, turn)
         chord = self.knot_chords(a)
+        cells = self.edge_cells(mid, a)
         smooth = inside & ~self.free_knots
-        candidate = (smooth & np.roll(smooth, -1) & knots_inside(mid, self.ranges) & (chord > SPLIT_CELLS * self.h)
+        candidate = (smooth & np.roll(smooth, -1) & knots_inside(mid, self.ranges) & (chord > SPLIT_CELLS * cells)
                      & (gap < math.pi))
         if (self.isotropic or not candidate.any() or len(self.knots) >= MAX_KNOTS
                 or self.extra_shape_updates >= MAX_SPLITS * SPLIT_UPDATES):
             return False
         # on a stretch long enough for halves of two cells, the quarter points too: a bulge between
         # two knots whose midpoint reads both of its sides shows at one of them
-        long = candidate & (chord > 2.0 * SPLIT_CELLS * self.h)
+        long = candidate & (chord > 2.0 * SPLIT_CELLS * cells)
         quarters = np.mod(np.concatenate([self.knots[long] + f * gap[long] for f in (0.25, 0.75)]), turn)
         trial = np.concatenate([self.knots, mid[candidate], quarters])
         order = np.argsort(trial, kind="stable")
@@ -470,7 +491,8 @@ class StarRegionContact(EllipseContact):
         each side knot's section moment averages the sections over its whole stretch, so its
         own edge point settles wherever the stretch's error averages out (the mid-length width
         moved by 5 % when knots were inserted elsewhere on the side). Each stretch of a smooth
-        edge between two knots longer than SPREAD_CELLS finest cells along the edge is
+        edge between two knots longer than SPREAD_CELLS of the grid's cells it crosses (the
+        largest of them, ``edge_cells``) along the edge is
         therefore cut into equal lengths of at most that, new knots at the cuts on the present
         edge (the shape is unchanged by the insertion), so that the spline's edge everywhere is
         within a cell or so of a knot whose edge condition holds. A flat contact keeps its 24
@@ -488,7 +510,7 @@ class StarRegionContact(EllipseContact):
             phi = self.knots[k] + gap[k] * np.linspace(0.0, 1.0, 129)
             edge = self.edge_points(phi, a)
             arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(edge, axis=0).T))])
-            n = int(math.ceil(arc[-1] / (SPREAD_CELLS * self.h) - 1e-9))
+            n = int(math.ceil(arc[-1] / (SPREAD_CELLS * float(self.edge_cells(phi, a).max())) - 1e-9))
             new.extend(np.interp(arc[-1] * np.arange(1, n) / n, arc, phi))
         new = np.mod(np.array(new[:max(MAX_KNOTS - len(self.knots), 0)]), turn)
         if not len(new):

@@ -1,0 +1,103 @@
+"""Where the refinement that follows a line contact's region puts its balls, read off the coarse
+pass's region (a contact block of summary.json: its point, axes and boundary polyline).
+
+- The **band**: balls centred on the line through the contact point, spread over the region's
+  extent along it at most one radius apart, of radius the region's half-width plus a margin (the
+  coarse region's uncertainty), at the scene's levels.
+- **Where the edge turns**: the stretches along the line where the region's smooth edge runs at
+  more than TURNING_SLOPE to the line (its half-width changes by more than that per unit length:
+  a crowned roller's ends, where the width falls to zero, and next to them the bulge by the
+  crown's junction) get balls one level finer about the edge. A stretch is widened by the margin
+  along the line on both sides; its balls are centred on the edge and reach the margin (where the
+  edge may lie) plus the window the edge condition reads inside it. The edge on body 1's free
+  edges and next to them (within the margin) is left out: there the region ends at the body's
+  corner (complete contact), its width does not follow the pressure, and the pressure is
+  singular, so finer cells there only raise the end's peak.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["TURNING_SLOPE", "band_balls", "turning_balls", "region_edge", "turning_stretches"]
+
+#: the smooth edge's slope to the line (the half-width's change per unit length) beyond which the
+#: region's edge is refined one level more (tan 14 degrees)
+TURNING_SLOPE = 0.25
+
+
+def region_edge(block: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(points (n, 2) of the boundary polyline in the frame's tangent axes, from the contact
+    point; per segment i (points i to i + 1, closed): whether it is smooth edge; per point:
+    on body 1's free edge). The segments that start or end at the contact point are a symmetric
+    model's cuts along its symmetry planes, not edge."""
+    point, axes = np.asarray(block["point"], float), np.asarray(block["axes"], float)
+    xy = (np.asarray(block["boundary"]["points"], float) - point) @ axes[:2].T
+    free = np.asarray(block["boundary"].get("free_edge", [False] * len(xy)), bool)
+    nxt = np.roll(np.arange(len(xy)), -1)
+    scale = float(np.abs(xy).max()) if len(xy) else 0.0
+    centre = np.hypot(xy[:, 0], xy[:, 1]) <= 1e-9 * max(scale, 1e-300)
+    smooth = ~(free | free[nxt] | centre | centre[nxt])
+    return xy, smooth, free
+
+
+def band_balls(block: dict, margin: float) -> tuple[np.ndarray, float]:
+    """(centres (k,) along the line from the contact point, radius) of the band over the whole
+    region: its half-width plus ``margin``, its centres at most a radius apart."""
+    xy, _, _ = region_edge(block)
+    radius = float(np.abs(xy[:, 1]).max()) + margin
+    lo, hi = float(xy[:, 0].min()), float(xy[:, 0].max())
+    count = max(2, int(math.ceil((hi - lo) / radius)) + 1)
+    return np.linspace(lo, hi, count), radius
+
+
+def turning_stretches(block: dict, margin: float) -> list[tuple[float, float, float]]:
+    """The stretches (start, end along the line, widest half-width there) where the smooth edge
+    runs at more than TURNING_SLOPE to the line, each widened by ``margin`` along it on both
+    sides and merged where they overlap; the edge within ``margin`` of a free edge left out."""
+    xy, smooth, free = region_edge(block)
+    nxt = np.roll(np.arange(len(xy)), -1)
+    d = xy[nxt] - xy
+    steep = smooth & (np.abs(d[:, 1]) > TURNING_SLOPE * np.abs(d[:, 0]))
+    if free.any():
+        near = np.hypot(*(xy[:, None, :] - xy[free][None, :, :]).transpose(2, 0, 1)).min(axis=1) <= margin
+        steep &= ~(near | near[nxt])
+    if not steep.any():
+        return []
+    lo = np.minimum(xy[steep, 0], xy[nxt][steep, 0]) - margin
+    hi = np.maximum(xy[steep, 0], xy[nxt][steep, 0]) + margin
+    order = np.argsort(lo)
+    merged: list[list[float]] = []
+    for a, b in zip(lo[order], hi[order]):
+        if merged and a <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], b)
+        else:
+            merged.append([float(a), float(b)])
+    width = np.abs(xy[:, 1])
+    out = []
+    for a, b in merged:
+        inside = (xy[:, 0] >= a) & (xy[:, 0] <= b)
+        out.append((a, b, float(width[inside].max()) if inside.any() else float(width.max())))
+    return out
+
+
+def turning_balls(block: dict, margin: float, window: float) -> list[tuple[np.ndarray, float]]:
+    """Per stretch of turning_stretches: (centres (k, 2) in the tangent plane, radius) of balls one
+    level finer along the region's smooth edge there: of radius ``margin`` (where the edge may
+    lie) plus ``window`` (how far inside it the edge condition reads the pressure), centred on
+    the edge's points at most half a radius apart, so that the edge and that much on either side
+    of it are covered."""
+    xy, smooth, _ = region_edge(block)
+    on_edge = smooth | np.roll(smooth, 1)  # a point of a smooth segment
+    radius = margin + window
+    out = []
+    for a, b, _ in turning_stretches(block, margin):
+        centres: list[np.ndarray] = []
+        for p in xy[on_edge & (xy[:, 0] >= a) & (xy[:, 0] <= b)]:  # in the polyline's order
+            if not centres or np.hypot(*(np.asarray(centres) - p).T).min() > 0.5 * radius:
+                centres.append(p)
+        if centres:
+            out.append((np.asarray(centres), radius))
+    return out
