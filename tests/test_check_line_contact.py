@@ -33,9 +33,11 @@ def _coarse_pass(problem):
     edge = np.vstack([[[0.0, 0.0]], end, side])
     edge = np.column_stack([edge, np.zeros(len(edge))])
     free = [False] + [True] * len(end) + [False] * len(side)
+    cell = min(b.element_size / 2.0 ** max(z.levels for z in b.refinements) for b in problem.bodies)
     block = {"point": [0.0, 0.0, 0.0], "axes": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
-             "boundary": {"points": edge.tolist(), "free_edge": free}}
-    return SimpleNamespace(contacts=[block], body_info={"roller": {"dofs": 1}, "block": {"dofs": 1}})
+             "boundary": {"points": edge.tolist(), "free_edge": free},
+             "cells_per_semi_axis": [0.1 / cell, 0.024 / cell], "area": 0.1 * 0.024}
+    return SimpleNamespace(contacts=[block], converged=True, body_info={"roller": {"dofs": 1}, "block": {"dofs": 1}})
 
 
 def test_the_check_of_a_line_contact_follows_the_band_its_run_builds():
@@ -46,9 +48,11 @@ def test_the_check_of_a_line_contact_follows_the_band_its_run_builds():
     assert line_contacts(problem) == [0]
     asked = []
     size, note = run_size(problem, lambda p: asked.append(p) or _coarse_pass(p))
-    assert len(asked) == 1 and "coarse pass" in note and "band" in note
-    assert {z.levels for b in asked[0].bodies for z in b.refinements} == {2}  # two levels shallower
-    fine, _ = band_problem(problem, [0], _coarse_pass(problem).contacts)
+    assert "coarse pass" in note and "band" in note
+    # as the run: two levels shallower (25 mm cells, under 1.5 across the 24 mm half-width), then
+    # one level finer (12.5 mm: resolved), and the band made from that pass
+    assert [{z.levels for b in p.bodies for z in b.refinements} for p in asked] == [{2}, {3}]
+    fine, _ = band_problem(problem, [0], _coarse_pass(asked[-1]).contacts, 1)
     driver = ContactDriver(resolve_problem(fine))
     driver._discretise()
     driver._assemble()  # the bodies' grids and the contact with its condensed dofs

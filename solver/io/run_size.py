@@ -76,25 +76,33 @@ def _sized_point_contacts(problem: Problem, points: list[int], solve: Callable,
 
 def _line_contacts(problem: Problem, lines: list[int], solve: Callable, loaded: float) -> tuple[ProblemSize, str]:
     """The size of the fine pass of the line contacts ``lines`` (the band along the coarse
-    region), its memory at least the coarse pass's, and a note."""
-    from ibfem.solver.contact.follow import band_problem, coarse_problem
+    region, solver.contact.follow), its memory at least the coarse passes', and a note. The
+    coarse pass is the run's own: repeated one level finer while its region is unresolved."""
+    from ibfem.solver.contact.follow import band_problem, coarse_pass, coarse_problem
 
-    coarse = coarse_problem(problem, lines)
-    coarse_size = estimate_size(coarse, loaded)
+    coarse_sizes = []
+
+    def sized_solve(p):
+        coarse_sizes.append(estimate_size(p, loaded).memory)
+        return solve(p)
+
     try:
-        coarse_solution = solve(coarse)
+        coarse_solution, fewer, _ = coarse_pass(problem, lines, sized_solve)
     except ValueError as err:  # the run reports it in its own words; the scene's grid is the bound
-        return (_at_least(estimate_size(problem, loaded), coarse_size.memory),
+        floor = max(coarse_sizes, default=estimate_size(coarse_problem(problem, lines), loaded).memory)
+        return (_at_least(estimate_size(problem, loaded), floor),
                 f"the line contact's coarse pass failed ({err}): the scene's whole contact ball counted")
+    floor = max(coarse_sizes)
     if any(not coarse_solution.contacts[k].get("boundary") for k in lines):
-        return (_at_least(estimate_size(problem, loaded), coarse_size.memory),  # the run solves the scene's grid
+        return (_at_least(estimate_size(problem, loaded), floor),  # the run solves the scene's grid
                 "the line contact's coarse pass found no region: the scene's own grid")
-    fine, bands = band_problem(problem, lines, coarse_solution.contacts)
+    fine, bands = band_problem(problem, lines, coarse_solution.contacts, fewer)
     widths = sorted({round(band["radius"], 9) for band in bands.values()})
     areas = [coarse_solution.contacts[k].get("area") if k in lines else None for k in range(len(problem.contacts))]
-    return (_at_least(estimate_size(fine, loaded, areas), coarse_size.memory),
-            f"line contact: its coarse pass solved ({_dofs(coarse_solution):.3g} dofs), the band along "
-            f"its region (radius {', '.join(f'{w:.3g}' for w in widths)} m) at the scene's levels")
+    return (_at_least(estimate_size(fine, loaded, areas), floor),
+            f"line contact: its coarse pass solved ({_dofs(coarse_solution):.3g} dofs, {fewer} level"
+            f"{'s' if fewer > 1 else ''} shallower), the band along its region (radius "
+            f"{', '.join(f'{w:.3g}' for w in widths)} m) at the scene's levels")
 
 
 def _at_least(size: ProblemSize, memory: float) -> ProblemSize:
