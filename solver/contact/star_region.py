@@ -32,7 +32,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
@@ -175,6 +174,8 @@ class StarRegionContact(EllipseContact):
         key = self.log_rho.tobytes() + self.knots.tobytes()
         if self._spline is None or self._spline[0] != key:
             values = np.append(self.log_rho, self.log_rho[0])
+            from scipy.interpolate import CubicSpline  # imported when a region is made: scipy.interpolate
+
             self._spline = (key, CubicSpline(np.append(self.knots, 2.0 * math.pi), values, bc_type="periodic"))
         return np.exp(self._spline[1](np.mod(phi, 2.0 * math.pi)))
 
