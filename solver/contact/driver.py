@@ -271,7 +271,7 @@ class ContactDriver:
             if key not in cache:
                 iters += 1
                 self.report(f"load step {step}/{self.steps}: region trial {iters}"
-                            + (f" (shape update {tag})" if tag else ""), 0.3 + 0.6 * (step - 1) / self.steps)
+                            + (f" (shape update {tag})" if tag else ""), self._step_fraction(step))
                 cache[key] = self._trial(trial, lam, step, iters, tag)
                 self._forget_old_states(cache, keep=2)
             verdicts = cache[key][1]
@@ -290,6 +290,10 @@ class ContactDriver:
             state = state[:5] + (SmallSystem(self.schur, state[3], all(c.is_symmetric() for c in self.contacts),
                                               self.g_inverse),)
         return widths, [r[1] for r in results], state, infos, iters, settled
+
+    def _step_fraction(self, step: int) -> float:
+        """The run's fraction at the start of load step ``step``: the steps share 0.3 to 0.9."""
+        return 0.3 + 0.6 * (step - 1) / self.steps
 
     @staticmethod
     def _forget_old_states(cache: dict, keep: int) -> None:
@@ -330,7 +334,7 @@ class ContactDriver:
             t = self.path_steps.times[step - 1]
             self.f0, self.bu0, self.sbu0, self.u0f0 = self.path_steps.at(t)
             lam, final = 1.0, True
-        self.report(f"load step {step}/{steps}", 0.3 + 0.6 * (step - 1) / steps)
+        self.report(f"load step {step}/{steps}", self._step_fraction(step))
         if self._load_held(step):
             self._hold_step(step)
             return

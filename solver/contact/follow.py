@@ -29,8 +29,8 @@ from .ellipse_geometry import contact_frame_3d, sectors
 from .region_band import band_balls, turning_balls
 from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
-__all__ = ["solve_following", "line_contacts", "coarse_problem", "coarse_pass", "band_problem", "COARSER_LEVELS",
-           "MARGIN_CELLS", "MIN_COARSE_CELLS"]
+__all__ = ["solve_following", "line_contacts", "finest_contact_cell", "coarse_problem", "coarse_pass",
+           "band_problem", "COARSER_LEVELS", "MARGIN_CELLS", "MIN_COARSE_CELLS"]
 
 #: levels fewer in the coarse pass's contact refinement
 COARSER_LEVELS = 2
@@ -42,13 +42,11 @@ MARGIN_CELLS = 1.0
 MIN_COARSE_CELLS = 1.5
 
 
-def _finest(problem, names) -> float:
-    sizes = []
-    for name in names:
-        body = problem.body(name)
-        levels = max([r.levels for r in body.refinements if r.around_contact], default=0)
-        sizes.append(body.element_size / 2.0**levels)
-    return min(sizes)
+def finest_contact_cell(problem, names) -> float:
+    """The smallest cell the bodies ``names`` refine to around their contacts (each body's element
+    size halved per level of its deepest contact zone)."""
+    return min(problem.body(n).element_size / 2.0 ** max([r.levels for r in problem.body(n).refinements
+                                                          if r.around_contact], default=0) for n in names)
 
 
 def line_contacts(problem) -> list[int]:
@@ -64,7 +62,7 @@ def line_contacts(problem) -> list[int]:
         if not zones or min(r.levels for r in zones) < COARSER_LEVELS + 2:
             continue
         first, second = (problem.body(n).profile for n in c.bodies)
-        h = _finest(problem, c.bodies)
+        h = finest_contact_cell(problem, c.bodies)
         frame = contact_frame_3d(first, second, np.asarray(c.point, dtype=float), h)
         if is_line_contact(frame) or _elongated(problem, c, first, frame, h):
             out.append(k)
@@ -107,11 +105,11 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
     bands = {}
     for k in indices:
         c, block = problem.contacts[k], blocks[k]
-        margin = MARGIN_CELLS * _finest(coarse_problem(problem, [k], levels_fewer), c.bodies)
+        margin = MARGIN_CELLS * finest_contact_cell(coarse_problem(problem, [k], levels_fewer), c.bodies)
         point, axis = np.asarray(block["point"], float), np.asarray(block["axes"], float)[0]
         along, radius = band_balls(block, margin)
         axes = np.asarray(block["axes"], float)[:2]
-        window = EDGE_WINDOW_CELLS * 0.5 * _finest(problem, c.bodies)  # the cells one level finer
+        window = EDGE_WINDOW_CELLS * 0.5 * finest_contact_cell(problem, c.bodies)  # the cells one level finer
         finer = [(point + s @ axes, r) for s, r in turning_balls(block, margin, window)]
         for name in c.bodies:
             bands.setdefault(name, []).append((point + along[:, None] * axis, radius, finer))

@@ -34,7 +34,7 @@ import numpy as np
 
 from ..model.estimate import contact_dofs_per_body
 from .band import CandidateRegionExceeded
-from .follow import line_contacts
+from .follow import finest_contact_cell, line_contacts
 
 __all__ = ["COARSER_LEVELS", "MARGIN", "MARGIN_CELLS", "MIN_CONTACT_DOFS", "coarse_pass_problem", "sized_contacts",
            "sized_problem", "solve_sized"]
@@ -80,11 +80,6 @@ def _with_contact_zones(problem, names, levels_fewer: int):
     return dataclasses.replace(problem, bodies=bodies)
 
 
-def _finest_cell(problem, names) -> float:
-    return min(problem.body(n).element_size / 2.0 ** max([r.levels for r in problem.body(n).refinements
-                                                          if r.around_contact], default=0) for n in names)
-
-
 def region_reach(block: dict) -> float | None:
     """How far from the contact point an elliptical region of a contact block reaches: its largest
     semi-axis plus its centre's offset (None for a region of general shape or none)."""
@@ -110,7 +105,7 @@ def sized_problem(problem, indices: list[int], coarse) -> tuple[object, dict]:
         if reach is None:
             record[k] = None
             continue
-        cell = _finest_cell(_with_contact_zones(problem, c.bodies, COARSER_LEVELS), c.bodies)
+        cell = finest_contact_cell(_with_contact_zones(problem, c.bodies, COARSER_LEVELS), c.bodies)
         radius = min(r.radius for r in _contact_zones(problem, c))
         fraction = min(((1.0 + MARGIN) * reach + MARGIN_CELLS * cell) / radius, c.options.extent_fraction)
         contacts[k] = dataclasses.replace(c, options=dataclasses.replace(c.options, extent_fraction=fraction))

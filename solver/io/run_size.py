@@ -89,7 +89,7 @@ def _line_contacts(problem: Problem, lines: list[int], solve: Callable, loaded: 
     try:
         coarse_solution, fewer, _ = coarse_pass(problem, lines, sized_solve)
     except ValueError as err:  # the run reports it in its own words; the scene's grid is the bound
-        floor = max(coarse_sizes, default=estimate_size(coarse_problem(problem, lines), loaded).memory)
+        floor = max(coarse_sizes) if coarse_sizes else estimate_size(coarse_problem(problem, lines), loaded).memory
         return (_at_least(estimate_size(problem, loaded), floor),
                 f"the line contact's coarse pass failed ({err}): the scene's whole contact ball counted")
     floor = max(coarse_sizes)

@@ -15,13 +15,15 @@ sample). Overlapping zones are counted once (each sample weighted by one over th
 hold it). Dofs: DOFS_PER_CELL per cell. Memory: in 2D the process's resident memory when the
 estimate is made (the scene loaded, a CAD kernel included) plus SOLVER_BYTES_2D plus
 BYTES_PER_DOF[2] per dof, fitted on the peaks of the shipped 2D examples; in 3D what the loaded
-scene holds beyond an analytic one (a CAD kernel), measured bytes per dof for the sparse part, and for a 3D contact the dense arrays of its condensed dofs (the cell faces of the part of the
+scene holds beyond an analytic one (a CAD kernel), measured bytes per dof for the sparse part,
+and for a 3D contact the dense arrays of its condensed dofs (the cell faces of the part of the
 candidate disc that the bodies hold, each part at the cell size its refinement zones give it,
 times CONTACT_DOFS_PER_FACET per body; each body's block held twice and formed once more), then
 the larger of the factorisation's work space and the region trials' contact blocks (per point of
-the region: the area a coarse pass found, else a share of the candidate disc). A 3D frictional contact under load paths keeps a friction
-history on its region's quadrature points: the regions it holds through a load step are counted
-per point of a region as large as the candidate disc (:func:`history_bytes`)."""
+the region: the area a coarse pass found, else a share of the candidate disc). A 3D frictional
+contact under load paths keeps a friction history on its region's quadrature points: the regions
+it holds through a load step are counted per point of a region as large as the candidate disc
+(:func:`history_bytes`)."""
 
 from __future__ import annotations
 
@@ -240,8 +242,7 @@ def _estimate(problem, loaded: float, region_areas=None) -> ProblemSize:
         body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
         rest = BASE_BYTES_3D_CONTACT + loaded + history_bytes(problem)
-        trials = trial_bytes(problem, region_areas)
-        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed, trials) + rest
+        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed, region_areas) + rest
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
@@ -302,27 +303,34 @@ def factor_threads() -> int:
 
 
 def trial_bytes(problem, region_areas=None) -> list[float]:
-    """Per contact of a 3D problem, the memory of its region trials: TRIAL_BYTES_PER_POINT per
-    point of its region, REGION_POINTS_PER_FACET points per finest cell face. The region's area
-    is ``region_areas``' (m^2 per contact, where a coarse pass has found the region), else
-    REGION_FILL of the candidate disc's faces (each part of the disc at its cell size)."""
+    """Per contact of a 3D problem, the memory of its region trials (:func:`_contact_trial_bytes`);
+    ``region_areas``: m^2 per contact where a coarse pass has found the region, else None."""
     if problem.dim != 3:
         return [0.0] * len(problem.contacts)
-    out = []
-    for k, c in enumerate(problem.contacts):
-        area = None if region_areas is None else region_areas[k]
-        if area is None:
-            faces = REGION_FILL * contact_dofs_per_body(problem, c)[1] / CONTACT_DOFS_PER_FACET
-        else:
-            bodies = [b for b in problem.bodies if b.name in c.bodies]
-            h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
-                         for b in bodies)
-            faces = float(area) / h_fine**2
-        out.append(TRIAL_BYTES_PER_POINT * REGION_POINTS_PER_FACET * faces)
-    return out
+    return [_contact_trial_bytes(problem, c, contact_dofs_per_body(problem, c)[1],
+                                 None if region_areas is None else region_areas[k])
+            for k, c in enumerate(problem.contacts)]
 
 
-def _dense_contact_bytes(problem, streamed: bool = False, trials=None) -> float:
+def _contact_trial_bytes(problem, contact, m_b: float, area: float | None) -> float:
+    """TRIAL_BYTES_PER_POINT per point of the contact's region, REGION_POINTS_PER_FACET points per
+    finest cell face: a region of ``area`` (m^2), else REGION_FILL of the candidate disc's faces
+    (its ``m_b`` contact dofs per body over CONTACT_DOFS_PER_FACET)."""
+    if area is None:
+        faces = REGION_FILL * m_b / CONTACT_DOFS_PER_FACET
+    else:
+        faces = float(area) / _finest_cell_size([b for b in problem.bodies if b.name in contact.bodies]) ** 2
+    return TRIAL_BYTES_PER_POINT * REGION_POINTS_PER_FACET * faces
+
+
+def _finest_cell_size(bodies) -> float:
+    """The smallest cell of the bodies' grids: each body's element size halved per level of its
+    deepest refinement zone."""
+    return min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
+               for b in bodies)
+
+
+def _dense_contact_bytes(problem, streamed: bool = False, region_areas=None) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
     the root of the factor and a quarter of that in the kept block of the inverse (all of it
     for blocks below 4000 dofs, where it is small), and while the last body is factored about
@@ -331,14 +339,15 @@ def _dense_contact_bytes(problem, streamed: bool = False, trials=None) -> float:
     condensed disc is smaller than a section through the contact refinement (m_z dofs). ``streamed``: the factors go to disk
     as they are computed; the last body's root block is then allocated only once its front
     buffer is freed, so it is not counted beside the work space. The bodies are factored one at
-    a time, so one work space is counted. ``trials``: per contact the bytes of its region trials
-    (:func:`trial_bytes`), which come after the factorisation: the larger of the two counts."""
+    a time, so one work space is counted. Then the region trials (:func:`_contact_trial_bytes`,
+    ``region_areas`` as :func:`trial_bytes`'), which come after the factorisation: the larger of
+    the two counts."""
     total = 0.0
     for k, c in enumerate(problem.contacts):
         n_bodies, m_b = contact_dofs_per_body(problem, c)
         m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
         work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
-        later = 0.0 if trials is None else trials[k]
+        later = _contact_trial_bytes(problem, c, m_b, None if region_areas is None else region_areas[k])
         total += 8.0 * 1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + max(8.0 * work, later)
     return total
 
@@ -386,8 +395,7 @@ def contact_dofs_per_body(problem, contact, fraction: float | None = None) -> tu
     contact's ``extent_fraction``."""
     bodies = [b for b in problem.bodies if b.name in contact.bodies]
     radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
-    h_fine = min(float(b.element_size) / 2.0 ** max([int(z.levels) for z in b.refinements], default=0)
-                 for b in bodies)
+    h_fine = _finest_cell_size(bodies)
     fraction = contact.options.extent_fraction if fraction is None else fraction
     extent = fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
     radius = extent + CONTACT_DISC_MARGIN * h_fine
