@@ -263,7 +263,7 @@ def _save_on_background(fig: Any, background: Any, panels, path: Path) -> None:
         for artist in [*ax.collections, *ax.spines.values()]:
             ax.draw_artist(artist)
         cax.draw(renderer)
-    write_png(path, np.asarray(canvas.buffer_rgba())[:, :, :3], dpi=fig.dpi)
+    _write_canvas(fig, path)
 
 
 def _save_drawn(fig: Any, path: Path) -> None:
@@ -271,7 +271,12 @@ def _save_drawn(fig: Any, path: Path) -> None:
     pixels as matplotlib's ``savefig``, encoded in less than half of Pillow's time)."""
     fig.set_dpi(_DPI)
     fig.canvas.draw()
-    write_png(path, np.asarray(fig.canvas.buffer_rgba())[:, :, :3], dpi=_DPI)
+    _write_canvas(fig, path)
+
+
+def _write_canvas(fig: Any, path: Path) -> None:
+    """What ``fig``'s canvas holds now, as an RGB PNG at the figure's resolution."""
+    write_png(path, np.asarray(fig.canvas.buffer_rgba())[:, :, :3], dpi=fig.dpi)
 
 
 def _field_figure(plt, outputs, title: str, window) -> Any:
