@@ -44,3 +44,36 @@ def test_estimate_against_the_built_octrees(name, element_size, levels):
     for b in bodies:
         phi = b.boundary.signed_distance(b.grid.center)
         assert np.all(phi > -0.5 * np.sqrt(3.0) * b.grid.size * (1 + 1e-6))
+
+
+def test_contact_dofs_of_a_zone_off_the_contact_point_in_a_quarter_model():
+    """A quarter model holds a quarter of the contact's candidate disc, and a refinement zone off the
+    contact point (a band's ball, a finer ball where a region's edge turns) lies in that quarter
+    only: the disc's cell density is the held quarter's. Averaged over the whole disc, the zone's
+    fine cells counted a quarter of their share (0.48 of the built contact dofs here)."""
+    path = SOLID / "sphere_on_flat.toml"
+    data = tomllib.loads(path.read_text())
+    for body in data["bodies"]:
+        body["refinement"] = [{"levels": 3, "around": "contact", "radius": 0.1},
+                              {"levels": 5, "radius": 0.025, "around": [0.045, 0.03, 0.0]}]
+    problem = resolve_problem(load_scene(data, label=path.name, base_dir=path.parent).problem)
+    bodies = discretise(problem, problem.options)
+    (cm,) = problem.contacts
+    contact = formulation(cm.options.formulation, 3)(problem, cm, *bodies, problem.options)
+    assert estimate_contact_dofs(problem) == pytest.approx(len(contact.dofs), rel=0.3)
+
+
+@pytest.mark.parametrize("scene, point", [("solid/sphere_on_flat", True), ("solid/crossed_cylinders", True),
+                                          ("contact3d/roller_on_flat", False), ("contact3d/rounded_punch", False)])
+def test_a_region_not_found_yet_fills_a_point_contacts_disc_less(scene, point):
+    """Before a solve, a point contact's region (surfaces curving apart along both axes: an
+    ellipse) is counted as a sixteenth of its candidate disc, a line contact's or a flat punch's,
+    which grow along the disc, as a quarter."""
+    from ibfem.solver.io.run_size import region_fills
+    from ibfem.solver.model.estimate import POINT_REGION_FILL, REGION_FILL, trial_bytes
+
+    problem = load_scene(SOLID.parent / f"{scene}.toml").problem
+    fills = region_fills(problem)
+    assert fills == [POINT_REGION_FILL if point else REGION_FILL]
+    assert trial_bytes(problem, region_fills=fills)[0] == pytest.approx(
+        trial_bytes(problem)[0] * fills[0] / REGION_FILL)

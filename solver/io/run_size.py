@@ -21,7 +21,9 @@ from __future__ import annotations
 
 from typing import Callable
 
-from ibfem.solver.model.estimate import ProblemSize, estimate_size, loaded_scene_bytes
+import numpy as np
+
+from ibfem.solver.model.estimate import POINT_REGION_FILL, REGION_FILL, ProblemSize, estimate_size, loaded_scene_bytes
 from ibfem.solver.model.problem import Problem
 
 __all__ = ["run_size"]
@@ -38,7 +40,7 @@ def run_size(problem: Problem, solve: Callable | None = None) -> tuple[ProblemSi
     # what the loaded scene holds (a CAD kernel), measured before a coarse pass grows the process
     loaded = loaded_scene_bytes()
     if not points and not lines:
-        return estimate_size(problem, loaded), None
+        return estimate_size(problem, loaded, region_fills=region_fills(problem)), None
     if solve is None:
         from ibfem.solver.solving import solve
     notes, floor = [], 0.0
@@ -49,8 +51,38 @@ def run_size(problem: Problem, solve: Callable | None = None) -> tuple[ProblemSi
         size, note = _line_contacts(problem, lines, solve, loaded)
         notes.append(note)
     else:
-        size = estimate_size(problem, loaded)
+        size = estimate_size(problem, loaded, region_fills=region_fills(problem))
     return _at_least(size, floor), "; ".join(notes)
+
+
+def region_fills(problem: Problem) -> list[float] | None:
+    """Per contact of a 3D problem, the share of its candidate disc its region is taken to cover
+    before a solve has found it: POINT_REGION_FILL for a point contact (the surfaces curve apart
+    along both axes at the contact point: an ellipse a fraction of the disc's size), REGION_FILL
+    for a line contact or a flat punch (the region grows along the disc). None in 2D."""
+    if problem.dim != 3 or not problem.contacts:
+        return None
+    from ibfem.solver.contact.ellipse import is_flat_contact, is_line_contact
+    from ibfem.solver.contact.ellipse_geometry import contact_frame_3d
+    from ibfem.solver.contact.follow import finest_contact_cell
+
+    fills = []
+    for c in problem.contacts:
+        fill = REGION_FILL
+        if c.point is not None and len(c.bodies) == 2:
+            first, second = (problem.body(n).profile for n in c.bodies)
+            h = finest_contact_cell(problem, c.bodies)
+            try:
+                frame = contact_frame_3d(first, second, np.asarray(c.point, dtype=float), h)
+            except (ValueError, FloatingPointError):  # the run reports a contact it cannot set up
+                frame = None
+            radii = [z.radius for n in c.bodies for z in problem.body(n).refinements if z.around_contact]
+            extent = c.options.extent_fraction * min(radii) if radii else 10.0 * h
+            if frame is not None and min(frame.curvatures) > 0.0 and not is_line_contact(frame) \
+                    and not is_flat_contact(frame, extent):
+                fill = POINT_REGION_FILL
+        fills.append(fill)
+    return fills
 
 
 def _sized_point_contacts(problem: Problem, points: list[int], solve: Callable,

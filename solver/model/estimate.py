@@ -32,7 +32,7 @@ import os
 
 import numpy as np
 
-__all__ = ["ProblemSize", "estimate_size", "history_bytes", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory",
+__all__ = ["ProblemSize", "estimate_size", "REGION_FILL", "POINT_REGION_FILL", "history_bytes", "estimate_contact_dofs", "contact_dofs_per_body", "available_memory",
            "resident_memory", "loaded_scene_bytes", "factor_threads", "trial_bytes"]
 
 #: bytes per dof measured: 2D (fitted, with SOLVER_BYTES_2D, on the peaks of the shipped 2D
@@ -100,8 +100,13 @@ REGION_NEIGHBOUR_BYTES_PER_POINT = 2_200
 #: the allocator's pages add to: the roller's peak 1.72 GB against 1.58 GB estimated)
 TRIAL_BYTES_PER_POINT = 16_000
 #: the fraction of its candidate disc's faces a contact's region is taken to cover where no coarse
-#: pass has measured it (the disc bounds the region's growth; a region half the disc's radius)
+#: pass has measured it (the disc bounds the region's growth; a region half the disc's radius): a
+#: line contact's or a flat punch's, which grow along the disc
 REGION_FILL = 0.25
+#: the same for a point contact (an ellipse): a region a quarter of the disc's radius (the shipped
+#: point contacts' regions fill 0.04-0.06 of their discs: a / h of 3 in a quarter disc of 130-200
+#: finest faces)
+POINT_REGION_FILL = 1.0 / 16.0
 #: points of the signed distance per level and body when counting a 3D body's kept cells
 SAMPLES = 2000
 #: bodies estimated above this many cells are not sampled (the box's fill by volume is used)
@@ -206,18 +211,20 @@ def _zone_centres(problem, body) -> list:
     return [default if z.center is None else np.asarray(z.center, dtype=float) for z in body.refinements]
 
 
-def estimate_size(problem, loaded: float | None = None, region_areas=None) -> ProblemSize:
+def estimate_size(problem, loaded: float | None = None, region_areas=None, region_fills=None) -> ProblemSize:
     """Estimated cells, dofs and peak memory of ``problem`` (a solver.model.Problem); inf for
     sizes beyond floating point (an element size of 1e-300). ``loaded``: in 3D, the bytes the
     loaded scene holds (:func:`loaded_scene_bytes` when the scene was loaded, before a solve
     grew the process); measured now when not given. ``region_areas``: in 3D, per contact the
     area (m^2, of the model) of its region where a coarse pass has found it, else None: the
-    region trials' memory is counted from it (:func:`trial_bytes`)."""
+    region trials' memory is counted from it (:func:`trial_bytes`); ``region_fills``: per
+    contact the share of its candidate disc a region not found yet is taken to cover (REGION_FILL
+    for every contact when not given; POINT_REGION_FILL suits a point contact)."""
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        return _estimate(problem, loaded_scene_bytes() if loaded is None else loaded, region_areas)
+        return _estimate(problem, loaded_scene_bytes() if loaded is None else loaded, region_areas, region_fills)
 
 
-def _estimate(problem, loaded: float, region_areas=None) -> ProblemSize:
+def _estimate(problem, loaded: float, region_areas=None, region_fills=None) -> ProblemSize:
     dim = problem.dim
     cells = 0.0
     per_body = []
@@ -242,7 +249,8 @@ def _estimate(problem, loaded: float, region_areas=None) -> ProblemSize:
         body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
         rest = BASE_BYTES_3D_CONTACT + loaded + history_bytes(problem)
-        memory = _sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed, region_areas) + rest
+        memory = (_sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed, region_areas, region_fills)
+                  + rest)
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
@@ -302,22 +310,24 @@ def factor_threads() -> int:
     return threads()
 
 
-def trial_bytes(problem, region_areas=None) -> list[float]:
+def trial_bytes(problem, region_areas=None, region_fills=None) -> list[float]:
     """Per contact of a 3D problem, the memory of its region trials (:func:`_contact_trial_bytes`);
-    ``region_areas``: m^2 per contact where a coarse pass has found the region, else None."""
+    ``region_areas``: m^2 per contact where a coarse pass has found the region, else None;
+    ``region_fills`` as :func:`estimate_size`'s."""
     if problem.dim != 3:
         return [0.0] * len(problem.contacts)
     return [_contact_trial_bytes(problem, c, contact_dofs_per_body(problem, c)[1],
-                                 None if region_areas is None else region_areas[k])
+                                 None if region_areas is None else region_areas[k],
+                                 REGION_FILL if region_fills is None else region_fills[k])
             for k, c in enumerate(problem.contacts)]
 
 
-def _contact_trial_bytes(problem, contact, m_b: float, area: float | None) -> float:
+def _contact_trial_bytes(problem, contact, m_b: float, area: float | None, fill: float = REGION_FILL) -> float:
     """TRIAL_BYTES_PER_POINT per point of the contact's region, REGION_POINTS_PER_FACET points per
-    finest cell face: a region of ``area`` (m^2), else REGION_FILL of the candidate disc's faces
+    finest cell face: a region of ``area`` (m^2), else ``fill`` of the candidate disc's faces
     (its ``m_b`` contact dofs per body over CONTACT_DOFS_PER_FACET)."""
     if area is None:
-        faces = REGION_FILL * m_b / CONTACT_DOFS_PER_FACET
+        faces = fill * m_b / CONTACT_DOFS_PER_FACET
     else:
         faces = float(area) / _finest_cell_size([b for b in problem.bodies if b.name in contact.bodies]) ** 2
     return TRIAL_BYTES_PER_POINT * REGION_POINTS_PER_FACET * faces
@@ -330,7 +340,7 @@ def _finest_cell_size(bodies) -> float:
                for b in bodies)
 
 
-def _dense_contact_bytes(problem, streamed: bool = False, region_areas=None) -> float:
+def _dense_contact_bytes(problem, streamed: bool = False, region_areas=None, region_fills=None) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
     the root of the factor and a quarter of that in the kept block of the inverse (all of it
     for blocks below 4000 dofs, where it is small), and while the last body is factored about
@@ -340,14 +350,15 @@ def _dense_contact_bytes(problem, streamed: bool = False, region_areas=None) -> 
     as they are computed; the last body's root block is then allocated only once its front
     buffer is freed, so it is not counted beside the work space. The bodies are factored one at
     a time, so one work space is counted. Then the region trials (:func:`_contact_trial_bytes`,
-    ``region_areas`` as :func:`trial_bytes`'), which come after the factorisation: the larger of
-    the two counts."""
+    ``region_areas`` and ``region_fills`` as :func:`trial_bytes`'), which come after the
+    factorisation: the larger of the two counts."""
     total = 0.0
     for k, c in enumerate(problem.contacts):
         n_bodies, m_b = contact_dofs_per_body(problem, c)
         m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
         work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
-        later = _contact_trial_bytes(problem, c, m_b, None if region_areas is None else region_areas[k])
+        later = _contact_trial_bytes(problem, c, m_b, None if region_areas is None else region_areas[k],
+                                     REGION_FILL if region_fills is None else region_fills[k])
         total += 8.0 * 1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + max(8.0 * work, later)
     return total
 
@@ -433,7 +444,23 @@ def _mean_inverse_square_size(problem, bodies, point, radius: float) -> float:
     for at, reach, h in zones:
         inside = np.linalg.norm(pts - at, axis=1) <= reach
         size[inside] = np.minimum(size[inside], h)
-    return float(np.mean(1.0 / size**2))
+    held = _held_points(bodies, pts, np.cross(basis[0], basis[1]), min(z[2] for z in zones))
+    return float(np.mean(1.0 / size[held]**2))
+
+
+def _held_points(bodies, pts: np.ndarray, normal: np.ndarray, depth: float) -> np.ndarray:
+    """Which points of a contact's disc lie on the bodies: a body holds a point of its tangent
+    plane where the point, moved ``depth`` to either side of the plane, lies inside it. A symmetric
+    model holds part of the disc (a quarter model a quarter), and its refinement zones cover only
+    that part: the disc's mean cell density is the held part's. All points where a body has no
+    signed distance, or where none is held."""
+    if not all(hasattr(b.profile, "signed_distance") for b in bodies):
+        return np.ones(len(pts), dtype=bool)
+    held = np.zeros(len(pts), dtype=bool)
+    for b in bodies:
+        for side in (-1.0, 1.0):
+            held |= np.asarray(b.profile.signed_distance(pts + side * depth * normal), dtype=float) >= 0.0
+    return held if held.any() else np.ones(len(pts), dtype=bool)
 
 
 def _held_fraction(bodies, point, radius: float) -> float:
