@@ -11,6 +11,7 @@ against the Mindlin-Deresiewicz closed form for the cycle's amplitude and normal
     .venv/bin/python benchmarks/fretting_grid_shift.py --spacings 0.0625 --band-fraction 0.25 \
         --offsets 0.37 0.21 0.13 0.71
     .venv/bin/python benchmarks/fretting_grid_shift.py --seat --offsets 0.37 0.21
+    .venv/bin/python benchmarks/fretting_grid_shift.py --spacings 0.015625 --points-per-cycle 40 --offsets
 
 ``--seat`` runs instead the cylinder R = 1 m in the concave seat R = 2 m
 (examples/cylinder_in_concave_partial_slip.toml) with the normal displacement held and the
@@ -50,7 +51,7 @@ def _seat_scene() -> dict:
 
 
 def run(spacing: float, band_fraction: float | None, offset: list[float] | None, out: Path,
-        seat: bool = False) -> dict:
+        seat: bool = False, points_per_cycle: int = 20) -> dict:
     """The example (or the concave seat) at this sample spacing and grid offset: its cycles
     against the closed form."""
     from ibfem.solver.io.output import write_scene_results
@@ -60,6 +61,7 @@ def run(spacing: float, band_fraction: float | None, offset: list[float] | None,
 
     data = _seat_scene() if seat else tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
     data["output"] = {"vtk": False, "plots": False}
+    data["paths"][1]["cycle"]["points_per_cycle"] = points_per_cycle
     data["contacts"][0]["sample_spacing"] = spacing
     if band_fraction is not None:
         data["solver"]["band_fraction"] = band_fraction
@@ -92,8 +94,9 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--spacings", type=float, nargs="+", default=[1.0 / 16.0, 1.0 / 64.0])
     ap.add_argument("--band-fraction", type=float, default=None)
+    ap.add_argument("--points-per-cycle", type=int, default=20)
     ap.add_argument("--seat", action="store_true", help="the concave seat instead of the example")
-    ap.add_argument("--offsets", type=float, nargs="+", default=[0.37, 0.21, 0.13, 0.71],
+    ap.add_argument("--offsets", type=float, nargs="*", default=[0.37, 0.21, 0.13, 0.71],
                     help="pairs of grid offsets (fractions of the coarsest cell)")
     args = ap.parse_args(argv)
     if len(args.offsets) % 2:
@@ -103,11 +106,11 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for spacing in args.spacings:
             print(f"sample_spacing {spacing:g}, band_fraction {args.band_fraction or 'default'} (J/m; against the closed form)")
-            base = run(spacing, args.band_fraction, None, Path(tmp) / "aligned", args.seat)
+            base = run(spacing, args.band_fraction, None, Path(tmp) / "aligned", args.seat, args.points_per_cycle)
             print(_line("aligned", base, None))
             ok &= base["converged"]
             for off in offsets:
-                r = run(spacing, args.band_fraction, off, Path(tmp) / "shifted", args.seat)
+                r = run(spacing, args.band_fraction, off, Path(tmp) / "shifted", args.seat, args.points_per_cycle)
                 print(_line(f"shift {off[0]:g}, {off[1]:g}", r, base))
                 ok &= r["converged"]
     return 0 if ok else 1
