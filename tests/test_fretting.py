@@ -212,11 +212,11 @@ def test_varying_normal_load_keeps_coulomb(tmp_path):
 
 @pytest.mark.slow
 def test_shifted_grid_energy(tmp_path):
-    """The example on a grid shifted by (0.37, 0.21) cells: the energy per cycle within 6 % of the
-    Mindlin-Deresiewicz closed form for the computed amplitude from the loop (measured -5.1 % and
-    -5.5 %) and within 5 % from the friction work (measured -3.8 % and -4.1 %; on the aligned grid
-    -0.7 % and -1.0 %: see docs/load-paths.md), and the stick half-width within 0.02 a of the
-    superposition's at every step."""
+    """The example on a grid shifted by (0.37, 0.21) cells: the energy per cycle within 4.5 % of
+    the Mindlin-Deresiewicz closed form for the cycle's computed amplitude and normal force from
+    the loop (measured -3.3 % and -3.6 %) and within 3 % from the friction work (measured -2.0 %
+    and -2.2 %; on the aligned grid -0.7 % and -1.0 %: see docs/load-paths.md), and the stick
+    half-width within 0.02 a of the superposition's at every step."""
     data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
     data["solver"]["grid_offset"] = [0.37, 0.21]
     summary, _ = _solved(tmp_path, data, "fretting_shifted.toml")
@@ -224,8 +224,8 @@ def test_shifted_grid_energy(tmp_path):
     assert max(abs(r["c_error_over_a"]) for r in result["steps"]) < 0.02
     assert len(result["cycles"]) == 2
     for c in result["cycles"]:
-        assert abs(c["loop_error"]) < 0.06, c
-        assert abs(c["friction_error"]) < 0.05, c
+        assert abs(c["loop_error"]) < 0.045, c
+        assert abs(c["friction_error"]) < 0.03, c
 
 
 def test_held_load_changes_nothing(tmp_path):
@@ -279,3 +279,27 @@ def test_concave_seat_fretting(tmp_path):
     assert sum(abs(r["c_error_over_a"]) > 0.02 for r in rows) <= 1
     (cycle,) = result["cycles"]
     assert abs(cycle["friction_error"]) < 0.03 and abs(cycle["loop_error"]) < 0.06, cycle
+
+
+@pytest.mark.slow
+def test_fine_samples_make_the_energy_independent_of_the_grid(tmp_path):
+    """With the friction history's samples at 1/64 of a cell (``sample_spacing``) the energy per
+    cycle is the same on the example's grid and on the grid shifted by (0.37, 0.21) cells, within
+    1 % from the loop (measured +0.63 % and +0.53 %) and from the friction work (-0.35 % and
+    -0.30 %); at the default 1/16 the loop moves by 2.6 % and 2.7 % (docs/load-paths.md, the
+    section on the grid's position)."""
+    energies = []
+    for offset in (None, [0.37, 0.21]):
+        data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
+        data["contacts"][0]["sample_spacing"] = 1.0 / 64.0
+        if offset is not None:
+            data["solver"]["grid_offset"] = offset
+        out = tmp_path / ("shifted" if offset else "aligned")
+        out.mkdir()
+        summary, _ = _solved(out, data, "fretting_fine_samples.toml")
+        cycles = summary["fretting"][0]["cycles"]
+        assert len(cycles) == 2
+        energies.append([(c["energy_loop"], c["energy_friction"]) for c in cycles])
+    for (loop0, friction0), (loop1, friction1) in zip(*energies):
+        assert loop1 == pytest.approx(loop0, rel=0.01)
+        assert friction1 == pytest.approx(friction0, rel=0.01)
