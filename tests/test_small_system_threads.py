@@ -1,7 +1,7 @@
 """The condensed contact system with G = S^-1 block diagonal (one block per body) on several
 threads (solver.fem.linalg.SmallSystem: the bodies' blocks of Kc_AA^T G_AA multiplied on threads,
 the LU of I + G_AA Kc_AA on several BLAS threads) against a dense solve of (S + Kc) x = r, and
-the same product as on one thread."""
+the same product as on one thread; threads only where the machine has a core free."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -34,6 +34,7 @@ def test_threaded_small_system_solves_the_condensed_system(monkeypatch):
     schur, g, kc, r = _two_bodies(3)
     exact = np.linalg.solve(schur.toarray() + kc, r)
     monkeypatch.setattr(linalg.SmallSystem, "THREADED_ACTIVE", 1)
+    monkeypatch.setattr(linalg.os, "getloadavg", lambda: (0.0, 0.0, 0.0))  # a free machine: threads used
     solutions = []
     for threads in ("1", "2"):
         monkeypatch.setenv("IBFEM_THREADS", threads)
@@ -47,3 +48,13 @@ def test_threaded_small_system_solves_the_condensed_system(monkeypatch):
         dense = small.kc_aa.T @ g.take(small.active, small.active)
         np.testing.assert_allclose(product, dense, rtol=0, atol=1e-12 * np.abs(dense).max())
     np.testing.assert_allclose(solutions[1], solutions[0], rtol=0, atol=1e-12 * np.max(np.abs(exact)))
+
+
+def test_a_busy_machine_gets_one_thread(monkeypatch):
+    monkeypatch.setenv("IBFEM_THREADS", "2")
+    monkeypatch.setattr(linalg.os, "getloadavg", lambda: (50.0, 50.0, 50.0))
+    assert linalg.free_threads() == 1
+    monkeypatch.setattr(linalg.os, "getloadavg", lambda: (0.0, 0.0, 0.0))
+    assert linalg.free_threads() == 2
+    monkeypatch.setenv("IBFEM_THREADS", "1")
+    assert linalg.free_threads() == 1
