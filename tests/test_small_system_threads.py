@@ -34,7 +34,7 @@ def test_threaded_small_system_solves_the_condensed_system(monkeypatch):
     schur, g, kc, r = _two_bodies(3)
     exact = np.linalg.solve(schur.toarray() + kc, r)
     monkeypatch.setattr(linalg.SmallSystem, "THREADED_ACTIVE", 1)
-    monkeypatch.setattr(linalg.os, "getloadavg", lambda: (0.0, 0.0, 0.0))  # a free machine: threads used
+    monkeypatch.setattr(linalg, "_idle_cores", lambda: 1.0)  # a free machine: threads used
     solutions = []
     for threads in ("1", "2"):
         monkeypatch.setenv("IBFEM_THREADS", threads)
@@ -52,9 +52,25 @@ def test_threaded_small_system_solves_the_condensed_system(monkeypatch):
 
 def test_a_busy_machine_gets_one_thread(monkeypatch):
     monkeypatch.setenv("IBFEM_THREADS", "2")
+    monkeypatch.setattr(linalg, "_idle_cores", lambda: 0.1)
+    assert linalg.free_threads() == 1
+    monkeypatch.setattr(linalg, "_idle_cores", lambda: 0.9)
+    assert linalg.free_threads() == 2
+    # no idle time measured yet: the load average decides
+    monkeypatch.setattr(linalg, "_idle_cores", lambda: None)
     monkeypatch.setattr(linalg.os, "getloadavg", lambda: (50.0, 50.0, 50.0))
     assert linalg.free_threads() == 1
     monkeypatch.setattr(linalg.os, "getloadavg", lambda: (0.0, 0.0, 0.0))
     assert linalg.free_threads() == 2
     monkeypatch.setenv("IBFEM_THREADS", "1")
     assert linalg.free_threads() == 1
+
+
+def test_idle_cores_are_read_over_an_interval():
+    import time
+
+    linalg._idle_cores()
+    time.sleep(0.3)
+    idle = linalg._idle_cores()
+    if idle is not None:  # a system with /proc/stat
+        assert 0.0 <= idle <= (linalg.os.cpu_count() or 1) + 1e-9
