@@ -378,8 +378,8 @@ class SmallSystem:
             m = (self.kc_aa.T @ g_aa).T
             del g_aa
         m[np.diag_indices_from(m)] += 1.0
-        with blas_threads(threads):  # the caller's guard holds BLAS on one thread; a large LU gains from more
-            self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)
+        with blas_threads(threads) if threads > 1 else contextlib.nullcontext():  # the caller's guard holds
+            self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)  # BLAS on one thread; a large LU gains
 
     def _block_product(self, a: np.ndarray, threads: int = 1) -> np.ndarray:
         """Kc_AA^T G_AA for a block-diagonal G, one block at a time: the columns of a block's dofs
