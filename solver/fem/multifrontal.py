@@ -256,11 +256,19 @@ class CholeskyFactor:
                     return bad
             if s == s1:
                 break
-            t = kern.assemble_front(*args, s, segment, base, work, self.schur)
+            rowwise = self.row_ptr[s + 1] > self.row_ptr[s]  # not a root (assembled in its factor block)
+            if rowwise:
+                t = _threaded_assemble(kern, args, s, work, self._pool)
+            else:
+                t = kern.assemble_front(*args, s, segment, base, work, self.schur)
             bad = _threaded_ldlt(kern, t, int(self.sn_start[s + 1] - self.sn_start[s]), self.definite, self._pool)
             if bad >= 0:
                 return int(self.sn_start[s]) + bad
-            kern.store_front(self.sn_start, self.row_ptr, self.sn_parent, self.factor_ptr, s, t, segment, base, work)
+            if rowwise:
+                _threaded_store(kern, self, s, t, segment, base, work, self._pool)
+            else:
+                kern.store_front(self.sn_start, self.row_ptr, self.sn_parent, self.factor_ptr, s, t, segment, base,
+                                 work)
             start = s + 1
         return -1
 
@@ -665,6 +673,57 @@ def _threaded_ldlt(kern, t: np.ndarray, nc: int, definite: bool, pool) -> int:
         if b2 > b1 and not ahead:
             bad = kern.outer_block(kern.DGEMM, t, b1, b2, f, definite)
     return bad
+
+
+def _triangle_bounds(lo: int, hi: int, parts: int) -> list[int]:
+    """Bounds lo = r_0 <= ... <= r_parts = hi of row ranges of a triangle whose row j holds
+    hi - j entries, each range about the same number of entries."""
+    n = hi - lo
+    return [lo] + [lo + int(round(n - n * np.sqrt(1.0 - i / parts))) for i in range(1, parts)] + [hi]
+
+
+def _on_threads(pool, calls) -> None:
+    """Run the calls, the first on this thread and the others on the pool's, and wait for all."""
+    jobs = [pool.submit(call) for call in calls[1:]]
+    calls[0]()
+    for job in jobs:
+        job.result()
+
+
+def _threaded_assemble(kern, args: tuple, s: int, work: tuple, pool) -> np.ndarray:
+    """:func:`_multifrontal_kernels.assemble_front` of a front that is not a root, its rows shared
+    by the pool's threads and the caller's (the same additions in the same order for every
+    entry; each thread writes its own rows)."""
+    colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, _ = args
+    nc = int(sn_start[s + 1] - sn_start[s])
+    f = nc + int(row_ptr[s + 1] - row_ptr[s])
+    kern.front_positions(sn_start, row_ptr, rows, s, work[2])
+    t = work[1][:f * f].reshape(f, f)
+    bounds = _triangle_bounds(0, f, pool.parts)
+    _on_threads(pool, [lambda lo=lo, hi=hi: kern.assemble_rows(colptr, rowind, values, sn_start, row_ptr, rows,
+                                                                 sn_parent, s, t, work, lo, hi)
+                       for lo, hi in zip(bounds[:-1], bounds[1:])])
+    kern.pop_children(sn_parent, s, work)
+    return t
+
+
+def _threaded_store(kern, factor: "CholeskyFactor", s: int, t: np.ndarray, segment: np.ndarray, base: int,
+                    work: tuple, pool) -> None:
+    """:func:`_multifrontal_kernels.store_front` of a front that is not a root, its pivot rows and
+    update rows shared by the pool's threads and the caller's. A block written from the front
+    buffer itself (``segment`` is the buffer: :meth:`CholeskyFactor._numeric_to_disk`) is not
+    copied onto itself, only its entries left of the diagonal zeroed."""
+    nc = int(factor.sn_start[s + 1] - factor.sn_start[s])
+    nr = int(factor.row_ptr[s + 1] - factor.row_ptr[s])
+    off = int(factor.factor_ptr[s]) - base
+    copy = not (segment.ctypes.data + 8 * off == t.ctypes.data)
+    pivots = _triangle_bounds(0, nc, pool.parts)
+    update = _triangle_bounds(0, nr if factor.sn_parent[s] != -1 else 0, pool.parts)
+    _on_threads(pool, [lambda i=i: kern.store_rows(factor.sn_start, factor.row_ptr, factor.factor_ptr, s, t, segment,
+                                                     base, work, pivots[i], pivots[i + 1], update[i], update[i + 1],
+                                                     copy)
+                       for i in range(pool.parts)])
+    kern.push_update(factor.sn_start, factor.row_ptr, factor.sn_parent, s, work)
 
 
 def factor_flops(k: sp.spmatrix, order: np.ndarray, m: int = 0) -> float:
