@@ -23,7 +23,10 @@ machine shared with four other sessions at load 2-6, so wall times follow the lo
 a block 125.9-161.7 s wall, 90.9-92.9 s CPU, 2.93-2.95 GB (bodies side by side, alternated with
 those runs: 121.5-185.9 s wall, 93.2-98.5 s CPU, 3.77-3.92 GB; one thread 93.2 s, 91.0 s CPU,
 2.94 GB as the load fell to 2); the crossed cylinders 109.3 s, 86.9 s CPU, 2.24 GB; the turned
-pair 240.0 s, 116.1 s CPU, 2.53 GB; a, b and c/a as before (docs/scale-3d.md)."""
+pair 240.0 s, 116.1 s CPU, 2.53 GB; a, b and c/a as before (docs/scale-3d.md). With the factor's
+ranges written on a second thread, the large fronts' rows and the trials' small system on threads
+(load 0.8-1.5, ``--threads 2``): the crossed cylinders 48 s wall (67 s CPU), 2.25 GB; the ball on
+a block 50 s (71 s), 2.64 GB; the turned pair 62 s (88 s), 2.45 GB."""
 
 from __future__ import annotations
 

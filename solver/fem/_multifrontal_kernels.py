@@ -619,3 +619,105 @@ def backward_range(segment, base, s0, s1, factor_ptr, sn_start, row_ptr, rows, b
             for p in range(nr):
                 acc += row[nc + p] * tmp[p]
             b[c0 + k] -= acc
+
+
+# ---------------------------------------------------------------- a large front's rows on threads
+# assemble_front and store_front split by rows of the front (:func:`solver.fem.multifrontal.
+# _threaded_assemble`): every entry of the front gets the same additions in the same order (zero,
+# the matrix's column, then the children's update matrices from the top of the stack down), so the
+# front is the same to the bit; each call writes only its own rows.
+
+
+@jit
+def front_positions(sn_start, row_ptr, rows, s, relpos):
+    """Positions in the front of supernode s of its columns and rows (in ``relpos``)."""
+    c0, c1 = sn_start[s], sn_start[s + 1]
+    nc = c1 - c0
+    for k in range(nc):
+        relpos[c0 + k] = k
+    for k in range(row_ptr[s + 1] - row_ptr[s]):
+        relpos[rows[row_ptr[s] + k]] = nc + k
+
+
+@jit
+def _first_at_least(cr, relpos, r):
+    """The first a with relpos[cr[a]] >= r (relpos increases along a child's sorted rows)."""
+    lo, hi = 0, len(cr)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if relpos[cr[mid]] < r:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@jit
+def assemble_rows(colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, s, t, work, r0, r1):
+    """Rows r0..r1-1 of the front t of supernode s (not a root): zeroed, the matrix's columns
+    added, then the children's update matrices on the stack (not popped: :func:`pop_children`);
+    ``front_positions`` first."""
+    stack, buf, relpos, st_sn, st_off, state = work
+    c0 = sn_start[s]
+    nc = sn_start[s + 1] - c0
+    for j in range(r0, r1):
+        t[j, j:] = 0.0
+    for j in range(r0, min(r1, nc)):
+        for p in range(colptr[c0 + j], colptr[c0 + j + 1]):
+            t[j, relpos[rowind[p]]] += values[p]
+    depth = state[0]
+    while depth > 0 and sn_parent[st_sn[depth - 1]] == s:
+        c = st_sn[depth - 1]
+        at = st_off[depth - 1]
+        cr = rows[row_ptr[c]:row_ptr[c + 1]]
+        w = len(cr)
+        for a in range(_first_at_least(cr, relpos, r0), _first_at_least(cr, relpos, r1)):
+            pa = relpos[cr[a]]
+            for b in range(a, w):
+                t[pa, relpos[cr[b]]] += stack[at + a * w + b]
+        depth -= 1
+
+
+@jit
+def pop_children(sn_parent, s, work):
+    """Pop the update matrices of supernode s's children off the stack (after assemble_rows)."""
+    stack, buf, relpos, st_sn, st_off, state = work
+    depth = state[0]
+    while depth > 0 and sn_parent[st_sn[depth - 1]] == s:
+        depth -= 1
+    state[0] = depth
+
+
+@jit
+def store_rows(sn_start, row_ptr, factor_ptr, s, t, segment, base, work, k0, k1, a0, a1, copy):
+    """Pivot rows k0..k1-1 of the factored front t of supernode s into its factor block (their
+    entries left of the diagonal zeroed; with ``copy`` false the block is t's own first rows,
+    only zeroed) and rows a0..a1-1 of its update matrix onto the stack at its top (not pushed:
+    :func:`push_update`)."""
+    stack, buf, relpos, st_sn, st_off, state = work
+    nc = sn_start[s + 1] - sn_start[s]
+    nr = row_ptr[s + 1] - row_ptr[s]
+    f = nc + nr
+    off = factor_ptr[s] - base
+    for k in range(k0, k1):
+        for i in range(k):
+            segment[off + k * f + i] = 0.0
+        if copy:
+            for i in range(k, f):
+                segment[off + k * f + i] = t[k, i]
+    at = st_off[state[0]]
+    for a in range(a0, a1):
+        for b in range(a, nr):
+            stack[at + a * nr + b] = t[nc + a, nc + b]
+
+
+@jit
+def push_update(sn_start, row_ptr, sn_parent, s, work):
+    """Push supernode s's update matrix (written by store_rows) on the stack."""
+    stack, buf, relpos, st_sn, st_off, state = work
+    nr = row_ptr[s + 1] - row_ptr[s]
+    depth = state[0]
+    if nr > 0 and sn_parent[s] != -1:
+        st_sn[depth] = s
+        st_off[depth + 1] = st_off[depth] + nr * nr
+        state[0] = depth + 1

@@ -103,12 +103,19 @@ class BlockDiagonal:
         """(where, dense block): for each block holding some of ``rows``, the positions in
         ``rows`` of its dofs and its sub-matrix on them (the sub-matrix of this matrix on
         ``rows`` is zero outside these blocks)."""
-        for k, block in enumerate(self.blocks):
-            where = np.flatnonzero(self._block_of[rows] == k)
+        for k in range(len(self.blocks)):
+            where = self.block_positions(rows, k)
             if len(where):
-                local = self._local[rows[where]]
-                yield where, (block[np.ix_(local, local)] if isinstance(block, np.ndarray)
-                              else block.take(local, local))
+                yield where, self.block_take(rows, where, k)
+
+    def block_positions(self, rows: np.ndarray, k: int) -> np.ndarray:
+        """The positions in ``rows`` of block k's dofs."""
+        return np.flatnonzero(self._block_of[rows] == k)
+
+    def block_take(self, rows: np.ndarray, where: np.ndarray, k: int) -> np.ndarray:
+        """Block k's dense sub-matrix on ``rows[where]`` (``where``: :meth:`block_positions`)."""
+        block, local = self.blocks[k], self._local[rows[where]]
+        return block[np.ix_(local, local)] if isinstance(block, np.ndarray) else block.take(local, local)
 
     def toarray(self) -> np.ndarray:
         out = np.zeros(self.shape)

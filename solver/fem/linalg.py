@@ -32,6 +32,8 @@ __all__ = [
     "LINEAR_SOLVERS",
     "LinearSolveError",
     "single_threaded_blas",
+    "blas_threads",
+    "free_threads",
     "condensed_factor",
     "factor_threads",
     "contact_nearness",
@@ -224,6 +226,14 @@ def single_threaded_blas():
     25 times slower (0.4 s against 15 ms, measured). threadpoolctl is not a dependency, so
     the OpenBLAS libraries numpy and scipy loaded are driven through ctypes; without them
     this does nothing."""
+    with blas_threads(1):
+        yield
+
+
+@contextlib.contextmanager
+def blas_threads(count: int):
+    """Run dense linear algebra on ``count`` OpenBLAS threads (of the libraries numpy and scipy
+    loaded, driven through ctypes), restoring the previous count; without them this does nothing."""
     handles = []
     try:
         with open("/proc/self/maps") as maps:
@@ -240,13 +250,52 @@ def single_threaded_blas():
             put = getattr(lib, f"{prefix}openblas_set_num_threads{suffix}", None)
             if get is not None and put is not None:
                 handles.append((put, int(get())))
-                put(1)
+                put(int(count))
                 break
     try:
         yield
     finally:
         for put, n in handles:
             put(n)
+
+
+def free_threads() -> int:
+    """:func:`factor_threads` where the machine has had a core idle besides this process's one
+    since the last call (the system's idle time in /proc/stat over that interval: at least half
+    a core; on the first call, or without /proc/stat, the 1-minute load average below the cores
+    less a half), else 1. OpenBLAS's threads wait for each other by spinning: on a busy machine
+    an LU of 3,400 rows took 1.3 s on two threads against 0.9 s on one (load 5.5 on 2 cores),
+    where a free core halves it."""
+    threads = factor_threads()
+    idle = _idle_cores()
+    if threads < 2:
+        return 1
+    if idle is not None:
+        return threads if idle >= 0.5 else 1
+    try:
+        load = os.getloadavg()[0]
+    except OSError:
+        return 1
+    return threads if load < (os.cpu_count() or 1) - 0.5 else 1
+
+
+_IDLE_SAMPLE: list = [None]  # (idle, total) jiffies of /proc/stat at the last look
+
+
+def _idle_cores() -> float | None:
+    """Cores the machine left idle on average since the last call (None on the first call, over
+    less than a tenth of a second, or without /proc/stat)."""
+    try:
+        with open("/proc/stat") as stat:
+            fields = [int(v) for v in stat.readline().split()[1:9]]
+    except (OSError, ValueError):
+        return None
+    now = (fields[3] + fields[4], sum(fields))  # idle + iowait, all
+    last, _IDLE_SAMPLE[0] = _IDLE_SAMPLE[0], now
+    cores = os.cpu_count() or 1
+    if last is None or now[1] - last[1] < 10 * cores:  # jiffies of 10 ms
+        return None
+    return cores * (now[0] - last[0]) / (now[1] - last[1])
 
 
 def embed(block, dofs: np.ndarray, n: int) -> sp.csr_matrix:
@@ -280,6 +329,9 @@ class SmallSystem:
 
     #: the active set is used when it holds at most this fraction of the dofs
     ACTIVE_FRACTION = 0.7
+    #: an active set of at least this many dofs is multiplied and factored on :func:`free_threads`
+    #: threads (smaller ones on one: their LU gains nothing from more)
+    THREADED_ACTIVE = 1500
 
     def __init__(self, schur: np.ndarray, kc, symmetric: bool, g_inverse: np.ndarray | None = None):
         """``kc``: the contact stiffness on the m condensed dofs, sparse (or dense)."""
@@ -316,30 +368,48 @@ class SmallSystem:
 
     def _factor_active(self) -> None:
         a = self.active
+        threads = free_threads() if len(a) >= self.THREADED_ACTIVE else 1
         # G_AA Kc_AA = (Kc_AA^T G_AA)^T (G symmetric): G_AA read in its own (row) order, not copied
         # into a transposed one, and the product comes out in the column order LAPACK factors in place
         if isinstance(self.g, BlockDiagonal):
-            m = self._block_product(a).T
+            m = self._block_product(a, threads).T
         else:
             g_aa = self.g[np.ix_(a, a)] if isinstance(self.g, np.ndarray) else self.g.take(a, a)
             m = (self.kc_aa.T @ g_aa).T
             del g_aa
         m[np.diag_indices_from(m)] += 1.0
-        self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)
+        with blas_threads(threads) if threads > 1 else contextlib.nullcontext():  # the caller's guard holds
+            self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)  # BLAS on one thread; a large LU gains
 
-    def _block_product(self, a: np.ndarray) -> np.ndarray:
+    def _block_product(self, a: np.ndarray, threads: int = 1) -> np.ndarray:
         """Kc_AA^T G_AA for a block-diagonal G, one block at a time: the columns of a block's dofs
         are Kc_AA^T's columns there times the block's own part of G_AA, the zeros between the
         blocks neither formed nor multiplied (half the work for two bodies; the same sums). A
         block's columns are a contiguous run of A (each body's dofs are numbered together) and are
         written as a slice: ten times faster than through the index array (a 4000 x 2000 block:
-        0.02 s against 0.2 s)."""
+        0.02 s against 0.2 s). With ``threads`` > 1 the blocks are read and multiplied on that many
+        threads (NumPy's indexing and SciPy's sparse products release Python's lock)."""
         kc_t = self.kc_aa.T.tocsc()
         out = np.empty((len(a), len(a)))
-        for cols, g_block in self.g.diagonal_blocks(a):
+
+        def one(k: int) -> None:
+            cols = self.g.block_positions(a, k)
+            if not len(cols):
+                return
+            g_block = self.g.block_take(a, cols, k)
             if cols[-1] - cols[0] == len(cols) - 1:  # sorted positions: contiguous
                 cols = slice(int(cols[0]), int(cols[-1]) + 1)
             out[:, cols] = kc_t[:, cols] @ g_block
+
+        blocks = range(len(self.g.blocks))
+        if threads > 1 and len(blocks) > 1:
+            from concurrent.futures import ThreadPoolExecutor
+
+            with ThreadPoolExecutor(min(threads, len(blocks))) as pool:
+                list(pool.map(one, blocks))
+        else:
+            for k in blocks:
+                one(k)
         return out
 
     def _solve_factored(self, rhs: np.ndarray) -> np.ndarray:

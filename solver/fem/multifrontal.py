@@ -54,8 +54,9 @@ RELAX_ZEROS = (0.8, 0.1, 0.05)
 #: :func:`condensed_cholesky` writes a factor's blocks below the root supernode to disk as they
 #: are computed (``CholeskyFactor(on_disk=None)``) when they take at least this many bytes
 ON_DISK_BYTES = 1 << 30
-#: a factor held on disk is read this many bytes (at least one supernode) at a time
-DISK_CHUNK_BYTES = 1 << 28
+#: a factor held on disk is written and read this many bytes (at least one supernode) at a time;
+#: two such ranges are in memory while it is written (one computed, one written)
+DISK_CHUNK_BYTES = 1 << 27
 #: with several threads, a front of at least this many rows is factored on all of them: after each
 #: outer block of pivots, the update of the rows below it is split into row ranges of about equal
 #: work, one per thread (94-95 % of the flops of the full ball on a block's bodies are in fronts of
@@ -168,13 +169,14 @@ class CholeskyFactor:
 
     def _numeric_bytes(self, streamed: bool, keep_schur: bool) -> int:
         """What the numeric phase allocates: the update-matrix stack, the largest front below
-        the root, the factor (streamed: its root block and the largest range of blocks below it
-        that is in memory at once) and the copy of S."""
+        the root, the factor (streamed: its root block and the two range arrays of blocks below it
+        that are in memory at once) and the copy of S."""
         held = self.factor_bytes
-        if streamed:
+        if streamed:  # two range arrays (one computed, one written); larger blocks in the front buffer
             ptr = self.factor_ptr
-            largest = max((int(ptr[s1] - ptr[s0]) for s0, s1 in self._chunk_bounds()), default=0)
-            held = 8 * (self.m * self.m + largest)
+            largest = max((int(ptr[s1] - ptr[s0]) for s0, s1 in self._chunk_bounds() if not self._in_front(s0, s1)),
+                          default=0)
+            held = 8 * (self.m * self.m + 2 * largest)
         return int(self.stack_bytes + self.front_bytes + held + (8 * self.m * self.m if keep_schur else 0))
 
     def _postordered(self, k, order, kern) -> np.ndarray:
@@ -254,35 +256,47 @@ class CholeskyFactor:
                     return bad
             if s == s1:
                 break
-            t = kern.assemble_front(*args, s, segment, base, work, self.schur)
+            rowwise = self.row_ptr[s + 1] > self.row_ptr[s]  # not a root (assembled in its factor block)
+            if rowwise:
+                t = _threaded_assemble(kern, args, s, work, self._pool)
+            else:
+                t = kern.assemble_front(*args, s, segment, base, work, self.schur)
             bad = _threaded_ldlt(kern, t, int(self.sn_start[s + 1] - self.sn_start[s]), self.definite, self._pool)
             if bad >= 0:
                 return int(self.sn_start[s]) + bad
-            kern.store_front(self.sn_start, self.row_ptr, self.sn_parent, self.factor_ptr, s, t, segment, base, work)
+            if rowwise:
+                _threaded_store(kern, self, s, t, segment, base, work, self._pool)
+            else:
+                kern.store_front(self.sn_start, self.row_ptr, self.sn_parent, self.factor_ptr, s, t, segment, base,
+                                 work)
             start = s + 1
         return -1
 
     def _numeric_to_disk(self, kern) -> None:
         """The numeric phase with the blocks below the root written to an unlinked temporary
         file as they are computed, DISK_CHUNK_BYTES (at least one supernode) at a time: only
-        one chunk and the root block are ever in memory, never the whole factor. Where the file
-        cannot be written the chunks are kept in memory instead."""
+        the ranges being computed and written and the root block are ever in memory, never the
+        whole factor. A range is written on a background thread while the next is computed in
+        the other of two range arrays; a supernode whose block alone exceeds DISK_CHUNK_BYTES
+        (the large separators near the top of the tree) is written from the front buffer it
+        was factored in, so the range arrays need not hold it. Where the file cannot be written
+        the ranges are kept in memory instead."""
         ns, m = self.n_supernodes, self.m
         st_off = np.zeros(ns + 1, dtype=np.int64)
         work = [np.empty(self.stack_size), np.empty(self._buffer ** 2), np.empty(self.n, dtype=np.int64),
                 np.empty(ns, dtype=np.int64), st_off, np.zeros(1, dtype=np.int64)]
-        chunks, kept, ptr = self._chunk_bounds(), [], self.factor_ptr
-        handle = _temporary_file()
-        # one range's array for all of them: its pages are mapped in once, not once per range (a new
-        # page costs the system about 7 us here: 1.4 s per GB of factor)
-        scratch = np.empty(max((int(ptr[s1] - ptr[s0]) for s0, s1 in chunks), default=0))
-        for s0, s1 in chunks:
-            segment = scratch[:int(ptr[s1] - ptr[s0])]
-            bad = self._factor_range(kern, s0, s1, segment, int(ptr[s0]), tuple(work))
-            if bad >= 0:
-                raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
-            handle = _write_or_keep(handle, segment, int(ptr[s0]), kept)
-        del scratch, segment
+        chunks, ptr = self._chunk_bounds(), self.factor_ptr
+        in_front = [self._in_front(s0, s1) for s0, s1 in chunks]
+        largest = max((int(ptr[s1] - ptr[s0]) for (s0, s1), f in zip(chunks, in_front) if not f), default=0)
+        with _BackgroundWriter(largest) as writer:
+            for (s0, s1), front in zip(chunks, in_front):
+                size = int(ptr[s1] - ptr[s0])
+                segment = work[1][:size] if front else writer.next_buffer(size)
+                bad = self._factor_range(kern, s0, s1, segment, int(ptr[s0]), tuple(work))
+                if bad >= 0:
+                    raise NotPositiveDefinite(int(self.order[bad]), self.n, self.definite)
+                writer.append(segment, wait=front)  # the front buffer is reused by the next range
+            handle, kept = writer.finish()
         work[1] = np.empty(0)  # the front buffer: the root is assembled in its own block
         root = np.empty(m * m)
         bad = self._factor_range(kern, ns - 1, ns, root, int(ptr[ns - 1]), tuple(work))
@@ -293,6 +307,13 @@ class CholeskyFactor:
             self.factor = np.concatenate(kept + [root])
             return
         self.factor, self._base, self._disk, self._chunks = root, int(self.factor_ptr[ns - 1]), handle, chunks
+
+    def _in_front(self, s0: int, s1: int) -> bool:
+        """Whether the range s0..s1-1 is one supernode larger than DISK_CHUNK_BYTES factored in
+        the front buffer (not a root of its own tree, which is assembled in its factor block):
+        its block is then the buffer's first rows, written from there."""
+        return (s1 == s0 + 1 and 8 * int(self.factor_ptr[s1] - self.factor_ptr[s0]) > DISK_CHUNK_BYTES
+                and self.row_ptr[s0 + 1] > self.row_ptr[s0])
 
     def _chunk_bounds(self) -> list[tuple[int, int]]:
         """Ranges of supernodes below the root of about DISK_CHUNK_BYTES each (at least one)."""
@@ -528,6 +549,63 @@ def _write_or_keep(handle, segment: np.ndarray, written: int, kept: list):
     return None
 
 
+class _BackgroundWriter:
+    """Appends a factor's ranges to an unlinked temporary file (:func:`_temporary_file`, through
+    :func:`_write_or_keep`: kept in memory where the file fails) on one background thread, in the
+    order given, while the caller computes the next range in the other of two range arrays of
+    ``size`` entries (:meth:`next_buffer` waits for that array's write). The write is system time
+    that otherwise holds up the factorisation (about 2 s per GB here)."""
+
+    def __init__(self, size: int):
+        from concurrent.futures import ThreadPoolExecutor
+
+        self._size, self._arrays, self._pending, self._turn = size, [None, None], [None, None], 0
+        self._thread = ThreadPoolExecutor(1)
+        self.handle, self.kept, self.written = _temporary_file(), [], 0
+
+    def next_buffer(self, size: int) -> np.ndarray:
+        """The first ``size`` entries of the range array whose write has finished longest ago."""
+        self._turn = 1 - self._turn
+        if self._pending[self._turn] is not None:
+            self._pending[self._turn].result()
+        if self._arrays[self._turn] is None:
+            self._arrays[self._turn] = np.empty(self._size)
+        return self._arrays[self._turn][:size]
+
+    def append(self, segment: np.ndarray, wait: bool) -> None:
+        """Queue ``segment`` (the last :meth:`next_buffer`'s, or with ``wait`` any other array,
+        written before this returns) after those queued before."""
+        job = self._thread.submit(self._write, segment, self.written)
+        self.written += segment.size
+        if wait:
+            job.result()
+        else:
+            self._pending[self._turn] = job
+
+    def _write(self, segment: np.ndarray, written: int) -> None:
+        self.handle = _write_or_keep(self.handle, segment, written, self.kept)
+
+    def finish(self):
+        """(the file or None, the ranges kept in memory) once every write is done; the range
+        arrays freed."""
+        self._thread.shutdown(wait=True)
+        for job in self._pending:
+            if job is not None:
+                job.result()  # an error of a write that was not waited for
+        self._arrays = self._pending = None
+        return self.handle, self.kept
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self._thread.shutdown(wait=True)
+        self._arrays = self._pending = None
+        if exc[0] is not None and self.handle is not None:
+            self.handle.close()  # a failed factorisation: the partial file removed
+        return False
+
+
 @contextlib.contextmanager
 def _front_pool(threads: int, largest_front: int):
     """threads - 1 helper threads for the large fronts (:func:`_threaded_ldlt`; the caller's
@@ -595,6 +673,57 @@ def _threaded_ldlt(kern, t: np.ndarray, nc: int, definite: bool, pool) -> int:
         if b2 > b1 and not ahead:
             bad = kern.outer_block(kern.DGEMM, t, b1, b2, f, definite)
     return bad
+
+
+def _triangle_bounds(lo: int, hi: int, parts: int) -> list[int]:
+    """Bounds lo = r_0 <= ... <= r_parts = hi of row ranges of a triangle whose row j holds
+    hi - j entries, each range about the same number of entries."""
+    n = hi - lo
+    return [lo] + [lo + int(round(n - n * np.sqrt(1.0 - i / parts))) for i in range(1, parts)] + [hi]
+
+
+def _on_threads(pool, calls) -> None:
+    """Run the calls, the first on this thread and the others on the pool's, and wait for all."""
+    jobs = [pool.submit(call) for call in calls[1:]]
+    calls[0]()
+    for job in jobs:
+        job.result()
+
+
+def _threaded_assemble(kern, args: tuple, s: int, work: tuple, pool) -> np.ndarray:
+    """:func:`_multifrontal_kernels.assemble_front` of a front that is not a root, its rows shared
+    by the pool's threads and the caller's (the same additions in the same order for every
+    entry; each thread writes its own rows)."""
+    colptr, rowind, values, sn_start, row_ptr, rows, sn_parent, _ = args
+    nc = int(sn_start[s + 1] - sn_start[s])
+    f = nc + int(row_ptr[s + 1] - row_ptr[s])
+    kern.front_positions(sn_start, row_ptr, rows, s, work[2])
+    t = work[1][:f * f].reshape(f, f)
+    bounds = _triangle_bounds(0, f, pool.parts)
+    _on_threads(pool, [lambda lo=lo, hi=hi: kern.assemble_rows(colptr, rowind, values, sn_start, row_ptr, rows,
+                                                                 sn_parent, s, t, work, lo, hi)
+                       for lo, hi in zip(bounds[:-1], bounds[1:])])
+    kern.pop_children(sn_parent, s, work)
+    return t
+
+
+def _threaded_store(kern, factor: "CholeskyFactor", s: int, t: np.ndarray, segment: np.ndarray, base: int,
+                    work: tuple, pool) -> None:
+    """:func:`_multifrontal_kernels.store_front` of a front that is not a root, its pivot rows and
+    update rows shared by the pool's threads and the caller's. A block written from the front
+    buffer itself (``segment`` is the buffer: :meth:`CholeskyFactor._numeric_to_disk`) is not
+    copied onto itself, only its entries left of the diagonal zeroed."""
+    nc = int(factor.sn_start[s + 1] - factor.sn_start[s])
+    nr = int(factor.row_ptr[s + 1] - factor.row_ptr[s])
+    off = int(factor.factor_ptr[s]) - base
+    copy = not (segment.ctypes.data + 8 * off == t.ctypes.data)
+    pivots = _triangle_bounds(0, nc, pool.parts)
+    update = _triangle_bounds(0, nr if factor.sn_parent[s] != -1 else 0, pool.parts)
+    _on_threads(pool, [lambda i=i: kern.store_rows(factor.sn_start, factor.row_ptr, factor.factor_ptr, s, t, segment,
+                                                     base, work, pivots[i], pivots[i + 1], update[i], update[i + 1],
+                                                     copy)
+                       for i in range(pool.parts)])
+    kern.push_update(factor.sn_start, factor.row_ptr, factor.sn_parent, s, work)
 
 
 def factor_flops(k: sp.spmatrix, order: np.ndarray, m: int = 0) -> float:
