@@ -64,3 +64,17 @@ def test_cylinder_on_block_stress_is_hertz_plus_the_disc_tension():
     vm = max_von_mises(solution, c, 2)
     assert vm / (_disc_corrected_peak(a / 1.0) * p0) == pytest.approx(1.0, abs=0.005)
     assert vm / (theory.axis_peak(NU)[0] * p0) > 1.01
+
+
+def test_3d_stress_estimate_takes_the_peak_pressures_where_not_hertz_like():
+    # a 3D region read by the whole-region fit (size share 1): the von Mises stress below it
+    # scales with p0 and takes at least p0's estimate (the semi-axes' sum here); read by Hertz's
+    # shape over the inner part, the stress keeps its own two-grid estimate
+    from ibfem.solver.model.accuracy import HERTZ_SHAPE_PEAK_SIZE_SHARE, relative_errors
+    fine = {"semi_axes": [1.00, 1.00], "max_pressure": 1.0, "max_von_mises": 0.62}
+    coarse = {"semi_axes": [0.97, 0.97], "max_pressure": 1.0, "max_von_mises": 0.62 * 0.99}
+    whole = relative_errors(fine, coarse, size_share=1.0)
+    inner = relative_errors(fine, coarse, size_share=HERTZ_SHAPE_PEAK_SIZE_SHARE)
+    stress_own = 0.01 / 3.0  # Richardson at order 2: |0.62 - 0.6138| / (3 x 0.62)
+    assert inner["max_von_mises"] == pytest.approx(stress_own)
+    assert whole["max_von_mises"] == pytest.approx(whole["max_pressure"]) and whole["max_pressure"] > stress_own
