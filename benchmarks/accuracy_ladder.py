@@ -11,6 +11,9 @@ from the last three rungs (docs/accuracy.md).
     python benchmarks/accuracy_ladder.py --problem sphere3d --element-sizes 0.5 0.354 0.25 \
         --zones 6,0.07 5,0.14 4,0.28 3,0.56
 
+``--offsets`` (3D, with ``--zones``): each rung solved with the grid moved along the contact
+normal by these fractions of the finest cell; the table gives their means and spreads.
+
 ``--zones`` (3D): refinement zones about the contact, each ``levels,radius``, replacing the
 scene's one zone: a grading whose cells grow in proportion to the distance from the contact, so
 that halving h0 halves every cell of the bodies (the normal force of a point contact takes up the
@@ -61,26 +64,53 @@ def found_zones() -> list[tuple[int, float]]:
     return sorted(zones, reverse=True)
 
 
-def sphere_zones_scene(element_size: float, zones: list[tuple[int, float]]) -> dict:
+def sphere_zones_scene(element_size: float, zones: list[tuple[int, float]], offset: float = 0.0) -> dict:
     """sphere_on_flat with both bodies' element size and these refinement zones about the contact
-    (levels, radius), VTU, plots, probes and lines off."""
+    (levels, radius), VTU, plots, probes and lines off; with ``offset`` the grid moved along the
+    contact normal (z) by that fraction of the finest cell (``[solver] grid_offset``; along z the
+    quarter model's symmetry planes stay on grid planes)."""
     data = tomllib.loads(peers.SPHERE_SCENE.read_text())
     for body in data["bodies"]:
         body["element_size"] = element_size
         body["refinement"] = [{"levels": lv, "around": "contact", "radius": r} for lv, r in zones]
     data["name"] = f"sphere3d h0 {element_size:.6g} zones {zones}"
     data["output"] = {"vtk": False, "plots": False}
+    if offset:
+        data.setdefault("solver", {})["grid_offset"] = [0.0, 0.0, offset / 2 ** max(lv for lv, _ in zones)]
     return data
 
 
-def run_zones(element_size: float, zones: list[tuple[int, float]], workdir: Path) -> dict:
+def run_zones(element_size: float, zones: list[tuple[int, float]], workdir: Path, offset: float = 0.0) -> dict:
     """One rung of the 3D ladder with graded zones: its own ``ibfem run`` process (no estimate)."""
-    tag = f"sphere3d_{element_size:.6g}"
+    tag = f"sphere3d_{element_size:.6g}_{offset:g}"
     scene = workdir / f"{tag}.json"
-    scene.write_text(json.dumps(sphere_zones_scene(element_size, zones)))
+    scene.write_text(json.dumps(sphere_zones_scene(element_size, zones, offset)))
     row = {"code": "ibfem", "problem": "sphere3d", "rung": f"h0 {element_size:.4g}", "element_size": element_size,
-           "zones": zones, "finest_cell": element_size / 2 ** max(lv for lv, _ in zones)}
+           "zones": zones, "finest_cell": element_size / 2 ** max(lv for lv, _ in zones), "offset": offset}
     return peers.ibfem_row(scene, workdir / tag, row)
+
+
+def mean_over_offsets(rows: list[dict]) -> list[dict]:
+    """One row per element size: a and N averaged over the rung's grid offsets (the rows that
+    solved), with their spread (largest minus smallest), the dofs' mean and the CPU and wall
+    times' sums, the peak's largest."""
+    out = []
+    for h0 in dict.fromkeys(r["element_size"] for r in rows):
+        group = [r for r in rows if r["element_size"] == h0 and "a" in r]
+        if not group:
+            out.append(next(r for r in rows if r["element_size"] == h0))
+            continue
+        row = dict(group[0])
+        for key in ("a", "N"):
+            values = [r[key] for r in group]
+            row[key], row[key + "_spread"] = sum(values) / len(values), max(values) - min(values)
+        row["dofs"] = round(sum(r["dofs"] for r in group) / len(group))
+        row["offsets"] = [r.get("offset", 0.0) for r in group]
+        for key in ("cpu_s", "wall_s"):
+            row[key] = sum(r[key] for r in group)
+        row["peak_mb"] = max(r["peak_mb"] for r in group)
+        out.append(row)
+    return out
 
 
 def parse_zones(text: list[str]) -> list[tuple[int, float]]:
@@ -113,8 +143,13 @@ def table_3d(rows: list[dict], ratio: float) -> str:
     """The 3D ladder against the converged reference of the same bodies (SPHERE_ON_FLAT): a, N,
     the differences between rungs, their observed order and each rung's error."""
     ref = SPHERE_ON_FLAT
+    several = len(rows) > len({r["element_size"] for r in rows})
+    if several:  # each rung at several grid offsets: their means, and the spread beside
+        rows = mean_over_offsets(rows)
+    spread = "| a spread | N spread " if several else ""
     lines = ["| h0 (m) | finest cell (m) | dofs | a (m) | a - previous | a error | N, quarter (N) | N - previous "
-             "| N error | CPU (s) | wall (s) | peak (MB) |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             f"| N error {spread}| CPU (s) | wall (s) | peak (MB) |", "|---|" * (12 + 2 * several)]
+    lines[1] = lines[1].replace("||", "|")
     prev = None
     for r in rows:
         if "a" not in r:
@@ -123,8 +158,10 @@ def table_3d(rows: list[dict], ratio: float) -> str:
         da = "" if prev is None else f"{r['a'] - prev['a']:+.3e}"
         dn = "" if prev is None else f"{r['N'] - prev['N']:+.4e}"
         a_err, n_err = (r["a"] / ref["a"] - 1) * 100, (r["N"] / ref["N"] - 1) * 100
+        extra = (f"| {r['a_spread'] / r['a'] * 100:.3f} % | {r['N_spread'] / r['N'] * 100:.3f} % "
+                 if several else "")
         lines.append(f"| {r['element_size']:.4g} | {r.get('finest_cell', float('nan')):.3g} | {r['dofs']} | {r['a']:.6f} "
-                     f"| {da} | {a_err:+.3f} % | {r['N']:.6e} | {dn} | {n_err:+.3f} % "
+                     f"| {da} | {a_err:+.3f} % | {r['N']:.6e} | {dn} | {n_err:+.3f} % {extra}"
                      f"| {r['cpu_s']:.1f} | {r['wall_s']:.1f} | {r['peak_mb']:.0f} |")
         prev = r
     good = [r for r in rows if "a" in r]
@@ -146,6 +183,9 @@ def main(argv: list[str]) -> int:
                     help="refinement levels around the contact: one for all rungs, or one per rung")
     ap.add_argument("--zones", nargs="*", default=None, help="3D: refinement zones about the contact, "
                     "each LEVELS,RADIUS, the same on every rung (instead of --levels; none given: found_zones(), the accuracy target's grading about the region the scene's grid finds)")
+    ap.add_argument("--offsets", type=float, nargs="+", default=[0.0],
+                    help="3D with --zones: solve each rung with the grid moved along the contact normal by these "
+                    "fractions of the finest cell, and tabulate their means (the grid's position scatters a and N)")
     ap.add_argument("--json", type=Path, default=None, help="write the rows here")
     ap.add_argument("--report", type=Path, default=None, help="3D: the table again from rows written by --json")
     args = ap.parse_args(argv)
@@ -161,8 +201,11 @@ def main(argv: list[str]) -> int:
         rows = []
         with tempfile.TemporaryDirectory() as tmp:
             for h0 in args.element_sizes:
-                rows.append(run_zones(h0, zones, Path(tmp)))
-                print(json.dumps(rows[-1]), flush=True)
+                for offset in args.offsets:
+                    rows.append(run_zones(h0, zones, Path(tmp), offset))
+                    print(json.dumps(rows[-1]), flush=True)
+                    if args.json:  # written as it goes: a long ladder keeps the rungs it solved
+                        args.json.write_text(json.dumps(rows, indent=1))
         sizes = args.element_sizes
         print()
         print(table_3d(rows, sizes[-2] / sizes[-1] if len(sizes) > 1 else 2.0))

@@ -260,7 +260,9 @@ def relative_errors(fine: Mapping[str, Any], coarse: Mapping[str, Any],
     with observed orders in ``order_range``. The peak pressure's estimate is at least
     ``size_share`` times the region's size error (:func:`peak_size_share`), and only that where
     the coarse quantities hold ``max_pressure`` None (no comparable reading on the coarser grid:
-    :func:`contact_quantities` with ``like``)."""
+    :func:`contact_quantities` with ``like``). In 3D, where the peak is not read by Hertz's shape
+    (``size_share`` not HERTZ_SHAPE_PEAK_SIZE_SHARE), the largest von Mises stress's estimate is
+    at least the peak pressure's."""
     out: dict[str, Any] = {}
     orders = ORDERS if orders is None else orders
     for key, value in fine.items():
@@ -280,6 +282,13 @@ def relative_errors(fine: Mapping[str, Any], coarse: Mapping[str, Any],
     unresolved = fine.get("max_pressure") is not None and "max_pressure" in coarse and coarse["max_pressure"] is None
     if out.get("max_pressure") is not None or unresolved:
         out["max_pressure"] = max(out["max_pressure"] or 0.0, size_share * _size_error(out))
+    if "semi_axes" in fine and size_share != HERTZ_SHAPE_PEAK_SIZE_SHARE \
+            and out.get("max_von_mises") is not None and out.get("max_pressure") is not None:
+        # a 3D region whose pressure is not Hertz-like on this grid (too few cells for the inner
+        # reading): the stress below it scales with p0 and takes at least p0's estimate (the
+        # turned sphere on a flat at a / h 5.8 and 2.9: von Mises -5.4 % and -8.8 % from Hertz's,
+        # a difference that at order 2 estimated 1.07 %)
+        out["max_von_mises"] = max(out["max_von_mises"], out["max_pressure"])
     return out
 
 
