@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..fem.surface_quadrature import MAX_VERTICES, clip_to_grid, triangle_nodes
+from .graded_quadrature import clip_to_cells, graded_star_panels
 
 __all__ = ["ContactFrame3D", "RegionPoints", "contact_frame_3d", "tangent_basis", "region_points", "axis_points", "sectors",
            "sector_share", "surrounds",
@@ -501,20 +502,25 @@ def _star_panels(ranges, a: float, b: float, radius, panel: float) -> tuple[list
 
 
 def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ranges, grids, panel: float,
-                  reach: float, order: int = 3, centre=(0.0, 0.0), radius=None) -> RegionPoints:
+                  reach: float, order: int = 3, centre=(0.0, 0.0), radius=None, cells=None) -> RegionPoints:
     """Quadrature of the ellipse ((s0 - e0)/a)^2 + ((s1 - e1)/b)^2 <= 1 (``centre`` e in the
     tangent plane; a symmetric model's sectors only about e = 0) on body 1 over the angular
     ``ranges``, cut at both bodies' octree planes (``grids``: (origin, spacing) pairs), panels at
     most ``panel`` across. With ``radius`` (a function rho(phi) of the angle), the
     star-shaped region s = e + r rho(phi) (a cos phi, b sin phi), r <= 1 (area
     element a b rho^2 r dr dphi); where body 1's surface ends inside it (a free edge), the
-    points beyond the edge are dropped."""
+    points beyond the edge are dropped. With ``cells`` (each body's leaf size at 3D points,
+    solver.contact.graded_quadrature.leaf_size), a star-shaped region's panels follow the cells
+    they lie in (``panel`` per finest cell) instead of the finest cell everywhere."""
+    scale, shift = np.array([a, b]), np.asarray(centre, dtype=float)
     if radius is None:
         lowers, uppers = _ellipse_panels(ranges, a, b, panel)
-    else:
+    elif cells is None:
         lowers, uppers = _star_panels(ranges, a, b, radius, panel)
+    else:
+        panel_at = _panel_sizes(frame, shift, grids, cells, panel)
+        lowers, uppers = graded_star_panels(ranges, a, b, radius, panel, panel_at, EDGE_SAMPLES)
     lower, upper = np.concatenate(lowers), np.concatenate(uppers)
-    scale, shift = np.array([a, b]), np.asarray(centre, dtype=float)
 
     def plane(rt):
         r = rt[:, :1] if radius is None else rt[:, :1] * radius(rt[:, 1])[:, None]
@@ -529,8 +535,12 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
     poly[:, :4] = corners.reshape(-1, 4, 2)
     count = np.full(len(lower), 4, dtype=np.int64)
     owner = np.arange(len(lower))
-    for (origin, spacing), pts in zip(grids, (x1c, x2c)):
-        poly, count, owner = clip_to_grid(poly, count, owner, lower, upper, pts.reshape(-1, 4, 3), origin, spacing)
+    for k, ((origin, spacing), pts) in enumerate(zip(grids, (x1c, x2c))):
+        if cells is None or radius is None:
+            poly, count, owner = clip_to_grid(poly, count, owner, lower, upper, pts.reshape(-1, 4, 3), origin, spacing)
+        else:
+            poly, count, owner = clip_to_cells(poly, count, owner, lower, upper, pts.reshape(-1, 4, 3), origin,
+                                               spacing, cells[k])
     rt, w, _ = triangle_nodes(poly, count, order)
     keep = w > 1e-12 * w.max()  # slivers cut off at a plane through a range's edge: nothing to integrate
     rt, w = rt[keep], w[keep]
@@ -540,6 +550,22 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
     cos = np.abs(np.einsum("qi,i->q", pts.n1, frame.normal))
     pts.weights = pts.weights / np.maximum(cos, 1e-12)
     return pts
+
+
+def _panel_sizes(frame: ContactFrame3D, shift: np.ndarray, grids, cells, panel: float):
+    """The panel's size at tangent-plane points s (n, 2) from the region's centre: ``panel`` per
+    finest cell times the finer of the two bodies' leaves there (found just inside each body:
+    body 1 above the tangent plane, body 2 below it)."""
+    finest = min(float(spacing) for _, spacing in grids)
+    nudge = 1e-6 * finest * frame.normal
+
+    def panel_at(s: np.ndarray) -> np.ndarray:
+        s = shift + np.asarray(s, dtype=float).reshape(-1, 2)
+        y = frame.point + s[:, :1] * frame.axes[0] + s[:, 1:] * frame.axes[1]
+        size = np.minimum(cells[0](y + nudge), cells[1](y - nudge))
+        return panel * np.maximum(size / finest, 1.0)
+
+    return panel_at
 
 
 def axis_points(solid1, solid2, frame: ContactFrame3D, axis: int, s: np.ndarray, reach: float,

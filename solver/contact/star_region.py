@@ -36,6 +36,7 @@ import numpy as np
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
+from .graded_quadrature import leaf_size
 from .region_report import mirror_images
 from .roots import edge_search, settling_tolerance
 
@@ -235,9 +236,19 @@ class StarRegionContact(EllipseContact):
         return self.rho(phi) * np.hypot(aa * np.cos(phi), bb * np.sin(phi))
 
     def region_quadrature(self, a: float):
+        """The region's quadrature points on body 1, matched on body 2: panels that follow the
+        cells they lie in (solver.contact.graded_quadrature), PANELS_PER_CELL per cell."""
         aa, bb = self.semi_axes(a)
         return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
-                             self.reach, REGION_ORDER, centre=self.centre, radius=self.rho)
+                             self.reach, REGION_ORDER, centre=self.centre, radius=self.rho, cells=self.leaf_sizes())
+
+    def leaf_sizes(self):
+        """Each body's leaf size at 3D points (None where a body has no octree: the finest cell's
+        lattice everywhere)."""
+        grids = [getattr(getattr(self, n, None), "grid", None) for n in ("b1", "b2")]
+        if not all(hasattr(g, "locate") for g in grids):
+            return None
+        return tuple(leaf_size(g, spacing) for g, (_, spacing) in zip(grids, self.grids))
 
     def sample_edges(self, s: np.ndarray, axis: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
         """(inside, distance beyond the edge along the ray from the centre) of samples."""
