@@ -53,6 +53,7 @@ __all__ = [
     "Grid",
     "build_grid",
     "refinement_radii",
+    "grid_origin",
     "assign_to_material_side",
     "QUADTREE_AGGREGATION_THRESHOLD",
 ]
@@ -245,6 +246,19 @@ def refinement_radii(zone: RefinementZone, h0: float) -> np.ndarray:
     return radii
 
 
+def grid_origin(lower, offset, h0: float) -> np.ndarray:
+    """Origin of a background grid of spacing ``h0`` over a box whose lower corner is ``lower``,
+    shifted down/left by ``offset`` fractions of ``h0`` (per axis). A shift outside [0, 1] is
+    first brought into [0, 1) by whole cells: the grid lines are the same, and the origin stays at
+    or below the box's lower corner, so the grid still covers the box (a negative shift would
+    otherwise leave the box's lower strip, and the boundary in it, outside every cell)."""
+    f = np.asarray(offset, dtype=float)
+    if not np.all(np.isfinite(f)):
+        raise ValueError(f"grid offset must be finite numbers (fractions of the element size), got {offset!r}")
+    f = np.where((f >= 0.0) & (f <= 1.0), f, f - np.floor(f))
+    return np.asarray(lower, dtype=float) - f * h0
+
+
 def _box_distance(lower, size, center):
     d = np.maximum(np.maximum(lower - center, 0.0), center - (lower + size[:, None]))
     return np.hypot(d[:, 0], d[:, 1])
@@ -262,7 +276,7 @@ def build_grid(
     the zones, classified and with the cut cells' moments on the given boundary.
 
     ``offset`` shifts the grid origin down/left by a fraction of ``element_size`` (grid
-    placement studies); ``curve_order`` is the Gauss order on each boundary piece; cells whose
+    placement studies; any finite shift, taken modulo one cell by :func:`grid_origin`); ``curve_order`` is the Gauss order on each boundary piece; cells whose
     inside part is less than ``aggregation_threshold`` of the square are aggregated to
     well-supported ones (solver.fem.aggregation; None: not at all).
     """
@@ -275,7 +289,7 @@ def build_grid(
         if not (z.radius >= 0.0):
             raise ValueError(f"refinement radius must be >= 0, got {z.radius!r}")
     bmin, bmax = (np.asarray(b, dtype=float) for b in boundary.bounds)
-    origin = bmin - np.asarray(offset, dtype=float) * h0
+    origin = grid_origin(bmin, offset, h0)
     # floor + 1: the grid covers the bounds strictly, whatever the round-off (a column of cells
     # beyond an edge lying on a grid line holds no material and is dropped)
     shape = np.floor((bmax - origin) / h0).astype(int) + 1

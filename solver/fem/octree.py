@@ -29,7 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .aggregation import ExtendableNodes
-from .grid import RefinementZone, refinement_radii
+from .grid import RefinementZone, grid_origin, refinement_radii
 
 __all__ = ["Octree", "build_octree", "level_jumps", "CORNERS"]
 
@@ -119,12 +119,13 @@ def build_octree(bounds, element_size: float, refinements: tuple[RefinementZone,
                  keep: KeepTest | None = None, offset=(0.0, 0.0, 0.0)) -> Octree:
     """Octree of spacing ``element_size`` over ``bounds`` = (min (3,), max (3,)), refined around
     the zones; ``keep(lower (k, 3), size (k,)) -> bool (k,)`` drops cells (all kept when None).
-    ``offset`` shifts the origin down by fractions of ``element_size``."""
+    ``offset`` shifts the origin down by fractions of ``element_size`` (any finite shift, taken
+    modulo one cell by :func:`solver.fem.grid.grid_origin`, so the octree covers ``bounds``)."""
     h0 = float(element_size)
     if not (h0 > 0.0 and np.isfinite(h0)):
         raise ValueError(f"element_size must be a positive number, got {element_size!r}")
     bmin, bmax = (np.asarray(b, dtype=float).reshape(3) for b in bounds)
-    origin = bmin - np.asarray(offset, dtype=float) * h0
+    origin = grid_origin(bmin, offset, h0)
     shape = np.floor((bmax - origin) / h0).astype(np.int64) + 1
     keep = keep or (lambda lower, size: np.ones(len(size), dtype=bool))
     grid = np.stack(np.meshgrid(*(np.arange(n) for n in shape), indexing="ij"), axis=-1).reshape(-1, 3)
