@@ -69,15 +69,6 @@ class CandidateRegionExceeded(ValueError):
         self.bodies, self.cause = tuple(bodies), cause
 
 
-def _contact_extent(problem, contact, factor: float) -> float:
-    """Half-length of the candidate contact region along each curve: ``factor`` of the smallest
-    ``around = "contact"`` refinement radius (10 element sizes without one)."""
-    radii = [r.radius for n in contact.bodies for r in problem.body(n).refinements if r.around_contact]
-    if radii:
-        return factor * min(radii)
-    return 10.0 * min(problem.body(n).element_size for n in contact.bodies)
-
-
 def _cell_dofs_global(b, cells: np.ndarray) -> np.ndarray:
     """Global free dofs the nodes of the cells depend on (hanging nodes resolved)."""
     rows = b.cell_dofs(np.unique(cells)).ravel()
@@ -946,7 +937,7 @@ def build(problem, model, b1, b2, options) -> BandContact:
     discretised bodies b1, b2; ``options`` the problem's SolverOptions."""
     opts = model.options
     geom = contact_geometry((b1, b2), model.bodies, np.asarray(model.point, dtype=float),
-                            _contact_extent(problem, model, opts.extent_fraction))
+                            problem.candidate_extent(model, opts.extent_fraction))
     geom.normal_mode = opts.contact_normal
     if getattr(model, "moved_from", None) is not None:  # the scene's point, at a corner of body 1
         geom.given_point = np.asarray(model.moved_from, dtype=float)

@@ -617,13 +617,6 @@ def _cell_dofs_global(b, cells: np.ndarray) -> np.ndarray:
     return np.unique(m.indices)
 
 
-def _extent(problem, contact, factor: float) -> float:
-    radii = [r.radius for n in contact.bodies for r in problem.body(n).refinements if r.around_contact]
-    if radii:
-        return factor * min(radii)
-    return 10.0 * min(problem.body(n).element_size for n in contact.bodies)
-
-
 #: the smaller relative curvature below this fraction of the larger: not a point contact (b/a would
 #: exceed about 100, Hertz's ellipse for curvature ratio 1e-3)
 LINE_CONTACT_RATIO = 1e-3
@@ -677,7 +670,7 @@ def build(problem, model, b1, b2, options, general=None) -> EllipseContact:
     opts = model.options
     solids = (b1.boundary, b2.boundary)
     h = float(min(b1.grid.min_size, b2.grid.min_size))
-    extent = _extent(problem, model, opts.extent_fraction)
+    extent = problem.candidate_extent(model, opts.extent_fraction)
     reach = 0.5 * extent
     frame, moved, ranges = touching_frame_3d(*solids, np.asarray(model.point, dtype=float), h, reach,
                                              getattr(model, "tangential_direction", None))

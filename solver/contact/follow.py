@@ -74,8 +74,7 @@ def _elongated(problem, contact, solid1, frame, h: float) -> bool:
     k0, k1 = (float(k) for k in frame.curvatures)
     if not (k1 > 0.0 and 0.0 < k0 <= ELONGATED_RATIO * k1):
         return False
-    radii = [r.radius for n in contact.bodies for r in problem.body(n).refinements if r.around_contact]
-    extent = contact.options.extent_fraction * min(radii)
+    extent = problem.candidate_extent(contact, contact.options.extent_fraction)
     ranges = sectors(solid1, frame, 0.5 * h, 0.5 * extent)
     return reaches_free_end(solid1, frame, ranges, 0.5 * extent, extent, h)
 

@@ -76,8 +76,7 @@ def region_fills(problem: Problem) -> list[float] | None:
                 frame = contact_frame_3d(first, second, np.asarray(c.point, dtype=float), h)
             except (ValueError, FloatingPointError):  # the run reports a contact it cannot set up
                 frame = None
-            radii = [z.radius for n in c.bodies for z in problem.body(n).refinements if z.around_contact]
-            extent = c.options.extent_fraction * min(radii) if radii else 10.0 * h
+            extent = problem.candidate_extent(c, c.options.extent_fraction)
             if frame is not None and min(frame.curvatures) > 0.0 and not is_line_contact(frame) \
                     and not is_flat_contact(frame, extent):
                 fill = POINT_REGION_FILL

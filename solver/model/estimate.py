@@ -405,10 +405,8 @@ def contact_dofs_per_body(problem, contact, fraction: float | None = None) -> tu
     ``fraction``: a disc of this fraction of the contact refinement radius instead of the
     contact's ``extent_fraction``."""
     bodies = [b for b in problem.bodies if b.name in contact.bodies]
-    radii = [float(z.radius) for b in bodies for z in b.refinements if z.center is None or z.around_contact]
     h_fine = _finest_cell_size(bodies)
-    fraction = contact.options.extent_fraction if fraction is None else fraction
-    extent = fraction * min(radii) if radii else 10.0 * min(float(b.element_size) for b in bodies)
+    extent = problem.candidate_extent(contact, contact.options.extent_fraction if fraction is None else fraction)
     radius = extent + CONTACT_DISC_MARGIN * h_fine
     faces = math.pi * radius**2 * _mean_inverse_square_size(problem, bodies, contact.point, radius)
     return len(bodies), CONTACT_DOFS_PER_FACET * faces * _held_fraction(bodies, contact.point, extent)

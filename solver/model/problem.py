@@ -179,6 +179,14 @@ class Problem:
                 return b
         raise KeyError(name)
 
+    def candidate_extent(self, contact: "ContactModel", fraction: float) -> float:
+        """The radius of a contact's candidate region: ``fraction`` of the smallest
+        ``around = "contact"`` refinement radius of its bodies (10 element sizes without one)."""
+        radii = [r.radius for n in contact.bodies for r in self.body(n).refinements if r.around_contact]
+        if radii:
+            return fraction * min(radii)
+        return 10.0 * min(self.body(n).element_size for n in contact.bodies)
+
     @property
     def dim(self) -> int:
         """Spatial dimension of the model (2 for plane strain / plane stress)."""
