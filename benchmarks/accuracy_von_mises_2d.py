@@ -21,7 +21,6 @@ One process, the solves one after the other (each a second or two of CPU).
 
 from __future__ import annotations
 
-import math
 import sys
 import tomllib
 from pathlib import Path
@@ -30,7 +29,7 @@ import numpy as np
 
 from ibfem.solver.io.scene import scene_from_dict
 from ibfem.solver.reference import theory
-from ibfem.solver.reports.validate import effective_properties
+from ibfem.solver.reports.validate import hertz_for_force
 from ibfem.solver.solving import max_von_mises, solve
 
 SCENE = Path(__file__).resolve().parents[1] / "examples" / "mesh_convergence.toml"
@@ -56,10 +55,7 @@ def solve_case(uy: float, extra_levels: int) -> dict:
     scene = scene_from_dict(data, label="von Mises study", base_dir=SCENE.parent)
     solution = solve(scene.problem)
     c = solution.contacts[0]
-    n = float(c["normal_force"])
-    r_eff, e_eff = effective_properties(scene.problem, c)
-    a = theory.hertz_half_width(n, r_eff, e_eff)
-    p0 = 2.0 * n / (math.pi * a)
+    r_eff, a, p0 = hertz_for_force(scene.problem, c)
     peak = theory.axis_peak(NU, "von_mises")[0] * p0
     row = {"uy": uy, "extra": extra_levels, "a_over_r": a / r_eff, "offset": [], "body_peak": []}
     xs, zs = np.linspace(-0.3, 0.3, 31) * a, np.linspace(0.4, 1.1, 141) * a

@@ -104,6 +104,15 @@ def effective_properties(problem, block: dict) -> tuple[float, float]:
     return r_eff, e_eff
 
 
+def hertz_for_force(problem, block: dict) -> tuple[float, float, float]:
+    """(R*, a, p0) of a 2D contact: Hertz's half-width and peak pressure for its computed normal
+    force (N > 0), with :func:`effective_properties`."""
+    r_eff, e_eff = effective_properties(problem, block)
+    n = float(block["normal_force"])
+    a = theory.hertz_half_width(n, r_eff, e_eff)
+    return r_eff, a, theory.hertz_peak_pressure(n, a)
+
+
 def compare_contact(problem, block: dict, summary: dict) -> dict[str, Any]:
     """Metrics of one contact block against Hertz / Cattaneo-Mindlin / McEwen."""
     r_eff, e_eff = effective_properties(problem, block)

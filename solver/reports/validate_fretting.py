@@ -39,6 +39,7 @@ def compare(summary: dict, profiles: dict, radius: float, youngs_modulus: float,
     mu = float(summary["contacts"][contact]["friction"])
     q_all = np.array([st["contacts"][contact]["tangential_force"] for st in steps])
     n_all = np.array([st["contacts"][contact]["normal_force"] for st in steps])
+    t_all = np.array([st["t"] for st in steps])
     # the first step with shear: a grid not symmetric about the contact transmits a parasitic shear
     # under the normal load alone (2.5e-5 of Q* on the example's grid shifted by (0.37, 0.21))
     start = int(np.flatnonzero(np.abs(q_all) > 1e-3 * mu * n_all.max())[0])
@@ -65,7 +66,6 @@ def compare(summary: dict, profiles: dict, radius: float, youngs_modulus: float,
     for cyc in summary.get("fretting", [{}])[contact].get("cycles", []):
         lo, hi = cyc["tangential_force_range"]
         q_star = 0.5 * (hi - lo)
-        t_all = np.array([st["t"] for st in steps])
         in_cycle = (t_all >= cyc["t"][0] - 1e-9) & (t_all <= cyc["t"][1] + 1e-9)
         w_ref = energy_per_cycle(q_star, float(np.mean(n_all[in_cycle])), mu, radius, e_star)  # the cycle's N
         cycles.append({**cyc, "Q_amplitude": q_star, "energy_theory": w_ref,
