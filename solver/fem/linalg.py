@@ -379,7 +379,8 @@ class SmallSystem:
             del g_aa
         m[np.diag_indices_from(m)] += 1.0
         with blas_threads(threads) if threads > 1 else contextlib.nullcontext():  # the caller's guard holds
-            self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)  # BLAS on one thread; a large LU gains
+            # on `threads` BLAS threads where a core is free, else on the caller's (one, under its guard)
+            self.lu = sla.lu_factor(m, overwrite_a=True, check_finite=False)
 
     def _block_product(self, a: np.ndarray, threads: int = 1) -> np.ndarray:
         """Kc_AA^T G_AA for a block-diagonal G, one block at a time: the columns of a block's dofs
