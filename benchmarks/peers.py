@@ -60,11 +60,17 @@ PROBLEMS = {
               "issue": {"a": 0.076667, "N": 5.09216e8}},
     "aluminium": {"disc": ALUMINIUM, "block": STEEL, "a": 0.078940, "N": 2.84707e8},
 }
-# (element_size, refinement levels) of both bodies
-IBFEM_LADDER = [(0.1, 2), (0.1, 3), (0.05, 3), (0.05, 4), (0.05, 5)]
+# (element_size, refinement levels, radius of the deepest zone) of both bodies: the deepest zone
+# 0.12 m about the contact (the width NGSolve's ladder grades to h_c), then a zone one level
+# coarser at every doubling of the radius, as ibfem's accuracy ladder grades a far field
+# (solver.solving.graded_around_contacts): the cells grow in proportion to the distance
+IBFEM_LADDER = [(0.2, 4, 0.12), (0.2, 5, 0.12), (0.2, 6, 0.12), (0.2, 7, 0.12)]
+# the ladder of the earlier tables (``--ibfem-ladder uniform``): the base scene's one zone of
+# radius 0.3 m, the far field uniform
+IBFEM_LADDER_UNIFORM = [(0.1, 2), (0.1, 3), (0.05, 3), (0.05, 4), (0.05, 5)]
 # NGSolve: (element size along the contact h_c, largest element size)
 NGSOLVE_LADDER = [(0.016, 0.25), (0.008, 0.25), (0.004, 0.2), (0.002, 0.1), (0.001, 0.1), (0.0005, 0.05), (0.00025, 0.05)]
-QUICK_IBFEM = [(0.1, 3), (0.05, 3)]
+QUICK_IBFEM = [(0.2, 5, 0.12), (0.2, 6, 0.12)]
 QUICK_NGSOLVE = [(0.004, 0.2), (0.002, 0.1)]
 
 # The 3D problem: the shipped scene, steel on steel; a against Hertz for each run's own force
@@ -91,8 +97,17 @@ def hertz_sphere_radius(model_force: float, radius: float, youngs_modulus: float
     return (3.0 * model_share * model_force * radius / (4.0 * e_star)) ** (1.0 / 3.0)
 
 
-def scene_data(problem: str, element_size: float, levels: int) -> dict:
-    """The base scene with this problem's materials and this rung's grids, VTU and plots off."""
+def graded_zones(levels: int, radius: float) -> list[dict]:
+    """Refinement zones about the contact: ``levels`` within ``radius``, then one level fewer at
+    every doubling of the radius, down to one level."""
+    return [{"levels": n, "around": "contact", "radius": radius * 2.0 ** (levels - n)}
+            for n in range(levels, 0, -1)]
+
+
+def scene_data(problem: str, element_size: float, levels: int, radius: float | None = None) -> dict:
+    """The base scene with this problem's materials and this rung's grids, VTU and plots off:
+    with ``radius``, the zones of :func:`graded_zones`; without, the base scene's zone with
+    ``levels``."""
     data = tomllib.loads(BASE_SCENE.read_text())
     spec = PROBLEMS[problem]
     data["materials"] = [
@@ -102,9 +117,12 @@ def scene_data(problem: str, element_size: float, levels: int) -> dict:
     for body in data["bodies"]:
         body["material"] = f"{body['name']}_material"
         body["element_size"] = element_size
+        if radius is not None:
+            body["refinement"] = graded_zones(levels, radius)
         for ref in body.get("refinement") or []:
-            ref["levels"] = levels
-    data["name"] = f"peer {problem} h0 {element_size} levels {levels}"
+            ref["levels"] = ref["levels"] if radius is not None else levels
+    graded = f" graded from {radius}" if radius is not None else ""
+    data["name"] = f"peer {problem} h0 {element_size} levels {levels}{graded}"
     data.setdefault("output", {}).update(vtk=False, plots=False)
     return data
 
@@ -135,13 +153,17 @@ def run_child(cmd: list[str]) -> tuple[int, str, str, float, float, float]:
                 usage.ru_utime + usage.ru_stime)
 
 
-def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path) -> dict:
-    tag = f"ibfem_{problem}_{element_size}_{levels}"
+def run_ibfem(problem: str, element_size: float, levels: int, workdir: Path, radius: float | None = None) -> dict:
+    tag = f"ibfem_{problem}_{element_size}_{levels}_{radius}"
     scene = workdir / f"{tag}.json"
-    data = sphere_scene_data(element_size, levels) if problem == "sphere3d" else scene_data(problem, element_size, levels)
+    data = (sphere_scene_data(element_size, levels) if problem == "sphere3d"
+            else scene_data(problem, element_size, levels, radius))
     scene.write_text(json.dumps(data))
-    row = {"code": "ibfem", "problem": problem, "rung": f"h0 {element_size}, {levels} levels",
+    graded = f", graded from r {radius}" if radius is not None else ""
+    row = {"code": "ibfem", "problem": problem, "rung": f"h0 {element_size}, {levels} levels{graded}",
            "element_size": element_size, "levels": levels}
+    if radius is not None:
+        row["radius"] = radius
     return ibfem_row(scene, workdir / tag, row)
 
 
@@ -216,6 +238,10 @@ def add_errors(row: dict) -> dict:
             row[f"{key}_error"] = row[key] / spec[key[0]] - 1.0
             if "issue" in spec:
                 row[f"{key}_error_issue"] = row[key] / spec["issue"][key[0]] - 1.0
+    if "N_error" in row:     # the larger of the two errors: "within 0.1 % in a and N"
+        for key in ("a", "a_fit"):
+            if f"{key}_error" in row:
+                row[f"{key}N_error"] = max(abs(row[f"{key}_error"]), abs(row["N_error"]))
     return row
 
 
@@ -260,20 +286,30 @@ def time_to_error(rows: list[dict], target: float, key: str = "a_error", clock: 
     return None
 
 
-def comparison(rows: list[dict], problem: str, ng_key: str = "a_error", targets=TARGETS) -> list[dict]:
-    """Time to each target error in a, ibfem's a against NGSolve's ``ng_key`` estimate."""
+def comparison(rows: list[dict], problem: str, ng_key: str = "a_error", targets=TARGETS,
+               ib_key: str = "a_error") -> list[dict]:
+    """Time to each target error, ibfem's ``ib_key`` against NGSolve's ``ng_key``: ``a_error``
+    (a, NGSolve's where its gap closes), ``a_fit_error`` (NGSolve's fitted opening), or with N
+    too, ``aN_error`` / ``a_fitN_error`` (the larger of the errors in a and N)."""
     out = []
     ib = [r for r in rows if r["problem"] == problem and r["code"] == "ibfem"]
     ng = [r for r in rows if r["problem"] == problem and r["code"].startswith("NGSolve")]
     for target in targets:
-        ti, tn = time_to_error(ib, target), time_to_error(ng, target, ng_key)
-        ci, cn = time_to_error(ib, target, clock="cpu_s"), time_to_error(ng, target, ng_key, clock="cpu_s")
-        out.append({"problem": problem, "ngsolve_a": "gap closing" if ng_key == "a_error" else "gap opening fit",
-                    "target": target, "ibfem": ti, "ngsolve": tn,
+        ti, tn = time_to_error(ib, target, ib_key), time_to_error(ng, target, ng_key)
+        ci, cn = time_to_error(ib, target, ib_key, "cpu_s"), time_to_error(ng, target, ng_key, "cpu_s")
+        out.append({"problem": problem, "ngsolve_a": "gap opening fit" if ng_key.startswith("a_fit") else "gap closing",
+                    "of": "a and N" if ib_key == "aN_error" else "a", "target": target, "ibfem": ti, "ngsolve": tn,
                     "ratio": tn["time_s"] / ti["time_s"] if ti and tn else None,
                     "ibfem_cpu": ci, "ngsolve_cpu": cn,
                     "ratio_cpu": cn["time_s"] / ci["time_s"] if ci and cn else None})
     return out
+
+
+def comparisons_2d(rows: list[dict], problems: list[str]) -> list[dict]:
+    """The 2D problems' times to each error in a and N (the larger of the two), NGSolve's a read
+    both ways."""
+    return [c for p in problems for key in ("aN_error", "a_fitN_error")
+            for c in comparison(rows, p, key, ib_key="aN_error")]
 
 
 def fmt_row(r: dict) -> str:
@@ -304,7 +340,7 @@ def write_results(rows: list[dict], cmps: list[dict], quick: bool, stem: str = "
     lines = ["| problem | code | rung | dofs | iterations | wall (s) | CPU (s) | peak (MB) | a (error) "
              "| a, NGSolve's gap-opening fit (error) | N (error) |",
              "|---|---|---|---|---|---|---|---|---|---|---|", *map(fmt_row, rows), "",
-             "| problem | NGSolve's a | error in a | ibfem (wall, memory) | NGSolve P2 (wall, memory) "
+             f"| problem | NGSolve's a | error in {cmps[0].get('of', 'a') if cmps else 'a'} | ibfem (wall, memory) | NGSolve P2 (wall, memory) "
              "| NGSolve / ibfem, wall | same, CPU time |", "|---|---|---|---|---|---|---|", *map(fmt_cmp, cmps)]
     text = "\n".join(lines)
     RESULTS.mkdir(exist_ok=True)
@@ -394,6 +430,8 @@ def main(argv: list[str]) -> int:
     ap.add_argument("--repeat", type=int, default=2, help="runs per rung, the fastest kept (default 2: the machine may be shared)")
     ap.add_argument("--ngsolve-threads", type=int, default=2, help="NGSolve's TaskManager threads (default 2)")
     ap.add_argument("--report", type=Path, help="no runs: the tables again from the rows of this peers.json")
+    ap.add_argument("--ibfem-ladder", choices=["graded", "uniform"], default="graded",
+                    help="2D: ibfem's grids graded about the contact (default) or the earlier tables' uniform far field")
     args = ap.parse_args(argv)
     if not args.report:
         compile_bytecode()
@@ -409,15 +447,15 @@ def main(argv: list[str]) -> int:
     problems = ["steel", "aluminium"] if args.problem == "all" else [args.problem]
     if args.report:
         rows = [add_errors(r) for r in json.loads(args.report.read_text())["rows"] if r["problem"] in problems]
-        cmps = [c for p in problems for key in ("a_error", "a_fit_error") for c in comparison(rows, p, key)]
+        cmps = comparisons_2d(rows, problems)
         print(write_results(rows, cmps, args.quick))
         return 0
     check_ngsolve()
     warn_load()
-    ib_ladder = QUICK_IBFEM if args.quick else IBFEM_LADDER
+    ib_ladder = QUICK_IBFEM if args.quick else IBFEM_LADDER if args.ibfem_ladder == "graded" else IBFEM_LADDER_UNIFORM
     ng_ladder = QUICK_NGSOLVE if args.quick else NGSOLVE_LADDER
     with tempfile.TemporaryDirectory(prefix="ibfem_peers_") as tmp:
-        rows = interleaved(problems, [lambda p, r=r: run_ibfem(p, *r, Path(tmp)) for r in ib_ladder],
+        rows = interleaved(problems, [lambda p, r=r: run_ibfem(p, r[0], r[1], Path(tmp), *r[2:]) for r in ib_ladder],
                            [lambda p, r=r: run_ngsolve(p, *r, threads=args.ngsolve_threads) for r in ng_ladder],
                            args.repeat)
     ok = all("a" in r for r in rows)
@@ -426,7 +464,7 @@ def main(argv: list[str]) -> int:
         rows += [r for r in json.loads(previous.read_text())["rows"] if r["problem"] not in problems]
         problems = [p for p in PROBLEMS if any(r["problem"] == p for r in rows)]
         rows.sort(key=lambda r: problems.index(r["problem"]))
-    cmps = [c for p in problems for key in ("a_error", "a_fit_error") for c in comparison(rows, p, key)]
+    cmps = comparisons_2d(rows, problems)
     print()
     print(write_results(rows, cmps, args.quick))
     return 0 if ok else 1
