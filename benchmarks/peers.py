@@ -451,13 +451,14 @@ def main(argv: list[str]) -> int:
         print(write_results(rows, cmps, args.quick))
         return 0
     check_ngsolve()
-    warn_load()
+    extra = {"load_average": warn_load(), "ibfem_ladder": "quick" if args.quick else args.ibfem_ladder}
     ib_ladder = QUICK_IBFEM if args.quick else IBFEM_LADDER if args.ibfem_ladder == "graded" else IBFEM_LADDER_UNIFORM
     ng_ladder = QUICK_NGSOLVE if args.quick else NGSOLVE_LADDER
     with tempfile.TemporaryDirectory(prefix="ibfem_peers_") as tmp:
         rows = interleaved(problems, [lambda p, r=r: run_ibfem(p, r[0], r[1], Path(tmp), *r[2:]) for r in ib_ladder],
                            [lambda p, r=r: run_ngsolve(p, *r, threads=args.ngsolve_threads) for r in ng_ladder],
                            args.repeat)
+    extra["load_average_after"] = os.getloadavg()[0]
     ok = all("a" in r for r in rows)
     previous = RESULTS / f"peers{'_quick' if args.quick else ''}.json"
     if args.problem != "all" and previous.exists():   # keep the other problem's rows
@@ -466,7 +467,7 @@ def main(argv: list[str]) -> int:
         rows.sort(key=lambda r: problems.index(r["problem"]))
     cmps = comparisons_2d(rows, problems)
     print()
-    print(write_results(rows, cmps, args.quick))
+    print(write_results(rows, cmps, args.quick, extra=extra))
     return 0 if ok else 1
 
 
