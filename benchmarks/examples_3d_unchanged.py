@@ -4,14 +4,14 @@ to the examples' answers and cost: per example the contacts' semi-axes a, b and 
 CPU time (user + system of the solving process) and its peak resident memory, with the ratios of
 the second checkout's values to the first's.
 
-Each checkout is a directory with the project and its own ``.venv`` (an editable install of that
+Each checkout (``git worktree add ../base COMMIT``) is a directory with the project and its own ``.venv`` (an editable install of that
 checkout). The scenes are the ``model = "solid"`` scene files present in both checkouts (or the
 ones named), each solved from the second checkout's copy so both solve the same file (their
 parsed contents are compared, comments aside, and a difference is recorded as ``same_file``). Runs alternate: for each example and round,
 first then second on even rounds, second then first on odd rounds, one process at a time. The
 machine's load average is recorded around every run: compare the CPU-time ratios, not the times.
 
-    python benchmarks/examples_3d_unchanged.py --first /work/wt/baseD --second . --rounds 2 \\
+    python benchmarks/examples_3d_unchanged.py --first ../base --second . --rounds 2 \\
         --json out/examples_3d_unchanged.json
 """
 
