@@ -62,16 +62,19 @@ def roller_bottom(roller, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
 
 
 def edge_xy(block: dict) -> np.ndarray:
-    axes = np.array(block["axes"])
-    return (np.array(block["boundary"]["points"]) - np.array(block["point"])) @ axes[:2].T
+    """The boundary polyline's points in the block's top face (x along the roller's axis, y
+    across it), from the contact point: both rollers' scenes lie along x."""
+    return (np.array(block["boundary"]["points"]) - np.array(block["point"]))[:, :2]
 
 
 def width_at(xy: np.ndarray, station: float) -> float:
-    """The region's half-width at ``station`` along the line: |s1| of the boundary polyline's
-    upper side (s1 > 0) interpolated along s0."""
-    upper = xy[xy[:, 1] > 1e-12]
+    """The region's half-width at ``station`` along the line: |s1| of the boundary polyline (a
+    symmetric model's side of the line, the cut along it left out) interpolated along s0."""
+    off = np.abs(xy[:, 1]) > 1e-9 * float(np.abs(xy).max())  # not on the symmetry cut along the line
+    upper = np.abs(xy[off])
+    upper[:, 0] = xy[off, 0]
     order = np.argsort(upper[:, 0])
-    return float(np.interp(station, upper[order, 0], upper[order, 1], left=0.0, right=0.0))
+    return float(np.interp(station, upper[order, 0], upper[order, 1]))
 
 
 def peak(block: dict, ref, maps) -> dict:
