@@ -62,7 +62,7 @@ def tree_rss_gb(pid: int) -> float:
     return total / 1024**2
 
 
-def solve_in(checkout: Path, scene: Path, out: Path, memory_limit_gb: float) -> dict:
+def solve_in(checkout: Path, scene: Path, out: Path, memory_limit_gb: float, flags: tuple[str, ...] = ()) -> dict:
     """Solve ``scene`` with the checkout's own interpreter; CPU seconds and peak memory of the run.
 
     The run is stopped once its processes hold more than ``memory_limit_gb`` (reported as such).
@@ -72,7 +72,7 @@ def solve_in(checkout: Path, scene: Path, out: Path, memory_limit_gb: float) -> 
     t0 = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
     with open(out / "log.txt", "w") as log:
-        proc = subprocess.Popen([str(python), "-m", "ibfem", "run", "--quiet", str(scene), "--out", str(out)],
+        proc = subprocess.Popen([str(python), "-m", "ibfem", "run", "--quiet", *flags, str(scene), "--out", str(out)],
                                 cwd=checkout, stdout=log, stderr=subprocess.STDOUT, env=dict(os.environ, MPLBACKEND="Agg"),
                                 start_new_session=True)
         over = 0.0
@@ -175,6 +175,8 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=int, default=2, help="alternated pairs per example")
     parser.add_argument("--scenes", nargs="*", help="scene files (relative to a checkout); default: the solid ones in both")
     parser.add_argument("--memory-limit", type=float, default=2.4, help="GB a run may hold before it is stopped")
+    parser.add_argument("--second-flags", nargs="*", default=[], help="options of the second checkout's ibfem run "
+                        "(e.g. --no-estimate; pass as --second-flags=--no-estimate)")
     parser.add_argument("--exclude", nargs="*", default=[], help="scene files to leave out")
     parser.add_argument("--json", type=Path, help="write every run's numbers here")
     args = parser.parse_args(argv)
@@ -188,7 +190,8 @@ def main(argv: list[str] | None = None) -> None:
             for k in range(args.rounds):
                 order = [("first", first), ("second", second)]
                 for label, checkout in order if k % 2 == 0 else order[::-1]:
-                    run = solve_in(checkout, second / scene, Path(tmp) / f"{label}{k}_{Path(scene).stem}", args.memory_limit)
+                    flags = tuple(args.second_flags) if label == "second" else ()
+                    run = solve_in(checkout, second / scene, Path(tmp) / f"{label}{k}_{Path(scene).stem}", args.memory_limit, flags)
                     record[label].append(run)
                     print(f"{scene} {label} round {k}: CPU {run['cpu_s']:.1f} s, {run['peak_gb']:.2f} GB, "
                           f"load {run['load'][0]:.1f}-{run['load'][1]:.1f}, {run.get('contacts') or run.get('error')}",
