@@ -28,6 +28,8 @@ import time
 import tomllib
 from pathlib import Path
 
+#: a relative change of an answer beyond which the table marks the example as moved
+MOVED = 5e-4
 EXAMPLE_DIRS = ("examples/solid", "examples/cad", "examples/step", "examples/onshape", "examples/contact3d")
 
 
@@ -134,10 +136,6 @@ def compare(first: dict, second: dict) -> dict:
     return out
 
 
-def _fmt(x, digits=4):
-    return "-" if x is None else f"{x:+.{digits}f} %" if isinstance(x, float) and abs(x) < 1 else f"{x}"
-
-
 def table(results: list[dict]) -> str:
     """Markdown: one row per example with both checkouts' answers, differences and CPU ratios."""
     rows = ["| example | a, b, N (first) | a, b, N: second against first | dofs | CPU s first / second (ratio) | "
@@ -157,7 +155,10 @@ def table(results: list[dict]) -> str:
             vals = "; ".join(f"{c['a']:.6g}, {c['b']:.6g} m, {c['N']:.6g} N" for c in base["contacts"])
         else:
             vals = "; ".join(f"probe von Mises {p['von_mises']:.6g} Pa" for p in base["probes"])
-        diffs = ", ".join(f"{k} {100 * v:+.4f} %" for k, v in compare(base, head).items() if v is not None)
+        moved = compare(base, head)
+        diffs = ", ".join(f"{k} {100 * v:+.4f} %" for k, v in moved.items() if v is not None)
+        if any(v is not None and abs(v) > MOVED for v in moved.values()):
+            diffs += f" (**moved by more than {100 * MOVED:g} %**)"
         cpu = " / ".join(f"{x['cpu_s']:.1f}; {y['cpu_s']:.1f} ({y['cpu_s'] / x['cpu_s']:.2f})" for x, y in zip(ok1, ok2))
         solve = " / ".join(f"{x['timings'].get('solver_total_s', 0):.1f}; {y['timings'].get('solver_total_s', 0):.1f}"
                            for x, y in zip(ok1, ok2))
