@@ -59,8 +59,10 @@ HEADER = """\
 # axial section a cubic B-spline through the drop at 41 stations).
 # Quarter model as the crowned roller example: the lower quarter of the roller from its
 # mid-length plane x = 0 to its end face x = 0.1, on the block's top face z = 0 along the x axis;
-# the symmetry faces x = 0 and y = 0 of both bodies slide. Grid: the contact ball (3 levels, h = 12.5 mm) and a band of
-# balls along the line at 4 levels (h = 6.25 mm), written out in the scene.
+# the symmetry faces x = 0 and y = 0 of both bodies slide. Grid: as the crowned roller example's,
+# around = "contact" on an elongated contact that reaches towards the roller's end: a coarse pass
+# finds the region, then a band of 6.25 mm cells (0.1 / 2^4) along it and 3.125 mm cells about
+# its edge where the edge turns away from the line.
 """
 
 

@@ -1,0 +1,32 @@
+"""``ibfem run`` with the slope beyond which the refinement that follows a line contact's region
+refines its edge one level more (solver.contact.region_band.TURNING_SLOPE, 0.25 in the code) set
+to another value: 0 refines the coarse region's whole smooth edge, the straight sides included.
+Prints the process's CPU time and peak resident memory after the run; compare the summary.json
+with the default's (for the crowned roller: benchmarks/crowned_roller_halfspace.py).
+
+    python benchmarks/turning_slope.py 0 examples/contact3d/crowned_roller.toml --out OUT
+"""
+
+from __future__ import annotations
+
+import resource
+import sys
+
+from ibfem.solver.cli import main as cli
+from ibfem.solver.contact import region_band
+
+
+def main(argv: list[str]) -> int:
+    if len(argv) < 2:
+        print(__doc__)
+        return 2
+    region_band.TURNING_SLOPE = float(argv[0])
+    code = cli(["run", *argv[1:]])
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    print(f"turning slope {region_band.TURNING_SLOPE}: CPU {usage.ru_utime + usage.ru_stime:.1f} s, "
+          f"peak {usage.ru_maxrss / 1024**2:.2f} GB")
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
