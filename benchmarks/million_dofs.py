@@ -19,7 +19,12 @@ N 5.09190e8 N/m). Targets: under 60 s and 4 GB.
     python benchmarks/million_dofs.py [--scene SCENE.toml] [--threads 2] [--no-size-check]
     python benchmarks/million_dofs.py --2d [--levels 6] [--radius 0.32]
 
-Writes benchmarks/results/million_dofs.json (3D) or million_dofs_2d.json (2D)."""
+Writes benchmarks/results/million_dofs.json (3D) or million_dofs_2d.json (2D).
+
+Measured (2026-11-28, ``--threads 2``, 2 cores shared with other jobs): 1,008,240 dofs, 9,180
+contact dofs, 40 trials, converged, a = b = 0.045571 m (-0.67 % from Hertz), c/a 0.8562 (Mindlin
+0.8562): 382.4 s wall, 326.9 s CPU, 7.01 GB at load 1-3; 393.4 s, 312.2 s, 6.98 GB at load 5-3;
+745.9 s, 326.8 s, 7.06 GB at load 6-7. The ``--check`` estimate: 9.18e5 dofs, 3.96 GB."""
 
 from __future__ import annotations
 
