@@ -4,7 +4,7 @@ process (so one's memory peak does not hide another's). Results land in benchmar
     python benchmarks/run_all.py [--quick] [--large]
 
 ``--quick`` runs the short variants; ``--large`` adds the ~10^6 dof assembly case and the
-10^6-dof 2D contact scene (million_dofs.py: about 30 s and 3 GB)."""
+10^6-dof 2D contact scene (million_dofs.py --2d: about 30 s and 3 GB)."""
 
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ def main(argv: list[str]) -> int:
         ("linear_solvers.py", ["--quick"] if args.quick else []),
         ("step_import.py", []),
         ("fretting.py", []),
-    ] + ([("million_dofs.py", [])] if args.large else [])
+    ] + ([("million_dofs.py", ["--2d"])] if args.large else [])
     failed = []
     for name, extra in benchmarks:
         print(f"\n=== {name} {' '.join(extra)} ===", flush=True)
