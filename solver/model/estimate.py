@@ -78,6 +78,15 @@ CONTACT_DISC_MARGIN = 1.4
 #: 1.6 GB on the section's)
 WORK_SPACE_FACTOR = 2.5
 ZONE_SECTION_FRACTION = 0.8
+#: a large body's own separators: nested dissection first cuts the body's background grid across
+#: its longest side, a plane of 3 (n_1 + 1)(n_2 + 1) dofs (n_1, n_2 the cells along the two shorter
+#: sides, times the share of the box's section the body fills), and the factorisation's update-
+#: matrix stack and largest front then hold about FAR_WORK_FACTOR times its square in entries
+#: (fitted on the symbolic factorisations of a plate of 2.7 x 2.7 x 0.5 m at 25 mm cells, 852k dofs:
+#: 3.96 GB of stack and front against 6,900 separator dofs; the same rule reads 4.8 GB for a plate
+#: 3 x 3 x 0.5 m, measured 5.0 GB, and 8.3 GB for a block 2 x 2 x 1 m, measured 7.2 GB; at 50 mm
+#: cells 0.27 GB against 0.35 GB measured)
+FAR_WORK_FACTOR = 10.4
 #: a 3D contact's region quadrature points per finest cell face of body 1's surface (the region's
 #: panels split at both grids' cell lines, REGION_ORDER^2 points each: measured 193-201 on the half
 #: sphere on a flat at 5 levels, 10 456-10 870 points over regions of 52-56 finest faces)
@@ -229,6 +238,7 @@ def _estimate(problem, loaded: float, region_areas=None, region_fills=None) -> P
     cells = 0.0
     per_body = []
     rng = np.random.default_rng(0)
+    separators = []
     for body in problem.bodies:
         lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
         h0 = float(body.element_size)
@@ -236,6 +246,7 @@ def _estimate(problem, loaded: float, region_areas=None, region_fills=None) -> P
         measure = float(getattr(body.profile, "volume" if dim == 3 else "area", box) or box)
         fill = min(1.0, max(measure / box, 0.05)) if math.isfinite(measure) else 1.0
         per_axis = np.maximum(hi - lo, h0) / h0  # cells along each axis (inf for absurd sizes)
+        separators.append(_background_separator_dofs(per_axis, fill))
         body_cells = fill * float(np.prod(per_axis)) + float(np.sum(per_axis + 1.0)) ** (dim - 1)  # inside + cut
         centres = _zone_centres(problem, body)
         for zone, centre in zip(body.refinements, centres):
@@ -249,8 +260,9 @@ def _estimate(problem, loaded: float, region_areas=None, region_fills=None) -> P
         body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
         streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
         rest = BASE_BYTES_3D_CONTACT + loaded + history_bytes(problem)
-        memory = (_sparse_contact_bytes(body_dofs) + _dense_contact_bytes(problem, streamed, region_areas, region_fills)
-                  + rest)
+        far_work = 8.0 * FAR_WORK_FACTOR * max(separators) ** 2
+        memory = (_sparse_contact_bytes(body_dofs)
+                  + _dense_contact_bytes(problem, streamed, region_areas, region_fills, far_work) + rest)
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
     else:
@@ -333,6 +345,17 @@ def _contact_trial_bytes(problem, contact, m_b: float, area: float | None, fill:
     return TRIAL_BYTES_PER_POINT * REGION_POINTS_PER_FACET * faces
 
 
+def _background_separator_dofs(per_axis: np.ndarray, fill: float) -> float:
+    """The dofs of the plane across a body's background grid that nested dissection cuts first:
+    3 (n_1 + 1)(n_2 + 1) for the cells n_1, n_2 along the box's two shorter sides (the cut is
+    across the longest), times the share of the box's section the body fills (its volume share
+    to the power 2/3). 0 in 2D or for absurd sizes."""
+    if len(per_axis) != 3 or not np.all(np.isfinite(per_axis)):
+        return 0.0
+    n_1, n_2 = np.sort(per_axis)[:2]
+    return 3.0 * (n_1 + 1.0) * (n_2 + 1.0) * fill ** (2.0 / 3.0)
+
+
 def _finest_cell_size(bodies) -> float:
     """The smallest cell of the bodies' grids: each body's element size halved per level of its
     deepest refinement zone."""
@@ -340,7 +363,8 @@ def _finest_cell_size(bodies) -> float:
                for b in bodies)
 
 
-def _dense_contact_bytes(problem, streamed: bool = False, region_areas=None, region_fills=None) -> float:
+def _dense_contact_bytes(problem, streamed: bool = False, region_areas=None, region_fills=None,
+                         far_work: float = 0.0) -> float:
     """The dense arrays of a 3D contact: per body, its contact dofs m_b hold m_b^2 entries in
     the root of the factor and a quarter of that in the kept block of the inverse (all of it
     for blocks below 4000 dofs, where it is small), and while the last body is factored about
@@ -351,12 +375,13 @@ def _dense_contact_bytes(problem, streamed: bool = False, region_areas=None, reg
     buffer is freed, so it is not counted beside the work space. The bodies are factored one at
     a time, so one work space is counted. Then the region trials (:func:`_contact_trial_bytes`,
     ``region_areas`` and ``region_fills`` as :func:`trial_bytes`'), which come after the
-    factorisation: the larger of the two counts."""
+    factorisation: the larger of the two counts. ``far_work``: the bytes of the work space a
+    large body's own separators need (FAR_WORK_FACTOR), where they exceed the contact's."""
     total = 0.0
     for k, c in enumerate(problem.contacts):
         n_bodies, m_b = contact_dofs_per_body(problem, c)
         m_zone = contact_dofs_per_body(problem, c, ZONE_SECTION_FRACTION)[1]
-        work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2)
+        work = max(3.0 * m_b**2, WORK_SPACE_FACTOR * m_zone**2, far_work / 8.0)
         later = _contact_trial_bytes(problem, c, m_b, None if region_areas is None else region_areas[k],
                                      REGION_FILL if region_fills is None else region_fills[k])
         total += 8.0 * 1.25 * m_b**2 * (n_bodies - 1 if streamed else n_bodies) + max(8.0 * work, later)
