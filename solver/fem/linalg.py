@@ -259,15 +259,16 @@ def blas_threads(count: int):
             put(n)
 
 
-def free_threads() -> int:
+def free_threads(sample: list | None = None) -> int:
     """:func:`factor_threads` where the machine has had a core idle besides this process's one
-    since the last call (the system's idle time in /proc/stat over that interval: at least half
-    a core; on the first call, or without /proc/stat, the 1-minute load average below the cores
-    less a half), else 1. OpenBLAS's threads wait for each other by spinning: on a busy machine
+    since the last call with the same ``sample`` (a one-item list holding /proc/stat's counts at
+    that call: each caller keeps its own; by default the trials' small systems') (the system's
+    idle time in /proc/stat over that interval: at least half a core; on the first call, or
+    without /proc/stat, the 1-minute load average below the cores less a half), else 1. OpenBLAS's threads wait for each other by spinning: on a busy machine
     an LU of 3,400 rows took 1.3 s on two threads against 0.9 s on one (load 5.5 on 2 cores),
     where a free core halves it."""
     threads = factor_threads()
-    idle = _idle_cores()
+    idle = _idle_cores() if sample is None else _idle_cores(sample)
     if threads < 2:
         return 1
     if idle is not None:
@@ -282,16 +283,18 @@ def free_threads() -> int:
 _IDLE_SAMPLE: list = [None]  # (idle, total) jiffies of /proc/stat at the last look
 
 
-def _idle_cores() -> float | None:
-    """Cores the machine left idle on average since the last call (None on the first call, over
-    less than a tenth of a second, or without /proc/stat)."""
+def _idle_cores(sample: list | None = None) -> float | None:
+    """Cores the machine left idle on average since the last call with ``sample`` (by default
+    this module's; None on the first call, over less than a tenth of a second, or without
+    /proc/stat)."""
+    sample = _IDLE_SAMPLE if sample is None else sample
     try:
         with open("/proc/stat") as stat:
             fields = [int(v) for v in stat.readline().split()[1:9]]
     except (OSError, ValueError):
         return None
     now = (fields[3] + fields[4], sum(fields))  # idle + iowait, all
-    last, _IDLE_SAMPLE[0] = _IDLE_SAMPLE[0], now
+    last, sample[0] = sample[0], now
     cores = os.cpu_count() or 1
     if last is None or now[1] - last[1] < 10 * cores:  # jiffies of 10 ms
         return None

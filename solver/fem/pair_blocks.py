@@ -37,6 +37,12 @@ __all__ = ["PairBlocks", "PairOperator", "RecentRegions"]
 #: dofs per node
 _D = 3
 
+#: a band of at least this many points sums its pairs on two threads where a core is free
+THREADED_POINTS = 4000
+
+#: /proc/stat's idle time at this module's last look (solver.fem.linalg.free_threads)
+_IDLE_SAMPLE: list = [None]
+
 
 @dataclass
 class PairBlocks:
@@ -137,34 +143,49 @@ class PairBlocks:
 
     def outer(self, left: np.ndarray, right: np.ndarray, weights: np.ndarray | None = None) -> sp.csr_matrix:
         """(m, m) sum_q w_q left_q right_q^T of per-point rows (q, 48, stored order), weights w
-        (q,) in the caller's order (1 without)."""
-        if weights is not None:
-            left = left * np.asarray(weights)[self.order][:, None]
-        return self._assembled(self._pair_sums(left, right))
+        (q,) in the caller's order (1 without; points of weight 0 are skipped)."""
+        from ._pair_kernels import outer_pair_sums
+
+        w = np.ones(self.n_points) if weights is None else np.ascontiguousarray(np.asarray(weights, dtype=float)[self.order])
+        out = np.empty((len(self.pair_nodes), left.shape[1], right.shape[1]))
+        self._over_pairs(outer_pair_sums, (np.ascontiguousarray(left, dtype=float),
+                                           np.ascontiguousarray(right, dtype=float), w), out)
+        return self._assembled(out)
 
     def band_terms(self, pen: np.ndarray, wp: np.ndarray, target: np.ndarray,
                    consistency: float) -> tuple[sp.csr_matrix, np.ndarray]:
         """Stiffness (m, m) and load (m,) of the band with per-point layer ``pen`` and consistency
         weights ``wp`` (q, 3, 3, quadrature weights included) and prescribed jump ``target``
         (q, 3): sum_q J^T pen (J - a) - theta (F^T wp (J - a) + J^T wp^T F)."""
+        from ._pair_kernels import band_pair_sums
+
         q, nodes = self.n_points, self.shape.shape[1]
-        pen, wp = pen[self.order], wp[self.order]
-        x = 0.5 * self.shape[:, :, None, None] * pen[:, None, :, :]  # (q, 16, 3, 3): n (x) pen / 2
-        x = x.reshape(q, -1, _D) - consistency * np.einsum("qiA,qij->qAj", self.traction, wp)  # (q, 48, 3)
-        m = self._pair_sums(x.reshape(q, -1), self.shape)  # (pairs, 48 * 3, 16): [(A, j), b]
-        m = m.reshape(len(m), -1, _D, nodes).transpose(0, 1, 3, 2).reshape(len(m), nodes * _D, nodes * _D)
-        k = self._assembled(m + m.transpose(0, 2, 1))
+        pen, wp = np.ascontiguousarray(pen, dtype=float), np.ascontiguousarray(wp, dtype=float)
+        k_pairs = np.empty((len(self.pair_nodes), _D * nodes, _D * nodes))
+        self._over_pairs(band_pair_sums, (self.shape, self.traction, pen, wp, self.order, float(consistency)), k_pairs)
+        k = self._assembled(k_pairs)
         a = np.asarray(target, dtype=float).reshape(q, _D)[self.order]
+        pen, wp = pen[self.order], wp[self.order]
         load = self._stored_rows(np.einsum("qij,qj->qi", pen, a), -consistency * np.einsum("qij,qj->qi", wp, a))
         return k, self.vector(load)
 
-    def _pair_sums(self, left: np.ndarray, right: np.ndarray) -> np.ndarray:
-        """(pairs, l, r) sum over each pair's points of outer(left_q, right_q) (stored order):
-        one matrix product per pair over its run of points."""
-        out = np.empty((len(self.pair_nodes), left.shape[1], right.shape[1]))
-        for p, (lo, hi) in enumerate(zip(self.bounds[:-1], self.bounds[1:])):
-            np.matmul(left[lo:hi].T, right[lo:hi], out=out[p])
-        return out
+    def _over_pairs(self, kernel, args: tuple, out: np.ndarray) -> None:
+        """``kernel(*args, bounds, first, last, out)`` over all pairs: on two threads (two ranges
+        of about equal points) when the machine has had a core idle since the last look
+        (:func:`solver.fem.linalg.free_threads`) and there are points enough, else on this one."""
+        from .linalg import free_threads
+
+        pairs = len(self.pair_nodes)
+        threads = min(free_threads(_IDLE_SAMPLE), 2) if self.n_points >= THREADED_POINTS else 1
+        if threads < 2 or pairs < 2:
+            kernel(*args, self.bounds, 0, pairs, out)
+            return
+        from concurrent.futures import ThreadPoolExecutor
+
+        middle = int(np.clip(np.searchsorted(self.bounds, self.n_points // 2), 1, pairs - 1))
+        with ThreadPoolExecutor(2) as pool:
+            for job in [pool.submit(kernel, *args, self.bounds, lo, hi, out) for lo, hi in ((0, middle), (middle, pairs))]:
+                job.result()
 
     def _assembled(self, k_pairs: np.ndarray) -> sp.csr_matrix:
         """(m, m) D^T K D of per-pair (48 x 48) matrices over the pairs' stacked node dofs (only
