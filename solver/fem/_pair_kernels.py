@@ -69,3 +69,16 @@ def outer_pair_sums(left, right, weights, bounds, first, last, out):
                 if v != 0.0:
                     for s in range(nr):
                         o[r, s] += v * right[k, s]
+
+
+@jit
+def gather_mean_traction(traction1, traction2, order, out):
+    """out[k] = [traction1[order[k]], traction2[order[k]]] / 2 along the last axis: the mean flux
+    blocks (q, 3, 48) of both bodies' traction blocks (q, 3, 24) in stored order."""
+    width = traction1.shape[2]
+    for k in range(order.shape[0]):
+        c = order[k]
+        for i in range(traction1.shape[1]):
+            for j in range(width):
+                out[k, i, j] = 0.5 * traction1[c, i, j]
+                out[k, i, width + j] = 0.5 * traction2[c, i, j]

@@ -75,8 +75,15 @@ class PairBlocks:
         nodes = np.concatenate([blocks1.cell_nodes[order[first]], blocks2.cell_nodes[order[first]] + n_nodes1],
                                axis=1).astype(np.int64)
         shape = np.concatenate([blocks1.displacement[order, 0, ::_D], -blocks2.displacement[order, 0, ::_D]], axis=1)
-        traction = np.concatenate([blocks1.traction[order], blocks2.traction[order]], axis=2)
-        traction *= 0.5
+        t1, t2 = (np.ascontiguousarray(b.traction, dtype=float) for b in (blocks1, blocks2))
+        traction = np.empty((len(order), t1.shape[1], t1.shape[2] + t2.shape[2]))
+        if t1.shape == t2.shape:
+            from ._pair_kernels import gather_mean_traction
+
+            gather_mean_traction(t1, t2, order, traction)
+        else:
+            traction[:] = np.concatenate([t1[order], t2[order]], axis=2)
+            traction *= 0.5
         return cls(order, np.r_[first, len(order)], nodes, shape, traction,
                    sp.vstack([map1, map2], format="csr"))
 
