@@ -121,3 +121,17 @@ def test_pressure_rows_of_a_trial_state(contact):
     finally:
         contact.slip_direction = saved
     np.testing.assert_allclose(r @ x + b, p, rtol=0, atol=1e-10 * np.abs(p).max())
+
+
+def test_pair_sums_on_two_threads_equal_the_sparse_products(contact, monkeypatch):
+    # the pairs split into two ranges summed side by side (as where a core is free)
+    from ibfem.solver.fem import linalg, pair_blocks
+
+    monkeypatch.setattr(pair_blocks, "THREADED_POINTS", 0)
+    monkeypatch.setattr(linalg, "free_threads", lambda sample=None: 2)
+    a = 0.06
+    contact._recent_regions = None
+    kc, fc, _ = contact.terms(a)
+    k_ref, f_ref, _ = _sparse_terms(contact, a)
+    assert abs(kc - k_ref).max() <= 1e-12 * abs(k_ref).max()
+    np.testing.assert_allclose(fc, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max())
