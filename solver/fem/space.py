@@ -162,8 +162,11 @@ class BodyDiscretisation:
     def cell_blocks(self, points, cells, normals, traction: bool = True) -> CellBlocks:
         """The displacement and (unless ``traction`` is False: loads only) traction operators at
         points as per-point cell blocks."""
-        if self.dim == 3 and traction and self.elasticity.shape == (6, 6):
-            # trilinear cells: shape values and traction blocks in one compiled pass
+        from . import pair_blocks
+
+        if self.dim == 3 and traction and self.elasticity.shape == (6, 6) and pair_blocks.compiled():
+            # trilinear cells: shape values and traction blocks in one compiled pass (where numba
+            # is loaded already)
             from ._point_kernels import hexahedron_blocks
             from .hexahedra import REFERENCE_CORNERS
 
