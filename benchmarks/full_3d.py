@@ -26,7 +26,10 @@ those runs: 121.5-185.9 s wall, 93.2-98.5 s CPU, 3.77-3.92 GB; one thread 93.2 s
 pair 240.0 s, 116.1 s CPU, 2.53 GB; a, b and c/a as before (docs/scale-3d.md). With the factor's
 ranges written on a second thread, the large fronts' rows and the trials' small system on threads
 (load 0.8-1.5, ``--threads 2``): the crossed cylinders 48 s wall (67 s CPU), 2.25 GB; the ball on
-a block 50 s (71 s), 2.64 GB; the turned pair 62 s (88 s), 2.45 GB."""
+a block 50 s (71 s), 2.64 GB; the turned pair 62 s (88 s), 2.45 GB. With the trials' terms in
+compiled passes and their LU in single precision (load 1.4-1.7): the turned pair 59-61 s (84-85 s
+CPU), 2.44-2.46 GB; the crossed cylinders 44 s (64 s), 2.26 GB; the ball on a block 48 s (69 s),
+2.65 GB."""
 
 from __future__ import annotations
 

@@ -24,6 +24,7 @@ values once; the sparse (3q x m) matrices are built only when asked for (``tocsr
 from __future__ import annotations
 
 import functools
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +37,19 @@ __all__ = ["PairBlocks", "PairOperator", "RecentRegions"]
 
 #: dofs per node
 _D = 3
+
+#: a band of at least this many points sums its pairs on two threads where a core is free
+THREADED_POINTS = 4000
+
+#: /proc/stat's idle time at this module's last look (solver.fem.linalg.free_threads)
+_IDLE_SAMPLE: list = [None]
+
+
+def compiled() -> bool:
+    """Whether the compiled kernels are used: where numba is already loaded (a run whose K0 is
+    factored by the multifrontal Cholesky, every large one). A small run on SuperLU keeps the
+    NumPy route: importing numba and LLVM for it would add about 100 MB to its peak."""
+    return "numba" in sys.modules
 
 
 @dataclass
@@ -69,8 +83,15 @@ class PairBlocks:
         nodes = np.concatenate([blocks1.cell_nodes[order[first]], blocks2.cell_nodes[order[first]] + n_nodes1],
                                axis=1).astype(np.int64)
         shape = np.concatenate([blocks1.displacement[order, 0, ::_D], -blocks2.displacement[order, 0, ::_D]], axis=1)
-        traction = np.concatenate([blocks1.traction[order], blocks2.traction[order]], axis=2)
-        traction *= 0.5
+        t1, t2 = (np.ascontiguousarray(b.traction, dtype=float) for b in (blocks1, blocks2))
+        traction = np.empty((len(order), t1.shape[1], t1.shape[2] + t2.shape[2]))
+        if t1.shape == t2.shape and compiled():
+            from ._pair_kernels import gather_mean_traction
+
+            gather_mean_traction(t1, t2, order, traction)
+        else:
+            traction[:] = np.concatenate([t1[order], t2[order]], axis=2)
+            traction *= 0.5
         return cls(order, np.r_[first, len(order)], nodes, shape, traction,
                    sp.vstack([map1, map2], format="csr"))
 
@@ -137,10 +158,18 @@ class PairBlocks:
 
     def outer(self, left: np.ndarray, right: np.ndarray, weights: np.ndarray | None = None) -> sp.csr_matrix:
         """(m, m) sum_q w_q left_q right_q^T of per-point rows (q, 48, stored order), weights w
-        (q,) in the caller's order (1 without)."""
-        if weights is not None:
-            left = left * np.asarray(weights)[self.order][:, None]
-        return self._assembled(self._pair_sums(left, right))
+        (q,) in the caller's order (1 without; points of weight 0 are skipped)."""
+        if not compiled():
+            if weights is not None:
+                left = left * np.asarray(weights)[self.order][:, None]
+            return self._assembled(self._pair_sums(left, right))
+        from ._pair_kernels import outer_pair_sums
+
+        w = np.ones(self.n_points) if weights is None else np.ascontiguousarray(np.asarray(weights, dtype=float)[self.order])
+        out = np.empty((len(self.pair_nodes), left.shape[1], right.shape[1]))
+        self._over_pairs(outer_pair_sums, (np.ascontiguousarray(left, dtype=float),
+                                           np.ascontiguousarray(right, dtype=float), w), out)
+        return self._assembled(out)
 
     def band_terms(self, pen: np.ndarray, wp: np.ndarray, target: np.ndarray,
                    consistency: float) -> tuple[sp.csr_matrix, np.ndarray]:
@@ -148,23 +177,51 @@ class PairBlocks:
         weights ``wp`` (q, 3, 3, quadrature weights included) and prescribed jump ``target``
         (q, 3): sum_q J^T pen (J - a) - theta (F^T wp (J - a) + J^T wp^T F)."""
         q, nodes = self.n_points, self.shape.shape[1]
-        pen, wp = pen[self.order], wp[self.order]
-        x = 0.5 * self.shape[:, :, None, None] * pen[:, None, :, :]  # (q, 16, 3, 3): n (x) pen / 2
-        x = x.reshape(q, -1, _D) - consistency * np.einsum("qiA,qij->qAj", self.traction, wp)  # (q, 48, 3)
-        m = self._pair_sums(x.reshape(q, -1), self.shape)  # (pairs, 48 * 3, 16): [(A, j), b]
-        m = m.reshape(len(m), -1, _D, nodes).transpose(0, 1, 3, 2).reshape(len(m), nodes * _D, nodes * _D)
-        k = self._assembled(m + m.transpose(0, 2, 1))
+        pen, wp = np.ascontiguousarray(pen, dtype=float), np.ascontiguousarray(wp, dtype=float)
+        if compiled():
+            from ._pair_kernels import band_pair_sums
+
+            k_pairs = np.empty((len(self.pair_nodes), _D * nodes, _D * nodes))
+            self._over_pairs(band_pair_sums, (self.shape, self.traction, pen, wp, self.order, float(consistency)),
+                             k_pairs)
+            k = self._assembled(k_pairs)
+            pen, wp = pen[self.order], wp[self.order]
+        else:
+            pen, wp = pen[self.order], wp[self.order]
+            x = 0.5 * self.shape[:, :, None, None] * pen[:, None, :, :]  # (q, 16, 3, 3): n (x) pen / 2
+            x = x.reshape(q, -1, _D) - consistency * np.einsum("qiA,qij->qAj", self.traction, wp)  # (q, 48, 3)
+            m = self._pair_sums(x.reshape(q, -1), self.shape)  # (pairs, 48 * 3, 16): [(A, j), b]
+            m = m.reshape(len(m), -1, _D, nodes).transpose(0, 1, 3, 2).reshape(len(m), nodes * _D, nodes * _D)
+            k = self._assembled(m + m.transpose(0, 2, 1))
         a = np.asarray(target, dtype=float).reshape(q, _D)[self.order]
         load = self._stored_rows(np.einsum("qij,qj->qi", pen, a), -consistency * np.einsum("qij,qj->qi", wp, a))
         return k, self.vector(load)
 
     def _pair_sums(self, left: np.ndarray, right: np.ndarray) -> np.ndarray:
         """(pairs, l, r) sum over each pair's points of outer(left_q, right_q) (stored order):
-        one matrix product per pair over its run of points."""
+        one matrix product per pair over its run of points (the NumPy route)."""
         out = np.empty((len(self.pair_nodes), left.shape[1], right.shape[1]))
         for p, (lo, hi) in enumerate(zip(self.bounds[:-1], self.bounds[1:])):
             np.matmul(left[lo:hi].T, right[lo:hi], out=out[p])
         return out
+
+    def _over_pairs(self, kernel, args: tuple, out: np.ndarray) -> None:
+        """``kernel(*args, bounds, first, last, out)`` over all pairs: on two threads (two ranges
+        of about equal points) when the machine has had a core idle since the last look
+        (:func:`solver.fem.linalg.free_threads`) and there are points enough, else on this one."""
+        from .linalg import free_threads
+
+        pairs = len(self.pair_nodes)
+        threads = min(free_threads(_IDLE_SAMPLE), 2) if self.n_points >= THREADED_POINTS else 1
+        if threads < 2 or pairs < 2:
+            kernel(*args, self.bounds, 0, pairs, out)
+            return
+        from concurrent.futures import ThreadPoolExecutor
+
+        middle = int(np.clip(np.searchsorted(self.bounds, self.n_points // 2), 1, pairs - 1))
+        with ThreadPoolExecutor(2) as pool:
+            for job in [pool.submit(kernel, *args, self.bounds, lo, hi, out) for lo, hi in ((0, middle), (middle, pairs))]:
+                job.result()
 
     def _assembled(self, k_pairs: np.ndarray) -> sp.csr_matrix:
         """(m, m) D^T K D of per-pair (48 x 48) matrices over the pairs' stacked node dofs (only

@@ -162,6 +162,18 @@ class BodyDiscretisation:
     def cell_blocks(self, points, cells, normals, traction: bool = True) -> CellBlocks:
         """The displacement and (unless ``traction`` is False: loads only) traction operators at
         points as per-point cell blocks."""
+        from . import pair_blocks
+
+        if self.dim == 3 and traction and self.elasticity.shape == (6, 6) and pair_blocks.compiled():
+            # trilinear cells: shape values and traction blocks in one compiled pass (where numba
+            # is loaded already)
+            from ._point_kernels import hexahedron_blocks
+            from .hexahedra import REFERENCE_CORNERS
+
+            loc = self.grid.local_coordinates(points, cells)
+            n, t = hexahedron_blocks(loc, 2.0 / self.grid.size[cells], REFERENCE_CORNERS, self.elasticity,
+                                     np.broadcast_to(normals, loc.shape))
+            return CellBlocks(cells, self.grid.cells[cells], self._displacement_blocks(n), t, self.node_dof_map)
         n, g = self.shape(points, cells)
         return CellBlocks(cells, self.grid.cells[cells], self._displacement_blocks(n),
                           self._traction_blocks(g, normals) if traction else None, self.node_dof_map)
