@@ -12,7 +12,10 @@ body 1, the sign that of its slip increment dw_t. The zones are an active set: a
 solve a stick point whose shear exceeds mu p starts slipping against its shear, and a slipping
 point whose increment runs against its sign sticks (a point stuck again twice within a step
 stays stuck for the rest of it: no endless flip at Coulomb's limit); repeated until no point
-changes (the width search runs inside, as for any stick update). Shear and pressure are judged on their means
+changes (the width search runs inside, as for any stick update); a point with a tensile mean
+pressure slips (it cannot hold a shear). Then the stick/slip boundaries are refined between the
+samples (the root of the stick side's edge singularity); one whose stick side then breaks
+Coulomb's law goes back to where the zone updates put it. Shear and pressure are judged on their means
 over one cell (``window``) around each sample: the point traction of the band terms oscillates
 with the grid, its cell means do not. Zones of any number and direction follow (stick, forward
 slip, reversed slip), none is assumed.
