@@ -26,7 +26,7 @@ import numpy as np
 
 from ibfem.geometry.solids import solid_from_dict
 from ibfem.solver.contact.region_report import grid_peak_as_map, mirror_images
-from ibfem.solver.reference.crowned_roller import edge_from_row, square_means
+from ibfem.solver.reference.crowned_roller import edge_from_row, solid_bottom, square_means
 from ibfem.solver.reference.halfspace import halfspace_contact
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -47,18 +47,6 @@ def lundberg_gap():
         return np.where(np.abs(X) > 0.1, 1.0, R - np.sqrt(np.maximum(radius**2 - Y**2, 0.0)))
 
     return gap
-
-
-def roller_bottom(roller, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """The height of the roller's surface above z = 0 at (X, Y): bisection of the exact solid's
-    signed distance (positive inside) along vertical lines."""
-    pts = np.stack([X.ravel(), np.maximum(Y.ravel(), 1e-7)], axis=1)
-    lo, hi = np.full(len(pts), -0.005), np.full(len(pts), 0.02)
-    for _ in range(50):
-        mid = 0.5 * (lo + hi)
-        inside = roller.signed_distance(np.column_stack([pts, mid])) > 0.0
-        hi, lo = np.where(inside, mid, hi), np.where(inside, lo, mid)
-    return (0.5 * (lo + hi)).reshape(X.shape)
 
 
 def edge_xy(block: dict) -> np.ndarray:
@@ -101,7 +89,7 @@ def compare_lundberg(block: dict, dx: float, dy: float) -> dict:
 def compare_tilted(block: dict, scene: Path, dx: float, dy: float) -> dict:
     roller = solid_from_dict(tomllib.loads(scene.read_text())["bodies"][0]["shape"])
     x, y = np.arange(-0.1 + 0.5 * dx, 0.1, dx), np.arange(0.5 * dy, 0.032, dy)
-    ref = halfspace_contact(lambda X, Y: roller_bottom(roller, X, Y), x, y, E_STAR, force=block["normal_force"],
+    ref = halfspace_contact(lambda X, Y: solid_bottom(roller, X, Y), x, y, E_STAR, force=block["normal_force"],
                             symmetric="y")
     row = ref.pressure[:, 0]
     back = -edge_from_row(-ref.x[::-1], row[::-1])

@@ -20,7 +20,7 @@ from ibfem.solver.contact.ellipse_geometry import contact_frame_3d, region_point
 from ibfem.solver.contact.region_report import grid_peak_as_map
 from ibfem.solver.contact.star_region import free_edge_distance
 from ibfem.solver.io.scene import scene_from_dict
-from ibfem.solver.reference.crowned_roller import square_means
+from ibfem.solver.reference.crowned_roller import solid_bottom, square_means
 from ibfem.solver.solving import solve
 
 from _solids3d import HalfBall
@@ -547,18 +547,6 @@ def test_an_elongated_contact_reaching_a_free_end_takes_the_general_region():
 TILTED = EXAMPLE.parent / "tilted_roller.toml"
 
 
-def _roller_bottom(roller, X: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """The height of the roller's surface above the block's top face z = 0 at (X, Y): the gap of
-    the exact solid (bisection of its signed distance, positive inside, along vertical lines)."""
-    pts = np.stack([X.ravel(), np.maximum(Y.ravel(), 1e-7)], axis=1)
-    lo, hi = np.full(len(pts), -0.005), np.full(len(pts), 0.02)
-    for _ in range(50):
-        mid = 0.5 * (lo + hi)
-        inside = roller.signed_distance(np.column_stack([pts, mid])) > 0.0
-        hi, lo = np.where(inside, mid, hi), np.where(inside, lo, mid)
-    return (0.5 * (lo + hi)).reshape(X.shape)
-
-
 def _halfspace_ends(result) -> tuple[float, float]:
     """The half-space region's two ends along x on the axis row: p^2, linear next to each edge,
     fitted over the last four loaded centres and taken to 0."""
@@ -605,7 +593,7 @@ def test_tilted_roller_against_the_half_space():
     assert not c["complete_contact"]
     roller = scene.problem.bodies[0].profile
     x, y = np.arange(-0.099, 0.1, 0.002), np.arange(0.0004, 0.032, 0.0008)
-    ref = halfspace_contact(lambda X, Y: _roller_bottom(roller, X, Y), x, y, E_STAR, force=c["normal_force"],
+    ref = halfspace_contact(lambda X, Y: solid_bottom(roller, X, Y), x, y, E_STAR, force=c["normal_force"],
                             symmetric="y")
     back, front = _halfspace_ends(ref)
     edge = np.asarray(c["boundary"]["points"])

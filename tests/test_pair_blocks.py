@@ -123,6 +123,14 @@ def test_pressure_rows_of_a_trial_state(contact):
     np.testing.assert_allclose(r @ x + b, p, rtol=0, atol=1e-10 * np.abs(p).max())
 
 
+def _assert_terms_equal_the_sparse_products(contact, a: float) -> None:
+    contact._recent_regions = None
+    kc, fc, _ = contact.terms(a)
+    k_ref, f_ref, _ = _sparse_terms(contact, a)
+    assert abs(kc - k_ref).max() <= 1e-12 * abs(k_ref).max()
+    np.testing.assert_allclose(fc, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max())
+
+
 def test_pair_sums_on_two_threads_equal_the_sparse_products(contact, monkeypatch):
     # the pairs split into two ranges summed side by side (as where a core is free)
     from ibfem.solver.fem import linalg, pair_blocks
@@ -130,12 +138,7 @@ def test_pair_sums_on_two_threads_equal_the_sparse_products(contact, monkeypatch
     monkeypatch.setattr(pair_blocks, "THREADED_POINTS", 0)
     monkeypatch.setattr(pair_blocks, "compiled", lambda: True)
     monkeypatch.setattr(linalg, "free_threads", lambda sample=None: 2)
-    a = 0.06
-    contact._recent_regions = None
-    kc, fc, _ = contact.terms(a)
-    k_ref, f_ref, _ = _sparse_terms(contact, a)
-    assert abs(kc - k_ref).max() <= 1e-12 * abs(k_ref).max()
-    np.testing.assert_allclose(fc, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max())
+    _assert_terms_equal_the_sparse_products(contact, 0.06)
 
 
 @pytest.mark.parametrize("with_kernels", [True, False])
@@ -146,9 +149,4 @@ def test_both_routes_equal_the_sparse_products(contact, monkeypatch, with_kernel
     if with_kernels:
         import numba  # noqa: F401  (the kernels are used where numba is loaded)
     monkeypatch.setattr(pair_blocks, "compiled", lambda: with_kernels)
-    a = 0.06
-    contact._recent_regions = None
-    kc, fc, _ = contact.terms(a)
-    k_ref, f_ref, _ = _sparse_terms(contact, a)
-    assert abs(kc - k_ref).max() <= 1e-12 * abs(k_ref).max()
-    np.testing.assert_allclose(fc, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max())
+    _assert_terms_equal_the_sparse_products(contact, 0.06)

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["crowned_gap", "edge_from_row", "half_widths", "half_length"]
+__all__ = ["crowned_gap", "edge_from_row", "half_widths", "half_length", "solid_bottom"]
 
 
 def crowned_gap(radius: float = 0.5, crown_radius: float = 0.5, straight: float = 0.05, length: float = 0.1):
@@ -78,3 +78,17 @@ def region_half_widths(block: dict, stations: np.ndarray) -> np.ndarray:
     upper = s[s[:, 1] > 1e-12]
     order = np.argsort(upper[:, 0])
     return np.interp(stations, upper[order, 0], upper[order, 1], right=0.0)
+
+
+def solid_bottom(solid, X: np.ndarray, Y: np.ndarray, below: float = -0.005, above: float = 0.02,
+                 steps: int = 50) -> np.ndarray:
+    """The height of a solid's lower surface above z = 0 at (X, Y), the gap of an exact solid to a
+    flat at z = 0: bisection of its signed distance (positive inside) along vertical lines between
+    z = ``below`` and ``above`` (Y kept off the symmetry plane y = 0 by 1e-7)."""
+    pts = np.stack([np.ravel(X), np.maximum(np.ravel(Y), 1e-7)], axis=1)
+    lo, hi = np.full(len(pts), below), np.full(len(pts), above)
+    for _ in range(steps):
+        mid = 0.5 * (lo + hi)
+        inside = solid.signed_distance(np.column_stack([pts, mid])) > 0.0
+        hi, lo = np.where(inside, mid, hi), np.where(inside, lo, mid)
+    return (0.5 * (lo + hi)).reshape(np.shape(X))
