@@ -140,6 +140,8 @@ def _run(args: argparse.Namespace) -> int:
             f"{label}: not converged after {iterations} iterations; the iteration history is in "
             f"{out / 'summary.json'}"
         )
+        for message in summary["iterations"].get("messages", []):  # the solver's diagnosis, if it made one
+            _err(f"{label}: {message}")
         return 1
     print(
         f"{scene.name}: converged in {iterations} iterations, {summary['timings']['total_s']:.2f} s; "

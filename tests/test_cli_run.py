@@ -104,6 +104,25 @@ def test_non_convergence_keeps_the_history_and_fails(tmp_path, capsys, monkeypat
     assert calls[0].name == "plate" and data["scene"].endswith("plate.toml")
 
 
+def test_non_convergence_prints_the_solvers_diagnosis(tmp_path, capsys, monkeypatch):
+    """A non-converged run says why on stderr when the solver diagnosed it, not only in summary.json."""
+    import ibfem.solver.solving
+    from ibfem import solver
+
+    diagnosis = "contact a/b: the contact is smaller than the grid resolves: refine it"
+
+    def fake_solve(problem, progress=None):
+        solution = fake_solution(converged=False)
+        solution.iterations["messages"] = [diagnosis]
+        return solution
+
+    monkeypatch.setattr(solver.solving, "solve", fake_solve)
+    assert main(["run", str(write_plate(tmp_path)), "--out", str(tmp_path / "out"), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert "not converged after 7 iterations" in err
+    assert f"plate.toml: {diagnosis}" in err
+
+
 def test_converged_run_with_default_output_directory(tmp_path, capsys, monkeypatch):
     import ibfem.solver.solving
     from ibfem import solver
