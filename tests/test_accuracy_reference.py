@@ -69,15 +69,17 @@ def test_the_rounded_punch_reference_reproduces():
 def test_the_sphere_reference_is_hertz_for_its_force_within_the_finite_bodies_effect():
     # Hertz's radius for the reference's own force (Johnson eq. 4.22, the whole contact 4 N): the
     # finite bodies (a block 22 a deep with its bottom fixed, a ball held on its flat top) and the
-    # sphere's exact gap put the converged a within 0.5 % of it (measured -0.31 %), while the
-    # force for the prescribed 2 mm lies 3.5 % above Hertz's for that approach: a depends on the
-    # bodies' far field only through N, as Hertz's theory says.
+    # sphere's exact gap put the converged a within 0.5 % of it (the exact gap: -0.027 %), while
+    # the force for the prescribed 2 mm lies 3.5 % above Hertz's for that approach: a depends on
+    # the bodies' far field only through N, as Hertz's theory says.
     from ibfem.solver.reference import theory
     from ibfem.solver.reference.converged import SPHERE_ON_FLAT
 
     e_star = 2.0e11 / (2.0 * (1.0 - 0.3 ** 2))
     a_hertz = theory.hertz_sphere_radius(4.0 * SPHERE_ON_FLAT["N"], 1.0, e_star)
     assert abs(SPHERE_ON_FLAT["a"] / a_hertz - 1.0) < 5e-3, (SPHERE_ON_FLAT["a"], a_hertz)
+    # the stored a is the exact gap's half-space radius for that force, as its note says
+    assert SPHERE_ON_FLAT["a"] == pytest.approx(theory.exact_sphere_radius(4.0 * SPHERE_ON_FLAT["N"], 1.0, e_star), rel=1e-6)
     n_hertz = 4.0 * e_star * math.sqrt(1.0) * 0.002 ** 1.5 / 3.0 / 4.0   # quarter of Hertz's N for the approach
     assert 1.0 < SPHERE_ON_FLAT["N"] / n_hertz < 1.06, (SPHERE_ON_FLAT["N"], n_hertz)
 

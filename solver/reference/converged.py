@@ -50,21 +50,24 @@ HALF_WIDTHS: dict[str, dict[str, float]] = {
 
 
 #: The converged contact of examples/solid/sphere_on_flat.toml (a quarter of the lower half ball
-#: R = 1 on the block [0, 1]^2 x [-1, 0], steel, the ball's top moved 2 mm down, frictionless):
-#: the same bodies, supports and displacement solved by NGSolve on curved tetrahedral meshes
-#: graded to h_c on both contact surfaces and in proportion to the distance from the contact beyond
-#: (every size scaled per mesh), penalty contact on ibfem's pairs of the undeformed geometry
-#: (straight down), N and a extrapolated to an infinite penalty from 1e3 and 1e4 E / h_c, a read
-#: from the fitted gap opening on 17 radial lines (``benchmarks/accuracy_reference_3d.py``,
-#: 2026-11-28, docs/accuracy.md "The converged reference"). ``N`` is the quarter model's normal
-#: force (N), ``a`` the contact radius on the block's top (m): the finest P3 mesh's values.
-#: ``N_uncertainty`` and ``a_uncertainty`` (relative): the two P3 meshes differ by 0.015 % in N
-#: and 0.25 % in a, which still rises (two meshes give no Richardson limit).
+#: R = 1 on the block [0, 1]^2 x [-1, 0], steel, the ball's top moved 2 mm down, frictionless).
+#: ``N`` (the quarter model's normal force, N): the same bodies, supports and displacement solved
+#: by NGSolve P3 on curved tetrahedral meshes graded to h_c on both contact surfaces and in
+#: proportion to the distance from the contact beyond, penalty contact on ibfem's pairs of the
+#: undeformed geometry (straight down), extrapolated to an infinite penalty from 1e3 and 1e4 E / h_c
+#: (``benchmarks/accuracy_reference_3d.py``; docs/accuracy.md "The converged reference"): the
+#: finest mesh's value, the two P3 meshes 0.015 % apart (``N_uncertainty``, relative).
+#: ``a`` (the contact radius on the block's top, m): the half-space radius of the sphere's exact
+#: gap for the force 4 N (``theory.exact_sphere_radius``, Sneddon's load). The P3 meshes read a
+#: at a / h_c 2.8 and 4 only, still rising by 0.25 % between them; their Richardson limit at
+#: order 2 is 0.045197 m (-0.04 %), and ibfem's three finest graded grids (262k, 695k and 1.91M
+#: dofs) read 0.045183, 0.045210 and 0.045203 m: the bodies' finite size moves a for a given
+#: force by less than ``a_uncertainty`` (relative), the largest of those differences.
 SPHERE_ON_FLAT: dict[str, float] = {
     # P3, h_c 0.016, 0.0113 m (47829, 111300 dofs): N 3.388073e6, 3.388567e6; a 0.044973, 0.045085 m.
     # P2, h_c 0.016, 0.0113, 0.008 m (15405, 35136, 95865 dofs): N 3.39176e6, 3.39014e6, 3.39108e6;
-    # a 0.0450865, 0.0451507, 0.0451343 m
-    "N": 3.388567e6, "N_uncertainty": 2e-4, "a": 0.045085, "a_uncertainty": 2.5e-3,
+    # a 0.0450865, 0.0451507, 0.0451343 m. Hertz's radius for 4 N: 0.0452265 m; the exact gap's 0.0452142 m.
+    "N": 3.388567e6, "N_uncertainty": 2e-4, "a": 0.0452142, "a_uncertainty": 7e-4,
 }
 
 

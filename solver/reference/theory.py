@@ -31,6 +31,7 @@ import math
 import numpy as np
 
 __all__ = [
+    "exact_sphere_radius",
     "effective_modulus",
     "plane_strain_modulus",
     "effective_radius",
@@ -454,6 +455,38 @@ def hertz_sphere_radius(N: float, R_eff: float, E_eff: float) -> float:
     with 1/R* = 1/R1 + 1/R2 and 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Johnson, Contact Mechanics, 4.2)."""
     N = _non_negative("N", N)
     return (3.0 * N * _positive("R_eff", R_eff) / (4.0 * _positive("E_eff", E_eff))) ** (1.0 / 3.0)
+
+
+def exact_sphere_radius(N: float, R: float, E_eff: float) -> float:
+    """Contact radius of a sphere of radius R on a half-space pressed by N, with the sphere's
+    exact gap R - sqrt(R^2 - r^2) instead of Hertz's parabola r^2 / (2 R): the root of Sneddon's
+    load of an axisymmetric punch (Int. J. Eng. Sci. 3, 47-57, 1965),
+    N(a) = 2 E* int_0^a r^2 f'(r) / sqrt(a^2 - r^2) dr with f'(r) = r / sqrt(R^2 - r^2),
+    integrated with r = a sin t by Gauss-Legendre on [0, pi/2] (the integrand is smooth there).
+    For a / R -> 0 it is Hertz's radius; the exact gap is wider, so the radius is a little smaller
+    (at a / R = 0.045, 0.027 % smaller)."""
+    N, R, E_eff = _non_negative("N", N), _positive("R", R), _positive("E_eff", E_eff)
+    t, w = np.polynomial.legendre.leggauss(64)
+    t, w = 0.25 * math.pi * (t + 1.0), 0.25 * math.pi * w
+
+    def load(a: float) -> float:
+        r = a * np.sin(t)
+        return 2.0 * E_eff * float(np.sum(w * r * r * r / np.sqrt(R * R - r * r)))
+
+    hi = hertz_sphere_radius(N, R, E_eff)  # the exact gap's radius lies below Hertz's
+    if N == 0.0:
+        return 0.0
+    if hi >= R:
+        raise ValueError(f"N = {N:.4g} N presses the sphere to a contact radius of R = {R:.4g} m or more")
+    lo = 0.5 * hi
+    while load(lo) > N:
+        lo *= 0.5
+    for _ in range(200):  # bisection: load(a) grows with a
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if load(mid) < N else (lo, mid)
+        if hi - lo <= 1e-15 * hi:
+            break
+    return 0.5 * (lo + hi)
 
 
 def hertz_sphere_peak_pressure(N: float, a: float) -> float:
