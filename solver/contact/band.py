@@ -406,6 +406,12 @@ class BandContact:
                 f"sample points (smallest gap {v.min_gap:.3g} m) at a = {a:.6g} m: the region search did not "
                 "find the contact (refine the grid near the contact, or check the contact point and loads)"
             )
+        if messages and a <= self.h:
+            messages.append(
+                f"{self.name}: the region found has a half-width of {a:.3g} m, at most one finest cell ({self.h:.3g} m): the "
+                "contact is smaller than the grid resolves and needs a finer grid there (more refinement levels "
+                "around the contact, or a smaller element_size)"
+            )
         centred = a > 0.0 and not (self.mirror or self.pinned)  # a pinned region's centre is not its centroid
         offset = (_pressure_centroid(self, info, x, a) - self.centre) / a if centred else 0.0
         if abs(offset) > CENTROID_TOLERANCE:
@@ -437,7 +443,10 @@ class BandContact:
                                 "friction_traction": self.options.friction_traction})
         block["checks"].update(_friction_checks(self, info, x, a, block))
         block["gross_slip"] = self.gross_slip
-        if not abs(ca - self.stick_ratio) <= 2.0 * self.options.stick_tolerance:
+        if not nf > 0.0:
+            messages.append(f"{self.name}: the contact carries no compressive normal force (N = {nf:.3g}): no stick "
+                            "zone follows from the forces")
+        elif not abs(ca - self.stick_ratio) <= 2.0 * self.options.stick_tolerance:
             messages.append(f"{self.name}: c/a = {self.stick_ratio:.4g} but the forces give sqrt(1 - |Q|/(mu N)) = {ca:.4g}")
         return messages
 
