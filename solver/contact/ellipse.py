@@ -304,6 +304,8 @@ class EllipseContact:
         if v.penetration or v.tension:
             messages.append(f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and "
                             f"tension {v.tension} (edge pressure {v.pressure:.3g} Pa) at semi-axes {self.semi_axes(a)}")
+            if a <= 0.0 and v.penetration_count:
+                messages.append(self._unresolved(v))
         elif v.penetration_count and a <= 0.0:
             messages.append(self._unresolved(v))
         elif v.penetration_count:
