@@ -136,19 +136,23 @@ def _run(args: argparse.Namespace) -> int:
         _err(f"warning: {note}")
     iterations = summary["iterations"]["total"]
     if not summary["converged"]:
-        _err(
-            f"{label}: not converged after {iterations} iterations; the iteration history is in "
-            f"{out / 'summary.json'}"
-        )
-        for message in summary["iterations"].get("messages", []):  # the solver's diagnosis, if it made one
-            _err(f"{label}: {message}")
-        return 1
+        return _not_converged(label, summary, out)
     print(
         f"{scene.name}: converged in {iterations} iterations, {summary['timings']['total_s']:.2f} s; "
         f"results in {out}/"
     )
     _print_contacts(summary, ladder)
     return 0
+
+
+def _not_converged(label: str, summary: dict, out: Path) -> int:
+    """Report a run that did not converge (exit 1): where its history is, and the solver's
+    diagnosis where it made one (a contact smaller than the grid resolves, a failed check)."""
+    _err(f"{label}: not converged after {summary['iterations']['total']} iterations; the iteration history is in "
+         f"{out / 'summary.json'}")
+    for message in summary["iterations"].get("messages", []):
+        _err(f"{label}: {message}")
+    return 1
 
 
 def _print_check(path: str, scene) -> int:
