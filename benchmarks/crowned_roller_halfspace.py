@@ -18,7 +18,8 @@ import math
 
 import numpy as np
 
-from ibfem.solver.contact.region_report import fitted_peak, grid_peak_as_map, mirror_images
+from ibfem.solver.contact.region_report import (PLATEAU_SHARE, fitted_peak, grid_peak_as_map, grid_peak_place_as_map,
+                                                   mirror_images, peak_place)
 from ibfem.solver.reference.crowned_roller import (crowned_gap, half_length, half_widths, region_half_widths,
                                                    square_means)
 from ibfem.solver.reference.halfspace import halfspace_contact
@@ -60,6 +61,8 @@ def compare(block: dict, dx: float, dy: float) -> dict:
     at, fit = fitted_peak(centres, value, keys, maps)
     ref_at, ref_fit = fitted_peak(centres, reference, keys, maps)
     corner_at, corner_fit = grid_peak_as_map(block, ref.x, ref.y, ref.pressure, maps)
+    place = peak_place(centres, value, np.array(m["area"]), keys, m["cell"], maps)
+    ref_place = grid_peak_place_as_map(block, ref.x, ref.y, ref.pressure, maps)
     return {"force": block["normal_force"], "cell": m["cell"],
             "length": (block["semi_axes"][0], length), "widest": (float(region_half_widths(block, np.linspace(0.0, 0.09, 901)).max()),
                        float(widths[widest]), float(x[widest])),
@@ -67,6 +70,7 @@ def compare(block: dict, dx: float, dy: float) -> dict:
             "stations": [(float(s), float(a), float(b)) for s, a, b in zip(stations, w3, ref_w)],
             "peak_fit": (fit, float(at[0]), ref_fit, float(ref_at[0])),
             "peak_fit_corners": (corner_fit, float(corner_at[0])),
+            "peak_place": (float(place[0]), float(ref_place[0])),
             "point_peak": float(ref.pressure.max()),
             "rows": row_loads(block, ref, dx, dy),
             "mid_length": (float(w3[0]), float(np.mean(row_loads(block, ref, dx, dy)[0][:MID_ROWS])),
@@ -99,6 +103,9 @@ def main() -> None:
     print(f"  half-space read through the squares' corners as the 3D map: {cv / 1e9:.4f} GPa at {cx * 1e3:.2f} mm: "
           f"{100 * (v / cv - 1):+.2f} %, position {100 * (xa - cx) / b:+.2f} % of the half-length; its point peak "
           f"{r['point_peak'] / 1e9:.4f} GPa")
+    pa, pr = r["peak_place"]
+    print(f"peak place (centroid of the plateau above {100 * PLATEAU_SHARE:g} % of the largest square, read the same "
+          f"way on both): 3D x = {pa * 1e3:.2f} mm, half-space {pr * 1e3:.2f} mm: {100 * (pa - pr) / b:+.2f} % of the half-length")
     loads, ref_loads = r["rows"]
     cell = r["cell"]
     print("line load P' per row of squares (both sides of the line), 3D against the half-space's mean over the row:")

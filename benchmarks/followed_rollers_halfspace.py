@@ -5,7 +5,9 @@ K. L. Johnson, Contact Mechanics, 1985, section 5.9): the region's ends along th
 half-width (Lundberg's at mid-length; the tilted roller's at x = -0.05 and +0.05 m), the largest
 square of the pressure map against the half-space's mean over the same squares, and the peak's
 fit (``peak_fit``) against the half-space read the same way, through the corners of the same
-squares, in value and in position (as a share of the half-length). Also the grid the run had:
+squares, in value and in position (as a share of the half-length), and the peak's place
+(``peak_place``: the centroid of the plateau above 99 % of the largest square) read the same way
+on both. Also the grid the run had:
 the cells per semi-axis and the refinement record (coarse pass, band, finer balls).
 
     python -m ibfem run tests/scenes/lundberg_roller.toml --out OUT
@@ -25,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ibfem.geometry.solids import solid_from_dict
-from ibfem.solver.contact.region_report import grid_peak_as_map, mirror_images
+from ibfem.solver.contact.region_report import PLATEAU_SHARE, grid_peak_as_map, grid_peak_place_as_map, mirror_images, peak_place
 from ibfem.solver.reference.crowned_roller import edge_from_row, solid_bottom, square_means
 from ibfem.solver.reference.halfspace import halfspace_contact
 
@@ -72,7 +74,9 @@ def peak(block: dict, ref, maps) -> dict:
     top = int(np.argmax(value))
     ref_at, ref_fit = grid_peak_as_map(block, ref.x, ref.y, ref.pressure, maps)
     return {"largest_square": (float(value[top]), float(square_means(block, ref)[top]), list(m["s"][top])),
-            "fit": (block["peak_fit"]["value"], ref_fit), "fit_at": (block["peak_fit"]["s"][0], float(ref_at[0]))}
+            "fit": (block["peak_fit"]["value"], ref_fit), "fit_at": (block["peak_fit"]["s"][0], float(ref_at[0])),
+            "place": (float(peak_place(np.array(m["s"]), value, np.array(m["area"]), np.array(m["square"]), m["cell"], maps)[0]),
+                      float(grid_peak_place_as_map(block, ref.x, ref.y, ref.pressure, maps)[0]))}
 
 
 def compare_lundberg(block: dict, dx: float, dy: float) -> dict:
@@ -117,6 +121,10 @@ def report(block: dict, refinement: dict | None, result: dict) -> str:
     lines.append(f"peak's fit {fit / 1e9:.4f} GPa at x = {fat:+.5f} m against the half-space read the same way "
                  f"{ref_fit / 1e9:.4f} GPa at {ref_at:+.5f} m ({100 * (fit / ref_fit - 1):+.2f} %, place "
                  f"{100 * (fat - ref_at) / hl:+.2f} % of the half-length)")
+    place, ref_place = result["place"]
+    lines.append(f"peak place (centroid of the plateau above {100 * PLATEAU_SHARE:g} % of the largest square, read the "
+                 f"same way on both) x = {place:+.5f} m against {ref_place:+.5f} m "
+                 f"({100 * (place - ref_place) / hl:+.2f} % of the half-length)")
     if refinement:
         coarse = refinement.get("coarse_pass") or {}
         lines.append(f"coarse pass: {coarse.get('levels_fewer')} levels shallower, tried {coarse.get('tried')}")

@@ -1,7 +1,8 @@
 """The contact block of a region of general shape (solver.contact.star_region): the frame, the
 forces, the region's boundary as a closed polyline on body 1's surface (which stretches of it are
 body 1's free edges: complete contact), its extents along its principal directions, area and
-centroid, and the pressure as cell means (a map, and along both axes) with its peak.
+centroid, and the pressure as cell means (a map, and along both axes) with its peak (the largest
+square, a parabola's fit through it and its neighbours, and the place of the peak's plateau).
 
 The band traction at the quadrature points oscillates within and from cell to cell (trilinear
 fields against a curved gap) while its integrals are accurate: the map holds the pressure read
@@ -20,7 +21,8 @@ import numpy as np
 from .edge_pressure import agglomerated_cells, nodal_pressure
 from .ellipse_geometry import sector_share, surface_point
 
-__all__ = ["region_block", "boundary_polyline", "cell_means", "fitted_peak", "grid_peak_as_map", "mirror_images"]
+__all__ = ["region_block", "boundary_polyline", "cell_means", "fitted_peak", "peak_place", "grid_peak_as_map",
+           "grid_peak_place_as_map", "mirror_images"]
 
 #: points of the boundary polyline over the full turn
 BOUNDARY_POINTS = 360
@@ -169,6 +171,62 @@ def fitted_peak(centres: np.ndarray, means: np.ndarray, keys: np.ndarray, maps: 
     return at, value + rise
 
 
+#: the share of the largest square's mean above which squares count as the peak's plateau: the
+#: map's squares scatter by up to about 1 % of the pressure where the grid's cells are twice the
+#: squares (measured along Lundberg's plateau), so a plateau three times deeper than that scatter
+#: is not defined by one square the scatter lifts
+PLATEAU_SHARE = 0.97
+
+
+def peak_place(centres: np.ndarray, means: np.ndarray, areas: np.ndarray, keys: np.ndarray, size: float,
+               maps: np.ndarray = np.eye(2)[None], share: float = PLATEAU_SHARE) -> np.ndarray:
+    """(s (2,)) where the pressure peaks, read so that a plateau does not move it by the squares'
+    noise: the centroid of the squares whose mean exceeds ``share`` times the largest and that
+    join the largest square through such squares (side or corner neighbours, mirror images
+    included: ``maps``), each weighted by its area times its mean's rise above that threshold.
+    A sharp peak gives the largest square's neighbourhood; a plateau wider than the squares'
+    scatter gives its middle (a symmetric plateau across a symmetry plane: on the plane), where
+    the largest square and the fit's vertex jump by a square between nearly equal means. The
+    weights vanish as a square's mean reaches the threshold, so the place moves continuously
+    with the means. A plateau that does not hold its own centroid (a ring, as about a rounded
+    punch's fillet) has no single place: the largest square's centroid is kept there. ``size``:
+    the squares' side."""
+    c, v, k = _mirrored_squares(centres, means, keys, maps)
+    w = _mirrored_squares(centres, areas, keys, maps)[1]
+    top = int(np.argmax(means))
+    level = share * float(means[top])
+    above = {tuple(key): i for i, key in enumerate(k.tolist()) if v[i] > level}
+    seen, todo = {tuple(keys[top].tolist())}, [tuple(keys[top].tolist())]
+    while todo:
+        i, j = todo.pop()
+        for di in (-1, 0, 1):
+            for dj in (-1, 0, 1):
+                n = (i + di, j + dj)
+                if n in above and n not in seen:
+                    seen.add(n)
+                    todo.append(n)
+    members = np.array([above[n] for n in seen if n in above], dtype=np.int64)
+    weight = w[members] * (v[members] - level)
+    if weight.sum() <= 0.0:
+        return np.array(centres[top], dtype=float)
+    at = weight @ c[members] / weight.sum()
+    if tuple(np.floor(at / size + 1e-6).astype(np.int64).tolist()) not in seen:
+        return np.array(centres[top], dtype=float)
+    return at
+
+
+def _grid_map(block: dict, x: np.ndarray, y: np.ndarray, pressure: np.ndarray):
+    """A pressure on a regular grid of the plane z = 0 read as ``block`` reads its own: the merged
+    squares of ``agglomerated_cells`` over the corner reading (``nodal_pressure``)."""
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    loaded = pressure > 0.0
+    s = (np.stack([X[loaded], Y[loaded], np.zeros(int(loaded.sum()))], axis=1) - np.array(block["point"])) \
+        @ np.array(block["axes"]).T
+    w = np.full(len(s), float((x[1] - x[0]) * (y[1] - y[0])))
+    h = block["pressure_map"]["cell"]
+    return agglomerated_cells(s, w, nodal_pressure(s, w, pressure[loaded], h), h)
+
+
 def grid_peak_as_map(block: dict, x: np.ndarray, y: np.ndarray, pressure: np.ndarray,
                      maps: np.ndarray = np.eye(2)[None]) -> tuple[np.ndarray, float]:
     """(s (2,), value) of the peak's fit of a pressure given on a regular grid of the plane z = 0
@@ -179,14 +237,16 @@ def grid_peak_as_map(block: dict, x: np.ndarray, y: np.ndarray, pressure: np.nda
     ``fitted_peak``. The corner reading smooths a peak by about p'' h^2 / 6 along each axis,
     which plain means over the squares do not: two peaks' fits compare fairly only when both
     pressures are read this way."""
-    X, Y = np.meshgrid(x, y, indexing="ij")
-    loaded = pressure > 0.0
-    s = (np.stack([X[loaded], Y[loaded], np.zeros(int(loaded.sum()))], axis=1) - np.array(block["point"])) \
-        @ np.array(block["axes"]).T
-    w = np.full(len(s), float((x[1] - x[0]) * (y[1] - y[0])))
-    h = block["pressure_map"]["cell"]
-    cells = agglomerated_cells(s, w, nodal_pressure(s, w, pressure[loaded], h), h)
+    cells = _grid_map(block, x, y, pressure)
     return fitted_peak(cells.centres, cells.means, cells.keys, maps)
+
+
+def grid_peak_place_as_map(block: dict, x: np.ndarray, y: np.ndarray, pressure: np.ndarray,
+                           maps: np.ndarray = np.eye(2)[None]) -> np.ndarray:
+    """(s (2,)) the ``peak_place`` of a pressure given on a regular grid of the plane z = 0, read
+    through the corners of the same squares as ``grid_peak_as_map``."""
+    cells = _grid_map(block, x, y, pressure)
+    return peak_place(cells.centres, cells.means, cells.areas, cells.keys, block["pressure_map"]["cell"], maps)
 
 
 def _merged_squares(cells) -> list:
@@ -236,8 +296,9 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     centres, means, areas, keys = cells.centres, cells.means, cells.areas, cells.keys
     peak = int(np.argmax(means))
     fit_s, fit_value = fitted_peak(centres, means, keys, mirror_images(c.ranges))
-    on1 = surface_point(c.solids[0], frame, np.stack([centres[peak], fit_s]), c.reach)[0]
-    peak_x, fit_x = on1[0], on1[1]
+    place_s = peak_place(centres, means, areas, keys, c.h, mirror_images(c.ranges))
+    on1 = surface_point(c.solids[0], frame, np.stack([centres[peak], fit_s, place_s]), c.reach)[0]
+    peak_x, fit_x, place_x = on1[0], on1[1], on1[2]
     half = [float(np.abs(s_edge[:, k]).max()) for k in (0, 1)]
     out.update({
         # the region's half-extents along the frame's axes from the contact point
@@ -251,6 +312,7 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         "centroid": (pts.weights @ pts.x1 / pts.weights.sum()).tolist(),
         "peak_pressure": float(means[peak]), "peak_at": peak_x.tolist(),
         "peak_fit": {"value": fit_value, "s": fit_s.tolist(), "at": fit_x.tolist()},
+        "peak_place": {"s": place_s.tolist(), "at": place_x.tolist(), "share": PLATEAU_SHARE},
         "pressure_map": {"cell": c.h, "s": centres.tolist(), "value": means.tolist(), "area": areas.tolist(),
                          "square": keys.tolist(),
                          "merged": _merged_squares(cells)},
