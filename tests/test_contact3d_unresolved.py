@@ -42,3 +42,19 @@ def test_an_unresolved_contact_is_diagnosed(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "Traceback" not in err and "smaller than the grid resolves" in err
     assert "Hertz's estimate from the overlap" in err
+
+
+def test_a_region_point_outside_a_body_names_the_body_and_the_cause():
+    # a contact region that reaches past a body's material (a ball overhanging a block's edge at
+    # the given point): the error says which body and what to check, not "no grid cell"
+    from types import SimpleNamespace
+
+    import numpy as np
+    import pytest
+
+    from ibfem.solver.contact import band, ellipse
+
+    body = SimpleNamespace(name="block", grid=SimpleNamespace(locate=lambda x: np.full(len(x), -1), min_size=0.1))
+    for module in (ellipse, band):
+        with pytest.raises(ValueError, match="body 'block'.*outside the body's grid.*bodies meet"):
+            module._locate(body, np.array([[-1.9e-9, 0.0092, 0.0]]), np.array([[0.0, 0.0, 1.0]]))

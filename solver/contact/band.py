@@ -525,7 +525,9 @@ def _locate(b, x, n) -> np.ndarray:
     cells = b.grid.locate(x - 1e-7 * b.grid.min_size * n)
     if (cells < 0).any():
         bad = x[cells < 0][0]
-        raise ValueError(f"body {b.name!r}: contact point {bad.tolist()} lies in no grid cell")
+        raise ValueError(f"body {b.name!r}: the contact region's point {np.round(bad, 9).tolist()} lies outside the "
+                         "body's grid: the region reaches where the body has no material (check that the "
+                         "bodies meet there: the contact point, the bodies' placement and sizes)")
     return cells
 
 
