@@ -520,7 +520,7 @@ def _flux_weights(flux: str) -> tuple[float, float]:
     return {"average": (0.5, 0.5), "body1": (1.0, 0.0), "body1_half": (0.5, 0.0)}[flux]
 
 
-def _locate(b, x, n) -> np.ndarray:
+def locate_cells(b, x, n) -> np.ndarray:
     """Cells holding boundary points (nudged into the material, as the grid assigns pieces)."""
     cells = b.grid.locate(x - 1e-7 * b.grid.min_size * n)
     if (cells < 0).any():
@@ -568,7 +568,7 @@ def _support(b, x, n, depth_fraction: float) -> Support:
     field behind is extrapolated over at most that depth (a blend over half a cell scattered a
     by 1.6e-4 m over the grid offsets, an eighth by 1.4e-5 m). ``depth_fraction`` 0: own cells
     only."""
-    own = _locate(b, x, n)
+    own = locate_cells(b, x, n)
     if depth_fraction <= 0.0:
         return Support(own, own, np.ones(len(own)))
     g = b.grid

@@ -27,7 +27,7 @@ import scipy.sparse as sp
 from ..fem.pair_blocks import PairBlocks, RecentRegions
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, band_tensors, projector
 from ..model.options import ContactOptions
-from .band import CandidateRegionExceeded
+from .band import CandidateRegionExceeded, locate_cells
 from ..reference.theory import hertz_elliptic_contact
 from .edge_pressure import agglomerated_cells, nodal_pressure
 from .ellipse_geometry import (ContactFrame3D, RegionPoints, axis_points, matched_points,
@@ -304,13 +304,11 @@ class EllipseContact:
         if v.penetration or v.tension:
             messages.append(f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and "
                             f"tension {v.tension} (edge pressure {v.pressure:.3g} Pa) at semi-axes {self.semi_axes(a)}")
-            if a <= 0.0 and v.penetration_count:
-                messages.append(self._unresolved(v))
-        elif v.penetration_count and a <= 0.0:
-            messages.append(self._unresolved(v))
-        elif v.penetration_count:
+        elif v.penetration_count and a > 0.0:
             messages.append(f"{self.name}: the bodies interpenetrate outside the contact ellipse at "
                             f"{v.penetration_count} sample points (smallest gap {v.min_gap:.3g} m)")
+        if v.penetration_count and a <= 0.0:  # no region, yet the bodies overlap: too small for the grid
+            messages.append(self._unresolved(v))
         offset = self._centroid_offset(x, a, info)
         if offset > CENTROID_TOLERANCE:
             messages.append(f"{self.name}: the pressure's centroid lies {offset:.3g} of the semi-axes from the contact "
@@ -371,16 +369,6 @@ class EllipseContact:
 # ------------------------------------------------------------------ operators and tractions
 
 
-def _locate(b, x, n) -> np.ndarray:
-    cells = b.grid.locate(x - 1e-7 * b.grid.min_size * n)
-    if (cells < 0).any():
-        bad = x[cells < 0][0]
-        raise ValueError(f"body {b.name!r}: the contact region's point {np.round(bad, 9).tolist()} lies outside the "
-                         "body's grid: the region reaches where the body has no material (check that the "
-                         "bodies meet there: the contact point, the bodies' placement and sizes)")
-    return cells
-
-
 def _semi_axes_of(pts: RegionPoints) -> np.ndarray:
     """The largest |s| along each axis of a set of region points (the ellipse they cover)."""
     return np.abs(pts.s).max(axis=0) if len(pts.s) else np.zeros(2)
@@ -414,7 +402,7 @@ def _band_size(c: EllipseContact, cells1: np.ndarray, cells2: np.ndarray) -> np.
 def _prepared_cells(c: EllipseContact, pts: RegionPoints) -> tuple[np.ndarray, np.ndarray]:
     """The cells of both bodies holding the points, checked to lie among those prepared for the
     contact (every dof they depend on is a contact dof)."""
-    cells1, cells2 = _locate(c.b1, pts.x1, pts.n1), _locate(c.b2, pts.x2, pts.n2)
+    cells1, cells2 = locate_cells(c.b1, pts.x1, pts.n1), locate_cells(c.b2, pts.x2, pts.n2)
     _, ok1, _, ok2 = c.maps
     bad1 = ~ok1[c.b1.grid.cells[cells1]].all(axis=1)
     bad2 = ~ok2[c.b2.grid.cells[cells2]].all(axis=1)
@@ -740,7 +728,7 @@ def _dense_disc(solids, frame, extent: float, ranges, spacing: float, reach: flo
 def _near_cells(b, x, n) -> np.ndarray:
     """Cells holding boundary points and those a quarter of the finest cell around them (the
     region's pieces are cut on chords of curved surfaces)."""
-    out = [_locate(b, x, n)]
+    out = [locate_cells(b, x, n)]
     step = 0.25 * b.grid.min_size
     for k in range(3):
         for sign in (-1.0, 1.0):

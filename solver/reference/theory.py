@@ -473,9 +473,9 @@ def exact_sphere_radius(N: float, R: float, E_eff: float) -> float:
         r = a * np.sin(t)
         return 2.0 * E_eff * float(np.sum(w * r * r * r / np.sqrt(R * R - r * r)))
 
-    hi = hertz_sphere_radius(N, R, E_eff)  # the exact gap's radius lies below Hertz's
     if N == 0.0:
         return 0.0
+    hi = hertz_sphere_radius(N, R, E_eff)  # the exact gap's radius lies below Hertz's
     if hi >= R:
         raise ValueError(f"N = {N:.4g} N presses the sphere to a contact radius of R = {R:.4g} m or more")
     lo = 0.5 * hi
