@@ -57,6 +57,15 @@ ON_DISK_BYTES = 2**30
 #: plus one chunk of the factor (DISK_CHUNK_BYTES, solver.fem.multifrontal) in memory at a time
 #: (calibrated on the full crossed cylinders, 236k dofs: 3.40 GB measured)
 STREAMED_BYTES_PER_DOF = 2_000
+#: a body's factor below its root (the contact dofs' block), in entries: FACTOR_FILL n^(4/3) for
+#: the nested dissection of an octree of n dofs, plus ROOT_REACH_FILL m_b^2 for the rows into the
+#: body's m_b contact dofs that the fronts beside the contact hold. It decides, as the solver does
+#: with the real factor, whether a body's factor goes to disk (ON_DISK_BYTES). Fitted on symbolic
+#: phases (benchmarks/factor_profile_3d.py): the graded quarter sphere on a flat at 264k and 695k
+#: dofs 20.1-20.5 n^(4/3) (their m_b^2 terms are small), the million-dof plate 21.1, the full
+#: crossed cylinders 20 n^(4/3) + 0.87-0.92 m_b^2 (m_b about 9,000)
+FACTOR_FILL = 20.0
+ROOT_REACH_FILL = 0.9
 DISK_CHUNK_BYTES = 2**28
 #: 3D contact, what does not grow with the grid: the interpreter, numpy, scipy, numba's compiled
 #: kernels (measured 0.37-0.49 GB peaks for runs of 8-14k dofs)
@@ -87,6 +96,16 @@ ZONE_SECTION_FRACTION = 0.8
 #: 3 x 3 x 0.5 m, measured 5.0 GB, and 8.3 GB for a block 2 x 2 x 1 m, measured 7.2 GB; at 50 mm
 #: cells 0.27 GB against 0.35 GB measured)
 FAR_WORK_FACTOR = 10.4
+#: a body graded about its contact through its whole depth (zones nested out to the far field):
+#: its cells gather at the contact, so nested dissection's balanced cuts cross the zones at their
+#: fine cell sizes, and the factorisation's update-matrix stack and largest front hold about
+#: CONTACT_PLANE_WORK_FACTOR times the square of the dofs of the axis plane that halves the body's
+#: cells (3 per cell crossing it; the smallest of the three planes; the larger body's counts).
+#: Fitted on the symbolic factorisations of the graded quarter sphere on a flat
+#: (benchmarks/accuracy_ladder.py, zones of 6 to 2 levels within 0.07-1.2 m): the block's stack and
+#: front are 2.7 and 1.9 times its plane's square at 264k and 695k dofs, the ball's 5.3 and 4.8
+#: times its smaller plane's; the million-dof plate's 5.3 (there the background rule, larger, holds)
+CONTACT_PLANE_WORK_FACTOR = 2.5
 #: a 3D contact's region quadrature points per finest cell face of body 1's surface (the region's
 #: panels split at both grids' cell lines, REGION_ORDER^2 points each: measured 193-201 on the half
 #: sphere on a flat at 5 levels, 10 456-10 870 points over regions of 52-56 finest faces)
@@ -158,12 +177,13 @@ def _kept(phi, points: np.ndarray, size: float) -> np.ndarray:
     return np.asarray(phi(points), dtype=float) > -0.5 * math.sqrt(points.shape[1]) * size
 
 
-def _sampled_body_cells(body, centres: list, lo: np.ndarray, hi: np.ndarray, rng) -> float:
-    """Cells of a body's quadtree (2D) or octree (3D) from its signed distance: the kept cells
-    of level 0 (every centre tested, or SAMPLES of them), then per refinement zone and level the
-    kept children less their kept parents, from SAMPLES points uniform in each zone's disc (ball)
-    of that level, each weighted by one over the zones whose discs hold it (overlapping zones
-    split a cell once): only the part of the zones the body holds is counted."""
+def _sampled_body_cells(body, centres: list, lo: np.ndarray, hi: np.ndarray, rng) -> tuple[np.ndarray, np.ndarray]:
+    """Cells of a body's quadtree (2D) or octree (3D) from its signed distance, as sampled cell
+    centres and the cells each stands for (their sum the body's cells): the kept cells of level 0
+    (every centre tested, or SAMPLES of them), then per refinement zone and level the kept
+    children less their kept parents, from SAMPLES points uniform in each zone's disc (ball) of
+    that level, each weighted by one over the zones whose discs hold it (overlapping zones split a
+    cell once): only the part of the zones the body holds is counted."""
     phi = body.profile.signed_distance
     dim = len(lo)
     h0 = float(body.element_size)
@@ -172,36 +192,100 @@ def _sampled_body_cells(body, centres: list, lo: np.ndarray, hi: np.ndarray, rng
     if total <= SAMPLES:
         axes = [lo[k] + h0 * (np.arange(shape[k]) + 0.5) for k in range(dim)]
         pts = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, dim)
-        cells = float(_kept(phi, pts, h0).sum())
+        weights = [_kept(phi, pts, h0).astype(float)]
     else:
         pts = lo + rng.random((SAMPLES, dim)) * shape * h0
-        cells = total * float(_kept(phi, pts, h0).mean())
+        weights = [_kept(phi, pts, h0) * (total / SAMPLES)]
+    points = [pts]
     corners = np.stack(np.meshgrid(*[(-1.0, 1.0)] * dim, indexing="ij"), axis=-1).reshape(-1, dim)
     unit_ball = math.pi if dim == 2 else 4.0 / 3.0 * math.pi
     zones = list(zip(body.refinements, (np.asarray(c, dtype=float) for c in centres)))
     for lv in range(max([int(z.levels) for z, _ in zones], default=0)):
         h = h0 / 2.0**lv
-        # the zones splitting this level: (centre, split radius of the boxes, reach of their centres)
-        balls = []
-        for zone, centre in zones:
-            if int(zone.levels) > lv:
-                sizes = h0 / 2.0 ** np.arange(int(zone.levels) + 1)
-                split_radius = float(zone.radius) + GRADING_CELLS * sizes[lv + 1:-1].sum()  # solver.fem.grid
-                balls.append((centre, split_radius, split_radius + 0.5 * math.sqrt(dim) * h))
+        balls = _level_balls(zones, h0, lv, dim)
         for centre, _, reach in balls:
             pts = _in_ball(rng, centre, reach, dim)
-            split, covering = np.zeros(SAMPLES, dtype=bool), np.zeros(SAMPLES)
-            for other, radius, other_reach in balls:  # overlapping zones: their union, counted once
-                gap = np.maximum(np.abs(pts - other) - 0.5 * h, 0.0)
-                split |= np.sqrt((gap * gap).sum(axis=1)) < radius
-                covering += np.linalg.norm(pts - other, axis=1) <= other_reach
+            split, covering = _split_and_covering(balls, pts, h)
             split &= np.all((pts >= lo) & (pts <= hi + h0), axis=1) & _kept(phi, pts, h)
             # two of each split cell's 2^dim children, at random corners
             corner = corners[rng.integers(0, len(corners), (int(split.sum()), 2))]
             children = (pts[split][:, None, :] + 0.25 * h * corner).reshape(-1, dim)
             kept = _kept(phi, children, 0.5 * h).reshape(-1, 2).sum(axis=1)
-            new = float(np.sum((len(corners) / 2.0 * kept - 1.0) / covering[split]))
-            cells += unit_ball * reach**dim / h**dim * new / SAMPLES
+            points.append(pts[split])
+            weights.append((len(corners) / 2.0 * kept - 1.0) / covering[split] * (unit_ball * reach**dim / h**dim / SAMPLES))
+    return np.vstack(points), np.concatenate(weights)
+
+def _level_balls(zones, h0: float, lv: int, dim: int) -> list:
+    """The zones splitting the cells of level ``lv``: per zone (centre, split radius of the cells'
+    boxes, reach of their centres), the grids' grading included (solver.fem.grid)."""
+    h = h0 / 2.0**lv
+    balls = []
+    for zone, centre in zones:
+        if int(zone.levels) > lv:
+            sizes = h0 / 2.0 ** np.arange(int(zone.levels) + 1)
+            split_radius = float(zone.radius) + GRADING_CELLS * sizes[lv + 1:-1].sum()
+            balls.append((centre, split_radius, split_radius + 0.5 * math.sqrt(dim) * h))
+    return balls
+
+
+def _split_and_covering(balls, pts: np.ndarray, h: float):
+    """Which of ``pts`` (centres of level cells of size h) the zones split, and how many zones'
+    reaches hold each (overlapping zones split a cell once)."""
+    split, covering = np.zeros(len(pts), dtype=bool), np.zeros(len(pts))
+    for other, radius, other_reach in balls:
+        gap = np.maximum(np.abs(pts - other) - 0.5 * h, 0.0)
+        split |= np.sqrt((gap * gap).sum(axis=1)) < radius
+        covering += np.linalg.norm(pts - other, axis=1) <= other_reach
+    return split, covering
+
+
+def _median_plane_dofs(body, centres, points: np.ndarray, weights: np.ndarray, rng) -> float:
+    """3 x the cells of a 3D body's octree crossing the axis plane that halves its cells (the
+    weighted median of its sampled cell centres along the axis), the smallest of the three: the
+    balanced cut nested dissection makes first. On a body graded about a contact the cells
+    gather at the contact, and so do these planes."""
+    lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
+    zones = list(zip(body.refinements, (np.asarray(c, dtype=float) for c in centres)))
+    counts = []
+    for axis in range(3):
+        order = np.argsort(points[:, axis])
+        cumulative = np.cumsum(np.maximum(weights[order], 0.0))
+        median = float(points[order[min(np.searchsorted(cumulative, 0.5 * cumulative[-1]), len(order) - 1)], axis])
+        counts.append(_plane_cells(body.profile.signed_distance, zones, float(body.element_size), lo, hi, axis,
+                                   median, rng))
+    return 3.0 * min(counts)
+
+def _plane_cells(phi, zones, h0: float, lo: np.ndarray, hi: np.ndarray, axis: int, x0: float, rng) -> float:
+    """Cells of a body's octree that the plane x[axis] = x0 crosses: the background layer's kept
+    cells (SAMPLES points of the layer's section), then per zone and level the crossing children
+    less their split parents, from SAMPLES points of the zone's section (a disc) in the layer of
+    that level's cells the plane crosses (a split cell has four children on either side of it)."""
+    other = [k for k in range(3) if k != axis]
+    shape = np.floor((hi - lo) / h0).astype(np.int64) + 1
+    layer = lo[axis] + h0 * (np.clip(np.floor((x0 - lo[axis]) / h0), 0, shape[axis] - 1) + 0.5)
+    pts = np.empty((SAMPLES, 3))
+    pts[:, axis] = layer
+    pts[:, other] = lo[other] + rng.random((SAMPLES, 2)) * shape[other] * h0
+    cells = float(np.prod(shape[other])) * float(_kept(phi, pts, h0).mean())
+    for lv in range(max([int(z.levels) for z, _ in zones], default=0)):
+        h = h0 / 2.0**lv
+        balls = _level_balls(zones, h0, lv, 3)
+        for centre, _, reach in balls:
+            if abs(x0 - centre[axis]) >= reach:
+                continue
+            disc = math.sqrt(reach**2 - (x0 - centre[axis]) ** 2)
+            angle, r = 2.0 * math.pi * rng.random(SAMPLES), disc * np.sqrt(rng.random(SAMPLES))
+            pts = np.empty((SAMPLES, 3))
+            pts[:, axis] = lo[axis] + h * (math.floor((x0 - lo[axis]) / h) + 0.5)  # the layer of level lv's cells
+            pts[:, other[0]], pts[:, other[1]] = centre[other[0]] + r * np.cos(angle), centre[other[1]] + r * np.sin(angle)
+            split, covering = _split_and_covering(balls, pts, h)
+            split &= np.all((pts >= lo) & (pts <= hi + h0), axis=1) & _kept(phi, pts, h)
+            corner = np.empty((int(split.sum()), 2, 3))  # two of the four children the plane crosses
+            corner[:, :, axis] = np.where(x0 >= pts[split, axis], 1.0, -1.0)[:, None]
+            corner[:, :, other] = rng.choice([-1.0, 1.0], size=(len(corner), 2, 2))
+            kept = _kept(phi, (pts[split][:, None, :] + 0.25 * h * corner).reshape(-1, 3), 0.5 * h).reshape(-1, 2).sum(axis=1)
+            new = float(np.sum((2.0 * kept - 1.0) / np.maximum(covering[split], 1.0)))
+            cells += math.pi * disc**2 / h**2 * new / SAMPLES
     return cells
 
 
@@ -238,7 +322,8 @@ def _estimate(problem, loaded: float, region_areas=None, region_fills=None) -> P
     cells = 0.0
     per_body = []
     rng = np.random.default_rng(0)
-    separators = []
+    separators, planes = [], [0.0]
+    plane_rng = np.random.default_rng(3)  # its own stream: the cells' samples stay as they were
     for body in problem.bodies:
         lo, hi = (np.asarray(v, dtype=float) for v in body.profile.bounds)
         h0 = float(body.element_size)
@@ -252,16 +337,20 @@ def _estimate(problem, loaded: float, region_areas=None, region_fills=None) -> P
         for zone, centre in zip(body.refinements, centres):
             body_cells += _zone_cells(float(zone.radius), int(zone.levels), h0, dim, centre, lo, hi)
         if body_cells <= SAMPLED_CELLS and hasattr(body.profile, "signed_distance"):
-            body_cells = _sampled_body_cells(body, centres, lo, hi, rng)
+            points, weights = _sampled_body_cells(body, centres, lo, hi, rng)
+            body_cells = float(weights.sum())
+            if dim == 3 and body.refinements and any(body.name in c.bodies for c in problem.contacts):
+                planes.append(_median_plane_dofs(body, centres, points, weights, plane_rng))
         cells += body_cells
         per_body.append(body_cells)
     dofs = DOFS_PER_CELL.get(dim, dim) * cells
     if dim == 3 and problem.contacts:
         body_dofs = DOFS_PER_CELL[3] * np.array(per_body)
-        streamed = bool(np.any(body_dofs * BYTES_PER_DOF_3D_CONTACT >= ON_DISK_BYTES))
+        on_disk = _factor_below_root_bytes(body_dofs, _contact_dofs_of_bodies(problem)) >= ON_DISK_BYTES
+        streamed = bool(np.any(on_disk))
         rest = BASE_BYTES_3D_CONTACT + loaded + history_bytes(problem)
-        far_work = 8.0 * FAR_WORK_FACTOR * max(separators) ** 2
-        memory = (_sparse_contact_bytes(body_dofs)
+        far_work = 8.0 * max(FAR_WORK_FACTOR * max(separators) ** 2, CONTACT_PLANE_WORK_FACTOR * max(planes) ** 2)
+        memory = (_sparse_contact_bytes(body_dofs, on_disk)
                   + _dense_contact_bytes(problem, streamed, region_areas, region_fills, far_work) + rest)
     elif dim == 2:  # the process as it is (a CAD kernel's import included), the solver, the dofs
         memory = resident_memory() + SOLVER_BYTES_2D + dofs * BYTES_PER_DOF[2]
@@ -299,20 +388,34 @@ def resident_memory() -> float:
         return RESIDENT_BYTES
 
 
-def _sparse_contact_bytes(body_dofs: np.ndarray) -> float:
+def _sparse_contact_bytes(body_dofs: np.ndarray, on_disk: np.ndarray) -> float:
     """The sparse part of a 3D contact: BYTES_PER_DOF_3D_CONTACT per dof of every body whose
-    factor stays in memory; a body's factor of ON_DISK_BYTES or more is written to disk while it
-    is computed, so such bodies count only K0 and the factorisation's sparse arrays
-    (STREAMED_BYTES_PER_DOF) and one chunk of the factor (the bodies are factored one at a time)."""
-    per_body = body_dofs * BYTES_PER_DOF_3D_CONTACT
-    if not len(per_body):
+    factor stays in memory; a body whose factor takes ON_DISK_BYTES or more (``on_disk``) has it
+    written to disk while it is computed, so such bodies count only K0 and the factorisation's
+    sparse arrays (STREAMED_BYTES_PER_DOF) and one chunk of the factor (the bodies are factored
+    one at a time)."""
+    if not len(body_dofs):
         return 0.0
-    streamed = per_body >= ON_DISK_BYTES
-    total = float(per_body[~streamed].sum())
-    if streamed.any():
-        total += STREAMED_BYTES_PER_DOF * float(body_dofs[streamed].sum()) + DISK_CHUNK_BYTES
+    total = BYTES_PER_DOF_3D_CONTACT * float(body_dofs[~on_disk].sum())
+    if on_disk.any():
+        total += STREAMED_BYTES_PER_DOF * float(body_dofs[on_disk].sum()) + DISK_CHUNK_BYTES
     return total
 
+
+def _factor_below_root_bytes(body_dofs: np.ndarray, contact_dofs: np.ndarray) -> np.ndarray:
+    """Bytes of each body's factor below its root: FACTOR_FILL n^(4/3) + ROOT_REACH_FILL m_b^2
+    entries of 8 bytes, n its dofs and m_b its contact dofs."""
+    return 8.0 * (FACTOR_FILL * body_dofs ** (4.0 / 3.0) + ROOT_REACH_FILL * contact_dofs**2)
+
+
+def _contact_dofs_of_bodies(problem) -> np.ndarray:
+    """Each body's contact dofs m_b, summed over its contacts (:func:`contact_dofs_per_body`)."""
+    per_body = {b.name: 0.0 for b in problem.bodies}
+    for c in problem.contacts:
+        _, m_b = contact_dofs_per_body(problem, c)
+        for name in c.bodies:
+            per_body[name] += m_b
+    return np.array([per_body[b.name] for b in problem.bodies])
 
 def factor_threads() -> int:
     """Threads a body's condensed factorisation runs its large fronts on: ``IBFEM_THREADS`` if set (>= 1), else
