@@ -45,6 +45,10 @@ JOBS_PER_CLIP = 256
 #: distance points per call (a CAD solid's distance holds kilobytes per point of a call: the
 #: Onshape ball on a block peaked at 3.6 GB with 200,000, 0.55 GB with 5,000)
 PASS_POINTS = 5000
+#: stencil points of the cubes handled in one pass (their arrays hold about 100 bytes per point;
+#: the distance is still called PASS_POINTS at a time): larger passes spend less per cube on
+#: numpy's per-call overhead
+PASS_STENCIL_POINTS = 60000
 
 
 def planar_moments(signed_distance, cell_lower, scale, lo, width, samples: int = 4):
@@ -77,8 +81,8 @@ def _distance(signed_distance, points: np.ndarray) -> np.ndarray:
 
 
 def _chunk(lattice) -> int:
-    """Cubes per pass: PASS_POINTS stencil points per call of the distance."""
-    return max(1, int(PASS_POINTS // (len(_STENCIL) * len(lattice) ** 3)))
+    """Cubes per pass: PASS_STENCIL_POINTS stencil points."""
+    return max(1, int(PASS_STENCIL_POINTS // (len(_STENCIL) * len(lattice) ** 3)))
 
 
 def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice):
