@@ -297,11 +297,12 @@ class PlanarRegionFace:
             height = (b - a) * 0.5 * (np.cos(math.pi * edges[:-1]) - np.cos(math.pi * edges[1:]))
             lines = self._intervals(yk, max(height.max(), 1e-12))
             smallest = np.full(len(mid), np.inf)
-            for k, ends in enumerate(lines):
-                if len(ends) >= 2:
-                    xs = np.linspace(min(ends), max(ends), 33)
-                    sizes = np.asarray(cell_size(self._place(np.column_stack([xs, np.full(33, yk[k])]))), float)
-                    smallest[k] = sizes.min()
+            crossed = [k for k, ends in enumerate(lines) if len(ends) >= 2]
+            if crossed:  # 33 points along each line, one call for all lines
+                xs = np.concatenate([np.linspace(min(lines[k]), max(lines[k]), 33) for k in crossed])
+                owner = np.repeat(crossed, 33)
+                sizes = np.asarray(cell_size(self._place(np.column_stack([xs, yk[owner]]))), float)
+                np.minimum.at(smallest, owner, sizes)
             split = height > 1.0001 * smallest
             if not split.any():
                 break
