@@ -68,8 +68,10 @@ FACTOR_FILL = 20.0
 ROOT_REACH_FILL = 0.9
 DISK_CHUNK_BYTES = 2**28
 #: 3D contact, what does not grow with the grid: the interpreter, numpy, scipy, numba's compiled
-#: kernels (measured 0.37-0.49 GB peaks for runs of 8-14k dofs)
-BASE_BYTES_3D_CONTACT = 300e6
+#: kernels (an idle process with them loaded holds 137 MB; set against the peaks of the 12 shipped
+#: 3D contact scenes of benchmarks/check_estimate_3d.py, 0.34-2.2 GB, which the estimate then reads
+#: within -22 to +20 %: 300 MB read the smallest runs' peaks 16-33 % high)
+BASE_BYTES_3D_CONTACT = 250e6
 #: free dofs per cell (3D: hanging and aggregated nodes carry none; measured 2.4-2.8 on octrees)
 DOFS_PER_CELL = {3: 2.7}
 #: a 3D contact's condensed dofs per body and finest cell face in its candidate disc widened by
