@@ -49,6 +49,35 @@ def flops(f) -> tuple[float, float, float]:
     return float(work[-1]), float(work[:-1][reach[:-1]].sum()), float(work[:-1][~reach[:-1]].sum())
 
 
+def body_factors(problem):
+    """(group, symbolic factor) of each body of a 3D contact problem that holds contact dofs: its
+    block of K0 in the order the run factors it in (the cheaper of the two orders where the run
+    chooses), the contact dofs last."""
+    driver = ContactDriver(problem)
+    driver._discretise()
+    driver._assemble()
+    dofs = np.unique(np.concatenate([c.dofs for c in driver.contacts]))
+    k0 = driver.k0.tocsr()
+    groups = uncoupled_groups(k0, dofs)
+    if groups is None:
+        groups = np.zeros(k0.shape[0], dtype=np.int64)
+    order = dof_order(driver.bodies, k0)
+    for g in range(int(groups.max()) + 1):
+        idx = np.flatnonzero(groups == g)
+        local = np.full(k0.shape[0], -1, dtype=np.int64)
+        local[idx] = np.arange(len(idx))
+        contact = local[dofs[groups[dofs] == g]]
+        if not len(contact):
+            continue
+        sub = local[order[groups[order] == g]]
+        is_contact = np.zeros(len(idx), dtype=bool)
+        is_contact[contact] = True
+        block = k0[idx][:, idx]
+        if len(idx) >= ORDER_CHOICE_DOFS:  # the order the run factors in (the cheaper of the two)
+            sub = _cheaper_order(block, contact, sub)
+        yield g, symbolic(block, np.concatenate([sub[~is_contact[sub]], contact]), len(contact))
+
+
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("scene")
@@ -65,31 +94,9 @@ def main(argv: list[str]) -> int:
         contacts = tuple(dataclasses.replace(c, options=dataclasses.replace(c.options, extent_fraction=args.extent_fraction))
                          for c in problem.contacts)
         problem = dataclasses.replace(problem, contacts=contacts)
-    driver = ContactDriver(problem)
-    driver._discretise()
-    driver._assemble()
-    dofs = np.unique(np.concatenate([c.dofs for c in driver.contacts]))
-    k0 = driver.k0.tocsr()
-    groups = uncoupled_groups(k0, dofs)
-    if groups is None:
-        groups = np.zeros(k0.shape[0], dtype=np.int64)
-    order = dof_order(driver.bodies, k0)
     print(f"{'body':>4} {'dofs':>8} {'m_b':>6} {'L entries':>10} {'L GB':>6} {'stack GB':>8} {'front GB':>8} "
           f"{'root GF':>8} {'reach GF':>8} {'other GF':>8} {'block GB':>8} {'range GB':>8}")
-    for g in range(int(groups.max()) + 1):
-        idx = np.flatnonzero(groups == g)
-        local = np.full(k0.shape[0], -1, dtype=np.int64)
-        local[idx] = np.arange(len(idx))
-        contact = local[dofs[groups[dofs] == g]]
-        if not len(contact):
-            continue
-        sub = local[order[groups[order] == g]]
-        is_contact = np.zeros(len(idx), dtype=bool)
-        is_contact[contact] = True
-        block = k0[idx][:, idx]
-        if len(idx) >= ORDER_CHOICE_DOFS:  # the order the run factors in (the cheaper of the two)
-            sub = _cheaper_order(block, contact, sub)
-        f = symbolic(block, np.concatenate([sub[~is_contact[sub]], contact]), len(contact))
+    for g, f in body_factors(problem):
         root, reach, other = flops(f)
         ptr = f.factor_ptr
         largest_block = int(np.diff(ptr[:f.n_supernodes]).max(initial=0))

@@ -58,35 +58,15 @@ def test_graded_work_space_against_the_symbolic_factorisation():
     in the order the run factors in, within 30 % of the rule's (CONTACT_PLANE_WORK_FACTOR times
     the square of the dofs of the plane halving a body's cells, the larger body's); each body's
     factor below its root within 25 % of FACTOR_FILL n^(4/3) + ROOT_REACH_FILL m_b^2 entries."""
-    from ibfem.solver.contact.driver import ContactDriver
-    from ibfem.solver.fem.linalg import ORDER_CHOICE_DOFS, _cheaper_order, dof_order, uncoupled_groups
-
     spec = importlib.util.spec_from_file_location("factor_profile_3d", ROOT / "benchmarks" / "factor_profile_3d.py")
     profile = importlib.util.module_from_spec(spec)
     sys.modules.setdefault("factor_profile_3d", profile)
     spec.loader.exec_module(profile)
     problem = _graded_sphere_on_flat(0.25, [(6, 0.07), (5, 0.14), (4, 0.28), (3, 0.56), (2, 1.2)])
-    driver = ContactDriver(problem)
-    driver._discretise()
-    driver._assemble()
-    k0 = driver.k0.tocsr()
-    dofs = np.unique(np.concatenate([c.dofs for c in driver.contacts]))
-    groups = uncoupled_groups(k0, dofs)
-    order = dof_order(driver.bodies, k0)
     rng = np.random.default_rng(0)
     rule, measured = [], []
-    for g, model in enumerate(problem.bodies):
-        idx = np.flatnonzero(groups == g)
-        local = np.full(k0.shape[0], -1, dtype=np.int64)
-        local[idx] = np.arange(len(idx))
-        contact = local[dofs[groups[dofs] == g]]
-        sub = local[order[groups[order] == g]]
-        block = k0[idx][:, idx]
-        if len(idx) >= ORDER_CHOICE_DOFS:
-            sub = _cheaper_order(block, contact, sub)
-        is_contact = np.zeros(len(idx), dtype=bool)
-        is_contact[contact] = True
-        f = profile.symbolic(block, np.concatenate([sub[~is_contact[sub]], contact]), len(contact))
+    for g, f in profile.body_factors(problem):
+        model = problem.bodies[g]
         measured.append(f.stack_bytes + f.front_bytes)
         # the factor below the root, which decides whether it is written to disk, against its rule
         below_root = estimate._factor_below_root_bytes(np.array([float(f.n)]), np.array([float(f.m)]))[0]

@@ -39,36 +39,14 @@ def _plate_scene(element_size: float) -> dict:
 def test_plate_work_space_against_the_symbolic_factorisation():
     """A plate of 2.7 x 2.7 x 0.5 m at 50 mm cells (115k dofs): the stack and largest front of its
     symbolic factorisation, in the order the run factors in, within 30 % of the rule's."""
-    from ibfem.solver.contact.driver import ContactDriver
-    from ibfem.solver.io.scene import scene_from_dict
-
     spec = importlib.util.spec_from_file_location("factor_profile_3d", ROOT / "benchmarks" / "factor_profile_3d.py")
     profile = importlib.util.module_from_spec(spec)
     sys.modules.setdefault("factor_profile_3d", profile)
     spec.loader.exec_module(profile)
-    from ibfem.solver.fem.linalg import ORDER_CHOICE_DOFS, _cheaper_order, dof_order, uncoupled_groups
+    from ibfem.solver.io.scene import scene_from_dict
 
     problem = scene_from_dict(_plate_scene(0.05), label="plate").problem
-    driver = ContactDriver(problem)
-    driver._discretise()
-    driver._assemble()
-    k0 = driver.k0.tocsr()
-    dofs = np.unique(np.concatenate([c.dofs for c in driver.contacts]))
-    groups = uncoupled_groups(k0, dofs)
-    order = dof_order(driver.bodies, k0)
-    sizes = np.bincount(groups)
-    g = int(np.argmax(sizes))                    # the plate
-    idx = np.flatnonzero(groups == g)
-    local = np.full(k0.shape[0], -1, dtype=np.int64)
-    local[idx] = np.arange(len(idx))
-    contact = local[dofs[groups[dofs] == g]]
-    sub = local[order[groups[order] == g]]
-    block = k0[idx][:, idx]
-    if len(idx) >= ORDER_CHOICE_DOFS:
-        sub = _cheaper_order(block, contact, sub)
-    is_contact = np.zeros(len(idx), dtype=bool)
-    is_contact[contact] = True
-    f = profile.symbolic(block, np.concatenate([sub[~is_contact[sub]], contact]), len(contact))
+    f = max((f for _, f in profile.body_factors(problem)), key=lambda f: f.n)  # the plate
     measured = f.stack_bytes + f.front_bytes
     plate = next(b for b in problem.bodies if b.name == "plate")
     lo, hi = (np.asarray(v, dtype=float) for v in plate.profile.bounds)
