@@ -14,6 +14,9 @@ coarsest cell). For the first complete cycle it prints, in J/m:
 - the friction work by tenths of the half-width |x| / a, beside the closed form's
   (4 int 2 mu p S dx over the same tenths, Hertz's pressure, c' from the cycle's Q* and N:
   solver.reference.fretting);
+- per step of the cycle, the contact terms' work less the friction work (J/m; the discrete
+  model's dissipation beyond the slipping samples' friction work, with the strain energy's
+  change of the step);
 - the cell-mean pressure over p0 near the contact's edge at t = 1 (the normal load alone, before
   any tangential load), beside Hertz's sqrt(1 - (x / a)^2).
 
@@ -144,7 +147,7 @@ def run(offset: list[float] | None, spacing: float | None = None, band_fraction:
     edge = (loc > EDGE[0]) & (loc <= EDGE[1])
     return {"cpu_s": cpu, "solves": r["solves"], "loop": abs(loop_energy(r["q"], r["delta"], i, j)),
             "contact": abs(r["contact"][i:j].sum()), "friction": friction, "point_work": point_work, "cell_work": cell_work,
-            "bins": mean_bins, "theory": theory, "edge_x": loc[edge][::4], "edge_p": p[edge][::4] * math.pi * a / (2.0 * n)}
+            "bins": mean_bins, "excess": np.abs(r["contact"][i:j]) - r["friction"][i + 1:j + 1], "t": r["t"][i + 1:j + 1], "theory": theory, "edge_x": loc[edge][::4], "edge_p": p[edge][::4] * math.pi * a / (2.0 * n)}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -165,6 +168,8 @@ def main(argv: list[str] | None = None) -> int:
               f"{r['point_work']:.2f}, cell by cell: {r['cell_work']:.2f}), closed form {r['theory'].sum():.2f}")
         print("  friction work by |x|/a tenths: " + " ".join(f"{v:.1f}" for v in r["bins"][5:]) + "  (0.5 to 1.0)")
         print("  closed form by |x|/a tenths:   " + " ".join(f"{v:.1f}" for v in r["theory"][5:]))
+        print("  contact terms' work less friction work per step, t = "
+              f"{r['t'][0]:.2f} to {r['t'][-1]:.2f}: " + " ".join(f"{v:+.1f}" for v in r["excess"]))
         print("  t = 1, x/a:    " + " ".join(f"{v:.3f}" for v in r["edge_x"]))
         print("  p mean / p0:   " + " ".join(f"{v:.3f}" for v in r["edge_p"]))
         print("  Hertz:         " + " ".join(f"{math.sqrt(max(1.0 - v * v, 0.0)):.3f}" for v in r["edge_x"]))
