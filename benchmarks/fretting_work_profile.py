@@ -1,7 +1,7 @@
 """Where along the contact a shifted grid changes the 2D fretting example's energy per cycle.
 
 The example (examples/fretting/cylinder_on_flat_fretting.toml, three cycles at 20 points per
-cycle) is solved on its own grid and on grids shifted by the given offsets (fractions of the
+cycle unless ``--points-per-cycle``) is solved on its own grid and on grids shifted by the given offsets (fractions of the
 coarsest cell). For the first complete cycle it prints, in J/m:
 
 - the loop's area, the work of the contact's terms (the discrete model's dissipation over the
@@ -66,7 +66,8 @@ def _closed_form_bins(q_star: float, n: float, mu: float, radius: float, e_star:
 EXAMPLE_A = 0.03337  # the example's half-width (m): where the edge ring goes
 
 
-def _scene(offset, spacing: float | None, band_fraction: float | None, edge_ring: bool = False):
+def _scene(offset, spacing: float | None, band_fraction: float | None, edge_ring: bool = False,
+           points_per_cycle: int = 20):
     """The example at this grid offset, sample spacing and band fraction (None: the example's)."""
     import tomllib
 
@@ -74,6 +75,7 @@ def _scene(offset, spacing: float | None, band_fraction: float | None, edge_ring
 
     data = tomllib.loads(fretting_energy.EXAMPLE_2D.read_text(encoding="utf-8"))
     data["output"] = {"vtk": False, "plots": False}
+    data["paths"][1]["cycle"]["points_per_cycle"] = points_per_cycle
     if offset is not None:
         data["solver"]["grid_offset"] = list(offset)
     if spacing is not None:
@@ -102,13 +104,13 @@ def _cell_work(c, dw: np.ndarray, ds: np.ndarray) -> float:
 
 
 def run(offset: list[float] | None, spacing: float | None = None, band_fraction: float | None = None,
-        edge_ring: bool = False) -> dict:
+        edge_ring: bool = False, points_per_cycle: int = 20) -> dict:
     """The example on this grid: its first cycle's energies, by tenths of the half-width."""
     from ibfem.solver.contact import friction_history as fh
     from ibfem.solver.io.fretting_outputs import cycles_of, loop_energy
     from ibfem.solver.reference.theory import effective_modulus
 
-    problem = _scene(offset, spacing, band_fraction, edge_ring).problem
+    problem = _scene(offset, spacing, band_fraction, edge_ring, points_per_cycle).problem
     records, original = [], fh.HistoryBandContact.end_step
 
     def recording(self, x, a, info):
@@ -156,12 +158,13 @@ def main(argv: list[str] | None = None) -> int:
                     help="pairs of grid offsets (fractions of the coarsest cell); the aligned grid always runs")
     ap.add_argument("--spacing", type=float, default=None, help="the contact's sample_spacing (finest cells)")
     ap.add_argument("--band-fraction", type=float, default=None)
+    ap.add_argument("--points-per-cycle", type=int, default=20)
     ap.add_argument("--edge-ring", action="store_true", help="one level more about the contact's edges")
     args = ap.parse_args(argv)
     if len(args.offsets) % 2:
         ap.error("--offsets takes pairs")
     for off in [None] + [args.offsets[k:k + 2] for k in range(0, len(args.offsets), 2)]:
-        r = run(off, args.spacing, args.band_fraction, args.edge_ring)
+        r = run(off, args.spacing, args.band_fraction, args.edge_ring, args.points_per_cycle)
         label = "aligned" if off is None else f"shift {off[0]:g}, {off[1]:g}"
         print(f"{label}: {r['solves']} solves, {r['cpu_s']:.1f} s CPU; first cycle (J/m): loop {r['loop']:.2f}, "
               f"contact terms {r['contact']:.2f}, friction work {r['friction']:.2f} (point shear: "
