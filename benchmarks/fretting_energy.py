@@ -102,6 +102,7 @@ def audit(problem) -> dict:
     return {"t": np.array([st["t"] for st in steps]), "q": q, "delta": delta, "into": into, "contact": contact,
             "friction": np.array([st["contacts"][0]["friction_work"] for st in steps]),
             "strain": np.array([0.5 * u @ (bodies @ u) for u in fields]), "converged": solution.converged,
+            "normal": np.array([st["contacts"][0]["normal_force"] for st in steps]),
             "solves": solution.iterations["total"]}
 
 
