@@ -36,11 +36,12 @@ __all__ = ["solve_following", "line_contacts", "finest_contact_cell", "coarse_pr
 COARSER_LEVELS = 2
 #: the band's margin beyond the region's half-width, in cells of the coarse pass (its uncertainty)
 MARGIN_CELLS = 1.0
-#: how far from the coarse region's edge the balls one level finer where it turns reach beyond the
-#: edge condition's window, in cells of the coarse pass: where the edge may lie (the final
-#: regions' semi-axes within 0.14 of a coarse cell of the coarse pass's on the crowned and tilted
-#: rollers); a whole cell made the tilted roller's fine pass too large (4.19e4 dofs, 2.6 GB)
-TURNING_REACH_CELLS = 0.5
+#: how far beyond the coarse region's edge the balls one level finer where it turns reach (besides
+#: the edge condition's window), in cells of the coarse pass: where the edge may lie. Half a cell
+#: (the final regions' semi-axes lie within 0.14 of a coarse cell of the coarse pass's on the
+#: crowned and tilted rollers) fits the tilted roller's fine pass in 2.42 GB, but puts the
+#: finer cells' border across its loaded end's peak, 5 % too high (docs/contact-3d.md)
+TURNING_REACH_CELLS = 1.0
 #: a coarse region whose half-width spans fewer of its cells is not resolved: its edge, and so the
 #: band, is not where the region is (a crowned roller on cells as wide as its half-width ended with
 #: its region at the end face, not converged)
