@@ -5,6 +5,11 @@ Prints the process's CPU time and peak resident memory after the run; compare th
 with the default's (for the crowned roller: benchmarks/crowned_roller_halfspace.py).
 
     python benchmarks/turning_slope.py 0 examples/contact3d/crowned_roller.toml --out OUT
+
+``--reach R`` after the slope also sets how far beyond the coarse edge those balls reach, in coarse
+cells (solver.contact.follow.TURNING_REACH_CELLS, 1 in the code):
+
+    python benchmarks/turning_slope.py 0.25 --reach 0.5 examples/contact3d/tilted_roller.toml --out OUT
 """
 
 from __future__ import annotations
@@ -13,7 +18,7 @@ import resource
 import sys
 
 from ibfem.solver.cli import main as cli
-from ibfem.solver.contact import region_band
+from ibfem.solver.contact import follow, region_band
 
 
 def main(argv: list[str]) -> int:
@@ -21,9 +26,12 @@ def main(argv: list[str]) -> int:
         print(__doc__)
         return 2
     region_band.TURNING_SLOPE = float(argv[0])
-    code = cli(["run", *argv[1:]])
+    rest = argv[1:]
+    if rest[:1] == ["--reach"]:
+        follow.TURNING_REACH_CELLS, rest = float(rest[1]), rest[2:]
+    code = cli(["run", *rest])
     usage = resource.getrusage(resource.RUSAGE_SELF)
-    print(f"turning slope {region_band.TURNING_SLOPE}: CPU {usage.ru_utime + usage.ru_stime:.1f} s, "
+    print(f"turning slope {region_band.TURNING_SLOPE}, reach {follow.TURNING_REACH_CELLS} coarse cells: CPU {usage.ru_utime + usage.ru_stime:.1f} s, "
           f"peak {usage.ru_maxrss / 1024**2:.2f} GB")
     return code
 

@@ -18,6 +18,7 @@ import pytest
 from scipy.optimize import brentq
 
 from ibfem.solver.contact import follow
+from ibfem.solver.contact.star_region import EDGE_WINDOW_CELLS
 from ibfem.solver.contact.region_band import TURNING_SLOPE, band_balls, turning_balls, turning_stretches
 from ibfem.solver.io.scene import scene_from_dict
 
@@ -133,3 +134,10 @@ def test_an_elongated_contact_reaching_a_free_end_is_followed_and_its_turning_ed
         finer = np.array([z.center[:2] for z in body.refinements if z.levels == 5])
         np.testing.assert_allclose((finer[:, 0] / A) ** 4 + (finer[:, 1] / B) ** 4, 1.0, atol=1e-9)
     assert record["roller"]["finer"][0]["levels"] == 5
+    # the finer balls reach TURNING_REACH_CELLS coarse cells beyond the coarse edge (where the
+    # edge may lie) plus the edge condition's window of the finer cells
+    coarse = follow.finest_contact_cell(follow.coarse_problem(problem, [0], 1), ["roller", "block"])
+    fine = follow.finest_contact_cell(problem, ["roller", "block"])
+    window = EDGE_WINDOW_CELLS * 0.5 * fine
+    assert record["roller"]["finer"][0]["radius"] == pytest.approx(follow.TURNING_REACH_CELLS * coarse + window, rel=1e-12)
+    assert record["roller"]["radius"] == pytest.approx(B + coarse, rel=1e-9)  # the band: a whole cell

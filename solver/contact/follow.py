@@ -30,12 +30,18 @@ from .region_band import band_balls, turning_balls
 from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
 __all__ = ["solve_following", "line_contacts", "finest_contact_cell", "coarse_problem", "coarse_pass",
-           "band_problem", "COARSER_LEVELS", "MARGIN_CELLS", "MIN_COARSE_CELLS"]
+           "band_problem", "COARSER_LEVELS", "MARGIN_CELLS", "TURNING_REACH_CELLS", "MIN_COARSE_CELLS"]
 
 #: levels fewer in the coarse pass's contact refinement
 COARSER_LEVELS = 2
 #: the band's margin beyond the region's half-width, in cells of the coarse pass (its uncertainty)
 MARGIN_CELLS = 1.0
+#: how far beyond the coarse region's edge the balls one level finer where it turns reach (besides
+#: the edge condition's window), in cells of the coarse pass: where the edge may lie. Half a cell
+#: (the final regions' semi-axes lie within 0.14 of a coarse cell of the coarse pass's on the
+#: crowned and tilted rollers) fits the tilted roller's fine pass in 2.42 GB, but puts the
+#: finer cells' border across its loaded end's peak, 5 % too high (docs/contact-3d.md)
+TURNING_REACH_CELLS = 1.0
 #: a coarse region whose half-width spans fewer of its cells is not resolved: its edge, and so the
 #: band, is not where the region is (a crowned roller on cells as wide as its half-width ended with
 #: its region at the end face, not converged)
@@ -109,7 +115,8 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
         along, radius = band_balls(block, margin)
         axes = np.asarray(block["axes"], float)[:2]
         window = EDGE_WINDOW_CELLS * 0.5 * finest_contact_cell(problem, c.bodies)  # the cells one level finer
-        finer = [(point + s @ axes, r) for s, r in turning_balls(block, margin, window)]
+        reach = TURNING_REACH_CELLS * margin / MARGIN_CELLS
+        finer = [(point + s @ axes, r) for s, r in turning_balls(block, margin, window, reach)]
         for name in c.bodies:
             bands.setdefault(name, []).append((point + along[:, None] * axis, radius, finer))
     record = {}

@@ -83,15 +83,17 @@ def turning_stretches(block: dict, margin: float) -> list[tuple[float, float, fl
     return out
 
 
-def turning_balls(block: dict, margin: float, window: float) -> list[tuple[np.ndarray, float]]:
-    """Per stretch of turning_stretches: (centres (k, 2) in the tangent plane, radius) of balls one
-    level finer along the region's smooth edge there: of radius ``margin`` (where the edge may
-    lie) plus ``window`` (how far inside it the edge condition reads the pressure), centred on
-    the edge's points at most half a radius apart, so that the edge and that much on either side
-    of it are covered."""
+def turning_balls(block: dict, margin: float, window: float, reach: float | None = None
+                  ) -> list[tuple[np.ndarray, float]]:
+    """Per stretch of turning_stretches (widened by ``margin`` along the line): (centres (k, 2) in
+    the tangent plane, radius) of balls one level finer along the region's smooth edge there: of
+    radius ``reach`` (how far from the coarse edge the edge may lie; ``margin`` if not given) plus
+    ``window`` (how far inside it the edge condition reads the pressure), centred on the edge's
+    points at most half a radius apart, so that the edge and that much on either side of it are
+    covered."""
     xy, smooth, _ = region_edge(block)
     on_edge = smooth | np.roll(smooth, 1)  # a point of a smooth segment
-    radius = margin + window
+    radius = (margin if reach is None else reach) + window
     out = []
     for a, b, _ in turning_stretches(block, margin):
         centres: list[np.ndarray] = []
