@@ -44,7 +44,7 @@ def test_ill_conditioned_system_falls_back_to_double():
 
 def test_block_diagonal_product_in_single_precision_slabs():
     """G block-diagonal (two bodies), the active set across both: M = I + G_AA Kc_AA written in
-    single precision a slab of columns at a time, M not kept, and the solution still reached to
+    single precision, M not kept, and the solution still reached to
     double precision (the residual of the refinement formed from G and Kc_AA)."""
     from ibfem.solver.fem.block_diagonal import BlockDiagonal
 
