@@ -427,8 +427,12 @@ def rung_ratio(solution: IBFEMSolution, target: float, observed: list[dict] | No
 def _cheaper(first: Problem, second: Problem) -> bool:
     """Whether ``first`` is estimated to need no more memory than ``second`` (solver.model.
     estimate: in 2D the dofs, in 3D also the condensed contact block and the factorisation's work
-    space about the finest zone, which set a 3D contact solve's time as well as its memory)."""
-    return estimate_size(first).memory <= estimate_size(second).memory
+    space about the finest zone, which set a 3D contact solve's time as well as its memory). The
+    work space of graded bodies' balanced cuts is left out: on the sphere on a flat's 0.2 % ladder
+    it rates the contact zone one level deeper (285k dofs) 20 % cheaper than every cell 1.7 times
+    smaller (447k dofs), while the runs took 110 and 95 s of CPU and peaked at 3.10 and 3.03 GB."""
+    return (estimate_size(first, balanced_cuts=False).memory
+            <= estimate_size(second, balanced_cuts=False).memory)
 
 
 def _next_rung(problem: Problem, solution: IBFEMSolution, worst: str | None,

@@ -306,7 +306,8 @@ def _zone_centres(problem, body) -> list:
     return [default if z.center is None else np.asarray(z.center, dtype=float) for z in body.refinements]
 
 
-def estimate_size(problem, loaded: float | None = None, region_areas=None, region_fills=None) -> ProblemSize:
+def estimate_size(problem, loaded: float | None = None, region_areas=None, region_fills=None,
+                  balanced_cuts: bool = True) -> ProblemSize:
     """Estimated cells, dofs and peak memory of ``problem`` (a solver.model.Problem); inf for
     sizes beyond floating point (an element size of 1e-300). ``loaded``: in 3D, the bytes the
     loaded scene holds (:func:`loaded_scene_bytes` when the scene was loaded, before a solve
@@ -314,12 +315,16 @@ def estimate_size(problem, loaded: float | None = None, region_areas=None, regio
     area (m^2, of the model) of its region where a coarse pass has found it, else None: the
     region trials' memory is counted from it (:func:`trial_bytes`); ``region_fills``: per
     contact the share of its candidate disc a region not found yet is taken to cover (REGION_FILL
-    for every contact when not given; POINT_REGION_FILL suits a point contact)."""
+    for every contact when not given; POINT_REGION_FILL suits a point contact).
+    ``balanced_cuts``: False leaves out the work space of graded bodies' balanced cuts
+    (CONTACT_PLANE_WORK_FACTOR), which sets the peak of graded grids of several hundred thousand
+    dofs but not which of two rungs costs less (see solver.solving's rung choice)."""
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        return _estimate(problem, loaded_scene_bytes() if loaded is None else loaded, region_areas, region_fills)
+        return _estimate(problem, loaded_scene_bytes() if loaded is None else loaded, region_areas, region_fills,
+                         balanced_cuts)
 
 
-def _estimate(problem, loaded: float, region_areas=None, region_fills=None) -> ProblemSize:
+def _estimate(problem, loaded: float, region_areas=None, region_fills=None, balanced_cuts: bool = True) -> ProblemSize:
     dim = problem.dim
     cells = 0.0
     per_body = []
@@ -341,7 +346,7 @@ def _estimate(problem, loaded: float, region_areas=None, region_fills=None) -> P
         if body_cells <= SAMPLED_CELLS and hasattr(body.profile, "signed_distance"):
             points, weights = _sampled_body_cells(body, centres, lo, hi, rng)
             body_cells = float(weights.sum())
-            if dim == 3 and body.refinements and any(body.name in c.bodies for c in problem.contacts):
+            if balanced_cuts and dim == 3 and body.refinements and any(body.name in c.bodies for c in problem.contacts):
                 planes.append(_median_plane_dofs(body, centres, points, weights, plane_rng))
         cells += body_cells
         per_body.append(body_cells)
