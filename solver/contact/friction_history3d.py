@@ -31,6 +31,9 @@ judged on its means over a disc of one cell about each point among points of the
 follow its increment within a step was tried: where the slip is small its increment's direction
 is noise, thousands of points turned at every update and the zones never settled.)
 Zones of any number and direction follow (stick, forward slip, reversed slip); none is assumed.
+With ``STICK_EDGE_FIT`` (off: measured, it moved the loop's energy away from the closed form) the
+stick boundary is placed within the points' spacing once the zones settled, the points beside it
+carrying a share of each zone (solver.contact.friction_history_edge).
 Every trial is one solve of the condensed system on the contact dofs (the driver's factor of the
 bodies' stiffness and its Schur complement are formed once per run); the region's size is kept
 through a step's zone updates and searched again only where its edge coefficient shows that the
