@@ -301,13 +301,14 @@ class EllipseContact:
         sampled = v.pressure  # the point traction's mean over the axis samples' inner window
         tension_cells = _edge_verdict(self, v, info, x, a)
         messages = []
-        if v.penetration or v.tension:
+        unresolved = bool(v.penetration_count) and a <= 0.0  # no region, yet the bodies overlap
+        if (v.penetration or v.tension) and not unresolved:  # (an edge pressure at a = 0 is not defined)
             messages.append(f"{self.name}: final state has penetration {v.penetration} (edge gap {v.gap:.3g} m) and "
                             f"tension {v.tension} (edge pressure {v.pressure:.3g} Pa) at semi-axes {self.semi_axes(a)}")
         elif v.penetration_count and a > 0.0:
             messages.append(f"{self.name}: the bodies interpenetrate outside the contact ellipse at "
                             f"{v.penetration_count} sample points (smallest gap {v.min_gap:.3g} m)")
-        if v.penetration_count and a <= 0.0:  # no region, yet the bodies overlap: too small for the grid
+        if unresolved:  # too small for the grid
             messages.append(self._unresolved(v))
         offset = self._centroid_offset(x, a, info)
         if offset > CENTROID_TOLERANCE:
