@@ -31,9 +31,6 @@ judged on its means over a disc of one cell about each point among points of the
 follow its increment within a step was tried: where the slip is small its increment's direction
 is noise, thousands of points turned at every update and the zones never settled.)
 Zones of any number and direction follow (stick, forward slip, reversed slip); none is assumed.
-With ``STICK_EDGE_FIT`` (off: measured, it moved the loop's energy away from the closed form) the
-stick boundary is placed within the points' spacing once the zones settled, the points beside it
-carrying a share of each zone (solver.contact.friction_history_edge).
 Every trial is one solve of the condensed system on the contact dofs (the driver's factor of the
 bodies' stiffness and its Schur complement are formed once per run); the region's size is kept
 through a step's zone updates and searched again only where its edge coefficient shows that the
@@ -61,7 +58,6 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_
 from .ellipse import (EllipseContact, build as ellipse_build, contact_operators, layer_tensor, plane_weights,
                       point_blocks, pressure_rows)
 from .friction_history import hold_size
-from .friction_history_edge import edge_shares
 from .friction_history_pressure import PressureFit, low_rank, pressure_fit
 from .friction_history_profiles import axis_profiles
 
@@ -91,14 +87,6 @@ INCREMENTAL_SHARE = 0.3
 #: update from the 18th to the 30th)
 LATE_UPDATES = 15
 LATE_CHANGE_SHARE = 5e-4
-#: place the stick boundary within the points' spacing once the zones settled: the points beside
-#: it carry a share of each zone (solver.contact.friction_history_edge); False: every point is
-#: wholly stuck or wholly slipping
-STICK_EDGE_FIT = False
-#: placements of the stick boundary per step (each one solve) ...
-EDGE_FIT_PASSES = 3
-#: ... until no point's slipping share changes by more than this
-EDGE_FIT_TOLERANCE = 0.05
 
 
 @dataclass
@@ -114,8 +102,8 @@ class _Region:
     w_prev: np.ndarray  # (q, 3)
     accumulated: np.ndarray  # (q,)
     last_direction: np.ndarray  # (q, 3)
-    #: (slip, direction, stiffness, load, Coulomb's left factor, slipping share) of the last terms
-    #: assembled on it (None: none since the references changed)
+    #: (slip, direction, stiffness, load, Coulomb's left factor) of the last terms assembled on it
+    #: (None: none since the references changed)
     assembled: tuple | None = None
     #: the pressure Coulomb's law uses (solver.contact.friction_history_pressure)
     fit: PressureFit | None = None
@@ -138,10 +126,6 @@ class HistoryEllipseContact(EllipseContact):
     direction: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     restuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     settled_stuck: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
-    #: each point's slipping share of its weight (1 slipping, 0 stuck; between where the stick
-    #: boundary is placed within the points' spacing, STICK_EDGE_FIT)
-    share: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    edge_fits: int = 0
     hold_width: bool = False
     width_held: bool = False
     held_edge: float = math.nan
@@ -220,21 +204,11 @@ class HistoryEllipseContact(EllipseContact):
         idx = cKDTree(self.zone_s).query(s)[1]
         return self.slipping[idx], self.direction[idx]
 
-    def shares_at(self, reg: _Region) -> np.ndarray:
-        """(q,) each point's slipping share at a region's points (the zones' 0 or 1 unless the stick
-        boundary was placed between points)."""
-        slip, _ = self.zones_at(reg)
-        if len(self.share) == len(slip) and np.array_equal(self.zone_s, reg.info[0].s):
-            return self.share
-        return slip.astype(float)
-
-    def _set_zones(self, reg: _Region, slipping: np.ndarray, direction: np.ndarray,
-                   share: np.ndarray | None = None) -> None:
+    def _set_zones(self, reg: _Region, slipping: np.ndarray, direction: np.ndarray) -> None:
         if not np.array_equal(self.zone_s, reg.info[0].s):  # a new region: its points start afresh
             self.restuck = np.zeros(len(slipping), dtype=bool)
             self.settled_stuck = np.zeros(len(slipping), dtype=bool)
         self.zone_s, self.slipping, self.direction = reg.info[0].s, slipping, direction
-        self.share = slipping.astype(float) if share is None else share
 
     # ------------------------------------------------------------------ terms and tractions
 
@@ -251,66 +225,48 @@ class HistoryEllipseContact(EllipseContact):
         reg = self.region(a)
         pts, bp, _, jump, flux, size, _ = reg.info
         slip, direction = self.zones_at(reg)
-        share = self.shares_at(reg)
         proj = np.where(slip[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
         info = (pts, bp, proj, jump, flux, size, a)
         old = reg.assembled
         if old is not None:
-            changed = np.flatnonzero((old[0] != slip) | np.any(old[1] != direction, axis=1) | (old[5] != share))
+            changed = np.flatnonzero((old[0] != slip) | np.any(old[1] != direction, axis=1))
             if len(changed) <= INCREMENTAL_SHARE * len(slip):
-                k_new, f_new, l_new = self._point_terms(reg, changed, slip, direction, share)
-                k_old, f_old, l_old = self._point_terms(reg, changed, old[0], old[1], old[5])
+                k_new, f_new, l_new = self._point_terms(reg, changed, slip, direction)
+                k_old, f_old, l_old = self._point_terms(reg, changed, old[0], old[1])
                 parts = ((old[2] + k_new - k_old).tocsr(), old[3] + f_new - f_old, old[4] + l_new - l_old)
             else:
-                parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, share)
+                parts = self._point_terms(reg, np.arange(len(slip)), slip, direction)
         else:
-            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, share)
-        reg.assembled = (slip.copy(), direction.copy()) + parts + (share.copy(),)
+            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction)
+        reg.assembled = (slip.copy(), direction.copy()) + parts
         k_tie, f, left = parts
         if slip.any():
             return (k_tie - low_rank(left, reg.fit.rows, m)).tocsr(), f + left @ reg.fit.load, info
         return k_tie, f, info
 
-    def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray,
-                     share: np.ndarray):
+    def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray):
         """(ties' stiffness, ties' load, Coulomb's left factor (m, k)) of the points idx of a region
-        with zones (slip, direction) and slipping shares: Coulomb's traction of the slipping share,
-        -mu p e with p = B (R x + r0) the fitted pressure, adds -left R to the stiffness and left r0
-        to the load; the stuck share is tied at the reference jump (a point with both shares is
-        two points of the same place, of the two zones, with its weight split)."""
+        with zones (slip, direction): Coulomb's traction of the slipping points, -mu p e with p =
+        B (R x + r0) the fitted pressure, adds -left R to the stiffness and left r0 to the load."""
         m = len(self.dofs)
         fit = reg.fit
         if not len(idx):
             return sp.csr_matrix((m, m)), np.zeros(m), np.zeros((m, fit.basis.shape[1]))
         pts, _, _, jump, flux, size, a = reg.info
         rows = (3 * idx[:, None] + np.arange(3)).ravel()
-        sl, e, sh = slip[idx], direction[idx], share[idx]
-        sub_jump = jump[rows]
-        own = np.where(sl, sh, 1.0 - sh)  # the share of the point's own zone
-        k, f = self._tie_terms(reg, idx, sl, own)
-        part = np.flatnonzero(own < 1.0)
-        if len(part):  # the other zone's share of the points beside the placed stick boundary
-            k2, f2 = self._tie_terms(reg, idx[part], ~sl[part], 1.0 - own[part])
-            k, f = k + k2, f + f2
-        left = np.zeros((m, fit.basis.shape[1]))
-        if np.any(sh > 0.0):
-            g = point_blocks(-self.friction * np.where((sh > 0.0)[:, None], e, 0.0)) @ sub_jump
-            wq = sh * pts.weights[idx]
-            left = np.asarray(g.T @ (wq[:, None] * fit.basis[idx]))
-        return k, f, left
-
-    def _tie_terms(self, reg: _Region, idx: np.ndarray, sl: np.ndarray, portion: np.ndarray):
-        """(stiffness, load) of the ties of the points idx, those with ``sl`` sliding along the normal
-        and the others held at their reference jump, each with ``portion`` of its weight."""
-        pts, _, _, jump, flux, size, _ = reg.info
-        rows = (3 * idx[:, None] + np.arange(3)).ravel()
+        sl, e = slip[idx], direction[idx]
         normal, delta = pts.normal[idx], pts.delta[idx]
         sub_jump, sub_flux = jump[rows], flux[rows]
-        bp = BoundaryPoints(pts.x1[idx], pts.weights[idx] * portion, normal, size[idx], sub_jump, sub_flux)
+        bp = BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx], sub_jump, sub_flux)
         proj = np.where(sl[:, None, None], projector("sliding", normal), projector("fixed", normal))
         target = -(delta - np.where(sl[:, None], 0.0, reg.w_ref[idx]))
         k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
-        return sp.csr_matrix(k), np.asarray(f).ravel()
+        left = np.zeros((m, fit.basis.shape[1]))
+        if sl.any():
+            g = point_blocks(-self.friction * np.where(sl[:, None], e, 0.0)) @ sub_jump
+            wq = np.where(sl, pts.weights[idx], 0.0)
+            left = np.asarray(g.T @ (wq[:, None] * fit.basis[idx]))
+        return sp.csr_matrix(k), np.asarray(f).ravel(), left
 
     def point_state(self, x: np.ndarray, a: float, info):
         """Per quadrature point: traction on body 1 (q, 3), the fitted pressure p (the one Coulomb's
@@ -318,26 +274,12 @@ class HistoryEllipseContact(EllipseContact):
         reg = self.region(a)
         pts, _, proj, jump, flux, size, _ = info
         slip, direction = self.zones_at(reg)
-        share = self.shares_at(reg)
         w = (jump @ x).reshape(-1, 3) + pts.delta
-        fl = (flux @ x).reshape(-1, 3)
+        held = w - np.where(slip[:, None], 0.0, reg.w_ref)
+        t1 = -np.einsum("qij,qj->qi", layer_tensor(self, pts.normal, proj, size), held)
+        t1 = t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
         p = reg.fit.pressure(x)
-
-        def traction(sl, pr, at):
-            held = w[at] - np.where(sl[:, None], 0.0, reg.w_ref[at])
-            t = -np.einsum("qij,qj->qi", layer_tensor(self, pts.normal[at], pr, size[at]), held)
-            t = t + np.einsum("qij,qj->qi", pr, fl[at])
-            return t - np.where(sl[:, None], self.friction * p[at, None] * direction[at], 0.0)
-
-        everywhere = np.arange(len(slip))
-        t1 = traction(slip, proj, everywhere)
-        own = np.where(slip, share, 1.0 - share)
-        part = np.flatnonzero(own < 1.0)
-        if len(part):  # a point beside the placed stick boundary: the mean of its two zones' tractions
-            other = ~slip[part]
-            pr = np.where(other[:, None, None], projector("sliding", pts.normal[part]),
-                          projector("fixed", pts.normal[part]))
-            t1[part] = own[part, None] * t1[part] + (1.0 - own[part, None]) * traction(other, pr, part)
+        t1 = t1 - np.where(slip[:, None], self.friction * p[:, None] * direction, 0.0)
         return t1, p, _tangential(t1, pts.normal), _tangential(w, pts.normal)
 
     def _means(self, reg: _Region, v: np.ndarray, slip: np.ndarray) -> np.ndarray:
@@ -397,8 +339,8 @@ class HistoryEllipseContact(EllipseContact):
     # ------------------------------------------------------------------ the driver's protocol
 
     def start_step(self) -> None:
-        self.zone_updates = self.zone_changes = self.edge_fits = 0
-        self.zone_s, self.share = np.zeros((0, 2)), np.zeros(0)
+        self.zone_updates = self.zone_changes = 0
+        self.zone_s = np.zeros((0, 2))
         self.slipping, self.direction = np.zeros(0, dtype=bool), np.zeros((0, 3))
         self.restuck = np.zeros(0, dtype=bool)
         self.settled_stuck = np.zeros(0, dtype=bool)
@@ -441,10 +383,10 @@ class HistoryEllipseContact(EllipseContact):
         if changed and self.zone_updates >= self.options.max_stick_iterations:
             self.unsettled_steps.append(self.step_count)
             return True
-        self._set_zones(reg, slip, direction, None if changed else self.shares_at(reg).copy())
+        self._set_zones(reg, slip, direction)
         self.zone_changes += changed
         area = plane_weights(self, info[0])
-        self.stick_ratio = math.sqrt(float((area * (1.0 - self.share)).sum() / max(area.sum(), 1e-300)))
+        self.stick_ratio = math.sqrt(float(area[~slip].sum() / max(area.sum(), 1e-300)))
         return changed == 0
 
     def _imposed_zones(self, x: np.ndarray, a: float, info) -> bool:
@@ -484,14 +426,6 @@ class HistoryEllipseContact(EllipseContact):
         self.settled_stuck |= back & self.restuck
         self.restuck |= back
         changed = int(np.count_nonzero(over | back))
-        if not changed and STICK_EDGE_FIT and self.edge_fits < EDGE_FIT_PASSES:
-            share, direction = edge_shares(reg, slip, direction, qn / np.maximum(mu * p, 1e-300),
-                                           0.5 * MEAN_CELLS * self.options.window * self.h)
-            self.edge_fits += 1
-            moved = float(np.abs(share - self.shares_at(reg)).max()) > EDGE_FIT_TOLERANCE
-            self._set_zones(reg, slip, direction, share)
-            if moved:
-                return False
         if changed and self.zone_updates >= LATE_UPDATES and changed <= max(1.0, LATE_CHANGE_SHARE * len(slip)):
             # settled late: the zones of the last solve are kept (the state's forces are those solved)
             self.late_settled.append([self.step_count, changed])
@@ -502,15 +436,13 @@ class HistoryEllipseContact(EllipseContact):
         """Carry the step's state: the slips, their work, the new reference jumps."""
         reg = self.region(a)
         slip, direction = self.zones_at(reg)
-        share = self.shares_at(reg)
         t1, p, q, wt = self.point_state(x, a, info)
         pts = info[0]
         if self.zone_rule is not None:
             self.zone_rule.step_end(self, (t1 * pts.weights[:, None]).sum(axis=0))
-        dw = share[:, None] * _tangential(wt - reg.w_prev, pts.normal)
-        # friction work: sum mu p e . dw dA over the slipping shares (Coulomb's traction -mu p e; positive: dissipated)
-        coulomb = self.friction * p[:, None] * direction
-        self.step_work = float(np.sum(np.einsum("qi,qi->q", coulomb, dw) * pts.weights))
+        dw = np.where(slip[:, None], wt - reg.w_prev, 0.0)
+        # friction work: -sum q . dw dA over the slipping points (positive: dissipated)
+        self.step_work = float(-np.sum(np.einsum("qi,qi->q", q, dw) * pts.weights))
         # a slipping point takes the reference at which its tie would carry its Coulomb traction (no
         # jump in its traction when it sticks); a stuck point keeps its own (its traction is the one
         # the step solved, open or not: the step's forces are recorded with these references)
@@ -519,8 +451,7 @@ class HistoryEllipseContact(EllipseContact):
         reg.assembled = None  # the terms hold the reference jumps: the next step assembles them anew
         reg.accumulated = reg.accumulated + np.linalg.norm(dw, axis=1)
         reg.last_direction = np.where(slip[:, None], direction, reg.last_direction)
-        self.step_state = {"pressure": p, "shear": q, "slip": slip, "share": share.copy(), "direction": direction,
-                           "slip_increment": dw,
+        self.step_state = {"pressure": p, "shear": q, "slip": slip, "direction": direction, "slip_increment": dw,
                            "accumulated_slip": reg.accumulated.copy(), "tangential_jump": wt,
                            "weights": plane_weights(self, pts), "s": pts.s, "points": pts.x2}
         reg.w_prev = wt
@@ -540,7 +471,7 @@ class HistoryEllipseContact(EllipseContact):
         if not st:
             return 0.0, 0.0
         w = st["weights"]
-        return float((w * (1.0 - st.get("share", st["slip"]))).sum()), float(w.sum())
+        return float(w[~st["slip"]].sum()), float(w.sum())
 
     def step_fields(self, u: np.ndarray, a: float, info) -> dict:
         """The step record beside the forces: friction work, slip points, the stick area and the

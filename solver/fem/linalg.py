@@ -465,16 +465,13 @@ class SmallSystem:
             if not len(cols):
                 return
             g_block = self.g.block_take(a, cols, k)
-            if cols[-1] - cols[0] == len(cols) - 1:  # sorted positions: contiguous
-                cols = slice(int(cols[0]), int(cols[-1]) + 1)
-                rows = kc_t[:, cols]
-                for j in range(0, g_block.shape[1], self.SLAB):
-                    end = min(j + self.SLAB, g_block.shape[1])
-                    out[:, cols.start + j:cols.start + end] = rows @ g_block[:, j:end].astype(dtype, copy=False)
-            else:
-                rows = kc_t[:, cols]
-                for j in range(0, g_block.shape[1], self.SLAB):
-                    out[:, cols[j:j + self.SLAB]] = rows @ g_block[:, j:j + self.SLAB].astype(dtype, copy=False)
+            first = int(cols[0])
+            contiguous = cols[-1] - first == len(cols) - 1  # sorted positions: written as slices
+            rows = kc_t[:, slice(first, first + len(cols)) if contiguous else cols]
+            for j in range(0, len(cols), self.SLAB):
+                end = min(j + self.SLAB, len(cols))
+                out[:, slice(first + j, first + end) if contiguous else cols[j:end]] = (
+                    rows @ g_block[:, j:end].astype(dtype, copy=False))
 
         blocks = range(len(self.g.blocks))
         if threads > 1 and len(blocks) > 1:
