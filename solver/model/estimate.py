@@ -217,6 +217,7 @@ def _sampled_body_cells(body, centres: list, lo: np.ndarray, hi: np.ndarray, rng
             weights.append((len(corners) / 2.0 * kept - 1.0) / covering[split] * (unit_ball * reach**dim / h**dim / SAMPLES))
     return np.vstack(points), np.concatenate(weights)
 
+
 def _level_balls(zones, h0: float, lv: int, dim: int) -> list:
     """The zones splitting the cells of level ``lv``: per zone (centre, split radius of the cells'
     boxes, reach of their centres), the grids' grading included (solver.fem.grid)."""
@@ -256,6 +257,7 @@ def _median_plane_dofs(body, centres, points: np.ndarray, weights: np.ndarray, r
         counts.append(_plane_cells(body.profile.signed_distance, zones, float(body.element_size), lo, hi, axis,
                                    median, rng))
     return 3.0 * min(counts)
+
 
 def _plane_cells(phi, zones, h0: float, lo: np.ndarray, hi: np.ndarray, axis: int, x0: float, rng) -> float:
     """Cells of a body's octree that the plane x[axis] = x0 crosses: the background layer's kept
@@ -423,6 +425,7 @@ def _contact_dofs_of_bodies(problem) -> np.ndarray:
         for name in c.bodies:
             per_body[name] += m_b
     return np.array([per_body[b.name] for b in problem.bodies])
+
 
 def factor_threads() -> int:
     """Threads a body's condensed factorisation runs its large fronts on: ``IBFEM_THREADS`` if set (>= 1), else
