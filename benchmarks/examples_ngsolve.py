@@ -1,4 +1,4 @@
-"""Issue 13: the examples' contact pressure and subsurface von Mises against an independent
+"""The examples' contact pressure and subsurface von Mises against an independent
 converged solution of the same problem (NGSolve), not only against Hertz / McEwen's half-space.
 
 Per scene (the same geometry, materials, supports and load as the example, plane strain):
