@@ -25,7 +25,8 @@ validate: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_solid
 	MPLBACKEND=Agg $(PY) -m ibfem.solver.reports.validate_fretting --out out/validation_fretting
 	MPLBACKEND=Agg $(PY) -m pytest -m slow -q tests/test_contact2d_validation.py tests/test_fretting.py \
-		tests/test_fretting_pressure.py tests/test_accuracy_reference.py tests/test_size_estimate_separator.py
+		tests/test_fretting_pressure.py tests/test_accuracy_reference.py tests/test_size_estimate_separator.py \
+		tests/test_size_estimate_planes.py
 	# the 3D fretting's small-amplitude limit W ~ Q*^3 on the edge ring (about 12 minutes, 1.9 GB)
 	MPLBACKEND=Agg $(PY) -m pytest -m slow -q tests/test_fretting_sphere.py -k edge_ring
 	# 3D regions of general shape against closed forms and the half-space (rollers: about 20 minutes)
