@@ -94,6 +94,9 @@ class EllipseContact:
     slip_direction: np.ndarray | None = None  # unit tangential force on body 2 (the slip zone's traction on body 1 opposes it)
     beta: float = math.nan  # |Q| / N of the last state
     _stick_root: object = None
+    #: the stick ratios the load steps settled at, in order (the next step's start is extrapolated)
+    _settled_ratios: list = field(default_factory=list)
+    _steps_started: int = 0
     #: the ellipse's centre in the tangent plane (along the axes): the pressure's centroid where
     #: body 1 has surface all around the contact point and region_centre is "pressure", else 0
     centre: np.ndarray = field(default_factory=lambda: np.zeros(2))
@@ -234,13 +237,18 @@ class EllipseContact:
         if self.kind == "frictional":
             from .roots import StickRoot
 
+            if self._steps_started:
+                self._settled_ratios.append(self.stick_ratio)
+            self.stick_ratio = predicted_stick_ratio(self._settled_ratios, self.stick_ratio)
             if self.stick_ratio <= 0.0:
                 self.stick_ratio = StickRoot.min_ratio
             self._stick_root = StickRoot(self.options.stick_tolerance, exponent=1.0 / 3.0)
+        self._steps_started += 1
 
-    def _update_stick(self, x: np.ndarray, a: float, info) -> bool:
+    def _update_stick(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
         """Stick ratio from the transmitted forces (Mindlin's cube root) and the slip direction;
-        True when both hold."""
+        True when both hold. Before the last load step (``final`` false) the direction only starts
+        the next step, as the region's size and centre do: its turning does not hold the step."""
         on2 = -self.force(x, a, info)
         normal = float(-on2 @ self.frame.normal)
         tangential = on2 - (on2 @ self.frame.normal) * self.frame.normal
@@ -249,7 +257,8 @@ class EllipseContact:
         self.beta = q / normal if normal > 0 else math.nan
         if q > 0.0:
             e = tangential / q
-            if self.slip_direction is None or float(e @ self.slip_direction) < 1.0 - 1e-6:
+            turned = self.slip_direction is None or float(e @ self.slip_direction) < 1.0 - 1e-6
+            if turned and final:
                 finished = finished and self.stick_ratio >= 1.0
             self.slip_direction = e
         if not finished:
@@ -265,6 +274,8 @@ class EllipseContact:
         if not np.isfinite(centroid).all():
             return True
         if float(np.abs(centroid - self.centre).max()) <= settling_tolerance(self.options, self.h, final):
+            if not final:  # within an earlier step's loose tolerance: the next step starts there
+                self.centre = centroid
             return True
         self.centre = centroid
         return False
@@ -273,9 +284,12 @@ class EllipseContact:
         """After a size search: the centre at the pressure's centroid, then (once it has settled)
         the shape b / a from the difference of the two edge coefficients (secant on log(b / a));
         True when both hold (the shape always for a circular contact)."""
-        if not self._update_centre(x, a, info, final):
+        centred = self._update_centre(x, a, info, final)
+        # the stick ratio and slip direction from this state even when the centre moved: the next
+        # search starts from them (their change is checked again after it)
+        stuck = self._update_stick(x, a, info, final) if self.kind == "frictional" and info is not None else True
+        if not centred:
             return False
-        stuck = self._update_stick(x, a, info) if self.kind == "frictional" and info is not None else True
         if self.circular or info is None:
             return stuck
         c0, c1 = _edge_coefficients(self, info, x, a)
@@ -482,6 +496,17 @@ def _quadrature_traction(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:
 #: the final check: the pressure's centroid within this fraction of the semi-axes of the ellipse's
 #: centre (where body 1 surrounds the contact point)
 CENTROID_TOLERANCE = 0.01
+
+
+def predicted_stick_ratio(settled: list, current: float) -> float:
+    """The stick ratio a load step starts from: under equal load increments the ratio the last
+    two steps settled at, extrapolated linearly (the ratio drifts with |Q| / N from step to step;
+    each step's root then starts within about the drift's change instead of the drift), within
+    [0, 1]; ``current`` while fewer than two steps have settled or one of them slipped grossly.
+    Only the start moves: the step's ratio is still the root of Mindlin's condition."""
+    if len(settled) < 2 or not (0.0 < settled[-2] <= 1.0 and 0.0 < settled[-1] <= 1.0):
+        return current
+    return float(min(max(2.0 * settled[-1] - settled[-2], 0.0), 1.0))
 
 
 def _pressure_centroid(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:
