@@ -10,8 +10,8 @@ square (the fronts whose rows reach them), its memory with their square.
 For a point contact whose candidate disc would hold MIN_CONTACT_DOFS contact dofs per body or
 more, the solve runs twice:
 
-1. a coarse pass: the contact refinements COARSER_LEVELS levels shallower, the same radii, finds
-   the region (its semi-axes and centre);
+1. a coarse pass: the contact refinements COARSER_LEVELS levels shallower, the same radii, the
+   final load in one step, finds the region (its semi-axes and centre);
 2. the scene as written, with the candidate disc shrunk to reach beyond the coarse region (its
    largest semi-axis plus its centre's offset) by MARGIN of that reach plus MARGIN_CELLS of the
    coarse pass's finest cells (the coarse region's uncertainty), never wider than the scene's.
@@ -91,8 +91,11 @@ def region_reach(block: dict) -> float | None:
 
 def coarse_pass_problem(problem, indices: list[int]):
     """The coarse pass of contacts ``indices``: their bodies' contact refinements COARSER_LEVELS
-    levels shallower."""
-    return _with_contact_zones(problem, {n for k in indices for n in problem.contacts[k].bodies}, COARSER_LEVELS)
+    levels shallower, the final load in one step (only the final region's size is read from it;
+    the load steps of a frictional contact start each step's search where the last ended and
+    change the final state only within the searches' tolerances)."""
+    coarse = _with_contact_zones(problem, {n for k in indices for n in problem.contacts[k].bodies}, COARSER_LEVELS)
+    return dataclasses.replace(coarse, options=dataclasses.replace(coarse.options, load_steps=1))
 
 
 def sized_problem(problem, indices: list[int], coarse) -> tuple[object, dict]:
