@@ -12,6 +12,8 @@ $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[all]'
+	# the numba kernels compiled into their on-disk cache once (about 10-30 s), not in a first run
+	$(VENV)/bin/ibfem compile --quiet
 	rm -f $(VENV)/.installed-* && touch $(STAMP)
 
 test: $(STAMP)

@@ -34,6 +34,30 @@ def register(sub: "argparse._SubParsersAction") -> None:
                    help="skip the error estimate of the contacts' results (a second solve on a grid twice as "
                         "coarse, in 2D a third on one 4 times as coarse)")
     p.set_defaults(handler=_run)
+    c = sub.add_parser(
+        "compile",
+        help="compile the solver's kernels once (a first large 3D run otherwise spends 7-11 s on it)",
+        description="Compile the solver's numba kernels into their on-disk cache by solving two small contact "
+        "scenes (3D and 2D) with every compiled path taken: about 10-20 s once; later runs load the kernels "
+        "from the cache. `make` runs it after installing.",
+    )
+    c.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    c.set_defaults(handler=_compile)
+
+
+def _compile(args) -> int:
+    """``ibfem compile``: :func:`solver.kernel_warmup.warm_kernels`; exit 1 if a scene did not converge."""
+    from ibfem.solver.fem.multifrontal import available
+    from ibfem.solver.kernel_warmup import warm_kernels
+
+    say = (lambda text: None) if args.quiet else (lambda text: print(f"ibfem compile: {text}", flush=True))
+    if not available():
+        say("numba is not installed (the `fast` extra): there are no compiled kernels to compile")
+        return 0
+    rows = warm_kernels(say)
+    for row in rows:
+        say(f"{row['scene']}: {'converged' if row['converged'] else 'NOT converged'} in {row['seconds']:.1f} s")
+    return 0 if all(row["converged"] for row in rows) else 1
 
 
 #: exit code of an internal error (solver.cli has the same)

@@ -27,7 +27,7 @@ LAYERS = [
     ("ibfem.solver.contact",),
     ("ibfem.solver.solving",),
     ("ibfem.solver.io",),
-    ("ibfem.solver.commands", "ibfem.solver.cli"),
+    ("ibfem.solver.commands", "ibfem.solver.cli", "ibfem.solver.kernel_warmup"),
     ("ibfem.solver.reports", "ibfem.solver.sweep"),
 ]
 # the package's own __init__ names the public API lazily (strings), so it sits on top
