@@ -97,6 +97,8 @@ class EllipseContact:
     #: the stick ratios the load steps settled at, in order (the next step's start is extrapolated)
     _settled_ratios: list = field(default_factory=list)
     _steps_started: int = 0
+    #: the pressure's centroid an earlier load step settled with, where the next step starts
+    _next_centre: np.ndarray | None = None
     #: the ellipse's centre in the tangent plane (along the axes): the pressure's centroid where
     #: body 1 has surface all around the contact point and region_centre is "pressure", else 0
     centre: np.ndarray = field(default_factory=lambda: np.zeros(2))
@@ -234,6 +236,8 @@ class EllipseContact:
 
     def start_step(self) -> None:
         self._shape = []
+        if self._next_centre is not None:
+            self.centre, self._next_centre = self._next_centre, None
         if self.kind == "frictional":
             from .roots import StickRoot
 
@@ -275,7 +279,7 @@ class EllipseContact:
             return True
         if float(np.abs(centroid - self.centre).max()) <= settling_tolerance(self.options, self.h, final):
             if not final:  # within an earlier step's loose tolerance: the next step starts there
-                self.centre = centroid
+                self._next_centre = centroid
             return True
         self.centre = centroid
         return False
