@@ -24,47 +24,39 @@ from typing import Callable
 __all__ = ["WARM_SCENES", "warm_kernels"]
 
 
+def _steel_scene(name: str, model: str, bodies: list, conditions: list, contact: dict) -> dict:
+    """A scene of steel bodies in two load steps, no files written."""
+    return {"name": name, "model": model, "solver": {"load_steps": 2}, "output": {"vtk": False, "plots": False},
+            "materials": [{"name": "steel", "youngs_modulus": 2.0e11, "poissons_ratio": 0.3}],
+            "bodies": [dict(body, material="steel") for body in bodies], "boundary_conditions": conditions,
+            "contacts": [contact]}
+
+
 def _ball_on_block() -> dict:
-    """A full half ball on a block, steel, friction 0.2, two load steps: the 3D contact path
-    (the coarse pass that sizes the candidate disc, the region's centre, the stick ratio)."""
+    """A full half ball on a block, friction 0.2: the 3D contact path (the coarse pass that sizes
+    the candidate disc, the region's centre, the stick ratio)."""
     zone = [{"levels": 4, "around": "contact", "radius": 0.15}]
-    return {
-        "name": "warm-up ball on block", "model": "solid",
-        "solver": {"load_steps": 2}, "output": {"vtk": False, "plots": False},
-        "materials": [{"name": "steel", "youngs_modulus": 2.0e11, "poissons_ratio": 0.3}],
-        "bodies": [
-            {"name": "ball", "material": "steel", "element_size": 0.25, "refinement": zone,
-             "shape": {"type": "half_sphere", "center": [0.0, 0.0, 0.5], "radius": 0.5, "side": "below"}},
-            {"name": "block", "material": "steel", "element_size": 0.25, "refinement": zone,
-             "shape": {"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.0]}},
-        ],
-        "boundary_conditions": [
-            {"body": "ball", "face": "flat", "type": "displacement", "value": [3.0e-4, 0.0, -0.004]},
-            {"body": "block", "face": "z_min", "type": "fixed"},
-        ],
-        "contacts": [{"bodies": ["ball", "block"], "type": "frictional", "friction": 0.2, "point": [0.0, 0.0, 0.0]}],
-    }
+    return _steel_scene("warm-up ball on block", "solid", [
+        {"name": "ball", "element_size": 0.25, "refinement": zone,
+         "shape": {"type": "half_sphere", "center": [0.0, 0.0, 0.5], "radius": 0.5, "side": "below"}},
+        {"name": "block", "element_size": 0.25, "refinement": zone,
+         "shape": {"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.0]}},
+    ], [{"body": "ball", "face": "flat", "type": "displacement", "value": [3.0e-4, 0.0, -0.004]},
+        {"body": "block", "face": "z_min", "type": "fixed"}],
+        {"bodies": ["ball", "block"], "type": "frictional", "friction": 0.2, "point": [0.0, 0.0, 0.0]})
 
 
 def _disc_on_block() -> dict:
     """A half disc on a block in plane strain, friction 0.3: the 2D contact path."""
     zone = [{"levels": 3, "around": "contact", "radius": 0.12}]
-    return {
-        "name": "warm-up disc on block", "model": "plane_strain",
-        "solver": {"load_steps": 2}, "output": {"vtk": False, "plots": False},
-        "materials": [{"name": "steel", "youngs_modulus": 2.0e11, "poissons_ratio": 0.3}],
-        "bodies": [
-            {"name": "disc", "material": "steel", "element_size": 0.1, "refinement": zone,
-             "shape": {"type": "half_disk", "center": [0.0, 1.0], "radius": 1.0, "side": "below"}},
-            {"name": "block", "material": "steel", "element_size": 0.1, "refinement": zone,
-             "shape": {"type": "rectangle", "min": [-2.0, -2.0], "max": [2.0, 0.0]}},
-        ],
-        "boundary_conditions": [
-            {"body": "disc", "edge": "flat", "type": "displacement", "value": [3.65e-4, -2.5e-3]},
-            {"body": "block", "edge": "bottom", "type": "fixed"},
-        ],
-        "contacts": [{"bodies": ["disc", "block"], "type": "frictional", "friction": 0.3}],
-    }
+    return _steel_scene("warm-up disc on block", "plane_strain", [
+        {"name": "disc", "element_size": 0.1, "refinement": zone,
+         "shape": {"type": "half_disk", "center": [0.0, 1.0], "radius": 1.0, "side": "below"}},
+        {"name": "block", "element_size": 0.1, "refinement": zone,
+         "shape": {"type": "rectangle", "min": [-2.0, -2.0], "max": [2.0, 0.0]}},
+    ], [{"body": "disc", "edge": "flat", "type": "displacement", "value": [3.65e-4, -2.5e-3]},
+        {"body": "block", "edge": "bottom", "type": "fixed"}],
+        {"bodies": ["disc", "block"], "type": "frictional", "friction": 0.3})
 
 
 #: the warm-up's scenes, in the order solved, and whether each streams its factors to disk (the
