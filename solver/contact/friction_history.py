@@ -141,13 +141,31 @@ class HistoryBandContact(BandContact):
         self.values = np.concatenate([zone[:1], zone[change + 1]])
         self.zone = zone
 
+    def region_zone(self, s: np.ndarray, a: float) -> np.ndarray:
+        """The zone at chords s of the region of half-width a: zone_at, except between the outermost
+        samples in the region and the region's ends, which take those samples' zones. The zones'
+        boundary beside the last sample in the region lies half-way to the first one outside it
+        (whose zone is none); a stretch of up to half a sample's spacing at the region's end would
+        otherwise be tied to the reference jump of a point outside the region, set anew at every
+        step, while the edge beside it slips (measured on the example: 17 J/m of the 363 J/m a
+        cycle dissipates, in the outermost 0.5 % of the half-width, the share moving with the
+        region's end among the samples)."""
+        s = np.asarray(s, dtype=float)
+        zone = self.zone_at(s)
+        ks = self.samples.s
+        inside = np.flatnonzero(np.abs(self.local(ks)) <= a)
+        if len(inside) and len(self.zone) == len(ks):
+            first, last = inside[0], inside[-1]
+            zone = np.where(s > ks[last], self.zone[last], np.where(s < ks[first], self.zone[first], zone))
+        return zone
+
     def tied_mask(self, s: np.ndarray, a: float) -> np.ndarray:
-        return self.zone_at(s) == 0.0
+        return self.region_zone(s, a) == 0.0
 
     def slip_signs(self, s: np.ndarray, a: float) -> np.ndarray:
         s = np.asarray(s, dtype=float)
         inside = np.abs(self.local(s)) <= a
-        return np.where(inside, self.zone_at(s), 0.0)
+        return np.where(inside, self.region_zone(s, a), 0.0)
 
     def zone_breakpoints(self, a: float) -> list[float]:
         return self.bounds.tolist()
