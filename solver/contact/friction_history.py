@@ -476,8 +476,12 @@ class HistoryBandContact(BandContact):
         dw = np.where(self.zone != 0.0, wt - self.w_prev, 0.0)
         ds = np.gradient(self.samples.s)
         # friction work: -int q dw ds over the slipping points (positive: dissipated), q the step's
-        # end shear, Coulomb's limit while slipping (a point slips once its shear reached it)
-        self.step_work = float(-np.sum(q * dw * ds))
+        # end shear at the point, the Coulomb traction -sign mu p the terms apply there (a point
+        # slips once its shear reached it). Not its cell mean: the mean over one cell, truncated at
+        # the region's edge, weights the edge's slip with the pressure further in (measured on the
+        # example: +1.1 % to +4.3 % of the closed form across grid positions, the point traction
+        # -0.7 % to +1.2 %)
+        self.step_work = float(-np.sum(self._raw[1] * dw * ds))
         self.accumulated_slip = self.accumulated_slip + np.abs(dw)
         self.last_direction = np.where(self.zone != 0.0, self.zone, self.last_direction)
         self.step_increment = dw
