@@ -91,6 +91,7 @@ class HistoryBandContact(BandContact):
     step_work: float = 0.0  # friction work of the last step (J/m), from the local tractions and slips
     shear_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # mean shear at the last step's end
     raw_shear_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # point shear at the last step's end
+    raw_pressure_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # point pressure at the last step's end
     zone_changes: int = 0
     refinements: int = 0  # secant steps of the boundaries in the current step
     unsettled_steps: list = field(default_factory=list)  # steps whose boundaries stopped at MAX_REFINEMENTS
@@ -120,6 +121,7 @@ class HistoryBandContact(BandContact):
         self.step_increment = np.zeros(n)
         self.shear_prev = np.zeros(n)
         self.raw_shear_prev = np.zeros(n)
+        self.raw_pressure_prev = np.zeros(n)
         self.stick_ratio = 1.0
         self.slip_sign = 0.0
 
@@ -306,6 +308,7 @@ class HistoryBandContact(BandContact):
         scale = max(float(np.abs(dw[inside]).max()) if inside.any() else 0.0, floor, 1e-300)
         back = (zone != 0.0) & (dw * zone < -REVERSAL_MARGIN * scale)
         over &= ~self.settled_stuck  # stuck again twice in this step: it stays stuck
+        over &= self._excess_grew(p, q)
         zone[over] = -np.sign(q[over])
         zone[back] = 0.0
         self.settled_stuck |= back & self.restuck
@@ -321,6 +324,20 @@ class HistoryBandContact(BandContact):
             self.refining = True
             return self._refine_bounds(x, a)
         return False
+
+    def _excess_grew(self, p: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """Whether each sample's excess of the mean shear over Coulomb's limit, |q| - mu p, grew
+        since the last step's end, both read as cell means over the samples of the current
+        zones (the last step's point tractions averaged like the current ones). Coulomb: a stuck
+        point slips once its shear reaches the limit; one left at the limit by the last step and
+        unloaded since stays stuck (measured: after a reversal, a sample at the last stick edge
+        whose mean shear the grid's oscillation put at the margin slipped on in the old direction
+        on 7 of 24 grid positions, that step's stick half-width 0.16 a off)."""
+        same = [self.zone == z for z in (-1.0, 0.0, 1.0)]
+        p_prev = self._zone_mean(self.raw_pressure_prev, same)
+        q_prev = self._zone_mean(self.raw_shear_prev, same)
+        mu = self.friction
+        return np.abs(q) - mu * p > np.abs(q_prev) - mu * p_prev
 
     def _refine_bounds(self, x: np.ndarray, a: float) -> bool:
         """Move each stick/slip boundary to the root of its edge singularity (secant steps); True
@@ -493,6 +510,7 @@ class HistoryBandContact(BandContact):
         self.w_ref = np.where(free, wt - self._tie_offset(x, np.where(inside, self._raw[1], 0.0)), self.w_ref)
         self.shear_prev = np.where(inside, q, 0.0)
         self.raw_shear_prev = self._raw[1].copy()
+        self.raw_pressure_prev = self._raw[0].copy()
         p_raw, q_raw = self._raw
         for d in (-1.0, 1.0):
             if np.any(inside & (self.zone == d)):
