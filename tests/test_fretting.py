@@ -262,7 +262,7 @@ def test_concave_seat_fretting(tmp_path):
     (measured -4.9 %: the loop's trapezoids over 20 points a cycle, and the seat's grid has no
     finer cells at the contact's edges), the stick half-width at every turning point within
     0.01 a and at all but one step within 0.02 a (the first step after the first reversal reads
-    0.85 a against 0.99 a: one sample at the earlier stick edge slips on in the old direction)."""
+    0.85 a against 0.99 a: one sample at the earlier stick edge slips)."""
     data = tomllib.loads((EXAMPLE.parents[1] / "cylinder_in_concave_partial_slip.toml").read_text(encoding="utf-8"))
     data["solver"].pop("load_steps")
     data["solver"]["steps_per_unit"] = 4

@@ -332,7 +332,7 @@ class HistoryBandContact(BandContact):
         point slips once its shear reaches the limit; one left at the limit by the last step and
         unloaded since stays stuck (measured: after a reversal, a sample at the last stick edge
         whose mean shear the grid's oscillation put at the margin slipped on in the old direction
-        on 7 of 24 grid positions, that step's stick half-width 0.16 a off)."""
+        on 7 of 25 grids, that step's stick half-width 0.16 a off)."""
         same = [self.zone == z for z in (-1.0, 0.0, 1.0)]
         p_prev = self._zone_mean(self.raw_pressure_prev, same)
         q_prev = self._zone_mean(self.raw_shear_prev, same)
