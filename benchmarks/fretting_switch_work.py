@@ -1,19 +1,21 @@
-"""Where the 2D fretting example's contact terms dissipate beyond Coulomb's friction work, per sample.
+"""Where the 2D fretting example's contact terms dissipate beyond Coulomb's friction work, per point.
 
 The loop's energy per cycle equals the work of the contact's terms (benchmarks/fretting_energy.py).
-This script splits that work over the contact's samples: each step's terms are the sum of the
+This script splits that work over the terms' points: each step's terms are the sum of the
 points' blocks (solver.contact.history_terms.point_blocks), a point's force on the contact dofs is
-k x - load, and each point is given to its nearest sample; the work of a sample over a step is the
-trapezoid 1/2 (F_before + F_after) . (x_after - x_before) of its points' forces (F_before with the
-last step's terms, as the audit's). Each sample of each step of the first complete cycle is put in
-one class by its zone at the last step's end and at this step's end:
+k x - load, and a step's trapezoid 1/2 (F_before + F_after) . (x_after - x_before) (F_before with
+the last step's terms, as the audit's) is split into its two halves, each over the points of its
+own end's terms. Each point of each step of the first complete cycle is put in one class by the
+zone at its chord at the last step's end and at this step's end (the friction work by the zones
+of the samples):
 
 - ``stick``: stuck at both; ``slip``: slipping the same way at both; ``stick->slip``: stuck, then
   slipping; ``slip->stick``: slipping, then stuck; ``reversed``: slipping both ways; ``open``:
   outside the region at either end;
 
 and per class it prints, in J/m over the cycle: the contact terms' work, the friction work as the
-run reports it (the slipping samples' cell-mean shear times their slip increment) and Coulomb's
+run reports it (the Coulomb traction the terms apply at each slipping sample times its slip
+increment) and Coulomb's
 work on the slip alone (the same shear times the slip increment less the change of the tie's
 stretch, (f_t - q) / L_tt: what a point that slides only once its shear reaches mu p dissipates).
 Also the same split by tenths of |x| / a.
@@ -84,7 +86,7 @@ def run(offset, edge_discs: bool = True, points_per_cycle: int = 20) -> dict:
         stretch = self._tie_offset(x, np.where(inside, self._raw[1], 0.0))
         zone = np.where(inside, self.zone, 0.0)
         original(self, x, a, info)
-        rec.append({"x": x.copy(), "F": forces, "ends": (lo, hi), "zones": (self.bounds.copy(), self.values.copy()), "zone": zone, "inside": inside, "q": np.where(inside, q, 0.0),
+        rec.append({"x": x.copy(), "F": forces, "ends": (lo, hi), "zones": (self.bounds.copy(), self.values.copy()), "zone": zone, "inside": inside, "q": np.where(inside, self._raw[1], 0.0),
                     "wt": wt, "stretch": np.where(inside, stretch, 0.0), "loc": self.local(self.samples.s) / a, "s": self.samples.s.copy(),
                     "loc_of": (lambda v, c=self, a=a: c.local(v) / a),
                     "ds": np.gradient(self.samples.s), "work": self.step_work})
@@ -146,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
         r = run(off, not args.without_edge_discs, args.points_per_cycle)
         label = "aligned" if off is None else f"shift {off[0]:g}, {off[1]:g}"
         print(f"{label}: {r['solves']} solves, {r['cpu_s']:.1f} s CPU; first cycle (J/m): loop {r['loop']:.2f}, "
-              f"contact terms {r['contact']:.2f} (split over the samples {r['split_sum']:.2f}), "
+              f"contact terms {r['contact']:.2f} (split over the points {r['split_sum']:.2f}), "
               f"friction work {r['friction']:.2f}")
         print(f"  {'class':12s} {'contact':>9s} {'friction':>9s} {'coulomb':>9s}")
         for name, row in zip(CLASSES, r["table"]):

@@ -5,9 +5,10 @@ cycle unless ``--points-per-cycle``) is solved on its own grid and on grids shif
 coarsest cell). For the first complete cycle it prints, in J/m:
 
 - the loop's area, the work of the contact's terms (the discrete model's dissipation over the
-  cycle, benchmarks/fretting_energy.py) and the friction work (the slipping samples' cell-mean
-  shear times their slip, as the run reports it);
-- the friction work read with the point shear instead of its cell mean, and read cell by cell:
+  cycle, benchmarks/fretting_energy.py) and the friction work (the Coulomb traction the terms
+  apply at each slipping sample times its slip, as the run reports it);
+- the friction work read with the cell-mean shear instead of the point traction (as the run
+  read it before), and read cell by cell:
   per finest cell between the grids' lines, the integral of the slipping samples' point shear
   (the cell's friction force, free of the point traction's oscillation within the cell) times
   their mean slip (a diagnostic; the run reports the first reading);
@@ -135,16 +136,16 @@ def run(offset: list[float] | None, spacing: float | None = None, band_fraction:
     steps = list(range(len(r["t"]) - len(records), len(r["t"])))  # the steps that ran end_step
     by_step = dict(zip(steps, records))
     i, j = cycles_of(r["q"])[0]
-    mean_bins, point_work, cell_work = np.zeros(len(BINS) - 1), 0.0, 0.0
+    point_bins, mean_work, cell_work = np.zeros(len(BINS) - 1), 0.0, 0.0
     for k in range(i + 1, j + 1):
         loc, zone, dw, q_mean, q_point, _, ds, cw = by_step[k]
         cell_work += cw
         slip = zone != 0.0
         b = np.clip(np.digitize(np.abs(loc), BINS) - 1, 0, len(BINS) - 2)
-        np.add.at(mean_bins, b[slip], (-q_mean * dw * ds)[slip])
-        point_work += float(-np.sum((q_point * dw * ds)[slip]))
+        np.add.at(point_bins, b[slip], (-q_point * dw * ds)[slip])
+        mean_work += float(-np.sum((q_mean * dw * ds)[slip]))
     friction = float(r["friction"][i + 1:j + 1].sum())
-    assert abs(mean_bins.sum() - friction) <= 1e-6 * abs(friction), "profiles not aligned with the steps"
+    assert abs(point_bins.sum() - friction) <= 1e-6 * abs(friction), "profiles not aligned with the steps"
     n = float(np.mean(r["normal"][i:j + 1]))
     q_star = 0.5 * (abs(r["q"][i:j + 1].max()) + abs(r["q"][i:j + 1].min()))
     e_star = effective_modulus(2.0e11, 0.3, 2.0e11, 0.3)  # both bodies steel
@@ -153,8 +154,8 @@ def run(offset: list[float] | None, spacing: float | None = None, band_fraction:
     a = math.sqrt(4.0 * n / (math.pi * e_star))
     edge = (loc > EDGE[0]) & (loc <= EDGE[1])
     return {"cpu_s": cpu, "solves": r["solves"], "loop": abs(loop_energy(r["q"], r["delta"], i, j)),
-            "contact": abs(r["contact"][i:j].sum()), "friction": friction, "point_work": point_work, "cell_work": cell_work,
-            "bins": mean_bins, "excess": np.abs(r["contact"][i:j]) - r["friction"][i + 1:j + 1], "t": r["t"][i + 1:j + 1], "theory": theory, "edge_x": loc[edge][::4], "edge_p": p[edge][::4] * math.pi * a / (2.0 * n)}
+            "contact": abs(r["contact"][i:j].sum()), "friction": friction, "mean_work": mean_work, "cell_work": cell_work,
+            "bins": point_bins, "excess": np.abs(r["contact"][i:j]) - r["friction"][i + 1:j + 1], "t": r["t"][i + 1:j + 1], "theory": theory, "edge_x": loc[edge][::4], "edge_p": p[edge][::4] * math.pi * a / (2.0 * n)}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -174,8 +175,8 @@ def main(argv: list[str] | None = None) -> int:
         r = run(off, args.spacing, args.band_fraction, args.edge_ring, args.points_per_cycle, not args.without_edge_discs)
         label = "aligned" if off is None else f"shift {off[0]:g}, {off[1]:g}"
         print(f"{label}: {r['solves']} solves, {r['cpu_s']:.1f} s CPU; first cycle (J/m): loop {r['loop']:.2f}, "
-              f"contact terms {r['contact']:.2f}, friction work {r['friction']:.2f} (point shear: "
-              f"{r['point_work']:.2f}, cell by cell: {r['cell_work']:.2f}), closed form {r['theory'].sum():.2f}")
+              f"contact terms {r['contact']:.2f}, friction work {r['friction']:.2f} (cell-mean shear: "
+              f"{r['mean_work']:.2f}, cell by cell: {r['cell_work']:.2f}), closed form {r['theory'].sum():.2f}")
         print("  friction work by |x|/a tenths: " + " ".join(f"{v:.1f}" for v in r["bins"][5:]) + "  (0.5 to 1.0)")
         print("  closed form by |x|/a tenths:   " + " ".join(f"{v:.1f}" for v in r["theory"][5:]))
         print("  contact terms' work less friction work per step, t = "
