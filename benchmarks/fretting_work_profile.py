@@ -5,9 +5,10 @@ cycle unless ``--points-per-cycle``) is solved on its own grid and on grids shif
 coarsest cell). For the first complete cycle it prints, in J/m:
 
 - the loop's area, the work of the contact's terms (the discrete model's dissipation over the
-  cycle, benchmarks/fretting_energy.py) and the friction work (the slipping samples' cell-mean
-  shear times their slip, as the run reports it);
-- the friction work read with the point shear instead of its cell mean, and read cell by cell:
+  cycle, benchmarks/fretting_energy.py) and the friction work (the Coulomb traction the terms
+  apply at each slipping sample times its slip, as the run reports it);
+- the friction work read with the cell-mean shear instead of the point traction (as the run
+  read it before), and read cell by cell:
   per finest cell between the grids' lines, the integral of the slipping samples' point shear
   (the cell's friction force, free of the point traction's oscillation within the cell) times
   their mean slip (a diagnostic; the run reports the first reading);
@@ -23,13 +24,15 @@ coarsest cell). For the first complete cycle it prints, in J/m:
     .venv/bin/python benchmarks/fretting_work_profile.py                     # aligned, 0.4 h across, 0.4 h along
     .venv/bin/python benchmarks/fretting_work_profile.py --offsets 0.37 0.21
     .venv/bin/python benchmarks/fretting_work_profile.py --spacing 0.015625 --band-fraction 0.125
-    .venv/bin/python benchmarks/fretting_work_profile.py --edge-ring
+    .venv/bin/python benchmarks/fretting_work_profile.py --without-edge-discs --edge-ring
 
-``--edge-ring`` refines both bodies one level more in discs of radius 0.15 a about x = +-0.92 a
-on the contact line (a = 0.03337 m, the example's half-width): cells half as large from 0.77 a
-to 1.07 a.
+The example's grid has cells half as large in discs about the contact's edges (0.58 a to 1.08 a,
+a = 0.03337 m its half-width); ``--without-edge-discs`` removes them (the grid of the measurements
+before they were added), and ``--edge-ring`` refines both bodies one level more than the finest
+in discs of radius 0.15 a about x = +-0.92 a (with ``--without-edge-discs``: cells half as large
+from 0.77 a to 1.07 a, the ring first tried).
 
-Each run takes about 4 to 5 s of CPU and 0.2 GB; prints only, writes nothing.
+Each run takes about 5 to 7 s of CPU and 0.25 GB; prints only, writes nothing.
 """
 
 from __future__ import annotations
@@ -67,7 +70,7 @@ EXAMPLE_A = 0.03337  # the example's half-width (m): where the edge ring goes
 
 
 def _scene(offset, spacing: float | None, band_fraction: float | None, edge_ring: bool = False,
-           points_per_cycle: int = 20):
+           points_per_cycle: int = 20, edge_discs: bool = True):
     """The example at this grid offset, sample spacing and band fraction (None: the example's)."""
     import tomllib
 
@@ -82,6 +85,9 @@ def _scene(offset, spacing: float | None, band_fraction: float | None, edge_ring
         data["contacts"][0]["sample_spacing"] = spacing
     if band_fraction is not None:
         data["solver"]["band_fraction"] = band_fraction
+    if not edge_discs:  # the example's grid without its finer discs about the contact's edges
+        for body in data["bodies"]:
+            body["refinement"] = [r for r in body["refinement"] if r["around"] == "contact"]
     if edge_ring:
         for body in data["bodies"]:
             levels = max(r["levels"] for r in body["refinement"]) + 1
@@ -104,13 +110,13 @@ def _cell_work(c, dw: np.ndarray, ds: np.ndarray) -> float:
 
 
 def run(offset: list[float] | None, spacing: float | None = None, band_fraction: float | None = None,
-        edge_ring: bool = False, points_per_cycle: int = 20) -> dict:
+        edge_ring: bool = False, points_per_cycle: int = 20, edge_discs: bool = True) -> dict:
     """The example on this grid: its first cycle's energies, by tenths of the half-width."""
     from ibfem.solver.contact import friction_history as fh
     from ibfem.solver.io.fretting_outputs import cycles_of, loop_energy
     from ibfem.solver.reference.theory import effective_modulus
 
-    problem = _scene(offset, spacing, band_fraction, edge_ring, points_per_cycle).problem
+    problem = _scene(offset, spacing, band_fraction, edge_ring, points_per_cycle, edge_discs).problem
     records, original = [], fh.HistoryBandContact.end_step
 
     def recording(self, x, a, info):
@@ -130,16 +136,16 @@ def run(offset: list[float] | None, spacing: float | None = None, band_fraction:
     steps = list(range(len(r["t"]) - len(records), len(r["t"])))  # the steps that ran end_step
     by_step = dict(zip(steps, records))
     i, j = cycles_of(r["q"])[0]
-    mean_bins, point_work, cell_work = np.zeros(len(BINS) - 1), 0.0, 0.0
+    point_bins, mean_work, cell_work = np.zeros(len(BINS) - 1), 0.0, 0.0
     for k in range(i + 1, j + 1):
         loc, zone, dw, q_mean, q_point, _, ds, cw = by_step[k]
         cell_work += cw
         slip = zone != 0.0
         b = np.clip(np.digitize(np.abs(loc), BINS) - 1, 0, len(BINS) - 2)
-        np.add.at(mean_bins, b[slip], (-q_mean * dw * ds)[slip])
-        point_work += float(-np.sum((q_point * dw * ds)[slip]))
+        np.add.at(point_bins, b[slip], (-q_point * dw * ds)[slip])
+        mean_work += float(-np.sum((q_mean * dw * ds)[slip]))
     friction = float(r["friction"][i + 1:j + 1].sum())
-    assert abs(mean_bins.sum() - friction) <= 1e-6 * abs(friction), "profiles not aligned with the steps"
+    assert abs(point_bins.sum() - friction) <= 1e-6 * abs(friction), "profiles not aligned with the steps"
     n = float(np.mean(r["normal"][i:j + 1]))
     q_star = 0.5 * (abs(r["q"][i:j + 1].max()) + abs(r["q"][i:j + 1].min()))
     e_star = effective_modulus(2.0e11, 0.3, 2.0e11, 0.3)  # both bodies steel
@@ -148,8 +154,8 @@ def run(offset: list[float] | None, spacing: float | None = None, band_fraction:
     a = math.sqrt(4.0 * n / (math.pi * e_star))
     edge = (loc > EDGE[0]) & (loc <= EDGE[1])
     return {"cpu_s": cpu, "solves": r["solves"], "loop": abs(loop_energy(r["q"], r["delta"], i, j)),
-            "contact": abs(r["contact"][i:j].sum()), "friction": friction, "point_work": point_work, "cell_work": cell_work,
-            "bins": mean_bins, "excess": np.abs(r["contact"][i:j]) - r["friction"][i + 1:j + 1], "t": r["t"][i + 1:j + 1], "theory": theory, "edge_x": loc[edge][::4], "edge_p": p[edge][::4] * math.pi * a / (2.0 * n)}
+            "contact": abs(r["contact"][i:j].sum()), "friction": friction, "mean_work": mean_work, "cell_work": cell_work,
+            "bins": point_bins, "excess": np.abs(r["contact"][i:j]) - r["friction"][i + 1:j + 1], "t": r["t"][i + 1:j + 1], "theory": theory, "edge_x": loc[edge][::4], "edge_p": p[edge][::4] * math.pi * a / (2.0 * n)}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -160,15 +166,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--band-fraction", type=float, default=None)
     ap.add_argument("--points-per-cycle", type=int, default=20)
     ap.add_argument("--edge-ring", action="store_true", help="one level more about the contact's edges")
+    ap.add_argument("--without-edge-discs", action="store_true",
+                    help="the example's grid without its finer discs about the contact's edges")
     args = ap.parse_args(argv)
     if len(args.offsets) % 2:
         ap.error("--offsets takes pairs")
     for off in [None] + [args.offsets[k:k + 2] for k in range(0, len(args.offsets), 2)]:
-        r = run(off, args.spacing, args.band_fraction, args.edge_ring, args.points_per_cycle)
+        r = run(off, args.spacing, args.band_fraction, args.edge_ring, args.points_per_cycle, not args.without_edge_discs)
         label = "aligned" if off is None else f"shift {off[0]:g}, {off[1]:g}"
         print(f"{label}: {r['solves']} solves, {r['cpu_s']:.1f} s CPU; first cycle (J/m): loop {r['loop']:.2f}, "
-              f"contact terms {r['contact']:.2f}, friction work {r['friction']:.2f} (point shear: "
-              f"{r['point_work']:.2f}, cell by cell: {r['cell_work']:.2f}), closed form {r['theory'].sum():.2f}")
+              f"contact terms {r['contact']:.2f}, friction work {r['friction']:.2f} (cell-mean shear: "
+              f"{r['mean_work']:.2f}, cell by cell: {r['cell_work']:.2f}), closed form {r['theory'].sum():.2f}")
         print("  friction work by |x|/a tenths: " + " ".join(f"{v:.1f}" for v in r["bins"][5:]) + "  (0.5 to 1.0)")
         print("  closed form by |x|/a tenths:   " + " ".join(f"{v:.1f}" for v in r["theory"][5:]))
         print("  contact terms' work less friction work per step, t = "

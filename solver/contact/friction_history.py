@@ -91,6 +91,7 @@ class HistoryBandContact(BandContact):
     step_work: float = 0.0  # friction work of the last step (J/m), from the local tractions and slips
     shear_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # mean shear at the last step's end
     raw_shear_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # point shear at the last step's end
+    raw_pressure_prev: np.ndarray = field(default_factory=lambda: np.zeros(0))  # point pressure at the last step's end
     zone_changes: int = 0
     refinements: int = 0  # secant steps of the boundaries in the current step
     unsettled_steps: list = field(default_factory=list)  # steps whose boundaries stopped at MAX_REFINEMENTS
@@ -120,6 +121,7 @@ class HistoryBandContact(BandContact):
         self.step_increment = np.zeros(n)
         self.shear_prev = np.zeros(n)
         self.raw_shear_prev = np.zeros(n)
+        self.raw_pressure_prev = np.zeros(n)
         self.stick_ratio = 1.0
         self.slip_sign = 0.0
 
@@ -141,13 +143,31 @@ class HistoryBandContact(BandContact):
         self.values = np.concatenate([zone[:1], zone[change + 1]])
         self.zone = zone
 
+    def region_zone(self, s: np.ndarray, a: float) -> np.ndarray:
+        """The zone at chords s of the region of half-width a: zone_at, except between the outermost
+        samples in the region and the region's ends, which take those samples' zones. The zones'
+        boundary beside the last sample in the region lies half-way to the first one outside it
+        (whose zone is none); a stretch of up to half a sample's spacing at the region's end would
+        otherwise be tied to the reference jump of a point outside the region, set anew at every
+        step, while the edge beside it slips (measured on the example: 17 J/m of the 363 J/m a
+        cycle dissipates, in the outermost 0.5 % of the half-width, the share moving with the
+        region's end among the samples)."""
+        s = np.asarray(s, dtype=float)
+        zone = self.zone_at(s)
+        ks = self.samples.s
+        inside = np.flatnonzero(np.abs(self.local(ks)) <= a)
+        if len(inside) and len(self.zone) == len(ks):
+            first, last = inside[0], inside[-1]
+            zone = np.where(s > ks[last], self.zone[last], np.where(s < ks[first], self.zone[first], zone))
+        return zone
+
     def tied_mask(self, s: np.ndarray, a: float) -> np.ndarray:
-        return self.zone_at(s) == 0.0
+        return self.region_zone(s, a) == 0.0
 
     def slip_signs(self, s: np.ndarray, a: float) -> np.ndarray:
         s = np.asarray(s, dtype=float)
         inside = np.abs(self.local(s)) <= a
-        return np.where(inside, self.zone_at(s), 0.0)
+        return np.where(inside, self.region_zone(s, a), 0.0)
 
     def zone_breakpoints(self, a: float) -> list[float]:
         return self.bounds.tolist()
@@ -288,6 +308,7 @@ class HistoryBandContact(BandContact):
         scale = max(float(np.abs(dw[inside]).max()) if inside.any() else 0.0, floor, 1e-300)
         back = (zone != 0.0) & (dw * zone < -REVERSAL_MARGIN * scale)
         over &= ~self.settled_stuck  # stuck again twice in this step: it stays stuck
+        over &= self._excess_grew(p, q)
         zone[over] = -np.sign(q[over])
         zone[back] = 0.0
         self.settled_stuck |= back & self.restuck
@@ -303,6 +324,20 @@ class HistoryBandContact(BandContact):
             self.refining = True
             return self._refine_bounds(x, a)
         return False
+
+    def _excess_grew(self, p: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """Whether each sample's excess of the mean shear over Coulomb's limit, |q| - mu p, grew
+        since the last step's end, both read as cell means over the samples of the current
+        zones (the last step's point tractions averaged like the current ones). Coulomb: a stuck
+        point slips once its shear reaches the limit; one left at the limit by the last step and
+        unloaded since stays stuck (measured: after a reversal, a sample at the last stick edge
+        whose mean shear the grid's oscillation put at the margin slipped on in the old direction
+        on 7 of 25 grids, that step's stick half-width 0.16 a off)."""
+        same = [self.zone == z for z in (-1.0, 0.0, 1.0)]
+        p_prev = self._zone_mean(self.raw_pressure_prev, same)
+        q_prev = self._zone_mean(self.raw_shear_prev, same)
+        mu = self.friction
+        return np.abs(q) - mu * p > np.abs(q_prev) - mu * p_prev
 
     def _refine_bounds(self, x: np.ndarray, a: float) -> bool:
         """Move each stick/slip boundary to the root of its edge singularity (secant steps); True
@@ -458,8 +493,12 @@ class HistoryBandContact(BandContact):
         dw = np.where(self.zone != 0.0, wt - self.w_prev, 0.0)
         ds = np.gradient(self.samples.s)
         # friction work: -int q dw ds over the slipping points (positive: dissipated), q the step's
-        # end shear, Coulomb's limit while slipping (a point slips once its shear reached it)
-        self.step_work = float(-np.sum(q * dw * ds))
+        # end shear at the point, the Coulomb traction -sign mu p the terms apply there (a point
+        # slips once its shear reached it). Not its cell mean: the mean over one cell, truncated at
+        # the region's edge, weights the edge's slip with the pressure further in (measured on the
+        # example: +1.1 % to +4.3 % of the closed form across grid positions, the point traction
+        # -0.7 % to +1.2 %)
+        self.step_work = float(-np.sum(self._raw[1] * dw * ds))
         self.accumulated_slip = self.accumulated_slip + np.abs(dw)
         self.last_direction = np.where(self.zone != 0.0, self.zone, self.last_direction)
         self.step_increment = dw
@@ -471,6 +510,7 @@ class HistoryBandContact(BandContact):
         self.w_ref = np.where(free, wt - self._tie_offset(x, np.where(inside, self._raw[1], 0.0)), self.w_ref)
         self.shear_prev = np.where(inside, q, 0.0)
         self.raw_shear_prev = self._raw[1].copy()
+        self.raw_pressure_prev = self._raw[0].copy()
         p_raw, q_raw = self._raw
         for d in (-1.0, 1.0):
             if np.any(inside & (self.zone == d)):

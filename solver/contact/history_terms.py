@@ -25,7 +25,7 @@ from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor
 from .band import contact_operators, tangents, zone_projector
 from .geometry import _parameters_at_s, match_points
 
-__all__ = ["RegionPieces", "history_terms"]
+__all__ = ["RegionPieces", "history_terms", "point_blocks"]
 
 #: the per-point fields of contact points (concatenated and split by the region's pieces)
 POINT_FIELDS = ("s", "x1", "n1", "x2", "n2", "delta", "weights")
@@ -122,12 +122,27 @@ class RegionPieces:
 
 def history_terms(c, a: float):
     """Contact stiffness (sparse m x m), load (m,) and the quadrature data (``info``) of a history
-    contact at half-width a: the thin-band terms (consistency 1) of every point with its projector
-    (tied in the stick zone, the normal where slipping) and, where slipping, Coulomb's traction
-    -sign mu p t_c on body 1 with p linear in the contact dofs (the non-symmetric friction block)."""
+    contact at half-width a: the sums of the points' blocks (point_blocks)."""
     m = len(c.dofs)
     if a <= 0.0:
         return sp.csr_matrix((m, m)), np.zeros(m), None
+    k, load, rows, info = point_blocks(c, a)
+    cols = rows.cols
+    kk = cols.shape[1]
+    kc = sp.csr_matrix((k.ravel(), (np.repeat(cols, kk, axis=1).ravel(), np.tile(cols, (1, kk)).ravel())),
+                       shape=(m, m))
+    fc = np.bincount(cols.ravel(), weights=load.ravel(), minlength=m)
+    return kc, fc, info
+
+
+def point_blocks(c, a: float):
+    """The terms of a history contact at half-width a (> 0) point by point: stiffness blocks k
+    (q, k, k) and loads (q, k) over each point's dofs (``rows.cols``), the LocalRows and the
+    quadrature data (``info`` of history_terms). The thin-band terms (consistency 1) of every point
+    with its projector (tied in the stick zone, the normal where slipping) and, where slipping,
+    Coulomb's traction -sign mu p t_c on body 1 with p linear in the contact dofs (the
+    non-symmetric friction block). A point's force on the contact dofs is k x[cols] - load."""
+    m = len(c.dofs)
     raw, rows, size = c.region_pieces.points(a, c.bounds)
     pts = c.with_offset(raw)
     nrm, w = pts.normal, pts.weights
@@ -153,11 +168,6 @@ def history_terms(c, a: float):
         ws = np.where(slip, w, 0.0)
         k = k - ws[:, None, None] * g[:, :, None] * r[:, None, :]
         load = load + (ws * b)[:, None] * g
-    cols = rows.cols
-    kk = cols.shape[1]
-    kc = sp.csr_matrix((k.ravel(), (np.repeat(cols, kk, axis=1).ravel(), np.tile(cols, (1, kk)).ravel())),
-                       shape=(m, m))
-    fc = np.bincount(cols.ravel(), weights=load.ravel(), minlength=m)
     e_q, f_q = rows.sparse(e, m), rows.sparse(f, m)
     bp = BoundaryPoints(pts.x1, w, nrm, size, e_q, f_q)
-    return kc, fc, (pts, bp, proj, e_q, f_q, size)
+    return k, load, rows, (pts, bp, proj, e_q, f_q, size)
