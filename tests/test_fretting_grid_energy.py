@@ -6,8 +6,8 @@ and normal force).
 The grids moved by 0.4 of the finest cell along the contact and along its normal, and by (0.1,
 0.4) and (-0.3, 0.4) coarsest cells (docs/load-paths.md, "The contact's edges in finer cells
 (2D)"): the energy from the friction work within 2 % of the closed form and of the aligned
-grid's; from the loop within 2 % of the aligned grid's and within 4 % of the closed form (the
-loop's trapezoids over 20 points a cycle cut its corners: about 2 % low on this loop)."""
+grid's; from the loop (its branches read by monotone cubics) within 2 % of both: measured -0.08
+to -1.60 % of the closed form and within 1.5 % of the aligned grid on eight grids."""
 
 from __future__ import annotations
 
@@ -45,7 +45,7 @@ def _cycles(tmp_path, offset) -> list[dict]:
 @pytest.mark.slow
 def test_shifted_grids_keep_the_energy_per_cycle(tmp_path):
     (base,) = _cycles(tmp_path, None)
-    assert abs(base["friction_error"]) < 0.02 and abs(base["loop_error"]) < 0.04, base
+    assert abs(base["friction_error"]) < 0.02 and abs(base["loop_error"]) < 0.02, base
     for offset in OFFSETS:
         out = tmp_path / f"shift_{offset[0]}_{offset[1]}"
         out.mkdir()
@@ -53,4 +53,4 @@ def test_shifted_grids_keep_the_energy_per_cycle(tmp_path):
         assert abs(c["friction_error"]) < 0.02, (offset, c)
         assert c["energy_friction"] == pytest.approx(base["energy_friction"], rel=0.02), offset
         assert c["energy_loop"] == pytest.approx(base["energy_loop"], rel=0.02), offset
-        assert abs(c["loop_error"]) < 0.04, (offset, c)
+        assert abs(c["loop_error"]) < 0.02, (offset, c)

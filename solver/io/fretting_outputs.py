@@ -65,10 +65,33 @@ def cycles_of(q: np.ndarray) -> list[tuple[int, int]]:
     return [(turns[i], turns[i + 2]) for i in range(0, len(turns) - 2, 2)]
 
 
+#: Gauss-Legendre points per step of :func:`loop_energy`'s branches (the interpolants are cubic)
+_LOOP_GAUSS = np.polynomial.legendre.leggauss(4)
+
+
 def loop_energy(q: np.ndarray, delta: np.ndarray, first: int, last: int) -> float:
-    """The integral of Q d delta from step ``first`` to ``last`` (trapezoids)."""
-    q, d = np.asarray(q[first:last + 1]), np.asarray(delta[first:last + 1])
-    return float(np.sum(0.5 * (q[1:] + q[:-1]) * np.diff(d)))
+    """The integral of Q d delta from step ``first`` to ``last``, branch by branch: between the
+    steps where Q turns (the loop's corners) Q and delta are each interpolated in the step index
+    by monotone cubics (PCHIP, Fritsch and Carlson 1980) and Q d delta/ds integrated by Gauss;
+    a branch of two steps by its trapezoid. Trapezoids on the whole loop cut the branches'
+    curvature: on Mindlin-Deresiewicz's loop at 20 points a cycle they read 1.0-1.3 % low, this
+    rule within 0.1 % (``tests/test_loop_energy.py``)."""
+    from scipy.interpolate import PchipInterpolator
+
+    q, d = np.asarray(q, dtype=float), np.asarray(delta, dtype=float)
+    turns = [k for k in range(first + 1, last) if (q[k] - q[k - 1]) * (q[k + 1] - q[k]) < 0.0]
+    bounds = [first] + turns + [last]
+    x, w = _LOOP_GAUSS
+    total = 0.0
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        if b - a < 2:
+            total += 0.5 * float((q[b] + q[a]) * (d[b] - d[a]))
+            continue
+        s = np.arange(a, b + 1, dtype=float)
+        force, rate = PchipInterpolator(s, q[a:b + 1]), PchipInterpolator(s, d[a:b + 1]).derivative()
+        points = (s[:-1, None] + 0.5 * (x[None, :] + 1.0)).ravel()
+        total += 0.5 * float(np.sum(np.tile(w, b - a) * force(points) * rate(points)))
+    return total
 
 
 def _faces(problem, contact_bodies: tuple[str, str], faces: dict) -> tuple[str | None, str | None]:
