@@ -37,3 +37,23 @@ def test_growing_part_scales_the_area(x, k):
     energy = _module().implied_energy
     excess = lambda c: k * (1.0 / c - 1.0) / (8.0 * G_STAR * A)  # noqa: E731
     assert energy(x, excess, N, MU, A, G_STAR) == pytest.approx(k, abs=2e-4)
+
+
+@pytest.mark.slow
+def test_stick_circle_tangent_compliance_is_mindlins():
+    """On the fretting example's grid (about 10 s, 0.65 GB): with stick circles of c = 0.94 a and
+    0.888 a imposed (the annulus at Coulomb's traction), the rise of the tangential compliance over
+    the full stick's is Mindlin's (1 / c - 1 / a) / (8 G*) within 0.2 % of 1 / (8 G* c) (measured:
+    0.03 % and 0.07 %; docs/load-paths.md, "The stick circle's compliance and the ties' layer")."""
+    mod = _module()
+    from ibfem.solver.reports.validate_fretting_sphere import amplitude_for
+
+    r = mod.measure([1.0, 0.94, 0.888], amplitude_for(0.3), False)
+    assert r["converged"]
+    g = effective_shear_modulus(r["E"], r["nu"], r["E"], r["nu"])
+    full = r["radii"][0]["compliance"]
+    for v in r["radii"][1:]:
+        assert v["stick_ratio"] == pytest.approx(v["c"], abs=2e-3)
+        rise = v["compliance"] - full
+        mindlin = (1.0 / v["c"] - 1.0) / (8.0 * g * r["a"])
+        assert abs(rise - mindlin) * 8.0 * g * r["a"] * v["c"] < 2e-3
