@@ -274,13 +274,18 @@ class HistoryEllipseContact(EllipseContact):
         normal, delta = pts.normal[idx], pts.delta[idx]
         sub_jump, sub_flux = jump[rows], flux[rows]
         bp = BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx], sub_jump, sub_flux)
-        p_normal, p_tangential = _tie_projectors(normal, sl)
         target = -(delta - np.where(sl[:, None], 0.0, reg.w_ref[idx]))
-        k, f = thin_band_terms(bp, p_normal, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
-        if p_tangential.any():  # the stuck points' tangential tie (its own layer, TANGENTIAL_BAND)
-            k_t, f_t = thin_band_terms(bp, p_tangential, target, self.b1.lam, self.b1.mu,
-                                       TANGENTIAL_BAND * self.band_fraction, 1.0, jump=sub_jump)
-            k, f = k + k_t, f + f_t
+        if TANGENTIAL_BAND == 1.0:  # one layer: a stuck point fixed, a slipping one sliding
+            proj = np.where(sl[:, None, None], projector("sliding", normal), projector("fixed", normal))
+            k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
+        else:  # the normal tie on the contact's layer, the stuck points' tangential one on its own
+            p_normal, p_tangential = _tie_projectors(normal, sl)
+            k, f = thin_band_terms(bp, p_normal, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0,
+                                   jump=sub_jump)
+            if p_tangential.any():
+                k_t, f_t = thin_band_terms(bp, p_tangential, target, self.b1.lam, self.b1.mu,
+                                           TANGENTIAL_BAND * self.band_fraction, 1.0, jump=sub_jump)
+                k, f = k + k_t, f + f_t
         left = np.zeros((m, fit.basis.shape[1]))
         if sl.any():
             g = point_blocks(-self.friction * np.where(sl[:, None], e, 0.0)) @ sub_jump
