@@ -31,6 +31,10 @@ judged on its means over a disc of one cell about each point among points of the
 follow its increment within a step was tried: where the slip is small its increment's direction
 is noise, thousands of points turned at every update and the zones never settled.)
 Zones of any number and direction follow (stick, forward slip, reversed slip); none is assumed.
+A stuck point is tied by the contact's thin band terms; its tangential tie sits on a layer
+``TANGENTIAL_BAND`` times the contact's band (1 by default; measured on the fretting example, the
+loop's energy at Q*/(mu N) = 0.3 hangs on that tie's stiffness: the stuck points of the cells the
+stick circle cuts take a share of the annulus's Coulomb traction that grows with it).
 Every trial is one solve of the condensed system on the contact dofs (the driver's factor of the
 bodies' stiffness and its Schur complement are formed once per run); the region's size is kept
 through a step's zone updates and searched again only where its edge coefficient shows that the
@@ -87,6 +91,9 @@ INCREMENTAL_SHARE = 0.3
 #: update from the 18th to the 30th)
 LATE_UPDATES = 15
 LATE_CHANGE_SHARE = 5e-4
+#: the stuck points' tangential tie is a layer this many times the contact's band (its stiffness
+#: divided by it); the normal tie, and so the normal contact, keeps the contact's band
+TANGENTIAL_BAND = 1.0
 
 
 @dataclass
@@ -111,6 +118,15 @@ class _Region:
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
     return v - np.einsum("qi,qi->q", v, normal)[:, None] * normal
+
+
+def _tie_projectors(normal: np.ndarray, slip: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(normal, tangential) projectors of the ties: every point tied along the normal, the stuck
+    ones also in the tangent plane (their sum is the stuck points' "fixed" projector; the
+    acoustic tensor couples no normal to tangential component, so the two layers add exactly)."""
+    p_normal = projector("sliding", normal)
+    eye = np.broadcast_to(np.eye(normal.shape[1]), p_normal.shape)
+    return p_normal, np.where(slip[:, None, None], 0.0, eye - p_normal)
 
 
 @dataclass
@@ -154,7 +170,7 @@ class HistoryEllipseContact(EllipseContact):
                              f"{np.round(self.semi_axes(a), 6).tolist()} m")
         jump, flux, size = contact_operators(self, pts)
         info = (pts, BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux), None, jump, flux, size, a)
-        layer_t = PENALTY_FACTOR / (self.band_fraction * size) * self.b1.mu
+        layer_t = PENALTY_FACTOR / (TANGENTIAL_BAND * self.band_fraction * size) * self.b1.mu
         radius = 0.5 * MEAN_CELLS * self.options.window * self.h
         tree = cKDTree(pts.s)
         pairs = tree.query_pairs(radius, output_type="ndarray")
@@ -258,9 +274,18 @@ class HistoryEllipseContact(EllipseContact):
         normal, delta = pts.normal[idx], pts.delta[idx]
         sub_jump, sub_flux = jump[rows], flux[rows]
         bp = BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx], sub_jump, sub_flux)
-        proj = np.where(sl[:, None, None], projector("sliding", normal), projector("fixed", normal))
         target = -(delta - np.where(sl[:, None], 0.0, reg.w_ref[idx]))
-        k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
+        if TANGENTIAL_BAND == 1.0:  # one layer: a stuck point fixed, a slipping one sliding
+            proj = np.where(sl[:, None, None], projector("sliding", normal), projector("fixed", normal))
+            k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
+        else:  # the normal tie on the contact's layer, the stuck points' tangential one on its own
+            p_normal, p_tangential = _tie_projectors(normal, sl)
+            k, f = thin_band_terms(bp, p_normal, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0,
+                                   jump=sub_jump)
+            if p_tangential.any():
+                k_t, f_t = thin_band_terms(bp, p_tangential, target, self.b1.lam, self.b1.mu,
+                                           TANGENTIAL_BAND * self.band_fraction, 1.0, jump=sub_jump)
+                k, f = k + k_t, f + f_t
         left = np.zeros((m, fit.basis.shape[1]))
         if sl.any():
             g = point_blocks(-self.friction * np.where(sl[:, None], e, 0.0)) @ sub_jump
@@ -276,7 +301,10 @@ class HistoryEllipseContact(EllipseContact):
         slip, direction = self.zones_at(reg)
         w = (jump @ x).reshape(-1, 3) + pts.delta
         held = w - np.where(slip[:, None], 0.0, reg.w_ref)
-        t1 = -np.einsum("qij,qj->qi", layer_tensor(self, pts.normal, proj, size), held)
+        p_normal, p_tangential = _tie_projectors(pts.normal, slip)
+        layer = layer_tensor(self, pts.normal, p_normal, size) \
+            + layer_tensor(self, pts.normal, p_tangential, size) / TANGENTIAL_BAND
+        t1 = -np.einsum("qij,qj->qi", layer, held)
         t1 = t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
         p = reg.fit.pressure(x)
         t1 = t1 - np.where(slip[:, None], self.friction * p[:, None] * direction, 0.0)

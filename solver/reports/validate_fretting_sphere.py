@@ -37,7 +37,10 @@ prints the tables and writes ``validation_sphere.json`` and ``fretting_sphere.md
 ``--edge-ring`` refines it once more in a ring about the contact's edge only (0.81 a to 1.03 a);
 ``--closed-form-zones`` imposes Mindlin and Deresiewicz's zones for the solved forces instead of
 Coulomb's rule (``ClosedFormZones``), which separates the zone rule's error from the
-discretisation's; ``--cycles`` sets the run's length.
+discretisation's; ``--tangential-band F`` puts the stuck points' tangential tie on a layer F times
+the contact's band (``friction_history3d.TANGENTIAL_BAND``, 1 by default: the loop's energy at
+small amplitudes hangs on that tie's stiffness, docs/load-paths.md); ``--cycles`` sets the run's
+length.
 """
 
 from __future__ import annotations
@@ -246,11 +249,14 @@ def edge_ring_balls(levels: int) -> list[dict]:
 
 
 def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle: int = 20, grid_offset=None,
-             refinement_levels: int | None = None, closed_form_zones: bool = False, edge_ring: bool = False) -> dict:
+             refinement_levels: int | None = None, closed_form_zones: bool = False, edge_ring: bool = False,
+             tangential_band: float | None = None) -> dict:
     """Run the example at a tangential amplitude (its grids shifted by ``grid_offset``, refined
     ``refinement_levels`` times about the contact, one level more about its edge with
-    ``edge_ring``; with the closed form's zones imposed when ``closed_form_zones``); its
-    comparison (with the run's timings)."""
+    ``edge_ring``; with the closed form's zones imposed when ``closed_form_zones``; the stuck
+    points' tangential tie on a layer ``tangential_band`` times the contact's band when given);
+    its comparison (with the run's timings)."""
+    from ..contact import friction_history3d
     from ..contact.friction_history3d import HistoryEllipseContact
     from ..io.output import write_scene_results
     from ..io.scene import scene_from_dict
@@ -258,11 +264,16 @@ def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle:
 
     sc = scene_from_dict(scene_data(amplitude, cycles, points_per_cycle, grid_offset, refinement_levels, edge_ring),
                          label=str(EXAMPLE), base_dir=EXAMPLE.parent)
+    if tangential_band is not None and not tangential_band > 0.0:
+        raise ValueError(f"tangential_band must be > 0, got {tangential_band}")
     HistoryEllipseContact.zone_rule = ClosedFormZones() if closed_form_zones else None
+    band = friction_history3d.TANGENTIAL_BAND
+    friction_history3d.TANGENTIAL_BAND = band if tangential_band is None else float(tangential_band)
     try:
         solution = solve(sc.problem)
     finally:
         HistoryEllipseContact.zone_rule = None
+        friction_history3d.TANGENTIAL_BAND = band
     out.mkdir(parents=True, exist_ok=True)
     summary = write_scene_results(out, sc, solution)
     hysteresis = np.loadtxt(out / "hysteresis_0.csv", delimiter=",", skiprows=1)
@@ -344,13 +355,19 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--closed-form-zones", action="store_true",
                     help="impose Mindlin and Deresiewicz's zones for the solved forces instead of Coulomb's rule "
                          "(a diagnostic: the remaining error is the discretisation's)")
+    ap.add_argument("--tangential-band", type=float, default=None,
+                    help="the stuck points' tangential tie on a layer this many times the contact's band "
+                         "(friction_history3d.TANGENTIAL_BAND, 1 by default)")
     args = ap.parse_args(argv)
+    if args.tangential_band is not None and not args.tangential_band > 0.0:
+        ap.error(f"--tangential-band must be > 0, got {args.tangential_band}")
     out = Path(args.out)
     results = []
     for ratio in args.ratios:
         r = run_case(amplitude_for(ratio), out / f"ratio_{ratio:g}", cycles=args.cycles,
                      points_per_cycle=args.points_per_cycle, refinement_levels=args.refinement_levels,
-                     closed_form_zones=args.closed_form_zones, edge_ring=args.edge_ring)
+                     closed_form_zones=args.closed_form_zones, edge_ring=args.edge_ring,
+                     tangential_band=args.tangential_band)
         results.append(r)
         print(f"Q*/(mu N) ~ {ratio:g}: {r['solves']} solves, converged {r['converged']}")
         for s in r["steps"]:
