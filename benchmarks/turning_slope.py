@@ -13,7 +13,7 @@ cells (solver.contact.follow.TURNING_REACH_CELLS, 1 in the code):
 
 ``--side R W`` (after ``--reach`` if both) sets the thinner balls one level finer along the
 straight sides: reaching R coarse cells beyond the coarse edge and W finer cells inside it
-(solver.contact.follow.SIDE_REACH_CELLS, SIDE_WINDOW_CELLS: 0.5 and 2 in the code, used where the
+(solver.contact.follow.SIDE_REACH_CELLS, SIDE_WINDOW_CELLS: 0.25 and 2 in the code, used where the
 band's cells resolve the half-width with fewer than SIDE_MIN_CELLS); ``--side none`` leaves them
 out (the rule before them):
 

@@ -47,7 +47,7 @@ TURNING_REACH_CELLS = 1.0
 #: SIDE_MIN_CELLS (the plane-strain section's width is 2.8 % short on 3.6 cells per half-width,
 #: 1.0 % on 7.4: docs/contact-3d.md): how far beyond the coarse edge they reach, in coarse cells,
 #: and how far inside it, in the finer cells; SIDE_REACH_CELLS None: no such balls
-SIDE_REACH_CELLS: float | None = 0.5
+SIDE_REACH_CELLS: float | None = 0.25
 SIDE_WINDOW_CELLS = 2.0
 SIDE_MIN_CELLS = 6.0
 #: a coarse region whose half-width spans fewer of its cells is not resolved: its edge, and so the
