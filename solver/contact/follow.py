@@ -11,7 +11,9 @@ the contact point) whose bodies refine around the contact, the solve runs twice:
    along the region (solver.contact.region_band: centred on the line through the contact point
    every band radius over the region's extent along it, of radius the region's half-width plus a
    margin of one coarse cell), and balls one level finer about the region's smooth edge where it
-   turns away from the line (its half-width changes fastest: a crowned roller's ends).
+   turns away from the line (its half-width changes fastest: a crowned roller's ends), and
+   thinner balls one level finer along the rest of the smooth edge (the straight sides) where the
+   band's cells resolve the half-width with fewer than SIDE_MIN_CELLS.
 
 Point contacts (ellipses) are solved as the scene says: their ball already fits the region.
 """

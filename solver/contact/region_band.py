@@ -13,6 +13,9 @@ pass's region (a contact block of summary.json: its point, axes and boundary pol
   edges and next to them (within the margin) is left out: there the region ends at the body's
   corner (complete contact), its width does not follow the pressure, and the pressure is
   singular, so finer cells there only raise the end's peak.
+- **Along the straight sides** (side_balls): thinner balls one level finer on the rest of the
+  smooth edge, away from the free edges, where the band's cells are too coarse for the width
+  (the caller decides where).
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ import math
 
 import numpy as np
 
-__all__ = ["TURNING_SLOPE", "band_balls", "turning_balls", "region_edge", "turning_stretches"]
+__all__ = ["TURNING_SLOPE", "band_balls", "turning_balls", "side_balls", "region_edge", "turning_stretches"]
 
 #: the smooth edge's slope to the line (the half-width's change per unit length) beyond which the
 #: region's edge is refined one level more (tan 14 degrees)
