@@ -10,6 +10,14 @@ with the default's (for the crowned roller: benchmarks/crowned_roller_halfspace.
 cells (solver.contact.follow.TURNING_REACH_CELLS, 1 in the code):
 
     python benchmarks/turning_slope.py 0.25 --reach 0.5 examples/contact3d/tilted_roller.toml --out OUT
+
+``--side R W`` (after ``--reach`` if both) sets the thinner balls one level finer along the
+straight sides: reaching R coarse cells beyond the coarse edge and W finer cells inside it
+(solver.contact.follow.SIDE_REACH_CELLS, SIDE_WINDOW_CELLS: 0.25 and 2 in the code, used where the
+band's cells resolve the half-width with fewer than SIDE_MIN_CELLS); ``--side none`` leaves them
+out (the rule before them):
+
+    python benchmarks/turning_slope.py 0.25 --side none examples/contact3d/crowned_roller.toml --out OUT
 """
 
 from __future__ import annotations
@@ -29,9 +37,15 @@ def main(argv: list[str]) -> int:
     rest = argv[1:]
     if rest[:1] == ["--reach"]:
         follow.TURNING_REACH_CELLS, rest = float(rest[1]), rest[2:]
+    if rest[:1] == ["--side"]:
+        if rest[1] == "none":
+            follow.SIDE_REACH_CELLS, rest = None, rest[2:]
+        else:
+            follow.SIDE_REACH_CELLS, follow.SIDE_WINDOW_CELLS, rest = float(rest[1]), float(rest[2]), rest[3:]
     code = cli(["run", *rest])
     usage = resource.getrusage(resource.RUSAGE_SELF)
-    print(f"turning slope {region_band.TURNING_SLOPE}, reach {follow.TURNING_REACH_CELLS} coarse cells: CPU {usage.ru_utime + usage.ru_stime:.1f} s, "
+    print(f"turning slope {region_band.TURNING_SLOPE}, reach {follow.TURNING_REACH_CELLS} coarse cells, "
+          f"sides {follow.SIDE_REACH_CELLS} coarse + {follow.SIDE_WINDOW_CELLS} finer cells: CPU {usage.ru_utime + usage.ru_stime:.1f} s, "
           f"peak {usage.ru_maxrss / 1024**2:.2f} GB")
     return code
 

@@ -19,7 +19,7 @@ from scipy.optimize import brentq
 
 from ibfem.solver.contact import follow
 from ibfem.solver.contact.star_region import EDGE_WINDOW_CELLS
-from ibfem.solver.contact.region_band import TURNING_SLOPE, band_balls, turning_balls, turning_stretches
+from ibfem.solver.contact.region_band import TURNING_SLOPE, band_balls, side_balls, turning_balls, turning_stretches
 from ibfem.solver.io.scene import scene_from_dict
 
 A, B, MARGIN = 0.08, 0.024, 0.0125
@@ -84,6 +84,28 @@ def test_a_straight_side_ending_at_a_free_edge_is_not_refined_further():
     assert a == pytest.approx(0.098 - MARGIN) and b == pytest.approx(0.1 + MARGIN)
 
 
+def test_the_sides_balls_cover_the_smooth_edge_outside_the_turning_stretches():
+    """On the superellipse's quarter the side balls lie on the edge from mid-length to where the
+    turning stretch starts, covering it to half their radius; on a straight roller's region they
+    keep a margin from the free edge."""
+    block = _quarter_block(_superellipse())
+    (a, _, _), = turning_stretches(block, MARGIN)
+    centres, radius = side_balls(block, MARGIN, 0.01)
+    assert radius == 0.01 and len(centres)
+    np.testing.assert_allclose((centres[:, 0] / A) ** 4 + (centres[:, 1] / B) ** 4, 1.0, atol=1e-9)
+    assert centres[:, 0].max() < a
+    edge = _superellipse(4000)
+    edge = edge[edge[:, 0] < a - 0.5e-3]
+    gap = np.hypot(*(edge[:, None, :] - centres[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+    assert gap.max() <= 0.5 * radius + 5e-4
+    end = np.column_stack([np.full(12, 0.1), np.linspace(0.0, 0.022, 12)])
+    side = np.column_stack([np.linspace(0.098, 0.0, 60), np.full(60, 0.024)])
+    free = np.concatenate([np.ones(12, bool), np.zeros(len(side), bool)])
+    centres, _ = side_balls(_quarter_block(np.vstack([end, side]), free), MARGIN, 0.01)
+    assert np.allclose(centres[:, 1], 0.024) and centres[:, 0].max() < 0.1 - MARGIN
+    assert centres[:, 0].min() <= 0.005
+
+
 def _stand_in(converged: bool, cells: float):
     block = _quarter_block(_superellipse())
     block["cells_per_semi_axis"] = [cells * A / B, cells]
@@ -141,3 +163,14 @@ def test_an_elongated_contact_reaching_a_free_end_is_followed_and_its_turning_ed
     window = EDGE_WINDOW_CELLS * 0.5 * fine
     assert record["roller"]["finer"][0]["radius"] == pytest.approx(follow.TURNING_REACH_CELLS * coarse + window, rel=1e-12)
     assert record["roller"]["radius"] == pytest.approx(B + coarse, rel=1e-9)  # the band: a whole cell
+    # the band's cells resolve the half-width with fewer than SIDE_MIN_CELLS: its straight sides
+    # get thinner balls one level finer (SIDE_REACH_CELLS coarse cells beyond the edge, plus
+    # SIDE_WINDOW_CELLS of the finer cells), none where the half-width spans more band cells
+    if follow.SIDE_REACH_CELLS is not None:
+        assert B < follow.SIDE_MIN_CELLS * fine
+        side = record["roller"]["finer"][-1]
+        assert side["radius"] == pytest.approx(follow.SIDE_REACH_CELLS * coarse + follow.SIDE_WINDOW_CELLS * 0.5 * fine)
+        assert max(x for x, _, _ in side["centres"]) < turning_stretches(block, coarse)[0][0]
+        wide = _quarter_block(_superellipse() * np.array([1.0, follow.SIDE_MIN_CELLS * fine / B * 1.01]))
+        _, wide_record = follow.band_problem(problem, [0], [wide], 1)
+        assert len(wide_record["roller"]["finer"]) == len(turning_balls(wide, coarse, window))

@@ -11,7 +11,9 @@ the contact point) whose bodies refine around the contact, the solve runs twice:
    along the region (solver.contact.region_band: centred on the line through the contact point
    every band radius over the region's extent along it, of radius the region's half-width plus a
    margin of one coarse cell), and balls one level finer about the region's smooth edge where it
-   turns away from the line (its half-width changes fastest: a crowned roller's ends).
+   turns away from the line (its half-width changes fastest: a crowned roller's ends), and
+   thinner balls one level finer along the rest of the smooth edge (the straight sides) where the
+   band's cells resolve the half-width with fewer than SIDE_MIN_CELLS.
 
 Point contacts (ellipses) are solved as the scene says: their ball already fits the region.
 """
@@ -26,7 +28,7 @@ import numpy as np
 from ..model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .ellipse import is_line_contact
 from .ellipse_geometry import contact_frame_3d, sectors
-from .region_band import band_balls, turning_balls
+from .region_band import band_balls, side_balls, turning_balls
 from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
 __all__ = ["solve_following", "line_contacts", "finest_contact_cell", "coarse_problem", "coarse_pass",
@@ -42,6 +44,14 @@ MARGIN_CELLS = 1.0
 #: crowned and tilted rollers) fits the tilted roller's fine pass in 2.42 GB, but puts the
 #: finer cells' border across its loaded end's peak, 5 % too high (docs/contact-3d.md)
 TURNING_REACH_CELLS = 1.0
+#: balls one level finer along the straight sides too (outside the stretches where the edge
+#: turns), where the band's cells resolve the coarse region's half-width with fewer than
+#: SIDE_MIN_CELLS (the plane-strain section's width is 2.8 % short on 3.6 cells per half-width,
+#: 1.0 % on 7.4: docs/contact-3d.md): how far beyond the coarse edge they reach, in coarse cells,
+#: and how far inside it, in the finer cells; SIDE_REACH_CELLS None: no such balls
+SIDE_REACH_CELLS: float | None = 0.25
+SIDE_WINDOW_CELLS = 2.0
+SIDE_MIN_CELLS = 6.0
 #: a coarse region whose half-width spans fewer of its cells is not resolved: its edge, and so the
 #: band, is not where the region is (a crowned roller on cells as wide as its half-width ended with
 #: its region at the end face, not converged)
@@ -117,6 +127,12 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
         window = EDGE_WINDOW_CELLS * 0.5 * finest_contact_cell(problem, c.bodies)  # the cells one level finer
         reach = TURNING_REACH_CELLS * margin / MARGIN_CELLS
         finer = [(point + s @ axes, r) for s, r in turning_balls(block, margin, window, reach)]
+        cell = finest_contact_cell(problem, c.bodies)
+        if SIDE_REACH_CELLS is not None and radius - margin < SIDE_MIN_CELLS * cell:
+            fine = 0.5 * cell
+            s, r = side_balls(block, margin, SIDE_REACH_CELLS * margin / MARGIN_CELLS + SIDE_WINDOW_CELLS * fine)
+            if len(s):
+                finer.append((point + s @ axes, r))
         for name in c.bodies:
             bands.setdefault(name, []).append((point + along[:, None] * axis, radius, finer))
     record = {}

@@ -13,6 +13,9 @@ pass's region (a contact block of summary.json: its point, axes and boundary pol
   edges and next to them (within the margin) is left out: there the region ends at the body's
   corner (complete contact), its width does not follow the pressure, and the pressure is
   singular, so finer cells there only raise the end's peak.
+- **Along the straight sides** (side_balls): thinner balls one level finer on the rest of the
+  smooth edge, away from the free edges, where the band's cells are too coarse for the width
+  (the caller decides where).
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ import math
 
 import numpy as np
 
-__all__ = ["TURNING_SLOPE", "band_balls", "turning_balls", "region_edge", "turning_stretches"]
+__all__ = ["TURNING_SLOPE", "band_balls", "turning_balls", "side_balls", "region_edge", "turning_stretches"]
 
 #: the smooth edge's slope to the line (the half-width's change per unit length) beyond which the
 #: region's edge is refined one level more (tan 14 degrees)
@@ -103,3 +106,22 @@ def turning_balls(block: dict, margin: float, window: float, reach: float | None
         if centres:
             out.append((np.asarray(centres), radius))
     return out
+
+
+def side_balls(block: dict, margin: float, radius: float) -> tuple[np.ndarray, float]:
+    """(centres (k, 2) in the tangent plane, ``radius``) of balls one level finer along the
+    region's smooth edge outside the stretches where it turns (turning_stretches, widened by
+    ``margin``) and more than ``margin`` from body 1's free edges: the straight sides, centred on
+    the edge's points at most half a radius apart."""
+    xy, smooth, free = region_edge(block)
+    on_edge = smooth | np.roll(smooth, 1)
+    keep = on_edge.copy()
+    for a, b, _ in turning_stretches(block, margin):
+        keep &= ~((xy[:, 0] >= a) & (xy[:, 0] <= b))
+    if free.any():
+        keep &= np.hypot(*(xy[:, None, :] - xy[free][None, :, :]).transpose(2, 0, 1)).min(axis=1) > margin
+    centres: list[np.ndarray] = []
+    for p in xy[keep]:
+        if not centres or np.hypot(*(np.asarray(centres) - p).T).min() > 0.5 * radius:
+            centres.append(p)
+    return np.asarray(centres).reshape(-1, 2), radius
