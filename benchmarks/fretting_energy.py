@@ -84,6 +84,24 @@ def _trapezoids(forces: list, values: list) -> np.ndarray:
     return np.array([0.5 * (forces[i] + forces[i + 1]) @ (values[i + 1] - values[i]) for i in range(len(values) - 1)])
 
 
+def audit_recording(problem, recording) -> tuple[dict, float]:
+    """:func:`audit` with the 2D history contact's ``end_step`` replaced by ``recording`` (called
+    as ``recording(contact, x, a, info)``; it calls the original itself), restored after: (the
+    audit, its CPU seconds)."""
+    import time
+
+    from ibfem.solver.contact import friction_history as fh
+
+    original = fh.HistoryBandContact.end_step
+    fh.HistoryBandContact.end_step = recording
+    cpu = time.process_time()
+    try:
+        r = audit(problem)
+    finally:
+        fh.HistoryBandContact.end_step = original
+    return r, time.process_time() - cpu
+
+
 def audit(problem) -> dict:
     """Per step the energies of the module's docstring (arrays over the steps, the work ones over
     the intervals between steps) and the loop's force and displacement."""

@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -91,13 +90,7 @@ def run(offset, edge_discs: bool = True, points_per_cycle: int = 20) -> dict:
                     "loc_of": (lambda v, c=self, a=a: c.local(v) / a),
                     "ds": np.gradient(self.samples.s), "work": self.step_work})
 
-    fh.HistoryBandContact.end_step = recording
-    cpu = time.process_time()
-    try:
-        r = fretting_energy.audit(problem)
-    finally:
-        fh.HistoryBandContact.end_step = original
-    cpu = time.process_time() - cpu
+    r, cpu = fretting_energy.audit_recording(problem, recording)
     first = len(r["t"]) - len(rec)
     i, j = cycles_of(r["q"])[0]
     bins = BINS

@@ -39,8 +39,6 @@ from .ellipse_geometry import region_points, surface_point
 from .graded_quadrature import leaf_size
 from .region_report import mirror_images
 from .roots import edge_search, settling_tolerance
-from . import section_fit
-from .section_fit import column_fit_moments
 
 __all__ = ["StarRegionContact", "configure_star_region", "free_edge_distance", "knots_inside", "reaches_free_end",
            "section_edges",
@@ -322,9 +320,7 @@ class StarRegionContact(EllipseContact):
             local = self.local(pts.s) / np.array([aa, bb])
             knot_xy = self.edge_points(self.knots)
             area = plane_weights(self, pts)
-            fit = section_fit.SECTION_FIT
-            squares = (pts.s, area, self.edge_cells(self.knots, a)) if fit else None
-            m, w, cover = section_moments(local, area * p, knot_xy, self.whole_boundary(a), across, squares)
+            m, w, cover = section_moments(local, area * p, knot_xy, self.whole_boundary(a), across)
             moment, total, covered = np.where(across, m, moment), np.where(across, w, total), np.where(across, cover, covered)
         self._raw_moments = (moment, total)
         out = np.full(len(self.knots), math.nan)
@@ -651,7 +647,7 @@ def section_edges(boundary: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 def section_moments(local: np.ndarray, wp: np.ndarray, knot_xy: np.ndarray, boundary: np.ndarray,
-                    which: np.ndarray, squares=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                    which: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(moment, pressure, covered) per knot (K,) of the 2D edge condition on the sections across
     the line, for the knots ``which`` (0 elsewhere). Points at (X, Y) = ``local`` (q, 2) carry
     the weighted pressures ``wp`` (pressure times area). A section at the station X runs across
@@ -666,9 +662,7 @@ def section_moments(local: np.ndarray, wp: np.ndarray, knot_xy: np.ndarray, boun
     punch's edge (Q = q0) gives 2/3 of its pressure's integral, as the rays' moment does. A knot
     takes the sections on its side of the line under its hat in X (1 at its edge point's
     station, 0 at its neighbours'): each section is read whole, whatever the pressure does along
-    the line (a crown's peak). With ``squares`` = (the points in the tangent plane (q, 2), their
-    areas (q,), the cell at each knot's edge point (K,)) the moment is read by the fit of the
-    square-root form on merged squares (``section_fit.column_fit_moments``)."""
+    the line (a crown's peak)."""
     X, Y = local[:, 0], local[:, 1]
     lower, upper = section_edges(boundary, X)
     half = 0.5 * (upper - lower)
@@ -684,10 +678,7 @@ def section_moments(local: np.ndarray, wp: np.ndarray, knot_xy: np.ndarray, boun
     hat = np.clip(np.where(d < 0.0, 1.0 + d / (xs[k] - lo), 1.0 - d / (hi - xs[k])), 0.0, None)
     hat *= (t[:, None] * np.sign(knot_xy[None, k, 1])) > 0.0  # the knot's side of the line
     moment, total, covered = np.zeros(len(xs)), np.zeros(len(xs)), np.zeros(len(xs), dtype=bool)
-    if squares is None:
-        moment[k] = (wp * (2.0 / 3.0) * (4.0 * t**2 - 1.0)) @ hat
-    else:
-        moment[k] = column_fit_moments(squares[0], squares[1], wp, t, hat, np.asarray(squares[2])[k])
+    moment[k] = (wp * (2.0 / 3.0) * (4.0 * t**2 - 1.0)) @ hat
     total[k] = wp @ hat
     covered[k] = hat.sum(axis=0) > 0.0
     return moment, total, covered
