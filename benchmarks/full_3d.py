@@ -29,7 +29,9 @@ ranges written on a second thread, the large fronts' rows and the trials' small 
 a block 50 s (71 s), 2.64 GB; the turned pair 62 s (88 s), 2.45 GB. With the trials' terms in
 compiled passes and their LU in single precision (load 1.4-1.7): the turned pair 59-61 s (84-85 s
 CPU), 2.44-2.46 GB; the crossed cylinders 44 s (64 s), 2.26 GB; the ball on a block 48 s (69 s),
-2.65 GB."""
+2.65 GB. With the load steps starting where the last ended and the coarse pass in one step (quiet
+machine, load 0.6-1.6): the turned pair 48-52 s (69-74 s CPU), 2.46 GB, 31 trials; the crossed
+cylinders 44 s, 2.27 GB; the ball on a block 44 s, 2.65 GB, 37 trials."""
 
 from __future__ import annotations
 
