@@ -38,7 +38,7 @@ def register(sub: "argparse._SubParsersAction") -> None:
         "compile",
         help="compile the solver's kernels once (a first large 3D run otherwise spends 7-11 s on it)",
         description="Compile the solver's numba kernels into their on-disk cache by solving two small contact "
-        "scenes (3D and 2D) with every compiled path taken: about 10-20 s once; later runs load the kernels "
+        "scenes (3D and 2D) with every compiled path taken: about 10-30 s once; later runs load the kernels "
         "from the cache. `make` runs it after installing.",
     )
     c.add_argument("--quiet", action="store_true", help="print nothing but errors")

@@ -67,9 +67,10 @@ WARM_SCENES = ((_ball_on_block, True), (_disc_on_block, False))
 def _every_path_settings(streamed: bool) -> list[tuple[object, str, object]]:
     """(owner, attribute, value) of every size threshold between a plain path and a compiled one,
     set so that the compiled one is taken (the multifrontal Cholesky, its factor written to disk
-    in small chunks where ``streamed`` else kept in memory, a front of any size on the thread
-    pool (and runs of smaller ones compiled together), a trial's system in single precision on threads, the order choice, the trailing block
-    of G, the coarse pass that sizes a candidate disc)."""
+    in small chunks where ``streamed`` else kept in memory, fronts of 64 rows or more on the
+    thread pool and runs of smaller ones compiled together, a trial's system in single precision
+    on threads, the order choice, the trailing block of G, the coarse pass that sizes a
+    candidate disc)."""
     from .contact import sizing
     from .fem import linalg, multifrontal, pair_blocks
 

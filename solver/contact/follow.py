@@ -124,12 +124,12 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
         point, axis = np.asarray(block["point"], float), np.asarray(block["axes"], float)[0]
         along, radius = band_balls(block, margin)
         axes = np.asarray(block["axes"], float)[:2]
-        window = EDGE_WINDOW_CELLS * 0.5 * finest_contact_cell(problem, c.bodies)  # the cells one level finer
+        cell = finest_contact_cell(problem, c.bodies)
+        fine = 0.5 * cell  # the cells one level finer
+        window = EDGE_WINDOW_CELLS * fine
         reach = TURNING_REACH_CELLS * margin / MARGIN_CELLS
         finer = [(point + s @ axes, r) for s, r in turning_balls(block, margin, window, reach)]
-        cell = finest_contact_cell(problem, c.bodies)
         if SIDE_REACH_CELLS is not None and radius - margin < SIDE_MIN_CELLS * cell:
-            fine = 0.5 * cell
             s, r = side_balls(block, margin, SIDE_REACH_CELLS * margin / MARGIN_CELLS + SIDE_WINDOW_CELLS * fine)
             if len(s):
                 finer.append((point + s @ axes, r))

@@ -99,12 +99,9 @@ def turning_balls(block: dict, margin: float, window: float, reach: float | None
     radius = (margin if reach is None else reach) + window
     out = []
     for a, b, _ in turning_stretches(block, margin):
-        centres: list[np.ndarray] = []
-        for p in xy[on_edge & (xy[:, 0] >= a) & (xy[:, 0] <= b)]:  # in the polyline's order
-            if not centres or np.hypot(*(np.asarray(centres) - p).T).min() > 0.5 * radius:
-                centres.append(p)
-        if centres:
-            out.append((np.asarray(centres), radius))
+        centres = _spaced(xy[on_edge & (xy[:, 0] >= a) & (xy[:, 0] <= b)], radius)  # in the polyline's order
+        if len(centres):
+            out.append((centres, radius))
     return out
 
 
@@ -120,8 +117,14 @@ def side_balls(block: dict, margin: float, radius: float) -> tuple[np.ndarray, f
         keep &= ~((xy[:, 0] >= a) & (xy[:, 0] <= b))
     if free.any():
         keep &= np.hypot(*(xy[:, None, :] - xy[free][None, :, :]).transpose(2, 0, 1)).min(axis=1) > margin
+    return _spaced(xy[keep], radius), radius
+
+
+def _spaced(points: np.ndarray, radius: float) -> np.ndarray:
+    """(k, 2) the ``points`` (in order) kept where none kept before lies within half ``radius``:
+    balls of that radius on them cover the points' line and ``radius`` / 2 on either side."""
     centres: list[np.ndarray] = []
-    for p in xy[keep]:
+    for p in points:
         if not centres or np.hypot(*(np.asarray(centres) - p).T).min() > 0.5 * radius:
             centres.append(p)
-    return np.asarray(centres).reshape(-1, 2), radius
+    return np.asarray(centres).reshape(-1, 2)

@@ -319,8 +319,8 @@ class StarRegionContact(EllipseContact):
             aa, bb = self.semi_axes(a)
             local = self.local(pts.s) / np.array([aa, bb])
             knot_xy = self.edge_points(self.knots)
-            area = plane_weights(self, pts)
-            m, w, cover = section_moments(local, area * p, knot_xy, self.whole_boundary(a), across)
+            m, w, cover = section_moments(local, plane_weights(self, pts) * p, knot_xy,
+                                          self.whole_boundary(a), across)
             moment, total, covered = np.where(across, m, moment), np.where(across, w, total), np.where(across, cover, covered)
         self._raw_moments = (moment, total)
         out = np.full(len(self.knots), math.nan)
