@@ -245,6 +245,26 @@ def _solve_scene(problem, solve, progress, estimate: bool, solved=None):
     return solution, None
 
 
+#: fewer of the finest cells than this across a semi-axis (half-width) of a contact region: the
+#: region is barely resolved and the error estimate (a solve twice as coarse) can understate the error
+MIN_CELLS_ACROSS = 2.0
+
+
+def _coarse_region_note(contact: dict) -> str | None:
+    """A warning's text where the region spans fewer than ``MIN_CELLS_ACROSS`` finest cells along
+    a semi-axis (3D) or its half-width (2D); None otherwise or without a region."""
+    cells = contact.get("cells_per_semi_axis") or [contact.get("cells_per_half_width") or 0.0]
+    sizes = contact.get("semi_axes") or [contact.get("half_width") or 0.0]
+    thin = [(k, n, s) for k, (n, s) in enumerate(zip(cells, sizes)) if 0.0 < n < MIN_CELLS_ACROSS]
+    if not thin:
+        return None
+    k, n, s = min(thin, key=lambda t: t[1])
+    what = f"semi-axis {k} ({s:.3g} m)" if contact.get("cells_per_semi_axis") else f"half-width ({s:.3g} m)"
+    return (f"the region's {what} spans only {n:.2g} of the finest cells there: the region is barely "
+            f"resolved and the estimated error can understate the error; refine the grid around the contact "
+            f"(more refinement levels) to at least {MIN_CELLS_ACROSS:g} cells across")
+
+
 def _print_contacts(summary: dict, ladder: dict | None) -> None:
     """The accuracy ladder's line, each contact's result line, and a warning on stderr where an
     estimated error is above the warning level (runs without an accuracy target)."""
@@ -257,6 +277,9 @@ def _print_contacts(summary: dict, ladder: dict | None) -> None:
             _err(f"warning: the accuracy target {ladder['target']:g} was not reached: {ladder['note']}")
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
+        coarse = _coarse_region_note(c)
+        if coarse:
+            _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: {coarse}")
         key, value = largest_error(c.get("estimated_error") or {})
         if ladder is None and value > WARN_ABOVE:
             advice = ("grade the far field: zones about the contact one level coarser at every doubling of "

@@ -106,6 +106,8 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     out = {"bodies": list(c.model.bodies), "type": c.kind, "friction": float(getattr(c.model, "friction", 0.0) or 0.0),
            "point": frame.point.tolist(), "normal": frame.normal.tolist(), "axes": frame.axes.tolist(),
            "semi_axes": [float(aa), float(bb)],
+           # the final grid's resolution of the region: each semi-axis over the finest cell there
+           "cells_per_semi_axis": [float(aa / c.h), float(bb / c.h)],
            # the ellipse's centre from the contact point along the axes (the pressure's centroid)
            "region_centre": [float(v) for v in c.centre],
            "stick_semi_axes": [float(min(c.stick_ratio, 1.0) * aa), float(min(c.stick_ratio, 1.0) * bb)],

@@ -41,6 +41,8 @@ def contact_block(c, a: float, on2: np.ndarray, u: np.ndarray) -> dict:
         "tangent": tan.tolist(),
         "half_width": float(a),
         "stick_half_width": float(min(c.stick(a), a)),
+        # the final grid's resolution of the region: the half-width over the contact's cell
+        "cells_per_half_width": float(a / cell) if cell > 0 else 0.0,
         "region_centre": e,
         "region": [float(lo), float(hi)] if a > 0 else [0.0, 0.0],
         "normal_force": float(-on2 @ nrm),

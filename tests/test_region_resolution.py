@@ -1,0 +1,61 @@
+"""The region's resolution in summary.json (cells across a half-width / semi-axis) against the
+grid's own cell sizes, and the warning ``ibfem run`` gives when a region is barely resolved."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from ibfem.solver.commands import MIN_CELLS_ACROSS, _coarse_region_note
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_a_region_under_two_cells_across_is_named_with_its_axis_and_size():
+    note = _coarse_region_note({"semi_axes": [0.0259, 0.00743], "cells_per_semi_axis": [4.1, 1.19]})
+    assert "semi-axis 1 (0.00743 m)" in note and "1.2 of the finest cells" in note
+    assert f"at least {MIN_CELLS_ACROSS:g} cells" in note
+    note_2d = _coarse_region_note({"half_width": 0.004, "cells_per_half_width": 0.5})
+    assert "half-width (0.004 m)" in note_2d and "0.5 of the finest cells" in note_2d
+
+
+@pytest.mark.parametrize("contact", [
+    {"semi_axes": [0.045, 0.045], "cells_per_semi_axis": [11.6, 11.6]},
+    {"half_width": 0.0, "cells_per_half_width": 0.0},  # no region: nothing to resolve
+    {"half_width": 0.01},  # a block without the key (an older summary)
+])
+def test_a_resolved_region_or_none_gives_no_note(contact):
+    assert _coarse_region_note(contact) is None
+
+
+def test_the_2d_examples_half_width_over_its_finest_cell(tmp_path):
+    """The cylinder on a flat: element size 0.05 m and 4 levels about the contact, so the cell
+    there is 0.05 / 2^4 m on both bodies; the summary's count is the half-width over it."""
+    scene = ROOT / "examples" / "cylinder_on_flat_partial_slip.toml"
+    data = scene.read_text().replace("load_steps = 10", "load_steps = 2")
+    path = tmp_path / "scene.toml"
+    path.write_text(data)
+    run = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(path), "--out", str(tmp_path / "out"),
+                          "--quiet", "--no-estimate"], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    (c,) = json.loads((tmp_path / "out" / "summary.json").read_text())["contacts"]
+    assert c["cells_per_half_width"] == pytest.approx(c["half_width"] / (0.05 / 2 ** 4), rel=1e-12)
+    assert "barely resolved" not in run.stderr
+
+
+def test_the_3d_balls_semi_axes_over_its_finest_cell(tmp_path):
+    """The quarter ball on a block at element size 0.25 m and 4 levels about the contact: the
+    finest cell is 0.25 / 2^4 m; a (about 0.044 m) spans about 2.8 of them, no warning."""
+    scene = ROOT / "examples" / "solid" / "sphere_on_flat.toml"
+    data = (scene.read_text().replace("levels = 6", "levels = 4").replace("vtk = true", "vtk = false")
+            .replace("plots = true", "plots = false"))
+    path = tmp_path / "scene.toml"
+    path.write_text(data)
+    run = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(path), "--out", str(tmp_path / "out"),
+                          "--quiet", "--no-estimate"], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    (c,) = json.loads((tmp_path / "out" / "summary.json").read_text())["contacts"]
+    assert c["cells_per_semi_axis"] == pytest.approx([v / (0.25 / 2 ** 4) for v in c["semi_axes"]], rel=1e-12)
+    assert "barely resolved" not in run.stderr
