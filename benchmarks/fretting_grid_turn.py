@@ -3,11 +3,9 @@
 The example (examples/fretting/cylinder_on_flat_fretting.toml: a half disc R = 1 m on a block,
 steel, mu 0.3, the normal displacement held from t = 1 and the tangential one cycled at 20 points
 a cycle) is turned by each angle about the contact point: both bodies' shapes (``rotate_deg``),
-the refinement discs at the contact's edges, and the loaded face's displacement. A load path acts
-on the global components of a displacement, so the turned displacement's components, each a sum
-of the held normal path and the cycled tangential one, are written as explicit piecewise-linear
-paths through every step time of the example's history (at 0 degrees they reproduce the example
-to the digit). One and a half cycles; the first complete cycle's energy from the loop and from
+the refinement discs at the contact's edges, and the loaded face's displacement, whose value and
+paths are given along the turned tangent and normal (``axes``: the tangential component cycled,
+the normal one held). One and a half cycles; the first complete cycle's energy from the loop and from
 the friction work against the Mindlin-Deresiewicz closed form for the run's computed N and Q*
 (solver.reports.validate_fretting.compare), and against the unturned run.
 
@@ -31,7 +29,6 @@ import numpy as np
 
 def turned_scene(theta_deg: float) -> dict:
     """The example's scene data turned by ``theta_deg`` about the contact point (1.5 cycles)."""
-    from ibfem.solver.model.load_paths import LoadHistory, LoadPath, cycle_points
     from ibfem.solver.reports.validate_fretting import EXAMPLE
 
     data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
@@ -46,18 +43,8 @@ def turned_scene(theta_deg: float) -> dict:
             if isinstance(zone["around"], list):
                 x, y = zone["around"]
                 zone["around"] = [c * x - s * y, s * x + c * y]
-    hold = LoadPath("hold", data["paths"][0]["points"])
-    cyc = data["paths"][1]["cycle"]
-    fret = LoadPath("fret", cycle_points(cyc["amplitude"], cyc["cycles"], cyc["points_per_cycle"], start=cyc["start"]))
-    history = LoadHistory(paths={"hold": hold, "fret": fret}, steps_per_unit=data["solver"]["steps_per_unit"])
-    t = np.concatenate([[0.0], history.times()])
-    loaded = data["boundary_conditions"][0]
-    ux, uy = loaded["value"]  # the tangential component cycled, the normal one held
-    gx = c * ux * fret.factor(t) - s * uy * hold.factor(t)
-    gy = s * ux * fret.factor(t) + c * uy * hold.factor(t)
-    data["paths"] = [{"name": "px", "points": np.column_stack([t, gx]).tolist()},
-                     {"name": "py", "points": np.column_stack([t, gy]).tolist()}]
-    loaded["value"], loaded["path"] = [1.0, 1.0], ["px", "py"]
+    loaded = data["boundary_conditions"][0]  # its value and paths along the turned tangent and normal
+    loaded["axes"] = [[c, s], [-s, c]]
     return data
 
 

@@ -50,6 +50,7 @@ from ibfem.solver.model.rigid import rigid_body_modes
 
 from .strict_model import StrictTable, integer, number
 from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
+from .load_axes import AlongAxes, in_global_components
 from .scene_reference_point import ReferencePoint2Spec, reference_point
 
 __all__ = [
@@ -209,12 +210,13 @@ class FixedSpec(_Strict):
     edge: str
 
 
-class DisplacementSpec(_Strict):
+class DisplacementSpec(AlongAxes):
     type: Literal["displacement"]
     body: str
     edge: str
     value: tuple[Component, Component]
     path: PathRef | None = None  # load path name(s): docs/load-paths.md
+    axes: tuple[Vec2, Vec2] | None = None  # value and path along these directions
 
     @field_validator("value")
     @classmethod
@@ -232,12 +234,13 @@ class SlidingSpec(_Strict):
     path: PathRef | None = None  # load path name(s): docs/load-paths.md
 
 
-class TractionSpec(_Strict):
+class TractionSpec(AlongAxes):
     type: Literal["traction"]
     body: str
     edge: str
     value: Vec2
     path: PathRef | None = None  # load path name(s): docs/load-paths.md
+    axes: tuple[Vec2, Vec2] | None = None  # value and path along these directions
 
 
 class PressureSpec(_Strict):
@@ -248,11 +251,12 @@ class PressureSpec(_Strict):
     path: PathRef | None = None  # load path name(s): docs/load-paths.md
 
 
-class BodyForceSpec(_Strict):
+class BodyForceSpec(AlongAxes):
     type: Literal["body_force"]
     body: str
     value: Vec2
     path: PathRef | None = None  # load path name(s): docs/load-paths.md
+    axes: tuple[Vec2, Vec2] | None = None  # value and path along these directions
 
 
 BoundaryConditionSpec = Annotated[
@@ -478,6 +482,7 @@ def scene_from_dict(
     _check_references(spec, label)
     if history_problems(spec.paths, spec.boundary_conditions, label):
         raise SceneError(history_problems(spec.paths, spec.boundary_conditions, label))
+    spec = in_global_components(spec, 2)
     profiles = _build_profiles(spec, label, Path(base_dir))
     problem = _problem(spec, profiles, Path(label).stem if path is None else path.stem, label)
     try:

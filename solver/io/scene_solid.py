@@ -41,6 +41,7 @@ from .scene import (
     OutputSpec,
 )
 from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
+from .load_axes import AlongAxes, in_global_components
 from .scene_reference_point import ReferencePoint3Spec, reference_point
 
 __all__ = ["SolidSceneSpec", "solid_scene_from_dict"]
@@ -87,10 +88,11 @@ class Fixed3(_FaceCondition):
     type: Literal["fixed"]
 
 
-class Displacement3(_FaceCondition):
+class Displacement3(_FaceCondition, AlongAxes):
     type: Literal["displacement"]
     value: tuple[Component, Component, Component]
     path: PathRef | None = None  # load path name(s): docs/load-paths.md
+    axes: tuple[Vec3, Vec3, Vec3] | None = None  # value and path along these directions
 
     @field_validator("value")
     @classmethod
@@ -106,10 +108,11 @@ class Sliding3(_FaceCondition):
     path: PathRef | None = None
 
 
-class Traction3(_FaceCondition):
+class Traction3(_FaceCondition, AlongAxes):
     type: Literal["traction"]
     value: Vec3
     path: PathRef | None = None
+    axes: tuple[Vec3, Vec3, Vec3] | None = None  # value and path along these directions
 
 
 class Pressure3(_FaceCondition):
@@ -118,11 +121,12 @@ class Pressure3(_FaceCondition):
     path: PathRef | None = None
 
 
-class BodyForce3(_Strict):
+class BodyForce3(AlongAxes):
     type: Literal["body_force"]
     body: str
     value: Vec3
     path: PathRef | None = None
+    axes: tuple[Vec3, Vec3, Vec3] | None = None  # value and path along these directions
 
 
 class ReferencePoint3(ReferencePoint3Spec):
@@ -191,6 +195,7 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
     spec = _select_faces(spec, solids, label)
     _check_references(spec, solids, label)
     _check_paths(spec, label)
+    spec = in_global_components(spec, 3)
     problem = _problem(spec, solids, Path(label).stem if path is None else path.stem, label)
     try:
         problem = resolve_problem(problem)
