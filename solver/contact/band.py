@@ -64,9 +64,10 @@ class CandidateRegionExceeded(ValueError):
     """The contact region reaches the end of the candidate region and still penetrates; ``cause``
     names what bounds it ("refinement radius", a corner or far side of a body)."""
 
-    def __init__(self, bodies: tuple[str, str], cause: str, message: str):
+    def __init__(self, bodies: tuple[str, str], cause: str, message: str, point=None):
         super().__init__(message)
         self.bodies, self.cause = tuple(bodies), cause
+        self.point = None if point is None else np.asarray(point, dtype=float)  # the contact's (its pair may have several)
 
 
 def _cell_dofs_global(b, cells: np.ndarray) -> np.ndarray:
@@ -237,7 +238,7 @@ class BandContact:
             self.geom.bodies, lim.cause,
             f"{self.name}: the contact region reaches the end of the candidate region (s = {self.a_max():.4g} m "
             f"from the region's centre {self.centre:.4g} m, bounded by the {lim.cause}) "
-            f"and still penetrates; {fix}"
+            f"and still penetrates; {fix}", point=self.geom.point,
         )
 
 

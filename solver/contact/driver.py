@@ -35,6 +35,7 @@ from ..fem.linalg import (
 from ..fem.bodies import discretise
 from ..fem.space import body_info
 from ..solution import IBFEMSolution
+from .region_overlap import overlapping_regions
 from .follow import solve_following
 from .formulation import formulation
 from .grow import solve_growing
@@ -422,6 +423,10 @@ class ContactDriver:
             if problems:
                 self.converged = False
                 self.messages += problems
+        overlaps = overlapping_regions(blocks)
+        if overlaps:
+            self.converged = False
+            self.messages += overlaps
         if not work <= self.options.tolerance:
             self.converged = False
             self.messages.append(

@@ -21,6 +21,8 @@ from __future__ import annotations
 import dataclasses
 from typing import Callable
 
+import numpy as np
+
 from .band import CandidateRegionExceeded
 
 __all__ = ["GROWTH", "COARSER_LEVELS", "MAX_COARSE_PASSES", "MARGIN", "MARGIN_CELLS", "solve_growing"]
@@ -39,11 +41,14 @@ MARGIN_CELLS = 2.0
 GROWABLE = "refinement radius"
 
 
-def _contact_index(problem, bodies) -> int:
-    for k, c in enumerate(problem.contacts):
-        if tuple(c.bodies) == tuple(bodies):
-            return k
-    raise LookupError(f"no contact between {bodies}")
+def _contact_index(problem, bodies, point=None) -> int:
+    """The contact of ``bodies`` (of several, the one whose point is nearest ``point``)."""
+    ks = [k for k, c in enumerate(problem.contacts) if tuple(c.bodies) == tuple(bodies)]
+    if not ks:
+        raise LookupError(f"no contact between {bodies}")
+    if point is None or len(ks) == 1:
+        return ks[0]
+    return min(ks, key=lambda k: float(np.linalg.norm(np.asarray(problem.contacts[k].point, float) - point)))
 
 
 def _scaled(problem, names, factor: float, levels_fewer: int):
@@ -83,7 +88,7 @@ def _coarse_passes(problem, run: Callable, k: int, names):
                        "region": coarse.contacts[k]["region"], "converged": bool(coarse.converged)})
         return coarse, factor, record
     raise CandidateRegionExceeded(last.bodies, last.cause, (
-        f"{last} (still after widening the contact refinement {factor:g} times on a coarse pass)"))
+        f"{last} (still after widening the contact refinement {factor:g} times on a coarse pass)"), point=last.point)
 
 
 def solve_growing(problem, run: Callable):
@@ -94,8 +99,8 @@ def solve_growing(problem, run: Callable):
     except CandidateRegionExceeded as err:
         if err.cause != GROWABLE or problem.model == "solid":
             raise
-        bodies = err.bodies
-    k = _contact_index(problem, bodies)
+        bodies, point = err.bodies, err.point
+    k = _contact_index(problem, bodies, point)
     coarse, factor, record = _coarse_passes(problem, run, k, bodies)
     radius, _ = _finest(problem, bodies)
     _, coarse_cell = _finest(_scaled(problem, bodies, factor, COARSER_LEVELS), bodies)

@@ -599,6 +599,29 @@ def _lower(msg: str) -> str:
 # ---------------------------------------------------------------------------------------
 
 
+def pair_problems(contacts, label: str) -> list[str]:
+    """Two bodies may touch at several places (a pin in a V-groove, a ball between two races'
+    shoulders): then each of their contacts needs its own ``point``, and no two the same."""
+    problems = []
+    seen: dict[frozenset, list[int]] = {}
+    for i, c in enumerate(contacts):
+        seen.setdefault(frozenset(c.bodies), []).append(i)
+    for pair, ids in seen.items():
+        if len(ids) < 2:
+            continue
+        for i in ids:
+            if contacts[i].point is None:
+                problems.append(f"{label}: contacts[{i}].point: missing; the bodies {_show(list(contacts[i].bodies))} "
+                                f"have {len(ids)} contacts (contacts{ids}), and each needs the point where it touches")
+        given = [i for i in ids if contacts[i].point is not None]
+        for n, i in enumerate(given):
+            for j in given[:n]:
+                if all(abs(float(a) - float(b)) <= 1e-12 * max(1.0, abs(float(a))) for a, b in zip(contacts[i].point, contacts[j].point)):
+                    problems.append(f"{label}: contacts[{i}].point = {_show(list(contacts[i].point))}: the same point "
+                                    f"as contacts[{j}] of the same bodies; give each contact of a pair its own point")
+    return problems
+
+
 def _check_references(spec: SceneSpec, label: str) -> None:
     problems: list[str] = []
 
@@ -640,7 +663,7 @@ def _check_references(spec: SceneSpec, label: str) -> None:
                     f"an essential condition (boundary_conditions[{j}]); combine them into one"
                 )
             essential.setdefault(key, i)
-    pairs: dict[frozenset, int] = {}
+    problems += pair_problems(spec.contacts, label)
     for i, c in enumerate(spec.contacts):
         for k, name in enumerate(c.bodies):
             if name not in bodies:
@@ -649,12 +672,6 @@ def _check_references(spec: SceneSpec, label: str) -> None:
                 )
         if c.bodies[0] == c.bodies[1]:
             problems.append(f"{label}: contacts[{i}].bodies = {_show(list(c.bodies))}: a contact needs two different bodies")
-        pair = frozenset(c.bodies)
-        if pair in pairs:
-            problems.append(
-                f"{label}: contacts[{i}].bodies = {_show(list(c.bodies))}: this pair already has a contact (contacts[{pairs[pair]}])"
-            )
-        pairs.setdefault(pair, i)
     in_contact = {name for c in spec.contacts for name in c.bodies}
     for i, b in enumerate(spec.bodies):
         for k, r in enumerate(b.refinement):

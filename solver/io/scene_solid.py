@@ -35,6 +35,7 @@ from .scene import (
     _options,
     _show,
     _Strict,
+    pair_problems,
     size_problems,
     _fields_of,
     LineSpec,
@@ -298,6 +299,7 @@ def _check_references(spec: SolidSceneSpec, solids: dict[str, Any], label: str) 
                 problems.append(f"{label}: contacts[{k}].bodies[{j}] = {name!r}: no such body (bodies: {', '.join(bodies)})")
         if c.bodies[0] == c.bodies[1]:
             problems.append(f"{label}: contacts[{k}].bodies: a body cannot touch itself ({c.bodies[0]!r})")
+    problems += pair_problems(spec.contacts, label)
     for name in bodies:
         if name not in held and name in solids:
             problems.append(f"{label}: body {name!r} has no fixed, displacement, sliding or kinematic reference "
