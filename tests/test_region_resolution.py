@@ -13,6 +13,17 @@ from ibfem.solver.commands import MIN_CELLS_ACROSS, _coarse_region_note
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def _run(tmp_path, scene_text: str):
+    """``ibfem run`` on the scene text: the finished process and its one contact's block."""
+    path = tmp_path / "scene.toml"
+    path.write_text(scene_text)
+    run = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(path), "--out", str(tmp_path / "out"),
+                          "--quiet", "--no-estimate"], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    (c,) = json.loads((tmp_path / "out" / "summary.json").read_text())["contacts"]
+    return run, c
+
+
 def test_a_region_under_two_cells_across_is_named_with_its_axis_and_size():
     note = _coarse_region_note({"semi_axes": [0.0259, 0.00743], "cells_per_semi_axis": [4.1, 1.19]})
     assert "semi-axis 1 (0.00743 m)" in note and "1.2 of the finest cells" in note
@@ -35,12 +46,7 @@ def test_the_2d_examples_half_width_over_its_finest_cell(tmp_path):
     there is 0.05 / 2^4 m on both bodies; the summary's count is the half-width over it."""
     scene = ROOT / "examples" / "cylinder_on_flat_partial_slip.toml"
     data = scene.read_text().replace("load_steps = 10", "load_steps = 2")
-    path = tmp_path / "scene.toml"
-    path.write_text(data)
-    run = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(path), "--out", str(tmp_path / "out"),
-                          "--quiet", "--no-estimate"], capture_output=True, text=True, cwd=ROOT)
-    assert run.returncode == 0, run.stderr
-    (c,) = json.loads((tmp_path / "out" / "summary.json").read_text())["contacts"]
+    run, c = _run(tmp_path, data)
     assert c["cells_per_half_width"] == pytest.approx(c["half_width"] / (0.05 / 2 ** 4), rel=1e-12)
     assert "barely resolved" not in run.stderr
 
@@ -51,11 +57,6 @@ def test_the_3d_balls_semi_axes_over_its_finest_cell(tmp_path):
     scene = ROOT / "examples" / "solid" / "sphere_on_flat.toml"
     data = (scene.read_text().replace("levels = 6", "levels = 4").replace("vtk = true", "vtk = false")
             .replace("plots = true", "plots = false"))
-    path = tmp_path / "scene.toml"
-    path.write_text(data)
-    run = subprocess.run([sys.executable, "-m", "ibfem.solver.cli", "run", str(path), "--out", str(tmp_path / "out"),
-                          "--quiet", "--no-estimate"], capture_output=True, text=True, cwd=ROOT)
-    assert run.returncode == 0, run.stderr
-    (c,) = json.loads((tmp_path / "out" / "summary.json").read_text())["contacts"]
+    run, c = _run(tmp_path, data)
     assert c["cells_per_semi_axis"] == pytest.approx([v / (0.25 / 2 ** 4) for v in c["semi_axes"]], rel=1e-12)
     assert "barely resolved" not in run.stderr
