@@ -134,6 +134,7 @@ class HistoryEllipseContact(EllipseContact):
     """Ellipse contact with Coulomb friction on increments; see the module's docstring."""
 
     history_rule = "incremental Coulomb: stick/slip state, slip direction and accumulated slip carried per point"
+    shape_iterated = False  # b / a stays Hertz's under a path: the points' memory lives on it
     regions: dict = field(default_factory=dict)  # a -> _Region of this step
     carrier: object = None  # the _Region of the last step's end (its state is the memory)
     x_prev: np.ndarray | None = None  # contact dofs at the last step's end
