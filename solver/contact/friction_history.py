@@ -365,6 +365,10 @@ class HistoryBandContact(BandContact):
                 continue
             tries = self.secant.get(i, []) + [(b, beta)]
             step = self._boundary_step(tries, into_stick)
+            # a slip zone squeezed out at the region's end: the boundary stops at the end (beyond it
+            # the pressure vanishes and the edge fit has no root: its coefficient grows without bound)
+            end = self.centre + math.copysign(a, -into_stick)
+            step = min(step, end - b) if into_stick < 0.0 else max(step, end - b)
             self.secant[i] = tries
             moves.append(abs(step))
             self.bounds[i] = b + step
@@ -421,8 +425,8 @@ class HistoryBandContact(BandContact):
         slip within the fit's width): a secant through a falling stretch would throw the boundary
         back and forth without end."""
         b, beta = tries[-1]
-        u = [into_stick * t[0] for t in tries]  # positions along the move into the stick side
-        v = [t[1] for t in tries]
+        u = [float(into_stick * t[0]) for t in tries]  # positions along the move into the stick side
+        v = [float(t[1]) for t in tries]  # (Python floats: a quotient past the range is inf, not a warning)
         neg = [k for k in range(len(v)) if v[k] < 0.0]
         pos = [k for k in range(len(v)) if v[k] > 0.0]
         if neg and pos:
@@ -432,8 +436,8 @@ class HistoryBandContact(BandContact):
                 vn, vp = (0.5 * vn, vp) if v[-1] > 0.0 else (vn, 0.5 * vp)
             target = u[kn] + (u[kp] - u[kn]) * (-vn) / (vp - vn)
             step = into_stick * target - b
-        elif len(tries) > 1 and v[-1] != v[-2] and u[-1] != u[-2] and (v[-1] - v[-2]) / (u[-1] - u[-2]) > 0.0:
-            slope = (v[-1] - v[-2]) / (u[-1] - u[-2])
+        elif len(tries) > 1 and _rising_secant(u[-2:], v[-2:], 1e-9 * self.h):
+            slope = _secant_slope(u[-2:], v[-2:])
             self.slopes = (self.slopes + [slope])[-8:]
             self.edge_slope = float(np.median(self.slopes))
             step = -into_stick * beta / slope
@@ -603,3 +607,22 @@ def build(problem, model, b1, b2, options) -> HistoryBandContact:
     c.region_pieces = RegionPieces(c)
     c.start_history()
     return c
+
+
+def _secant_slope(u: list, v: list) -> float:
+    """The slope of the secant through (u[0], v[0]) and (u[1], v[1]) (floats: inf past the range)."""
+    du, dv = float(u[1] - u[0]), float(v[1] - v[0])
+    try:
+        return dv / du
+    except (ZeroDivisionError, OverflowError):
+        return math.inf
+
+
+def _rising_secant(u: list, v: list, du_min: float) -> bool:
+    """Whether the secant through (u[0], v[0]) and (u[1], v[1]) rises to a finite slope over a run
+    of at least ``du_min`` (two tries closer than that give no slope: their quotient is round-off;
+    tries where the edge coefficient has no root, beyond the pressure's end, overflow)."""
+    if abs(u[1] - u[0]) < du_min or not all(map(math.isfinite, (*u, *v))):
+        return False
+    slope = _secant_slope(u, v)
+    return math.isfinite(slope) and slope > 0.0
