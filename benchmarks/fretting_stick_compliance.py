@@ -133,7 +133,28 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--edge-ring", action="store_true", help="one more refinement level about the contact's edge")
     ap.add_argument("--radii", type=float, nargs="+", default=list(DEFAULT_RADII), help="c / a, the first 1")
     ap.add_argument("--band-fraction", type=float, default=None, help="the ties' band ([solver].band_fraction)")
+    ap.add_argument("--cut-cell-tie", choices=("points", "mean", "all"), default=None,
+                    help="the stuck points' tie in the cell pairs the stick circle cuts (friction_history3d.CUT_CELL_TIE)")
+    ap.add_argument("--cut-cell-consistency", type=float, default=None,
+                    help="the mean tie's consistency factor (friction_history3d.CUT_CELL_CONSISTENCY)")
+    ap.add_argument("--tangential-band", type=float, default=None,
+                    help="the stuck points' tangential tie's layer over the contact's (friction_history3d.TANGENTIAL_BAND)")
+    ap.add_argument("--near-band", type=float, nargs=2, default=None, metavar=("FACTOR", "CELLS"),
+                    help="a diagnostic: the stuck points within CELLS cells of the slip zone on a layer FACTOR times")
+    ap.add_argument("--tie-groups", choices=("pairs", "cell1", "cell2"), default=None,
+                    help="the mean ties' groups (friction_history3d.TIE_GROUPS)")
     args = ap.parse_args(argv)
+    from ibfem.solver.contact import friction_history3d
+    if args.tie_groups is not None:
+        friction_history3d.TIE_GROUPS = args.tie_groups
+    if args.near_band is not None:
+        friction_history3d.NEAR_BAND, friction_history3d.NEAR_CELLS = args.near_band
+    if args.tangential_band is not None:
+        friction_history3d.TANGENTIAL_BAND = args.tangential_band
+    if args.cut_cell_tie is not None:
+        friction_history3d.CUT_CELL_TIE = args.cut_cell_tie
+    if args.cut_cell_consistency is not None:
+        friction_history3d.CUT_CELL_CONSISTENCY = args.cut_cell_consistency
     if args.radii[0] != 1.0:
         raise SystemExit("--radii: the first radius must be 1 (the full stick, the reference of the increase)")
     r = measure(args.radii, amplitude_for(0.3), args.edge_ring, args.band_fraction)

@@ -61,6 +61,7 @@ from scipy.spatial import cKDTree
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_band_terms
 from .ellipse import (EllipseContact, build as ellipse_build, contact_operators, layer_tensor, plane_weights,
                       point_blocks, pressure_rows)
+from .band import locate_cells
 from .friction_history import hold_size
 from .friction_history_pressure import PressureFit, low_rank, pressure_fit
 from .friction_history_profiles import axis_profiles
@@ -94,6 +95,19 @@ LATE_CHANGE_SHARE = 5e-4
 #: the stuck points' tangential tie is a layer this many times the contact's band (its stiffness
 #: divided by it); the normal tie, and so the normal contact, keeps the contact's band
 TANGENTIAL_BAND = 1.0
+#: the stuck points of a cell pair cut by the stick zone's boundary (a pair of the two bodies' cells
+#: holding stuck and slipping points): "points" ties each at its own jump; "mean" ties them by their
+#: mean tangential jump over the pair's stuck points (one tie per pair and component, a piecewise
+#: constant multiplier: the cell's field is not locked by its stuck points)
+CUT_CELL_TIE = "points"
+#: the groups of the mean ties: "pairs" (the two bodies' cells), "cell1" or "cell2" (one body's cells)
+TIE_GROUPS = "pairs"
+#: a diagnostic: the stuck points within NEAR_CELLS cells of the slip zone tie on a layer NEAR_BAND
+#: times the others' (None: all on the same layer)
+NEAR_BAND = None
+NEAR_CELLS = 1.0
+#: the mean tie's consistency term (the stuck points' mean flux): 1 Nitsche's, 0 a plain penalty
+CUT_CELL_CONSISTENCY = 1.0
 
 
 @dataclass
@@ -114,6 +128,8 @@ class _Region:
     assembled: tuple | None = None
     #: the pressure Coulomb's law uses (solver.contact.friction_history_pressure)
     fit: PressureFit | None = None
+    #: (q,) each point's cell pair (an index), for the ties of the cut pairs
+    pair: np.ndarray | None = None
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -182,6 +198,9 @@ class HistoryEllipseContact(EllipseContact):
         fixed = projector("fixed", pts.normal)  # the pressure rows are the same for either zone's projector
         r, b = pressure_rows(self, (pts, None, fixed, jump, flux, size, a))
         reg.fit = pressure_fit(self.local(pts.s), self.semi_axes(a), pts.weights, r, b)
+        cells1, cells2 = locate_cells(self.b1, pts.x1, pts.n1), locate_cells(self.b2, pts.x2, pts.n2)
+        key = {"pairs": np.column_stack([cells1, cells2]), "cell1": cells1[:, None], "cell2": cells2[:, None]}[TIE_GROUPS]
+        reg.pair = np.unique(key, axis=0, return_inverse=True)[1].ravel()
         self.regions[a] = reg
         for old in list(self.regions)[:-KEEP_REGIONS]:
             del self.regions[old]
@@ -241,50 +260,111 @@ class HistoryEllipseContact(EllipseContact):
         reg = self.region(a)
         pts, bp, _, jump, flux, size, _ = reg.info
         slip, direction = self.zones_at(reg)
-        proj = np.where(slip[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
+        grouped = self._grouped(reg, slip)
+        free = slip | grouped  # no tangential tie of its own
+        bands = self._tangential_bands(reg, slip)
+        proj = np.where(free[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
         info = (pts, bp, proj, jump, flux, size, a)
         old = reg.assembled
         if old is not None:
-            changed = np.flatnonzero((old[0] != slip) | np.any(old[1] != direction, axis=1))
+            changed = np.flatnonzero((old[0] != slip) | (old[2] != free) | (old[3] != bands)
+                                     | np.any(old[1] != direction, axis=1))
             if len(changed) <= INCREMENTAL_SHARE * len(slip):
-                k_new, f_new, l_new = self._point_terms(reg, changed, slip, direction)
-                k_old, f_old, l_old = self._point_terms(reg, changed, old[0], old[1])
-                parts = ((old[2] + k_new - k_old).tocsr(), old[3] + f_new - f_old, old[4] + l_new - l_old)
+                k_new, f_new, l_new = self._point_terms(reg, changed, slip, direction, free, bands)
+                k_old, f_old, l_old = self._point_terms(reg, changed, old[0], old[1], old[2], old[3])
+                parts = ((old[4] + k_new - k_old).tocsr(), old[5] + f_new - f_old, old[6] + l_new - l_old)
             else:
-                parts = self._point_terms(reg, np.arange(len(slip)), slip, direction)
+                parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
         else:
-            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction)
-        reg.assembled = (slip.copy(), direction.copy()) + parts
+            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
+        reg.assembled = (slip.copy(), direction.copy(), free.copy(), bands.copy()) + parts
         k_tie, f, left = parts
+        if grouped.any():
+            k_g, f_g = self._mean_terms(reg, grouped)
+            k_tie, f = (k_tie + k_g).tocsr(), f + f_g
         if slip.any():
             return (k_tie - low_rank(left, reg.fit.rows, m)).tocsr(), f + left @ reg.fit.load, info
         return k_tie, f, info
 
-    def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray):
+    def _tangential_bands(self, reg: _Region, slip: np.ndarray) -> np.ndarray:
+        """(q,) each point's tangential tie's layer over the contact's band."""
+        out = np.full(len(slip), TANGENTIAL_BAND)
+        if NEAR_BAND is not None and slip.any():
+            d = cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0]
+            out[~slip & (d < NEAR_CELLS * self.h)] *= NEAR_BAND
+        return out
+
+    def _grouped(self, reg: _Region, slip: np.ndarray) -> np.ndarray:
+        """(q,) the stuck points tied by their cell pair's mean jump (``CUT_CELL_TIE`` "mean"): the
+        stuck points of the pairs that hold slipping points too."""
+        if CUT_CELL_TIE == "all":
+            return ~slip
+        if CUT_CELL_TIE != "mean" or not slip.any():
+            return np.zeros(len(slip), dtype=bool)
+        has_slip = np.bincount(reg.pair, weights=slip.astype(float), minlength=int(reg.pair.max()) + 1) > 0.0
+        return ~slip & has_slip[reg.pair]
+
+    def _mean_operator(self, reg: _Region, grouped: np.ndarray):
+        """(M, area, stiffness, group of each grouped point, the grouped points): M (3 g, 3 q) the
+        tangential mean over each cut pair's stuck points, their area (g,) and the tie's stiffness
+        per area (g,)."""
+        pts = reg.info[0]
+        idx = np.flatnonzero(grouped)
+        _, g = np.unique(reg.pair[idx], return_inverse=True)
+        g = g.ravel()
+        wq = pts.weights[idx]
+        area = np.bincount(g, weights=wq)
+        stiffness = np.bincount(g, weights=wq * reg.layer_t[idx]) / area
+        n = pts.normal[idx]
+        blocks = (wq / area[g])[:, None, None] * (np.eye(3)[None] - n[:, :, None] * n[:, None, :])
+        rows = np.broadcast_to(3 * g[:, None, None] + np.arange(3)[None, :, None], blocks.shape)
+        cols = np.broadcast_to(3 * idx[:, None, None] + np.arange(3)[None, None, :], blocks.shape)
+        mean = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=(3 * len(area), 3 * len(grouped)))
+        return mean, area, stiffness, g, idx
+
+    def _mean_terms(self, reg: _Region, grouped: np.ndarray):
+        """Stiffness and load of the cut pairs' mean ties: per pair the traction -k (mean jump less
+        the mean reference) plus the consistency term's mean flux, on every stuck point of the pair."""
+        pts, _, _, jump, flux, _, _ = reg.info
+        mean, area, stiffness, _, _ = self._mean_operator(reg, grouped)
+        jb, fb = (mean @ jump).tocsr(), (mean @ flux).tocsr()
+        d = mean @ (pts.delta - reg.w_ref).ravel()
+        wk, wa = np.repeat(area * stiffness, 3), np.repeat(area, 3)
+        cross = fb.T @ sp.diags(wa) @ jb
+        k = jb.T @ sp.diags(wk) @ jb - CUT_CELL_CONSISTENCY * (cross + cross.T)
+        f = -(jb.T @ (wk * d)) + CUT_CELL_CONSISTENCY * (fb.T @ (wa * d))
+        return sp.csr_matrix(k), np.asarray(f).ravel()
+
+    def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray,
+                     free: np.ndarray | None = None, bands: np.ndarray | None = None):
         """(ties' stiffness, ties' load, Coulomb's left factor (m, k)) of the points idx of a region
         with zones (slip, direction): Coulomb's traction of the slipping points, -mu p e with p =
-        B (R x + r0) the fitted pressure, adds -left R to the stiffness and left r0 to the load."""
+        B (R x + r0) the fitted pressure, adds -left R to the stiffness and left r0 to the load.
+        The points ``free`` (the slipping ones and the stuck ones tied by their cell pair's mean)
+        have no tangential tie of their own."""
         m = len(self.dofs)
         fit = reg.fit
+        free = slip if free is None else free
+        bands = np.full(len(slip), TANGENTIAL_BAND) if bands is None else bands
         if not len(idx):
             return sp.csr_matrix((m, m)), np.zeros(m), np.zeros((m, fit.basis.shape[1]))
         pts, _, _, jump, flux, size, a = reg.info
         rows = (3 * idx[:, None] + np.arange(3)).ravel()
-        sl, e = slip[idx], direction[idx]
+        sl, fr, e = slip[idx], free[idx], direction[idx]
         normal, delta = pts.normal[idx], pts.delta[idx]
         sub_jump, sub_flux = jump[rows], flux[rows]
         bp = BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx], sub_jump, sub_flux)
-        target = -(delta - np.where(sl[:, None], 0.0, reg.w_ref[idx]))
-        if TANGENTIAL_BAND == 1.0:  # one layer: a stuck point fixed, a slipping one sliding
-            proj = np.where(sl[:, None, None], projector("sliding", normal), projector("fixed", normal))
+        target = -(delta - np.where(fr[:, None], 0.0, reg.w_ref[idx]))
+        if np.all(bands[idx] == 1.0):  # one layer: a stuck point fixed, a slipping one sliding
+            proj = np.where(fr[:, None, None], projector("sliding", normal), projector("fixed", normal))
             k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
         else:  # the normal tie on the contact's layer, the stuck points' tangential one on its own
-            p_normal, p_tangential = _tie_projectors(normal, sl)
+            p_normal, p_tangential = _tie_projectors(normal, fr)
             k, f = thin_band_terms(bp, p_normal, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0,
                                    jump=sub_jump)
             if p_tangential.any():
                 k_t, f_t = thin_band_terms(bp, p_tangential, target, self.b1.lam, self.b1.mu,
-                                           TANGENTIAL_BAND * self.band_fraction, 1.0, jump=sub_jump)
+                                           bands[idx] * self.band_fraction, 1.0, jump=sub_jump)
                 k, f = k + k_t, f + f_t
         left = np.zeros((m, fit.basis.shape[1]))
         if sl.any():
@@ -297,15 +377,24 @@ class HistoryEllipseContact(EllipseContact):
         """Per quadrature point: traction on body 1 (q, 3), the fitted pressure p (the one Coulomb's
         law uses), tangential shear (q, 3) and tangential jump w_t (q, 3)."""
         reg = self.region(a)
-        pts, _, proj, jump, flux, size, _ = info
+        pts, _, _, jump, flux, size, _ = info
         slip, direction = self.zones_at(reg)
+        grouped = self._grouped(reg, slip)
+        free = slip | grouped
         w = (jump @ x).reshape(-1, 3) + pts.delta
-        held = w - np.where(slip[:, None], 0.0, reg.w_ref)
-        p_normal, p_tangential = _tie_projectors(pts.normal, slip)
+        held = w - np.where(free[:, None], 0.0, reg.w_ref)
+        p_normal, p_tangential = _tie_projectors(pts.normal, free)
         layer = layer_tensor(self, pts.normal, p_normal, size) \
-            + layer_tensor(self, pts.normal, p_tangential, size) / TANGENTIAL_BAND
+            + layer_tensor(self, pts.normal, p_tangential, size) / self._tangential_bands(reg, slip)[:, None, None]
+        proj = np.where(free[:, None, None], p_normal, p_normal + p_tangential)
+        fx = (flux @ x).reshape(-1, 3)
         t1 = -np.einsum("qij,qj->qi", layer, held)
-        t1 = t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
+        t1 = t1 + np.einsum("qij,qj->qi", proj, fx)
+        if grouped.any():  # the cut pairs' mean ties: one traction per pair on its stuck points
+            mean, _, stiffness, g, idx = self._mean_operator(reg, grouped)
+            tg = -stiffness[:, None] * (mean @ (w - reg.w_ref).ravel()).reshape(-1, 3) \
+                + CUT_CELL_CONSISTENCY * (mean @ fx.ravel()).reshape(-1, 3)
+            t1[idx] += tg[g]
         p = reg.fit.pressure(x)
         t1 = t1 - np.where(slip[:, None], self.friction * p[:, None] * direction, 0.0)
         return t1, p, _tangential(t1, pts.normal), _tangential(w, pts.normal)
