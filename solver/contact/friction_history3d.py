@@ -65,6 +65,7 @@ from .band import locate_cells
 from .friction_history import hold_size
 from .friction_history_pressure import PressureFit, low_rank, pressure_fit
 from .friction_history_profiles import axis_profiles
+from . import friction_history_ties as ties
 
 __all__ = ["HistoryEllipseContact", "build"]
 
@@ -95,19 +96,6 @@ LATE_CHANGE_SHARE = 5e-4
 #: the stuck points' tangential tie is a layer this many times the contact's band (its stiffness
 #: divided by it); the normal tie, and so the normal contact, keeps the contact's band
 TANGENTIAL_BAND = 1.0
-#: the stuck points of a cell pair cut by the stick zone's boundary (a pair of the two bodies' cells
-#: holding stuck and slipping points): "points" ties each at its own jump; "mean" ties them by their
-#: mean tangential jump over the pair's stuck points (one tie per pair and component, a piecewise
-#: constant multiplier: the cell's field is not locked by its stuck points)
-CUT_CELL_TIE = "points"
-#: the groups of the mean ties: "pairs" (the two bodies' cells), "cell1" or "cell2" (one body's cells)
-TIE_GROUPS = "pairs"
-#: a diagnostic: the stuck points within NEAR_CELLS cells of the slip zone tie on a layer NEAR_BAND
-#: times the others' (None: all on the same layer)
-NEAR_BAND = None
-NEAR_CELLS = 1.0
-#: the mean tie's consistency term (the stuck points' mean flux): 1 Nitsche's, 0 a plain penalty
-CUT_CELL_CONSISTENCY = 1.0
 
 
 @dataclass
@@ -128,8 +116,8 @@ class _Region:
     assembled: tuple | None = None
     #: the pressure Coulomb's law uses (solver.contact.friction_history_pressure)
     fit: PressureFit | None = None
-    #: (q,) each point's cell pair (an index), for the ties of the cut pairs
-    pair: np.ndarray | None = None
+    #: (q,) each point's group of the diagnostic mean ties (solver.contact.friction_history_ties)
+    group: np.ndarray | None = None
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -198,9 +186,9 @@ class HistoryEllipseContact(EllipseContact):
         fixed = projector("fixed", pts.normal)  # the pressure rows are the same for either zone's projector
         r, b = pressure_rows(self, (pts, None, fixed, jump, flux, size, a))
         reg.fit = pressure_fit(self.local(pts.s), self.semi_axes(a), pts.weights, r, b)
-        cells1, cells2 = locate_cells(self.b1, pts.x1, pts.n1), locate_cells(self.b2, pts.x2, pts.n2)
-        key = {"pairs": np.column_stack([cells1, cells2]), "cell1": cells1[:, None], "cell2": cells2[:, None]}[TIE_GROUPS]
-        reg.pair = np.unique(key, axis=0, return_inverse=True)[1].ravel()
+        if ties.CUT_CELL_TIE != "points":
+            reg.group = ties.tie_groups(self.local(pts.s), self.h, locate_cells(self.b1, pts.x1, pts.n1),
+                                        locate_cells(self.b2, pts.x2, pts.n2))
         self.regions[a] = reg
         for old in list(self.regions)[:-KEEP_REGIONS]:
             del self.regions[old]
@@ -262,7 +250,7 @@ class HistoryEllipseContact(EllipseContact):
         slip, direction = self.zones_at(reg)
         grouped = self._grouped(reg, slip)
         free = slip | grouped  # no tangential tie of its own
-        bands = self._tangential_bands(reg, slip)
+        bands = ties.tangential_bands(pts.s, slip, self.h, TANGENTIAL_BAND)
         proj = np.where(free[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
         info = (pts, bp, proj, jump, flux, size, a)
         old = reg.assembled
@@ -279,61 +267,20 @@ class HistoryEllipseContact(EllipseContact):
             parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
         reg.assembled = (slip.copy(), direction.copy(), free.copy(), bands.copy()) + parts
         k_tie, f, left = parts
-        if grouped.any():
-            k_g, f_g = self._mean_terms(reg, grouped)
+        if grouped.any():  # the diagnostic mean ties (solver.contact.friction_history_ties)
+            mean, area, stiffness, _, _ = ties.mean_operator(reg.group, grouped, pts.weights, pts.normal, reg.layer_t)
+            k_g, f_g = ties.mean_terms(mean, area, stiffness, jump, flux, pts.delta - reg.w_ref)
             k_tie, f = (k_tie + k_g).tocsr(), f + f_g
         if slip.any():
             return (k_tie - low_rank(left, reg.fit.rows, m)).tocsr(), f + left @ reg.fit.load, info
         return k_tie, f, info
 
-    def _tangential_bands(self, reg: _Region, slip: np.ndarray) -> np.ndarray:
-        """(q,) each point's tangential tie's layer over the contact's band."""
-        out = np.full(len(slip), TANGENTIAL_BAND)
-        if NEAR_BAND is not None and slip.any():
-            d = cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0]
-            out[~slip & (d < NEAR_CELLS * self.h)] *= NEAR_BAND
-        return out
-
-    def _grouped(self, reg: _Region, slip: np.ndarray) -> np.ndarray:
-        """(q,) the stuck points tied by their cell pair's mean jump (``CUT_CELL_TIE`` "mean"): the
-        stuck points of the pairs that hold slipping points too."""
-        if CUT_CELL_TIE == "all":
-            return ~slip
-        if CUT_CELL_TIE != "mean" or not slip.any():
+    @staticmethod
+    def _grouped(reg: _Region, slip: np.ndarray) -> np.ndarray:
+        """(q,) the stuck points tied by their group's mean (solver.contact.friction_history_ties)."""
+        if reg.group is None:
             return np.zeros(len(slip), dtype=bool)
-        has_slip = np.bincount(reg.pair, weights=slip.astype(float), minlength=int(reg.pair.max()) + 1) > 0.0
-        return ~slip & has_slip[reg.pair]
-
-    def _mean_operator(self, reg: _Region, grouped: np.ndarray):
-        """(M, area, stiffness, group of each grouped point, the grouped points): M (3 g, 3 q) the
-        tangential mean over each cut pair's stuck points, their area (g,) and the tie's stiffness
-        per area (g,)."""
-        pts = reg.info[0]
-        idx = np.flatnonzero(grouped)
-        _, g = np.unique(reg.pair[idx], return_inverse=True)
-        g = g.ravel()
-        wq = pts.weights[idx]
-        area = np.bincount(g, weights=wq)
-        stiffness = np.bincount(g, weights=wq * reg.layer_t[idx]) / area
-        n = pts.normal[idx]
-        blocks = (wq / area[g])[:, None, None] * (np.eye(3)[None] - n[:, :, None] * n[:, None, :])
-        rows = np.broadcast_to(3 * g[:, None, None] + np.arange(3)[None, :, None], blocks.shape)
-        cols = np.broadcast_to(3 * idx[:, None, None] + np.arange(3)[None, None, :], blocks.shape)
-        mean = sp.csr_matrix((blocks.ravel(), (rows.ravel(), cols.ravel())), shape=(3 * len(area), 3 * len(grouped)))
-        return mean, area, stiffness, g, idx
-
-    def _mean_terms(self, reg: _Region, grouped: np.ndarray):
-        """Stiffness and load of the cut pairs' mean ties: per pair the traction -k (mean jump less
-        the mean reference) plus the consistency term's mean flux, on every stuck point of the pair."""
-        pts, _, _, jump, flux, _, _ = reg.info
-        mean, area, stiffness, _, _ = self._mean_operator(reg, grouped)
-        jb, fb = (mean @ jump).tocsr(), (mean @ flux).tocsr()
-        d = mean @ (pts.delta - reg.w_ref).ravel()
-        wk, wa = np.repeat(area * stiffness, 3), np.repeat(area, 3)
-        cross = fb.T @ sp.diags(wa) @ jb
-        k = jb.T @ sp.diags(wk) @ jb - CUT_CELL_CONSISTENCY * (cross + cross.T)
-        f = -(jb.T @ (wk * d)) + CUT_CELL_CONSISTENCY * (fb.T @ (wa * d))
-        return sp.csr_matrix(k), np.asarray(f).ravel()
+        return ties.grouped(reg.group, slip)
 
     def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray,
                      free: np.ndarray | None = None, bands: np.ndarray | None = None):
@@ -384,17 +331,16 @@ class HistoryEllipseContact(EllipseContact):
         w = (jump @ x).reshape(-1, 3) + pts.delta
         held = w - np.where(free[:, None], 0.0, reg.w_ref)
         p_normal, p_tangential = _tie_projectors(pts.normal, free)
+        bands = ties.tangential_bands(pts.s, slip, self.h, TANGENTIAL_BAND)
         layer = layer_tensor(self, pts.normal, p_normal, size) \
-            + layer_tensor(self, pts.normal, p_tangential, size) / self._tangential_bands(reg, slip)[:, None, None]
-        proj = np.where(free[:, None, None], p_normal, p_normal + p_tangential)
+            + layer_tensor(self, pts.normal, p_tangential, size) / bands[:, None, None]
+        proj = p_normal + p_tangential
         fx = (flux @ x).reshape(-1, 3)
         t1 = -np.einsum("qij,qj->qi", layer, held)
         t1 = t1 + np.einsum("qij,qj->qi", proj, fx)
-        if grouped.any():  # the cut pairs' mean ties: one traction per pair on its stuck points
-            mean, _, stiffness, g, idx = self._mean_operator(reg, grouped)
-            tg = -stiffness[:, None] * (mean @ (w - reg.w_ref).ravel()).reshape(-1, 3) \
-                + CUT_CELL_CONSISTENCY * (mean @ fx.ravel()).reshape(-1, 3)
-            t1[idx] += tg[g]
+        if grouped.any():  # the diagnostic mean ties: one traction per group on its stuck points
+            mean, _, stiffness, g, idx = ties.mean_operator(reg.group, grouped, pts.weights, pts.normal, reg.layer_t)
+            t1[idx] += ties.mean_traction(mean, stiffness, w - reg.w_ref, fx)[g]
         p = reg.fit.pressure(x)
         t1 = t1 - np.where(slip[:, None], self.friction * p[:, None] * direction, 0.0)
         return t1, p, _tangential(t1, pts.normal), _tangential(w, pts.normal)
