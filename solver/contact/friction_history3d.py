@@ -33,8 +33,9 @@ is noise, thousands of points turned at every update and the zones never settled
 Zones of any number and direction follow (stick, forward slip, reversed slip); none is assumed.
 A stuck point is tied by the contact's thin band terms; its tangential tie sits on a layer
 ``TANGENTIAL_BAND`` times the contact's band (1 by default; measured on the fretting example, the
-loop's energy at Q*/(mu N) = 0.3 hangs on that tie's stiffness: the stuck points of the cells the
-stick circle cuts take a share of the annulus's Coulomb traction that grows with it).
+loop's energy at Q*/(mu N) = 0.3 hangs on that tie's stiffness, the whole stick zone's, and does
+not settle as it stiffens; the diagnostic ties of solver.contact.friction_history_ties, each
+cell's stuck points by their mean jump, drift alike: docs/load-paths.md).
 Every trial is one solve of the condensed system on the contact dofs (the driver's factor of the
 bodies' stiffness and its Schur complement are formed once per run); the region's size is kept
 through a step's zone updates and searched again only where its edge coefficient shows that the
