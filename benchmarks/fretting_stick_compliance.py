@@ -29,8 +29,10 @@ zone's reaction to it, not the stick zone's stiffness, are off.
         [--band-fraction 0.5]
 
 The example's grid takes about 10 s and 0.65 GB; with ``--edge-ring`` about 65 s and 1.95 GB.
-``--band-fraction`` sets the scene's [solver].band_fraction (the ties' layer, 0.25 by default).
-Prints only; writes nothing.
+``--band-fraction`` sets the scene's [solver].band_fraction (the ties' layer, 0.25 by default);
+``--tangential-band F`` the stuck points' tangential tie's layer alone (F times the contact's);
+``--cut-cell-tie``, ``--tie-groups``, ``--cut-cell-consistency`` and ``--near-band`` the diagnostic
+ties of ``solver.contact.friction_history_ties``. Prints only; writes nothing.
 """
 
 from __future__ import annotations
@@ -133,7 +135,29 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--edge-ring", action="store_true", help="one more refinement level about the contact's edge")
     ap.add_argument("--radii", type=float, nargs="+", default=list(DEFAULT_RADII), help="c / a, the first 1")
     ap.add_argument("--band-fraction", type=float, default=None, help="the ties' band ([solver].band_fraction)")
+    ap.add_argument("--cut-cell-tie", choices=("points", "mean", "all"), default=None,
+                    help="the stuck points tied each at its jump (points), or by their group's mean tangential jump in the "
+                         "groups the stick circle cuts (mean) or in all (all) (friction_history_ties.CUT_CELL_TIE)")
+    ap.add_argument("--cut-cell-consistency", type=float, default=None,
+                    help="the mean tie's consistency factor (friction_history_ties.CUT_CELL_CONSISTENCY)")
+    ap.add_argument("--tangential-band", type=float, default=None,
+                    help="the stuck points' tangential tie's layer over the contact's (friction_history3d.TANGENTIAL_BAND)")
+    ap.add_argument("--near-band", type=float, nargs=2, default=None, metavar=("FACTOR", "CELLS"),
+                    help="a diagnostic: the stuck points within CELLS cells of the slip zone on a layer FACTOR times")
+    ap.add_argument("--tie-groups", choices=("pairs", "cell1", "cell2", "patch2", "nodes"), default=None,
+                    help="the mean ties' groups (friction_history_ties.TIE_GROUPS)")
     args = ap.parse_args(argv)
+    from ibfem.solver.contact import friction_history3d, friction_history_ties as ties
+    if args.tie_groups is not None:
+        ties.TIE_GROUPS = args.tie_groups
+    if args.near_band is not None:
+        ties.NEAR_BAND, ties.NEAR_CELLS = args.near_band
+    if args.tangential_band is not None:
+        friction_history3d.TANGENTIAL_BAND = args.tangential_band
+    if args.cut_cell_tie is not None:
+        ties.CUT_CELL_TIE = args.cut_cell_tie
+    if args.cut_cell_consistency is not None:
+        ties.CUT_CELL_CONSISTENCY = args.cut_cell_consistency
     if args.radii[0] != 1.0:
         raise SystemExit("--radii: the first radius must be 1 (the full stick, the reference of the increase)")
     r = measure(args.radii, amplitude_for(0.3), args.edge_ring, args.band_fraction)

@@ -33,8 +33,9 @@ is noise, thousands of points turned at every update and the zones never settled
 Zones of any number and direction follow (stick, forward slip, reversed slip); none is assumed.
 A stuck point is tied by the contact's thin band terms; its tangential tie sits on a layer
 ``TANGENTIAL_BAND`` times the contact's band (1 by default; measured on the fretting example, the
-loop's energy at Q*/(mu N) = 0.3 hangs on that tie's stiffness: the stuck points of the cells the
-stick circle cuts take a share of the annulus's Coulomb traction that grows with it).
+loop's energy at Q*/(mu N) = 0.3 hangs on that tie's stiffness, the whole stick zone's, and does
+not settle as it stiffens; the diagnostic ties of solver.contact.friction_history_ties, each
+cell's stuck points by their mean jump, drift alike: docs/load-paths.md).
 Every trial is one solve of the condensed system on the contact dofs (the driver's factor of the
 bodies' stiffness and its Schur complement are formed once per run); the region's size is kept
 through a step's zone updates and searched again only where its edge coefficient shows that the
@@ -61,9 +62,11 @@ from scipy.spatial import cKDTree
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_band_terms
 from .ellipse import (EllipseContact, build as ellipse_build, contact_operators, layer_tensor, plane_weights,
                       point_blocks, pressure_rows)
+from .band import locate_cells
 from .friction_history import hold_size
 from .friction_history_pressure import PressureFit, low_rank, pressure_fit
 from .friction_history_profiles import axis_profiles
+from . import friction_history_ties as ties
 
 __all__ = ["HistoryEllipseContact", "build"]
 
@@ -114,6 +117,8 @@ class _Region:
     assembled: tuple | None = None
     #: the pressure Coulomb's law uses (solver.contact.friction_history_pressure)
     fit: PressureFit | None = None
+    #: (q,) each point's group of the diagnostic mean ties (solver.contact.friction_history_ties)
+    group: np.ndarray | None = None
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -183,6 +188,9 @@ class HistoryEllipseContact(EllipseContact):
         fixed = projector("fixed", pts.normal)  # the pressure rows are the same for either zone's projector
         r, b = pressure_rows(self, (pts, None, fixed, jump, flux, size, a))
         reg.fit = pressure_fit(self.local(pts.s), self.semi_axes(a), pts.weights, r, b)
+        if ties.CUT_CELL_TIE != "points":
+            reg.group = ties.tie_groups(self.local(pts.s), self.h, locate_cells(self.b1, pts.x1, pts.n1),
+                                        locate_cells(self.b2, pts.x2, pts.n2))
         self.regions[a] = reg
         for old in list(self.regions)[:-KEEP_REGIONS]:
             del self.regions[old]
@@ -242,50 +250,70 @@ class HistoryEllipseContact(EllipseContact):
         reg = self.region(a)
         pts, bp, _, jump, flux, size, _ = reg.info
         slip, direction = self.zones_at(reg)
-        proj = np.where(slip[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
+        grouped = self._grouped(reg, slip)
+        free = slip | grouped  # no tangential tie of its own
+        bands = ties.tangential_bands(pts.s, slip, self.h, TANGENTIAL_BAND)
+        proj = np.where(free[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
         info = (pts, bp, proj, jump, flux, size, a)
         old = reg.assembled
         if old is not None:
-            changed = np.flatnonzero((old[0] != slip) | np.any(old[1] != direction, axis=1))
+            changed = np.flatnonzero((old[0] != slip) | (old[2] != free) | (old[3] != bands)
+                                     | np.any(old[1] != direction, axis=1))
             if len(changed) <= INCREMENTAL_SHARE * len(slip):
-                k_new, f_new, l_new = self._point_terms(reg, changed, slip, direction)
-                k_old, f_old, l_old = self._point_terms(reg, changed, old[0], old[1])
-                parts = ((old[2] + k_new - k_old).tocsr(), old[3] + f_new - f_old, old[4] + l_new - l_old)
+                k_new, f_new, l_new = self._point_terms(reg, changed, slip, direction, free, bands)
+                k_old, f_old, l_old = self._point_terms(reg, changed, old[0], old[1], old[2], old[3])
+                parts = ((old[4] + k_new - k_old).tocsr(), old[5] + f_new - f_old, old[6] + l_new - l_old)
             else:
-                parts = self._point_terms(reg, np.arange(len(slip)), slip, direction)
+                parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
         else:
-            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction)
-        reg.assembled = (slip.copy(), direction.copy()) + parts
+            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
+        reg.assembled = (slip.copy(), direction.copy(), free.copy(), bands.copy()) + parts
         k_tie, f, left = parts
+        if grouped.any():  # the diagnostic mean ties (solver.contact.friction_history_ties)
+            mean, area, stiffness, _, _ = ties.mean_operator(reg.group, grouped, pts.weights, pts.normal, reg.layer_t)
+            k_g, f_g = ties.mean_terms(mean, area, stiffness, jump, flux, pts.delta - reg.w_ref)
+            k_tie, f = (k_tie + k_g).tocsr(), f + f_g
         if slip.any():
             return (k_tie - low_rank(left, reg.fit.rows, m)).tocsr(), f + left @ reg.fit.load, info
         return k_tie, f, info
 
-    def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray):
+    @staticmethod
+    def _grouped(reg: _Region, slip: np.ndarray) -> np.ndarray:
+        """(q,) the stuck points tied by their group's mean (solver.contact.friction_history_ties)."""
+        if reg.group is None:
+            return np.zeros(len(slip), dtype=bool)
+        return ties.grouped(reg.group, slip)
+
+    def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray,
+                     free: np.ndarray | None = None, bands: np.ndarray | None = None):
         """(ties' stiffness, ties' load, Coulomb's left factor (m, k)) of the points idx of a region
         with zones (slip, direction): Coulomb's traction of the slipping points, -mu p e with p =
-        B (R x + r0) the fitted pressure, adds -left R to the stiffness and left r0 to the load."""
+        B (R x + r0) the fitted pressure, adds -left R to the stiffness and left r0 to the load.
+        The points ``free`` (the slipping ones and the stuck ones tied by their cell pair's mean)
+        have no tangential tie of their own."""
         m = len(self.dofs)
         fit = reg.fit
+        free = slip if free is None else free
+        bands = np.full(len(slip), TANGENTIAL_BAND) if bands is None else bands
         if not len(idx):
             return sp.csr_matrix((m, m)), np.zeros(m), np.zeros((m, fit.basis.shape[1]))
         pts, _, _, jump, flux, size, a = reg.info
         rows = (3 * idx[:, None] + np.arange(3)).ravel()
-        sl, e = slip[idx], direction[idx]
+        sl, fr, e = slip[idx], free[idx], direction[idx]
         normal, delta = pts.normal[idx], pts.delta[idx]
         sub_jump, sub_flux = jump[rows], flux[rows]
         bp = BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx], sub_jump, sub_flux)
-        target = -(delta - np.where(sl[:, None], 0.0, reg.w_ref[idx]))
-        if TANGENTIAL_BAND == 1.0:  # one layer: a stuck point fixed, a slipping one sliding
-            proj = np.where(sl[:, None, None], projector("sliding", normal), projector("fixed", normal))
+        target = -(delta - np.where(fr[:, None], 0.0, reg.w_ref[idx]))
+        if np.all(bands[idx] == 1.0):  # one layer: a stuck point fixed, a slipping one sliding
+            proj = np.where(fr[:, None, None], projector("sliding", normal), projector("fixed", normal))
             k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
         else:  # the normal tie on the contact's layer, the stuck points' tangential one on its own
-            p_normal, p_tangential = _tie_projectors(normal, sl)
+            p_normal, p_tangential = _tie_projectors(normal, fr)
             k, f = thin_band_terms(bp, p_normal, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0,
                                    jump=sub_jump)
             if p_tangential.any():
                 k_t, f_t = thin_band_terms(bp, p_tangential, target, self.b1.lam, self.b1.mu,
-                                           TANGENTIAL_BAND * self.band_fraction, 1.0, jump=sub_jump)
+                                           bands[idx] * self.band_fraction, 1.0, jump=sub_jump)
                 k, f = k + k_t, f + f_t
         left = np.zeros((m, fit.basis.shape[1]))
         if sl.any():
@@ -298,15 +326,23 @@ class HistoryEllipseContact(EllipseContact):
         """Per quadrature point: traction on body 1 (q, 3), the fitted pressure p (the one Coulomb's
         law uses), tangential shear (q, 3) and tangential jump w_t (q, 3)."""
         reg = self.region(a)
-        pts, _, proj, jump, flux, size, _ = info
+        pts, _, _, jump, flux, size, _ = info
         slip, direction = self.zones_at(reg)
+        grouped = self._grouped(reg, slip)
+        free = slip | grouped
         w = (jump @ x).reshape(-1, 3) + pts.delta
-        held = w - np.where(slip[:, None], 0.0, reg.w_ref)
-        p_normal, p_tangential = _tie_projectors(pts.normal, slip)
+        held = w - np.where(free[:, None], 0.0, reg.w_ref)
+        p_normal, p_tangential = _tie_projectors(pts.normal, free)
+        bands = ties.tangential_bands(pts.s, slip, self.h, TANGENTIAL_BAND)
         layer = layer_tensor(self, pts.normal, p_normal, size) \
-            + layer_tensor(self, pts.normal, p_tangential, size) / TANGENTIAL_BAND
+            + layer_tensor(self, pts.normal, p_tangential, size) / bands[:, None, None]
+        proj = p_normal + p_tangential
+        fx = (flux @ x).reshape(-1, 3)
         t1 = -np.einsum("qij,qj->qi", layer, held)
-        t1 = t1 + np.einsum("qij,qj->qi", proj, (flux @ x).reshape(-1, 3))
+        t1 = t1 + np.einsum("qij,qj->qi", proj, fx)
+        if grouped.any():  # the diagnostic mean ties: one traction per group on its stuck points
+            mean, _, stiffness, g, idx = ties.mean_operator(reg.group, grouped, pts.weights, pts.normal, reg.layer_t)
+            t1[idx] += ties.mean_traction(mean, stiffness, w - reg.w_ref, fx)[g]
         p = reg.fit.pressure(x)
         t1 = t1 - np.where(slip[:, None], self.friction * p[:, None] * direction, 0.0)
         return t1, p, _tangential(t1, pts.normal), _tangential(w, pts.normal)

@@ -39,7 +39,9 @@ prints the tables and writes ``validation_sphere.json`` and ``fretting_sphere.md
 Coulomb's rule (``ClosedFormZones``), which separates the zone rule's error from the
 discretisation's; ``--tangential-band F`` puts the stuck points' tangential tie on a layer F times
 the contact's band (``friction_history3d.TANGENTIAL_BAND``, 1 by default: the loop's energy at
-small amplitudes hangs on that tie's stiffness, docs/load-paths.md); ``--cycles`` sets the run's
+small amplitudes hangs on that tie's stiffness, docs/load-paths.md); ``--cut-cell-tie mean|all``
+ties the stuck points of the cells the slip zone cuts (or of every cell) by their cell's mean
+tangential jump (``friction_history_ties.CUT_CELL_TIE``, a diagnostic); ``--cycles`` sets the run's
 length.
 """
 
@@ -250,13 +252,14 @@ def edge_ring_balls(levels: int) -> list[dict]:
 
 def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle: int = 20, grid_offset=None,
              refinement_levels: int | None = None, closed_form_zones: bool = False, edge_ring: bool = False,
-             tangential_band: float | None = None) -> dict:
+             tangential_band: float | None = None, cut_cell_tie: str | None = None) -> dict:
     """Run the example at a tangential amplitude (its grids shifted by ``grid_offset``, refined
     ``refinement_levels`` times about the contact, one level more about its edge with
     ``edge_ring``; with the closed form's zones imposed when ``closed_form_zones``; the stuck
-    points' tangential tie on a layer ``tangential_band`` times the contact's band when given);
+    points' tangential tie on a layer ``tangential_band`` times the contact's band when given; the
+    stuck points' tie of ``friction_history_ties.CUT_CELL_TIE`` set to ``cut_cell_tie`` when given);
     its comparison (with the run's timings)."""
-    from ..contact import friction_history3d
+    from ..contact import friction_history3d, friction_history_ties
     from ..contact.friction_history3d import HistoryEllipseContact
     from ..io.output import write_scene_results
     from ..io.scene import scene_from_dict
@@ -267,13 +270,16 @@ def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle:
     if tangential_band is not None and not tangential_band > 0.0:
         raise ValueError(f"tangential_band must be > 0, got {tangential_band}")
     HistoryEllipseContact.zone_rule = ClosedFormZones() if closed_form_zones else None
-    band = friction_history3d.TANGENTIAL_BAND
+    if cut_cell_tie not in (None, "points", "mean", "all"):
+        raise ValueError(f"cut_cell_tie must be points, mean or all, got {cut_cell_tie!r}")
+    band, tie = friction_history3d.TANGENTIAL_BAND, friction_history_ties.CUT_CELL_TIE
     friction_history3d.TANGENTIAL_BAND = band if tangential_band is None else float(tangential_band)
+    friction_history_ties.CUT_CELL_TIE = tie if cut_cell_tie is None else cut_cell_tie
     try:
         solution = solve(sc.problem)
     finally:
         HistoryEllipseContact.zone_rule = None
-        friction_history3d.TANGENTIAL_BAND = band
+        friction_history3d.TANGENTIAL_BAND, friction_history_ties.CUT_CELL_TIE = band, tie
     out.mkdir(parents=True, exist_ok=True)
     summary = write_scene_results(out, sc, solution)
     hysteresis = np.loadtxt(out / "hysteresis_0.csv", delimiter=",", skiprows=1)
@@ -358,6 +364,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tangential-band", type=float, default=None,
                     help="the stuck points' tangential tie on a layer this many times the contact's band "
                          "(friction_history3d.TANGENTIAL_BAND, 1 by default)")
+    ap.add_argument("--cut-cell-tie", choices=("points", "mean", "all"), default=None,
+                    help="the stuck points tied each at its jump (points, the default), or by their cell's mean "
+                         "tangential jump in the cells the slip zone cuts (mean) or in every cell (all)")
     args = ap.parse_args(argv)
     if args.tangential_band is not None and not args.tangential_band > 0.0:
         ap.error(f"--tangential-band must be > 0, got {args.tangential_band}")
@@ -367,7 +376,7 @@ def main(argv: list[str] | None = None) -> int:
         r = run_case(amplitude_for(ratio), out / f"ratio_{ratio:g}", cycles=args.cycles,
                      points_per_cycle=args.points_per_cycle, refinement_levels=args.refinement_levels,
                      closed_form_zones=args.closed_form_zones, edge_ring=args.edge_ring,
-                     tangential_band=args.tangential_band)
+                     tangential_band=args.tangential_band, cut_cell_tie=args.cut_cell_tie)
         results.append(r)
         print(f"Q*/(mu N) ~ {ratio:g}: {r['solves']} solves, converged {r['converged']}")
         for s in r["steps"]:
