@@ -909,13 +909,37 @@ def size_problems(problem: pb.Problem, label: str) -> list[str]:
     solver.model.estimate); the message says how much it would need."""
     from ibfem.solver.model.estimate import available_memory, estimate_size
 
-    size = estimate_size(problem)
+    lines = _followed_line_contacts(problem)
+    size = estimate_size(_coarse_passes(problem, lines) if lines else problem)
     have = available_memory()
     if not size.memory <= have:
         need = size.memory / 2**30
-        return [f"{label}: the grids would need {need:.3g} GB ({size}) but the machine has {have / 2**30:.3g} GB: "
+        what = "the coarse pass of its line contacts would need" if lines else "the grids would need"
+        return [f"{label}: {what} {need:.3g} GB ({size}) but the machine has {have / 2**30:.3g} GB: "
                 "coarsen them (bodies[k].element_size, refinement levels or radii)"]
     return []
+
+
+def _followed_line_contacts(problem: pb.Problem) -> list[int]:
+    """The 3D line contacts whose refinement follows their region: the run builds the scene's
+    contact ball two levels shallower (a coarse pass), then a band along the region it finds,
+    never the whole ball at the scene's depth. Judging the scene's grid would refuse runs that
+    fit; the coarse pass is what is known before a solve (``ibfem run --check`` solves it and
+    estimates the band too)."""
+    if problem.dim != 3:
+        return []
+    from ibfem.solver.contact.follow import line_contacts
+
+    try:
+        return line_contacts(problem)
+    except (ValueError, ArithmeticError):  # a point that is no contact: the solve says why
+        return []
+
+
+def _coarse_passes(problem: pb.Problem, lines: list[int]) -> pb.Problem:
+    from ibfem.solver.contact.follow import coarse_problem
+
+    return coarse_problem(problem, lines)
 
 
 #: a given contact point may lie this many of the finer element size off either boundary
