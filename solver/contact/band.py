@@ -283,6 +283,7 @@ class BandContact:
 
     def start_step(self) -> None:
         """Before a load step: frictional contacts restart their stick-ratio root."""
+        self.centre_tries = []  # (centre, centroid - centre) of this step's moves
         if self.kind == "frictional":
             if self.stick_ratio <= 0.0:
                 self.stick_ratio = StickRoot.min_ratio
@@ -332,8 +333,28 @@ class BandContact:
         nxt = float(np.clip(centroid, min(lo, 0.0), max(hi, 0.0)))
         if abs(nxt - self.centre) <= tol:
             return True
-        self.centre = nxt
-        return False
+        self.centre, settled = self._next_centre(nxt, tol)
+        return settled
+
+    def _next_centre(self, centroid: float, tol: float) -> tuple[float, bool]:
+        """(the next centre, whether the centre has settled) from the centroid the current one
+        gave. The centroid itself while the centroid's offset keeps its sign; once two centres
+        bracket the point where the centre equals its centroid (moving to each centroid in turn
+        can swing between two centres without end, as a pin in a bore under a turning load did),
+        false position within the bracket, and settled when the bracket is narrower than ``tol``
+        (the centroid jumps there as points change zone: the end with the smaller offset)."""
+        tries = getattr(self, "centre_tries", None)
+        if tries is None:
+            tries = self.centre_tries = []
+        tries.append((self.centre, centroid - self.centre))
+        ahead = [t for t in tries if t[1] > 0.0]  # centres whose centroid lies beyond them (+s)
+        behind = [t for t in tries if t[1] < 0.0]
+        if not ahead or not behind:
+            return centroid, False
+        lo, hi = min(((p, q) for p in ahead for q in behind), key=lambda pq: abs(pq[0][0] - pq[1][0]))
+        if abs(hi[0] - lo[0]) <= tol:
+            return min((lo, hi), key=lambda t: abs(t[1]))[0], True
+        return lo[0] - lo[1] * (hi[0] - lo[0]) / (hi[1] - lo[1]), False
 
     def _pin(self, x: np.ndarray, a: float, info) -> bool:
         """Pin the region at a corner of body 1 when one end has reached it (a complete end) while

@@ -235,6 +235,7 @@ class HistoryBandContact(BandContact):
     # ------------------------------------------------------------------ the driver's protocol
 
     def start_step(self) -> None:
+        self.centre_tries = []  # (centre, centroid - centre) of this step's moves
         self.zone_changes = 0
         self.zone_updates = 0
         self._set_zones(np.zeros(len(self.zone)))  # the elastic predictor: every point stuck
