@@ -28,7 +28,7 @@ import numpy as np
 from ..model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .ellipse import is_line_contact
 from .ellipse_geometry import contact_frame_3d, sectors
-from .region_band import band_balls, side_balls, turning_balls
+from .region_band import band_balls, peak_balls, side_balls, turning_balls
 from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
 __all__ = ["solve_following", "line_contacts", "finest_contact_cell", "coarse_problem", "coarse_pass",
@@ -52,6 +52,9 @@ TURNING_REACH_CELLS = 1.0
 SIDE_REACH_CELLS: float | None = 0.25
 SIDE_WINDOW_CELLS = 2.0
 SIDE_MIN_CELLS = 6.0
+#: balls one level finer about the coarse pass's pressure peaks next to where the edge turns
+#: (region_band.peak_balls), of the turning balls' radius: False leaves them out (the rule before)
+PEAK_BALLS = True
 #: a coarse region whose half-width spans fewer of its cells is not resolved: its edge, and so the
 #: band, is not where the region is (a crowned roller on cells as wide as its half-width ended with
 #: its region at the end face, not converged)
@@ -128,7 +131,12 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
         fine = 0.5 * cell  # the cells one level finer
         window = EDGE_WINDOW_CELLS * fine
         reach = TURNING_REACH_CELLS * margin / MARGIN_CELLS
-        finer = [(point + s @ axes, r) for s, r in turning_balls(block, margin, window, reach)]
+        turning = turning_balls(block, margin, window, reach)
+        finer = [(point + s @ axes, r) for s, r in turning]
+        if PEAK_BALLS and turning:
+            peaks = peak_balls(block, margin, reach + window)
+            if len(peaks):
+                finer.append((point + peaks @ axes, reach + window))
         if SIDE_REACH_CELLS is not None and radius - margin < SIDE_MIN_CELLS * cell:
             s, r = side_balls(block, margin, SIDE_REACH_CELLS * margin / MARGIN_CELLS + SIDE_WINDOW_CELLS * fine)
             if len(s):
