@@ -39,11 +39,12 @@ COARSER_LEVELS = 2
 #: the band's margin beyond the region's half-width, in cells of the coarse pass (its uncertainty)
 MARGIN_CELLS = 1.0
 #: how far beyond the coarse region's edge the balls one level finer where it turns reach (besides
-#: the edge condition's window), in cells of the coarse pass: where the edge may lie. Half a cell
-#: (the final regions' semi-axes lie within 0.14 of a coarse cell of the coarse pass's on the
-#: crowned and tilted rollers) fits the tilted roller's fine pass in 2.42 GB, but puts the
-#: finer cells' border across its loaded end's peak, 5 % too high (docs/contact-3d.md)
-TURNING_REACH_CELLS = 1.0
+#: the edge condition's window), in cells of the coarse pass: where the edge may lie. Half a cell:
+#: the final regions' semi-axes lie within 0.14 of a coarse cell of the coarse pass's on the
+#: crowned and tilted rollers; with the ball about the end's pressure peak (PEAK_BALLS) the finer
+#: cells' border stays off the peak, which a whole cell's reach alone had kept off only by chance
+#: (docs/contact-3d.md). The tilted roller's fine pass needs 3.0 GB with a whole cell
+TURNING_REACH_CELLS = 0.5
 #: balls one level finer along the straight sides too (outside the stretches where the edge
 #: turns), where the band's cells resolve the coarse region's half-width with fewer than
 #: SIDE_MIN_CELLS (the plane-strain section's width is 2.8 % short on 3.6 cells per half-width,
