@@ -11,9 +11,10 @@ the contact point) whose bodies refine around the contact, the solve runs twice:
    along the region (solver.contact.region_band: centred on the line through the contact point
    every band radius over the region's extent along it, of radius the region's half-width plus a
    margin of one coarse cell), and balls one level finer about the region's smooth edge where it
-   turns away from the line (its half-width changes fastest: a crowned roller's ends), and
-   thinner balls one level finer along the rest of the smooth edge (the straight sides) where the
-   band's cells resolve the half-width with fewer than SIDE_MIN_CELLS.
+   turns away from the line (its half-width changes fastest: a crowned roller's ends) and about
+   the coarse pass's pressure peak next to them (PEAK_BALLS), and thinner balls one level finer
+   along the rest of the smooth edge (the straight sides) where the band's cells resolve the
+   half-width with fewer than SIDE_MIN_CELLS.
 
 Point contacts (ellipses) are solved as the scene says: their ball already fits the region.
 """
@@ -41,9 +42,10 @@ MARGIN_CELLS = 1.0
 #: how far beyond the coarse region's edge the balls one level finer where it turns reach (besides
 #: the edge condition's window), in cells of the coarse pass: where the edge may lie. Half a cell:
 #: the final regions' semi-axes lie within 0.14 of a coarse cell of the coarse pass's on the
-#: crowned and tilted rollers; with the ball about the end's pressure peak (PEAK_BALLS) the finer
-#: cells' border stays off the peak, which a whole cell's reach alone had kept off only by chance
-#: (docs/contact-3d.md). The tilted roller's fine pass needs 3.0 GB with a whole cell
+#: crowned and tilted rollers; the ball about the end's pressure peak (PEAK_BALLS) keeps the
+#: finer cells' border off the peak (without it, at half a cell, the tilted roller's end peak
+#: read 6.4 % high: docs/contact-3d.md). The tilted roller's fine pass needs 3.0 GB with a whole
+#: cell, 2.77 GB with half a cell and the peak's balls
 TURNING_REACH_CELLS = 0.5
 #: balls one level finer along the straight sides too (outside the stretches where the edge
 #: turns), where the band's cells resolve the coarse region's half-width with fewer than
