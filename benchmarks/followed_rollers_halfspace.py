@@ -13,6 +13,10 @@ the cells per semi-axis and the refinement record (coarse pass, band, finer ball
     python -m ibfem run tests/scenes/lundberg_roller.toml --out OUT
     python benchmarks/followed_rollers_halfspace.py lundberg OUT/summary.json
     python benchmarks/followed_rollers_halfspace.py tilted OUT/summary.json
+
+The tilted roller's half-space is solved on 1 x 0.8 mm rectangles (2.1 GB, about a minute): on
+2 mm along the line its loaded end's peak is read 3.2 mm further out (59.0 mm from the contact
+point, against 55.8 mm on 1 mm and 55.9 mm on 0.5 mm rectangles), 4 % of the half-length.
 """
 
 from __future__ import annotations
@@ -138,7 +142,7 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("roller", choices=["lundberg", "tilted"])
     parser.add_argument("summary")
-    parser.add_argument("--dx", type=float, default=None, help="rectangles along the line (default 1 mm; tilted 2 mm)")
+    parser.add_argument("--dx", type=float, default=None, help="rectangles along the line (default 1 mm)")
     parser.add_argument("--dy", type=float, default=0.0008)
     args = parser.parse_args(argv)
     summary = json.loads(Path(args.summary).read_text())
@@ -146,7 +150,7 @@ def main(argv: list[str] | None = None) -> None:
     if args.roller == "lundberg":
         result = compare_lundberg(block, args.dx or 0.001, args.dy)
     else:
-        result = compare_tilted(block, ROOT / "examples" / "contact3d" / "tilted_roller.toml", args.dx or 0.002, args.dy)
+        result = compare_tilted(block, ROOT / "examples" / "contact3d" / "tilted_roller.toml", args.dx or 0.001, args.dy)
     print(f"converged: {summary['converged']}; iterations {summary['iterations']['total']}")
     print(report(block, summary["iterations"].get("refinement"), result))
 

@@ -18,6 +18,12 @@ band's cells resolve the half-width with fewer than SIDE_MIN_CELLS); ``--side no
 out (the rule before them):
 
     python benchmarks/turning_slope.py 0.25 --side none examples/contact3d/crowned_roller.toml --out OUT
+
+``--peak none`` (last of the three) leaves out the balls one level finer about the coarse pass's
+pressure peaks next to where the edge turns (solver.contact.follow.PEAK_BALLS; the rule before
+them):
+
+    python benchmarks/turning_slope.py 0.25 --peak none examples/contact3d/crowned_roller.toml --out OUT
 """
 
 from __future__ import annotations
@@ -42,10 +48,12 @@ def main(argv: list[str]) -> int:
             follow.SIDE_REACH_CELLS, rest = None, rest[2:]
         else:
             follow.SIDE_REACH_CELLS, follow.SIDE_WINDOW_CELLS, rest = float(rest[1]), float(rest[2]), rest[3:]
+    if rest[:1] == ["--peak"]:
+        follow.PEAK_BALLS, rest = rest[1] != "none", rest[2:]
     code = cli(["run", *rest])
     usage = resource.getrusage(resource.RUSAGE_SELF)
     print(f"turning slope {region_band.TURNING_SLOPE}, reach {follow.TURNING_REACH_CELLS} coarse cells, "
-          f"sides {follow.SIDE_REACH_CELLS} coarse + {follow.SIDE_WINDOW_CELLS} finer cells: CPU {usage.ru_utime + usage.ru_stime:.1f} s, "
+          f"sides {follow.SIDE_REACH_CELLS} coarse + {follow.SIDE_WINDOW_CELLS} finer cells, peak balls {follow.PEAK_BALLS}: CPU {usage.ru_utime + usage.ru_stime:.1f} s, "
           f"peak {usage.ru_maxrss / 1024**2:.2f} GB")
     return code
 

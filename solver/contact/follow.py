@@ -11,9 +11,10 @@ the contact point) whose bodies refine around the contact, the solve runs twice:
    along the region (solver.contact.region_band: centred on the line through the contact point
    every band radius over the region's extent along it, of radius the region's half-width plus a
    margin of one coarse cell), and balls one level finer about the region's smooth edge where it
-   turns away from the line (its half-width changes fastest: a crowned roller's ends), and
-   thinner balls one level finer along the rest of the smooth edge (the straight sides) where the
-   band's cells resolve the half-width with fewer than SIDE_MIN_CELLS.
+   turns away from the line (its half-width changes fastest: a crowned roller's ends) and about
+   the coarse pass's pressure peak next to them (PEAK_BALLS), and thinner balls one level finer
+   along the rest of the smooth edge (the straight sides) where the band's cells resolve the
+   half-width with fewer than SIDE_MIN_CELLS.
 
 Point contacts (ellipses) are solved as the scene says: their ball already fits the region.
 """
@@ -28,7 +29,7 @@ import numpy as np
 from ..model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .ellipse import is_line_contact
 from .ellipse_geometry import contact_frame_3d, sectors
-from .region_band import band_balls, side_balls, turning_balls
+from .region_band import band_balls, peak_balls, side_balls, turning_balls
 from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
 __all__ = ["solve_following", "line_contacts", "finest_contact_cell", "coarse_problem", "coarse_pass",
@@ -39,11 +40,13 @@ COARSER_LEVELS = 2
 #: the band's margin beyond the region's half-width, in cells of the coarse pass (its uncertainty)
 MARGIN_CELLS = 1.0
 #: how far beyond the coarse region's edge the balls one level finer where it turns reach (besides
-#: the edge condition's window), in cells of the coarse pass: where the edge may lie. Half a cell
-#: (the final regions' semi-axes lie within 0.14 of a coarse cell of the coarse pass's on the
-#: crowned and tilted rollers) fits the tilted roller's fine pass in 2.42 GB, but puts the
-#: finer cells' border across its loaded end's peak, 5 % too high (docs/contact-3d.md)
-TURNING_REACH_CELLS = 1.0
+#: the edge condition's window), in cells of the coarse pass: where the edge may lie. Half a cell:
+#: the final regions' semi-axes lie within 0.14 of a coarse cell of the coarse pass's on the
+#: crowned and tilted rollers; the ball about the end's pressure peak (PEAK_BALLS) keeps the
+#: finer cells' border off the peak (without it, at half a cell, the tilted roller's end peak
+#: read 6.4 % high: docs/contact-3d.md). The tilted roller's fine pass needs 3.0 GB with a whole
+#: cell, 2.77 GB with half a cell and the peak's balls
+TURNING_REACH_CELLS = 0.5
 #: balls one level finer along the straight sides too (outside the stretches where the edge
 #: turns), where the band's cells resolve the coarse region's half-width with fewer than
 #: SIDE_MIN_CELLS (the plane-strain section's width is 2.8 % short on 3.6 cells per half-width,
@@ -52,6 +55,9 @@ TURNING_REACH_CELLS = 1.0
 SIDE_REACH_CELLS: float | None = 0.25
 SIDE_WINDOW_CELLS = 2.0
 SIDE_MIN_CELLS = 6.0
+#: balls one level finer about the coarse pass's pressure peaks next to where the edge turns
+#: (region_band.peak_balls), of the turning balls' radius: False leaves them out (the rule before)
+PEAK_BALLS = True
 #: a coarse region whose half-width spans fewer of its cells is not resolved: its edge, and so the
 #: band, is not where the region is (a crowned roller on cells as wide as its half-width ended with
 #: its region at the end face, not converged)
@@ -128,7 +134,12 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
         fine = 0.5 * cell  # the cells one level finer
         window = EDGE_WINDOW_CELLS * fine
         reach = TURNING_REACH_CELLS * margin / MARGIN_CELLS
-        finer = [(point + s @ axes, r) for s, r in turning_balls(block, margin, window, reach)]
+        turning = turning_balls(block, margin, window, reach)
+        finer = [(point + s @ axes, r) for s, r in turning]
+        if PEAK_BALLS and turning:
+            peaks = peak_balls(block, margin, reach + window)
+            if len(peaks):
+                finer.append((point + peaks @ axes, reach + window))
         if SIDE_REACH_CELLS is not None and radius - margin < SIDE_MIN_CELLS * cell:
             s, r = side_balls(block, margin, SIDE_REACH_CELLS * margin / MARGIN_CELLS + SIDE_WINDOW_CELLS * fine)
             if len(s):

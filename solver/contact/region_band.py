@@ -13,6 +13,11 @@ pass's region (a contact block of summary.json: its point, axes and boundary pol
   edges and next to them (within the margin) is left out: there the region ends at the body's
   corner (complete contact), its width does not follow the pressure, and the pressure is
   singular, so finer cells there only raise the end's peak.
+- **About a pressure peak next to where the edge turns** (peak_balls): a ball one level finer,
+  of the turning balls' radius, centred where the coarse pass's pressure peaks within a ball's
+  radius of a turning stretch (a crowned roller's end peak lies just before its end narrows), so
+  that the finer cells' border does not cross the peak (a border through the top of a peak lifts
+  it and moves it by several millimetres onto the coarser side).
 - **Along the straight sides** (side_balls): thinner balls one level finer on the rest of the
   smooth edge, away from the free edges, where the band's cells are too coarse for the width
   (the caller decides where).
@@ -24,7 +29,10 @@ import math
 
 import numpy as np
 
-__all__ = ["TURNING_SLOPE", "band_balls", "turning_balls", "side_balls", "region_edge", "turning_stretches"]
+from .region_report import mirror_images, peak_place
+
+__all__ = ["TURNING_SLOPE", "band_balls", "turning_balls", "peak_balls", "side_balls", "region_edge",
+           "turning_stretches", "symmetry_maps"]
 
 #: the smooth edge's slope to the line (the half-width's change per unit length) beyond which the
 #: region's edge is refined one level more (tan 14 degrees)
@@ -103,6 +111,53 @@ def turning_balls(block: dict, margin: float, window: float, reach: float | None
         if len(centres):
             out.append((centres, radius))
     return out
+
+
+def symmetry_maps(block: dict) -> np.ndarray:
+    """The tangent-plane maps that rebuild the whole region from a symmetric model's share of it
+    (region_report.mirror_images): the sector between the symmetry cuts through the contact
+    point, the boundary's segments that leave and reach it, spanning the block's model share of
+    the turn; the identity alone for a whole model."""
+    xy, _, _ = region_edge(block)
+    share = float(block.get("model_share") or 1.0)
+    centre = np.flatnonzero(np.hypot(xy[:, 0], xy[:, 1]) <= 1e-9 * max(float(np.abs(xy).max()), 1e-300))
+    if not len(centre) or share > 1.0 - 1e-6:
+        return np.eye(2)[None]
+    after = xy[(centre[0] + 1) % len(xy)]
+    t0 = math.atan2(after[1], after[0])
+    return mirror_images([(t0, t0 + 2.0 * math.pi * share)])
+
+
+def peak_balls(block: dict, margin: float, radius: float) -> np.ndarray:
+    """(k, 2) centres in the tangent plane of balls one level finer of ``radius`` (the turning
+    balls') about the coarse pass's pressure peaks next to the stretches where the edge turns
+    (turning_stretches, widened by ``margin``): per stretch, the coarse map's squares within
+    ``radius`` of it along the line; where their largest is a peak of the whole map (no square
+    within ``radius`` of it higher: not the rise towards a plateau elsewhere), a ball at its place
+    (region_report.peak_place: the plateau's centroid, a symmetric model's mirror images
+    included). A finer cells' border through a peak's top lifts it and moves it onto the coarser
+    side; so the peak and ``radius`` about it lie in the finer cells."""
+    squares = block.get("pressure_map") or {}
+    if not squares.get("value"):
+        return np.zeros((0, 2))
+    s, value = np.asarray(squares["s"], float), np.asarray(squares["value"], float)
+    area, keys = np.asarray(squares["area"], float), np.asarray(squares["square"])
+    maps = symmetry_maps(block)
+    images = np.concatenate([s @ m.T for m in maps])
+    image_values = np.tile(value, len(maps))
+    out: list[np.ndarray] = []
+    for a, b, _ in turning_stretches(block, margin):
+        near = (s[:, 0] >= a - radius) & (s[:, 0] <= b + radius)
+        if not near.any():
+            continue
+        top = np.flatnonzero(near)[int(np.argmax(value[near]))]
+        around = np.hypot(*(images - s[top]).T) <= radius
+        if image_values[around].max() > value[top]:
+            continue
+        place = peak_place(s[near], value[near], area[near], keys[near], float(squares["cell"]), maps)
+        if not any(np.hypot(*(place - c)) <= 1e-9 * radius for c in out):
+            out.append(place)
+    return np.asarray(out).reshape(-1, 2)
 
 
 def side_balls(block: dict, margin: float, radius: float) -> tuple[np.ndarray, float]:
