@@ -456,8 +456,16 @@ def assign_to_material_side(grid: Grid, points: np.ndarray, inward: np.ndarray) 
     """Cell holding each piece midpoint; a midpoint on a cell side (a piece along a grid line)
     goes to the cell on the material side (``inward`` direction)."""
     cell = grid.locate(points)
-    if (cell < 0).any():
-        return cell
+    off = np.flatnonzero(cell < 0)
+    if len(off):  # a midpoint on the grid's own border, outside it by round-off only (a curve's extreme
+        # point on the body's box: the grid starts there) belongs to the border's cell
+        box_lo = np.asarray(grid.origin, float)
+        box_hi = box_lo + np.asarray(grid.shape, float) * grid.h0
+        eps = 1e-9 * grid.h0
+        near = np.all((points[off] > box_lo - eps) & (points[off] < box_hi + eps), axis=1)
+        cell[off[near]] = grid.locate(np.clip(points[off[near]], box_lo + eps, box_hi - eps))
+        if (cell < 0).any():
+            return cell
     lower, size = grid.lower[cell], grid.size[cell]
     loc = 2.0 * (points - lower) / size[:, None] - 1.0
     moved = points.copy()
