@@ -109,7 +109,7 @@ def _run(args: argparse.Namespace) -> int:
     for note in scene.warnings:
         _err(f"warning: {note}")
     if args.check:
-        return _print_check(args.scene, scene)
+        return _print_check(args.scene, scene, quiet=args.quiet)
     if early is not None and not scene.output.plots:
         early.stop(at_once=True)
     worker = PictureWorker.start(scene.problem, early) if scene.output.plots else None
@@ -179,11 +179,20 @@ def _not_converged(label: str, summary: dict, out: Path) -> int:
     return 1
 
 
-def _print_check(path: str, scene) -> int:
-    """``--check``: the scene is valid; the size of the run it would make (exit 0)."""
+def _print_check(path: str, scene, quiet: bool = False) -> int:
+    """``--check``: the scene is valid; the size of the run it would make (exit 0). A coarse pass
+    the check solves (3D line contacts, large point contacts) shows its progress as a run does."""
+    from ibfem.solver.io.progress import ProgressReporter, share
     from ibfem.solver.io.run_size import run_size
+    from ibfem.solver.solving import solve
 
-    size, note = run_size(scene.problem)
+    progress = None if quiet else ProgressReporter()
+    report = None if progress is None else share(progress, 0.0, 1.0, "check, coarse pass: ")
+    try:
+        size, note = run_size(scene.problem, lambda problem: solve(problem, progress=report))
+    finally:
+        if progress is not None:
+            progress.close()
     print(f"{path}: valid scene {scene.name!r} ({len(scene.problem.bodies)} bodies; {size})"
           + ("" if note is None else f"; {note}"))
     return 0
