@@ -61,54 +61,49 @@ class DiscBins:
     def nbytes(self) -> int:
         return int(self.s.nbytes + self.weights.nbytes + self.cell.nbytes + self.stencil.nbytes)
 
-    def _flat(self, cell: np.ndarray) -> np.ndarray:
-        return cell[..., 0] * self.shape[1] + cell[..., 1]
-
-    def _bin_sums(self, members: np.ndarray, columns: np.ndarray) -> np.ndarray:
-        """(bins, 3 + k) per bin the members' weight, weighted x, y and weighted columns."""
-        nb = self.shape[0] * self.shape[1]
-        w = np.where(members, self.weights, 0.0)
-        vals = np.column_stack([np.ones(len(w)), self.s, columns])
-        vals = np.where(members[:, None], vals, 0.0)  # an infinite column of a non-member counts nothing
-        flat = self._flat(self.cell)
-        return np.column_stack([np.bincount(flat, weights=w * vals[:, j], minlength=nb)
-                                for j in range(vals.shape[1])])
+    def _padded(self) -> tuple[int, np.ndarray, np.ndarray]:
+        """(row length, each point's flat bin, the stencil's flat offsets) on the grid padded by the
+        stencil's reach on every side (no offset leaves it)."""
+        reach = int(np.abs(self.stencil).max()) if len(self.stencil) else 0
+        ny = self.shape[1] + 2 * reach
+        flat = (self.cell[:, 0] + reach) * ny + self.cell[:, 1] + reach
+        return (self.shape[0] + 2 * reach) * ny, flat, self.stencil[:, 0] * ny + self.stencil[:, 1]
 
     def means(self, values: np.ndarray, members: np.ndarray, rows: np.ndarray,
               conditions: tuple = ()) -> np.ndarray:
         """(len(rows), k) the weighted means of values (q, k) over the members within the disc
         about each row's point (0 where none). conditions: (c, c_rows, limit) triples, c (q,) a
-        column's quantity and c_rows (len(rows),) the row's: a bin is taken only when its members'
-        weighted mean of c is at most c_rows + ... as the caller's limit(c_rows) gives, unless it is
-        the row's own bin."""
+        quantity of the points and c_rows (len(rows),) the rows': a bin is taken only when its
+        members' weighted mean of c is at most limit(c_rows), unless it is the row's own bin."""
         values = np.asarray(values, dtype=float).reshape(len(self.s), -1)
-        k = values.shape[1]
-        extra = [c for c, _, _ in conditions]
-        sums = self._bin_sums(np.asarray(members, dtype=bool), np.column_stack([values] + extra)
-                              if extra else values)
-        out = np.zeros((len(rows), k))
-        for start in range(0, len(rows), BLOCK_ROWS):
-            block = np.asarray(rows[start:start + BLOCK_ROWS])
-            out[start:start + len(block)] = self._block_means(sums, block, k, conditions, start)
-        return out
+        members = np.asarray(members, dtype=bool)
+        rows = np.asarray(rows, dtype=np.int64)
+        n_bins, flat, offsets = self._padded()
+        w = np.where(members, self.weights, 0.0)
 
-    def _block_means(self, sums, block, k, conditions, start) -> np.ndarray:
-        cell = self.cell[block][:, None, :] + self.stencil[None, :, :]  # (b, S, 2)
-        inside = ((cell >= 0) & (cell < np.asarray(self.shape))).all(axis=2)
-        flat = np.where(inside, self._flat(np.maximum(cell, 0)), 0)
-        own = (self.stencil == 0).all(axis=1)[None, :]
-        bs = sums[flat]  # (b, S, 3 + k + len(conditions))
-        w = np.where(inside, bs[..., 0], 0.0)
-        safe = np.where(w > 0.0, w, 1.0)
-        centre = bs[..., 1:3] / safe[..., None]
-        take = (w > 0.0) & (own | (np.linalg.norm(centre - self.s[block][:, None, :], axis=2) <= self.radius))
-        for j, (_, c_rows, limit) in enumerate(conditions):
-            mean_c = bs[..., 3 + k + j] / safe
-            take &= own | (mean_c <= limit(np.asarray(c_rows)[start:start + len(block)])[:, None])
-        wt = np.where(take, w, 0.0)
-        den = wt.sum(axis=1)
-        num = np.einsum("bs,bsk->bk", take.astype(float), bs[..., 3:3 + k])
-        ok = den > 0.0
-        res = np.zeros((len(block), k))
-        res[ok] = num[ok] / den[ok, None]
-        return res
+        def per_bin(col):  # the members' weighted sums per bin (a non-member's infinity counts nothing)
+            return np.bincount(flat, weights=np.where(members, w * col, 0.0), minlength=n_bins)
+        wb = np.bincount(flat, weights=w, minlength=n_bins)
+        safe = np.where(wb > 0.0, wb, 1.0)
+        centre = [per_bin(self.s[:, j]) / safe for j in range(2)]
+        sums = [per_bin(values[:, j]) for j in range(values.shape[1])]
+        cond = [(per_bin(np.asarray(c, dtype=float)) / safe, np.asarray(c_rows, dtype=float), limit)
+                for c, c_rows, limit in conditions]
+        own = offsets == 0
+        r2 = self.radius**2
+        out = np.zeros((len(rows), values.shape[1]))
+        for start in range(0, len(rows), BLOCK_ROWS):
+            block = rows[start:start + BLOCK_ROWS]
+            b = flat[block][:, None] + offsets[None, :]  # (rows, stencil) the bins about each row
+            dx = centre[0][b] - self.s[block, 0][:, None]
+            dy = centre[1][b] - self.s[block, 1][:, None]
+            take = (dx * dx + dy * dy <= r2) | own[None, :]
+            for mean_c, c_rows, limit in cond:
+                take &= (mean_c[b] <= limit(c_rows[start:start + len(block)])[:, None]) | own[None, :]
+            wt = np.where(take, wb[b], 0.0)
+            den = wt.sum(axis=1)
+            ok = den > 0.0
+            for j, vb in enumerate(sums):
+                num = np.where(take, vb[b], 0.0).sum(axis=1)
+                out[start + np.flatnonzero(ok), j] = num[ok] / den[ok]
+        return out
