@@ -7,7 +7,7 @@ the plane is cut into square bins of side r / BINS_PER_RADIUS; a mean sums, per 
 the weighted positions and the weighted values of the points taken, then adds for each point the
 bins whose weighted centre lies within r of it (the point's own bin always). The disc's rim is
 thus drawn through the bins' centres: a point near the rim is in or out with its bin, within
-half a bin's diagonal (0.18 r) of its own distance. Memory: the per-bin sums (at most about four
+half a bin's diagonal (0.09 r) of its own distance. Memory: the per-bin sums (at most about four
 bins per point) and, per block of BLOCK_ROWS points, the bins of the stencil about them.
 """
 from __future__ import annotations
@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: bins per disc radius: a bin's side is r / 4
-BINS_PER_RADIUS = 4
+#: bins per disc radius: a bin's side is r / 8
+BINS_PER_RADIUS = 8
 #: points whose stencils are gathered at once (BLOCK_ROWS x ~100 bins of a few arrays)
 BLOCK_ROWS = 4096
 
