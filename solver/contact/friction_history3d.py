@@ -356,14 +356,15 @@ class HistoryEllipseContact(EllipseContact):
         bins, n = reg.neighbours, len(slip)
         vv = v.reshape(n, -1)
         out = np.zeros_like(vv)
-        for m in (slip, ~slip):  # plain means among the points of the same zone
-            rows = np.flatnonzero(m)
-            out[rows] = bins.means(vv, m, rows)
         radius = bins.radius
         d = (cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0] if slip.any()
              else np.full(n, np.inf))  # the distance to the slip zone
         e = self._edge_distance(reg) if EDGE_WINDOWS else np.full(n, np.inf)
-        near = np.flatnonzero(~slip & (np.minimum(d, e) < radius))
+        windowed = ~slip & (np.minimum(d, e) < radius)
+        near = np.flatnonzero(windowed)
+        for m in (slip, ~slip):  # plain means among the points of the same zone
+            rows = np.flatnonzero(m & ~windowed)
+            out[rows] = bins.means(vv, m, rows)
         if len(near):  # stuck points within the disc of the slip zone or of the region's edge: symmetric windows
             tol = 1e-12 * self.h
 
