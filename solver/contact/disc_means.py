@@ -91,6 +91,9 @@ class DiscBins:
                 for c, c_rows, limit in conditions]
         own = offsets == 0
         r2 = self.radius**2
+        perm = np.argsort(flat[rows], kind="stable")  # the rows bin by bin: the gathers stay local
+        rows = rows[perm]
+        cond = [(mean_c, c_rows[perm], limit) for mean_c, c_rows, limit in cond]
         out = np.zeros((len(rows), values.shape[1]))
         for start in range(0, len(rows), BLOCK_ROWS):
             block = rows[start:start + BLOCK_ROWS]
@@ -106,4 +109,6 @@ class DiscBins:
             for j, vb in enumerate(sums):
                 num = np.where(take, vb[b], 0.0).sum(axis=1)
                 out[start + np.flatnonzero(ok), j] = num[ok] / den[ok]
-        return out
+        unsorted = np.empty_like(out)
+        unsorted[perm] = out
+        return unsorted
