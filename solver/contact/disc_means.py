@@ -90,6 +90,9 @@ class DiscBins:
         cond = [(per_bin(np.asarray(c, dtype=float)) / safe, np.asarray(c_rows, dtype=float), limit)
                 for c, c_rows, limit in conditions]
         own = offsets == 0
+        # bins wholly within the radius of any point of the row's bin: taken without the test
+        inner = np.hypot(np.abs(self.stencil[:, 0]) + 1, np.abs(self.stencil[:, 1]) + 1) * self.side <= self.radius
+        parts = [(offsets[inner], own[inner], False), (offsets[~inner], own[~inner], True)]
         r2 = self.radius**2
         perm = np.argsort(flat[rows], kind="stable")  # the rows bin by bin: the gathers stay local
         rows = rows[perm]
@@ -97,18 +100,21 @@ class DiscBins:
         out = np.zeros((len(rows), values.shape[1]))
         for start in range(0, len(rows), BLOCK_ROWS):
             block = rows[start:start + BLOCK_ROWS]
-            b = flat[block][:, None] + offsets[None, :]  # (rows, stencil) the bins about each row
-            dx = centre[0][b] - self.s[block, 0][:, None]
-            dy = centre[1][b] - self.s[block, 1][:, None]
-            take = (dx * dx + dy * dy <= r2) | own[None, :]
-            for mean_c, c_rows, limit in cond:
-                take &= (mean_c[b] <= limit(c_rows[start:start + len(block)])[:, None]) | own[None, :]
-            wt = np.where(take, wb[b], 0.0)
-            den = wt.sum(axis=1)
+            den, num = np.zeros(len(block)), np.zeros((len(block), len(sums)))
+            for offs, own_part, rim in parts:
+                b = flat[block][:, None] + offs[None, :]  # (rows, stencil part) the bins about each row
+                take = np.ones(b.shape, dtype=bool)
+                if rim:
+                    dx = centre[0][b] - self.s[block, 0][:, None]
+                    dy = centre[1][b] - self.s[block, 1][:, None]
+                    take = (dx * dx + dy * dy <= r2) | own_part[None, :]
+                for mean_c, c_rows, limit in cond:
+                    take &= (mean_c[b] <= limit(c_rows[start:start + len(block)])[:, None]) | own_part[None, :]
+                den += np.where(take, wb[b], 0.0).sum(axis=1)
+                for j, vb in enumerate(sums):
+                    num[:, j] += np.where(take, vb[b], 0.0).sum(axis=1)
             ok = den > 0.0
-            for j, vb in enumerate(sums):
-                num = np.where(take, vb[b], 0.0).sum(axis=1)
-                out[start + np.flatnonzero(ok), j] = num[ok] / den[ok]
+            out[start + np.flatnonzero(ok)] = num[ok] / den[ok, None]
         unsorted = np.empty_like(out)
         unsorted[perm] = out
         return unsorted
