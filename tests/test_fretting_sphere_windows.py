@@ -10,10 +10,8 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-import scipy.sparse as sp
-from scipy.spatial import cKDTree
-
 from ibfem.solver.contact import friction_history3d as fh
+from ibfem.solver.contact.disc_means import DiscBins
 
 A, H = 1.0, 0.2  # the region's radius and the cell size: the mean's disc has radius H / 2
 
@@ -24,10 +22,7 @@ def _fake(spacing: float = H / 12):
     g = np.arange(-A, A + spacing / 2, spacing)
     s = np.array([(x, y) for x in g for y in g if x * x + y * y < A * A])
     radius = 0.5 * fh.MEAN_CELLS * H
-    pairs = cKDTree(s).query_pairs(radius, output_type="ndarray")
-    rows = np.r_[pairs[:, 0], pairs[:, 1], np.arange(len(s))]
-    cols = np.r_[pairs[:, 1], pairs[:, 0], np.arange(len(s))]
-    nb = sp.csr_matrix((np.full(len(rows), spacing ** 2), (rows, cols)), shape=(len(s), len(s)))
+    nb = DiscBins.build(s, np.full(len(s), spacing ** 2), radius)
     contact = SimpleNamespace(options=SimpleNamespace(window=1.0), h=H, local=lambda v: v,
                               normalised_radius=lambda v, a: np.hypot(v[:, 0], v[:, 1]) / a)
     contact._edge_distance = lambda reg: fh.HistoryEllipseContact._edge_distance(contact, reg)

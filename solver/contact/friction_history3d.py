@@ -62,6 +62,7 @@ from scipy.spatial import cKDTree
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_band_terms
 from .ellipse import (EllipseContact, build as ellipse_build, contact_operators, layer_tensor, plane_weights,
                       point_blocks, pressure_rows)
+from .disc_means import DiscBins
 from .band import locate_cells
 from .friction_history import hold_size
 from .friction_history_pressure import PressureFit, low_rank, pressure_fit
@@ -107,7 +108,7 @@ class _Region:
     a: float
     info: tuple
     layer_t: np.ndarray  # (q,) PENALTY / (band h) mu: the tie's tangential stiffness per area
-    neighbours: sp.csr_matrix  # (q, q) plane weights of the points within the mean's disc
+    neighbours: DiscBins  # the bins of the region's points for the same-zone disc means
     w_ref: np.ndarray  # (q, 3)
     w_prev: np.ndarray  # (q, 3)
     accumulated: np.ndarray  # (q,)
@@ -178,12 +179,7 @@ class HistoryEllipseContact(EllipseContact):
         info = (pts, BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux), None, jump, flux, size, a)
         layer_t = PENALTY_FACTOR / (TANGENTIAL_BAND * self.band_fraction * size) * self.b1.mu
         radius = 0.5 * MEAN_CELLS * self.options.window * self.h
-        tree = cKDTree(pts.s)
-        pairs = tree.query_pairs(radius, output_type="ndarray")
-        q = len(pts.s)
-        rows = np.concatenate([pairs[:, 0], pairs[:, 1], np.arange(q)])
-        cols = np.concatenate([pairs[:, 1], pairs[:, 0], np.arange(q)])
-        neighbours = sp.csr_matrix((plane_weights(self, pts)[cols], (rows, cols)), shape=(q, q))
+        neighbours = DiscBins.build(pts.s, plane_weights(self, pts), radius)
         reg = _Region(a, info, layer_t, neighbours, *self._carried(pts, jump, flux, layer_t))
         fixed = projector("fixed", pts.normal)  # the pressure rows are the same for either zone's projector
         r, b = pressure_rows(self, (pts, None, fixed, jump, flux, size, a))
@@ -357,28 +353,24 @@ class HistoryEllipseContact(EllipseContact):
         half sphere at Q/(mu N) = 0.45, a / h = 5.8: c/a 0.855 against Mindlin's 0.821 for its
         forces; with the symmetric windows 0.825 against 0.822).
         Far from a boundary (d beyond the disc) it is the plain mean over the disc."""
-        nb, n = reg.neighbours, len(slip)
+        bins, n = reg.neighbours, len(slip)
         vv = v.reshape(n, -1)
         out = np.zeros_like(vv)
-        for m in (slip, ~slip):  # plain means among the points of the same zone
-            mf = m.astype(float)
-            den = nb @ mf
-            ok = m & (den > 0.0)
-            out[ok] = (nb @ (vv * mf[:, None]))[ok] / den[ok, None]
-        radius = 0.5 * MEAN_CELLS * self.options.window * self.h
+        radius = bins.radius
         d = (cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0] if slip.any()
              else np.full(n, np.inf))  # the distance to the slip zone
         e = self._edge_distance(reg) if EDGE_WINDOWS else np.full(n, np.inf)
-        near = np.flatnonzero(~slip & (np.minimum(d, e) < radius))
+        windowed = ~slip & (np.minimum(d, e) < radius)
+        near = np.flatnonzero(windowed)
+        for m in (slip, ~slip):  # plain means among the points of the same zone
+            rows = np.flatnonzero(m & ~windowed)
+            out[rows] = bins.means(vv, m, rows)
         if len(near):  # stuck points within the disc of the slip zone or of the region's edge: symmetric windows
-            sub = nb[near].tocoo()
-            rows, cols = near[sub.row], sub.col
-            keep = ~slip[cols] & ((d[rows] >= radius) | (d[cols] <= 2.0 * d[rows] + 1e-12 * self.h)) \
-                & ((e[rows] >= radius) | (e[cols] <= 2.0 * e[rows] + 1e-12 * self.h))
-            rows, cols, w = sub.row[keep], cols[keep], sub.data[keep]
-            den = np.maximum(np.bincount(rows, weights=w, minlength=len(near)), 1e-300)
-            out[near] = np.column_stack([np.bincount(rows, weights=w * vv[cols, j], minlength=len(near)) / den
-                                         for j in range(vv.shape[1])])
+            tol = 1e-12 * self.h
+
+            def limit(c_rows):  # a row farther than the disc from the zone or edge takes every bin
+                return np.where(c_rows >= radius, np.inf, 2.0 * c_rows + tol)
+            out[near] = bins.means(vv, ~slip, near, ((d, d[near], limit), (e, e[near], limit)))
         return out.reshape(v.shape)
 
     def _edge_distance(self, reg: _Region) -> np.ndarray:

@@ -118,10 +118,11 @@ REGION_POINTS_PER_FACET = 200.0
 HISTORY_REGIONS = 3
 KEPT_TRIALS = 2
 #: bytes per region point: the jump and flux operators and the points (2.24 KB, over 1308 condensed
-#: dofs) and the same-zone mean's neighbour matrix (2.20-2.22 KB: the points within half a window
-#: of cells), measured with the objects' sizes on the half sphere on a flat at 5 levels
+#: dofs, measured with the objects' sizes on the half sphere on a flat at 5 levels) and the
+#: same-zone mean's bins (solver.contact.disc_means.DiscBins: the point's plane coordinates, weight
+#: and bin, 40 bytes whatever the points per disc)
 REGION_OPERATOR_BYTES_PER_POINT = 2_300
-REGION_NEIGHBOUR_BYTES_PER_POINT = 2_200
+REGION_NEIGHBOUR_BYTES_PER_POINT = 40
 #: a 3D contact's region trials, per quadrature point of the region (REGION_POINTS_PER_FACET per
 #: finest cell face of it): the contact blocks of the trials the driver keeps (KEPT_TRIALS), the
 #: arrays that build them and the factored small system, which live after the factorisation's
@@ -503,7 +504,7 @@ def _dense_contact_bytes(problem, streamed: bool = False, region_areas=None, reg
 
 def history_bytes(problem) -> float:
     """What a 3D run with load paths adds for its frictional contacts' history beyond a
-    proportional solve: per contact HISTORY_REGIONS regions (operators and neighbour matrix) less
+    proportional solve: per contact HISTORY_REGIONS regions (operators and the same-zone mean's bins) less
     the operators of the KEPT_TRIALS trials a proportional solve holds too, per point of a region
     filling the candidate disc (REGION_POINTS_PER_FACET per finest face of it: the disc's faces
     are its contact dofs per body over CONTACT_DOFS_PER_FACET). 0 without paths, in 2D, and for
