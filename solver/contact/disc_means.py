@@ -69,6 +69,29 @@ class DiscBins:
         flat = (self.cell[:, 0] + reach) * ny + self.cell[:, 1] + reach
         return (self.shape[0] + 2 * reach) * ny, flat, self.stencil[:, 0] * ny + self.stencil[:, 1]
 
+    def _inner(self) -> np.ndarray:
+        """(S,) bool the stencil's bins wholly within the radius of any point of the row's bin (taken
+        without the distance test)."""
+        st = self.stencil
+        return np.hypot(np.abs(st[:, 0]) + 1, np.abs(st[:, 1]) + 1) * self.side <= self.radius
+
+    def _inner_columns(self, inner: np.ndarray) -> list[tuple[int, int]]:
+        """The inner bins as columns of the padded grid: (flat offset of the column's middle, half
+        length m), the column's bins at offsets -m..m along the row (the inner set is symmetric and
+        shrinks away from the row's axis)."""
+        ny = self._padded_ny()
+        columns = []
+        for ox in np.unique(self.stencil[inner, 0]):
+            oy = self.stencil[inner & (self.stencil[:, 0] == ox), 1]
+            m = int(oy.max())
+            assert np.array_equal(np.sort(oy), np.arange(-m, m + 1))
+            columns.append((int(ox) * ny, m))
+        return columns
+
+    def _padded_ny(self) -> int:
+        reach = int(np.abs(self.stencil).max()) if len(self.stencil) else 0
+        return self.shape[1] + 2 * reach
+
     def means(self, values: np.ndarray, members: np.ndarray, rows: np.ndarray,
               conditions: tuple = ()) -> np.ndarray:
         """(len(rows), k) the weighted means of values (q, k) over the members within the disc
@@ -89,10 +112,10 @@ class DiscBins:
         sums = [per_bin(values[:, j]) for j in range(values.shape[1])]
         cond = [(per_bin(np.asarray(c, dtype=float)) / safe, np.asarray(c_rows, dtype=float), limit)
                 for c, c_rows, limit in conditions]
+        inner = self._inner()
+        runs = None if cond else _runs(self._inner_columns(inner), wb, sums)
         own = offsets == 0
-        # bins wholly within the radius of any point of the row's bin: taken without the test
-        inner = np.hypot(np.abs(self.stencil[:, 0]) + 1, np.abs(self.stencil[:, 1]) + 1) * self.side <= self.radius
-        parts = [(offsets[inner], own[inner], False), (offsets[~inner], own[~inner], True)]
+        parts = [(offsets[~inner], own[~inner], True)] + ([] if runs else [(offsets[inner], own[inner], False)])
         r2 = self.radius**2
         perm = np.argsort(flat[rows], kind="stable")  # the rows bin by bin: the gathers stay local
         rows = rows[perm]
@@ -101,6 +124,12 @@ class DiscBins:
         for start in range(0, len(rows), BLOCK_ROWS):
             block = rows[start:start + BLOCK_ROWS]
             den, num = np.zeros(len(block)), np.zeros((len(block), len(sums)))
+            if runs:  # the inner bins: one run sum per stencil column
+                for step, (run_w, run_v) in runs:
+                    b = flat[block] + step
+                    den += run_w[b]
+                    for j, vb in enumerate(run_v):
+                        num[:, j] += vb[b]
             for offs, own_part, rim in parts:
                 b = flat[block][:, None] + offs[None, :]  # (rows, stencil part) the bins about each row
                 take = np.ones(b.shape, dtype=bool)
@@ -118,3 +147,22 @@ class DiscBins:
         unsorted = np.empty_like(out)
         unsorted[perm] = out
         return unsorted
+
+
+def _runs(columns: list[tuple[int, int]], wb: np.ndarray, sums: list) -> list:
+    """Per column (step, m) of the inner bins: (step, (the run sums of wb over -m..m along each
+    bin's row, the same of each of sums)). The runs are summed outward from the bin, each bin's
+    term once: the padding keeps them within the bin's row for every bin a row can hold."""
+    def run_sums(a, half_lengths):
+        out, run, m = {}, a.copy(), 0
+        for target in sorted(half_lengths):
+            while m < target:
+                m += 1
+                run[m:] += a[:-m]
+                run[:-m] += a[m:]
+            out[target] = run.copy()
+        return out
+    half = {m for _, m in columns}
+    runs_w = run_sums(wb, half)
+    runs_v = [run_sums(vb, half) for vb in sums]
+    return [(step, (runs_w[m], [r[m] for r in runs_v])) for step, m in columns]
