@@ -139,9 +139,10 @@ class DiscBins:
                     take = (dx * dx + dy * dy <= r2) | own_part[None, :]
                 for mean_c, c_rows, limit in cond:
                     take &= (mean_c[b] <= limit(c_rows[start:start + len(block)])[:, None]) | own_part[None, :]
-                den += np.where(take, wb[b], 0.0).sum(axis=1)
+                weight = take.astype(float)
+                den += np.einsum("rs,rs->r", weight, wb[b])
                 for j, vb in enumerate(sums):
-                    num[:, j] += np.where(take, vb[b], 0.0).sum(axis=1)
+                    num[:, j] += np.einsum("rs,rs->r", weight, vb[b])
             ok = den > 0.0
             out[start + np.flatnonzero(ok)] = num[ok] / den[ok, None]
         unsorted = np.empty_like(out)
