@@ -7,8 +7,12 @@ the plane is cut into square bins of side r / BINS_PER_RADIUS; a mean sums, per 
 the weighted positions and the weighted values of the points taken, then adds for each point the
 bins whose weighted centre lies within r of it (the point's own bin always). The disc's rim is
 thus drawn through the bins' centres: a point near the rim is in or out with its bin, within
-half a bin's diagonal (0.09 r) of its own distance. Memory: the per-bin sums (at most about four
-bins per point) and, per block of BLOCK_ROWS points, the bins of the stencil about them.
+half a bin's diagonal (0.09 r) of its own distance. The bins wholly within r of every point of a
+row's bin are taken without the test; in a mean without conditions they are summed as runs along the
+grid's rows (one run sum per stencil column: 13 gathers per point instead of 137 with bins of r/8),
+the rim's bins one by one. Memory: the per-bin sums (at most about four bins per point), the run
+sums (one per half length of a column, 4 for each quantity with bins of r/8) and, per block of
+BLOCK_ROWS points, the bins of the stencil about them.
 """
 from __future__ import annotations
 
@@ -19,8 +23,9 @@ import numpy as np
 
 #: bins per disc radius: a bin's side is r / 8
 BINS_PER_RADIUS = 8
-#: points whose stencils are gathered at once (BLOCK_ROWS x ~100 bins of a few arrays)
-BLOCK_ROWS = 4096
+#: points whose stencils are gathered at once (BLOCK_ROWS x ~130 rim bins of a few arrays; blocks of 1024
+#: rows keep them in the cache: 20 % less time per mean than 4096)
+BLOCK_ROWS = 1024
 
 
 @dataclass
