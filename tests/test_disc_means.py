@@ -61,3 +61,51 @@ def test_bad_input_named():
         DiscBins.build(np.zeros((3, 2)), np.ones(3), 0.0)
     with pytest.raises(ValueError, match="plane coordinates"):
         DiscBins.build(np.zeros((3, 3)), np.ones(3), 1.0)
+
+
+def _binned_by_definition(s, w, v, members, rows, radius, side, keep=None):
+    """The means as defined from the bins, bin by bin: a row takes the member sums of each bin whose
+    members' weighted centre lies within the radius of it, and of its own bin."""
+    cell = np.floor((s - s.min(axis=0)) / side).astype(np.int64)
+    keys, which = np.unique(cell, axis=0, return_inverse=True)
+    which = which.ravel()
+    wm = np.where(members, w, 0.0)
+    wb = np.bincount(which, weights=wm, minlength=len(keys))
+    centre = np.column_stack([np.bincount(which, weights=wm * s[:, j], minlength=len(keys)) for j in range(2)])
+    centre /= np.where(wb > 0.0, wb, 1.0)[:, None]
+    vb = np.column_stack([np.bincount(which, weights=wm * v[:, j], minlength=len(keys)) for j in range(v.shape[1])])
+    take = np.linalg.norm(centre[None, :, :] - s[rows][:, None, :], axis=2) <= radius
+    take[np.arange(len(rows)), which[rows]] = True
+    if keep is not None:
+        take &= keep
+    return (take * 1.0) @ vb / ((take * 1.0) @ wb)[:, None]
+
+
+def test_the_means_are_the_bins_definition(points):
+    """The inner bins summed as runs along the grid's rows, the rim bins tested one by one: both give the
+    bins' means as defined, to round-off, with and without a condition on the bins."""
+    s, w = points
+    s = np.concatenate([s, s * 0.5 + 0.2])  # enough points that the bins have the side r / BINS_PER_RADIUS
+    w = np.concatenate([w, w])
+    radius = 0.08
+    bins = DiscBins.build(s, w, radius)
+    assert bins.side == pytest.approx(radius / BINS_PER_RADIUS)
+    v = np.column_stack([np.sin(9.0 * s[:, 0]) * s[:, 1], s[:, 0] - 0.4])
+    members = s[:, 0] + 0.4 * s[:, 1] < 0.55
+    rows = np.flatnonzero(members)
+    got = bins.means(v, members, rows)
+    want = _binned_by_definition(s, w, v, members, rows, radius, bins.side)
+    assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()
+
+    d = np.abs(s[:, 0] - 0.3)
+    near = np.flatnonzero(members & (d < radius))
+    got = bins.means(v, members, near, ((d, d[near], lambda c: 2.0 * c),))
+    cell = np.floor((s - s.min(axis=0)) / bins.side).astype(np.int64)
+    keys, which = np.unique(cell, axis=0, return_inverse=True)
+    which = which.ravel()
+    wm = np.where(members, w, 0.0)
+    mean_d = np.bincount(which, weights=wm * d, minlength=len(keys)) / np.maximum(
+        np.bincount(which, weights=wm, minlength=len(keys)), 1e-300)
+    keep = (mean_d[None, :] <= 2.0 * d[near][:, None]) | (np.arange(len(keys))[None, :] == which[near][:, None])
+    want = _binned_by_definition(s, w, v, members, near, radius, bins.side, keep)
+    assert np.abs(got - want).max() <= 1e-12 * np.abs(want).max()

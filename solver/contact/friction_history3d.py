@@ -357,8 +357,9 @@ class HistoryEllipseContact(EllipseContact):
         vv = v.reshape(n, -1)
         out = np.zeros_like(vv)
         radius = bins.radius
-        d = (cKDTree(reg.info[0].s[slip]).query(reg.info[0].s)[0] if slip.any()
-             else np.full(n, np.inf))  # the distance to the slip zone
+        d = np.zeros(n) if slip.any() else np.full(n, np.inf)  # the distance to the slip zone
+        if slip.any() and not slip.all():  # a slipping point's is 0: only the stuck points are queried
+            d[~slip] = cKDTree(reg.info[0].s[slip]).query(reg.info[0].s[~slip])[0]
         e = self._edge_distance(reg) if EDGE_WINDOWS else np.full(n, np.inf)
         windowed = ~slip & (np.minimum(d, e) < radius)
         near = np.flatnonzero(windowed)
