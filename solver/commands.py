@@ -184,12 +184,17 @@ def _print_check(path: str, scene, quiet: bool = False) -> int:
     the check solves (3D line contacts, large point contacts) shows its progress as a run does."""
     from ibfem.solver.io.progress import ProgressReporter, share
     from ibfem.solver.io.run_size import run_size
-    from ibfem.solver.solving import solve
 
     progress = None if quiet else ProgressReporter()
     report = None if progress is None else share(progress, 0.0, 1.0, "check, coarse pass: ")
+
+    def coarse_solve(problem):  # the solver's modules are imported only by a check that solves
+        from ibfem.solver.solving import solve
+
+        return solve(problem, progress=report)
+
     try:
-        size, note = run_size(scene.problem, lambda problem: solve(problem, progress=report))
+        size, note = run_size(scene.problem, coarse_solve)
     finally:
         if progress is not None:
             progress.close()

@@ -7,8 +7,9 @@ import types
 import warnings
 
 import numpy as np
+import pytest
 
-from ibfem.solver.contact.friction_history import HistoryBandContact, _rising_secant
+from ibfem.solver.contact.friction_history import HistoryBandContact, _rising_slope
 
 
 def test_a_step_from_overflowing_tries_is_finite_and_silent():
@@ -22,8 +23,8 @@ def test_a_step_from_overflowing_tries_is_finite_and_silent():
 
 
 def test_a_secant_rises_only_over_a_real_run():
-    assert _rising_secant([0.0, 1e-3], [0.0, 2.0], 1e-9)
-    assert not _rising_secant([0.0, 1e-3], [0.0, -2.0], 1e-9)
-    assert _rising_secant([1e-3, 0.0], [2.0, 0.0], 1e-9)  # falling u and falling v: rising slope
-    assert not _rising_secant([0.0, 1e-12], [0.0, 2.0], 1e-9)  # closer than the run allowed
-    assert not _rising_secant([0.0, 1e-3], [1.0, 1.0], 1e-9)  # flat
+    assert _rising_slope([0.0, 1e-3], [0.0, 2.0], 1e-9) == pytest.approx(2000.0)
+    assert _rising_slope([0.0, 1e-3], [0.0, -2.0], 1e-9) is None
+    assert _rising_slope([1e-3, 0.0], [2.0, 0.0], 1e-9) == pytest.approx(2000.0)  # falling u and v: rising
+    assert _rising_slope([0.0, 1e-12], [0.0, 2.0], 1e-9) is None  # closer than the run allowed
+    assert _rising_slope([0.0, 1e-3], [1.0, 1.0], 1e-9) is None  # flat

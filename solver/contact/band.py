@@ -120,6 +120,8 @@ class BandContact:
     pinned: int = 0
     _gap_cache: dict = field(default_factory=dict)
     _stick_root: object = None
+    #: (centre, centroid - centre) of the load step's centre moves (reset at every step)
+    centre_tries: list = field(default_factory=list)
 
     def stick(self, a: float) -> float:
         """Stick half-width c for the half-width a."""
@@ -283,7 +285,7 @@ class BandContact:
 
     def start_step(self) -> None:
         """Before a load step: frictional contacts restart their stick-ratio root."""
-        self.centre_tries = []  # (centre, centroid - centre) of this step's moves
+        self.centre_tries = []
         if self.kind == "frictional":
             if self.stick_ratio <= 0.0:
                 self.stick_ratio = StickRoot.min_ratio
@@ -343,9 +345,7 @@ class BandContact:
         can swing between two centres without end, as a pin in a bore under a turning load did),
         false position within the bracket, and settled when the bracket is narrower than ``tol``
         (the centroid jumps there as points change zone: the end with the smaller offset)."""
-        tries = getattr(self, "centre_tries", None)
-        if tries is None:
-            tries = self.centre_tries = []
+        tries = self.centre_tries
         tries.append((self.centre, centroid - self.centre))
         ahead = [t for t in tries if t[1] > 0.0]  # centres whose centroid lies beyond them (+s)
         behind = [t for t in tries if t[1] < 0.0]

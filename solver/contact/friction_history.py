@@ -437,8 +437,7 @@ class HistoryBandContact(BandContact):
                 vn, vp = (0.5 * vn, vp) if v[-1] > 0.0 else (vn, 0.5 * vp)
             target = u[kn] + (u[kp] - u[kn]) * (-vn) / (vp - vn)
             step = into_stick * target - b
-        elif len(tries) > 1 and _rising_secant(u[-2:], v[-2:], 1e-9 * self.h):
-            slope = _secant_slope(u[-2:], v[-2:])
+        elif len(tries) > 1 and (slope := _rising_slope(u[-2:], v[-2:], 1e-9 * self.h)) is not None:
             self.slopes = (self.slopes + [slope])[-8:]
             self.edge_slope = float(np.median(self.slopes))
             step = -into_stick * beta / slope
@@ -610,20 +609,16 @@ def build(problem, model, b1, b2, options) -> HistoryBandContact:
     return c
 
 
-def _secant_slope(u: list, v: list) -> float:
-    """The slope of the secant through (u[0], v[0]) and (u[1], v[1]) (floats: inf past the range)."""
+def _rising_slope(u: list, v: list, du_min: float) -> float | None:
+    """The slope of the secant through (u[0], v[0]) and (u[1], v[1]) where it rises to a finite
+    value over a run of at least ``du_min``; None otherwise (two tries closer than that give no
+    slope: their quotient is round-off; tries where the edge coefficient has no root, beyond the
+    pressure's end, overflow: on floats the quotient is then inf, not a warning)."""
     du, dv = float(u[1] - u[0]), float(v[1] - v[0])
+    if abs(du) < du_min or not all(map(math.isfinite, (*u, *v))):
+        return None
     try:
-        return dv / du
+        slope = dv / du
     except (ZeroDivisionError, OverflowError):
-        return math.inf
-
-
-def _rising_secant(u: list, v: list, du_min: float) -> bool:
-    """Whether the secant through (u[0], v[0]) and (u[1], v[1]) rises to a finite slope over a run
-    of at least ``du_min`` (two tries closer than that give no slope: their quotient is round-off;
-    tries where the edge coefficient has no root, beyond the pressure's end, overflow)."""
-    if abs(u[1] - u[0]) < du_min or not all(map(math.isfinite, (*u, *v))):
-        return False
-    slope = _secant_slope(u, v)
-    return math.isfinite(slope) and slope > 0.0
+        return None
+    return slope if math.isfinite(slope) and slope > 0.0 else None

@@ -910,7 +910,11 @@ def size_problems(problem: pb.Problem, label: str) -> list[str]:
     from ibfem.solver.model.estimate import available_memory, estimate_size
 
     lines = _followed_line_contacts(problem)
-    size = estimate_size(_coarse_passes(problem, lines) if lines else problem)
+    if lines:
+        from ibfem.solver.contact.follow import coarse_problem
+
+        problem = coarse_problem(problem, lines)
+    size = estimate_size(problem)
     have = available_memory()
     if not size.memory <= have:
         need = size.memory / 2**30
@@ -934,12 +938,6 @@ def _followed_line_contacts(problem: pb.Problem) -> list[int]:
         return line_contacts(problem)
     except (ValueError, ArithmeticError):  # a point that is no contact: the solve says why
         return []
-
-
-def _coarse_passes(problem: pb.Problem, lines: list[int]) -> pb.Problem:
-    from ibfem.solver.contact.follow import coarse_problem
-
-    return coarse_problem(problem, lines)
 
 
 #: a given contact point may lie this many of the finer element size off either boundary
