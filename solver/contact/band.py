@@ -54,6 +54,7 @@ from ..model.options import ContactOptions
 from ..model.problem import Sliding
 from .geometry import (ContactGeometry, chain_pieces, chord_weights, contact_geometry, contact_quadrature,
                        grid_breakpoints, sample_points)
+from .interface_weights import flux_weights, layer_moduli
 from .ends import GAP_NODES, chebyshev_ends, conformal_weight, gap_slope_coefficients, mirrored
 from .roots import StickRoot, bracket_search, edge_search, settling_tolerance, thesis_search
 
@@ -122,6 +123,11 @@ class BandContact:
     _stick_root: object = None
     #: (centre, centroid - centre) of the load step's centre moves (reset at every step)
     centre_tries: list = field(default_factory=list)
+
+    @property
+    def layer(self) -> tuple[float, float]:
+        """(lambda, mu) of the penalty layer's acoustic tensor (solver.contact.interface_weights)."""
+        return layer_moduli(self.options.flux, self.b1, self.b2)
 
     def stick(self, a: float) -> float:
         """Stick half-width c for the half-width a."""
@@ -538,10 +544,6 @@ def _cell_averaged(search, h: float, a_max: float):
     return a, (min(bracket[0], a), max(bracket[1], a))
 
 
-def _flux_weights(flux: str) -> tuple[float, float]:
-    return {"average": (0.5, 0.5), "body1": (1.0, 0.0), "body1_half": (0.5, 0.0)}[flux]
-
-
 def locate_cells(b, x, n) -> np.ndarray:
     """Cells holding boundary points (nudged into the material, as the grid assigns pieces)."""
     cells = b.grid.locate(x - 1e-7 * b.grid.min_size * n)
@@ -637,7 +639,7 @@ def contact_operators(c: BandContact, pts):
     f = c.options.sliver_fraction
     d1, t1, h1 = _body_operators(c.b1, pts.x1, pts.n1, pts.n1, map1, ok1, f)
     d2, t2, h2 = _body_operators(c.b2, pts.x2, pts.n2, pts.n1, map2, ok2, f)
-    th1, th2 = _flux_weights(c.options.flux)
+    th1, th2 = flux_weights(c.options.flux, c.b1, c.b2)
     flux = th1 * t1
     if th2:
         flux = flux + th2 * t2
@@ -669,7 +671,7 @@ def _terms(c: BandContact, a: float):
     pts, jump, flux, size = region_quadrature(c, a)
     bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
     proj = zone_projector(c, pts, a)
-    k, f = thin_band_terms(bp, proj, -pts.delta, c.b1.lam, c.b1.mu, c.band_fraction, 1.0, jump=jump)
+    k, f = thin_band_terms(bp, proj, -pts.delta, *c.layer, c.band_fraction, 1.0, jump=jump)
     kc = sp.csr_matrix(k)
     e_q, f_q = sp.csr_matrix(jump), sp.csr_matrix(flux)
     slip = _slip_mask(c, pts, a)
@@ -701,7 +703,7 @@ def _pressure_rows(c: BandContact, pts, proj, e_q, f_q, size):
     """Pressure at points as an affine function of the contact dofs: p = r @ x + b (r (q, m), sparse)."""
     nc = pts.normal
     layer = (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
-        proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
+        proj @ acoustic_tensor(nc, *c.layer) @ proj
     )
     nl = np.einsum("qi,qij->qj", nc, layer)  # n^T L (q, 2)
     npf = np.einsum("qi,qij->qj", nc, proj)  # n^T P
@@ -735,7 +737,7 @@ def _tractions(c: BandContact, samples, e_op: np.ndarray, f_op: np.ndarray, size
     inside = np.abs(c.local(samples.s)) <= a
     proj = zone_projector(c, samples, a)
     layer = (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
-        proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
+        proj @ acoustic_tensor(nc, *c.layer) @ proj
     )
     t1 = -np.einsum("qij,qj->qi", layer, w) + np.einsum("qij,qj->qi", proj, (f_op @ x).reshape(-1, 2))
     t1 = t1 + _friction_traction(c, samples, t1, a)
@@ -772,7 +774,7 @@ def _quadrature_traction(c: BandContact, info, x: np.ndarray, a: float) -> np.nd
     w = (e_q @ x).reshape(-1, 2) + pts.delta
     nc = pts.normal
     layer = (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
-        proj @ acoustic_tensor(nc, c.b1.lam, c.b1.mu) @ proj
+        proj @ acoustic_tensor(nc, *c.layer) @ proj
     )
     t1 = -np.einsum("qij,qj->qi", layer, w) + np.einsum("qij,qj->qi", proj, (f_q @ x).reshape(-1, 2))
     return t1 + _friction_traction(c, pts, t1, a)
@@ -862,11 +864,13 @@ def _judge(c: BandContact, gap, pressure, inside, a) -> _Verdict:
     g_tol = c.options.gap_tolerance * c.h * max(p_mean, 1e-30) / c.e_star
     p_tol = c.options.tension_tolerance * p_mean
     width = c.options.window * c.h
-    outside = ~inside
+    # a pinned end is body 1's corner: nothing of body 1 lies beyond it to penetrate (a sample at
+    # the corner itself, outside by round-off, reads the singular corner's gap)
+    outside = ~inside & ~((c.pinned * s >= a) if c.pinned and a > 0 else False)
     gaps, pressures = [], []
     for sgn in (1.0, -1.0):
         r = sgn * s
-        out_w = (r > a) & (r <= a + width)
+        out_w = (r > a) & (r <= a + width) & outside
         in_w = (r <= a) & (r > a - width) & inside
         gaps.append(float(gap[out_w].mean()) if out_w.any() else np.inf)
         pressures.append(float(pressure[in_w].mean()) if in_w.any() else np.inf)

@@ -534,7 +534,7 @@ class HistoryBandContact(BandContact):
         -L_tt stretch + f_t (the layer plus the flux along t_c) is the shear q."""
         tan = tangents(self.samples.normal)
         flux = np.einsum("qi,qi->q", (self.f_samples @ x).reshape(-1, 2), tan)
-        layer = PENALTY_FACTOR / (self.band_fraction * self.size_samples) * self.b1.mu
+        layer = PENALTY_FACTOR / (self.band_fraction * self.size_samples) * self.layer[1]
         return (flux - shear) / layer
 
     def slip_zones(self, a: float) -> list[list[float]]:

@@ -148,7 +148,7 @@ def point_blocks(c, a: float):
     nrm, w = pts.normal, pts.weights
     proj = zone_projector(c, pts, a)
     layer = (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
-        proj @ acoustic_tensor(nrm, c.b1.lam, c.b1.mu) @ proj)
+        proj @ acoustic_tensor(nrm, *c.layer) @ proj)
     pen, wp = w[:, None, None] * layer, w[:, None, None] * proj
     e, f = rows.jump, rows.flux
     pe = np.einsum("qij,qjk->qik", wp, e)

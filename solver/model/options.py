@@ -19,7 +19,7 @@ __all__ = ["SolverOptions", "ContactOptions", "OptionError", "WIDTH_UPDATES", "F
            "FORMULATION_NAMES"]
 
 WIDTH_UPDATES = ("edge", "bracket", "thesis")
-FLUXES = ("average", "body1", "body1_half")
+FLUXES = ("weighted", "average", "body1", "body1_half")
 CONTACT_NORMALS = ("frame", "pair")
 REGION_CENTRES = ("pressure", "point")
 LINEAR_SOLVERS = ("auto", "direct", "iterative")
@@ -142,8 +142,11 @@ class ContactOptions:
     #: half-width search: "edge" (root of the edge coefficient), "bracket" (one-cell window
     #: verdicts), "thesis" (sections 5.5.3-5.5.4)
     width_update: str = "edge"
-    #: consistency flux: "average" (band limit), "body1" (weight 1), "body1_half" (1/2)
-    flux: str = "average"
+    #: consistency flux and penalty layer (solver.contact.interface_weights): "weighted" (the
+    #: bodies' tractions weighted inversely to their shear moduli, the layer of the harmonic mean
+    #: of their moduli; the plain average for one material), "average" (weights 1/2, body 1's
+    #: layer), "body1" (weight 1), "body1_half" (1/2); the plane (2D) contacts
+    flux: str = "weighted"
     #: Gauss points per contact-curve piece
     order: int = 4
     width_tolerance: float = 1.0 / 16.0  # bracket on a in the last load step, in finest contact cells
