@@ -8,7 +8,7 @@ the discretisation's scatter, and every run should converge.
 Scenes with a free displacement component (given along x or y) are skipped. A shape's own turn
 (``rotate_deg`` about its ``pivot``) is composed with the benchmark's. Measured (2026-11-29;
 docs/contact.md, Limits): every run converged and the half-widths agreed with the unturned runs
-within 0.17 %, and, with the weighted flux (docs/contact-2d.md, bodies of different stiffness),
+within 0.18 %, and, with the weighted flux (docs/contact-2d.md, bodies of different stiffness),
 the tilted flat punch within 0.26 % (-1.49 to +0.04 % and not converged at 7 and 33 degrees
 with the average flux and the punch's layer)."""
 

@@ -866,7 +866,9 @@ def _judge(c: BandContact, gap, pressure, inside, a) -> _Verdict:
     width = c.options.window * c.h
     # a pinned end is body 1's corner: nothing of body 1 lies beyond it to penetrate (a sample at
     # the corner itself, outside by round-off, reads the singular corner's gap)
-    outside = ~inside & ~((c.pinned * s >= a) if c.pinned and a > 0 else False)
+    outside = ~inside
+    if c.pinned and a > 0:
+        outside &= c.pinned * s < a
     gaps, pressures = [], []
     for sgn in (1.0, -1.0):
         r = sgn * s

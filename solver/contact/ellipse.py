@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from ..fem.pair_blocks import PairBlocks, RecentRegions
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, band_tensors, projector
 from ..model.options import ContactOptions
+from .interface_weights import flux_weights, layer_moduli
 from .band import CandidateRegionExceeded, locate_cells
 from ..reference.theory import hertz_elliptic_contact
 from .edge_pressure import agglomerated_cells, nodal_pressure
@@ -145,6 +146,11 @@ class EllipseContact:
         return np.asarray(s, dtype=float) - self.centre
 
     @property
+    def layer(self) -> tuple[float, float]:
+        """(lambda, mu) of the penalty layer's acoustic tensor (solver.contact.interface_weights)."""
+        return layer_moduli(self.options.flux, self.b1, self.b2)
+
+    @property
     def surrounds_point(self) -> bool:
         """Whether body 1 has surface all around the contact point (not a symmetric model's
         sector, whose symmetry planes pass through the point)."""
@@ -184,7 +190,7 @@ class EllipseContact:
         jump, flux = blocks.jump, blocks.flux
         bp = BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux)
         proj = _projector(self, pts, a)
-        pen, wp = band_tensors(bp, proj, self.b1.lam, self.b1.mu, self.band_fraction)
+        pen, wp = band_tensors(bp, proj, *self.layer, self.band_fraction)
         kc, fc = blocks.band_terms(pen, wp, -pts.delta, 1.0)
         info = (pts, bp, proj, jump, flux, size, a)
         slip = _slip_mask(self, pts, a)
@@ -402,7 +408,8 @@ def contact_operators(c: EllipseContact, pts: RegionPoints):
     cells1, cells2 = _prepared_cells(c, pts)
     map1, _, map2, _ = c.maps
     jump = c.b1.displacement_operator(pts.x1, cells1, map1) - c.b2.displacement_operator(pts.x2, cells2, map2)
-    flux = 0.5 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1) + 0.5 * c.b2.traction_operator(
+    w1, w2 = flux_weights(c.options.flux, c.b1, c.b2)
+    flux = w1 * c.b1.traction_operator(pts.x1, cells1, pts.n1, map1) + w2 * c.b2.traction_operator(
         pts.x2, cells2, pts.n1, map2)
     return jump.tocsr(), flux.tocsr(), _band_size(c, cells1, cells2)
 
@@ -412,7 +419,8 @@ def contact_blocks(c: EllipseContact, pts: RegionPoints) -> tuple[PairBlocks, np
     cells (solver.fem.pair_blocks), and the local size at the points."""
     cells1, cells2 = _prepared_cells(c, pts)
     blocks = PairBlocks.between(c.b1.cell_blocks(pts.x1, cells1, pts.n1), c.b2.cell_blocks(pts.x2, cells2, pts.n1),
-                                c.maps[0], c.maps[2], len(c.b1.grid.nodes))
+                                c.maps[0], c.maps[2], len(c.b1.grid.nodes),
+                                flux_weights(c.options.flux, c.b1, c.b2))
     return blocks, _band_size(c, cells1, cells2)
 
 
@@ -485,7 +493,7 @@ def _pressure_coefficients(c: EllipseContact, pts, proj, size):
 
 def layer_tensor(c: EllipseContact, normal, proj, size) -> np.ndarray:
     return (PENALTY_FACTOR / (c.band_fraction * size))[:, None, None] * (
-        proj @ acoustic_tensor(normal, c.b1.lam, c.b1.mu) @ proj)
+        proj @ acoustic_tensor(normal, *c.layer) @ proj)
 
 
 def _quadrature_traction(c: EllipseContact, info, x: np.ndarray) -> np.ndarray:

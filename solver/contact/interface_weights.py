@@ -18,7 +18,7 @@ is that of the moduli 2 M1 M2 / (M1 + M2) (normal, M = lambda + 2 mu) and 2 mu1 
 (tangential) (J. E. Dolbow and I. Harari, Int. J. Numer. Meth. Engng 78 (2009) 229-252;
 C. Annavarapu, M. Hautefeuille and J. E. Dolbow, Comput. Methods Appl. Mech. Engrg 225-228
 (2012) 44-54). For two bodies of one material both choices are the plain average with body 1's
-layer, to the last digit.
+layer, to the last digit. Plane and solid contacts alike.
 """
 
 from __future__ import annotations

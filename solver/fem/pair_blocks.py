@@ -72,10 +72,11 @@ class PairBlocks:
 
     @classmethod
     def between(cls, blocks1: CellBlocks, blocks2: CellBlocks, map1: sp.csr_matrix, map2: sp.csr_matrix,
-                n_nodes1: int) -> "PairBlocks":
+                n_nodes1: int, flux_weights: tuple[float, float] = (0.5, 0.5)) -> "PairBlocks":
         """The blocks of points whose cells and operators on body 1 and body 2 are ``blocks1`` and
         ``blocks2`` (the same points, tractions on the same normals), mapped by each body's
-        restricted node-dof map (3 N_i x m; ``n_nodes1`` = N1)."""
+        restricted node-dof map (3 N_i x m; ``n_nodes1`` = N1); the flux is
+        w1 t1 + w2 t2 with ``flux_weights`` (w1, w2)."""
         key = blocks1.cells.astype(np.int64) * (int(blocks2.cells.max(initial=0)) + 1) + blocks2.cells
         order = np.argsort(key, kind="stable")
         key = key[order]
@@ -84,6 +85,8 @@ class PairBlocks:
                                axis=1).astype(np.int64)
         shape = np.concatenate([blocks1.displacement[order, 0, ::_D], -blocks2.displacement[order, 0, ::_D]], axis=1)
         t1, t2 = (np.ascontiguousarray(b.traction, dtype=float) for b in (blocks1, blocks2))
+        if tuple(flux_weights) != (0.5, 0.5):  # the mean below of 2 w1 t1 and 2 w2 t2
+            t1, t2 = 2.0 * flux_weights[0] * t1, 2.0 * flux_weights[1] * t2
         traction = np.empty((len(order), t1.shape[1], t1.shape[2] + t2.shape[2]))
         if t1.shape == t2.shape and compiled():
             from ._pair_kernels import gather_mean_traction

@@ -145,7 +145,7 @@ class ContactOptions:
     #: consistency flux and penalty layer (solver.contact.interface_weights): "weighted" (the
     #: bodies' tractions weighted inversely to their shear moduli, the layer of the harmonic mean
     #: of their moduli; the plain average for one material), "average" (weights 1/2, body 1's
-    #: layer), "body1" (weight 1), "body1_half" (1/2); the plane (2D) contacts
+    #: layer), "body1" (weight 1), "body1_half" (1/2)
     flux: str = "weighted"
     #: Gauss points per contact-curve piece
     order: int = 4
