@@ -64,3 +64,27 @@ def test_a_stiff_tilted_punch_turned_against_its_grid_converges_to_its_width():
     upright, turned7 = (solve(scene_from_dict(turned(path, d), base_dir=path.parent).problem) for d in (0.0, 7.0))
     assert upright.converged and turned7.converged
     assert turned7.contacts[0]["half_width"] == pytest.approx(upright.contacts[0]["half_width"], rel=0.005)
+
+
+def test_a_ball_much_stiffer_than_its_block_is_hertz():
+    """The quarter sphere on a flat (R = 1 m) with the ball 1000 times stiffer than the steel block,
+    on a coarse grid (5 levels, a / h 5.8): converged, a within 2 % of Hertz's for the computed force
+    with E* of the two materials (with the average flux and the ball's layer: -70 %, not converged)."""
+    import tomllib
+
+    from ibfem.solver.io.scene import scene_from_dict
+    from ibfem.solver.solving import solve
+
+    path = ROOT / "examples" / "solid" / "sphere_on_flat_aluminium.toml"
+    data = tomllib.loads(path.read_text())
+    ball, = [m for m in data["materials"] if m["name"] == "aluminium"]
+    ball.update(youngs_modulus=2.0e14, poissons_ratio=0.3)
+    for body in data["bodies"]:
+        body["refinement"]["levels"] = 5
+    data["output"] = {"vtk": False, "plots": False}
+    sol = solve(scene_from_dict(data, base_dir=path.parent).problem)
+    assert sol.converged, sol.iterations["messages"]
+    c = sol.contacts[0]
+    e_star = 1.0 / ((1 - 0.3**2) / 2.0e11 + (1 - 0.3**2) / 2.0e14)
+    a_hertz = (3.0 * 4.0 * c["normal_force"] * 1.0 / (4.0 * e_star)) ** (1.0 / 3.0)  # quarter model
+    assert c["semi_axes"][0] == pytest.approx(a_hertz, rel=0.02)
