@@ -535,3 +535,28 @@ def test_numerical_solver_options_reach_the_problem():
         scene_from_dict(data, label="scene.toml")
 
 
+
+
+def test_nearly_incompressible_material_is_warned_of_locking_except_in_plane_stress():
+    data = plate()
+    data["materials"][0]["poissons_ratio"] = 0.49
+    (note,) = scene_from_dict(data, label="scene.toml").warnings
+    assert note.startswith("scene.toml: materials[0].poissons_ratio = 0.49: nearly incompressible")
+    data["materials"][0]["poissons_ratio"] = 0.3
+    assert scene_from_dict(data, label="scene.toml").warnings == ()
+    data["materials"][0]["poissons_ratio"] = 0.49
+    data["model"] = "plane_stress"
+    assert scene_from_dict(data, label="scene.toml").warnings == ()
+
+
+def test_nearly_incompressible_solid_is_warned_too():
+    from pathlib import Path
+
+    import tomllib
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "solid" / "spherical_cavity.toml"
+    data = tomllib.loads(path.read_text())
+    for m in data["materials"]:
+        m["poissons_ratio"] = 0.495
+    warnings = scene_from_dict(data, label="cavity.toml", base_dir=path.parent).warnings
+    assert any("poissons_ratio = 0.495: nearly incompressible" in w for w in warnings)

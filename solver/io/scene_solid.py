@@ -32,6 +32,7 @@ from .scene import (
     SceneError,
     SolverSpec,
     _format_errors,
+    _notes,
     _options,
     _show,
     _Strict,
@@ -205,7 +206,7 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
     too_big = size_problems(problem, label)
     if too_big:
         raise SceneError(too_big)
-    return Scene(path=path, spec=spec, problem=problem, warnings=())
+    return Scene(path=path, spec=spec, problem=problem, warnings=tuple(_notes(spec, label)))
 
 
 def _build_solids(spec: SolidSceneSpec, label: str, base_dir: Path) -> dict[str, Any]:
