@@ -120,6 +120,8 @@ class _Region:
     fit: PressureFit | None = None
     #: (q,) each point's group of the diagnostic mean ties (solver.contact.friction_history_ties)
     group: np.ndarray | None = None
+    #: (slip, flux) the diagnostic recovered flux (3 q, m) for the zones slip (friction_history_ties)
+    recovered: tuple | None = None
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -251,7 +253,8 @@ class HistoryEllipseContact(EllipseContact):
         bands = ties.tangential_bands(pts.s, slip, self.h, TANGENTIAL_BAND)
         proj = np.where(free[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
         info = (pts, bp, proj, jump, flux, size, a)
-        old = reg.assembled
+        rec = self._recovered_flux(reg, slip)
+        old = reg.assembled if rec is None else None  # a recovered flux couples a point's terms to its neighbours' zones
         if old is not None:
             changed = np.flatnonzero((old[0] != slip) | (old[2] != free) | (old[3] != bands)
                                      | np.any(old[1] != direction, axis=1))
@@ -262,7 +265,7 @@ class HistoryEllipseContact(EllipseContact):
             else:
                 parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
         else:
-            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
+            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands, rec)
         reg.assembled = (slip.copy(), direction.copy(), free.copy(), bands.copy()) + parts
         k_tie, f, left = parts
         if grouped.any():  # the diagnostic mean ties (solver.contact.friction_history_ties)
@@ -273,6 +276,21 @@ class HistoryEllipseContact(EllipseContact):
             return (k_tie - low_rank(left, reg.fit.rows, m)).tocsr(), f + left @ reg.fit.load, info
         return k_tie, f, info
 
+    def _recovered_flux(self, reg: _Region, slip: np.ndarray):
+        """(3 q, m) the diagnostic flux of the stuck points' tangential tie for the zones slip, or
+        None for the bodies' mean stress at the point (``friction_history_ties.TIE_FLUX`` and
+        ``RECOVERED_FLUX``)."""
+        if ties.RECOVERED_FLUX is None and ties.TIE_FLUX == "mean":
+            return None
+        if reg.recovered is None or not np.array_equal(reg.recovered[0], slip):
+            pts = reg.info[0]
+            flux = ties.body_flux(self, pts, reg.info[4])
+            if ties.RECOVERED_FLUX is not None:
+                mean = ties.recovery_operator(pts.s, pts.weights, ~slip, 0.5 * ties.RECOVERED_FLUX * self.h)
+                flux = (mean @ flux).tocsr()
+            reg.recovered = (slip.copy(), flux)
+        return reg.recovered[1]
+
     @staticmethod
     def _grouped(reg: _Region, slip: np.ndarray) -> np.ndarray:
         """(q,) the stuck points tied by their group's mean (solver.contact.friction_history_ties)."""
@@ -281,7 +299,7 @@ class HistoryEllipseContact(EllipseContact):
         return ties.grouped(reg.group, slip)
 
     def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray,
-                     free: np.ndarray | None = None, bands: np.ndarray | None = None):
+                     free: np.ndarray | None = None, bands: np.ndarray | None = None, recovered=None):
         """(ties' stiffness, ties' load, Coulomb's left factor (m, k)) of the points idx of a region
         with zones (slip, direction): Coulomb's traction of the slipping points, -mu p e with p =
         B (R x + r0) the fitted pressure, adds -left R to the stiffness and left r0 to the load.
@@ -300,7 +318,7 @@ class HistoryEllipseContact(EllipseContact):
         sub_jump, sub_flux = jump[rows], flux[rows]
         bp = BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx], sub_jump, sub_flux)
         target = -(delta - np.where(fr[:, None], 0.0, reg.w_ref[idx]))
-        if np.all(bands[idx] == 1.0):  # one layer: a stuck point fixed, a slipping one sliding
+        if recovered is None and np.all(bands[idx] == 1.0):  # one layer: a stuck point fixed, a slipping one sliding
             proj = np.where(fr[:, None, None], projector("sliding", normal), projector("fixed", normal))
             k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
         else:  # the normal tie on the contact's layer, the stuck points' tangential one on its own
@@ -308,7 +326,9 @@ class HistoryEllipseContact(EllipseContact):
             k, f = thin_band_terms(bp, p_normal, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0,
                                    jump=sub_jump)
             if p_tangential.any():
-                k_t, f_t = thin_band_terms(bp, p_tangential, target, self.b1.lam, self.b1.mu,
+                bp_t = bp if recovered is None else BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx],
+                                                                   sub_jump, recovered[rows])
+                k_t, f_t = thin_band_terms(bp_t, p_tangential, target, self.b1.lam, self.b1.mu,
                                            bands[idx] * self.band_fraction, 1.0, jump=sub_jump)
                 k, f = k + k_t, f + f_t
         left = np.zeros((m, fit.basis.shape[1]))
@@ -332,10 +352,11 @@ class HistoryEllipseContact(EllipseContact):
         bands = ties.tangential_bands(pts.s, slip, self.h, TANGENTIAL_BAND)
         layer = layer_tensor(self, pts.normal, p_normal, size) \
             + layer_tensor(self, pts.normal, p_tangential, size) / bands[:, None, None]
-        proj = p_normal + p_tangential
         fx = (flux @ x).reshape(-1, 3)
+        rec = self._recovered_flux(reg, slip)
+        fx_t = fx if rec is None else (rec @ x).reshape(-1, 3)
         t1 = -np.einsum("qij,qj->qi", layer, held)
-        t1 = t1 + np.einsum("qij,qj->qi", proj, fx)
+        t1 = t1 + np.einsum("qij,qj->qi", p_normal, fx) + np.einsum("qij,qj->qi", p_tangential, fx_t)
         if grouped.any():  # the diagnostic mean ties: one traction per group on its stuck points
             mean, _, stiffness, g, idx = ties.mean_operator(reg.group, grouped, pts.weights, pts.normal, reg.layer_t)
             t1[idx] += ties.mean_traction(mean, stiffness, w - reg.w_ref, fx)[g]
