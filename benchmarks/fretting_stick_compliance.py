@@ -26,7 +26,10 @@ slip part of the displacement): its excess is where the annulus's Coulomb tracti
 zone's reaction to it, not the stick zone's stiffness, are off. That slip part is a small difference
 (at c = 0.888 a 5 % of the displacement) and takes the full stick's compliance, ties' layer
 included, as the linear part; the loading curve's sag below its chord (from rest to the state at
-0.888 a or 0.7 a, at the radii between) holds no linear part at all, as a loop's area holds none.
+0.888 a or 0.7 a, at the radii between) holds no linear part at all, as a loop's area holds none;
+a Masing loop (Mindlin and Deresiewicz's is one) has 8 times the area between the first loading's
+curve and its chord, so the sags at the radii measured, summed by trapezoids against Mindlin's
+through the same states, give the energy per cycle of the loop the loading curve draws.
 
     .venv/bin/python benchmarks/fretting_stick_compliance.py [--edge-ring] [--refinement-levels 6]
         [--radii 1 0.95 0.9 0.85] [--band-fraction 0.5]
@@ -35,7 +38,7 @@ The example's grid takes about 10 s and 0.65 GB; with ``--edge-ring`` about 65 s
 ``--refinement-levels 6`` refines the whole contact once more (a / h = 11.6).
 ``--band-fraction`` sets the scene's [solver].band_fraction (the ties' layer, 0.25 by default);
 ``--tangential-band F`` the stuck points' tangential tie's layer alone (F times the contact's);
-``--cut-cell-tie``, ``--tie-groups``, ``--cut-cell-consistency``, ``--near-band``, ``--recovered-flux`` and ``--tie-flux`` the diagnostic
+``--cut-cell-tie``, ``--tie-groups``, ``--cut-cell-consistency``, ``--near-band``, ``--recovered-flux``, ``--tie-flux`` and ``--uzawa`` the diagnostic
 ties of ``solver.contact.friction_history_ties``. Prints only; writes nothing.
 """
 
@@ -55,8 +58,10 @@ class FixedStickCircle:
 
     def __init__(self, radii):
         self.radii = list(radii)
+        self.contact = None  # the contact the rule served (its records after the run)
 
     def zones(self, contact, s: np.ndarray, a: float, force: np.ndarray):
+        self.contact = contact
         k = (contact.step_count - 2) // 2
         c = self.radii[k] if 0 <= k < len(self.radii) else 1.0
         slip = contact.normalised_radius(s, a) > c
@@ -75,6 +80,10 @@ def _scene(radii, amplitude: float, edge_ring: bool, band_fraction: float | None
     data = scene_data(amplitude, 0.5, 20, refinement_levels=refinement_levels, edge_ring=edge_ring)
     if band_fraction is not None:
         data.setdefault("solver", {})["band_fraction"] = float(band_fraction)
+    from ibfem.solver.contact import friction_history_ties
+    if friction_history_ties.UZAWA_TOLERANCE is not None:  # the ties' updates are solves of the step
+        for c in data["contacts"]:
+            c["max_stick_iterations"] = friction_history_ties.UZAWA_UPDATES + 40
     end = 1.0 + 2 * len(radii)
     for p in data["paths"]:
         if p["name"] == "fret":  # 0 at t = 1, then A, 0, A, 0, ... one step each
@@ -93,11 +102,12 @@ def measure(radii, amplitude: float, edge_ring: bool, band_fraction: float | Non
     from ibfem.solver.solving import solve
 
     sc = _scene(radii, amplitude, edge_ring, band_fraction, refinement_levels)
-    HistoryEllipseContact.zone_rule = FixedStickCircle(radii)
+    rule = HistoryEllipseContact.zone_rule = FixedStickCircle(radii)
     try:
         solution = solve(sc.problem)
     finally:
         HistoryEllipseContact.zone_rule = None
+    contact = rule.contact
     steps = solution.steps
     block = solution.contacts[0]  # the run's summary block of the contact
     share = float(block.get("model_share", 1.0))
@@ -115,7 +125,8 @@ def measure(radii, amplitude: float, edge_ring: bool, band_fraction: float | Non
     n = abs(float(steps[-1]["contacts"][0]["normal_force"])) / share
     a = float(steps[-1]["contacts"][0]["semi_axes"][0])
     return {"radii": out, "N": n, "a": a, "E": m.youngs_modulus, "nu": m.poissons_ratio,
-            "mu": float(block["friction"]), "solves": solution.iterations["total"], "converged": solution.converged}
+            "mu": float(block["friction"]), "solves": solution.iterations["total"], "converged": solution.converged,
+            "uzawa_updates": list(contact.uzawa_updates), "uzawa_unconverged": list(contact.uzawa_unconverged)}
 
 
 def implied_energy(x: float, excess, n: float, mu: float, a: float, g_eff: float, samples: int = 4000) -> float:
@@ -160,10 +171,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tie-flux", choices=("mean", "1", "2"), default=None,
                     help="the stuck points' tangential consistency flux: the bodies' mean stress or one body's "
                          "(friction_history_ties.TIE_FLUX)")
+    ap.add_argument("--uzawa", type=float, default=None, metavar="TOL",
+                    help="the stuck points held exactly by augmented-Lagrangian ties, to TOL of the step's largest "
+                         "jump increment (friction_history_ties.UZAWA_TOLERANCE)")
     args = ap.parse_args(argv)
     from ibfem.solver.contact import friction_history3d, friction_history_ties as ties
     if args.tie_groups is not None:
         ties.TIE_GROUPS = args.tie_groups
+    if args.uzawa is not None:
+        ties.UZAWA_TOLERANCE = args.uzawa
     if args.tie_flux is not None:
         ties.TIE_FLUX = args.tie_flux
     if args.recovered_flux is not None:
@@ -182,6 +198,9 @@ def main(argv: list[str] | None = None) -> int:
     g = effective_shear_modulus(r["E"], r["nu"], r["E"], r["nu"])
     a = r["a"]
     print(f"converged {r['converged']}, {r['solves']} solves; N {r['N']:.5g} N, a {a:.5g} m (full contact)")
+    if r.get("uzawa_updates"):
+        print(f"augmented-Lagrangian updates per step {r['uzawa_updates']}; steps not converged "
+              f"{[(k, [f'{v:.2g}' for v in h[-3:]]) for k, h in r['uzawa_unconverged']]}")
     c0 = r["radii"][0]["compliance"]
     print(f"full stick: rig's compliance {c0:.6g} m/N; Mindlin's 1 / (8 G* a) {1 / (8 * g * a):.6g} m/N")
     cs, ex = [], []
@@ -241,6 +260,13 @@ def loading_curve_sags(r: dict, g_eff: float, ends=(0.888, 0.7)) -> list[str]:
             sag, sag_md = d_e * q / q_e - d, m_e * q / q_e - m
             out.append(f"c/a {c:.3f} on the chord to {c_e:.3f}: the loading curve's sag {sag:.5g} m against "
                        f"Mindlin's {sag_md:.5g} m ({sag / sag_md - 1:+.2%})")
+        qs = [v[0] for c, v in sorted(states.items(), reverse=True) if c_e <= c <= 1.0]
+        sags = [(d_e * v[0] / q_e - v[1], m_e * v[0] / q_e - v[2]) for c, v in sorted(states.items(), reverse=True)
+                if c_e <= c <= 1.0]
+        if len(qs) > 2:  # a Masing loop's area is 8 times the area between the first loading's curve and its chord
+            w, w_md = (8.0 * np.trapezoid([v[k] for v in sags], qs) for k in (0, 1))
+            out.append(f"Q*/(mu N) {1 - c_e ** 3:.3f}: the Masing loop of the loading curve through {len(qs)} states: "
+                       f"W {w:.5g} J against Mindlin's through the same states {w_md:.5g} J ({w / w_md - 1:+.2%})")
     return out
 
 

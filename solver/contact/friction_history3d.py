@@ -122,6 +122,9 @@ class _Region:
     group: np.ndarray | None = None
     #: (slip, flux) the diagnostic recovered flux (3 q, m) for the zones slip (friction_history_ties)
     recovered: tuple | None = None
+    #: (q, 3) the jump at which a stuck point is held exactly by the diagnostic augmented-Lagrangian
+    #: ties (friction_history_ties.UZAWA_TOLERANCE; w_ref is then the tie's anchor, moved by them)
+    hold: np.ndarray | None = None
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -159,6 +162,11 @@ class HistoryEllipseContact(EllipseContact):
     zone_changes: int = 0
     unsettled_steps: list = field(default_factory=list)
     late_settled: list = field(default_factory=list)  # [step, points still changing] settled late
+    #: the diagnostic augmented-Lagrangian ties: the updates of each step, the step's stretch history, the
+    #: steps that ended on UZAWA_UPDATES updates with their history (friction_history_ties.UZAWA_TOLERANCE)
+    uzawa_updates: list = field(default_factory=list)
+    uzawa_history: list = field(default_factory=list)
+    uzawa_unconverged: list = field(default_factory=list)
     step_work: float = 0.0
     step_state: dict = field(default_factory=dict)  # the last step's end: per-point arrays for the records
     #: zones imposed instead of Coulomb's rule (a validation's diagnostic: the closed form's zones
@@ -182,7 +190,8 @@ class HistoryEllipseContact(EllipseContact):
         layer_t = PENALTY_FACTOR / (TANGENTIAL_BAND * self.band_fraction * size) * self.b1.mu
         radius = 0.5 * MEAN_CELLS * self.options.window * self.h
         neighbours = DiscBins.build(pts.s, plane_weights(self, pts), radius)
-        reg = _Region(a, info, layer_t, neighbours, *self._carried(pts, jump, flux, layer_t))
+        carried, hold = self._carried(pts, jump, flux, layer_t)
+        reg = _Region(a, info, layer_t, neighbours, *carried, hold=hold)
         fixed = projector("fixed", pts.normal)  # the pressure rows are the same for either zone's projector
         r, b = pressure_rows(self, (pts, None, fixed, jump, flux, size, a))
         reg.fit = pressure_fit(self.local(pts.s), self.semi_axes(a), pts.weights, r, b)
@@ -195,15 +204,15 @@ class HistoryEllipseContact(EllipseContact):
         return reg
 
     def _carried(self, pts, jump, flux, layer_t):
-        """(w_ref, w_prev, accumulated slip, last direction) at new points: the nearest point of the
+        """((w_ref, w_prev, accumulated slip, last direction), hold) at new points: the nearest point of the
         last step's region where inside it; elsewhere a point entering contact, stuck with no
         traction at the jump of the last step's end."""
         q = len(pts.s)
         if self.x_prev is None:
-            return np.zeros((q, 3)), np.zeros((q, 3)), np.zeros(q), np.zeros((q, 3))
+            return (np.zeros((q, 3)), np.zeros((q, 3)), np.zeros(q), np.zeros((q, 3))), np.zeros((q, 3))
         w = _tangential((jump @ self.x_prev).reshape(-1, 3) + pts.delta, pts.normal)
         f = _tangential((flux @ self.x_prev).reshape(-1, 3), pts.normal)
-        w_ref, w_prev = w - f / layer_t[:, None], w.copy()
+        w_ref, w_prev, hold = w - f / layer_t[:, None], w.copy(), w.copy()
         acc, last = np.zeros(q), np.zeros((q, 3))
         old = self.carrier
         if old is not None:
@@ -215,7 +224,8 @@ class HistoryEllipseContact(EllipseContact):
                 idx = cKDTree(old_pts.s).query(pts.s)[1]
             w_ref[inside], w_prev[inside] = old.w_ref[idx[inside]], old.w_prev[idx[inside]]
             acc[inside], last[inside] = old.accumulated[idx[inside]], old.last_direction[idx[inside]]
-        return w_ref, w_prev, acc, last
+            hold[inside] = (old.w_ref if old.hold is None else old.hold)[idx[inside]]
+        return (w_ref, w_prev, acc, last), hold
 
     def zones_at(self, reg: _Region) -> tuple[np.ndarray, np.ndarray]:
         """(slipping, direction) of the current zones at a region's points."""
@@ -452,8 +462,39 @@ class HistoryEllipseContact(EllipseContact):
         self.hold_width = False
         if self.width_held:
             self.width_held = False
-            return self._width_consistent(a)
+            if not self._width_consistent(a):
+                return False
+        if not self._uzawa(x, a, info):
+            self.hold_width = self.width_held = True
+            return False
         return True
+
+    def _uzawa(self, x: np.ndarray, a: float, info) -> bool:
+        """One update of the diagnostic augmented-Lagrangian ties of the stuck points
+        (``friction_history_ties.UZAWA_TOLERANCE``; None: none, True): each stuck point's anchor
+        moves by its tie's tangential stretch from the jump at which it is held, so that at
+        convergence the stuck points are held exactly, their traction the tie's multiplier; True
+        when the largest stretch is within the tolerance times the step's largest jump increment
+        (or after ``UZAWA_UPDATES`` updates: then listed in ``uzawa_unconverged``)."""
+        if ties.UZAWA_TOLERANCE is None:
+            return True
+        reg = self.region(a)
+        pts, jump = info[0], info[3]
+        slip, _ = self.zones_at(reg)
+        w = _tangential((jump @ x).reshape(-1, 3) + pts.delta, pts.normal)
+        stretch = np.where(slip[:, None], 0.0, _tangential(w - reg.hold, pts.normal))
+        scale = max(float(np.linalg.norm(w - reg.w_prev, axis=1).max()), 1e-300)
+        size = float(np.linalg.norm(stretch, axis=1).max()) / scale
+        self.uzawa_history.append(size)
+        if size <= ties.UZAWA_TOLERANCE or len(self.uzawa_history) > ties.UZAWA_UPDATES:
+            if size > ties.UZAWA_TOLERANCE:
+                self.uzawa_unconverged.append([self.step_count, list(self.uzawa_history)])
+            self.uzawa_updates.append(len(self.uzawa_history) - 1)
+            self.uzawa_history = []
+            return True
+        reg.w_ref = reg.w_ref - stretch
+        reg.assembled = None  # the terms' load holds the anchors
+        return False
 
     def _commit_zones(self, reg, slip: np.ndarray, direction: np.ndarray, changed: int, info) -> bool:
         """Keep a zone update's zones and its stick ratio; True when it settled (no point changed)
@@ -527,6 +568,8 @@ class HistoryEllipseContact(EllipseContact):
         # the step solved, open or not: the step's forces are recorded with these references)
         flux_t = _tangential((info[4] @ x).reshape(-1, 3), pts.normal)
         reg.w_ref = np.where(slip[:, None], wt - (flux_t - q) / reg.layer_t[:, None], reg.w_ref)
+        if reg.hold is not None:  # a slipping point would be held where it sticks again
+            reg.hold = np.where(slip[:, None], wt, reg.hold)
         reg.assembled = None  # the terms hold the reference jumps: the next step assembles them anew
         reg.accumulated = reg.accumulated + np.linalg.norm(dw, axis=1)
         reg.last_direction = np.where(slip[:, None], direction, reg.last_direction)

@@ -17,7 +17,9 @@ were built to measure how the energy per cycle at small amplitudes depends on th
 - a recovered flux (``RECOVERED_FLUX``): the consistency term of the stuck points' tangential tie
   takes, instead of the bodies' mean stress at the point, its area-weighted mean over the stuck
   points within a disc of ``RECOVERED_FLUX`` cells in diameter, or one body's stress alone
-  (``TIE_FLUX``; the normal tie keeps the two bodies' mean at the point).
+  (``TIE_FLUX``; the normal tie keeps the two bodies' mean at the point);
+- augmented-Lagrangian ties (``UZAWA_TOLERANCE``): the stuck points held exactly at their jump,
+  the tie's anchor moved by its stretch solve after solve (Uzawa's update of the multiplier).
 """
 
 from __future__ import annotations
@@ -48,6 +50,11 @@ RECOVERED_FLUX = None
 #: the stuck points' tangential consistency flux: "mean" the two bodies' mean stress (Nitsche's
 #: symmetric weights), "1" or "2" one body's stress alone (the other's weight 0)
 TIE_FLUX = "mean"
+#: augmented-Lagrangian (Uzawa) ties of the stuck points: None none; else each stuck point's anchor is
+#: moved by its tie's tangential stretch after the zones settle, solved again until the largest
+#: stretch is this fraction of the step's largest jump increment, at most UZAWA_UPDATES times
+UZAWA_TOLERANCE = None
+UZAWA_UPDATES = 200
 
 
 def tie_groups(local_s: np.ndarray, h: float, cells1: np.ndarray, cells2: np.ndarray) -> np.ndarray:
