@@ -619,8 +619,14 @@ class HistoryEllipseContact(EllipseContact):
         messages = super().check_final(u, a, info, bracket, block)
         block["checks"]["steps_with_unsettled_zones"] = list(self.unsettled_steps)
         block["checks"]["steps_settled_with_points_changing"] = list(self.late_settled)
-        return messages + [f"{self.name}: load step {k}: the stick and slip zones did not settle in "
-                           f"{self.options.max_stick_iterations} updates" for k in self.unsettled_steps]
+        messages += [f"{self.name}: load step {k}: the stick and slip zones did not settle in "
+                     f"{self.options.max_stick_iterations} updates" for k in self.unsettled_steps]
+        if ties.UZAWA_TOLERANCE is not None:  # the diagnostic exact hold: its stretch's history where it stopped short
+            block["checks"]["steps_with_unconverged_exact_hold"] = [k for k, _ in self.uzawa_unconverged]
+            messages += [f"{self.name}: load step {k}: the stuck points' largest stretch over the step's largest jump "
+                         f"increment did not fall to {ties.UZAWA_TOLERANCE:g} in {ties.UZAWA_UPDATES} augmented-"
+                         f"Lagrangian updates (first {h[0]:.3g}, last {h[-1]:.3g})" for k, h in self.uzawa_unconverged]
+        return messages
 
 
 def build(problem, model, b1, b2, options) -> HistoryEllipseContact:
