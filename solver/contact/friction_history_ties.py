@@ -3,7 +3,8 @@
 The history ties each stuck point at its own jump (the contact's thin band terms). The ties here
 were built to measure how the energy per cycle at small amplitudes depends on that tie
 (docs/load-paths.md, "The stuck points' ties: where their stiffness acts and their stiff limit
-(3D)"); none is the default:
+(3D)" and "The stuck points' ties: the stiff limit's rate with h, the consistency flux and an
+exact hold (3D)"); none is the default:
 
 - a mean tie: the stuck points of a group of cells tied by their area-weighted mean tangential
   jump, one tie per group and component (a piecewise constant multiplier), its traction
