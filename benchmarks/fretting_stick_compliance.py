@@ -34,8 +34,9 @@ through the same states, give the energy per cycle of the loop the loading curve
     .venv/bin/python benchmarks/fretting_stick_compliance.py [--edge-ring] [--refinement-levels 6]
         [--radii 1 0.95 0.9 0.85] [--band-fraction 0.5]
 
-The example's grid takes about 10 s and 0.65 GB; with ``--edge-ring`` about 65 s and 1.95 GB;
-``--refinement-levels 6`` refines the whole contact once more (a / h = 11.6).
+The example's grid takes about 8 s CPU and 0.5 GB; with ``--edge-ring`` 24 to 36 s CPU and 1.1 GB;
+``--refinement-levels 6`` refines the whole contact once more (a / h = 11.6): 43 to 71 s CPU and
+1.9 GB (the default radii the longer).
 ``--band-fraction`` sets the scene's [solver].band_fraction (the ties' layer, 0.25 by default);
 ``--tangential-band F`` the stuck points' tangential tie's layer alone (F times the contact's);
 ``--cut-cell-tie``, ``--tie-groups``, ``--cut-cell-consistency``, ``--near-band``, ``--recovered-flux``, ``--tie-flux`` and ``--uzawa`` the diagnostic
