@@ -23,15 +23,23 @@ points is the normal load's, as on a first loading, for the radii decrease): the
 displacement at which the circle carries Q = mu N (1 - c^3 / a^3), less the full stick's linear
 compliance times Q, against Mindlin's 3 mu N / (16 a G*) (1 - c^2 / a^2) - Q / (8 a G*) (the
 slip part of the displacement): its excess is where the annulus's Coulomb traction and the stick
-zone's reaction to it, not the stick zone's stiffness, are off.
+zone's reaction to it, not the stick zone's stiffness, are off. That slip part is a small difference
+(at c = 0.888 a 5 % of the displacement) and takes the full stick's compliance, ties' layer
+included, as the linear part; the loading curve's sag below its chord (from rest to the state at
+0.888 a or 0.7 a, at the radii between) holds no linear part at all, as a loop's area holds none;
+a Masing loop (Mindlin and Deresiewicz's is one) has 8 times the area between the first loading's
+curve and its chord, so the sags at the radii measured, summed by trapezoids against Mindlin's
+through the same states, give the energy per cycle of the loop the loading curve draws.
 
-    .venv/bin/python benchmarks/fretting_stick_compliance.py [--edge-ring] [--radii 1 0.95 0.9 0.85]
-        [--band-fraction 0.5]
+    .venv/bin/python benchmarks/fretting_stick_compliance.py [--edge-ring] [--refinement-levels 6]
+        [--radii 1 0.95 0.9 0.85] [--band-fraction 0.5]
 
-The example's grid takes about 10 s and 0.65 GB; with ``--edge-ring`` about 65 s and 1.95 GB.
+The example's grid takes about 8 s CPU and 0.5 GB; with ``--edge-ring`` 24 to 36 s CPU and 1.1 GB;
+``--refinement-levels 6`` refines the whole contact once more (a / h = 11.6): 43 to 71 s CPU and
+1.9 GB (the default radii the longer).
 ``--band-fraction`` sets the scene's [solver].band_fraction (the ties' layer, 0.25 by default);
 ``--tangential-band F`` the stuck points' tangential tie's layer alone (F times the contact's);
-``--cut-cell-tie``, ``--tie-groups``, ``--cut-cell-consistency`` and ``--near-band`` the diagnostic
+``--cut-cell-tie``, ``--tie-groups``, ``--cut-cell-consistency``, ``--near-band``, ``--recovered-flux``, ``--tie-flux`` and ``--uzawa`` the diagnostic
 ties of ``solver.contact.friction_history_ties``. Prints only; writes nothing.
 """
 
@@ -51,8 +59,10 @@ class FixedStickCircle:
 
     def __init__(self, radii):
         self.radii = list(radii)
+        self.contact = None  # the contact the rule served (its records after the run)
 
     def zones(self, contact, s: np.ndarray, a: float, force: np.ndarray):
+        self.contact = contact
         k = (contact.step_count - 2) // 2
         c = self.radii[k] if 0 <= k < len(self.radii) else 1.0
         slip = contact.normalised_radius(s, a) > c
@@ -63,13 +73,18 @@ class FixedStickCircle:
         pass
 
 
-def _scene(radii, amplitude: float, edge_ring: bool, band_fraction: float | None = None):
+def _scene(radii, amplitude: float, edge_ring: bool, band_fraction: float | None = None,
+           refinement_levels: int | None = None):
     from ibfem.solver.io.scene import scene_from_dict
     from ibfem.solver.reports.validate_fretting_sphere import EXAMPLE, scene_data
 
-    data = scene_data(amplitude, 0.5, 20, edge_ring=edge_ring)
+    data = scene_data(amplitude, 0.5, 20, refinement_levels=refinement_levels, edge_ring=edge_ring)
     if band_fraction is not None:
         data.setdefault("solver", {})["band_fraction"] = float(band_fraction)
+    from ibfem.solver.contact import friction_history_ties
+    if friction_history_ties.UZAWA_TOLERANCE is not None:  # the ties' updates are solves of the step
+        for c in data["contacts"]:
+            c["max_stick_iterations"] = friction_history_ties.UZAWA_UPDATES + 40
     end = 1.0 + 2 * len(radii)
     for p in data["paths"]:
         if p["name"] == "fret":  # 0 at t = 1, then A, 0, A, 0, ... one step each
@@ -80,18 +95,20 @@ def _scene(radii, amplitude: float, edge_ring: bool, band_fraction: float | None
     return scene_from_dict(data, label=str(EXAMPLE), base_dir=EXAMPLE.parent)
 
 
-def measure(radii, amplitude: float, edge_ring: bool, band_fraction: float | None = None) -> dict:
+def measure(radii, amplitude: float, edge_ring: bool, band_fraction: float | None = None,
+            refinement_levels: int | None = None) -> dict:
     """Per radius the rig's compliance of the full contact; the contact's N and a."""
     from ibfem.solver.contact.friction_history3d import HistoryEllipseContact
     from ibfem.solver.io.fretting_outputs import _relative_displacement, loop_force
     from ibfem.solver.solving import solve
 
-    sc = _scene(radii, amplitude, edge_ring, band_fraction)
-    HistoryEllipseContact.zone_rule = FixedStickCircle(radii)
+    sc = _scene(radii, amplitude, edge_ring, band_fraction, refinement_levels)
+    rule = HistoryEllipseContact.zone_rule = FixedStickCircle(radii)
     try:
         solution = solve(sc.problem)
     finally:
         HistoryEllipseContact.zone_rule = None
+    contact = rule.contact
     steps = solution.steps
     block = solution.contacts[0]  # the run's summary block of the contact
     share = float(block.get("model_share", 1.0))
@@ -109,7 +126,8 @@ def measure(radii, amplitude: float, edge_ring: bool, band_fraction: float | Non
     n = abs(float(steps[-1]["contacts"][0]["normal_force"])) / share
     a = float(steps[-1]["contacts"][0]["semi_axes"][0])
     return {"radii": out, "N": n, "a": a, "E": m.youngs_modulus, "nu": m.poissons_ratio,
-            "mu": float(block["friction"]), "solves": solution.iterations["total"], "converged": solution.converged}
+            "mu": float(block["friction"]), "solves": solution.iterations["total"], "converged": solution.converged,
+            "uzawa_updates": list(contact.uzawa_updates), "uzawa_unconverged": list(contact.uzawa_unconverged)}
 
 
 def implied_energy(x: float, excess, n: float, mu: float, a: float, g_eff: float, samples: int = 4000) -> float:
@@ -133,6 +151,8 @@ def main(argv: list[str] | None = None) -> int:
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--edge-ring", action="store_true", help="one more refinement level about the contact's edge")
+    ap.add_argument("--refinement-levels", type=int, default=None,
+                    help="refinement levels about the contact in both bodies (the example's 5, a / h = 5.8; 6: 11.6)")
     ap.add_argument("--radii", type=float, nargs="+", default=list(DEFAULT_RADII), help="c / a, the first 1")
     ap.add_argument("--band-fraction", type=float, default=None, help="the ties' band ([solver].band_fraction)")
     ap.add_argument("--cut-cell-tie", choices=("points", "mean", "all"), default=None,
@@ -146,10 +166,25 @@ def main(argv: list[str] | None = None) -> int:
                     help="a diagnostic: the stuck points within CELLS cells of the slip zone on a layer FACTOR times")
     ap.add_argument("--tie-groups", choices=("pairs", "cell1", "cell2", "patch2", "nodes"), default=None,
                     help="the mean ties' groups (friction_history_ties.TIE_GROUPS)")
+    ap.add_argument("--recovered-flux", type=float, default=None, metavar="CELLS",
+                    help="the stuck points' tangential consistency flux averaged over a disc of CELLS cells in diameter "
+                         "among the stuck points (friction_history_ties.RECOVERED_FLUX)")
+    ap.add_argument("--tie-flux", choices=("mean", "1", "2"), default=None,
+                    help="the stuck points' tangential consistency flux: the bodies' mean stress or one body's "
+                         "(friction_history_ties.TIE_FLUX)")
+    ap.add_argument("--uzawa", type=float, default=None, metavar="TOL",
+                    help="the stuck points held exactly by augmented-Lagrangian ties, to TOL of the step's largest "
+                         "jump increment (friction_history_ties.UZAWA_TOLERANCE)")
     args = ap.parse_args(argv)
     from ibfem.solver.contact import friction_history3d, friction_history_ties as ties
     if args.tie_groups is not None:
         ties.TIE_GROUPS = args.tie_groups
+    if args.uzawa is not None:
+        ties.UZAWA_TOLERANCE = args.uzawa
+    if args.tie_flux is not None:
+        ties.TIE_FLUX = args.tie_flux
+    if args.recovered_flux is not None:
+        ties.RECOVERED_FLUX = args.recovered_flux
     if args.near_band is not None:
         ties.NEAR_BAND, ties.NEAR_CELLS = args.near_band
     if args.tangential_band is not None:
@@ -160,10 +195,13 @@ def main(argv: list[str] | None = None) -> int:
         ties.CUT_CELL_CONSISTENCY = args.cut_cell_consistency
     if args.radii[0] != 1.0:
         raise SystemExit("--radii: the first radius must be 1 (the full stick, the reference of the increase)")
-    r = measure(args.radii, amplitude_for(0.3), args.edge_ring, args.band_fraction)
+    r = measure(args.radii, amplitude_for(0.3), args.edge_ring, args.band_fraction, args.refinement_levels)
     g = effective_shear_modulus(r["E"], r["nu"], r["E"], r["nu"])
     a = r["a"]
     print(f"converged {r['converged']}, {r['solves']} solves; N {r['N']:.5g} N, a {a:.5g} m (full contact)")
+    if r.get("uzawa_updates"):
+        print(f"augmented-Lagrangian updates per step {r['uzawa_updates']}; steps not converged "
+              f"{[(k, [f'{v:.2g}' for v in h[-3:]]) for k, h in r['uzawa_unconverged']]}")
     c0 = r["radii"][0]["compliance"]
     print(f"full stick: rig's compliance {c0:.6g} m/N; Mindlin's 1 / (8 G* a) {1 / (8 * g * a):.6g} m/N")
     cs, ex = [], []
@@ -195,7 +233,42 @@ def main(argv: list[str] | None = None) -> int:
               f"{slip_num:.5g} m against Mindlin's {slip_md:.5g} m ({slip_num / slip_md - 1 if slip_md else 0:+.2%}); "
               f"the excess {(slip_num - slip_md) / unit:+.5f} of 3 mu N / (16 a G*)")
 
+    for line in loading_curve_sags(r, g):
+        print(line)
     return 0 if r["converged"] else 1
+
+
+def loading_curve_sags(r: dict, g_eff: float, ends=(0.888, 0.7)) -> list[str]:
+    """The first loading curve's sag below its chord, against Mindlin's: per end radius c_e (of the
+    measured ones) and each measured radius c between 1 and c_e, the rig's displacement at Mindlin's
+    Q(c) less the chord's from rest to (Q(c_e), delta(c_e)). A linear compliance (the bodies', the
+    ties' layer's under a full stick) adds nothing to it, as it adds no area to a loop: it is the
+    nonlinear part of the curve, the part that makes a Masing loop's area."""
+    mu, n, a = r["mu"], r["N"], r["a"]
+    unit = 3.0 * mu * n / (16.0 * a * g_eff)
+    states = {}
+    for v in r["radii"]:
+        q = mu * n * (1.0 - v["c"] ** 3)
+        states[v["c"]] = (q, (q - v["offset"]) * v["compliance"], unit * (1.0 - v["c"] ** 2))
+    out = []
+    for c_e in ends:
+        if c_e not in states:
+            continue
+        q_e, d_e, m_e = states[c_e]
+        for c, (q, d, m) in sorted(states.items(), reverse=True):
+            if not c_e < c < 1.0:
+                continue
+            sag, sag_md = d_e * q / q_e - d, m_e * q / q_e - m
+            out.append(f"c/a {c:.3f} on the chord to {c_e:.3f}: the loading curve's sag {sag:.5g} m against "
+                       f"Mindlin's {sag_md:.5g} m ({sag / sag_md - 1:+.2%})")
+        qs = [v[0] for c, v in sorted(states.items(), reverse=True) if c_e <= c <= 1.0]
+        sags = [(d_e * v[0] / q_e - v[1], m_e * v[0] / q_e - v[2]) for c, v in sorted(states.items(), reverse=True)
+                if c_e <= c <= 1.0]
+        if len(qs) > 2:  # a Masing loop's area is 8 times the area between the first loading's curve and its chord
+            w, w_md = (8.0 * np.trapezoid([v[k] for v in sags], qs) for k in (0, 1))
+            out.append(f"Q*/(mu N) {1 - c_e ** 3:.3f}: the Masing loop of the loading curve through {len(qs)} states: "
+                       f"W {w:.5g} J against Mindlin's through the same states {w_md:.5g} J ({w / w_md - 1:+.2%})")
+    return out
 
 
 if __name__ == "__main__":

@@ -85,3 +85,20 @@ def test_the_layer_of_the_stuck_points_by_the_slip_zone(monkeypatch):
     monkeypatch.setattr(ties, "NEAR_BAND", 0.5)
     monkeypatch.setattr(ties, "NEAR_CELLS", 1.0)  # the points 1 from the slipping one
     np.testing.assert_allclose(ties.tangential_bands(s, slip, 1.5, 2.0), [2.0, 2.0, 1.0, 2.0, 1.0, 2.0])
+
+
+def test_the_recovered_flux_is_the_stuck_points_disc_mean():
+    """A stuck point's row is the area-weighted mean over the stuck points within the radius (checked
+    against the means computed point by point), per component; a slipping point keeps its own."""
+    rng = np.random.default_rng(3)
+    s = rng.uniform(0.0, 4.0, (60, 2))
+    weights = rng.uniform(0.5, 2.0, 60)
+    stuck = np.linalg.norm(s - 2.0, axis=1) < 1.5
+    values = rng.standard_normal((60, 3))
+    out = (ties.recovery_operator(s, weights, stuck, 0.8) @ values.ravel()).reshape(-1, 3)
+    for i in range(60):
+        if stuck[i]:
+            near = stuck & (np.linalg.norm(s - s[i], axis=1) <= 0.8)
+            np.testing.assert_allclose(out[i], np.average(values[near], axis=0, weights=weights[near]), rtol=1e-12)
+        else:
+            np.testing.assert_allclose(out[i], values[i], rtol=1e-14)

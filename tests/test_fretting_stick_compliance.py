@@ -57,3 +57,24 @@ def test_stick_circle_tangent_compliance_is_mindlins():
         rise = v["compliance"] - full
         mindlin = (1.0 / v["c"] - 1.0) / (8.0 * g * r["a"])
         assert abs(rise - mindlin) * 8.0 * g * r["a"] * v["c"] < 2e-3
+
+
+def test_the_loading_curve_sag_holds_no_linear_part():
+    """Mindlin's own states (with any linear compliance added to the rig's displacement) read a sag
+    of Mindlin's, to round-off; a displacement 1 % larger at the mid radius reads a smaller sag."""
+    mod = _module()
+    unit = 3.0 * MU * N / (16.0 * A * G_STAR)
+
+    def states(linear, bump=0.0):
+        radii = []
+        for c in (1.0, 0.94, 0.888, 0.7):
+            q = MU * N * (1.0 - c ** 3)
+            d = unit * (1.0 - c ** 2) + linear * q + (bump * unit if c == 0.94 else 0.0)
+            radii.append({"c": c, "compliance": 1.0, "offset": q - d})  # Q = (delta - delta_0) / 1 through (d, q)
+        return {"radii": radii, "mu": MU, "N": N, "a": A}
+
+    for linear in (0.0, 3e-11):
+        for line in mod.loading_curve_sags(states(linear), G_STAR):
+            assert line.endswith("(+0.00%)") or line.endswith("(-0.00%)")
+    bumped = mod.loading_curve_sags(states(0.0, 0.01), G_STAR)
+    assert bumped[0].startswith("c/a 0.940 on the chord to 0.888") and "(-" in bumped[0]

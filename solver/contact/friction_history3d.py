@@ -120,6 +120,11 @@ class _Region:
     fit: PressureFit | None = None
     #: (q,) each point's group of the diagnostic mean ties (solver.contact.friction_history_ties)
     group: np.ndarray | None = None
+    #: (slip, flux) the diagnostic recovered flux (3 q, m) for the zones slip (friction_history_ties)
+    recovered: tuple | None = None
+    #: (q, 3) the jump at which a stuck point is held exactly by the diagnostic augmented-Lagrangian
+    #: ties (friction_history_ties.UZAWA_TOLERANCE; w_ref is then the tie's anchor, moved by them)
+    hold: np.ndarray | None = None
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -157,6 +162,11 @@ class HistoryEllipseContact(EllipseContact):
     zone_changes: int = 0
     unsettled_steps: list = field(default_factory=list)
     late_settled: list = field(default_factory=list)  # [step, points still changing] settled late
+    #: the diagnostic augmented-Lagrangian ties: the updates of each step, the step's stretch history, the
+    #: steps that ended on UZAWA_UPDATES updates with their history (friction_history_ties.UZAWA_TOLERANCE)
+    uzawa_updates: list = field(default_factory=list)
+    uzawa_history: list = field(default_factory=list)
+    uzawa_unconverged: list = field(default_factory=list)
     step_work: float = 0.0
     step_state: dict = field(default_factory=dict)  # the last step's end: per-point arrays for the records
     #: zones imposed instead of Coulomb's rule (a validation's diagnostic: the closed form's zones
@@ -180,7 +190,8 @@ class HistoryEllipseContact(EllipseContact):
         layer_t = PENALTY_FACTOR / (TANGENTIAL_BAND * self.band_fraction * size) * self.b1.mu
         radius = 0.5 * MEAN_CELLS * self.options.window * self.h
         neighbours = DiscBins.build(pts.s, plane_weights(self, pts), radius)
-        reg = _Region(a, info, layer_t, neighbours, *self._carried(pts, jump, flux, layer_t))
+        carried, hold = self._carried(pts, jump, flux, layer_t)
+        reg = _Region(a, info, layer_t, neighbours, *carried, hold=hold)
         fixed = projector("fixed", pts.normal)  # the pressure rows are the same for either zone's projector
         r, b = pressure_rows(self, (pts, None, fixed, jump, flux, size, a))
         reg.fit = pressure_fit(self.local(pts.s), self.semi_axes(a), pts.weights, r, b)
@@ -193,15 +204,15 @@ class HistoryEllipseContact(EllipseContact):
         return reg
 
     def _carried(self, pts, jump, flux, layer_t):
-        """(w_ref, w_prev, accumulated slip, last direction) at new points: the nearest point of the
+        """((w_ref, w_prev, accumulated slip, last direction), hold) at new points: the nearest point of the
         last step's region where inside it; elsewhere a point entering contact, stuck with no
         traction at the jump of the last step's end."""
         q = len(pts.s)
         if self.x_prev is None:
-            return np.zeros((q, 3)), np.zeros((q, 3)), np.zeros(q), np.zeros((q, 3))
+            return (np.zeros((q, 3)), np.zeros((q, 3)), np.zeros(q), np.zeros((q, 3))), np.zeros((q, 3))
         w = _tangential((jump @ self.x_prev).reshape(-1, 3) + pts.delta, pts.normal)
         f = _tangential((flux @ self.x_prev).reshape(-1, 3), pts.normal)
-        w_ref, w_prev = w - f / layer_t[:, None], w.copy()
+        w_ref, w_prev, hold = w - f / layer_t[:, None], w.copy(), w.copy()
         acc, last = np.zeros(q), np.zeros((q, 3))
         old = self.carrier
         if old is not None:
@@ -213,7 +224,8 @@ class HistoryEllipseContact(EllipseContact):
                 idx = cKDTree(old_pts.s).query(pts.s)[1]
             w_ref[inside], w_prev[inside] = old.w_ref[idx[inside]], old.w_prev[idx[inside]]
             acc[inside], last[inside] = old.accumulated[idx[inside]], old.last_direction[idx[inside]]
-        return w_ref, w_prev, acc, last
+            hold[inside] = (old.w_ref if old.hold is None else old.hold)[idx[inside]]
+        return (w_ref, w_prev, acc, last), hold
 
     def zones_at(self, reg: _Region) -> tuple[np.ndarray, np.ndarray]:
         """(slipping, direction) of the current zones at a region's points."""
@@ -251,7 +263,8 @@ class HistoryEllipseContact(EllipseContact):
         bands = ties.tangential_bands(pts.s, slip, self.h, TANGENTIAL_BAND)
         proj = np.where(free[:, None, None], projector("sliding", pts.normal), projector("fixed", pts.normal))
         info = (pts, bp, proj, jump, flux, size, a)
-        old = reg.assembled
+        rec = self._recovered_flux(reg, slip)
+        old = reg.assembled if rec is None else None  # a recovered flux couples a point's terms to its neighbours' zones
         if old is not None:
             changed = np.flatnonzero((old[0] != slip) | (old[2] != free) | (old[3] != bands)
                                      | np.any(old[1] != direction, axis=1))
@@ -262,7 +275,7 @@ class HistoryEllipseContact(EllipseContact):
             else:
                 parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
         else:
-            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands)
+            parts = self._point_terms(reg, np.arange(len(slip)), slip, direction, free, bands, rec)
         reg.assembled = (slip.copy(), direction.copy(), free.copy(), bands.copy()) + parts
         k_tie, f, left = parts
         if grouped.any():  # the diagnostic mean ties (solver.contact.friction_history_ties)
@@ -273,6 +286,21 @@ class HistoryEllipseContact(EllipseContact):
             return (k_tie - low_rank(left, reg.fit.rows, m)).tocsr(), f + left @ reg.fit.load, info
         return k_tie, f, info
 
+    def _recovered_flux(self, reg: _Region, slip: np.ndarray):
+        """(3 q, m) the diagnostic flux of the stuck points' tangential tie for the zones slip, or
+        None for the bodies' mean stress at the point (``friction_history_ties.TIE_FLUX`` and
+        ``RECOVERED_FLUX``)."""
+        if ties.RECOVERED_FLUX is None and ties.TIE_FLUX == "mean":
+            return None
+        if reg.recovered is None or not np.array_equal(reg.recovered[0], slip):
+            pts = reg.info[0]
+            flux = ties.body_flux(self, pts, reg.info[4])
+            if ties.RECOVERED_FLUX is not None:
+                mean = ties.recovery_operator(pts.s, pts.weights, ~slip, 0.5 * ties.RECOVERED_FLUX * self.h)
+                flux = (mean @ flux).tocsr()
+            reg.recovered = (slip.copy(), flux)
+        return reg.recovered[1]
+
     @staticmethod
     def _grouped(reg: _Region, slip: np.ndarray) -> np.ndarray:
         """(q,) the stuck points tied by their group's mean (solver.contact.friction_history_ties)."""
@@ -281,7 +309,7 @@ class HistoryEllipseContact(EllipseContact):
         return ties.grouped(reg.group, slip)
 
     def _point_terms(self, reg: _Region, idx: np.ndarray, slip: np.ndarray, direction: np.ndarray,
-                     free: np.ndarray | None = None, bands: np.ndarray | None = None):
+                     free: np.ndarray | None = None, bands: np.ndarray | None = None, recovered=None):
         """(ties' stiffness, ties' load, Coulomb's left factor (m, k)) of the points idx of a region
         with zones (slip, direction): Coulomb's traction of the slipping points, -mu p e with p =
         B (R x + r0) the fitted pressure, adds -left R to the stiffness and left r0 to the load.
@@ -300,7 +328,7 @@ class HistoryEllipseContact(EllipseContact):
         sub_jump, sub_flux = jump[rows], flux[rows]
         bp = BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx], sub_jump, sub_flux)
         target = -(delta - np.where(fr[:, None], 0.0, reg.w_ref[idx]))
-        if np.all(bands[idx] == 1.0):  # one layer: a stuck point fixed, a slipping one sliding
+        if recovered is None and np.all(bands[idx] == 1.0):  # one layer: a stuck point fixed, a slipping one sliding
             proj = np.where(fr[:, None, None], projector("sliding", normal), projector("fixed", normal))
             k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
         else:  # the normal tie on the contact's layer, the stuck points' tangential one on its own
@@ -308,7 +336,9 @@ class HistoryEllipseContact(EllipseContact):
             k, f = thin_band_terms(bp, p_normal, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0,
                                    jump=sub_jump)
             if p_tangential.any():
-                k_t, f_t = thin_band_terms(bp, p_tangential, target, self.b1.lam, self.b1.mu,
+                bp_t = bp if recovered is None else BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx],
+                                                                   sub_jump, recovered[rows])
+                k_t, f_t = thin_band_terms(bp_t, p_tangential, target, self.b1.lam, self.b1.mu,
                                            bands[idx] * self.band_fraction, 1.0, jump=sub_jump)
                 k, f = k + k_t, f + f_t
         left = np.zeros((m, fit.basis.shape[1]))
@@ -332,10 +362,11 @@ class HistoryEllipseContact(EllipseContact):
         bands = ties.tangential_bands(pts.s, slip, self.h, TANGENTIAL_BAND)
         layer = layer_tensor(self, pts.normal, p_normal, size) \
             + layer_tensor(self, pts.normal, p_tangential, size) / bands[:, None, None]
-        proj = p_normal + p_tangential
         fx = (flux @ x).reshape(-1, 3)
+        rec = self._recovered_flux(reg, slip)
+        fx_t = fx if rec is None else (rec @ x).reshape(-1, 3)
         t1 = -np.einsum("qij,qj->qi", layer, held)
-        t1 = t1 + np.einsum("qij,qj->qi", proj, fx)
+        t1 = t1 + np.einsum("qij,qj->qi", p_normal, fx) + np.einsum("qij,qj->qi", p_tangential, fx_t)
         if grouped.any():  # the diagnostic mean ties: one traction per group on its stuck points
             mean, _, stiffness, g, idx = ties.mean_operator(reg.group, grouped, pts.weights, pts.normal, reg.layer_t)
             t1[idx] += ties.mean_traction(mean, stiffness, w - reg.w_ref, fx)[g]
@@ -431,8 +462,39 @@ class HistoryEllipseContact(EllipseContact):
         self.hold_width = False
         if self.width_held:
             self.width_held = False
-            return self._width_consistent(a)
+            if not self._width_consistent(a):
+                return False
+        if not self._uzawa(x, a, info):
+            self.hold_width = self.width_held = True
+            return False
         return True
+
+    def _uzawa(self, x: np.ndarray, a: float, info) -> bool:
+        """One update of the diagnostic augmented-Lagrangian ties of the stuck points
+        (``friction_history_ties.UZAWA_TOLERANCE``; None: none, True): each stuck point's anchor
+        moves by its tie's tangential stretch from the jump at which it is held, so that at
+        convergence the stuck points are held exactly, their traction the tie's multiplier; True
+        when the largest stretch is within the tolerance times the step's largest jump increment
+        (or after ``UZAWA_UPDATES`` updates: then listed in ``uzawa_unconverged``)."""
+        if ties.UZAWA_TOLERANCE is None:
+            return True
+        reg = self.region(a)
+        pts, jump = info[0], info[3]
+        slip, _ = self.zones_at(reg)
+        w = _tangential((jump @ x).reshape(-1, 3) + pts.delta, pts.normal)
+        stretch = np.where(slip[:, None], 0.0, _tangential(w - reg.hold, pts.normal))
+        scale = max(float(np.linalg.norm(w - reg.w_prev, axis=1).max()), 1e-300)
+        size = float(np.linalg.norm(stretch, axis=1).max()) / scale
+        self.uzawa_history.append(size)
+        if size <= ties.UZAWA_TOLERANCE or len(self.uzawa_history) > ties.UZAWA_UPDATES:
+            if size > ties.UZAWA_TOLERANCE:
+                self.uzawa_unconverged.append([self.step_count, list(self.uzawa_history)])
+            self.uzawa_updates.append(len(self.uzawa_history) - 1)
+            self.uzawa_history = []
+            return True
+        reg.w_ref = reg.w_ref - stretch
+        reg.assembled = None  # the terms' load holds the anchors
+        return False
 
     def _commit_zones(self, reg, slip: np.ndarray, direction: np.ndarray, changed: int, info) -> bool:
         """Keep a zone update's zones and its stick ratio; True when it settled (no point changed)
@@ -506,6 +568,8 @@ class HistoryEllipseContact(EllipseContact):
         # the step solved, open or not: the step's forces are recorded with these references)
         flux_t = _tangential((info[4] @ x).reshape(-1, 3), pts.normal)
         reg.w_ref = np.where(slip[:, None], wt - (flux_t - q) / reg.layer_t[:, None], reg.w_ref)
+        if reg.hold is not None:  # a slipping point would be held where it sticks again
+            reg.hold = np.where(slip[:, None], wt, reg.hold)
         reg.assembled = None  # the terms hold the reference jumps: the next step assembles them anew
         reg.accumulated = reg.accumulated + np.linalg.norm(dw, axis=1)
         reg.last_direction = np.where(slip[:, None], direction, reg.last_direction)
@@ -555,8 +619,14 @@ class HistoryEllipseContact(EllipseContact):
         messages = super().check_final(u, a, info, bracket, block)
         block["checks"]["steps_with_unsettled_zones"] = list(self.unsettled_steps)
         block["checks"]["steps_settled_with_points_changing"] = list(self.late_settled)
-        return messages + [f"{self.name}: load step {k}: the stick and slip zones did not settle in "
-                           f"{self.options.max_stick_iterations} updates" for k in self.unsettled_steps]
+        messages += [f"{self.name}: load step {k}: the stick and slip zones did not settle in "
+                     f"{self.options.max_stick_iterations} updates" for k in self.unsettled_steps]
+        if ties.UZAWA_TOLERANCE is not None:  # the diagnostic exact hold: its stretch's history where it stopped short
+            block["checks"]["steps_with_unconverged_exact_hold"] = [k for k, _ in self.uzawa_unconverged]
+            messages += [f"{self.name}: load step {k}: the stuck points' largest stretch over the step's largest jump "
+                         f"increment did not fall to {ties.UZAWA_TOLERANCE:g} in {ties.UZAWA_UPDATES} augmented-"
+                         f"Lagrangian updates (first {h[0]:.3g}, last {h[-1]:.3g})" for k, h in self.uzawa_unconverged]
+        return messages
 
 
 def build(problem, model, b1, b2, options) -> HistoryEllipseContact:

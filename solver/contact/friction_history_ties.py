@@ -3,7 +3,8 @@
 The history ties each stuck point at its own jump (the contact's thin band terms). The ties here
 were built to measure how the energy per cycle at small amplitudes depends on that tie
 (docs/load-paths.md, "The stuck points' ties: where their stiffness acts and their stiff limit
-(3D)"); none is the default:
+(3D)" and "The stuck points' ties: the stiff limit's rate with h, the consistency flux and an
+exact hold (3D)"); none is the default:
 
 - a mean tie: the stuck points of a group of cells tied by their area-weighted mean tangential
   jump, one tie per group and component (a piecewise constant multiplier), its traction
@@ -13,7 +14,13 @@ were built to measure how the energy per cycle at small amplitudes depends on th
   body's cells, squares of n cells on the tangent plane from the contact's centre ("patchN") or
   squares of one cell about the grid's nodes ("nodes");
 - the stuck points within ``NEAR_CELLS`` cells of the slip zone tied on a layer ``NEAR_BAND``
-  times the others' (their stiffness divided by it).
+  times the others' (their stiffness divided by it);
+- a recovered flux (``RECOVERED_FLUX``): the consistency term of the stuck points' tangential tie
+  takes, instead of the bodies' mean stress at the point, its area-weighted mean over the stuck
+  points within a disc of ``RECOVERED_FLUX`` cells in diameter, or one body's stress alone
+  (``TIE_FLUX``; the normal tie keeps the two bodies' mean at the point);
+- augmented-Lagrangian ties (``UZAWA_TOLERANCE``): the stuck points held exactly at their jump,
+  the tie's anchor moved by its stretch solve after solve (Uzawa's update of the multiplier).
 """
 
 from __future__ import annotations
@@ -22,7 +29,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
-__all__ = ["grouped", "mean_operator", "mean_terms", "mean_traction", "tangential_bands", "tie_groups"]
+__all__ = ["grouped", "mean_operator", "mean_terms", "mean_traction", "body_flux", "recovery_operator", "tangential_bands",
+           "tie_groups"]
 
 #: the stuck points tied by their group's mean: "points" none (each at its own jump, the default),
 #: "mean" those of the groups holding slipping points too, "all" every stuck point
@@ -37,6 +45,17 @@ CUT_CELL_CONSISTENCY = 1.0
 #: others' (None: all on the same layer)
 NEAR_BAND = None
 NEAR_CELLS = 1.0
+#: the stuck points' tangential consistency flux averaged over a disc of this many cells in
+#: diameter among the stuck points (None: the bodies' mean stress at each point, Nitsche's)
+RECOVERED_FLUX = None
+#: the stuck points' tangential consistency flux: "mean" the two bodies' mean stress (Nitsche's
+#: symmetric weights), "1" or "2" one body's stress alone (the other's weight 0)
+TIE_FLUX = "mean"
+#: augmented-Lagrangian (Uzawa) ties of the stuck points: None none; else each stuck point's anchor is
+#: moved by its tie's tangential stretch after the zones settle, solved again until the largest
+#: stretch is this fraction of the step's largest jump increment, at most UZAWA_UPDATES times
+UZAWA_TOLERANCE = None
+UZAWA_UPDATES = 200
 
 
 def tie_groups(local_s: np.ndarray, h: float, cells1: np.ndarray, cells2: np.ndarray) -> np.ndarray:
@@ -115,3 +134,35 @@ def tangential_bands(s: np.ndarray, slip: np.ndarray, h: float, base: float) -> 
         d = cKDTree(s[slip]).query(s)[0]
         out[~slip & (d < NEAR_CELLS * h)] *= NEAR_BAND
     return out
+
+
+def recovery_operator(s: np.ndarray, weights: np.ndarray, stuck: np.ndarray, radius: float) -> sp.csr_matrix:
+    """(3 q, 3 q) the recovered flux's operator on the points' fluxes (rows [x0, y0, z0, x1, ...]):
+    a stuck point's row the area-weighted mean over the stuck points within ``radius`` of it
+    (itself included), a slipping point's its own flux."""
+    q = len(stuck)
+    idx = np.flatnonzero(stuck)
+    pairs = cKDTree(s[idx]).query_pairs(radius, output_type="ndarray") if len(idx) else np.zeros((0, 2), int)
+    r = np.concatenate([pairs[:, 0], pairs[:, 1], np.arange(len(idx))])
+    c = np.concatenate([pairs[:, 1], pairs[:, 0], np.arange(len(idx))])
+    w = weights[idx][c]
+    w = w / np.bincount(r, weights=w, minlength=len(idx))[r]
+    free = np.flatnonzero(~stuck)
+    rows = np.concatenate([idx[r], free])
+    cols = np.concatenate([idx[c], free])
+    vals = np.concatenate([w, np.ones(len(free))])
+    mean = sp.csr_matrix((vals, (rows, cols)), shape=(q, q))
+    return sp.kron(mean, sp.identity(3), format="csr")
+
+
+def body_flux(contact, pts, mean_flux: sp.csr_matrix) -> sp.csr_matrix:
+    """(3 q, m) the flux of ``TIE_FLUX`` at a region's points: the two bodies' mean (``mean_flux``)
+    or one body's traction sigma n1 alone."""
+    if TIE_FLUX == "mean":
+        return mean_flux
+    if TIE_FLUX not in ("1", "2"):
+        raise ValueError(f"friction_history_ties.TIE_FLUX: unknown flux {TIE_FLUX!r} (mean, 1, 2)")
+    from .band import locate_cells
+    body, x, n, mapping = ((contact.b1, pts.x1, pts.n1, contact.maps[0]) if TIE_FLUX == "1"
+                           else (contact.b2, pts.x2, pts.n2, contact.maps[2]))
+    return body.traction_operator(x, locate_cells(body, x, n), pts.n1, mapping).tocsr()
