@@ -187,7 +187,7 @@ class HistoryEllipseContact(EllipseContact):
                              f"{np.round(self.semi_axes(a), 6).tolist()} m")
         jump, flux, size = contact_operators(self, pts)
         info = (pts, BoundaryPoints(pts.x1, pts.weights, pts.normal, size, jump, flux), None, jump, flux, size, a)
-        layer_t = PENALTY_FACTOR / (TANGENTIAL_BAND * self.band_fraction * size) * self.b1.mu
+        layer_t = PENALTY_FACTOR / (TANGENTIAL_BAND * self.band_fraction * size) * self.layer[1]
         radius = 0.5 * MEAN_CELLS * self.options.window * self.h
         neighbours = DiscBins.build(pts.s, plane_weights(self, pts), radius)
         carried, hold = self._carried(pts, jump, flux, layer_t)
@@ -330,15 +330,15 @@ class HistoryEllipseContact(EllipseContact):
         target = -(delta - np.where(fr[:, None], 0.0, reg.w_ref[idx]))
         if recovered is None and np.all(bands[idx] == 1.0):  # one layer: a stuck point fixed, a slipping one sliding
             proj = np.where(fr[:, None, None], projector("sliding", normal), projector("fixed", normal))
-            k, f = thin_band_terms(bp, proj, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0, jump=sub_jump)
+            k, f = thin_band_terms(bp, proj, target, *self.layer, self.band_fraction, 1.0, jump=sub_jump)
         else:  # the normal tie on the contact's layer, the stuck points' tangential one on its own
             p_normal, p_tangential = _tie_projectors(normal, fr)
-            k, f = thin_band_terms(bp, p_normal, target, self.b1.lam, self.b1.mu, self.band_fraction, 1.0,
+            k, f = thin_band_terms(bp, p_normal, target, *self.layer, self.band_fraction, 1.0,
                                    jump=sub_jump)
             if p_tangential.any():
                 bp_t = bp if recovered is None else BoundaryPoints(pts.x1[idx], pts.weights[idx], normal, size[idx],
                                                                    sub_jump, recovered[rows])
-                k_t, f_t = thin_band_terms(bp_t, p_tangential, target, self.b1.lam, self.b1.mu,
+                k_t, f_t = thin_band_terms(bp_t, p_tangential, target, *self.layer,
                                            bands[idx] * self.band_fraction, 1.0, jump=sub_jump)
                 k, f = k + k_t, f + f_t
         left = np.zeros((m, fit.basis.shape[1]))
