@@ -73,8 +73,10 @@ class Box(Solid):
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
         d = np.minimum(p - self.lower, self.upper - p)
-        inside = d.min(axis=1)
-        return np.where(inside >= 0.0, inside, -np.linalg.norm(np.minimum(d, 0.0), axis=1))
+        # column by column (a reduction along the rows of an (n, 3) array is several times slower)
+        inside = np.minimum(np.minimum(d[:, 0], d[:, 1]), d[:, 2])
+        x, y, z = (np.minimum(d[:, k], 0.0) for k in range(3))
+        return np.where(inside >= 0.0, inside, -np.sqrt(x * x + y * y + z * z))
 
 
 def _primitive(kind: str, **fields):
@@ -334,16 +336,17 @@ class Revolution(Solid):
         d = p - self.origin
         z = d @ a
         x, y = d @ e_r, d @ e_s
-        return np.hypot(x, y), z, np.arctan2(y, x) % (2 * math.pi), x, y
+        return np.hypot(x, y), z, x, y
 
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
-        r, z, theta, x, y = self._rz(p)
+        r, z, x, y = self._rz(p)
         whole = self._meridian_distance(np.column_stack([r, z]))
         if self.full:
             return whole
         # the wedge 0 <= theta <= angle: signed distance to its two bounding half-planes
-        q = np.hypot(x, y)
+        theta = np.arctan2(y, x) % (2 * math.pi)
+        q = r
         to_start = np.where(x >= 0.0, np.abs(y), q)
         c, s_ = math.cos(self.angle), math.sin(self.angle)
         to_end = np.where(x * c + y * s_ >= 0.0, np.abs(-x * s_ + y * c), q)

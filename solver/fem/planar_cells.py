@@ -134,10 +134,13 @@ def _local_planes(signed_distance, cell_lower, scale, lo, width, lattice):
 
 def _pattern(values, tol):
     """Index of the sign pattern (bit i set where plane i is negative) of values (..., k), and
-    whether every value is clear of its plane by tol."""
-    bits = (values < 0.0).astype(np.int64)
-    index = (bits << np.arange(values.shape[-1])).sum(axis=-1)
-    return index, (np.abs(values) > tol).all(axis=-1)
+    whether every value is clear of its plane by tol (broadcast to values.shape[:-1])."""
+    index = np.zeros(values.shape[:-1], dtype=np.int64)
+    clear = np.ones(values.shape[:-1], dtype=bool)
+    for i in range(values.shape[-1]):  # plane by plane: faster than reductions along the short last axis
+        index |= (values[..., i] < 0.0).astype(np.int64) << i
+        clear &= np.abs(values[..., i]) > tol
+    return index, clear
 
 
 def _planar_chunk(signed_distance, cell_lower, scale, lo, width, lattice):
@@ -218,8 +221,12 @@ def _local(points, cell_lower, scale):
 
 
 def _in_cube(t, lo, width):
-    eps = 1e-12 * width[:, None, None]
-    return ((t >= lo[:, None] - eps) & (t <= (lo + width[:, None])[:, None] + eps)).all(axis=-1)
+    eps = 1e-12 * width[:, None]
+    low, high = lo[:, None] - eps[..., None], (lo + width[:, None])[:, None] + eps[..., None]
+    inside = np.ones(t.shape[:-1], dtype=bool)
+    for k in range(t.shape[-1]):  # axis by axis: faster than .all(axis=-1) over three entries
+        inside &= (t[..., k] >= low[..., k]) & (t[..., k] <= high[..., k])
+    return inside
 
 
 def _signs_agree(pts, phi, normal, offset, truth, cell_lower, scale, lo, width, half):
@@ -228,7 +235,7 @@ def _signs_agree(pts, phi, normal, offset, truth, cell_lower, scale, lo, width, 
     t = _local(pts.reshape(len(lo), -1, 3), cell_lower, scale)
     values = np.einsum("qnk,qpk->qnp", t, normal) + offset[:, None, :]
     tol = _AFFINE * half / scale
-    index, clear = _pattern(values, tol[:, None, None])
+    index, clear = _pattern(values, tol[:, None])
     model = np.take_along_axis(truth, index, axis=1)
     f = phi.reshape(len(lo), -1)
     check = _in_cube(t, lo, width) & clear & (np.abs(f) > _AFFINE * half[:, None]) & (model >= 0)
