@@ -270,6 +270,7 @@ class Profile:
         boxes = [_curve_box(c) for c in edges]
         self._box_lo = np.array([b[0] for b in boxes])
         self._box_hi = np.array([b[1] for b in boxes])
+        self._bounds = self._box_lo.min(axis=0), self._box_hi.max(axis=0)
         # culling boxes must contain the curve for sure: B-splines use their control points
         # (convex hull property, positive weights); a small margin covers round-off
         cull = [(c.control_points.min(axis=0), c.control_points.max(axis=0)) if isinstance(c, BSplineArc) else b for c, b in zip(edges, boxes)]
@@ -296,7 +297,7 @@ class Profile:
     @property
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """(min (2,), max (2,)) of the exact boundary: ends and axis-extreme points."""
-        return self._box_lo.min(axis=0), self._box_hi.max(axis=0)
+        return self._bounds[0].copy(), self._bounds[1].copy()
 
     @property
     def area(self) -> float:
@@ -408,7 +409,7 @@ class Profile:
         # outside the bounding box is outside whatever the nearest feature's normals say (a loop
         # that folds back on itself within the crossing check's tolerance, e.g. a spike 1e-7 wide,
         # gave far points the inside sign: make fuzz)
-        lo, hi = self.bounds
+        lo, hi = self._bounds
         margin = 1e-9 * self.size
         if box is None or np.any(box[0] < lo - margin) or np.any(box[1] > hi + margin):
             beyond = np.any((P < lo - margin) | (P > hi + margin), axis=1)
@@ -455,7 +456,7 @@ class Profile:
     def _near_finite(self, box: tuple[np.ndarray, np.ndarray]) -> bool:
         """Whether points within the corners ``box`` (no NaN among them) are all finite and
         nearer the profile's box centre than :meth:`_pull_in`'s radius R (then it moves none)."""
-        lo, hi = self.bounds
+        lo, hi = self._bounds
         centre = 0.5 * (lo + hi)
         reach = max(float(np.max(np.abs(box[0] - centre))), float(np.max(np.abs(box[1] - centre))))
         return 2.0 * reach <= 1e8 * self.size  # hypot(dx, dy) <= sqrt(2) max(|dx|, |dy|)
@@ -465,7 +466,7 @@ class Profile:
         distance R: (which were moved, the points, how far each was moved). Beyond R the
         distance to the boundary grows with the distance from the centre to round-off
         (the error is about size^2 / R)."""
-        lo, hi = self.bounds
+        lo, hi = self._bounds
         centre = 0.5 * (lo + hi)
         R = 1e8 * self.size
         d = P - centre
