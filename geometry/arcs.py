@@ -192,7 +192,7 @@ class Arc(_AngleSweptArc):
         # foot on the arc: p - c = (rho - r) e_r and n = sense e_r
         sd = self.sense * (_norm2(dx, dy) - self.radius)
         if not self.is_closed:
-            out = np.flatnonzero(t > self.sweep)
+            out = (t > self.sweep).nonzero()[0]
             if out.size:
                 pr = self.project(P[out])
                 sd[out] = pr.distances

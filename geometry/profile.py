@@ -271,6 +271,11 @@ class Profile:
         self._box_lo = np.array([b[0] for b in boxes])
         self._box_hi = np.array([b[1] for b in boxes])
         self._bounds = self._box_lo.min(axis=0), self._box_hi.max(axis=0)
+        self._centre = tuple(float(c) for c in 0.5 * (self._bounds[0] + self._bounds[1]))
+        # points within these (x min, y min, x max, y max) are inside the bounds' margin in _phi
+        near = 1e-9 * self.size
+        self._fuzz_box = (float(self._bounds[0][0] - near), float(self._bounds[0][1] - near),
+                          float(self._bounds[1][0] + near), float(self._bounds[1][1] + near))
         # culling boxes must contain the curve for sure: B-splines use their control points
         # (convex hull property, positive weights); a small margin covers round-off
         cull = [(c.control_points.min(axis=0), c.control_points.max(axis=0)) if isinstance(c, BSplineArc) else b for c, b in zip(edges, boxes)]
@@ -376,9 +381,9 @@ class Profile:
                     nrm[m] = curve.normal(t[m])
         return c, nrm
 
-    def _phi(self, P: np.ndarray, want_points: bool, box: tuple[np.ndarray, np.ndarray] | None = None):
+    def _phi(self, P: np.ndarray, want_points: bool, box: tuple[float, float, float, float] | None = None):
         """phi (positive inside), nearest edge, its parameter, and (``want_points``) the feet and
-        normals at the points P (n, 2); ``box``: P's (min, max) corners when known."""
+        normals at the points P (n, 2); ``box``: P's (x min, y min, x max, y max) when known."""
         best, edge, tpar, sd = self._nearest(P)
         # sign: interior feet keep sign((p - c).n); feet at (or within round-off of) a vertex
         # use the pseudo-normal n_in + n_out of the two edges meeting there
@@ -388,7 +393,7 @@ class Profile:
         c = nrm = None
         if want_points:
             c, nrm = self._evaluate_edges(edge, tpar, normals=True)
-        vtx = np.flatnonzero(at_end | at_start)
+        vtx = (at_end | at_start).nonzero()[0]
         if vtx.size:
             e = edge[vtx]
             ae = at_end[vtx]
@@ -409,9 +414,10 @@ class Profile:
         # outside the bounding box is outside whatever the nearest feature's normals say (a loop
         # that folds back on itself within the crossing check's tolerance, e.g. a spike 1e-7 wide,
         # gave far points the inside sign: make fuzz)
-        lo, hi = self._bounds
-        margin = 1e-9 * self.size
-        if box is None or np.any(box[0] < lo - margin) or np.any(box[1] > hi + margin):
+        fuzz = self._fuzz_box
+        if box is None or box[0] < fuzz[0] or box[1] < fuzz[1] or box[2] > fuzz[2] or box[3] > fuzz[3]:
+            lo, hi = self._bounds
+            margin = 1e-9 * self.size
             beyond = np.any((P < lo - margin) | (P > hi + margin), axis=1)
             phi = np.where(beyond, -best, phi)
         return phi, edge, tpar, c, nrm
@@ -435,7 +441,7 @@ class Profile:
         P = _query_points(points, infinite=True)
         if len(P):
             x, y = P[:, 0], P[:, 1]  # column by column: P.min(axis=0) takes 20 times longer
-            box = np.array([x.min(), y.min()]), np.array([x.max(), y.max()])
+            box = float(x.min()), float(y.min()), float(x.max()), float(y.max())
             if self._near_finite(box):  # every point finite and none far: the common case, in one pass
                 return self._phi(P, want_points=False, box=box)[0]
         inf = ~np.isfinite(P).all(axis=1)
@@ -453,12 +459,12 @@ class Profile:
         tol = 1e-12 * self.size if tolerance is None else float(tolerance)
         return self.signed_distance(points) >= -tol
 
-    def _near_finite(self, box: tuple[np.ndarray, np.ndarray]) -> bool:
-        """Whether points within the corners ``box`` (no NaN among them) are all finite and
-        nearer the profile's box centre than :meth:`_pull_in`'s radius R (then it moves none)."""
-        lo, hi = self._bounds
-        centre = 0.5 * (lo + hi)
-        reach = max(float(np.max(np.abs(box[0] - centre))), float(np.max(np.abs(box[1] - centre))))
+    def _near_finite(self, box: tuple[float, float, float, float]) -> bool:
+        """Whether points within ``box`` (x min, y min, x max, y max; no NaN among them) are all
+        finite and nearer the profile's box centre than :meth:`_pull_in`'s radius R (then it
+        moves none)."""
+        cx, cy = self._centre
+        reach = max(abs(box[0] - cx), abs(box[2] - cx), abs(box[1] - cy), abs(box[3] - cy))
         return 2.0 * reach <= 1e8 * self.size  # hypot(dx, dy) <= sqrt(2) max(|dx|, |dy|)
 
     def _pull_in(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -341,7 +341,9 @@ class Revolution(Solid):
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
         r, z, x, y = self._rz(p)
-        whole = self._meridian_distance(np.column_stack([r, z]))
+        rz = np.empty((len(r), 2))
+        rz[:, 0], rz[:, 1] = r, z
+        whole = self._meridian_distance(rz)
         if self.full:
             return whole
         # the wedge 0 <= theta <= angle: signed distance to its two bounding half-planes
