@@ -12,6 +12,7 @@ truly is)."""
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -312,7 +313,11 @@ class Revolution(Solid):
             self.faces["start"] = PlanarRegionFace("start", profile, self.origin, e_r, a, -e_s)
             self.faces["end"] = PlanarRegionFace("end", profile, self.origin, end_dir, a, end_normal)
         self.bounds = self._bounds(lo, hi)
-        self.volume = self._volume()
+
+    @functools.cached_property
+    def volume(self) -> float:
+        """The volume, by Pappus from a quadrature of the profile (on first use: a run needs none)."""
+        return self._volume()
 
     def _turned(self, name, curve, r_max) -> ParametricFace:
         e_r, e_s, a = self.frame
@@ -400,8 +405,11 @@ class Transformed(Solid):
         corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
         w = self._world(corners)
         self.bounds = (w.min(axis=0), w.max(axis=0))
-        self.volume = base.volume
         self.faces = {name: _TransformedFace(face, self) for name, face in base.faces.items()}
+
+    @property
+    def volume(self) -> float:
+        return self.base.volume
 
     def _world(self, x: np.ndarray) -> np.ndarray:
         return (x - self.pivot) @ self.rotation.T + self.pivot + self.translate
