@@ -364,7 +364,8 @@ class BoundedCurve(ABC):
 
     def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(signed distances, parameters) of the projection, without the points and normals
-        (profiles need only these for all points; closed forms override it). Where ``upper``
+        (profiles need only these for all points; closed forms override it), as new arrays the
+        caller may write to. Where ``upper``
         (n,) is given, a result whose distance is >= upper may be any such value (the caller
         already has something closer)."""
         pr = self.project(P)

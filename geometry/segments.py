@@ -129,13 +129,15 @@ class Segment(BoundedCurve):
         dy = P[:, 1] - y0
         t = dx * ux
         t += dy * uy
-        np.clip(t, 0.0, L, out=t)
+        np.maximum(t, 0.0, out=t)  # np.clip(t, 0, L), without its wrapper's overhead on short arrays
+        np.minimum(t, L, out=t)
         f = t / L
         rx = dx - f * (x1 - x0)
         ry = dy - f * (y1 - y0)
         dist = _norm2(rx, ry)
         side = rx * uy - ry * ux
-        return np.where(side < 0.0, -dist, dist), t
+        np.negative(dist, out=dist, where=side < 0.0)
+        return dist, t
 
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
         axis = _axis(axis)

@@ -234,11 +234,17 @@ class PlanarRegionFace:
         line, col = np.nonzero(inside[:, :-1] != inside[:, 1:])
         a, b = t[col], t[col + 1]
         fa_in = inside[line, col]
+        live = np.arange(len(a))  # the crossings whose bracket still moves
         for _ in range(55):  # all crossings at once
-            m = 0.5 * (a + b)
-            fm_in = np.asarray(self.profile.signed_distance(np.column_stack([m, y[line]])), float) >= 0
-            same = fm_in == fa_in
-            a, b = np.where(same, m, a), np.where(same, b, m)
+            m = 0.5 * (a[live] + b[live])
+            fm_in = np.asarray(self.profile.signed_distance(np.column_stack([m, y[line[live]]])), float) >= 0
+            same = fm_in == fa_in[live]
+            new_a, new_b = np.where(same, m, a[live]), np.where(same, b[live], m)
+            moved = (new_a != a[live]) | (new_b != b[live])
+            a[live], b[live] = new_a, new_b
+            live = live[moved]  # a bracket a step left unchanged stays so: it is final
+            if live.size == 0:
+                break
         zeros = 0.5 * (a + b)
         out = []
         for k in range(len(y)):

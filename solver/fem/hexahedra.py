@@ -16,6 +16,7 @@ __all__ = [
     "REFERENCE_CORNERS",
     "shape_functions",
     "strain_matrix",
+    "traction_blocks",
     "cube_stiffness",
     "cube_body_force",
     "STIFFNESS_EXPONENTS",
@@ -53,6 +54,29 @@ def strain_matrix(grad: np.ndarray) -> np.ndarray:
     b[..., 4, 0::3], b[..., 4, 2::3] = gz, gx
     b[..., 5, 0::3], b[..., 5, 1::3] = gy, gx
     return b
+
+
+#: per displacement component j of a node: the strain rows (Voigt) it enters and the gradient
+#: component each is multiplied by (the non-zeros of strain_matrix's column 3 a + j)
+_STRAIN_ROWS = (((0, 0), (4, 2), (5, 1)), ((1, 1), (3, 2), (5, 0)), ((2, 2), (3, 1), (4, 0)))
+
+
+def traction_blocks(grad: np.ndarray, normals: np.ndarray, elasticity: np.ndarray) -> np.ndarray:
+    """sigma(.) n as blocks (q, 3, 24) on [u1x, u1y, u1z, ...] from grad N (q, 8, 3), unit normals
+    (q, 3) and the Voigt elasticity (6, 6): (N_n C) B with N_n the normal's (3, 6) Voigt matrix,
+    using only B's non-zeros (three per column) instead of forming B."""
+    q = len(grad)
+    nx, ny, nz = normals[:, 0], normals[:, 1], normals[:, 2]
+    zero = np.zeros(q)
+    voigt_normal = np.stack([np.stack([nx, zero, zero, zero, nz, ny], axis=1),
+                             np.stack([zero, ny, zero, nz, zero, nx], axis=1),
+                             np.stack([zero, zero, nz, ny, nx, zero], axis=1)], axis=1)  # (q, 3, 6)
+    m = voigt_normal @ elasticity  # (q, 3, 6)
+    out = np.empty((q, 3, 8, 3))
+    for j, ((r0, g0), (r1, g1), (r2, g2)) in enumerate(_STRAIN_ROWS):
+        out[..., j] = (m[:, :, r0, None] * grad[:, None, :, g0] + m[:, :, r1, None] * grad[:, None, :, g1]
+                       + m[:, :, r2, None] * grad[:, None, :, g2])
+    return out.reshape(q, 3, 24)
 
 
 def _gauss_cube(order: int = 2):

@@ -90,7 +90,8 @@ class Octree(ExtendableNodes):
         cell = np.full(len(points), -1, dtype=np.int64)
         for lv, dims, keys, idx in self._level_keys:
             ijk = np.floor((points - self.origin) / (self.h0 / 2.0**lv)).astype(np.int64)
-            ok = np.all((ijk >= 0) & (ijk < dims), axis=1)
+            ok = (ijk[:, 0] >= 0) & (ijk[:, 0] < dims[0]) & (ijk[:, 1] >= 0) & (ijk[:, 1] < dims[1]) \
+                & (ijk[:, 2] >= 0) & (ijk[:, 2] < dims[2])  # column by column: faster than .all(axis=1)
             key = _keys(np.where(ok[:, None], ijk, 0), dims)
             pos = np.minimum(np.searchsorted(keys, key), len(keys) - 1)
             hit = ok & (keys[pos] == key)

@@ -192,7 +192,8 @@ class PairBlocks:
         else:
             pen, wp = pen[self.order], wp[self.order]
             x = 0.5 * self.shape[:, :, None, None] * pen[:, None, :, :]  # (q, 16, 3, 3): n (x) pen / 2
-            x = x.reshape(q, -1, _D) - consistency * np.einsum("qiA,qij->qAj", self.traction, wp)  # (q, 48, 3)
+            # (q, 48, 3): T^T wp as batched products (einsum's generic loop is some 7x slower here)
+            x = x.reshape(q, -1, _D) - consistency * np.matmul(self.traction.transpose(0, 2, 1), wp)
             m = self._pair_sums(x.reshape(q, -1), self.shape)  # (pairs, 48 * 3, 16): [(A, j), b]
             m = m.reshape(len(m), -1, _D, nodes).transpose(0, 1, 3, 2).reshape(len(m), nodes * _D, nodes * _D)
             k = self._assembled(m + m.transpose(0, 2, 1))

@@ -89,10 +89,19 @@ def tetrahedron_moments(tets: np.ndarray, owner: np.ndarray, m: int, chunk: int 
         t, o = tets[start:start + chunk], owner[start:start + chunk]
         edges = t[:, 1:] - t[:, :1]  # (t, 3, 3)
         volume6 = np.abs(np.linalg.det(edges))
-        x = t[:, None, 0, :] + np.einsum("qe,tek->tqk", bary, edges)  # (t, q, 3)
-        powers = np.stack([np.ones_like(x), x, x * x], axis=-1)  # (t, q, 3 axes, 3 powers)
-        wx = (volume6[:, None] * weight[None, :])[:, :, None] * powers[:, :, 0]  # (t, q, 3)
-        yz = (powers[:, :, 1, :, None] * powers[:, :, 2, None, :]).reshape(len(t), -1, 9)
-        mono = np.matmul(wx.transpose(0, 2, 1), yz)  # (t, 3, 9): x^a times y^b z^c
+        x = t[:, None, 0, :] + bary @ edges  # (t, q, 3): a matrix product (einsum is 3x slower)
+        w = volume6[:, None] * weight[None, :]
+        xs, ys, zs = x[..., 0], x[..., 1], x[..., 2]
+        wx = np.stack([w, w * xs, w * (xs * xs)], axis=1)  # (t, 3, q): weight times x^a
+        y_pow, z_pow = (ys, ys * ys), (zs, zs * zs)
+        yz = np.empty(x.shape[:2] + (9,))  # (t, q, 9): y^b z^c, b and c < 3
+        yz[..., 0] = 1.0
+        for b in range(3):
+            for c in range(3):
+                if b and c:
+                    yz[..., 3 * b + c] = y_pow[b - 1] * z_pow[c - 1]
+                elif b or c:
+                    yz[..., 3 * b + c] = y_pow[b - 1] if b else z_pow[c - 1]
+        mono = np.matmul(wx, yz)  # (t, 3, 9): x^a times y^b z^c
         np.add.at(out, o, mono.reshape(-1, 27))
     return out

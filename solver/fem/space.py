@@ -153,6 +153,10 @@ class BodyDiscretisation:
 
     def _traction_blocks(self, g: np.ndarray, normals: np.ndarray) -> np.ndarray:
         """(q, d, cell dofs) sigma(.) n of shape gradients g (q, nodes per cell, d)."""
+        if self.dim == 3 and g.shape[1] == 8 and self.elasticity.shape == (6, 6):
+            from .hexahedra import traction_blocks  # B's non-zeros only: 3x faster than forming it
+
+            return traction_blocks(g, np.broadcast_to(normals, (len(g), 3)), self.elasticity)
         b = element_for(self.dim).strain_matrix(g)  # (q, nv, cell dofs)
         q, nv, c = b.shape
         # one matrix product over every point (a (nv, nv) matmul broadcast over q is much slower)

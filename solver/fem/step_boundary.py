@@ -106,6 +106,10 @@ def point_matrix(blocks: np.ndarray, cell_dofs: np.ndarray, dof_map: sp.csr_matr
 
 #: points per batch of the cell-block band terms: (batch, p d, p d) temporaries of ~9 MB in 3D
 _BAND_BATCH = 2048
+#: from this many points per cell on average the band's cell matrices are formed as matrix
+#: products over each cell's points (one Python step per cell), below it as batched sums of
+#: per-point matrices
+_CELL_PRODUCTS = 8
 
 
 @dataclass
@@ -160,26 +164,13 @@ class CellBlocks:
 
         n_blocks, t_blocks = self.displacement, self.traction
         q, d, c = n_blocks.shape
-        shape = n_blocks[:, 0, ::d]  # (q, p): N_q is shape (x) I_d
         order = np.argsort(self.cells, kind="stable")
         cells_sorted = self.cells[order]
         first = np.flatnonzero(np.r_[True, cells_sorted[1:] != cells_sorted[:-1]])
-        k_cells = np.zeros((len(first), c * c))
-        for lo in range(0, q, _BAND_BATCH):
-            idx = order[lo:lo + _BAND_BATCH]
-            n_q = shape[idx]
-            # N^T pen N = (n n^T) (x) pen
-            k_q = (n_q[:, :, None, None, None] * n_q[:, None, None, :, None]
-                   * pen[idx][:, None, :, None, :]).reshape(len(idx), c, c)
-            wn = (wp[idx][:, :, None, :] * n_q[:, None, :, None]).reshape(len(idx), d, c)  # wp N
-            cross = np.swapaxes(t_blocks[idx], 1, 2) @ wn
-            k_q -= consistency * (cross + np.swapaxes(cross, 1, 2))
-            # the batch's runs of equal cells: their sums go to the run's cell (unique in a batch)
-            run = cells_sorted[lo:lo + len(idx)]
-            starts = np.flatnonzero(np.r_[True, run[1:] != run[:-1]])
-            k_cells[np.searchsorted(first, lo + starts, side="right") - 1] += np.add.reduceat(
-                k_q.reshape(len(idx), -1), starts, axis=0)
-        k_cells = k_cells.reshape(-1, c, c)
+        if q >= _CELL_PRODUCTS * len(first):
+            k_cells = _cell_products(n_blocks, t_blocks, pen, wp, consistency, order, first)
+        else:
+            k_cells = _point_sums(n_blocks, t_blocks, pen, wp, consistency, order, first, cells_sorted)
         a = np.asarray(target, dtype=float).reshape(len(self.cells), -1)
         vectors = np.einsum("qij,qj->qi", pen, a)
         per_dof = np.einsum("qdc,qd->qc", n_blocks, vectors) - consistency * np.einsum(
@@ -187,6 +178,46 @@ class CellBlocks:
         d_map = self.node_dof_map
         k_nodes = assemble_blocks(self.cell_nodes[order[first]], k_cells, d_map.shape[0] // self.dim)
         return (d_map.T @ k_nodes @ d_map).tocsr(), self._to_dofs(per_dof)
+
+
+def _cell_products(n_blocks, t_blocks, pen, wp, consistency, order, first) -> np.ndarray:
+    """(cells, p d, p d) band stiffness of each cell as two matrix products over its points
+    (their rows stacked): N^T (pen N) - theta (T^T (wp N) + its transpose); ``order`` sorts the
+    points by cell, ``first`` is where each cell's run starts in that order."""
+    q, d, c = n_blocks.shape
+    shape = n_blocks[order, 0, ::d]  # (q, p): N_q is shape (x) I_d
+    pen_n = (pen[order][:, :, None, :] * shape[:, None, :, None]).reshape(q, d, c)  # pen N
+    wp_n = (wp[order][:, :, None, :] * shape[:, None, :, None]).reshape(q, d, c)  # wp N
+    n_rows, t_rows = n_blocks[order], t_blocks[order]
+    k_cells = np.empty((len(first), c, c))
+    for k, (lo, hi) in enumerate(zip(first, np.r_[first[1:], q])):
+        cross = t_rows[lo:hi].reshape(-1, c).T @ wp_n[lo:hi].reshape(-1, c)
+        k_cells[k] = n_rows[lo:hi].reshape(-1, c).T @ pen_n[lo:hi].reshape(-1, c)
+        k_cells[k] -= consistency * (cross + cross.T)
+    return k_cells
+
+
+def _point_sums(n_blocks, t_blocks, pen, wp, consistency, order, first, cells_sorted) -> np.ndarray:
+    """The same as :func:`_cell_products` as sums of per-point (p d, p d) matrices, batch by
+    batch (fewer Python steps where cells hold few points each)."""
+    q, d, c = n_blocks.shape
+    shape = n_blocks[:, 0, ::d]  # (q, p): N_q is shape (x) I_d
+    k_cells = np.zeros((len(first), c * c))
+    for lo in range(0, q, _BAND_BATCH):
+        idx = order[lo:lo + _BAND_BATCH]
+        n_q = shape[idx]
+        # N^T pen N = (n n^T) (x) pen
+        k_q = (n_q[:, :, None, None, None] * n_q[:, None, None, :, None]
+               * pen[idx][:, None, :, None, :]).reshape(len(idx), c, c)
+        wn = (wp[idx][:, :, None, :] * n_q[:, None, :, None]).reshape(len(idx), d, c)  # wp N
+        cross = np.swapaxes(t_blocks[idx], 1, 2) @ wn
+        k_q -= consistency * (cross + np.swapaxes(cross, 1, 2))
+        # the batch's runs of equal cells: their sums go to the run's cell (unique in a batch)
+        run = cells_sorted[lo:lo + len(idx)]
+        starts = np.flatnonzero(np.r_[True, run[1:] != run[:-1]])
+        k_cells[np.searchsorted(first, lo + starts, side="right") - 1] += np.add.reduceat(
+            k_q.reshape(len(idx), -1), starts, axis=0)
+    return k_cells.reshape(-1, c, c)
 
 
 @dataclass

@@ -9,7 +9,6 @@ from __future__ import annotations
 import os
 from pathlib import Path
 from typing import Mapping, Sequence
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -30,6 +29,8 @@ class _Appended:
         self.offset = 0
 
     def array(self, name: str, values: np.ndarray, components: Sequence[str] = ()) -> str:
+        from xml.sax.saxutils import quoteattr  # here: it imports urllib, a run without VTK output needs none
+
         values = np.ascontiguousarray(values)
         if values.dtype not in _TYPES:
             values = values.astype(np.float64 if values.dtype.kind == "f" else np.int64)
@@ -121,6 +122,8 @@ def write_polydata(path: str | Path, points: np.ndarray, polys: np.ndarray | Non
 
 def write_multiblock(path: str | Path, blocks: Sequence[tuple[str, str]]) -> Path:
     """A ``.vtm`` index: one named block per (name, file relative to the index's folder)."""
+    from xml.sax.saxutils import quoteattr
+
     rows = "".join(f'<DataSet index="{k}" name={quoteattr(name)} file={quoteattr(file)}/>\n'
                    for k, (name, file) in enumerate(blocks))
     text = _HEADER.format(kind="vtkMultiBlockDataSet") + f"<vtkMultiBlockDataSet>\n{rows}</vtkMultiBlockDataSet>\n</VTKFile>\n"
