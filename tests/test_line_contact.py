@@ -313,8 +313,10 @@ def test_crowned_roller_against_the_half_space_and_the_section():
     peak = int(np.argmax(value))
     assert value[peak] == pytest.approx(reference[peak], rel=0.03)
     maps = mirror_images([(0.0, 0.5 * math.pi)])  # the quarter's symmetry planes are the frame's axes
-    at, fit = fitted_peak(centres, value, keys, maps)
-    ref_at, ref_fit = fitted_peak(centres, reference, keys, maps)
+    area, cell = np.array(m["area"]), c["peak_fit"]["cell"]
+    assert cell == m["cell"]  # the end's peak lies in the 3.125 mm ball about it
+    at, fit = fitted_peak(centres, value, area, keys, m["cell"], cell, maps)
+    ref_at, ref_fit = fitted_peak(centres, reference, area, keys, m["cell"], cell, maps)
     assert fit == pytest.approx(ref_fit, rel=0.03)
     assert abs(at[0]) == pytest.approx(abs(ref_at[0]), abs=0.03 * length)
     assert c["peak_fit"]["value"] == pytest.approx(fit, rel=1e-12)
@@ -508,9 +510,13 @@ def test_lundberg_roller_against_the_half_space():
     pressure's mean over the same cell (+2.65 %; +2.41 % with turning balls of 21.9 mm, +2.36 %
     without the side balls; the pressure is a plateau along the middle, within 0.13 % over its first three
     squares, so the largest is where the grid's noise puts it, 6.5 % of the half-length from the
-    half-space's, as is the fit's vertex), and the peak's place (``peak_place``: the centroid of
-    the plateau above 97 % of the largest square, the half-space read the same way, through the
-    same squares' corners) within 3 % of the half-length (measured on the stored run: at it)."""
+    half-space's), the peak's place (``peak_place``: the centroid of the plateau above 97 % of
+    the largest square, the half-space read the same way, through the same squares' corners)
+    within 3 % of the half-length (measured on the stored run: at it), and the peak's fit
+    (``peak_fit``: a quadratic over the squares within two local cells, 6.25 mm here, of that
+    place, the half-space read the same way) within 3 % in value and in place (measured on the
+    stored run re-read: +1.87 %, at it; the parabola through the largest square and its
+    neighbours had read +3.07 %)."""
     from ibfem.solver.io.scene import load_scene
     from ibfem.solver.reference.halfspace import halfspace_contact
 
@@ -527,8 +533,15 @@ def test_lundberg_roller_against_the_half_space():
     assert value[peak] == pytest.approx(square_means(c, ref)[peak], rel=0.03)
     from ibfem.solver.contact.region_report import grid_peak_place_as_map, mirror_images
 
-    ref_place = grid_peak_place_as_map(c, ref.x, ref.y, ref.pressure, mirror_images([(0.0, 0.5 * math.pi)]))
+    quarter = mirror_images([(0.0, 0.5 * math.pi)])
+    ref_place = grid_peak_place_as_map(c, ref.x, ref.y, ref.pressure, quarter)
     assert c["peak_place"]["s"][0] == pytest.approx(ref_place[0], abs=0.03 * c["semi_axes"][0])
+    # the peak's fit, a quadratic within two local cells of the place: the plateau lies on the
+    # band's 6.25 mm cells, twice the map's squares, whose scatter the window averages
+    assert c["peak_fit"]["cell"] == pytest.approx(2.0 * c["pressure_map"]["cell"])
+    ref_at, ref_fit = grid_peak_as_map(c, ref.x, ref.y, ref.pressure, quarter)
+    assert c["peak_fit"]["value"] == pytest.approx(ref_fit, rel=0.03)
+    assert c["peak_fit"]["s"][0] == pytest.approx(ref_at[0], abs=0.03 * c["semi_axes"][0])
 
 
 def test_lundberg_scene_follows_the_logarithmic_drop():
