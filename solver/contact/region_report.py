@@ -2,7 +2,8 @@
 forces, the region's boundary as a closed polyline on body 1's surface (which stretches of it are
 body 1's free edges: complete contact), its extents along its principal directions, area and
 centroid, and the pressure as cell means (a map, and along both axes) with its peak (the largest
-square, a parabola's fit through it and its neighbours, and the place of the peak's plateau).
+square, the place of the peak's plateau, and a local quadratic's fit about that place over a
+window of the grid's local cells).
 
 The band traction at the quadrature points oscillates within and from cell to cell (trilinear
 fields against a curved gap) while its integrals are accurate: the map holds the pressure read
