@@ -286,9 +286,10 @@ def test_crowned_roller_against_the_half_space_and_the_section():
     and peak on 0.5 x 0.8 mm): the region ends on the crown (no complete contact) with its
     half-length within half a finest cell of the half-space's (measured -0.33 of a 3.125 mm
     cell, -1.31 %), the largest square mean within 3 % of the half-space's mean over the same
-    squares, and the peak's smooth fit (the parabolas through the largest mean and its
-    neighbours, the same reading of both) within 3 % in value (-0.19 %) and in position, as a
-    share of the half-length (-1.4 %; both before the ball about the end's peak); at mid-length
+    squares, and the peak's fit (a local quadratic over the squares within two of the grid's
+    cells of the peak's place, here the 3.125 mm cells of the ball about the end's peak; the same
+    reading of both) within 3 % in value and in position, as a share of the half-length
+    (measured on the stored run re-read: -0.87 % and -0.74 %); at mid-length
     the half-width within 1 % of the half-space's (measured +0.09 %) and b / sqrt(P') (Hertz: b^2 = 4 P' R / (pi E*), Johnson eq.
     4.43) against the plane-strain 2D solver's on the cross-section with the same finest cell at
     the edge, 3.125 mm, and its resolved value, 1.56 mm cells: within 2 % of both with P' over the
