@@ -367,7 +367,9 @@ def test_crowned_roller_on_a_large_block_against_the_half_space():
     (where the region bulges next to the crown's junction, x = 53.5 mm, a bump about 1.5 cells
     of 6.25 mm long) within 2 % (measured -1.36 %; -2.30 % on the band of 6.25 mm cells alone),
     and the peak's fit, with the half-space read through the same squares' corners, within 3 % in
-    value and in position as a share of the half-length (measured +0.03 % and -0.80 %)."""
+    value and in position as a share of the half-length (measured +0.03 % and -0.80 % with the
+    parabola through the largest square and its neighbours, the fit before the local quadratic;
+    the test passes with the local quadratic, not re-measured)."""
     from ibfem.solver.contact.region_report import mirror_images
     from ibfem.solver.io.scene import load_scene
     from ibfem.solver.reference.crowned_roller import crowned_gap, half_length, half_widths, region_half_widths
