@@ -165,12 +165,11 @@ def fitted_peak(centres: np.ndarray, means: np.ndarray, areas: np.ndarray, keys:
     value plus its curvatures times size^2 / 24). Along each principal direction of the fitted
     quadratic where it is concave and its vertex lies within a cell of the place, the peak moves
     to the vertex; elsewhere (a plateau, a slope to the region's end) it stays at the place along
-    that direction. The value is the
-    quadratic's there: a quadratic's square means give its vertex and value exactly, and on a
-    plateau whose squares are finer than the cells the window averages their scatter, where a
-    parabola through three squares takes its vertex and value from it. A window too thin for a
-    quadratic (fewer than six squares, or squares in a line) gives the place and the largest
-    mean."""
+    that direction. The value is the quadratic's there: a quadratic's square means give its
+    vertex and value exactly, and on a plateau whose squares are finer than the cells the window
+    averages their scatter, where a parabola through three squares takes its vertex and value
+    from it. A window too thin for a quadratic (fewer than six squares, or squares in a line)
+    gives the place and the largest mean."""
     cell = max(float(cell or size), float(size))
     place = peak_place(centres, means, areas, keys, size, maps)
     c, v, _ = _mirrored_squares(centres, means, keys, maps)
