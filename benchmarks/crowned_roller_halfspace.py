@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from ibfem.solver.contact.region_report import (PLATEAU_SHARE, fitted_peak, grid_peak_as_map, grid_peak_place_as_map,
+from ibfem.solver.contact.region_report import (PLATEAU_SHARE, WINDOW_CELLS, fitted_peak, grid_peak_as_map, grid_peak_place_as_map,
                                                    mirror_images, peak_place)
 from ibfem.solver.reference.crowned_roller import (crowned_gap, half_length, half_widths, region_half_widths,
                                                    square_means)
@@ -44,7 +44,7 @@ def row_loads(block: dict, ref, dx: float, dy: float) -> tuple[np.ndarray, np.nd
     return loads, ref_loads
 
 
-def compare(block: dict, dx: float, dy: float) -> dict:
+def compare(block: dict, dx: float, dy: float, cell: float | None = None) -> dict:
     x, y = np.arange(0.5 * dx, 0.09, dx), np.arange(0.5 * dy, 0.032, dy)
     ref = halfspace_contact(crowned_gap(), x, y, E_STAR, force=block["normal_force"], symmetric=True)
     length = half_length(ref)
@@ -58,12 +58,14 @@ def compare(block: dict, dx: float, dy: float) -> dict:
     centres, value, keys = np.array(m["s"]), np.array(m["value"]), np.array(m["square"])
     maps = mirror_images([(0.0, 0.5 * math.pi)])
     reference = square_means(block, ref)
-    at, fit = fitted_peak(centres, value, keys, maps)
-    ref_at, ref_fit = fitted_peak(centres, reference, keys, maps)
-    corner_at, corner_fit = grid_peak_as_map(block, ref.x, ref.y, ref.pressure, maps)
+    area, size = np.array(m["area"]), m["cell"]
+    cell = float(cell or block["peak_fit"].get("cell") or size)
+    at, fit = fitted_peak(centres, value, area, keys, size, cell, maps)
+    ref_at, ref_fit = fitted_peak(centres, reference, area, keys, size, cell, maps)
+    corner_at, corner_fit = grid_peak_as_map(block, ref.x, ref.y, ref.pressure, maps, cell)
     place = peak_place(centres, value, np.array(m["area"]), keys, m["cell"], maps)
     ref_place = grid_peak_place_as_map(block, ref.x, ref.y, ref.pressure, maps)
-    return {"force": block["normal_force"], "cell": m["cell"],
+    return {"force": block["normal_force"], "cell": m["cell"], "local_cell": cell,
             "length": (block["semi_axes"][0], length), "widest": (float(region_half_widths(block, np.linspace(0.0, 0.09, 901)).max()),
                        float(widths[widest]), float(x[widest])),
             "extents": block["extents"],
@@ -82,10 +84,13 @@ def main() -> None:
     parser.add_argument("summary")
     parser.add_argument("--dx", type=float, default=0.001)
     parser.add_argument("--dy", type=float, default=0.0008)
+    parser.add_argument("--cell", type=float, default=None,
+                        help="the grid's cell at the peak, m (default: the summary's peak_fit.cell; for a summary "
+                             "written before it, the map's squares' side)")
     args = parser.parse_args()
     summary = json.load(open(args.summary))
     block = summary["contacts"][0]
-    r = compare(block, args.dx, args.dy)
+    r = compare(block, args.dx, args.dy, args.cell)
     print(f"converged {summary.get('converged')}; quarter force {r['force']:.5g} N; cell {r['cell'] * 1e3:.3g} mm")
     a, b = r["length"]
     print(f"half-length: 3D {a:.5f} m, half-space {b:.5f} m: {100 * (a / b - 1):+.2f} % ({(a - b) / r['cell']:+.2f} cell)")
@@ -96,7 +101,8 @@ def main() -> None:
         print(f"  x = {s * 1e3:5.1f} mm: 3D {a * 1e3:7.3f} mm, half-space {b * 1e3:7.3f} mm, {100 * (a / b - 1):+6.2f} %")
     v, xa, rv, rx = r["peak_fit"]
     b = r["length"][1]
-    print(f"peak fit: 3D {v / 1e9:.4f} GPa at x = {xa * 1e3:.2f} mm; half-space {rv / 1e9:.4f} GPa at "
+    print(f"peak fit (a local quadratic within {WINDOW_CELLS:g} local cells of {r['local_cell'] * 1e3:.4g} mm about the "
+          f"peak's place): 3D {v / 1e9:.4f} GPa at x = {xa * 1e3:.2f} mm; half-space {rv / 1e9:.4f} GPa at "
           f"{rx * 1e3:.2f} mm (its plain means over the same squares): {100 * (v / rv - 1):+.2f} %, position "
           f"{100 * (xa - rx) / b:+.2f} % of the half-length")
     cv, cx = r["peak_fit_corners"]

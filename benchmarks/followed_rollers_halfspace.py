@@ -31,7 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from ibfem.geometry.solids import solid_from_dict
-from ibfem.solver.contact.region_report import PLATEAU_SHARE, grid_peak_as_map, grid_peak_place_as_map, mirror_images, peak_place
+from ibfem.solver.contact.region_report import (PLATEAU_SHARE, WINDOW_CELLS, fitted_peak, grid_peak_as_map,
+                                                   grid_peak_place_as_map, mirror_images, peak_place)
 from ibfem.solver.reference.crowned_roller import edge_from_row, solid_bottom, square_means
 from ibfem.solver.reference.halfspace import halfspace_contact
 
@@ -71,30 +72,39 @@ def width_at(xy: np.ndarray, station: float) -> float:
     return float(np.interp(station, upper[order, 0], upper[order, 1]))
 
 
-def peak(block: dict, ref, maps) -> dict:
-    """The largest square and the peak's fit of the 3D map against the half-space's."""
+def local_cell(block: dict, cell: float | None) -> float:
+    """The grid's cell at the peak that the peak's fit reads: ``cell`` if given, else the
+    summary's (``peak_fit.cell``), else the map's squares' side."""
+    return float(cell or block["peak_fit"].get("cell") or block["pressure_map"]["cell"])
+
+
+def peak(block: dict, ref, maps, cell: float | None = None) -> dict:
+    """The largest square and the peak's fit of the 3D map (re-read from the stored map with the
+    local ``cell``) against the half-space's."""
     m = block["pressure_map"]
     value = np.array(m["value"])
     top = int(np.argmax(value))
-    ref_at, ref_fit = grid_peak_as_map(block, ref.x, ref.y, ref.pressure, maps)
+    cell = local_cell(block, cell)
+    at, fit = fitted_peak(np.array(m["s"]), value, np.array(m["area"]), np.array(m["square"]), m["cell"], cell, maps)
+    ref_at, ref_fit = grid_peak_as_map(block, ref.x, ref.y, ref.pressure, maps, cell)
     return {"largest_square": (float(value[top]), float(square_means(block, ref)[top]), list(m["s"][top])),
-            "fit": (block["peak_fit"]["value"], ref_fit), "fit_at": (block["peak_fit"]["s"][0], float(ref_at[0])),
+            "cell": cell, "fit": (fit, ref_fit), "fit_at": (float(at[0]), float(ref_at[0])),
             "place": (float(peak_place(np.array(m["s"]), value, np.array(m["area"]), np.array(m["square"]), m["cell"], maps)[0]),
                       float(grid_peak_place_as_map(block, ref.x, ref.y, ref.pressure, maps)[0]))}
 
 
-def compare_lundberg(block: dict, dx: float, dy: float) -> dict:
+def compare_lundberg(block: dict, dx: float, dy: float, cell: float | None = None) -> dict:
     x, y = np.arange(0.5 * dx, 0.1, dx), np.arange(0.5 * dy, 0.032, dy)
     ref = halfspace_contact(lundberg_gap(), x, y, E_STAR, force=block["normal_force"], symmetric=True)
     length = edge_from_row(ref.x, ref.pressure[:, 0])
     xy = edge_xy(block)
     out = {"ends": [(float(xy[:, 0].max()), length)], "half_length": length,
            "widths": [(0.0, width_at(xy, 0.0), edge_from_row(ref.y, ref.pressure[0, :]))]}
-    out.update(peak(block, ref, mirror_images([(0.0, 0.5 * math.pi)])))
+    out.update(peak(block, ref, mirror_images([(0.0, 0.5 * math.pi)]), cell))
     return out
 
 
-def compare_tilted(block: dict, scene: Path, dx: float, dy: float) -> dict:
+def compare_tilted(block: dict, scene: Path, dx: float, dy: float, cell: float | None = None) -> dict:
     roller = solid_from_dict(tomllib.loads(scene.read_text())["bodies"][0]["shape"])
     x, y = np.arange(-0.1 + 0.5 * dx, 0.1, dx), np.arange(0.5 * dy, 0.032, dy)
     ref = halfspace_contact(lambda X, Y: solid_bottom(roller, X, Y), x, y, E_STAR, force=block["normal_force"],
@@ -106,7 +116,7 @@ def compare_tilted(block: dict, scene: Path, dx: float, dy: float) -> dict:
     widths = [(s, width_at(xy, s), edge_from_row(ref.y, ref.pressure[int(np.argmin(np.abs(x - s)))])) for s in (-0.05, 0.05)]
     out = {"ends": [(float(xy[:, 0].min()), back), (float(xy[:, 0].max()), front)],
            "half_length": 0.5 * (front - back), "widths": widths}
-    out.update(peak(block, ref, mirror_images([(0.0, math.pi)])))
+    out.update(peak(block, ref, mirror_images([(0.0, math.pi)]), cell))
     return out
 
 
@@ -122,7 +132,8 @@ def report(block: dict, refinement: dict | None, result: dict) -> str:
     lines.append(f"largest square {v / 1e9:.4f} GPa at {np.round(at, 4).tolist()} against the half-space's mean "
                  f"{r / 1e9:.4f} GPa ({100 * (v / r - 1):+.2f} %)")
     (fit, ref_fit), (fat, ref_at) = result["fit"], result["fit_at"]
-    lines.append(f"peak's fit {fit / 1e9:.4f} GPa at x = {fat:+.5f} m against the half-space read the same way "
+    lines.append(f"peak's fit (a local quadratic within {WINDOW_CELLS:g} local cells of {result['cell'] * 1e3:.4g} mm "
+                 f"about the peak's place) {fit / 1e9:.4f} GPa at x = {fat:+.5f} m against the half-space read the same way "
                  f"{ref_fit / 1e9:.4f} GPa at {ref_at:+.5f} m ({100 * (fit / ref_fit - 1):+.2f} %, place "
                  f"{100 * (fat - ref_at) / hl:+.2f} % of the half-length)")
     place, ref_place = result["place"]
@@ -144,13 +155,17 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("summary")
     parser.add_argument("--dx", type=float, default=None, help="rectangles along the line (default 1 mm)")
     parser.add_argument("--dy", type=float, default=0.0008)
+    parser.add_argument("--cell", type=float, default=None,
+                        help="the grid's cell at the peak, m (default: the summary's peak_fit.cell; for a summary "
+                             "written before it, the map's squares' side)")
     args = parser.parse_args(argv)
     summary = json.loads(Path(args.summary).read_text())
     block = summary["contacts"][0]
     if args.roller == "lundberg":
-        result = compare_lundberg(block, args.dx or 0.001, args.dy)
+        result = compare_lundberg(block, args.dx or 0.001, args.dy, args.cell)
     else:
-        result = compare_tilted(block, ROOT / "examples" / "contact3d" / "tilted_roller.toml", args.dx or 0.001, args.dy)
+        result = compare_tilted(block, ROOT / "examples" / "contact3d" / "tilted_roller.toml", args.dx or 0.001, args.dy,
+                                args.cell)
     print(f"converged: {summary['converged']}; iterations {summary['iterations']['total']}")
     print(report(block, summary["iterations"].get("refinement"), result))
 

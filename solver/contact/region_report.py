@@ -2,7 +2,8 @@
 forces, the region's boundary as a closed polyline on body 1's surface (which stretches of it are
 body 1's free edges: complete contact), its extents along its principal directions, area and
 centroid, and the pressure as cell means (a map, and along both axes) with its peak (the largest
-square, a parabola's fit through it and its neighbours, and the place of the peak's plateau).
+square, the place of the peak's plateau, and a local quadratic's fit about that place over a
+window of the grid's local cells).
 
 The band traction at the quadrature points oscillates within and from cell to cell (trilinear
 fields against a curved gap) while its integrals are accurate: the map holds the pressure read
@@ -21,7 +22,7 @@ import numpy as np
 from .edge_pressure import agglomerated_cells, nodal_pressure
 from .ellipse_geometry import sector_share, surface_point
 
-__all__ = ["region_block", "boundary_polyline", "cell_means", "fitted_peak", "peak_place", "grid_peak_as_map",
+__all__ = ["region_block", "boundary_polyline", "cell_means", "fitted_peak", "peak_place", "local_cell", "grid_peak_as_map",
            "grid_peak_place_as_map", "mirror_images"]
 
 #: points of the boundary polyline over the full turn
@@ -139,36 +140,61 @@ def _mirrored_squares(centres: np.ndarray, means: np.ndarray, keys: np.ndarray, 
             np.concatenate([p[2] for p in parts]))
 
 
-def fitted_peak(centres: np.ndarray, means: np.ndarray, keys: np.ndarray, maps: np.ndarray = np.eye(2)[None]):
-    """(s (2,), value) of the pressure's peak from a smooth fit of the map: along each of the
-    frame's axes, the parabola through the largest mean and the means of the squares one key
-    before and after it on that axis (mirror images included: ``maps``); its vertex where it is
-    concave and the vertex lies between those two squares' centroids, otherwise (an end of the
-    region, or a plateau without a peak) the largest square's centroid. The value is the
-    separable quadratic's at the vertex: the largest mean plus each parabola's rise above it.
-    The squares' means lower a parabola's peak by p'' h^2 / 24 and leave its vertex where it is;
-    the largest square alone places the peak only to within a square."""
-    c, v, k = _mirrored_squares(centres, means, keys, maps)
-    peak = int(np.argmax(means))
-    at, value = np.array(centres[peak], dtype=float), float(means[peak])
-    rise = 0.0
-    for axis in (0, 1):
-        step = np.eye(2, dtype=np.int64)[axis]
-        side = [np.flatnonzero((k == keys[peak] + sign * step).all(axis=1)) for sign in (-1, 1)]
-        if not all(len(s) for s in side):
-            continue
-        x = np.array([c[side[0][0], axis], centres[peak, axis], c[side[1][0], axis]])
-        y = np.array([v[side[0][0]], value, v[side[1][0]]])
-        if not (x[0] < x[1] < x[2]):
-            continue
-        a2, a1, a0 = np.polyfit(x, y, 2)
-        if a2 >= 0.0:
-            continue
-        vertex = -a1 / (2.0 * a2)
-        if x[0] < vertex < x[2]:
-            at[axis] = vertex
-            rise += float(np.polyval([a2, a1, a0], vertex)) - value
-    return at, value + rise
+#: the local fit's window about the peak's place, in local cells: its weights (1 - (d / r)^2)^2
+#: vanish at r = WINDOW_CELLS cells, so that a map whose squares are the cells gives each axis
+#: three to four squares of weight (a parabola through the largest square and its neighbours)
+#: and one whose squares halve the cells seven to eight (the cells' own scatter averaged)
+WINDOW_CELLS = 2.0
+
+
+def _quadratic_design(d: np.ndarray, size: float) -> np.ndarray:
+    """(n, 6) the columns of a quadratic c0 + c1 x + c2 y + c3 x^2 + c4 x y + c5 y^2 averaged over
+    squares of side ``size`` centred at ``d``: a square's mean of x^2 is its centre's plus
+    size^2 / 12."""
+    x, y = d[:, 0], d[:, 1]
+    return np.stack([np.ones(len(d)), x, y, x * x + size * size / 12.0, x * y, y * y + size * size / 12.0], axis=1)
+
+
+def fitted_peak(centres: np.ndarray, means: np.ndarray, areas: np.ndarray, keys: np.ndarray, size: float,
+                cell: float | None = None, maps: np.ndarray = np.eye(2)[None]) -> tuple[np.ndarray, float]:
+    """(s (2,), value) of the pressure's peak from a local quadratic fit of the map: a weighted
+    least-squares quadratic over the squares whose centroids lie within WINDOW_CELLS local cells
+    (``cell``, the grid's cell at the peak; at least the squares' side ``size``) of the peak's
+    place (``peak_place``), each weighted by (1 - (d / r)^2)^2 (mirror images included:
+    ``maps``), the squares' means modelled as the quadratic's mean over a square (its centroid's
+    value plus its curvatures times size^2 / 24). Along each principal direction of the fitted
+    quadratic where it is concave and its vertex lies within a cell of the place, the peak moves
+    to the vertex; elsewhere (a plateau, a slope to the region's end) it stays at the place along
+    that direction. The value is the quadratic's there: a quadratic's square means give its
+    vertex and value exactly, and on a plateau whose squares are finer than the cells the window
+    averages their scatter, where a parabola through three squares takes its vertex and value
+    from it. A window too thin for a quadratic (fewer than six squares, or squares in a line)
+    gives the place and the largest mean."""
+    cell = max(float(cell or size), float(size))
+    place = peak_place(centres, means, areas, keys, size, maps)
+    c, v, _ = _mirrored_squares(centres, means, keys, maps)
+    d = (c - place) / cell
+    weight = np.clip(1.0 - np.einsum("ij,ij->i", d, d) / WINDOW_CELLS**2, 0.0, None) ** 2
+    near = weight > 0.0
+    fallback = (np.array(place, dtype=float), float(np.max(means)))
+    if near.sum() < 6:
+        return fallback
+    design = _quadratic_design(d[near], size / cell)
+    root = np.sqrt(weight[near])
+    scale = float(np.max(means))
+    coef, _, rank, _ = np.linalg.lstsq(design * root[:, None], v[near] / scale * root, rcond=None)
+    if rank < 6:
+        return fallback
+    gradient = coef[1:3]
+    hessian = np.array([[2.0 * coef[3], coef[4]], [coef[4], 2.0 * coef[5]]])
+    curvatures, directions = np.linalg.eigh(hessian)
+    step = np.zeros(2)
+    for k in range(2):
+        if curvatures[k] < 0.0 and abs(directions[:, k] @ gradient) <= -curvatures[k]:
+            step[k] = -(directions[:, k] @ gradient) / curvatures[k]
+    step = directions @ step  # in cells
+    value = coef[0] + gradient @ step + 0.5 * step @ hessian @ step
+    return place + step * cell, float(value * scale)
 
 
 #: the share of the largest square's mean above which squares count as the peak's plateau: the
@@ -215,6 +241,16 @@ def peak_place(centres: np.ndarray, means: np.ndarray, areas: np.ndarray, keys: 
     return at
 
 
+def local_cell(c, x: np.ndarray) -> float:
+    """The grid's cell at 3D points ``x`` (n, 3) of a region ``c``: the larger of the two bodies'
+    leaves holding them, the largest over the points (the finest cell where a body has no
+    octree), as the region's edge reads its cells (``edge_cells``)."""
+    sizes = c.leaf_sizes() if hasattr(c, "leaf_sizes") else None
+    if not sizes:
+        return float(c.h)
+    return float(max(float(np.max(size(x))) for size in sizes))
+
+
 def _grid_map(block: dict, x: np.ndarray, y: np.ndarray, pressure: np.ndarray):
     """A pressure on a regular grid of the plane z = 0 read as ``block`` reads its own: the merged
     squares of ``agglomerated_cells`` over the corner reading (``nodal_pressure``)."""
@@ -228,17 +264,20 @@ def _grid_map(block: dict, x: np.ndarray, y: np.ndarray, pressure: np.ndarray):
 
 
 def grid_peak_as_map(block: dict, x: np.ndarray, y: np.ndarray, pressure: np.ndarray,
-                     maps: np.ndarray = np.eye(2)[None]) -> tuple[np.ndarray, float]:
+                     maps: np.ndarray = np.eye(2)[None], cell: float | None = None) -> tuple[np.ndarray, float]:
     """(s (2,), value) of the peak's fit of a pressure given on a regular grid of the plane z = 0
     (``pressure`` (len(x), len(y)) at the centres of equal rectangles: a half-space solution),
     read as a region's summary ``block`` reads its own pressure (its ``pressure_map``): the
     loaded rectangles' centres in the block's frame with their areas, read through the corners
     of the same squares (``nodal_pressure``), averaged over the merged squares, then
-    ``fitted_peak``. The corner reading smooths a peak by about p'' h^2 / 6 along each axis,
-    which plain means over the squares do not: two peaks' fits compare fairly only when both
-    pressures are read this way."""
+    ``fitted_peak`` with the block's local cell (``cell``: by default the block's
+    ``peak_fit.cell``, else its squares' side). The corner reading smooths a peak by about
+    p'' h^2 / 6 along each axis, which plain means over the squares do not: two peaks' fits
+    compare fairly only when both pressures are read this way."""
     cells = _grid_map(block, x, y, pressure)
-    return fitted_peak(cells.centres, cells.means, cells.keys, maps)
+    size = block["pressure_map"]["cell"]
+    cell = cell or block.get("peak_fit", {}).get("cell") or size
+    return fitted_peak(cells.centres, cells.means, cells.areas, cells.keys, size, cell, maps)
 
 
 def grid_peak_place_as_map(block: dict, x: np.ndarray, y: np.ndarray, pressure: np.ndarray,
@@ -295,8 +334,10 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     cells = agglomerated_cells(pts.s, pts.weights, nodal_pressure(pts.s, pts.weights, p, c.h), c.h, c.centre)
     centres, means, areas, keys = cells.centres, cells.means, cells.areas, cells.keys
     peak = int(np.argmax(means))
-    fit_s, fit_value = fitted_peak(centres, means, keys, mirror_images(c.ranges))
-    place_s = peak_place(centres, means, areas, keys, c.h, mirror_images(c.ranges))
+    maps = mirror_images(c.ranges)
+    place_s = peak_place(centres, means, areas, keys, c.h, maps)
+    cell = local_cell(c, surface_point(c.solids[0], frame, place_s[None], c.reach)[0])
+    fit_s, fit_value = fitted_peak(centres, means, areas, keys, c.h, cell, maps)
     on1 = surface_point(c.solids[0], frame, np.stack([centres[peak], fit_s, place_s]), c.reach)[0]
     peak_x, fit_x, place_x = on1[0], on1[1], on1[2]
     half = [float(np.abs(s_edge[:, k]).max()) for k in (0, 1)]
@@ -311,7 +352,8 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         "area": float(pts.weights.sum()),
         "centroid": (pts.weights @ pts.x1 / pts.weights.sum()).tolist(),
         "peak_pressure": float(means[peak]), "peak_at": peak_x.tolist(),
-        "peak_fit": {"value": fit_value, "s": fit_s.tolist(), "at": fit_x.tolist()},
+        "peak_fit": {"value": fit_value, "s": fit_s.tolist(), "at": fit_x.tolist(), "cell": cell,
+                     "window": WINDOW_CELLS * cell},
         "peak_place": {"s": place_s.tolist(), "at": place_x.tolist(), "share": PLATEAU_SHARE},
         "pressure_map": {"cell": c.h, "s": centres.tolist(), "value": means.tolist(), "area": areas.tolist(),
                          "square": keys.tolist(),
