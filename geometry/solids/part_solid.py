@@ -556,8 +556,19 @@ class PartSolid(Solid):
         boxed = np.all((p >= lo) & (p <= hi), axis=1)
         side = np.full(len(p), -1.0)
         if boxed.any():
-            side[boxed] = np.where(_winding(p[boxed], self.triangles) > 0.5, 1.0, -1.0)
+            kernels = mesh_kernels()
+            if kernels is not None:  # the box hierarchy's cones for the far triangles (the same to round-off)
+                w = self._winding_tree.winding(p[boxed], kernels) / (4.0 * math.pi)
+            else:
+                w = _winding(p[boxed], self.triangles)
+            side[boxed] = np.where(w > 0.5, 1.0, -1.0)
         return side
+
+    @cached_property
+    def _winding_tree(self):
+        from .winding_tree import WindingTree
+
+        return WindingTree(self.triangles)
 
 
 def _pick_body(part, body):
