@@ -1,11 +1,13 @@
 """Compiled kernels of a CAD body's tessellation queries (numba, the ``fast`` extra): the
-generalised winding number of points and their distance to candidate triangles, point by point
-in registers instead of (point, triangle) array temporaries. The arithmetic is that of the
-numpy path in :mod:`geometry.solids.part_solid` (``_winding``, ``point_triangle_distance``),
-so the two agree to round-off. Imported only by :func:`geometry.solids.part_solid.mesh_kernels`
-(never by ``import geometry``); each kernel works on a range of the points and releases the
-GIL, so :func:`geometry._jit.run_ranges` spreads one call over the cores.
-"""
+generalised winding number of points (over every triangle, or by the box hierarchy of
+:mod:`geometry.solids.winding_tree`), their distance to candidate triangles and their nearest
+point on a polyline, point by point in registers instead of (point, triangle) array
+temporaries. The arithmetic is that of the numpy paths in :mod:`geometry.solids.part_solid`
+(``_winding``, ``point_triangle_distance``) and :mod:`geometry.solids.face_trim`
+(``_nearest_on_polyline``), so the two agree to round-off. Imported only by
+:func:`geometry.solids.mesh_jit.mesh_kernels` (never by ``import geometry``); each kernel works
+on a range of the points (or on the points given) and releases the GIL, so
+:func:`geometry._jit.run_ranges` spreads one call over the cores."""
 
 from __future__ import annotations
 
@@ -122,3 +124,26 @@ def tree_winding_range(points, tri, cone, lo_box, hi_box, child, span, cone_span
                 stack[top + 1] = child[k, 0]
                 top += 2
         out[i] = total
+
+
+@jit
+def nearest_on_polyline(points, line, foot, best, segment):
+    """For each point: the nearest point of the polyline (foot), its distance (best) and the
+    index of the segment it lies on (the first of equally near ones), segment by segment as
+    :func:`geometry.solids.face_trim._nearest_on_polyline`."""
+    for i in range(points.shape[0]):
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        b = math.inf
+        for j in range(line.shape[0] - 1):
+            ux, uy, uz = line[j, 0], line[j, 1], line[j, 2]
+            ex, ey, ez = line[j + 1, 0] - ux, line[j + 1, 1] - uy, line[j + 1, 2] - uz
+            t = ((px - ux) * ex + (py - uy) * ey + (pz - uz) * ez) / max(ex * ex + ey * ey + ez * ez, 1e-300)
+            t = min(max(t, 0.0), 1.0)
+            xx, xy, xz = ux + t * ex, uy + t * ey, uz + t * ez
+            dx, dy, dz = px - xx, py - xy, pz - xz
+            d = math.sqrt(dx * dx + dy * dy + dz * dz)
+            if d < b:
+                b = d
+                foot[i, 0], foot[i, 1], foot[i, 2] = xx, xy, xz
+                segment[i] = j
+        best[i] = b

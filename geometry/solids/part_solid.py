@@ -33,6 +33,7 @@ import numpy as np
 
 from .._base import Projection
 from .face_trim import FaceTrim, TrimEdge
+from .mesh_jit import mesh_kernels
 from .shapes import Solid
 
 __all__ = ["PartSolid", "PartFace", "point_triangle_distance"]
@@ -70,29 +71,10 @@ def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return np.where(inside, np.abs(h) * np.sqrt(nn), best)
 
 
-_MESH_KERNELS = None
 #: a face's tessellation of at most this many triangles is searched whole, without rounds
 FEW_TRIANGLES = 32
 #: a foot whose p - foot makes a cosine below this with the face's normal is no perpendicular foot
 PERPENDICULAR = 1.0 - 1e-6
-
-
-def mesh_kernels():
-    """The compiled tessellation kernels (:mod:`geometry.solids._mesh_kernels`), or None where
-    the compiled kernels are off (numba missing or ``IBFEM_NO_JIT`` set): numpy then."""
-    global _MESH_KERNELS
-    import os
-
-    if os.environ.get("IBFEM_NO_JIT", "") not in ("", "0"):
-        return None
-    if _MESH_KERNELS is None:
-        try:
-            from . import _mesh_kernels
-        except ImportError:
-            _MESH_KERNELS = False
-        else:
-            _MESH_KERNELS = _mesh_kernels
-    return _MESH_KERNELS or None
 
 
 class _Mesh:
