@@ -1,8 +1,8 @@
 """Cost of a CAD part's signed distance (``PartSolid.signed_distance``) on a real STEP file.
 
-Reads the file (default: the M8 x 30 socket screw of the real-CAD corpus, not part of the
-repository), builds the body's ``PartSolid`` and evaluates the signed distances of ``--points``
-points drawn uniformly (seed 0) in a box about the part's head: the part's bounding box in x and
+Reads the file given (measured on the M8 x 30 socket screw of the real-CAD files, see
+docs/real-cad.md; not part of the repository), builds the body's ``PartSolid`` and evaluates
+the signed distances of ``--points`` points drawn uniformly (seed 0) in a box about the part's head: the part's bounding box in x and
 y, and in z the lowest ``--head`` metres of it, each side widened by ``--margin`` metres. The
 evaluation is repeated ``--repeat`` times (the first also pays numba's compilation or cache load,
 so the best is printed too). Prints the CPU seconds (user + system of this process, its threads
@@ -13,7 +13,9 @@ before (by another version of the code: run this script from a directory outside
 tree, so that each interpreter imports its own installed ``ibfem``), printing the largest
 difference and how many differ at all.
 
-Run: python benchmarks/cad_signed_distance.py [STEP_FILE] [--points 20000] [--repeat 3]
+``--points-file FILE.npy`` evaluates the points (n, 3) stored there (in the part's frame) instead.
+
+Run: python benchmarks/cad_signed_distance.py STEP_FILE [--points 20000] [--repeat 3]
 """
 
 from __future__ import annotations
@@ -24,9 +26,6 @@ import time
 
 import numpy as np
 
-DEFAULT = "/work/shared/real_cad/files/sw2018_m8x30_socket_screw.STEP"
-
-
 def head_points(bounds, count: int, head: float, margin: float, seed: int = 0) -> np.ndarray:
     lo, hi = np.array(bounds[0], float), np.array(bounds[1], float)
     hi[2] = min(hi[2], lo[2] + head)
@@ -36,7 +35,7 @@ def head_points(bounds, count: int, head: float, margin: float, seed: int = 0) -
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("file", nargs="?", default=DEFAULT)
+    ap.add_argument("file", help="a STEP or IGES file (the M8 socket screw of docs/real-cad.md)")
     ap.add_argument("--body", default=None)
     ap.add_argument("--points", type=int, default=20000)
     ap.add_argument("--head", type=float, default=0.0085, help="height (m) of the box from the part's lowest z")
@@ -44,6 +43,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--save", default=None)
     ap.add_argument("--against", default=None)
+    ap.add_argument("--points-file", default=None)
     ap.add_argument("--profile", default=None, help="write a cProfile of the evaluations to this file")
     args = ap.parse_args()
 
@@ -55,7 +55,7 @@ def main() -> None:
     print(f"code: {os.path.dirname(part_solid.__file__)}")
     print(f"part: {len(solid.faces)} faces, {len(solid.edges)} edges, {len(solid.triangles)} triangles, "
           f"tolerance {solid.tolerance:.3e} m; read and built in {time.perf_counter() - t:.1f} s")
-    p = head_points(solid.bounds, args.points, args.head, args.margin)
+    p = np.load(args.points_file) if args.points_file else head_points(solid.bounds, args.points, args.head, args.margin)
     profile = None
     if args.profile:
         import cProfile
