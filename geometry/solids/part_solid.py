@@ -8,9 +8,11 @@ quadrature point; the tessellation only seeds searches and decides which side a 
   else the face's exact boundary edges (their curves' feet clipped to the edge's ends, else the
   end vertices). The sign: the side of the nearest face's exact normal where the foot is
   interior to a face (also where an edge is as near within round-off: the foot is on it), the
-  generalised winding number of the closed tessellation (sum of the triangles' solid angles)
-  where the nearest feature is an edge or a vertex, outside at once beyond the tessellation's
-  bounding box widened by the tolerance. A face without an
+  generalised winding number of the closed tessellation (sum of the triangles' solid angles;
+  compiled, the far triangles by the cones of geometry.solids.winding_tree) where the nearest
+  feature is an edge or a vertex, outside at once beyond the tessellation's bounding box
+  widened by the tolerance. Faces are searched best-first by the boxes of their triangles (a
+  foot counts only near them), and only those nearer than the nearest edge end. A face without an
   exact surface falls back to its tessellation (distance minus the sag bound: a lower bound).
 - faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution`` (or
   graded: to a size asked per point, as fine as the solver's cells there), mapped onto the
@@ -413,14 +415,17 @@ class PartSolid(Solid):
             ends += [np.asarray(v, float) for v in (e.start, e.end) if v is not None] or [line[0], line[-1]]
         return np.array(ends).reshape(-1, 3)
 
-    def _vertex_bound(self, p: np.ndarray) -> np.ndarray:
-        """An upper bound of the distance to the nearest edge: that to the nearest edge end."""
-        if not len(self._vertices):
-            return np.full(len(p), np.inf)
+    @cached_property
+    def _vertex_tree(self):
         from scipy.spatial import cKDTree
 
-        if not hasattr(self, "_vertex_tree"):
-            self._vertex_tree = cKDTree(self._vertices)
+        return cKDTree(self._vertices)
+
+    def _vertex_bound(self, p: np.ndarray) -> np.ndarray:
+        """An upper bound of the distance to the nearest edge: that to the nearest edge end
+        (widened by round-off)."""
+        if not len(self._vertices):
+            return np.full(len(p), np.inf)
         return self._vertex_tree.query(p)[0] * (1.0 + 1e-12) + 4e-12 * self.size
 
     def _faces_nearest(self, p: np.ndarray, edge_bound: np.ndarray):
