@@ -141,3 +141,80 @@ def test_a_foot_just_beyond_a_symmetry_face_rim_is_no_foot(tmp_path):
     assert solid.tolerance / MM > 0.048  # the band the triangles alone would accept
     got = np.asarray(solid.signed_distance(p * MM), float) / MM
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
+
+
+def _sphere_triangles(rings: int = 24, sectors: int = 48, crack: float = 1e-6) -> np.ndarray:
+    """A unit sphere's latitude-longitude triangles, wound outward; the northern half's vertices
+    on the equator moved out radially by ``crack`` (the halves then meet with a gap, as faces
+    meshed one by one do) and its triangles along the equator cut at their midpoints (T-junctions)."""
+    theta = np.linspace(0.0, np.pi, rings + 1)
+    phi = np.linspace(0.0, 2.0 * np.pi, sectors + 1)
+
+    def point(i, j, bump=0.0):
+        r = 1.0 + bump
+        return r * np.array([np.sin(theta[i]) * np.cos(phi[j]), np.sin(theta[i]) * np.sin(phi[j]), np.cos(theta[i])])
+
+    tri = []
+    for i in range(rings):
+        for j in range(sectors):
+            north = i < rings // 2
+            bump = crack if north else 0.0
+            a, b = point(i, j, bump * (i == rings // 2)), point(i + 1, j, bump * (i + 1 == rings // 2))
+            c, d = point(i + 1, j + 1, bump * (i + 1 == rings // 2)), point(i, j + 1, bump * (i == rings // 2))
+            if north and i + 1 == rings // 2:  # b, c on the equator: split b-c at its midpoint
+                m = 0.5 * (b + c)
+                tri += [(a, b, m), (a, m, d), (d, m, c)]
+                continue
+            tri += [(a, b, c), (a, c, d)]
+    return np.array(tri)
+
+
+def test_winding_tree_equals_the_sum_over_every_triangle():
+    """The box hierarchy's cones give each point the solid angle of the triangles they replace
+    (a patch and the cone over its boundary close a surface of winding number 0 outside their
+    box): the same winding numbers as the sum over every triangle, to round-off, for a closed
+    sphere whose halves meet with a gap and T-junctions (as a CAD part's faces meshed one by one)
+    and for an open half of it (the root's boundary is then not empty)."""
+    from ibfem.geometry.solids.mesh_jit import mesh_kernels
+    from ibfem.geometry.solids.part_solid import _winding
+    from ibfem.geometry.solids.winding_tree import WindingTree
+
+    kernels = mesh_kernels()
+    if kernels is None:
+        pytest.skip("compiled kernels off (numba missing or IBFEM_NO_JIT)")
+    sphere = _sphere_triangles()
+    rng = np.random.default_rng(5)
+    off = rng.choice([-1e-4, 1e-4], 500)
+    p = np.concatenate([rng.uniform(-1.2, 1.2, size=(500, 3)),  # about the sphere, and 1e-4 off its triangles
+                        sphere.mean(axis=1)[rng.integers(0, len(sphere), 500)] * (1.0 + off[:, None])])
+    for tri in (sphere, sphere[sphere[:, :, 0].mean(axis=1) < 0.3]):
+        tree = WindingTree(tri)
+        want = _winding(p, tri)
+        got = tree.winding(p, kernels) / (4.0 * np.pi)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
+        assert len(tree.cone) and tree.child[0, 0] >= 0  # cones and children were used
+    r = np.linalg.norm(p[:500], axis=1)
+    far = np.abs(r - 1.0) > 0.01  # beyond the chords' sag (0.0086)
+    full = WindingTree(sphere).winding(p, kernels) / (4.0 * np.pi)
+    np.testing.assert_array_equal(full[:500][far] > 0.5, r[far] < 1.0)
+    np.testing.assert_array_equal(full[500:] > 0.5, off < 0.0)
+
+
+def test_compiled_nearest_point_of_a_polyline_equals_numpy(monkeypatch):
+    """The compiled nearest point of a polyline takes the same steps as the numpy one: the same
+    feet, distances and segment directions (equally near segments: the first)."""
+    from ibfem.geometry.solids import face_trim
+    from ibfem.geometry.solids.mesh_jit import mesh_kernels
+
+    if mesh_kernels() is None:
+        pytest.skip("compiled kernels off (numba missing or IBFEM_NO_JIT)")
+    s = np.linspace(0.0, 4.0 * np.pi, 90)
+    line = np.stack([np.cos(s), np.sin(s), 0.1 * s], axis=1)  # a helix, its turns near each other
+    line[40] = line[39]  # a segment of zero length
+    p = np.random.default_rng(2).uniform(-1.5, 1.5, size=(500, 3))
+    p[:10] = line[:10]  # on vertices
+    got = face_trim._nearest_on_polyline(p, line)
+    monkeypatch.setenv("IBFEM_NO_JIT", "1")
+    want = face_trim._nearest_on_polyline(p, line)
+    for g, w in zip(got, want):
+        np.testing.assert_allclose(g, w, rtol=0, atol=1e-14)

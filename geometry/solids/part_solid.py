@@ -8,9 +8,11 @@ quadrature point; the tessellation only seeds searches and decides which side a 
   else the face's exact boundary edges (their curves' feet clipped to the edge's ends, else the
   end vertices). The sign: the side of the nearest face's exact normal where the foot is
   interior to a face (also where an edge is as near within round-off: the foot is on it), the
-  generalised winding number of the closed tessellation (sum of the triangles' solid angles)
-  where the nearest feature is an edge or a vertex, outside at once beyond the tessellation's
-  bounding box widened by the tolerance. A face without an
+  generalised winding number of the closed tessellation (sum of the triangles' solid angles;
+  compiled, the far triangles by the cones of geometry.solids.winding_tree) where the nearest
+  feature is an edge or a vertex, outside at once beyond the tessellation's bounding box
+  widened by the tolerance. Faces are searched best-first by the boxes of their triangles (a
+  foot counts only near them), and only those nearer than the nearest edge end. A face without an
   exact surface falls back to its tessellation (distance minus the sag bound: a lower bound).
 - faces (by id): ``quadrature`` by the tessellation's triangles, split to ``resolution`` (or
   graded: to a size asked per point, as fine as the solver's cells there), mapped onto the
@@ -33,6 +35,7 @@ import numpy as np
 
 from .._base import Projection
 from .face_trim import FaceTrim, TrimEdge
+from .mesh_jit import mesh_kernels
 from .shapes import Solid
 
 __all__ = ["PartSolid", "PartFace", "point_triangle_distance"]
@@ -70,29 +73,10 @@ def point_triangle_distance(p: np.ndarray, tri: np.ndarray) -> np.ndarray:
     return np.where(inside, np.abs(h) * np.sqrt(nn), best)
 
 
-_MESH_KERNELS = None
 #: a face's tessellation of at most this many triangles is searched whole, without rounds
 FEW_TRIANGLES = 32
 #: a foot whose p - foot makes a cosine below this with the face's normal is no perpendicular foot
 PERPENDICULAR = 1.0 - 1e-6
-
-
-def mesh_kernels():
-    """The compiled tessellation kernels (:mod:`geometry.solids._mesh_kernels`), or None where
-    the compiled kernels are off (numba missing or ``IBFEM_NO_JIT`` set): numpy then."""
-    global _MESH_KERNELS
-    import os
-
-    if os.environ.get("IBFEM_NO_JIT", "") not in ("", "0"):
-        return None
-    if _MESH_KERNELS is None:
-        try:
-            from . import _mesh_kernels
-        except ImportError:
-            _MESH_KERNELS = False
-        else:
-            _MESH_KERNELS = _mesh_kernels
-    return _MESH_KERNELS or None
 
 
 class _Mesh:
@@ -409,50 +393,93 @@ class PartSolid(Solid):
         """The centre of the solid's volume (m)."""
         return self._volume_centroid[1]
 
-    def _faces_nearest(self, p: np.ndarray):
+    @cached_property
+    def _face_boxes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Boxes (faces, 3) holding every foot each exact face may accept: its triangles' box
+        widened by the tolerance (a foot counts only within it of the triangles), and by round-off."""
+        pad = 1.001 * self.tolerance + 1e-9 * self.size
+        tri = [f.triangles.reshape(-1, 3) for f in self._exact_faces]
+        return (np.array([t.min(axis=0) - pad for t in tri]).reshape(-1, 3),
+                np.array([t.max(axis=0) + pad for t in tri]).reshape(-1, 3))
+
+    @cached_property
+    def _exact_faces(self) -> list:
+        return [f for f in self.faces.values() if f.surface is not None]
+
+    @cached_property
+    def _vertices(self) -> np.ndarray:
+        """The ends of every edge (points of the exact boundary)."""
+        ends = []
+        for e in self.edges:
+            line = np.asarray(e.polyline, float).reshape(-1, 3)
+            ends += [np.asarray(v, float) for v in (e.start, e.end) if v is not None] or [line[0], line[-1]]
+        return np.array(ends).reshape(-1, 3)
+
+    @cached_property
+    def _vertex_tree(self):
+        from scipy.spatial import cKDTree
+
+        return cKDTree(self._vertices)
+
+    def _vertex_bound(self, p: np.ndarray) -> np.ndarray:
+        """An upper bound of the distance to the nearest edge: that to the nearest edge end
+        (widened by round-off)."""
+        if not len(self._vertices):
+            return np.full(len(p), np.inf)
+        return self._vertex_tree.query(p)[0] * (1.0 + 1e-12) + 4e-12 * self.size
+
+    def _faces_nearest(self, p: np.ndarray, edge_bound: np.ndarray):
         """Distance to the nearest face (its exact foot on the trimmed face), the side of that
-        face's normal (+1 inside) and whether such a foot was found. The trimmed-face test (the
-        costly part) is asked only of the face whose untrimmed foot is the nearest still in
-        question for each point: the untrimmed distance bounds the trimmed one from below, so a
-        point is settled by the first face in that order whose foot lies on it (ties go to the
-        face listed first, as a face-by-face sweep would)."""
+        face's normal (+1 inside) and whether such a foot was found. The face is the one whose
+        foot on its untrimmed surface is nearest among those lying on their trimmed face (ties to
+        the face listed first). Such a foot lies in the face's box (:attr:`_face_boxes`), so the
+        distance to the box bounds it from below: a point is projected first onto the face of
+        the nearest box, then onto every face whose box is nearer than the best foot so far
+        (and than ``edge_bound`` + round-off, an upper bound of the edges' distance: a face
+        farther than the nearest edge loses to it whatever its foot)."""
         n = len(p)
         best = np.full(n, np.inf)
         sign = np.ones(n)
         interior = np.zeros(n, bool)
-        exact = [f for f in self.faces.values() if f.surface is not None]
         for face in self.faces.values():
             if face.surface is None:  # tessellation only: a lower bound, never interior
                 d = np.maximum(face.mesh.distance(p) - self.tolerance, 0.0)
                 better = d < best
                 best[better], sign[better] = d[better], 1.0
-        if not exact:
+        exact = self._exact_faces
+        if not exact or not n:
             return best, sign, interior
-        feet, normals = zip(*[f.project_surface(p) for f in exact])
-        untrimmed = np.stack([np.linalg.norm(p - x, axis=1) for x in feet])  # (faces, n)
-        todo = np.arange(n)
-        while len(todo):
-            which = np.argmin(untrimmed[:, todo], axis=0)
-            d = untrimmed[which, todo]
-            keep = d < best[todo]  # else no face can come nearer than what is found
-            todo, which, d = todo[keep], which[keep], d[keep]
-            settled = np.zeros(len(todo), bool)
-            for i in np.unique(which):
-                sel = np.flatnonzero(which == i)
-                pts = todo[sel]
-                on = exact[i].on_face(feet[i][pts])
-                hit = pts[on]
-                r = p[hit] - feet[i][hit]
-                along = (r * normals[i][hit]).sum(1)
-                best[hit], sign[hit] = d[sel[on]], np.where(along < 0.0, 1.0, -1.0)
-                # the normal's side holds where p - foot lies along the normal: not where the
-                # surface's projection stopped at the end of its parameter domain (a B-spline
-                # face's edge there), which leaves the side to the edges' test
-                length = np.linalg.norm(r, axis=1)
-                interior[hit] = (np.abs(along) >= PERPENDICULAR * length) | (length <= 1e-12 * self.size)
-                settled[sel[on]] = True
-                untrimmed[i, pts[~on]] = np.inf
-            todo = todo[~settled]
+        lo, hi = self._face_boxes
+        gap = np.linalg.norm(p[None] - np.clip(p[None], lo[:, None], hi[:, None]), axis=2) * (1.0 - 1e-12)  # (faces, n)
+        key = np.full(n, np.inf)  # the nearest foot on its face so far
+        face_of = np.full(n, len(exact))
+        feet, normals = np.zeros((n, 3)), np.zeros((n, 3))
+        asked = np.zeros_like(gap, bool)
+        first = np.zeros_like(gap, bool)
+        first[np.argmin(gap, axis=0), np.arange(n)] = True
+        for todo in (first, None):
+            if todo is None:  # every face whose box is within the best distance so far
+                todo = ~asked & (gap <= np.minimum(np.minimum(key, best), edge_bound)[None])
+            else:
+                todo &= gap <= np.minimum(best, edge_bound)[None]
+            asked |= todo
+            for i in np.flatnonzero(todo.any(axis=1)):
+                pts = np.flatnonzero(todo[i])
+                x, nx = exact[i].project_surface(p[pts])
+                d = np.linalg.norm(p[pts] - x, axis=1)
+                on = exact[i].on_face(x)
+                better = on & ((d < key[pts]) | ((d == key[pts]) & (i < face_of[pts])))
+                k = pts[better]
+                key[k], face_of[k], feet[k], normals[k] = d[better], i, x[better], nx[better]
+        hit = np.flatnonzero(key < best)  # a tessellation-only face's bound as near wins
+        r = p[hit] - feet[hit]
+        along = (r * normals[hit]).sum(1)
+        best[hit], sign[hit] = key[hit], np.where(along < 0.0, 1.0, -1.0)
+        # the normal's side holds where p - foot lies along the normal: not where the
+        # surface's projection stopped at the end of its parameter domain (a B-spline
+        # face's edge there), which leaves the side to the edges' test
+        length = np.linalg.norm(r, axis=1)
+        interior[hit] = (np.abs(along) >= PERPENDICULAR * length) | (length <= 1e-12 * self.size)
         return best, sign, interior
 
     def _edges_nearest(self, p: np.ndarray, bound: np.ndarray) -> np.ndarray:
@@ -494,8 +521,9 @@ class PartSolid(Solid):
         p = np.asarray(points, float).reshape(-1, 3)
         if len(p) > chunk:  # bounded temporaries (the candidate triangles of every point)
             return np.concatenate([self.signed_distance(p[s:s + chunk], chunk) for s in range(0, len(p), chunk)])
-        best, sign, interior = self._faces_nearest(p)
-        edge = self._edges_nearest(p, best)
+        bound = self._vertex_bound(p)  # the edges are at most this far
+        best, sign, interior = self._faces_nearest(p, bound)
+        edge = self._edges_nearest(p, np.minimum(best, bound))
         # an edge nearer than the face's foot by round-off only (a point over a face's trimming
         # curve, as on a quarter model's symmetry plane): the foot is on that edge and p - foot
         # lies along the face's normal, so the face's side holds and no winding number is needed
@@ -515,8 +543,19 @@ class PartSolid(Solid):
         boxed = np.all((p >= lo) & (p <= hi), axis=1)
         side = np.full(len(p), -1.0)
         if boxed.any():
-            side[boxed] = np.where(_winding(p[boxed], self.triangles) > 0.5, 1.0, -1.0)
+            kernels = mesh_kernels()
+            if kernels is not None:  # the box hierarchy's cones for the far triangles (the same to round-off)
+                w = self._winding_tree.winding(p[boxed], kernels) / (4.0 * math.pi)
+            else:
+                w = _winding(p[boxed], self.triangles)
+            side[boxed] = np.where(w > 0.5, 1.0, -1.0)
         return side
+
+    @cached_property
+    def _winding_tree(self):
+        from .winding_tree import WindingTree
+
+        return WindingTree(self.triangles)
 
 
 def _pick_body(part, body):
