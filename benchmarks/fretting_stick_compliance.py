@@ -177,22 +177,15 @@ def main(argv: list[str] | None = None) -> int:
                          "jump increment (friction_history_ties.UZAWA_TOLERANCE)")
     args = ap.parse_args(argv)
     from ibfem.solver.contact import friction_history3d, friction_history_ties as ties
-    if args.tie_groups is not None:
-        ties.TIE_GROUPS = args.tie_groups
-    if args.uzawa is not None:
-        ties.UZAWA_TOLERANCE = args.uzawa
-    if args.tie_flux is not None:
-        ties.TIE_FLUX = args.tie_flux
-    if args.recovered_flux is not None:
-        ties.RECOVERED_FLUX = args.recovered_flux
+    for option, module, name in (("tie_groups", ties, "TIE_GROUPS"), ("uzawa", ties, "UZAWA_TOLERANCE"),
+                                 ("tie_flux", ties, "TIE_FLUX"), ("recovered_flux", ties, "RECOVERED_FLUX"),
+                                 ("tangential_band", friction_history3d, "TANGENTIAL_BAND"),
+                                 ("cut_cell_tie", ties, "CUT_CELL_TIE"),
+                                 ("cut_cell_consistency", ties, "CUT_CELL_CONSISTENCY")):
+        if getattr(args, option) is not None:  # a diagnostic switched on for this process
+            setattr(module, name, getattr(args, option))
     if args.near_band is not None:
         ties.NEAR_BAND, ties.NEAR_CELLS = args.near_band
-    if args.tangential_band is not None:
-        friction_history3d.TANGENTIAL_BAND = args.tangential_band
-    if args.cut_cell_tie is not None:
-        ties.CUT_CELL_TIE = args.cut_cell_tie
-    if args.cut_cell_consistency is not None:
-        ties.CUT_CELL_CONSISTENCY = args.cut_cell_consistency
     if args.radii[0] != 1.0:
         raise SystemExit("--radii: the first radius must be 1 (the full stick, the reference of the increase)")
     r = measure(args.radii, amplitude_for(0.3), args.edge_ring, args.band_fraction, args.refinement_levels)

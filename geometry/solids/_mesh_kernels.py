@@ -68,16 +68,7 @@ def winding_range(points, tri, out, lo, hi):
     for i in range(lo, hi):
         total = 0.0
         for j in range(tri.shape[0]):
-            ax, ay, az = tri[j, 0, 0] - points[i, 0], tri[j, 0, 1] - points[i, 1], tri[j, 0, 2] - points[i, 2]
-            bx, by, bz = tri[j, 1, 0] - points[i, 0], tri[j, 1, 1] - points[i, 1], tri[j, 1, 2] - points[i, 2]
-            cx, cy, cz = tri[j, 2, 0] - points[i, 0], tri[j, 2, 1] - points[i, 1], tri[j, 2, 2] - points[i, 2]
-            la = math.sqrt(ax * ax + ay * ay + az * az)
-            lb = math.sqrt(bx * bx + by * by + bz * bz)
-            lc = math.sqrt(cx * cx + cy * cy + cz * cz)
-            det = ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx)
-            den = (la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (bx * cx + by * cy + bz * cz) * la
-                   + (cx * ax + cy * ay + cz * az) * lb)
-            total += 2.0 * math.atan2(det, den)
+            total += _solid_angle(points[i, 0], points[i, 1], points[i, 2], tri[j])
         out[i] = total
 
 
