@@ -344,18 +344,21 @@ def test_free_end_value_is_exact_and_blind_to_the_corner():
     assert moved_free < 0.1 * moved_sum
 
 
-@pytest.mark.parametrize("point", ["corner", "far", "none"])
-def test_tilted_punch_touching_at_its_corner(point):
+@pytest.mark.parametrize("point, levels", [("corner", 6), ("far", 6), ("none", 6), ("far", 7)])
+def test_tilted_punch_touching_at_its_corner(point, levels):
     # a sharp flat punch tilted by 2 mrad touches at its right corner: the contact point given at
     # the corner, beside the other corner or found as the closest points; the region runs from the
     # corner (complete end) along the flat to where the pressure vanishes, and Johnson's tilted
     # punch (Contact Mechanics, 1985, sec. 2.8: P = pi E* eps a / 2 for a region of length 2 a,
     # K = E* eps sqrt(pi a) at the corner) is met to first order in the cell (finest 6.3e-4 m
-    # here: -2.3 % and +8.3 %; the slow validation halves the cell twice)
+    # here: -2.0 % and +7.0 %; 3.1e-4 m: -0.8 % and +3.5 %; the slow validation halves the cell
+    # twice). The point beside the other corner on 3.1e-4 m cells ended not converged when the
+    # final check read a sample at the corner itself, outside the region by round-off, as
+    # penetration (nothing of body 1 lies beyond a pinned corner)
     from _contact2d_scenes import NU, tilted_punch
 
     eps = 0.002
-    sol, c = _run(tilted_punch(6e-5, eps, levels=6, point=point))
+    sol, c = _run(tilted_punch(6e-5, eps, levels=levels, point=point))
     e_star = 1.0 / ((1 - NU**2) / 2.0e11 + (1 - NU**2) / (1000 * 2.0e11))
     a = 2.0 * c["normal_force"] / (math.pi * e_star * eps)
     assert sol.converged
