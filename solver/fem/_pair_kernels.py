@@ -72,13 +72,13 @@ def outer_pair_sums(left, right, weights, bounds, first, last, out):
 
 
 @jit
-def gather_mean_traction(traction1, traction2, order, out):
-    """out[k] = [traction1[order[k]], traction2[order[k]]] / 2 along the last axis: the mean flux
+def gather_weighted_traction(traction1, traction2, w1, w2, order, out):
+    """out[k] = [w1 traction1[order[k]], w2 traction2[order[k]]] along the last axis: the flux
     blocks (q, 3, 48) of both bodies' traction blocks (q, 3, 24) in stored order."""
     width = traction1.shape[2]
     for k in range(order.shape[0]):
         c = order[k]
         for i in range(traction1.shape[1]):
             for j in range(width):
-                out[k, i, j] = 0.5 * traction1[c, i, j]
-                out[k, i, width + j] = 0.5 * traction2[c, i, j]
+                out[k, i, j] = w1 * traction1[c, i, j]
+                out[k, i, width + j] = w2 * traction2[c, i, j]

@@ -85,16 +85,15 @@ class PairBlocks:
                                axis=1).astype(np.int64)
         shape = np.concatenate([blocks1.displacement[order, 0, ::_D], -blocks2.displacement[order, 0, ::_D]], axis=1)
         t1, t2 = (np.ascontiguousarray(b.traction, dtype=float) for b in (blocks1, blocks2))
-        if tuple(flux_weights) != (0.5, 0.5):  # the mean below of 2 w1 t1 and 2 w2 t2
-            t1, t2 = 2.0 * flux_weights[0] * t1, 2.0 * flux_weights[1] * t2
+        w1, w2 = (float(w) for w in flux_weights)
         traction = np.empty((len(order), t1.shape[1], t1.shape[2] + t2.shape[2]))
         if t1.shape == t2.shape and compiled():
-            from ._pair_kernels import gather_mean_traction
+            from ._pair_kernels import gather_weighted_traction
 
-            gather_mean_traction(t1, t2, order, traction)
+            gather_weighted_traction(t1, t2, w1, w2, order, traction)
         else:
-            traction[:] = np.concatenate([t1[order], t2[order]], axis=2)
-            traction *= 0.5
+            traction[:, :, :t1.shape[2]] = w1 * t1[order]
+            traction[:, :, t1.shape[2]:] = w2 * t2[order]
         return cls(order, np.r_[first, len(order)], nodes, shape, traction,
                    sp.vstack([map1, map2], format="csr"))
 
