@@ -156,7 +156,8 @@ def _quadratic_design(d: np.ndarray, size: float) -> np.ndarray:
 
 
 def fitted_peak(centres: np.ndarray, means: np.ndarray, areas: np.ndarray, keys: np.ndarray, size: float,
-                cell: float | None = None, maps: np.ndarray = np.eye(2)[None]) -> tuple[np.ndarray, float]:
+                cell: float | None = None, maps: np.ndarray = np.eye(2)[None],
+                place: np.ndarray | None = None) -> tuple[np.ndarray, float]:
     """(s (2,), value) of the pressure's peak from a local quadratic fit of the map: a weighted
     least-squares quadratic over the squares whose centroids lie within WINDOW_CELLS local cells
     (``cell``, the grid's cell at the peak; at least the squares' side ``size``) of the peak's
@@ -169,9 +170,9 @@ def fitted_peak(centres: np.ndarray, means: np.ndarray, areas: np.ndarray, keys:
     vertex and value exactly, and on a plateau whose squares are finer than the cells the window
     averages their scatter, where a parabola through three squares takes its vertex and value
     from it. A window too thin for a quadratic (fewer than six squares, or squares in a line)
-    gives the place and the largest mean."""
+    gives the place and the largest mean. ``place``: the peak's place where the caller has it."""
     cell = max(float(cell or size), float(size))
-    place = peak_place(centres, means, areas, keys, size, maps)
+    place = peak_place(centres, means, areas, keys, size, maps) if place is None else place
     c, v, _ = _mirrored_squares(centres, means, keys, maps)
     d = (c - place) / cell
     weight = np.clip(1.0 - np.einsum("ij,ij->i", d, d) / WINDOW_CELLS**2, 0.0, None) ** 2
@@ -336,10 +337,10 @@ def region_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
     peak = int(np.argmax(means))
     maps = mirror_images(c.ranges)
     place_s = peak_place(centres, means, areas, keys, c.h, maps)
-    cell = local_cell(c, surface_point(c.solids[0], frame, place_s[None], c.reach)[0])
-    fit_s, fit_value = fitted_peak(centres, means, areas, keys, c.h, cell, maps)
-    on1 = surface_point(c.solids[0], frame, np.stack([centres[peak], fit_s, place_s]), c.reach)[0]
-    peak_x, fit_x, place_x = on1[0], on1[1], on1[2]
+    place_x = surface_point(c.solids[0], frame, place_s[None], c.reach)[0][0]
+    cell = local_cell(c, place_x[None])
+    fit_s, fit_value = fitted_peak(centres, means, areas, keys, c.h, cell, maps, place_s)
+    peak_x, fit_x = surface_point(c.solids[0], frame, np.stack([centres[peak], fit_s]), c.reach)[0]
     half = [float(np.abs(s_edge[:, k]).max()) for k in (0, 1)]
     out.update({
         # the region's half-extents along the frame's axes from the contact point
