@@ -46,11 +46,12 @@ Tables (built once per spline in :mod:`geometry.bspline`):
 
 from __future__ import annotations
 
+import importlib
 import os
 from typing import Any
 
 _KERNELS: Any = None
-_CLOSED: Any = None
+_MODULES: dict[str, Any] = {}  # compiled_module's imports (None: not importable)
 _POOL: Any = None
 _POOL_SIZE = 0
 # a range is never shorter than this many points (the cost of handing it to a thread is
@@ -81,20 +82,24 @@ def kernels() -> dict[str, Any]:
 
 
 
+def compiled_module(name: str) -> Any:
+    """The module of compiled kernels ``name`` (relative to the geometry package, e.g.
+    ``"._closed_kernels"``), imported on first use, or None where the compiled kernels are off
+    (numba missing or ``IBFEM_NO_JIT`` set): the callers' numpy paths then."""
+    if os.environ.get("IBFEM_NO_JIT", "") not in ("", "0"):
+        return None
+    if name not in _MODULES:
+        try:
+            _MODULES[name] = importlib.import_module(name, __package__)
+        except ImportError:
+            _MODULES[name] = None
+    return _MODULES[name]
+
+
 def closed_kernel() -> Any:
     """The compiled kernel of the closed forms and the ellipse (``project_range``) and its
     module, or None where the compiled kernels are off (numba missing or ``IBFEM_NO_JIT``)."""
-    global _CLOSED
-    if os.environ.get("IBFEM_NO_JIT", "") not in ("", "0"):
-        return None
-    if _CLOSED is None:
-        try:
-            from . import _closed_kernels
-        except ImportError:
-            _CLOSED = False
-        else:
-            _CLOSED = _closed_kernels
-    return _CLOSED or None
+    return compiled_module("._closed_kernels")
 
 
 def threads() -> int:

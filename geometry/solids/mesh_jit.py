@@ -4,24 +4,12 @@ use, or None where numba is missing or ``IBFEM_NO_JIT`` is set (the numpy paths 
 
 from __future__ import annotations
 
-import os
+from .._jit import compiled_module
 
 __all__ = ["mesh_kernels"]
-
-_MESH_KERNELS = None
 
 
 def mesh_kernels():
     """The compiled tessellation kernels (:mod:`geometry.solids._mesh_kernels`), or None where
     the compiled kernels are off (numba missing or ``IBFEM_NO_JIT`` set): numpy then."""
-    global _MESH_KERNELS
-    if os.environ.get("IBFEM_NO_JIT", "") not in ("", "0"):
-        return None
-    if _MESH_KERNELS is None:
-        try:
-            from . import _mesh_kernels
-        except ImportError:
-            _MESH_KERNELS = False
-        else:
-            _MESH_KERNELS = _mesh_kernels
-    return _MESH_KERNELS or None
+    return compiled_module(".solids._mesh_kernels")
