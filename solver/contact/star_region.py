@@ -36,6 +36,7 @@ import numpy as np
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
+from .face_shape import BEND_CELLS, ROUND_OFF_BEND, face_rays, line_bend, resumed_rays
 from .graded_quadrature import leaf_size
 from .region_report import mirror_images
 from .roots import edge_search, settling_tolerance
@@ -106,14 +107,22 @@ def free_edge_distance(solid1, frame, ranges, reach: float, extent: float, scale
     (from axis 0 towards axis 1), how far from the contact point body 1's surface goes before it
     ends (a free edge; inf: beyond ``extent``; 0 outside the angular ``ranges``). The first
     missing sample of 48 along the ray, then bisection to a thousandth of ``scale``."""
-    psi = np.linspace(0.0, 2.0 * math.pi, EDGE_RAYS, endpoint=False)
+    psi, t, ok = face_rays(solid1, frame, reach, extent, EDGE_RAYS)
+    return _edge_distance(solid1, frame, reach, scale, psi, t, ok, _inside_rays(psi, ranges))
+
+
+def _inside_rays(psi: np.ndarray, ranges) -> np.ndarray:
+    """(rays,) whether each direction psi lies in body 1's angular ranges about the point."""
     inside = np.zeros(len(psi), dtype=bool)
     for t0, t1 in ranges:
         inside |= ((psi - t0) % (2.0 * math.pi) <= (t1 - t0) + 1e-12)
+    return inside
+
+
+def _edge_distance(solid1, frame, reach: float, scale: float, psi: np.ndarray, t: np.ndarray, ok: np.ndarray,
+                   inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``free_edge_distance`` from the rays' samples (``face_rays``)."""
     direction = np.stack([np.cos(psi), np.sin(psi)], axis=1)
-    t = np.linspace(0.0, extent, 49)[1:]
-    s = (t[None, :, None] * direction[:, None, :]).reshape(-1, 2)
-    ok = surface_point(solid1, frame, s, reach)[1].reshape(len(psi), len(t))
     missing = ~ok
     first = np.where(missing.any(axis=1), np.argmax(missing, axis=1), len(t))
     distance = np.full(len(psi), math.inf)
@@ -758,13 +767,64 @@ def configure_flat_contact(c: StarRegionContact) -> StarRegionContact:
     """A flat contact: the scales A = B both the size the search finds, the first edge a circle
     (rho = 1), body 1's free edges located as for a line contact (a punch's sharp corner ends the
     region there: complete contact)."""
-    c.edge_psi, distance = free_edge_distance(c.solids[0], c.frame, c.ranges, c.reach, c.extent, c.h)
+    psi, t, ok = face_rays(c.solids[0], c.frame, c.reach, c.extent, EDGE_RAYS)
+    inside = _inside_rays(psi, c.ranges)
+    _require_star_shaped(c, psi, t, ok, inside)
+    c.edge_psi, distance = _edge_distance(c.solids[0], c.frame, c.reach, c.h, psi, t, ok, inside)
     c.edge_distance = _filled_outside(distance)
     c.isotropic = True
     c.log_rho = np.zeros(len(c.knots))
     c.ratio = 1.0
     c.circular = False
     return c
+
+
+def _require_star_shaped(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, ok: np.ndarray,
+                         inside: np.ndarray) -> None:
+    """Refuse a flat contact whose face is not star-shaped about the contact point within the
+    candidate region (a ray leaves the face and enters it again: a hole, a notch), naming the
+    ray with the widest gap."""
+    resumed, leaves, returns = resumed_rays(t, ok, inside)
+    if not resumed.any():
+        return
+    k = int(np.argmax(np.where(resumed, returns - leaves, -math.inf)))
+    direction = math.cos(psi[k]) * c.frame.axes[0] + math.sin(psi[k]) * c.frame.axes[1]
+    raise ValueError(
+        f"{c.name}: body 1's flat face is not star-shaped about the contact point "
+        f"{np.round(c.frame.point, 6).tolist()}: on {int(resumed.sum())} of {int(inside.sum())} rays from it within "
+        f"the candidate region ({c.extent:.4g} m) the face ends and starts again (along "
+        f"{np.round(direction, 4).tolist()}: it ends {leaves[k]:.4g} m from the point and starts again at "
+        f"{returns[k]:.4g} m; a hole or a notch in the face). A flat contact's region is star-shaped about its "
+        "contact point (each ray from the point meets its edge once), so it cannot cover this face: a face with a "
+        "hole (a washer, a flange, a bolt head's bearing face) or an outline that does not see itself whole from "
+        "the point (an L-shaped punch) is not supported. Where the face is star-shaped about another point of it "
+        "(an L-shaped punch about a point by its inner corner), give that point; where the parts and the load are "
+        "symmetric, model a sector of both bodies (a partial revolution, `sliding` conditions on the cut faces) "
+        "narrow enough that its face is star-shaped about a point in its middle (an annulus of inner radius r_i "
+        "seen from radius r: a sector narrower than 2 arccos(r_i / r))")
+
+
+def _require_straight_line(c: StarRegionContact, length: float | None) -> None:
+    """Refuse a line contact whose line curves in the tangent plane (``face_shape.line_bend``):
+    by more than BEND_CELLS finest cells over its ``length`` (the free end's distance), or at all
+    where it has no free end within the candidate region (None: a closed line, a ring's circle)."""
+    bend = line_bend(c.solids[0], c.solids[1], c.frame, c.reach, c.extent if length is None else length, c.h)
+    if bend is None:
+        return
+    kappa, span = bend
+    sagitta = 0.5 * abs(kappa) * span**2
+    if sagitta <= (ROUND_OFF_BEND if length is None else BEND_CELLS) * c.h:
+        return
+    where = (f"and does not end within the candidate region ({c.extent:.4g} m from the point): a closed line, "
+             "such as the circle of a ring or a torus on a flat" if length is None else
+             f"by {sagitta:.3g} m ({sagitta / c.h:.2g} finest cells) from its chord between body 1's free ends "
+             f"{length:.4g} m from the point")
+    raise ValueError(
+        f"{c.name}: the line contact's line along {np.round(c.frame.axes[0], 6).tolist()} curves in the tangent "
+        f"plane (radius {1.0 / abs(kappa):.3g} m, read on the valley of the gap within {span:.4g} m of the point) "
+        f"{where}. A line contact's region is laid along the straight line through the contact point, so a curved "
+        "line is not supported; a plane-strain section across the line (model = \"plane_strain\", the load per "
+        "unit length of the line) models it where the line's radius is large against the contact's width")
 
 
 def configure_line_contact(c: StarRegionContact) -> StarRegionContact:
@@ -776,7 +836,9 @@ def configure_line_contact(c: StarRegionContact) -> StarRegionContact:
     # symmetry plane may hold the line itself): the free edge's distance along the line
     near = (np.abs(np.sin(c.edge_psi)) <= 0.1) & (distance > 0.0)
     along = distance[near] * np.abs(np.cos(c.edge_psi[near]))
-    if not len(along) or not np.isfinite(along).all():
+    ends = bool(len(along)) and bool(np.isfinite(along).all())
+    _require_straight_line(c, float(along.max()) if ends else None)
+    if not ends:
         raise ValueError(f"{c.name}: a line contact along {np.round(c.frame.axes[0], 6).tolist()} runs beyond the "
                          f"candidate region ({c.extent:.4g} m from the contact point): body 1 has no free end within "
                          "it; enlarge the contact refinement radius to cover the whole line")

@@ -1,0 +1,145 @@
+"""Body 1's contact face about the contact point, read at set-up (solver.contact.face_shape): a
+torus's ring direction is flat (its relative curvature 0, the line of its contact a circle of
+the ring's radius), a flat face with a hole or a notch is not star-shaped about a point that
+does not see it whole (the rays that leave the face and enter it again, against the circle's and
+the polygon's own geometry), and the scenes that take such faces are refused before any solve
+with what is wrong and what to do."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ibfem.geometry.solids import solid_from_dict
+from ibfem.solver.contact.ellipse_geometry import contact_frame_3d
+from ibfem.solver.contact.face_shape import face_rays, line_bend, resumed_rays
+
+SCENES = Path(__file__).resolve().parent / "scenes"
+RING, TUBE = 0.5, 0.1  # the torus's ring and tube radii
+BLOCK = {"type": "box", "min": [-0.8, -0.8, -0.3], "max": [0.8, 0.8, 0.0]}
+
+
+def _half_torus():
+    """The lower half of a torus (tube radius 0.1 about a circle of radius 0.5 at z = 0.1) closed by
+    a flat top: its bottom circle of radius 0.5 touches z = 0."""
+    return solid_from_dict({"type": "revolution", "axis_origin": [0, 0, TUBE], "axis": [0, 0, 1], "profile": {
+        "type": "profile", "edges": [
+            {"type": "line", "start": [RING - TUBE, 0], "end": [RING + TUBE, 0], "name": "flat"},
+            {"type": "arc", "center": [RING, 0], "radius": TUBE, "start_angle": 0, "end_angle": -180,
+             "name": "tube"}]}})
+
+
+@pytest.mark.parametrize("angle", [0.0, 37.0])
+def test_a_torus_ring_direction_is_flat(angle):
+    """At a point of the bottom circle the torus curves 1/0.1 across the ring and not at all along
+    it (the circle lies in the plane z = 0, its curvature vector in the tangent plane): the
+    relative curvatures on a flat are 0 and 10 1/m, the smaller along the ring."""
+    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    frame = contact_frame_3d(_half_torus(), solid_from_dict(BLOCK), np.array([RING * c, RING * s, 0.0]), 0.00625)
+    k0, k1 = frame.curvatures
+    assert abs(k0) <= 1e-6 * k1
+    assert k1 == pytest.approx(1.0 / TUBE, rel=1e-5)
+    assert abs(frame.axes[0] @ np.array([-s, c, 0.0])) == pytest.approx(1.0, abs=1e-9)
+
+
+def test_line_bend_of_a_torus_and_of_a_roller():
+    """The valley of the gap along the line: on the torus the bottom circle, whose curvature in
+    the tangent plane is 1/0.5 (read within 0.1 % over 24 mm on either side of the point); on a
+    straight roller (a full cylinder of radius 0.5 and length 0.2 on the block) straight to
+    round-off."""
+    h = 0.00625
+    block = solid_from_dict(BLOCK)
+    torus = _half_torus()
+    kappa, span = line_bend(torus, block, contact_frame_3d(torus, block, np.array([RING, 0, 0]), h), 0.012, 0.024, h)
+    assert kappa == pytest.approx(1.0 / RING, rel=1e-3) and span == pytest.approx(0.024)
+    roller = solid_from_dict({"type": "cylinder", "center": [0.1, -0.05, 0.5], "axis": [1, 1, 0], "radius": 0.5,
+                              "length": 0.2})
+    frame = contact_frame_3d(roller, block, np.array([0.1, -0.05, 0.0]), h)
+    kappa, span = line_bend(roller, block, frame, 0.05, 0.09, h)
+    assert 0.5 * abs(kappa) * span**2 <= 1e-6 * h and span == pytest.approx(0.09)
+
+
+def _flat_frame(body, point):
+    return contact_frame_3d(body, solid_from_dict(BLOCK), np.asarray(point, dtype=float), 0.01)
+
+
+def _hole_chords(point, psi, inner, outer):
+    """(enter, leave) distances along the rays psi from ``point`` through the annulus's hole (the
+    circle of radius ``inner`` about the origin; nan for rays that miss it) and the distance at
+    which each ray leaves the outer circle."""
+    d = np.stack([np.cos(psi), np.sin(psi)], axis=1)
+    b = d @ point[:2]
+    disc = b**2 - (point[:2] @ point[:2] - inner**2)
+    root = np.sqrt(np.where(disc > 0, disc, np.nan))
+    return -b - root, -b + root, -b + np.sqrt(b**2 - (point[:2] @ point[:2] - outer**2))
+
+
+def test_a_washer_face_is_not_star_shaped_about_a_point_of_it():
+    """A washer (annulus r 0.3 to 0.5) seen from a point at r = 0.4: every ray that crosses the hole
+    (for at least two samples) and comes back onto the face within the candidate region is
+    found, with where the face ends and starts again to a sample; the rays that miss the hole
+    (or come back beyond the region) are not."""
+    washer = solid_from_dict({"type": "revolution", "axis_origin": [0, 0, 0], "axis": [0, 0, 1], "profile": {
+        "type": "profile", "edges": [
+            {"type": "line", "start": [0.3, 0], "end": [0.5, 0], "name": "bottom"},
+            {"type": "line", "start": [0.5, 0], "end": [0.5, 0.1], "name": "outer"},
+            {"type": "line", "start": [0.5, 0.1], "end": [0.3, 0.1], "name": "top"},
+            {"type": "line", "start": [0.3, 0.1], "end": [0.3, 0], "name": "inner"}]}})
+    point, extent = np.array([0.4, 0.0, 0.0]), 0.5
+    frame = _flat_frame(washer, point)
+    psi, t, ok = face_rays(washer, frame, 0.25, extent, 360)
+    resumed, leaves, returns = resumed_rays(t, ok, np.ones(len(psi), dtype=bool))
+    in_plane = np.cos(psi)[:, None] * frame.axes[0][:2] + np.sin(psi)[:, None] * frame.axes[1][:2]
+    enter, leave, out = _hole_chords(point, np.arctan2(in_plane[:, 1], in_plane[:, 0]), 0.3, 0.5)
+    dt = t[1] - t[0]
+    ahead = enter > 0.0  # the hole in front of the point (nan: the ray misses it)
+    clear = ahead & (leave - enter > 2 * dt) & (leave < np.minimum(extent, out) - 2 * dt)
+    assert clear.sum() >= 20
+    assert resumed[clear].all()
+    assert not resumed[~ahead | (leave > extent + dt)].any()
+    np.testing.assert_array_less(np.abs(leaves[clear] - enter[clear]), dt + 1e-12)
+    np.testing.assert_array_less(np.abs(returns[clear] - leave[clear]), dt + 1e-12)
+
+
+def _l_punch():
+    """An L-shaped punch 0.1 high on z = 0: the square [0, 0.4]^2 less [0.2, 0.4]^2."""
+    edges = [[0, 0], [0.4, 0], [0.4, 0.2], [0.2, 0.2], [0.2, 0.4], [0, 0.4]]
+    return solid_from_dict({"type": "extrusion", "z0": 0.0, "height": 0.1, "profile": {"type": "profile", "edges": [
+        {"type": "line", "start": edges[k], "end": edges[(k + 1) % 6], "name": f"side{k}"} for k in range(6)]}})
+
+
+@pytest.mark.parametrize("point, star", [([0.35, 0.05, 0.0], False), ([0.18, 0.18, 0.0], True)])
+def test_an_l_shaped_face_from_a_leg_and_from_its_corner(point, star):
+    """From the end of a leg the other leg lies behind the notch (rays leave the face at the notch
+    and enter it again); from a point by the inner corner every point of the L is in sight."""
+    punch = _l_punch()
+    frame = _flat_frame(punch, point)
+    psi, t, ok = face_rays(punch, frame, 0.05, 0.6, 360)
+    resumed = resumed_rays(t, ok, np.ones(len(psi), dtype=bool))[0]
+    assert resumed.any() != star
+
+
+def _run(scene: Path, out: Path):
+    return subprocess.run([sys.executable, "-m", "ibfem", "run", str(scene), "--out", str(out), "--quiet",
+                           "--no-estimate"], capture_output=True, text=True)
+
+
+def test_a_washer_on_a_block_is_refused_at_set_up(tmp_path):
+    r = _run(SCENES / "washer_on_block.toml", tmp_path)
+    assert r.returncode != 0
+    assert "contact washer/block" in r.stderr and "not star-shaped about the contact point" in r.stderr
+    assert "sector" in r.stderr and "sliding" in r.stderr  # what to do
+    assert "Traceback" not in r.stderr and not (tmp_path / "summary.json").exists()
+
+
+def test_a_half_torus_on_a_block_is_refused_at_set_up(tmp_path):
+    r = _run(SCENES / "torus_on_block.toml", tmp_path)
+    assert r.returncode != 0
+    assert "contact ring/block" in r.stderr and "curves in the tangent plane (radius 0.5 m" in r.stderr
+    assert "closed line" in r.stderr and "plane_strain" in r.stderr
+    assert "conforming" not in r.stderr and "Traceback" not in r.stderr
