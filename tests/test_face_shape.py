@@ -17,7 +17,7 @@ import pytest
 
 from ibfem.geometry.solids import solid_from_dict
 from ibfem.solver.contact.ellipse_geometry import contact_frame_3d
-from ibfem.solver.contact.face_shape import face_rays, line_bend, resumed_rays
+from ibfem.solver.contact.face_shape import face_rays, line_bend, on_face, resumed_rays
 
 SCENES = Path(__file__).resolve().parent / "scenes"
 RING, TUBE = 0.5, 0.1  # the torus's ring and tube radii
@@ -92,7 +92,7 @@ def test_a_washer_face_is_not_star_shaped_about_a_point_of_it():
             {"type": "line", "start": [0.3, 0.1], "end": [0.3, 0], "name": "inner"}]}})
     point, extent = np.array([0.4, 0.0, 0.0]), 0.5
     frame = _flat_frame(washer, point)
-    psi, t, ok = face_rays(washer, frame, 0.25, extent, 360)
+    psi, t, ok, _ = face_rays(washer, frame, 0.25, extent, 360)
     resumed, leaves, returns = resumed_rays(t, ok, np.ones(len(psi), dtype=bool))
     in_plane = np.cos(psi)[:, None] * frame.axes[0][:2] + np.sin(psi)[:, None] * frame.axes[1][:2]
     enter, leave, out = _hole_chords(point, np.arctan2(in_plane[:, 1], in_plane[:, 0]), 0.3, 0.5)
@@ -119,7 +119,7 @@ def test_an_l_shaped_face_from_a_leg_and_from_its_corner(point, star):
     and enter it again); from a point by the inner corner every point of the L is in sight."""
     punch = _l_punch()
     frame = _flat_frame(punch, point)
-    psi, t, ok = face_rays(punch, frame, 0.05, 0.6, 360)
+    psi, t, ok, _ = face_rays(punch, frame, 0.05, 0.6, 360)
     resumed = resumed_rays(t, ok, np.ones(len(psi), dtype=bool))[0]
     assert resumed.any() != star
 
@@ -143,3 +143,30 @@ def test_a_half_torus_on_a_block_is_refused_at_set_up(tmp_path):
     assert "contact ring/block" in r.stderr and "curves in the tangent plane (radius 0.5 m" in r.stderr
     assert "closed line" in r.stderr and "plane_strain" in r.stderr
     assert "conforming" not in r.stderr and "Traceback" not in r.stderr
+
+
+def test_a_blind_hole_is_off_the_face():
+    """A round punch (radius 0.5) with a blind hole (radius 0.1, 0.05 deep) in its face, seen from
+    r = 0.3: the hole's floor is body 1's surface within the reach, so every ray has surface all
+    the way, but the floor lies 0.05 above the face: the rays across the hole leave the face and
+    come back (as many as cross the hole's circle in front of the point for two samples), the
+    others do not; without the hole all rays stay on the face."""
+    def punch(hole: bool):
+        edges = ([[0, 0.05], [0.1, 0.05], [0.1, 0]] if hole else [[0, 0]]) + [[0.5, 0], [0.5, 0.3], [0, 0.3]]
+        return solid_from_dict({"type": "revolution", "axis_origin": [0, 0, 0], "axis": [0, 0, 1], "profile": {
+            "type": "profile", "edges": [{"type": "line", "start": edges[k], "end": edges[(k + 1) % len(edges)],
+                                          "name": f"e{k}"} for k in range(len(edges))]}})
+    point, extent, h = np.array([0.3, 0.0, 0.0]), 0.5, 0.01
+    counts = []
+    for hole in (True, False):
+        body = punch(hole)
+        frame = _flat_frame(body, point)
+        psi, t, ok, height = face_rays(body, frame, 0.25, extent, 360)
+        assert ok[:, :8].all()  # surface on every ray near the point, the hole's floor included
+        counts.append(resumed_rays(t, on_face(ok, height, h), np.ones(len(psi), dtype=bool))[0])
+        if hole:  # the frame's axes are not the same for both punches (a flat contact's axes are free)
+            in_plane = np.cos(psi)[:, None] * frame.axes[0][:2] + np.sin(psi)[:, None] * frame.axes[1][:2]
+            enter, leave, out = _hole_chords(point, np.arctan2(in_plane[:, 1], in_plane[:, 0]), 0.1, 0.5)
+    dt = t[1] - t[0]
+    assert counts[0][(enter > 0) & (leave - enter > 2 * dt)].all()
+    assert not counts[0][~(enter > 0)].any() and not counts[1].any()

@@ -7,8 +7,10 @@ region ends where the ray first leaves body 1's face (a free edge). Two faces br
 
 - a flat face that is **not star-shaped about the point**: a ray leaves the face and enters it
   again within the candidate region (a washer's annulus or any face with a hole, seen across
-  the hole; a non-convex outline such as an L-shaped punch, seen across its notch). Read on the
-  rays' samples: a sample with surface after one without (``resumed_rays``);
+  the hole; a non-convex outline such as an L-shaped punch, seen across its notch; a blind hole
+  or a groove, whose floor lies above the face). Read on the rays' samples: a sample on the face
+  after one off it (``on_face``: body 1's surface within RECESS_CELLS of the tangent plane;
+  ``resumed_rays``);
 - a line contact whose **line curves** (a ring or a torus on a flat: its touching line is a
   circle, which closes on itself): the coordinates of the region run along a straight line
   through the point. Read from the valley of the gap: at stations t along axis 0, the offset
@@ -27,10 +29,14 @@ import numpy as np
 
 from .ellipse_geometry import surface_point
 
-__all__ = ["face_rays", "resumed_rays", "line_bend", "STATIONS", "BEND_CELLS", "ROUND_OFF_BEND"]
+__all__ = ["face_rays", "on_face", "resumed_rays", "line_bend", "RECESS_CELLS", "STATIONS", "BEND_CELLS", "ROUND_OFF_BEND"]
 
 #: samples along each ray of the candidate region (the first is at 1/SAMPLES of its radius)
 SAMPLES = 48
+#: a flat face's sample whose surface lies more than this many finest cells from the tangent
+#: plane is off the face (a recess: a blind hole's floor, a groove); a fillet or a chamfer rises
+#: away from the face once and never comes back, a recess does
+RECESS_CELLS = 0.05
 #: Newton steps of the valley's offset at a station
 VALLEY_STEPS = 6
 #: stations along a line contact's line on either side of the point where its valley is read
@@ -45,17 +51,27 @@ BEND_CELLS = 0.25
 ROUND_OFF_BEND = 1e-6
 
 
-def face_rays(solid1, frame, reach: float, extent: float, rays: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(psi (rays,), t (SAMPLES,), ok (rays, SAMPLES)): the directions psi of the tangent plane
-    (from axis 0 towards axis 1), the distances t of the samples along each ray (up to
-    ``extent``), and whether body 1 has surface above each sample (within ``reach`` along the
-    normal)."""
+def face_rays(solid1, frame, reach: float, extent: float,
+              rays: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(psi (rays,), t (SAMPLES,), ok (rays, SAMPLES), height (rays, SAMPLES)): the directions
+    psi of the tangent plane (from axis 0 towards axis 1), the distances t of the samples along
+    each ray (up to ``extent``), whether body 1 has surface above each sample (within ``reach``
+    along the normal), and that surface's height above the tangent plane (along the normal, into
+    body 1; inf where there is none)."""
     psi = np.linspace(0.0, 2.0 * math.pi, rays, endpoint=False)
     direction = np.stack([np.cos(psi), np.sin(psi)], axis=1)
     t = np.linspace(0.0, extent, SAMPLES + 1)[1:]
     s = (t[None, :, None] * direction[:, None, :]).reshape(-1, 2)
-    ok = surface_point(solid1, frame, s, reach)[1].reshape(len(psi), len(t))
-    return psi, t, ok
+    x1, ok = surface_point(solid1, frame, s, reach)
+    height = np.where(ok, (x1 - frame.point) @ frame.normal, math.inf)
+    return psi, t, ok.reshape(len(psi), len(t)), height.reshape(len(psi), len(t))
+
+
+def on_face(ok: np.ndarray, height: np.ndarray, h: float) -> np.ndarray:
+    """Where the samples lie on the flat face itself: body 1 has surface there within
+    RECESS_CELLS finest cells ``h`` of the tangent plane (a pocket's floor or a groove's bottom
+    further up is not the face)."""
+    return ok & (np.abs(height) <= RECESS_CELLS * h)
 
 
 def resumed_rays(t: np.ndarray, ok: np.ndarray, inside: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -36,7 +36,7 @@ import numpy as np
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
-from .face_shape import BEND_CELLS, ROUND_OFF_BEND, face_rays, line_bend, resumed_rays
+from .face_shape import BEND_CELLS, ROUND_OFF_BEND, face_rays, line_bend, on_face, resumed_rays
 from .graded_quadrature import leaf_size
 from .region_report import mirror_images
 from .roots import edge_search, settling_tolerance
@@ -107,7 +107,7 @@ def free_edge_distance(solid1, frame, ranges, reach: float, extent: float, scale
     (from axis 0 towards axis 1), how far from the contact point body 1's surface goes before it
     ends (a free edge; inf: beyond ``extent``; 0 outside the angular ``ranges``). The first
     missing sample of 48 along the ray, then bisection to a thousandth of ``scale``."""
-    psi, t, ok = face_rays(solid1, frame, reach, extent, EDGE_RAYS)
+    psi, t, ok, _ = face_rays(solid1, frame, reach, extent, EDGE_RAYS)
     return _edge_distance(solid1, frame, reach, scale, psi, t, ok, _inside_rays(psi, ranges))
 
 
@@ -767,9 +767,9 @@ def configure_flat_contact(c: StarRegionContact) -> StarRegionContact:
     """A flat contact: the scales A = B both the size the search finds, the first edge a circle
     (rho = 1), body 1's free edges located as for a line contact (a punch's sharp corner ends the
     region there: complete contact)."""
-    psi, t, ok = face_rays(c.solids[0], c.frame, c.reach, c.extent, EDGE_RAYS)
+    psi, t, ok, height = face_rays(c.solids[0], c.frame, c.reach, c.extent, EDGE_RAYS)
     inside = _inside_rays(psi, c.ranges)
-    _require_star_shaped(c, psi, t, ok, inside)
+    _require_star_shaped(c, psi, t, on_face(ok, height, c.h), inside)
     c.edge_psi, distance = _edge_distance(c.solids[0], c.frame, c.reach, c.h, psi, t, ok, inside)
     c.edge_distance = _filled_outside(distance)
     c.isotropic = True
@@ -779,12 +779,12 @@ def configure_flat_contact(c: StarRegionContact) -> StarRegionContact:
     return c
 
 
-def _require_star_shaped(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, ok: np.ndarray,
+def _require_star_shaped(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, face: np.ndarray,
                          inside: np.ndarray) -> None:
-    """Refuse a flat contact whose face is not star-shaped about the contact point within the
-    candidate region (a ray leaves the face and enters it again: a hole, a notch), naming the
-    ray with the widest gap."""
-    resumed, leaves, returns = resumed_rays(t, ok, inside)
+    """Refuse a flat contact whose face (``face``: the rays' samples on it, ``on_face``) is not
+    star-shaped about the contact point within the candidate region (a ray leaves the face and
+    enters it again: a hole, a notch, a recess), naming the ray with the widest gap."""
+    resumed, leaves, returns = resumed_rays(t, face, inside)
     if not resumed.any():
         return
     k = int(np.argmax(np.where(resumed, returns - leaves, -math.inf)))
@@ -794,7 +794,7 @@ def _require_star_shaped(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, o
         f"{np.round(c.frame.point, 6).tolist()}: on {int(resumed.sum())} of {int(inside.sum())} rays from it within "
         f"the candidate region ({c.extent:.4g} m) the face ends and starts again (along "
         f"{np.round(direction, 4).tolist()}: it ends {leaves[k]:.4g} m from the point and starts again at "
-        f"{returns[k]:.4g} m; a hole or a notch in the face). A flat contact's region is star-shaped about its "
+        f"{returns[k]:.4g} m; a hole, a notch or a recess in the face). A flat contact's region is star-shaped about its "
         "contact point (each ray from the point meets its edge once), so it cannot cover this face: a face with a "
         "hole (a washer, a flange, a bolt head's bearing face) or an outline that does not see itself whole from "
         "the point (an L-shaped punch) is not supported. Where the face is star-shaped about another point of it "
