@@ -11,6 +11,7 @@ import math
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ import pytest
 from ibfem.geometry.solids import solid_from_dict
 from ibfem.solver.contact.ellipse_geometry import contact_frame_3d
 from ibfem.solver.contact.face_shape import face_rays, line_bend, on_face, resumed_rays
+from ibfem.solver.contact.star_region import _whole_face
 
 SCENES = Path(__file__).resolve().parent / "scenes"
 RING, TUBE = 0.5, 0.1  # the torus's ring and tube radii
@@ -79,17 +81,22 @@ def _hole_chords(point, psi, inner, outer):
     return -b - root, -b + root, -b + np.sqrt(b**2 - (point[:2] @ point[:2] - outer**2))
 
 
-def test_a_washer_face_is_not_star_shaped_about_a_point_of_it():
-    """A washer (annulus r 0.3 to 0.5) seen from a point at r = 0.4: every ray that crosses the hole
-    (for at least two samples) and comes back onto the face within the candidate region is
-    found, with where the face ends and starts again to a sample; the rays that miss the hole
-    (or come back beyond the region) are not."""
-    washer = solid_from_dict({"type": "revolution", "axis_origin": [0, 0, 0], "axis": [0, 0, 1], "profile": {
+def _washer():
+    """A washer on z = 0: the revolution of the rectangle r 0.3 to 0.5, z 0 to 0.1."""
+    return solid_from_dict({"type": "revolution", "axis_origin": [0, 0, 0], "axis": [0, 0, 1], "profile": {
         "type": "profile", "edges": [
             {"type": "line", "start": [0.3, 0], "end": [0.5, 0], "name": "bottom"},
             {"type": "line", "start": [0.5, 0], "end": [0.5, 0.1], "name": "outer"},
             {"type": "line", "start": [0.5, 0.1], "end": [0.3, 0.1], "name": "top"},
             {"type": "line", "start": [0.3, 0.1], "end": [0.3, 0], "name": "inner"}]}})
+
+
+def test_a_washer_face_is_not_star_shaped_about_a_point_of_it():
+    """A washer (annulus r 0.3 to 0.5) seen from a point at r = 0.4: every ray that crosses the hole
+    (for at least two samples) and comes back onto the face within the candidate region is
+    found, with where the face ends and starts again to a sample; the rays that miss the hole
+    (or come back beyond the region) are not."""
+    washer = _washer()
     point, extent = np.array([0.4, 0.0, 0.0]), 0.5
     frame = _flat_frame(washer, point)
     psi, t, ok, _ = face_rays(washer, frame, 0.25, extent, 360)
@@ -170,3 +177,41 @@ def test_a_blind_hole_is_off_the_face():
     dt = t[1] - t[0]
     assert counts[0][(enter > 0) & (leave - enter > 2 * dt)].all()
     assert not counts[0][~(enter > 0)].any() and not counts[1].any()
+
+
+@pytest.mark.parametrize("extent, held", [(0.95, True), (0.5, False)])
+def test_a_washer_face_is_taken_whole_only_where_the_candidate_region_holds_it(extent, held):
+    """From r = 0.4 the washer's face reaches 0.9 m away: a candidate region of 0.95 m holds it
+    whole, and its samples (the face to be held by the region) are exactly the samples within the
+    annulus; one of 0.5 m does not, and the contact is refused saying so."""
+    washer = _washer()
+    frame = _flat_frame(washer, [0.4, 0.0, 0.0])
+    psi, t, ok, height = face_rays(washer, frame, 0.25, extent, 360)
+    inside = np.ones(len(psi), dtype=bool)
+    c = SimpleNamespace(name="contact washer/block", frame=frame, extent=extent,
+                        options=SimpleNamespace(extent_fraction=0.8))
+    if not held:
+        with pytest.raises(ValueError, match="holds the whole face"):
+            _whole_face(c, psi, t, ok, on_face(ok, height, 0.01), inside)
+        return
+    s = _whole_face(c, psi, t, ok, on_face(ok, height, 0.01), inside)
+    r = np.hypot(*(frame.point[:2] + s @ frame.axes[:, :2]).T)
+    assert len(s) > 1000 and ((r > 0.3 - 1e-9) & (r < 0.5 + 1e-9)).all()
+    direction = np.stack([np.cos(psi), np.sin(psi)], axis=1)
+    every = (t[None, :, None] * direction[:, None, :]).reshape(-1, 2)
+    rr = np.hypot(*(frame.point[:2] + every @ frame.axes[:, :2]).T)
+    assert len(s) == int(((rr > 0.3 + 1e-6) & (rr < 0.5 - 1e-6)).sum() + ((np.abs(rr - 0.3) <= 1e-6) | (np.abs(rr - 0.5) <= 1e-6)).sum())
+
+
+def test_a_recess_is_not_taken_whole():
+    """The punch with a blind hole seen from r = 0.3, its whole face within the candidate region:
+    the hole's floor would lie in the region's quadrature, so the contact is refused."""
+    edges = [[0, 0.05], [0.1, 0.05], [0.1, 0], [0.5, 0], [0.5, 0.3], [0, 0.3]]
+    body = solid_from_dict({"type": "revolution", "axis_origin": [0, 0, 0], "axis": [0, 0, 1], "profile": {
+        "type": "profile", "edges": [{"type": "line", "start": edges[k], "end": edges[(k + 1) % 6], "name": f"e{k}"}
+                                     for k in range(6)]}})
+    frame = _flat_frame(body, [0.3, 0.0, 0.0])
+    psi, t, ok, height = face_rays(body, frame, 0.25, 0.9, 360)
+    c = SimpleNamespace(name="contact punch/block", frame=frame, extent=0.9, options=None)
+    with pytest.raises(ValueError, match="a recess in the face"):
+        _whole_face(c, psi, t, ok, on_face(ok, height, 0.01), np.ones(len(psi), dtype=bool))

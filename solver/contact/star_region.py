@@ -151,6 +151,11 @@ class StarRegionContact(EllipseContact):
     log_rho: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS))
     edge_psi: np.ndarray = field(default_factory=lambda: np.zeros(0))
     edge_distance: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: a flat face that is not star-shaped about the contact point (a washer's annulus) taken
+    #: whole in complete contact: its points on the rays' samples (m, 2), which the region must
+    #: hold (``whole_face_uncovered``); None for every other contact
+    whole_face: np.ndarray | None = None
+    face_spacing: float = 0.0  # the whole face's samples' spacing along the rays
     _knot_history: list = field(default_factory=list)  # (log_rho, moments less their mean) per shape update
     # per knot: the first entry of _knot_history measured with its present reading (its secant's start)
     _knot_since: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=int))
@@ -272,9 +277,20 @@ class StarRegionContact(EllipseContact):
         return max(a * load_ratio ** (1.0 / 3.0 if self.isotropic else 0.5), 2.0 * self.h)
 
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
+        if self.whole_face is not None:
+            return self._holding_search()
         a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / float(np.exp(self.log_rho.max()))
         tol = settling_tolerance(self.options, self.h, final)
         return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
+
+    def _holding_search(self):
+        """The size search of a whole face in complete contact: the one size whose region (about
+        its present centre) holds every sample of the face, with one sample's spacing to spare
+        (the face's edge lies between its last sample and the next; beyond it body 1 has no
+        surface and the quadrature drops its points)."""
+        a = float(self.polar(self.whole_face, 1.0)[0].max()) + self.face_spacing
+        yield a
+        return a, (a, a)
 
     def region_too_small(self) -> ValueError:
         where = "" if self.isotropic else " across the line"
@@ -319,6 +335,8 @@ class StarRegionContact(EllipseContact):
         total = wp.sum(axis=0)
         # free: the knot's ray ends at body 1's free edge (outside body 1's sectors: no edge at all)
         self.free_knots = (self.end_radius(self.knots, a) < 1.0) | ~knots_inside(self.knots, self.ranges)
+        if self.whole_face is not None:  # complete contact all round: no edge condition anywhere
+            self.free_knots = np.ones(len(self.knots), dtype=bool)
         reach = self.ray_length(phi, a) * np.minimum(1.0, self.end_radius(phi, a))
         moment = np.where(self.free_knots, (wp * _edge_weight(to_end, reach, self.h)[:, None]).sum(axis=0),
                           (wp * _edge_weight(r, reach, self.h)[:, None]).sum(axis=0))
@@ -409,6 +427,8 @@ class StarRegionContact(EllipseContact):
         if info is None or a <= 0.0:
             return stuck
         m = self._moments(info, x, a)
+        if self.whole_face is not None:  # a whole face: its region's shape is the face's own
+            return stuck
         inside = knots_inside(self.knots, self.ranges)
         tense = inside & (m == -math.inf)
         if tense.any():  # a stretch of the edge in net tension: the region is too large there
@@ -417,7 +437,7 @@ class StarRegionContact(EllipseContact):
             self._restart_secants()
             self._classify(a)
             return False
-        retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
+        retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT) & (self.whole_face is None)
         if retreat.any():  # the pressure ends before the free edge there: a smooth edge, just inside it
             self.log_rho[retreat] += np.log(0.97 * self.end_radius(self.knots[retreat], a))
             self._mirror_outside()
@@ -619,7 +639,20 @@ class StarRegionContact(EllipseContact):
             messages.append(f"{self.name}: the region's shape did not settle (its knots' edge moments differ from "
                             f"their mean by up to {spread:.3g})")
         block["checks"]["knot_moments"] = [None if not np.isfinite(v) else float(v) for v in m]
+        if self.whole_face is not None:
+            outside = self.whole_face_uncovered(a)
+            block["checks"]["face_samples_outside_region"] = int(len(outside))
+            if len(outside):
+                far = outside[np.argmax(np.hypot(outside[:, 0], outside[:, 1]))]
+                messages.append(f"{self.name}: the region does not hold the whole face, which is not star-shaped about "
+                                f"the contact point ({len(outside)} of its samples outside the region, the farthest "
+                                f"{float(np.hypot(*far)):.4g} m from the point): such a face is taken whole in "
+                                "complete contact only; a partial contact on it is not supported")
         return messages
+
+    def whole_face_uncovered(self, a: float) -> np.ndarray:
+        """(m, 2) the whole face's samples (``whole_face``) outside the region r <= 1."""
+        return self.whole_face[self.polar(self.whole_face, a)[0] > 1.0]
 
     def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         from .region_report import region_block
@@ -769,7 +802,9 @@ def configure_flat_contact(c: StarRegionContact) -> StarRegionContact:
     region there: complete contact)."""
     psi, t, ok, height = face_rays(c.solids[0], c.frame, c.reach, c.extent, EDGE_RAYS)
     inside = _inside_rays(psi, c.ranges)
-    _require_star_shaped(c, psi, t, on_face(ok, height, c.h), inside)
+    face = on_face(ok, height, c.h)
+    if resumed_rays(t, face, inside)[0].any():
+        c.whole_face, c.face_spacing = _whole_face(c, psi, t, ok, face, inside), float(t[1] - t[0])
     c.edge_psi, distance = _edge_distance(c.solids[0], c.frame, c.reach, c.h, psi, t, ok, inside)
     c.edge_distance = _filled_outside(distance)
     c.isotropic = True
@@ -779,25 +814,36 @@ def configure_flat_contact(c: StarRegionContact) -> StarRegionContact:
     return c
 
 
-def _require_star_shaped(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, face: np.ndarray,
-                         inside: np.ndarray) -> None:
-    """Refuse a flat contact whose face (``face``: the rays' samples on it, ``on_face``) is not
-    star-shaped about the contact point within the candidate region (a ray leaves the face and
-    enters it again: a hole, a notch, a recess), naming the ray with the widest gap."""
+def _whole_face(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, ok: np.ndarray, face: np.ndarray,
+                inside: np.ndarray) -> np.ndarray:
+    """The samples (m, 2) of a flat face that is not star-shaped about the contact point (a ray
+    leaves the face and enters it again: a hole, a notch), to be taken whole in complete contact:
+    only where the candidate region holds the whole face (no ray still on the face at its last
+    sample) and every gap in it is open (no surface there: a recess's floor would be in the
+    region's quadrature). Refused otherwise, naming the ray with the widest gap."""
     resumed, leaves, returns = resumed_rays(t, face, inside)
-    if not resumed.any():
-        return
+    last = np.where(face.any(axis=1), face.shape[1] - 1 - np.argmax(face[:, ::-1], axis=1), -1)
+    before_last = np.arange(face.shape[1])[None, :] < last[:, None]
+    recess = inside & (ok & ~face & before_last).any(axis=1)
+    held = not (face[:, -1] & inside).any()
+    if held and not recess.any():
+        direction = np.stack([np.cos(psi), np.sin(psi)], axis=1)
+        return (t[None, :, None] * direction[:, None, :])[face & inside[:, None]]
     k = int(np.argmax(np.where(resumed, returns - leaves, -math.inf)))
     direction = math.cos(psi[k]) * c.frame.axes[0] + math.sin(psi[k]) * c.frame.axes[1]
+    share = getattr(getattr(c, "options", None), "extent_fraction", None)
+    within = f" ({share:g} of that radius about the point)" if share else ""
+    why = ("the face goes on beyond the candidate region: enlarge the contact refinement radius until the candidate "
+           f"region{within} holds the whole face" if not held else "a recess in the face (surface above it within a gap: a blind hole, a groove)")
     raise ValueError(
         f"{c.name}: body 1's flat face is not star-shaped about the contact point "
         f"{np.round(c.frame.point, 6).tolist()}: on {int(resumed.sum())} of {int(inside.sum())} rays from it within "
         f"the candidate region ({c.extent:.4g} m) the face ends and starts again (along "
         f"{np.round(direction, 4).tolist()}: it ends {leaves[k]:.4g} m from the point and starts again at "
         f"{returns[k]:.4g} m; a hole, a notch or a recess in the face). A flat contact's region is star-shaped about its "
-        "contact point (each ray from the point meets its edge once), so it cannot cover this face: a face with a "
-        "hole (a washer, a flange, a bolt head's bearing face) or an outline that does not see itself whole from "
-        "the point (an L-shaped punch) is not supported. Where the face is star-shaped about another point of it "
+        "centre (each ray from it meets its edge once); such a face is taken only whole, in complete contact, "
+        f"where the candidate region holds all of it and its gaps are open holes. Not so here: {why}. "
+        "Where the face is star-shaped about another point of it "
         "(an L-shaped punch about a point by its inner corner), give that point; where the parts and the load are "
         "symmetric, model a sector of both bodies (a partial revolution, `sliding` conditions on the cut faces) "
         "narrow enough that its face is star-shaped about a point in its middle (an annulus of inner radius r_i "
