@@ -156,6 +156,8 @@ class StarRegionContact(EllipseContact):
     #: hold (``whole_face_uncovered``); None for every other contact
     whole_face: np.ndarray | None = None
     face_spacing: float = 0.0  # the whole face's samples' spacing along the rays
+    #: (m, 2) the whole face's samples next to its edges (a sample on the face beside one off it)
+    face_edges: np.ndarray | None = None
     _knot_history: list = field(default_factory=list)  # (log_rho, moments less their mean) per shape update
     # per knot: the first entry of _knot_history measured with its present reading (its secant's start)
     _knot_since: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=int))
@@ -657,7 +659,25 @@ class StarRegionContact(EllipseContact):
     def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         from .region_report import region_block
 
-        return region_block(self, a, on2, u, info)
+        block = region_block(self, a, on2, u, info)
+        if self.whole_face is not None:
+            self._whole_face_report(block)
+        return block
+
+    def _whole_face_report(self, block: dict) -> None:
+        """A whole face's region in the summary: its boundary the face's own edges (its samples
+        beside a gap or its outline, to a sample's spacing; all free edges), its half-extents
+        along the frame's axes from the contact point and its spans along the principal
+        directions read off them (the region's circle about its centre, which the report draws
+        otherwise, reaches beyond the face)."""
+        x, ok = surface_point(self.solids[0], self.frame, self.face_edges, self.reach)
+        edges = self.face_edges[ok]
+        half = [float(np.abs(edges[:, k]).max()) for k in (0, 1)]
+        directions = np.asarray(block["principal_directions"]) @ self.frame.axes.T
+        span = edges @ directions.T
+        block.update({"boundary": {"points": x[ok].tolist(), "free_edge": [True] * int(ok.sum())},
+                      "semi_axes": half, "cells_per_semi_axis": [v / self.h for v in half],
+                      "extents": (span.max(axis=0) - span.min(axis=0)).tolist(), "complete_contact": True})
 
 
 def _edge_weight(r: np.ndarray, reach: np.ndarray, h: float) -> np.ndarray:
@@ -828,7 +848,12 @@ def _whole_face(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, ok: np.nda
     held = not (face[:, -1] & inside).any()
     if held and not recess.any():
         direction = np.stack([np.cos(psi), np.sin(psi)], axis=1)
-        return (t[None, :, None] * direction[:, None, :])[face & inside[:, None]]
+        s = t[None, :, None] * direction[:, None, :]
+        beside = np.zeros(face.shape, dtype=bool)
+        beside[:, 1:] |= face[:, 1:] & ~face[:, :-1]
+        beside[:, :-1] |= face[:, :-1] & ~face[:, 1:]
+        c.face_edges = s[beside & inside[:, None]]
+        return s[face & inside[:, None]]
     k = int(np.argmax(np.where(resumed, returns - leaves, -math.inf)))
     direction = math.cos(psi[k]) * c.frame.axes[0] + math.sin(psi[k]) * c.frame.axes[1]
     share = getattr(getattr(c, "options", None), "extent_fraction", None)
