@@ -29,7 +29,8 @@ import numpy as np
 
 from .ellipse_geometry import surface_point
 
-__all__ = ["face_rays", "on_face", "resumed_rays", "line_bend", "RECESS_CELLS", "STATIONS", "BEND_CELLS", "ROUND_OFF_BEND"]
+__all__ = ["face_rays", "on_face", "resumed_rays", "line_bend", "RECESS_CELLS", "STATIONS", "BEND_CELLS",
+           "ROUND_OFF_BEND"]
 
 #: samples along each ray of the candidate region (the first is at 1/SAMPLES of its radius)
 SAMPLES = 48

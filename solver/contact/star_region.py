@@ -24,6 +24,12 @@ contact's knots are spread along its edge, at most SPREAD_CELLS finest cells apa
 iteration goes on (``spread_knots``). A knot whose ray leaves body 1's
 surface before its edge (the region reaches body 1's free edge there) has no edge condition: the
 contact is complete there (the pressure is singular at a sharp edge), and it is reported as such.
+
+A flat face that is not star-shaped about the contact point (a washer's annulus, an L-shaped
+punch seen from a leg: solver.contact.face_shape) is taken whole, in complete contact, where the
+candidate region holds all of it and its gaps are open holes: the region is the circle about its
+centre that holds every sample of the face (``whole_face``), with no edge condition; a partial
+contact on such a face is not supported, and other such faces are refused at set-up.
 """
 
 from __future__ import annotations
@@ -439,7 +445,7 @@ class StarRegionContact(EllipseContact):
             self._restart_secants()
             self._classify(a)
             return False
-        retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT) & (self.whole_face is None)
+        retreat = self.free_knots & inside & np.isfinite(m) & (m < -END_MOMENT)
         if retreat.any():  # the pressure ends before the free edge there: a smooth edge, just inside it
             self.log_rho[retreat] += np.log(0.97 * self.end_radius(self.knots[retreat], a))
             self._mirror_outside()
@@ -858,15 +864,16 @@ def _whole_face(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, ok: np.nda
     direction = math.cos(psi[k]) * c.frame.axes[0] + math.sin(psi[k]) * c.frame.axes[1]
     share = getattr(getattr(c, "options", None), "extent_fraction", None)
     within = f" ({share:g} of that radius about the point)" if share else ""
-    why = ("the face goes on beyond the candidate region: enlarge the contact refinement radius until the candidate "
-           f"region{within} holds the whole face" if not held else "a recess in the face (surface above it within a gap: a blind hole, a groove)")
+    why = (f"the face goes on beyond the candidate region: enlarge the contact refinement radius until the "
+           f"candidate region{within} holds the whole face" if not held else
+           "a recess in the face (surface above it within a gap: a blind hole, a groove)")
     raise ValueError(
         f"{c.name}: body 1's flat face is not star-shaped about the contact point "
         f"{np.round(c.frame.point, 6).tolist()}: on {int(resumed.sum())} of {int(inside.sum())} rays from it within "
         f"the candidate region ({c.extent:.4g} m) the face ends and starts again (along "
         f"{np.round(direction, 4).tolist()}: it ends {leaves[k]:.4g} m from the point and starts again at "
-        f"{returns[k]:.4g} m; a hole, a notch or a recess in the face). A flat contact's region is star-shaped about its "
-        "centre (each ray from it meets its edge once); such a face is taken only whole, in complete contact, "
+        f"{returns[k]:.4g} m; a hole, a notch or a recess in the face). A flat contact's region is star-shaped "
+        "about its centre (each ray from it meets its edge once); such a face is taken only whole, in complete contact, "
         f"where the candidate region holds all of it and its gaps are open holes. Not so here: {why}. "
         "Where the face is star-shaped about another point of it "
         "(an L-shaped punch about a point by its inner corner), give that point; where the parts and the load are "
