@@ -141,6 +141,8 @@ def test_a_washer_on_a_block_is_refused_at_set_up(tmp_path):
     assert r.returncode != 0
     assert "contact washer/block" in r.stderr and "not star-shaped about the contact point" in r.stderr
     assert "sector" in r.stderr and "sliding" in r.stderr  # what to do
+    # the face reaches 0.9 m from the point (plus a sample's spacing): the refinement radius that holds it
+    assert "up to 0.917 m from the point" in r.stderr and "refinement of radius 1.15 m or more" in r.stderr
     assert "Traceback" not in r.stderr and not (tmp_path / "summary.json").exists()
 
 
@@ -188,10 +190,10 @@ def test_a_washer_face_is_taken_whole_only_where_the_candidate_region_holds_it(e
     frame = _flat_frame(washer, [0.4, 0.0, 0.0])
     psi, t, ok, height = face_rays(washer, frame, 0.25, extent, 360)
     inside = np.ones(len(psi), dtype=bool)
-    c = SimpleNamespace(name="contact washer/block", frame=frame, extent=extent,
-                        options=SimpleNamespace(extent_fraction=0.8))
+    c = SimpleNamespace(name="contact washer/block", frame=frame, extent=extent, solids=(washer, None), reach=0.25,
+                        h=0.01, ranges=[(0.0, 2.0 * math.pi)], options=SimpleNamespace(extent_fraction=0.8))
     if not held:
-        with pytest.raises(ValueError, match="holds the whole face"):
+        with pytest.raises(ValueError, match="refinement of radius 1.1[0-9] m or more"):
             _whole_face(c, psi, t, ok, on_face(ok, height, 0.01), inside)
         return
     s = _whole_face(c, psi, t, ok, on_face(ok, height, 0.01), inside)

@@ -862,10 +862,7 @@ def _whole_face(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, ok: np.nda
         return s[face & inside[:, None]]
     k = int(np.argmax(np.where(resumed, returns - leaves, -math.inf)))
     direction = math.cos(psi[k]) * c.frame.axes[0] + math.sin(psi[k]) * c.frame.axes[1]
-    share = getattr(getattr(c, "options", None), "extent_fraction", None)
-    within = f" ({share:g} of that radius about the point)" if share else ""
-    why = (f"the face goes on beyond the candidate region: enlarge the contact refinement radius until the "
-           f"candidate region{within} holds the whole face" if not held else
+    why = (_face_beyond(c, t[1] - t[0]) if not held else
            "a recess in the face (surface above it within a gap: a blind hole, a groove)")
     raise ValueError(
         f"{c.name}: body 1's flat face is not star-shaped about the contact point "
@@ -880,6 +877,23 @@ def _whole_face(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, ok: np.nda
         "symmetric, model a sector of both bodies (a partial revolution, `sliding` conditions on the cut faces) "
         "narrow enough that its face is star-shaped about a point in its middle (an annulus of inner radius r_i "
         "seen from radius r: a sector narrower than 2 arccos(r_i / r))")
+
+
+def _face_beyond(c: StarRegionContact, spacing: float) -> str:
+    """What to do where a flat face goes on beyond the candidate region: the refinement radius
+    whose candidate region would hold the whole face, read on rays out to four times the
+    region's radius (or that the face goes on beyond those)."""
+    share = float(getattr(getattr(c, "options", None), "extent_fraction", 0.8))
+    far = 4.0 * c.extent
+    psi, t, ok, height = face_rays(c.solids[0], c.frame, c.reach, far, EDGE_RAYS)
+    face = on_face(ok, height, c.h) & _inside_rays(psi, c.ranges)[:, None]
+    if face[:, -1].any():
+        return (f"the face goes on beyond the candidate region and beyond {far:.4g} m from the point: too large to "
+                "be taken whole")
+    reach = float(t[np.nonzero(face.any(axis=0))[0].max()]) + max(spacing, t[1] - t[0])
+    return (f"the face goes on beyond the candidate region, up to {reach:.3g} m from the point: give the bodies an "
+            f"`around = \"contact\"` refinement of radius {reach / share:.3g} m or more, so that the candidate "
+            f"region ({share:g} of that radius) holds the whole face")
 
 
 def _require_straight_line(c: StarRegionContact, length: float | None) -> None:
