@@ -51,14 +51,14 @@ def test_a_torus_ring_direction_is_flat(angle):
 
 def test_line_bend_of_a_torus_and_of_a_roller():
     """The valley of the gap along the line: on the torus the bottom circle, whose curvature in
-    the tangent plane is 1/0.5 (read within 0.1 % over 24 mm on either side of the point); on a
+    the tangent plane is 1/0.5 (read within 1e-5 over 24 mm on either side of the point); on a
     straight roller (a full cylinder of radius 0.5 and length 0.2 on the block) straight to
     round-off."""
     h = 0.00625
     block = solid_from_dict(BLOCK)
     torus = _half_torus()
     kappa, span = line_bend(torus, block, contact_frame_3d(torus, block, np.array([RING, 0, 0]), h), 0.012, 0.024, h)
-    assert kappa == pytest.approx(1.0 / RING, rel=1e-3) and span == pytest.approx(0.024)
+    assert kappa == pytest.approx(1.0 / RING, rel=1e-5) and span == pytest.approx(0.024)
     roller = solid_from_dict({"type": "cylinder", "center": [0.1, -0.05, 0.5], "axis": [1, 1, 0], "radius": 0.5,
                               "length": 0.2})
     frame = contact_frame_3d(roller, block, np.array([0.1, -0.05, 0.0]), h)
@@ -286,3 +286,28 @@ def test_an_l_shaped_punch_taken_whole(tmp_path):
     mirror = np.argmin(np.linalg.norm(xy[:, None, :] - xy[None, :, ::-1], axis=2), axis=0)
     assert np.allclose(xy[mirror], xy[:, ::-1], atol=0.01)  # every square has its mirror image
     assert np.abs(value - value[mirror]).max() <= 0.03 * value.mean()
+
+
+def test_a_curved_line_between_free_ends_and_a_straight_one():
+    """A quarter of the half torus (revolved through 90 degrees), its point in the middle of the
+    arc: the line has free ends (the cut faces, 0.38 m away along the tangent) and bends from its
+    chord by far more than a quarter of a cell: refused, with the ring's radius. A straight full
+    roller on the same block passes the same check."""
+    from ibfem.solver.contact.star_region import _require_straight_line
+
+    quarter = solid_from_dict({"type": "revolution", "axis_origin": [0, 0, TUBE], "axis": [0, 0, 1], "angle_deg": 90,
+                               "profile": {"type": "profile", "edges": [
+                                   {"type": "line", "start": [RING - TUBE, 0], "end": [RING + TUBE, 0], "name": "flat"},
+                                   {"type": "arc", "center": [RING, 0], "radius": TUBE, "start_angle": 0,
+                                    "end_angle": -180, "name": "tube"}]}})
+    block = solid_from_dict(BLOCK)
+    h, c45 = 0.00625, math.sqrt(0.5)
+    frame = contact_frame_3d(quarter, block, np.array([RING * c45, RING * c45, 0.0]), h)
+    c = SimpleNamespace(name="contact ring/block", solids=(quarter, block), frame=frame, reach=0.05, extent=0.45, h=h)
+    with pytest.raises(ValueError, match=r"curves in the tangent plane \(radius 0.5 m.*from its chord between"):
+        _require_straight_line(c, RING * math.tan(math.pi / 4.0) * 0.75)
+    roller = solid_from_dict({"type": "cylinder", "center": [0, 0, 0.5], "axis": [1, 0, 0], "radius": 0.5,
+                              "length": 0.3})
+    frame = contact_frame_3d(roller, block, np.zeros(3), h)
+    _require_straight_line(SimpleNamespace(name="contact roller/block", solids=(roller, block), frame=frame,
+                                           reach=0.05, extent=0.45, h=h), 0.15)

@@ -15,10 +15,11 @@ region ends where the ray first leaves body 1's face (a free edge). Two faces br
   circle, which closes on itself): the coordinates of the region run along a straight line
   through the point. Read from the valley of the gap: at stations t along axis 0, the offset
   c(t) across the line (axis 1) where the gap between the bodies is least, found by Newton on
-  three samples across; c(t) = c0 + c1 t + kappa t^2 / 2 fitted by least squares gives the
-  line's curvature kappa in the tangent plane (``line_bend``): 0 for a roller, straight or
-  tilted, whose line is straight; 1 / R for a torus's circle of radius R (the gap across is
-  quadratic about the valley, so the three samples place it to round-off).
+  three samples across (the gap across is quadratic about the valley, so they place it to
+  round-off); c(t) = c0 + c1 t + kappa t^2 / 2 fitted by least squares tells a straight line
+  (kappa 0: a roller, straight or tilted) from a bent one, whose curvature in the tangent plane
+  is then 1 / R of the circle fitted through the points (t, c(t)) (``line_bend``): a torus's
+  circle of radius R.
 """
 
 from __future__ import annotations
@@ -122,4 +123,15 @@ def line_bend(solid1, solid2, frame, reach: float, length: float, h: float) -> t
         return None
     design = np.stack([np.ones(int(ok.sum())), t[ok], 0.5 * t[ok] ** 2], axis=1)
     kappa = float(np.linalg.lstsq(design, c[ok], rcond=None)[0][2])
-    return kappa, float(np.abs(t[ok]).max())
+    span = float(np.abs(t[ok]).max())
+    if 0.5 * abs(kappa) * span**2 > 1e-9 * span:  # a bend: the circle through the valley's points
+        kappa = math.copysign(1.0 / _circle_radius(t[ok], c[ok]), kappa)
+    return kappa, span
+
+
+def _circle_radius(x: np.ndarray, y: np.ndarray) -> float:
+    """The radius of the circle x^2 + y^2 + D x + E y + F = 0 fitted to the points (x, y) by least
+    squares (Kasa's fit: exact for points on a circle, where the quadratic's curvature is not: a
+    ring of radius 0.5 read over +-0.28 m gave 0.458)."""
+    D, E, F = np.linalg.lstsq(np.stack([x, y, np.ones(len(x))], axis=1), -(x**2 + y**2), rcond=None)[0]
+    return float(math.sqrt(max(0.25 * (D * D + E * E) - F, 0.0)))
