@@ -64,8 +64,10 @@ _LATTICE = _LATTICE[np.argsort(np.linalg.norm(_LATTICE, axis=1), kind="stable")]
 
 def smooth_point(solid, x: np.ndarray, step: float, toward: np.ndarray | None = None) -> np.ndarray:
     """A point within 10 steps of x (one point of the surface) where the signed distance is
-    smooth: x itself, or among the lattice neighbours on the surface whose second differences
-    are small, the one whose outward normal points most along ``toward`` (the other body). At the
+    smooth: x itself where it is smooth, or else among the lattice neighbours on the surface whose
+    second differences are small, the one whose outward normal points most along ``toward`` (the
+    other body); a neighbour of a smooth x would carry a tilted normal and, on a surface curved
+    both ways, another curvature (a torus's ring read -0.0126 1/m where it is 0). At the
     edge where a symmetry plane meets a face (a quarter model's contact point) the distance has
     a kink, and a central difference there mixes the two faces' gradients; the contact face's
     normal and curvature are those just inside it."""
@@ -85,7 +87,7 @@ def smooth_point(solid, x: np.ndarray, step: float, toward: np.ndarray | None = 
             grad[k] = (f[0] - f[1]) / (2.0 * step)
         if max(bends) > 1e-3 * step:
             continue
-        if toward is None:
+        if toward is None or not v.any():  # x itself is smooth: its own normal and curvatures
             return y
         dot = float(-grad @ toward) / max(np.linalg.norm(grad), 1e-300)
         if dot > best_dot + 1e-9:

@@ -24,6 +24,12 @@ contact's knots are spread along its edge, at most SPREAD_CELLS finest cells apa
 iteration goes on (``spread_knots``). A knot whose ray leaves body 1's
 surface before its edge (the region reaches body 1's free edge there) has no edge condition: the
 contact is complete there (the pressure is singular at a sharp edge), and it is reported as such.
+
+A flat face that is not star-shaped about the contact point (a washer's annulus, an L-shaped
+punch seen from a leg: solver.contact.face_shape) is taken whole, in complete contact, where the
+candidate region holds all of it and its gaps are open holes: the region is the circle about its
+centre that holds every sample of the face (``whole_face``), with no edge condition; a partial
+contact on such a face is not supported, and other such faces are refused at set-up.
 """
 
 from __future__ import annotations
@@ -36,6 +42,7 @@ import numpy as np
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
+from .face_shape import BEND_CELLS, ROUND_OFF_BEND, face_rays, line_bend, on_face, resumed_rays
 from .graded_quadrature import leaf_size
 from .region_report import mirror_images
 from .roots import edge_search, settling_tolerance
@@ -106,14 +113,22 @@ def free_edge_distance(solid1, frame, ranges, reach: float, extent: float, scale
     (from axis 0 towards axis 1), how far from the contact point body 1's surface goes before it
     ends (a free edge; inf: beyond ``extent``; 0 outside the angular ``ranges``). The first
     missing sample of 48 along the ray, then bisection to a thousandth of ``scale``."""
-    psi = np.linspace(0.0, 2.0 * math.pi, EDGE_RAYS, endpoint=False)
+    psi, t, ok, _ = face_rays(solid1, frame, reach, extent, EDGE_RAYS)
+    return _edge_distance(solid1, frame, reach, scale, psi, t, ok, _inside_rays(psi, ranges))
+
+
+def _inside_rays(psi: np.ndarray, ranges) -> np.ndarray:
+    """(rays,) whether each direction psi lies in body 1's angular ranges about the point."""
     inside = np.zeros(len(psi), dtype=bool)
     for t0, t1 in ranges:
         inside |= ((psi - t0) % (2.0 * math.pi) <= (t1 - t0) + 1e-12)
+    return inside
+
+
+def _edge_distance(solid1, frame, reach: float, scale: float, psi: np.ndarray, t: np.ndarray, ok: np.ndarray,
+                   inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``free_edge_distance`` from the rays' samples (``face_rays``)."""
     direction = np.stack([np.cos(psi), np.sin(psi)], axis=1)
-    t = np.linspace(0.0, extent, 49)[1:]
-    s = (t[None, :, None] * direction[:, None, :]).reshape(-1, 2)
-    ok = surface_point(solid1, frame, s, reach)[1].reshape(len(psi), len(t))
     missing = ~ok
     first = np.where(missing.any(axis=1), np.argmax(missing, axis=1), len(t))
     distance = np.full(len(psi), math.inf)
@@ -142,6 +157,13 @@ class StarRegionContact(EllipseContact):
     log_rho: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS))
     edge_psi: np.ndarray = field(default_factory=lambda: np.zeros(0))
     edge_distance: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    #: a flat face that is not star-shaped about the contact point (a washer's annulus) taken
+    #: whole in complete contact: its points on the rays' samples (m, 2), which the region must
+    #: hold (``whole_face_uncovered``); None for every other contact
+    whole_face: np.ndarray | None = None
+    face_spacing: float = 0.0  # the whole face's samples' spacing along the rays
+    #: (m, 2) the whole face's samples next to its edges (a sample on the face beside one off it)
+    face_edges: np.ndarray | None = None
     _knot_history: list = field(default_factory=list)  # (log_rho, moments less their mean) per shape update
     # per knot: the first entry of _knot_history measured with its present reading (its secant's start)
     _knot_since: np.ndarray = field(default_factory=lambda: np.zeros(KNOTS, dtype=int))
@@ -263,9 +285,28 @@ class StarRegionContact(EllipseContact):
         return max(a * load_ratio ** (1.0 / 3.0 if self.isotropic else 0.5), 2.0 * self.h)
 
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
+        if self.whole_face is not None:
+            return self._holding_search()
         a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / float(np.exp(self.log_rho.max()))
         tol = settling_tolerance(self.options, self.h, final)
         return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
+
+    def _update_centre(self, x: np.ndarray, a: float, info, final: bool) -> bool:
+        """A whole face's centre stays where it was set up (its samples' centroid: the region holds
+        the whole face about any centre, and a centre that followed the pressure's centroid moved
+        the quadrature's panels and so the centroid again: a rigid annular punch's centre swung
+        by 1e-5 m, above the final tolerance, for 30 solves); any other region's follows the
+        pressure."""
+        return True if self.whole_face is not None else super()._update_centre(x, a, info, final)
+
+    def _holding_search(self):
+        """The size search of a whole face in complete contact: the one size whose region (about
+        its present centre) holds every sample of the face, with one sample's spacing to spare
+        (the face's edge lies between its last sample and the next; beyond it body 1 has no
+        surface and the quadrature drops its points)."""
+        a = float(self.polar(self.whole_face, 1.0)[0].max()) + self.face_spacing
+        yield a
+        return a, (a, a)
 
     def region_too_small(self) -> ValueError:
         where = "" if self.isotropic else " across the line"
@@ -310,6 +351,8 @@ class StarRegionContact(EllipseContact):
         total = wp.sum(axis=0)
         # free: the knot's ray ends at body 1's free edge (outside body 1's sectors: no edge at all)
         self.free_knots = (self.end_radius(self.knots, a) < 1.0) | ~knots_inside(self.knots, self.ranges)
+        if self.whole_face is not None:  # complete contact all round: no edge condition anywhere
+            self.free_knots = np.ones(len(self.knots), dtype=bool)
         reach = self.ray_length(phi, a) * np.minimum(1.0, self.end_radius(phi, a))
         moment = np.where(self.free_knots, (wp * _edge_weight(to_end, reach, self.h)[:, None]).sum(axis=0),
                           (wp * _edge_weight(r, reach, self.h)[:, None]).sum(axis=0))
@@ -400,6 +443,8 @@ class StarRegionContact(EllipseContact):
         if info is None or a <= 0.0:
             return stuck
         m = self._moments(info, x, a)
+        if self.whole_face is not None:  # a whole face: its region's shape is the face's own
+            return stuck
         inside = knots_inside(self.knots, self.ranges)
         tense = inside & (m == -math.inf)
         if tense.any():  # a stretch of the edge in net tension: the region is too large there
@@ -610,12 +655,43 @@ class StarRegionContact(EllipseContact):
             messages.append(f"{self.name}: the region's shape did not settle (its knots' edge moments differ from "
                             f"their mean by up to {spread:.3g})")
         block["checks"]["knot_moments"] = [None if not np.isfinite(v) else float(v) for v in m]
+        if self.whole_face is not None:
+            outside = self.whole_face_uncovered(a)
+            block["checks"]["face_samples_outside_region"] = int(len(outside))
+            if len(outside):
+                far = outside[np.argmax(np.hypot(outside[:, 0], outside[:, 1]))]
+                messages.append(f"{self.name}: the region does not hold the whole face, which is not star-shaped about "
+                                f"the contact point ({len(outside)} of its samples outside the region, the farthest "
+                                f"{float(np.hypot(*far)):.4g} m from the point): such a face is taken whole in "
+                                "complete contact only; a partial contact on it is not supported")
         return messages
+
+    def whole_face_uncovered(self, a: float) -> np.ndarray:
+        """(m, 2) the whole face's samples (``whole_face``) outside the region r <= 1."""
+        return self.whole_face[self.polar(self.whole_face, a)[0] > 1.0]
 
     def summary_block(self, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         from .region_report import region_block
 
-        return region_block(self, a, on2, u, info)
+        block = region_block(self, a, on2, u, info)
+        if self.whole_face is not None:
+            self._whole_face_report(block)
+        return block
+
+    def _whole_face_report(self, block: dict) -> None:
+        """A whole face's region in the summary: its boundary the face's own edges (its samples
+        beside a gap or its outline, to a sample's spacing; all free edges), its half-extents
+        along the frame's axes from the contact point and its spans along the principal
+        directions read off them (the region's circle about its centre, which the report draws
+        otherwise, reaches beyond the face)."""
+        x, ok = surface_point(self.solids[0], self.frame, self.face_edges, self.reach)
+        edges = self.face_edges[ok]
+        half = [float(np.abs(edges[:, k]).max()) for k in (0, 1)]
+        directions = np.asarray(block["principal_directions"]) @ self.frame.axes.T
+        span = edges @ directions.T
+        block.update({"boundary": {"points": x[ok].tolist(), "free_edge": [True] * int(ok.sum())},
+                      "semi_axes": half, "cells_per_semi_axis": [v / self.h for v in half],
+                      "extents": (span.max(axis=0) - span.min(axis=0)).tolist(), "complete_contact": True})
 
 
 def _edge_weight(r: np.ndarray, reach: np.ndarray, h: float) -> np.ndarray:
@@ -758,13 +834,99 @@ def configure_flat_contact(c: StarRegionContact) -> StarRegionContact:
     """A flat contact: the scales A = B both the size the search finds, the first edge a circle
     (rho = 1), body 1's free edges located as for a line contact (a punch's sharp corner ends the
     region there: complete contact)."""
-    c.edge_psi, distance = free_edge_distance(c.solids[0], c.frame, c.ranges, c.reach, c.extent, c.h)
+    psi, t, ok, height = face_rays(c.solids[0], c.frame, c.reach, c.extent, EDGE_RAYS)
+    inside = _inside_rays(psi, c.ranges)
+    face = on_face(ok, height, c.h)
+    if resumed_rays(t, face, inside)[0].any():
+        c.whole_face, c.face_spacing = _whole_face(c, psi, t, ok, face, inside), float(t[1] - t[0])
+        if c.centred:  # the face's centroid (the samples on the rays weighted by their area, r dr dpsi)
+            c.centre = np.average(c.whole_face, axis=0, weights=np.hypot(*c.whole_face.T))
+    c.edge_psi, distance = _edge_distance(c.solids[0], c.frame, c.reach, c.h, psi, t, ok, inside)
     c.edge_distance = _filled_outside(distance)
     c.isotropic = True
     c.log_rho = np.zeros(len(c.knots))
     c.ratio = 1.0
     c.circular = False
     return c
+
+
+def _whole_face(c: StarRegionContact, psi: np.ndarray, t: np.ndarray, ok: np.ndarray, face: np.ndarray,
+                inside: np.ndarray) -> np.ndarray:
+    """The samples (m, 2) of a flat face that is not star-shaped about the contact point (a ray
+    leaves the face and enters it again: a hole, a notch), to be taken whole in complete contact:
+    only where the candidate region holds the whole face (no ray still on the face at its last
+    sample) and every gap in it is open (no surface there: a recess's floor would be in the
+    region's quadrature). Refused otherwise, naming the ray with the widest gap."""
+    resumed, leaves, returns = resumed_rays(t, face, inside)
+    last = np.where(face.any(axis=1), face.shape[1] - 1 - np.argmax(face[:, ::-1], axis=1), -1)
+    before_last = np.arange(face.shape[1])[None, :] < last[:, None]
+    recess = inside & (ok & ~face & before_last).any(axis=1)
+    held = not (face[:, -1] & inside).any()
+    if held and not recess.any():
+        direction = np.stack([np.cos(psi), np.sin(psi)], axis=1)
+        s = t[None, :, None] * direction[:, None, :]
+        beside = np.zeros(face.shape, dtype=bool)
+        beside[:, 1:] |= face[:, 1:] & ~face[:, :-1]
+        beside[:, :-1] |= face[:, :-1] & ~face[:, 1:]
+        c.face_edges = s[beside & inside[:, None]]
+        return s[face & inside[:, None]]
+    k = int(np.argmax(np.where(resumed, returns - leaves, -math.inf)))
+    direction = math.cos(psi[k]) * c.frame.axes[0] + math.sin(psi[k]) * c.frame.axes[1]
+    why = (_face_beyond(c, t[1] - t[0]) if not held else
+           "a recess in the face (surface above it within a gap: a blind hole, a groove)")
+    raise ValueError(
+        f"{c.name}: body 1's flat face is not star-shaped about the contact point "
+        f"{np.round(c.frame.point, 6).tolist()}: on {int(resumed.sum())} of {int(inside.sum())} rays from it within "
+        f"the candidate region ({c.extent:.4g} m) the face ends and starts again (along "
+        f"{np.round(direction, 4).tolist()}: it ends {leaves[k]:.4g} m from the point and starts again at "
+        f"{returns[k]:.4g} m; a hole, a notch or a recess in the face). A flat contact's region is star-shaped "
+        "about its centre (each ray from it meets its edge once); such a face is taken only whole, in complete contact, "
+        f"where the candidate region holds all of it and its gaps are open holes. Not so here: {why}. "
+        "Where the face is star-shaped about another point of it "
+        "(an L-shaped punch about a point by its inner corner), give that point; where the parts and the load are "
+        "symmetric, model a sector of both bodies (a partial revolution, `sliding` conditions on the cut faces) "
+        "narrow enough that its face is star-shaped about a point in its middle (an annulus of inner radius r_i "
+        "seen from radius r: a sector narrower than 2 arccos(r_i / r))")
+
+
+def _face_beyond(c: StarRegionContact, spacing: float) -> str:
+    """What to do where a flat face goes on beyond the candidate region: the refinement radius
+    whose candidate region would hold the whole face, read on rays out to four times the
+    region's radius (or that the face goes on beyond those)."""
+    share = float(getattr(getattr(c, "options", None), "extent_fraction", 0.8))
+    far = 4.0 * c.extent
+    psi, t, ok, height = face_rays(c.solids[0], c.frame, c.reach, far, EDGE_RAYS)
+    face = on_face(ok, height, c.h) & _inside_rays(psi, c.ranges)[:, None]
+    if face[:, -1].any():
+        return (f"the face goes on beyond the candidate region and beyond {far:.4g} m from the point: too large to "
+                "be taken whole")
+    reach = float(t[np.nonzero(face.any(axis=0))[0].max()]) + max(spacing, t[1] - t[0])
+    return (f"the face goes on beyond the candidate region, up to {reach:.3g} m from the point: give the bodies an "
+            f"`around = \"contact\"` refinement of radius {reach / share:.3g} m or more, so that the candidate "
+            f"region ({share:g} of that radius) holds the whole face")
+
+
+def _require_straight_line(c: StarRegionContact, length: float | None) -> None:
+    """Refuse a line contact whose line curves in the tangent plane (``face_shape.line_bend``):
+    by more than BEND_CELLS finest cells over its ``length`` (the free end's distance), or at all
+    where it has no free end within the candidate region (None: a closed line, a ring's circle)."""
+    bend = line_bend(c.solids[0], c.solids[1], c.frame, c.reach, c.extent if length is None else length, c.h)
+    if bend is None:
+        return
+    kappa, span = bend
+    sagitta = 0.5 * abs(kappa) * span**2
+    if sagitta <= (ROUND_OFF_BEND if length is None else BEND_CELLS) * c.h:
+        return
+    where = (f"and does not end within the candidate region ({c.extent:.4g} m from the point): a closed line, "
+             "such as the circle of a ring or a torus on a flat" if length is None else
+             f"by {sagitta:.3g} m ({sagitta / c.h:.2g} finest cells) from its chord between body 1's free ends "
+             f"{length:.4g} m from the point")
+    raise ValueError(
+        f"{c.name}: the line contact's line along {np.round(c.frame.axes[0], 6).tolist()} curves in the tangent "
+        f"plane (radius {1.0 / abs(kappa):.3g} m, read on the valley of the gap within {span:.4g} m of the point) "
+        f"{where}. A line contact's region is laid along the straight line through the contact point, so a curved "
+        "line is not supported; a plane-strain section across the line (model = \"plane_strain\", the load per "
+        "unit length of the line) models it where the line's radius is large against the contact's width")
 
 
 def configure_line_contact(c: StarRegionContact) -> StarRegionContact:
@@ -776,7 +938,9 @@ def configure_line_contact(c: StarRegionContact) -> StarRegionContact:
     # symmetry plane may hold the line itself): the free edge's distance along the line
     near = (np.abs(np.sin(c.edge_psi)) <= 0.1) & (distance > 0.0)
     along = distance[near] * np.abs(np.cos(c.edge_psi[near]))
-    if not len(along) or not np.isfinite(along).all():
+    ends = bool(len(along)) and bool(np.isfinite(along).all())
+    _require_straight_line(c, float(along.max()) if ends else None)
+    if not ends:
         raise ValueError(f"{c.name}: a line contact along {np.round(c.frame.axes[0], 6).tolist()} runs beyond the "
                          f"candidate region ({c.extent:.4g} m from the contact point): body 1 has no free end within "
                          "it; enlarge the contact refinement radius to cover the whole line")
