@@ -73,7 +73,7 @@ class FixedStickCircle:
         pass
 
 
-def _scene(radii, amplitude: float, edge_ring: bool, band_fraction: float | None = None,
+def _scene(radii, amplitude: float, edge_ring: int, band_fraction: float | None = None,
            refinement_levels: int | None = None):
     from ibfem.solver.io.scene import scene_from_dict
     from ibfem.solver.reports.validate_fretting_sphere import EXAMPLE, scene_data
@@ -95,7 +95,7 @@ def _scene(radii, amplitude: float, edge_ring: bool, band_fraction: float | None
     return scene_from_dict(data, label=str(EXAMPLE), base_dir=EXAMPLE.parent)
 
 
-def measure(radii, amplitude: float, edge_ring: bool, band_fraction: float | None = None,
+def measure(radii, amplitude: float, edge_ring: int, band_fraction: float | None = None,
             refinement_levels: int | None = None) -> dict:
     """Per radius the rig's compliance of the full contact; the contact's N and a."""
     from ibfem.solver.contact.friction_history3d import HistoryEllipseContact
@@ -151,6 +151,8 @@ def main(argv: list[str] | None = None) -> int:
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--edge-ring", action="store_true", help="one more refinement level about the contact's edge")
+    ap.add_argument("--edge-ring-levels", type=int, default=None, metavar="K",
+                    help="K levels more in graded rings about the contact's edge (validate_fretting_sphere)")
     ap.add_argument("--refinement-levels", type=int, default=None,
                     help="refinement levels about the contact in both bodies (the example's 5, a / h = 5.8; 6: 11.6)")
     ap.add_argument("--radii", type=float, nargs="+", default=list(DEFAULT_RADII), help="c / a, the first 1")
@@ -188,7 +190,8 @@ def main(argv: list[str] | None = None) -> int:
         ties.NEAR_BAND, ties.NEAR_CELLS = args.near_band
     if args.radii[0] != 1.0:
         raise SystemExit("--radii: the first radius must be 1 (the full stick, the reference of the increase)")
-    r = measure(args.radii, amplitude_for(0.3), args.edge_ring, args.band_fraction, args.refinement_levels)
+    ring = args.edge_ring_levels if args.edge_ring_levels is not None else int(args.edge_ring)
+    r = measure(args.radii, amplitude_for(0.3), ring, args.band_fraction, args.refinement_levels)
     g = effective_shear_modulus(r["E"], r["nu"], r["E"], r["nu"])
     a = r["a"]
     print(f"converged {r['converged']}, {r['solves']} solves; N {r['N']:.5g} N, a {a:.5g} m (full contact)")

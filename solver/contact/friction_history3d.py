@@ -60,8 +60,10 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_band_terms
-from .ellipse import (EllipseContact, build as ellipse_build, contact_operators, layer_tensor, plane_weights,
-                      point_blocks, pressure_rows)
+from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, build as ellipse_build, contact_operators,
+                      layer_tensor, plane_weights, point_blocks, pressure_rows)
+from .ellipse_geometry import region_points
+from .graded_quadrature import leaf_size
 from .disc_means import DiscBins
 from .band import locate_cells
 from .friction_history import hold_size
@@ -98,6 +100,13 @@ LATE_CHANGE_SHARE = 5e-4
 #: the stuck points' tangential tie is a layer this many times the contact's band (its stiffness
 #: divided by it); the normal tie, and so the normal contact, keeps the contact's band
 TANGENTIAL_BAND = 1.0
+#: the region's quadrature follows the cells it lies in (PANELS_PER_CELL panels per cell of each
+#: size, solver.contact.graded_quadrature) instead of the finest cell's panels everywhere: a grid
+#: refined further only about the contact's edge (a ring of finer cells) then adds points only
+#: there (measured on the fretting example with a ring one level finer about its edge: 31 446
+#: points against 45 036 at a = 0.0449 m, the cheap stick-circle measure 0.95 GB and 30 s CPU
+#: against 1.16 GB and 41 s; a region in cells of one size gets the uniform panels, the same points)
+GRADED_QUADRATURE = True
 
 
 @dataclass
@@ -125,6 +134,11 @@ class _Region:
     #: (q, 3) the jump at which a stuck point is held exactly by the diagnostic augmented-Lagrangian
     #: ties (friction_history_ties.UZAWA_TOLERANCE; w_ref is then the tie's anchor, moved by them)
     hold: np.ndarray | None = None
+
+
+def _unit_radius(phi: np.ndarray) -> np.ndarray:
+    """The ellipse as a star-shaped region: its radius function is 1."""
+    return np.ones_like(np.asarray(phi, dtype=float))
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -176,6 +190,24 @@ class HistoryEllipseContact(EllipseContact):
     zone_rule = None
 
     # ------------------------------------------------------------------ regions and their state
+
+    def region_quadrature(self, a: float):
+        """The region's quadrature points on body 1, matched on body 2: with ``GRADED_QUADRATURE``
+        and both bodies on octrees, panels that follow the cells they lie in (the ellipse as the
+        star-shaped region of unit radius function); else the ellipse's panels of the finest cell."""
+        cells = self.cell_sizes() if GRADED_QUADRATURE else None
+        if cells is None:
+            return super().region_quadrature(a)
+        aa, bb = self.semi_axes(a)
+        return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
+                             self.reach, REGION_ORDER, centre=self.centre, radius=_unit_radius, cells=cells)
+
+    def cell_sizes(self):
+        """Each body's leaf size at 3D points (None where a body has no octree)."""
+        grids = [getattr(getattr(self, n, None), "grid", None) for n in ("b1", "b2")]
+        if not all(hasattr(g, "locate") for g in grids):
+            return None
+        return tuple(leaf_size(g, spacing) for g, (_, spacing) in zip(grids, self.grids))
 
     def region(self, a: float) -> _Region:
         """The region of size a with the memory carried onto its points (cached for the step)."""
