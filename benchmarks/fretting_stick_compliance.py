@@ -31,10 +31,12 @@ a Masing loop (Mindlin and Deresiewicz's is one) has 8 times the area between th
 curve and its chord, so the sags at the radii measured, summed by trapezoids against Mindlin's
 through the same states, give the energy per cycle of the loop the loading curve draws.
 
-    .venv/bin/python benchmarks/fretting_stick_compliance.py [--edge-ring] [--refinement-levels 6]
-        [--radii 1 0.95 0.9 0.85] [--band-fraction 0.5]
+    .venv/bin/python benchmarks/fretting_stick_compliance.py [--edge-ring | --edge-ring-levels K]
+        [--refinement-levels 6] [--radii 1 0.95 0.9 0.85] [--band-fraction 0.5]
 
-The example's grid takes about 8 s CPU and 0.5 GB; with ``--edge-ring`` 24 to 36 s CPU and 1.1 GB;
+The example's grid takes about 8 s CPU and 0.5 GB; with ``--edge-ring`` (``--edge-ring-levels 1``)
+about 30 s CPU and 0.95 GB; with ``--edge-ring-levels 2`` (a / h = 23.2 at the stick circle) 280 to
+290 s CPU and 3.1 to 4.0 GB;
 ``--refinement-levels 6`` refines the whole contact once more (a / h = 11.6): 43 to 71 s CPU and
 1.9 GB (the default radii the longer).
 ``--band-fraction`` sets the scene's [solver].band_fraction (the ties' layer, 0.25 by default);

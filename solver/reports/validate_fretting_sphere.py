@@ -370,10 +370,11 @@ def main(argv: list[str] | None = None) -> int:
                          "6 gives a / h = 11.6 at about four times the memory and ten times the time)")
     ap.add_argument("--edge-ring", action="store_true",
                     help="one more refinement level in a ring from 0.81 a to 1.03 a about the contact's edge, where "
-                         "a slip annulus lies (about 1.8 GB and five times the time at Q*/(mu N) = 0.3)")
+                         "a slip annulus lies (about 0.95 GB and six times the CPU time at Q*/(mu N) = 0.3)")
     ap.add_argument("--edge-ring-levels", type=int, default=None, metavar="K",
                     help="K levels more in graded rings about the contact's edge: the --edge-ring ring, then each "
-                         "level a thinner ring inside the previous one about c from 0.888 a to a (K = 1 to 3)")
+                         "level a thinner ring inside the previous one about c from 0.888 a to a (K = 1 to 3; "
+                         "K = 2: about 3.4 GB and 17 CPU minutes for the half loop at Q*/(mu N) = 0.3)")
     ap.add_argument("--closed-form-zones", action="store_true",
                     help="impose Mindlin and Deresiewicz's zones for the solved forces instead of Coulomb's rule "
                          "(a diagnostic: the remaining error is the discretisation's)")
