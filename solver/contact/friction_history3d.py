@@ -105,7 +105,7 @@ TANGENTIAL_BAND = 1.0
 #: refined further only about the contact's edge (a ring of finer cells) then adds points only
 #: there (measured on the fretting example with a ring one level finer about its edge: 31 446
 #: points against 45 036 at a = 0.0449 m, the cheap stick-circle measure 0.95 GB and 30 s CPU
-#: against 1.16 GB and 41 s; a region in cells of one size gets the uniform panels, the same points)
+#: against 1.16 GB and 41 s); a region in cells of the finest size only keeps the ellipse's panels
 GRADED_QUADRATURE = True
 
 
@@ -192,22 +192,32 @@ class HistoryEllipseContact(EllipseContact):
     # ------------------------------------------------------------------ regions and their state
 
     def region_quadrature(self, a: float):
-        """The region's quadrature points on body 1, matched on body 2: with ``GRADED_QUADRATURE``
-        and both bodies on octrees, panels that follow the cells they lie in (the ellipse as the
-        star-shaped region of unit radius function); else the ellipse's panels of the finest cell."""
-        cells = self.cell_sizes() if GRADED_QUADRATURE else None
+        """The region's quadrature points on body 1, matched on body 2: with ``GRADED_QUADRATURE``,
+        both bodies on octrees and cells coarser than the finest under the region, panels that
+        follow the cells they lie in (the ellipse as the star-shaped region of unit radius
+        function); else the ellipse's panels of the finest cell (the same points as before)."""
+        cells = self.cell_sizes(a) if GRADED_QUADRATURE else None
         if cells is None:
             return super().region_quadrature(a)
         aa, bb = self.semi_axes(a)
         return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
                              self.reach, REGION_ORDER, centre=self.centre, radius=_unit_radius, cells=cells)
 
-    def cell_sizes(self):
-        """Each body's leaf size at 3D points (None where a body has no octree)."""
+    def cell_sizes(self, a: float):
+        """Each body's leaf size at 3D points, or None where a body has no octree or the region of
+        size a lies in cells of the finest size only (read on a polar lattice of its points)."""
         grids = [getattr(getattr(self, n, None), "grid", None) for n in ("b1", "b2")]
         if not all(hasattr(g, "locate") for g in grids):
             return None
-        return tuple(leaf_size(g, spacing) for g, (_, spacing) in zip(grids, self.grids))
+        cells = tuple(leaf_size(g, spacing) for g, (_, spacing) in zip(grids, self.grids))
+        aa, bb = self.semi_axes(a)
+        r = np.linspace(0.0, 1.0, 17)[:, None]
+        phi = np.concatenate([np.linspace(t0, t1, 129) for t0, t1 in self.ranges])[None, :]
+        s = self.centre + np.column_stack([(aa * r * np.cos(phi)).ravel(), (bb * r * np.sin(phi)).ravel()])
+        y = self.frame.point + s[:, :1] * self.frame.axes[0] + s[:, 1:] * self.frame.axes[1]
+        nudge = 1e-6 * self.h * self.frame.normal  # just inside each body: body 1 above the tangent plane
+        coarsest = max(float(np.max(cells[0](y + nudge))), float(np.max(cells[1](y - nudge))))
+        return cells if coarsest > 1.5 * self.h else None
 
     def region(self, a: float) -> _Region:
         """The region of size a with the memory carried onto its points (cached for the step)."""
