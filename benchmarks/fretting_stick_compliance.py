@@ -31,10 +31,12 @@ a Masing loop (Mindlin and Deresiewicz's is one) has 8 times the area between th
 curve and its chord, so the sags at the radii measured, summed by trapezoids against Mindlin's
 through the same states, give the energy per cycle of the loop the loading curve draws.
 
-    .venv/bin/python benchmarks/fretting_stick_compliance.py [--edge-ring] [--refinement-levels 6]
-        [--radii 1 0.95 0.9 0.85] [--band-fraction 0.5]
+    .venv/bin/python benchmarks/fretting_stick_compliance.py [--edge-ring | --edge-ring-levels K]
+        [--refinement-levels 6] [--radii 1 0.95 0.9 0.85] [--band-fraction 0.5]
 
-The example's grid takes about 8 s CPU and 0.5 GB; with ``--edge-ring`` 24 to 36 s CPU and 1.1 GB;
+The example's grid takes about 8 s CPU and 0.5 GB; with ``--edge-ring`` (``--edge-ring-levels 1``)
+about 30 s CPU and 0.95 GB; with ``--edge-ring-levels 2`` (a / h = 23.2 at the stick circle) 280 to
+290 s CPU and 3.1 to 4.0 GB;
 ``--refinement-levels 6`` refines the whole contact once more (a / h = 11.6): 43 to 71 s CPU and
 1.9 GB (the default radii the longer).
 ``--band-fraction`` sets the scene's [solver].band_fraction (the ties' layer, 0.25 by default);
@@ -73,7 +75,7 @@ class FixedStickCircle:
         pass
 
 
-def _scene(radii, amplitude: float, edge_ring: bool, band_fraction: float | None = None,
+def _scene(radii, amplitude: float, edge_ring: int, band_fraction: float | None = None,
            refinement_levels: int | None = None):
     from ibfem.solver.io.scene import scene_from_dict
     from ibfem.solver.reports.validate_fretting_sphere import EXAMPLE, scene_data
@@ -95,7 +97,7 @@ def _scene(radii, amplitude: float, edge_ring: bool, band_fraction: float | None
     return scene_from_dict(data, label=str(EXAMPLE), base_dir=EXAMPLE.parent)
 
 
-def measure(radii, amplitude: float, edge_ring: bool, band_fraction: float | None = None,
+def measure(radii, amplitude: float, edge_ring: int, band_fraction: float | None = None,
             refinement_levels: int | None = None) -> dict:
     """Per radius the rig's compliance of the full contact; the contact's N and a."""
     from ibfem.solver.contact.friction_history3d import HistoryEllipseContact
@@ -151,6 +153,8 @@ def main(argv: list[str] | None = None) -> int:
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--edge-ring", action="store_true", help="one more refinement level about the contact's edge")
+    ap.add_argument("--edge-ring-levels", type=int, default=None, metavar="K",
+                    help="K levels more in graded rings about the contact's edge (validate_fretting_sphere)")
     ap.add_argument("--refinement-levels", type=int, default=None,
                     help="refinement levels about the contact in both bodies (the example's 5, a / h = 5.8; 6: 11.6)")
     ap.add_argument("--radii", type=float, nargs="+", default=list(DEFAULT_RADII), help="c / a, the first 1")
@@ -188,7 +192,8 @@ def main(argv: list[str] | None = None) -> int:
         ties.NEAR_BAND, ties.NEAR_CELLS = args.near_band
     if args.radii[0] != 1.0:
         raise SystemExit("--radii: the first radius must be 1 (the full stick, the reference of the increase)")
-    r = measure(args.radii, amplitude_for(0.3), args.edge_ring, args.band_fraction, args.refinement_levels)
+    ring = args.edge_ring_levels if args.edge_ring_levels is not None else int(args.edge_ring)
+    r = measure(args.radii, amplitude_for(0.3), ring, args.band_fraction, args.refinement_levels)
     g = effective_shear_modulus(r["E"], r["nu"], r["E"], r["nu"])
     a = r["a"]
     print(f"converged {r['converged']}, {r['solves']} solves; N {r['N']:.5g} N, a {a:.5g} m (full contact)")

@@ -209,6 +209,38 @@ def test_edge_ring_covers_the_slip_annulus():
     assert scene_from_dict(data, label="ring.toml").problem.bodies[0].refinements
 
 
+@pytest.mark.parametrize("ring_levels", [2, 3])
+def test_graded_edge_rings_cover_the_branches_annuli(ring_levels):
+    """``--edge-ring-levels K`` (validate_fretting_sphere): the first ring as ``--edge-ring``, then
+    each level one finer in a thinner ring of smaller balls inside the previous one; every ring's
+    union covers the branches' annuli at Q*/(mu N) = 0.3 (c / a from 0.888 to 1), and each inner
+    ring lies within the ring before it (the octree's levels step by one across the rings)."""
+    from ibfem.solver.reports.validate_fretting_sphere import EXAMPLE_CONTACT_RADIUS, edge_ring_balls, scene_data
+
+    a = EXAMPLE_CONTACT_RADIUS
+    balls = edge_ring_balls(6, ring_levels)
+    levels = sorted({b["levels"] for b in balls})
+    assert levels == list(range(6, 6 + ring_levels))
+    r, th = np.meshgrid(np.linspace(0.888, 1.0, 15) * a, np.linspace(0.0, math.pi, 361))
+    band = np.column_stack([(r * np.cos(th)).ravel(), (r * np.sin(th)).ravel(), np.zeros(r.size)])
+    rings = []
+    for level in levels:
+        ring = [b for b in balls if b["levels"] == level]
+        centres = np.array([b["around"] for b in ring])
+        radius = ring[0]["radius"]
+        assert np.allclose(centres[:, 2], 0.0) and np.all(centres[:, 1] >= -1e-12)
+        nearest = np.min(np.linalg.norm(band[:, None, :] - centres[None, :, :], axis=2), axis=1)
+        assert nearest.max() <= radius
+        rings.append((np.linalg.norm(centres, axis=1), radius))
+    for (outer_r, outer), (inner_r, inner) in zip(rings, rings[1:]):
+        assert inner < outer and inner_r.max() + inner <= outer_r.max() + outer + 1e-12
+        assert inner_r.min() - inner >= outer_r.min() - outer - 1e-12
+    data = scene_data(1.0e-4, 0.75, 20, edge_ring=ring_levels)
+    assert all(len(body["refinement"]) == 1 + len(balls) for body in data["bodies"])
+    with pytest.raises(ValueError, match="edge ring levels"):
+        edge_ring_balls(6, 4)
+
+
 @pytest.mark.slow
 def test_small_amplitude_energy_goes_with_the_cube_of_the_amplitude_on_the_edge_ring(tmp_path):
     """Mindlin and Deresiewicz's small-amplitude limit W = Q*^3 / (36 a G* mu N): half loops at

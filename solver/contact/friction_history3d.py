@@ -60,8 +60,10 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, projector, thin_band_terms
-from .ellipse import (EllipseContact, build as ellipse_build, contact_operators, layer_tensor, plane_weights,
-                      point_blocks, pressure_rows)
+from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, build as ellipse_build, contact_operators,
+                      layer_tensor, plane_weights, point_blocks, pressure_rows)
+from .ellipse_geometry import region_points
+from .graded_quadrature import leaf_size
 from .disc_means import DiscBins
 from .band import locate_cells
 from .friction_history import hold_size
@@ -98,6 +100,13 @@ LATE_CHANGE_SHARE = 5e-4
 #: the stuck points' tangential tie is a layer this many times the contact's band (its stiffness
 #: divided by it); the normal tie, and so the normal contact, keeps the contact's band
 TANGENTIAL_BAND = 1.0
+#: the region's quadrature follows the cells it lies in (PANELS_PER_CELL panels per cell of each
+#: size, solver.contact.graded_quadrature) instead of the finest cell's panels everywhere: a grid
+#: refined further only about the contact's edge (a ring of finer cells) then adds points only
+#: there (measured on the fretting example with a ring one level finer about its edge: 31 446
+#: points against 45 036 at a = 0.0449 m, the cheap stick-circle measure 0.95 GB and 30 s CPU
+#: against 1.16 GB and 41 s); a region in cells of the finest size only keeps the ellipse's panels
+GRADED_QUADRATURE = True
 
 
 @dataclass
@@ -125,6 +134,11 @@ class _Region:
     #: (q, 3) the jump at which a stuck point is held exactly by the diagnostic augmented-Lagrangian
     #: ties (friction_history_ties.UZAWA_TOLERANCE; w_ref is then the tie's anchor, moved by them)
     hold: np.ndarray | None = None
+
+
+def _unit_radius(phi: np.ndarray) -> np.ndarray:
+    """The ellipse as a star-shaped region: its radius function is 1."""
+    return np.ones_like(np.asarray(phi, dtype=float))
 
 
 def _tangential(v: np.ndarray, normal: np.ndarray) -> np.ndarray:
@@ -176,6 +190,34 @@ class HistoryEllipseContact(EllipseContact):
     zone_rule = None
 
     # ------------------------------------------------------------------ regions and their state
+
+    def region_quadrature(self, a: float):
+        """The region's quadrature points on body 1, matched on body 2: with ``GRADED_QUADRATURE``,
+        both bodies on octrees and cells coarser than the finest under the region, panels that
+        follow the cells they lie in (the ellipse as the star-shaped region of unit radius
+        function); else the ellipse's panels of the finest cell (the same points as before)."""
+        cells = self.cell_sizes(a) if GRADED_QUADRATURE else None
+        if cells is None:
+            return super().region_quadrature(a)
+        aa, bb = self.semi_axes(a)
+        return region_points(*self.solids, self.frame, aa, bb, self.ranges, self.grids, self.h / PANELS_PER_CELL,
+                             self.reach, REGION_ORDER, centre=self.centre, radius=_unit_radius, cells=cells)
+
+    def cell_sizes(self, a: float):
+        """Each body's leaf size at 3D points, or None where a body has no octree or the region of
+        size a lies in cells of the finest size only (read on a polar lattice of its points)."""
+        grids = [getattr(getattr(self, n, None), "grid", None) for n in ("b1", "b2")]
+        if not all(hasattr(g, "locate") for g in grids):
+            return None
+        cells = tuple(leaf_size(g, spacing) for g, (_, spacing) in zip(grids, self.grids))
+        aa, bb = self.semi_axes(a)
+        r = np.linspace(0.0, 1.0, 17)[:, None]
+        phi = np.concatenate([np.linspace(t0, t1, 129) for t0, t1 in self.ranges])[None, :]
+        s = self.centre + np.column_stack([(aa * r * np.cos(phi)).ravel(), (bb * r * np.sin(phi)).ravel()])
+        y = self.frame.point + s[:, :1] * self.frame.axes[0] + s[:, 1:] * self.frame.axes[1]
+        nudge = 1e-6 * self.h * self.frame.normal  # just inside each body: body 1 above the tangent plane
+        coarsest = max(float(np.max(cells[0](y + nudge))), float(np.max(cells[1](y - nudge))))
+        return cells if coarsest > 1.5 * self.h else None
 
     def region(self, a: float) -> _Region:
         """The region of size a with the memory carried onto its points (cached for the step)."""

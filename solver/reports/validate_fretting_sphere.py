@@ -35,6 +35,8 @@ full contact (the model's forces over its share):
 prints the tables and writes ``validation_sphere.json`` and ``fretting_sphere.md`` (the docs' table).
 ``--refinement-levels 6`` runs the example's grid refined once more about the contact (a / h = 11.6);
 ``--edge-ring`` refines it once more in a ring about the contact's edge only (0.81 a to 1.03 a);
+``--edge-ring-levels K`` refines it K levels more in graded rings (each level a thinner ring of smaller
+balls inside the previous one, about c from 0.888 a to a: ``EDGE_RING_INNER``);
 ``--closed-form-zones`` imposes Mindlin and Deresiewicz's zones for the solved forces instead of
 Coulomb's rule (``ClosedFormZones``), which separates the zone rule's error from the
 discretisation's; ``--tangential-band F`` puts the stuck points' tangential tie on a layer F times
@@ -71,6 +73,10 @@ EXAMPLE_CONTACT_RADIUS = 0.0449
 #: centred on the circle of this radius (in a) in the contact plane, this many over the half
 #: model's half circle: cells twice as fine from 0.81 a to 1.03 a, where a slip annulus lies
 EDGE_RING_BALL, EDGE_RING_CIRCLE, EDGE_RING_BALLS = 0.13, 0.92, 30
+#: the graded edge ring (``--edge-ring-levels K``): per level beyond the first (ball radius in a,
+#: circle in a), each a thinner ring of smaller balls inside the previous one about the branches'
+#: annuli at Q*/(mu N) = 0.3 (c from 0.888 a to a); the balls spaced at most half their radius
+EDGE_RING_INNER = ((0.085, 0.944), (0.065, 0.944))
 
 
 def _stick_theory(q: float, n: float, mu: float, past: list[float]) -> float:
@@ -211,11 +217,11 @@ class ClosedFormZones:
 
 
 def scene_data(amplitude: float, cycles: float, points_per_cycle: int, grid_offset=None,
-               refinement_levels: int | None = None, edge_ring: bool = False) -> dict:
+               refinement_levels: int | None = None, edge_ring: int = 0) -> dict:
     """The example's scene with its tangential amplitude and its cycle changed (and its grids
     shifted by ``grid_offset``, fractions of the coarsest cell, refined ``refinement_levels``
-    times about the contact, and one level more in a ring about the contact's edge with
-    ``edge_ring``, when given)."""
+    times about the contact, and ``edge_ring`` levels more in graded rings about the contact's
+    edge (True: one, ``edge_ring_balls``), when given)."""
     data = tomllib.loads(EXAMPLE.read_text(encoding="utf-8"))
     data = copy.deepcopy(data)
     if refinement_levels is not None:
@@ -223,7 +229,7 @@ def scene_data(amplitude: float, cycles: float, points_per_cycle: int, grid_offs
             body["refinement"]["levels"] = int(refinement_levels)
     if edge_ring:
         for body in data["bodies"]:
-            body["refinement"] = [body["refinement"]] + edge_ring_balls(body["refinement"]["levels"] + 1)
+            body["refinement"] = [body["refinement"]] + edge_ring_balls(body["refinement"]["levels"] + 1, int(edge_ring))
     for bc in data["boundary_conditions"]:
         if bc.get("path") is not None and bc["type"] == "displacement":
             bc["value"][0] = float(amplitude)
@@ -240,22 +246,29 @@ def scene_data(amplitude: float, cycles: float, points_per_cycle: int, grid_offs
     return data
 
 
-def edge_ring_balls(levels: int) -> list[dict]:
-    """Refinements of ``levels`` in balls along the example's contact edge (``EDGE_RING_*``), over
-    the half model's half circle (y >= 0) in the contact plane z = 0."""
+def edge_ring_balls(levels: int, ring_levels: int = 1) -> list[dict]:
+    """Refinements in balls along the example's contact edge over the half model's half circle
+    (y >= 0) in the contact plane z = 0: ``levels`` in the ring of ``EDGE_RING_*`` and, for
+    ``ring_levels`` K > 1, ``levels`` + k in the k-th ring of ``EDGE_RING_INNER`` (k = 1 .. K - 1)."""
+    if not 1 <= int(ring_levels) <= 1 + len(EDGE_RING_INNER):
+        raise ValueError(f"edge ring levels must be 1 to {1 + len(EDGE_RING_INNER)}, got {ring_levels}")
     a = EXAMPLE_CONTACT_RADIUS
-    angles = np.linspace(0.0, math.pi, EDGE_RING_BALLS)
-    return [{"levels": int(levels), "radius": EDGE_RING_BALL * a,
-             "around": [EDGE_RING_CIRCLE * a * math.cos(th), EDGE_RING_CIRCLE * a * math.sin(th), 0.0]}
-            for th in angles]
+    rings = [(EDGE_RING_BALL, EDGE_RING_CIRCLE, EDGE_RING_BALLS)]
+    rings += [(ball, circle, int(math.ceil(math.pi * circle / (0.5 * ball))) + 1) for ball, circle in EDGE_RING_INNER]
+    out = []
+    for k, (ball, circle, count) in enumerate(rings[:int(ring_levels)]):
+        out += [{"levels": int(levels) + k, "radius": ball * a,
+                 "around": [circle * a * math.cos(th), circle * a * math.sin(th), 0.0]}
+                for th in np.linspace(0.0, math.pi, count)]
+    return out
 
 
 def run_case(amplitude: float, out: Path, cycles: float = 1.5, points_per_cycle: int = 20, grid_offset=None,
-             refinement_levels: int | None = None, closed_form_zones: bool = False, edge_ring: bool = False,
+             refinement_levels: int | None = None, closed_form_zones: bool = False, edge_ring: int = 0,
              tangential_band: float | None = None, cut_cell_tie: str | None = None) -> dict:
     """Run the example at a tangential amplitude (its grids shifted by ``grid_offset``, refined
-    ``refinement_levels`` times about the contact, one level more about its edge with
-    ``edge_ring``; with the closed form's zones imposed when ``closed_form_zones``; the stuck
+    ``refinement_levels`` times about the contact, ``edge_ring`` levels more about its edge (True:
+    one); with the closed form's zones imposed when ``closed_form_zones``; the stuck
     points' tangential tie on a layer ``tangential_band`` times the contact's band when given; the
     stuck points' tie of ``friction_history_ties.CUT_CELL_TIE`` set to ``cut_cell_tie`` when given);
     its comparison (with the run's timings)."""
@@ -357,7 +370,11 @@ def main(argv: list[str] | None = None) -> int:
                          "6 gives a / h = 11.6 at about four times the memory and ten times the time)")
     ap.add_argument("--edge-ring", action="store_true",
                     help="one more refinement level in a ring from 0.81 a to 1.03 a about the contact's edge, where "
-                         "a slip annulus lies (about 1.8 GB and five times the time at Q*/(mu N) = 0.3)")
+                         "a slip annulus lies (about 0.95 GB and six times the CPU time at Q*/(mu N) = 0.3)")
+    ap.add_argument("--edge-ring-levels", type=int, default=None, metavar="K",
+                    help="K levels more in graded rings about the contact's edge: the --edge-ring ring, then each "
+                         "level a thinner ring inside the previous one about c from 0.888 a to a (K = 1 to 3; "
+                         "K = 2: about 3.4 GB and 17 CPU minutes for the half loop at Q*/(mu N) = 0.3)")
     ap.add_argument("--closed-form-zones", action="store_true",
                     help="impose Mindlin and Deresiewicz's zones for the solved forces instead of Coulomb's rule "
                          "(a diagnostic: the remaining error is the discretisation's)")
@@ -370,12 +387,15 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     if args.tangential_band is not None and not args.tangential_band > 0.0:
         ap.error(f"--tangential-band must be > 0, got {args.tangential_band}")
+    ring = args.edge_ring_levels if args.edge_ring_levels is not None else int(args.edge_ring)
+    if not 0 <= ring <= 1 + len(EDGE_RING_INNER):
+        ap.error(f"--edge-ring-levels must be 0 to {1 + len(EDGE_RING_INNER)}, got {ring}")
     out = Path(args.out)
     results = []
     for ratio in args.ratios:
         r = run_case(amplitude_for(ratio), out / f"ratio_{ratio:g}", cycles=args.cycles,
                      points_per_cycle=args.points_per_cycle, refinement_levels=args.refinement_levels,
-                     closed_form_zones=args.closed_form_zones, edge_ring=args.edge_ring,
+                     closed_form_zones=args.closed_form_zones, edge_ring=ring,
                      tangential_band=args.tangential_band, cut_cell_tie=args.cut_cell_tie)
         results.append(r)
         print(f"Q*/(mu N) ~ {ratio:g}: {r['solves']} solves, converged {r['converged']}")
