@@ -488,8 +488,12 @@ class PartSolid(Solid):
         best = np.array(bound, dtype=float)
         for e, (lo, hi) in zip(self.edges, self._edge_boxes):
             # the edge (its curve and end vertices) lies in its polyline's box widened by the
-            # tolerance: a point at least its best distance from that box is not asked
+            # tolerance, and within the tolerance of its polyline: a point at least its best
+            # distance from that box, or from the polyline less the tolerance, is not asked
             near = np.flatnonzero(np.linalg.norm(p - np.clip(p, lo, hi), axis=1) < best)
+            if len(near):
+                upper = float(best[near].max())
+                near = near[self._trim_edges[e.id].lower_bound(p[near], upper) < best[near]]
             if len(near):
                 best[near] = np.minimum(best[near], self._edge_distance(e, p[near], best[near]))
         return best
@@ -501,7 +505,7 @@ class PartSolid(Solid):
 
     @cached_property
     def _trim_edges(self) -> dict:
-        return {e.id: TrimEdge(e, self.tolerance) for e in self.edges if e.curve is not None}
+        return {e.id: TrimEdge(e, self.tolerance) for e in self.edges}
 
     def _edge_distance(self, e, p: np.ndarray, best: np.ndarray) -> np.ndarray:
         """Distance from points p to the edge e: exact where below ``best``."""
@@ -547,15 +551,29 @@ class PartSolid(Solid):
             if kernels is not None:  # the box hierarchy's cones for the far triangles (the same to round-off)
                 w = self._winding_tree.winding(p[boxed], kernels) / (4.0 * math.pi)
             else:
-                w = _winding(p[boxed], self.triangles)
+                w = _winding(p[boxed], self._winding_triangles)
             side[boxed] = np.where(w > 0.5, 1.0, -1.0)
         return side
+
+    @cached_property
+    def _winding_triangles(self) -> np.ndarray:
+        """The triangles with the vertices the faces share along their edges welded (they differ
+        by round-off, the faces being meshed one by one): within a hundredth of the tolerance and a
+        tenth of the shortest triangle edge (geometry.solids.winding_tree.welded). The winding
+        number moves by the solid angle of the closed cracks only (the M8 socket screw: 2.4e-4 at
+        most at 20,000 points in its box, no side changed), and the tree's cones no longer carry
+        every edge of every face (19 times faster there)."""
+        from .winding_tree import welded
+
+        edges = np.linalg.norm(self.triangles - np.roll(self.triangles, 1, axis=1), axis=2)
+        shortest = float(edges[edges > 0.0].min()) if (edges > 0.0).any() else 0.0
+        return welded(self.triangles, min(1e-2 * self.tolerance, 0.1 * shortest))
 
     @cached_property
     def _winding_tree(self):
         from .winding_tree import WindingTree
 
-        return WindingTree(self.triangles)
+        return WindingTree(self._winding_triangles)
 
 
 def _pick_body(part, body):
