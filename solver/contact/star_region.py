@@ -33,6 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .band import CandidateRegionExceeded
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
@@ -99,6 +100,8 @@ SIDE_ANGLE = math.radians(30.0)
 SIDE_ANGLE_LEAVE = math.radians(40.0)
 #: rays around the contact point on which body 1's free edge is located
 EDGE_RAYS = 720
+#: rays on which a trial region is kept within the candidate disc (``largest_size``)
+SIZE_ANGLES = 720
 
 
 def free_edge_distance(solid1, frame, ranges, reach: float, extent: float, scale: float) -> tuple[np.ndarray, np.ndarray]:
@@ -263,14 +266,39 @@ class StarRegionContact(EllipseContact):
         return max(a * load_ratio ** (1.0 / 3.0 if self.isotropic else 0.5), 2.0 * self.h)
 
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
-        a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / float(np.exp(self.log_rho.max()))
         tol = settling_tolerance(self.options, self.h, final)
-        return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
+        return edge_search(a0, self.h, tol, self.largest_size(), step0=0.05 * self.h if estimate else None)
+
+    def largest_size(self) -> float:
+        """The largest size a whose region lies in the candidate disc (the cells prepared for the
+        contact): on SIZE_ANGLES rays in body 1's sectors, the centre's offset plus the ray's
+        length to the region's edge, or to body 1's free edge where that is nearer, at most the
+        extent. A line contact's length A is fixed, so its rectangle's corners reach
+        sqrt(A^2 + B^2) (times rho): bounding B rho alone let a trial leave the prepared cells."""
+        room = max(self.extent - float(np.hypot(*self.centre)), 0.0)
+        upper = room / float(np.exp(self.log_rho.max()))
+        phi = np.linspace(0.0, 2.0 * math.pi, SIZE_ANGLES, endpoint=False)
+        phi = phi[knots_inside(phi, self.ranges)]
+        if not len(phi):
+            return upper
+
+        def fits(a: float) -> bool:
+            ray = self.ray_length(phi, a)
+            return bool((ray * np.minimum(self.end_radius(phi, a), 1.0)).max() <= room)
+
+        if fits(upper):
+            return upper
+        lo, hi = 0.0, upper
+        while hi - lo > 1e-9 * upper:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if fits(mid) else (lo, mid)
+        return lo
 
     def region_too_small(self) -> ValueError:
         where = "" if self.isotropic else " across the line"
-        return ValueError(f"{self.name}: the contact region reaches the candidate region's edge ({self.extent:.4g} m)"
-                          f"{where} and still penetrates; enlarge the contact refinement radius")
+        return CandidateRegionExceeded(self.model.bodies, "refinement radius", (
+            f"{self.name}: the contact region reaches the candidate region's edge ({self.extent:.4g} m){where} and "
+            "still penetrates; enlarge the contact refinement radius"))
 
     def judge(self, x: np.ndarray, a: float, info):
         gap, pressure, inside, edge_dist = _sample_state(self, x, a)
