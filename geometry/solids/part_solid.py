@@ -465,10 +465,14 @@ class PartSolid(Solid):
             asked |= todo
             for i in np.flatnonzero(todo.any(axis=1)):
                 pts = np.flatnonzero(todo[i])
+                pts = pts[gap[i, pts] <= key[pts]]  # the feet found so far, on earlier faces, as bounds
+                if not len(pts):
+                    continue
                 x, nx = exact[i].project_surface(p[pts])
                 d = np.linalg.norm(p[pts] - x, axis=1)
-                on = exact[i].on_face(x)
-                better = on & ((d < key[pts]) | ((d == key[pts]) & (i < face_of[pts])))
+                # the trimming test only for the feet that would be nearest (ties to the face listed first)
+                could = np.flatnonzero((d < key[pts]) | ((d == key[pts]) & (i < face_of[pts])))
+                better = could[exact[i].on_face(x[could])]
                 k = pts[better]
                 key[k], face_of[k], feet[k], normals[k] = d[better], i, x[better], nx[better]
         hit = np.flatnonzero(key < best)  # a tessellation-only face's bound as near wins
