@@ -103,14 +103,15 @@ class TrimEdge:
         e, t0 = self.clipped(p)
         return e, self.tangent(e, t0)
 
-    def clipped(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def clipped(self, p: np.ndarray, feet: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The nearest points (n, 3) of the edge: the curve's foot where it lies on the edge
         (within the tolerance of its polyline and not past an end), else the nearer end; and the
-        direction of the polyline's segment nearest to each of those points."""
+        direction of the polyline's segment nearest to each of those points. ``feet``: the
+        curve's feet of p when already projected."""
         if self.curve is None:
             near, _, t0 = _nearest_on_polyline(p, self.line)
             return near, t0
-        e = np.asarray(self.curve.project(p).points, float)
+        e = np.array(self.curve.project(p).points if feet is None else feet, dtype=float)
         _, off, t0 = _nearest_on_polyline(e, self.line)
         out = off > self.tol
         if not self.closed:  # a foot past an end (on the curve carried on) is that end

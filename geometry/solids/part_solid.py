@@ -518,10 +518,11 @@ class PartSolid(Solid):
         d = np.min([np.linalg.norm(p - np.asarray(v, float), axis=1) for v in ends], axis=0)
         if e.curve is None:
             return np.minimum(d, np.maximum(_polyline_distance(p, line) - self.tolerance, 0.0))
-        dc = np.abs(np.asarray(e.curve.project(p).distances, float))
+        pr = e.curve.project(p)
+        dc = np.abs(np.asarray(pr.distances, float))
         ask = np.flatnonzero(dc < np.minimum(best, d))  # only a foot on the edge could be nearer
         if len(ask):  # the curve's foot clipped to the edge's ends (exact, not the polyline's band)
-            foot, _ = self._trim_edges[e.id].clipped(p[ask])
+            foot, _ = self._trim_edges[e.id].clipped(p[ask], np.asarray(pr.points, float)[ask])
             d[ask] = np.minimum(d[ask], np.linalg.norm(p[ask] - foot, axis=1))
         return d
 
