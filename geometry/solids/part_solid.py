@@ -587,6 +587,10 @@ def _pick_body(part, body):
     bodies = list(part.bodies.values())
     listing = ", ".join(f"{b.id} ({b.name})" for b in bodies)
     if body is None:
+        if len(bodies) > 1 and all(b.body_type != "SOLID" for b in bodies):
+            raise ValueError(f"the part has no closed solid: its {len(bodies)} bodies are all "
+                             f"{' or '.join(sorted({b.body_type.lower() for b in bodies}))} bodies (open shells or "
+                             "loose faces, not sewn into a solid), which bound no volume")
         if len(bodies) != 1:
             raise ValueError(f"the part has {len(bodies)} bodies; choose one by id or name: {listing}")
         return _solid_body(bodies[0])
