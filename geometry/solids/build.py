@@ -136,7 +136,7 @@ def _cad_solid(d: dict, where: str, load_part):
     try:
         return PartSolid(part, d.get("body"))
     except ValueError as err:
-        raise ValueError(f"{where}.body: {err}") from None
+        raise ValueError(f"{where}.body: {d['path']}: {err}") from None
 
 
 def solid_from_dict(shape: Any, where: str = "shape", load_part=None):

@@ -54,6 +54,11 @@ def _nearest_on_polyline(p: np.ndarray, line: np.ndarray) -> tuple[np.ndarray, n
     return foot, best, _unit(direction)
 
 
+#: a trimming edge's polyline is sampled at most this many times for :meth:`TrimEdge.lower_bound`
+#: (the samples at most the tolerance apart, or the polyline's length over this)
+BOUND_SAMPLES = 4096
+
+
 class TrimEdge:
     """One trimming edge of a face: its exact curve (or polyline), ends and box."""
 
@@ -66,20 +71,47 @@ class TrimEdge:
         self.lo, self.hi = self.line.min(axis=0) - tol, self.line.max(axis=0) + tol
         self.tol = tol
 
+    @cached_property
+    def _samples(self):
+        """A k-d tree of points along the polyline (its vertices and points between them at most
+        ``spacing`` apart) and how far the edge may lie from the nearest of them: half the
+        spacing, plus the tolerance (the exact edge lies within it of its polyline, as it lies in
+        the polyline's box widened by it), plus round-off."""
+        from scipy.spatial import cKDTree
+
+        seg = self.line[1:] - self.line[:-1]
+        length = np.linalg.norm(seg, axis=1)
+        spacing = max(self.tol, float(length.sum()) / BOUND_SAMPLES, 1e-300)
+        pieces = np.maximum(np.ceil(length / spacing).astype(np.int64), 1)
+        owner = np.repeat(np.arange(len(seg)), pieces)
+        t = (np.arange(len(owner)) - np.repeat(np.cumsum(pieces) - pieces, pieces)) / np.repeat(pieces, pieces)
+        points = np.concatenate([self.line[owner] + t[:, None] * seg[owner], self.line[-1:]]) if len(seg) else self.line
+        scale = float(np.abs(self.line).max(initial=0.0)) + float(length.sum())
+        reach = (0.5 * spacing + self.tol) * (1.0 + 1e-9) + 1e-12 * scale
+        return cKDTree(points), reach
+
+    def lower_bound(self, p: np.ndarray, upper: float = np.inf) -> np.ndarray:
+        """Distances (n,) from points p (n, 3) to the edge from below (its polyline's samples'
+        nearest less how far the edge may lie from them); inf where above ``upper``."""
+        tree, reach = self._samples
+        d, _ = tree.query(np.asarray(p, float).reshape(-1, 3), distance_upper_bound=upper + reach)
+        return np.maximum(d - reach, 0.0)
+
     def foot(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The nearest points (n, 3) of the edge and its unit tangents there (n, 3), running
         from the polyline's first point to its last."""
         e, t0 = self.clipped(p)
         return e, self.tangent(e, t0)
 
-    def clipped(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def clipped(self, p: np.ndarray, feet: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The nearest points (n, 3) of the edge: the curve's foot where it lies on the edge
         (within the tolerance of its polyline and not past an end), else the nearer end; and the
-        direction of the polyline's segment nearest to each of those points."""
+        direction of the polyline's segment nearest to each of those points. ``feet``: the
+        curve's feet of p when already projected."""
         if self.curve is None:
             near, _, t0 = _nearest_on_polyline(p, self.line)
             return near, t0
-        e = np.asarray(self.curve.project(p).points, float)
+        e = np.array(self.curve.project(p).points if feet is None else feet, dtype=float)
         _, off, t0 = _nearest_on_polyline(e, self.line)
         out = off > self.tol
         if not self.closed:  # a foot past an end (on the curve carried on) is that end
@@ -155,9 +187,14 @@ class FaceTrim:
         same = 1e-7 * self.size  # two edges' feet this close are their shared vertex
         band = BAND * self.tol
         for edge, side in zip(self.edges, self._sides):
+            if side == 0.0:
+                continue
             gap = np.linalg.norm(q - np.clip(q, edge.lo, edge.hi), axis=1)
             sel = np.flatnonzero((gap < band) & (gap <= best + same))
-            if not len(sel) or side == 0.0:
+            if len(sel):  # the box's gap, then the samples' bound: the edge is at least that far
+                gap = edge.lower_bound(q[sel], band)
+                sel = sel[(gap < band) & (gap <= best[sel] + same)]
+            if not len(sel):
                 continue
             e, t = edge.foot(q[sel])
             m = side * _unit(np.cross(self.face.project_surface(e)[1], t))

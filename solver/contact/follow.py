@@ -27,6 +27,7 @@ from typing import Callable
 import numpy as np
 
 from ..model.problem import MAX_REFINEMENT_LEVELS, Refinement
+from .band import CandidateRegionExceeded
 from .ellipse import is_line_contact
 from .ellipse_geometry import contact_frame_3d, sectors
 from .region_band import band_balls, peak_balls, side_balls, turning_balls
@@ -167,12 +168,20 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
 def coarse_pass(problem, lines: list[int], run: Callable):
     """(the coarse pass's solution, the levels it was solved shallower, a record of the passes
     tried): COARSER_LEVELS shallower, or one level finer at a time while its region is not
-    resolved (not converged, no region, or fewer than MIN_COARSE_CELLS across its half-width) and
+    resolved (not converged, no region, fewer than MIN_COARSE_CELLS across its half-width, or its
+    region search ran off the candidate region, as a search on a region about a cell wide can) and
     the pass stays at least a level shallower than the scene."""
     fewer = COARSER_LEVELS
     tried = []
     while True:
-        coarse = run(coarse_problem(problem, lines, fewer))
+        try:
+            coarse = run(coarse_problem(problem, lines, fewer))
+        except CandidateRegionExceeded as err:  # the search lost a region its cells do not resolve
+            if err.cause != "refinement radius" or fewer <= 1:
+                raise
+            tried.append({"levels_fewer": fewer, "converged": False, "failed": str(err)})
+            fewer -= 1
+            continue
         blocks = [coarse.contacts[k] for k in lines]
         resolved = bool(coarse.converged) and all(
             b.get("boundary") and (b.get("cells_per_semi_axis") or [0.0, 0.0])[1] >= MIN_COARSE_CELLS for b in blocks)

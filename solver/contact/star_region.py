@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .band import CandidateRegionExceeded
 from .ellipse import (PANELS_PER_CELL, REGION_ORDER, EllipseContact, _judge, _quadrature_traction, _sample_state,
                       is_flat_contact, plane_weights)
 from .ellipse_geometry import region_points, surface_point
@@ -106,6 +107,11 @@ SIDE_ANGLE = math.radians(30.0)
 SIDE_ANGLE_LEAVE = math.radians(40.0)
 #: rays around the contact point on which body 1's free edge is located
 EDGE_RAYS = 720
+#: rays on which a trial region is kept within the cells prepared for it (``largest_size``)
+SIZE_ANGLES = 720
+#: the prepared cells reach this share of the finest cell beyond the candidate disc (those a
+#: quarter cell from its points: solver.contact.ellipse._near_cells)
+PREPARED_REACH = 0.25
 
 
 def free_edge_distance(solid1, frame, ranges, reach: float, extent: float, scale: float) -> tuple[np.ndarray, np.ndarray]:
@@ -180,6 +186,8 @@ class StarRegionContact(EllipseContact):
     _before_split: tuple | None = None
     #: the knots have been spread along the edge in this load step (``spread_knots``)
     _spread: bool = False
+    #: (psi, distance) of body 1's free edges as far as the prepared cells reach (``largest_size``)
+    _prepared_edges: tuple | None = None
 
     # ------------------------------------------------------------------ the region's shape
 
@@ -287,9 +295,44 @@ class StarRegionContact(EllipseContact):
     def region_search(self, a0: float, final: bool, max_iterations: int, estimate: bool = False):
         if self.whole_face is not None:
             return self._holding_search()
-        a_max = max(self.extent - float(np.abs(self.centre).max()), 0.0) / float(np.exp(self.log_rho.max()))
         tol = settling_tolerance(self.options, self.h, final)
-        return edge_search(a0, self.h, tol, a_max, step0=0.05 * self.h if estimate else None)
+        return edge_search(a0, self.h, tol, self.largest_size(), step0=0.05 * self.h if estimate else None)
+
+    def largest_size(self) -> float:
+        """The largest size a whose region lies in the cells prepared for the contact: on
+        SIZE_ANGLES rays in body 1's sectors, the centre's offset plus the ray's length to the
+        region's edge, or to body 1's free edge where that is nearer, at most the extent plus
+        PREPARED_REACH of the finest cell (the prepared cells hold the candidate disc's points and
+        those that far from them). A line contact's length A is fixed, so its rectangle's corners
+        reach sqrt(A^2 + B^2) (times rho): bounding B rho by the extent alone let a trial leave
+        the prepared cells."""
+        room = max(self.extent + PREPARED_REACH * self.h - float(np.hypot(*self.centre)), 0.0)
+        upper = max(self.extent - float(np.abs(self.centre).max()), 0.0) / float(np.exp(self.log_rho.max()))
+        phi = np.linspace(0.0, 2.0 * math.pi, SIZE_ANGLES, endpoint=False)
+        phi = phi[knots_inside(phi, self.ranges)]
+        if not len(phi):
+            return upper
+
+        if self._prepared_edges is None:  # body 1's free edges as far as the prepared cells reach
+            self._prepared_edges = free_edge_distance(self.solids[0], self.frame, self.ranges, self.reach,
+                                                      self.extent + PREPARED_REACH * self.h, self.h)
+
+        def fits(a: float) -> bool:
+            aa, bb = self.semi_axes(a)
+            direction = np.stack([aa * np.cos(phi), bb * np.sin(phi)], axis=1)
+            ray = self.rho(phi) * np.hypot(direction[:, 0], direction[:, 1])
+            psi, ends = self._prepared_edges
+            k = np.rint(np.mod(np.arctan2(direction[:, 1], direction[:, 0]), 2.0 * math.pi) / (2.0 * math.pi)
+                        * len(psi)).astype(int) % len(psi)
+            return bool(np.minimum(ray, np.where(ends[k] > 0.0, ends[k], np.inf)).max() <= room)
+
+        if fits(upper):
+            return upper
+        lo, hi = 0.0, upper
+        while hi - lo > 1e-9 * upper:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if fits(mid) else (lo, mid)
+        return lo
 
     def _update_centre(self, x: np.ndarray, a: float, info, final: bool) -> bool:
         """A whole face's centre stays where it was set up (its samples' centroid: the region holds
@@ -310,8 +353,9 @@ class StarRegionContact(EllipseContact):
 
     def region_too_small(self) -> ValueError:
         where = "" if self.isotropic else " across the line"
-        return ValueError(f"{self.name}: the contact region reaches the candidate region's edge ({self.extent:.4g} m)"
-                          f"{where} and still penetrates; enlarge the contact refinement radius")
+        return CandidateRegionExceeded(self.model.bodies, "refinement radius", (
+            f"{self.name}: the contact region reaches the candidate region's edge ({self.extent:.4g} m){where} and "
+            "still penetrates; enlarge the contact refinement radius"))
 
     def judge(self, x: np.ndarray, a: float, info):
         gap, pressure, inside, edge_dist = _sample_state(self, x, a)

@@ -74,7 +74,8 @@ def inside_moments(lower: np.ndarray, size: np.ndarray, signed_distance: SignedD
         cut = ~inside & (phi > -np.sqrt(3.0) * half)
         np.add.at(out, cell[inside], box_moments(lo[inside], lo[inside] + width))
         if level >= depth:
-            grad, bend = _linearity(signed_distance, centre[cut], phi[cut], half[cut])
+            grad, bend = _linearity(signed_distance, lower[cell[cut]], 0.5 * size[cell[cut]], cell[cut], lo[cut], width,
+                                    phi[cut])
             kink = bend > KINK * half[cut]
             bent = bend > PLANAR_BEND * half[cut]  # not one plane: an edge, a vertex or a curved face
             if planar and level == 0 and bent.any():  # whole cells (depth 0, the solver's)
@@ -125,15 +126,27 @@ KINK = 0.3
 LEAF_CHUNK = 20000
 
 
-def _linearity(signed_distance: SignedDistance, centre, phi, half):
+def _linearity(signed_distance: SignedDistance, cell_lower, scale, owner, lo, width: float, phi):
     """Central-difference gradient (q, 3) of the distance over each sub-cube's half edge, and
     how much the distance bends there: the largest second difference along an axis, or
-    deviation of the distance at a corner from the linear model. One call of the distance on
-    the 14 q points."""
+    deviation of the distance at a corner from the linear model. The sub-cubes [lo, lo + width]
+    in the local coordinates of cells with lower corners ``cell_lower`` and half edges ``scale``
+    (the cells' indices ``owner``). One call of the distance on the 14 q points, each point
+    asked once: the sub-cubes of one cell share corners and face centres (their local
+    coordinates are exact binary fractions, so a shared point is the same number each time)."""
     q = len(phi)
     offsets = np.concatenate([np.vstack([np.eye(3), -np.eye(3)])[[0, 3, 1, 4, 2, 5]], 2.0 * CORNERS - 1.0])
+    half = 0.5 * width * scale
     offset = half[None, :, None] * offsets[:, None, :]  # (14, q, 3): +-x, +-y, +-z, the corners
-    values = np.asarray(signed_distance((centre[None] + offset).reshape(-1, 3)), float).reshape(14, q)
+    local = (lo + 0.5 * width)[None] + 0.5 * width * offsets[:, None, :]  # (14, q, 3), exact
+    keys = np.column_stack([np.broadcast_to(owner, (14, q)).reshape(-1), local.reshape(-1, 3)])
+    unique, inverse = np.unique(keys, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    first = np.zeros(len(unique), dtype=np.int64)
+    first[inverse] = np.arange(len(keys))  # any of the points' sub-cubes: they share the cell
+    rows = first % q
+    points = cell_lower[rows] + (unique[:, 1:] + 1.0) * scale[rows, None]
+    values = np.asarray(signed_distance(points), float)[inverse].reshape(14, q)
     plus, minus = values[0:6:2], values[1:6:2]  # (3, q)
     grad = ((plus - minus) / (2.0 * half)).T
     bend = np.abs(plus + minus - 2.0 * phi).max(axis=0, initial=0.0)

@@ -11,6 +11,7 @@ it (nudged into the material along the normal).
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -201,6 +202,29 @@ def located_face_rule(face, tree, order: int = FACE_ORDER):
     return points[keep], weights[keep], normals[keep], cells[keep]
 
 
+#: the moments of the cut cells already integrated, per solid, by cell (its lower corner, size and
+#: the subdivision depth): a line contact's coarse passes, the run's own grid and its error
+#: estimate's share every cell away from the contact, whose moments are the same numbers
+_CUT_MOMENTS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def cut_cell_moments(solid, lower: np.ndarray, size: np.ndarray, depth: int = CUT_DEPTH) -> np.ndarray:
+    """:func:`solver.fem.cut_cells3d.inside_moments` of the cells (lower corners (m, 3), sizes
+    (m,)) of ``solid`` by its signed distance, each cell integrated once per solid (a solid that
+    takes no weak reference: every time)."""
+    lower, size = np.asarray(lower, float).reshape(-1, 3), np.asarray(size, float).reshape(-1)
+    try:
+        memo = _CUT_MOMENTS.setdefault(solid, {})
+    except TypeError:
+        memo = {}
+    keys = [bytes(row) + bytes([depth]) for row in np.ascontiguousarray(np.column_stack([lower, size]))]
+    new = [i for i, k in enumerate(keys) if k not in memo]
+    if new:
+        values = inside_moments(lower[new], size[new], solid.signed_distance, depth)
+        memo.update(zip((keys[i] for i in new), values))
+    return np.array([memo[k] for k in keys], dtype=float).reshape(-1, 27)
+
+
 def discretise_solid(name: str, solid, material_lame: tuple[float, float], elasticity: np.ndarray,
                      poissons_ratio: float, element_size: float, zones: tuple[RefinementZone, ...] = (),
                      index: int = 0, offset=(0.0, 0.0, 0.0), depth: int = CUT_DEPTH,
@@ -219,7 +243,7 @@ def discretise_solid(name: str, solid, material_lame: tuple[float, float], elast
     moments = np.zeros((len(tree.size), 27))
     moments[status == INSIDE] = full_cube_moments()
     cut = status == CUT
-    moments[cut] = inside_moments(tree.lower[cut], tree.size[cut], phi, depth)
+    moments[cut] = cut_cell_moments(solid, tree.lower[cut], tree.size[cut], depth)
     if aggregation_threshold is not None:
         tree.aggregate_cells(moments[:, 0] / 8.0, aggregation_threshold)
     lam, mu = material_lame
