@@ -40,21 +40,18 @@ def _gradient(phi, x: np.ndarray, step: float) -> np.ndarray:
 
 
 def _hessian(phi, x: np.ndarray, step: float) -> np.ndarray:
-    """(3, 3) Hessian of phi at one point by central differences."""
+    """(3, 3) Hessian of phi at one point by central differences: its 19 points in one call."""
+    e = step * np.eye(3)
+    pairs = [(i, j) for i in range(3) for j in range(i + 1, 3)]
+    pts = [x[None]] + [np.array([x + e[i], x - e[i]]) for i in range(3)]
+    pts += [np.array([x + e[i] + e[j], x + e[i] - e[j], x - e[i] + e[j], x - e[i] - e[j]]) for i, j in pairs]
+    v = np.asarray(phi(np.concatenate(pts)), float)
+    f0, diag, off = v[0], v[1:7].reshape(3, 2), v[7:].reshape(3, 4)
     h = np.empty((3, 3))
-    f0 = float(phi(x[None])[0])
     for i in range(3):
-        for j in range(i, 3):
-            ei, ej = np.zeros(3), np.zeros(3)
-            ei[i], ej[j] = step, step
-            pts = np.array([x + ei + ej, x + ei - ej, x - ei + ej, x - ei - ej])
-            if i == j:
-                pts = np.array([x + ei, x - ei])
-                v = np.asarray(phi(pts), float)
-                h[i, i] = (v[0] + v[1] - 2.0 * f0) / step**2
-            else:
-                v = np.asarray(phi(pts), float)
-                h[i, j] = h[j, i] = (v[0] - v[1] - v[2] + v[3]) / (4.0 * step**2)
+        h[i, i] = (diag[i, 0] + diag[i, 1] - 2.0 * f0) / step**2
+    for (i, j), w in zip(pairs, off):
+        h[i, j] = h[j, i] = (w[0] - w[1] - w[2] + w[3]) / (4.0 * step**2)
     return h
 
 
@@ -68,28 +65,28 @@ def smooth_point(solid, x: np.ndarray, step: float, toward: np.ndarray | None = 
     are small, the one whose outward normal points most along ``toward`` (the other body). At the
     edge where a symmetry plane meets a face (a quarter model's contact point) the distance has
     a kink, and a central difference there mixes the two faces' gradients; the contact face's
-    normal and curvature are those just inside it."""
+    normal and curvature are those just inside it. Two calls of the distance: the lattice, then
+    the central differences about its points near the surface."""
     phi = solid.signed_distance
+    y = x + 10.0 * step * _LATTICE
+    f0 = np.asarray(phi(y), float)
+    near = np.nonzero(np.abs(f0) <= 11.0 * step)[0]
+    if not len(near):
+        return x
+    e = step * np.eye(3)
+    f = np.asarray(phi((y[near, None, None, :] + np.stack([e, -e], axis=1)[None]).reshape(-1, 3)), float)
+    f = f.reshape(len(near), 3, 2)
+    bends = np.abs(f[:, :, 0] + f[:, :, 1] - 2.0 * f0[near, None])
+    grad = (f[:, :, 0] - f[:, :, 1]) / (2.0 * step)
     best, best_dot = x, -np.inf
-    for v in _LATTICE:
-        y = x + 10.0 * step * v
-        f0 = float(phi(y[None])[0])
-        if abs(f0) > 11.0 * step:
-            continue
-        bends, grad = [], np.zeros(3)
-        for k in range(3):
-            e = np.zeros(3)
-            e[k] = step
-            f = np.asarray(phi(np.array([y + e, y - e])), float)
-            bends.append(abs(f[0] + f[1] - 2.0 * f0))
-            grad[k] = (f[0] - f[1]) / (2.0 * step)
-        if max(bends) > 1e-3 * step:
+    for k, v in enumerate(near):  # the lattice's order: the point itself first
+        if bends[k].max() > 1e-3 * step:
             continue
         if toward is None:
-            return y
-        dot = float(-grad @ toward) / max(np.linalg.norm(grad), 1e-300)
+            return y[v]
+        dot = float(-grad[k] @ toward) / max(np.linalg.norm(grad[k]), 1e-300)
         if dot > best_dot + 1e-9:
-            best, best_dot = y, dot
+            best, best_dot = y[v], dot
     return best
 
 
@@ -125,9 +122,34 @@ def tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
     raise ValueError("no tangent direction")  # pragma: no cover - eye(3) always has one
 
 
+#: frames computed lately, newest last: (solid1, solid2, key, frame)
+_RECENT_FRAMES: list = []
+#: how many frames :func:`contact_frame_3d` keeps
+RECENT_FRAMES = 8
+
+
 def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
                      tangential_direction: np.ndarray | None = None) -> ContactFrame3D:
-    """The frame at the contact point (``scale``: the finest cell, sets the difference steps)."""
+    """The frame at the contact point (``scale``: the finest cell, sets the difference steps).
+    A run asks for the same frame several times (the scene's checks, the line-contact test, the
+    contact's set-up): the last few are kept, for the same two solid objects (the solids are not
+    changed once built) and the same point, scale and direction, and returned again (their
+    arrays read-only)."""
+    key = (np.asarray(point, float).tobytes(), float(scale),
+           None if tangential_direction is None else np.asarray(tangential_direction, float).tobytes())
+    for entry in _RECENT_FRAMES:
+        if entry[0] is solid1 and entry[1] is solid2 and entry[2] == key:
+            return entry[3]
+    frame = _contact_frame_3d(solid1, solid2, point, scale, tangential_direction)
+    for a in (frame.point, frame.normal, frame.axes, frame.curvatures):
+        a.flags.writeable = False
+    _RECENT_FRAMES.append((solid1, solid2, key, frame))
+    del _RECENT_FRAMES[:-RECENT_FRAMES]
+    return frame
+
+
+def _contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
+                      tangential_direction: np.ndarray | None) -> ContactFrame3D:
     step = 1e-4 * scale
     x2, _ = closest_on(solid2, np.asarray(point, float)[None], step)
     x1, _ = closest_on(solid1, np.asarray(point, float)[None], step)
@@ -384,7 +406,7 @@ def sectors(solid1, frame: ContactFrame3D, radius: float, reach: float, samples:
         return [(0.0, 2.0 * math.pi)]
     if not has.any():
         raise ValueError("body 1 has no surface over the contact point's tangent plane")
-    out = []
+    brackets = []  # (outside, inside) of each range's two ends
     start = int(np.argmin(has))  # a missing direction: ranges start after it
     order = np.roll(np.arange(samples), -start)
     k = 0
@@ -397,24 +419,31 @@ def sectors(solid1, frame: ContactFrame3D, radius: float, reach: float, samples:
             j += 1
         lo_in, hi_in = theta[order[k]], theta[order[j]]
         lo_out, hi_out = lo_in - 2 * math.pi / samples, hi_in + 2 * math.pi / samples
-        out.append((_edge(present, lo_out, lo_in), _edge(present, hi_out, hi_in)))
+        brackets += [(lo_out, lo_in), (hi_out, hi_in)]
         k = j + 1
+    ends = _edges(present, brackets)
+    out = list(zip(ends[0::2], ends[1::2]))
     return [(a0, a1 if a1 > a0 else a1 + 2 * math.pi) for a0, a1 in out]
 
 
-def _edge(present, outside: float, inside: float, split: int = 16) -> float:
-    """The angle where surface appears between ``outside`` (none) and ``inside``: the bracket cut
-    into ``split`` pieces per call (one batch of lines) down to 2^-50 of its width (or round-off),
-    the first present angle from the outside end kept as the new inside."""
+def _edges(present, brackets: list[tuple[float, float]], split: int = 16) -> list[float]:
+    """The angles where surface appears between ``outside`` (none) and ``inside`` of each bracket:
+    each bracket cut into ``split`` pieces per round down to 2^-50 of its width (or round-off),
+    the first present angle from the outside end kept as the new inside; the cuts of all the
+    brackets in one batch of lines per round."""
+    outside = np.array([b[0] for b in brackets], dtype=float)
+    inside = np.array([b[1] for b in brackets], dtype=float)
+    pieces = np.arange(1, split)
     for _ in range(math.ceil(50 / math.log2(split))):
-        cut = outside + (inside - outside) * np.arange(1, split) / split
-        has = present(cut)
-        if not has.any():
-            outside = cut[-1]
-            continue
-        j = int(np.argmax(has))
-        outside, inside = (cut[j - 1] if j > 0 else outside), cut[j]
-    return inside
+        cut = outside[:, None] + (inside - outside)[:, None] * pieces[None, :] / split
+        has = present(cut.ravel()).reshape(cut.shape)
+        for m in range(len(brackets)):
+            if not has[m].any():
+                outside[m] = cut[m, -1]
+                continue
+            j = int(np.argmax(has[m]))
+            outside[m], inside[m] = (cut[m, j - 1] if j > 0 else outside[m]), cut[m, j]
+    return [float(v) for v in inside]
 
 
 @dataclass
@@ -441,9 +470,10 @@ class RegionPoints:
         return v / np.linalg.norm(v, axis=1)[:, None]
 
 
-def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoints:
-    """Points of body 1 above the tangent-plane points s and their closest points on body 2."""
-    x1, ok = surface_point(solid1, frame, s, reach)
+def matched_points(solid1, solid2, frame, s, weights, reach, step, on_body1=None) -> RegionPoints:
+    """Points of body 1 above the tangent-plane points s and their closest points on body 2
+    (``on_body1``: :func:`surface_point`'s answer for s when the caller has it)."""
+    x1, ok = surface_point(solid1, frame, s, reach) if on_body1 is None else on_body1
     if not ok.all():
         keep = ok
         s, x1, weights = s[keep], x1[keep], weights[keep]
