@@ -559,8 +559,12 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
     corners = np.stack([lower, np.column_stack([upper[:, 0], lower[:, 1]]), upper,
                         np.column_stack([lower[:, 0], upper[:, 1]])], axis=1).reshape(-1, 2)
     step = 1e-4 * panel
-    x1c, _ = surface_point(solid1, frame, plane(corners), reach)
-    x2c, _ = closest_on(solid2, x1c, step, sweeps=2)
+    # neighbouring panels share corners (a product grid's inner corner is four panels'): each
+    # corner's line is followed once
+    unique, back = np.unique(corners, axis=0, return_inverse=True)
+    x1u, _ = surface_point(solid1, frame, plane(unique), reach)
+    x2u, _ = closest_on(solid2, x1u, step, sweeps=2)
+    x1c, x2c = x1u[back.ravel()], x2u[back.ravel()]
     poly = np.zeros((len(lower), MAX_VERTICES, 2))
     poly[:, :4] = corners.reshape(-1, 4, 2)
     count = np.full(len(lower), 4, dtype=np.int64)
