@@ -353,32 +353,105 @@ def _scanned_roots(f, y: np.ndarray, n: np.ndarray, reach: float) -> tuple[np.nd
     return t, ok
 
 
+#: bisection levels of a line on a face (f = 0 at the bracket's upper end) evaluated per call:
+#: the 2^k - 1 midpoints the next k bisection steps may take, in one batch
+PLATEAU_LEVELS = 4
+#: the regula falsi's iterations at most
+ILLINOIS_STEPS = 200
+
+
 def _illinois(f, y, n, a, b, fa, fb, reach: float) -> np.ndarray:
     """Zeros in the brackets [a, b] (f(a) < 0 <= f(b)) on the lines y + t n, each line iterated
-    until its bracket or step is at round-off."""
-    x = a.copy()
+    until its bracket or step is at round-off. Where b lies exactly on the surface the line may run
+    along a face there (phi = 0 on a stretch, a quarter model's axis on its symmetry plane), whose
+    lower end is the point: it is bisected, PLATEAU_LEVELS steps per call of the distance (the
+    midpoints each outcome leads to evaluated together; the steps, and so the zeros, are those of
+    one step per call)."""
+    st = _Falsi(a.copy(), b.copy(), fa.copy(), fb.copy(), len(a))
     out = np.zeros(len(a))
     act = np.arange(len(a))
-    side = np.zeros(len(a), dtype=np.int8)
-    for _ in range(200):
-        # b exactly on the surface: the line may run along a face there (phi = 0 on a stretch, a
-        # quarter model's axis on its symmetry plane), whose lower end is the point: bisect
+    while True:
+        act = act[st.steps[act] < ILLINOIS_STEPS]
+        if len(act):
+            act = act[~st.begin(act, out, reach)]
+        if not len(act):
+            return out
+        flat = st.fb[act] == 0.0
+        single, lines = act[~flat], act[flat]
+        ahead = _bisection_tree(st.a[lines], st.b[lines], PLATEAU_LEVELS)  # its root: the step begun
+        values = np.asarray(f(y[np.concatenate([single, np.repeat(lines, ahead.shape[1])])]
+                              + np.concatenate([st.x[single], ahead.ravel()])[:, None] * n), float)
+        st.update(single, values[:len(single)])
+        _walk(st, lines, values[len(single):].reshape(ahead.shape), out, reach)
+        act = act[~st.closed[act]]
+
+
+def _walk(st, lines: np.ndarray, tree: np.ndarray, out: np.ndarray, reach: float) -> None:
+    """The bisection steps of the lines on a face along their evaluated trees, while they stay on
+    it (f = 0 at the bracket's upper end) and open."""
+    rows, node = np.arange(len(lines)), np.zeros(len(lines), dtype=np.int64)
+    for level in range(PLATEAU_LEVELS):
+        up = st.update(lines, tree[rows, node])
+        if level == PLATEAU_LEVELS - 1:
+            return
+        walk = (st.fb[lines] == 0.0) & (st.steps[lines] < ILLINOIS_STEPS)
+        lines, rows, node, up = lines[walk], rows[walk], node[walk], up[walk]
+        if not len(lines):
+            return
+        done = st.begin(lines, out, reach)
+        lines, rows, node = lines[~done], rows[~done], np.where(up, 2 * node + 1, 2 * node + 2)[~done]
+        if not len(lines):
+            return
+
+
+class _Falsi:
+    """The brackets of :func:`_illinois`' lines: [a, b] with f(a), f(b), the side the last step
+    moved, the last point, the steps begun and whether the line is closed."""
+
+    def __init__(self, a, b, fa, fb, m: int):
+        self.a, self.b, self.fa, self.fb, self.x = a, b, fa, fb, a.copy()
+        self.side = np.zeros(m, dtype=np.int8)
+        self.steps = np.zeros(m, dtype=np.int64)
+        self.closed = np.zeros(m, dtype=bool)
+
+    def begin(self, lines: np.ndarray, out: np.ndarray, reach: float) -> np.ndarray:
+        """A step of ``lines``: the next point (bisection on a face, else the Illinois regula falsi),
+        written to ``out``; returns the lines whose bracket or step is at round-off (closed)."""
+        a, b, fa, fb, x = self.a[lines], self.b[lines], self.fa[lines], self.fb[lines], self.x[lines]
         plateau = fb == 0.0
         xn = np.where(plateau, 0.5 * (a + b), b - fb * (b - a) / np.where(fb != fa, fb - fa, 1.0))
         done = (np.abs(b - a) <= 1e-13 * reach) | (~plateau & (np.abs(xn - x) <= 1e-16 * reach))
-        out[act] = xn
-        keep = ~done
-        act, a, b, fa, fb, side, x = act[keep], a[keep], b[keep], fa[keep], fb[keep], side[keep], xn[keep]
-        if not len(act):
-            break
-        fx = np.asarray(f(y[act] + x[:, None] * n), float)
+        out[lines] = xn
+        self.x[lines] = xn
+        self.steps[lines] += 1
+        self.closed[lines[done]] = True
+        return done
+
+    def update(self, lines: np.ndarray, fx: np.ndarray) -> np.ndarray:
+        """The brackets of ``lines`` after f = fx at their points; returns where the zero lies above."""
+        a, b, fa, fb, side, x = (v[lines] for v in (self.a, self.b, self.fa, self.fb, self.side, self.x))
         left = (fx < 0.0) == (fa < 0.0)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         fb = np.where(left & (side == 1), 0.5 * fb, fb)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
         fa = np.where(~left & (side == -1), 0.5 * fa, fa)
-        side = np.where(left, 1, -1).astype(np.int8)
-    return out
+        self.a[lines], self.b[lines], self.fa[lines], self.fb[lines] = a, b, fa, fb
+        self.side[lines] = np.where(left, 1, -1)
+        return left
+
+
+def _bisection_tree(a: np.ndarray, b: np.ndarray, levels: int) -> np.ndarray:
+    """(m, 2^levels - 1) the midpoints the next ``levels`` bisection steps of [a, b] may take, in
+    heap order: node i's bracket halves to node 2i + 1 (the zero above its midpoint) and 2i + 2
+    (below it), each midpoint 0.5 (lo + hi) as one bisection step computes it."""
+    lo, hi = [a], [b]
+    mids = []
+    for _ in range(levels):
+        level_mids = [0.5 * (l + h) for l, h in zip(lo, hi)]
+        mids += level_mids
+        lo, hi = ([v for m, l in zip(level_mids, lo) for v in (m, l)],
+                  [v for m, h in zip(level_mids, hi) for v in (h, m)])
+    return np.stack(mids, axis=1)
 
 
 def sector_share(ranges: list[tuple[float, float]]) -> float:
