@@ -12,21 +12,29 @@ importer, plotting or network code):
 from __future__ import annotations
 
 from importlib import import_module
-from importlib.metadata import PackageNotFoundError, version
 from typing import Any
-
-try:
-    __version__ = version("ibfem")
-except PackageNotFoundError:  # running from a source tree that was never installed
-    __version__ = "0+unknown"
 
 __all__ = ["geometry", "importers", "solver", "__version__"]
 _SUBPACKAGES = ("geometry", "importers", "solver")
 
 
+def _installed_version() -> str:
+    """The installed distribution's version (read on first use: importlib.metadata and the
+    look-up cost a run some 20 ms it does not need)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("ibfem")
+    except PackageNotFoundError:  # running from a source tree that was never installed
+        return "0+unknown"
+
+
 def __getattr__(name: str) -> Any:
     if name in _SUBPACKAGES:
         return import_module(f"{__name__}.{name}")
+    if name == "__version__":
+        globals()["__version__"] = value = _installed_version()
+        return value
     raise AttributeError(f"module 'ibfem' has no attribute {name!r}")
 
 

@@ -18,9 +18,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Immersed-boundary finite elements with exact CAD geometry: contact stresses "
         "from CAD parts. 'ibfem COMMAND --help' describes each command.",
     )
-    from ibfem import __version__
-
-    parser.add_argument("--version", action="version", version=f"ibfem {__version__}")
+    parser.add_argument("--version", action=_Version, nargs=0, help="show the program's version number and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMAND_MODULES:
         import_module(name).register(sub)
@@ -29,6 +27,16 @@ def build_parser() -> argparse.ArgumentParser:
             command.add_argument("--traceback", action="store_true",
                                  help="show the Python traceback of an internal error")
     return parser
+
+
+class _Version(argparse.Action):
+    """``--version``: the installed version, looked up only when asked for."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from ibfem import __version__
+
+        print(f"ibfem {__version__}")
+        parser.exit()
 
 
 #: exit code of an error the program did not expect (a bug): one line, no traceback

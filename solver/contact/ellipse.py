@@ -763,8 +763,9 @@ def _dense_disc(solids, frame, extent: float, ranges, spacing: float, reach: flo
                 t = np.clip(t, t0 + margin, t1 - margin)
             s.append(r * np.stack([np.cos(t), np.sin(t)], axis=1))
     s = np.concatenate(s)
-    keep = surface_point(solids[0], frame, s, reach)[1]
-    return matched_points(*solids, frame, s[keep], np.zeros(int(keep.sum())), reach, 1e-4 * spacing)
+    x1, keep = surface_point(solids[0], frame, s, reach)
+    return matched_points(*solids, frame, s[keep], np.zeros(int(keep.sum())), reach, 1e-4 * spacing,
+                          on_body1=(x1[keep], keep[keep]))
 
 
 def _near_cells(b, x, n) -> np.ndarray:

@@ -40,21 +40,18 @@ def _gradient(phi, x: np.ndarray, step: float) -> np.ndarray:
 
 
 def _hessian(phi, x: np.ndarray, step: float) -> np.ndarray:
-    """(3, 3) Hessian of phi at one point by central differences."""
+    """(3, 3) Hessian of phi at one point by central differences: its 19 points in one call."""
+    e = step * np.eye(3)
+    pairs = [(i, j) for i in range(3) for j in range(i + 1, 3)]
+    pts = [x[None]] + [np.array([x + e[i], x - e[i]]) for i in range(3)]
+    pts += [np.array([x + e[i] + e[j], x + e[i] - e[j], x - e[i] + e[j], x - e[i] - e[j]]) for i, j in pairs]
+    v = np.asarray(phi(np.concatenate(pts)), float)
+    f0, diag, off = v[0], v[1:7].reshape(3, 2), v[7:].reshape(3, 4)
     h = np.empty((3, 3))
-    f0 = float(phi(x[None])[0])
     for i in range(3):
-        for j in range(i, 3):
-            ei, ej = np.zeros(3), np.zeros(3)
-            ei[i], ej[j] = step, step
-            pts = np.array([x + ei + ej, x + ei - ej, x - ei + ej, x - ei - ej])
-            if i == j:
-                pts = np.array([x + ei, x - ei])
-                v = np.asarray(phi(pts), float)
-                h[i, i] = (v[0] + v[1] - 2.0 * f0) / step**2
-            else:
-                v = np.asarray(phi(pts), float)
-                h[i, j] = h[j, i] = (v[0] - v[1] - v[2] + v[3]) / (4.0 * step**2)
+        h[i, i] = (diag[i, 0] + diag[i, 1] - 2.0 * f0) / step**2
+    for (i, j), w in zip(pairs, off):
+        h[i, j] = h[j, i] = (w[0] - w[1] - w[2] + w[3]) / (4.0 * step**2)
     return h
 
 
@@ -70,28 +67,28 @@ def smooth_point(solid, x: np.ndarray, step: float, toward: np.ndarray | None = 
     both ways, another curvature (a torus's ring read -0.0126 1/m where it is 0). At the
     edge where a symmetry plane meets a face (a quarter model's contact point) the distance has
     a kink, and a central difference there mixes the two faces' gradients; the contact face's
-    normal and curvature are those just inside it."""
+    normal and curvature are those just inside it. Two calls of the distance: the lattice, then
+    the central differences about its points near the surface."""
     phi = solid.signed_distance
+    y = x + 10.0 * step * _LATTICE
+    f0 = np.asarray(phi(y), float)
+    near = np.nonzero(np.abs(f0) <= 11.0 * step)[0]
+    if not len(near):
+        return x
+    e = step * np.eye(3)
+    f = np.asarray(phi((y[near, None, None, :] + np.stack([e, -e], axis=1)[None]).reshape(-1, 3)), float)
+    f = f.reshape(len(near), 3, 2)
+    bends = np.abs(f[:, :, 0] + f[:, :, 1] - 2.0 * f0[near, None])
+    grad = (f[:, :, 0] - f[:, :, 1]) / (2.0 * step)
     best, best_dot = x, -np.inf
-    for v in _LATTICE:
-        y = x + 10.0 * step * v
-        f0 = float(phi(y[None])[0])
-        if abs(f0) > 11.0 * step:
+    for k, v in enumerate(near):  # the lattice's order: the point itself first
+        if bends[k].max() > 1e-3 * step:
             continue
-        bends, grad = [], np.zeros(3)
-        for k in range(3):
-            e = np.zeros(3)
-            e[k] = step
-            f = np.asarray(phi(np.array([y + e, y - e])), float)
-            bends.append(abs(f[0] + f[1] - 2.0 * f0))
-            grad[k] = (f[0] - f[1]) / (2.0 * step)
-        if max(bends) > 1e-3 * step:
-            continue
-        if toward is None or not v.any():  # x itself is smooth: its own normal and curvatures
-            return y
-        dot = float(-grad @ toward) / max(np.linalg.norm(grad), 1e-300)
+        if toward is None or not _LATTICE[v].any():  # x itself is smooth: its own normal and curvatures
+            return y[v]
+        dot = float(-grad[k] @ toward) / max(np.linalg.norm(grad[k]), 1e-300)
         if dot > best_dot + 1e-9:
-            best, best_dot = y, dot
+            best, best_dot = y[v], dot
     return best
 
 
@@ -127,9 +124,34 @@ def tangent_basis(normal: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
     raise ValueError("no tangent direction")  # pragma: no cover - eye(3) always has one
 
 
+#: frames computed lately, newest last: (solid1, solid2, key, frame)
+_RECENT_FRAMES: list = []
+#: how many frames :func:`contact_frame_3d` keeps
+RECENT_FRAMES = 8
+
+
 def contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
                      tangential_direction: np.ndarray | None = None) -> ContactFrame3D:
-    """The frame at the contact point (``scale``: the finest cell, sets the difference steps)."""
+    """The frame at the contact point (``scale``: the finest cell, sets the difference steps).
+    A run asks for the same frame several times (the scene's checks, the line-contact test, the
+    contact's set-up): the last few are kept, for the same two solid objects (the solids are not
+    changed once built) and the same point, scale and direction, and returned again (their
+    arrays read-only)."""
+    key = (np.asarray(point, float).tobytes(), float(scale),
+           None if tangential_direction is None else np.asarray(tangential_direction, float).tobytes())
+    for entry in _RECENT_FRAMES:
+        if entry[0] is solid1 and entry[1] is solid2 and entry[2] == key:
+            return entry[3]
+    frame = _contact_frame_3d(solid1, solid2, point, scale, tangential_direction)
+    for a in (frame.point, frame.normal, frame.axes, frame.curvatures):
+        a.flags.writeable = False
+    _RECENT_FRAMES.append((solid1, solid2, key, frame))
+    del _RECENT_FRAMES[:-RECENT_FRAMES]
+    return frame
+
+
+def _contact_frame_3d(solid1, solid2, point: np.ndarray, scale: float,
+                      tangential_direction: np.ndarray | None) -> ContactFrame3D:
     step = 1e-4 * scale
     x2, _ = closest_on(solid2, np.asarray(point, float)[None], step)
     x1, _ = closest_on(solid1, np.asarray(point, float)[None], step)
@@ -333,32 +355,105 @@ def _scanned_roots(f, y: np.ndarray, n: np.ndarray, reach: float) -> tuple[np.nd
     return t, ok
 
 
+#: bisection levels of a line on a face (f = 0 at the bracket's upper end) evaluated per call:
+#: the 2^k - 1 midpoints the next k bisection steps may take, in one batch
+PLATEAU_LEVELS = 4
+#: the regula falsi's iterations at most
+ILLINOIS_STEPS = 200
+
+
 def _illinois(f, y, n, a, b, fa, fb, reach: float) -> np.ndarray:
     """Zeros in the brackets [a, b] (f(a) < 0 <= f(b)) on the lines y + t n, each line iterated
-    until its bracket or step is at round-off."""
-    x = a.copy()
+    until its bracket or step is at round-off. Where b lies exactly on the surface the line may run
+    along a face there (phi = 0 on a stretch, a quarter model's axis on its symmetry plane), whose
+    lower end is the point: it is bisected, PLATEAU_LEVELS steps per call of the distance (the
+    midpoints each outcome leads to evaluated together; the steps, and so the zeros, are those of
+    one step per call)."""
+    st = _Falsi(a.copy(), b.copy(), fa.copy(), fb.copy(), len(a))
     out = np.zeros(len(a))
     act = np.arange(len(a))
-    side = np.zeros(len(a), dtype=np.int8)
-    for _ in range(200):
-        # b exactly on the surface: the line may run along a face there (phi = 0 on a stretch, a
-        # quarter model's axis on its symmetry plane), whose lower end is the point: bisect
+    while True:
+        act = act[st.steps[act] < ILLINOIS_STEPS]
+        if len(act):
+            act = act[~st.begin(act, out, reach)]
+        if not len(act):
+            return out
+        flat = st.fb[act] == 0.0
+        single, lines = act[~flat], act[flat]
+        ahead = _bisection_tree(st.a[lines], st.b[lines], PLATEAU_LEVELS)  # its root: the step begun
+        values = np.asarray(f(y[np.concatenate([single, np.repeat(lines, ahead.shape[1])])]
+                              + np.concatenate([st.x[single], ahead.ravel()])[:, None] * n), float)
+        st.update(single, values[:len(single)])
+        _walk(st, lines, values[len(single):].reshape(ahead.shape), out, reach)
+        act = act[~st.closed[act]]
+
+
+def _walk(st, lines: np.ndarray, tree: np.ndarray, out: np.ndarray, reach: float) -> None:
+    """The bisection steps of the lines on a face along their evaluated trees, while they stay on
+    it (f = 0 at the bracket's upper end) and open."""
+    rows, node = np.arange(len(lines)), np.zeros(len(lines), dtype=np.int64)
+    for level in range(PLATEAU_LEVELS):
+        up = st.update(lines, tree[rows, node])
+        if level == PLATEAU_LEVELS - 1:
+            return
+        walk = (st.fb[lines] == 0.0) & (st.steps[lines] < ILLINOIS_STEPS)
+        lines, rows, node, up = lines[walk], rows[walk], node[walk], up[walk]
+        if not len(lines):
+            return
+        done = st.begin(lines, out, reach)
+        lines, rows, node = lines[~done], rows[~done], np.where(up, 2 * node + 1, 2 * node + 2)[~done]
+        if not len(lines):
+            return
+
+
+class _Falsi:
+    """The brackets of :func:`_illinois`' lines: [a, b] with f(a), f(b), the side the last step
+    moved, the last point, the steps begun and whether the line is closed."""
+
+    def __init__(self, a, b, fa, fb, m: int):
+        self.a, self.b, self.fa, self.fb, self.x = a, b, fa, fb, a.copy()
+        self.side = np.zeros(m, dtype=np.int8)
+        self.steps = np.zeros(m, dtype=np.int64)
+        self.closed = np.zeros(m, dtype=bool)
+
+    def begin(self, lines: np.ndarray, out: np.ndarray, reach: float) -> np.ndarray:
+        """A step of ``lines``: the next point (bisection on a face, else the Illinois regula falsi),
+        written to ``out``; returns the lines whose bracket or step is at round-off (closed)."""
+        a, b, fa, fb, x = self.a[lines], self.b[lines], self.fa[lines], self.fb[lines], self.x[lines]
         plateau = fb == 0.0
         xn = np.where(plateau, 0.5 * (a + b), b - fb * (b - a) / np.where(fb != fa, fb - fa, 1.0))
         done = (np.abs(b - a) <= 1e-13 * reach) | (~plateau & (np.abs(xn - x) <= 1e-16 * reach))
-        out[act] = xn
-        keep = ~done
-        act, a, b, fa, fb, side, x = act[keep], a[keep], b[keep], fa[keep], fb[keep], side[keep], xn[keep]
-        if not len(act):
-            break
-        fx = np.asarray(f(y[act] + x[:, None] * n), float)
+        out[lines] = xn
+        self.x[lines] = xn
+        self.steps[lines] += 1
+        self.closed[lines[done]] = True
+        return done
+
+    def update(self, lines: np.ndarray, fx: np.ndarray) -> np.ndarray:
+        """The brackets of ``lines`` after f = fx at their points; returns where the zero lies above."""
+        a, b, fa, fb, side, x = (v[lines] for v in (self.a, self.b, self.fa, self.fb, self.side, self.x))
         left = (fx < 0.0) == (fa < 0.0)
         a, fa = np.where(left, x, a), np.where(left, fx, fa)
         fb = np.where(left & (side == 1), 0.5 * fb, fb)
         b, fb = np.where(left, b, x), np.where(left, fb, fx)
         fa = np.where(~left & (side == -1), 0.5 * fa, fa)
-        side = np.where(left, 1, -1).astype(np.int8)
-    return out
+        self.a[lines], self.b[lines], self.fa[lines], self.fb[lines] = a, b, fa, fb
+        self.side[lines] = np.where(left, 1, -1)
+        return left
+
+
+def _bisection_tree(a: np.ndarray, b: np.ndarray, levels: int) -> np.ndarray:
+    """(m, 2^levels - 1) the midpoints the next ``levels`` bisection steps of [a, b] may take, in
+    heap order: node i's bracket halves to node 2i + 1 (the zero above its midpoint) and 2i + 2
+    (below it), each midpoint 0.5 (lo + hi) as one bisection step computes it."""
+    lo, hi = [a], [b]
+    mids = []
+    for _ in range(levels):
+        level_mids = [0.5 * (l + h) for l, h in zip(lo, hi)]
+        mids += level_mids
+        lo, hi = ([v for m, l in zip(level_mids, lo) for v in (m, l)],
+                  [v for m, h in zip(level_mids, hi) for v in (h, m)])
+    return np.stack(mids, axis=1)
 
 
 def sector_share(ranges: list[tuple[float, float]]) -> float:
@@ -386,7 +481,7 @@ def sectors(solid1, frame: ContactFrame3D, radius: float, reach: float, samples:
         return [(0.0, 2.0 * math.pi)]
     if not has.any():
         raise ValueError("body 1 has no surface over the contact point's tangent plane")
-    out = []
+    brackets = []  # (outside, inside) of each range's two ends
     start = int(np.argmin(has))  # a missing direction: ranges start after it
     order = np.roll(np.arange(samples), -start)
     k = 0
@@ -399,24 +494,31 @@ def sectors(solid1, frame: ContactFrame3D, radius: float, reach: float, samples:
             j += 1
         lo_in, hi_in = theta[order[k]], theta[order[j]]
         lo_out, hi_out = lo_in - 2 * math.pi / samples, hi_in + 2 * math.pi / samples
-        out.append((_edge(present, lo_out, lo_in), _edge(present, hi_out, hi_in)))
+        brackets += [(lo_out, lo_in), (hi_out, hi_in)]
         k = j + 1
+    ends = _edges(present, brackets)
+    out = list(zip(ends[0::2], ends[1::2]))
     return [(a0, a1 if a1 > a0 else a1 + 2 * math.pi) for a0, a1 in out]
 
 
-def _edge(present, outside: float, inside: float, split: int = 16) -> float:
-    """The angle where surface appears between ``outside`` (none) and ``inside``: the bracket cut
-    into ``split`` pieces per call (one batch of lines) down to 2^-50 of its width (or round-off),
-    the first present angle from the outside end kept as the new inside."""
+def _edges(present, brackets: list[tuple[float, float]], split: int = 16) -> list[float]:
+    """The angles where surface appears between ``outside`` (none) and ``inside`` of each bracket:
+    each bracket cut into ``split`` pieces per round down to 2^-50 of its width (or round-off),
+    the first present angle from the outside end kept as the new inside; the cuts of all the
+    brackets in one batch of lines per round."""
+    outside = np.array([b[0] for b in brackets], dtype=float)
+    inside = np.array([b[1] for b in brackets], dtype=float)
+    pieces = np.arange(1, split)
     for _ in range(math.ceil(50 / math.log2(split))):
-        cut = outside + (inside - outside) * np.arange(1, split) / split
-        has = present(cut)
-        if not has.any():
-            outside = cut[-1]
-            continue
-        j = int(np.argmax(has))
-        outside, inside = (cut[j - 1] if j > 0 else outside), cut[j]
-    return inside
+        cut = outside[:, None] + (inside - outside)[:, None] * pieces[None, :] / split
+        has = present(cut.ravel()).reshape(cut.shape)
+        for m in range(len(brackets)):
+            if not has[m].any():
+                outside[m] = cut[m, -1]
+                continue
+            j = int(np.argmax(has[m]))
+            outside[m], inside[m] = (cut[m, j - 1] if j > 0 else outside[m]), cut[m, j]
+    return [float(v) for v in inside]
 
 
 @dataclass
@@ -443,9 +545,10 @@ class RegionPoints:
         return v / np.linalg.norm(v, axis=1)[:, None]
 
 
-def matched_points(solid1, solid2, frame, s, weights, reach, step) -> RegionPoints:
-    """Points of body 1 above the tangent-plane points s and their closest points on body 2."""
-    x1, ok = surface_point(solid1, frame, s, reach)
+def matched_points(solid1, solid2, frame, s, weights, reach, step, on_body1=None) -> RegionPoints:
+    """Points of body 1 above the tangent-plane points s and their closest points on body 2
+    (``on_body1``: :func:`surface_point`'s answer for s when the caller has it)."""
+    x1, ok = surface_point(solid1, frame, s, reach) if on_body1 is None else on_body1
     if not ok.all():
         keep = ok
         s, x1, weights = s[keep], x1[keep], weights[keep]
@@ -531,8 +634,12 @@ def region_points(solid1, solid2, frame: ContactFrame3D, a: float, b: float, ran
     corners = np.stack([lower, np.column_stack([upper[:, 0], lower[:, 1]]), upper,
                         np.column_stack([lower[:, 0], upper[:, 1]])], axis=1).reshape(-1, 2)
     step = 1e-4 * panel
-    x1c, _ = surface_point(solid1, frame, plane(corners), reach)
-    x2c, _ = closest_on(solid2, x1c, step, sweeps=2)
+    # neighbouring panels share corners (a product grid's inner corner is four panels'): each
+    # corner's line is followed once
+    unique, back = np.unique(corners, axis=0, return_inverse=True)
+    x1u, _ = surface_point(solid1, frame, plane(unique), reach)
+    x2u, _ = closest_on(solid2, x1u, step, sweeps=2)
+    x1c, x2c = x1u[back.ravel()], x2u[back.ravel()]
     poly = np.zeros((len(lower), MAX_VERTICES, 2))
     poly[:, :4] = corners.reshape(-1, 4, 2)
     count = np.full(len(lower), 4, dtype=np.int64)

@@ -27,7 +27,6 @@ from __future__ import annotations
 import gc
 import io
 import json
-import multiprocessing
 import os
 import pickle
 import sys
@@ -107,6 +106,8 @@ def _fork_context():
         release_threads()
     if threading.active_count() > 1:  # a process forks safely with one thread only
         return None
+    import multiprocessing  # here: a run without pictures needs none of it
+
     if "fork" not in multiprocessing.get_all_start_methods() or multiprocessing.current_process().daemon:
         return None
     return multiprocessing.get_context("fork")
@@ -277,6 +278,8 @@ def _serve(conn, go, shared: dict[int, Any], planar: bool) -> None:
     if not job:
         return
     args, tasks = _Unpickler(io.BytesIO(job), shared).load()
+    import multiprocessing
+
     counter = multiprocessing.get_context("fork").Value("i", 0)
     reader, writer = multiprocessing.Pipe(duplex=False)
     pid = os.fork()
