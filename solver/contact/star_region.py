@@ -123,6 +123,19 @@ def free_edge_distance(solid1, frame, ranges, reach: float, extent: float, scale
     return _edge_distance(solid1, frame, reach, scale, psi, t, ok, _inside_rays(psi, ranges))
 
 
+def _nearest_inside(ends: np.ndarray) -> np.ndarray:
+    """``free_edge_distance``'s distances with each ray outside body 1's angular ranges (0) given
+    the distance of the nearest ray inside them (circularly): a region's ray along a range's own
+    boundary (a quarter model's symmetry plane, its angle off the rays' by round-off) reads the
+    free edge of the ray beside it, not none."""
+    inside = np.nonzero(ends != 0.0)[0]
+    if not len(inside) or len(inside) == len(ends):
+        return ends
+    n = len(ends)
+    gap = np.abs(np.arange(n)[:, None] - inside[None, :])
+    return ends[inside[np.argmin(np.minimum(gap, n - gap), axis=1)]]
+
+
 def _inside_rays(psi: np.ndarray, ranges) -> np.ndarray:
     """(rays,) whether each direction psi lies in body 1's angular ranges about the point."""
     inside = np.zeros(len(psi), dtype=bool)
@@ -314,8 +327,9 @@ class StarRegionContact(EllipseContact):
             return upper
 
         if self._prepared_edges is None:  # body 1's free edges as far as the prepared cells reach
-            self._prepared_edges = free_edge_distance(self.solids[0], self.frame, self.ranges, self.reach,
-                                                      self.extent + PREPARED_REACH * self.h, self.h)
+            psi, ends = free_edge_distance(self.solids[0], self.frame, self.ranges, self.reach,
+                                           self.extent + PREPARED_REACH * self.h, self.h)
+            self._prepared_edges = psi, _nearest_inside(ends)
 
         def fits(a: float) -> bool:
             aa, bb = self.semi_axes(a)
