@@ -101,3 +101,16 @@ def test_a_coarse_pass_at_the_last_level_or_bounded_by_a_body_still_fails(monkey
         follow.coarse_pass(SimpleNamespace(), [0], beyond("refinement radius"))
     with pytest.raises(CandidateRegionExceeded):  # a body's far side: no finer grid helps
         follow.coarse_pass(SimpleNamespace(), [0], beyond("far side of block"))
+
+
+def test_rays_outside_the_ranges_read_the_nearest_free_edge_inside():
+    """A quarter model's region has rays along its symmetry planes, whose angles may fall outside
+    body 1's ranges by round-off: they take the free edge of the nearest ray inside (circularly),
+    so the largest trial size is not bounded by a ray that has no edge at all."""
+    from ibfem.solver.contact.star_region import _nearest_inside
+
+    ends = np.zeros(8)
+    ends[2:5] = [0.1, np.inf, 0.2]
+    np.testing.assert_array_equal(_nearest_inside(ends), [0.1, 0.1, 0.1, np.inf, 0.2, 0.2, 0.2, 0.1])
+    whole = np.array([0.3, 0.1, np.inf])
+    np.testing.assert_array_equal(_nearest_inside(whole), whole)
