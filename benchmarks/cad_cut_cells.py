@@ -51,15 +51,11 @@ def main() -> None:
     ap.add_argument("--profile", default=None, help="write a cProfile of the moments to this file")
     args = ap.parse_args()
 
-    from ibfem.geometry.solids import part_solid
-    from ibfem.importers.step import load_part
     from ibfem.solver.fem.cut_cells3d import CUT, classify_cells, inside_moments
 
-    t = time.perf_counter()
-    solid = part_solid.PartSolid(load_part(args.file), args.body)
-    print(f"code: {os.path.dirname(part_solid.__file__)}")
-    print(f"part: {len(solid.faces)} faces, {len(solid.edges)} edges, {len(solid.triangles)} triangles; "
-          f"read and built in {time.perf_counter() - t:.1f} s")
+    from cad_signed_distance import loaded_part
+
+    solid = loaded_part(args.file, args.body)
     asked = [0, 0]
 
     def phi(p):

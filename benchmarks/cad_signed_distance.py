@@ -33,6 +33,20 @@ def head_points(bounds, count: int, head: float, margin: float, seed: int = 0) -
     return rng.uniform(lo - margin, hi + margin, size=(count, 3))
 
 
+def loaded_part(path: str, body: str | None):
+    """The part's solid from a STEP or IGES file, with a line saying which code built it and how
+    large it is (shared by the CAD benchmarks)."""
+    from ibfem.geometry.solids import part_solid
+    from ibfem.importers.step import load_part
+
+    t = time.perf_counter()
+    solid = part_solid.PartSolid(load_part(path), body)
+    print(f"code: {os.path.dirname(part_solid.__file__)}")
+    print(f"part: {len(solid.faces)} faces, {len(solid.edges)} edges, {len(solid.triangles)} triangles, "
+          f"tolerance {solid.tolerance:.3e} m; read and built in {time.perf_counter() - t:.1f} s")
+    return solid
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("file", help="a STEP or IGES file (the M8 socket screw of docs/real-cad.md)")
@@ -47,14 +61,7 @@ def main() -> None:
     ap.add_argument("--profile", default=None, help="write a cProfile of the evaluations to this file")
     args = ap.parse_args()
 
-    from ibfem.geometry.solids import part_solid
-    from ibfem.importers.step import load_part
-
-    t = time.perf_counter()
-    solid = part_solid.PartSolid(load_part(args.file), args.body)
-    print(f"code: {os.path.dirname(part_solid.__file__)}")
-    print(f"part: {len(solid.faces)} faces, {len(solid.edges)} edges, {len(solid.triangles)} triangles, "
-          f"tolerance {solid.tolerance:.3e} m; read and built in {time.perf_counter() - t:.1f} s")
+    solid = loaded_part(args.file, args.body)
     p = np.load(args.points_file) if args.points_file else head_points(solid.bounds, args.points, args.head, args.margin)
     profile = None
     if args.profile:
