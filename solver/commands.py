@@ -279,6 +279,19 @@ def _coarse_region_note(contact: dict) -> str | None:
             f"(more refinement levels) to at least {MIN_CELLS_ACROSS:g} cells across")
 
 
+def _friction_note(contact: dict) -> str | None:
+    """A warning's text for partial slip on a 3D region that is not an ellipse (a line contact or
+    a flat face), whose stick zone is not validated; None otherwise."""
+    shape = contact.get("region_shape") or ""
+    if contact.get("type") != "frictional" or not shape.startswith("star-shaped"):
+        return None
+    if contact.get("complete_contact"):
+        return ("friction on a face in complete contact is not validated: its stick zone is not found (stick_semi_axes "
+                "reads 0) and its shear is not reported; treat the tangential result as unchecked")
+    return ("friction on a line or flat contact is not validated: the stick zone is scaled from the region's edge "
+            "as Mindlin's is for an ellipse; treat the stick zone as an estimate")
+
+
 def _print_contacts(summary: dict, ladder: dict | None) -> None:
     """The accuracy ladder's line, each contact's result line, and a warning on stderr where an
     estimated error is above the warning level (runs without an accuracy target)."""
@@ -291,9 +304,9 @@ def _print_contacts(summary: dict, ladder: dict | None) -> None:
             _err(f"warning: the accuracy target {ladder['target']:g} was not reached: {ladder['note']}")
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
-        coarse = _coarse_region_note(c)
-        if coarse:
-            _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: {coarse}")
+        for note in (_coarse_region_note(c), _friction_note(c)):
+            if note:
+                _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: {note}")
         key, value = largest_error(c.get("estimated_error") or {})
         if ladder is None and value > WARN_ABOVE:
             advice = ("grade the far field: zones about the contact one level coarser at every doubling of "

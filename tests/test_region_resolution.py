@@ -60,3 +60,17 @@ def test_the_3d_balls_semi_axes_over_its_finest_cell(tmp_path):
     run, c = _run(tmp_path, data)
     assert c["cells_per_semi_axis"] == pytest.approx([v / (0.25 / 2 ** 4) for v in c["semi_axes"]], rel=1e-12)
     assert "barely resolved" not in run.stderr
+
+
+def test_partial_slip_on_a_region_that_is_not_an_ellipse_is_flagged():
+    """Partial slip is validated on elliptical regions (Mindlin) and 2D half-widths (Cattaneo)
+    only: a frictional line or flat contact gets a warning, a face in complete contact (whose
+    stick zone is not found) a stronger one, and frictionless or elliptical contacts none."""
+    from ibfem.solver.commands import _friction_note
+
+    line = {"type": "frictional", "region_shape": "star-shaped (line contact)"}
+    face = {"type": "frictional", "region_shape": "star-shaped (flat contact)", "complete_contact": True}
+    assert "scaled from the region's edge" in _friction_note(line)
+    assert "not found" in _friction_note(face)
+    assert _friction_note({"type": "frictionless", "region_shape": "star-shaped (flat contact)"}) is None
+    assert _friction_note({"type": "frictional", "semi_axes": [0.04, 0.04]}) is None
