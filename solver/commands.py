@@ -279,6 +279,26 @@ def _coarse_region_note(contact: dict) -> str | None:
             f"(more refinement levels) to at least {MIN_CELLS_ACROSS:g} cells across")
 
 
+#: the initial gap at an elliptical region's edge may differ from the contact point's quadratic
+#: (Hertz) model by this share before a run warns that the region's size is biased
+GAP_MODEL_SPREAD = 0.25
+
+
+def _gap_model_note(contact: dict) -> str | None:
+    """A warning's text where an elliptical region's edge sees a gap far from the quadratic model
+    of the contact point's curvatures (a cone's apex, a vertex, a curvature that changes across
+    the region): the region's size is read as for Hertz's pressure; None otherwise."""
+    ratios = [r for r in contact.get("gap_at_edge_over_quadratic") or [] if isinstance(r, float) and r == r]
+    off = [r for r in ratios if abs(r - 1.0) > GAP_MODEL_SPREAD]
+    if not off:
+        return None
+    worst = max(off, key=lambda r: abs(r - 1.0))
+    return (f"the bodies' initial gap at the region's edge is {worst:.3g} times the quadratic gap of the contact "
+            f"point's curvatures: the region is not Hertzian (a cone's apex, a vertex or a curvature that changes "
+            f"across the contact), and its size, read as for Hertz's pressure, can be off by 10 % or more (a "
+            f"10-degree cone's radius about 10 % small); round the tip, or treat the semi-axes as an estimate")
+
+
 def _friction_note(contact: dict) -> str | None:
     """A warning's text for partial slip on a 3D region that is not an ellipse (a line contact or
     a flat face), whose stick zone is not validated; None otherwise."""
@@ -304,7 +324,7 @@ def _print_contacts(summary: dict, ladder: dict | None) -> None:
             _err(f"warning: the accuracy target {ladder['target']:g} was not reached: {ladder['note']}")
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
-        for note in (_coarse_region_note(c), _friction_note(c)):
+        for note in (_coarse_region_note(c), _friction_note(c), _gap_model_note(c)):
             if note:
                 _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: {note}")
         key, value = largest_error(c.get("estimated_error") or {})

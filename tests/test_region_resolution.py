@@ -2,6 +2,7 @@
 grid's own cell sizes, and the warning ``ibfem run`` gives when a region is barely resolved."""
 
 import json
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -60,6 +61,80 @@ def test_the_3d_balls_semi_axes_over_its_finest_cell(tmp_path):
     run, c = _run(tmp_path, data)
     assert c["cells_per_semi_axis"] == pytest.approx([v / (0.25 / 2 ** 4) for v in c["semi_axes"]], rel=1e-12)
     assert "barely resolved" not in run.stderr
+    # the ball's gap at the region's edge s = a against the quadratic of the frame's curvature:
+    # R - sqrt(R^2 - a^2) over kappa a^2 / 2 (R = 1 m; kappa 1 / R to the frame's accuracy)
+    a, kappa = c["semi_axes"][0], c["relative_curvatures"][0]
+    exact = (1.0 - math.sqrt(1.0 - a * a)) / (0.5 * kappa * a * a)
+    assert c["gap_at_edge_over_quadratic"][0] == pytest.approx(exact, rel=1e-4)
+    assert "not Hertzian" not in run.stderr
+
+
+def test_a_gap_far_from_the_quadratic_model_is_named():
+    from ibfem.solver.commands import GAP_MODEL_SPREAD, _gap_model_note
+
+    note = _gap_model_note({"gap_at_edge_over_quadratic": [0.004, float("nan")]})
+    assert "0.004 times the quadratic gap" in note and "not Hertzian" in note
+    assert _gap_model_note({"gap_at_edge_over_quadratic": [1.0 + 0.9 * GAP_MODEL_SPREAD, 1.0]}) is None
+    assert _gap_model_note({"semi_axes": [0.01, 0.01]}) is None  # an older summary: no reading
+
+
+CONE = """
+name = "a blunt cone's apex on a flat"
+model = "solid"
+[solver]
+load_steps = 1
+[output]
+vtk = false
+plots = false
+[[materials]]
+name = "steel"
+youngs_modulus = 2.0e11
+poissons_ratio = 0.3
+[[bodies]]
+name = "cone"
+material = "steel"
+element_size = 0.004
+refinement = [{ levels = 3, around = "contact", radius = 0.004 }]
+shape = { type = "revolution", axis_origin = [0, 0, 0], axis = [0, 0, 1], profile = { type = "profile", edges = [
+  { type = "line", start = [0, 0], end = [0.01, 0.0017633], name = "flank" },
+  { type = "line", start = [0.01, 0.0017633], end = [0.01, 0.01], name = "side" },
+  { type = "line", start = [0.01, 0.01], end = [0, 0.01], name = "top" },
+  { type = "line", start = [0, 0.01], end = [0, 0], name = "axis" },
+] } }
+[[bodies]]
+name = "block"
+material = "steel"
+element_size = 0.004
+refinement = [{ levels = 3, around = "contact", radius = 0.004 }]
+shape = { type = "box", min = [-0.02, -0.02, -0.015], max = [0.02, 0.02, 0.0] }
+[[boundary_conditions]]
+body = "cone"
+face = "top"
+type = "displacement"
+value = [0.0, 0.0, -4.0e-4]
+[[boundary_conditions]]
+body = "block"
+face = "z_min"
+type = "fixed"
+[[contacts]]
+bodies = ["cone", "block"]
+type = "frictionless"
+"""
+
+
+@pytest.mark.slow
+def test_a_cones_apex_is_flagged_as_not_hertzian(tmp_path):
+    """A cone of 10 degrees against the flat: its gap r tan(10 deg) is linear in r, so at the
+    region's edge it is far below any quadratic through the apex; the run warns that the region's
+    size is read as for Hertz's pressure (Sneddon's cone radius sqrt(2 P / (pi E* tan 10 deg)) is
+    about 10 % larger than the one found)."""
+    run, c = _run(tmp_path, CONE)
+    a = c["semi_axes"][0]
+    assert c["gap_at_edge_over_quadratic"][0] < 0.1
+    assert "not Hertzian" in run.stderr
+    e_star = 2.0e11 / (2.0 * (1.0 - 0.3 ** 2))
+    sneddon = math.sqrt(2.0 * c["normal_force"] / (math.pi * e_star * math.tan(math.radians(10.0))))
+    assert 0.75 * sneddon < a < sneddon  # biased small, as the warning says
 
 
 def test_partial_slip_on_a_region_that_is_not_an_ellipse_is_flagged():

@@ -144,6 +144,7 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
         out["pressure"][f"axis{k}"] = {"s": s[present].tolist(), "value": pressure[present].tolist()}
         out["shear"][f"axis{k}"] = {"s": s[present].tolist(), "value": shear[present].tolist()}
     out["relative_curvatures"] = [float(k) for k in frame.curvatures]
+    out["gap_at_edge_over_quadratic"] = gap_at_edge_over_quadratic(c, (aa, bb))
     out["profile_recovery"] = {"method": "least squares on sqrt(1 - X^2 - Y^2) x [1, X, Y, X^2, XY, Y^2]"
                                + (", the constant term Hertz's shape fitted over the inner part"
                                   if peak["reading"] == "hertz_shape_inner" else ""),
@@ -152,6 +153,30 @@ def ellipse_block(c, a: float, on2: np.ndarray, u: np.ndarray, info) -> dict:
                                "pressure_coefficients": fit_p.tolist(),
                                "peak": {key: value for key, value in peak.items() if key != "coefficients"},
                                "quadrature_points": int(len(p))}
+    return out
+
+
+def gap_at_edge_over_quadratic(c, reach: tuple[float, float]) -> list[float]:
+    """Per axis, the bodies' initial gap where the region's edge crosses it, over the gap the
+    contact point's curvatures give there (kappa s^2 / 2, Hertz's model): the end of the axis
+    farther from 1. Near 1 where the gap is quadratic across the region (a ball: 1 + (a / R)^2 / 4);
+    far from it at a cone's apex or a vertex (a 10-degree cone: about 0.004), where the region's
+    size, read as for Hertz's pressure, is biased. nan where the axis samples do not reach the
+    edge."""
+    smp = c.samples
+    s = np.asarray(smp.s, dtype=float)  # from the contact point, where the curvatures are taken
+    gap = np.einsum("qi,qi->q", smp.delta, smp.normal)
+    out = []
+    for k, (r, kappa) in enumerate(zip(reach, c.frame.curvatures)):
+        on = c.sample_axis == k
+        if on.sum() < 2 or not (kappa > 0.0 and r > 0.0):
+            out.append(float("nan"))
+            continue
+        order = np.argsort(s[on, k])
+        sk, gk = s[on, k][order], gap[on][order]
+        ratios = [float(np.interp(e, sk, gk)) / (0.5 * kappa * e * e)
+                  for e in (c.centre[k] - r, c.centre[k] + r) if sk[0] <= e <= sk[-1] and e != 0.0]
+        out.append(max(ratios, key=lambda v: abs(np.log(v)) if v > 0.0 else np.inf) if ratios else float("nan"))
     return out
 
 
