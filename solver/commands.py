@@ -280,23 +280,29 @@ def _coarse_region_note(contact: dict) -> str | None:
 
 
 #: the initial gap at an elliptical region's edge may differ from the contact point's quadratic
-#: (Hertz) model by this share before a run warns that the region's size is biased
+#: (Hertz) model by this share before the region counts as not Hertzian
 GAP_MODEL_SPREAD = 0.25
+#: a region whose two axes' gap readings and curvatures agree to this share is taken as one of
+#: revolution about the contact point, whose sizing by the gap's profile is exact
+ROUND_SPREAD = 0.05
 
 
 def _gap_model_note(contact: dict) -> str | None:
-    """A warning's text where an elliptical region's edge sees a gap far from the quadratic model
-    of the contact point's curvatures (a cone's apex, a vertex, a curvature that changes across
-    the region): the region's size is read as for Hertz's pressure; None otherwise."""
+    """A warning's text where an elliptical region is not Hertzian (its edge sees a gap far from
+    the quadratic of the contact point's curvatures) and not of revolution either: its sizes
+    then follow the gap's profile along each axis, an estimate; None otherwise."""
     ratios = [r for r in contact.get("gap_at_edge_over_quadratic") or [] if isinstance(r, float) and r == r]
     off = [r for r in ratios if abs(r - 1.0) > GAP_MODEL_SPREAD]
     if not off:
         return None
+    kappa = contact.get("relative_curvatures") or []
+    if (len(ratios) == 2 and len(kappa) == 2 and abs(ratios[0] / ratios[1] - 1.0) <= ROUND_SPREAD
+            and abs(kappa[0] / kappa[1] - 1.0) <= ROUND_SPREAD):
+        return None
     worst = max(off, key=lambda r: abs(r - 1.0))
     return (f"the bodies' initial gap at the region's edge is {worst:.3g} times the quadratic gap of the contact "
-            f"point's curvatures: the region is not Hertzian (a cone's apex, a vertex or a curvature that changes "
-            f"across the contact), and its size, read as for Hertz's pressure, can be off by 10 % or more (a "
-            f"10-degree cone's radius about 10 % small); round the tip, or treat the semi-axes as an estimate")
+            f"point's curvatures and differs between the region's axes: the region is neither Hertzian nor of "
+            f"revolution, and its semi-axes, sized by the gap's profile along each axis, are an estimate")
 
 
 def _friction_note(contact: dict) -> str | None:

@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from ..fem.pair_blocks import PairBlocks, RecentRegions
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, band_tensors, projector
 from ..model.options import ContactOptions
+from .gap_moments import second_moment_targets
 from .interface_weights import flux_weights, layer_moduli
 from .band import CandidateRegionExceeded, locate_cells
 from ..reference.theory import hertz_elliptic_contact
@@ -554,7 +555,16 @@ def _edge_coefficients(c: EllipseContact, info, x: np.ndarray, a: float) -> tupl
         return -math.inf, -math.inf
     s = c.local(pts.s)
     X, Y = s[:, 0] / aa, s[:, 1] / bb
-    return float((wp * (5.0 * X**2 - 1.0)).sum() / total), float((wp * (5.0 * Y**2 - 1.0)).sum() / total)
+    tx, ty = _second_moment_targets(c, aa, bb)
+    return float((wp * X**2).sum() / total - tx) * 5.0, float((wp * Y**2).sum() / total - ty) * 5.0
+
+
+def _second_moment_targets(c: EllipseContact, aa: float, bb: float) -> tuple[float, float]:
+    """<X^2>, <Y^2> of the pressure without an edge singularity for the bodies' own gap along the
+    axes (1/5 for Hertz's quadratic gap: solver.contact.gap_moments)."""
+    smp = c.samples
+    gap = np.einsum("qi,qi->q", smp.delta, smp.normal)
+    return second_moment_targets(np.asarray(smp.s, dtype=float), gap, c.sample_axis, (aa, bb))
 
 
 def _overlap_extent(c: EllipseContact, gap: np.ndarray, inside: np.ndarray) -> float:
