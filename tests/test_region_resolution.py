@@ -138,3 +138,19 @@ def test_a_cones_apex_is_sized_by_its_own_gap_against_sneddon(tmp_path):
     e_star = 2.0e11 / (2.0 * (1.0 - 0.3 ** 2))
     sneddon = math.sqrt(2.0 * c["normal_force"] / (math.pi * e_star * math.tan(math.radians(10.0))))
     assert a == pytest.approx(sneddon, rel=0.06)
+
+
+@pytest.mark.slow
+def test_a_cones_stick_zone_follows_jaeger(tmp_path):
+    """The same cone pulled sideways with friction 0.3: the shear is mu times the difference of
+    the pressures of the regions a and c under one gap, so P(c) / P(a) = 1 - Q / (mu N); a cone's
+    P grows as a^2, so c / a = sqrt(1 - Q / (mu N)) (Jaeger, Ciavarella), not Mindlin's cube root."""
+    scene = (CONE.replace('type = "frictionless"', 'type = "frictional"\nfriction = 0.3')
+             .replace("value = [0.0, 0.0, -4.0e-4]", "value = [3.0e-5, 0.0, -4.0e-4]")
+             .replace("load_steps = 1", "load_steps = 3"))
+    run, c = _run(tmp_path, scene)
+    share = 1.0 - math.hypot(*c["tangential_force"]) / (0.3 * c["normal_force"])
+    assert 0.2 < share < 0.9
+    ratio = c["stick_semi_axes"][0] / c["semi_axes"][0]
+    assert ratio == pytest.approx(math.sqrt(share), abs=0.002)
+    assert abs(ratio - share ** (1.0 / 3.0)) > 0.02

@@ -27,7 +27,7 @@ import scipy.sparse as sp
 from ..fem.pair_blocks import PairBlocks, RecentRegions
 from ..fem.step_boundary import PENALTY_FACTOR, BoundaryPoints, acoustic_tensor, band_tensors, projector
 from ..model.options import ContactOptions
-from .gap_moments import second_moment_targets
+from .gap_moments import second_moment_targets, stick_ratio_targets
 from .interface_weights import flux_weights, layer_moduli
 from .band import CandidateRegionExceeded, locate_cells
 from ..reference.theory import hertz_elliptic_contact
@@ -268,6 +268,7 @@ class EllipseContact:
         normal = float(-on2 @ self.frame.normal)
         tangential = on2 - (on2 @ self.frame.normal) * self.frame.normal
         q = float(np.linalg.norm(tangential))
+        self._stick_root.ratio_of = self._stick_ratio_of(a)
         nxt, finished = self._stick_root.update(self.stick_ratio, normal, q, self.friction)
         self.beta = q / normal if normal > 0 else math.nan
         if q > 0.0:
@@ -279,6 +280,16 @@ class EllipseContact:
         if not finished:
             self.stick_ratio = nxt
         return finished
+
+    def _stick_ratio_of(self, a: float):
+        """c / a for a load share 1 - |Q| / (mu N) under the bodies' own gap (Mindlin's cube root
+        for Hertz's: solver.contact.gap_moments)."""
+        if not a > 0.0:
+            return None
+        smp = self.samples
+        s, gap = np.asarray(smp.s, dtype=float), np.einsum("qi,qi->q", smp.delta, smp.normal)
+        semi_axes = self.semi_axes(a)
+        return lambda share: stick_ratio_targets(s, gap, self.sample_axis, semi_axes, share)
 
     def _update_centre(self, x: np.ndarray, a: float, info, final: bool) -> bool:
         """Move the centre to the pressure's centroid (the 2D rule, solver.contact.band); True when

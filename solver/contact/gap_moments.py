@@ -19,7 +19,14 @@ gives p = E* tan b arccosh(a / r) / 2). Its moments follow by exchanging the int
 
     int_0^a p r dr ~ int_0^a g'(t) t dt,   int_0^a p r^3 dr ~ (2/3) int_0^a g'(t) t^3 dt,
 
-so that <X^2> = <r^2> / (2 a^2) needs g alone. Each axis of the ellipse takes the moment of the
+so that <X^2> = <r^2> / (2 a^2) needs g alone. The load of the region of radius x is
+P(x) = 2 E* int_0^x g'(t) t dt.
+
+Partial slip under a tangential load Q below mu N (bodies of similar elasticity): the shear is mu
+times the difference of the pressures of the region a and of a region c under the same gap, so the
+stick radius has P(c) / P(a) = 1 - Q / (mu N) (Cattaneo and Mindlin for Hertz's gap, whence
+c / a = (1 - Q / (mu N))^(1/3); J. Jaeger, Wear 1998; M. Ciavarella, Int. J. Solids Struct. 35
+(1998) 2349-2362, for any gap of revolution: a cone's c / a = (1 - Q / (mu N))^(1/2)). Each axis of the ellipse takes the moment of the
 axisymmetric gap that has that axis's profile (the even part of the gap along it, or its one
 side on a symmetric model's sector): exact for Hertz's gap (1/5 on both axes at any ratio) and
 for any axisymmetric one, an approximation for a gap that is neither."""
@@ -28,7 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["HERTZ_SECOND_MOMENT", "axis_second_moment", "second_moment_targets"]
+__all__ = ["HERTZ_SECOND_MOMENT", "axis_second_moment", "second_moment_targets", "axis_stick_ratio", "stick_ratio_targets"]
 
 #: <X^2> of Hertz's pressure sqrt(1 - X^2 - Y^2) over its ellipse
 HERTZ_SECOND_MOMENT = 0.2
@@ -55,17 +62,60 @@ def axis_second_moment(t: np.ndarray, slope: np.ndarray) -> float:
     return float(m3 / (2.0 * a * a * m1))
 
 
-def _profile_slope(s: np.ndarray, gap: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray] | None:
-    """(radii, slope) of the axis's gap on [0, reach]: the even part where both sides are sampled
-    that far, else the longer side; None where neither side reaches."""
+def _load_curve(t: np.ndarray, slope: np.ndarray) -> np.ndarray:
+    """P(x) / P(a) at the radii t (from 0 to a) for the gap of revolution of this slope."""
+    g = t * (np.interp(np.outer(t, np.sin(_THETA)), t, slope) @ _THETA_WEIGHTS)
+    dg = np.gradient(g, t)
+    f = dg * t
+    load = np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))])
+    return load / load[-1] if load[-1] > 0.0 else (t / t[-1]) ** 3
+
+
+def axis_stick_ratio(t: np.ndarray, slope: np.ndarray, fraction: float, hertz_slope: np.ndarray | None = None) -> float:
+    """c / a with P(c) / P(a) = ``fraction`` for the gap of revolution of this slope (radii t
+    from 0 to a), less the same reading's error on Hertz's gap (``hertz_slope``, default t),
+    whose answer is the cube root."""
+    fraction = min(max(fraction, 0.0), 1.0)
+    own = np.interp(fraction, _load_curve(t, slope), t / t[-1])
+    hertz = np.interp(fraction, _load_curve(t, t if hertz_slope is None else hertz_slope), t / t[-1])
+    return float(min(max(fraction ** (1.0 / 3.0) + own - hertz, 0.0), 1.0))
+
+
+def stick_ratio_targets(s: np.ndarray, gap: np.ndarray, axis: np.ndarray, semi_axes, fraction: float) -> float:
+    """The stick ratio c / a with P(c) / P(a) = ``fraction`` (= 1 - Q / (mu N)) for the gap along
+    the axes (the mean of the two axes' readings; Mindlin's cube root where neither axis's samples
+    reach the region's edge)."""
+    ratios = []
+    for k, reach in enumerate(semi_axes):
+        on = axis == k
+        profile = _profile_slope(s[on, k], gap[on], float(reach)) if on.sum() > 2 and reach > 0.0 else None
+        if profile is not None:
+            t, slope, quadratic = profile
+            ratios.append(axis_stick_ratio(t, slope, fraction, quadratic))
+    return float(np.mean(ratios)) if ratios else min(max(fraction, 0.0), 1.0) ** (1.0 / 3.0)
+
+
+def _profile_slope(s: np.ndarray, gap: np.ndarray, reach: float):
+    """(radii, slope, quadratic's slope) of the axis's gap on [0, reach]: the even part where
+    both sides are sampled that far, else the longer side; and the same of the quadratic
+    kappa s^2 / 2 fitted to it, sampled at the same points and read the same way (a quadratic
+    gap's two readings are then equal, whatever the samples' spacing). None where neither side
+    reaches."""
     order = np.argsort(s)
     s, gap = s[order], gap[order]
-    t = np.linspace(0.0, reach, PROFILE_POINTS)
-    sides = [side for side, ok in ((1.0, s[-1] >= reach), (-1.0, s[0] <= -reach)) if ok]
-    if not sides or s[0] > 0.0 or s[-1] < 0.0:
+    if s[0] > 0.0 or s[-1] < 0.0:
         return None
-    f = np.mean([np.interp(side * t, s, gap) for side in sides], axis=0)
-    return t, np.gradient(f, t)
+    sides = [side for side, ok in ((1.0, s[-1] >= reach), (-1.0, s[0] <= -reach)) if ok]
+    if not sides:
+        return None
+    t = np.linspace(0.0, reach, PROFILE_POINTS)
+    near = np.abs(s) <= reach
+    kappa = 2.0 * float(gap[near] @ s[near] ** 2) / (float(np.sum(s[near] ** 4)) or 1.0)
+    slopes = []
+    for values in (gap, 0.5 * kappa * s * s):
+        f = np.mean([np.interp(side * t, s, values) for side in sides], axis=0)
+        slopes.append(np.gradient(f, t))
+    return t, slopes[0], slopes[1]
 
 
 def second_moment_targets(s: np.ndarray, gap: np.ndarray, axis: np.ndarray, semi_axes) -> tuple[float, float]:
@@ -80,8 +130,8 @@ def second_moment_targets(s: np.ndarray, gap: np.ndarray, axis: np.ndarray, semi
         if profile is None:
             out.append(HERTZ_SECOND_MOMENT)
             continue
-        t, slope = profile
-        # less the same quadrature's reading of Hertz's gap (slope t): a quadratic gap gives 1/5
-        # to round-off, not to the quadrature's error (2e-6 on 257 points)
-        out.append(HERTZ_SECOND_MOMENT + axis_second_moment(t, slope) - axis_second_moment(t, t))
+        t, slope, quadratic = profile
+        # less the same reading of the fitted quadratic: a quadratic gap gives 1/5 to round-off,
+        # not to the samples' interpolation and the quadrature's error (2e-6 to 5e-6)
+        out.append(HERTZ_SECOND_MOMENT + axis_second_moment(t, slope) - axis_second_moment(t, quadratic))
     return out[0], out[1]
