@@ -261,7 +261,8 @@ class EllipseContact:
         self._steps_started += 1
 
     def _update_stick(self, x: np.ndarray, a: float, info, final: bool = True) -> bool:
-        """Stick ratio from the transmitted forces (Mindlin's cube root) and the slip direction;
+        """Stick ratio from the transmitted forces (P(c) / P(a) = 1 - |Q| / (mu N) under the
+        bodies' gap, Mindlin's cube root for Hertz's) and the slip direction;
         True when both hold. Before the last load step (``final`` false) the direction only starts
         the next step, as the region's size and centre do: its turning does not hold the step."""
         on2 = -self.force(x, a, info)
