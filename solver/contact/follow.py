@@ -16,12 +16,18 @@ the contact point) whose bodies refine around the contact, the solve runs twice:
    along the rest of the smooth edge (the straight sides) where the band's cells resolve the
    half-width with fewer than SIDE_MIN_CELLS.
 
-Point contacts (ellipses) are solved as the scene says: their ball already fits the region.
+Point contacts (ellipses) are solved as the scene says where their ball fits the region. An
+elongated ellipse (the smaller relative curvature at most ELONGATED_ELLIPSE_RATIO of the larger:
+Hertz's b / a below about 0.22, a ball in a bearing race's groove, a thin rod across a thick one)
+takes the same two passes: its ball would need the short semi-axis's cells over the long one's
+radius. The fine pass's band runs along the coarse ellipse's long axis through its centre, of
+radius its short semi-axis plus the margin (region_band.ellipse_band_balls).
 """
 
 from __future__ import annotations
 
 import dataclasses
+from types import SimpleNamespace
 from typing import Callable
 
 import numpy as np
@@ -29,12 +35,12 @@ import numpy as np
 from ..model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .band import CandidateRegionExceeded
 from .ellipse import is_line_contact
-from .ellipse_geometry import contact_frame_3d, sectors
-from .region_band import band_balls, peak_balls, side_balls, turning_balls
+from .ellipse_geometry import contact_frame_3d, sectors, surface_point
+from .region_band import band_balls, ellipse_band_balls, peak_balls, side_balls, turning_balls
 from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
 __all__ = ["solve_following", "line_contacts", "finest_contact_cell", "coarse_problem", "coarse_pass",
-           "band_problem", "COARSER_LEVELS", "MARGIN_CELLS", "TURNING_REACH_CELLS", "MIN_COARSE_CELLS"]
+           "band_problem", "has_region", "COARSER_LEVELS", "MARGIN_CELLS", "TURNING_REACH_CELLS", "MIN_COARSE_CELLS"]
 
 #: levels fewer in the coarse pass's contact refinement
 COARSER_LEVELS = 2
@@ -63,6 +69,9 @@ PEAK_BALLS = True
 #: band, is not where the region is (a crowned roller on cells as wide as its half-width ended with
 #: its region at the end face, not converged)
 MIN_COARSE_CELLS = 1.5
+#: a point contact whose smaller relative curvature is at most this share of the larger is an
+#: elongated ellipse (Hertz's b / a 0.22 at 0.1, 0.10 at 0.028): its grid follows the region too
+ELONGATED_ELLIPSE_RATIO = 0.1
 
 
 def finest_contact_cell(problem, names) -> float:
@@ -87,9 +96,20 @@ def line_contacts(problem) -> list[int]:
         first, second = (problem.body(n).profile for n in c.bodies)
         h = finest_contact_cell(problem, c.bodies)
         frame = contact_frame_3d(first, second, np.asarray(c.point, dtype=float), h)
-        if is_line_contact(frame) or _elongated(problem, c, first, frame, h):
+        if is_line_contact(frame) or _elongated(problem, c, first, frame, h) or _elongated_ellipse(frame):
             out.append(k)
     return out
+
+
+def _elongated_ellipse(frame) -> bool:
+    k0, k1 = (float(k) for k in frame.curvatures)
+    return k1 > 0.0 and 0.0 < k0 <= ELONGATED_ELLIPSE_RATIO * k1
+
+
+def has_region(block: dict) -> bool:
+    """Whether a coarse pass's contact block found a region: a line contact's boundary, or an
+    ellipse's semi-axes."""
+    return bool(block.get("boundary")) or ("boundary" not in block and (block.get("semi_axes") or [0.0])[0] > 0.0)
 
 
 def _elongated(problem, contact, solid1, frame, h: float) -> bool:
@@ -129,6 +149,12 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
         c, block = problem.contacts[k], blocks[k]
         margin = MARGIN_CELLS * finest_contact_cell(coarse_problem(problem, [k], levels_fewer), c.bodies)
         point, axis = np.asarray(block["point"], float), np.asarray(block["axes"], float)[0]
+        if "boundary" not in block:  # an elongated ellipse: the band alone, on body 1's surface
+            centres, radius = _on_surface(problem.body(c.bodies[0]).profile, block,
+                                          *ellipse_band_balls(block, margin))
+            for name in c.bodies:
+                bands.setdefault(name, []).append((centres, radius, []))
+            continue
         along, radius = band_balls(block, margin)
         axes = np.asarray(block["axes"], float)[:2]
         cell = finest_contact_cell(problem, c.bodies)
@@ -165,6 +191,19 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
     return _with_zones(problem, set(bands), zones), record
 
 
+def _on_surface(solid1, block: dict, s: np.ndarray, radius: float) -> tuple[np.ndarray, float]:
+    """The band's centres (tangent-plane coordinates ``s``) moved along the normal onto body 1's
+    surface: an ellipse's bodies curve away from the tangent plane along its long axis (a ball in
+    a race's groove by s^2 / 2R, more than the band's radius at its ends), though not from each
+    other. Where the surface is not found above a centre, the plane's point."""
+    frame = SimpleNamespace(point=np.asarray(block["point"], float), axes=np.asarray(block["axes"], float)[:2],
+                            normal=np.asarray(block["normal"], float))
+    plane = frame.point + s @ frame.axes
+    reach = 2.0 * float(np.abs(s).max()) + radius
+    x1, found = surface_point(solid1, frame, s, reach)
+    return np.where(found[:, None], x1, plane), radius
+
+
 def coarse_pass(problem, lines: list[int], run: Callable):
     """(the coarse pass's solution, the levels it was solved shallower, a record of the passes
     tried): COARSER_LEVELS shallower, or one level finer at a time while its region is not
@@ -184,7 +223,7 @@ def coarse_pass(problem, lines: list[int], run: Callable):
             continue
         blocks = [coarse.contacts[k] for k in lines]
         resolved = bool(coarse.converged) and all(
-            b.get("boundary") and (b.get("cells_per_semi_axis") or [0.0, 0.0])[1] >= MIN_COARSE_CELLS for b in blocks)
+            has_region(b) and (b.get("cells_per_semi_axis") or [0.0, 0.0])[1] >= MIN_COARSE_CELLS for b in blocks)
         tried.append({"levels_fewer": fewer, "converged": bool(coarse.converged),
                       "cells_per_semi_axis": [b.get("cells_per_semi_axis") for b in blocks]})
         if resolved or fewer <= 1:
@@ -200,7 +239,7 @@ def solve_following(problem, run: Callable):
     if not lines:
         return run(problem)
     coarse, fewer, tried = coarse_pass(problem, lines, run)
-    if any(not coarse.contacts[k].get("boundary") for k in lines):
+    if any(not has_region(coarse.contacts[k]) for k in lines):
         solution = run(problem)
         solution.iterations["refinement"] = {"band": None, "reason": "the coarse pass found no region"}
         return solution

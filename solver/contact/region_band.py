@@ -31,7 +31,7 @@ import numpy as np
 
 from .region_report import mirror_images, peak_place
 
-__all__ = ["TURNING_SLOPE", "band_balls", "turning_balls", "peak_balls", "side_balls", "region_edge",
+__all__ = ["TURNING_SLOPE", "band_balls", "ellipse_band_balls", "turning_balls", "peak_balls", "side_balls", "region_edge",
            "turning_stretches", "symmetry_maps"]
 
 #: the smooth edge's slope to the line (the half-width's change per unit length) beyond which the
@@ -62,6 +62,21 @@ def band_balls(block: dict, margin: float) -> tuple[np.ndarray, float]:
     lo, hi = float(xy[:, 0].min()), float(xy[:, 0].max())
     count = max(2, int(math.ceil((hi - lo) / radius)) + 1)
     return np.linspace(lo, hi, count), radius
+
+
+def ellipse_band_balls(block: dict, margin: float) -> tuple[np.ndarray, float]:
+    """(centres (k, 2) in the tangent plane's coordinates along the frame's axes from the contact
+    point, radius) of the band over an elliptical region (an elongated point contact's summary
+    block): its short semi-axis plus ``margin``, its centres on the long axis through the
+    ellipse's centre at most a radius apart, from end to end of the long semi-axis plus the
+    margin."""
+    a, b = (float(v) for v in block["semi_axes"])
+    centre = np.asarray(block.get("region_centre") or [0.0, 0.0], float)
+    radius = b + margin
+    reach = a + margin
+    count = max(2, int(math.ceil(2.0 * reach / radius)) + 1)
+    along = np.linspace(-reach, reach, count)
+    return centre + np.c_[along, np.zeros(count)], radius
 
 
 def turning_stretches(block: dict, margin: float) -> list[tuple[float, float, float]]:

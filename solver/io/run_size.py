@@ -109,7 +109,7 @@ def _line_contacts(problem: Problem, lines: list[int], solve: Callable, loaded: 
     """The size of the fine pass of the line contacts ``lines`` (the band along the coarse
     region, solver.contact.follow), its memory at least the coarse passes', and a note. The
     coarse pass is the run's own: repeated one level finer while its region is unresolved."""
-    from ibfem.solver.contact.follow import band_problem, coarse_pass, coarse_problem
+    from ibfem.solver.contact.follow import band_problem, coarse_pass, coarse_problem, has_region
 
     coarse_sizes = []
 
@@ -124,7 +124,7 @@ def _line_contacts(problem: Problem, lines: list[int], solve: Callable, loaded: 
         return (_at_least(estimate_size(problem, loaded), floor),
                 f"the line contact's coarse pass failed ({err}): the scene's whole contact ball counted")
     floor = max(coarse_sizes)
-    if any(not coarse_solution.contacts[k].get("boundary") for k in lines):
+    if any(not has_region(coarse_solution.contacts[k]) for k in lines):
         return (_at_least(estimate_size(problem, loaded), floor),  # the run solves the scene's grid
                 "the line contact's coarse pass found no region: the scene's own grid")
     fine, bands = band_problem(problem, lines, coarse_solution.contacts, fewer)
