@@ -29,6 +29,29 @@ def _points(p) -> np.ndarray:
     return p
 
 
+#: points per block of a distance computed in blocks (each of its temporary arrays then stays in
+#: the processor's cache: a turned profile's distance on 200,000 points took 33 ms whole and
+#: 15 ms in blocks of 16,384, the same numbers)
+BLOCK_POINTS = 16384
+
+
+def _in_blocks(distance):
+    """``signed_distance(self, points)`` evaluated BLOCK_POINTS points at a time (every value
+    depends on its own point only: the same numbers as in one pass)."""
+
+    @functools.wraps(distance)
+    def blocked(self, points) -> np.ndarray:
+        p = _points(points)
+        if len(p) <= BLOCK_POINTS:
+            return distance(self, p)
+        out = np.empty(len(p))
+        for start in range(0, len(p), BLOCK_POINTS):
+            out[start:start + BLOCK_POINTS] = distance(self, p[start:start + BLOCK_POINTS])
+        return out
+
+    return blocked
+
+
 class Solid:
     """Base of the solids: ``faces`` (name -> face), ``bounds`` (lower, upper corners),
     ``signed_distance(points (n, 3)) -> (n,)``, ``volume``."""
@@ -148,6 +171,7 @@ class HalfSphere(Solid):
         frame = (np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), np.array([0, 0, 1.0]))
         self.faces = {"dome": dome, "flat": _disc_face("flat", self.center, r, frame, -self.sign)}
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         d = _points(points) - self.center
         height = self.sign * d[:, 2]  # distance into the kept half
@@ -210,6 +234,7 @@ class Cylinder(Solid):
                       "end0": _disc_face("end0", self.center - half * a, r, (e_r, e_s, a), -1.0),
                       "end1": _disc_face("end1", self.center + half * a, r, (e_r, e_s, a), 1.0)}
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         d = _points(points) - self.center
         e_r, e_s, a = self.frame
@@ -260,6 +285,7 @@ class Extrusion(Solid):
         return ParametricFace(name, (curve.t_start, curve.t_end, z0, z1), mapping, (float(curve.length), self.height),
                               surface=_extruded_primitive(curve))
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
         d2 = np.asarray(self.profile.signed_distance(p[:, :2]), float)
@@ -343,6 +369,7 @@ class Revolution(Solid):
         x, y = d @ e_r, d @ e_s
         return np.hypot(x, y), z, x, y
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
         r, z, x, y = self._rz(p)
@@ -417,6 +444,7 @@ class Transformed(Solid):
     def _local(self, p: np.ndarray) -> np.ndarray:
         return (p - self.pivot - self.translate) @ self.rotation + self.pivot
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         return self.base.signed_distance(self._local(_points(points)))
 

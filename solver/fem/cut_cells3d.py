@@ -139,13 +139,9 @@ def _linearity(signed_distance: SignedDistance, cell_lower, scale, owner, lo, wi
     half = 0.5 * width * scale
     offset = half[None, :, None] * offsets[:, None, :]  # (14, q, 3): +-x, +-y, +-z, the corners
     local = (lo + 0.5 * width)[None] + 0.5 * width * offsets[:, None, :]  # (14, q, 3), exact
-    keys = np.column_stack([np.broadcast_to(owner, (14, q)).reshape(-1), local.reshape(-1, 3)])
-    unique, inverse = np.unique(keys, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    first = np.zeros(len(unique), dtype=np.int64)
-    first[inverse] = np.arange(len(keys))  # any of the points' sub-cubes: they share the cell
-    rows = first % q
-    points = cell_lower[rows] + (unique[:, 1:] + 1.0) * scale[rows, None]
+    first, inverse = _shared_points(np.broadcast_to(owner, (14, q)).reshape(-1), local.reshape(-1, 3), width)
+    rows = first % q  # any of the points' sub-cubes: they share the cell
+    points = cell_lower[rows] + (local.reshape(-1, 3)[first] + 1.0) * scale[rows, None]
     values = np.asarray(signed_distance(points), float)[inverse].reshape(14, q)
     plus, minus = values[0:6:2], values[1:6:2]  # (3, q)
     grad = ((plus - minus) / (2.0 * half)).T
@@ -153,6 +149,19 @@ def _linearity(signed_distance: SignedDistance, cell_lower, scale, owner, lo, wi
     linear = phi + (grad[None] * offset[6:]).sum(axis=2)  # (8, q)
     bend = np.maximum(bend, np.abs(values[6:] - linear).max(axis=0, initial=0.0))
     return grad, bend
+
+
+def _shared_points(owner: np.ndarray, local: np.ndarray, width: float):
+    """The distinct points among local coordinates ``local`` (p, 3) of cells ``owner`` (p,), all
+    on the lattice of step width / 2 from -1 (exact binary fractions): the index of one
+    occurrence of each (in the order of (owner, local) sorted row by row) and, per point, which
+    distinct point it is. Sorted as one integer key per point (a sort of rows as records takes
+    ten times longer)."""
+    steps = int(round(4.0 / width)) + 1  # lattice points per axis
+    index = np.rint((local + 1.0) * (2.0 / width)).astype(np.int64)
+    key = ((owner.astype(np.int64) * steps + index[:, 0]) * steps + index[:, 1]) * steps + index[:, 2]
+    _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+    return first, inverse.reshape(-1)
 
 
 #: Gauss points per smooth piece in each direction of the leaf rule
