@@ -201,33 +201,45 @@ def _arrangement_moments(signed_distance, pts, phi, normal, offset, count, cell_
     job_cube, job_pattern = np.nonzero(valid)
     jn = normal[job_cube] * sign[job_pattern][:, :, None]
     jc = offset[job_cube] * sign[job_pattern]
-    moments = np.zeros((len(job_cube), 27))
     tet_parts, owner_parts = [], []
     for start in range(0, len(job_cube), JOBS_PER_CLIP):  # a piece cut by k planes: up to 6 3^k tetrahedra
         j = slice(start, start + JOBS_PER_CLIP)
         t, o = clip_cubes(lo[job_cube[j]], width[job_cube[j]], jn[j], jc[j])
-        moments[j] = tetrahedron_moments(t, o, len(jn[j]))
         tet_parts.append(t)
         owner_parts.append(o + start)
     tets = np.concatenate(tet_parts) if tet_parts else np.zeros((0, 4, 3))
     owner = np.concatenate(owner_parts) if owner_parts else np.zeros(0, dtype=np.int64)
-    volume = moments[:, 0]
+    volume, first = _volumes_and_first_moments(tets, owner, len(job_cube))
     filled = volume > 1e-13 * width[job_cube] ** 3
-    centroid_local = moments[filled][:, [9, 3, 1]] / volume[filled, None]
+    centroid_local = first[filled] / volume[filled, None]
     centroid = cell_lower[job_cube[filled]] + (centroid_local + 1.0) * scale[job_cube[filled], None]
     truth = np.full((q, 2**k), -1, dtype=np.int8)  # 1 inside, 0 outside, -1 no piece
     truth[job_cube[filled], job_pattern[filled]] = _distance(signed_distance, centroid) > 0.0
-    result = np.zeros((q, 27))
-    inside = filled.copy()
-    inside[filled] = truth[job_cube[filled], job_pattern[filled]] == 1
-    np.add.at(result, job_cube[inside], moments[inside])
     half = 0.5 * width * scale
     ok = (count >= 1) & (count <= k)
     ok &= _signs_agree(pts, phi, normal, offset, truth, cell_lower, scale, lo, width, half)
     ok &= _zero_on_boundary(signed_distance, pts[:, :, 0], normal, offset, truth, cell_lower, scale, lo, width, half)
     ok &= _vertices_agree(signed_distance, tets, owner, filled, centroid_local, truth[job_cube, job_pattern],
                           job_cube, cell_lower, scale, half)
+    # the full moments of the inside pieces of the cubes that passed, alone
+    inside = filled.copy()
+    inside[filled] = truth[job_cube[filled], job_pattern[filled]] == 1
+    inside &= ok[job_cube]
+    piece = np.full(len(job_cube), -1)
+    piece[inside] = np.arange(int(inside.sum()))
+    sel = piece[owner] >= 0
+    result = np.zeros((q, 27))
+    np.add.at(result, job_cube[inside], tetrahedron_moments(tets[sel], piece[owner[sel]], int(inside.sum())))
     return result, ok
+
+
+def _volumes_and_first_moments(tets: np.ndarray, owner: np.ndarray, m: int):
+    """Volumes (m,) and first moments (m, 3) of the pieces made of the tetrahedra (t, 4, 3) with
+    owners (t,), from the vertices (a tetrahedron's centroid is the mean of its four)."""
+    volume = np.abs(np.linalg.det(tets[:, 1:] - tets[:, :1])) / 6.0
+    centre = 0.25 * (tets[:, 0] + tets[:, 1] + tets[:, 2] + tets[:, 3])
+    first = np.column_stack([np.bincount(owner, volume * centre[:, k], minlength=m) for k in range(3)])
+    return np.bincount(owner, volume, minlength=m), first
 
 
 def _vertices_agree(signed_distance, tets, owner, filled, centroid_local, job_truth, job_cube, cell_lower, scale,
