@@ -295,9 +295,11 @@ def _monomial_sums(t0, t1, t_first, t_second, weight, axes, owner, m: int) -> np
         return out.reshape(m, 27)
     powers = np.empty((len(owner), 3, 3))  # (line, axis, exponent)
     r = np.arange(len(owner))
-    powers[r, axes[:, 0]] = np.stack([(t1 ** (p + 1) - t0 ** (p + 1)) / (p + 1) for p in range(3)], axis=1)
-    powers[r, axes[:, 2]] = np.stack([t_first**p for p in range(3)], axis=1)
-    powers[r, axes[:, 1]] = np.stack([t_second**p for p in range(3)], axis=1)
+    # t^2 and t^3 as products (a power of 3 calls pow(): 5 ms for 100,000 lines, the products 0.03)
+    t0_2, t1_2 = t0 * t0, t1 * t1
+    powers[r, axes[:, 0]] = np.stack([t1 - t0, (t1_2 - t0_2) / 2, (t1_2 * t1 - t0_2 * t0) / 3], axis=1)
+    powers[r, axes[:, 2]] = np.stack([np.ones_like(t_first), t_first, t_first * t_first], axis=1)
+    powers[r, axes[:, 1]] = np.stack([np.ones_like(t_second), t_second, t_second * t_second], axis=1)
     starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
     yz = (powers[:, 1, :, None] * powers[:, 2, None, :]).reshape(-1, 9) * weight[:, None]
     for a in range(3):  # monomial 9 a + 3 b + c is x^a y^b z^c (hexahedra.STIFFNESS_EXPONENTS)
