@@ -380,7 +380,8 @@ class Revolution(Solid):
         if self.full:
             return whole
         # the wedge 0 <= theta <= angle: signed distance to its two bounding half-planes
-        theta = np.arctan2(y, x) % (2 * math.pi)
+        theta = np.arctan2(y, x)
+        theta = np.where(theta < 0.0, theta + 2 * math.pi, theta)  # theta % 2 pi (compared below only)
         q = r
         to_start = np.where(x >= 0.0, np.abs(y), q)
         c, s_ = math.cos(self.angle), math.sin(self.angle)
