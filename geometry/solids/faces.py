@@ -344,10 +344,11 @@ def _bisection_tree(a: np.ndarray, b: np.ndarray, levels: int) -> np.ndarray:
     """(m, 2^levels - 1) the midpoints the next ``levels`` bisection steps of [a, b] may take, in
     heap order: node i's bracket halves to node 2i + 1 (the zero above its midpoint) and 2i + 2
     (below it), each midpoint 0.5 (lo + hi) as one bisection step computes it."""
-    lo, hi, mids = [a], [b], []
+    lo, hi = a[:, None], b[:, None]  # the brackets of one level's nodes, left to right
+    mids = []
     for _ in range(levels):
-        level_mids = [0.5 * (low + high) for low, high in zip(lo, hi)]
-        mids += level_mids
-        lo = [v for m, low in zip(level_mids, lo) for v in (m, low)]
-        hi = [v for m, high in zip(level_mids, hi) for v in (high, m)]
-    return np.stack(mids, axis=1)
+        mid = 0.5 * (lo + hi)
+        mids.append(mid)
+        # node j's children 2j (the zero above its midpoint: [mid, hi]) and 2j + 1 ([lo, mid])
+        lo, hi = np.stack([mid, lo], axis=2).reshape(len(a), -1), np.stack([hi, mid], axis=2).reshape(len(a), -1)
+    return np.concatenate(mids, axis=1)
