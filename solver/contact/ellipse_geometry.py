@@ -452,7 +452,8 @@ def _bisection_tree(a: np.ndarray, b: np.ndarray, levels: int) -> np.ndarray:
         mid = 0.5 * (lo + hi)
         mids.append(mid)
         # node j's children 2j (the zero above its midpoint: [mid, hi]) and 2j + 1 ([lo, mid])
-        lo, hi = np.stack([mid, lo], axis=2).reshape(len(a), -1), np.stack([hi, mid], axis=2).reshape(len(a), -1)
+        shape = (len(a), 2 * mid.shape[1])
+        lo, hi = np.stack([mid, lo], axis=2).reshape(shape), np.stack([hi, mid], axis=2).reshape(shape)
     return np.concatenate(mids, axis=1)
 
 
