@@ -158,6 +158,10 @@ def _shared_points(owner: np.ndarray, local: np.ndarray, width: float):
     distinct point it is. Sorted as one integer key per point (a sort of rows as records takes
     ten times longer)."""
     steps = int(round(4.0 / width)) + 1  # lattice points per axis
+    if (int(owner.max(initial=0)) + 1) * steps**3 >= 2**62:  # keys beyond int64 (very deep levels): rows
+        _, first, inverse = np.unique(np.column_stack([owner, local]), axis=0, return_index=True,
+                                      return_inverse=True)
+        return first, inverse.reshape(-1)
     index = np.rint((local + 1.0) * (2.0 / width)).astype(np.int64)
     key = ((owner.astype(np.int64) * steps + index[:, 0]) * steps + index[:, 1]) * steps + index[:, 2]
     _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
