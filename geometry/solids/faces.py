@@ -234,17 +234,8 @@ class PlanarRegionFace:
         line, col = np.nonzero(inside[:, :-1] != inside[:, 1:])
         a, b = t[col], t[col + 1]
         fa_in = inside[line, col]
-        live = np.arange(len(a))  # the crossings whose bracket still moves
-        for _ in range(55):  # all crossings at once
-            m = 0.5 * (a[live] + b[live])
-            fm_in = np.asarray(self.profile.signed_distance(np.column_stack([m, y[line[live]]])), float) >= 0
-            same = fm_in == fa_in[live]
-            new_a, new_b = np.where(same, m, a[live]), np.where(same, b[live], m)
-            moved = (new_a != a[live]) | (new_b != b[live])
-            a[live], b[live] = new_a, new_b
-            live = live[moved]  # a bracket a step left unchanged stays so: it is final
-            if live.size == 0:
-                break
+        _bisect_crossings(lambda x, rows: np.asarray(self.profile.signed_distance(np.column_stack([x, y[line[rows]]])),
+                                                     float) >= 0, a, b, fa_in)
         zeros = 0.5 * (a + b)
         out = []
         for k in range(len(y)):
@@ -318,3 +309,47 @@ class PlanarRegionFace:
     @property
     def area(self) -> float:
         return float(self.profile.area)
+
+
+#: bisection steps of a crossing at most (a bracket is final well before, but near zero)
+BISECTION_STEPS = 55
+#: bisection steps per call of the test: the 2^k - 1 midpoints the next k steps may take are
+#: tested together, and the steps walk them (the same brackets as one step per call)
+BISECTION_LEVELS = 4
+
+
+def _bisect_crossings(inside, a: np.ndarray, b: np.ndarray, a_inside: np.ndarray) -> None:
+    """Bisect the brackets [a, b] (changed in place) of crossings of ``inside(x, rows) -> bool``
+    (rows: which crossings the points x belong to) whose lower end's value is ``a_inside``, until
+    a step leaves a bracket unchanged (it is final) or after BISECTION_STEPS steps."""
+    live = np.arange(len(a))  # the crossings whose bracket still moves
+    steps = 0
+    while live.size and steps < BISECTION_STEPS:
+        levels = min(BISECTION_LEVELS, BISECTION_STEPS - steps)
+        tree = _bisection_tree(a[live], b[live], levels)
+        value = inside(tree.ravel(), np.repeat(live, tree.shape[1])).reshape(tree.shape)
+        rows, node = np.arange(len(live)), np.zeros(len(live), dtype=np.int64)
+        for _ in range(levels):
+            m = tree[rows, node]
+            same = value[rows, node] == a_inside[live]
+            new_a, new_b = np.where(same, m, a[live]), np.where(same, b[live], m)
+            moved = (new_a != a[live]) | (new_b != b[live])
+            a[live], b[live] = new_a, new_b
+            # a bracket a step left unchanged stays so: it is final
+            live, rows, node = live[moved], rows[moved], np.where(same, 2 * node + 1, 2 * node + 2)[moved]
+        steps += levels
+
+
+def _bisection_tree(a: np.ndarray, b: np.ndarray, levels: int) -> np.ndarray:
+    """(m, 2^levels - 1) the midpoints the next ``levels`` bisection steps of [a, b] may take, in
+    heap order: node i's bracket halves to node 2i + 1 (the zero above its midpoint) and 2i + 2
+    (below it), each midpoint 0.5 (lo + hi) as one bisection step computes it."""
+    lo, hi = a[:, None], b[:, None]  # the brackets of one level's nodes, left to right
+    mids = []
+    for _ in range(levels):
+        mid = 0.5 * (lo + hi)
+        mids.append(mid)
+        # node j's children 2j (the zero above its midpoint: [mid, hi]) and 2j + 1 ([lo, mid])
+        shape = (len(a), 2 * mid.shape[1])
+        lo, hi = np.stack([mid, lo], axis=2).reshape(shape), np.stack([hi, mid], axis=2).reshape(shape)
+    return np.concatenate(mids, axis=1)

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from .._curve_numerics import _norm2
 from .faces import ParametricFace, PlanarRegionFace
 
 __all__ = ["Solid", "Box", "Sphere", "HalfSphere", "Cylinder", "Extrusion", "Revolution", "Transformed"]
@@ -27,6 +28,29 @@ def _points(p) -> np.ndarray:
     if p.ndim != 2 or p.shape[1] != 3:
         raise ValueError(f"points must be an (n, 3) array, got shape {p.shape}")
     return p
+
+
+#: points per block of a distance computed in blocks (each of its temporary arrays then stays in
+#: the processor's cache: a turned profile's distance on 200,000 points took 33 ms whole and
+#: 15 ms in blocks of 16,384, the same numbers)
+BLOCK_POINTS = 16384
+
+
+def _in_blocks(distance):
+    """``signed_distance(self, points)`` evaluated BLOCK_POINTS points at a time (every value
+    depends on its own point only: the same numbers as in one pass)."""
+
+    @functools.wraps(distance)
+    def blocked(self, points) -> np.ndarray:
+        p = _points(points)
+        if len(p) <= BLOCK_POINTS:
+            return distance(self, p)
+        out = np.empty(len(p))
+        for start in range(0, len(p), BLOCK_POINTS):
+            out[start:start + BLOCK_POINTS] = distance(self, p[start:start + BLOCK_POINTS])
+        return out
+
+    return blocked
 
 
 class Solid:
@@ -148,13 +172,14 @@ class HalfSphere(Solid):
         frame = (np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), np.array([0, 0, 1.0]))
         self.faces = {"dome": dome, "flat": _disc_face("flat", self.center, r, frame, -self.sign)}
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         d = _points(points) - self.center
         height = self.sign * d[:, 2]  # distance into the kept half
         rho = np.linalg.norm(d, axis=1)
         inside = np.minimum(self.radius - rho, height)
-        radial = np.hypot(d[:, 0], d[:, 1])
-        beyond_flat = np.where(radial <= self.radius, -height, np.hypot(radial - self.radius, height))
+        radial = _norm2(d[:, 0], d[:, 1])
+        beyond_flat = np.where(radial <= self.radius, -height, _norm2(radial - self.radius, height))
         outside = np.where(height < 0.0, -beyond_flat, self.radius - rho)
         return np.where((rho <= self.radius) & (height >= 0.0), inside, outside)
 
@@ -210,6 +235,7 @@ class Cylinder(Solid):
                       "end0": _disc_face("end0", self.center - half * a, r, (e_r, e_s, a), -1.0),
                       "end1": _disc_face("end1", self.center + half * a, r, (e_r, e_s, a), 1.0)}
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         d = _points(points) - self.center
         e_r, e_s, a = self.frame
@@ -260,12 +286,13 @@ class Extrusion(Solid):
         return ParametricFace(name, (curve.t_start, curve.t_end, z0, z1), mapping, (float(curve.length), self.height),
                               surface=_extruded_primitive(curve))
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
         d2 = np.asarray(self.profile.signed_distance(p[:, :2]), float)
         slab = np.minimum(p[:, 2] - self.z0, self.z0 + self.height - p[:, 2])
         inside = np.minimum(d2, slab)
-        return np.where(inside >= 0.0, inside, -np.hypot(np.minimum(d2, 0.0), np.minimum(slab, 0.0)))
+        return np.where(inside >= 0.0, inside, -_norm2(np.minimum(d2, 0.0), np.minimum(slab, 0.0)))
 
 
 def _extruded_primitive(curve):
@@ -328,10 +355,14 @@ class Revolution(Solid):
             rz = np.asarray(curve.evaluate(t), float).reshape(-1, 2)
             d = np.asarray(curve.derivative(t), float).reshape(-1, 2)
             speed = np.linalg.norm(d, axis=1)
-            n2 = np.stack([d[:, 1], -d[:, 0]], axis=1) / speed[:, None]
-            radial = np.cos(f)[:, None] * e_r + np.sin(f)[:, None] * e_s
-            x = origin + rz[:, :1] * radial + rz[:, 1:] * a
-            return x, n2[:, :1] * radial + n2[:, 1:] * a, np.abs(rz[:, 0]) * speed
+            n_r, n_z = d[:, 1] / speed, -d[:, 0] / speed
+            r, z, cos, sin = rz[:, 0], rz[:, 1], np.cos(f), np.sin(f)
+            x, normal = np.empty((len(t), 3)), np.empty((len(t), 3))
+            for k in range(3):  # column by column: (n, 1) x (3,) products take several times longer
+                radial = cos * e_r[k] + sin * e_s[k]
+                x[:, k] = origin[k] + r * radial + z * a[k]
+                normal[:, k] = n_r * radial + n_z * a[k]
+            return x, normal, np.abs(r) * speed
 
         return ParametricFace(name, (curve.t_start, curve.t_end, 0.0, self.angle), mapping,
                               (float(curve.length), r_max * self.angle))
@@ -341,8 +372,9 @@ class Revolution(Solid):
         d = p - self.origin
         z = d @ a
         x, y = d @ e_r, d @ e_s
-        return np.hypot(x, y), z, x, y
+        return _norm2(x, y), z, x, y  # sqrt(x^2 + y^2): np.hypot takes 15 times as long
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         p = _points(points)
         r, z, x, y = self._rz(p)
@@ -352,7 +384,8 @@ class Revolution(Solid):
         if self.full:
             return whole
         # the wedge 0 <= theta <= angle: signed distance to its two bounding half-planes
-        theta = np.arctan2(y, x) % (2 * math.pi)
+        theta = np.arctan2(y, x)
+        theta = np.where(theta < 0.0, theta + 2 * math.pi, theta)  # theta % 2 pi (compared below only)
         q = r
         to_start = np.where(x >= 0.0, np.abs(y), q)
         c, s_ = math.cos(self.angle), math.sin(self.angle)
@@ -417,6 +450,7 @@ class Transformed(Solid):
     def _local(self, p: np.ndarray) -> np.ndarray:
         return (p - self.pivot - self.translate) @ self.rotation + self.pivot
 
+    @_in_blocks
     def signed_distance(self, points) -> np.ndarray:
         return self.base.signed_distance(self._local(_points(points)))
 

@@ -446,14 +446,15 @@ def _bisection_tree(a: np.ndarray, b: np.ndarray, levels: int) -> np.ndarray:
     """(m, 2^levels - 1) the midpoints the next ``levels`` bisection steps of [a, b] may take, in
     heap order: node i's bracket halves to node 2i + 1 (the zero above its midpoint) and 2i + 2
     (below it), each midpoint 0.5 (lo + hi) as one bisection step computes it."""
-    lo, hi = [a], [b]
+    lo, hi = a[:, None], b[:, None]  # the brackets of one level's nodes, left to right
     mids = []
     for _ in range(levels):
-        level_mids = [0.5 * (l + h) for l, h in zip(lo, hi)]
-        mids += level_mids
-        lo, hi = ([v for m, l in zip(level_mids, lo) for v in (m, l)],
-                  [v for m, h in zip(level_mids, hi) for v in (h, m)])
-    return np.stack(mids, axis=1)
+        mid = 0.5 * (lo + hi)
+        mids.append(mid)
+        # node j's children 2j (the zero above its midpoint: [mid, hi]) and 2j + 1 ([lo, mid])
+        shape = (len(a), 2 * mid.shape[1])
+        lo, hi = np.stack([mid, lo], axis=2).reshape(shape), np.stack([hi, mid], axis=2).reshape(shape)
+    return np.concatenate(mids, axis=1)
 
 
 def sector_share(ranges: list[tuple[float, float]]) -> float:

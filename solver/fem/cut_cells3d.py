@@ -139,13 +139,9 @@ def _linearity(signed_distance: SignedDistance, cell_lower, scale, owner, lo, wi
     half = 0.5 * width * scale
     offset = half[None, :, None] * offsets[:, None, :]  # (14, q, 3): +-x, +-y, +-z, the corners
     local = (lo + 0.5 * width)[None] + 0.5 * width * offsets[:, None, :]  # (14, q, 3), exact
-    keys = np.column_stack([np.broadcast_to(owner, (14, q)).reshape(-1), local.reshape(-1, 3)])
-    unique, inverse = np.unique(keys, axis=0, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    first = np.zeros(len(unique), dtype=np.int64)
-    first[inverse] = np.arange(len(keys))  # any of the points' sub-cubes: they share the cell
-    rows = first % q
-    points = cell_lower[rows] + (unique[:, 1:] + 1.0) * scale[rows, None]
+    first, inverse = _shared_points(np.broadcast_to(owner, (14, q)).reshape(-1), local.reshape(-1, 3), width)
+    rows = first % q  # any of the points' sub-cubes: they share the cell
+    points = cell_lower[rows] + (local.reshape(-1, 3)[first] + 1.0) * scale[rows, None]
     values = np.asarray(signed_distance(points), float)[inverse].reshape(14, q)
     plus, minus = values[0:6:2], values[1:6:2]  # (3, q)
     grad = ((plus - minus) / (2.0 * half)).T
@@ -153,6 +149,23 @@ def _linearity(signed_distance: SignedDistance, cell_lower, scale, owner, lo, wi
     linear = phi + (grad[None] * offset[6:]).sum(axis=2)  # (8, q)
     bend = np.maximum(bend, np.abs(values[6:] - linear).max(axis=0, initial=0.0))
     return grad, bend
+
+
+def _shared_points(owner: np.ndarray, local: np.ndarray, width: float):
+    """The distinct points among local coordinates ``local`` (p, 3) of cells ``owner`` (p,), all
+    on the lattice of step width / 2 from -1 (exact binary fractions): the index of one
+    occurrence of each (in the order of (owner, local) sorted row by row) and, per point, which
+    distinct point it is. Sorted as one integer key per point (a sort of rows as records takes
+    ten times longer)."""
+    steps = int(round(4.0 / width)) + 1  # lattice points per axis
+    if (int(owner.max(initial=0)) + 1) * steps**3 >= 2**62:  # keys beyond int64 (very deep levels): rows
+        _, first, inverse = np.unique(np.column_stack([owner, local]), axis=0, return_index=True,
+                                      return_inverse=True)
+        return first, inverse.reshape(-1)
+    index = np.rint((local + 1.0) * (2.0 / width)).astype(np.int64)
+    key = ((owner.astype(np.int64) * steps + index[:, 0]) * steps + index[:, 1]) * steps + index[:, 2]
+    _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+    return first, inverse.reshape(-1)
 
 
 #: Gauss points per smooth piece in each direction of the leaf rule
@@ -286,9 +299,11 @@ def _monomial_sums(t0, t1, t_first, t_second, weight, axes, owner, m: int) -> np
         return out.reshape(m, 27)
     powers = np.empty((len(owner), 3, 3))  # (line, axis, exponent)
     r = np.arange(len(owner))
-    powers[r, axes[:, 0]] = np.stack([(t1 ** (p + 1) - t0 ** (p + 1)) / (p + 1) for p in range(3)], axis=1)
-    powers[r, axes[:, 2]] = np.stack([t_first**p for p in range(3)], axis=1)
-    powers[r, axes[:, 1]] = np.stack([t_second**p for p in range(3)], axis=1)
+    # t^2 and t^3 as products (a power of 3 calls pow(): 5 ms for 100,000 lines, the products 0.03)
+    t0_2, t1_2 = t0 * t0, t1 * t1
+    powers[r, axes[:, 0]] = np.stack([t1 - t0, (t1_2 - t0_2) / 2, (t1_2 * t1 - t0_2 * t0) / 3], axis=1)
+    powers[r, axes[:, 2]] = np.stack([np.ones_like(t_first), t_first, t_first * t_first], axis=1)
+    powers[r, axes[:, 1]] = np.stack([np.ones_like(t_second), t_second, t_second * t_second], axis=1)
     starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])
     yz = (powers[:, 1, :, None] * powers[:, 2, None, :]).reshape(-1, 9) * weight[:, None]
     for a in range(3):  # monomial 9 a + 3 b + c is x^a y^b z^c (hexahedra.STIFFNESS_EXPONENTS)

@@ -15,7 +15,9 @@ pieces of every sign pattern; each non-empty piece is inside or outside as the d
 centroid says. The model is accepted only when it reproduces the sign of the distance at every
 sampled point in the cube and the distance vanishes where the model puts the boundary (the
 samples projected on each plane where the pieces on its two sides differ); otherwise the cell
-keeps the general rule (curved faces, more planes, features between the samples)."""
+keeps the general rule (curved faces, more planes, features between the samples). A cube where
+one piece holds sample centres of both signs fails the sign check for sure: it is dropped before
+its pieces are clipped and integrated (where a curved face meets a planar one)."""
 
 from __future__ import annotations
 
@@ -147,13 +149,44 @@ def _planar_chunk(signed_distance, cell_lower, scale, lo, width, lattice):
     """Moments and whether the model held."""
     q = len(lo)
     pts, phi, normal, offset, count = _local_planes(signed_distance, cell_lower, scale, lo, width, lattice)
-    some = np.flatnonzero((count >= 1) & (count <= MAX_PLANES))  # the others: no planar model
+    some = (count >= 1) & (count <= MAX_PLANES)  # the others: no planar model
+    if some.any():  # nor where one piece holds points of both signs (the model's checks would fail)
+        some[some] = ~_mixed_pieces(pts[some, :, 0], phi[some, :, 0], normal[some], offset[some], cell_lower[some],
+                                    scale[some], lo[some], width[some])
+    some = np.flatnonzero(some)
     result, ok = np.zeros((q, 27)), np.zeros(q, dtype=bool)
     if len(some):
         result[some], ok[some] = _arrangement_moments(signed_distance, pts[some], phi[some], normal[some],
                                                       offset[some], count[some], cell_lower[some], scale[some],
                                                       lo[some], width[some])
     return result, ok
+
+
+#: margin (share of the cube's width) by which the points of :func:`_mixed_pieces` clear the
+#: planes and the cube's faces: a piece holding one holds a ball of that radius, far more than the
+#: arrangement's smallest piece (1e-13 of the cube's volume)
+_CLEAR = 1e-4
+
+
+def _mixed_pieces(pts, phi, normal, offset, cell_lower, scale, lo, width) -> np.ndarray:
+    """Cubes (q,) where one piece of the planes' arrangement holds two of the points ``pts``
+    (q, n, 3) (well inside the cube and clear of every plane) with distances ``phi`` (q, n) of
+    opposite signs: the model's inside (one truth per piece) contradicts one of them, so
+    :func:`_signs_agree` would reject the cube. Found before the pieces are clipped and
+    integrated (the cubes where a curved face meets a planar one)."""
+    q, pieces = len(lo), 2 ** normal.shape[1]
+    t = _local(pts, cell_lower, scale)
+    margin = _CLEAR * width
+    index, clear = _pattern(t @ normal.transpose(0, 2, 1) + offset[:, None, :], margin[:, None])
+    low, high = (lo + margin[:, None])[:, None], (lo + (width - margin)[:, None])[:, None]
+    for k in range(3):  # axis by axis: faster than .all(axis=-1) over three entries
+        clear &= (t[..., k] > low[..., k]) & (t[..., k] < high[..., k])
+    clear &= np.abs(phi) > (_AFFINE * 0.5 * width * scale)[:, None]
+    cube, point = np.nonzero(clear)
+    key = cube * pieces + index[cube, point]
+    positive = np.bincount(key, weights=phi[cube, point] > 0.0, minlength=q * pieces)
+    total = np.bincount(key, minlength=q * pieces)
+    return ((positive > 0) & (positive < total)).reshape(q, pieces).any(axis=1)
 
 
 def _arrangement_moments(signed_distance, pts, phi, normal, offset, count, cell_lower, scale, lo, width):
@@ -168,33 +201,45 @@ def _arrangement_moments(signed_distance, pts, phi, normal, offset, count, cell_
     job_cube, job_pattern = np.nonzero(valid)
     jn = normal[job_cube] * sign[job_pattern][:, :, None]
     jc = offset[job_cube] * sign[job_pattern]
-    moments = np.zeros((len(job_cube), 27))
     tet_parts, owner_parts = [], []
     for start in range(0, len(job_cube), JOBS_PER_CLIP):  # a piece cut by k planes: up to 6 3^k tetrahedra
         j = slice(start, start + JOBS_PER_CLIP)
         t, o = clip_cubes(lo[job_cube[j]], width[job_cube[j]], jn[j], jc[j])
-        moments[j] = tetrahedron_moments(t, o, len(jn[j]))
         tet_parts.append(t)
         owner_parts.append(o + start)
     tets = np.concatenate(tet_parts) if tet_parts else np.zeros((0, 4, 3))
     owner = np.concatenate(owner_parts) if owner_parts else np.zeros(0, dtype=np.int64)
-    volume = moments[:, 0]
+    volume, first = _volumes_and_first_moments(tets, owner, len(job_cube))
     filled = volume > 1e-13 * width[job_cube] ** 3
-    centroid_local = moments[filled][:, [9, 3, 1]] / volume[filled, None]
+    centroid_local = first[filled] / volume[filled, None]
     centroid = cell_lower[job_cube[filled]] + (centroid_local + 1.0) * scale[job_cube[filled], None]
     truth = np.full((q, 2**k), -1, dtype=np.int8)  # 1 inside, 0 outside, -1 no piece
     truth[job_cube[filled], job_pattern[filled]] = _distance(signed_distance, centroid) > 0.0
-    result = np.zeros((q, 27))
-    inside = filled.copy()
-    inside[filled] = truth[job_cube[filled], job_pattern[filled]] == 1
-    np.add.at(result, job_cube[inside], moments[inside])
     half = 0.5 * width * scale
     ok = (count >= 1) & (count <= k)
     ok &= _signs_agree(pts, phi, normal, offset, truth, cell_lower, scale, lo, width, half)
     ok &= _zero_on_boundary(signed_distance, pts[:, :, 0], normal, offset, truth, cell_lower, scale, lo, width, half)
     ok &= _vertices_agree(signed_distance, tets, owner, filled, centroid_local, truth[job_cube, job_pattern],
                           job_cube, cell_lower, scale, half)
+    # the full moments of the inside pieces of the cubes that passed, alone
+    inside = filled.copy()
+    inside[filled] = truth[job_cube[filled], job_pattern[filled]] == 1
+    inside &= ok[job_cube]
+    piece = np.full(len(job_cube), -1)
+    piece[inside] = np.arange(int(inside.sum()))
+    sel = piece[owner] >= 0
+    result = np.zeros((q, 27))
+    np.add.at(result, job_cube[inside], tetrahedron_moments(tets[sel], piece[owner[sel]], int(inside.sum())))
     return result, ok
+
+
+def _volumes_and_first_moments(tets: np.ndarray, owner: np.ndarray, m: int):
+    """Volumes (m,) and first moments (m, 3) of the pieces made of the tetrahedra (t, 4, 3) with
+    owners (t,), from the vertices (a tetrahedron's centroid is the mean of its four)."""
+    volume = np.abs(np.linalg.det(tets[:, 1:] - tets[:, :1])) / 6.0
+    centre = 0.25 * (tets[:, 0] + tets[:, 1] + tets[:, 2] + tets[:, 3])
+    first = np.column_stack([np.bincount(owner, volume * centre[:, k], minlength=m) for k in range(3)])
+    return np.bincount(owner, volume, minlength=m), first
 
 
 def _vertices_agree(signed_distance, tets, owner, filled, centroid_local, job_truth, job_cube, cell_lower, scale,
