@@ -9,6 +9,7 @@ import math
 from ibfem.solver.cli import main
 
 STEEL = {"name": "steel", "youngs_modulus": 2.0e11, "poissons_ratio": 0.3}
+STIFF = {"name": "stiff", "youngs_modulus": 2.0e13, "poissons_ratio": 0.3}
 
 
 def _run(tmp_path, scene: dict, *extra: str) -> tuple[int, dict | None]:
@@ -68,3 +69,64 @@ def test_a_region_bounded_by_the_punchs_farthest_corner_solves(tmp_path):
     assert abs(c["half_width"] / _hertz_half_width(c["normal_force"], 7.0e-3, 2.0e11, 0.3) - 1.0) < 0.03
     # the fixed edge holds the cylinder up with the contact force (the reaction acts on the body)
     assert abs(s["reactions"]["cylinder/flat"][1] - c["normal_force"]) < 1e-6 * c["normal_force"]
+
+
+def tied_ellipse_under_pressure() -> dict:
+    """A half ellipse (semi-axes 1.2 m and 0.98 m), 100 times stiffer than the steel cylinder
+    (radius 0.66 m) it is tied to, loaded only by a pressure on its flat: the tied contact alone
+    holds it. Finest cells of 1 mm on a body of 2.4 m and a contact layer as stiff as the softer
+    body: the contact's initial patch (two finest cells) holds the ellipse's rotation with an
+    eigenvalue of 5e-11 of the ellipse's scale."""
+    return {
+        "name": "tied ellipse under a pressure", "model": "plane_strain", "output": {"vtk": False},
+        "solver": {"load_steps": 1}, "materials": [STEEL, STIFF],
+        "bodies": [
+            {"name": "ellipse", "material": "stiff", "element_size": 0.257,
+             "refinement": {"levels": 8, "around": "contact", "radius": 0.044},
+             "shape": {"type": "half_ellipse", "center": [0.0, 0.98], "semi_axes": [1.2, 0.98], "side": "below"}},
+            {"name": "cylinder", "material": "steel", "element_size": 0.089,
+             "refinement": {"levels": 6, "around": "contact", "radius": 0.0225},
+             "shape": {"type": "half_disk", "center": [0.0, -0.66], "radius": 0.66, "side": "above"}},
+        ],
+        "boundary_conditions": [
+            {"type": "fixed", "body": "cylinder", "edge": "flat"},
+            {"type": "pressure", "body": "ellipse", "edge": "flat", "value": 2.0e7},
+        ],
+        "contacts": [{"bodies": ["ellipse", "cylinder"], "type": "tied"}],
+    }
+
+
+def test_a_body_held_only_by_a_tied_contact_on_fine_cells_is_held(tmp_path):
+    """The driver's check that a body held only through a contact is held once the contact's
+    initial patch is in the stiffness used the threshold of a body without any support (1e-10)
+    and refused the scene (exit 2, "not held against rigid-body motion"). The contact carries
+    the pressure's force, 2e7 Pa over the 2.4 m flat, and the cylinder's support all of it."""
+    code, s = _run(tmp_path, tied_ellipse_under_pressure(), "--no-estimate")
+    assert code == 0
+    c = s["contacts"][0]
+    assert abs(c["normal_force"] / 4.8e7 - 1.0) < 1e-6
+    assert abs(s["reactions"]["cylinder/flat"][1] / 4.8e7 - 1.0) < 1e-6
+
+
+def test_deeply_refined_cut_cells_hold_their_exact_area():
+    """A disk of radius 1.56 mm off the origin, refined 10 levels (cells of 4e-7 m) around a
+    point of its boundary: the grid lines were rounded to 1e-12 m, 2.5e-6 of a finest cell, which
+    put a boundary piece's end outside its cell's side tolerance; those cut cells came out with
+    inside fractions of -0.07 and 1.07, negative stiffness and a Schur complement that was not
+    positive definite (exit 5). Every inside fraction lies in [0, 1] and the cells' areas sum to
+    pi R^2 (the same scene as the sweep's, turned 30.9 degrees and moved)."""
+    import numpy as np
+
+    from ibfem.geometry.shapes import profile_from_shape
+    from ibfem.solver.fem.grid import RefinementZone, build_grid
+    from ibfem.solver.fem.space import exact_boundary
+
+    R, c = 1.559063387944676e-3, np.array([-0.0022306908380716416, -0.002271238484699417])
+    turn = math.radians(30.868813391369045)
+    centre = c + R * np.array([-math.sin(turn), math.cos(turn)])  # the contact point lies at c
+    prof = profile_from_shape({"type": "disk", "center": centre.tolist(), "radius": R})
+    grid = build_grid(exact_boundary(prof), 4.112961982781632e-4, (RefinementZone(10, 2.75e-5, c),))
+    assert grid.min_size < 5e-7
+    assert np.all(grid.inside_fraction > -1e-9) and np.all(grid.inside_fraction < 1 + 1e-9)
+    area = float((grid.moments[:, 0, 0] * (0.5 * grid.size) ** 2).sum())
+    assert abs(area / (math.pi * R * R) - 1.0) < 1e-9
