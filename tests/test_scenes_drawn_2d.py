@@ -130,3 +130,47 @@ def test_deeply_refined_cut_cells_hold_their_exact_area():
     assert np.all(grid.inside_fraction > -1e-9) and np.all(grid.inside_fraction < 1 + 1e-9)
     area = float((grid.moments[:, 0, 0] * (0.5 * grid.size) ** 2).sum())
     assert abs(area / (math.pi * R * R) - 1.0) < 1e-9
+
+
+def cornered_punch_on_block() -> dict:
+    """A flat punch (flat 95 mm, corners rounded by 10 mm, 128 mm tall) on a wide block, no
+    contact point given: every point of the flat is closest to the block."""
+    b, r, w, top = 0.0476, 0.0105, 0.0581, 0.128
+    edges = [
+        {"name": "flat", "type": "line", "start": [-b, 0.0], "end": [b, 0.0]},
+        {"name": "corner_right", "type": "arc", "center": [b, r], "radius": r, "start_angle": -90.0, "end_angle": 0.0},
+        {"name": "flank_right", "type": "line", "start": [w, r], "end": [w, top]},
+        {"name": "top", "type": "line", "start": [w, top], "end": [-w, top]},
+        {"name": "flank_left", "type": "line", "start": [-w, top], "end": [-w, r]},
+        {"name": "corner_left", "type": "arc", "center": [-b, r], "radius": r, "start_angle": -180.0, "end_angle": -90.0},
+    ]
+    zone = {"levels": 3, "around": "contact", "radius": 0.12}
+    return {
+        "name": "cornered punch on a block", "model": "plane_strain", "output": {"vtk": False},
+        "solver": {"load_steps": 1}, "materials": [STEEL],
+        "bodies": [
+            {"name": "punch", "material": "steel", "element_size": 0.029, "refinement": zone,
+             "shape": {"type": "profile", "edges": edges}},
+            {"name": "block", "material": "steel", "element_size": 0.077, "refinement": {**zone, "levels": 4},
+             "shape": {"type": "rectangle", "min": [-1.0, -0.7], "max": [1.0, 0.0]}},
+        ],
+        "boundary_conditions": [
+            {"type": "fixed", "body": "block", "edge": "bottom"},
+            {"type": "displacement", "body": "punch", "edge": "top", "value": [0.0, -1.0e-5]},
+        ],
+        "contacts": [{"bodies": ["punch", "block"], "type": "frictionless"}],
+    }
+
+
+def test_a_flat_punch_without_a_contact_point_touches_at_its_middle(tmp_path):
+    """Without a contact point, the closest point of a flat against a flat was whichever end of
+    the flat the search met first: the region was sought about the punch's corner and the run
+    ended not converged at a = 0, told the contact was "smaller than the grid resolves". A flat
+    pressed into a block is in contact over the whole flat, a >= b, and by symmetry the region
+    is centred on the flat's middle (here to half a finest cell of 3.6 mm: a run's own estimate
+    of its error in a is 4 %)."""
+    code, s = _run(tmp_path, cornered_punch_on_block(), "--no-estimate")
+    assert code == 0
+    c = s["contacts"][0]
+    assert abs(c["point"][0]) < 1e-9 and 0.0476 - 0.0018 <= c["half_width"] < 0.0476 + 0.0105
+    assert abs(c["region_centre"]) < 0.01 * c["half_width"]
