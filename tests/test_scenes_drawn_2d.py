@@ -174,3 +174,43 @@ def test_a_flat_punch_without_a_contact_point_touches_at_its_middle(tmp_path):
     c = s["contacts"][0]
     assert abs(c["point"][0]) < 1e-9 and 0.0476 - 0.0018 <= c["half_width"] < 0.0476 + 0.0105
     assert abs(c["region_centre"]) < 0.01 * c["half_width"]
+
+
+def coarse_ellipse_on_block() -> dict:
+    """A stiff half ellipse (radius of curvature 52 mm at its tip) on a steel block, plane stress,
+    with about 4 of the finest cells across the contact."""
+    return {
+        "name": "coarse ellipse on a block", "model": "plane_stress", "output": {"vtk": False},
+        "solver": {"load_steps": 5}, "materials": [STEEL, STIFF],
+        "bodies": [
+            {"name": "ellipse", "material": "stiff", "element_size": 0.014392565761463097,
+             "refinement": {"levels": 4, "around": "contact", "radius": 0.003986851916279632},
+             "shape": {"type": "half_ellipse", "center": [0.0, 0.07344270339832873],
+                       "semi_axes": [0.06189496155728782, 0.07344270339832873], "side": "below"}},
+            {"name": "block", "material": "steel", "element_size": 0.024503580755736335,
+             "refinement": {"levels": 5, "around": "contact", "radius": 0.00652472940976399},
+             "shape": {"type": "rectangle", "min": [-0.1003401765487482, -0.1003401765487482],
+                       "max": [0.1003401765487482, 0.0]}},
+        ],
+        "boundary_conditions": [
+            {"type": "displacement", "body": "ellipse", "edge": "flat", "value": [0.0, -0.000175331609077443]},
+            {"type": "fixed", "body": "block", "edge": "bottom"},
+        ],
+        "contacts": [{"bodies": ["ellipse", "block"], "type": "frictionless", "point": [0.0, 0.0]}],
+    }
+
+
+def test_a_run_without_an_error_estimate_says_so(tmp_path, capsys):
+    """Two finest cells across the half-width: a is 6 % short of Hertz's (plane stress,
+    E* = 1 / (1 / E1 + 1 / E2), R the ellipse's tip radius ax^2 / ay), the grid twice as coarse
+    does not converge and the run had no estimate and printed no warning. It now warns."""
+    code, s = _run(tmp_path, coarse_ellipse_on_block())
+    assert code == 0
+    c = s["contacts"][0]
+    ax, ay = 0.06189496155728782, 0.07344270339832873
+    E = 1.0 / (1.0 / 2.0e11 + 1.0 / 2.0e13)
+    hertz = math.sqrt(4.0 * c["normal_force"] * (ax * ax / ay) / (math.pi * E))
+    assert abs(c["half_width"] / hertz - 1.0) < 0.10  # 6 % short: within reach, but beyond 3 %
+    assert c["estimated_error"] is None
+    err = capsys.readouterr().err
+    assert "no error estimate" in err and "refine the grid around the contact" in err
