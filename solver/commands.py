@@ -340,3 +340,11 @@ def _print_contacts(summary: dict, ladder: dict | None) -> None:
                       else "refine the grid around the contact (more refinement levels)")
             _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: the estimated error of {key} is "
                  f"{100 * value:.2g} %, above {100 * WARN_ABOVE:g} %: {advice}, or set [solver] accuracy")
+        elif ladder is None and c.get("estimated_error") is None and c.get("estimate_note"):
+            # no estimate: most often the grid twice as coarse no longer resolves the region, and
+            # this one barely does (a cylinder's half-width 2 cells across: a 6 % short of Hertz's)
+            cells = c.get("cells_per_half_width") or min(c.get("cells_per_semi_axis") or [0.0])
+            span = f"the region spans {cells:.2g} of the finest cells across its half-width; " if cells else ""
+            _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: no error estimate ({c['estimate_note']}): "
+                 f"{span}refine the grid around the contact (more refinement levels) until a grid twice as "
+                 "coarse converges too, or set [solver] accuracy")

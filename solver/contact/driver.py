@@ -164,7 +164,8 @@ class ContactDriver:
             for c, a0 in zip(self.contacts, self.base):
                 kc, _, _ = c.terms(a0)
                 self.k0 = self.k0 + embed(kc, c.dofs, self.n)
-            rigid_modes_check(self.k0, self.bodies)  # still singular: a genuine rigid-body motion
+            # still singular: a genuine rigid-body motion (round-off, not the small patch's stiffness)
+            rigid_modes_check(self.k0, self.bodies, tolerance=1e-13)
         self.dofs = np.unique(np.concatenate([c.dofs for c in self.contacts]))
         self.where = [np.searchsorted(self.dofs, c.dofs) for c in self.contacts]
         try:

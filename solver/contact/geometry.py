@@ -89,6 +89,12 @@ def chord_table(curve, origin: np.ndarray, t_from: float, direction: int, sample
     to ``t_to``): the bracketing table of :func:`parameter_at_chord`, computed once per side."""
     end = (float(curve.t_end) if direction > 0 else float(curve.t_start)) if t_to is None else float(t_to)
     t = np.linspace(float(t_from), end, samples)
+    brk = getattr(curve, "breakpoints", None)
+    if brk is not None:  # junctions are samples: a corner at the walk's farthest point is reached exactly
+        b = np.asarray(brk(), dtype=float)
+        lo, hi = min(float(t_from), end), max(float(t_from), end)
+        t = np.unique(np.concatenate([t, b[(b > lo) & (b < hi)]]))
+        t = t if end >= float(t_from) else t[::-1]
     return t, walk_distances(curve, origin, t)
 
 

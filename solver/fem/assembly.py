@@ -63,9 +63,13 @@ _MOTIONS = {2: ["x translation", "y translation", "rotation"],
                 "rotation about x"]}
 
 
-def rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> None:
+def rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation], tolerance: float = 1e-10) -> None:
     """Raise ValueError when a body can move rigidly (R^T K R singular for its rigid modes: 3 in
-    2D, 6 in 3D, solver.fem.linalg.rigid_body_modes)."""
+    2D, 6 in 3D, solver.fem.linalg.rigid_body_modes): an eigenvalue below ``tolerance`` times the
+    body's mean diagonal times its node count. A free mode comes out at round-off, some 1e-16;
+    a mode held only by a patch of a few small cells far from the body's size (a contact's
+    initial region) lies near 1e-11 (a patch of 2 mm on a body of 2.4 m), which the contact
+    driver's check after adding that patch must still count as held."""
     diag = np.abs(k.diagonal())
     for b in bodies:
         r = rigid_body_modes([b], b.n_total)
@@ -74,7 +78,7 @@ def rigid_modes_check(k: sp.csr_matrix, bodies: list[BodyDiscretisation]) -> Non
         m = 0.5 * (m + m.T)
         scale = diag[sl].mean() * len(b.grid.free_nodes)
         ev, vec = np.linalg.eigh(m)
-        small = np.abs(ev) < 1e-10 * scale
+        small = np.abs(ev) < tolerance * scale
         if small.any():
             v = vec[:, np.argmin(np.abs(ev))]
             motion = " + ".join(f"{x:.2g} {w}" for x, w in zip(v, _MOTIONS[b.dim]) if abs(x) > 1e-3)

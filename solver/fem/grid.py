@@ -405,12 +405,25 @@ def _crossings(curve, axis: int, values: np.ndarray) -> np.ndarray:
     return np.concatenate(out) if out else np.zeros(0)
 
 
+def _grid_lines(values: np.ndarray, h_min: float) -> np.ndarray:
+    """The distinct cell-line coordinates among ``values`` (the same line from two cells may
+    differ in its last bits), each kept exact: merged within 1e-9 of the finest cell, not
+    rounded to a number of decimals (a line rounded to 1e-12 m lies 2.5e-6 of a 4e-7 m cell off
+    the cell's side, beyond the side's own tolerance of 1e-6 of the cell, and the cut cell's
+    area came out 7 % of the cell wrong: negative stiffness on deep refinements)."""
+    v = np.sort(np.asarray(values, dtype=float))
+    if len(v) == 0:
+        return v
+    keep = np.concatenate([[True], np.diff(v) > 1e-9 * h_min])
+    return v[keep]
+
+
 def _cut_pieces(grid: Grid, boundary: Boundary, candidate: np.ndarray) -> Pieces:
     lower = grid.lower[candidate]
     size = grid.size[candidate]
-    xs = np.unique(np.round(np.concatenate([lower[:, 0], lower[:, 0] + size]), 12))
-    ys = np.unique(np.round(np.concatenate([lower[:, 1], lower[:, 1] + size]), 12))
     h_min = grid.h0 / 2.0**grid.max_level
+    xs = _grid_lines(np.concatenate([lower[:, 0], lower[:, 0] + size]), h_min)
+    ys = _grid_lines(np.concatenate([lower[:, 1], lower[:, 1] + size]), h_min)
     names = list(boundary.curves)
     cid, t0s, t1s, cells = [], [], [], []
     for k, name in enumerate(names):

@@ -162,7 +162,7 @@ def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarra
     when they overlap. Each edge is sampled in its own parameter about every ``spacing``
     (one vectorised phi call per edge), then a bounded scalar search in the exact parameter
     between the neighbours of the best sample refines it."""
-    best_phi, best = -np.inf, None
+    best_phi, best, plateau = -np.inf, None, None
     for name in first.edge_names:  # a handful of edges
         curve = first.edges[name]
         n = int(np.clip(np.ceil(float(curve.length) / spacing) + 1, 9, 20001))
@@ -171,6 +171,10 @@ def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarra
         k = int(np.argmax(phi))
         if phi[k] > best_phi:
             best_phi, best = phi[k], (curve, t[max(k - 1, 0)], t[min(k + 1, n - 1)])
+            plateau = _plateau(t, phi, k, 1e-9 * spacing)
+    if plateau is not None:  # a flat against a flat: every point of the stretch is closest
+        curve = best[0]
+        return np.asarray(curve.evaluate(np.array([0.5 * (plateau[0] + plateau[1])]))[0], dtype=float)
     curve, t0, t1 = best
     x = refined_maximum(lambda s: np.asarray(second.signed_distance(curve.evaluate(s)), dtype=float),
                          min(t0, t1), max(t0, t1), 1e-13 * max(abs(curve.t_end - curve.t_start), 1.0))
@@ -182,6 +186,21 @@ def closest_boundary_point(first: Any, second: Any, spacing: float) -> np.ndarra
     return candidates[int(np.argmax(phi))]
 
 
+
+
+def _plateau(t: np.ndarray, phi: np.ndarray, k: int, tol: float) -> tuple[float, float] | None:
+    """The parameters (first, last) of the run of samples about the best one, ``k``, whose phi
+    lies within ``tol`` of the best (a flat edge parallel to the other body's flat, where every
+    point is closest and the search would return whichever end it meets first: a flat punch's
+    corner, where no region can be centred), or None where the best is a single sample or two
+    (a curve, or a tilted flat, whose phi varies by far more than ``tol`` per sample)."""
+    close = phi >= phi[k] - tol
+    lo, hi = k, k
+    while lo > 0 and close[lo - 1]:
+        lo -= 1
+    while hi < len(t) - 1 and close[hi + 1]:
+        hi += 1
+    return (float(t[lo]), float(t[hi])) if hi - lo >= 2 else None
 
 
 def finest_size_at(body: BodyModel, point: np.ndarray) -> float:
