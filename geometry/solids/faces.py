@@ -10,6 +10,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..bisection import bisection_tree
+
 __all__ = ["ParametricFace", "PlanarRegionFace", "gauss_panels"]
 
 Map = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
@@ -326,7 +328,7 @@ def _bisect_crossings(inside, a: np.ndarray, b: np.ndarray, a_inside: np.ndarray
     steps = 0
     while live.size and steps < BISECTION_STEPS:
         levels = min(BISECTION_LEVELS, BISECTION_STEPS - steps)
-        tree = _bisection_tree(a[live], b[live], levels)
+        tree = bisection_tree(a[live], b[live], levels)
         value = inside(tree.ravel(), np.repeat(live, tree.shape[1])).reshape(tree.shape)
         rows, node = np.arange(len(live)), np.zeros(len(live), dtype=np.int64)
         for _ in range(levels):
@@ -338,18 +340,3 @@ def _bisect_crossings(inside, a: np.ndarray, b: np.ndarray, a_inside: np.ndarray
             # a bracket a step left unchanged stays so: it is final
             live, rows, node = live[moved], rows[moved], np.where(same, 2 * node + 1, 2 * node + 2)[moved]
         steps += levels
-
-
-def _bisection_tree(a: np.ndarray, b: np.ndarray, levels: int) -> np.ndarray:
-    """(m, 2^levels - 1) the midpoints the next ``levels`` bisection steps of [a, b] may take, in
-    heap order: node i's bracket halves to node 2i + 1 (the zero above its midpoint) and 2i + 2
-    (below it), each midpoint 0.5 (lo + hi) as one bisection step computes it."""
-    lo, hi = a[:, None], b[:, None]  # the brackets of one level's nodes, left to right
-    mids = []
-    for _ in range(levels):
-        mid = 0.5 * (lo + hi)
-        mids.append(mid)
-        # node j's children 2j (the zero above its midpoint: [mid, hi]) and 2j + 1 ([lo, mid])
-        shape = (len(a), 2 * mid.shape[1])
-        lo, hi = np.stack([mid, lo], axis=2).reshape(shape), np.stack([hi, mid], axis=2).reshape(shape)
-    return np.concatenate(mids, axis=1)

@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ibfem.geometry.bisection import bisection_tree
+
 from ..fem.surface_quadrature import MAX_VERTICES, clip_to_grid, triangle_nodes
 from .graded_quadrature import clip_to_cells, graded_star_panels
 
@@ -380,7 +382,7 @@ def _illinois(f, y, n, a, b, fa, fb, reach: float) -> np.ndarray:
             return out
         flat = st.fb[act] == 0.0
         single, lines = act[~flat], act[flat]
-        ahead = _bisection_tree(st.a[lines], st.b[lines], PLATEAU_LEVELS)  # its root: the step begun
+        ahead = bisection_tree(st.a[lines], st.b[lines], PLATEAU_LEVELS)  # its root: the step begun
         values = np.asarray(f(y[np.concatenate([single, np.repeat(lines, ahead.shape[1])])]
                               + np.concatenate([st.x[single], ahead.ravel()])[:, None] * n), float)
         st.update(single, values[:len(single)])
@@ -440,21 +442,6 @@ class _Falsi:
         self.a[lines], self.b[lines], self.fa[lines], self.fb[lines] = a, b, fa, fb
         self.side[lines] = np.where(left, 1, -1)
         return left
-
-
-def _bisection_tree(a: np.ndarray, b: np.ndarray, levels: int) -> np.ndarray:
-    """(m, 2^levels - 1) the midpoints the next ``levels`` bisection steps of [a, b] may take, in
-    heap order: node i's bracket halves to node 2i + 1 (the zero above its midpoint) and 2i + 2
-    (below it), each midpoint 0.5 (lo + hi) as one bisection step computes it."""
-    lo, hi = a[:, None], b[:, None]  # the brackets of one level's nodes, left to right
-    mids = []
-    for _ in range(levels):
-        mid = 0.5 * (lo + hi)
-        mids.append(mid)
-        # node j's children 2j (the zero above its midpoint: [mid, hi]) and 2j + 1 ([lo, mid])
-        shape = (len(a), 2 * mid.shape[1])
-        lo, hi = np.stack([mid, lo], axis=2).reshape(shape), np.stack([hi, mid], axis=2).reshape(shape)
-    return np.concatenate(mids, axis=1)
 
 
 def sector_share(ranges: list[tuple[float, float]]) -> float:
