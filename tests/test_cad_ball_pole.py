@@ -92,6 +92,7 @@ def _scene(tmp_path: Path, shape: str, size: float, face: str) -> Path:
                         'rotate = { axis = [1, 0, 0], angle_deg = 90 } }', shape)
     text = text.replace("element_size = 0.00024", f"element_size = {size}")
     text = text.replace('face = { type = "sphere" }', face)
+    assert shape in text and face in text and f"element_size = {size}" in text  # the example's lines were found
     path = tmp_path / f"scene_{abs(hash((shape, size)))}.toml"
     path.write_text(text)
     return path
