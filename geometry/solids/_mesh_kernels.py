@@ -138,3 +138,19 @@ def nearest_on_polyline(points, line, foot, best, segment):
                 foot[i, 0], foot[i, 1], foot[i, 2] = xx, xy, xz
                 segment[i] = j
         best[i] = b
+
+
+@jit
+def box_gaps(points, lo, hi, out):
+    """out[b, i]: the distance from point i to box b (lower corners lo (m, 3), upper hi (m, 3));
+    0 inside. The arithmetic of ``np.linalg.norm(p - np.clip(p, lo, hi), axis=1)``, box by box
+    and point by point, without the (boxes, points, 3) temporaries."""
+    for b in range(lo.shape[0]):
+        lx, ly, lz = lo[b, 0], lo[b, 1], lo[b, 2]
+        ux, uy, uz = hi[b, 0], hi[b, 1], hi[b, 2]
+        for i in range(points.shape[0]):
+            px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+            dx = px - min(max(px, lx), ux)
+            dy = py - min(max(py, ly), uy)
+            dz = pz - min(max(pz, lz), uz)
+            out[b, i] = math.sqrt(dx * dx + dy * dy + dz * dz)

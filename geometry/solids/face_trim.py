@@ -20,7 +20,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .mesh_jit import mesh_kernels
+from .mesh_jit import box_gaps, mesh_kernels
 from .trim_strips import boundary_chords
 
 __all__ = ["FaceTrim", "TrimEdge"]
@@ -151,6 +151,11 @@ class FaceTrim:
                       if ids.count(e.id) == 1 and len(np.asarray(e.polyline).reshape(-1, 3)) >= 2]
 
     @cached_property
+    def _boxes(self) -> tuple[np.ndarray, np.ndarray]:
+        """The trimming edges' boxes: lower and upper corners (edges, 3)."""
+        return (np.array([e.lo for e in self.edges]).reshape(-1, 3), np.array([e.hi for e in self.edges]).reshape(-1, 3))
+
+    @cached_property
     def _sides(self) -> list[float]:
         """+1 where the face lies on the side N x T of an edge (T along its polyline), -1 where
         on the other, 0 where its triangles do not reach the edge: the side the triangles along
@@ -186,10 +191,11 @@ class FaceTrim:
         at, inward = np.full_like(q, np.inf), np.zeros_like(q)
         same = 1e-7 * self.size  # two edges' feet this close are their shared vertex
         band = BAND * self.tol
-        for edge, side in zip(self.edges, self._sides):
+        gaps = box_gaps(q, self._boxes[0], self._boxes[1])  # (edges, n)
+        for k, (edge, side) in enumerate(zip(self.edges, self._sides)):
             if side == 0.0:
                 continue
-            gap = np.linalg.norm(q - np.clip(q, edge.lo, edge.hi), axis=1)
+            gap = gaps[k]
             sel = np.flatnonzero((gap < band) & (gap <= best + same))
             if len(sel):  # the box's gap, then the samples' bound: the edge is at least that far
                 gap = edge.lower_bound(q[sel], band)

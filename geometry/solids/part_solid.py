@@ -35,7 +35,7 @@ import numpy as np
 
 from .._base import Projection
 from .face_trim import FaceTrim, TrimEdge
-from .mesh_jit import mesh_kernels
+from .mesh_jit import box_gaps, mesh_kernels
 from .shapes import Solid
 
 __all__ = ["PartSolid", "PartFace", "point_triangle_distance"]
@@ -450,7 +450,7 @@ class PartSolid(Solid):
         if not exact or not n:
             return best, sign, interior
         lo, hi = self._face_boxes
-        gap = np.linalg.norm(p[None] - np.clip(p[None], lo[:, None], hi[:, None]), axis=2) * (1.0 - 1e-12)  # (faces, n)
+        gap = box_gaps(p, lo, hi) * (1.0 - 1e-12)  # (faces, n)
         key = np.full(n, np.inf)  # the nearest foot on its face so far
         face_of = np.full(n, len(exact))
         feet, normals = np.zeros((n, 3)), np.zeros((n, 3))
@@ -490,11 +490,13 @@ class PartSolid(Solid):
         """Distance to the nearest edge or vertex, exact where it is below ``bound`` (the faces'
         nearest distance); elsewhere only known to be at least ``bound``."""
         best = np.array(bound, dtype=float)
-        for e, (lo, hi) in zip(self.edges, self._edge_boxes):
+        lo, hi = (np.array([box[k] for box in self._edge_boxes]).reshape(-1, 3) for k in (0, 1))
+        gaps = box_gaps(p, lo, hi)  # (edges, n)
+        for k, e in enumerate(self.edges):
             # the edge (its curve and end vertices) lies in its polyline's box widened by the
             # tolerance, and within the tolerance of its polyline: a point at least its best
             # distance from that box, or from the polyline less the tolerance, is not asked
-            near = np.flatnonzero(np.linalg.norm(p - np.clip(p, lo, hi), axis=1) < best)
+            near = np.flatnonzero(gaps[k] < best)
             if len(near):
                 upper = float(best[near].max())
                 near = near[self._trim_edges[e.id].lower_bound(p[near], upper) < best[near]]
