@@ -72,6 +72,9 @@ MIN_COARSE_CELLS = 1.5
 #: a point contact whose smaller relative curvature is at most this share of the larger is an
 #: elongated ellipse (Hertz's b / a 0.22 at 0.1, 0.10 at 0.028): its grid follows the region too
 ELONGATED_ELLIPSE_RATIO = 0.1
+#: an elongated ellipse's fine pass keeps its ball this many levels below the coarse pass's (the
+#: band at the scene's levels holds the region; the ball's cells only carry the trials beyond it)
+ELLIPSE_BALL_FEWER = 1
 
 
 def finest_contact_cell(problem, names) -> float:
@@ -144,9 +147,11 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
     (``blocks``: the coarse pass's contact blocks, solved ``levels_fewer`` levels shallower) at the
     scene's levels and balls one level finer where the region's edge turns
     (solver.contact.region_band), the contact balls at the coarse levels; and a record of both."""
-    bands = {}
+    bands, ellipse_only = {}, {}
     for k in indices:
         c, block = problem.contacts[k], blocks[k]
+        for name in c.bodies:
+            ellipse_only[name] = ellipse_only.get(name, True) and "boundary" not in block
         margin = MARGIN_CELLS * finest_contact_cell(coarse_problem(problem, [k], levels_fewer), c.bodies)
         point, axis = np.asarray(block["point"], float), np.asarray(block["axes"], float)[0]
         if "boundary" not in block:  # an elongated ellipse: the band alone, on body 1's surface
@@ -177,7 +182,10 @@ def band_problem(problem, indices: list[int], blocks: list[dict], levels_fewer: 
 
     def zones(body):
         levels = max(r.levels for r in body.refinements if r.around_contact)
-        out = [dataclasses.replace(r, levels=r.levels - levels_fewer) if r.around_contact else r
+        # a body whose followed contacts are all ellipses: the band holds the region, the ball only
+        # its trials' candidate disc, ELLIPSE_BALL_FEWER levels below the coarse pass's
+        fewer = levels_fewer + (ELLIPSE_BALL_FEWER if ellipse_only[body.name] else 0)
+        out = [dataclasses.replace(r, levels=max(r.levels - fewer, 0)) if r.around_contact else r
                for r in body.refinements]
         for centres, radius, finer in bands[body.name]:
             out += [Refinement(levels=levels, radius=radius, center=x) for x in centres]
