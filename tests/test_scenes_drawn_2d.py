@@ -26,12 +26,10 @@ def _hertz_half_width(N: float, R: float, E: float, nu: float) -> float:
     return math.sqrt(4.0 * N * R / (math.pi * E / (2.0 * (1.0 - nu * nu))))
 
 
-def cornered_punch_on_cylinder() -> dict:
-    """A small flat punch with rounded corners (flat 1.6 mm, corner radius 0.3 mm, 1.6 mm tall) on
-    a cylinder of 7 mm: the refinement radius reaches past the punch's top corners, so the
-    candidate region ends at a top corner, the farthest point of the punch from the contact."""
-    b, r, w, top = 8.0e-4, 3.0e-4, 1.1e-3, 1.6e-3
-    edges = [
+def rounded_punch_edges(b: float, r: float, w: float, top: float) -> list[dict]:
+    """A punch's profile: the flat |x| <= b on y = 0, corners of radius r, flanks at |x| = w up to
+    the top at y = top."""
+    return [
         {"name": "flat", "type": "line", "start": [-b, 0.0], "end": [b, 0.0]},
         {"name": "corner_right", "type": "arc", "center": [b, r], "radius": r, "start_angle": -90.0, "end_angle": 0.0},
         {"name": "flank_right", "type": "line", "start": [w, r], "end": [w, top]},
@@ -39,6 +37,13 @@ def cornered_punch_on_cylinder() -> dict:
         {"name": "flank_left", "type": "line", "start": [-w, top], "end": [-w, r]},
         {"name": "corner_left", "type": "arc", "center": [-b, r], "radius": r, "start_angle": -180.0, "end_angle": -90.0},
     ]
+
+
+def cornered_punch_on_cylinder() -> dict:
+    """A small flat punch with rounded corners (flat 1.6 mm, corner radius 0.3 mm, 1.6 mm tall) on
+    a cylinder of 7 mm: the refinement radius reaches past the punch's top corners, so the
+    candidate region ends at a top corner, the farthest point of the punch from the contact."""
+    edges = rounded_punch_edges(8.0e-4, 3.0e-4, 1.1e-3, 1.6e-3)
     return {
         "name": "cornered punch on a cylinder", "model": "plane_strain", "output": {"vtk": False},
         "solver": {"load_steps": 1}, "materials": [STEEL],
@@ -135,15 +140,7 @@ def test_deeply_refined_cut_cells_hold_their_exact_area():
 def cornered_punch_on_block() -> dict:
     """A flat punch (flat 95 mm, corners rounded by 10 mm, 128 mm tall) on a wide block, no
     contact point given: every point of the flat is closest to the block."""
-    b, r, w, top = 0.0476, 0.0105, 0.0581, 0.128
-    edges = [
-        {"name": "flat", "type": "line", "start": [-b, 0.0], "end": [b, 0.0]},
-        {"name": "corner_right", "type": "arc", "center": [b, r], "radius": r, "start_angle": -90.0, "end_angle": 0.0},
-        {"name": "flank_right", "type": "line", "start": [w, r], "end": [w, top]},
-        {"name": "top", "type": "line", "start": [w, top], "end": [-w, top]},
-        {"name": "flank_left", "type": "line", "start": [-w, top], "end": [-w, r]},
-        {"name": "corner_left", "type": "arc", "center": [-b, r], "radius": r, "start_angle": -180.0, "end_angle": -90.0},
-    ]
+    edges = rounded_punch_edges(0.0476, 0.0105, 0.0581, 0.128)
     zone = {"levels": 3, "around": "contact", "radius": 0.12}
     return {
         "name": "cornered punch on a block", "model": "plane_strain", "output": {"vtk": False},

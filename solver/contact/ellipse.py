@@ -269,8 +269,8 @@ class EllipseContact:
         normal = float(-on2 @ self.frame.normal)
         tangential = on2 - (on2 @ self.frame.normal) * self.frame.normal
         q = float(np.linalg.norm(tangential))
-        self._stick_root.ratio_of = self._stick_ratio_of(a)
-        nxt, finished = self._stick_root.update(self.stick_ratio, normal, q, self.friction)
+        nxt, finished = self._stick_root.update(self.stick_ratio, normal, q, self.friction,
+                                                self._stick_ratio_of(a))
         self.beta = q / normal if normal > 0 else math.nan
         if q > 0.0:
             e = tangential / q
@@ -282,13 +282,18 @@ class EllipseContact:
             self.stick_ratio = nxt
         return finished
 
+    def initial_sample_gap(self) -> tuple[np.ndarray, np.ndarray]:
+        """The axis samples' tangent-plane coordinates (n, 2) from the contact point and the
+        bodies' initial gap (n,) there along the contact normal."""
+        smp = self.samples
+        return np.asarray(smp.s, dtype=float), np.einsum("qi,qi->q", smp.delta, smp.normal)
+
     def _stick_ratio_of(self, a: float):
         """c / a for a load share 1 - |Q| / (mu N) under the bodies' own gap (Mindlin's cube root
         for Hertz's: solver.contact.gap_moments)."""
         if not a > 0.0:
             return None
-        smp = self.samples
-        s, gap = np.asarray(smp.s, dtype=float), np.einsum("qi,qi->q", smp.delta, smp.normal)
+        s, gap = self.initial_sample_gap()
         semi_axes = self.semi_axes(a)
         return lambda share: stick_ratio_targets(s, gap, self.sample_axis, semi_axes, share)
 
@@ -574,9 +579,7 @@ def _edge_coefficients(c: EllipseContact, info, x: np.ndarray, a: float) -> tupl
 def _second_moment_targets(c: EllipseContact, aa: float, bb: float) -> tuple[float, float]:
     """<X^2>, <Y^2> of the pressure without an edge singularity for the bodies' own gap along the
     axes (1/5 for Hertz's quadratic gap: solver.contact.gap_moments)."""
-    smp = c.samples
-    gap = np.einsum("qi,qi->q", smp.delta, smp.normal)
-    return second_moment_targets(np.asarray(smp.s, dtype=float), gap, c.sample_axis, (aa, bb))
+    return second_moment_targets(*c.initial_sample_gap(), c.sample_axis, (aa, bb))
 
 
 def _overlap_extent(c: EllipseContact, gap: np.ndarray, inside: np.ndarray) -> float:

@@ -160,12 +160,10 @@ def gap_at_edge_over_quadratic(c, reach: tuple[float, float]) -> list[float]:
     """Per axis, the bodies' initial gap where the region's edge crosses it, over the gap the
     contact point's curvatures give there (kappa s^2 / 2, Hertz's model): the end of the axis
     farther from 1. Near 1 where the gap is quadratic across the region (a ball: 1 + (a / R)^2 / 4);
-    far from it at a cone's apex or a vertex (a 10-degree cone: about 0.004), where the region's
-    size, read as for Hertz's pressure, is biased. nan where the axis samples do not reach the
-    edge."""
-    smp = c.samples
-    s = np.asarray(smp.s, dtype=float)  # from the contact point, where the curvatures are taken
-    gap = np.einsum("qi,qi->q", smp.delta, smp.normal)
+    far from it at a cone's apex or a vertex (a 10-degree cone: about 0.004), where the region is
+    not Hertzian and its size follows the gap's own profile (solver.contact.gap_moments). nan
+    where the axis samples do not reach the edge."""
+    s, gap = c.initial_sample_gap()  # from the contact point, where the curvatures are taken
     out = []
     for k, (r, kappa) in enumerate(zip(reach, c.frame.curvatures)):
         on = c.sample_axis == k

@@ -27,7 +27,6 @@ radius its short semi-axis plus the margin (region_band.ellipse_band_balls).
 from __future__ import annotations
 
 import dataclasses
-from types import SimpleNamespace
 from typing import Callable
 
 import numpy as np
@@ -35,7 +34,7 @@ import numpy as np
 from ..model.problem import MAX_REFINEMENT_LEVELS, Refinement
 from .band import CandidateRegionExceeded
 from .ellipse import is_line_contact
-from .ellipse_geometry import contact_frame_3d, sectors, surface_point
+from .ellipse_geometry import ContactFrame3D, contact_frame_3d, sectors, surface_point
 from .region_band import band_balls, ellipse_band_balls, peak_balls, side_balls, turning_balls
 from .star_region import EDGE_WINDOW_CELLS, ELONGATED_RATIO, reaches_free_end
 
@@ -204,8 +203,9 @@ def _on_surface(solid1, block: dict, s: np.ndarray, radius: float) -> tuple[np.n
     surface: an ellipse's bodies curve away from the tangent plane along its long axis (a ball in
     a race's groove by s^2 / 2R, more than the band's radius at its ends), though not from each
     other. Where the surface is not found above a centre, the plane's point."""
-    frame = SimpleNamespace(point=np.asarray(block["point"], float), axes=np.asarray(block["axes"], float)[:2],
-                            normal=np.asarray(block["normal"], float))
+    frame = ContactFrame3D(point=np.asarray(block["point"], float), normal=np.asarray(block["normal"], float),
+                           axes=np.asarray(block["axes"], float)[:2],
+                           curvatures=np.asarray(block["relative_curvatures"], float))
     plane = frame.point + s @ frame.axes
     reach = 2.0 * float(np.abs(s).max()) + radius
     x1, found = surface_point(solid1, frame, s, reach)

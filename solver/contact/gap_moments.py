@@ -48,13 +48,19 @@ _THETA = 0.25 * np.pi * (_THETA_X + 1.0)
 _THETA_WEIGHTS = 0.25 * np.pi * _THETA_W
 
 
+def _g_slope(t: np.ndarray, slope: np.ndarray) -> np.ndarray:
+    """g'(t) at the radii t, g(t) = t int_0^(pi/2) f'(t sin theta) d theta, for the gap of
+    revolution whose slope f'(r) is ``slope`` at t."""
+    g = t * (np.interp(np.outer(t, np.sin(_THETA)), t, slope) @ _THETA_WEIGHTS)
+    return np.gradient(g, t)
+
+
 def axis_second_moment(t: np.ndarray, slope: np.ndarray) -> float:
     """<X^2> of the singularity-free pressure of the axisymmetric gap whose slope f'(r) is
     ``slope`` at the radii ``t`` (increasing from 0 to the region's radius a). Hertz's value where
     the gap does not rise (no compression to speak of)."""
     a = float(t[-1])
-    g = t * (np.interp(np.outer(t, np.sin(_THETA)), t, slope) @ _THETA_WEIGHTS)
-    dg = np.gradient(g, t)
+    dg = _g_slope(t, slope)
     m1 = np.trapezoid(dg * t, t)
     m3 = (2.0 / 3.0) * np.trapezoid(dg * t**3, t)
     if not (a > 0.0 and m1 > 0.0 and m3 > 0.0):
@@ -64,9 +70,7 @@ def axis_second_moment(t: np.ndarray, slope: np.ndarray) -> float:
 
 def _load_curve(t: np.ndarray, slope: np.ndarray) -> np.ndarray:
     """P(x) / P(a) at the radii t (from 0 to a) for the gap of revolution of this slope."""
-    g = t * (np.interp(np.outer(t, np.sin(_THETA)), t, slope) @ _THETA_WEIGHTS)
-    dg = np.gradient(g, t)
-    f = dg * t
+    f = _g_slope(t, slope) * t
     load = np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))])
     return load / load[-1] if load[-1] > 0.0 else (t / t[-1]) ** 3
 
@@ -85,14 +89,19 @@ def stick_ratio_targets(s: np.ndarray, gap: np.ndarray, axis: np.ndarray, semi_a
     """The stick ratio c / a with P(c) / P(a) = ``fraction`` (= 1 - Q / (mu N)) for the gap along
     the axes (the mean of the two axes' readings; Mindlin's cube root where neither axis's samples
     reach the region's edge)."""
-    ratios = []
+    ratios = [axis_stick_ratio(t, slope, fraction, quadratic)
+              for t, slope, quadratic in filter(None, _axis_profiles(s, gap, axis, semi_axes))]
+    return float(np.mean(ratios)) if ratios else min(max(fraction, 0.0), 1.0) ** (1.0 / 3.0)
+
+
+def _axis_profiles(s: np.ndarray, gap: np.ndarray, axis: np.ndarray, semi_axes) -> list:
+    """Per axis k, :func:`_profile_slope` of the samples on it to the semi-axis (None where they
+    are too few or do not reach)."""
+    out = []
     for k, reach in enumerate(semi_axes):
         on = axis == k
-        profile = _profile_slope(s[on, k], gap[on], float(reach)) if on.sum() > 2 and reach > 0.0 else None
-        if profile is not None:
-            t, slope, quadratic = profile
-            ratios.append(axis_stick_ratio(t, slope, fraction, quadratic))
-    return float(np.mean(ratios)) if ratios else min(max(fraction, 0.0), 1.0) ** (1.0 / 3.0)
+        out.append(_profile_slope(s[on, k], gap[on], float(reach)) if on.sum() > 2 and reach > 0.0 else None)
+    return out
 
 
 def _profile_slope(s: np.ndarray, gap: np.ndarray, reach: float):
@@ -124,9 +133,7 @@ def second_moment_targets(s: np.ndarray, gap: np.ndarray, axis: np.ndarray, semi
     bodies' initial gap there, ``axis`` (n,) 0 or 1 the axis each lies on. Hertz's 1/5 where an
     axis's samples do not reach its semi-axis."""
     out = []
-    for k, reach in enumerate(semi_axes):
-        on = axis == k
-        profile = _profile_slope(s[on, k], gap[on], float(reach)) if on.sum() > 2 and reach > 0.0 else None
+    for profile in _axis_profiles(s, gap, axis, semi_axes):
         if profile is None:
             out.append(HERTZ_SECOND_MOMENT)
             continue

@@ -272,19 +272,18 @@ class StickRoot:
     def __init__(self, tol: float, exponent: float = 0.5):
         self.tol = tol
         self.exponent = exponent  # 1/2: cylinders (eq. 2-29); 1/3: spheres (Mindlin)
-        #: c / a for the share 1 - |Q| / (mu N) of the load, where the gap is not Hertz's (None:
-        #: the power ``exponent``)
-        self.ratio_of = None
         self.lo = self.hi = None  # k with F > 0 / F < 0
         self.flo = self.fhi = 0.0
         self.side = 0
 
-    def update(self, k: float, normal: float, tangential: float, mu: float) -> tuple[float, bool]:
-        """Next ratio and whether k is consistent (|F(k)| <= tol, or no compression)."""
+    def update(self, k: float, normal: float, tangential: float, mu: float, ratio_of=None) -> tuple[float, bool]:
+        """Next ratio and whether k is consistent (|F(k)| <= tol, or no compression). ``ratio_of``:
+        c / a for the load share 1 - |Q| / (mu N) where the gap is not Hertz's (None: the share to
+        the power ``exponent``)."""
         if not normal > 0.0:
             return k, True
         share = max(0.0, 1.0 - abs(tangential) / (mu * normal))
-        g = self.ratio_of(share) if self.ratio_of is not None else share ** self.exponent
+        g = ratio_of(share) if ratio_of is not None else share ** self.exponent
         f = g - k
         if abs(f) <= self.tol:
             return k, True
