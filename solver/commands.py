@@ -318,6 +318,27 @@ def _friction_note(contact: dict) -> str | None:
             "as Mindlin's is for an ellipse; treat the stick zone as an estimate")
 
 
+#: the share of the slip (by its amount) running against the friction traction above which a run
+#: warns: a whole end of the slip zones slipping the other way reads about half (a crowned
+#: indenter 100 times stiffer than its block, Dundurs' beta -0.29: 0.45), an inner part creeping
+#: back a few per cent (the same pair of one material: 0.04)
+SLIP_AGAINST_WARN = 0.2
+
+
+def _slip_direction_note(contact: dict) -> str | None:
+    """A warning's text where a 2D frictional contact's final state slips against its friction
+    traction over a large share of its slip; None otherwise."""
+    share = (contact.get("checks") or {}).get("slip_against_traction")
+    if contact.get("type") != "frictional" or not isinstance(share, float) or not share >= SLIP_AGAINST_WARN:
+        return None
+    return (f"{100 * share:.0f} % of the slip zones' slip runs against their friction traction: the two ends slip "
+            "in opposite directions, which a proportional run's zones (one slip direction about a centred stick "
+            "zone, as Cattaneo and Mindlin's) cannot hold, so its stick zone and shear are not Coulomb's. Bodies of "
+            "different elastic constants (Dundurs' beta not 0) do this: under the normal load alone one end slips "
+            "inward and the other outward. Load paths ([[paths]], or a path on any condition) solve friction with "
+            "memory, whose slip zones take either direction")
+
+
 def _print_contacts(summary: dict, ladder: dict | None) -> None:
     """The accuracy ladder's line, each contact's result line, and a warning on stderr where an
     estimated error is above the warning level (runs without an accuracy target)."""
@@ -330,7 +351,7 @@ def _print_contacts(summary: dict, ladder: dict | None) -> None:
             _err(f"warning: the accuracy target {ladder['target']:g} was not reached: {ladder['note']}")
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
-        for note in (_coarse_region_note(c), _friction_note(c), _gap_model_note(c)):
+        for note in (_coarse_region_note(c), _friction_note(c), _gap_model_note(c), _slip_direction_note(c)):
             if note:
                 _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: {note}")
         key, value = largest_error(c.get("estimated_error") or {})

@@ -13,6 +13,7 @@ STIFF = {"name": "stiff", "youngs_modulus": 2.0e13, "poissons_ratio": 0.3}
 
 
 def _run(tmp_path, scene: dict, *extra: str) -> tuple[int, dict | None]:
+    tmp_path.mkdir(parents=True, exist_ok=True)
     path = tmp_path / "scene.json"
     path.write_text(json.dumps(scene))
     out = tmp_path / "out"
@@ -211,3 +212,61 @@ def test_a_run_without_an_error_estimate_says_so(tmp_path, capsys):
     assert c["estimated_error"] is None
     err = capsys.readouterr().err
     assert "no error estimate" in err and "refine the grid around the contact" in err
+
+
+def crown_on_block(indenter: dict, paths: bool = False, sideways: float = 1.04e-4) -> dict:
+    """A crowned indenter (an arc of radius 0.912 m between flanks) pressed 5.4 mm into a steel
+    block and moved ``sideways``, mu 0.21: Q / (mu N) about 0.08 at 0.1 mm."""
+    r, turn = 0.912, 43.13  # the crown's radius and the half angle its arc turns
+    x, y = r * math.sin(math.radians(turn)), r * (1.0 - math.cos(math.radians(turn)))
+    edges = [
+        {"name": "crown", "type": "arc", "center": [0.0, r], "radius": r, "start_angle": -90.0 - turn,
+         "end_angle": -90.0 + turn},
+        {"name": "flank_right", "type": "line", "start": [x, y], "end": [1.0278, 0.6252]},
+        {"name": "top", "type": "line", "start": [1.0278, 0.6252], "end": [-1.0278, 0.6252]},
+        {"name": "flank_left", "type": "line", "start": [-1.0278, 0.6252], "end": [-x, y]},
+    ]
+    scene = {
+        "name": "crown on block", "model": "plane_strain", "output": {"vtk": False, "plots": False},
+        "solver": {"load_steps": 5}, "materials": [indenter, STEEL] if indenter is not STEEL else [STEEL],
+        "bodies": [
+            {"name": "indenter", "material": indenter["name"], "element_size": 0.107,
+             "refinement": {"levels": 5, "around": "contact", "radius": 0.092}, "shape": {"type": "profile", "edges": edges}},
+            {"name": "base", "material": "steel", "element_size": 0.354,
+             "refinement": {"levels": 7, "around": "contact", "radius": 0.192},
+             "shape": {"type": "rectangle", "min": [-3.99, -1.76], "max": [3.99, 0.0]}},
+        ],
+        "boundary_conditions": [
+            {"type": "displacement", "body": "indenter", "edge": "top", "value": [sideways, -5.45e-3]},
+            {"type": "fixed", "body": "base", "edge": "bottom"},
+        ],
+        "contacts": [{"bodies": ["indenter", "base"], "type": "frictional", "friction": 0.21, "point": [0.0, 0.0]}],
+    }
+    if paths:  # the same ramp, solved with friction memory
+        scene["paths"] = [{"name": "ramp", "points": [[0.0, 0.0], [1.0, 1.0]]}]
+        scene["solver"] = {"steps_per_unit": 10}
+    return scene
+
+
+def test_a_proportional_run_whose_ends_slip_apart_warns(tmp_path, capsys):
+    """Bodies of different elastic constants (a stiff indenter on steel: Dundurs' beta -0.29)
+    slip inward at one end and outward at the other under the normal load alone (K. L. Johnson,
+    Contact Mechanics, 1985, sec. 5.4), so with a small tangential load the two slip zones slip in
+    opposite directions. Solved with friction memory (a ramp path) the zones show it; the
+    proportional run's zones (one direction) cannot: its final state slips against its friction
+    traction at one whole end, and it now warns. The pair of one material pulled four times as
+    far (Q / (mu N) 0.3) slips one way, as Cattaneo and Mindlin's zones do, and does not warn."""
+    code, s = _run(tmp_path / "memory", crown_on_block(STIFF, paths=True), "--no-estimate")
+    assert code == 0
+    directions = [z[2] for z in s["steps"][-1]["contacts"][0]["slip_zones"]]
+    assert sorted(directions) == [-1.0, 1.0]
+    capsys.readouterr()
+    code, s = _run(tmp_path / "proportional", crown_on_block(STIFF), "--no-estimate")
+    err = capsys.readouterr().err
+    assert code == 0 and s["contacts"][0]["checks"]["slip_against_traction"] >= 0.3
+    assert "runs against their friction traction" in err and "[[paths]]" in err
+    code, s = _run(tmp_path / "one_material", crown_on_block(STEEL, sideways=4.2e-4), "--no-estimate")
+    err = capsys.readouterr().err
+    checks = s["contacts"][0]["checks"]
+    assert code == 0 and abs(checks["force_ratio"]) / 0.21 > 0.25 and checks["slip_against_traction"] < 0.1
+    assert "runs against" not in err

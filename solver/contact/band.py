@@ -903,7 +903,7 @@ def _friction_checks(c: BandContact, info, x: np.ndarray, a: float, block: dict)
     slip of body 1 on body 2) must point along slip_sign (the friction traction opposes it); in
     the stick zone the shear profile must stay within mu times the pressure profile. Reported as
     the fractions of each zone (by length) where they fail; not used to steer the iterations."""
-    out = {"slip_direction_violations": 0.0, "stick_shear_above_mu_p": 0.0}
+    out = {"slip_direction_violations": 0.0, "slip_against_traction": 0.0, "stick_shear_above_mu_p": 0.0}
     if info is not None and c.slip_sign != 0.0:
         pts, e_q = info[0], info[3]
         w = (e_q @ x).reshape(-1, 2) + pts.delta
@@ -913,6 +913,10 @@ def _friction_checks(c: BandContact, info, x: np.ndarray, a: float, block: dict)
         wrong = slip & (wt * c.slip_sign < -1e-6 * scale)
         if slip.any():
             out["slip_direction_violations"] = float(pts.weights[wrong].sum() / pts.weights[slip].sum())
+            # the same by the slip's amount: a zone whose inner part creeps back by a few per cent of
+            # the slip counts little, a whole end slipping the other way about half
+            amount = pts.weights * np.abs(wt)
+            out["slip_against_traction"] = float(amount[wrong].sum() / max(float(amount[slip].sum()), 1e-300))
     s = np.asarray(block["shear"]["s"])
     stick = np.abs(c.local(s)) <= min(c.stick(a), a)
     if stick.any():
