@@ -339,6 +339,26 @@ def _slip_direction_note(contact: dict) -> str | None:
             "memory, whose slip zones take either direction")
 
 
+#: Dundurs' beta against mu from which a 3D frictional contact warns: on 2D scenes drawn at random
+#: every frictional pair with |beta| / mu from 0.2 up and a tangential load ended with one end of
+#: its slip zones slipping against Cattaneo and Mindlin's direction (two in 56 did not)
+BETA_OVER_MU_WARN = 0.1
+
+
+def _dissimilar_friction_note(contact: dict, dim: int) -> str | None:
+    """A warning's text for a 3D frictional contact of two materials whose Dundurs beta is large
+    against mu (2D runs check their final state instead: :func:`_slip_direction_note`)."""
+    beta, mu = contact.get("dundurs_beta"), contact.get("friction") or 0.0
+    if dim != 3 or contact.get("type") != "frictional" or not isinstance(beta, float) or not mu > 0.0:
+        return None
+    if abs(beta) < BETA_OVER_MU_WARN * mu:
+        return None
+    return (f"the bodies' Dundurs beta is {beta:.3g} ({abs(beta) / mu:.2g} of mu): under the normal load alone "
+            "bodies of different elastic constants slip radially against each other, which the proportional "
+            "run's stick zone (Mindlin's, one slip direction) does not hold; treat stick_semi_axes and the shear "
+            "as estimates. Load paths ([[paths]], or a path on any condition) solve friction with memory")
+
+
 def _print_contacts(summary: dict, ladder: dict | None) -> None:
     """The accuracy ladder's line, each contact's result line, and a warning on stderr where an
     estimated error is above the warning level (runs without an accuracy target)."""
@@ -351,7 +371,8 @@ def _print_contacts(summary: dict, ladder: dict | None) -> None:
             _err(f"warning: the accuracy target {ladder['target']:g} was not reached: {ladder['note']}")
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
-        for note in (_coarse_region_note(c), _friction_note(c), _gap_model_note(c), _slip_direction_note(c)):
+        for note in (_coarse_region_note(c), _friction_note(c), _gap_model_note(c), _slip_direction_note(c),
+                     _dissimilar_friction_note(c, len(c.get("point") or []))):
             if note:
                 _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: {note}")
         key, value = largest_error(c.get("estimated_error") or {})

@@ -10,7 +10,7 @@ from typing import Literal
 
 import numpy as np
 
-__all__ = ["Model", "MODELS", "dimension", "lame_parameters", "elasticity_matrix", "plane_modulus", "von_mises"]
+__all__ = ["Model", "MODELS", "dimension", "lame_parameters", "elasticity_matrix", "plane_modulus", "dundurs_beta", "von_mises"]
 
 Model = Literal["plane_strain", "plane_stress", "solid"]
 MODELS = ("plane_strain", "plane_stress", "solid")
@@ -51,6 +51,22 @@ def elasticity_matrix(lam: float, mu: float, dim: int) -> np.ndarray:
 def plane_modulus(elasticity: np.ndarray) -> float:
     """E / (1 - nu^2) of a plane-strain matrix (the modulus of Hertz's E*), from C itself."""
     return float(elasticity[0, 0] - elasticity[0, 1] ** 2 / elasticity[0, 0])
+
+
+def dundurs_beta(first: tuple[float, float], second: tuple[float, float]) -> float:
+    """Dundurs' beta of two bodies from their Lame constants (lambda, mu) as :func:`lame_parameters`
+    gives them for the model (plane stress: the reduced lambda): with kappa = (lambda + 3 mu) /
+    (lambda + mu), beta = [(kappa1 - 1) / mu1 - (kappa2 - 1) / mu2] / [(kappa1 + 1) / mu1 +
+    (kappa2 + 1) / mu2] (K. L. Johnson, Contact Mechanics, 1985, eq. 5.4). It measures how a
+    pressure between the bodies moves their surfaces apart tangentially: 0 for one material; its
+    sign follows the order."""
+    def parts(lame):
+        lam, mu = lame
+        kappa = (lam + 3.0 * mu) / (lam + mu)
+        return (kappa - 1.0) / mu, (kappa + 1.0) / mu
+
+    (d1, s1), (d2, s2) = parts(first), parts(second)
+    return float((d1 - d2) / (s1 + s2))
 
 
 def von_mises(stress: np.ndarray, model: str, poissons_ratio: float | np.ndarray) -> np.ndarray:
