@@ -32,7 +32,11 @@ address space) is judged on:
 - ``turned``: a turned and shifted scene gives its unturned twin's a and force vector (N, Q) to
   0.5 % (of a and of |(N, Q)|) at 5 or more cells across 2a, (5 / cells)^2 times that below;
 - ``stick``: frictional, |beta| <= 0.01, not gross slip: c / a within 0.02 plus a cell of
-  sqrt(1 - |Q| / (mu N)) (Cattaneo and Mindlin).
+  sqrt(1 - |Q| / (mu N)) (Cattaneo and Mindlin);
+- ``slips against its friction``: a frictional run whose final state has 0.2 or more of its slip
+  running against the friction traction (``checks.slip_against_traction``: its two ends slip in
+  opposite directions, which a proportional run's zones cannot hold), counted ``..., warned``
+  where ``ibfem run`` said so on stderr.
 
 The table of failures by check is printed and written to OUT/sweep.json, with every scene file
 kept in OUT/scenes. ``--only K`` reruns scene K of the seed; ``--rejudge`` judges the runs kept in
@@ -460,6 +464,12 @@ def judge(meta: dict, res: dict, twin: dict | None) -> list[tuple[str, str]]:
         got = c["stick_half_width"] / a
         if abs(got - ratio) > 0.02 + 1.0 / max(cells / 2, 1):
             found.append(("stick", f"c/a {got:.4f} vs {ratio:.4f} (Q/muN {abs(Q) / (meta['mu'] * N):.3f})"))
+    # Coulomb's slip direction: a final state slipping against its friction traction must say so
+    against = (c.get("checks") or {}).get("slip_against_traction")
+    if meta["contact"] == "frictional" and isinstance(against, float) and against >= 0.2:
+        warned = "runs against their friction traction" in res["stderr"]
+        found.append(("slips against its friction, warned" if warned else "slips against its friction",
+                      f"{100 * against:.0f} % of the slip against the traction (beta {meta['beta']:+.3f})"))
     # the twin
     if twin is not None and twin["code"] == 0 and twin["summary"]:
         t = twin["summary"]["contacts"][0]
