@@ -333,10 +333,10 @@ def _slip_direction_note(contact: dict) -> str | None:
         return None
     return (f"{100 * share:.0f} % of the slip zones' slip runs against their friction traction: the two ends slip "
             "in opposite directions, which a proportional run's zones (one slip direction about a centred stick "
-            "zone, as Cattaneo and Mindlin's) cannot hold, so its stick zone and shear are not Coulomb's. Bodies of "
-            "different elastic constants (Dundurs' beta not 0) do this: under the normal load alone one end slips "
-            "inward and the other outward. Load paths ([[paths]], or a path on any condition) solve friction with "
-            "memory, whose slip zones take either direction")
+            "zone, as Cattaneo and Mindlin's) cannot hold, so its stick zone and shear are not Coulomb's. The normal "
+            "load's own tangential displacements do this where the tangential load is small against mu N, or the "
+            "bodies' elastic constants differ slightly. Load paths ([[paths]], or a path on any condition) solve "
+            "friction with memory, whose slip zones take either direction")
 
 
 #: Dundurs' beta against mu from which a 3D frictional contact warns: on 2D scenes drawn at random

@@ -47,3 +47,38 @@ def test_the_2d_warning_reads_the_slip_against_the_traction():
     assert "46 %" in _slip_direction_note(block)
     assert _slip_direction_note({"type": "frictional", "checks": {"slip_against_traction": 0.05}}) is None
     assert _slip_direction_note({"type": "frictional", "checks": {}}) is None
+
+
+def _problem(tmp_path, scene):
+    import json
+
+    from ibfem.solver.io.scene import load_scene
+
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(scene))
+    return load_scene(path).problem
+
+
+def test_which_runs_keep_a_friction_memory(tmp_path):
+    """2D frictional contacts of bodies that slip apart (|beta| >= 0.1 mu) ramp with friction
+    memory; one material, a frictionless pair, a scene with its own paths and a 3D scene do not."""
+    import test_scenes_drawn_2d as drawn
+
+    from ibfem.solver.contact.friction_memory import MEMORY_STEPS, MEMORY_STICK_ITERATIONS, with_friction_memory
+    from ibfem.solver.contact.driver import load_steps
+
+    stiff = _problem(tmp_path, drawn.crown_on_block(drawn.STIFF))
+    chosen = with_friction_memory(stiff)
+    assert chosen.history is not None and chosen.history.steps_per_unit == MEMORY_STEPS
+    assert chosen.contacts[0].options.max_stick_iterations >= MEMORY_STICK_ITERATIONS
+    steps, rule = load_steps(chosen)
+    assert steps == MEMORY_STEPS and "friction with memory" in rule and "-0.28" in rule
+    one = _problem(tmp_path, drawn.crown_on_block(drawn.STEEL))
+    assert with_friction_memory(one) is one
+    scene = drawn.crown_on_block(drawn.STIFF)
+    scene["contacts"][0] = {**scene["contacts"][0], "type": "frictionless"}
+    scene["contacts"][0].pop("friction")
+    frictionless = _problem(tmp_path, scene)
+    assert with_friction_memory(frictionless) is frictionless
+    own = _problem(tmp_path, drawn.crown_on_block(drawn.STIFF, paths=True))
+    assert with_friction_memory(own) is own

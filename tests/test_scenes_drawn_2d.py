@@ -6,6 +6,8 @@ from __future__ import annotations
 import json
 import math
 
+import pytest
+
 from ibfem.solver.cli import main
 
 STEEL = {"name": "steel", "youngs_modulus": 2.0e11, "poissons_ratio": 0.3}
@@ -248,25 +250,67 @@ def crown_on_block(indenter: dict, paths: bool = False, sideways: float = 1.04e-
     return scene
 
 
-def test_a_proportional_run_whose_ends_slip_apart_warns(tmp_path, capsys):
+def test_bodies_that_slip_apart_are_solved_with_friction_memory(tmp_path):
     """Bodies of different elastic constants (a stiff indenter on steel: Dundurs' beta -0.29)
     slip inward at one end and outward at the other under the normal load alone (K. L. Johnson,
     Contact Mechanics, 1985, sec. 5.4), so with a small tangential load the two slip zones slip in
-    opposite directions. Solved with friction memory (a ramp path) the zones show it; the
-    proportional run's zones (one direction) cannot: its final state slips against its friction
-    traction at one whole end, and it now warns. The pair of one material pulled four times as
-    far (Q / (mu N) 0.3) slips one way, as Cattaneo and Mindlin's zones do, and does not warn."""
-    code, s = _run(tmp_path / "memory", crown_on_block(STIFF, paths=True), "--no-estimate")
+    opposite directions, which Cattaneo and Mindlin's zones (one direction) cannot hold. Without
+    any load path the run now ramps the load with friction memory and says so; its zones slip
+    both ways, as with a ramp path written in the scene (the same numbers)."""
+    code, auto = _run(tmp_path / "auto", crown_on_block(STIFF), "--no-estimate")
     assert code == 0
-    directions = [z[2] for z in s["steps"][-1]["contacts"][0]["slip_zones"]]
+    assert "friction with memory" in auto["iterations"]["load_steps"]["rule"]
+    directions = [z[2] for z in auto["steps"][-1]["contacts"][0]["slip_zones"]]
     assert sorted(directions) == [-1.0, 1.0]
-    capsys.readouterr()
-    code, s = _run(tmp_path / "proportional", crown_on_block(STIFF), "--no-estimate")
+    code, ramp = _run(tmp_path / "ramp", crown_on_block(STIFF, paths=True), "--no-estimate")
+    assert code == 0
+    for key in ("half_width", "stick_half_width", "normal_force", "tangential_force"):
+        assert auto["contacts"][0][key] == pytest.approx(ramp["contacts"][0][key], rel=1e-9)
+
+
+def test_a_proportional_run_whose_ends_slip_apart_warns(tmp_path, capsys):
+    """One material, curved bodies: under a tangential load small against mu N (0.07) the normal
+    load's own tangential displacements make one end slip against Cattaneo and Mindlin's
+    direction (friction memory, a ramp path, slips at one end only: its stick zone holds most of
+    the region), and the proportional run now warns. Pulled four times as far (Q / (mu N) 0.3)
+    both ends slip the one way, as those zones assume, and it does not warn."""
+    code, s = _run(tmp_path / "small", crown_on_block(STEEL), "--no-estimate")
     err = capsys.readouterr().err
-    assert code == 0 and s["contacts"][0]["checks"]["slip_against_traction"] >= 0.3
+    assert code == 0 and s["contacts"][0]["checks"]["slip_against_traction"] >= 0.2
     assert "runs against their friction traction" in err and "[[paths]]" in err
-    code, s = _run(tmp_path / "one_material", crown_on_block(STEEL, sideways=4.2e-4), "--no-estimate")
+    code, s = _run(tmp_path / "larger", crown_on_block(STEEL, sideways=4.2e-4), "--no-estimate")
     err = capsys.readouterr().err
     checks = s["contacts"][0]["checks"]
     assert code == 0 and abs(checks["force_ratio"]) / 0.21 > 0.25 and checks["slip_against_traction"] < 0.1
     assert "runs against" not in err
+
+
+def test_friction_memory_on_a_grid_that_loses_the_region_does_not_crash(tmp_path):
+    """A stiff cylinder pressed by a pressure into a rubber-like one (plane stress, beta about
+    0.3, so friction with memory): the error estimate's coarse grid lost the region (a = 0) and
+    the run ended with exit 5 (a division by a). It now converges and the pressure's force is
+    the contact's normal force (equilibrium)."""
+    rubber = {"name": "rubber", "youngs_modulus": 5.0e7, "poissons_ratio": 0.45}
+    stiff = {"name": "stiff", "youngs_modulus": 5.0e9, "poissons_ratio": 0.3}
+    r1, r2 = 0.5797927336737017, 1.1186740996161595
+    scene = {
+        "name": "stiff cylinder on rubber", "model": "plane_stress", "solver": {"load_steps": 5},
+        "materials": [stiff, rubber], "output": {"vtk": False, "plots": False},
+        "bodies": [
+            {"name": "indenter", "material": "stiff", "element_size": 0.0811,
+             "refinement": [{"levels": 7, "around": "contact", "radius": 0.01767}],
+             "shape": {"type": "half_disk", "center": [0.0, r1], "radius": r1, "side": "below"}},
+            {"name": "base", "material": "rubber", "element_size": 0.2601,
+             "refinement": [{"levels": 9, "around": "contact", "radius": 0.01619}],
+             "shape": {"type": "half_disk", "center": [0.0, -r2], "radius": r2, "side": "above"}},
+        ],
+        "boundary_conditions": [
+            {"body": "indenter", "edge": "flat", "type": "displacement", "value": [1.4676e-05, "free"]},
+            {"body": "base", "edge": "flat", "type": "fixed"},
+            {"body": "indenter", "edge": "flat", "type": "pressure", "value": 3720.37},
+        ],
+        "contacts": [{"bodies": ["indenter", "base"], "type": "frictional", "friction": 0.22}],
+    }
+    code, s = _run(tmp_path, scene)
+    assert code == 0 and s["iterations"]["load_steps"]["rule"].startswith("friction with memory")
+    assert s["contacts"][0]["normal_force"] == pytest.approx(3720.37 * 2 * r1, rel=1e-4)

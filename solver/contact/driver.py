@@ -38,6 +38,7 @@ from ..solution import IBFEMSolution
 from .region_overlap import overlapping_regions
 from .follow import solve_following
 from .formulation import formulation
+from .friction_memory import with_friction_memory
 from .grow import solve_growing
 from .sizing import solve_sized
 from .load_history import PathSteps, step_field, step_record
@@ -55,6 +56,7 @@ def solve_contact(problem, progress: Callable | None = None) -> IBFEMSolution:
     with single_threaded_blas():  # line contacts: a coarse pass, then a band along the region; a 2D
         # region beyond its refinement: coarse passes, then the refinement widened about it
         # a large point contact: a coarse pass, then the candidate disc sized about its region
+        problem = with_friction_memory(problem)  # 2D friction of bodies that slip apart
         return solve_sized(problem, lambda r: solve_following(
             r, lambda p: solve_growing(p, lambda q: ContactDriver(q, progress).run())))
 
@@ -72,6 +74,8 @@ def load_steps(problem) -> tuple[int, str]:
     requested = problem.options.load_steps
     if getattr(problem, "history", None) is not None:
         n = len(problem.history.times())
+        if problem.history.reason:
+            return n, problem.history.reason
         return n, f"load paths: {n} steps to t = {problem.history.end:g}, every step solved and recorded"
     if any(c.type == "frictional" for c in problem.contacts):
         return requested, "frictional contact: the requested load steps (the stick zone follows the load history)"

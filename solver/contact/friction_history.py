@@ -286,6 +286,8 @@ class HistoryBandContact(BandContact):
         """Whether the kept width a is the one a search would find: the edge coefficient moves by
         about the relative change of the width, so within the width search's tolerance
         (``edge_tolerance`` cells) the kept width is the searched one."""
+        if a <= 0.0:  # no region (a coarse grid lost it): a search decides
+            return False
         return abs(self.held_edge) <= self.options.edge_tolerance * self.h / a
 
     def _update_zones(self, x: np.ndarray, a: float) -> bool:

@@ -79,6 +79,8 @@ class LoadHistory:
     paths: dict = field(default_factory=dict)  # name -> LoadPath
     assignments: tuple = ()
     steps_per_unit: int = 10
+    #: why the run keeps a history where the scene gives no path (empty: the scene's paths)
+    reason: str = ""
 
     @property
     def end(self) -> float:
