@@ -41,6 +41,9 @@ _D = 3
 #: a band of at least this many points sums its pairs on two threads where a core is free
 THREADED_POINTS = 4000
 
+#: points per pass of the NumPy route's band sums (whole pairs; about 1.7 kB of products a point)
+BAND_CHUNK_POINTS = 1024
+
 #: /proc/stat's idle time at this module's last look (solver.fem.linalg.free_threads)
 _IDLE_SAMPLE: list = [None]
 
@@ -190,23 +193,33 @@ class PairBlocks:
             pen, wp = pen[self.order], wp[self.order]
         else:
             pen, wp = pen[self.order], wp[self.order]
-            x = 0.5 * self.shape[:, :, None, None] * pen[:, None, :, :]  # (q, 16, 3, 3): n (x) pen / 2
-            # (q, 48, 3): T^T wp as batched products (einsum's generic loop is some 7x slower here)
-            x = x.reshape(q, -1, _D) - consistency * np.matmul(self.traction.transpose(0, 2, 1), wp)
-            m = self._pair_sums(x.reshape(q, -1), self.shape)  # (pairs, 48 * 3, 16): [(A, j), b]
-            m = m.reshape(len(m), -1, _D, nodes).transpose(0, 1, 3, 2).reshape(len(m), nodes * _D, nodes * _D)
-            k = self._assembled(m + m.transpose(0, 2, 1))
+            k = self._assembled(self._band_pair_sums(pen, wp, float(consistency)))
         a = np.asarray(target, dtype=float).reshape(q, _D)[self.order]
         load = self._stored_rows(np.einsum("qij,qj->qi", pen, a), -consistency * np.einsum("qij,qj->qi", wp, a))
         return k, self.vector(load)
 
+    def _band_pair_sums(self, pen: np.ndarray, wp: np.ndarray, consistency: float) -> np.ndarray:
+        """(pairs, 48, 48) the band's M_p + M_p^T of each pair (the NumPy route; ``pen``, ``wp`` in
+        the stored order), a run of whole pairs of about BAND_CHUNK_POINTS points at a time: the
+        per-point products (X_q, some 1.7 kB a point) then never exist for the whole band at
+        once, nor leave the processor's cache. Each pair's sum is the same product on the same
+        numbers as in one pass."""
+        q, nodes = self.n_points, self.shape.shape[1]
+        out = np.empty((len(self.pair_nodes), _D * nodes, _D * nodes))
+        for first, last in _runs(self.bounds, BAND_CHUNK_POINTS):
+            lo, hi = self.bounds[first], self.bounds[last]
+            x = 0.5 * self.shape[lo:hi, :, None, None] * pen[lo:hi, None, :, :]  # (n, 16, 3, 3): n (x) pen / 2
+            # (n, 48, 3): T^T wp as batched products (einsum's generic loop is some 7x slower here)
+            x = x.reshape(hi - lo, -1, _D) - consistency * np.matmul(self.traction[lo:hi].transpose(0, 2, 1), wp[lo:hi])
+            m = _run_sums(x.reshape(hi - lo, -1), self.shape[lo:hi], self.bounds[first:last + 1] - lo)
+            m = m.reshape(len(m), -1, _D, nodes).transpose(0, 1, 3, 2).reshape(len(m), nodes * _D, nodes * _D)
+            np.add(m, m.transpose(0, 2, 1), out=out[first:last])
+        return out
+
     def _pair_sums(self, left: np.ndarray, right: np.ndarray) -> np.ndarray:
         """(pairs, l, r) sum over each pair's points of outer(left_q, right_q) (stored order):
         one matrix product per pair over its run of points (the NumPy route)."""
-        out = np.empty((len(self.pair_nodes), left.shape[1], right.shape[1]))
-        for p, (lo, hi) in enumerate(zip(self.bounds[:-1], self.bounds[1:])):
-            np.matmul(left[lo:hi].T, right[lo:hi], out=out[p])
-        return out
+        return _run_sums(left, right, self.bounds)
 
     def _over_pairs(self, kernel, args: tuple, out: np.ndarray) -> None:
         """``kernel(*args, bounds, first, last, out)`` over all pairs: on two threads (two ranges
@@ -246,6 +259,26 @@ class PairBlocks:
         where = np.empty(self.n_points, dtype=np.int64)
         where[self.order] = np.arange(self.n_points)
         return stored[(_D * where[:, None] + np.arange(_D)).ravel()].tocsr()
+
+
+def _run_sums(left: np.ndarray, right: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """(runs, l, r) sum over each run of rows bounds[p]:bounds[p + 1] of outer(left_q, right_q):
+    one matrix product per run."""
+    out = np.empty((len(bounds) - 1, left.shape[1], right.shape[1]))
+    for p, (lo, hi) in enumerate(zip(bounds[:-1], bounds[1:])):
+        np.matmul(left[lo:hi].T, right[lo:hi], out=out[p])
+    return out
+
+
+def _runs(bounds: np.ndarray, points: int):
+    """(first, last) ranges of whole runs (run p holds rows bounds[p]:bounds[p + 1]) of about
+    ``points`` rows each (a longer run alone)."""
+    first, runs = 0, len(bounds) - 1
+    while first < runs:
+        last = int(np.searchsorted(bounds, bounds[first] + points, side="right")) - 1
+        last = min(max(last, first + 1), runs)
+        yield first, last
+        first = last
 
 
 class PairOperator:
