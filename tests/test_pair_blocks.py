@@ -172,3 +172,19 @@ def test_runs_cover_every_pair_once():
         assert all(b[0] == a[1] and a[1] > a[0] for a, b in zip(runs, runs[1:]))
         # each pass holds at most ``points`` points unless it is one pair
         assert all(last - first == 1 or bounds[last] - bounds[first] <= points for first, last in runs)
+
+
+def test_an_older_region_releases_its_flux_blocks_and_builds_the_same_again(contact):
+    # only a contact's latest region keeps its flux blocks (most of a trial's memory); an older
+    # region asked for its flux builds them again: the same numbers
+    contact._recent_regions = None
+    _, _, first = contact.terms(0.05)
+    x = np.random.default_rng(4).standard_normal(len(contact.dofs))
+    flux = first[4] @ x
+    traction = first[4].blocks.traction.copy()
+    _, _, second = contact.terms(0.06)
+    assert first[4].blocks._traction is None and second[4].blocks._traction is not None
+    np.testing.assert_array_equal(first[4] @ x, flux)
+    np.testing.assert_array_equal(first[4].blocks.traction, traction)
+    assert second[4].blocks._traction is None  # the older one is the latest user now
+    contact._recent_regions = None

@@ -25,7 +25,8 @@ from __future__ import annotations
 
 import functools
 import sys
-from dataclasses import dataclass
+import weakref
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -70,16 +71,27 @@ class PairBlocks:
     bounds: np.ndarray  # (pairs + 1,)
     pair_nodes: np.ndarray  # (pairs, 16)
     shape: np.ndarray  # (q, 16) N1_q, then -N2_q (stored order)
-    traction: np.ndarray  # (q, 3, 48) the mean flux F_q (stored order)
+    _traction: np.ndarray | None  # (q, 3, 48) the mean flux F_q (stored order); None: released
     dof_map: sp.csr_matrix  # (3 (N1 + N2), m)
+    #: () -> (t1, t2): both bodies' traction blocks again, in the caller's order (None: kept always)
+    _rebuild: object = field(default=None, repr=False)
+    _weights: tuple = (0.5, 0.5)
+    #: the caller whose latest blocks keep their flux (a contact): :func:`_hold`
+    _family: object = field(default=None, repr=False)
 
     @classmethod
     def between(cls, blocks1: CellBlocks, blocks2: CellBlocks, map1: sp.csr_matrix, map2: sp.csr_matrix,
-                n_nodes1: int, flux_weights: tuple[float, float] = (0.5, 0.5)) -> "PairBlocks":
+                n_nodes1: int, flux_weights: tuple[float, float] = (0.5, 0.5), rebuild=None,
+                family=None) -> "PairBlocks":
         """The blocks of points whose cells and operators on body 1 and body 2 are ``blocks1`` and
         ``blocks2`` (the same points, tractions on the same normals), mapped by each body's
         restricted node-dof map (3 N_i x m; ``n_nodes1`` = N1); the flux is
-        w1 t1 + w2 t2 with ``flux_weights`` (w1, w2)."""
+        w1 t1 + w2 t2 with ``flux_weights`` (w1, w2).
+
+        ``rebuild`` (() -> (t1, t2), both bodies' traction blocks computed again) and ``family``
+        (the caller, a contact): only the latest blocks of a family keep their flux blocks
+        (1152 bytes a point, most of a trial region's memory); older ones release them and
+        build them again with ``rebuild`` if asked (the same numbers)."""
         key = blocks1.cells.astype(np.int64) * (int(blocks2.cells.max(initial=0)) + 1) + blocks2.cells
         order = np.argsort(key, kind="stable")
         key = key[order]
@@ -87,18 +99,20 @@ class PairBlocks:
         nodes = np.concatenate([blocks1.cell_nodes[order[first]], blocks2.cell_nodes[order[first]] + n_nodes1],
                                axis=1).astype(np.int64)
         shape = np.concatenate([blocks1.displacement[order, 0, ::_D], -blocks2.displacement[order, 0, ::_D]], axis=1)
-        t1, t2 = (np.ascontiguousarray(b.traction, dtype=float) for b in (blocks1, blocks2))
-        w1, w2 = (float(w) for w in flux_weights)
-        traction = np.empty((len(order), t1.shape[1], t1.shape[2] + t2.shape[2]))
-        if t1.shape == t2.shape and compiled():
-            from ._pair_kernels import gather_weighted_traction
+        weights = tuple(float(w) for w in flux_weights)
+        traction = _gathered_traction(blocks1.traction, blocks2.traction, weights, order)
+        blocks = cls(order, np.r_[first, len(order)], nodes, shape, traction, sp.vstack([map1, map2], format="csr"),
+                     rebuild, weights, family)
+        _hold(blocks)
+        return blocks
 
-            gather_weighted_traction(t1, t2, w1, w2, order, traction)
-        else:
-            traction[:, :, :t1.shape[2]] = w1 * t1[order]
-            traction[:, :, t1.shape[2]:] = w2 * t2[order]
-        return cls(order, np.r_[first, len(order)], nodes, shape, traction,
-                   sp.vstack([map1, map2], format="csr"))
+    @property
+    def traction(self) -> np.ndarray:
+        """(q, 3, 48) the mean flux F_q (stored order), built again if it was released."""
+        if self._traction is None:
+            self._traction = _gathered_traction(*self._rebuild(), self._weights, self.order)
+        _hold(self)
+        return self._traction
 
     # ------------------------------------------------------------------ operators
 
@@ -259,6 +273,48 @@ class PairBlocks:
         where = np.empty(self.n_points, dtype=np.int64)
         where[self.order] = np.arange(self.n_points)
         return stored[(_D * where[:, None] + np.arange(_D)).ravel()].tocsr()
+
+
+def _gathered_traction(t1: np.ndarray, t2: np.ndarray, weights: tuple[float, float], order: np.ndarray) -> np.ndarray:
+    """(q, 3, 48) [w1 t1, w2 t2] of both bodies' traction blocks (q, 3, 24) in the stored order."""
+    t1, t2 = (np.ascontiguousarray(t, dtype=float) for t in (t1, t2))
+    w1, w2 = weights
+    traction = np.empty((len(order), t1.shape[1], t1.shape[2] + t2.shape[2]))
+    if t1.shape == t2.shape and compiled():
+        from ._pair_kernels import gather_weighted_traction
+
+        gather_weighted_traction(t1, t2, w1, w2, order, traction)
+    else:
+        traction[:, :, :t1.shape[2]] = w1 * t1[order]
+        traction[:, :, t1.shape[2]:] = w2 * t2[order]
+    return traction
+
+
+#: per family (a contact, by identity; the entry goes with it): its blocks that hold their flux
+#: blocks, oldest first (weak references)
+_HOLDING: dict = {}
+#: blocks of a family that keep their flux blocks: the latest (the region being judged)
+KEPT_FLUX_BLOCKS = 1
+
+
+def _hold(blocks: PairBlocks) -> None:
+    """Record ``blocks`` as its family's latest user of its flux blocks and release those of the
+    family's older blocks beyond KEPT_FLUX_BLOCKS (blocks without a family or a rebuild keep them)."""
+    if blocks._family is None or blocks._rebuild is None:
+        return
+    key = id(blocks._family)
+    if key not in _HOLDING:
+        try:
+            weakref.finalize(blocks._family, _HOLDING.pop, key, None)
+        except TypeError:  # a family that takes no weak reference: nothing is released
+            return
+        _HOLDING[key] = []
+    held = _HOLDING[key]
+    held[:] = [r for r in held if r() is not None and r() is not blocks] + [weakref.ref(blocks)]
+    while len(held) > KEPT_FLUX_BLOCKS:
+        older = held.pop(0)()
+        if older is not None:
+            older._traction = None
 
 
 def _run_sums(left: np.ndarray, right: np.ndarray, bounds: np.ndarray) -> np.ndarray:
