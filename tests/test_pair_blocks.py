@@ -154,11 +154,14 @@ def test_both_routes_equal_the_sparse_products(contact, monkeypatch, with_kernel
 
 @pytest.mark.parametrize("chunk", [1, 40])
 def test_the_numpy_route_in_short_passes_equals_the_sparse_products(contact, monkeypatch, chunk):
-    # the NumPy route sums a few pairs per pass (1: every pair alone, each longer than a pass)
+    # the NumPy route sums a few pairs per pass (1: every pair alone, each longer than a pass) and
+    # gathers the flux blocks a few points at a time
     from ibfem.solver.fem import pair_blocks
 
     monkeypatch.setattr(pair_blocks, "compiled", lambda: False)
     monkeypatch.setattr(pair_blocks, "BAND_CHUNK_POINTS", chunk)
+    monkeypatch.setattr(pair_blocks, "GATHER_POINTS", 7)
+    contact._recent_regions = None
     _assert_terms_equal_the_sparse_products(contact, 0.06)
 
 

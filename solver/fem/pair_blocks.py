@@ -100,6 +100,7 @@ class PairBlocks:
                                axis=1).astype(np.int64)
         shape = np.concatenate([blocks1.displacement[order, 0, ::_D], -blocks2.displacement[order, 0, ::_D]], axis=1)
         weights = tuple(float(w) for w in flux_weights)
+        _release(family, keep=KEPT_FLUX_BLOCKS - 1)  # before these are built: the new blocks are the latest
         traction = _gathered_traction(blocks1.traction, blocks2.traction, weights, order)
         blocks = cls(order, np.r_[first, len(order)], nodes, shape, traction, sp.vstack([map1, map2], format="csr"),
                      rebuild, weights, family)
@@ -284,10 +285,16 @@ def _gathered_traction(t1: np.ndarray, t2: np.ndarray, weights: tuple[float, flo
         from ._pair_kernels import gather_weighted_traction
 
         gather_weighted_traction(t1, t2, w1, w2, order, traction)
-    else:
-        traction[:, :, :t1.shape[2]] = w1 * t1[order]
-        traction[:, :, t1.shape[2]:] = w2 * t2[order]
+    else:  # in passes: the gathered copies stay small
+        for start in range(0, len(order), GATHER_POINTS):
+            rows = order[start:start + GATHER_POINTS]
+            traction[start:start + len(rows), :, :t1.shape[2]] = w1 * t1[rows]
+            traction[start:start + len(rows), :, t1.shape[2]:] = w2 * t2[rows]
     return traction
+
+
+#: points per pass of the NumPy route's gathering of the flux blocks
+GATHER_POINTS = 4096
 
 
 #: per family (a contact, by identity; the entry goes with it): its blocks that hold their flux
@@ -311,7 +318,13 @@ def _hold(blocks: PairBlocks) -> None:
         _HOLDING[key] = []
     held = _HOLDING[key]
     held[:] = [r for r in held if r() is not None and r() is not blocks] + [weakref.ref(blocks)]
-    while len(held) > KEPT_FLUX_BLOCKS:
+    _release(blocks._family, KEPT_FLUX_BLOCKS)
+
+
+def _release(family, keep: int) -> None:
+    """Release the flux blocks of all but the latest ``keep`` blocks of ``family`` that hold them."""
+    held = _HOLDING.get(id(family)) if family is not None else None
+    while held and len(held) > keep:
         older = held.pop(0)()
         if older is not None:
             older._traction = None
