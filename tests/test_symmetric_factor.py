@@ -18,8 +18,11 @@ def _spd(n: int, seed: int) -> sp.csc_matrix:
     return (sp.diags(np.asarray(abs(a).sum(axis=1)).ravel() + 1.0) - a).tocsc()
 
 
+@pytest.mark.parametrize("public", [False, True])
 @pytest.mark.parametrize("columns", [None, 3])
-def test_l_d_lt_from_superlu_solves_the_matrix(columns):
+def test_l_d_lt_from_superlu_solves_the_matrix(columns, public, monkeypatch):
+    if public:  # SuperLU's triangular solve not at hand: scipy's spsolve_triangular
+        monkeypatch.setattr(linalg, "_superlu_triangular_solve", lambda: None)
     k = _spd(300, 2)
     order = np.random.default_rng(5).permutation(300)
     factor, schur, inverse = linalg._superlu_condensed(k, order, 20)

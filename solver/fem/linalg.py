@@ -742,19 +742,50 @@ class SymmetricFactor:
     """K = L D L^T of a symmetric K that SuperLU factored as L U without pivoting (U = D L^T):
     L (unit lower triangular, CSC) and D kept, solved by two sparse triangular solves. SuperLU's
     object holds both factors in its own storage; K0's two bodies at the 7.4k-dof
-    sphere_on_flat rung: the run's peak 222 -> 180 MB, each solve some 3 ms longer (the
-    triangular solves column by column, not by supernodes); the solution the same to round-off
-    (a, N of that rung 4e-13 and 4e-14 relative)."""
+    sphere_on_flat rung: the run's peak 222 -> 180 MB; a solve of one body's block 1.5 ms
+    against SuperLU's 2.0 (through scipy's spsolve_triangular, whose checks and copies of L on
+    every call make it 3.1 ms, where SuperLU's triangular solve is not at hand); the solution the
+    same to round-off (a, N of that rung 4e-13 and 4e-14 relative)."""
 
     def __init__(self, lower: sp.csc_matrix, d: np.ndarray):
         self.lower, self.d = sp.csc_matrix(lower), np.asarray(d, dtype=float)
         self.lower.sort_indices()
+        self.lower.indices = self.lower.indices.astype(np.intc, copy=False)
+        self.lower.indptr = self.lower.indptr.astype(np.intc, copy=False)
 
     def solve(self, f: np.ndarray) -> np.ndarray:
-        y = spla.spsolve_triangular(self.lower, f, lower=True, overwrite_A=True, unit_diagonal=True)
+        y = self._triangular(np.array(f, dtype=float), "N")  # L y = f
         y /= self.d if y.ndim == 1 else self.d[:, None]
-        return spla.spsolve_triangular(self.lower.T, y, lower=False, overwrite_A=True, overwrite_b=True,
-                                       unit_diagonal=True)
+        return self._triangular(y, "T")  # L^T x = y
+
+    def _triangular(self, b: np.ndarray, trans: str) -> np.ndarray:
+        """L x = b ("N") or L^T x = b ("T"), b overwritten: SuperLU's triangular solve (the one
+        scipy's spsolve_triangular calls, without its checks), else spsolve_triangular."""
+        low, n = self.lower, self.lower.shape[0]
+        gstrs = _superlu_triangular_solve()
+        if gstrs is not None:
+            none = np.zeros(n + 1, dtype=np.intc)
+            try:
+                x, info = gstrs(trans, n, low.nnz, low.data, low.indices, low.indptr, n, 0, np.zeros(0), none[:0],
+                                none, b)
+            except TypeError:  # another signature: the public route
+                gstrs = None
+            else:
+                if info:
+                    raise np.linalg.LinAlgError("the factor L is singular")
+                return x
+        return spla.spsolve_triangular(low if trans == "N" else low.T, b, lower=trans == "N", overwrite_A=True,
+                                       overwrite_b=True, unit_diagonal=True)
+
+
+def _superlu_triangular_solve():
+    """SuperLU's triangular solve of scipy's SuperLU module (gstrs: L and U given in CSC), None
+    where this scipy has none."""
+    try:
+        from scipy.sparse.linalg._dsolve import _superlu
+    except ImportError:
+        return None
+    return getattr(_superlu, "gstrs", None)
 
 
 def _symmetric_from_upper(c: np.ndarray) -> np.ndarray:
