@@ -11,8 +11,9 @@ two versions are compared on a shared machine by the ratio of alternated runs.
 
 With ``--grid`` each process times the grid stage alone (both bodies' octrees, cut-cell moments
 and face rules; a fresh scene each time) ``--grid-passes`` times in-process by its CPU time and
-prints the fastest, with a digest of every body's moments, statuses, face rules and boundary
-areas (equal digests: bitwise the same grids).
+prints the fastest, with a digest of every body's moments, statuses, boundary areas and the
+face rules of the faces its conditions name (the only rules a run keeps; every face's rule enters
+the boundary areas) (equal digests: bitwise the same grids).
 
     python benchmarks/small_3d_run.py                         # h0 0.25 with 5 levels, 3 runs
     python benchmarks/small_3d_run.py --h0 0.2 --levels 5 --repeat 4 --against /tmp/before
@@ -53,7 +54,8 @@ digest = hashlib.sha256()
 for body in driver.bodies:
     for array in (body.moments, body.status, body.boundary_area):
         digest.update(np.ascontiguousarray(array).tobytes())
-    for name in sorted(body.face_rules):
+    named = {getattr(bc, "edge", None) for bc in driver.problem.boundary_conditions if bc.body == body.name}
+    for name in sorted(set(body.face_rules) & named):
         for array in body.face_rules[name]:
             digest.update(np.ascontiguousarray(array).tobytes())
 print(best, digest.hexdigest()[:16])

@@ -58,3 +58,29 @@ def test_cell_block_band_terms_equal_sparse_operator_products(scene, h, body, fa
     assert np.max(np.abs(t1 - t2)) <= 1e-12 * np.max(np.abs(t2))
     loads = rng.normal(size=bp.normals.shape)
     assert np.allclose(bp.load(loads), dense_route.load(loads), rtol=0, atol=1e-12 * np.abs(loads).sum())
+
+
+def test_a_reaction_read_in_short_passes_equals_the_sparse_operators(monkeypatch):
+    # after the solve a condition's traction is read a few points at a time (their operators
+    # never exist for the whole face): against the whole face's sparse operators
+    from ibfem.solver.fem import assembly, solid_space
+
+    problem, bodies = _bodies(ROOT / "examples/solid/sphere_on_flat.toml", 0.25)
+    b = next(x for x in bodies if x.name == "block")
+    bp = b.edge_points("z_min", 2)
+    proj = projector("fixed", bp.normals)
+    rng = np.random.default_rng(8)
+    target = rng.normal(size=bp.normals.shape)
+    u = rng.normal(size=b.n_total)
+    term = assembly.EssentialTerm("block/z_min", b, "z_min", bp.points, bp.weights, proj, target)
+    passes = solid_space.SolidDiscretisation.edge_point_passes
+    monkeypatch.setattr(solid_space.SolidDiscretisation, "edge_point_passes",
+                        lambda self, face, order=2, traction=True: passes(self, face, order, traction, points=7))
+    assert len(list(b.edge_point_passes("z_min", 2))) > 1
+    dense_route = BoundaryPoints(bp.points, bp.weights, bp.normals, bp.cell_size,
+                                 bp.blocks.matrix(bp.blocks.displacement), bp.blocks.matrix(bp.blocks.traction))
+    expected = thin_band_traction(dense_route, proj, target, b.lam, b.mu, u, problem.options.band_fraction,
+                                  problem.options.consistency)
+    got = term.traction(u, problem.options)
+    assert got.shape == expected.shape
+    assert np.max(np.abs(got - expected)) <= 1e-12 * np.max(np.abs(expected))

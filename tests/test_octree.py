@@ -48,6 +48,19 @@ def test_locate_finds_the_cell_holding_each_point():
     assert np.all((pts >= lo - 1e-12) & (pts <= lo + size + 1e-12))
 
 
+def test_locate_agrees_with_a_search_of_every_leaf():
+    # brute force: the leaf whose half-open box [lower, lower + size) holds the point (points on
+    # shared faces, edges and corners of cells of several levels, and points outside the grid)
+    tree = unit_box_tree(levels=3)
+    lattice = np.linspace(-0.0625, 1.0625, 37)  # steps of 1/32: the finest cells' planes and between
+    pts = np.stack(np.meshgrid(lattice, lattice, lattice, indexing="ij"), axis=-1).reshape(-1, 3)
+    lo, size = tree.lower, tree.size
+    inside = np.all((pts[:, None, :] >= lo[None]) & (pts[:, None, :] < lo[None] + size[None, :, None]), axis=2)
+    expected = np.where(inside.any(axis=1), np.argmax(inside, axis=1), -1)
+    assert inside.sum(axis=1).max() == 1 and (expected >= 0).any() and (expected < 0).any()
+    np.testing.assert_array_equal(tree.locate(pts), expected)
+
+
 def test_shape_functions_partition_unity_and_reproduce_linear_fields():
     x = np.random.default_rng(1).uniform(-1, 1, (50, 3))
     n, dn = shape_functions(x)

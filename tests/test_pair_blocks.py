@@ -150,3 +150,44 @@ def test_both_routes_equal_the_sparse_products(contact, monkeypatch, with_kernel
         import numba  # noqa: F401  (the kernels are used where numba is loaded)
     monkeypatch.setattr(pair_blocks, "compiled", lambda: with_kernels)
     _assert_terms_equal_the_sparse_products(contact, 0.06)
+
+
+@pytest.mark.parametrize("chunk", [1, 40])
+def test_the_numpy_route_in_short_passes_equals_the_sparse_products(contact, monkeypatch, chunk):
+    # the NumPy route sums a few pairs per pass (1: every pair alone, each longer than a pass) and
+    # gathers the flux blocks a few points at a time
+    from ibfem.solver.fem import pair_blocks
+
+    monkeypatch.setattr(pair_blocks, "compiled", lambda: False)
+    monkeypatch.setattr(pair_blocks, "BAND_CHUNK_POINTS", chunk)
+    monkeypatch.setattr(pair_blocks, "GATHER_POINTS", 7)
+    contact._recent_regions = None
+    _assert_terms_equal_the_sparse_products(contact, 0.06)
+
+
+def test_runs_cover_every_pair_once():
+    from ibfem.solver.fem.pair_blocks import _runs
+
+    bounds = np.array([0, 3, 4, 10, 11, 12, 30])
+    for points in (1, 2, 5, 8, 100):
+        runs = list(_runs(bounds, points))
+        assert runs[0][0] == 0 and runs[-1][1] == len(bounds) - 1
+        assert all(b[0] == a[1] and a[1] > a[0] for a, b in zip(runs, runs[1:]))
+        # each pass holds at most ``points`` points unless it is one pair
+        assert all(last - first == 1 or bounds[last] - bounds[first] <= points for first, last in runs)
+
+
+def test_an_older_region_releases_its_flux_blocks_and_builds_the_same_again(contact):
+    # only a contact's latest region keeps its flux blocks (most of a trial's memory); an older
+    # region asked for its flux builds them again: the same numbers
+    contact._recent_regions = None
+    _, _, first = contact.terms(0.05)
+    x = np.random.default_rng(4).standard_normal(len(contact.dofs))
+    flux = first[4] @ x
+    traction = first[4].blocks.traction.copy()
+    _, _, second = contact.terms(0.06)
+    assert first[4].blocks._traction is None and second[4].blocks._traction is not None
+    np.testing.assert_array_equal(first[4] @ x, flux)
+    np.testing.assert_array_equal(first[4].blocks.traction, traction)
+    assert second[4].blocks._traction is None  # the older one is the latest user now
+    contact._recent_regions = None

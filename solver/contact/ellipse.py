@@ -436,9 +436,13 @@ def contact_blocks(c: EllipseContact, pts: RegionPoints) -> tuple[PairBlocks, np
     """The jump and flux of :func:`contact_operators` as per-point blocks over each point's two
     cells (solver.fem.pair_blocks), and the local size at the points."""
     cells1, cells2 = _prepared_cells(c, pts)
+
+    def tractions():  # both bodies' traction blocks again (an older trial region's flux, if asked)
+        return (c.b1.cell_blocks(pts.x1, cells1, pts.n1).traction, c.b2.cell_blocks(pts.x2, cells2, pts.n1).traction)
+
     blocks = PairBlocks.between(c.b1.cell_blocks(pts.x1, cells1, pts.n1), c.b2.cell_blocks(pts.x2, cells2, pts.n1),
                                 c.maps[0], c.maps[2], len(c.b1.grid.nodes),
-                                flux_weights(c.options.flux, c.b1, c.b2))
+                                flux_weights(c.options.flux, c.b1, c.b2), rebuild=tractions, family=c)
     return blocks, _band_size(c, cells1, cells2)
 
 

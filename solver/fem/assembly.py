@@ -106,13 +106,19 @@ class EssentialTerm:
         """Traction along the edge with the prescribed values scaled by ``load_factor`` (a number, or
         one per component of the prescribed value)."""
         b = self.body
-        bp = b.edge_points(self.edge, settings.boundary_order)
-        if len(bp.weights) != len(self.weights):
-            raise RuntimeError(f"the points of {self.key} changed between assembly and the reaction")
+        passes = (b.edge_point_passes(self.edge, settings.boundary_order) if hasattr(b, "edge_point_passes")
+                  else [b.edge_points(self.edge, settings.boundary_order)])
         factor = np.asarray(load_factor, dtype=float)
         target = self.target if np.all(factor == 1.0) else factor * self.target
-        return thin_band_traction(bp, self.projector, target, b.lam, b.mu, u, settings.band_fraction,
-                                  settings.consistency)
+        out, start = [], 0
+        for bp in passes:  # each point's traction reads that point alone
+            rows = slice(start, start + len(bp.weights))
+            out.append(thin_band_traction(bp, self.projector[rows], target[rows], b.lam, b.mu, u,
+                                          settings.band_fraction, settings.consistency))
+            start = rows.stop
+        if start != len(self.weights):
+            raise RuntimeError(f"the points of {self.key} changed between assembly and the reaction")
+        return np.concatenate(out) if len(out) > 1 else out[0]
 
 
 def essential_reactions(

@@ -39,6 +39,7 @@ __all__ = [
     "contact_nearness",
     "CONDENSED_FACTORS",
     "CHOLESKY_NONZEROS",
+    "DENSE_ROWS_FACTOR",
     "dof_order",
     "metis_order",
     "contact_last_order",
@@ -537,6 +538,14 @@ CONDENSED_FACTORS = ("auto", "superlu", "cholesky")
 #: scene (0.89 M) 1.77 s and 340 MB instead of 1.93 s and 456 MB; the 3D 32k-dof rung (1.8 M)
 #: 13.0 s and 1302 MB instead of 16.4 s and 1723 MB
 CHOLESKY_NONZEROS = 800_000
+#: the condensed factorisation of a K0 whose rows hold DENSE_ROWS entries or more on average (a 3D
+#: grid's: trilinear cells couple up to 81 dofs a row, bilinear squares 18) takes the Cholesky from
+#: this many times CHOLESKY_NONZEROS: SuperLU keeps only L there (:class:`SymmetricFactor`). Measured
+#: (sphere_on_flat rungs, whole runs, each factorisation forced, a loaded machine): 11.1k dofs,
+#: 0.80 M entries: CPU 3.19 s against the Cholesky's 3.21, peak 244 MB against 334; 30.1k dofs,
+#: 1.72 M entries: CPU 9.0 s against 6.6, 641 MB against 668
+DENSE_ROWS_FACTOR = 1.5
+DENSE_ROWS = 40
 
 
 #: a body's condensed block of at least this many dofs keeps only the trailing TRAILING_FRACTION of
@@ -560,7 +569,8 @@ def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | No
     "cholesky" (:func:`solver.fem.multifrontal.condensed_cholesky`: a supernodal multifrontal
     L D L^T, only L stored, the contact dofs its root front), "superlu" (SuperLU in the same
     order with diagonal pivots, S from the trailing blocks of L and U), or "auto" (the default:
-    the Cholesky from CHOLESKY_NONZEROS stored entries of K0 on when numba is available, else SuperLU; a zero pivot
+    the Cholesky from CHOLESKY_NONZEROS stored entries of K0 on (DENSE_ROWS_FACTOR times that for a 3D
+    grid's dense rows) when numba is available, else SuperLU; a zero pivot
     or a Schur complement that is not positive definite falls back to SuperLU, whose general
     path handles what can be handled). A forced "cholesky" raises instead of falling back.
 
@@ -575,7 +585,7 @@ def condensed_factor(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | No
     eighth of the work of G and a quarter of its memory; other entries are computed when asked."""
     groups = uncoupled_groups(k0, dofs)
     if groups is None and nearness is None:
-        return _condensed_one(k0, dofs, order, _condensed_choice(k0.nnz), threads=factor_threads())
+        return _condensed_one(k0, dofs, order, _condensed_choice(k0.nnz, k0.shape[0]), threads=factor_threads())
     if groups is None:
         groups = np.zeros(k0.shape[0], dtype=np.int64)
     return _condensed_blocks(k0, dofs, order, groups, nearness)
@@ -587,7 +597,7 @@ def _condensed_blocks(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | N
     each factorisation on :func:`factor_threads` threads (its large fronts shared between them:
     :class:`solver.fem.multifrontal.CholeskyFactor`), so that only one group's work space is in
     memory at a time."""
-    choice = _condensed_choice(k0.nnz)
+    choice = _condensed_choice(k0.nnz, k0.shape[0])
     k0 = k0.tocsr()
     threads = factor_threads()
 
@@ -678,8 +688,9 @@ def _condensed_one(k0: sp.csr_matrix, dofs: np.ndarray, order: np.ndarray | None
     return factored if factored is not None else _superlu_condensed(k0, order, len(dofs))
 
 
-def _condensed_choice(nonzeros: int) -> str:
-    """"cholesky", "superlu" or "auto" (the Cholesky worth trying) for a matrix of that many entries."""
+def _condensed_choice(nonzeros: int, rows: int | None = None) -> str:
+    """"cholesky", "superlu" or "auto" (the Cholesky worth trying) for a matrix of that many entries
+    (``rows``: its rows, for a condensed factorisation: DENSE_ROWS_FACTOR where they are dense)."""
     choice = os.environ.get("IBFEM_CONDENSED_FACTOR", "").strip().lower() or "auto"
     if choice not in CONDENSED_FACTORS:
         raise ValueError(f"environment variable IBFEM_CONDENSED_FACTOR must be one of "
@@ -691,7 +702,10 @@ def _condensed_choice(nonzeros: int) -> str:
     if choice == "cholesky" and not available():
         raise ValueError("IBFEM_CONDENSED_FACTOR=cholesky needs numba (pip install 'ibfem[fast]') "
                          "and IBFEM_NO_JIT unset")
-    return choice if choice == "cholesky" or (nonzeros >= CHOLESKY_NONZEROS and available()) else "superlu"
+    threshold = CHOLESKY_NONZEROS
+    if rows and nonzeros >= DENSE_ROWS * rows:
+        threshold *= DENSE_ROWS_FACTOR
+    return choice if choice == "cholesky" or (nonzeros >= threshold and available()) else "superlu"
 
 
 def _cholesky_or_none(choice: str, factorise):
@@ -718,8 +732,60 @@ def _superlu_condensed(k0: sp.spmatrix, order: np.ndarray, m: int):
     del kp
     if (lu.perm_r != np.arange(n)).any() or (lu.perm_c != np.arange(n)).any():
         raise RuntimeError("the condensed factorisation pivoted off the diagonal")
-    schur, g_inverse = _schur_and_inverse(lu, m)
-    return PermutedLU(lu, order), schur, g_inverse
+    lower, upper = lu.L, lu.U
+    del lu  # SuperLU's own copy of both factors: only L and diag(U) are kept
+    schur, g_inverse = _schur_and_inverse(lower, upper, m)
+    return PermutedLU(SymmetricFactor(lower, upper.diagonal()), order), schur, g_inverse
+
+
+class SymmetricFactor:
+    """K = L D L^T of a symmetric K that SuperLU factored as L U without pivoting (U = D L^T):
+    L (unit lower triangular, CSC) and D kept, solved by two sparse triangular solves. SuperLU's
+    object holds both factors in its own storage; K0's two bodies at the 7.4k-dof
+    sphere_on_flat rung: the run's peak 222 -> 180 MB; a solve of one body's block 1.5 ms
+    against SuperLU's 2.0 (through scipy's spsolve_triangular, whose checks and copies of L on
+    every call make it 3.1 ms, where SuperLU's triangular solve is not at hand); the solution the
+    same to round-off (a, N of that rung 4e-13 and 4e-14 relative)."""
+
+    def __init__(self, lower: sp.csc_matrix, d: np.ndarray):
+        self.lower, self.d = sp.csc_matrix(lower), np.asarray(d, dtype=float)
+        self.lower.sort_indices()
+        self.lower.indices = self.lower.indices.astype(np.intc, copy=False)
+        self.lower.indptr = self.lower.indptr.astype(np.intc, copy=False)
+
+    def solve(self, f: np.ndarray) -> np.ndarray:
+        y = self._triangular(np.array(f, dtype=float), "N")  # L y = f
+        y /= self.d if y.ndim == 1 else self.d[:, None]
+        return self._triangular(y, "T")  # L^T x = y
+
+    def _triangular(self, b: np.ndarray, trans: str) -> np.ndarray:
+        """L x = b ("N") or L^T x = b ("T"), b overwritten: SuperLU's triangular solve (the one
+        scipy's spsolve_triangular calls, without its checks), else spsolve_triangular."""
+        low, n = self.lower, self.lower.shape[0]
+        gstrs = _superlu_triangular_solve()
+        if gstrs is not None:
+            none = np.zeros(n + 1, dtype=np.intc)
+            try:
+                x, info = gstrs(trans, n, low.nnz, low.data, low.indices, low.indptr, n, 0, np.zeros(0), none[:0],
+                                none, b)
+            except TypeError:  # another signature: the public route
+                gstrs = None
+            else:
+                if info:
+                    raise np.linalg.LinAlgError("the factor L is singular")
+                return x
+        return spla.spsolve_triangular(low if trans == "N" else low.T, b, lower=trans == "N", overwrite_A=True,
+                                       overwrite_b=True, unit_diagonal=True)
+
+
+def _superlu_triangular_solve():
+    """SuperLU's triangular solve of scipy's SuperLU module (gstrs: L and U given in CSC), None
+    where this scipy has none."""
+    try:
+        from scipy.sparse.linalg._dsolve import _superlu
+    except ImportError:
+        return None
+    return getattr(_superlu, "gstrs", None)
 
 
 def _symmetric_from_upper(c: np.ndarray) -> np.ndarray:
@@ -727,8 +793,8 @@ def _symmetric_from_upper(c: np.ndarray) -> np.ndarray:
     return symmetric_from_lower(c.T).T
 
 
-def _schur_and_inverse(lu, m: int) -> tuple[np.ndarray, np.ndarray]:
-    """S = L_cc U_cc from the trailing blocks of the factors, and G = S^-1.
+def _schur_and_inverse(lower: sp.csc_matrix, upper: sp.csc_matrix, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """S = L_cc U_cc from the trailing blocks of the factors L and U (CSC), and G = S^-1.
 
     K0 is symmetric and factored without pivoting, so L U = L D L^T with D = diag(U): with
     W = D^-1/2 U_cc (upper triangular), S = W^T W, i.e. W is S's Cholesky factor. Then S by one
@@ -738,7 +804,7 @@ def _schur_and_inverse(lu, m: int) -> tuple[np.ndarray, np.ndarray]:
     product and a Cholesky of S (which then fails with its own error)."""
     from scipy.linalg import blas, lapack
 
-    ucc = _trailing_block(lu.U, m)
+    ucc = _trailing_block(upper, m)
     pivots = np.diag(ucc).copy()
     if np.all(pivots > 0.0):
         w = np.asfortranarray(ucc / np.sqrt(pivots)[:, None])
@@ -746,7 +812,7 @@ def _schur_and_inverse(lu, m: int) -> tuple[np.ndarray, np.ndarray]:
         inverse, info = lapack.dpotri(w, lower=0)
         if info == 0:
             return schur, _symmetric_from_upper(inverse)
-    lcc = _trailing_block(lu.L, m)
+    lcc = _trailing_block(lower, m)
     schur = lcc @ ucc
     schur = 0.5 * (schur + schur.T)
     return schur, sla.cho_solve(sla.cho_factor(schur), np.eye(m))

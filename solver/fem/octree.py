@@ -88,14 +88,23 @@ class Octree(ExtendableNodes):
         to the cell on its upper side)."""
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         cell = np.full(len(points), -1, dtype=np.int64)
-        for lv, dims, keys, idx in self._level_keys:
-            ijk = np.floor((points - self.origin) / (self.h0 / 2.0**lv)).astype(np.int64)
+        left = None  # the points no finer level holds (None: all of them)
+        # finest level first, each point looked up until a leaf holds it (a point that rounds into
+        # leaves of two levels goes to the finer, as when every level was looked up coarsest first
+        # and the later hit kept): the refined contact's points leave after one level
+        for lv, dims, keys, idx in reversed(self._level_keys):
+            p = points if left is None else points[left]
+            if not len(p):
+                break
+            ijk = np.floor((p - self.origin) / (self.h0 / 2.0**lv)).astype(np.int64)
             ok = (ijk[:, 0] >= 0) & (ijk[:, 0] < dims[0]) & (ijk[:, 1] >= 0) & (ijk[:, 1] < dims[1]) \
                 & (ijk[:, 2] >= 0) & (ijk[:, 2] < dims[2])  # column by column: faster than .all(axis=1)
             key = _keys(np.where(ok[:, None], ijk, 0), dims)
             pos = np.minimum(np.searchsorted(keys, key), len(keys) - 1)
             hit = ok & (keys[pos] == key)
-            cell[hit] = idx[pos[hit]]
+            rows = np.flatnonzero(hit) if left is None else left[hit]
+            cell[rows] = idx[pos[hit]]
+            left = np.flatnonzero(~hit) if left is None else left[~hit]
         return cell
 
     def local_coordinates(self, points: np.ndarray, cell: np.ndarray) -> np.ndarray:

@@ -25,7 +25,8 @@ from __future__ import annotations
 
 import functools
 import sys
-from dataclasses import dataclass
+import weakref
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -40,6 +41,9 @@ _D = 3
 
 #: a band of at least this many points sums its pairs on two threads where a core is free
 THREADED_POINTS = 4000
+
+#: points per pass of the NumPy route's band sums (whole pairs; about 1.7 kB of products a point)
+BAND_CHUNK_POINTS = 1024
 
 #: /proc/stat's idle time at this module's last look (solver.fem.linalg.free_threads)
 _IDLE_SAMPLE: list = [None]
@@ -67,16 +71,27 @@ class PairBlocks:
     bounds: np.ndarray  # (pairs + 1,)
     pair_nodes: np.ndarray  # (pairs, 16)
     shape: np.ndarray  # (q, 16) N1_q, then -N2_q (stored order)
-    traction: np.ndarray  # (q, 3, 48) the mean flux F_q (stored order)
+    _traction: np.ndarray | None  # (q, 3, 48) the mean flux F_q (stored order); None: released
     dof_map: sp.csr_matrix  # (3 (N1 + N2), m)
+    #: () -> (t1, t2): both bodies' traction blocks again, in the caller's order (None: kept always)
+    _rebuild: object = field(default=None, repr=False)
+    _weights: tuple = (0.5, 0.5)
+    #: the caller whose latest blocks keep their flux (a contact): :func:`_hold`
+    _family: object = field(default=None, repr=False)
 
     @classmethod
     def between(cls, blocks1: CellBlocks, blocks2: CellBlocks, map1: sp.csr_matrix, map2: sp.csr_matrix,
-                n_nodes1: int, flux_weights: tuple[float, float] = (0.5, 0.5)) -> "PairBlocks":
+                n_nodes1: int, flux_weights: tuple[float, float] = (0.5, 0.5), rebuild=None,
+                family=None) -> "PairBlocks":
         """The blocks of points whose cells and operators on body 1 and body 2 are ``blocks1`` and
         ``blocks2`` (the same points, tractions on the same normals), mapped by each body's
         restricted node-dof map (3 N_i x m; ``n_nodes1`` = N1); the flux is
-        w1 t1 + w2 t2 with ``flux_weights`` (w1, w2)."""
+        w1 t1 + w2 t2 with ``flux_weights`` (w1, w2).
+
+        ``rebuild`` (() -> (t1, t2), both bodies' traction blocks computed again) and ``family``
+        (the caller, a contact): only the latest blocks of a family keep their flux blocks
+        (1152 bytes a point, most of a trial region's memory); older ones release them and
+        build them again with ``rebuild`` if asked (the same numbers)."""
         key = blocks1.cells.astype(np.int64) * (int(blocks2.cells.max(initial=0)) + 1) + blocks2.cells
         order = np.argsort(key, kind="stable")
         key = key[order]
@@ -84,18 +99,21 @@ class PairBlocks:
         nodes = np.concatenate([blocks1.cell_nodes[order[first]], blocks2.cell_nodes[order[first]] + n_nodes1],
                                axis=1).astype(np.int64)
         shape = np.concatenate([blocks1.displacement[order, 0, ::_D], -blocks2.displacement[order, 0, ::_D]], axis=1)
-        t1, t2 = (np.ascontiguousarray(b.traction, dtype=float) for b in (blocks1, blocks2))
-        w1, w2 = (float(w) for w in flux_weights)
-        traction = np.empty((len(order), t1.shape[1], t1.shape[2] + t2.shape[2]))
-        if t1.shape == t2.shape and compiled():
-            from ._pair_kernels import gather_weighted_traction
+        weights = tuple(float(w) for w in flux_weights)
+        _release(family, keep=KEPT_FLUX_BLOCKS - 1)  # before these are built: the new blocks are the latest
+        traction = _gathered_traction(blocks1.traction, blocks2.traction, weights, order)
+        blocks = cls(order, np.r_[first, len(order)], nodes, shape, traction, sp.vstack([map1, map2], format="csr"),
+                     rebuild, weights, family)
+        _hold(blocks)
+        return blocks
 
-            gather_weighted_traction(t1, t2, w1, w2, order, traction)
-        else:
-            traction[:, :, :t1.shape[2]] = w1 * t1[order]
-            traction[:, :, t1.shape[2]:] = w2 * t2[order]
-        return cls(order, np.r_[first, len(order)], nodes, shape, traction,
-                   sp.vstack([map1, map2], format="csr"))
+    @property
+    def traction(self) -> np.ndarray:
+        """(q, 3, 48) the mean flux F_q (stored order), built again if it was released."""
+        if self._traction is None:
+            self._traction = _gathered_traction(*self._rebuild(), self._weights, self.order)
+        _hold(self)
+        return self._traction
 
     # ------------------------------------------------------------------ operators
 
@@ -190,23 +208,33 @@ class PairBlocks:
             pen, wp = pen[self.order], wp[self.order]
         else:
             pen, wp = pen[self.order], wp[self.order]
-            x = 0.5 * self.shape[:, :, None, None] * pen[:, None, :, :]  # (q, 16, 3, 3): n (x) pen / 2
-            # (q, 48, 3): T^T wp as batched products (einsum's generic loop is some 7x slower here)
-            x = x.reshape(q, -1, _D) - consistency * np.matmul(self.traction.transpose(0, 2, 1), wp)
-            m = self._pair_sums(x.reshape(q, -1), self.shape)  # (pairs, 48 * 3, 16): [(A, j), b]
-            m = m.reshape(len(m), -1, _D, nodes).transpose(0, 1, 3, 2).reshape(len(m), nodes * _D, nodes * _D)
-            k = self._assembled(m + m.transpose(0, 2, 1))
+            k = self._assembled(self._band_pair_sums(pen, wp, float(consistency)))
         a = np.asarray(target, dtype=float).reshape(q, _D)[self.order]
         load = self._stored_rows(np.einsum("qij,qj->qi", pen, a), -consistency * np.einsum("qij,qj->qi", wp, a))
         return k, self.vector(load)
 
+    def _band_pair_sums(self, pen: np.ndarray, wp: np.ndarray, consistency: float) -> np.ndarray:
+        """(pairs, 48, 48) the band's M_p + M_p^T of each pair (the NumPy route; ``pen``, ``wp`` in
+        the stored order), a run of whole pairs of about BAND_CHUNK_POINTS points at a time: the
+        per-point products (X_q, some 1.7 kB a point) then never exist for the whole band at
+        once, nor leave the processor's cache. Each pair's sum is the same product on the same
+        numbers as in one pass."""
+        q, nodes = self.n_points, self.shape.shape[1]
+        out = np.empty((len(self.pair_nodes), _D * nodes, _D * nodes))
+        for first, last in _runs(self.bounds, BAND_CHUNK_POINTS):
+            lo, hi = self.bounds[first], self.bounds[last]
+            x = 0.5 * self.shape[lo:hi, :, None, None] * pen[lo:hi, None, :, :]  # (n, 16, 3, 3): n (x) pen / 2
+            # (n, 48, 3): T^T wp as batched products (einsum's generic loop is some 7x slower here)
+            x = x.reshape(hi - lo, -1, _D) - consistency * np.matmul(self.traction[lo:hi].transpose(0, 2, 1), wp[lo:hi])
+            m = _run_sums(x.reshape(hi - lo, -1), self.shape[lo:hi], self.bounds[first:last + 1] - lo)
+            m = m.reshape(len(m), -1, _D, nodes).transpose(0, 1, 3, 2).reshape(len(m), nodes * _D, nodes * _D)
+            np.add(m, m.transpose(0, 2, 1), out=out[first:last])
+        return out
+
     def _pair_sums(self, left: np.ndarray, right: np.ndarray) -> np.ndarray:
         """(pairs, l, r) sum over each pair's points of outer(left_q, right_q) (stored order):
         one matrix product per pair over its run of points (the NumPy route)."""
-        out = np.empty((len(self.pair_nodes), left.shape[1], right.shape[1]))
-        for p, (lo, hi) in enumerate(zip(self.bounds[:-1], self.bounds[1:])):
-            np.matmul(left[lo:hi].T, right[lo:hi], out=out[p])
-        return out
+        return _run_sums(left, right, self.bounds)
 
     def _over_pairs(self, kernel, args: tuple, out: np.ndarray) -> None:
         """``kernel(*args, bounds, first, last, out)`` over all pairs: on two threads (two ranges
@@ -246,6 +274,80 @@ class PairBlocks:
         where = np.empty(self.n_points, dtype=np.int64)
         where[self.order] = np.arange(self.n_points)
         return stored[(_D * where[:, None] + np.arange(_D)).ravel()].tocsr()
+
+
+def _gathered_traction(t1: np.ndarray, t2: np.ndarray, weights: tuple[float, float], order: np.ndarray) -> np.ndarray:
+    """(q, 3, 48) [w1 t1, w2 t2] of both bodies' traction blocks (q, 3, 24) in the stored order."""
+    t1, t2 = (np.ascontiguousarray(t, dtype=float) for t in (t1, t2))
+    w1, w2 = weights
+    traction = np.empty((len(order), t1.shape[1], t1.shape[2] + t2.shape[2]))
+    if t1.shape == t2.shape and compiled():
+        from ._pair_kernels import gather_weighted_traction
+
+        gather_weighted_traction(t1, t2, w1, w2, order, traction)
+    else:  # in passes: the gathered copies stay small
+        for start in range(0, len(order), GATHER_POINTS):
+            rows = order[start:start + GATHER_POINTS]
+            traction[start:start + len(rows), :, :t1.shape[2]] = w1 * t1[rows]
+            traction[start:start + len(rows), :, t1.shape[2]:] = w2 * t2[rows]
+    return traction
+
+
+#: points per pass of the NumPy route's gathering of the flux blocks
+GATHER_POINTS = 4096
+
+
+#: per family (a contact, by identity; the entry goes with it): its blocks that hold their flux
+#: blocks, oldest first (weak references)
+_HOLDING: dict = {}
+#: blocks of a family that keep their flux blocks: the latest (the region being judged)
+KEPT_FLUX_BLOCKS = 1
+
+
+def _hold(blocks: PairBlocks) -> None:
+    """Record ``blocks`` as its family's latest user of its flux blocks and release those of the
+    family's older blocks beyond KEPT_FLUX_BLOCKS (blocks without a family or a rebuild keep them)."""
+    if blocks._family is None or blocks._rebuild is None:
+        return
+    key = id(blocks._family)
+    if key not in _HOLDING:
+        try:
+            weakref.finalize(blocks._family, _HOLDING.pop, key, None)
+        except TypeError:  # a family that takes no weak reference: nothing is released
+            return
+        _HOLDING[key] = []
+    held = _HOLDING[key]
+    held[:] = [r for r in held if r() is not None and r() is not blocks] + [weakref.ref(blocks)]
+    _release(blocks._family, KEPT_FLUX_BLOCKS)
+
+
+def _release(family, keep: int) -> None:
+    """Release the flux blocks of all but the latest ``keep`` blocks of ``family`` that hold them."""
+    held = _HOLDING.get(id(family)) if family is not None else None
+    while held and len(held) > keep:
+        older = held.pop(0)()
+        if older is not None:
+            older._traction = None
+
+
+def _run_sums(left: np.ndarray, right: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """(runs, l, r) sum over each run of rows bounds[p]:bounds[p + 1] of outer(left_q, right_q):
+    one matrix product per run."""
+    out = np.empty((len(bounds) - 1, left.shape[1], right.shape[1]))
+    for p, (lo, hi) in enumerate(zip(bounds[:-1], bounds[1:])):
+        np.matmul(left[lo:hi].T, right[lo:hi], out=out[p])
+    return out
+
+
+def _runs(bounds: np.ndarray, points: int):
+    """(first, last) ranges of whole runs (run p holds rows bounds[p]:bounds[p + 1]) of about
+    ``points`` rows each (a longer run alone)."""
+    first, runs = 0, len(bounds) - 1
+    while first < runs:
+        last = int(np.searchsorted(bounds, bounds[first] + points, side="right")) - 1
+        last = min(max(last, first + 1), runs)
+        yield first, last
+        first = last
 
 
 class PairOperator:

@@ -93,6 +93,20 @@ class SolidDiscretisation(BodyDiscretisation):
         if face not in faces:
             raise ValueError(f"body {self.name!r} has no face {face!r}; faces: {', '.join(faces)}")
         points, weights, normals, cells = (self.face_rules or {}).get(face) or located_face_rule(faces[face], self.grid)
+        return self._boundary_points(points, weights, normals, cells, traction)
+
+    def edge_point_passes(self, face: str, order: int = 2, traction: bool = True, points: int = 4096):
+        """:meth:`edge_points` of the face as consecutive runs of about ``points`` points (their
+        operators, some 1.2 kB a point, then exist for one run at a time: a condition's reaction
+        after the solve reads each point on its own)."""
+        rule = (self.face_rules or {}).get(face)
+        if rule is None:
+            yield self.edge_points(face, order, traction)
+            return
+        for start in range(0, max(len(rule[1]), 1), points):
+            yield self._boundary_points(*(a[start:start + points] for a in rule), traction)
+
+    def _boundary_points(self, points, weights, normals, cells, traction: bool) -> BoundaryPoints:
         return BoundaryPoints(
             points=points,
             weights=weights,

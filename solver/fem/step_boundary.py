@@ -181,19 +181,32 @@ class CellBlocks:
 
 
 def _cell_products(n_blocks, t_blocks, pen, wp, consistency, order, first) -> np.ndarray:
-    """(cells, p d, p d) band stiffness of each cell as two matrix products over its points
-    (their rows stacked): N^T (pen N) - theta (T^T (wp N) + its transpose); ``order`` sorts the
-    points by cell, ``first`` is where each cell's run starts in that order."""
+    """(cells, p d, p d) band stiffness of each cell from matrix products over its points
+    (``order`` sorts the points by cell, ``first`` is where each cell's run starts in that order).
+    N_q is shape_q (x) I_d, so N^T pen N = sum_q (s s^T)_q (x) pen_q: one product of the points'
+    (s s^T) (p^2 columns) with their pen (d^2), and T^T wp N = sum_q (T^T wp)_q (x) s_q: one product
+    of the points' T^T wp (p d x d) with their s (p); some 3.5 times fewer operations in 3D than
+    N^T (pen N) and T^T (wp N) over the cells' stacked rows. Whole cells of about _BAND_BATCH
+    points at a time."""
     q, d, c = n_blocks.shape
-    shape = n_blocks[order, 0, ::d]  # (q, p): N_q is shape (x) I_d
-    pen_n = (pen[order][:, :, None, :] * shape[:, None, :, None]).reshape(q, d, c)  # pen N
-    wp_n = (wp[order][:, :, None, :] * shape[:, None, :, None]).reshape(q, d, c)  # wp N
-    n_rows, t_rows = n_blocks[order], t_blocks[order]
+    p = c // d
     k_cells = np.empty((len(first), c, c))
-    for k, (lo, hi) in enumerate(zip(first, np.r_[first[1:], q])):
-        cross = t_rows[lo:hi].reshape(-1, c).T @ wp_n[lo:hi].reshape(-1, c)
-        k_cells[k] = n_rows[lo:hi].reshape(-1, c).T @ pen_n[lo:hi].reshape(-1, c)
-        k_cells[k] -= consistency * (cross + cross.T)
+    bounds = np.r_[first, q]
+    cell = 0
+    while cell < len(first):
+        last = min(max(int(np.searchsorted(bounds, bounds[cell] + _BAND_BATCH, side="right")) - 1, cell + 1),
+                   len(first))
+        rows = order[bounds[cell]:bounds[last]]
+        shape = n_blocks[rows, 0, ::d]  # (n, p): N_q is shape (x) I_d
+        ss = (shape[:, :, None] * shape[:, None, :]).reshape(len(rows), p * p)
+        tw = np.matmul(t_blocks[rows].transpose(0, 2, 1), wp[rows]).reshape(len(rows), c * d)  # T^T wp
+        pen_rows = pen[rows].reshape(len(rows), d * d)
+        runs = bounds[cell:last + 1] - bounds[cell]
+        for k, (lo, hi) in enumerate(zip(runs[:-1], runs[1:])):
+            nn = (ss[lo:hi].T @ pen_rows[lo:hi]).reshape(p, p, d, d).transpose(0, 2, 1, 3).reshape(c, c)
+            cross = (tw[lo:hi].T @ shape[lo:hi]).reshape(c, d, p).transpose(0, 2, 1).reshape(c, c)
+            k_cells[cell + k] = nn - consistency * (cross + cross.T)
+        cell = last
     return k_cells
 
 
