@@ -86,3 +86,35 @@ def test_a_gap_or_an_interference_is_warned_of_with_its_size(lift, words):
     data = _scene(bodies__0__shape={"type": "half_sphere", "center": [0.0, 0.0, 0.5 + lift], "radius": 0.5})
     warnings = load_scene(data, label="scene.toml").warnings
     assert len(warnings) == 1 and "contacts[0] ('ball' on 'block')" in warnings[0] and words in warnings[0]
+
+
+def test_a_ball_free_along_x_on_a_frictionless_contact_is_refused_naming_the_motion():
+    """The ball's flat face held in y and z only: a frictionless contact holds it along z, so the
+    x translation is free (the run's assembly found it, after ``--check`` had passed)."""
+    text = _errors(_scene(boundary_conditions__0__value=["free", 0.0, -0.004]))
+    assert "bodies[0].name = 'ball': rigid-body motion not prevented (a translation along [1.0, 0.0, 0.0])" \
+        in text.replace("-1.0", "1.0")
+    assert "bodies[1]" not in text  # the block is fixed
+
+
+def test_a_frictional_contact_holds_the_ball_free_along_x():
+    """The same ball held through a frictional contact: the stick patch holds the x translation."""
+    data = _scene(boundary_conditions__0__value=["free", 0.0, -0.004])
+    data["contacts"][0].update(type="frictional", friction=0.3)
+    assert load_scene(data, label="scene.toml").warnings == ()
+
+
+def test_a_quarter_ball_held_by_its_symmetry_planes_and_the_contact_passes():
+    """A quarter ball loaded by a force: its symmetry planes slide, the contact holds it along z."""
+    data = _scene(bodies__0__shape={"type": "revolution", "axis_origin": [0, 0, 0.5], "axis": [0, 0, 1],
+                                    "angle_deg": 90, "profile": {"type": "profile", "edges": [
+                                        {"type": "line", "start": [0, 0], "end": [0.5, 0], "name": "flat"},
+                                        {"type": "arc", "center": [0, 0], "radius": 0.5, "start_angle": 0,
+                                         "end_angle": -90, "name": "dome"},
+                                        {"type": "line", "start": [0, -0.5], "end": [0, 0], "name": "axis"}]}},
+                  boundary_conditions__0={"type": "pressure", "body": "ball", "face": "flat", "value": 1.0e6})
+    data["boundary_conditions"] += [{"type": "sliding", "body": "ball", "face": "start"},
+                                    {"type": "sliding", "body": "ball", "face": "end"}]
+    load_scene(data, label="scene.toml")
+    del data["boundary_conditions"][-1]  # the plane x = 0 free: the ball moves along x
+    assert "rigid-body motion not prevented" in _errors(data)

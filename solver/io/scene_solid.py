@@ -45,6 +45,7 @@ from .scene import (
 from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
 from .load_axes import AlongAxes, in_global_components
 from .scene_reference_point import ReferencePoint3Spec, reference_point
+from .rigid_3d import rigid_body_problems
 from .scene_solid_checks import solid_contact_notes, solid_geometry_problems
 
 __all__ = ["SolidSceneSpec", "solid_scene_from_dict"]
@@ -207,7 +208,7 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
         problem = resolve_problem(problem)
     except ValueError as err:
         raise SceneError([f"{label}: {err}"]) from None
-    too_big = size_problems(problem, label)
+    too_big = size_problems(problem, label) or rigid_body_problems(problem, label)
     if too_big:
         raise SceneError(too_big)
     notes = _notes(spec, label) + solid_contact_notes(spec, problem, label)
