@@ -118,3 +118,12 @@ def test_a_quarter_ball_held_by_its_symmetry_planes_and_the_contact_passes():
     load_scene(data, label="scene.toml")
     del data["boundary_conditions"][-1]  # the plane x = 0 free: the ball moves along x
     assert "rigid-body motion not prevented" in _errors(data)
+
+
+def test_a_contact_without_force_has_no_empty_error_estimate_in_its_line():
+    """A gap the loads never close: the contact carries no force and has no estimate; its line
+    ended in "estimated error " with nothing after it."""
+    from ibfem.solver.io.result_line import contact_line
+
+    line = contact_line({"type": "frictionless", "semi_axes": [0.0, 0.0], "normal_force": 0.0, "estimated_error": {}})
+    assert line == "semi_axes = [0, 0] m, normal_force = 0 N"
