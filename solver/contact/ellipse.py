@@ -685,11 +685,20 @@ def _cell_dofs_global(b, cells: np.ndarray) -> np.ndarray:
 LINE_CONTACT_RATIO = 1e-3
 
 
+#: a negative smaller relative curvature down to this fraction of the larger is zero within the
+#: frame's finite-difference estimate of it: a ball in a conical seat touches along the seat's
+#: circle, where the two hoop curvatures are equal (100 1/m for a 10 mm ball in a 90-degree cone),
+#: and the frame read -0.22 against 100 1/m there. A point contact needs a positive one, and a
+#: smaller one this slightly negative closes the gap along the line as slowly as a line contact's
+CURVATURE_NOISE = 1e-2
+
+
 def is_line_contact(frame: ContactFrame3D) -> bool:
     """The surfaces curve apart across one axis only (a cylinder on a flat, parallel cylinders):
-    the smaller relative curvature vanishes to LINE_CONTACT_RATIO of the larger."""
+    the smaller relative curvature vanishes to LINE_CONTACT_RATIO of the larger, or is negative
+    by no more than CURVATURE_NOISE of it."""
     k0, k1 = (float(k) for k in frame.curvatures)
-    return k1 > 0.0 and abs(k0) <= LINE_CONTACT_RATIO * k1
+    return k1 > 0.0 and (abs(k0) <= LINE_CONTACT_RATIO * k1 or -CURVATURE_NOISE * k1 <= k0 < 0.0)
 
 
 #: both relative curvatures below this over the candidate region's radius (radii of curvature

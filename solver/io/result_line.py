@@ -64,7 +64,7 @@ def _percent(value: Any) -> str:
 
 def _estimated_error(c: Mapping[str, Any], force_unit: str) -> str | None:
     errors = c.get("estimated_error")
-    if not isinstance(errors, Mapping):
+    if not isinstance(errors, Mapping) or not errors:  # none: a contact that carries no force
         return None
     return "estimated error " + ", ".join(f"{key} {_percent(value)}" for key, value in errors.items())
 

@@ -45,6 +45,8 @@ from .scene import (
 from .load_paths_spec import PathRef, PathSpec, history_problems, load_history
 from .load_axes import AlongAxes, in_global_components
 from .scene_reference_point import ReferencePoint3Spec, reference_point
+from .rigid_3d import rigid_body_problems
+from .scene_solid_checks import solid_contact_notes, solid_geometry_problems
 
 __all__ = ["SolidSceneSpec", "solid_scene_from_dict"]
 
@@ -199,14 +201,18 @@ def solid_scene_from_dict(data: dict, label: str, base_dir: Path, path: Path | N
     _check_paths(spec, label)
     spec = in_global_components(spec, 3)
     problem = _problem(spec, solids, Path(label).stem if path is None else path.stem, label)
+    wrong = solid_geometry_problems(spec, problem, label)
+    if wrong:
+        raise SceneError(wrong)
     try:
         problem = resolve_problem(problem)
     except ValueError as err:
         raise SceneError([f"{label}: {err}"]) from None
-    too_big = size_problems(problem, label)
+    too_big = size_problems(problem, label) or rigid_body_problems(problem, label)
     if too_big:
         raise SceneError(too_big)
-    return Scene(path=path, spec=spec, problem=problem, warnings=tuple(_notes(spec, label)))
+    notes = _notes(spec, label) + solid_contact_notes(spec, problem, label)
+    return Scene(path=path, spec=spec, problem=problem, warnings=tuple(notes))
 
 
 def _build_solids(spec: SolidSceneSpec, label: str, base_dir: Path) -> dict[str, Any]:
