@@ -121,10 +121,18 @@ class Segment(BoundedCurve):
         n[:, 1] = -ux
         return BoundedProjection(points=np.stack([cx, cy], axis=1), normals=n, distances=dist, parameters=t)
 
-    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    @cached_property
+    def _nearest_constants(self) -> tuple[float, ...]:
+        """(x0, y0, ux, uy, L, x1 - x0, y1 - y0) as floats, for :meth:`_nearest_signed`."""
         L, u = self._frame
         (x0, y0), (x1, y1) = self.p0, self.p1
-        ux, uy = float(u[0]), float(u[1])
+        return float(x0), float(y0), float(u[0]), float(u[1]), L, float(x1 - x0), float(y1 - y0)
+
+    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(signed distance, positive outside; foot parameter) of points P (n, 2) within 1e120
+        of the segment (a profile's query points are: Profile._pull_in), whose squared
+        differences cannot overflow: no overflow check (the same numbers as :meth:`project`)."""
+        x0, y0, ux, uy, L, ex, ey = self._nearest_constants
         dx = P[:, 0] - x0
         dy = P[:, 1] - y0
         t = dx * ux
@@ -132,10 +140,14 @@ class Segment(BoundedCurve):
         np.maximum(t, 0.0, out=t)  # np.clip(t, 0, L), without its wrapper's overhead on short arrays
         np.minimum(t, L, out=t)
         f = t / L
-        rx = dx - f * (x1 - x0)
-        ry = dy - f * (y1 - y0)
-        dist = _norm2(rx, ry)
-        side = rx * uy - ry * ux
+        rx = dx - f * ex
+        ry = dy - f * ey
+        side = rx * uy
+        side -= ry * ux
+        np.multiply(rx, rx, out=rx)
+        np.multiply(ry, ry, out=ry)
+        rx += ry
+        dist = np.sqrt(rx, out=rx)
         np.negative(dist, out=dist, where=side < 0.0)
         return dist, t
 
