@@ -18,7 +18,7 @@ from ._curve_numerics import (
     _vec2,
 )
 
-__all__ = ["Segment"]
+__all__ = ["Segment", "SegmentBatch"]
 
 
 
@@ -132,24 +132,7 @@ class Segment(BoundedCurve):
         """(signed distance, positive outside; foot parameter) of points P (n, 2) within 1e120
         of the segment (a profile's query points are: Profile._pull_in), whose squared
         differences cannot overflow: no overflow check (the same numbers as :meth:`project`)."""
-        x0, y0, ux, uy, L, ex, ey = self._nearest_constants
-        dx = P[:, 0] - x0
-        dy = P[:, 1] - y0
-        t = dx * ux
-        t += dy * uy
-        np.maximum(t, 0.0, out=t)  # np.clip(t, 0, L), without its wrapper's overhead on short arrays
-        np.minimum(t, L, out=t)
-        f = t / L
-        rx = dx - f * ex
-        ry = dy - f * ey
-        side = rx * uy
-        side -= ry * ux
-        np.multiply(rx, rx, out=rx)
-        np.multiply(ry, ry, out=ry)
-        rx += ry
-        dist = np.sqrt(rx, out=rx)
-        np.negative(dist, out=dist, where=side < 0.0)
-        return dist, t
+        return _nearest_signed(P, *self._nearest_constants)
 
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
         axis = _axis(axis)
@@ -206,3 +189,40 @@ class Segment(BoundedCurve):
 
     def to_dict(self) -> dict[str, Any]:
         return {"name": self.name, "type": "line", "start": self.p0.tolist(), "end": self.p1.tolist()}
+
+
+def _nearest_signed(P: np.ndarray, x0, y0, ux, uy, L, ex, ey) -> tuple[np.ndarray, np.ndarray]:
+    """Segment._nearest_signed of the segments whose constants (x0, y0, ux, uy, L, x1 - x0,
+    y1 - y0) are given: floats (one segment: (n,) answers) or (m, 1) columns (m segments:
+    (m, n) answers, row by row the same numbers as each segment's alone)."""
+    dx = P[:, 0] - x0
+    dy = P[:, 1] - y0
+    t = dx * ux
+    t += dy * uy
+    np.maximum(t, 0.0, out=t)  # np.clip(t, 0, L), without its wrapper's overhead on short arrays
+    np.minimum(t, L, out=t)
+    f = t / L
+    rx = dx - f * ex
+    ry = dy - f * ey
+    side = rx * uy
+    side -= ry * ux
+    np.multiply(rx, rx, out=rx)
+    np.multiply(ry, ry, out=ry)
+    rx += ry
+    dist = np.sqrt(rx, out=rx)
+    np.negative(dist, out=dist, where=side < 0.0)
+    return dist, t
+
+
+class SegmentBatch:
+    """Several segments' :meth:`Segment._nearest_signed` in one pass of (m, n) arrays (a
+    profile's straight edges: one set of array operations for all of them, whatever their
+    number; the same numbers as each segment's own)."""
+
+    def __init__(self, segments: list[Segment]) -> None:
+        self.columns = [np.array([s._nearest_constants[j] for s in segments])[:, None] for j in range(7)]
+
+    def nearest_signed(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(signed distances (m, n), foot parameters (m, n)) of points P (n, 2), as
+        :meth:`Segment._nearest_signed` of each segment."""
+        return _nearest_signed(P, *self.columns)
