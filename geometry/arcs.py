@@ -197,7 +197,7 @@ class Arc(_AngleSweptArc):
     def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(signed distance, positive outside; foot parameter) of points P (n, 2) within 1e120
         of the centre (a profile's query points are: Profile._pull_in), whose squared
-        differences cannot overflow: no overflow check (the same numbers as :meth:`project`)."""
+        differences cannot overflow: no overflow check (the same numbers as with it)."""
         cx, cy, sense, start, radius, sweep, closed = self._nearest_constants
         dx = P[:, 0] - cx
         dy = P[:, 1] - cy

@@ -131,7 +131,7 @@ class Segment(BoundedCurve):
     def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(signed distance, positive outside; foot parameter) of points P (n, 2) within 1e120
         of the segment (a profile's query points are: Profile._pull_in), whose squared
-        differences cannot overflow: no overflow check (the same numbers as :meth:`project`)."""
+        differences cannot overflow: no overflow check (the same numbers as with it)."""
         return _nearest_signed(P, *self._nearest_constants)
 
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
