@@ -187,14 +187,33 @@ class Arc(_AngleSweptArc):
                 t = np.where(outside, self._nearer_end(P), t)
         return self._projection_at(P, t)
 
+    @cached_property
+    def _nearest_constants(self) -> tuple[float, ...]:
+        """(centre x, centre y, sense, start angle, radius, sweep) as floats, and whether the arc
+        is closed, for :meth:`_nearest_signed`."""
+        return (float(self.center[0]), float(self.center[1]), self.sense, self.start_angle, self.radius,
+                self.sweep, self.is_closed)
+
     def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        dx = P[:, 0] - self.center[0]
-        dy = P[:, 1] - self.center[1]
-        t = self._t_of_angle(np.arctan2(dy, dx))
+        """(signed distance, positive outside; foot parameter) of points P (n, 2) within 1e120
+        of the centre (a profile's query points are: Profile._pull_in), whose squared
+        differences cannot overflow: no overflow check (the same numbers as with it)."""
+        cx, cy, sense, start, radius, sweep, closed = self._nearest_constants
+        dx = P[:, 0] - cx
+        dy = P[:, 1] - cy
+        theta = np.arctan2(dy, dx)
+        theta -= start
+        theta *= sense
+        t = _mod_two_pi(theta)
         # foot on the arc: p - c = (rho - r) e_r and n = sense e_r
-        sd = self.sense * (_norm2(dx, dy) - self.radius)
-        if not self.is_closed:
-            out = (t > self.sweep).nonzero()[0]
+        np.multiply(dx, dx, out=dx)
+        np.multiply(dy, dy, out=dy)
+        dx += dy
+        sd = np.sqrt(dx, out=dx)
+        sd -= radius
+        sd *= sense
+        if not closed:
+            out = (t > sweep).nonzero()[0]
             if out.size:
                 pr = self.project(P[out])
                 sd[out] = pr.distances

@@ -25,6 +25,7 @@ from ._base import real_array
 from .bounded_curve import BoundedCurve
 from .bspline_arc import BSplineArc
 from .loop_checks import check_loops
+from .segments import Segment, SegmentBatch
 
 __all__ = ["Profile", "ProfileProjection", "UnknownEdgeError"]
 
@@ -284,6 +285,24 @@ class Profile:
         self._cull_hi = np.array([b[1] for b in cull]) + margin
         self._expensive = np.array([getattr(c, "cost", 1) > 1 for c in edges])
         self._order = sorted(range(len(edges)), key=lambda k: getattr(edges[k], "cost", 1))
+        # the straight edges' distances in one pass (two or more: one set of array operations)
+        straight = [k for k in self._order if type(edges[k]) is Segment]
+        self._segment_batch = SegmentBatch([edges[k] for k in straight]) if len(straight) > 1 else None
+        self._segment_row = {k: i for i, k in enumerate(straight)} if self._segment_batch else {}
+
+    def _cheap_distances(self, P: np.ndarray):
+        """Edge k -> (signed distance, foot parameter) at the points P of every straight edge
+        (:class:`SegmentBatch`), the others' on request: the function of k."""
+        if self._segment_batch is None:
+            return lambda k: self._edge_list[k]._nearest_signed(P)
+        sd, t = self._segment_batch.nearest_signed(P)
+        rows = self._segment_row
+
+        def distances(k: int):
+            i = rows.get(k)
+            return (sd[i], t[i]) if i is not None else self._edge_list[k]._nearest_signed(P)
+
+        return distances
 
     # -- naming ----------------------------------------------------------------------------
 
@@ -318,8 +337,9 @@ class Profile:
         distance to its bounding box is below the best distance so far."""
         n = len(P)
         first, *rest = self._order
+        cheap = self._cheap_distances(P)
         # the first edge is the nearest so far wherever its distance is finite
-        sd, tpar = self._edge_list[first]._nearest_signed(P)  # new arrays: written in place below
+        sd, tpar = cheap(first)  # new arrays: written in place below
         best = np.abs(sd)
         edge = np.full(n, first, dtype=np.intp)
         lost = ~(best < np.inf)
@@ -344,13 +364,13 @@ class Profile:
                 tpar[j] = t_k[better]
                 sd[j] = dist_k[better]
             else:
-                dist_k, t_k = curve._nearest_signed(P)
+                dist_k, t_k = cheap(k)
                 d = np.abs(dist_k)
                 better = d < best
                 np.copyto(best, d, where=better)
                 np.copyto(tpar, t_k, where=better)
                 np.copyto(sd, dist_k, where=better)
-                edge[better] = k
+                np.copyto(edge, k, where=better)
         return best, edge, tpar, sd
 
     def _neighbour_sign(self, P: np.ndarray, best: np.ndarray, other: np.ndarray, sign: np.ndarray) -> np.ndarray:
@@ -416,11 +436,25 @@ class Profile:
         # gave far points the inside sign: make fuzz)
         fuzz = self._fuzz_box
         if box is None or box[0] < fuzz[0] or box[1] < fuzz[1] or box[2] > fuzz[2] or box[3] > fuzz[3]:
-            lo, hi = self._bounds
-            margin = 1e-9 * self.size
-            beyond = np.any((P < lo - margin) | (P > hi + margin), axis=1)
+            beyond = self._beyond(P, box)
             phi = np.where(beyond, -best, phi)
         return phi, edge, tpar, c, nrm
+
+    def _beyond(self, P: np.ndarray, box: tuple[float, float, float, float] | None) -> np.ndarray:
+        """(n,) bool: points P (n, 2) outside the bounds by more than 1e-9 of the size, column by
+        column and only on the sides ``box`` (P's x min, y min, x max, y max) crosses (a
+        reduction along the rows of an (n, 2) array is several times slower)."""
+        lo, hi = self._bounds
+        margin = 1e-9 * self.size
+        sides = [(k, lo[k] - margin, hi[k] + margin) for k in range(2)]
+        beyond = np.zeros(len(P), dtype=bool)
+        for k, low, high in sides:
+            column = P[:, k]
+            if box is None or box[k] < low:
+                beyond |= column < low
+            if box is None or box[k + 2] > high:
+                beyond |= column > high
+        return beyond
 
     def project(self, points: Any) -> ProfileProjection:
         """Closest boundary points, outward normals, phi (positive inside), nearest edge.

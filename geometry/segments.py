@@ -18,7 +18,7 @@ from ._curve_numerics import (
     _vec2,
 )
 
-__all__ = ["Segment"]
+__all__ = ["Segment", "SegmentBatch"]
 
 
 
@@ -121,23 +121,18 @@ class Segment(BoundedCurve):
         n[:, 1] = -ux
         return BoundedProjection(points=np.stack([cx, cy], axis=1), normals=n, distances=dist, parameters=t)
 
-    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    @cached_property
+    def _nearest_constants(self) -> tuple[float, ...]:
+        """(x0, y0, ux, uy, L, x1 - x0, y1 - y0) as floats, for :meth:`_nearest_signed`."""
         L, u = self._frame
         (x0, y0), (x1, y1) = self.p0, self.p1
-        ux, uy = float(u[0]), float(u[1])
-        dx = P[:, 0] - x0
-        dy = P[:, 1] - y0
-        t = dx * ux
-        t += dy * uy
-        np.maximum(t, 0.0, out=t)  # np.clip(t, 0, L), without its wrapper's overhead on short arrays
-        np.minimum(t, L, out=t)
-        f = t / L
-        rx = dx - f * (x1 - x0)
-        ry = dy - f * (y1 - y0)
-        dist = _norm2(rx, ry)
-        side = rx * uy - ry * ux
-        np.negative(dist, out=dist, where=side < 0.0)
-        return dist, t
+        return float(x0), float(y0), float(u[0]), float(u[1]), L, float(x1 - x0), float(y1 - y0)
+
+    def _nearest_signed(self, P: np.ndarray, upper: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(signed distance, positive outside; foot parameter) of points P (n, 2) within 1e120
+        of the segment (a profile's query points are: Profile._pull_in), whose squared
+        differences cannot overflow: no overflow check (the same numbers as with it)."""
+        return _nearest_signed(P, *self._nearest_constants)
 
     def axis_crossings(self, axis: int, value: float) -> np.ndarray:
         axis = _axis(axis)
@@ -194,3 +189,40 @@ class Segment(BoundedCurve):
 
     def to_dict(self) -> dict[str, Any]:
         return {"name": self.name, "type": "line", "start": self.p0.tolist(), "end": self.p1.tolist()}
+
+
+def _nearest_signed(P: np.ndarray, x0, y0, ux, uy, L, ex, ey) -> tuple[np.ndarray, np.ndarray]:
+    """Segment._nearest_signed of the segments whose constants (x0, y0, ux, uy, L, x1 - x0,
+    y1 - y0) are given: floats (one segment: (n,) answers) or (m, 1) columns (m segments:
+    (m, n) answers, row by row the same numbers as each segment's alone)."""
+    dx = P[:, 0] - x0
+    dy = P[:, 1] - y0
+    t = dx * ux
+    t += dy * uy
+    np.maximum(t, 0.0, out=t)  # np.clip(t, 0, L), without its wrapper's overhead on short arrays
+    np.minimum(t, L, out=t)
+    f = t / L
+    rx = dx - f * ex
+    ry = dy - f * ey
+    side = rx * uy
+    side -= ry * ux
+    np.multiply(rx, rx, out=rx)
+    np.multiply(ry, ry, out=ry)
+    rx += ry
+    dist = np.sqrt(rx, out=rx)
+    np.negative(dist, out=dist, where=side < 0.0)
+    return dist, t
+
+
+class SegmentBatch:
+    """Several segments' :meth:`Segment._nearest_signed` in one pass of (m, n) arrays (a
+    profile's straight edges: one set of array operations for all of them, whatever their
+    number; the same numbers as each segment's own)."""
+
+    def __init__(self, segments: list[Segment]) -> None:
+        self.columns = [np.array([s._nearest_constants[j] for s in segments])[:, None] for j in range(7)]
+
+    def nearest_signed(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(signed distances (m, n), foot parameters (m, n)) of points P (n, 2), as
+        :meth:`Segment._nearest_signed` of each segment."""
+        return _nearest_signed(P, *self.columns)

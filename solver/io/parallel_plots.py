@@ -354,9 +354,9 @@ class PictureWorker:
         asks for pictures: it imports matplotlib while the scene loads (whose checks import the
         solver) and the run solves, so that a run of a second has its pictures' processes ready
         when its solve ends. Pass it to :meth:`start` once the problem is made."""
-        context = _fork_context()
-        model = _scene_pictures(Path(scene_path)) if context is not None else None
-        return cls._launch(context, {}, model != "solid") if model is not None else None
+        model = _scene_pictures(Path(scene_path))  # first: a run without pictures imports no multiprocessing
+        context = _fork_context() if model is not None else None
+        return cls._launch(context, {}, model != "solid") if context is not None else None
 
     @classmethod
     def _launch(cls, context, shared: dict[int, Any], planar: bool) -> PictureWorker:
