@@ -339,19 +339,16 @@ def _slip_direction_note(contact: dict) -> str | None:
             "friction with memory, whose slip zones take either direction")
 
 
-#: Dundurs' beta against mu from which a 3D frictional contact warns: on 2D scenes drawn at random
-#: every frictional pair with |beta| / mu from 0.2 up and a tangential load ended with one end of
-#: its slip zones slipping against Cattaneo and Mindlin's direction (two in 56 did not)
-BETA_OVER_MU_WARN = 0.1
+def _dissimilar_friction_note(contact: dict, solid: bool) -> str | None:
+    """A warning's text for a 3D (``solid``) frictional contact of two materials whose Dundurs beta
+    is large against mu: the bound at which a 2D contact takes friction memory (2D runs check their
+    final state instead: :func:`_slip_direction_note`)."""
+    from ibfem.solver.contact.friction_memory import BETA_OVER_MU
 
-
-def _dissimilar_friction_note(contact: dict, dim: int) -> str | None:
-    """A warning's text for a 3D frictional contact of two materials whose Dundurs beta is large
-    against mu (2D runs check their final state instead: :func:`_slip_direction_note`)."""
     beta, mu = contact.get("dundurs_beta"), contact.get("friction") or 0.0
-    if dim != 3 or contact.get("type") != "frictional" or not isinstance(beta, float) or not mu > 0.0:
+    if not solid or contact.get("type") != "frictional" or not isinstance(beta, float) or not mu > 0.0:
         return None
-    if abs(beta) < BETA_OVER_MU_WARN * mu:
+    if abs(beta) < BETA_OVER_MU * mu:
         return None
     return (f"the bodies' Dundurs beta is {beta:.3g} ({abs(beta) / mu:.2g} of mu): under the normal load alone "
             "bodies of different elastic constants slip radially against each other, which the proportional "
@@ -372,7 +369,7 @@ def _print_contacts(summary: dict, ladder: dict | None) -> None:
     for c in summary["contacts"]:
         print("  contact " + " / ".join(c.get("bodies") or []) + ": " + contact_line(c))
         for note in (_coarse_region_note(c), _friction_note(c), _gap_model_note(c), _slip_direction_note(c),
-                     _dissimilar_friction_note(c, len(c.get("point") or []))):
+                     _dissimilar_friction_note(c, summary.get("model") == "solid")):
             if note:
                 _err(f"warning: contact {' / '.join(c.get('bodies') or [])}: {note}")
         key, value = largest_error(c.get("estimated_error") or {})

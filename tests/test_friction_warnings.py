@@ -35,11 +35,11 @@ def test_a_rigid_indenter_on_steel_has_beta_of_the_half_space_alone():
 
 def test_a_3d_frictional_pair_of_two_materials_warns_and_one_material_does_not():
     block = {"type": "frictional", "friction": 0.3, "point": [0.0, 0.0, 0.0], "dundurs_beta": 0.112}
-    note = _dissimilar_friction_note(block, 3)
+    note = _dissimilar_friction_note(block, True)
     assert note and "0.112" in note and "[[paths]]" in note
-    assert _dissimilar_friction_note({**block, "dundurs_beta": 0.0}, 3) is None
-    assert _dissimilar_friction_note({**block, "type": "frictionless"}, 3) is None
-    assert _dissimilar_friction_note(block, 2) is None  # 2D judges its final state instead
+    assert _dissimilar_friction_note({**block, "dundurs_beta": 0.0}, True) is None
+    assert _dissimilar_friction_note({**block, "type": "frictionless"}, True) is None
+    assert _dissimilar_friction_note(block, False) is None  # 2D judges its final state instead
 
 
 def test_the_2d_warning_reads_the_slip_against_the_traction():

@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import dataclasses
 
-from ..model.elasticity import dundurs_beta
 from ..model.load_paths import LoadHistory
 
-__all__ = ["BETA_OVER_MU", "MEMORY_STEPS", "MEMORY_STICK_ITERATIONS", "with_friction_memory", "beta_of"]
+__all__ = ["BETA_OVER_MU", "MEMORY_STEPS", "MEMORY_STICK_ITERATIONS", "with_friction_memory"]
 
-#: a frictional contact whose |beta| is at least this fraction of mu keeps a friction history
+#: a frictional contact whose |beta| is at least this fraction of mu keeps a friction history (2D)
+#: and is warned of (3D, whose proportional zones have the same limit)
 BETA_OVER_MU = 0.1
 #: the ramp's load steps at least (the zones follow the load's increments: under a growing normal
 #: load a step should grow the region by a few per cent)
@@ -32,26 +32,20 @@ MEMORY_STEPS = 10
 MEMORY_STICK_ITERATIONS = 80
 
 
-def beta_of(problem, contact) -> float:
-    """Dundurs' beta of a contact's two bodies (first body first)."""
-    first, second = (problem.body(name).material.lame(problem.model) for name in contact.bodies)
-    return dundurs_beta(first, second)
-
-
 def with_friction_memory(problem):
     """``problem`` itself, or (a 2D problem without load paths whose frictional contacts include
     one of bodies slipping apart, |beta| >= BETA_OVER_MU mu) a copy that ramps every condition over
     max(load_steps, MEMORY_STEPS) steps with friction memory; the summary's load-step rule says so."""
     if problem.dim != 2 or getattr(problem, "history", None) is not None:
         return problem
-    apart = [c for c in problem.contacts if c.type == "frictional" and c.friction > 0.0
-             and abs(beta_of(problem, c)) >= BETA_OVER_MU * c.friction]
+    frictional = [(c, problem.dundurs_beta(c)) for c in problem.contacts if c.type == "frictional" and c.friction > 0.0]
+    apart = [(c, beta) for c, beta in frictional if abs(beta) >= BETA_OVER_MU * c.friction]
     if not apart:
         return problem
     steps = max(problem.options.load_steps, MEMORY_STEPS)
-    betas = ", ".join(f"{'/'.join(c.bodies)} {beta_of(problem, c):+.3g} (mu {c.friction:g})" for c in apart)
+    named = ", ".join(f"{'/'.join(c.bodies)} {beta:+.3g} (mu {c.friction:g})" for c, beta in apart)
     reason = (f"friction with memory over a ramp of {steps} steps: the bodies' elastic constants differ (Dundurs' "
-              f"beta {betas}), so the two ends may slip in opposite directions, which Cattaneo and Mindlin's "
+              f"beta {named}), so the two ends may slip in opposite directions, which Cattaneo and Mindlin's "
               "proportional zones cannot hold")
     contacts = tuple(dataclasses.replace(c, options=dataclasses.replace(
         c.options, max_stick_iterations=max(c.options.max_stick_iterations, MEMORY_STICK_ITERATIONS)))

@@ -18,7 +18,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from ibfem.solver.model import problem as pb
-from ibfem.solver.model.elasticity import dundurs_beta, von_mises
+from ibfem.solver.model.elasticity import von_mises
 from ibfem.solver.model.reference_point import ReferencePoint
 
 from .reference_point_output import reference_point_blocks
@@ -240,8 +240,7 @@ def _contact_block(problem: pb.Problem, k: int, block: Mapping[str, Any]) -> dic
         block.setdefault("bodies", list(model.bodies))
         block.setdefault("type", model.type)
         block.setdefault("friction", model.friction)
-        first, second = (problem.body(name).material.lame(problem.model) for name in model.bodies)
-        block.setdefault("dundurs_beta", dundurs_beta(first, second))
+        block.setdefault("dundurs_beta", problem.dundurs_beta(model))
     if problem.dim == 2 and block.get("tangent") is None and block.get("normal") is not None:
         n = np.asarray(block["normal"], dtype=float).reshape(2)
         block["tangent"] = [-n[1], n[0]]

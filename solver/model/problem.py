@@ -16,7 +16,7 @@ import numpy as np
 
 from ibfem.geometry.profile import Profile
 
-from .elasticity import Model, dimension, elasticity_matrix, lame_parameters
+from .elasticity import Model, dimension, dundurs_beta, elasticity_matrix, lame_parameters
 from .options import ContactOptions, SolverOptions
 
 
@@ -195,6 +195,12 @@ class Problem:
     def with_options(self, **changes) -> "Problem":
         """A copy with ``[solver]`` options changed (checked as in a scene)."""
         return dataclasses.replace(self, options=dataclasses.replace(self.options, **changes))
+
+    def dundurs_beta(self, contact: "ContactModel") -> float:
+        """Dundurs' beta of a contact's two bodies, its first body first
+        (:func:`elasticity.dundurs_beta`)."""
+        first, second = (self.body(name).material.lame(self.model) for name in contact.bodies)
+        return dundurs_beta(first, second)
 
     def with_contact_options(self, **changes) -> "Problem":
         """A copy with the same contact options changed on every contact."""
